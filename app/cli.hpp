@@ -1,0 +1,32 @@
+#pragma once
+// Shared plumbing of the proprio CLI: each verb group registers its subcommands on the root app.
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+
+namespace proprio::app {
+
+/// What every command may need from the invocation itself.
+struct Invocation {
+  std::vector<std::string> argv;
+
+  [[nodiscard]] core::Provenance provenance(std::optional<std::uint64_t> seed = {}) const {
+    return core::Provenance::current(argv, seed);
+  }
+};
+
+/// Writes a result document ({"format", "format_version", "provenance", ...figures}) to `path`
+/// atomically, unless `path` is empty.
+void write_json_result(const std::string& path, const core::Json& document);
+
+/// Registers the verb groups (one file each).
+void register_calib_commands(CLI::App& root, const Invocation& inv);
+void register_episode_commands(CLI::App& root, const Invocation& inv);
+
+}  // namespace proprio::app

@@ -1,0 +1,64 @@
+// proprio: the command-line tool. Bad usage or bad input: one line on stderr, exit 2.
+// Internal failure: one line on stderr, exit 1.
+
+#include <cstdio>
+#include <exception>
+#include <opencv2/core.hpp>
+
+#include "cli.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/logging.hpp"
+#include "proprio/core/version.hpp"
+
+namespace proprio::app {
+
+void write_json_result(const std::string& path, const core::Json& document) {
+  if (!path.empty()) core::write_json_atomic(path, document);
+}
+
+namespace {
+
+int run(int argc, char** argv) {
+  Invocation inv{std::vector<std::string>(argv, argv + argc)};
+  CLI::App root{"proprio: a robot arm that learns the objects on a table by pushing them",
+                "proprio"};
+  root.set_version_flag("--version", std::string("proprio ") + kVersion + " (" + kGitCommit + ")");
+  root.require_subcommand(1);
+  int verbosity = 0;
+  root.add_flag("-v,--verbose", verbosity, "More log output on stderr (repeat for more)");
+  root.parse_complete_callback([&verbosity] { core::configure_logging(verbosity); });
+  register_calib_commands(root, inv);
+  register_episode_commands(root, inv);
+
+  try {
+    root.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return root.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return root.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return root.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "proprio: %s (see --help)\n", e.what());
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace proprio::app
+
+int main(int argc, char** argv) {
+  try {
+    return proprio::app::run(argc, argv);
+  } catch (const proprio::Error& e) {
+    std::fprintf(stderr, "proprio: %s\n", e.what());
+    return 2;
+  } catch (const cv::Exception& e) {
+    std::fprintf(stderr, "proprio: internal error in OpenCV: %s\n", e.err.c_str());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "proprio: internal error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,45 @@
+# proprio_warnings(target): the project's warning set; -Werror unless sanitizing (GCC advises
+# against combining the two).
+function(proprio_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wshadow)
+  if(PROPRIO_WERROR AND NOT PROPRIO_SANITIZE)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+if(PROPRIO_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# proprio_module(name SOURCES ... PUBLIC_DEPS ... PRIVATE_DEPS ...): one library per module,
+# exported as proprio::<name>.
+function(proprio_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(proprio_${name} ${ARG_SOURCES})
+  add_library(proprio::${name} ALIAS proprio_${name})
+  set_target_properties(proprio_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME proprio_${name})
+  target_include_directories(proprio_${name}
+    PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+           $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/generated>
+           $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
+    PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  target_link_libraries(proprio_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  proprio_warnings(proprio_${name})
+  install(TARGETS proprio_${name} EXPORT proprioTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+endfunction()
+
+# proprio_test(name SOURCES ... LIBS ...): a GoogleTest program registered with ctest.
+function(proprio_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+    PROPRIO_OPENCV_SAMPLES="${PROPRIO_OPENCV_SAMPLES}"
+    PROPRIO_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    PROPRIO_CLI="$<TARGET_FILE:proprio>")
+  proprio_warnings(${name})
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
+endfunction()
