@@ -1,0 +1,55 @@
+#pragma once
+// The pinhole camera of thesis 3.2.2 and its calibration file.
+//
+// Conventions (docs/formats/episode.md): the world frame is the robot base frame (metres, z up);
+// the camera frame follows OpenCV (x right, y down, z forward); pixel centres sit at integer
+// coordinates; extrinsics map world to camera, x_cam = R x_world + t; P = K [R | t].
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <vector>
+
+namespace proprio::geometry {
+
+using Matrix34d = Eigen::Matrix<double, 3, 4>;
+
+/// Camera intrinsics and extrinsics. Constant data: algorithms take it by const reference.
+struct Camera {
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();  ///< intrinsics, pixels
+  /// Lens distortion in OpenCV's order (k1, k2, p1, p2[, k3[, k4, k5, k6]]); empty = none.
+  std::vector<double> dist;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< world -> camera rotation
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();      ///< world -> camera translation, metres
+  int width = 0;   ///< image width in pixels, 0 when unknown
+  int height = 0;  ///< image height in pixels, 0 when unknown
+
+  /// P = K [R | t] (eq 3.7).
+  [[nodiscard]] Matrix34d P() const;
+  /// Optical centre in world coordinates, -R^T t.
+  [[nodiscard]] Eigen::Vector3d center() const;
+  /// Ideal (undistorted) pixel of world point X; X must lie in front of the camera.
+  [[nodiscard]] Eigen::Vector2d project(const Eigen::Vector3d& X) const;
+  /// Depth of world point X along the optical axis (metres; negative behind the camera).
+  [[nodiscard]] double depth(const Eigen::Vector3d& X) const;
+  [[nodiscard]] bool has_distortion() const;
+};
+
+/// Pixel of homogeneous projection P X (pi_3 of eq 3.21).
+Eigen::Vector2d project(const Matrix34d& P, const Eigen::Vector3d& X);
+
+/// Splits P into K [R | t] by RQ decomposition: K upper triangular with positive diagonal and
+/// K(2,2) = 1, R a proper rotation. P is only defined up to scale (and sign); the result is the
+/// camera whose projection equals P up to a positive or negative factor. Throws Error when the
+/// left 3x3 block of P is singular (not a finite camera).
+Camera decompose_projection(const Matrix34d& P);
+
+/// Reads calib.yml (OpenCV FileStorage YAML: camera_matrix, dist_coeffs, R, t, P, and optionally
+/// image_width and image_height). A file with only P is decomposed. Checks that every matrix has
+/// its size, is finite, that R is a rotation, and that P agrees with K [R | t]; throws Error naming
+/// the file and the problem.
+Camera read_calib(const std::filesystem::path& path);
+
+/// Writes calib.yml atomically, with P = K [R | t].
+void write_calib(const std::filesystem::path& path, const Camera& camera);
+
+}  // namespace proprio::geometry

@@ -1,0 +1,171 @@
+#include "proprio/geometry/camera.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+
+namespace proprio::geometry {
+
+Matrix34d Camera::P() const {
+  Matrix34d Rt;
+  Rt << R, t;
+  return K * Rt;
+}
+
+Eigen::Vector3d Camera::center() const { return -R.transpose() * t; }
+
+Eigen::Vector2d Camera::project(const Eigen::Vector3d& X) const { return geometry::project(P(), X); }
+
+double Camera::depth(const Eigen::Vector3d& X) const { return (R * X + t).z(); }
+
+bool Camera::has_distortion() const {
+  for (double d : dist) {
+    if (d != 0.0) return true;
+  }
+  return false;
+}
+
+Eigen::Vector2d project(const Matrix34d& P, const Eigen::Vector3d& X) {
+  const Eigen::Vector3d x = P * X.homogeneous();
+  return x.hnormalized();
+}
+
+Camera decompose_projection(const Matrix34d& P_in) {
+  Matrix34d P = P_in;
+  const Eigen::Matrix3d M = P.leftCols<3>();
+  if (!P.allFinite() || std::abs(M.determinant()) < 1e-12 * std::pow(M.norm(), 3)) {
+    throw Error("projection matrix has a singular left 3x3 block: not a finite camera");
+  }
+  // P is defined up to scale: choose the sign that makes det(M) > 0, so that R is a rotation.
+  if (M.determinant() < 0) P = -P;
+  // RQ decomposition of M = K R through the QR decomposition of the row-reversed transpose.
+  Eigen::Matrix3d flip;
+  flip << 0, 0, 1, 0, 1, 0, 1, 0, 0;
+  const Eigen::Matrix3d A = (flip * P.leftCols<3>()).transpose();
+  Eigen::HouseholderQR<Eigen::Matrix3d> qr(A);
+  const Eigen::Matrix3d Q = qr.householderQ();
+  const Eigen::Matrix3d Rr = qr.matrixQR().triangularView<Eigen::Upper>();
+  Eigen::Matrix3d K = flip * Rr.transpose() * flip;
+  Eigen::Matrix3d R = flip * Q.transpose();
+  // Make K's diagonal positive; D = diag(+-1) with D D = I keeps K R unchanged.
+  const Eigen::Vector3d s = K.diagonal().cwiseSign();
+  const Eigen::Matrix3d D = s.asDiagonal();
+  K = K * D;
+  R = D * R;
+  Camera cam;
+  const double scale = K(2, 2);
+  cam.K = K / scale;
+  cam.R = R;
+  cam.t = K.inverse() * P.col(3);
+  if (R.determinant() < 0) {  // cannot happen when det(M) > 0, kept as a guard against rounding
+    throw Error("projection matrix decomposes into an improper rotation");
+  }
+  return cam;
+}
+
+namespace {
+
+Eigen::MatrixXd read_matrix(const cv::FileStorage& fs, const std::string& key,
+                            const std::filesystem::path& path, int rows, int cols,
+                            bool required) {
+  const cv::FileNode node = fs[key];
+  if (node.empty()) {
+    if (required) throw Error::in_file(path, "missing '" + key + "'");
+    return {};
+  }
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception& e) {
+    throw Error::in_file(path, "'" + key + "' is not a matrix: " + e.err);
+  }
+  if (m.empty()) throw Error::in_file(path, "'" + key + "' is not a matrix");
+  if (rows > 0 && (m.rows != rows || m.cols != cols)) {
+    throw Error::in_file(path, "'" + key + "' is " + std::to_string(m.rows) + "x" +
+                                   std::to_string(m.cols) + ", expected " + std::to_string(rows) +
+                                   "x" + std::to_string(cols));
+  }
+  m.convertTo(m, CV_64F);
+  Eigen::MatrixXd e;
+  cv::cv2eigen(m, e);
+  if (!e.allFinite()) throw Error::in_file(path, "'" + key + "' holds NaN or inf");
+  return e;
+}
+
+}  // namespace
+
+Camera read_calib(const std::filesystem::path& path) {
+  const std::string text = core::read_file(path);
+  cv::FileStorage fs;
+  try {
+    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+  } catch (const cv::Exception& e) {
+    throw Error::in_file(path, "not an OpenCV YAML file: " + e.err);
+  }
+  if (!fs.isOpened()) throw Error::in_file(path, "not an OpenCV YAML file");
+  const bool has_k = !fs["camera_matrix"].empty();
+  const Eigen::MatrixXd P = read_matrix(fs, "P", path, 3, 4, !has_k);
+  Camera cam;
+  if (has_k) {
+    cam.K = read_matrix(fs, "camera_matrix", path, 3, 3, true);
+    cam.R = read_matrix(fs, "R", path, 3, 3, true);
+    cam.t = read_matrix(fs, "t", path, 3, 1, true);
+  } else {
+    cam = decompose_projection(P);
+  }
+  if (!fs["dist_coeffs"].empty()) {
+    const Eigen::MatrixXd d = read_matrix(fs, "dist_coeffs", path, 0, 0, true);
+    if (d.size() != 4 && d.size() != 5 && d.size() != 8 && d.size() != 12 && d.size() != 14) {
+      throw Error::in_file(path, "'dist_coeffs' has " + std::to_string(d.size()) +
+                                     " values, expected 4, 5, 8, 12 or 14");
+    }
+    cam.dist.assign(d.data(), d.data() + d.size());
+  }
+  if (!fs["image_width"].empty()) cam.width = static_cast<int>(fs["image_width"]);
+  if (!fs["image_height"].empty()) cam.height = static_cast<int>(fs["image_height"]);
+  if (cam.width < 0 || cam.height < 0) throw Error::in_file(path, "negative image size");
+  if (cam.K(0, 0) <= 0 || cam.K(1, 1) <= 0 || std::abs(cam.K(2, 2) - 1.0) > 1e-9 ||
+      cam.K(1, 0) != 0 || cam.K(2, 0) != 0 || cam.K(2, 1) != 0) {
+    throw Error::in_file(path,
+                         "'camera_matrix' must be upper triangular with positive focal lengths "
+                         "and K(2,2) = 1");
+  }
+  const double ortho = (cam.R * cam.R.transpose() - Eigen::Matrix3d::Identity()).norm();
+  if (ortho > 1e-6 || cam.R.determinant() < 0) {
+    throw Error::in_file(path, "'R' is not a rotation matrix (|R R^T - I| = " +
+                                   std::to_string(ortho) + ")");
+  }
+  if (has_k && P.size() == 12) {
+    // P may be stored at any scale: compare directions.
+    const Matrix34d Pk = cam.P();
+    const double scale = Pk.norm() / P.norm();
+    const double sign = (Pk.array() * P.array()).sum() < 0 ? -1.0 : 1.0;
+    const double rel = (Pk - sign * scale * P).norm() / Pk.norm();
+    if (rel > 1e-6) {
+      throw Error::in_file(path, "'P' disagrees with camera_matrix [R | t] (relative difference " +
+                                     std::to_string(rel) + ")");
+    }
+  }
+  return cam;
+}
+
+void write_calib(const std::filesystem::path& path, const Camera& cam) {
+  cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  cv::Mat K, R, t, P;
+  cv::eigen2cv(cam.K, K);
+  cv::eigen2cv(cam.R, R);
+  cv::eigen2cv(cam.t, t);
+  const Matrix34d Pm = cam.P();
+  cv::eigen2cv(Pm, P);
+  fs << "camera_matrix" << K;
+  fs << "dist_coeffs" << cv::Mat(cam.dist.empty() ? std::vector<double>(5, 0.0) : cam.dist, true);
+  fs << "R" << R << "t" << t << "P" << P;
+  if (cam.width > 0) fs << "image_width" << cam.width << "image_height" << cam.height;
+  core::write_file_atomic(path, fs.releaseAndGetString());
+}
+
+}  // namespace proprio::geometry

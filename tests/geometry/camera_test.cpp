@@ -1,0 +1,111 @@
+#include "proprio/geometry/camera.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <filesystem>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+
+namespace proprio::geometry {
+namespace {
+namespace fs = std::filesystem;
+
+Camera example_camera() {
+  Camera c;
+  c.K << 520.0, 0.5, 321.0, 0.0, 515.0, 239.0, 0.0, 0.0, 1.0;
+  c.R = (Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
+  c.t = Eigen::Vector3d(0.1, -0.2, 1.5);
+  c.width = 640;
+  c.height = 480;
+  return c;
+}
+
+TEST(Camera, ProjectionAgreesWithCameraFrame) {
+  const Camera c = example_camera();
+  const Eigen::Vector3d X(0.05, 0.02, 0.1);
+  const Eigen::Vector3d Xc = c.R * X + c.t;
+  const Eigen::Vector2d expect(c.K(0, 0) * Xc.x() / Xc.z() + c.K(0, 1) * Xc.y() / Xc.z() + c.K(0, 2),
+                               c.K(1, 1) * Xc.y() / Xc.z() + c.K(1, 2));
+  EXPECT_LT((c.project(X) - expect).norm(), 1e-9);
+  EXPECT_NEAR(c.depth(c.center()), 0.0, 1e-12);
+}
+
+TEST(Camera, DecomposeRecoversKRtFromAnyScaleAndSign) {
+  const Camera c = example_camera();
+  for (double s : {1.0, 3.7, -0.02}) {
+    const Camera d = decompose_projection(s * c.P());
+    EXPECT_LT((d.K - c.K).norm(), 1e-8) << "scale " << s;
+    EXPECT_LT((d.R - c.R).norm(), 1e-10);
+    EXPECT_LT((d.t - c.t).norm(), 1e-10);
+    EXPECT_NEAR(d.R.determinant(), 1.0, 1e-12);
+  }
+}
+
+TEST(Camera, DecomposeRejectsSingular) {
+  Matrix34d P = Matrix34d::Zero();
+  P(0, 0) = 1;
+  EXPECT_THROW(decompose_projection(P), Error);
+}
+
+class CalibFileTest : public ::testing::Test {
+ protected:
+  fs::path path_ = fs::temp_directory_path() / ("proprio_calib_test_" +
+      std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".yml");
+  void TearDown() override { fs::remove(path_); }
+  std::string error_reading(const std::string& text) {
+    core::write_file_atomic(path_, text);
+    try {
+      read_calib(path_);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "no error";
+  }
+};
+
+TEST_F(CalibFileTest, RoundTrip) {
+  Camera c = example_camera();
+  c.dist = {0.1, -0.05, 0.001, 0.002, 0.01};
+  write_calib(path_, c);
+  const Camera d = read_calib(path_);
+  EXPECT_LT((d.K - c.K).norm(), 1e-12);
+  EXPECT_LT((d.R - c.R).norm(), 1e-12);
+  EXPECT_LT((d.t - c.t).norm(), 1e-12);
+  EXPECT_EQ(d.dist, c.dist);
+  EXPECT_EQ(d.width, 640);
+  EXPECT_EQ(d.height, 480);
+}
+
+TEST_F(CalibFileTest, OnlyPIsDecomposed) {
+  const Camera c = example_camera();
+  const Matrix34d P = 2.0 * c.P();
+  std::string text = "%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: 3\n   cols: 4\n   dt: d\n   data: [";
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 4; ++k) text += (r + k > 0 ? ", " : "") + std::to_string(P(r, k));
+  }
+  text += "]\n";
+  const Camera d = read_calib((core::write_file_atomic(path_, text), path_));
+  EXPECT_LT((d.R - c.R).norm(), 1e-4);
+}
+
+TEST_F(CalibFileTest, BadFilesNameTheProblem) {
+  const std::string p = path_.string();
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\nfoo: 1\n"), p + ": missing 'P'");
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n   rows: 2\n   cols: 2\n"
+                          "   dt: d\n   data: [1, 0, 0, 1]\n"),
+            p + ": 'camera_matrix' is 2x2, expected 3x3");
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: 3\n   cols: 4\n   dt: d\n"
+                          "   data: [.NaN, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0]\n"),
+            p + ": 'P' holds NaN or inf");
+  EXPECT_NE(error_reading("this is: [not yaml").find(p + ": "), std::string::npos);
+  Camera c = example_camera();
+  c.R(0, 0) += 0.1;
+  write_calib(path_, c);
+  EXPECT_THROW(read_calib(path_), Error);
+  EXPECT_THROW(read_calib(path_.string() + ".missing"), Error);
+}
+
+}  // namespace
+}  // namespace proprio::geometry
