@@ -1,0 +1,38 @@
+#pragma once
+// Shared fixtures of the robot tests: the standalone arm model, loaded once per process.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "proprio/core/error.hpp"
+#include "proprio/robot/arm.hpp"
+
+namespace proprio::robot::testing {
+
+inline const char* arm_model_path() { return PROPRIO_SOURCE_DIR "/data/models/arm_standalone.xml"; }
+
+inline const Arm& standard_arm() {
+  static const Arm arm = Arm::load(arm_model_path());
+  return arm;
+}
+
+/// The message of the Error that `f` throws; fails the test when it throws nothing.
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no Error thrown";
+  return {};
+}
+
+/// Fails the test when MuJoCo counted a warning in `data`.
+inline void expect_no_warnings(const mjData& data) {
+  const auto w = warnings(data);
+  EXPECT_TRUE(w.empty()) << "MuJoCo warning: " << w.front();
+}
+
+}  // namespace proprio::robot::testing
