@@ -179,7 +179,10 @@ void Arm::read_geometry() {
   g.why_not_analytic.clear();
 }
 
-double EePose::pitch() const { return std::asin(std::clamp(rotation(2, 0), -1.0, 1.0)); }
+double EePose::pitch() const {
+  // atan2 keeps full precision at +-pi/2, where asin(d_z) does not.
+  return std::atan2(rotation(2, 0), std::hypot(rotation(0, 0), rotation(1, 0)));
+}
 
 ArmState::ArmState(Arm arm) : arm_(std::move(arm)), data_(make_data(arm_.model())) {
   mj_kinematics(&arm_.model(), data_.get());
