@@ -50,17 +50,22 @@ Eigen::Vector3d BezierTrajectory::curve_second_derivative() const {
 
 double BezierTrajectory::length() const {
   // |b'(s)| is the square root of a quadratic in s, smooth unless the curve nearly folds back on
-  // itself: 8-point Gauss-Legendre on [0, 1] (exact for a straight move).
+  // itself: composite 8-point Gauss-Legendre over 16 panels (exact for a straight move).
   static constexpr std::array<double, 4> kX = {0.1834346424956498, 0.5255324099163290,
                                                0.7966664774136267, 0.9602898564975363};
   static constexpr std::array<double, 4> kW = {0.3626837833783620, 0.3137066458778873,
                                                0.2223810344533745, 0.1012285362903763};
+  constexpr int kPanels = 16;
+  constexpr double h = 1.0 / kPanels;
   double sum = 0;
-  for (std::size_t i = 0; i < kX.size(); ++i) {
-    sum += kW[i] * (curve_derivative(0.5 * (1 + kX[i])).norm() +
-                    curve_derivative(0.5 * (1 - kX[i])).norm());
+  for (int p = 0; p < kPanels; ++p) {
+    const double mid = (p + 0.5) * h;
+    for (std::size_t i = 0; i < kX.size(); ++i) {
+      sum += kW[i] * (curve_derivative(mid + 0.5 * h * kX[i]).norm() +
+                      curve_derivative(mid - 0.5 * h * kX[i]).norm());
+    }
   }
-  return 0.5 * sum;
+  return 0.5 * h * sum;
 }
 
 CartesianSample BezierTrajectory::sample(double t) const {
