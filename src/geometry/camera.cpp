@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -18,7 +19,9 @@ Matrix34d Camera::P() const {
 
 Eigen::Vector3d Camera::center() const { return -R.transpose() * t; }
 
-Eigen::Vector2d Camera::project(const Eigen::Vector3d& X) const { return geometry::project(P(), X); }
+Eigen::Vector2d Camera::project(const Eigen::Vector3d& X) const {
+  return geometry::project(P(), X);
+}
 
 double Camera::depth(const Eigen::Vector3d& X) const { return (R * X + t).z(); }
 
@@ -32,6 +35,34 @@ bool Camera::has_distortion() const {
 Eigen::Vector2d project(const Matrix34d& P, const Eigen::Vector3d& X) {
   const Eigen::Vector3d x = P * X.homogeneous();
   return x.hnormalized();
+}
+
+Eigen::Matrix<double, 2, 3> projection_jacobian(const Matrix34d& P, const Eigen::Vector3d& X) {
+  const Eigen::Vector3d y = P * X.homogeneous();
+  const double u = y.x() / y.z();
+  const double v = y.y() / y.z();
+  Eigen::Matrix<double, 2, 3> J;
+  J.row(0) = P.block<1, 3>(0, 0) - u * P.block<1, 3>(2, 0);
+  J.row(1) = P.block<1, 3>(1, 0) - v * P.block<1, 3>(2, 0);
+  return J / y.z();
+}
+
+std::vector<Eigen::Vector2d> undistort_pixels(const Camera& camera,
+                                              const std::vector<Eigen::Vector2d>& pixels) {
+  if (!camera.has_distortion() || pixels.empty()) return pixels;
+  std::vector<cv::Point2d> in(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) in[i] = {pixels[i].x(), pixels[i].y()};
+  cv::Mat K;
+  cv::eigen2cv(camera.K, K);
+  std::vector<cv::Point2d> out;
+  // The default 5 fixed-point iterations leave up to a pixel of error near the image corners of a
+  // wide lens; iterate until the residual is negligible instead.
+  cv::undistortPoints(
+      in, out, K, camera.dist, cv::noArray(), K,
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+  std::vector<Eigen::Vector2d> result(out.size());
+  for (size_t i = 0; i < out.size(); ++i) result[i] = {out[i].x, out[i].y};
+  return result;
 }
 
 Camera decompose_projection(const Matrix34d& P_in) {
@@ -70,8 +101,7 @@ Camera decompose_projection(const Matrix34d& P_in) {
 namespace {
 
 Eigen::MatrixXd read_matrix(const cv::FileStorage& fs, const std::string& key,
-                            const std::filesystem::path& path, int rows, int cols,
-                            bool required) {
+                            const std::filesystem::path& path, int rows, int cols, bool required) {
   const cv::FileNode node = fs[key];
   if (node.empty()) {
     if (required) throw Error::in_file(path, "missing '" + key + "'");
@@ -136,8 +166,8 @@ Camera read_calib(const std::filesystem::path& path) {
   }
   const double ortho = (cam.R * cam.R.transpose() - Eigen::Matrix3d::Identity()).norm();
   if (ortho > 1e-6 || cam.R.determinant() < 0) {
-    throw Error::in_file(path, "'R' is not a rotation matrix (|R R^T - I| = " +
-                                   std::to_string(ortho) + ")");
+    throw Error::in_file(
+        path, "'R' is not a rotation matrix (|R R^T - I| = " + std::to_string(ortho) + ")");
   }
   if (has_k && P.size() == 12) {
     // P may be stored at any scale: compare directions.

@@ -26,8 +26,9 @@ TEST(Camera, ProjectionAgreesWithCameraFrame) {
   const Camera c = example_camera();
   const Eigen::Vector3d X(0.05, 0.02, 0.1);
   const Eigen::Vector3d Xc = c.R * X + c.t;
-  const Eigen::Vector2d expect(c.K(0, 0) * Xc.x() / Xc.z() + c.K(0, 1) * Xc.y() / Xc.z() + c.K(0, 2),
-                               c.K(1, 1) * Xc.y() / Xc.z() + c.K(1, 2));
+  const Eigen::Vector2d expect(
+      c.K(0, 0) * Xc.x() / Xc.z() + c.K(0, 1) * Xc.y() / Xc.z() + c.K(0, 2),
+      c.K(1, 1) * Xc.y() / Xc.z() + c.K(1, 2));
   EXPECT_LT((c.project(X) - expect).norm(), 1e-9);
   EXPECT_NEAR(c.depth(c.center()), 0.0, 1e-12);
 }
@@ -51,8 +52,10 @@ TEST(Camera, DecomposeRejectsSingular) {
 
 class CalibFileTest : public ::testing::Test {
  protected:
-  fs::path path_ = fs::temp_directory_path() / ("proprio_calib_test_" +
-      std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".yml");
+  fs::path path_ =
+      fs::temp_directory_path() /
+      ("proprio_calib_test_" +
+       std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".yml");
   void TearDown() override { fs::remove(path_); }
   std::string error_reading(const std::string& text) {
     core::write_file_atomic(path_, text);
@@ -81,7 +84,8 @@ TEST_F(CalibFileTest, RoundTrip) {
 TEST_F(CalibFileTest, OnlyPIsDecomposed) {
   const Camera c = example_camera();
   const Matrix34d P = 2.0 * c.P();
-  std::string text = "%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: 3\n   cols: 4\n   dt: d\n   data: [";
+  std::string text =
+      "%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: 3\n   cols: 4\n   dt: d\n   data: [";
   for (int r = 0; r < 3; ++r) {
     for (int k = 0; k < 4; ++k) text += (r + k > 0 ? ", " : "") + std::to_string(P(r, k));
   }

@@ -20,8 +20,8 @@ struct Camera {
   std::vector<double> dist;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< world -> camera rotation
   Eigen::Vector3d t = Eigen::Vector3d::Zero();      ///< world -> camera translation, metres
-  int width = 0;   ///< image width in pixels, 0 when unknown
-  int height = 0;  ///< image height in pixels, 0 when unknown
+  int width = 0;                                    ///< image width in pixels, 0 when unknown
+  int height = 0;                                   ///< image height in pixels, 0 when unknown
 
   /// P = K [R | t] (eq 3.7).
   [[nodiscard]] Matrix34d P() const;
@@ -36,6 +36,16 @@ struct Camera {
 
 /// Pixel of homogeneous projection P X (pi_3 of eq 3.21).
 Eigen::Vector2d project(const Matrix34d& P, const Eigen::Vector3d& X);
+
+/// Jacobian d pi(P X) / dX of project() (pixels per world unit, 2x3), analytic: with
+/// (a, b, w) = P (X, 1), it is (1 / w) [P_1 - u P_3; P_2 - v P_3] restricted to the first three
+/// columns, where u = a / w and v = b / w. Used to linearise triangulation (eqs 3.20-3.21).
+Eigen::Matrix<double, 2, 3> projection_jacobian(const Matrix34d& P, const Eigen::Vector3d& X);
+
+/// Removes lens distortion from measured pixels (cv::undistortPoints with P = K): the result is
+/// the ideal pixels that P = K [R | t] predicts. Without distortion the pixels are returned as is.
+std::vector<Eigen::Vector2d> undistort_pixels(const Camera& camera,
+                                              const std::vector<Eigen::Vector2d>& pixels);
 
 /// Splits P into K [R | t] by RQ decomposition: K upper triangular with positive diagonal and
 /// K(2,2) = 1, R a proper rotation. P is only defined up to scale (and sign); the result is the
