@@ -1,0 +1,49 @@
+#pragma once
+// Reading and writing text corpora in the three common bag-of-words formats (docs/formats/
+// corpus.md): UCI bag-of-words (docword.txt + vocab.txt), Blei's LDA-C, and MatrixMarket
+// coordinate files. Every reader checks every line; errors name the file and line.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "proprio/topics/corpus.hpp"
+
+namespace proprio::topics {
+
+enum class CorpusFormat { kUci, kLdac, kMatrixMarket };
+
+/// "uci", "ldac" or "mm"; throws Error naming the accepted values otherwise.
+CorpusFormat parse_corpus_format(std::string_view name);
+std::string_view to_string(CorpusFormat format);
+
+/// Reads a vocabulary file: one word per line, no blank or repeated words.
+std::vector<std::string> read_vocabulary(const std::filesystem::path& path);
+
+/// UCI bag-of-words: three header lines D, W, NNZ, then NNZ lines "docID wordID count" (1-based
+/// ids, any order, each (doc, word) pair at most once). Documents without entries are empty
+/// documents. `vocab` (W lines) may be an empty path: no vocabulary.
+Corpus read_uci(const std::filesystem::path& docword, const std::filesystem::path& vocab);
+
+/// LDA-C: one document per line, "N id:count id:count ..." with N distinct 0-based ids. The
+/// number of words is the vocabulary's size when `vocab` is given, else the largest id + 1.
+Corpus read_ldac(const std::filesystem::path& file, const std::filesystem::path& vocab);
+
+/// MatrixMarket "coordinate integer general" (or real with integral values) matrix, one row per
+/// document and one column per word, 1-based. `vocab` may be an empty path.
+Corpus read_matrix_market(const std::filesystem::path& file, const std::filesystem::path& vocab);
+
+/// Reads a corpus from a directory in the layout of docs/formats/corpus.md (uci: docword.txt and
+/// vocab.txt, or the one docword.*.txt and vocab.*.txt; ldac: corpus.ldac or the one *.ldac or
+/// *.dat file; mm: corpus.mm or the one *.mm file; vocab.txt optional for ldac and mm), or from
+/// the corpus file itself (its vocabulary beside it).
+Corpus read_corpus(const std::filesystem::path& dir_or_file, CorpusFormat format);
+
+/// Writes `corpus` into directory `dir` (created if missing) as docword.txt / corpus.ldac /
+/// corpus.mm, plus vocab.txt when the corpus has a vocabulary; each file written atomically.
+void write_corpus(const Corpus& corpus, const std::filesystem::path& dir, CorpusFormat format);
+
+/// The corpus as text in the given format (without the vocabulary).
+std::string format_corpus(const Corpus& corpus, CorpusFormat format);
+
+}  // namespace proprio::topics

@@ -1,0 +1,41 @@
+#pragma once
+// A trained LDA model (thesis B.1.2; Blei, Ng & Jordan 2003; Hoffman, Blei & Bach 2010): the
+// variational Dirichlet parameters lambda of the K topics over the W words and the priors. The
+// model is a constant value; training and inference keep their scratch space elsewhere.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace proprio::topics {
+
+struct LdaModel {
+  /// K x W variational parameters of q(beta_k) = Dir(lambda_k) (eq B.20, B.23-B.24). Stored
+  /// column-major, so the K values of one word are contiguous.
+  Eigen::MatrixXd lambda;
+  double alpha = 0.0;  ///< symmetric Dirichlet prior on each document's topic proportions theta
+  double eta = 0.0;    ///< symmetric Dirichlet prior on each topic's word distribution beta
+  double tau0 = 1.0;   ///< learning-rate offset of online training, rho_t = (tau0 + t)^-kappa
+  double kappa = 0.7;  ///< learning-rate decay of online training
+  std::int64_t updates = 0;             ///< mini-batch updates applied so far (t)
+  std::int64_t total_documents = 0;     ///< D, the corpus size that scales a mini-batch (eq B.23)
+  std::vector<std::string> vocabulary;  ///< empty, or one word per column of lambda
+
+  [[nodiscard]] int num_topics() const { return static_cast<int>(lambda.rows()); }
+  [[nodiscard]] int num_words() const { return static_cast<int>(lambda.cols()); }
+
+  /// The posterior mean of beta: K x W, each row lambda_k / sum_w lambda_kw (sums to 1).
+  [[nodiscard]] Eigen::MatrixXd topic_word() const;
+
+  /// The `n` most probable words of topic k, most probable first.
+  [[nodiscard]] std::vector<int> top_words(int k, int n) const;
+
+  /// Throws Error when the model is not usable: K or W zero, alpha or eta not positive and
+  /// finite, lambda not positive and finite everywhere, or a vocabulary of the wrong size.
+  void validate() const;
+
+  bool operator==(const LdaModel& other) const;
+};
+
+}  // namespace proprio::topics

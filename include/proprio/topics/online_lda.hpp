@@ -1,0 +1,116 @@
+#pragma once
+// Online variational Bayes for LDA (Hoffman, Blei & Bach 2010; thesis B.1.2 "Online LDA",
+// eq B.23-B.24): the corpus arrives in mini-batches; each mini-batch's E-step gives sufficient
+// statistics that, scaled by D / |batch|, form lambda-hat, and
+// lambda <- (1 - rho_t) lambda + rho_t lambda-hat with rho_t = (tau0 + t)^-kappa, t = 0, 1, ...
+// (the thesis prints the exponent without its minus sign).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "proprio/topics/corpus.hpp"
+#include "proprio/topics/estep_options.hpp"
+#include "proprio/topics/lda_model.hpp"
+#include "proprio/topics/perplexity.hpp"
+
+namespace proprio::topics {
+
+struct OnlineLdaOptions {
+  int num_topics = 100;    ///< K
+  int batch_size = 256;    ///< documents per mini-batch (the thesis uses 50 frames in 6.3.3)
+  double tau0 = 1.0;       ///< >= 0; down-weights the first updates
+  double kappa = 0.7;      ///< in (0.5, 1] for convergence
+  double alpha = 0.0;      ///< prior on theta; 0 means 1/K
+  double eta = 0.0;        ///< prior on beta; 0 means 1/K
+  int passes = 1;          ///< times through the corpus
+  int threads = 1;         ///< the result does not depend on it
+  std::uint64_t seed = 1;  ///< lambda's start, Gamma(100, 1/100), and the E-step's random gamma
+  /// D of eq B.23; 0 means the training corpus's size.
+  std::int64_t total_documents = 0;
+  /// gamma starts at random, Gamma(100, 1/100), as scikit-learn and gensim train.
+  EStepOptions estep{100, 1e-3, GammaInit::kRandomGamma};
+  /// With a held-out corpus: its perplexity every this many mini-batches (and at the start and
+  /// end); 0 = only at the start and the end.
+  int evaluate_every = 0;
+  PerplexityOptions evaluation;  ///< how the held-out perplexity is measured
+
+  /// Throws Error naming the first bad option.
+  void validate() const;
+  [[nodiscard]] double resolved_alpha() const { return alpha > 0 ? alpha : 1.0 / num_topics; }
+  [[nodiscard]] double resolved_eta() const { return eta > 0 ? eta : 1.0 / num_topics; }
+};
+
+/// What one mini-batch update did.
+struct MiniBatchStats {
+  std::int64_t documents = 0;
+  std::int64_t tokens = 0;
+  double rho = 0.0;
+  std::int64_t estep_iterations = 0;  ///< summed over the documents
+  std::int64_t capped = 0;            ///< documents that hit max_iterations
+};
+
+/// A point of the perplexity trace (thesis Fig 6-7).
+struct PerplexityPoint {
+  std::int64_t updates = 0;
+  std::int64_t documents_seen = 0;
+  double perplexity = 0.0;
+};
+
+struct OnlineLdaSummary {
+  std::int64_t updates = 0;
+  int passes = 0;
+  std::int64_t documents = 0;  ///< documents processed, over all passes
+  std::int64_t tokens = 0;     ///< tokens processed, over all passes
+  double seconds = 0.0;        ///< training time, evaluations excluded
+  double evaluation_seconds = 0.0;
+  double mean_estep_iterations = 0.0;  ///< per non-empty document
+  std::int64_t capped = 0;             ///< document E-steps that hit max_iterations
+  int threads = 1;
+  std::string kernel;                  ///< the instruction set the E-step ran on
+  std::vector<PerplexityPoint> trace;  ///< empty without a held-out corpus
+
+  [[nodiscard]] double documents_per_second() const {
+    return seconds > 0 ? documents / seconds : 0;
+  }
+  [[nodiscard]] double tokens_per_second() const { return seconds > 0 ? tokens / seconds : 0; }
+  [[nodiscard]] std::string brief() const;
+};
+
+struct OnlineLdaResult {
+  LdaModel model;
+  OnlineLdaSummary summary;
+};
+
+/// The online learner as a stream consumer: a robot feeds it mini-batches as they come.
+class OnlineLda {
+ public:
+  /// A fresh model over `num_words` words for a stream of about `total_documents` documents.
+  OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words, std::int64_t total_documents,
+            std::vector<std::string> vocabulary = {});
+  /// Continues training `model` (its priors, tau0, kappa and update count are kept).
+  OnlineLda(LdaModel model, const OnlineLdaOptions& options);
+  OnlineLda(OnlineLda&&) noexcept;
+  OnlineLda& operator=(OnlineLda&&) noexcept;
+  ~OnlineLda();
+
+  /// One update with documents [begin, end) of `corpus` as the mini-batch (eq B.23-B.24).
+  /// Throws Error when the corpus's W differs from the model's.
+  MiniBatchStats update(const Corpus& corpus, std::size_t begin, std::size_t end);
+
+  [[nodiscard]] const LdaModel& model() const;
+  [[nodiscard]] const char* kernel() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Trains on `corpus` in order, `passes` times, mini-batch by mini-batch.
+OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options);
+/// The same, tracing the held-out perplexity of `heldout` (thesis Fig 6-7).
+OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus& heldout,
+                                 const OnlineLdaOptions& options);
+
+}  // namespace proprio::topics

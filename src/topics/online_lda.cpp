@@ -1,0 +1,280 @@
+#include "proprio/topics/online_lda.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "engine.hpp"
+#include "proprio/core/error.hpp"
+
+namespace proprio::topics {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void check_positive_finite(double v, const char* name) {
+  if (!(std::isfinite(v) && v > 0)) {
+    throw Error(std::string("online LDA: ") + name + " must be positive and finite, not " +
+                std::to_string(v));
+  }
+}
+
+}  // namespace
+
+void OnlineLdaOptions::validate() const {
+  if (num_topics < 1) throw Error("online LDA: the number of topics must be at least 1");
+  if (num_topics > 100000) throw Error("online LDA: more than 100000 topics");
+  if (batch_size < 1) throw Error("online LDA: the batch size must be at least 1");
+  if (!(std::isfinite(tau0) && tau0 >= 0)) throw Error("online LDA: tau0 must be >= 0");
+  if (!(kappa > 0.5 && kappa <= 1.0)) {
+    throw Error("online LDA: kappa must be in (0.5, 1] for convergence, not " +
+                std::to_string(kappa));
+  }
+  if (alpha != 0) check_positive_finite(alpha, "alpha");
+  if (eta != 0) check_positive_finite(eta, "eta");
+  if (passes < 1) throw Error("online LDA: passes must be at least 1");
+  if (threads < 1 || threads > 256) throw Error("online LDA: threads must be in [1, 256]");
+  if (total_documents < 0) throw Error("online LDA: total_documents must be >= 0");
+  if (evaluate_every < 0) throw Error("online LDA: evaluate_every must be >= 0");
+  estep.validate();
+  evaluation.validate();
+}
+
+std::string OnlineLdaSummary::brief() const {
+  std::ostringstream s;
+  s << updates << " mini-batch updates over " << passes << " passes, " << documents
+    << " documents (" << tokens << " tokens) in " << seconds << " s ("
+    << static_cast<long long>(documents_per_second()) << " docs/s, "
+    << static_cast<long long>(tokens_per_second()) << " tokens/s; " << threads << " thread(s), "
+    << kernel << " kernel); mean E-step iterations " << mean_estep_iterations;
+  if (capped > 0) s << ", " << capped << " hit the limit";
+  if (!trace.empty()) s << "; held-out perplexity " << trace.back().perplexity;
+  return s.str();
+}
+
+struct OnlineLda::Impl {
+  OnlineLdaOptions options;
+  LdaModel model;
+  Eigen::VectorXd topic_sum;
+  const detail::Kernels* kern;
+  int stride;
+  detail::ThreadPool pool;
+  std::vector<std::int32_t> row_of_word;
+  std::vector<std::int32_t> batch_words;
+  detail::BatchDocs docs;
+  detail::FloatBuffer beta;
+  detail::BatchEStep estep;
+  detail::FloatBuffer sstats;
+
+  Impl(const OnlineLdaOptions& o, LdaModel m)
+      : options(o),
+        model(std::move(m)),
+        kern(&detail::best_kernels()),
+        stride(detail::padded(model.num_topics(), kern->lanes)),
+        pool(o.threads),
+        row_of_word(static_cast<std::size_t>(model.num_words()), -1) {
+    topic_sum = detail::topic_sums(model.lambda, pool);
+  }
+};
+
+OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
+                     std::int64_t total_documents, std::vector<std::string> vocabulary) {
+  options.validate();
+  if (num_words < 1) throw Error("online LDA: the vocabulary is empty");
+  if (total_documents < 1) throw Error("online LDA: total_documents must be at least 1");
+  LdaModel m;
+  const int K = options.num_topics;
+  m.alpha = options.resolved_alpha();
+  m.eta = options.resolved_eta();
+  m.tau0 = options.tau0;
+  m.kappa = options.kappa;
+  m.total_documents = total_documents;
+  m.vocabulary = std::move(vocabulary);
+  {
+    detail::ThreadPool pool(options.threads);
+    m.lambda = detail::initial_lambda(K, num_words, options.seed, pool);
+  }
+  m.validate();
+  impl_ = std::make_unique<Impl>(options, std::move(m));
+}
+
+OnlineLda::OnlineLda(LdaModel model, const OnlineLdaOptions& options) {
+  model.validate();
+  OnlineLdaOptions o = options;
+  o.num_topics = model.num_topics();
+  o.alpha = model.alpha;
+  o.eta = model.eta;
+  o.tau0 = model.tau0;
+  o.kappa = model.kappa;
+  o.validate();
+  impl_ = std::make_unique<Impl>(o, std::move(model));
+}
+
+OnlineLda::OnlineLda(OnlineLda&&) noexcept = default;
+OnlineLda& OnlineLda::operator=(OnlineLda&&) noexcept = default;
+OnlineLda::~OnlineLda() = default;
+
+const LdaModel& OnlineLda::model() const { return impl_->model; }
+const char* OnlineLda::kernel() const { return impl_->kern->name; }
+
+MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::size_t end) {
+  Impl& m = *impl_;
+  LdaModel& model = m.model;
+  if (corpus.num_words() != model.num_words()) {
+    throw Error("online LDA: the corpus has " + std::to_string(corpus.num_words()) +
+                " words, the model " + std::to_string(model.num_words()));
+  }
+  if (begin >= end || end > corpus.num_documents()) {
+    throw Error("online LDA: empty or out-of-range mini-batch");
+  }
+  const int K = model.num_topics();
+  const auto S = static_cast<std::size_t>(m.stride);
+  MiniBatchStats stats;
+  stats.documents = static_cast<std::int64_t>(end - begin);
+
+  // The mini-batch's own vocabulary: rows of the beta cache in order of first appearance.
+  m.docs.clear();
+  m.batch_words.clear();
+  for (std::size_t d = begin; d < end; ++d) {
+    const auto doc = corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      const std::int32_t w = doc.words[i];
+      std::int32_t& r = m.row_of_word[static_cast<std::size_t>(w)];
+      if (r < 0) {
+        r = static_cast<std::int32_t>(m.batch_words.size());
+        m.batch_words.push_back(w);
+      }
+      m.docs.rows.push_back(r);
+      m.docs.counts.push_back(static_cast<float>(doc.counts[i]));
+      stats.tokens += doc.counts[i];
+    }
+    m.docs.offsets.push_back(m.docs.rows.size());
+    m.docs.keys.push_back(
+        detail::mix_key(m.options.seed, static_cast<std::uint64_t>(model.updates), d));
+  }
+
+  detail::exp_elog_beta(*m.kern, model.lambda, m.topic_sum, m.batch_words, m.stride, m.pool,
+                        m.beta);
+  detail::run_estep(*m.kern, m.pool, m.docs, m.beta.data(), K, m.stride, model.alpha,
+                    m.options.estep, m.estep);
+  detail::sufficient_statistics(*m.kern, m.pool, m.docs, m.estep, m.batch_words.size(), m.sstats);
+  for (std::size_t d = 0; d < m.docs.size(); ++d) {
+    stats.estep_iterations += m.estep.iterations[d];
+    if (m.docs.offsets[d + 1] > m.docs.offsets[d] && !m.estep.converged[d]) ++stats.capped;
+  }
+
+  // M-step (eq B.23-B.24): lambda-hat = eta + D/|B| * sstats * exp(E[log beta]).
+  const double rho = std::pow(model.tau0 + static_cast<double>(model.updates), -model.kappa);
+  const double scale =
+      static_cast<double>(model.total_documents) / static_cast<double>(stats.documents);
+  const double keep = 1.0 - rho;
+  const double prior = rho * model.eta;
+  const auto W = static_cast<std::size_t>(model.num_words());
+  constexpr std::size_t kBlock = 256;
+  m.pool.run((W + kBlock - 1) / kBlock, [&](std::size_t b, int) {
+    const std::size_t w1 = std::min(W, (b + 1) * kBlock);
+    for (std::size_t w = b * kBlock; w < w1; ++w) {
+      double* col = model.lambda.col(static_cast<Eigen::Index>(w)).data();
+      const std::int32_t r = m.row_of_word[w];
+      if (r >= 0) {
+        const float* s = m.sstats.data() + static_cast<std::size_t>(r) * S;
+        const float* e = m.beta.data() + static_cast<std::size_t>(r) * S;
+        for (int k = 0; k < K; ++k) {
+          col[k] = keep * col[k] + prior +
+                   rho * scale * static_cast<double>(s[k]) * static_cast<double>(e[k]);
+        }
+      } else {
+        for (int k = 0; k < K; ++k) col[k] = keep * col[k] + prior;
+      }
+    }
+  });
+  m.topic_sum = detail::topic_sums(model.lambda, m.pool);
+  for (const auto w : m.batch_words) m.row_of_word[static_cast<std::size_t>(w)] = -1;
+  ++model.updates;
+  stats.rho = rho;
+  return stats;
+}
+
+namespace {
+
+OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout,
+                      const OnlineLdaOptions& options) {
+  options.validate();
+  if (corpus.num_documents() == 0) throw Error("online LDA: the training corpus is empty");
+  if (corpus.num_words() < 1) throw Error("online LDA: the vocabulary is empty");
+  if (heldout != nullptr && heldout->num_words() != corpus.num_words()) {
+    throw Error("online LDA: the held-out corpus has " + std::to_string(heldout->num_words()) +
+                " words, the training corpus " + std::to_string(corpus.num_words()));
+  }
+  const std::int64_t D = options.total_documents > 0
+                             ? options.total_documents
+                             : static_cast<std::int64_t>(corpus.num_documents());
+  OnlineLda lda(options, corpus.num_words(), D, corpus.vocabulary());
+  OnlineLdaResult result;
+  OnlineLdaSummary& s = result.summary;
+  s.threads = options.threads;
+  s.kernel = lda.kernel();
+
+  const bool trace = heldout != nullptr && heldout->num_tokens() > 0;
+  CompletionSplit split;
+  PerplexityOptions eval = options.evaluation;
+  eval.threads = options.threads;
+  if (trace && eval.method == PerplexityMethod::kDocumentCompletion) {
+    split = split_for_completion(*heldout, eval.split_seed);
+  }
+  auto evaluate = [&] {
+    const auto t0 = Clock::now();
+    const PerplexityResult p = eval.method == PerplexityMethod::kDocumentCompletion
+                                   ? completion_perplexity(lda.model(), split, eval)
+                                   : perplexity(lda.model(), *heldout, eval);
+    s.trace.push_back({lda.model().updates, s.documents, p.perplexity});
+    s.evaluation_seconds += since(t0);
+  };
+  if (trace) evaluate();
+
+  std::int64_t iterations = 0;
+  std::int64_t nonempty = 0;
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) nonempty += !corpus.document(d).empty();
+  const auto B = static_cast<std::size_t>(options.batch_size);
+  for (int pass = 0; pass < options.passes; ++pass) {
+    for (std::size_t b = 0; b < corpus.num_documents(); b += B) {
+      const auto t0 = Clock::now();
+      const MiniBatchStats st = lda.update(corpus, b, std::min(corpus.num_documents(), b + B));
+      s.seconds += since(t0);
+      ++s.updates;
+      s.documents += st.documents;
+      s.tokens += st.tokens;
+      s.capped += st.capped;
+      iterations += st.estep_iterations;
+      if (trace && options.evaluate_every > 0 && s.updates % options.evaluate_every == 0) {
+        evaluate();
+      }
+    }
+    ++s.passes;
+  }
+  if (trace && s.trace.back().updates != lda.model().updates) evaluate();
+  const std::int64_t docs_run = nonempty * options.passes;
+  s.mean_estep_iterations =
+      docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
+  result.model = lda.model();
+  return result;
+}
+
+}  // namespace
+
+OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options) {
+  return train(corpus, nullptr, options);
+}
+
+OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus& heldout,
+                                 const OnlineLdaOptions& options) {
+  return train(corpus, &heldout, options);
+}
+
+}  // namespace proprio::topics

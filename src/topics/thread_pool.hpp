@@ -1,0 +1,45 @@
+#pragma once
+// A small fixed pool of worker threads for data-parallel loops. The caller's thread works too.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace proprio::topics::detail {
+
+class ThreadPool {
+ public:
+  /// A pool of `threads` (>= 1) threads, the caller's included.
+  explicit ThreadPool(int threads);
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+  ~ThreadPool();
+
+  [[nodiscard]] int size() const { return static_cast<int>(workers_.size()) + 1; }
+
+  /// Calls fn(task, thread) for every task in [0, n), handing tasks out one at a time to
+  /// whichever thread is free (thread in [0, size())); returns when all are done. fn must not
+  /// throw.
+  void run(std::size_t n, const std::function<void(std::size_t, int)>& fn);
+
+ private:
+  void work(int thread);
+  void drain(int thread);
+
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable start_;
+  std::condition_variable done_;
+  const std::function<void(std::size_t, int)>* fn_ = nullptr;
+  std::size_t tasks_ = 0;
+  std::atomic<std::size_t> next_{0};
+  std::size_t generation_ = 0;
+  int busy_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace proprio::topics::detail
