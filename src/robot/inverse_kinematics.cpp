@@ -160,58 +160,74 @@ IkResult solve_analytic(ArmState& state, const Eigen::Vector3d& target, const Jo
     double pitch;
     double gap;
   };
-  std::vector<Try> tries;
-  for (std::size_t b = 0; b < branches.size(); ++b) {
-    const PitchWindow& w = branches[b].window;
-    if (w.empty()) continue;
-    const double delta = wrap(options.pitch - w.phi);
-    auto add = [&](double d) {
-      const double p = wrap(w.phi + d);
-      tries.push_back({b, p, std::abs(wrap(p - options.pitch))});
-    };
-    const double ad = std::abs(delta);
-    if (ad >= w.lo - 1e-12 && ad <= w.hi + 1e-12) {
-      add(delta);  // the requested pitch itself
-    } else if (!options.strict_pitch) {
-      const double clamped = std::clamp(ad, w.lo, w.hi);
-      add(delta >= 0 ? clamped : -clamped);
-      if (delta == 0) add(-clamped);
-    }
-    if (!options.strict_pitch) {
-      for (const double sign : {1.0, -1.0}) {
-        for (int i = 0; i <= kPitchScan; ++i) add(sign * (w.lo + (w.hi - w.lo) * i / kPitchScan));
+  // First the requested pitch (or the nearest reachable one) on each branch; only when joint
+  // limits rule those out, a scan over each branch's reachable pitches.
+  auto make_tries = [&](bool scan) {
+    std::vector<Try> tries;
+    for (std::size_t b = 0; b < branches.size(); ++b) {
+      const PitchWindow& w = branches[b].window;
+      if (w.empty()) continue;
+      const double delta = wrap(options.pitch - w.phi);
+      auto add = [&](double d) {
+        const double p = wrap(w.phi + d);
+        tries.push_back({b, p, std::abs(wrap(p - options.pitch))});
+      };
+      const double ad = std::abs(delta);
+      if (ad >= w.lo - 1e-12 && ad <= w.hi + 1e-12) {
+        add(delta);  // the requested pitch itself
+      } else if (!options.strict_pitch) {
+        const double clamped = std::clamp(ad, w.lo, w.hi);
+        add(delta >= 0 ? clamped : -clamped);
+        if (delta == 0) add(-clamped);
+      }
+      if (scan && !options.strict_pitch) {
+        for (const double sign : {1.0, -1.0}) {
+          for (int i = 0; i <= kPitchScan; ++i) add(sign * (w.lo + (w.hi - w.lo) * i / kPitchScan));
+        }
       }
     }
-  }
-  std::stable_sort(tries.begin(), tries.end(),
-                   [](const Try& a, const Try& b) { return a.gap < b.gap; });
-
-  std::optional<Candidate> best;
-  for (const Try& t : tries) {
-    if (best && t.gap > best->pitch_gap + kPitchTie) break;
-    const Branch& br = branches[t.branch];
-    const std::optional<double> q1 = in_range(g.yaw_sign * wrap(br.azimuth - g.yaw_zero),
-                                              arm.lower()[0], arm.upper()[0], q_start[0]);
-    if (!q1) continue;
-    for (const bool up : {options.elbow_up, !options.elbow_up}) {
-      if (up != options.elbow_up && !options.allow_elbow_flip) continue;
-      const auto raise = planar_solve(g, br.u, target.z(), t.pitch, up);
-      if (!raise) continue;
-      JointVector q;
-      q[0] = *q1;
-      bool ok = true;
-      for (int k = 0; k < 3 && ok; ++k) {
-        const auto qk = in_range(
-            g.pitch_sign[static_cast<std::size_t>(k)] * (*raise)[static_cast<std::size_t>(k)],
-            arm.lower()[k + 1], arm.upper()[k + 1], q_start[k + 1]);
-        ok = qk.has_value();
-        if (ok) q[k + 1] = *qk;
+    std::stable_sort(tries.begin(), tries.end(),
+                     [](const Try& a, const Try& b) { return a.gap < b.gap; });
+    return tries;
+  };
+  // The best valid solution among `tries`; `failed_gap` is the smallest pitch gap that failed.
+  auto choose = [&](const std::vector<Try>& tries, double& failed_gap) {
+    std::optional<Candidate> best;
+    failed_gap = std::numeric_limits<double>::infinity();
+    for (const Try& t : tries) {
+      if (best && t.gap > best->pitch_gap + kPitchTie) break;
+      bool found = false;
+      const Branch& br = branches[t.branch];
+      const std::optional<double> q1 = in_range(g.yaw_sign * wrap(br.azimuth - g.yaw_zero),
+                                                arm.lower()[0], arm.upper()[0], q_start[0]);
+      for (const bool up : {options.elbow_up, !options.elbow_up}) {
+        if (!q1 || (up != options.elbow_up && !options.allow_elbow_flip)) continue;
+        const auto raise = planar_solve(g, br.u, target.z(), t.pitch, up);
+        if (!raise) continue;
+        JointVector q;
+        q[0] = *q1;
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; ++k) {
+          const auto qk = in_range(
+              g.pitch_sign[static_cast<std::size_t>(k)] * (*raise)[static_cast<std::size_t>(k)],
+              arm.lower()[k + 1], arm.upper()[k + 1], q_start[k + 1]);
+          ok = qk.has_value();
+          if (ok) q[k + 1] = *qk;
+        }
+        if (!ok) continue;
+        q[4] = std::clamp(q_start[4], arm.lower()[4], arm.upper()[4]);
+        const Candidate c{q, t.gap, up, (q - q_start).norm()};
+        if (!best || better(c, *best, options.elbow_up)) best = c;
+        found = true;
       }
-      if (!ok) continue;
-      q[4] = std::clamp(q_start[4], arm.lower()[4], arm.upper()[4]);
-      Candidate c{q, t.gap, up, (q - q_start).norm()};
-      if (!best || better(c, *best, options.elbow_up)) best = c;
+      if (!found) failed_gap = std::min(failed_gap, t.gap);
     }
+    return best;
+  };
+  double failed_gap = 0;
+  std::optional<Candidate> best = choose(make_tries(false), failed_gap);
+  if (!options.strict_pitch && (!best || failed_gap < best->pitch_gap - kPitchTie)) {
+    best = choose(make_tries(true), failed_gap);
   }
   if (!best) {
     bool any_window = false;
@@ -266,6 +282,8 @@ IkResult solve_numerical(ArmState& state, const Eigen::Vector3d& target, const J
   int iterations = 0;
   int budget = options.max_iterations;
   int stalls = 0;
+  std::vector<mjtNum> jp(3 * static_cast<std::size_t>(arm.model().nv));
+  std::vector<mjtNum> jr(jp.size());
   auto evaluate = [&](const JointVector& qq, Eigen::VectorXd& e, Eigen::MatrixXd* J) {
     const EePose pose = state.ee_pose(qq);
     const int rows = use_direction ? 6 : 3;
@@ -275,8 +293,6 @@ IkResult solve_numerical(ArmState& state, const Eigen::Vector3d& target, const J
     if (use_direction) e.tail<3>() = options.pitch_weight * (wanted - d);
     if (J) {
       J->resize(rows, kArmJoints);
-      std::vector<mjtNum> jp(3 * static_cast<std::size_t>(arm.model().nv));
-      std::vector<mjtNum> jr(jp.size());
       mj_jacSite(&arm.model(), &state.data(), jp.data(), jr.data(), arm.ee_site());
       Eigen::Matrix<double, 3, kArmJoints> Jp;
       Eigen::Matrix<double, 3, kArmJoints> Jr;
@@ -297,8 +313,8 @@ IkResult solve_numerical(ArmState& state, const Eigen::Vector3d& target, const J
     return !use_direction || e.tail<3>().norm() < 1e-9 * options.pitch_weight;
   };
 
-  Eigen::VectorXd e;
-  Eigen::MatrixXd J;
+  Eigen::VectorXd e, e_new;
+  Eigen::MatrixXd J, J_new;
   evaluate(q, e, &J);
   std::string how;
   while (true) {
@@ -345,18 +361,17 @@ IkResult solve_numerical(ArmState& state, const Eigen::Vector3d& target, const J
       if (!changed) break;
     }
     const JointVector q_new = arm.clamp(q + dq);
-    Eigen::VectorXd e_new;
-    evaluate(q_new, e_new, nullptr);
+    evaluate(q_new, e_new, &J_new);
     if (e_new.squaredNorm() < e.squaredNorm()) {
       const double gain = e.squaredNorm() - e_new.squaredNorm();
       stalls = gain < 1e-15 * e.squaredNorm() ? stalls + 1 : 0;
       q = q_new;
+      e.swap(e_new);
+      J.swap(J_new);
       lambda = std::max(lambda / 4, 1e-9);
-      evaluate(q, e, &J);
     } else {
       lambda *= 8;
       ++stalls;
-      evaluate(q, e, &J);  // restores the data to q
     }
   }
   IkSummary summary;
