@@ -168,3 +168,30 @@ TEST(ArmModel, SimulatesWithoutWarningsAndHoldsItsPose) {
 
 }  // namespace
 }  // namespace proprio::robot
+
+namespace proprio::robot {
+namespace {
+
+TEST(ArmModel, GripperOpensSymmetricallyWithoutWarnings) {
+  const Arm& arm = testing::standard_arm();
+  ASSERT_TRUE(arm.has_gripper());
+  const mjModel& m = arm.model();
+  DataPtr d = make_data(m);
+  for (int k = 0; k < kArmJoints; ++k) d->ctrl[arm.actuator_id(k)] = 0.0;
+  for (int a : arm.gripper_actuators()) d->ctrl[a] = 0.02;
+  for (int i = 0; i < 500; ++i) mj_step(&m, d.get());
+  testing::expect_no_warnings(*d);
+  const int left = m.jnt_qposadr[arm.gripper_joints()[0]];
+  const int right = m.jnt_qposadr[arm.gripper_joints()[1]];
+  EXPECT_NEAR(d->qpos[left], 0.02, 1e-3);
+  EXPECT_NEAR(d->qpos[right], 0.02, 1e-3);
+  // The fingers move apart, mirror images about the pusher.
+  const int lb = m.jnt_bodyid[arm.gripper_joints()[0]];
+  const int rb = m.jnt_bodyid[arm.gripper_joints()[1]];
+  const Eigen::Vector3d pl(d->xpos[3 * lb], d->xpos[3 * lb + 1], d->xpos[3 * lb + 2]);
+  const Eigen::Vector3d pr(d->xpos[3 * rb], d->xpos[3 * rb + 1], d->xpos[3 * rb + 2]);
+  EXPECT_NEAR((pl - pr).norm(), 2 * (0.02 + 0.02), 2e-3);
+}
+
+}  // namespace
+}  // namespace proprio::robot
