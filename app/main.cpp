@@ -29,6 +29,7 @@ int run(int argc, char** argv) {
   root.parse_complete_callback([&verbosity] { core::configure_logging(verbosity); });
   register_calib_commands(root, inv);
   register_episode_commands(root, inv);
+  register_lda_commands(root, inv);
 
   try {
     root.parse(argc, argv);
