@@ -73,6 +73,8 @@ double plane_fit_rms(const std::vector<Eigen::Vector3d>& pts) {
 
 }  // namespace
 
+std::filesystem::path default_stereo_images_dir() { return PROPRIO_OPENCV_SAMPLES_DIR; }
+
 void StereoCheckOptions::validate() const {
   require(board.width >= 2 && board.height >= 2 && board.width <= 100 && board.height <= 100,
           "stereo check: the board needs 2 to 100 inner corners per side");

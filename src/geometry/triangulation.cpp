@@ -48,6 +48,8 @@ void TriangulationOptions::validate() const {
   require(tolerance > 0.0 && tolerance < 1.0, "triangulation option tolerance must lie in (0, 1)");
   require(infinity_tolerance > 0.0 && infinity_tolerance < 1.0,
           "triangulation option infinity_tolerance must lie in (0, 1)");
+  require(degeneracy_tolerance > 0.0 && degeneracy_tolerance < 1.0,
+          "triangulation option degeneracy_tolerance must lie in (0, 1)");
 }
 
 const char* to_string(TriangulationTermination t) {
@@ -72,6 +74,10 @@ Triangulation triangulate(const Matrix34d& P1, const Matrix34d& P2, const Eigen:
   A.row(2) = x2.x() * P2.row(2) - P2.row(0);
   A.row(3) = x2.y() * P2.row(2) - P2.row(1);
   const Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
+  const Eigen::Vector4d sv = svd.singularValues();
+  if (!(sv(2) >= options.degeneracy_tolerance * sv(0))) {
+    throw Error("triangulation: the two rays coincide (the point is undetermined along them)");
+  }
   const Eigen::Vector4d Xh = svd.matrixV().col(3);
   if (std::abs(Xh(3)) < options.infinity_tolerance) {
     throw Error("triangulation: the rays are parallel (point at infinity)");

@@ -121,6 +121,13 @@ TEST(Triangulation, BadInputIsAnError) {
     EXPECT_EQ(std::string(e.what()),
               "point 2: triangulation: the rays are parallel (point at infinity)");
   }
+  // One camera twice: the rays coincide and the depth along them is undetermined.
+  try {
+    triangulate(c1.P(), c1.P(), Eigen::Vector2d(300, 200), Eigen::Vector2d(300, 200));
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("coincide"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(triangulate(c1.P(), c2.P(), Eigen::Vector2d(std::nan(""), 1.0), pp), Error);
   EXPECT_THROW(triangulate(c1.P(), c2.P(), std::vector<Eigen::Vector2d>(2, pp),
                            std::vector<Eigen::Vector2d>(3, pp)),

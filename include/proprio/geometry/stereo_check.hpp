@@ -82,6 +82,10 @@ struct StereoCheckResult {
   StereoCheckSummary summary;
 };
 
+/// Where opencv-doc's sample images are (PROPRIO_OPENCV_SAMPLES at build time), the default
+/// images_dir of `proprio calib stereo`.
+std::filesystem::path default_stereo_images_dir();
+
 /// Detects the board (findChessboardCorners + cornerSubPix) in every pair, calibrates each camera
 /// (calibrateCamera) and then the pair (stereoCalibrate), undistorts the corners
 /// (undistort_pixels), triangulates them with triangulate() and scores the result. Throws Error

@@ -23,6 +23,10 @@ struct TriangulationOptions {
   /// The linear solution counts as a point at infinity (parallel rays) when its homogeneous
   /// coordinate w, with |(X, w)| = 1 and X in the units of the cameras, is below this.
   double infinity_tolerance = 1e-12;
+  /// The two rays count as the same line (the point slides along it undetermined: identical
+  /// cameras, or a point on the baseline) when the third singular value of the 4x4 system is below
+  /// this fraction of the first.
+  double degeneracy_tolerance = 1e-10;
 
   /// Throws Error when an option is out of range.
   void validate() const;
@@ -54,7 +58,7 @@ struct Triangulation {
 /// Triangulates one point from ideal (undistorted) pixels. The linear method is the one of
 /// Hartley & Zisserman 12.2 (and cv::triangulatePoints): the rows u P3 - P1, v P3 - P2 of both
 /// cameras, the right singular vector of the smallest singular value. Throws Error when the pixels
-/// are not finite or the rays are parallel (the point is at infinity).
+/// are not finite, the rays are parallel (the point is at infinity) or coincide.
 Triangulation triangulate(const Matrix34d& P1, const Matrix34d& P2, const Eigen::Vector2d& x1,
                           const Eigen::Vector2d& x2, const TriangulationOptions& options = {});
 
