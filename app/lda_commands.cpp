@@ -132,6 +132,7 @@ void run_train(TrainArgs a, const Invocation& inv) {
     const OnlineLdaSummary& s = r.summary;
     std::printf("%s\n", s.brief().c_str());
     doc["seconds"] = s.seconds;
+    doc["cpu_seconds"] = s.cpu_seconds;
     doc["docs_per_s"] = s.documents_per_second();
     doc["tokens_per_s"] = s.tokens_per_second();
     doc["documents"] = s.documents;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <numeric>
 #include <sstream>
 
@@ -16,6 +17,12 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 void check_positive_finite(double v, const char* name) {
@@ -170,7 +177,8 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
   }
 
   // M-step (eq B.23-B.24): lambda-hat = eta + D/|B| * sstats * exp(E[log beta]).
-  const double rho = std::pow(model.tau0 + static_cast<double>(model.updates), -model.kappa);
+  // t counts this update from 1, as scikit-learn does (Hoffman's code counts from 0).
+  const double rho = std::pow(model.tau0 + static_cast<double>(model.updates + 1), -model.kappa);
   const double scale =
       static_cast<double>(model.total_documents) / static_cast<double>(stats.documents);
   const double keep = 1.0 - rho;
@@ -245,8 +253,10 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout,
   for (int pass = 0; pass < options.passes; ++pass) {
     for (std::size_t b = 0; b < corpus.num_documents(); b += B) {
       const auto t0 = Clock::now();
+      const double c0 = process_cpu_seconds();
       const MiniBatchStats st = lda.update(corpus, b, std::min(corpus.num_documents(), b + B));
       s.seconds += since(t0);
+      s.cpu_seconds += process_cpu_seconds() - c0;
       ++s.updates;
       s.documents += st.documents;
       s.tokens += st.tokens;

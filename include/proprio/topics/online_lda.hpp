@@ -2,8 +2,9 @@
 // Online variational Bayes for LDA (Hoffman, Blei & Bach 2010; thesis B.1.2 "Online LDA",
 // eq B.23-B.24): the corpus arrives in mini-batches; each mini-batch's E-step gives sufficient
 // statistics that, scaled by D / |batch|, form lambda-hat, and
-// lambda <- (1 - rho_t) lambda + rho_t lambda-hat with rho_t = (tau0 + t)^-kappa, t = 0, 1, ...
-// (the thesis prints the exponent without its minus sign).
+// lambda <- (1 - rho_t) lambda + rho_t lambda-hat with rho_t = (tau0 + t)^-kappa, t = 1, 2, ...
+// counting this update, as scikit-learn does (Hoffman's reference code counts from t = 0: its
+// tau0 is ours + 1). The thesis prints the exponent without its minus sign.
 
 #include <cstdint>
 #include <memory>
@@ -63,7 +64,8 @@ struct OnlineLdaSummary {
   int passes = 0;
   std::int64_t documents = 0;  ///< documents processed, over all passes
   std::int64_t tokens = 0;     ///< tokens processed, over all passes
-  double seconds = 0.0;        ///< training time, evaluations excluded
+  double seconds = 0.0;        ///< training time (wall clock), evaluations excluded
+  double cpu_seconds = 0.0;    ///< processor time of all threads during training
   double evaluation_seconds = 0.0;
   double mean_estep_iterations = 0.0;  ///< per non-empty document
   std::int64_t capped = 0;             ///< document E-steps that hit max_iterations
