@@ -1,0 +1,130 @@
+// Model files: round trips, and every truncation and every flipped byte is a clear Error.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/topics/lda_model_io.hpp"
+
+namespace proprio::topics {
+namespace {
+namespace fs = std::filesystem;
+
+LdaModel small_model() {
+  LdaModel m;
+  m.lambda.resize(3, 4);
+  m.lambda << 1, 2, 3, 4, 0.5, 0.25, 7, 8, 9, 10, 11, 0.125;
+  m.alpha = 0.1;
+  m.eta = 0.01;
+  m.tau0 = 1.0;
+  m.kappa = 0.7;
+  m.updates = 12;
+  m.total_documents = 300;
+  m.vocabulary = {"cat", "dog", "emu", "gnu"};
+  return m;
+}
+
+fs::path temp(const std::string& name) {
+  return fs::temp_directory_path() / ("proprio_lda_io_" + std::to_string(::getpid()) + "_" + name);
+}
+
+TEST(LdaModelIo, RoundTripsExactly) {
+  const LdaModel m = small_model();
+  const fs::path p = temp("m.lda");
+  save_lda_model(m, p);
+  const LdaModel back = load_lda_model(p);
+  EXPECT_TRUE(back == m);
+  LdaModel no_vocab = m;
+  no_vocab.vocabulary.clear();
+  EXPECT_TRUE(parse_lda_model(serialize_lda_model(no_vocab), "x") == no_vocab);
+  fs::remove(p);
+}
+
+TEST(LdaModelIo, EveryTruncationIsAnError) {
+  const std::string bytes = serialize_lda_model(small_model());
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    try {
+      parse_lda_model(std::string_view(bytes).substr(0, n), "m.lda");
+      ADD_FAILURE() << "truncated to " << n << " bytes was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("m.lda: ", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_NE(std::string(bytes + "x").size(), bytes.size());
+  EXPECT_THROW(parse_lda_model(bytes + "x", "m.lda"), Error);
+}
+
+TEST(LdaModelIo, EveryFlippedByteIsAnError) {
+  const std::string bytes = serialize_lda_model(small_model());
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    for (const unsigned char mask : {0x01, 0x80}) {
+      std::string bad = bytes;
+      bad[i] = static_cast<char>(static_cast<unsigned char>(bad[i]) ^ mask);
+      EXPECT_THROW(parse_lda_model(bad, "m.lda"), Error) << "byte " << i;
+    }
+  }
+}
+
+TEST(LdaModelIo, NamesTheProblem) {
+  const std::string bytes = serialize_lda_model(small_model());
+  auto message = [](const std::string& b) {
+    try {
+      parse_lda_model(b, "m.lda");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("hello world, this is not a model").find("wrong magic"), std::string::npos);
+  std::string v2 = bytes;
+  v2[8] = 2;
+  EXPECT_NE(message(v2).find("version 2"), std::string::npos);
+  std::string flipped = bytes;
+  flipped[bytes.size() - 3] ^= 0x10;
+  EXPECT_NE(message(flipped).find("checksum"), std::string::npos);
+  EXPECT_NE(message(bytes.substr(0, 40)).find("truncated"), std::string::npos);
+  EXPECT_THROW(load_lda_model(temp("missing.lda")), Error);
+}
+
+TEST(LdaModelIo, RefusesToSaveAnInvalidModel) {
+  LdaModel m = small_model();
+  m.lambda(1, 1) = std::nan("");
+  EXPECT_THROW(save_lda_model(m, temp("bad.lda")), Error);
+  m = small_model();
+  m.vocabulary.pop_back();
+  EXPECT_THROW(save_lda_model(m, temp("bad.lda")), Error);
+  EXPECT_FALSE(fs::exists(temp("bad.lda")));
+}
+
+TEST(LdaModelIo, LambdaCsvRoundTripsAndNormalizes) {
+  const LdaModel m = small_model();
+  const fs::path p = temp("lambda.csv");
+  write_lambda_csv(m, p, false);
+  const std::string text = core::read_file(p);
+  EXPECT_EQ(text.substr(0, text.find('\n')), "cat,dog,emu,gnu");
+  const LdaModel back = read_lambda_csv(p, 0.1, 0.01);
+  EXPECT_TRUE(back.lambda == m.lambda);
+  write_lambda_csv(m, p, true);
+  const LdaModel norm = read_lambda_csv(p, 0.1, 0.01);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(norm.lambda.row(k).sum(), 1.0, 1e-15);
+  LdaModel odd = m;
+  odd.vocabulary[1] = "a,b";
+  write_lambda_csv(odd, p, false);
+  const std::string t2 = core::read_file(p);
+  EXPECT_EQ(t2.substr(0, t2.find('\n')), "w0,w1,w2,w3");
+  std::ofstream(p) << "w0,w1\n1,2\n3,-1\n";
+  try {
+    read_lambda_csv(p, 0.1, 0.1);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();
+  }
+  std::ofstream(p) << "w0,w1\n1,2\n3,nan\n";
+  EXPECT_THROW(read_lambda_csv(p, 0.1, 0.1), Error);
+  fs::remove(p);
+}
+
+}  // namespace
+}  // namespace proprio::topics
