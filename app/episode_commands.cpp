@@ -1,11 +1,141 @@
-// proprio episode ...: the recorded-interaction format.
+// proprio episode ...: the recorded-interaction format (docs/formats/episode.md).
+#include <cstdio>
+#include <memory>
+
 #include "cli.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/episode/check.hpp"
+#include "proprio/episode/episode.hpp"
+#include "proprio/episode/import.hpp"
+#include "proprio/episode/summary.hpp"
 
 namespace proprio::app {
+namespace {
 
-void register_episode_commands(CLI::App& root, const Invocation& /*inv*/) {
+struct InfoArgs {
+  std::string dir;
+  std::string json;
+};
+
+struct CheckArgs {
+  std::string dir;
+  std::string json;
+  bool quick = false;
+};
+
+struct ImportArgs {
+  std::string video;
+  std::string arm_log;
+  std::string calib;
+  std::string out;
+  std::string json;
+  std::string frames = "png";
+  std::optional<double> fps;
+  std::optional<int> max_frames;
+  std::string scenario;
+  bool quiet = false;
+  episode::ImportOptions options;
+};
+
+void run_info(const InfoArgs& a, const Invocation& inv) {
+  const episode::Episode ep = episode::read_episode(a.dir);
+  const episode::EpisodeSummary s = episode::summarize(ep);
+  std::fputs(episode::format_summary(s).c_str(), stdout);
+  core::Json doc = core::result_document("proprio.episode.info", 1, inv.provenance());
+  doc.update(episode::to_json(s));
+  write_json_result(a.json, doc);
+}
+
+void run_check(const CheckArgs& a, const Invocation& inv) {
+  episode::CheckOptions options;
+  options.decode_images = !a.quick;
+  const auto problems = episode::check_episode(a.dir, options);
+  core::Json list = core::Json::array();
+  for (const auto& p : problems) {
+    std::printf("%s\n", p.message.c_str());
+    list.push_back({{"file", p.file.string()}, {"message", p.message}});
+  }
+  core::Json doc = core::result_document("proprio.episode.check", 1, inv.provenance());
+  doc["dir"] = a.dir;
+  doc["decoded_images"] = options.decode_images;
+  doc["valid"] = problems.empty();
+  doc["problems"] = list;
+  write_json_result(a.json, doc);
+  if (!problems.empty()) {
+    std::string m = a.dir;
+    m += ": not a valid episode (";
+    m += std::to_string(problems.size());
+    m += problems.size() == 1 ? " problem)" : " problems)";
+    throw Error(m);
+  }
+  std::printf("%s: valid episode\n", a.dir.c_str());
+}
+
+void run_import(ImportArgs a, const Invocation& inv) {
+  a.options.fps = a.fps;
+  a.options.max_frames = a.max_frames;
+  if (!a.scenario.empty()) a.options.scenario = a.scenario;
+  a.options.storage =
+      a.frames == "video" ? episode::FrameStorage::kVideo : episode::FrameStorage::kPng;
+  a.options.progress = !a.quiet;
+  const core::Provenance provenance = inv.provenance();
+  const auto result =
+      episode::import_recording(a.video, a.arm_log, a.calib, a.out, a.options, provenance);
+  std::printf("episode: %s\n", a.out.c_str());
+  std::fputs(episode::format_import_summary(result.summary).c_str(), stdout);
+  core::Json doc = core::result_document("proprio.episode.import", 1, provenance);
+  doc["episode"] = a.out;
+  doc.update(episode::to_json(result.summary));
+  write_json_result(a.json, doc);
+}
+
+}  // namespace
+
+void register_episode_commands(CLI::App& root, const Invocation& inv) {
   auto* episode = root.add_subcommand("episode", "Inspect, check and import episodes");
   episode->require_subcommand(1);
+
+  auto info_args = std::make_shared<InfoArgs>();
+  auto* info =
+      episode->add_subcommand("info", "Summarise an episode (reads it with every cheap check)");
+  info->add_option("DIR", info_args->dir, "Episode directory")->required();
+  info->add_option("--json", info_args->json, "Also write the summary as JSON to this file");
+  info->callback([info_args, &inv] { run_info(*info_args, inv); });
+
+  auto check_args = std::make_shared<CheckArgs>();
+  auto* check = episode->add_subcommand(
+      "check", "Validate an episode: print every problem; exit 0 when valid, 2 when not");
+  check->add_option("DIR", check_args->dir, "Episode directory")->required();
+  check->add_flag("--quick", check_args->quick,
+                  "Skip decoding the images (headers, sizes and files only)");
+  check->add_option("--json", check_args->json, "Also write the problems as JSON to this file");
+  check->callback([check_args, &inv] { run_check(*check_args, inv); });
+
+  auto import_args = std::make_shared<ImportArgs>();
+  auto* imp = episode->add_subcommand(
+      "import", "Turn a real recording (video, timestamped arm log, calibration) into an episode");
+  imp->add_option("--video", import_args->video, "Video file OpenCV can read")->required();
+  imp->add_option("--arm-log", import_args->arm_log,
+                  "CSV with t (s), ee_x,ee_y,ee_z (m), optional q1..qN (rad), touching (0/1)")
+      ->required();
+  imp->add_option("--calib", import_args->calib, "calib.yml of the camera (OpenCV YAML)")
+      ->required();
+  imp->add_option("--out", import_args->out, "Episode directory to create")->required();
+  imp->add_option("--fps", import_args->fps, "Frame rate of the video (default: what it states)");
+  imp->add_option("--time-offset", import_args->options.time_offset,
+                  "Log time of the video's first frame, s: frame i is at offset + i/fps")
+      ->capture_default_str();
+  imp->add_option("--max-frames", import_args->max_frames, "Write at most this many frames");
+  imp->add_option("--arm", import_args->options.arm_name, "Name of the arm")->capture_default_str();
+  imp->add_option("--scenario", import_args->scenario, "Name of what the recording shows");
+  imp->add_option("--frames", import_args->frames, "Store frames as png or video")
+      ->check(CLI::IsMember({"png", "video"}))
+      ->capture_default_str();
+  imp->add_flag("--force", import_args->options.overwrite, "Replace an existing episode at --out");
+  imp->add_flag("-q,--quiet", import_args->quiet, "No progress bar");
+  imp->add_option("--json", import_args->json,
+                  "Also write the import summary as JSON to this file");
+  imp->callback([import_args, &inv] { run_import(*import_args, inv); });
 }
 
 }  // namespace proprio::app

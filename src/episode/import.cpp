@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
@@ -220,6 +221,45 @@ ImportResult import_recording(const fs::path& video, const fs::path& arm_log, co
   progress.finish();
   writer.finish();
   return {sum};
+}
+
+core::Json to_json(const ImportSummary& s) {
+  return {{"video_frames_read", s.video_frames_read},
+          {"frames_written", s.frames_written},
+          {"dropped_before_log", s.dropped_before_log},
+          {"first_video_frame", s.first_video_frame},
+          {"fps", s.fps},
+          {"log_span_s", {s.log_start, s.log_end}},
+          {"log_samples", s.log_samples},
+          {"undistorted", s.undistorted},
+          {"touching_frames", s.touching_frames},
+          {"first_touch_frame",
+           s.first_touch_frame ? core::Json(*s.first_touch_frame) : core::Json(nullptr)},
+          {"behind_camera_frames", s.behind_camera_frames},
+          {"stop_reason", s.stop_reason}};
+}
+
+std::string format_import_summary(const ImportSummary& s) {
+  char buf[512];
+  std::snprintf(
+      buf, sizeof buf,
+      "frames: %d written (video frames %d..%d at %g fps; %d before the log dropped)\n"
+      "arm log: %d samples over [%.3f, %.3f] s\n"
+      "lens distortion: %s\n"
+      "first touch: %s\n"
+      "stopped: %s\n",
+      s.frames_written, s.first_video_frame, s.first_video_frame + s.frames_written - 1, s.fps,
+      s.dropped_before_log, s.log_samples, s.log_start, s.log_end,
+      s.undistorted ? "removed from every frame" : "none in the calibration",
+      s.first_touch_frame ? ("frame " + std::to_string(*s.first_touch_frame)).c_str() : "never",
+      s.stop_reason.c_str());
+  std::string out = buf;
+  if (s.behind_camera_frames > 0) {
+    out += "warning: the end-effector is behind the camera in ";
+    out += std::to_string(s.behind_camera_frames);
+    out += " frames (ee_u, ee_v left empty)\n";
+  }
+  return out;
 }
 
 }  // namespace proprio::episode

@@ -37,9 +37,9 @@ struct EpisodeWriterOptions {
 
 /// Extra images of one frame; each must be given exactly when episode.json declares it.
 struct FrameExtras {
-  cv::Mat mask;         ///< CV_16UC1 object ids, 0 = background (EpisodeInfo::has_masks)
-  cv::Mat depth;        ///< CV_16UC1 millimetres, 0 = unknown (EpisodeInfo::has_depth)
-  cv::Mat right_image;  ///< 8-bit BGR or grey, the right camera's frame (EpisodeInfo::stereo)
+  cv::Mat mask{};         ///< CV_16UC1 object ids, 0 = background (EpisodeInfo::has_masks)
+  cv::Mat depth{};        ///< CV_16UC1 millimetres, 0 = unknown (EpisodeInfo::has_depth)
+  cv::Mat right_image{};  ///< 8-bit BGR or grey, the right camera's frame (EpisodeInfo::stereo)
 };
 
 /// Writes an episode into a staging directory (core::StagedDirectory) and moves it into place in

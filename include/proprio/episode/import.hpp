@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/episode/arm_sample.hpp"
 #include "proprio/episode/episode_info.hpp"
@@ -74,6 +75,11 @@ struct ImportSummary {
 struct ImportResult {
   ImportSummary summary;
 };
+
+/// The summary's fields as JSON (to add to a result document).
+core::Json to_json(const ImportSummary& s);
+/// Human-readable lines, "key: value".
+std::string format_import_summary(const ImportSummary& s);
 
 /// Imports a recording into episode directory `out`. Frames before the log's first sample are
 /// dropped; reading stops at the first frame after the log's last sample (frames are never
