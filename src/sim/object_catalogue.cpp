@@ -136,7 +136,10 @@ double ObjectType::footprint_radius() const {
   return r;
 }
 
-Eigen::Vector3d ObjectType::half_extents() const {
+namespace {
+
+// The axis-aligned box around all parts: (low corner, high corner), object frame.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> bounds(const std::vector<ObjectPart>& parts) {
   Eigen::Vector3d lo = Eigen::Vector3d::Zero();
   Eigen::Vector3d hi = Eigen::Vector3d::Zero();
   bool first = true;
@@ -146,7 +149,19 @@ Eigen::Vector3d ObjectType::half_extents() const {
     hi = first ? Eigen::Vector3d(p.position + h) : hi.cwiseMax(p.position + h);
     first = false;
   }
+  return {lo, hi};
+}
+
+}  // namespace
+
+Eigen::Vector3d ObjectType::half_extents() const {
+  const auto [lo, hi] = bounds(parts);
   return 0.5 * (hi - lo);
+}
+
+Eigen::Vector3d ObjectType::center() const {
+  const auto [lo, hi] = bounds(parts);
+  return 0.5 * (hi + lo);
 }
 
 void ObjectType::validate(const std::string& where) const {

@@ -71,6 +71,7 @@ TEST(ObjectCatalogue, ObjectGeometryKnownAnswers) {
   // The handle box corner (0.06, 0.005) is the farthest point of the parts' bounding boxes.
   EXPECT_NEAR(t.footprint_radius(), std::hypot(0.06, 0.005), 1e-12);
   EXPECT_LT((t.half_extents() - Eigen::Vector3d(0.05, 0.04, 0.05)).norm(), 1e-12);
+  EXPECT_LT((t.center() - Eigen::Vector3d(0.01, 0.0, 0.0)).norm(), 1e-12);
   // A capsule lying along x (turned by pi/2 about y) is as low as its radius.
   ObjectPart lying;
   lying.shape = PartShape::kCapsule;

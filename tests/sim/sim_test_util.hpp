@@ -66,7 +66,7 @@ inline void add_all_objects(SceneDescription& d) {
                           {"bottle", 0.70, -0.22, 0.0},    {"spirit-level", 0.45, -0.03, 0.1},
                           {"rabbit", 0.72, 0.0, -1.3},     {"cd", 0.18, 0.05, 0.5},
                           {"calculator", 0.72, 0.2, -0.3}, {"giraffe", 0.48, 0.18, -1.2},
-                          {"bike", 0.25, 0.3, 0.3},        {"box", 0.55, 0.38, 0.6}};
+                          {"bike", 0.25, 0.3, 0.3},        {"box", 0.70, 0.40, 0.6}};
   for (const Place& p : places) {
     PlacedObject o;
     o.type = p.type;

@@ -51,6 +51,8 @@ struct ObjectType {
   [[nodiscard]] double footprint_radius() const;
   /// Half extents of the axis-aligned box around all parts, in the object's frame.
   [[nodiscard]] Eigen::Vector3d half_extents() const;
+  /// Centre of that box, in the object's frame.
+  [[nodiscard]] Eigen::Vector3d center() const;
 
   /// Checks sizes, mass, friction and texture size; throws Error naming `where` (a file, or a
   /// description of the source) and the object.
