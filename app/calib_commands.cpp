@@ -84,7 +84,8 @@ auto naming(const fs::path& file, F&& f) {
 void print_camera(const char* name, const Camera& c) {
   const Eigen::Vector3d C = c.center();
   std::printf("%s: fx %.2f fy %.2f cx %.2f cy %.2f skew %.3g; centre (%.5g, %.5g, %.5g)\n", name,
-              c.K(0, 0), c.K(1, 1), c.K(0, 2), c.K(1, 2), c.K(0, 1), C.x(), C.y(), C.z());
+              c.K(0, 0), c.K(1, 1), c.K(0, 2), c.K(1, 2), c.K(0, 1), C.x() + 0.0, C.y() + 0.0,
+              C.z() + 0.0);  // + 0.0 prints -0 as 0
 }
 
 // ---- dlt ---------------------------------------------------------------------------------------
@@ -277,13 +278,17 @@ void run_stereo(const StereoArgs& a, const Invocation& inv) {
   o.board = parse_board(a.board);
   o.square_size = a.square;
   o.refine_triangulation = a.refine;
+  if (fs::exists(a.out) && !fs::is_directory(a.out)) {
+    throw Error::in_file(a.out, "exists and is not a directory");
+  }
   const auto r = geometry::run_stereo_check(o);
-  fs::create_directories(a.out);
   geometry::write_calib(fs::path(a.out) / "left.yml", r.left);
   geometry::write_calib(fs::path(a.out) / "right.yml", r.right);
   geometry::write_stereo_corners_csv(fs::path(a.out) / "corners.csv", r.corners);
   std::printf("stereo check on %s (board %dx%d, square %g)\n%s\n", o.images_dir.c_str(),
               o.board.width, o.board.height, o.square_size, r.summary.brief().c_str());
+  print_camera("left camera", r.left);
+  print_camera("right camera", r.right);
   for (const auto& p : r.pairs) {
     std::printf("  pair %s: board %s/%s, %d corners, planarity %.4f, neighbours %.5f squares\n",
                 p.id.c_str(), p.found_left ? "found" : "missed", p.found_right ? "found" : "missed",
