@@ -29,8 +29,8 @@ struct TableSpec {
 /// video (World::set_texture_image on kBackdropTexture).
 struct BackdropSpec {
   bool enabled = true;
-  Eigen::Vector3d center{0.30, 0.62, 0.35};  ///< world position of the plane's centre (metres)
-  Eigen::Vector2d size{1.60, 0.90};          ///< full width and height (metres)
+  Eigen::Vector3d center{0.30, 0.62, 0.45};  ///< world position of the plane's centre (metres)
+  Eigen::Vector2d size{2.40, 1.35};          ///< full width and height (metres)
   /// Horizontal direction the plane faces (toward the camera), normalised on use.
   Eigen::Vector2d facing{0.0, -1.0};
   std::filesystem::path image;  ///< empty = grey; relative paths as for object textures
