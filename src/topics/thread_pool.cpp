@@ -34,11 +34,13 @@ void ThreadPool::work(int thread) {
       start_.wait(lock, [&] { return stop_ || generation_ != seen; });
       if (stop_) return;
       seen = generation_;
+      if (!open_) continue;  // woke too late: the caller has done this round's tasks
+      ++active_;
     }
     drain(thread);
     {
       std::lock_guard lock(mutex_);
-      if (--busy_ == 0) done_.notify_one();
+      if (--active_ == 0) done_.notify_one();
     }
   }
 }
@@ -54,13 +56,14 @@ void ThreadPool::run(std::size_t n, const std::function<void(std::size_t, int)>&
     fn_ = &fn;
     tasks_ = n;
     next_.store(0, std::memory_order_relaxed);
-    busy_ = static_cast<int>(workers_.size());
+    open_ = true;
     ++generation_;
   }
   start_.notify_all();
   drain(0);
   std::unique_lock lock(mutex_);
-  done_.wait(lock, [&] { return busy_ == 0; });
+  open_ = false;
+  done_.wait(lock, [&] { return active_ == 0; });
   fn_ = nullptr;
 }
 

@@ -23,7 +23,8 @@ class ThreadPool {
 
   /// Calls fn(task, thread) for every task in [0, n), handing tasks out one at a time to
   /// whichever thread is free (thread in [0, size())); returns when all are done. fn must not
-  /// throw.
+  /// throw. A worker that wakes after the caller has taken the last task sits the round out, so
+  /// on a busy machine the caller never waits for a thread that is still waiting to be scheduled.
   void run(std::size_t n, const std::function<void(std::size_t, int)>& fn);
 
  private:
@@ -38,7 +39,8 @@ class ThreadPool {
   std::size_t tasks_ = 0;
   std::atomic<std::size_t> next_{0};
   std::size_t generation_ = 0;
-  int busy_ = 0;
+  bool open_ = false;  ///< workers may still join the current round
+  int active_ = 0;     ///< workers in the current round
   bool stop_ = false;
 };
 
