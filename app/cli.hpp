@@ -29,5 +29,6 @@ void write_json_result(const std::string& path, const core::Json& document);
 void register_calib_commands(CLI::App& root, const Invocation& inv);
 void register_episode_commands(CLI::App& root, const Invocation& inv);
 void register_lda_commands(CLI::App& root, const Invocation& inv);
+void register_intercept_commands(CLI::App& root, const Invocation& inv);
 
 }  // namespace proprio::app

@@ -30,6 +30,7 @@ int run(int argc, char** argv) {
   register_calib_commands(root, inv);
   register_episode_commands(root, inv);
   register_lda_commands(root, inv);
+  register_intercept_commands(root, inv);
 
   try {
     root.parse(argc, argv);

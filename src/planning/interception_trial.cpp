@@ -1,0 +1,504 @@
+#include "proprio/planning/interception_trial.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <numbers>
+#include <optional>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/progress.hpp"
+#include "proprio/robot/dynamics.hpp"
+#include "proprio/robot/mujoco_ptr.hpp"
+#include "text.hpp"
+
+namespace proprio::planning {
+
+using detail::cat;
+using detail::num;
+
+std::filesystem::path default_intercept_scene() {
+  const char* env = std::getenv("PROPRIO_DATA_DIR");
+  const std::filesystem::path data =
+      env != nullptr && env[0] != '\0' ? std::filesystem::path(env) : PROPRIO_PLANNING_DATA_DIR;
+  return data / "models" / "intercept.xml";
+}
+
+std::filesystem::path default_grid_cache() {
+  namespace fs = std::filesystem;
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  if (xdg != nullptr && xdg[0] != '\0') return fs::path(xdg) / "proprio" / "intercept_grid.json";
+  const char* home = std::getenv("HOME");
+  if (home != nullptr && home[0] != '\0') {
+    return fs::path(home) / ".cache" / "proprio" / "intercept_grid.json";
+  }
+  return fs::temp_directory_path() / "proprio_intercept_grid.json";
+}
+
+void ScenarioOptions::validate() const {
+  require(std::isfinite(speed_min) && std::isfinite(speed_max) && speed_min > 0 &&
+              speed_min <= speed_max,
+          "ScenarioOptions: speeds must satisfy 0 < speed_min <= speed_max");
+  require(std::isfinite(crossing_delay_min) && std::isfinite(crossing_delay_max) &&
+              crossing_delay_min >= 0 && crossing_delay_min <= crossing_delay_max,
+          "ScenarioOptions: crossing delays must satisfy 0 <= min <= max");
+  require(std::isfinite(crossing_length_min) && std::isfinite(crossing_length_max) &&
+              crossing_length_min > 0 && crossing_length_min <= crossing_length_max,
+          "ScenarioOptions: crossing lengths must satisfy 0 < min <= max");
+  require(std::isfinite(crossing_theta_max) && crossing_theta_max >= 0 &&
+              crossing_theta_max <= std::numbers::pi,
+          "ScenarioOptions: crossing_theta_max must be in [0, pi]");
+}
+
+TargetMotion random_target(const GridSpec& grid, double t_plan, const ScenarioOptions& o,
+                           core::Rng& rng) {
+  o.validate();
+  const double l = rng.uniform(o.crossing_length_min, o.crossing_length_max);
+  const double theta = rng.uniform(-o.crossing_theta_max, o.crossing_theta_max);
+  const Eigen::Vector3d crossing =
+      grid.start + l * Eigen::Vector3d(std::sin(theta), std::cos(theta), 0);
+  const double heading = rng.uniform(-std::numbers::pi, std::numbers::pi);
+  const double speed = rng.uniform(o.speed_min, o.speed_max);
+  const double t_cross =
+      t_plan + grid.duration + rng.uniform(o.crossing_delay_min, o.crossing_delay_max);
+  TargetMotion m;
+  m.velocity = speed * Eigen::Vector3d(std::cos(heading), std::sin(heading), 0);
+  m.start = crossing - m.velocity * t_cross;
+  return m;
+}
+
+void TrialOptions::validate() const {
+  require(std::isfinite(noise_cm) && noise_cm >= 0 && noise_cm <= 100,
+          "noise must be in [0, 100] cm");
+  require(std::isfinite(camera_rate_hz) && camera_rate_hz > 0 && camera_rate_hz <= 1000,
+          "camera rate must be in (0, 1000] Hz");
+  require(observe_frames >= filter.learn_states + 1 && observe_frames <= 100000,
+          cat({"observe_frames must be at least the filter's N + 1 = ",
+               std::to_string(filter.learn_states + 1)}));
+  require(std::isfinite(replan_cutoff) && replan_cutoff >= 0, "replan_cutoff must be >= 0 s");
+  filter.validate();
+  planner.validate();
+  scenario.validate();
+}
+
+void ExperimentOptions::validate() const {
+  trial.validate();
+  require(trials >= 1 && trials <= 1000000, "trials must be in [1, 1000000]");
+}
+
+namespace {
+
+// The arm's commanded Cartesian path: a psi trajectory that starts at t_start, plus shaped
+// corrections (re-aiming) that each start at rest at their own time. Times are since t_start.
+class CommandedPath final : public robot::CartesianTrajectory {
+ public:
+  CommandedPath(robot::BezierTrajectory base, double t_start)
+      : base_(std::move(base)), t_start_(t_start), end_(base_.p2()) {}
+
+  [[nodiscard]] double duration() const override { return base_.duration(); }
+  [[nodiscard]] double t_start() const { return t_start_; }
+  [[nodiscard]] const Eigen::Vector3d& end() const { return end_; }
+
+  [[nodiscard]] robot::CartesianSample sample(double t) const override {
+    robot::CartesianSample s = base_.sample(t);
+    for (const Correction& c : corrections_) {
+      const double tau = t - c.begin;
+      if (tau <= 0) continue;
+      const robot::Shaped f = c.shaping(std::min(tau, c.shaping.duration()));
+      s.position += f.value * c.delta;
+      s.velocity += f.rate * c.delta;
+      s.acceleration += f.accel * c.delta;
+    }
+    return s;
+  }
+
+  /// Adds `delta` (m) smoothly between `begin` and the end of the path (times since t_start).
+  void add_correction(double begin, const Eigen::Vector3d& delta) {
+    corrections_.push_back({begin, robot::TimeShaping(duration() - begin), delta});
+    end_ += delta;
+  }
+
+ private:
+  struct Correction {
+    double begin;
+    robot::TimeShaping shaping;
+    Eigen::Vector3d delta;
+  };
+  robot::BezierTrajectory base_;
+  double t_start_;
+  Eigen::Vector3d end_;
+  std::vector<Correction> corrections_;
+};
+
+// The part [from, to] of a trajectory, re-timed to start at 0.
+class Window final : public robot::CartesianTrajectory {
+ public:
+  Window(const robot::CartesianTrajectory& inner, double from, double to)
+      : inner_(inner), from_(from), to_(to) {}
+  [[nodiscard]] double duration() const override { return to_ - from_; }
+  [[nodiscard]] robot::CartesianSample sample(double t) const override {
+    robot::CartesianSample s = inner_.sample(from_ + std::clamp(t, 0.0, duration()));
+    s.t = t;
+    return s;
+  }
+
+ private:
+  const robot::CartesianTrajectory& inner_;
+  double from_, to_;
+};
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+InterceptionSimulator::InterceptionSimulator(robot::Arm arm,
+                                             std::shared_ptr<const GridCostModel> model,
+                                             StereoRig rig, const std::string& target_body)
+    : arm_(std::move(arm)), model_(std::move(model)), rig_(std::move(rig)) {
+  assert(model_ != nullptr);
+  const mjModel& m = arm_.model();
+  const int body = mj_name2id(&m, mjOBJ_BODY, target_body.c_str());
+  if (body < 0) {
+    throw Error(cat({arm_.source(), ": the scene has no target body '", target_body, "'"}));
+  }
+  mocap_ = m.body_mocapid[body];
+  if (mocap_ < 0) {
+    throw Error(
+        cat({arm_.source(), ": body '", target_body, "' is not a mocap body (mocap=\"true\")"}));
+  }
+  require(m.opt.timestep > 0, "the scene's time step must be > 0");
+}
+
+Eigen::Vector3d InterceptionSimulator::reference_point() const {
+  const GridSpec& g = model_->grid();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int i = 0; i < g.size(); ++i) sum += g.end_point(g.params(i));
+  return sum / g.size();
+}
+
+double InterceptionSimulator::pixel_noise_for(double noise_cm) const {
+  require(std::isfinite(noise_cm) && noise_cm >= 0, "noise must be >= 0 cm");
+  return noise_cm / 100 / position_std_per_pixel(rig_, reference_point());
+}
+
+double InterceptionSimulator::plan_time(const TrialOptions& options) const {
+  const double h = arm_.model().opt.timestep;
+  const long spf = std::lround(1 / (options.camera_rate_hz * h));
+  return static_cast<double>(options.observe_frames - 1) * static_cast<double>(spf) * h;
+}
+
+TrialResult InterceptionSimulator::run(const TargetMotion& target, const TrialOptions& options,
+                                       std::uint64_t seed) const {
+  options.validate();
+  require(target.start.allFinite() && target.velocity.allFinite(),
+          "the target's motion must be finite");
+  const mjModel& m = arm_.model();
+  const double h = m.opt.timestep;
+  const double frames_per_step = 1 / (options.camera_rate_hz * h);
+  const long spf = std::lround(frames_per_step);
+  if (spf < 1 || std::abs(frames_per_step - static_cast<double>(spf)) > 1e-6) {
+    throw Error(cat({"the camera period 1/", num(options.camera_rate_hz),
+                     " s must be a whole number of simulation steps of ", num(h), " s"}));
+  }
+  const GridSpec& grid = model_->grid();
+  const double steps_per_move = grid.duration / h;
+  if (std::abs(steps_per_move - std::round(steps_per_move)) > 1e-6) {
+    throw Error(cat({"the move's duration ", num(grid.duration),
+                     " s must be a whole number of simulation steps of ", num(h), " s"}));
+  }
+  const ArmMotionOptions& motion = model_->costs().options.motion;
+  FilterOptions fo = options.filter;
+  fo.dt = static_cast<double>(spf) * h;
+  PlannerOptions po = options.planner;
+  po.time_quantum = h;
+  const double rate = 1 / h;
+
+  TrialResult r;
+  r.target = target;
+  r.sigma_px = pixel_noise_for(options.noise_cm);
+  r.t_plan = plan_time(options);
+  core::Rng rng(seed);
+
+  robot::ArmState state(arm_);
+  const robot::JointVector q0 =
+      solve_scheduled(state, grid.start, arm_.clamp(robot::JointVector::Zero()), motion).q;
+  robot::JointTrajectory rest;
+  rest.dt = h;
+  rest.q = {q0};
+  rest.qdot = rest.qddot = {robot::JointVector::Zero()};
+  const robot::JointVector hold =
+      robot::servo_commands(arm_, rest, robot::inverse_dynamics(state, rest)).front();
+
+  robot::DataPtr d = robot::make_data(m);
+  for (int k = 0; k < robot::kArmJoints; ++k) d->qpos[arm_.qpos_adr(k)] = q0[k];
+  for (int k = 0; k < 3; ++k) d->mocap_pos[3 * mocap_ + k] = target.start[k];
+  mj_forward(&m, d.get());
+
+  std::vector<robot::JointVector> ctrl, qcmd;  // per simulation step, once a move is planned
+  std::optional<CommandedPath> path;
+  long s_start = -1, s_hit = -1;
+  std::optional<TargetFilter> filter;
+  std::vector<PositionMeasurement> observed;
+
+  // Commits a plan made at step `now` (the arm at rest): joint path, feed-forward commands.
+  auto schedule = [&](const InterceptionPlan& plan, long now) {
+    const long b = std::lround(plan.t_intercept / h);
+    const long a = b - std::lround(grid.duration / h);
+    require(a >= now && b > a, "internal: a plan must start after it is made");
+    CommandedPath p(grid.trajectory(plan.psi), static_cast<double>(a) * h);
+    const robot::TrackResult track = track_scheduled(state, p, q0, rate, motion);
+    require(static_cast<long>(track.joints.size()) == b - a + 1,
+            "internal: the joint path does not match the simulation steps");
+    const auto cmd =
+        robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state, track.joints));
+    ctrl.assign(static_cast<std::size_t>(b) + 1, hold);
+    qcmd.assign(static_cast<std::size_t>(b) + 1, q0);
+    for (long k = 0; k <= b - a; ++k) {
+      ctrl[static_cast<std::size_t>(a + k)] = cmd[static_cast<std::size_t>(k)];
+      qcmd[static_cast<std::size_t>(a + k)] = track.joints.q[static_cast<std::size_t>(k)];
+    }
+    path.emplace(std::move(p));
+    s_start = a;
+    s_hit = b;
+    r.aim = plan.end_point;
+    r.final_plan = plan;
+    r.predicted_sigma = plan.predicted_sigma;
+    r.t_intercept = plan.t_intercept;
+    if (options.record) r.record.aims.push_back(plan.end_point);
+  };
+
+  // Re-aims the moving arm at the filter's prediction for the interception time.
+  auto reaim = [&](long now) {
+    const double t_hit = static_cast<double>(s_hit) * h;
+    const auto clock0 = std::chrono::steady_clock::now();
+    const TargetForecast forecast(*filter, t_hit);
+    Eigen::Vector3d mean;
+    Eigen::Matrix3d cov;
+    forecast.at(t_hit, &mean, &cov);
+    const Eigen::Vector3d delta(mean.x() - path->end().x(), mean.y() - path->end().y(), 0);
+    if (!delta.allFinite() || !cov.allFinite()) {
+      ++r.failed_reaims;
+      return;
+    }
+    CommandedPath next = *path;
+    const double from = static_cast<double>(now - s_start) * h;
+    next.add_correction(from, delta);
+    try {
+      const Window rest_of_path(next, from, static_cast<double>(s_hit - s_start) * h);
+      const robot::TrackResult track =
+          track_scheduled(state, rest_of_path, qcmd[static_cast<std::size_t>(now)], rate, motion);
+      require(static_cast<long>(track.joints.size()) == s_hit - now + 1,
+              "internal: the corrected joint path does not match the simulation steps");
+      const auto cmd =
+          robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state, track.joints));
+      for (long k = 0; k <= s_hit - now; ++k) {
+        ctrl[static_cast<std::size_t>(now + k)] = cmd[static_cast<std::size_t>(k)];
+        qcmd[static_cast<std::size_t>(now + k)] = track.joints.q[static_cast<std::size_t>(k)];
+      }
+    } catch (const Error&) {
+      ++r.failed_reaims;  // the corrected path leaves the workspace: keep the current one
+      r.total_plan_ms += ms_since(clock0);
+      return;
+    }
+    *path = std::move(next);
+    r.aim = path->end();
+    r.predicted_sigma = std::sqrt(cov.topLeftCorner<2, 2>().trace() / 2);
+    ++r.reaims;
+    r.total_plan_ms += ms_since(clock0);
+    if (options.record) r.record.aims.push_back(r.aim);
+  };
+
+  auto plan_now = [&](double t, double t_latest) {
+    const auto clock0 = std::chrono::steady_clock::now();
+    InterceptionPlan plan = plan_interception(*filter, *model_, t, po, t_latest);
+    const double ms = ms_since(clock0);
+    r.total_plan_ms += ms;
+    ++r.plans;
+    return std::pair{plan, ms};
+  };
+
+  const int ee = arm_.ee_site();
+  auto ee_position = [&] {
+    return Eigen::Vector3d(d->site_xpos[3 * ee], d->site_xpos[3 * ee + 1],
+                           d->site_xpos[3 * ee + 2]);
+  };
+  const long last_step = std::lround((r.t_plan + grid.duration + 2 * po.window + 2 * fo.dt) / h);
+  for (long i = 0; i <= last_step; ++i) {
+    const double t = static_cast<double>(i) * h;
+    const Eigen::Vector3d truth = target.position(t);
+    for (int k = 0; k < 3; ++k) d->mocap_pos[3 * mocap_ + k] = truth[k];
+    if (i % spf == 0) {
+      const long frame = i / spf;
+      std::optional<PositionMeasurement> pm;
+      if (const auto sm = measure(rig_, truth, r.sigma_px, rng)) {
+        pm = PositionMeasurement{t, sm->position, sm->covariance};
+      }
+      if (options.record) {
+        if (pm) r.record.measurements.push_back(*pm);
+        mj_kinematics(&m, d.get());
+        r.record.executed.push_back(ee_position());
+        r.record.commanded.push_back(
+            path && i >= s_start ? path->sample(t - path->t_start()).position : grid.start);
+      }
+      if (!filter) {
+        if (pm) observed.push_back(*pm);
+        if (frame == options.observe_frames - 1) {
+          try {
+            filter.emplace(observed, fo);
+          } catch (const Error& e) {
+            r.why_not = e.what();
+            return r;
+          }
+          const auto [plan, ms] = plan_now(t, std::numeric_limits<double>::infinity());
+          r.first_plan = plan;
+          r.first_plan_ms = ms;
+          r.first_predicted_sigma = plan.predicted_sigma;
+          if (!plan.feasible) {
+            r.final_plan = plan;
+            r.why_not = plan.why_not;
+            return r;
+          }
+          try {
+            schedule(plan, i);
+          } catch (const Error& e) {
+            r.why_not = cat({"the arm cannot follow the planned path: ", e.what()});
+            return r;
+          }
+          if (options.record) {
+            r.record.forecast = TargetForecast(*filter, plan.t_intercept).frames();
+          }
+        }
+      } else if (pm) {
+        filter->update(*pm);
+        if (options.replan) {
+          if (i < s_start) {
+            // Waiting at rest: plan again, no later than the committed interception (so that
+            // re-plans cannot put the move off for ever).
+            const auto [plan, ms] = plan_now(t, static_cast<double>(s_hit) * h);
+            if (plan.feasible) {
+              try {
+                schedule(plan, i);
+              } catch (const Error&) {
+                // keep the current plan
+              }
+            }
+          } else if (static_cast<double>(s_hit - i) * h >= options.replan_cutoff - 1e-9) {
+            reaim(i);
+          }
+        }
+      }
+    }
+    const robot::JointVector& u =
+        ctrl.empty()
+            ? hold
+            : ctrl[static_cast<std::size_t>(std::min<long>(i, static_cast<long>(ctrl.size()) - 1))];
+    for (int k = 0; k < robot::kArmJoints; ++k) d->ctrl[arm_.actuator_id(k)] = u[k];
+    mj_step(&m, d.get());
+    if (s_hit >= 0 && i + 1 == s_hit) {
+      mj_kinematics(&m, d.get());
+      r.ee_at = ee_position();
+      r.target_at = target.position(static_cast<double>(s_hit) * h);
+      r.miss = (r.ee_at - r.target_at).norm();
+      r.plane_miss = (r.ee_at - r.target_at).head<2>().norm();
+      r.executed = true;
+      r.mujoco_warnings = robot::warnings(*d);
+      if (options.record) {
+        r.record.executed.push_back(r.ee_at);
+        r.record.commanded.push_back(path->end());
+      }
+      return r;
+    }
+  }
+  r.why_not = "the interception time was never reached";
+  return r;
+}
+
+InterceptionPlan InterceptionSimulator::first_plan(const TargetMotion& target,
+                                                   const TrialOptions& options,
+                                                   std::uint64_t seed) const {
+  options.validate();
+  const double h = arm_.model().opt.timestep;
+  const long spf = std::lround(1 / (options.camera_rate_hz * h));
+  FilterOptions fo = options.filter;
+  fo.dt = static_cast<double>(spf) * h;
+  PlannerOptions po = options.planner;
+  po.time_quantum = h;
+  const double sigma_px = pixel_noise_for(options.noise_cm);
+  core::Rng rng(seed);
+  std::vector<PositionMeasurement> observed;
+  for (long f = 0; f < options.observe_frames; ++f) {
+    const double t = static_cast<double>(f * spf) * h;
+    if (const auto sm = measure(rig_, target.position(t), sigma_px, rng)) {
+      observed.push_back({t, sm->position, sm->covariance});
+    }
+  }
+  const TargetFilter filter(observed, fo);
+  return plan_interception(filter, *model_, plan_time(options), po);
+}
+
+ExperimentSummary summarise(const std::vector<TrialResult>& trials) {
+  ExperimentSummary s;
+  s.trials = static_cast<int>(trials.size());
+  std::vector<double> misses;
+  for (const TrialResult& t : trials) {
+    s.sigma_px = t.sigma_px;
+    if (!t.executed) {
+      ++s.not_executed;
+      if (!t.first_plan.feasible || !t.final_plan.feasible) ++s.not_planned;
+      continue;
+    }
+    ++s.executed;
+    misses.push_back(t.miss);
+    s.mean_miss += t.miss;
+    s.max_miss = std::max(s.max_miss, t.miss);
+    s.mean_plane_miss += t.plane_miss;
+    s.mean_predicted_sigma += t.predicted_sigma;
+    s.mean_first_predicted_sigma += t.first_predicted_sigma;
+    s.mean_intercept_time += t.t_intercept - t.t_plan;
+    s.mean_plan_ms += t.first_plan_ms;
+    s.max_plan_ms = std::max(s.max_plan_ms, t.first_plan_ms);
+    s.mean_reaims += t.reaims;
+    if (!t.mujoco_warnings.empty()) ++s.mujoco_warnings;
+  }
+  if (s.executed > 0) {
+    const double n = s.executed;
+    s.mean_miss /= n;
+    s.mean_plane_miss /= n;
+    s.mean_predicted_sigma /= n;
+    s.mean_first_predicted_sigma /= n;
+    s.mean_intercept_time /= n;
+    s.mean_plan_ms /= n;
+    s.mean_reaims /= n;
+    std::sort(misses.begin(), misses.end());
+    const std::size_t k = misses.size() / 2;
+    s.median_miss = misses.size() % 2 ? misses[k] : 0.5 * (misses[k - 1] + misses[k]);
+  }
+  return s;
+}
+
+ExperimentResult run_experiment(const InterceptionSimulator& simulator,
+                                const ExperimentOptions& options, bool show_progress) {
+  options.validate();
+  ExperimentResult result;
+  result.options = options;
+  const double t_plan = simulator.plan_time(options.trial);
+  core::ProgressBar bar(static_cast<std::size_t>(options.trials), "interception trials",
+                        show_progress);
+  for (int k = 0; k < options.trials; ++k) {
+    core::Rng rng(detail::mix_seed(options.seed ^ detail::mix_seed(static_cast<std::uint64_t>(k))));
+    const TargetMotion target =
+        random_target(simulator.model().grid(), t_plan, options.trial.scenario, rng);
+    result.trials.push_back(simulator.run(target, options.trial, rng.next_seed()));
+    bar.tick();
+  }
+  bar.finish();
+  result.summary = summarise(result.trials);
+  return result;
+}
+
+}  // namespace proprio::planning
