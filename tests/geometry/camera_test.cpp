@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <filesystem>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -42,6 +45,34 @@ TEST(Camera, DecomposeRecoversKRtFromAnyScaleAndSign) {
     EXPECT_LT((d.t - c.t).norm(), 1e-10);
     EXPECT_NEAR(d.R.determinant(), 1.0, 1e-12);
   }
+}
+
+TEST(Camera, UndistortInvertsOpenCVsDistortion) {
+  Camera c = example_camera();
+  c.K(0, 1) = 0.0;  // OpenCV's distortion model has no skew
+  c.dist = {-0.28, 0.10, -0.0006, 0.0013, -0.024};  // a wide lens (opencv-doc's left camera)
+  std::vector<cv::Point3d> world;
+  for (int i = 0; i < 40; ++i) world.emplace_back(-0.25 + 0.0125 * i, 0.15 * std::sin(i), 0.05);
+  cv::Mat K, R, rvec, tvec;
+  cv::eigen2cv(c.K, K);
+  cv::eigen2cv(c.R, R);
+  cv::Rodrigues(R, rvec);
+  cv::eigen2cv(c.t, tvec);
+  std::vector<cv::Point2d> distorted;
+  cv::projectPoints(world, rvec, tvec, K, c.dist, distorted);
+  std::vector<Eigen::Vector2d> measured;
+  for (const auto& p : distorted) measured.emplace_back(p.x, p.y);
+  const auto ideal = undistort_pixels(c, measured);
+  ASSERT_EQ(ideal.size(), world.size());
+  double max_shift = 0.0;
+  for (size_t i = 0; i < world.size(); ++i) {
+    const Eigen::Vector2d expect = c.project({world[i].x, world[i].y, world[i].z});
+    EXPECT_LT((ideal[i] - expect).norm(), 1e-6) << i;
+    max_shift = std::max(max_shift, (measured[i] - expect).norm());
+  }
+  EXPECT_GT(max_shift, 0.5);  // the distortion was not negligible
+  c.dist.clear();
+  EXPECT_EQ(undistort_pixels(c, measured), measured);
 }
 
 TEST(Camera, DecomposeRejectsSingular) {

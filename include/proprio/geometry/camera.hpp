@@ -44,6 +44,7 @@ Eigen::Matrix<double, 2, 3> projection_jacobian(const Matrix34d& P, const Eigen:
 
 /// Removes lens distortion from measured pixels (cv::undistortPoints with P = K): the result is
 /// the ideal pixels that P = K [R | t] predicts. Without distortion the pixels are returned as is.
+/// OpenCV's model has no skew: K(0, 1) is ignored here (DLT's skew is a fraction of a pixel).
 std::vector<Eigen::Vector2d> undistort_pixels(const Camera& camera,
                                               const std::vector<Eigen::Vector2d>& pixels);
 
