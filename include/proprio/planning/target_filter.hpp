@@ -114,7 +114,10 @@ class TargetFilter {
   [[nodiscard]] const FilterSummary& summary() const { return summary_; }
 
   /// Predictions at the next `steps` frames after the current estimate (t + dt, ..., t + steps dt):
-  /// mean A^k s (eq 3.22), covariance M_k = A M_{k-1} A^T + Q (eq 3.25).
+  /// mean A^k s (eq 3.22), covariance M_k = A M_{k-1} A^T + Q (eq 3.25). With the constant-velocity
+  /// model, or A learned from exact states, the covariance grows without bound; A learned from
+  /// noisy states usually contracts (eigenvalues below 1), and then it grows towards the fixed
+  /// point of eq 3.25 instead.
   [[nodiscard]] std::vector<TargetEstimate> predict(int steps) const;
 
  private:

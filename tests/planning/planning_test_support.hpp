@@ -1,0 +1,89 @@
+#pragma once
+// Shared fixtures of the planning tests: the interception scene, its trajectory costs (the full
+// 252-trajectory grid with few precision samples, computed once per process), and helpers.
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "proprio/core/error.hpp"
+#include "proprio/planning/interception_trial.hpp"
+
+namespace proprio::planning::testing {
+
+inline std::filesystem::path scene_path() {
+  return std::filesystem::path(PROPRIO_SOURCE_DIR) / "data" / "models" / "intercept.xml";
+}
+
+inline const robot::Arm& scene_arm() {
+  static const robot::Arm arm = robot::Arm::load(scene_path());
+  return arm;
+}
+
+/// A fresh temporary directory, removed with its contents at scope exit.
+class TempDir {
+ public:
+  TempDir() {
+    static int counter = 0;
+    path_ = std::filesystem::temp_directory_path() /
+            ("proprio_planning_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// Grid cost options with few precision samples (fast; the costs' shape is what the tests need).
+inline GridCostOptions fast_grid_options() {
+  GridCostOptions o;
+  o.precision_samples = 6;
+  o.threads = 2;
+  return o;
+}
+
+inline const std::shared_ptr<const GridCostModel>& grid_model() {
+  static const std::shared_ptr<const GridCostModel> model =
+      std::make_shared<GridCostModel>(compute_grid_costs(scene_arm(), fast_grid_options()));
+  return model;
+}
+
+inline const InterceptionSimulator& simulator() {
+  static const InterceptionSimulator sim(scene_arm(), grid_model(), default_stereo_rig());
+  return sim;
+}
+
+/// The message of the Error that `f` throws; fails the test when it throws nothing.
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no Error thrown";
+  return {};
+}
+
+/// Noise-free measurements of a target at frames 0..n-1, `dt` apart.
+inline std::vector<PositionMeasurement> exact_measurements(const TargetMotion& target, int n,
+                                                           double dt, double variance = 1e-12) {
+  std::vector<PositionMeasurement> out;
+  for (int i = 0; i < n; ++i) {
+    const double t = i * dt;
+    out.push_back({t, target.position(t), variance * Eigen::Matrix3d::Identity()});
+  }
+  return out;
+}
+
+}  // namespace proprio::planning::testing
