@@ -19,6 +19,15 @@ using sim::World;
 
 constexpr double kFrameSeconds = 1.0 / 30.0;
 
+// CPU time of the whole process (every thread: software GL rasterises on worker threads), ms. On
+// a shared machine this, unlike wall-clock time, does not depend on what else runs.
+double process_cpu_ms() { return 1000.0 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+void report_cpu(benchmark::State& state, double cpu_start_ms) {
+  state.counters["cpu_ms"] = benchmark::Counter((process_cpu_ms() - cpu_start_ms) /
+                                                static_cast<double>(state.iterations()));
+}
+
 World make_world() {
   sim::SceneDescription d = sim::default_scene();
   struct Place {
@@ -64,6 +73,7 @@ void BM_Frame(benchmark::State& state) {
       std::filesystem::temp_directory_path() / ("proprio_bench_sim_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   (void)r.render(w, "camera");  // first frame compiles shaders
+  const double cpu_start = process_cpu_ms();
   for (auto _ : state) {
     advance_one_frame(w);
     const sim::Frame f = r.render(w, "camera", sim::kPassRgb | sim::kPassMask);
@@ -73,6 +83,7 @@ void BM_Frame(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(f.rgb.data);
   }
+  report_cpu(state, cpu_start);
   std::filesystem::remove_all(dir);
   state.SetItemsProcessed(state.iterations());
   state.SetLabel(sim::to_string(r.backend()));
@@ -96,7 +107,9 @@ void BM_Pass(benchmark::State& state) {
   const unsigned passes[] = {sim::kPassRgb, sim::kPassMask, sim::kPassRgb | sim::kPassDepth};
   const unsigned pass = passes[state.range(0)];
   (void)r.render(w, "camera", pass);
+  const double cpu_start = process_cpu_ms();
   for (auto _ : state) benchmark::DoNotOptimize(r.render(w, "camera", pass).rgb.data);
+  report_cpu(state, cpu_start);
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_Pass)

@@ -106,7 +106,7 @@ TEST_F(RenderedScene, MaskIsExactlyWhereTheObjectIsDrawn) {
     const cv::Mat own = mask == o.id;
     const double both = cv::countNonZero(changed & own);
     const double either = cv::countNonZero(changed | own);
-    EXPECT_GT(both / either, 0.97) << o.name << ": changed " << cv::countNonZero(changed)
+    EXPECT_GT(both / either, 0.995) << o.name << ": changed " << cv::countNonZero(changed)
                                    << " px, mask " << cv::countNonZero(own) << " px";
   }
   EXPECT_EQ(cv::norm(renderer_->rgb(*world_, camera), with, cv::NORM_INF), 0.0);
