@@ -164,7 +164,17 @@ void run_estep(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs, con
   out.log_norm.assign(D, 0.0);
   std::vector<FloatBuffer> scratch(static_cast<std::size_t>(pool.size()), FloatBuffer(S));
   const bool random = options.init == GammaInit::kRandomGamma;
-  pool.run(D, [&](std::size_t d, int t) {
+  // Longest documents first, so that no thread is left with a long one at the end (the order
+  // changes nothing else: each document's result is its own).
+  std::vector<std::size_t> order(D);
+  for (std::size_t d = 0; d < D; ++d) order[d] = d;
+  if (pool.size() > 1) {
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return docs.offsets[a + 1] - docs.offsets[a] > docs.offsets[b + 1] - docs.offsets[b];
+    });
+  }
+  pool.run(D, [&](std::size_t task, int t) {
+    const std::size_t d = order[task];
     float* gamma = out.gamma.data() + d * S;
     float* eth = out.exp_elog_theta.data() + d * S;
     const std::size_t b = docs.offsets[d];
