@@ -65,9 +65,7 @@ OnlineLdaOptions online_options() {
   OnlineLdaOptions o;
   o.num_topics = 10;
   o.batch_size = 100;
-  // tau0 = 10 keeps the first noisy mini-batches of 100 documents from fixing the topics too
-  // early; with tau0 = 1 a few topics stay merged (a local optimum, not a bug).
-  o.tau0 = 10.0;
+  o.tau0 = 1.0;
   o.kappa = 0.7;
   o.alpha = 0.1;
   o.eta = 0.05;
