@@ -1,0 +1,108 @@
+#pragma once
+// Recording simulated episodes (thesis 5.1-5.2): a scenario puts objects on the table, the arm
+// pushes the target object along a straight line parallel to the table, and every frame is
+// written in the episode format (docs/formats/episode.md) with exact ground truth: RGB, 16-bit
+// object-id masks, joint angles, end-effector position and pixel, and whether the arm touched
+// the target in any physics step since the previous frame.
+//
+// Frames: world = robot base frame (metres, z up, +x forward, table top z = 0).
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/sim/object_catalogue.hpp"
+#include "proprio/sim/scene_description.hpp"
+
+namespace proprio::sim {
+
+/// Scenario names record_episode knows: "push" (a straight push through the object's centre,
+/// thesis 5.1) and "push-rotate" (the same push offset sideways, so the object turns, 5.2).
+std::vector<std::string> known_scenarios();
+
+struct RecordOptions {
+  std::string scenario = "push";
+  std::string object = "mug";  ///< the target, a catalogue name
+  /// Moving background (thesis 5.1): the backdrop shows `background_video` frame by frame and
+  /// `distractors` objects slide back and forth behind the target.
+  bool moving_background = false;
+  std::filesystem::path background_video = default_background_video();
+  /// Moving distractor objects sliding about behind the target; none = 2 with a moving
+  /// background, 0 with a static one.
+  std::optional<int> distractors;
+  int clutter = 3;  ///< other objects placed at random (by seed), never in the push path
+  std::uint64_t seed = 7;
+  int width = 640;  ///< image size, pixels
+  int height = 480;
+  double fps = 25.0;          ///< frame rate; 1 / (fps * timestep) must be a whole number of steps
+  double push_speed = 0.04;   ///< mean speed of the push, m/s
+  double still_before = 0.4;  ///< seconds recorded before the arm moves
+  double still_after = 0.4;   ///< and after it stops
+  double pusher_height = 0.015;  ///< height of the pusher tip above the table, m
+  bool shadows = false;          ///< off: about twice the frame rate in software GL
+  bool reflections = false;
+  bool overwrite = false;  ///< replace an existing episode directory
+
+  // Disturbances (thesis 5.1), each recorded in episode.json's provenance.switches.
+  /// The camera trembles: its rendered pose gets a random offset (up to 4 mm, 0.4 degrees) each
+  /// frame; calib.yml keeps the nominal pose.
+  bool camera_shake = false;
+  /// Half-way through the episode the main light jumps to another place and direction.
+  bool lighting_change = false;
+  /// A neighbouring object beside the push path is shoved 5 cm sideways during the push (by
+  /// something other than the arm; role "distractor").
+  bool nudge_neighbour = false;
+  double noise = 0.0;        ///< standard deviation of Gaussian image noise, grey levels
+  bool motion_blur = false;  ///< each frame averages renders at 4 instants of its interval
+  bool stereo = false;       ///< a stereo pair (baseline 0.1 m): frames_right/, calib_right.yml
+  bool depth = false;        ///< depth/ images (16-bit millimetres)
+
+  /// vtest.avi of the opencv-doc samples (people walking).
+  static std::filesystem::path default_background_video();
+  /// Throws Error naming the option that is out of range or unknown (scenario).
+  void validate() const;
+  /// The number of distractors in effect (see `distractors`).
+  [[nodiscard]] int distractor_count() const;
+  /// The switches as a JSON object (episode.json's provenance.switches).
+  [[nodiscard]] core::Json switches() const;
+};
+
+/// The scene and the push that record_episode plays, computed from the options alone
+/// (deterministic in the seed).
+struct ScenarioPlan {
+  SceneDescription scene;
+  std::string target;                    ///< instance name of the target object
+  std::vector<std::string> distractors;  ///< instance names of the moving distractors
+  std::string neighbour;  ///< instance name of the object nudged (nudge_neighbour), else empty
+  Eigen::Vector3d push_start = Eigen::Vector3d::Zero();  ///< pusher tip, world, m
+  Eigen::Vector3d push_end = Eigen::Vector3d::Zero();
+};
+
+/// Builds the scene of a scenario: the target at yaw 0 placed so that the whole push stays inside
+/// the arm's reach with the pusher pointing down (0.10-0.33 m from the base axis), clutter placed
+/// at random outside the push corridor and not in front of it, distractors behind. Throws Error
+/// for an unknown scenario or object.
+ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue);
+
+struct RecordSummary {
+  int frames = 0;
+  double seconds = 0.0;  ///< wall clock, physics, rendering and writing included
+  double fps = 0.0;      ///< frames / seconds
+  /// First frame whose `touching` is 1; none when the arm never touched the target.
+  std::optional<int> first_touch_frame;
+  double target_moved = 0.0;  ///< distance the target's origin moved over the episode, m
+  std::string message;
+};
+
+/// Records one episode into `out` (atomically: nothing appears there unless the whole episode
+/// was written and reads back). Throws Error for bad options, an unknown object, an unreadable
+/// texture or video, an unreachable push, an existing `out` (unless overwrite), or a physics
+/// warning.
+RecordSummary record_episode(const std::filesystem::path& out, const RecordOptions& options,
+                             const core::Provenance& run, const ObjectCatalogue& catalogue);
+
+}  // namespace proprio::sim

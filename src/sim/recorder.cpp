@@ -1,0 +1,435 @@
+#include "proprio/sim/recorder.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <opencv2/core.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/episode/episode_writer.hpp"
+#include "proprio/robot/inverse_kinematics.hpp"
+#include "proprio/robot/joint_tracking.hpp"
+#include "proprio/robot/trajectory.hpp"
+#include "proprio/sim/renderer.hpp"
+#include "proprio/sim/world.hpp"
+
+namespace proprio::sim {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The band of table-level points the pusher reaches pointing down (docs/formats/arm-model.md),
+// with a margin.
+constexpr double kPushStartX = 0.12;
+constexpr double kPushEndX = 0.32;
+constexpr double kClearance = 0.025;  // pusher tip to the object's back face at the start, m
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) {
+    if (!s.empty()) s += ", ";
+    s += x;
+  }
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> known_scenarios() { return {"push", "push-rotate"}; }
+
+fs::path RecordOptions::default_background_video() {
+  return ObjectCatalogue::default_texture_dir() / "vtest.avi";
+}
+
+void RecordOptions::validate() const {
+  const auto names = known_scenarios();
+  if (std::find(names.begin(), names.end(), scenario) == names.end()) {
+    std::string m = "unknown scenario '";
+    m += scenario;
+    m += "' (known: ";
+    m += join(names);
+    m += ")";
+    throw Error(m);
+  }
+  require(width >= 16 && height >= 16 && width <= 4096 && height <= 4096,
+          "image size must be 16..4096 pixels per side");
+  require(std::isfinite(fps) && fps > 0 && fps <= 1000, "fps must be in (0, 1000]");
+  require(std::isfinite(push_speed) && push_speed > 0 && push_speed <= 1.0,
+          "push speed must be in (0, 1] m/s");
+  require(std::isfinite(still_before) && still_before >= 0 && std::isfinite(still_after) &&
+              still_after >= 0,
+          "still times must be >= 0 s");
+  require(std::isfinite(pusher_height) && pusher_height > 0 && pusher_height < 0.2,
+          "pusher height must be in (0, 0.2) m");
+  require(clutter >= 0 && clutter <= 8, "clutter must be 0..8 objects");
+  require(distractor_count() >= 0 && distractor_count() <= 4, "distractors must be 0..4 objects");
+  require(std::isfinite(noise) && noise >= 0 && noise <= 100, "noise must be 0..100 grey levels");
+}
+
+int RecordOptions::distractor_count() const {
+  return distractors.value_or(moving_background ? 2 : 0);
+}
+
+core::Json RecordOptions::switches() const {
+  core::Json j = core::Json::object();
+  j["object"] = object;
+  j["background"] = moving_background ? "moving" : "static";
+  j["distractors"] = distractor_count();
+  j["clutter"] = clutter;
+  j["push_speed"] = push_speed;
+  j["width"] = width;
+  j["height"] = height;
+  j["fps"] = fps;
+  j["shadows"] = shadows;
+  j["reflections"] = reflections;
+  j["camera_shake"] = camera_shake;
+  j["lighting_change"] = lighting_change;
+  j["nudge_neighbour"] = nudge_neighbour;
+  j["noise"] = noise;
+  j["motion_blur"] = motion_blur;
+  j["stereo"] = stereo;
+  j["depth"] = depth;
+  return j;
+}
+
+ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
+  options.validate();
+  const ObjectType& target_type = catalogue.get(options.object);
+  core::Rng rng(options.seed);
+
+  ScenarioPlan plan;
+  plan.scene = default_scene();
+  plan.scene.cameras.at(0).width = options.width;
+  plan.scene.cameras.at(0).height = options.height;
+  // Look at the push band from the front and a little above, close enough that the object is
+  // large in the image.
+  plan.scene.cameras.at(0).position = {0.24, -0.62, 0.42};
+  plan.scene.cameras.at(0).target = {0.26, 0.02, 0.03};
+
+  // Target at yaw 0: its box spans [cx - hx, cx + hx] along x about its origin.
+  const Eigen::Vector3d he = target_type.half_extents();
+  const Eigen::Vector3d ce = target_type.center();
+  const double back = kPushStartX + kClearance;  // x of the object's back face
+  const double centre_x = back + he.x();
+  if (centre_x >= kPushEndX - 0.02) {
+    std::string m = "object '";
+    m += options.object;
+    m += "' is too long to be pushed within the arm's reach";
+    throw Error(m);
+  }
+  PlacedObject target;
+  target.type = options.object;
+  target.name = options.object;
+  target.position = {centre_x - ce.x(), -ce.y()};
+  plan.scene.objects.push_back(target);
+  plan.target = options.object;
+
+  // push-rotate: the line passes half-way between the centre and the side, so the object turns.
+  const double offset = options.scenario == "push-rotate" ? 0.5 * he.y() : 0.0;
+  plan.push_start = {kPushStartX, offset, options.pusher_height};
+  plan.push_end = {kPushEndX, offset, options.pusher_height};
+
+  // Clutter and distractors: other catalogue objects, drawn without repetition.
+  std::vector<std::string> pool;
+  for (const auto& n : catalogue.names())
+    if (n != options.object) pool.push_back(n);
+  auto draw_type = [&]() -> std::string {
+    if (pool.empty()) throw Error("not enough catalogue objects for the clutter and distractors");
+    const auto k = static_cast<std::ptrdiff_t>(rng.index(pool.size()));
+    std::string n = pool[static_cast<std::size_t>(k)];
+    pool.erase(pool.begin() + k);
+    return n;
+  };
+  const double target_r = std::hypot(he.x(), he.y());
+  struct Disc {
+    Eigen::Vector2d c;
+    double r;
+  };
+  std::vector<Disc> taken{{Eigen::Vector2d(centre_x, 0.0), target_r}};
+  if (options.nudge_neighbour) {
+    // Beside the push path, toward the back, clear of the pusher.
+    PlacedObject o;
+    o.type = draw_type();
+    o.name = "neighbour-" + o.type;
+    const double r = catalogue.get(o.type).footprint_radius();
+    o.position = {centre_x, target_r + r + 0.03};
+    plan.scene.objects.push_back(o);
+    plan.neighbour = o.name;
+    taken.push_back({o.position, r});
+  }
+  for (int i = 0; i < options.clutter; ++i) {
+    const std::string type = draw_type();
+    const ObjectType& t = catalogue.get(type);
+    const double r = t.footprint_radius();
+    bool placed = false;
+    for (int attempt = 0; attempt < 200 && !placed; ++attempt) {
+      const Eigen::Vector2d p(rng.uniform(0.08, 0.62), rng.uniform(-0.30, 0.38));
+      // Keep the push corridor and everything in front of it (toward the camera) free, and
+      // stay off the arm's base.
+      const double corridor = target_r + r + 0.04;
+      if (p.x() < kPushEndX + target_r + r && p.y() < corridor) continue;
+      if (p.norm() < 0.12 + r) continue;
+      bool overlap = false;
+      for (const Disc& d : taken) overlap = overlap || (p - d.c).norm() < d.r + r + 0.02;
+      if (overlap) continue;
+      PlacedObject o;
+      o.type = type;
+      o.name = type;
+      o.position = p;
+      o.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      plan.scene.objects.push_back(o);
+      taken.push_back({p, r});
+      placed = true;
+    }
+  }
+  if (options.stereo) plan.scene.cameras.at(0).stereo_baseline = 0.1;
+  {
+    for (int i = 0; i < options.distractor_count(); ++i) {
+      PlacedObject o;
+      o.type = draw_type();
+      o.name = "distractor-" + o.type;
+      // Start positions; record_episode moves them along y = 0.46 (behind everything).
+      o.position = {0.15 + 0.3 * i, 0.46};
+      plan.scene.objects.push_back(o);
+      plan.distractors.push_back(o.name);
+    }
+  }
+  plan.scene.validate();
+  return plan;
+}
+
+RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
+                             const core::Provenance& run, const ObjectCatalogue& catalogue) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  options.validate();
+  if (fs::exists(out) && !options.overwrite) {
+    std::string m = out.string();
+    m += ": already exists (use --overwrite to replace it)";
+    throw Error(m);
+  }
+  const ScenarioPlan plan = plan_scenario(options, catalogue);
+
+  cv::VideoCapture video;
+  if (options.moving_background) {
+    if (!fs::is_regular_file(options.background_video)) {
+      throw Error::in_file(options.background_video, "no such background video");
+    }
+    video.open(options.background_video.string());
+    if (!video.isOpened()) {
+      throw Error::in_file(options.background_video, "cannot open the background video");
+    }
+  }
+
+  World world = World::build(plan.scene, catalogue);
+  const double dt = world.timestep();
+  const double steps_real = 1.0 / (options.fps * dt);
+  const int steps_per_frame = static_cast<int>(std::lround(steps_real));
+  if (steps_per_frame < 1 || std::abs(steps_real - steps_per_frame) > 1e-6) {
+    throw Error("fps must divide the physics rate (1 / timestep = " + std::to_string(1.0 / dt) +
+                " Hz) into whole steps");
+  }
+  RenderOptions ropt;
+  ropt.shadows = options.shadows;
+  ropt.reflections = options.reflections;
+  Renderer renderer(world, ropt);
+  const std::string camera_name = world.camera_names().at(0);
+  const geometry::Camera camera = world.camera(camera_name);
+  std::optional<geometry::Camera> right_camera;
+  if (options.stereo) right_camera = world.camera(world.camera_names().at(1));
+
+  // The push, in joint space, one sample per physics step.
+  robot::ArmState state(world.arm());
+  robot::IkOptions ik;
+  const robot::JointVector q_rest = world.arm_joints();
+  const robot::JointVector q0 = robot::solve_ik(state, plan.push_start, q_rest, ik).q;
+  const robot::BezierTrajectory move =
+      robot::straight_move(plan.push_start, plan.push_end, options.push_speed);
+  robot::TrackOptions track_opt;
+  track_opt.rate_hz = 1.0 / dt;
+  track_opt.ik = ik;
+  const robot::TrackResult track = robot::track_trajectory(state, move, q0, track_opt);
+  world.set_arm_configuration(q0);
+  // Let the objects settle on the table before the first frame.
+  world.step(100);
+
+  const ObjectId target_id = world.object(plan.target).id;
+  std::vector<ObjectId> distractor_ids;
+  for (const auto& n : plan.distractors) distractor_ids.push_back(world.object(n).id);
+  const Eigen::Vector3d target_start = world.object_pose(target_id).translation();
+
+  episode::EpisodeInfo info;
+  info.fps = options.fps;
+  info.width = options.width;
+  info.height = options.height;
+  info.arm_name = "proprio-sim-arm";
+  info.joint_count = robot::kArmJoints;
+  info.has_masks = true;
+  info.target = target_id;
+  info.provenance.run = run;
+  info.provenance.source = episode::Source::kSimulated;
+  info.provenance.scenario = options.scenario;
+  info.provenance.switches = options.switches();
+  std::vector<episode::ObjectInfo> objects;
+  for (const SceneObject& o : world.objects()) {
+    episode::ObjectRole role = episode::ObjectRole::kObject;
+    if (o.id == target_id) role = episode::ObjectRole::kTarget;
+    if (std::find(distractor_ids.begin(), distractor_ids.end(), o.id) != distractor_ids.end() ||
+        o.name == plan.neighbour)
+      role = episode::ObjectRole::kDistractor;
+    objects.push_back({o.id, o.name, role});
+  }
+  objects.push_back({kArmId, "arm", episode::ObjectRole::kArm});
+  episode::EpisodeWriterOptions wopt;
+  wopt.overwrite = options.overwrite;
+  info.has_depth = options.depth;
+  info.stereo = options.stereo;
+  episode::EpisodeWriter writer(out, info, camera, objects, right_camera, wopt);
+
+  const int before_steps = static_cast<int>(std::lround(options.still_before / dt));
+  const int move_steps = static_cast<int>(track.joints.size());
+  const int after_steps = static_cast<int>(std::lround(options.still_after / dt));
+  const int total_steps = before_steps + move_steps + after_steps;
+  const int frame_count = total_steps / steps_per_frame + 1;
+
+  RecordSummary summary;
+  // Disturbances draw from their own streams so that switching one on leaves the rest alone.
+  core::Rng shake_rng(options.seed ^ 0x5348414b45ULL);
+  cv::RNG noise_rng(options.seed ^ 0x4e4f495345ULL);
+  const int blur_renders = options.motion_blur ? 4 : 1;
+  const int blur_every = std::max(1, steps_per_frame / blur_renders);
+  std::vector<int> camera_ids;
+  for (const auto& n : world.camera_names()) camera_ids.push_back(world.camera_id(n));
+  const ObjectId neighbour_id = plan.neighbour.empty() ? 0 : world.object(plan.neighbour).id;
+  const Pose neighbour_start = neighbour_id ? world.object_pose(neighbour_id) : Pose::Identity();
+  const double nudge_t0 = options.still_before + 0.3 * move.duration();
+  const double lighting_t = 0.5 * total_steps * dt;
+
+  // The disturbances of the rendered view: they act on mjData's derived camera and light poses,
+  // which every step and mj_forward recompute, so they are applied again right before rendering.
+  auto disturb_view = [&](double t) {
+    mjData& d = world.data();
+    if (options.camera_shake) {
+      const Eigen::Vector3d dp(shake_rng.uniform(-0.004, 0.004), shake_rng.uniform(-0.004, 0.004),
+                               shake_rng.uniform(-0.004, 0.004));
+      const Eigen::Vector3d axis(shake_rng.normal(), shake_rng.normal(), shake_rng.normal());
+      const double angle = shake_rng.uniform(-0.007, 0.007);
+      const Eigen::Matrix3d dr = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+      for (int id : camera_ids) {
+        Eigen::Map<Eigen::Vector3d> pos(d.cam_xpos + 3 * id);
+        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(d.cam_xmat + 9 * id);
+        pos += dp;
+        rot = (dr * rot).eval();
+      }
+    }
+    if (options.lighting_change && t >= lighting_t && world.model().nlight > 0) {
+      Eigen::Map<Eigen::Vector3d> pos(d.light_xpos);
+      Eigen::Map<Eigen::Vector3d> dir(d.light_xdir);
+      pos = Eigen::Vector3d(0.9, -0.6, 1.0);
+      dir = (Eigen::Vector3d(0.3, 0.05, 0.0) - pos).normalized();
+    }
+  };
+  auto render_rgb = [&](double t) {
+    disturb_view(t);
+    return renderer.rgb(world, camera_name);
+  };
+
+  int step_index = 0;
+  for (int f = 0; f < frame_count; ++f) {
+    bool touched = false;
+    const double t = f / options.fps;
+    cv::Mat blur_sum;
+    if (f > 0) {
+      for (int s = 0; s < steps_per_frame; ++s, ++step_index) {
+        const int k = std::clamp(step_index - before_steps, 0, move_steps - 1);
+        world.set_arm_targets(track.joints.q[static_cast<std::size_t>(k)]);
+        world.step();
+        touched = touched || world.arm_touches(target_id);
+        if (options.motion_blur && (s + 1) % blur_every == 0 && s + 1 < steps_per_frame) {
+          cv::Mat sub;
+          render_rgb(t).convertTo(sub, CV_32FC3);
+          if (blur_sum.empty()) {
+            blur_sum = sub;
+          } else {
+            blur_sum += sub;
+          }
+        }
+      }
+    }
+    for (std::size_t i = 0; i < distractor_ids.size(); ++i) {
+      const SceneObject& o = world.object(distractor_ids[i]);
+      Pose p = Pose::Identity();
+      const double phase = 2.0 * std::numbers::pi * (0.15 * t + 0.5 * static_cast<double>(i));
+      p.translation() =
+          Eigen::Vector3d(0.35 + 0.30 * std::sin(phase), 0.46, o.type.bottom() + 0.001);
+      p.linear() = Eigen::AngleAxisd(0.8 * t + static_cast<double>(i), Eigen::Vector3d::UnitZ())
+                       .toRotationMatrix();
+      world.set_object_pose(distractor_ids[i], p);
+    }
+    if (neighbour_id && t >= nudge_t0 && t - nudge_t0 <= 0.5 + 0.5 / options.fps) {
+      // Shoved 5 cm away from the push path over half a second.
+      const double u = std::min(1.0, (t - nudge_t0) / 0.5);
+      Pose p = neighbour_start;
+      p.translation().y() += 0.05 * u;
+      p.translation().z() += 0.001;
+      world.set_object_pose(neighbour_id, p);
+    }
+    if (video.isOpened()) {
+      cv::Mat vf;
+      if (!video.read(vf) || vf.empty()) {
+        video.set(cv::CAP_PROP_POS_FRAMES, 0);
+        video.read(vf);
+      }
+      if (vf.empty()) throw Error::in_file(options.background_video, "cannot read a frame");
+      world.set_texture_image(kBackdropTexture, vf);
+      renderer.upload_texture(world, kBackdropTexture);
+    }
+    disturb_view(t);
+    const Frame frame = renderer.render(world, camera_name,
+                                        kPassRgb | kPassMask | (options.depth ? kPassDepth : 0U));
+    cv::Mat rgb = frame.rgb;
+    if (!blur_sum.empty()) {
+      cv::Mat last;
+      rgb.convertTo(last, CV_32FC3);
+      blur_sum += last;
+      blur_sum.convertTo(rgb, CV_8UC3, 1.0 / blur_renders);
+    }
+    episode::FrameExtras extras;
+    extras.mask = frame.mask;
+    if (options.depth) frame.depth.convertTo(extras.depth, CV_16UC1, 1000.0);
+    if (options.stereo) extras.right_image = renderer.rgb(world, world.camera_names().at(1));
+    auto add_noise = [&](cv::Mat& img) {
+      if (options.noise <= 0) return;
+      cv::Mat n(img.size(), CV_16SC3);
+      noise_rng.fill(n, cv::RNG::NORMAL, 0.0, options.noise);
+      cv::Mat noisy;
+      cv::add(img, n, noisy, cv::noArray(), CV_8UC3);
+      img = noisy;
+    };
+    add_noise(rgb);
+    if (options.stereo) add_noise(extras.right_image);
+
+    episode::ArmSample sample;
+    sample.t = t;
+    sample.q = world.arm_joints();
+    sample.ee = world.ee_position();
+    sample.ee_image = camera.project(sample.ee);
+    sample.touching = touched;
+    if (touched && !summary.first_touch_frame) summary.first_touch_frame = f;
+    writer.add_frame(rgb, sample, extras);
+  }
+  writer.finish();
+
+  summary.frames = frame_count;
+  summary.target_moved = (world.object_pose(target_id).translation() - target_start).norm();
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  summary.fps = summary.frames / summary.seconds;
+  summary.message = "recorded " + std::to_string(frame_count) + " frames of '" + options.scenario +
+                    "' with " + options.object;
+  return summary;
+}
+
+}  // namespace proprio::sim
