@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 
 namespace proprio::sim {
@@ -23,10 +24,10 @@ geometry::Camera camera_from_mujoco(const mjModel& m, const mjData& d, int camer
   Eigen::Matrix3d world_from_mj;
   for (int r = 0; r < 3; ++r) {
     for (int col = 0; col < 3; ++col)
-      world_from_mj(r, col) = d.cam_xmat[9 * camera_id + 3 * r + col];
+      world_from_mj(r, col) = d.cam_xmat[std::ptrdiff_t{9} * camera_id + 3 * r + col];
   }
-  const Eigen::Vector3d position(d.cam_xpos[3 * camera_id], d.cam_xpos[3 * camera_id + 1],
-                                 d.cam_xpos[3 * camera_id + 2]);
+  const Eigen::Vector3d position(
+      Eigen::Map<const Eigen::Vector3d>(d.cam_xpos + std::ptrdiff_t{3} * camera_id));
   const Eigen::Matrix3d cv_from_mj = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
   c.R = cv_from_mj * world_from_mj.transpose();
   c.t = -c.R * position;

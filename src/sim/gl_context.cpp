@@ -90,7 +90,7 @@ std::unique_ptr<GlContext::Impl> create_osmesa(std::string& why) {
     why = "OSMesaCreateContextExt failed";
     return nullptr;
   }
-  impl->osmesa_buffer.resize(4 * kOsMesaBufferSide * kOsMesaBufferSide);
+  impl->osmesa_buffer.resize(std::size_t{4} * kOsMesaBufferSide * kOsMesaBufferSide);
   if (!OSMesaMakeCurrent(impl->osmesa, impl->osmesa_buffer.data(), GL_UNSIGNED_BYTE,
                          kOsMesaBufferSide, kOsMesaBufferSide)) {
     why = "OSMesaMakeCurrent failed";

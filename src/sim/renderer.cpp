@@ -3,6 +3,7 @@
 #include <mujoco/mujoco.h>
 
 #include <cassert>
+#include <cstddef>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <utility>
@@ -103,8 +104,9 @@ struct Renderer::Impl {
           rgb_buffer.data() + static_cast<std::size_t>(height - 1 - r) * width * 3;
       auto* dst = mask.ptr<std::uint16_t>(r);
       for (int c = 0; c < width; ++c) {
-        const std::size_t id = src[3 * c] | (static_cast<std::size_t>(src[3 * c + 1]) << 8) |
-                               (static_cast<std::size_t>(src[3 * c + 2]) << 16);
+        const unsigned char* rgb = src + std::ptrdiff_t{3} * c;
+        const std::size_t id = rgb[0] | (static_cast<std::size_t>(rgb[1]) << 8) |
+                               (static_cast<std::size_t>(rgb[2]) << 16);
         dst[c] = id < segid_to_object.size() ? segid_to_object[id] : kBackgroundId;
       }
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstddef>
 #include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <utility>
@@ -15,7 +16,10 @@ namespace {
 
 constexpr const char* kSceneName = "<generated scene>";
 
-Pose pose_from(const mjtNum* pos, const mjtNum* quat) {
+// The position and orientation of body `b` in the world.
+Pose body_pose(const mjData& d, int b) {
+  const mjtNum* pos = d.xpos + std::ptrdiff_t{3} * b;
+  const mjtNum* quat = d.xquat + std::ptrdiff_t{4} * b;
   Pose p = Pose::Identity();
   p.translation() = Eigen::Vector3d(pos[0], pos[1], pos[2]);
   p.linear() =
@@ -128,7 +132,7 @@ const SceneObject& World::object(ObjectId id) const {
 
 Pose World::object_pose(ObjectId id) const {
   const int body = object_body_[object(id).id];
-  return pose_from(data_->xpos + 3 * body, data_->xquat + 4 * body);
+  return body_pose(*data_, body);
 }
 
 void World::set_object_pose(ObjectId id, const Pose& pose) {
@@ -183,8 +187,7 @@ std::vector<LinkPose> World::arm_link_poses() const {
   out.reserve(arm_bodies_.size());
   for (int b : arm_bodies_) {
     const char* name = mj_id2name(model_.get(), mjOBJ_BODY, b);
-    out.push_back(
-        {name != nullptr ? name : "", pose_from(data_->xpos + 3 * b, data_->xquat + 4 * b)});
+    out.push_back({name != nullptr ? name : "", body_pose(*data_, b)});
   }
   return out;
 }
@@ -212,8 +215,7 @@ void World::set_arm_configuration(const robot::JointVector& q) {
 }
 
 Eigen::Vector3d World::ee_position() const {
-  const int s = arm().ee_site();
-  return {data_->site_xpos[3 * s], data_->site_xpos[3 * s + 1], data_->site_xpos[3 * s + 2]};
+  return Eigen::Map<const Eigen::Vector3d>(data_->site_xpos + std::ptrdiff_t{3} * arm().ee_site());
 }
 
 bool World::touching(std::span<const int> geoms, int body) const {

@@ -15,7 +15,8 @@ Eigen::Matrix3d intrinsics_from_fovy(double fovy_deg, int width, int height);
 
 /// The pinhole model of camera `camera_id` in its current pose (d->cam_xpos, d->cam_xmat after
 /// mj_forward). MuJoCo cameras look along their -z axis with y up; the OpenCV camera frame is
-/// that frame turned by pi about x: R = diag(1, -1, -1) cam_xmat^T, t = -R cam_xpos.
+/// that frame turned by pi about x: R = diag(1, -1, -1) cam_xmat^T, t = -R cam_xpos; so that
+/// P = K [R | t] (eq 3.7) maps world points to pixels.
 geometry::Camera camera_from_mujoco(const mjModel& m, const mjData& d, int camera_id, int width,
                                     int height);
 
