@@ -30,5 +30,6 @@ void register_calib_commands(CLI::App& root, const Invocation& inv);
 void register_episode_commands(CLI::App& root, const Invocation& inv);
 void register_lda_commands(CLI::App& root, const Invocation& inv);
 void register_intercept_commands(CLI::App& root, const Invocation& inv);
+void register_sim_commands(CLI::App& root, const Invocation& inv);
 
 }  // namespace proprio::app

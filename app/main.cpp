@@ -31,6 +31,7 @@ int run(int argc, char** argv) {
   register_episode_commands(root, inv);
   register_lda_commands(root, inv);
   register_intercept_commands(root, inv);
+  register_sim_commands(root, inv);
 
   try {
     root.parse(argc, argv);

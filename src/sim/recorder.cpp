@@ -38,7 +38,9 @@ std::string join(const std::vector<std::string>& v) {
 
 }  // namespace
 
-std::vector<std::string> known_scenarios() { return {"push", "push-rotate"}; }
+std::vector<std::string> known_scenarios() {
+  return {"push", "push-rotate", "clutter", "scatter", "hold-3d"};
+}
 
 fs::path RecordOptions::default_background_video() {
   return ObjectCatalogue::default_texture_dir() / "vtest.avi";
@@ -107,7 +109,13 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
   // Look at the push band from the front and a little above, close enough that the object is
   // large in the image.
   plan.scene.cameras.at(0).position = {0.24, -0.62, 0.42};
-  plan.scene.cameras.at(0).target = {0.26, 0.02, 0.03};
+  plan.scene.cameras.at(0).target = {0.26, 0.04, 0.05};
+  // A backdrop just behind the table, low enough that the camera sees the middle of its picture
+  // (where vtest.avi's people walk), with the video's 4:3 aspect.
+  plan.scene.backdrop.center = {0.30, 0.56, 0.30};
+  plan.scene.backdrop.size = {1.2, 0.9};
+  plan.scene.backdrop.texture_width = 384;
+  plan.scene.backdrop.texture_height = 288;
 
   // Target at yaw 0: its box spans [cx - hx, cx + hx] along x about its origin.
   const Eigen::Vector3d he = target_type.half_extents();
@@ -131,6 +139,12 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
   const double offset = options.scenario == "push-rotate" ? 0.5 * he.y() : 0.0;
   plan.push_start = {kPushStartX, offset, options.pusher_height};
   plan.push_end = {kPushEndX, offset, options.pusher_height};
+  if (options.scenario == "hold-3d") {
+    plan.held = true;
+    plan.push_start = {0.18, -0.08, 0.13};
+    plan.via = {0.24, 0.06, 0.21};
+    plan.push_end = {0.27, -0.04, 0.15};
+  }
 
   // Clutter and distractors: other catalogue objects, drawn without repetition.
   std::vector<std::string> pool;
@@ -160,7 +174,23 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
     plan.neighbour = o.name;
     taken.push_back({o.position, r});
   }
-  for (int i = 0; i < options.clutter; ++i) {
+  int clutter = options.clutter;
+  if (options.scenario == "clutter") clutter = std::max(clutter, 6);
+  if (options.scenario == "scatter") {
+    for (int i = 0; i < std::max(clutter, 5); ++i) {
+      PlacedObject o;
+      o.type = draw_type();
+      o.name = "scatter-" + o.type;
+      const double y = 0.2 + 0.06 * i;
+      const double x0 = rng.uniform(-0.5, 1.0);
+      const double speed = rng.uniform(0.08, 0.2) * (rng.uniform() < 0.5 ? -1.0 : 1.0);
+      o.position = {x0, y};
+      plan.scene.objects.push_back(o);
+      plan.sliders.push_back({o.name, x0, y, speed});
+    }
+    clutter = 0;
+  }
+  for (int i = 0; i < clutter; ++i) {
     const std::string type = draw_type();
     const ObjectType& t = catalogue.get(type);
     const double r = t.footprint_radius();
@@ -246,7 +276,11 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   const robot::JointVector q_rest = world.arm_joints();
   const robot::JointVector q0 = robot::solve_ik(state, plan.push_start, q_rest, ik).q;
   const robot::BezierTrajectory move =
-      robot::straight_move(plan.push_start, plan.push_end, options.push_speed);
+      plan.held ? robot::BezierTrajectory(
+                      plan.push_start, plan.via, plan.push_end,
+                      ((plan.via - plan.push_start).norm() + (plan.push_end - plan.via).norm()) /
+                          std::min(options.push_speed, 0.06))
+                : robot::straight_move(plan.push_start, plan.push_end, options.push_speed);
   robot::TrackOptions track_opt;
   track_opt.rate_hz = 1.0 / dt;
   track_opt.ik = ik;
@@ -258,6 +292,8 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   const ObjectId target_id = world.object(plan.target).id;
   std::vector<ObjectId> distractor_ids;
   for (const auto& n : plan.distractors) distractor_ids.push_back(world.object(n).id);
+  std::vector<ObjectId> slider_ids;
+  for (const auto& sl : plan.sliders) slider_ids.push_back(world.object(sl.name).id);
   const Eigen::Vector3d target_start = world.object_pose(target_id).translation();
 
   episode::EpisodeInfo info;
@@ -277,6 +313,7 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
     episode::ObjectRole role = episode::ObjectRole::kObject;
     if (o.id == target_id) role = episode::ObjectRole::kTarget;
     if (std::find(distractor_ids.begin(), distractor_ids.end(), o.id) != distractor_ids.end() ||
+        std::find(slider_ids.begin(), slider_ids.end(), o.id) != slider_ids.end() ||
         o.name == plan.neighbour)
       role = episode::ObjectRole::kDistractor;
     objects.push_back({o.id, o.name, role});
@@ -336,6 +373,22 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
     return renderer.rgb(world, camera_name);
   };
 
+  // hold-3d: the target welded under the pusher tip (the top of its box 1 cm below it), turning
+  // with the arm and rocking a little so that the views change in 3D. Set before every step so
+  // that it never falls.
+  const ObjectType& target_type = world.object(target_id).type;
+  auto hold_target = [&](double t) {
+    const Eigen::Vector3d ee = world.ee_position();
+    const Eigen::Vector3d he = target_type.half_extents();
+    const Eigen::Vector3d ce = target_type.center();
+    Pose p = Pose::Identity();
+    p.linear() = (Eigen::AngleAxisd(std::atan2(ee.y(), ee.x()) + 0.6 * std::sin(0.9 * t),
+                                    Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(0.25 * std::sin(1.3 * t), Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+    p.translation() = ee - Eigen::Vector3d(0, 0, 0.01 + he.z()) - p.linear() * ce;
+    world.set_object_pose(target_id, p);
+  };
   int step_index = 0;
   for (int f = 0; f < frame_count; ++f) {
     bool touched = false;
@@ -345,6 +398,7 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       for (int s = 0; s < steps_per_frame; ++s, ++step_index) {
         const int k = std::clamp(step_index - before_steps, 0, move_steps - 1);
         world.set_arm_targets(track.joints.q[static_cast<std::size_t>(k)]);
+        if (plan.held) hold_target(t - (steps_per_frame - s) * dt);
         world.step();
         touched = touched || world.arm_touches(target_id);
         if (options.motion_blur && (s + 1) % blur_every == 0 && s + 1 < steps_per_frame) {
@@ -367,6 +421,18 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       p.linear() = Eigen::AngleAxisd(0.8 * t + static_cast<double>(i), Eigen::Vector3d::UnitZ())
                        .toRotationMatrix();
       world.set_object_pose(distractor_ids[i], p);
+    }
+    for (std::size_t i = 0; i < slider_ids.size(); ++i) {
+      const ScenarioPlan::Slider& sl = plan.sliders[i];
+      const double x = std::fmod(sl.x0 + sl.speed * t + 0.5 + 15.0, 1.5) - 0.5;
+      Pose p = Pose::Identity();
+      p.translation() = Eigen::Vector3d(x, sl.y, world.object(slider_ids[i]).type.bottom() + 0.001);
+      p.linear() = Eigen::AngleAxisd(3.0 * x, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      world.set_object_pose(slider_ids[i], p);
+    }
+    if (plan.held) {
+      hold_target(t);
+      touched = true;
     }
     if (neighbour_id && t >= nudge_t0 && t - nudge_t0 <= 0.5 + 0.5 / options.fps) {
       // Shoved 5 cm away from the push path over half a second.

@@ -133,5 +133,63 @@ TEST(Recorder, BadInputIsAClearErrorAndLeavesNoEpisode) {
   expect_error(o, "pusher height");
 }
 
+TEST(Recorder, EveryScenarioWritesAValidEpisode) {
+  for (const std::string scenario : {"push-rotate", "clutter", "scatter", "hold-3d"}) {
+    const fs::path out = test::temp_dir() / ("scen_" + scenario);
+    fs::remove_all(out);
+    RecordOptions o = fast_options();
+    o.width = 160;
+    o.height = 120;
+    o.scenario = scenario;
+    const RecordSummary s = record_episode(out, o, run_provenance(5), catalogue());
+    for (const auto& p : episode::check_episode(out))
+      ADD_FAILURE() << scenario << ": " << p.message;
+    EXPECT_GT(s.target_moved, 0.02) << scenario;
+    const core::Json info = core::read_json(out / "episode.json");
+    EXPECT_EQ(info["provenance"]["scenario"], scenario);
+    if (scenario == "hold-3d") {
+      EXPECT_EQ(s.first_touch_frame, 0);
+    }
+  }
+}
+
+TEST(Recorder, DisturbancesAreRecordedAndTheEpisodeStaysValid) {
+  const fs::path out = test::temp_dir() / "disturbed";
+  fs::remove_all(out);
+  RecordOptions o = fast_options();
+  o.width = 160;
+  o.height = 120;
+  o.camera_shake = true;
+  o.lighting_change = true;
+  o.nudge_neighbour = true;
+  o.noise = 5.0;
+  o.motion_blur = true;
+  o.stereo = true;
+  o.depth = true;
+  o.distractors = 1;
+  record_episode(out, o, run_provenance(9), catalogue());
+  for (const auto& p : episode::check_episode(out)) ADD_FAILURE() << p.message;
+  const core::Json sw = core::read_json(out / "episode.json")["provenance"]["switches"];
+  for (const char* key :
+       {"camera_shake", "lighting_change", "nudge_neighbour", "motion_blur", "stereo", "depth"}) {
+    EXPECT_EQ(sw[key], true) << key;
+  }
+  EXPECT_EQ(sw["noise"], 5.0);
+  EXPECT_EQ(sw["distractors"], 1);
+  EXPECT_TRUE(fs::exists(out / "calib_right.yml"));
+  const cv::Mat depth = cv::imread((out / "depth" / "000000.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(depth.type(), CV_16UC1);
+  // The target (id 1) is 0.4-1.0 m from the camera.
+  const cv::Mat mask = cv::imread((out / "masks" / "000000.png").string(), cv::IMREAD_UNCHANGED);
+  const double target_mm = cv::mean(depth, mask == 1)[0];
+  EXPECT_GT(target_mm, 400.0);
+  EXPECT_LT(target_mm, 1000.0);
+  // Two distractors: the sliding one and the nudged neighbour.
+  int distractors = 0;
+  const core::Json objects = core::read_json(out / "objects.json");
+  for (const auto& obj : objects["objects"]) distractors += obj["role"] == "distractor";
+  EXPECT_EQ(distractors, 2);
+}
+
 }  // namespace
 }  // namespace proprio::sim

@@ -21,7 +21,11 @@
 namespace proprio::sim {
 
 /// Scenario names record_episode knows: "push" (a straight push through the object's centre,
-/// thesis 5.1) and "push-rotate" (the same push offset sideways, so the object turns, 5.2).
+/// thesis 5.1), "push-rotate" (the same push offset sideways, so the object turns, 5.2),
+/// "clutter" (the push among at least 6 objects placed at random), "scatter" (the push while at
+/// least 5 other objects slide about behind it, leaving and entering the view, 6.3.3) and
+/// "hold-3d" (the object attached under the pusher and carried along a 3D curve, 5.2: it is
+/// welded kinematically to the end-effector, not grasped, so every frame counts as touching).
 std::vector<std::string> known_scenarios();
 
 struct RecordOptions {
@@ -78,6 +82,15 @@ struct ScenarioPlan {
   std::string target;                    ///< instance name of the target object
   std::vector<std::string> distractors;  ///< instance names of the moving distractors
   std::string neighbour;  ///< instance name of the object nudged (nudge_neighbour), else empty
+  /// scatter: objects sliding along x at their own speed (m/s), wrapping round [-0.5, 1.0] m.
+  struct Slider {
+    std::string name;
+    double x0 = 0, y = 0, speed = 0;
+  };
+  std::vector<Slider> sliders;
+  /// hold-3d: the target is carried on the quadratic Bezier push_start, via, push_end.
+  bool held = false;
+  Eigen::Vector3d via = Eigen::Vector3d::Zero();
   Eigen::Vector3d push_start = Eigen::Vector3d::Zero();  ///< pusher tip, world, m
   Eigen::Vector3d push_end = Eigen::Vector3d::Zero();
 };

@@ -1,0 +1,160 @@
+// proprio sim ...: the simulated robot world (issue 3): record episodes, calibrate the simulated
+// camera, render a scene.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+
+#include "cli.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/geometry/camera.hpp"
+#include "proprio/sim/calibration.hpp"
+#include "proprio/sim/recorder.hpp"
+#include "proprio/sim/renderer.hpp"
+#include "proprio/sim/world.hpp"
+
+namespace proprio::app {
+namespace {
+namespace fs = std::filesystem;
+
+struct RecordArgs {
+  sim::RecordOptions options;
+  std::string background = "static";
+  int distractors = -1;
+  std::string out;
+  std::string json;
+};
+
+void add_scene_options(CLI::App* cmd, RecordArgs& a) {
+  cmd->add_option("--scenario", a.options.scenario, "push or push-rotate")->capture_default_str();
+  cmd->add_option("--object", a.options.object, "Target object (catalogue name)")
+      ->capture_default_str();
+  cmd->add_option("--background", a.background, "static, or moving (video backdrop + distractors)")
+      ->check(CLI::IsMember({"static", "moving"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", a.options.seed, "Seed of the random placement")->capture_default_str();
+  cmd->add_option("--clutter", a.options.clutter, "Other objects placed at random")
+      ->capture_default_str();
+  cmd->add_option("--width", a.options.width, "Image width, pixels")->capture_default_str();
+  cmd->add_option("--height", a.options.height, "Image height, pixels")->capture_default_str();
+  cmd->add_flag("--shadows", a.options.shadows, "Render shadows (slower)");
+  cmd->add_option("--distractors", a.distractors,
+                  "Moving distractor objects (default: 2 with a moving background, else 0)");
+  cmd->add_flag("--stereo", a.options.stereo, "Also a right camera (baseline 0.1 m)");
+  cmd->add_flag("--nudge-neighbour", a.options.nudge_neighbour,
+                "A neighbouring object is shoved sideways during the push");
+}
+
+// The options as given, with the derived ones filled in.
+sim::RecordOptions resolved(const RecordArgs& a) {
+  sim::RecordOptions o = a.options;
+  o.moving_background = a.background == "moving";
+  if (a.distractors >= 0) o.distractors = a.distractors;
+  return o;
+}
+
+void run_record(RecordArgs& a, const Invocation& inv) {
+  a.options = resolved(a);
+  const core::Provenance provenance = inv.provenance(a.options.seed);
+  const auto catalogue = sim::ObjectCatalogue::load_default();
+  const sim::RecordSummary s = sim::record_episode(a.out, a.options, provenance, catalogue);
+  std::printf("episode: %s\n%s\nframes: %d\nseconds: %.3f\nfps: %.2f\nfirst touch: %s\n",
+              a.out.c_str(), s.message.c_str(), s.frames, s.seconds, s.fps,
+              s.first_touch_frame ? std::to_string(*s.first_touch_frame).c_str() : "none");
+  core::Json doc = core::result_document("proprio.sim.record", 1, provenance);
+  doc["episode"] = a.out;
+  doc["scenario"] = a.options.scenario;
+  doc["switches"] = a.options.switches();
+  doc["frames"] = s.frames;
+  doc["seconds"] = s.seconds;
+  doc["fps"] = s.fps;
+  doc["first_touch_frame"] = s.first_touch_frame ? core::Json(*s.first_touch_frame) : core::Json();
+  doc["target_moved_m"] = s.target_moved;
+  write_json_result(a.json, doc);
+}
+
+struct CalibrateArgs {
+  sim::SimCalibrationOptions options;
+  std::string out;
+  std::string json;
+};
+
+void run_calibrate(const CalibrateArgs& a, const Invocation& inv) {
+  const sim::SimCalibrationResult r = sim::calibrate_simulated(a.options);
+  geometry::Camera cam = r.dlt.camera;
+  cam.width = a.options.width;
+  cam.height = a.options.height;
+  geometry::write_calib(a.out, cam);
+  std::printf("%s (%d unreachable, %d marker not seen)\nrms_px: %.4f\ntrue_error_px: %.4f\n",
+              r.summary.message.c_str(), r.summary.unreachable, r.summary.not_detected,
+              r.dlt.rms_px, r.true_error_px);
+  std::printf("calibration: %s\n", a.out.c_str());
+  core::Json doc = core::result_document("proprio.sim.calibrate", 1, inv.provenance());
+  doc["calib"] = a.out;
+  doc["grid"] = a.options.grid;
+  doc["grid_points"] = r.summary.grid_points;
+  doc["used"] = r.summary.used;
+  doc["unreachable"] = r.summary.unreachable;
+  doc["not_detected"] = r.summary.not_detected;
+  doc["rms_px"] = r.dlt.rms_px;
+  doc["true_error_px"] = r.true_error_px;
+  write_json_result(a.json, doc);
+}
+
+void run_view(const RecordArgs& a) {
+  const sim::RecordOptions o = resolved(a);
+  const auto catalogue = sim::ObjectCatalogue::load_default();
+  const sim::ScenarioPlan plan = sim::plan_scenario(o, catalogue);
+  sim::World world = sim::World::build(plan.scene, catalogue);
+  world.step(50);
+  sim::RenderOptions ropt;
+  ropt.shadows = o.shadows;
+  sim::Renderer renderer(world, ropt);
+  const cv::Mat rgb = renderer.rgb(world, world.camera_names().at(0));
+  std::vector<uchar> png;
+  if (!cv::imencode(".png", rgb, png)) throw Error::in_file(a.out, "cannot encode the image");
+  core::write_file_atomic(a.out,
+                          std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+  std::printf("view: %s\n", a.out.c_str());
+}
+
+}  // namespace
+
+void register_sim_commands(CLI::App& root, const Invocation& inv) {
+  auto* sim = root.add_subcommand("sim", "The simulated robot world: record, calibrate, view");
+  sim->require_subcommand(1);
+
+  auto rec = std::make_shared<RecordArgs>();
+  auto* record = sim->add_subcommand("record", "Record one simulated episode (thesis 5.1-5.2)");
+  add_scene_options(record, *rec);
+  record->add_option("--out", rec->out, "Episode directory to create")->required();
+  record->add_option("--fps", rec->options.fps, "Frame rate")->capture_default_str();
+  record->add_option("--speed", rec->options.push_speed, "Push speed, m/s")->capture_default_str();
+  record->add_flag("--overwrite", rec->options.overwrite, "Replace an existing episode at --out");
+  record->add_flag("--camera-shake", rec->options.camera_shake, "The camera trembles");
+  record->add_flag("--lighting-change", rec->options.lighting_change,
+                   "The main light moves half-way through");
+  record->add_option("--noise", rec->options.noise, "Gaussian image noise, sigma in grey levels");
+  record->add_flag("--motion-blur", rec->options.motion_blur,
+                   "Average 4 renders over each frame's interval");
+  record->add_flag("--depth", rec->options.depth, "Also depth images (16-bit mm)");
+  record->add_option("--json", rec->json, "Also write frames, seconds, fps as JSON to this file");
+  record->callback([rec, &inv] { run_record(*rec, inv); });
+
+  auto cal = std::make_shared<CalibrateArgs>();
+  auto* calibrate = sim->add_subcommand(
+      "calibrate", "Robot-camera calibration in simulation (thesis 3.2.3): marker grid + DLT");
+  calibrate->add_option("--out", cal->out, "calib.yml to write")->required();
+  calibrate->add_option("--grid", cal->options.grid, "Grid points per axis")->capture_default_str();
+  calibrate->add_option("--json", cal->json, "Also write rms_px, true_error_px as JSON");
+  calibrate->callback([cal, &inv] { run_calibrate(*cal, inv); });
+
+  auto vw = std::make_shared<RecordArgs>();
+  auto* view = sim->add_subcommand("view", "Render one picture of a scenario's scene");
+  add_scene_options(view, *vw);
+  view->add_option("--out", vw->out, "PNG file to write")->required();
+  view->callback([vw] { run_view(*vw); });
+}
+
+}  // namespace proprio::app
