@@ -64,28 +64,31 @@ struct Setup {
   TrialOptions trial;
 };
 
-Setup make_setup(const SetupArgs& a) {
+// Checks everything that can be checked before the (possibly long) trajectory costs.
+Setup make_setup(const SetupArgs& a, TrialOptions trial) {
+  if (a.calib1.empty() != a.calib2.empty()) {
+    throw Error("intercept: give both --calib1 and --calib2, or neither");
+  }
   Setup s;
   s.scene = a.scene.empty() ? default_intercept_scene() : fs::path(a.scene);
   s.cache = a.cache.empty() ? default_grid_cache() : fs::path(a.cache);
   const robot::Arm arm = robot::Arm::load(s.scene);
+  StereoRig rig = default_stereo_rig();
+  if (!a.calib1.empty()) rig = {geometry::read_calib(a.calib1), geometry::read_calib(a.calib2)};
+  trial.filter.transition = transition_model_from_string(a.transition);
+  trial.camera_rate_hz = a.camera_rate;
+  trial.observe_frames = a.observe_frames;
+  trial.planner.window = a.window;
   GridCostOptions go;
+  check_trial_options(trial, arm.model().opt.timestep, go.grid.duration);
+  s.trial = trial;
   go.precision_samples = a.precision_samples;
   go.threads = a.threads;
   s.model = std::make_shared<GridCostModel>(load_or_compute_grid_costs(arm, go, s.cache, true));
   const GridCosts& c = s.model->costs();
   std::printf("trajectory costs: %d of %d trajectories valid (%s, %s)\n", c.summary.valid,
               static_cast<int>(c.points.size()), c.summary.source.c_str(), s.cache.c_str());
-  StereoRig rig = default_stereo_rig();
-  if (a.calib1.empty() != a.calib2.empty()) {
-    throw Error("intercept: give both --calib1 and --calib2, or neither");
-  }
-  if (!a.calib1.empty()) rig = {geometry::read_calib(a.calib1), geometry::read_calib(a.calib2)};
   s.simulator = std::make_unique<InterceptionSimulator>(arm, s.model, rig);
-  s.trial.filter.transition = transition_model_from_string(a.transition);
-  s.trial.camera_rate_hz = a.camera_rate;
-  s.trial.observe_frames = a.observe_frames;
-  s.trial.planner.window = a.window;
   return s;
 }
 
@@ -143,12 +146,13 @@ struct RunArgs {
 };
 
 void run_intercept(const RunArgs& a, const Invocation& inv) {
-  Setup s = make_setup(a.setup);
+  TrialOptions trial;
+  trial.noise_cm = a.noise_cm;
+  trial.replan = a.replan;
+  trial.planner.mode = prior_mode_from_string(a.prior);
+  Setup s = make_setup(a.setup, trial);
   ExperimentOptions eo;
   eo.trial = s.trial;
-  eo.trial.noise_cm = a.noise_cm;
-  eo.trial.replan = a.replan;
-  eo.trial.planner.mode = prior_mode_from_string(a.prior);
   eo.trials = a.trials;
   eo.seed = a.seed;
   const ExperimentResult r = run_experiment(*s.simulator, eo, true);
@@ -203,7 +207,7 @@ struct SweepArgs {
 void run_sweep(const SweepArgs& a, const Invocation& inv) {
   for (double n : a.noise)
     require(std::isfinite(n) && n >= 0 && n <= 100, "--noise: values must be in [0, 100] cm");
-  Setup s = make_setup(a.setup);
+  Setup s = make_setup(a.setup, TrialOptions{});
   core::StagedDirectory dir(a.out, a.overwrite);
   const fs::path stage = dir.staging_path();
   const GridSpec& grid = s.model->grid();

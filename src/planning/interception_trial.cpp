@@ -192,25 +192,35 @@ double InterceptionSimulator::plan_time(const TrialOptions& options) const {
   return static_cast<double>(options.observe_frames - 1) * static_cast<double>(spf) * h;
 }
 
+void InterceptionSimulator::check(const TrialOptions& options) const {
+  check_trial_options(options, arm_.model().opt.timestep, model_->grid().duration);
+}
+
+void check_trial_options(const TrialOptions& options, double h, double move_duration) {
+  options.validate();
+  require(std::isfinite(h) && h > 0, "the simulation step must be > 0 s");
+  const double steps_per_frame = 1 / (options.camera_rate_hz * h);
+  const long spf = std::lround(steps_per_frame);
+  if (spf < 1 || std::abs(steps_per_frame - static_cast<double>(spf)) > 1e-6) {
+    throw Error(cat({"the camera period 1/", num(options.camera_rate_hz),
+                     " s must be a whole number of simulation steps of ", num(h), " s"}));
+  }
+  const double steps_per_move = move_duration / h;
+  if (std::abs(steps_per_move - std::round(steps_per_move)) > 1e-6) {
+    throw Error(cat({"the move's duration ", num(move_duration),
+                     " s must be a whole number of simulation steps of ", num(h), " s"}));
+  }
+}
+
 TrialResult InterceptionSimulator::run(const TargetMotion& target, const TrialOptions& options,
                                        std::uint64_t seed) const {
-  options.validate();
+  check(options);
   require(target.start.allFinite() && target.velocity.allFinite(),
           "the target's motion must be finite");
   const mjModel& m = arm_.model();
   const double h = m.opt.timestep;
-  const double frames_per_step = 1 / (options.camera_rate_hz * h);
-  const long spf = std::lround(frames_per_step);
-  if (spf < 1 || std::abs(frames_per_step - static_cast<double>(spf)) > 1e-6) {
-    throw Error(cat({"the camera period 1/", num(options.camera_rate_hz),
-                     " s must be a whole number of simulation steps of ", num(h), " s"}));
-  }
+  const long spf = std::lround(1 / (options.camera_rate_hz * h));
   const GridSpec& grid = model_->grid();
-  const double steps_per_move = grid.duration / h;
-  if (std::abs(steps_per_move - std::round(steps_per_move)) > 1e-6) {
-    throw Error(cat({"the move's duration ", num(grid.duration),
-                     " s must be a whole number of simulation steps of ", num(h), " s"}));
-  }
   const ArmMotionOptions& motion = model_->costs().options.motion;
   FilterOptions fo = options.filter;
   fo.dt = static_cast<double>(spf) * h;
@@ -421,7 +431,7 @@ TrialResult InterceptionSimulator::run(const TargetMotion& target, const TrialOp
 InterceptionPlan InterceptionSimulator::first_plan(const TargetMotion& target,
                                                    const TrialOptions& options,
                                                    std::uint64_t seed) const {
-  options.validate();
+  check(options);
   const double h = arm_.model().opt.timestep;
   const long spf = std::lround(1 / (options.camera_rate_hz * h));
   FilterOptions fo = options.filter;
@@ -484,6 +494,7 @@ ExperimentSummary summarise(const std::vector<TrialResult>& trials) {
 ExperimentResult run_experiment(const InterceptionSimulator& simulator,
                                 const ExperimentOptions& options, bool show_progress) {
   options.validate();
+  simulator.check(options.trial);
   ExperimentResult result;
   result.options = options;
   const double t_plan = simulator.plan_time(options.trial);

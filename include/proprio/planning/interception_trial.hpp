@@ -84,6 +84,11 @@ struct TrialOptions {
   void validate() const;
 };
 
+/// Throws Error when `options` are out of range or do not fit a scene with simulation step
+/// `time_step` and moves of `move_duration` (both s): the camera period and the move must be whole
+/// numbers of steps.
+void check_trial_options(const TrialOptions& options, double time_step, double move_duration);
+
 /// What a recorded trial saw and did (horizontal plane and heights in the world frame).
 struct TrialRecord {
   std::vector<PositionMeasurement> measurements;
@@ -126,6 +131,10 @@ class InterceptionSimulator {
   /// is not positive.
   InterceptionSimulator(robot::Arm arm, std::shared_ptr<const GridCostModel> model, StereoRig rig,
                         const std::string& target_body = "target");
+
+  /// Throws Error when the options are out of range or do not fit the scene (the camera period
+  /// and the move's duration must be whole numbers of simulation steps).
+  void check(const TrialOptions& options) const;
 
   /// One trial with measurement noise and decisions drawn from `seed`. Bad options are an
   /// Error; a target that cannot be planned for, or a path the arm cannot follow, is a result
