@@ -66,6 +66,7 @@ void RecordOptions::validate() const {
           "still times must be >= 0 s");
   require(std::isfinite(pusher_height) && pusher_height > 0 && pusher_height < 0.2,
           "pusher height must be in (0, 0.2) m");
+  require(!max_frames || *max_frames >= 1, "max frames must be >= 1");
   require(clutter >= 0 && clutter <= 8, "clutter must be 0..8 objects");
   require(distractor_count() >= 0 && distractor_count() <= 4, "distractors must be 0..4 objects");
   require(std::isfinite(noise) && noise >= 0 && noise <= 100, "noise must be 0..100 grey levels");
@@ -113,7 +114,7 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
   // A backdrop just behind the table, low enough that the camera sees the middle of its picture
   // (where vtest.avi's people walk), with the video's 4:3 aspect.
   plan.scene.backdrop.center = {0.30, 0.56, 0.30};
-  plan.scene.backdrop.size = {1.2, 0.9};
+  plan.scene.backdrop.size = {1.8, 0.9};
   plan.scene.backdrop.texture_width = 384;
   plan.scene.backdrop.texture_height = 288;
 
@@ -329,7 +330,8 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   const int move_steps = static_cast<int>(track.joints.size());
   const int after_steps = static_cast<int>(std::lround(options.still_after / dt));
   const int total_steps = before_steps + move_steps + after_steps;
-  const int frame_count = total_steps / steps_per_frame + 1;
+  const int frame_count =
+      std::min(total_steps / steps_per_frame + 1, options.max_frames.value_or(1 << 30));
 
   RecordSummary summary;
   // Disturbances draw from their own streams so that switching one on leaves the rest alone.

@@ -82,5 +82,25 @@ TEST(SimCli, ViewWritesAPicture) {
   EXPECT_EQ(img.rows, 240);
 }
 
+TEST(SimCli, DatasetWritesThePresetsEpisodes) {
+  const fs::path dir = temp_dir() / "dataset";
+  const fs::path json = temp_dir() / "dataset.json";
+  fs::remove_all(dir);
+  const auto r = run_cli(
+      "sim dataset --preset thesis-ch5 --episodes 2 --frames 3 --width 160 "
+      "--height 120 -q --out " +
+      dir.string() + " --json " + json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const core::Json j = core::read_json(json);
+  ASSERT_EQ(j["episodes"].size(), 2U);
+  EXPECT_EQ(j["frames"], 6);
+  for (const auto& e : j["episodes"]) {
+    const auto check = run_cli("episode check " + (dir / e["episode"].get<std::string>()).string());
+    EXPECT_EQ(check.code, 0) << check.out;
+  }
+  const auto bad = run_cli("sim dataset --preset thesis-ch9 --out " + (dir / "x").string());
+  EXPECT_NE(bad.code, 0);
+}
+
 }  // namespace
 }  // namespace proprio::app

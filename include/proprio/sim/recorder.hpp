@@ -50,6 +50,8 @@ struct RecordOptions {
   bool shadows = false;          ///< off: about twice the frame rate in software GL
   bool reflections = false;
   bool overwrite = false;  ///< replace an existing episode directory
+  /// Stop after this many frames (none: the whole push and the still times).
+  std::optional<int> max_frames;
 
   // Disturbances (thesis 5.1), each recorded in episode.json's provenance.switches.
   /// The camera trembles: its rendered pose gets a random offset (up to 4 mm, 0.4 degrees) each
