@@ -76,7 +76,7 @@ std::string serialize_lda_model(const LdaModel& model) {
   std::string payload;
   const auto K = static_cast<std::uint32_t>(model.num_topics());
   const auto W = static_cast<std::uint32_t>(model.num_words());
-  payload.reserve(64 + static_cast<std::size_t>(K) * W * 8 + W * 12);
+  payload.reserve(64 + static_cast<std::size_t>(K) * W * 8 + static_cast<std::size_t>(W) * 12);
   put(payload, K);
   put(payload, W);
   put(payload, model.alpha);
