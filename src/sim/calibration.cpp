@@ -20,8 +20,8 @@ void SimCalibrationOptions::validate() const {
 
 namespace {
 
-// Centroid of the largest blob of marker colour (saturated magenta: the marker's rgba is
-// 1 0.1 0.9), by image moments; false when none is big enough.
+// Centre of the largest blob of marker colour (saturated magenta: the marker's rgba is
+// 1 0.1 0.9); false when none is big enough.
 bool find_marker(const cv::Mat& bgr, int min_pixels, Eigen::Vector2d& centre) {
   cv::Mat hsv;
   cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
@@ -40,8 +40,15 @@ bool find_marker(const cv::Mat& bgr, int min_pixels, Eigen::Vector2d& centre) {
     }
   }
   if (best < 0 || best_area < min_pixels) return false;
-  const cv::Moments m = cv::moments(labels == best, true);
-  centre = {m.m10 / m.m00, m.m01 / m.m00};
+  // The centre of the smallest circle around the blob, not its centroid: the pusher finger enters
+  // the sphere from above and hides part of it, which pulls the centroid about 1.5 px off the
+  // projected centre (measured: true error 1.46 px with moments, 0.07 px with the circle).
+  std::vector<cv::Point> pts;
+  cv::findNonZero(labels == best, pts);
+  cv::Point2f c;
+  float r = 0;
+  cv::minEnclosingCircle(pts, c, r);
+  centre = {c.x, c.y};
   return true;
 }
 

@@ -68,7 +68,7 @@ TEST(SimCli, CalibrateReachesSubPixelRms) {
   EXPECT_HAS(r.out, "rms_px");
   const core::Json j = core::read_json(json);
   EXPECT_LT(j["rms_px"].get<double>(), 1.0);
-  EXPECT_LT(j["true_error_px"].get<double>(), 2.0);
+  EXPECT_LT(j["true_error_px"].get<double>(), 0.3);
   EXPECT_TRUE(fs::exists(calib));
 }
 

@@ -16,7 +16,8 @@ TEST(SimCalibration, SmallGridReachesSubPixelRms) {
   const SimCalibrationResult r = calibrate_simulated(o);
   EXPECT_GE(r.summary.used, 20) << r.summary.message;
   EXPECT_LT(r.dlt.rms_px, 1.0);
-  EXPECT_LT(r.true_error_px, 1.0);
+  // The marker is found where the end-effector projects (no bias from the finger hiding it).
+  EXPECT_LT(r.true_error_px, 0.3);
   // The fitted camera is the true one: same optical centre to a few millimetres.
   EXPECT_LT((r.dlt.camera.center() - r.true_camera.center()).norm(), 0.02);
 }

@@ -1,8 +1,9 @@
 #pragma once
 // The simulated robot-camera calibration (thesis 3.2.3): the arm carries the coloured marker on
 // its end-effector through a 3D grid of its workspace, the marker is found in every rendered
-// image by a colour threshold and image moments, and the DLT (eqs 3.10-3.11) fits the projection
-// matrix P from the end-effector positions (robot frame, metres) to the marker pixels.
+// image by a colour threshold (the centre of the smallest circle around the largest blob, which
+// a partly hidden sphere does not bias as its centroid would), and the DLT (eqs 3.10-3.11) fits the
+// projection matrix P from the end-effector positions (robot frame, metres) to the marker pixels.
 
 #include <Eigen/Core>
 #include <string>
@@ -42,7 +43,7 @@ struct SimCalibrationResult {
   /// the true camera, pixels.
   double true_error_px = 0.0;
   std::vector<Eigen::Vector3d> world;   ///< the used end-effector positions
-  std::vector<Eigen::Vector2d> pixels;  ///< their marker centroids
+  std::vector<Eigen::Vector2d> pixels;  ///< their marker centres
   SimCalibrationSummary summary;
 };
 
