@@ -13,6 +13,7 @@
 #include "proprio/sim/calibration.hpp"
 #include "proprio/sim/recorder.hpp"
 #include "proprio/sim/renderer.hpp"
+#include "proprio/sim/views.hpp"
 #include "proprio/sim/world.hpp"
 
 namespace proprio::app {
@@ -219,6 +220,32 @@ void run_dataset(const DatasetArgs& a, const Invocation& inv) {
   write_json_result(a.json, doc);
 }
 
+struct ViewsArgs {
+  sim::ViewsOptions options;
+  std::string objects = "book,mug";
+  std::string out;
+  std::string json;
+};
+
+void run_views(ViewsArgs& a, const Invocation& inv) {
+  a.options.objects.clear();
+  std::size_t start = 0;
+  while (start <= a.objects.size()) {
+    const std::size_t comma = std::min(a.objects.find(',', start), a.objects.size());
+    if (comma > start) a.options.objects.push_back(a.objects.substr(start, comma - start));
+    start = comma + 1;
+  }
+  const auto catalogue = sim::ObjectCatalogue::load_default();
+  const sim::ViewsSummary s = sim::render_views(a.out, a.options, catalogue);
+  std::printf("views: %s\n%s\n", a.out.c_str(), s.message.c_str());
+  core::Json doc = core::result_document("proprio.sim.views", 1, inv.provenance(a.options.seed));
+  doc["out"] = a.out;
+  doc["objects"] = a.options.objects;
+  doc["per_object"] = a.options.per_object;
+  doc["images"] = s.images;
+  write_json_result(a.json, doc);
+}
+
 }  // namespace
 
 void register_sim_commands(CLI::App& root, const Invocation& inv) {
@@ -264,6 +291,20 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
   dataset->add_flag("-q,--quiet", ds->quiet, "No progress bar");
   dataset->add_option("--json", ds->json, "Also write the episode list as JSON");
   dataset->callback([ds, &inv] { run_dataset(*ds, inv); });
+
+  auto vs = std::make_shared<ViewsArgs>();
+  auto* views = sim->add_subcommand(
+      "views", "Folder-per-class images: each object alone, many viewpoints, real backdrops");
+  views->add_option("--objects", vs->objects, "Comma-separated catalogue names")
+      ->capture_default_str();
+  views->add_option("--per-object", vs->options.per_object, "Images per object")
+      ->capture_default_str();
+  views->add_option("--width", vs->options.width, "Image width")->capture_default_str();
+  views->add_option("--height", vs->options.height, "Image height")->capture_default_str();
+  views->add_option("--seed", vs->options.seed, "Seed")->capture_default_str();
+  views->add_option("--out", vs->out, "Directory to create")->required();
+  views->add_option("--json", vs->json, "Also write a summary as JSON");
+  views->callback([vs, &inv] { run_views(*vs, inv); });
 
   auto vw = std::make_shared<RecordArgs>();
   auto* view = sim->add_subcommand("view", "Render one picture of a scenario's scene");

@@ -102,5 +102,31 @@ TEST(SimCli, DatasetWritesThePresetsEpisodes) {
   EXPECT_NE(bad.code, 0);
 }
 
+TEST(SimCli, ViewsWritesAFolderPerObject) {
+  const fs::path dir = temp_dir() / "views";
+  fs::remove_all(dir);
+  const auto r = run_cli(
+      "sim views --objects book,mug --per-object 3 --width 160 --height 120 "
+      "--out " +
+      dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* o : {"book", "mug"}) {
+    for (const char* f : {"000000.png", "000002.png"}) {
+      const cv::Mat img = cv::imread((dir / o / f).string());
+      ASSERT_FALSE(img.empty()) << o << "/" << f;
+      EXPECT_EQ(img.cols, 160);
+    }
+  }
+  // Different views of one object differ.
+  const cv::Mat a = cv::imread((dir / "book" / "000000.png").string());
+  const cv::Mat b = cv::imread((dir / "book" / "000001.png").string());
+  EXPECT_GT(cv::norm(a, b, cv::NORM_L1), 1000.0);
+  const auto bad =
+      run_cli("sim views --objects teapot --per-object 1 --out " + (dir.string() + "_bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_HAS(bad.err, "teapot");
+  EXPECT_FALSE(fs::exists(dir.string() + "_bad"));
+}
+
 }  // namespace
 }  // namespace proprio::app
