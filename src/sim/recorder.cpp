@@ -46,14 +46,82 @@ fs::path RecordOptions::default_background_video() {
   return ObjectCatalogue::default_texture_dir() / "vtest.avi";
 }
 
+namespace {
+bool is_scenario_file(const std::string& s) { return fs::path(s).extension() == ".json"; }
+
+Eigen::Vector3d vec3(const core::Json& j, const std::string& key, const fs::path& file) {
+  const auto v = core::json_get<std::vector<double>>(j, key, file);
+  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+    throw Error::in_file(file, "'" + key + "' must be 3 finite numbers");
+  }
+  return {v[0], v[1], v[2]};
+}
+
+// A scene file: {"objects": [{"type" | shape fields of a catalogue entry, "name", "x", "y",
+// "yaw"}], "target": NAME, optional "camera": {"position", "target"}, optional "push":
+// {"start", "end"} (metres, robot frame; default: along +x through the target's origin).
+ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
+                            const ObjectCatalogue& catalogue) {
+  const core::Json j = core::read_json(file);
+  ScenarioPlan plan;
+  plan.scene = default_scene();
+  plan.scene.cameras.at(0).width = options.width;
+  plan.scene.cameras.at(0).height = options.height;
+  plan.scene.cameras.at(0).position = {0.24, -0.62, 0.42};
+  plan.scene.cameras.at(0).target = {0.26, 0.04, 0.05};
+  if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty()) {
+    throw Error::in_file(file, "'objects' must be a non-empty array");
+  }
+  for (const core::Json& o : j["objects"]) {
+    PlacedObject p;
+    if (o.contains("type")) {
+      p.type = core::json_get<std::string>(o, "type", file);
+      (void)catalogue.get(p.type);
+    } else {
+      p.custom =
+          parse_object_type(o, file, {file.parent_path(), ObjectCatalogue::default_texture_dir()});
+      p.type = p.custom->name;
+    }
+    p.name = o.contains("name") ? core::json_get<std::string>(o, "name", file) : p.type;
+    p.position = {core::json_get<double>(o, "x", file), core::json_get<double>(o, "y", file)};
+    p.yaw = o.contains("yaw") ? core::json_get<double>(o, "yaw", file) : 0.0;
+    plan.scene.objects.push_back(p);
+  }
+  plan.target = core::json_get<std::string>(j, "target", file);
+  const auto it = std::find_if(plan.scene.objects.begin(), plan.scene.objects.end(),
+                               [&](const PlacedObject& p) { return p.name == plan.target; });
+  if (it == plan.scene.objects.end()) {
+    throw Error::in_file(file, "target '" + plan.target + "' is not one of the objects");
+  }
+  if (j.contains("camera")) {
+    plan.scene.cameras.at(0).position = vec3(j["camera"], "position", file);
+    plan.scene.cameras.at(0).target = vec3(j["camera"], "target", file);
+  }
+  if (j.contains("push")) {
+    plan.push_start = vec3(j["push"], "start", file);
+    plan.push_end = vec3(j["push"], "end", file);
+  } else {
+    plan.push_start = {kPushStartX, it->position.y(), options.pusher_height};
+    plan.push_end = {kPushEndX, it->position.y(), options.pusher_height};
+  }
+  try {
+    plan.scene.validate();
+  } catch (const Error& e) {
+    throw Error::in_file(file, e.what());
+  }
+  return plan;
+}
+}  // namespace
+
 void RecordOptions::validate() const {
   const auto names = known_scenarios();
-  if (std::find(names.begin(), names.end(), scenario) == names.end()) {
+  if (!is_scenario_file(scenario) &&
+      std::find(names.begin(), names.end(), scenario) == names.end()) {
     std::string m = "unknown scenario '";
     m += scenario;
     m += "' (known: ";
     m += join(names);
-    m += ")";
+    m += ", or a scene FILE.json)";
     throw Error(m);
   }
   require(width >= 16 && height >= 16 && width <= 4096 && height <= 4096,
@@ -78,7 +146,7 @@ int RecordOptions::distractor_count() const {
 
 core::Json RecordOptions::switches() const {
   core::Json j = core::Json::object();
-  j["object"] = object;
+  j["object"] = is_scenario_file(scenario) ? std::string("(scene file)") : object;
   j["background"] = moving_background ? "moving" : "static";
   j["distractors"] = distractor_count();
   j["clutter"] = clutter;
@@ -100,6 +168,8 @@ core::Json RecordOptions::switches() const {
 
 ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
   options.validate();
+  if (is_scenario_file(options.scenario))
+    return plan_from_file(options.scenario, options, catalogue);
   const ObjectType& target_type = catalogue.get(options.object);
   core::Rng rng(options.seed);
 

@@ -133,6 +133,40 @@ TEST(Recorder, BadInputIsAClearErrorAndLeavesNoEpisode) {
   expect_error(o, "pusher height");
 }
 
+TEST(Recorder, SceneFileWithACustomObject) {
+  const fs::path scene = test::temp_dir() / "scene.json";
+  core::write_file_atomic(scene, R"({
+    "objects": [
+      {"name": "crate", "shape": "box", "size": [0.04, 0.04, 0.04], "texture": "fruits.jpg",
+       "mass": 0.2, "friction": 0.6, "x": 0.21, "y": 0.0},
+      {"type": "mug", "x": 0.45, "y": 0.25, "yaw": 1.0}
+    ],
+    "target": "crate"
+  })");
+  const fs::path out = test::temp_dir() / "scene_ep";
+  fs::remove_all(out);
+  RecordOptions o = fast_options();
+  o.width = 160;
+  o.height = 120;
+  o.scenario = scene.string();
+  const RecordSummary s = record_episode(out, o, run_provenance(2), catalogue());
+  for (const auto& p : episode::check_episode(out)) ADD_FAILURE() << p.message;
+  EXPECT_TRUE(s.first_touch_frame.has_value());
+  EXPECT_GT(s.target_moved, 0.03);
+  // A target that is not among the objects names the file and the target.
+  core::write_file_atomic(scene, R"({"objects": [{"type": "mug", "x": 0.2, "y": 0}],
+                                     "target": "crate"})");
+  fs::remove_all(out);
+  try {
+    record_episode(out, o, run_provenance(2), catalogue());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'crate'"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Recorder, EveryScenarioWritesAValidEpisode) {
   for (const std::string scenario : {"push-rotate", "clutter", "scatter", "hold-3d"}) {
     const fs::path out = test::temp_dir() / ("scen_" + scenario);
