@@ -29,7 +29,9 @@ struct RecordArgs {
 };
 
 void add_scene_options(CLI::App* cmd, RecordArgs& a) {
-  cmd->add_option("--scenario", a.options.scenario, "push or push-rotate")->capture_default_str();
+  cmd->add_option("--scenario", a.options.scenario,
+                  "push, push-rotate, clutter, scatter, hold-3d, or a scene FILE.json")
+      ->capture_default_str();
   cmd->add_option("--object", a.options.object, "Target object (catalogue name)")
       ->capture_default_str();
   cmd->add_option("--background", a.background, "static, or moving (video backdrop + distractors)")
