@@ -200,13 +200,19 @@ struct SweepArgs {
   std::uint64_t seed = 1;
   std::vector<double> noise = {0, 0.25, 0.5, 1, 1.5, 2, 2.5, 3};
   std::vector<std::string> transitions = {"learned", "constant-velocity"};
+  std::vector<double> choice_noise = {0, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 3};
   int choice_draws = 10;
   double figure_noise = 1.5;
 };
 
 void run_sweep(const SweepArgs& a, const Invocation& inv) {
-  for (double n : a.noise)
+  for (double n : a.noise) {
     require(std::isfinite(n) && n >= 0 && n <= 100, "--noise: values must be in [0, 100] cm");
+  }
+  for (double n : a.choice_noise) {
+    require(std::isfinite(n) && n >= 0 && n <= 100,
+            "--choice-noise: values must be in [0, 100] cm");
+  }
   Setup s = make_setup(a.setup, TrialOptions{});
   core::StagedDirectory dir(a.out, a.overwrite);
   const fs::path stage = dir.staging_path();
@@ -244,25 +250,23 @@ void run_sweep(const SweepArgs& a, const Invocation& inv) {
         bar.tick();
       }
     }
-    // Fig 3-10: one recorded open-loop trial at the figure's noise.
+    // Fig 3-10: one recorded open-loop trial at the figure's noise, on the figures' target.
     {
       TrialOptions o = base;
       o.noise_cm = a.figure_noise;
       o.record = true;
-      core::Rng rng(a.seed);
-      const double t_plan = s.simulator->plan_time(o);
-      const TargetMotion target = random_target(grid, t_plan, o.scenario, rng);
-      const TrialResult t = s.simulator->run(target, o, rng.next_seed());
+      const TargetMotion target = figure_target(grid, s.simulator->plan_time(o));
+      const TrialResult t = s.simulator->run(target, o, a.seed);
       save("interception_" + tname + ".png", draw_interception(t, grid));
     }
     // Fig 3-11: one target, the first plan over repeated noise draws, per prior and noise.
     {
       core::Rng rng(a.seed);
       const double t_plan = s.simulator->plan_time(base);
-      const TargetMotion target = random_target(grid, t_plan, base.scenario, rng);
+      const TargetMotion target = figure_target(grid, t_plan);
       std::vector<NoiseChoice> choices;
       for (PriorMode mode : {PriorMode::kBoth, PriorMode::kEnergy, PriorMode::kPrecision}) {
-        for (double noise : a.noise) {
+        for (double noise : a.choice_noise) {
           TrialOptions o = base;
           o.noise_cm = noise;
           o.planner.mode = mode;
@@ -338,6 +342,9 @@ void register_intercept_commands(CLI::App& root, const Invocation& inv) {
   sw->add_option("--transitions", sweep->transitions, "Target models to compare (comma separated)")
       ->delimiter(',')
       ->check(CLI::IsMember({"learned", "constant-velocity"}));
+  sw->add_option("--choice-noise", sweep->choice_noise,
+                 "Noise levels of Fig 3-11, cm (comma separated)")
+      ->delimiter(',');
   sw->add_option("--choice-draws", sweep->choice_draws, "Noise draws per point of Fig 3-11")
       ->check(CLI::Range(1, 100000));
   sw->add_option("--figure-noise", sweep->figure_noise, "Noise of the Fig 3-10 trial, cm")

@@ -126,6 +126,13 @@ void fit(Axes& a, const std::vector<Eigen::Vector2d>& pts, double pad) {
 
 }  // namespace
 
+TargetMotion figure_target(const GridSpec& grid, double t_plan) {
+  TargetMotion m;
+  m.velocity = {-0.1, 0, 0};
+  m.start = grid.start + Eigen::Vector3d(0.10, 0.12, 0) - m.velocity * (t_plan + grid.duration);
+  return m;
+}
+
 cv::Mat draw_energy_grid(const GridCosts& costs) {
   const GridSpec& g = costs.options.grid;
   double lo = 1e300, hi = -1e300;
@@ -179,7 +186,7 @@ cv::Mat draw_interception(const TrialResult& trial, const GridSpec& grid) {
   const TrialRecord& rec = trial.record;
   require(!rec.measurements.empty() && !rec.executed.empty(),
           "interception plot: the trial was not recorded");
-  cv::Mat img(760, 900, CV_8UC3, kWhite);
+  cv::Mat img(760, 1000, CV_8UC3, kWhite);
   Axes a;
   a.area = {90, 90, 640, 600};
   std::vector<Eigen::Vector2d> pts;
@@ -189,6 +196,9 @@ cv::Mat draw_interception(const TrialResult& trial, const GridSpec& grid) {
   for (int i = 0; i < grid.size(); ++i) pts.push_back(grid.end_point(grid.params(i)).head<2>());
   pts.push_back(grid.start.head<2>());
   fit(a, pts, 0.05);
+  // Data go on a copy whose plot area alone is kept, so that nothing spills over the labels.
+  cv::Mat canvas = img.clone();
+  std::swap(canvas, img);
   // The reachable half-disc: the grid's end points.
   for (int i = 0; i < grid.size(); ++i) {
     cv::circle(img, a.px(grid.end_point(grid.params(i)).x(), grid.end_point(grid.params(i)).y()), 3,
@@ -219,6 +229,8 @@ cv::Mat draw_interception(const TrialResult& trial, const GridSpec& grid) {
     cross(img, a.px(trial.target_at.x(), trial.target_at.y()), 7, kBlue);
     cross(img, a.px(trial.ee_at.x(), trial.ee_at.y()), 5, kDarkGreen);
   }
+  std::swap(canvas, img);
+  canvas(a.area).copyTo(img(a.area));
   draw_axes(img, a, "x (m)", "y (m)",
             "Fig 3-10: interception seen from above (world frame, robot base at the origin)");
   std::string sub = "noise " + fmt(trial.sigma_px, 2) + " px; ";
@@ -245,10 +257,12 @@ cv::Mat draw_noise_choices(const TargetMotion& target, double t_plan, const Grid
   auto colour = [](PriorMode m) {
     return m == PriorMode::kBoth ? kBlue : m == PriorMode::kEnergy ? kBlack : kRed;
   };
-  double noise_max = 0, t_max = 0;
+  double noise_max = 0, t_max = 0, t_min = grid.duration;
   for (const auto& c : choices) {
     noise_max = std::max(noise_max, c.noise_cm);
+    if (c.draws == 0) continue;
     t_max = std::max(t_max, c.mean_time + c.std_time);
+    t_min = std::min(t_min, c.mean_time - c.std_time);
   }
   // Left: top view.
   Axes a;
@@ -258,6 +272,8 @@ cv::Mat draw_noise_choices(const TargetMotion& target, double t_plan, const Grid
   for (int i = 0; i < grid.size(); ++i) pts.push_back(grid.end_point(grid.params(i)).head<2>());
   pts.push_back(grid.start.head<2>());
   fit(a, pts, 0.12);
+  cv::Mat canvas = img.clone();
+  std::swap(canvas, img);
   for (int i = 0; i < grid.size(); ++i) {
     const Eigen::Vector3d p = grid.end_point(grid.params(i));
     cv::circle(img, a.px(p.x(), p.y()), 3, kLight, cv::FILLED);
@@ -274,6 +290,8 @@ cv::Mat draw_noise_choices(const TargetMotion& target, double t_plan, const Grid
     cv::circle(img, a.px(p.x(), p.y()) + cv::Point(0, 4 * off - 4), r, colour(c.mode), 2,
                cv::LINE_AA);
   }
+  std::swap(canvas, img);
+  canvas(a.area).copyTo(img(a.area));
   draw_axes(img, a, "x (m)", "y (m)",
             "where the planner meets the target (marker grows with noise)");
   // Right: interception time against noise.
@@ -281,7 +299,7 @@ cv::Mat draw_noise_choices(const TargetMotion& target, double t_plan, const Grid
   b.area = {800, 110, 520, 500};
   b.x0 = -0.1 * std::max(noise_max, 0.1);
   b.x1 = std::max(noise_max, 0.1) * 1.1;
-  b.y0 = grid.duration - 0.05;
+  b.y0 = t_min - 0.05;
   b.y1 = std::max(t_max, grid.duration + 0.2) + 0.1;
   for (PriorMode m : {PriorMode::kBoth, PriorMode::kEnergy, PriorMode::kPrecision}) {
     cv::Point prev(-1, -1);

@@ -97,8 +97,8 @@ TEST_F(InterceptCli, SweepWritesFiguresAndTable) {
   }
   EXPECT_FALSE(cv::imread(path("sweep/energy_grid.png")).empty());
   const core::Json j = core::read_json(path("sweep/sweep.json"));
-  EXPECT_EQ(j["rows"].size(), 4u);                  // 2 noise levels x (open loop, re-planning)
-  EXPECT_EQ(j["interception_choices"].size(), 6u);  // 3 priors x 2 noise levels
+  EXPECT_EQ(j["rows"].size(), 4u);                   // 2 noise levels x (open loop, re-planning)
+  EXPECT_EQ(j["interception_choices"].size(), 27u);  // 3 priors x 9 noise levels
   expect_schema_valid("intercept_sweep.schema.json", path("sweep/sweep.json"));
   // An existing result is not overwritten without --overwrite.
   const auto again = run_cli("intercept sweep --out " + path("sweep") + " --trials 1" + setup());

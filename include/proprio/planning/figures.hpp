@@ -13,6 +13,12 @@
 
 namespace proprio::planning {
 
+/// The target of the figures: it crosses the workspace from p0 + (0.10, 0.12, 0) m, reached at the
+/// earliest interception (t_plan + the move's duration), to p0 + (-0.05, 0.12, 0) m 1.5 s later
+/// (0.1 m/s along -x), so it stays within reach for the planner's whole default window and the
+/// choice of time is the planner's to make.
+TargetMotion figure_target(const GridSpec& grid, double t_plan);
+
 /// Fig 3-8: one heat map of the total energy (eq 3.41, N m s) per gamma of the grid, theta across
 /// and l up, on a shared colour scale with a colour bar. Invalid points are dark grey. Throws
 /// Error when no point is valid.

@@ -44,7 +44,7 @@ struct FilterOptions {
   /// a positive definite Q.
   double q_floor = 1e-12;
   /// Constant-velocity model only: spectral density of the white acceleration noise, m^2/s^3.
-  double cv_accel_psd = 1e-5;
+  double cv_accel_psd = 1e-7;
   /// Throws Error when an option is out of range.
   void validate() const;
 };
