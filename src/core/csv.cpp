@@ -11,36 +11,39 @@
 namespace proprio::core {
 namespace {
 
-std::string trim(std::string_view s) {
+bool contains(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+}  // namespace
+
+std::string trim_csv_field(std::string_view s) {
   const auto b = s.find_first_not_of(" \t\r");
   if (b == std::string_view::npos) return {};
   const auto e = s.find_last_not_of(" \t\r");
   return std::string(s.substr(b, e - b + 1));
 }
 
-std::vector<std::string> split(const std::string& line) {
+std::vector<std::string> split_csv_line(std::string_view line) {
   std::vector<std::string> out;
   size_t start = 0;
   while (true) {
     const size_t comma = line.find(',', start);
-    out.push_back(trim(std::string_view(line).substr(start, comma - start)));
-    if (comma == std::string::npos) break;
+    out.push_back(trim_csv_field(line.substr(start, comma - start)));
+    if (comma == std::string_view::npos) break;
     start = comma + 1;
   }
   return out;
 }
 
-bool contains(const std::vector<std::string>& v, const std::string& s) {
-  return std::find(v.begin(), v.end(), s) != v.end();
-}
-
-std::string join(const std::vector<std::string>& v) {
+std::string join_csv_line(const std::vector<std::string>& fields) {
   std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+  for (const auto& x : fields) {
+    if (!s.empty()) s += ',';
+    s += x;
+  }
   return s;
 }
-
-}  // namespace
 
 size_t CsvTable::column(const std::string& name) const {
   const auto it = std::find(header.begin(), header.end(), name);
@@ -66,9 +69,9 @@ CsvTable parse_csv(const std::string& text, const std::filesystem::path& source,
   bool have_header = false;
   while (std::getline(in, line)) {
     ++line_no;
-    const std::string t = trim(line);
+    const std::string t = trim_csv_field(line);
     if (t.empty() || t[0] == '#') continue;
-    auto fields = split(t);
+    auto fields = split_csv_line(t);
     if (!have_header) {
       for (const auto& f : fields) {
         if (f.empty()) throw Error::at_line(source, line_no, "empty column name in the header");
@@ -78,8 +81,8 @@ CsvTable parse_csv(const std::string& text, const std::filesystem::path& source,
       }
       if (!options.exact_columns.empty() && fields != options.exact_columns) {
         throw Error::at_line(source, line_no,
-                             "header is '" + join(fields) + "', expected '" +
-                                 join(options.exact_columns) + "'");
+                             "header is '" + join_csv_line(fields) + "', expected '" +
+                                 join_csv_line(options.exact_columns) + "'");
       }
       for (const auto& r : options.required_columns) {
         if (!contains(fields, r)) {
@@ -129,7 +132,7 @@ CsvTable read_csv(const std::filesystem::path& path, const CsvReadOptions& optio
 
 std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<std::optional<double>>>& rows) {
-  std::string out = join(header) + "\n";
+  std::string out = join_csv_line(header) + "\n";
   char buf[64];
   for (const auto& row : rows) {
     for (size_t c = 0; c < row.size(); ++c) {

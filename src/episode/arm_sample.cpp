@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "parse.hpp"
+#include "proprio/core/csv.hpp"
 
 namespace proprio::episode {
 
@@ -22,33 +23,9 @@ std::vector<std::string> arm_csv_header(int joint_count) {
 namespace detail {
 namespace {
 
-std::string trim(std::string_view s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string_view::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r");
-  return std::string(s.substr(b, e - b + 1));
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = line.find(',', start);
-    out.push_back(trim(std::string_view(line).substr(start, comma - start)));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) {
-    if (!s.empty()) s += ',';
-    s += x;
-  }
-  return s;
-}
+using core::join_csv_line;
+using core::split_csv_line;
+using core::trim_csv_field;
 
 /// Number of q columns in a header of the arm.csv form, or none when it is not of that form.
 std::optional<int> joints_in_header(const std::vector<std::string>& h) {
@@ -81,15 +58,15 @@ std::optional<std::vector<ArmSample>> parse_arm_csv(const std::string& text,
   std::optional<double> last_t;
   while (std::getline(in, line)) {
     ++line_no;
-    const std::string t = trim(line);
+    const std::string t = trim_csv_field(line);
     if (t.empty() || t[0] == '#') continue;
-    auto fields = split(t);
+    auto fields = split_csv_line(t);
     if (header.empty()) {
       const auto found = joints_in_header(fields);
       const int n = joint_count.value_or(found.value_or(0));
       if (!found || (joint_count && *found != *joint_count)) {
         std::string m =
-            "header is '" + join(fields) + "', expected '" + join(arm_csv_header(n)) + "'";
+            "header is '" + join_csv_line(fields) + "', expected '" + join_csv_line(arm_csv_header(n)) + "'";
         if (joint_count) m += " (episode.json says " + std::to_string(n) + " joints)";
         sink.add(file, m, line_no);
         return std::nullopt;
@@ -101,7 +78,7 @@ std::optional<std::vector<ArmSample>> parse_arm_csv(const std::string& text,
     if (fields.size() != header.size()) {
       sink.add(file,
                "has " + std::to_string(fields.size()) + " columns, expected " +
-                   std::to_string(header.size()) + " (" + join(header) + ")",
+                   std::to_string(header.size()) + " (" + join_csv_line(header) + ")",
                line_no);
       ok = false;
       continue;
@@ -182,7 +159,7 @@ std::optional<std::vector<ArmSample>> parse_arm_csv(const std::string& text,
   }
   if (header.empty()) {
     sink.add(file,
-             "empty file, expected the header " + join(arm_csv_header(joint_count.value_or(0))));
+             "empty file, expected the header " + join_csv_line(arm_csv_header(joint_count.value_or(0))));
     return std::nullopt;
   }
   if (rows == 0) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace proprio::core {
@@ -33,6 +34,13 @@ struct CsvTable {
   /// The value at (row, column); throws Error naming the file and line when it is empty.
   [[nodiscard]] double at(size_t row, size_t col) const;
 };
+
+/// `s` without leading and trailing spaces, tabs and carriage returns.
+std::string trim_csv_field(std::string_view s);
+/// The trimmed comma-separated fields of one line ("a, b," gives "a", "b", "").
+std::vector<std::string> split_csv_line(std::string_view line);
+/// The fields joined by commas.
+std::string join_csv_line(const std::vector<std::string>& fields);
 
 /// Parses CSV text (`source` names it in messages). Separators: comma; surrounding spaces are
 /// ignored; blank lines and lines starting with '#' are skipped.
