@@ -1,25 +1,11 @@
 #pragma once
-// Message building for the robot module's errors.
+// Message building for the robot module's errors (core/text.hpp).
 
-#include <cstdio>
-#include <initializer_list>
-#include <string>
-#include <string_view>
+#include "proprio/core/text.hpp"
 
 namespace proprio::robot::detail {
 
-/// Concatenation in steps (GCC 12's -Wrestrict misfires on "literal" + std::string + ...).
-inline std::string cat(std::initializer_list<std::string_view> parts) {
-  std::string out;
-  for (std::string_view p : parts) out += p;
-  return out;
-}
-
-/// A number with 4 significant digits.
-inline std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
+using core::cat;
+using core::num;
 
 }  // namespace proprio::robot::detail
