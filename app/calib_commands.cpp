@@ -103,7 +103,7 @@ void run_dlt(const DltArgs& a, const Invocation& inv) {
   Camera cam = r.camera;
   cam.width = a.width;
   cam.height = a.height;
-  geometry::write_calib(a.out, cam);
+  geometry::write_calib(a.out, cam, inv.provenance());
   std::printf("DLT on %d points: reprojection RMS %.4f px, max %.4f px\n", r.summary.num_points,
               r.rms_px, r.summary.max_residual_px);
   print_camera("camera", cam);
@@ -282,8 +282,8 @@ void run_stereo(const StereoArgs& a, const Invocation& inv) {
     throw Error::in_file(a.out, "exists and is not a directory");
   }
   const auto r = geometry::run_stereo_check(o);
-  geometry::write_calib(fs::path(a.out) / "left.yml", r.left);
-  geometry::write_calib(fs::path(a.out) / "right.yml", r.right);
+  geometry::write_calib(fs::path(a.out) / "left.yml", r.left, inv.provenance());
+  geometry::write_calib(fs::path(a.out) / "right.yml", r.right, inv.provenance());
   geometry::write_stereo_corners_csv(fs::path(a.out) / "corners.csv", r.corners);
   std::printf("stereo check on %s (board %dx%d, square %g)\n%s\n", o.images_dir.c_str(),
               o.board.width, o.board.height, o.square_size, r.summary.brief().c_str());

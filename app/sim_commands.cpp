@@ -89,7 +89,7 @@ void run_calibrate(const CalibrateArgs& a, const Invocation& inv) {
   geometry::Camera cam = r.dlt.camera;
   cam.width = a.options.width;
   cam.height = a.options.height;
-  geometry::write_calib(a.out, cam);
+  geometry::write_calib(a.out, cam, inv.provenance());
   std::printf("%s (%d unreachable, %d marker not seen)\nrms_px: %.4f\ntrue_error_px: %.4f\n",
               r.summary.message.c_str(), r.summary.unreachable, r.summary.not_detected,
               r.dlt.rms_px, r.true_error_px);

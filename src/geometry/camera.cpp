@@ -137,6 +137,15 @@ Camera read_calib(const std::filesystem::path& path) {
     throw Error::in_file(path, "not an OpenCV YAML file: " + e.err);
   }
   if (!fs.isOpened()) throw Error::in_file(path, "not an OpenCV YAML file");
+  if (!fs["format_version"].empty()) {
+    const cv::FileNode v = fs["format_version"];
+    if (!v.isInt()) throw Error::in_file(path, "'format_version' is not an integer");
+    if (static_cast<int>(v) > kCalibFormatVersion || static_cast<int>(v) < 1) {
+      throw Error::in_file(path, "format_version " + std::to_string(static_cast<int>(v)) +
+                                     " is not supported (this build reads 1.." +
+                                     std::to_string(kCalibFormatVersion) + ")");
+    }
+  }
   const bool has_k = !fs["camera_matrix"].empty();
   const Eigen::MatrixXd P = read_matrix(fs, "P", path, 3, 4, !has_k);
   Camera cam;
@@ -183,8 +192,10 @@ Camera read_calib(const std::filesystem::path& path) {
   return cam;
 }
 
-void write_calib(const std::filesystem::path& path, const Camera& cam) {
+void write_calib(const std::filesystem::path& path, const Camera& cam,
+                 const std::optional<core::Provenance>& provenance) {
   cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  fs << "format" << "proprio.calib" << "format_version" << kCalibFormatVersion;
   cv::Mat K, R, t, P;
   cv::eigen2cv(cam.K, K);
   cv::eigen2cv(cam.R, R);
@@ -195,6 +206,14 @@ void write_calib(const std::filesystem::path& path, const Camera& cam) {
   fs << "dist_coeffs" << cv::Mat(cam.dist.empty() ? std::vector<double>(5, 0.0) : cam.dist, true);
   fs << "R" << R << "t" << t << "P" << P;
   if (cam.width > 0) fs << "image_width" << cam.width << "image_height" << cam.height;
+  if (provenance) {
+    const core::Json j = core::to_json(*provenance);
+    fs << "provenance" << "{";
+    for (const auto& [key, value] : j.items()) {
+      fs << key << (value.is_string() ? value.get<std::string>() : value.dump());
+    }
+    fs << "}";
+  }
   core::write_file_atomic(path, fs.releaseAndGetString());
 }
 

@@ -144,3 +144,28 @@ TEST_F(CalibFileTest, BadFilesNameTheProblem) {
 
 }  // namespace
 }  // namespace proprio::geometry
+
+namespace proprio::geometry {
+namespace {
+
+TEST_F(CalibFileTest, CarriesFormatVersionAndProvenance) {
+  const auto prov = core::Provenance::current(std::vector<std::string>{"proprio", "calib"}, 3);
+  write_calib(path_, example_camera(), prov);
+  const std::string text = core::read_file(path_);
+  EXPECT_NE(text.find("format_version: 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("command_line: proprio calib\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("seed: \"3\""), std::string::npos) << text;
+  EXPECT_NE(text.find("opencv_version"), std::string::npos);
+  EXPECT_LT((read_calib(path_).R - example_camera().R).norm(), 1e-12);
+}
+
+TEST_F(CalibFileTest, RefusesANewerFormatVersion) {
+  write_calib(path_, example_camera());
+  std::string text = core::read_file(path_);
+  text.replace(text.find("format_version: 1"), 17, "format_version: 9");
+  EXPECT_EQ(error_reading(text),
+            path_.string() + ": format_version 9 is not supported (this build reads 1..1)");
+}
+
+}  // namespace
+}  // namespace proprio::geometry

@@ -7,7 +7,10 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <optional>
 #include <vector>
+
+#include "proprio/core/provenance.hpp"
 
 namespace proprio::geometry {
 
@@ -56,11 +59,17 @@ Camera decompose_projection(const Matrix34d& P);
 
 /// Reads calib.yml (OpenCV FileStorage YAML: camera_matrix, dist_coeffs, R, t, P, and optionally
 /// image_width and image_height). A file with only P is decomposed. Checks that every matrix has
-/// its size, is finite, that R is a rotation, and that P agrees with K [R | t]; throws Error naming
-/// the file and the problem.
+/// its size, is finite, that R is a rotation, that P agrees with K [R | t], and that the format
+/// version is not newer than kCalibFormatVersion; throws Error naming the file and the problem.
 Camera read_calib(const std::filesystem::path& path);
 
-/// Writes calib.yml atomically, with P = K [R | t].
-void write_calib(const std::filesystem::path& path, const Camera& camera);
+/// Format version of the calib.yml that write_calib writes (its `format_version` key). Files
+/// without the key (written by other tools) are read as version 1.
+inline constexpr int kCalibFormatVersion = 1;
+
+/// Writes calib.yml atomically, with P = K [R | t], `format: proprio.calib`, `format_version`,
+/// and, when given, the provenance of the run that produced it (a map of strings).
+void write_calib(const std::filesystem::path& path, const Camera& camera,
+                 const std::optional<core::Provenance>& provenance = std::nullopt);
 
 }  // namespace proprio::geometry
