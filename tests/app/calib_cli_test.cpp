@@ -7,6 +7,7 @@
 
 #include "../geometry/synthetic.hpp"
 #include "cli_run.hpp"
+#include "../support/schema_check.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/json_io.hpp"
@@ -42,18 +43,7 @@ class CalibCli : public ::testing::Test {
   }
 };
 
-bool have_jsonschema() {
-  return std::system("python3 -c 'import jsonschema' >/dev/null 2>&1") == 0;
-}
-
-// Validates a JSON result against docs/formats/schemas/<schema>.
-void expect_schema_valid(const std::string& schema, const std::string& file) {
-  if (!have_jsonschema()) return;
-  const std::string source = PROPRIO_SOURCE_DIR;
-  std::string cmd = "python3 -W ignore " + source + "/tests/schemas/check_schema.py ";
-  cmd += source + "/docs/formats/schemas " + schema + " " + file;
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << schema << " on " << file;
-}
+using test::expect_schema_valid;
 
 std::string dlt_csv(double noise_px, int n = 100, std::uint64_t seed = 5) {
   const geometry::Camera cam = geometry::testing::robot_camera();

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli_run.hpp"
+#include "../support/schema_check.hpp"
 #include "proprio/core/json_io.hpp"
 
 namespace proprio {
@@ -37,17 +38,7 @@ class InterceptCli : public ::testing::Test {
   }
 };
 
-bool have_jsonschema() {
-  return std::system("python3 -c 'import jsonschema' >/dev/null 2>&1") == 0;
-}
-
-void expect_schema_valid(const std::string& schema, const std::string& file) {
-  if (!have_jsonschema()) return;
-  const std::string source = PROPRIO_SOURCE_DIR;
-  std::string cmd = "python3 -W ignore " + source + "/tests/schemas/check_schema.py ";
-  cmd += source + "/docs/formats/schemas " + schema + " " + file;
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << schema << " on " << file;
-}
+using test::expect_schema_valid;
 
 TEST_F(InterceptCli, RunsTrialsAndWritesTheResult) {
   const auto r =

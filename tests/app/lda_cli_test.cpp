@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "cli_run.hpp"
+#include "../support/schema_check.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/topics/corpus_io.hpp"
@@ -19,17 +20,7 @@ namespace fs = std::filesystem;
 using test::line_count;
 using test::run_cli;
 
-bool have_jsonschema() {
-  return std::system("python3 -c 'import jsonschema' >/dev/null 2>&1") == 0;
-}
-
-void expect_schema_valid(const std::string& schema, const fs::path& file) {
-  if (!have_jsonschema()) return;
-  const std::string source = PROPRIO_SOURCE_DIR;
-  std::string cmd = "python3 -W ignore " + source + "/tests/schemas/check_schema.py ";
-  cmd += source + "/docs/formats/schemas " + schema + " " + file.string();
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << schema << " on " << file;
-}
+using test::expect_schema_valid;
 
 class LdaCli : public ::testing::Test {
  protected:

@@ -4,25 +4,17 @@
 #include <cstdlib>
 
 #include "episode_test_support.hpp"
+#include "../support/schema_check.hpp"
 
 namespace proprio::episode {
 namespace {
 using namespace testing;
 
-bool have_jsonschema() {
-  return std::system("python3 -c 'import jsonschema' >/dev/null 2>&1") == 0;
-}
-
 int check(const std::string& schema, const fs::path& file) {
-  const std::string source = PROPRIO_SOURCE_DIR;
-  std::string cmd =
-      "python3 " + source + "/tests/schemas/check_schema.py " + source + "/docs/formats/schemas ";
-  cmd += schema + " " + file.string();
-  return std::system(cmd.c_str());
+  return test::check_schema(schema, file);
 }
 
 TEST(EpisodeSchema, WrittenFilesValidate) {
-  if (!have_jsonschema()) GTEST_SKIP() << "python3-jsonschema not installed";
   TempDir tmp;
   SyntheticSpec spec;
   spec.stereo = true;
@@ -36,7 +28,6 @@ TEST(EpisodeSchema, WrittenFilesValidate) {
 }
 
 TEST(EpisodeSchema, RejectsWhatTheReaderRejects) {
-  if (!have_jsonschema()) GTEST_SKIP() << "python3-jsonschema not installed";
   TempDir tmp;
   const auto dir = write_synthetic(tmp.path() / "ep", {});
   core::Json j = core::read_json(dir / "episode.json");
