@@ -1,0 +1,161 @@
+#pragma once
+// Motion-Likelihood segmentation of the object the arm pushes (thesis Ch 4, SPEC §3).
+//
+// Five steps (4.1): a tracked over-segmentation of the video, dense optical flow, the
+// end-effector's image position per frame, a per-region likelihood that the region moves as the
+// arm does, and a threshold. The map is a running average over frames of each tracked region's
+// likelihood (eq 4.21), so evidence from any frame lands on the region wherever it is.
+//
+// Region tracking: per-frame superpixels (SEEDS, SLIC) carry no identity from one frame to the
+// next, so each frame's labels are relabelled by majority overlap with the previous frame's
+// labels warped along the flow (a superpixel whose overlap is too small starts a new track).
+// This keeps the cost per frame constant (the thesis's 6-D mean shift over the whole video is
+// not), and a region keeps its integrated evidence while it moves.
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/episode/episode.hpp"
+
+namespace proprio::segmentation {
+
+/// Motion model of a region (4.4): a 2-D translation (4.6-4.7) or a homography (4.9-4.11).
+enum class MotionModel { kTranslation, kHomography };
+
+/// Dense optical flow. DIS presets are OpenCV's DISOpticalFlow; kLucasKanadeGrid is pyramidal
+/// Lucas-Kanade (Bouguet) on a 4-pixel grid, as in the thesis, interpolated to every pixel.
+enum class FlowMethod { kDisUltrafast, kDisFast, kDisMedium, kFarneback, kLucasKanadeGrid };
+
+/// Per-frame over-segmentation (tracked by warping, see above). kMeanShift is the thesis's front
+/// end (pyrMeanShiftFiltering + flood fill), about 0.5 s a frame at 640x480.
+enum class OverSegmentation { kSeeds, kSlic, kMeanShift };
+
+struct MlOptions {
+  MotionModel model = MotionModel::kTranslation;
+  FlowMethod flow = FlowMethod::kDisFast;
+  OverSegmentation regions = OverSegmentation::kSeeds;
+  /// Approximate number of superpixels per frame (SEEDS/SLIC).
+  int region_count = 400;
+  /// Sigma = lambda I of the error density, pixels^2 (4.4.2; 10-50 makes little difference).
+  double lambda = 25.0;
+  /// Mask = map >= mask_fraction * max(map) (5.1.1's optimum, 0.75).
+  double mask_fraction = 0.75;
+  /// Arm removal (eq 4.18): before the first touch the likelihood is (1 - p) / kappa.
+  double kappa = 1.0;
+  /// Robust mean (Algorithm 1): flat-kernel bandwidth c, pixels, and stopping tolerance, pixels.
+  double robust_bandwidth = 2.0;
+  double robust_tolerance = 0.01;
+  int robust_max_iterations = 30;
+  /// Homography RANSAC (Algorithm 2): reprojection threshold, pixels; minimum flow samples.
+  double ransac_threshold = 1.0;
+  int homography_min_points = 12;
+  /// Frames whose arm displacement is below this, pixels, carry no evidence and are skipped:
+  /// when the arm is still, every still region would match it.
+  double min_arm_motion = 0.5;
+  /// Regions that neither move (robust mean flow below this, pixels) ... are given no evidence
+  /// as well: a still region matching a still arm is no evidence of being pushed.
+  double min_region_motion = 0.3;
+  /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
+  cv::Mat1f prior;
+  /// Keep the map painted with every frame's regions (MlResult::frame_maps).
+  bool keep_frame_maps = false;
+  /// Throws Error naming the bad field.
+  void validate() const;
+};
+
+/// What happened (Ceres style).
+struct MlSummary {
+  int frames = 0;             ///< frames read
+  int scored_frame = -1;      ///< frame the map was painted on (first touch); -1 never touched
+  bool touched = false;       ///< the arm touched something
+  int evidence_frames = 0;    ///< frame pairs that contributed (arm moving)
+  int tracks = 0;             ///< region tracks created over the episode
+  std::string message;        ///< one line: what happened
+  double mean_ms_regions = 0.0;  ///< over-segmentation + tracking, per frame
+  double mean_ms_flow = 0.0;     ///< optical flow, per frame
+  double mean_ms_model = 0.0;    ///< motion model + likelihood + integration, per frame
+  double mean_ms_total = 0.0;    ///< all of it (disk I/O excluded), per frame
+};
+
+struct MlResult {
+  std::optional<int> first_touch_frame;
+  int scored_frame = -1;  ///< -1 = never touched ("no touch": map and mask empty)
+  /// Probability map at the scored frame, in [0, 1], integrated over the WHOLE episode (regions
+  /// are tracked, so later evidence counts).
+  cv::Mat1f map;
+  /// map >= mask_fraction * max(map) (all zero when the map is zero).
+  cv::Mat1b mask;
+  /// When keep_frame_maps: the integrated map painted with each frame's tracked regions.
+  std::vector<cv::Mat1f> frame_maps;
+  MlSummary summary;
+};
+
+/// Segments the pushed object of `episode` (needs frames, arm data; every frame of the camera's
+/// size). Throws Error on an episode without frames or arm samples, or frames of different sizes.
+/// An episode that never touches returns scored_frame = -1 and a "no touch" message.
+MlResult segment_ml(const episode::Episode& episode, const MlOptions& options);
+
+/// The sparse variant (Algorithm 3, 4.5).
+struct SparseOptions {
+  /// Sigma = lambda I, pixels^2.
+  double lambda = 25.0;
+  /// Mean-shift bandwidth on feature velocities, pixels/frame.
+  double velocity_bandwidth = 2.0;
+  /// Keep clusters whose likelihood is >= tau.
+  double tau = 0.5;
+  /// Density: Gaussian blur sigma, pixels.
+  double density_sigma = 12.0;
+  double mask_fraction = 0.75;
+  double kappa = 1.0;
+  double min_arm_motion = 0.5;
+  /// Lowe ratio test for SIFT matches.
+  double ratio = 0.75;
+  int max_features = 1500;
+  void validate() const;
+};
+
+MlResult segment_ml_sparse(const episode::Episode& episode, const SparseOptions& options);
+
+/// Streaming M-L (eq 4.21 is a running average): frames go in one at a time.
+class MlSegmenter {
+ public:
+  struct FrameOutput {
+    int frame = -1;
+    /// Current integrated map painted with this frame's regions, [0, 1].
+    cv::Mat1f map;
+    double ms_regions = 0.0, ms_flow = 0.0, ms_model = 0.0, ms_total = 0.0;
+  };
+
+  /// Throws Error when options are invalid or the size is empty.
+  MlSegmenter(const MlOptions& options, cv::Size image_size);
+  ~MlSegmenter();
+  MlSegmenter(MlSegmenter&&) noexcept;
+  MlSegmenter& operator=(MlSegmenter&&) noexcept;
+
+  /// One frame: 8-bit BGR image of image_size (else Error), the end-effector's image position,
+  /// pixels (none if unknown: the frame pair carries no evidence), and whether the arm touched
+  /// something since the previous frame (the first set flag ends arm removal, eq 4.18).
+  FrameOutput push(const cv::Mat& bgr, std::optional<Eigen::Vector2d> ee_image, bool touching);
+
+  /// Frames pushed so far.
+  [[nodiscard]] int frames() const;
+  /// The first frame with touching set, if any.
+  [[nodiscard]] std::optional<int> first_touch_frame() const;
+  /// Integrated map painted with frame i's tracked regions (0 <= i < frames()).
+  [[nodiscard]] cv::Mat1f map_for_frame(int i) const;
+  /// Statistics so far (timings are means per frame).
+  [[nodiscard]] MlSummary summary() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Binary mask (255/0) of map >= fraction * max(map); all zero when the map's max is 0.
+cv::Mat1b threshold_map(const cv::Mat1f& map, double fraction);
+
+}  // namespace proprio::segmentation
