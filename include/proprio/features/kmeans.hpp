@@ -1,0 +1,50 @@
+#pragma once
+// Building a vocabulary by k-means (thesis 6.1.2, 6.3.1): k-means++ seeding (Arthur &
+// Vassilvitskii 2007), then Lloyd iterations until the relative change of the cost falls below
+// the tolerance (the thesis stops "after the evolution fell below 0.1%").
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "proprio/features/vocabulary.hpp"
+
+namespace proprio::features {
+
+struct KmeansOptions {
+  int words = 400;           ///< K, the number of clusters (thesis: 400)
+  int max_iterations = 100;  ///< Lloyd iterations at most (after seeding)
+  /// Stop when (cost_before - cost_after) / cost_before falls below this (0.1%).
+  double tolerance = 1e-3;
+  std::uint64_t seed = 1;  ///< k-means++ seeding and the re-seeding of empty clusters
+  int threads = 0;         ///< 0 = all cores
+  /// Candidates per k-means++ step (greedy k-means++, as scikit-learn: 2 + ln K when 0; 1 is
+  /// the plain algorithm).
+  int seeding_trials = 0;
+  /// Throws Error on words < 1, max_iterations < 1, tolerance not in [0, 1), threads < 0,
+  /// seeding_trials < 0.
+  void validate() const;
+};
+
+struct KmeansSummary {
+  int iterations = 0;       ///< Lloyd iterations run
+  double cost = 0;          ///< final sum of squared distances of every descriptor to its word
+  double seconds = 0;       ///< wall time, seeding included
+  std::string termination;  ///< "converged" (change below tolerance) or "max_iterations"
+  int empty_clusters_reseeded = 0;
+};
+
+struct VocabularyResult {
+  Vocabulary vocabulary;
+  KmeansSummary summary;
+};
+
+/// k-means of the rows of `descriptors` (N x D CV_32F, finite) into options.words words.
+/// Throws Error on an empty or non-finite descriptor set or when words > N. The same seed and
+/// thread count give the same vocabulary.
+VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOptions& options = {});
+
+/// The k-means cost (sum of squared distances to the nearest word) of `descriptors`.
+double kmeans_cost(const Vocabulary& vocabulary, const cv::Mat& descriptors, int threads = 0);
+
+}  // namespace proprio::features

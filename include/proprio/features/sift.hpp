@@ -1,0 +1,46 @@
+#pragma once
+// SIFT descriptors (Lowe 2004; thesis 6.1.1) at detected interest points, and dense SIFT on a
+// regular grid (Bosch et al. 2007; thesis 7.3.3), both computed by OpenCV's cv::SIFT.
+
+#include <opencv2/core.hpp>
+
+#include "proprio/features/features.hpp"
+
+namespace proprio::features {
+
+/// Options of detect_sift (OpenCV's cv::SIFT parameters; the defaults are OpenCV's).
+struct SiftOptions {
+  int max_features = 0;              ///< keep the strongest N; 0 keeps all
+  int octave_layers = 3;             ///< layers per octave of the difference of Gaussians
+  double contrast_threshold = 0.04;  ///< drops weak extrema (of the image scaled to [0, 1])
+  double edge_threshold = 10.0;      ///< drops edge-like extrema (ratio of principal curvatures)
+  double sigma = 1.6;                ///< Gaussian blur of the first octave, px
+  /// Throws Error on a negative count, a non-positive threshold or sigma.
+  void validate() const;
+};
+
+/// SIFT keypoints and descriptors of `image` (8-bit grey or BGR; colour is converted to grey).
+/// Throws Error on an empty image or an unsupported type. An image without features gives an
+/// empty Features (descriptors 0 x 128).
+Features detect_sift(const cv::Mat& image, const SiftOptions& options = {});
+
+/// Options of dense_sift.
+struct DenseSiftOptions {
+  int step = 8;        ///< grid spacing, px
+  float size = 16.0F;  ///< keypoint diameter (SIFT's support region), px
+  int margin = -1;     ///< px kept clear of the border; -1 means size / 2 so that patches fit
+  /// Throws Error on a non-positive step or size or a margin < -1.
+  void validate() const;
+};
+
+/// The grid of dense_sift for an image of `image_size`: points at (margin + i * step,
+/// margin + j * step) inside [margin, width - 1 - margin] x [margin, height - 1 - margin],
+/// row-major (x fastest), each with the options' size and angle 0 (upright descriptors).
+std::vector<cv::KeyPoint> dense_grid(cv::Size image_size, const DenseSiftOptions& options = {});
+
+/// SIFT descriptors on the dense_grid of `image` (no detection, no orientation: upright, as
+/// dense SIFT is used for scene categories). Same image rules as detect_sift; an image smaller
+/// than the grid's margins gives an empty Features.
+Features dense_sift(const cv::Mat& image, const DenseSiftOptions& options = {});
+
+}  // namespace proprio::features
