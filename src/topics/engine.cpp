@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <numeric>
 
 namespace proprio::topics::detail {
 
@@ -209,6 +210,21 @@ void run_estep(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs, con
     out.converged[d] = r.converged ? 1 : 0;
     out.log_norm[d] = r.log_norm;
   });
+}
+
+CorpusEStep corpus_estep(const Kernels& kern, ThreadPool& pool, const LdaModel& model,
+                         const Corpus& corpus, const EStepOptions& options, std::uint64_t seed) {
+  CorpusEStep r;
+  const int K = model.num_topics();
+  r.stride = padded(K, kern.lanes);
+  r.topic_sum = topic_sums(model.lambda, pool);
+  std::vector<std::int32_t> all(static_cast<std::size_t>(model.num_words()));
+  std::iota(all.begin(), all.end(), 0);
+  FloatBuffer beta;
+  exp_elog_beta(kern, model.lambda, r.topic_sum, all, r.stride, pool, beta);
+  corpus_docs(corpus, seed, 0, r.docs);
+  run_estep(kern, pool, r.docs, beta.data(), K, r.stride, model.alpha, options, r.estep);
+  return r;
 }
 
 void sufficient_statistics(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs,

@@ -81,6 +81,19 @@ void run_estep(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs, con
                int num_topics, int stride, double alpha, const EStepOptions& options,
                BatchEStep& out);
 
+/// The E-step of a fixed model over a whole corpus (inference and the variational bound): the
+/// model's topic sums, the beta cache of every word, the documents and what the E-step left.
+struct CorpusEStep {
+  int stride = 0;
+  Eigen::VectorXd topic_sum;
+  BatchDocs docs;
+  BatchEStep estep;
+};
+
+/// Runs the E-step of `model` on every document of `corpus` (random-gamma keys from `seed`).
+CorpusEStep corpus_estep(const Kernels& kern, ThreadPool& pool, const LdaModel& model,
+                         const Corpus& corpus, const EStepOptions& options, std::uint64_t seed);
+
 /// sstats[r] = sum over documents and their entries on row r of weight * exp(E[log theta]),
 /// in document order; `rows` rows of `stride` floats.
 void sufficient_statistics(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs,

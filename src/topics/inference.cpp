@@ -1,7 +1,6 @@
 #include "proprio/topics/inference.hpp"
 
 #include <chrono>
-#include <numeric>
 #include <sstream>
 
 #include "engine.hpp"
@@ -48,17 +47,11 @@ InferenceResult infer_topics(const LdaModel& model, const Corpus& corpus,
   const auto t0 = std::chrono::steady_clock::now();
   const auto& kern = detail::best_kernels();
   const int K = model.num_topics();
-  const int stride = detail::padded(K, kern.lanes);
   detail::ThreadPool pool(options.threads);
-  const Eigen::VectorXd topic_sum = detail::topic_sums(model.lambda, pool);
-  std::vector<std::int32_t> all(static_cast<std::size_t>(model.num_words()));
-  std::iota(all.begin(), all.end(), 0);
-  detail::FloatBuffer beta;
-  detail::exp_elog_beta(kern, model.lambda, topic_sum, all, stride, pool, beta);
-  detail::BatchDocs docs;
-  detail::corpus_docs(corpus, options.seed, 0, docs);
-  detail::BatchEStep estep;
-  detail::run_estep(kern, pool, docs, beta.data(), K, stride, model.alpha, options.estep, estep);
+  const detail::CorpusEStep run =
+      detail::corpus_estep(kern, pool, model, corpus, options.estep, options.seed);
+  const detail::BatchEStep& estep = run.estep;
+  const int stride = run.stride;
 
   InferenceResult r;
   const auto D = static_cast<Eigen::Index>(corpus.num_documents());

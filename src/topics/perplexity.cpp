@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <numeric>
 
 #include "engine.hpp"
 #include "proprio/core/error.hpp"
@@ -99,25 +98,17 @@ PerplexityResult perplexity(const LdaModel& model, const Corpus& heldout,
   const auto t0 = std::chrono::steady_clock::now();
   const auto& kern = detail::best_kernels();
   const int K = model.num_topics();
-  const int stride = detail::padded(K, kern.lanes);
   detail::ThreadPool pool(options.threads);
-  const Eigen::VectorXd topic_sum = detail::topic_sums(model.lambda, pool);
-  std::vector<std::int32_t> all(static_cast<std::size_t>(model.num_words()));
-  std::iota(all.begin(), all.end(), 0);
-  detail::FloatBuffer beta;
-  detail::exp_elog_beta(kern, model.lambda, topic_sum, all, stride, pool, beta);
-  detail::BatchDocs docs;
-  detail::corpus_docs(heldout, options.split_seed, 0, docs);
-  detail::BatchEStep estep;
-  detail::run_estep(kern, pool, docs, beta.data(), K, stride, model.alpha, options.estep, estep);
+  const detail::CorpusEStep run =
+      detail::corpus_estep(kern, pool, model, heldout, options.estep, options.split_seed);
   PerplexityResult r;
   r.method = PerplexityMethod::kVariationalBound;
   double bound = 0.0;
-  for (std::size_t d = 0; d < docs.size(); ++d) {
-    bound += detail::document_bound(estep, d, K, model.alpha);
-    if (docs.offsets[d + 1] > docs.offsets[d]) ++r.documents;
+  for (std::size_t d = 0; d < run.docs.size(); ++d) {
+    bound += detail::document_bound(run.estep, d, K, model.alpha);
+    if (run.docs.offsets[d + 1] > run.docs.offsets[d]) ++r.documents;
   }
-  bound += detail::topic_bound(model.lambda, topic_sum, model.eta);
+  bound += detail::topic_bound(model.lambda, run.topic_sum, model.eta);
   r.log_likelihood = bound;
   r.tokens = heldout.num_tokens();
   r.perplexity = std::exp(-bound / static_cast<double>(r.tokens));
