@@ -1,0 +1,90 @@
+#pragma once
+// Documents for LDA from pictures (thesis 6.1, 6.2): an image, a blob of dense features (a
+// putative object, 6.2) or a region of an episode's frame becomes a bag of visual words.
+#include <cstdint>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "proprio/episode/episode.hpp"
+#include "proprio/features/blobs.hpp"
+#include "proprio/features/features.hpp"
+#include "proprio/features/sift.hpp"
+#include "proprio/features/vocabulary.hpp"
+
+namespace proprio::recognition {
+
+/// Which local features make the words: dense SIFT on a grid (7.3.3, the default: every part of
+/// an object speaks, however plain) or SIFT at detected interest points (6.1.1).
+enum class FeatureKind { kDense, kSift };
+
+/// "dense" or "sift"; throws Error otherwise.
+FeatureKind parse_feature_kind(const std::string& name);
+std::string to_string(FeatureKind kind);
+
+struct ExtractOptions {
+  FeatureKind kind = FeatureKind::kDense;
+  features::DenseSiftOptions dense;  ///< step 8 px, patches of 16 px
+  features::SiftOptions sift;
+  void validate() const;
+};
+
+/// Features of an 8-bit grey or BGR image; with `mask` (CV_8U of the image's size, or empty for
+/// the whole image) only those whose (rounded) location has a non-zero mask pixel. Dense SIFT
+/// computes descriptors only at the kept grid points.
+features::Features extract_features(const cv::Mat& image, const ExtractOptions& options,
+                                    const cv::Mat& mask = {});
+
+/// Reads an image file (8-bit, colour or grey). Throws Error naming the file when it cannot be
+/// read or decoded.
+cv::Mat read_image(const std::filesystem::path& path);
+
+/// A blob (a putative object from feature density, 6.2) and its document.
+struct BlobDocument {
+  features::Blob blob;
+  std::vector<std::int32_t> tokens;
+};
+
+/// One document per blob of `f`'s keypoints (features::find_blobs, eq 6.2-6.3): the words of the
+/// features inside it. Use interest-point SIFT: dense features have a uniform density.
+std::vector<BlobDocument> blob_documents(const features::Features& f, cv::Size image_size,
+                                         const features::Vocabulary& vocabulary,
+                                         const features::BlobOptions& options = {});
+
+/// Which part of an episode's frame makes its document(s).
+enum class FrameRegion {
+  kWhole,    ///< the whole frame, one document
+  kTarget,   ///< the features on the target object (ground-truth mask)
+  kObjects,  ///< the features on the named objects (ground-truth mask), one document
+  kBlobs,    ///< one document per feature-density blob (6.2)
+  kMasks,    ///< the features inside a segmentation mask read from a directory
+};
+
+/// "whole", "target", "objects", "blobs", "masks"; throws Error otherwise.
+FrameRegion parse_frame_region(const std::string& name);
+std::string to_string(FrameRegion region);
+
+struct FrameDocumentOptions {
+  FrameRegion region = FrameRegion::kWhole;
+  /// kObjects: catalogue names; an episode object counts when its name is one of them or ends in
+  /// "-" + one of them (the simulator names sliding objects "scatter-<type>"). Empty: every
+  /// object that is not the arm.
+  std::vector<std::string> objects;
+  /// kMasks: a directory of 8-bit masks named as the frames (000000.png ...), non-zero inside.
+  std::filesystem::path masks;
+  ExtractOptions features;
+  features::BlobOptions blobs;
+  void validate() const;
+};
+
+/// The features of the document(s) of frame i: one, or one per blob (kBlobs). Throws Error when the episode lacks masks (kTarget,
+/// kObjects) or a target (kTarget), or a mask file is missing or of the wrong size (kMasks).
+std::vector<features::Features> frame_features(const episode::Episode& episode, int frame,
+                             const FrameDocumentOptions& options);
+
+/// The ids of the episode's objects that kObjects keeps.
+std::vector<int> selected_object_ids(const episode::Episode& episode,
+                                     const std::vector<std::string>& objects);
+
+}  // namespace proprio::recognition

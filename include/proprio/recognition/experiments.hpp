@@ -1,0 +1,137 @@
+#pragma once
+// The object-modelling experiments of thesis 6.3 and 7.3.1, rerun on any folder-per-class image
+// set and on simulated videos:
+//  - set experiments (6.3.1 specific vs wide dictionary, Tables 6.1-6.2; 6.3.2 batch vs online
+//    LDA, Table 6.3): two sets of classes A and B, a specific dictionary from A's training images
+//    and a wide one from many classes, LDA with K = classes per set on each set's training
+//    images, classification of its test images;
+//  - the scatter experiment (6.3.3, Tables 6.4-6.5; 7.3.1, Tables 7.1-7.2): online LDA with
+//    mini-batches of 50 frames on videos of objects moved about, classification of held-out views
+//    of each object, with K = number of objects and with more topics, merged.
+// In every case topics are named after classes from labelled training images only.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/episode/episode.hpp"
+#include "proprio/features/image_set.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/recognition/documents.hpp"
+#include "proprio/recognition/image_corpus.hpp"
+#include "proprio/topics/batch_lda.hpp"
+#include "proprio/topics/online_lda.hpp"
+
+namespace proprio::recognition {
+
+/// Which LDA learner.
+enum class LdaMethod { kBatch, kOnline };
+std::string to_string(LdaMethod m);
+
+struct SetExperimentOptions {
+  std::vector<std::string> set_a;  ///< classes of set A; empty: the first half of the classes
+  std::vector<std::string> set_b;  ///< classes of set B; empty: the other half
+  /// Classes of the wide dictionary; empty: every class of the image set.
+  std::vector<std::string> wide;
+  int dictionary_images = 30;  ///< images per class for a dictionary (thesis: 30)
+  int descriptors_per_image = 100;  ///< dense SIFT drawn per image (thesis: 100)
+  features::KmeansOptions kmeans;   ///< 400 words, stop below 0.1% change
+  int test_per_class = 20;          ///< test images per class (thesis: 20); the rest train
+  ExtractOptions features;
+  topics::BatchLdaOptions batch;    ///< num_topics is set to the classes of the set
+  topics::OnlineLdaOptions online;  ///< num_topics is set to the classes of the set
+  std::uint64_t seed = 1;           ///< split, descriptor samples, k-means and LDA
+  /// Which models (name, set "A"/"B", dictionary "specific"/"wide", method): see
+  /// dictionary_runs() and batch_online_runs().
+  struct Run {
+    std::string name;
+    std::string set;
+    std::string dictionary;
+    LdaMethod method = LdaMethod::kBatch;
+  };
+  std::vector<Run> runs;
+  void validate() const;
+};
+
+/// Thesis 6.3.1: C_AS, C_BS, C_AW, C_BW with batch LDA.
+std::vector<SetExperimentOptions::Run> dictionary_runs();
+/// Thesis 6.3.2: C_AW, C_BW with batch LDA and C_AO, C_BO with online LDA (wide dictionary).
+std::vector<SetExperimentOptions::Run> batch_online_runs();
+
+struct SetRunResult {
+  SetExperimentOptions::Run run;
+  Evaluation evaluation;
+  int train_documents = 0;
+  int test_documents = 0;
+  double train_seconds = 0;
+  std::string lda_summary;  ///< the learner's brief summary
+};
+
+struct SetExperimentResult {
+  std::vector<std::string> set_a, set_b, wide;
+  std::optional<features::KmeansSummary> specific_kmeans, wide_kmeans;
+  int specific_descriptors = 0, wide_descriptors = 0;
+  std::vector<SetRunResult> runs;
+  double seconds = 0;
+};
+
+/// Runs the set experiment on `set`. Throws Error on bad options, unknown or overlapping class
+/// names, or classes with too few images.
+SetExperimentResult run_set_experiment(const features::ImageSet& set,
+                                       const SetExperimentOptions& options,
+                                       const ProgressFn& progress = {});
+
+struct ScatterExperimentOptions {
+  /// Numbers of topics to try; 0 stands for the number of objects (thesis: K = objects, and 8).
+  std::vector<int> topics{0, 8};
+  /// How frames become documents: by default the features on the named objects (the view
+  /// folders' classes) by the ground-truth masks.
+  FrameDocumentOptions frames{FrameRegion::kObjects, {}, {}, {}, {}};
+  int frame_step = 1;  ///< use every n-th frame
+  /// Dictionary from the training frames: descriptors_per_frame from dictionary_frames frames.
+  int dictionary_frames = 200;
+  int descriptors_per_frame = 100;
+  features::KmeansOptions kmeans;  ///< 400 words
+  /// Online LDA: mini-batches of 50 frames (6.3.3).
+  topics::OnlineLdaOptions online = [] {
+    topics::OnlineLdaOptions o;
+    o.batch_size = 50;
+    return o;
+  }();
+  /// Views of each object used (with their labels) to name the topics; the rest are the test.
+  double mapping_fraction = 0.5;
+  /// How a view becomes a document: the whole image (the object over its backdrop).
+  ExtractOptions view_features;
+  std::uint64_t seed = 1;
+  void validate() const;
+};
+
+struct ScatterRunResult {
+  int topics = 0;
+  Evaluation evaluation;
+  topics::OnlineLdaSummary summary;
+};
+
+struct ScatterExperimentResult {
+  std::vector<std::string> objects;  ///< the view folders' classes
+  int frames = 0;                    ///< frames used
+  int documents = 0;                 ///< training documents (empty ones dropped)
+  std::int64_t tokens = 0;
+  int mapping_views = 0, test_views = 0;
+  std::optional<features::KmeansSummary> kmeans;  ///< when the dictionary was built here
+  int words = 0;
+  std::vector<ScatterRunResult> runs;
+  double seconds = 0;
+};
+
+/// Runs the scatter experiment: documents from every frame_step-th frame of the episodes, in
+/// order; a dictionary from them unless `vocabulary` is given; online LDA for each K; views of
+/// `views`' classes split per class into mapping and test views (seeded).
+ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
+                                               const features::ImageSet& views,
+                                               const ScatterExperimentOptions& options,
+                                               const features::Vocabulary* vocabulary = nullptr,
+                                               const ProgressFn& progress = {});
+
+}  // namespace proprio::recognition

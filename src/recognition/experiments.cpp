@@ -1,0 +1,315 @@
+#include "proprio/recognition/experiments.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <set>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+
+namespace proprio::recognition {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) {
+    if (!s.empty()) s += ", ";
+    s += x;
+  }
+  return s;
+}
+
+// Relabels a corpus of some classes of an image set to indices into `classes`.
+LabelledCorpus relabel(LabelledCorpus c, const std::vector<std::string>& classes) {
+  for (int& l : c.labels) {
+    const std::string& name = c.classes[static_cast<std::size_t>(l)];
+    l = static_cast<int>(std::find(classes.begin(), classes.end(), name) - classes.begin());
+  }
+  c.classes = classes;
+  return c;
+}
+
+topics::LdaModel train(const topics::Corpus& corpus, LdaMethod method, int k,
+                       const SetExperimentOptions& o, std::string& summary) {
+  if (method == LdaMethod::kBatch) {
+    topics::BatchLdaOptions b = o.batch;
+    b.num_topics = k;
+    auto r = topics::train_batch_lda(corpus, b);
+    summary = r.summary.brief();
+    return std::move(r.model);
+  }
+  topics::OnlineLdaOptions on = o.online;
+  on.num_topics = k;
+  auto r = topics::train_online_lda(corpus, on);
+  summary = r.summary.brief();
+  return std::move(r.model);
+}
+
+}  // namespace
+
+std::string to_string(LdaMethod m) { return m == LdaMethod::kBatch ? "batch" : "online"; }
+
+std::vector<SetExperimentOptions::Run> dictionary_runs() {
+  return {{"C_AS", "A", "specific", LdaMethod::kBatch},
+          {"C_BS", "B", "specific", LdaMethod::kBatch},
+          {"C_AW", "A", "wide", LdaMethod::kBatch},
+          {"C_BW", "B", "wide", LdaMethod::kBatch}};
+}
+
+std::vector<SetExperimentOptions::Run> batch_online_runs() {
+  return {{"C_AW", "A", "wide", LdaMethod::kBatch},
+          {"C_BW", "B", "wide", LdaMethod::kBatch},
+          {"C_AO", "A", "wide", LdaMethod::kOnline},
+          {"C_BO", "B", "wide", LdaMethod::kOnline}};
+}
+
+void SetExperimentOptions::validate() const {
+  if (dictionary_images < 1) throw Error("dictionary images per class must be >= 1");
+  if (descriptors_per_image < 1) throw Error("descriptors per image must be >= 1");
+  if (test_per_class < 1) throw Error("test images per class must be >= 1");
+  if (runs.empty()) throw Error("no models to train");
+  kmeans.validate();
+  features.validate();
+  topics::BatchLdaOptions b = batch;
+  b.num_topics = std::max(b.num_topics, 1);
+  b.validate();
+  topics::OnlineLdaOptions on = online;
+  on.num_topics = std::max(on.num_topics, 1);
+  on.validate();
+}
+
+SetExperimentResult run_set_experiment(const features::ImageSet& set,
+                                       const SetExperimentOptions& options,
+                                       const ProgressFn& progress) {
+  options.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  SetExperimentResult result;
+  result.set_a = options.set_a;
+  result.set_b = options.set_b;
+  if (result.set_a.empty() && result.set_b.empty()) {
+    if (set.classes.size() < 2) throw Error("the image set needs at least 2 classes for sets A and B");
+    const std::size_t half = (set.classes.size() + 1) / 2;
+    result.set_a.assign(set.classes.begin(), set.classes.begin() + static_cast<long>(half));
+    result.set_b.assign(set.classes.begin() + static_cast<long>(half), set.classes.end());
+  } else if (result.set_a.empty() || result.set_b.empty()) {
+    throw Error("give both sets A and B, or neither");
+  }
+  for (const auto& a : result.set_a) {
+    if (std::find(result.set_b.begin(), result.set_b.end(), a) != result.set_b.end()) {
+      std::string m = "class '";
+      m += a;
+      m += "' is in both sets A and B";
+      throw Error(m);
+    }
+  }
+  result.wide = options.wide.empty() ? set.classes : options.wide;
+  const SetSplit split = split_per_class(set, options.test_per_class, options.seed);
+
+  // Dictionaries from training images only: the test images stay unseen by every step.
+  std::optional<features::Vocabulary> specific, wide;
+  auto needs = [&](const std::string& d) {
+    return std::any_of(options.runs.begin(), options.runs.end(),
+                       [&](const auto& r) { return r.dictionary == d; });
+  };
+  auto build = [&](const std::vector<std::string>& classes, std::uint64_t seed,
+                   std::optional<features::KmeansSummary>& summary, int& n) {
+    const cv::Mat d = sample_descriptors(set, images_of(set, split.train, classes),
+                                         options.dictionary_images, options.descriptors_per_image,
+                                         options.features, seed, progress);
+    n = d.rows;
+    features::KmeansOptions k = options.kmeans;
+    k.seed = seed;
+    if (k.words > d.rows) {
+      std::string m = "the dictionary needs at least as many descriptors as words (";
+      m += std::to_string(d.rows);
+      m += " < ";
+      m += std::to_string(k.words);
+      m += ")";
+      throw Error(m);
+    }
+    auto r = features::build_vocabulary(d, k);
+    summary = r.summary;
+    return std::move(r.vocabulary);
+  };
+  if (needs("specific"))
+    specific = build(result.set_a, options.seed + 1, result.specific_kmeans,
+                     result.specific_descriptors);
+  if (needs("wide"))
+    wide = build(result.wide, options.seed + 2, result.wide_kmeans, result.wide_descriptors);
+
+  for (const auto& run : options.runs) {
+    const auto& classes = run.set == "A" ? result.set_a : result.set_b;
+    const features::Vocabulary& v = run.dictionary == "specific" ? *specific : *wide;
+    const auto train_idx = images_of(set, split.train, classes);
+    const auto test_idx = images_of(set, split.test, classes);
+    const LabelledCorpus train_docs =
+        relabel(image_corpus(set, train_idx, v, options.features, progress), classes);
+    const LabelledCorpus test_docs =
+        relabel(image_corpus(set, test_idx, v, options.features, progress), classes);
+    SetRunResult r;
+    r.run = run;
+    r.train_documents = static_cast<int>(train_docs.corpus.num_documents());
+    r.test_documents = static_cast<int>(test_docs.corpus.num_documents());
+    const auto t1 = std::chrono::steady_clock::now();
+    const topics::LdaModel model = train(train_docs.corpus, run.method,
+                                         static_cast<int>(classes.size()), options, r.lda_summary);
+    r.train_seconds = seconds_since(t1);
+    // Topics are named from the labelled training images (never the test labels).
+    r.evaluation = evaluate_model(model, train_docs, test_docs);
+    result.runs.push_back(std::move(r));
+  }
+  result.seconds = seconds_since(t0);
+  return result;
+}
+
+void ScatterExperimentOptions::validate() const {
+  if (topics.empty()) throw Error("no numbers of topics given");
+  for (int k : topics)
+    if (k < 0) throw Error("the number of topics K must be >= 1 (0 = the number of objects)");
+  frames.validate();
+  if (frame_step < 1) throw Error("the frame step must be >= 1");
+  if (dictionary_frames < 1 || descriptors_per_frame < 1) {
+    throw Error("the dictionary needs at least 1 frame and 1 descriptor per frame");
+  }
+  kmeans.validate();
+  topics::OnlineLdaOptions on = online;
+  on.num_topics = 1;
+  on.validate();
+  if (!(mapping_fraction > 0 && mapping_fraction < 1)) {
+    throw Error("the fraction of views used to name topics must be in (0, 1)");
+  }
+  view_features.validate();
+}
+
+ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
+                                               const features::ImageSet& views,
+                                               const ScatterExperimentOptions& options,
+                                               const features::Vocabulary* vocabulary,
+                                               const ProgressFn& progress) {
+  options.validate();
+  if (episodes.empty()) throw Error("no episodes given");
+  const auto t0 = std::chrono::steady_clock::now();
+  ScatterExperimentResult result;
+  result.objects = views.classes;
+  FrameDocumentOptions frame_options = options.frames;
+  if (frame_options.region == FrameRegion::kObjects && frame_options.objects.empty())
+    frame_options.objects = views.classes;
+  for (const auto& e : episodes) {
+    if (frame_options.region == FrameRegion::kObjects &&
+        selected_object_ids(e, frame_options.objects).empty()) {
+      std::string m = "none of the objects ";
+      m += join(frame_options.objects);
+      m += " is in this episode";
+      throw Error::in_file(e.dir(), m);
+    }
+  }
+
+  // Features of every used frame, in the order the robot saw them.
+  std::vector<features::Features> docs;
+  std::size_t total = 0;
+  for (const auto& e : episodes)
+    total += static_cast<std::size_t>((e.frame_count() + options.frame_step - 1) / options.frame_step);
+  std::size_t done = 0;
+  for (const auto& e : episodes) {
+    for (int i = 0; i < e.frame_count(); i += options.frame_step) {
+      for (auto& f : frame_features(e, i, frame_options))
+        if (!f.empty()) docs.push_back(std::move(f));
+      ++result.frames;
+      if (progress) progress(++done, total);
+    }
+  }
+  if (docs.empty()) throw Error("the episodes' frames have no features in the chosen region");
+
+  std::optional<features::Vocabulary> built;
+  if (vocabulary == nullptr) {
+    core::Rng rng(options.seed);
+    std::vector<std::size_t> order(docs.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::shuffle(order.begin(), order.end(), rng.engine());
+    order.resize(std::min(order.size(), static_cast<std::size_t>(options.dictionary_frames)));
+    cv::Mat sample(0, features::kDescriptorLength, CV_32F);
+    for (std::size_t d : order) {
+      const auto& f = docs[d];
+      std::vector<int> rows(static_cast<std::size_t>(f.size()));
+      std::iota(rows.begin(), rows.end(), 0);
+      std::shuffle(rows.begin(), rows.end(), rng.engine());
+      rows.resize(std::min(rows.size(), static_cast<std::size_t>(options.descriptors_per_frame)));
+      for (int r : rows) sample.push_back(f.descriptors.row(r));
+    }
+    features::KmeansOptions k = options.kmeans;
+    k.seed = options.seed;
+    if (k.words > sample.rows) {
+      std::string m = "the frames give fewer descriptors (";
+      m += std::to_string(sample.rows);
+      m += ") than the dictionary's words";
+      throw Error(m);
+    }
+    auto r = features::build_vocabulary(sample, k);
+    result.kmeans = r.summary;
+    built = std::move(r.vocabulary);
+    vocabulary = &*built;
+  }
+  result.words = vocabulary->size();
+  if (vocabulary->dimension() != features::kDescriptorLength) {
+    throw Error("the vocabulary's words are not 128-D SIFT descriptors");
+  }
+
+  topics::Corpus corpus(vocabulary->size());
+  for (const auto& f : docs) corpus.add_tokens(features::bag_of_words(*vocabulary, f.descriptors));
+  docs.clear();
+  result.documents = static_cast<int>(corpus.num_documents());
+  result.tokens = corpus.num_tokens();
+
+  // Views: per class, a random mapping_fraction names the topics, the rest is the test.
+  std::vector<std::size_t> all(views.images.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  std::vector<std::size_t> mapping_idx, test_idx;
+  {
+    core::Rng rng(options.seed + 7);
+    std::vector<std::vector<std::size_t>> per_class(views.classes.size());
+    for (std::size_t i : all) per_class[static_cast<std::size_t>(views.labels[i])].push_back(i);
+    for (std::size_t c = 0; c < per_class.size(); ++c) {
+      auto members = per_class[c];
+      if (members.size() < 2) {
+        std::string m = "class '";
+        m += views.classes[c];
+        m += "' needs at least 2 views (to name topics and to test)";
+        throw Error(m);
+      }
+      std::shuffle(members.begin(), members.end(), rng.engine());
+      auto n = static_cast<std::size_t>(std::lround(options.mapping_fraction *
+                                                    static_cast<double>(members.size())));
+      n = std::clamp<std::size_t>(n, 1, members.size() - 1);
+      mapping_idx.insert(mapping_idx.end(), members.begin(), members.begin() + static_cast<long>(n));
+      test_idx.insert(test_idx.end(), members.begin() + static_cast<long>(n), members.end());
+    }
+    std::sort(mapping_idx.begin(), mapping_idx.end());
+    std::sort(test_idx.begin(), test_idx.end());
+  }
+  const LabelledCorpus mapping_docs =
+      image_corpus(views, mapping_idx, *vocabulary, options.view_features);
+  const LabelledCorpus test_docs = image_corpus(views, test_idx, *vocabulary, options.view_features);
+  result.mapping_views = static_cast<int>(mapping_idx.size());
+  result.test_views = static_cast<int>(test_idx.size());
+
+  for (int k : options.topics) {
+    topics::OnlineLdaOptions on = options.online;
+    on.num_topics = k == 0 ? static_cast<int>(views.classes.size()) : k;
+    on.seed = options.seed;
+    auto trained = topics::train_online_lda(corpus, on);
+    ScatterRunResult r;
+    r.topics = on.num_topics;
+    r.summary = trained.summary;
+    r.evaluation = evaluate_model(trained.model, mapping_docs, test_docs);
+    result.runs.push_back(std::move(r));
+  }
+  result.seconds = seconds_since(t0);
+  return result;
+}
+
+}  // namespace proprio::recognition
