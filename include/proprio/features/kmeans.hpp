@@ -18,11 +18,15 @@ struct KmeansOptions {
   double tolerance = 1e-3;
   std::uint64_t seed = 1;  ///< k-means++ seeding and the re-seeding of empty clusters
   int threads = 0;         ///< 0 = all cores
-  /// Candidates per k-means++ step (greedy k-means++, as scikit-learn: 2 + ln K when 0; 1 is
-  /// the plain algorithm).
+  /// Candidates per k-means++ step (greedy k-means++, as scikit-learn does; 0 = 2 + ln K, as
+  /// scikit-learn's default; 1 is the plain algorithm of Arthur & Vassilvitskii).
   int seeding_trials = 0;
+  /// k-means++ seeds from a uniform random sample of at most this many descriptors (0 = 32 *
+  /// words); Lloyd's iterations then use all of them. Seeding over every descriptor would cost
+  /// `words` passes over the data, more than all of Lloyd's iterations (see kmeans.cpp).
+  int seeding_sample = 0;
   /// Throws Error on words < 1, max_iterations < 1, tolerance not in [0, 1), threads < 0,
-  /// seeding_trials < 0.
+  /// seeding_trials < 0, seeding_sample < 0.
   void validate() const;
 };
 

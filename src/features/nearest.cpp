@@ -1,0 +1,107 @@
+// One copy of nearest.inc per instruction set. The AVX copies live inside `#pragma GCC target`
+// regions and call nothing outside them, so no AVX code can leak into the generic path.
+//
+// Why a hand-written kernel: the work of k-means and quantisation is N x K dot products of
+// 128-D vectors. Eigen (built here for the x86-64 baseline, SSE2, because the library must run
+// on any x86-64) reaches a fraction of what AVX2/AVX-512 FMA gives, and compiling Eigen twice
+// for two targets would break the one-definition rule. The only BLAS installed is the netlib
+// reference. A 6 x 2-vector register block with the arg-min fused in is all that is needed.
+
+#include "nearest.hpp"
+
+#include <cassert>
+
+namespace proprio::features::detail {
+
+namespace generic {
+#define PROPRIO_LANES 4
+#include "nearest.inc"
+#undef PROPRIO_LANES
+}  // namespace generic
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define PROPRIO_FEATURES_X86 1
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+namespace avx2 {
+#define PROPRIO_LANES 8
+#include "nearest.inc"
+#undef PROPRIO_LANES
+}  // namespace avx2
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512vl,avx512dq,avx2,fma")
+namespace avx512 {
+#define PROPRIO_LANES 16
+#include "nearest.inc"
+#undef PROPRIO_LANES
+}  // namespace avx512
+#pragma GCC pop_options
+#endif
+
+namespace {
+
+constexpr float kHuge = 1e30F;
+
+using Kernel = void (*)(const float*, long, int, const float*, const float*, int, float, int*,
+                        float*, float*);
+
+struct Choice {
+  const char* name;
+  int lanes;
+  Kernel kernel;
+};
+
+const Choice& choice() {
+  static const Choice chosen = []() -> Choice {
+#ifdef PROPRIO_FEATURES_X86
+    const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    if (avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512dq")) {
+      return {"avx512", 16, avx512::nearest};
+    }
+    if (avx2) return {"avx2", 8, avx2::nearest};
+#endif
+    return {"generic", 4, generic::nearest};
+  }();
+  return chosen;
+}
+
+}  // namespace
+
+PackedCentres pack_centres(const float* centres, int count, int dimension) {
+  assert(count > 0 && dimension > 0);
+  PackedCentres p;
+  p.count = count;
+  p.dimension = dimension;
+  p.panel = 2 * choice().lanes;
+  const int panels = (count + p.panel - 1) / p.panel;
+  p.data.assign(static_cast<std::size_t>(panels) * dimension * p.panel, 0.0F);
+  p.half_norms.assign(static_cast<std::size_t>(panels) * p.panel, kHuge);
+  for (int k = 0; k < count; ++k) {
+    const float* c = centres + static_cast<std::size_t>(k) * dimension;
+    float* panel = p.data.data() + static_cast<std::size_t>(k / p.panel) * dimension * p.panel;
+    double norm = 0;
+    for (int d = 0; d < dimension; ++d) {
+      panel[static_cast<std::size_t>(d) * p.panel + k % p.panel] = c[d];
+      norm += static_cast<double>(c[d]) * c[d];
+    }
+    p.half_norms[static_cast<std::size_t>(k)] = static_cast<float>(norm / 2);
+  }
+  return p;
+}
+
+void nearest_centres(const float* points, std::size_t n, const PackedCentres& centres, int* best,
+                     float* best_sq, float* second_sq) {
+  if (n == 0) return;
+  const Choice& c = choice();
+  assert(centres.panel == 2 * c.lanes);
+  const int panels = static_cast<int>(centres.half_norms.size()) / centres.panel;
+  c.kernel(points, static_cast<long>(n), centres.dimension, centres.data.data(),
+           centres.half_norms.data(), panels, kHuge, best, best_sq, second_sq);
+}
+
+std::string nearest_kernel_name() { return choice().name; }
+
+}  // namespace proprio::features::detail
