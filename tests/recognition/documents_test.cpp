@@ -1,0 +1,135 @@
+#include "proprio/recognition/documents.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/recognition/image_corpus.hpp"
+
+namespace proprio::recognition {
+namespace {
+namespace fs = std::filesystem;
+
+// A flat grey image with two squares of random texture far apart.
+cv::Mat two_patches() {
+  cv::Mat img(240, 400, CV_8UC3, cv::Scalar(128, 128, 128));
+  cv::Mat noise(70, 70, CV_8UC3);
+  cv::RNG rng(5);
+  for (const cv::Point at : {cv::Point(30, 80), cv::Point(290, 60)}) {
+    rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
+    cv::GaussianBlur(noise, noise, cv::Size(3, 3), 0.8);
+    noise.copyTo(img(cv::Rect(at, noise.size())));
+  }
+  return img;
+}
+
+TEST(Documents, TwoTexturedPatchesGiveTwoBlobDocuments) {
+  const cv::Mat img = two_patches();
+  ExtractOptions o;
+  o.kind = FeatureKind::kSift;
+  const features::Features f = extract_features(img, o);
+  ASSERT_GT(f.size(), 20);
+  features::KmeansOptions k;
+  k.words = 8;
+  const auto v = features::build_vocabulary(f.descriptors, k).vocabulary;
+  const auto docs = blob_documents(f, img.size(), v);
+  ASSERT_EQ(docs.size(), 2U);
+  int total = 0;
+  for (const auto& d : docs) {
+    EXPECT_EQ(d.tokens.size(), d.blob.features.size());
+    EXPECT_GE(d.tokens.size(), 5U);
+    total += static_cast<int>(d.tokens.size());
+    // Each blob lies over one patch.
+    const cv::Point c = (d.blob.box.tl() + d.blob.box.br()) / 2;
+    EXPECT_TRUE(cv::Rect(10, 60, 110, 110).contains(c) || cv::Rect(270, 40, 110, 110).contains(c))
+        << c;
+    for (int t : d.tokens) EXPECT_TRUE(t >= 0 && t < 8);
+  }
+  EXPECT_LE(total, f.size());
+  EXPECT_NE(docs[0].blob.box.x < 200, docs[1].blob.box.x < 200);
+}
+
+TEST(Documents, MaskKeepsOnlyFeaturesInside) {
+  const cv::Mat img = two_patches();
+  cv::Mat mask = cv::Mat::zeros(img.size(), CV_8UC1);
+  mask(cv::Rect(0, 0, 200, 240)).setTo(255);
+  for (FeatureKind kind : {FeatureKind::kDense, FeatureKind::kSift}) {
+    ExtractOptions o;
+    o.kind = kind;
+    const features::Features all = extract_features(img, o);
+    const features::Features left = extract_features(img, o, mask);
+    ASSERT_GT(left.size(), 0);
+    EXPECT_LT(left.size(), all.size());
+    EXPECT_EQ(left.descriptors.rows, left.size());
+    for (const auto& kp : left.keypoints) EXPECT_LT(kp.pt.x, 200.5F);
+  }
+  // Dense SIFT at the kept grid points equals dense SIFT of the whole image there.
+  ExtractOptions d;
+  const features::Features all = extract_features(img, d);
+  const features::Features left = extract_features(img, d, mask);
+  int matched = 0;
+  for (int i = 0; i < all.size(); ++i) {
+    if (all.keypoints[static_cast<std::size_t>(i)].pt != left.keypoints[0].pt) continue;
+    EXPECT_LT(cv::norm(all.descriptors.row(i), left.descriptors.row(0)), 1e-3);
+    ++matched;
+  }
+  EXPECT_EQ(matched, 1);
+  EXPECT_THROW((void)extract_features(img, d, cv::Mat::zeros(10, 10, CV_8UC1)), Error);
+}
+
+TEST(Documents, ImagesWithoutFeaturesGiveEmptyDocuments) {
+  const cv::Mat flat(100, 100, CV_8UC3, cv::Scalar(50, 50, 50));
+  ExtractOptions o;
+  o.kind = FeatureKind::kSift;
+  const features::Features f = extract_features(flat, o);
+  EXPECT_TRUE(f.empty());
+  cv::Mat words(4, 128, CV_32F, cv::Scalar(0));
+  const features::Vocabulary v(words);
+  EXPECT_TRUE(blob_documents(f, flat.size(), v).empty());
+}
+
+TEST(Documents, UnreadableImageNamesTheFile) {
+  const fs::path dir = fs::temp_directory_path() / "proprio_recognition_docs";
+  fs::create_directories(dir);
+  const fs::path bad = dir / "broken.png";
+  std::ofstream(bad) << "not a png";
+  try {
+    (void)read_image(bad);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("broken.png"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("cannot decode"), std::string::npos);
+  }
+  EXPECT_THROW((void)read_image(dir / "missing.png"), Error);
+  fs::remove_all(dir);
+}
+
+TEST(Documents, ParsersRejectUnknownNames) {
+  EXPECT_EQ(parse_feature_kind("sift"), FeatureKind::kSift);
+  EXPECT_EQ(parse_frame_region("objects"), FrameRegion::kObjects);
+  EXPECT_THROW((void)parse_feature_kind("surf"), Error);
+  EXPECT_THROW((void)parse_frame_region("everything"), Error);
+}
+
+TEST(ImageCorpus, SplitPerClassHoldsOutTheAskedNumber) {
+  features::ImageSet set;
+  set.classes = {"a", "b"};
+  for (int i = 0; i < 10; ++i) {
+    set.images.emplace_back("x" + std::to_string(i));
+    set.labels.push_back(i < 6 ? 0 : 1);
+  }
+  const SetSplit s = split_per_class(set, 2, 1);
+  EXPECT_EQ(s.test.size(), 4U);
+  EXPECT_EQ(s.train.size(), 6U);
+  EXPECT_EQ(images_of(set, s.test, {"b"}).size(), 2U);
+  EXPECT_THROW((void)split_per_class(set, 4, 1), Error);  // class b has only 4 images
+  EXPECT_THROW((void)images_of(set, s.test, {"c"}), Error);
+}
+
+}  // namespace
+}  // namespace proprio::recognition
