@@ -53,16 +53,29 @@ struct MlOptions {
   /// Homography RANSAC (Algorithm 2): reprojection threshold, pixels; minimum flow samples.
   double ransac_threshold = 1.0;
   int homography_min_points = 12;
-  /// Frames whose arm displacement is below this, pixels, carry no evidence and are skipped:
-  /// when the arm is still, every still region would match it.
-  double min_arm_motion = 0.5;
-  /// Regions that neither move (robust mean flow below this, pixels) ... are given no evidence
-  /// as well: a still region matching a still arm is no evidence of being pushed.
-  double min_region_motion = 0.3;
+  /// Evidence intervals: the arm moves only a few pixels a frame, less than sqrt(lambda), so one
+  /// frame pair barely tells a still region from one moving with the arm. Motion is therefore
+  /// accumulated per track from the interval's first frame until the arm has moved
+  /// evidence_step pixels in the image, and only then compared with the arm's displacement (one
+  /// term of eq 4.21). Frames where the arm is still thus carry no evidence at all: a still region
+  /// matching a still arm says nothing.
+  double evidence_step = 12.0;
+  /// Arm removal (eq 4.18) counts only tracks that moved at least this far, pixels, in a
+  /// pre-touch interval: the arm is what moves like the arm before the touch; a still region
+  /// is not made more probable by the arm moving elsewhere.
+  double min_region_motion = 3.0;
+  /// Processing scale: over-segmentation, flow and tracking run on images resized by this factor
+  /// (speed); the map is returned at full size.
+  double scale = 1.0;
+  /// SEEDS iterations / SLIC iterations per frame.
+  int region_iterations = 2;
   /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
   cv::Mat1f prior;
   /// Keep the map painted with every frame's regions (MlResult::frame_maps).
   bool keep_frame_maps = false;
+  /// MlSegmenter keeps every frame's track labels (for map_for_frame; 4 bytes a processed pixel
+  /// a frame). When false it keeps only the first-touch frame's.
+  bool keep_frame_labels = true;
   /// Throws Error naming the bad field.
   void validate() const;
 };
@@ -72,7 +85,7 @@ struct MlSummary {
   int frames = 0;             ///< frames read
   int scored_frame = -1;      ///< frame the map was painted on (first touch); -1 never touched
   bool touched = false;       ///< the arm touched something
-  int evidence_frames = 0;    ///< frame pairs that contributed (arm moving)
+  int evidence_intervals = 0; ///< evidence intervals closed (arm moved evidence_step)
   int tracks = 0;             ///< region tracks created over the episode
   std::string message;        ///< one line: what happened
   double mean_ms_regions = 0.0;  ///< over-segmentation + tracking, per frame
@@ -111,7 +124,8 @@ struct SparseOptions {
   double density_sigma = 12.0;
   double mask_fraction = 0.75;
   double kappa = 1.0;
-  double min_arm_motion = 0.5;
+  /// Arm image displacement, pixels, between the two frames of each matched pair.
+  double evidence_step = 12.0;
   /// Lowe ratio test for SIFT matches.
   double ratio = 0.75;
   int max_features = 1500;

@@ -1,0 +1,53 @@
+#pragma once
+// Low-level over-segmentation tracked through a video (step 1 of thesis 4.1).
+//
+// The thesis segments the whole video at once by mean shift in (r, g, b, x, y, frame); its
+// regions keep one identity over time, but its cost grows with the video. Per-frame superpixels
+// (SEEDS, SLIC) are fast but carry no identity between frames, so identities are carried here by
+// the flow: the previous frame's track labels are warped into the current frame (backward flow,
+// nearest neighbour) and every new superpixel takes the track that covers most of it; a
+// superpixel covered less than half by any one track (newly uncovered background, image borders)
+// starts a new track. Several superpixels may join one track; a track that no superpixel
+// claims ends. Cost per frame is constant, as 4.7 asks.
+
+#include <memory>
+#include <opencv2/core.hpp>
+
+#include "proprio/segmentation/ml_segmentation.hpp"
+
+namespace proprio::segmentation {
+
+/// Per-frame over-segmentation: labels (CV_32S, 0..count-1) of an 8-bit BGR image.
+class OverSegmenter {
+ public:
+  OverSegmenter(OverSegmentation method, int region_count, int iterations, cv::Size size);
+  ~OverSegmenter();
+  OverSegmenter(OverSegmenter&&) noexcept;
+  OverSegmenter& operator=(OverSegmenter&&) noexcept;
+  /// Labels of `bgr` (of the constructor's size); `count` receives the number of labels.
+  [[nodiscard]] cv::Mat1i segment(const cv::Mat& bgr, int& count);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Track identities across frames (see above).
+class RegionTracker {
+ public:
+  /// `min_overlap`: the fraction of a superpixel one warped track must cover to claim it.
+  explicit RegionTracker(double min_overlap = 0.5) : min_overlap_(min_overlap) {}
+  /// Track labels (CV_32S, >= 0) of a frame given its superpixels (`count` labels) and the flow
+  /// from this frame to the previous one (`back_flow`, CV_32FC2; empty for the first frame).
+  [[nodiscard]] cv::Mat1i update(const cv::Mat1i& superpixels, int count,
+                                 const cv::Mat2f& back_flow);
+  /// Tracks created so far (ids are 0..track_count()-1).
+  [[nodiscard]] int track_count() const { return next_id_; }
+
+ private:
+  double min_overlap_;
+  cv::Mat1i previous_;
+  int next_id_ = 0;
+};
+
+}  // namespace proprio::segmentation

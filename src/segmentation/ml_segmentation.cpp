@@ -1,0 +1,406 @@
+#include "proprio/segmentation/ml_segmentation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/text.hpp"
+#include "proprio/segmentation/motion_models.hpp"
+#include "proprio/segmentation/optical_flow.hpp"
+#include "proprio/segmentation/region_tracker.hpp"
+
+namespace proprio::segmentation {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void require_positive(double v, const char* name) {
+  require(std::isfinite(v) && v > 0, core::cat({"MlOptions.", name, " must be > 0, got ",
+                                                core::num(v)}));
+}
+
+// Flow samples per track: every kSampleStride-th pixel each way.
+constexpr int kSampleStride = 2;
+
+// Per-track state: integrated evidence (eq 4.21, kept as sums) and the motion accumulated in
+// the open evidence interval.
+struct Track {
+  double post_sum = 0.0;  // sum of p over post-touch intervals
+  int post_n = 0;
+  double pre_sum = 0.0;  // sum of (1 - p) / kappa over pre-touch intervals where it moved
+  int pre_n = 0;
+  int interval = -1;  // interval its accumulator belongs to
+  Eigen::Vector2d shift = Eigen::Vector2d::Zero();    // translation since the interval's start
+  Eigen::Matrix3d h = Eigen::Matrix3d::Identity();  // homography since the interval's start
+
+  [[nodiscard]] double score() const {
+    const double post = post_n > 0 ? post_sum / post_n : 0.0;
+    const double pre = pre_n > 0 ? pre_sum / pre_n : 1.0;
+    return std::clamp(post * pre, 0.0, 1.0);
+  }
+};
+
+}  // namespace
+
+void MlOptions::validate() const {
+  require(region_count >= 4 && region_count <= 100000,
+          core::cat({"MlOptions.region_count must be in [4, 100000], got ",
+                     std::to_string(region_count)}));
+  require_positive(lambda, "lambda");
+  require(std::isfinite(mask_fraction) && mask_fraction > 0 && mask_fraction <= 1,
+          core::cat({"MlOptions.mask_fraction must be in (0, 1], got ", core::num(mask_fraction)}));
+  require(std::isfinite(kappa) && kappa >= 1,
+          core::cat({"MlOptions.kappa must be >= 1 (p stays in [0, 1]), got ", core::num(kappa)}));
+  require_positive(robust_bandwidth, "robust_bandwidth");
+  require_positive(robust_tolerance, "robust_tolerance");
+  require(robust_max_iterations >= 1, "MlOptions.robust_max_iterations must be >= 1");
+  require_positive(ransac_threshold, "ransac_threshold");
+  require(homography_min_points >= 4, "MlOptions.homography_min_points must be >= 4");
+  require_positive(evidence_step, "evidence_step");
+  require(std::isfinite(min_region_motion) && min_region_motion >= 0,
+          "MlOptions.min_region_motion must be >= 0");
+  require(std::isfinite(scale) && scale >= 0.1 && scale <= 1.0,
+          core::cat({"MlOptions.scale must be in [0.1, 1], got ", core::num(scale)}));
+  require(region_iterations >= 1 && region_iterations <= 100,
+          "MlOptions.region_iterations must be in [1, 100]");
+  if (!prior.empty()) {
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(prior, &lo, &hi);
+    require(cv::checkRange(prior) && lo >= 0 && hi <= 1,
+            "MlOptions.prior must hold values in [0, 1] (no NaN)");
+  }
+}
+
+cv::Mat1b threshold_map(const cv::Mat1f& map, double fraction) {
+  cv::Mat1b mask(map.size(), uchar{0});
+  if (map.empty()) return mask;
+  double hi = 0;
+  cv::minMaxLoc(map, nullptr, &hi);
+  if (!(hi > 0)) return mask;
+  return map >= static_cast<float>(fraction * hi);
+}
+
+struct MlSegmenter::Impl {
+  MlOptions opt;
+  cv::Size size;       // full image size
+  cv::Size proc_size;  // processing size
+  double inv_scale = 1.0;
+  OverSegmenter segmenter;
+  RegionTracker tracker;
+  DenseFlow flow;
+
+  int frames = 0;
+  std::optional<int> first_touch;
+  cv::Mat1b prev_gray;
+  std::vector<cv::Mat1i> labels;  // per frame (or only the first touch's)
+  cv::Mat1i touch_labels;
+  std::vector<Track> tracks;
+
+  // Open evidence interval.
+  int interval = 0;
+  int interval_start = -1;
+  std::optional<Eigen::Vector2d> interval_ee;
+
+  int intervals_closed = 0;
+  double sum_regions = 0, sum_flow = 0, sum_model = 0, sum_total = 0;
+
+  Impl(const MlOptions& o, cv::Size s)
+      : opt(o),
+        size(s),
+        proc_size(std::max(8, static_cast<int>(std::lround(s.width * o.scale))),
+                  std::max(8, static_cast<int>(std::lround(s.height * o.scale)))),
+        segmenter(o.regions, o.region_count, o.region_iterations, proc_size),
+        flow(o.flow) {
+    inv_scale = static_cast<double>(size.width) / proc_size.width;
+  }
+
+  void start_interval(const cv::Mat1i& current, const std::optional<Eigen::Vector2d>& ee) {
+    ++interval;
+    interval_start = frames;
+    interval_ee = ee;
+    for (int y = 0; y < current.rows; y += kSampleStride) {
+      const int* t = current[y];
+      for (int x = 0; x < current.cols; x += kSampleStride) {
+        Track& tr = tracks[t[x]];
+        if (tr.interval != interval) {
+          tr.interval = interval;
+          tr.shift.setZero();
+          tr.h.setIdentity();
+        }
+      }
+    }
+  }
+
+  // Adds this frame pair's motion to the accumulators of the tracks present since the interval
+  // started; returns the ids of those tracks.
+  std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow) {
+    std::vector<int> local(tracks.size(), -1);
+    std::vector<int> ids;
+    std::vector<std::vector<Eigen::Vector2f>> motion;  // prev -> current, full-size pixels
+    std::vector<std::vector<Eigen::Vector2f>> at;      // positions in the current frame
+    const bool homography = opt.model == MotionModel::kHomography;
+    const auto s = static_cast<float>(inv_scale);
+    for (int y = 0; y < current.rows; y += kSampleStride) {
+      const int* t = current[y];
+      const cv::Vec2f* f = back_flow[y];
+      for (int x = 0; x < current.cols; x += kSampleStride) {
+        const int id = t[x];
+        if (tracks[id].interval != interval) continue;
+        int& l = local[id];
+        if (l < 0) {
+          l = static_cast<int>(ids.size());
+          ids.push_back(id);
+          motion.emplace_back();
+          if (homography) at.emplace_back();
+        }
+        motion[l].emplace_back(-f[x][0] * s, -f[x][1] * s);
+        if (homography) at[l].emplace_back(x * s, y * s);
+      }
+    }
+    for (size_t l = 0; l < ids.size(); ++l) {
+      Track& tr = tracks[ids[l]];
+      const RobustMeanResult m = robust_mean(motion[l], opt.robust_bandwidth,
+                                             opt.robust_tolerance, opt.robust_max_iterations);
+      tr.shift += m.mean;
+      if (homography) {
+        std::vector<Eigen::Vector2f> from(at[l].size());
+        for (size_t k = 0; k < from.size(); ++k) from[k] = at[l][k] - motion[l][k];
+        const auto h = fit_homography(from, at[l], opt.ransac_threshold, opt.homography_min_points);
+        Eigen::Matrix3d step = Eigen::Matrix3d::Identity();
+        if (h) {
+          step = *h;
+        } else {  // too few points or no consensus: the region's robust translation
+          step(0, 2) = m.mean.x();
+          step(1, 2) = m.mean.y();
+        }
+        tr.h = step * tr.h;
+      }
+    }
+    return ids;
+  }
+
+  // Closes the interval ending at this frame: one term of eq 4.21 per track present throughout.
+  void evaluate(const std::vector<int>& ids, const Eigen::Vector2d& ee_now, bool pre_touch) {
+    const Eigen::Vector2d d = ee_now - *interval_ee;  // the arm's displacement, eq 4.12
+    for (int id : ids) {
+      Track& tr = tracks[id];
+      // eq 4.12-4.13: error of the region's motion applied to the arm's position.
+      const Eigen::Vector2d e = opt.model == MotionModel::kHomography
+                                    ? Eigen::Vector2d(apply_homography(tr.h, *interval_ee) - ee_now)
+                                    : Eigen::Vector2d(tr.shift - d);
+      const double p = motion_likelihood(e, opt.lambda);
+      if (pre_touch) {
+        // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
+        // count, a still one is no evidence either way.
+        if (tr.shift.norm() >= opt.min_region_motion) {
+          tr.pre_sum += (1.0 - p) / opt.kappa;
+          ++tr.pre_n;
+        }
+      } else {
+        tr.post_sum += p;
+        ++tr.post_n;
+      }
+    }
+    ++intervals_closed;
+  }
+
+  [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab) const {
+    std::vector<float> score(tracks.size());
+    for (size_t i = 0; i < tracks.size(); ++i) score[i] = static_cast<float>(tracks[i].score());
+    cv::Mat1f m(lab.size());
+    for (int y = 0; y < lab.rows; ++y) {
+      const int* l = lab[y];
+      float* o = m[y];
+      for (int x = 0; x < lab.cols; ++x) o[x] = score[l[x]];
+    }
+    if (lab.size() != size) {
+      cv::Mat1f full;
+      cv::resize(m, full, size, 0, 0, cv::INTER_NEAREST);
+      m = full;
+    }
+    if (!opt.prior.empty()) cv::multiply(m, opt.prior, m);  // 4.6
+    return m;
+  }
+};
+
+MlSegmenter::MlSegmenter(const MlOptions& options, cv::Size image_size) {
+  options.validate();
+  require(image_size.width > 0 && image_size.height > 0,
+          "MlSegmenter: image size must be positive");
+  require(options.prior.empty() || options.prior.size() == image_size,
+          "MlOptions.prior must have the frames' size");
+  impl_ = std::make_unique<Impl>(options, image_size);
+}
+
+MlSegmenter::~MlSegmenter() = default;
+MlSegmenter::MlSegmenter(MlSegmenter&&) noexcept = default;
+MlSegmenter& MlSegmenter::operator=(MlSegmenter&&) noexcept = default;
+
+MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
+                                           std::optional<Eigen::Vector2d> ee_image,
+                                           bool touching) {
+  Impl& m = *impl_;
+  require(!bgr.empty() && bgr.depth() == CV_8U && (bgr.channels() == 3 || bgr.channels() == 1),
+          core::cat({"frame ", std::to_string(m.frames), ": expected an 8-bit BGR image"}));
+  if (bgr.size() != m.size) {
+    throw Error(core::cat({"frame ", std::to_string(m.frames), " is ",
+                           std::to_string(bgr.cols), "x", std::to_string(bgr.rows),
+                           ", the episode's frames are ", std::to_string(m.size.width), "x",
+                           std::to_string(m.size.height)}));
+  }
+  if (ee_image && !ee_image->allFinite()) ee_image.reset();
+  const auto t0 = Clock::now();
+  FrameOutput out;
+  out.frame = m.frames;
+
+  // Flow from this frame to the previous one (backward: it carries the labels, exactly).
+  cv::Mat colour;
+  if (bgr.channels() == 1) {
+    cv::cvtColor(bgr, colour, cv::COLOR_GRAY2BGR);
+  } else {
+    colour = bgr;
+  }
+  if (m.proc_size != m.size) cv::resize(colour, colour, m.proc_size, 0, 0, cv::INTER_AREA);
+  cv::Mat1b gray;
+  cv::cvtColor(colour, gray, cv::COLOR_BGR2GRAY);
+  cv::Mat2f back_flow;
+  if (!m.prev_gray.empty()) back_flow = m.flow.compute(gray, m.prev_gray);
+  const auto t1 = Clock::now();
+  out.ms_flow = std::chrono::duration<double, std::milli>(t1 - t0).count();
+
+  int count = 0;
+  const cv::Mat1i sp = m.segmenter.segment(colour, count);
+  const cv::Mat1i lab = m.tracker.update(sp, count, back_flow);
+  if (static_cast<int>(m.tracks.size()) < m.tracker.track_count())
+    m.tracks.resize(m.tracker.track_count());
+  const auto t2 = Clock::now();
+  out.ms_regions = std::chrono::duration<double, std::milli>(t2 - t1).count();
+
+  const bool first_touch_now = touching && !m.first_touch;
+  if (first_touch_now) m.first_touch = m.frames;
+  if (m.frames == 0 || !m.interval_ee) {
+    m.start_interval(lab, ee_image);
+  } else {
+    const std::vector<int> ids = m.accumulate(lab, back_flow);
+    if (!ee_image) {
+      m.start_interval(lab, ee_image);  // arm unknown: this interval carries no evidence
+    } else {
+      const double moved = (*ee_image - *m.interval_ee).norm();
+      // The first touch closes the pre-touch interval (eq 4.18's T' ends there).
+      const bool pre_touch = !m.first_touch || first_touch_now;
+      if (moved >= m.opt.evidence_step ||
+          (first_touch_now && moved >= 0.5 * m.opt.evidence_step)) {
+        m.evaluate(ids, *ee_image, pre_touch);
+        m.start_interval(lab, ee_image);
+      } else if (first_touch_now) {
+        m.start_interval(lab, ee_image);  // too short to tell: dropped
+      }
+    }
+  }
+  if (m.opt.keep_frame_labels) m.labels.push_back(lab);
+  if (first_touch_now) m.touch_labels = lab;
+  m.prev_gray = gray;
+  ++m.frames;
+  const auto t3 = Clock::now();
+  out.ms_model = std::chrono::duration<double, std::milli>(t3 - t2).count();
+  out.ms_total = std::chrono::duration<double, std::milli>(t3 - t0).count();
+  m.sum_flow += out.ms_flow;
+  m.sum_regions += out.ms_regions;
+  m.sum_model += out.ms_model;
+  m.sum_total += out.ms_total;
+  out.map = m.paint(lab);
+  return out;
+}
+
+int MlSegmenter::frames() const { return impl_->frames; }
+
+std::optional<int> MlSegmenter::first_touch_frame() const { return impl_->first_touch; }
+
+cv::Mat1f MlSegmenter::map_for_frame(int i) const {
+  const Impl& m = *impl_;
+  require(i >= 0 && i < m.frames, core::cat({"map_for_frame: frame ", std::to_string(i),
+                                             " out of range [0, ", std::to_string(m.frames),
+                                             ")"}));
+  if (m.opt.keep_frame_labels) return m.paint(m.labels[i]);
+  require(m.first_touch && *m.first_touch == i,
+          "map_for_frame: only the first-touch frame's labels were kept (keep_frame_labels)");
+  return m.paint(m.touch_labels);
+}
+
+MlSummary MlSegmenter::summary() const {
+  const Impl& m = *impl_;
+  MlSummary s;
+  s.frames = m.frames;
+  s.touched = m.first_touch.has_value();
+  s.scored_frame = m.first_touch.value_or(-1);
+  s.evidence_intervals = m.intervals_closed;
+  s.tracks = m.tracker.track_count();
+  if (m.frames > 0) {
+    s.mean_ms_regions = m.sum_regions / m.frames;
+    s.mean_ms_flow = m.sum_flow / m.frames;
+    s.mean_ms_model = m.sum_model / m.frames;
+    s.mean_ms_total = m.sum_total / m.frames;
+  }
+  return s;
+}
+
+namespace {
+
+// Checks shared by both variants; returns the arm's image track.
+std::vector<std::optional<Eigen::Vector2d>> checked_arm_track(const episode::Episode& ep) {
+  const std::string dir = ep.dir().string();
+  if (ep.frame_count() <= 0) throw Error::in_file(ep.dir(), "the episode has no frames");
+  if (static_cast<int>(ep.arm().size()) != ep.frame_count()) {
+    throw Error::in_file(ep.dir(), core::cat({"the episode has ", std::to_string(ep.arm().size()),
+                                              " arm samples for ",
+                                              std::to_string(ep.frame_count()), " frames"}));
+  }
+  auto track = ep.ee_image_track();
+  if (std::none_of(track.begin(), track.end(), [](const auto& e) { return e.has_value(); }))
+    throw Error::in_file(ep.dir(), "no frame has the end-effector's image position (arm data)");
+  return track;
+}
+
+}  // namespace
+
+MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
+  options.validate();
+  const auto track = checked_arm_track(episode);
+  MlResult r;
+  r.first_touch_frame = episode.first_touch_frame();
+  if (!r.first_touch_frame) {
+    r.summary.frames = episode.frame_count();
+    r.summary.message = "no touch: the arm never touches anything, nothing to segment";
+    return r;
+  }
+  MlOptions o = options;
+  o.keep_frame_labels = options.keep_frame_maps;
+  const cv::Size size(episode.info().width, episode.info().height);
+  MlSegmenter seg(o, size);
+  for (int i = 0; i < episode.frame_count(); ++i) {
+    const cv::Mat bgr = episode.frame(i);
+    try {
+      (void)seg.push(bgr, track[i], episode.arm()[i].touching);
+    } catch (const Error& e) {
+      throw Error::in_file(episode::image_path(episode.dir(), "frames", i), e.what());
+    }
+  }
+  r.summary = seg.summary();
+  r.scored_frame = *r.first_touch_frame;
+  r.map = seg.map_for_frame(r.scored_frame);
+  r.mask = threshold_map(r.map, options.mask_fraction);
+  if (options.keep_frame_maps) {
+    r.frame_maps.reserve(episode.frame_count());
+    for (int i = 0; i < episode.frame_count(); ++i) r.frame_maps.push_back(seg.map_for_frame(i));
+  }
+  r.summary.message = core::cat({"scored at first touch, frame ", std::to_string(r.scored_frame),
+                                 "; ", std::to_string(r.summary.evidence_intervals),
+                                 " evidence intervals over ", std::to_string(r.summary.frames),
+                                 " frames, ", std::to_string(r.summary.tracks), " region tracks"});
+  return r;
+}
+
+}  // namespace proprio::segmentation

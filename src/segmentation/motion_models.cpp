@@ -1,0 +1,71 @@
+#include "proprio/segmentation/motion_models.hpp"
+
+#include <cassert>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+
+namespace proprio::segmentation {
+
+RobustMeanResult robust_mean(const std::vector<Eigen::Vector2f>& samples, double bandwidth,
+                             double tolerance, int max_iterations) {
+  assert(!samples.empty() && bandwidth > 0);
+  RobustMeanResult r;
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const auto& s : samples) sum += s.cast<double>();
+  r.mean = sum / static_cast<double>(samples.size());
+  const double c2 = bandwidth * bandwidth;
+  for (r.iterations = 0; r.iterations < max_iterations;) {
+    Eigen::Vector2d acc = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (const auto& s : samples) {
+      const Eigen::Vector2d d = s.cast<double>() - r.mean;
+      if (d.squaredNorm() < c2) {
+        acc += d;
+        ++n;
+      }
+    }
+    ++r.iterations;
+    r.inliers = n;
+    if (n == 0) break;
+    const Eigen::Vector2d shift = acc / n;
+    r.mean += shift;
+    if (shift.norm() <= tolerance) break;
+  }
+  return r;
+}
+
+std::optional<Eigen::Matrix3d> fit_homography(const std::vector<Eigen::Vector2f>& from,
+                                              const std::vector<Eigen::Vector2f>& to,
+                                              double threshold, int min_points) {
+  assert(from.size() == to.size());
+  const int n = static_cast<int>(from.size());
+  if (n < std::max(4, min_points)) return std::nullopt;
+  std::vector<cv::Point2f> a(n), b(n);
+  for (int i = 0; i < n; ++i) {
+    a[i] = {from[i].x(), from[i].y()};
+    b[i] = {to[i].x(), to[i].y()};
+  }
+  cv::Mat inliers;
+  // Fixed iteration budget and confidence: cv::findHomography's RANSAC draws from cv::RNG
+  // seeded per call, so the result is deterministic.
+  const cv::Mat h = cv::findHomography(a, b, cv::RANSAC, threshold, inliers, 500, 0.995);
+  if (h.empty() || cv::countNonZero(inliers) * 2 < n) return std::nullopt;
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m(r, c) = h.at<double>(r, c);
+  if (!m.allFinite()) return std::nullopt;
+  return m;
+}
+
+Eigen::Vector2d apply_homography(const Eigen::Matrix3d& h, const Eigen::Vector2d& x) {
+  const Eigen::Vector3d y = h * Eigen::Vector3d(x.x(), x.y(), 1.0);
+  if (std::abs(y.z()) < 1e-12) return x;
+  return {y.x() / y.z(), y.y() / y.z()};
+}
+
+double motion_likelihood(const Eigen::Vector2d& error, double lambda) {
+  assert(lambda > 0);
+  return std::exp(-error.squaredNorm() / (2.0 * lambda));
+}
+
+}  // namespace proprio::segmentation

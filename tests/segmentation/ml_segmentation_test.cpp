@@ -1,0 +1,305 @@
+// Motion-Likelihood segmentation (thesis Ch 4): known answers on synthetic pushes, the robust
+// mean and homography models, arm removal, streaming = batch, invariants and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+
+#include "ml_test_support.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/segmentation/ml_segmentation.hpp"
+#include "proprio/segmentation/motion_models.hpp"
+#include "proprio/segmentation/region_tracker.hpp"
+
+namespace proprio::segmentation {
+namespace {
+
+using namespace testing;  // NOLINT(google-build-using-namespace)
+
+cv::Mat1b truth_at(const episode::Episode& ep, int frame) {
+  return ep.mask(frame) == *ep.info().target;
+}
+
+void expect_valid_map(const cv::Mat1f& map) {
+  ASSERT_FALSE(map.empty());
+  EXPECT_TRUE(cv::checkRange(map)) << "NaN or inf in the map";
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(map, &lo, &hi);
+  EXPECT_GE(lo, 0.0);
+  EXPECT_LE(hi, 1.0);
+}
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(RobustMean, IgnoresOutliers) {
+  // Inliers symmetric about (3, -2): their mean is exactly (3, -2); outliers far away.
+  std::vector<Eigen::Vector2f> s;
+  for (int i = -5; i <= 5; ++i)
+    for (int j = -5; j <= 5; ++j) s.emplace_back(3.0f + 0.05f * i, -2.0f + 0.05f * j);
+  for (int k = 0; k < 40; ++k) s.emplace_back(25.0f + k % 3, 30.0f - k % 5);
+  const RobustMeanResult r = robust_mean(s, 2.0, 1e-6, 100);
+  EXPECT_NEAR(r.mean.x(), 3.0, 1e-5);
+  EXPECT_NEAR(r.mean.y(), -2.0, 1e-5);
+  EXPECT_EQ(r.inliers, 121);
+  // The plain mean is dragged far off: the test would fail for it.
+  Eigen::Vector2d plain = Eigen::Vector2d::Zero();
+  for (const auto& v : s) plain += v.cast<double>();
+  plain /= static_cast<double>(s.size());
+  EXPECT_GT((plain - Eigen::Vector2d(3, -2)).norm(), 5.0);
+}
+
+TEST(RobustMean, StartsAtThePlainMeanAndStopsWhenNothingIsNear) {
+  const std::vector<Eigen::Vector2f> s = {{0, 0}, {10, 0}};
+  const RobustMeanResult r = robust_mean(s, 1.0, 1e-6, 100);  // mean (5,0): nothing within 1
+  EXPECT_NEAR(r.mean.x(), 5.0, 1e-12);
+  EXPECT_EQ(r.inliers, 0);
+}
+
+TEST(Homography, RansacRecoversAKnownHomography) {
+  Eigen::Matrix3d h;
+  h << 1.02, 0.05, 3.0, -0.04, 0.98, -2.0, 1e-4, -5e-5, 1.0;
+  std::vector<Eigen::Vector2f> from, to;
+  for (int y = 0; y < 20; ++y) {
+    for (int x = 0; x < 20; ++x) {
+      const Eigen::Vector2d p(100 + 3 * x, 80 + 3 * y);
+      Eigen::Vector2d q = apply_homography(h, p);
+      if ((x + y) % 5 == 0) q += Eigen::Vector2d(15 + x, -20 - y);  // 20% outliers
+      from.push_back(p.cast<float>());
+      to.push_back(q.cast<float>());
+    }
+  }
+  const auto fit = fit_homography(from, to, 0.5, 12);
+  ASSERT_TRUE(fit.has_value());
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(100, 80), Eigen::Vector2d(157, 137)})
+    EXPECT_LT((apply_homography(*fit, p) - apply_homography(h, p)).norm(), 1e-3);
+  EXPECT_FALSE(fit_homography({from.begin(), from.begin() + 5}, {to.begin(), to.begin() + 5}, 0.5,
+                              12)
+                   .has_value());
+}
+
+TEST(Likelihood, UnnormalisedGaussian) {
+  EXPECT_DOUBLE_EQ(motion_likelihood(Eigen::Vector2d::Zero(), 25.0), 1.0);
+  EXPECT_NEAR(motion_likelihood(Eigen::Vector2d(3, 4), 25.0), std::exp(-0.5), 1e-15);
+}
+
+TEST(RegionTracker, KeepsIdentitiesAlongTheFlow) {
+  // Two halves; the scene moves right by 4 px: the warped labels keep their ids.
+  cv::Mat1i sp(40, 40, 0);
+  sp(cv::Rect(20, 0, 20, 40)).setTo(1);
+  RegionTracker t;
+  const cv::Mat1i a = t.update(sp, 2, {});
+  cv::Mat1i sp2(40, 40, 5);  // ids of the new superpixels differ
+  sp2(cv::Rect(0, 0, 24, 40)).setTo(7);
+  const cv::Mat2f back(40, 40, cv::Vec2f(-4, 0));
+  const cv::Mat1i b = t.update(sp2, 8, back);
+  EXPECT_EQ(b(10, 10), a(10, 10));
+  EXPECT_EQ(b(10, 30), a(10, 30));
+  EXPECT_NE(b(10, 10), b(10, 30));
+}
+
+struct PushCase {
+  bool moving;
+  const char* name;
+};
+
+class SyntheticPush : public ::testing::TestWithParam<PushCase> {};
+
+TEST_P(SyntheticPush, SquareMovedWithTheArmComesOutWithHighJaccard) {
+  TempDir tmp(GetParam().name);
+  PushSpec spec;
+  spec.moving_background = GetParam().moving;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  MlOptions o;
+  o.keep_frame_maps = true;
+  const MlResult r = segment_ml(ep, o);
+  ASSERT_TRUE(r.first_touch_frame.has_value());
+  EXPECT_EQ(r.scored_frame, *ep.first_touch_frame());
+  EXPECT_EQ(r.scored_frame, spec.still + 8);
+  EXPECT_TRUE(r.summary.touched);
+  EXPECT_GT(r.summary.evidence_intervals, 3);
+  const double j = jaccard(r.mask, truth_at(ep, r.scored_frame));
+  EXPECT_GE(j, 0.8) << r.summary.message;
+  expect_valid_map(r.map);
+  ASSERT_EQ(static_cast<int>(r.frame_maps.size()), ep.frame_count());
+  for (const auto& m : r.frame_maps) expect_valid_map(m);
+  // The map of a later frame follows the square (regions are tracked).
+  const int last = ep.frame_count() - 1;
+  EXPECT_GE(jaccard(threshold_map(r.frame_maps[last], o.mask_fraction), truth_at(ep, last)), 0.7);
+  EXPECT_GT(r.summary.mean_ms_total, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backgrounds, SyntheticPush,
+                         ::testing::Values(PushCase{false, "static"}, PushCase{true, "moving"}),
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
+
+TEST(MlSegmentation, ArmIsRemovedBeforeTheTouch) {
+  TempDir tmp("arm");
+  PushSpec spec;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  const MlResult r = segment_ml(ep, MlOptions{});
+  const cv::Mat1b arm = ep.mask(r.scored_frame) == 2;
+  const cv::Mat1b object = ep.mask(r.scored_frame) == 1;
+  const double arm_mean = cv::mean(r.map, arm)[0];
+  const double object_mean = cv::mean(r.map, object)[0];
+  EXPECT_LT(arm_mean, 0.3 * object_mean) << "arm " << arm_mean << " object " << object_mean;
+  EXPECT_EQ(cv::countNonZero(r.mask & arm), 0);
+}
+
+TEST(MlSegmentation, HomographyModelSegmentsTheSquareToo) {
+  TempDir tmp("homography");
+  PushSpec spec;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  MlOptions o;
+  o.model = MotionModel::kHomography;
+  const MlResult r = segment_ml(ep, o);
+  EXPECT_GE(jaccard(r.mask, truth_at(ep, r.scored_frame)), 0.75);
+  expect_valid_map(r.map);
+}
+
+TEST(MlSegmentation, StreamingAndBatchGiveTheSameMaps) {
+  TempDir tmp("stream");
+  PushSpec spec;
+  spec.moving_background = true;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  MlOptions o;
+  o.keep_frame_maps = true;
+  const MlResult batch = segment_ml(ep, o);
+  MlSegmenter seg(o, cv::Size(spec.width, spec.height));
+  for (int i = 0; i < ep.frame_count(); ++i) {
+    const auto out = seg.push(ep.frame(i), ep.ee_image(i), ep.arm()[i].touching);
+    EXPECT_EQ(out.frame, i);
+    expect_valid_map(out.map);
+    EXPECT_GE(out.ms_total, out.ms_flow);
+  }
+  EXPECT_EQ(seg.first_touch_frame(), batch.first_touch_frame);
+  for (int i = 0; i < ep.frame_count(); ++i)
+    EXPECT_EQ(cv::norm(seg.map_for_frame(i), batch.frame_maps[i], cv::NORM_INF), 0.0) << i;
+  EXPECT_EQ(cv::norm(seg.map_for_frame(batch.scored_frame), batch.map, cv::NORM_INF), 0.0);
+}
+
+TEST(MlSegmentation, PriorMultipliesIn) {
+  TempDir tmp("prior");
+  PushSpec spec;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  const MlResult plain = segment_ml(ep, MlOptions{});
+  MlOptions o;
+  o.prior = cv::Mat1f(spec.height, spec.width, 1.0f);
+  o.prior(cv::Rect(0, 0, spec.width / 2, spec.height)).setTo(0.5f);
+  const MlResult r = segment_ml(ep, o);
+  cv::Mat1f expect;
+  cv::multiply(plain.map, o.prior, expect);
+  EXPECT_LT(cv::norm(r.map, expect, cv::NORM_INF), 1e-6);
+}
+
+TEST(MlSegmentation, SparseVariantFindsTheSquare) {
+  TempDir tmp("sparse");
+  PushSpec spec;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  const MlResult r = segment_ml_sparse(ep, SparseOptions{});
+  ASSERT_EQ(r.scored_frame, *ep.first_touch_frame());
+  expect_valid_map(r.map);
+  const cv::Mat1b truth = truth_at(ep, r.scored_frame);
+  const int hit = cv::countNonZero(r.mask & truth);
+  EXPECT_GT(hit, 0.5 * cv::countNonZero(r.mask)) << "precision";
+  EXPECT_GT(hit, 0.3 * cv::countNonZero(truth)) << "recall";
+}
+
+TEST(MlSegmentation, NeverTouchingGivesANoTouchResult) {
+  TempDir tmp("notouch");
+  PushSpec spec;
+  spec.touch = false;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  const MlResult r = segment_ml(ep, MlOptions{});
+  EXPECT_EQ(r.scored_frame, -1);
+  EXPECT_FALSE(r.first_touch_frame.has_value());
+  EXPECT_FALSE(r.summary.touched);
+  EXPECT_NE(r.summary.message.find("no touch"), std::string::npos);
+  EXPECT_TRUE(r.map.empty());
+  const MlResult s = segment_ml_sparse(ep, SparseOptions{});
+  EXPECT_EQ(s.scored_frame, -1);
+  EXPECT_NE(s.summary.message.find("no touch"), std::string::npos);
+}
+
+TEST(MlSegmentation, EpisodeWithoutArmPositionsIsAnError) {
+  TempDir tmp("noarm");
+  PushSpec spec;
+  spec.frames = 6;
+  spec.ee_known = false;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  EXPECT_NE(error_of([&] { (void)segment_ml(ep, MlOptions{}); }).find("end-effector"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { (void)segment_ml_sparse(ep, SparseOptions{}); }).find("end-effector"),
+            std::string::npos);
+}
+
+TEST(MlSegmentation, FramesOfDifferentSizesAreAnError) {
+  TempDir tmp("sizes");
+  PushSpec spec;
+  spec.frames = 6;
+  const auto dir = write_push_episode(tmp.path() / "ep", spec);
+  // A frame replaced by a smaller image after writing: the reader or segment_ml names it.
+  cv::imwrite(episode::image_path(dir, "frames", 3).string(), cv::Mat3b(100, 100, cv::Vec3b()));
+  const std::string msg = error_of([&] {
+    const auto ep = episode::read_episode(dir);
+    (void)segment_ml(ep, MlOptions{});
+  });
+  EXPECT_NE(msg.find("000003"), std::string::npos) << msg;
+  // Streaming: a frame of another size.
+  MlSegmenter seg(MlOptions{}, cv::Size(64, 48));
+  (void)seg.push(cv::Mat3b(48, 64, cv::Vec3b(1, 2, 3)), Eigen::Vector2d(1, 1), false);
+  const std::string m2 =
+      error_of([&] { (void)seg.push(cv::Mat3b(40, 64), Eigen::Vector2d(1, 1), false); });
+  EXPECT_NE(m2.find("64x40"), std::string::npos) << m2;
+  EXPECT_NE(error_of([&] { (void)seg.push(cv::Mat(), std::nullopt, false); }).find("8-bit"),
+            std::string::npos);
+}
+
+TEST(MlSegmentation, NoFramesIsAnError) {
+  MlSegmenter seg(MlOptions{}, cv::Size(64, 48));
+  EXPECT_EQ(seg.frames(), 0);
+  EXPECT_NE(error_of([&] { (void)seg.map_for_frame(0); }).find("out of range"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { MlSegmenter s(MlOptions{}, cv::Size(0, 0)); }).find("size"),
+            std::string::npos);
+}
+
+TEST(MlOptions, ValidateNamesTheBadField) {
+  MlOptions o;
+  EXPECT_NO_THROW(o.validate());
+  o.lambda = -1;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("lambda"), std::string::npos);
+  o = MlOptions{};
+  o.mask_fraction = std::nan("");
+  EXPECT_NE(error_of([&] { o.validate(); }).find("mask_fraction"), std::string::npos);
+  o = MlOptions{};
+  o.prior = cv::Mat1f(4, 4, 2.0f);
+  EXPECT_NE(error_of([&] { o.validate(); }).find("prior"), std::string::npos);
+  o = MlOptions{};
+  o.prior = cv::Mat1f(4, 4, 0.5f);
+  EXPECT_NE(error_of([&] { MlSegmenter s(o, cv::Size(8, 8)); }).find("prior"), std::string::npos);
+  SparseOptions s;
+  EXPECT_NO_THROW(s.validate());
+  s.tau = 2;
+  EXPECT_NE(error_of([&] { s.validate(); }).find("tau"), std::string::npos);
+}
+
+TEST(ThresholdMap, FractionOfTheMaximum) {
+  cv::Mat1f m = (cv::Mat1f(1, 4) << 0.0f, 0.3f, 0.6f, 0.8f);
+  const cv::Mat1b t = threshold_map(m, 0.75);
+  EXPECT_EQ(t(0, 0), 0);
+  EXPECT_EQ(t(0, 1), 0);
+  EXPECT_EQ(t(0, 2), 255);
+  EXPECT_EQ(t(0, 3), 255);
+  EXPECT_EQ(cv::countNonZero(threshold_map(cv::Mat1f(3, 3, 0.0f), 0.75)), 0);
+}
+
+}  // namespace
+}  // namespace proprio::segmentation

@@ -1,0 +1,146 @@
+#pragma once
+// Synthetic push episodes for the M-L tests: a textured square pushed by a textured "arm" block
+// over a static or moving textured background, with exact ground truth.
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "proprio/core/random.hpp"
+#include "proprio/episode/episode.hpp"
+#include "proprio/episode/episode_writer.hpp"
+
+namespace proprio::segmentation::testing {
+
+namespace fs = std::filesystem;
+
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag) {
+    path_ = fs::temp_directory_path() / ("proprio_seg_ml_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+struct PushSpec {
+  int width = 320;
+  int height = 240;
+  int frames = 24;
+  int still = 2;            ///< frames before the arm moves
+  double speed = 4.0;       ///< arm speed, pixels a frame
+  bool moving_background = false;
+  bool touch = true;        ///< false: the arm stops short of the square
+  bool ee_known = true;     ///< false: no end-effector position anywhere (behind the camera)
+  int square = 50;          ///< side, pixels
+  int arm = 24;             ///< side of the arm block, pixels
+};
+
+/// Smooth random colour texture (blurred noise), deterministic by seed.
+inline cv::Mat3b texture(cv::Size size, std::uint64_t seed, cv::Scalar tint) {
+  cv::Mat3b t(size);
+  cv::RNG rng(seed);
+  rng.fill(t, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(t, t, cv::Size(), 2.0);
+  cv::Mat3b out;
+  cv::addWeighted(t, 0.7, cv::Mat3b(size, cv::Vec3b(tint[0], tint[1], tint[2])), 0.3, 0, out);
+  return out;
+}
+
+struct PushFrame {
+  cv::Mat3b image;
+  cv::Mat1w mask;  ///< 1 = square (target), 2 = arm
+  Eigen::Vector2d ee;
+  bool touching = false;
+};
+
+/// The arm's tip moves right from x = square's left - 8 * speed after `still` frames; it
+/// touches the square at frame still + 8 and pushes it along.
+inline PushFrame push_frame(const PushSpec& s, int i) {
+  const double sq_left0 = s.width * 0.45;
+  const double y_mid = s.height * 0.5;
+  const double tip0 = sq_left0 - 8 * s.speed;
+  double tip = tip0 + s.speed * std::max(0, i - s.still);
+  if (!s.touch) tip = std::min(tip, sq_left0 - 6);
+  const double sq_left = std::max(sq_left0, tip);
+  static const cv::Mat3b bg_tex = texture({1024, 1024}, 11, {200, 120, 60});
+  static const cv::Mat3b sq_tex = texture({64, 64}, 22, {40, 200, 230});
+  static const cv::Mat3b arm_tex = texture({64, 64}, 33, {230, 60, 200});
+  PushFrame f;
+  const int dy = s.moving_background ? 2 * i : 0;
+  const int dx = s.moving_background ? i : 0;
+  f.image = bg_tex(cv::Rect(100 + dx, 100 + dy, s.width, s.height)).clone();
+  f.mask = cv::Mat1w(s.height, s.width, ushort{0});
+  const cv::Rect sq(static_cast<int>(std::lround(sq_left)),
+                    static_cast<int>(std::lround(y_mid - s.square / 2.0)), s.square, s.square);
+  sq_tex(cv::Rect(0, 0, s.square, s.square)).copyTo(f.image(sq));
+  f.mask(sq).setTo(1);
+  const cv::Rect arm(static_cast<int>(std::lround(tip)) - s.arm,
+                     static_cast<int>(std::lround(y_mid - s.arm / 2.0)), s.arm, s.arm);
+  const cv::Rect arm_in = arm & cv::Rect(0, 0, s.width, s.height);
+  arm_tex(cv::Rect(0, 0, arm_in.width, arm_in.height)).copyTo(f.image(arm_in));
+  f.mask(arm_in).setTo(2);
+  f.ee = {tip, y_mid};
+  f.touching = s.touch && tip >= sq_left0;
+  return f;
+}
+
+/// Writes the episode to `dir` and returns it.
+inline fs::path write_push_episode(const fs::path& dir, const PushSpec& s) {
+  episode::EpisodeInfo info;
+  info.fps = 25.0;
+  info.width = s.width;
+  info.height = s.height;
+  info.arm_name = "synthetic";
+  info.joint_count = 0;
+  info.has_masks = true;
+  info.target = 1;
+  info.provenance.run = core::Provenance::current({"segmentation_ml_test"}, 1);
+  geometry::Camera cam;  // 1 m above the table, looking down
+  cam.K << 300.0, 0.0, s.width / 2.0, 0.0, 300.0, s.height / 2.0, 0.0, 0.0, 1.0;
+  cam.R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  cam.t = Eigen::Vector3d(0.0, 0.0, 1.0);
+  cam.width = s.width;
+  cam.height = s.height;
+  std::vector<episode::ObjectInfo> objects = {{1, "square", episode::ObjectRole::kTarget},
+                                              {2, "arm", episode::ObjectRole::kArm}};
+  episode::EpisodeWriter w(dir, info, cam, objects);
+  for (int i = 0; i < s.frames; ++i) {
+    const PushFrame f = push_frame(s, i);
+    episode::ArmSample a;
+    a.t = i / 25.0;
+    a.q = Eigen::VectorXd(0);
+    if (s.ee_known) {
+      a.ee = Eigen::Vector3d(0.1, 0.0, 0.0);
+      a.ee_image = f.ee;
+    } else {
+      a.ee = Eigen::Vector3d(0.1, 0.0, 2.0);  // above the camera: no image position
+    }
+    a.touching = f.touching;
+    episode::FrameExtras x;
+    x.mask = f.mask;
+    w.add_frame(f.image, a, x);
+  }
+  w.finish();
+  return dir;
+}
+
+inline double jaccard(const cv::Mat& a, const cv::Mat& b) {
+  const int inter = cv::countNonZero(a & b);
+  const int uni = cv::countNonZero(a | b);
+  return uni > 0 ? static_cast<double>(inter) / uni : 1.0;
+}
+
+}  // namespace proprio::segmentation::testing
