@@ -137,7 +137,10 @@ struct DatasetArgs {
 
 // The Chapter 5 set: the five objects pushed with static and moving backgrounds (6 seeds each,
 // 60 episodes), then 10 episodes each of the rotating bottle (push-rotate), the held box and the
-// held spirit level (hold-3d) for the homography experiments.
+// held spirit level (hold-3d) for the homography experiments. Every moving episode has the
+// disturbances of the thesis's experiment (a) (SPEC 3): people walking behind (the video
+// backdrop) and moving distractors, plus, cycling over k, camera shake (k = 0, 3), a lighting
+// change (k = 1, 4) or a neighbouring object nudged (k = 2, 5).
 std::vector<std::pair<std::string, sim::RecordOptions>> thesis_ch5(const DatasetArgs& a) {
   std::vector<std::pair<std::string, sim::RecordOptions>> list;
   auto base = [&](std::uint64_t seed) {
@@ -155,6 +158,11 @@ std::vector<std::pair<std::string, sim::RecordOptions>> thesis_ch5(const Dataset
         sim::RecordOptions o = base(seed++);
         o.object = object;
         o.moving_background = moving;
+        if (moving) {
+          o.camera_shake = k % 3 == 0;
+          o.lighting_change = k % 3 == 1;
+          o.nudge_neighbour = k % 3 == 2;
+        }
         std::string name = "push_";
         name += object;
         name += moving ? "_moving_" : "_static_";

@@ -102,6 +102,36 @@ TEST(SimCli, DatasetWritesThePresetsEpisodes) {
   EXPECT_NE(bad.code, 0);
 }
 
+TEST(SimCli, DatasetMovingEpisodesCarryTheThesisDisturbances) {
+  // Episodes 6-8 of thesis-ch5 are the rabbit's first moving ones: video backdrop and
+  // distractors in each, plus camera shake, a lighting change and a nudged neighbour in turn.
+  const fs::path dir = temp_dir() / "dataset_moving";
+  const fs::path json = temp_dir() / "dataset_moving.json";
+  fs::remove_all(dir);
+  const auto r = run_cli(
+      "sim dataset --preset thesis-ch5 --episodes 9 --frames 1 --width 64 --height 48 -q --out " +
+      dir.string() + " --json " + json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const core::Json j = core::read_json(json);
+  ASSERT_EQ(j["episodes"].size(), 9U);
+  const char* kSwitch[] = {"camera_shake", "lighting_change", "nudge_neighbour"};
+  for (int k = 0; k < 9; ++k) {
+    const core::Json& e = j["episodes"][static_cast<std::size_t>(k)];
+    const core::Json sw = core::read_json(dir / e["episode"].get<std::string>() /
+                                          "episode.json")["provenance"]["switches"];
+    const bool moving = k >= 6;
+    EXPECT_EQ(
+        e["episode"].get<std::string>().find(moving ? "_moving_" : "_static_") != std::string::npos,
+        true)
+        << e;
+    EXPECT_EQ(sw["background"], moving ? "moving" : "static");
+    EXPECT_EQ(sw["distractors"].get<int>(), moving ? 2 : 0);
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_EQ(sw[kSwitch[d]].get<bool>(), moving && (k - 6) % 3 == d) << k << kSwitch[d];
+    }
+  }
+}
+
 TEST(SimCli, ViewsWritesAFolderPerObject) {
   const fs::path dir = temp_dir() / "views";
   fs::remove_all(dir);
