@@ -53,30 +53,34 @@ const ObjectInfo* Episode::object(int id) const {
   return nullptr;
 }
 
-cv::Mat Episode::frame(int i) const {
-  assert(i >= 0 && i < frame_count());
-  if (video_) {
-    cv::Mat m = to_bgr(video_->read(i));
-    check_size(m, info_, dir_ / info_.video_file);
+namespace {
+
+/// Frame i of one camera: from its video when the episode stores one, else from its PNG folder.
+cv::Mat read_frame(const std::shared_ptr<detail::VideoCursor>& video,
+                   const std::filesystem::path& video_file, const std::filesystem::path& dir,
+                   const char* subdir, const EpisodeInfo& info, int i) {
+  if (video) {
+    cv::Mat m = to_bgr(video->read(i));
+    check_size(m, info, video_file);
     return m;
   }
-  const auto file = image_path(dir_, detail::kFramesDir, i);
+  const auto file = image_path(dir, subdir, i);
   cv::Mat m = read_png(file, cv::IMREAD_COLOR);
-  check_size(m, info_, file);
+  check_size(m, info, file);
   return m;
+}
+
+}  // namespace
+
+cv::Mat Episode::frame(int i) const {
+  assert(i >= 0 && i < frame_count());
+  return read_frame(video_, dir_ / info_.video_file, dir_, detail::kFramesDir, info_, i);
 }
 
 cv::Mat Episode::frame_right(int i) const {
   assert(info_.stereo && i >= 0 && i < frame_count());
-  if (video_right_) {
-    cv::Mat m = to_bgr(video_right_->read(i));
-    check_size(m, info_, dir_ / info_.video_file_right);
-    return m;
-  }
-  const auto file = image_path(dir_, detail::kFramesRightDir, i);
-  cv::Mat m = read_png(file, cv::IMREAD_COLOR);
-  check_size(m, info_, file);
-  return m;
+  return read_frame(video_right_, dir_ / info_.video_file_right, dir_, detail::kFramesRightDir,
+                    info_, i);
 }
 
 cv::Mat Episode::mask(int i) const {
