@@ -36,21 +36,6 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kChunks = 32;
 constexpr std::size_t kBlock = 1024;  // rows per kernel call
 
-float sqdist(const float* a, const float* b, int D) {
-  float acc[8] = {};
-  int d = 0;
-  for (; d + 8 <= D; d += 8) {
-    for (int j = 0; j < 8; ++j) {
-      const float t = a[d + j] - b[d + j];
-      acc[j] += t * t;
-    }
-  }
-  float s = 0;
-  for (; d < D; ++d) s += (a[d] - b[d]) * (a[d] - b[d]);
-  for (const float v : acc) s += v;
-  return s;
-}
-
 double exact_sqdist(const float* a, const float* b, int D) {
   double s = 0;
   for (int d = 0; d < D; ++d) {
@@ -87,7 +72,8 @@ cv::Mat seed_centres(const cv::Mat& s, int K, int trials, core::Rng& rng, int th
   s.row(first).copyTo(centres.row(0));
   detail::parallel_for(kChunks, threads, [&](std::size_t c, int) {
     const auto [a, b] = chunk_of(c);
-    for (int i = a; i < b; ++i) mind[i] = sqdist(s.ptr<float>(i), centres.ptr<float>(0), D);
+    detail::squared_distances(s.ptr<float>(a), static_cast<std::size_t>(b - a), D,
+                              centres.ptr<float>(0), mind.data() + a);
   });
 
   std::vector<int> cand(static_cast<std::size_t>(trials));
@@ -114,9 +100,10 @@ cv::Mat seed_centres(const cv::Mat& s, int K, int trials, core::Rng& rng, int th
       for (int t = 0; t < trials; ++t) {
         const float* cp = s.ptr<float>(cand[static_cast<std::size_t>(t)]);
         float* out = cand_d.data() + static_cast<std::size_t>(t) * n;
+        detail::squared_distances(s.ptr<float>(a), static_cast<std::size_t>(b - a), D, cp, out + a);
         double pot = 0;
         for (int i = a; i < b; ++i) {
-          out[i] = std::min(mind[static_cast<std::size_t>(i)], sqdist(s.ptr<float>(i), cp, D));
+          out[i] = std::min(out[i], mind[static_cast<std::size_t>(i)]);
           pot += out[i];
         }
         partial[c * static_cast<std::size_t>(trials) + static_cast<std::size_t>(t)] = pot;

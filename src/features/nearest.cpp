@@ -47,10 +47,13 @@ constexpr float kHuge = 1e30F;
 using Kernel = void (*)(const float*, long, int, const float*, const float*, int, float, int*,
                         float*, float*);
 
+using Distances = void (*)(const float*, long, int, const float*, float*);
+
 struct Choice {
   const char* name;
   int lanes;
   Kernel kernel;
+  Distances distances;
 };
 
 const Choice& choice() {
@@ -59,11 +62,11 @@ const Choice& choice() {
     const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     if (avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
         __builtin_cpu_supports("avx512dq")) {
-      return {"avx512", 16, avx512::nearest};
+      return {"avx512", 16, avx512::nearest, avx512::sq_distances};
     }
-    if (avx2) return {"avx2", 8, avx2::nearest};
+    if (avx2) return {"avx2", 8, avx2::nearest, avx2::sq_distances};
 #endif
-    return {"generic", 4, generic::nearest};
+    return {"generic", 4, generic::nearest, generic::sq_distances};
   }();
   return chosen;
 }
@@ -100,6 +103,11 @@ void nearest_centres(const float* points, std::size_t n, const PackedCentres& ce
   const int panels = static_cast<int>(centres.half_norms.size()) / centres.panel;
   c.kernel(points, static_cast<long>(n), centres.dimension, centres.data.data(),
            centres.half_norms.data(), panels, kHuge, best, best_sq, second_sq);
+}
+
+void squared_distances(const float* points, std::size_t n, int dimension, const float* centre,
+                       float* out) {
+  choice().distances(points, static_cast<long>(n), dimension, centre, out);
 }
 
 std::string nearest_kernel_name() { return choice().name; }

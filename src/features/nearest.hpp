@@ -30,6 +30,10 @@ PackedCentres pack_centres(const float* centres, int count, int dimension);
 void nearest_centres(const float* points, std::size_t n, const PackedCentres& centres, int* best,
                      float* best_sq, float* second_sq);
 
+/// out[i] = squared distance of row i of `points` (n x dimension) to `centre`.
+void squared_distances(const float* points, std::size_t n, int dimension, const float* centre,
+                       float* out);
+
 /// The name of the kernel in use ("generic", "avx2", "avx512").
 std::string nearest_kernel_name();
 

@@ -79,7 +79,7 @@ std::vector<cv::KeyPoint> dense_grid(cv::Size image_size, const DenseSiftOptions
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
       grid.emplace_back(static_cast<float>(margin + i * options.step),
-                        static_cast<float>(margin + j * options.step), options.size, 0.0F);
+                        static_cast<float>(margin + j * options.step), options.size / 6.0F, 0.0F);
     }
   }
   return grid;

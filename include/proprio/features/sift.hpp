@@ -26,16 +26,19 @@ Features detect_sift(const cv::Mat& image, const SiftOptions& options = {});
 
 /// Options of dense_sift.
 struct DenseSiftOptions {
-  int step = 8;        ///< grid spacing, px
-  float size = 16.0F;  ///< keypoint diameter (SIFT's support region), px
-  int margin = -1;     ///< px kept clear of the border; -1 means size / 2 so that patches fit
+  int step = 8;  ///< grid spacing, px
+  /// Side of the square patch a descriptor describes, px: 4 x 4 cells of size / 4 px (16 px
+  /// as in Lazebnik et al. 2006 and vlfeat's dsift). OpenCV's SIFT spans 6 keypoint sizes with
+  /// its 4 x 4 cells, so the keypoints get cv::KeyPoint::size = size / 6.
+  float size = 16.0F;
+  int margin = -1;  ///< px kept clear of the border; -1 means size / 2 so that patches fit
   /// Throws Error on a non-positive step or size or a margin < -1.
   void validate() const;
 };
 
 /// The grid of dense_sift for an image of `image_size`: points at (margin + i * step,
 /// margin + j * step) inside [margin, width - 1 - margin] x [margin, height - 1 - margin],
-/// row-major (x fastest), each with the options' size and angle 0 (upright descriptors).
+/// row-major (x fastest), each with KeyPoint::size = options.size / 6 and angle 0 (upright).
 std::vector<cv::KeyPoint> dense_grid(cv::Size image_size, const DenseSiftOptions& options = {});
 
 /// SIFT descriptors on the dense_grid of `image` (no detection, no orientation: upright, as

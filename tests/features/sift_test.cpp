@@ -1,0 +1,157 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "proprio/features/features.hpp"
+#include "proprio/features/sift.hpp"
+#include "test_util.hpp"
+
+namespace proprio::features {
+namespace {
+
+using test::expect_error;
+
+const std::string kSamples = PROPRIO_OPENCV_SAMPLES;
+
+TEST(DenseSift, GridCountAndPlacement) {
+  DenseSiftOptions o;  // step 8, 16 px patches, margin 8
+  const auto grid = dense_grid({100, 80}, o);
+  // x in 8, 16, ..., 88 (11 points: 91 would leave less than 8 px); y in 8, ..., 64 (8 points).
+  ASSERT_EQ(grid.size(), 11U * 8U);
+  EXPECT_FLOAT_EQ(grid.front().pt.x, 8);
+  EXPECT_FLOAT_EQ(grid.front().pt.y, 8);
+  EXPECT_FLOAT_EQ(grid[1].pt.x, 16);
+  EXPECT_FLOAT_EQ(grid.back().pt.x, 88);
+  EXPECT_FLOAT_EQ(grid.back().pt.y, 64);
+  EXPECT_FLOAT_EQ(grid.front().size, 16.0F / 6);
+  o.margin = 0;
+  o.step = 10;
+  EXPECT_EQ(dense_grid({101, 51}, o).size(), 11U * 6U);
+  EXPECT_TRUE(dense_grid({16, 16}, DenseSiftOptions{}).empty());
+}
+
+TEST(DenseSift, OneDescriptorPerGridPoint) {
+  const cv::Mat img = cv::imread(kSamples + "/box.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(img.empty());
+  const auto f = dense_sift(img);
+  const auto grid = dense_grid(img.size());
+  ASSERT_EQ(f.size(), static_cast<int>(grid.size()));
+  EXPECT_EQ(f.descriptors.rows, f.size());
+  EXPECT_EQ(f.descriptors.cols, 128);
+  EXPECT_EQ(f.descriptors.type(), CV_32F);
+  EXPECT_TRUE(cv::checkRange(f.descriptors));
+  EXPECT_GT(cv::norm(f.descriptors), 0);
+  // Colour input gives the same as its grey version.
+  const cv::Mat colour = cv::imread(kSamples + "/box.png", cv::IMREAD_COLOR);
+  cv::Mat grey;
+  cv::cvtColor(colour, grey, cv::COLOR_BGR2GRAY);
+  EXPECT_EQ(cv::norm(dense_sift(colour).descriptors, dense_sift(grey).descriptors), 0);
+  // Too small for one patch: no features, no error.
+  const auto none = dense_sift(cv::Mat(10, 10, CV_8U, cv::Scalar(0)));
+  EXPECT_TRUE(none.empty());
+  EXPECT_EQ(none.descriptors.cols, 128);
+}
+
+TEST(Sift, GraffitiMatchesAgreeWithTheTrueHomography) {
+  const cv::Mat a = cv::imread(kSamples + "/graf1.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat b = cv::imread(kSamples + "/graf3.png", cv::IMREAD_GRAYSCALE);
+  cv::FileStorage fs(kSamples + "/H1to3p.xml", cv::FileStorage::READ);
+  cv::Mat H;
+  fs["H13"] >> H;
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  ASSERT_EQ(H.size(), cv::Size(3, 3));
+  SiftOptions o;
+  o.max_features = 2000;
+  const auto fa = detect_sift(a, o);
+  const auto fb = detect_sift(b, o);
+  ASSERT_GT(fa.size(), 500);
+  ASSERT_GT(fb.size(), 500);
+  ASSERT_LE(fa.size(), 2000 + 50);  // OpenCV keeps ties at the cut
+  // Lowe's ratio test, then the true homography: most surviving matches land within 3 px
+  // (graf3 is seen 40 degrees off graf1: SIFT keeps about two thirds; chance would be ~0).
+  cv::BFMatcher matcher(cv::NORM_L2);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(fa.descriptors, fb.descriptors, knn, 2);
+  int kept = 0;
+  int good = 0;
+  for (const auto& m : knn) {
+    if (m.size() < 2 || m[0].distance > 0.7F * m[1].distance) continue;
+    ++kept;
+    const auto& p = fa.keypoints[static_cast<std::size_t>(m[0].queryIdx)].pt;
+    const auto& q = fb.keypoints[static_cast<std::size_t>(m[0].trainIdx)].pt;
+    const cv::Mat x = H * (cv::Mat_<double>(3, 1) << p.x, p.y, 1.0);
+    const double u = x.at<double>(0) / x.at<double>(2);
+    const double v = x.at<double>(1) / x.at<double>(2);
+    if (std::hypot(u - q.x, v - q.y) < 3.0) ++good;
+  }
+  EXPECT_GT(good, 100);
+  EXPECT_GT(good, 0.55 * kept) << good << " of " << kept;
+}
+
+TEST(Sift, BadInput) {
+  expect_error([] { detect_sift(cv::Mat()); }, "empty image");
+  expect_error([] { dense_sift(cv::Mat()); }, "empty image");
+  expect_error([] { detect_sift(cv::Mat(20, 20, CV_32F, cv::Scalar(0))); }, "8-bit");
+  expect_error([] { dense_sift(cv::Mat(20, 20, CV_8UC2, cv::Scalar(0))); }, "channels");
+  SiftOptions s;
+  s.max_features = -1;
+  expect_error([&] { s.validate(); }, "max_features");
+  DenseSiftOptions d;
+  d.step = 0;
+  expect_error([&] { dense_sift(cv::Mat(40, 40, CV_8U, cv::Scalar(0)), d); }, "step");
+  d = {};
+  d.size = 0;
+  expect_error([&] { d.validate(); }, "size");
+  // A flat image has no interest points: an empty result, not an error.
+  const auto flat = detect_sift(cv::Mat(64, 64, CV_8U, cv::Scalar(128)));
+  EXPECT_TRUE(flat.empty());
+  EXPECT_EQ(flat.descriptors.cols, 128);
+}
+
+TEST(FeaturesFile, RoundTripAndCorruption) {
+  const cv::Mat img = cv::imread(kSamples + "/box.png", cv::IMREAD_GRAYSCALE);
+  const auto f = detect_sift(img);
+  ASSERT_GT(f.size(), 10);
+  const auto path = test::temp_path("box.features");
+  write_features(path, f);
+  const auto g = read_features(path);
+  ASSERT_EQ(g.size(), f.size());
+  EXPECT_EQ(cv::norm(f.descriptors, g.descriptors, cv::NORM_INF), 0);
+  for (int i = 0; i < f.size(); ++i) {
+    const auto& a = f.keypoints[static_cast<std::size_t>(i)];
+    const auto& b = g.keypoints[static_cast<std::size_t>(i)];
+    EXPECT_EQ(a.pt, b.pt);
+    EXPECT_EQ(a.size, b.size);
+    EXPECT_EQ(a.angle, b.angle);
+    EXPECT_EQ(a.octave, b.octave);
+  }
+  // Empty features round-trip too.
+  write_features(path, Features{});
+  EXPECT_TRUE(read_features(path).empty());
+
+  write_features(path, f);
+  const std::string bytes = test::slurp(path);
+  test::spill(path, bytes.substr(0, bytes.size() / 2));
+  expect_error([&] { read_features(path); }, "truncated");
+  std::string flipped = bytes;
+  flipped[bytes.size() - 5] ^= 0x40;
+  test::spill(path, flipped);
+  expect_error([&] { read_features(path); }, "checksum");
+  test::spill(path, "hello");
+  expect_error([&] { read_features(path); }, "not a features file");
+  expect_error([&] { read_features(test::temp_path("missing.features")); }, "missing.features");
+  // NaN descriptors are refused on writing.
+  Features bad = f;
+  bad.descriptors.at<float>(3, 7) = std::numeric_limits<float>::quiet_NaN();
+  expect_error([&] { write_features(path, bad); }, "non-finite");
+}
+
+}  // namespace
+}  // namespace proprio::features
