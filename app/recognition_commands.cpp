@@ -274,14 +274,19 @@ void run_classify(const ClassifyArgs& a, const Invocation& inv) {
   }
   if (!a.out.empty()) {
     std::string csv = "image,truth,topic,class";
-    for (int k = 0; k < model.num_topics(); ++k) csv += ",theta_" + std::to_string(k);
+    for (int k = 0; k < model.num_topics(); ++k) {
+      csv += ",theta_";
+      csv += std::to_string(k);
+    }
     csv += '\n';
     const Eigen::MatrixXd theta = r.theta();
     for (std::size_t d = 0; d < all.size(); ++d) {
       csv += set.images[d].string();
       csv += ',';
       csv += set.classes[static_cast<std::size_t>(test.labels[d])];
-      csv += ',' + std::to_string(topic[d]) + ',';
+      csv += ',';
+      csv += std::to_string(topic[d]);
+      csv += ',';
       csv += mapped.empty() || mapped[d] < 0 ? "" : set.classes[static_cast<std::size_t>(mapped[d])];
       for (int k = 0; k < model.num_topics(); ++k) {
         char buf[32];
@@ -453,7 +458,9 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   if (r.kmeans) doc["dictionary"] = kmeans_json(*r.kmeans, 0);
   doc["runs"] = core::Json::array();
   for (const ScatterRunResult& run : r.runs) {
-    print_evaluation("K = " + std::to_string(run.topics), run.evaluation);
+    std::string title = "K = ";
+    title += std::to_string(run.topics);
+    print_evaluation(title, run.evaluation);
     core::Json j = evaluation_to_json(run.evaluation);
     j["topics_k"] = run.topics;
     j["updates"] = run.summary.updates;

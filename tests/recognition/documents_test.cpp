@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
@@ -120,7 +121,9 @@ TEST(ImageCorpus, SplitPerClassHoldsOutTheAskedNumber) {
   features::ImageSet set;
   set.classes = {"a", "b"};
   for (int i = 0; i < 10; ++i) {
-    set.images.emplace_back("x" + std::to_string(i));
+    std::string name = "x";
+    name += std::to_string(i);
+    set.images.emplace_back(name);
     set.labels.push_back(i < 6 ? 0 : 1);
   }
   const SetSplit s = split_per_class(set, 2, 1);

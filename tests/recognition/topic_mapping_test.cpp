@@ -31,11 +31,13 @@ TEST(TopicMapping, PlantedStructureMapsEachTopicToItsClass) {
 TEST(TopicMapping, UnlabelledRowsAreIgnoredAndOrphansReported) {
   Eigen::MatrixXd theta(3, 2);
   theta << 0.9, 0.1,  //
-      0.8, 0.2,       //
-      0.0, 1.0;       // unlabelled: would pull topic 1 to class 0 if counted
+      0.6, 0.05,      //
+      0.0, 1.0;       // unlabelled: counted as class 1, it would take topic 1 there
   const TopicMapping m = map_topics(theta, std::vector<int>{0, 1, -1}, 2);
   EXPECT_EQ(m.topic_class, (std::vector<int>{0, 0}));
   EXPECT_EQ(m.orphan_classes, (std::vector<int>{1}));
+  const TopicMapping counted = map_topics(theta, std::vector<int>{0, 1, 1}, 2);
+  EXPECT_EQ(counted.topic_class, (std::vector<int>{0, 1}));
 }
 
 TEST(TopicMapping, ClassWithoutDocumentsIsAnError) {
