@@ -85,6 +85,7 @@ void FmOptions::validate() const {
           "fm: still weight must be in [0, 1000]");
   require(std::isfinite(touch_radius) && touch_radius > 0 && touch_radius <= 1e5,
           "fm: touch radius must be in (0, 1e5] pixels");
+  require(fill_radius >= 0 && fill_radius <= 200, "fm: fill radius must be 0..200 pixels");
   require(touch_min_pixels >= 1, "fm: touch min pixels must be >= 1");
   graph_cut.validate();
 }
@@ -158,7 +159,13 @@ FmResult segment_fm(const FmFrames& frames, const FmOptions& options) {
   p.image = frames.touch;
   p.cost_object = cv::Mat1f(size, static_cast<float>(options.still_weight));
   p.cost_background = cv::Mat1f(size, 0.f);
-  p.cost_object.setTo(0.f, evidence);
+  // The hull: between evidence pixels less than 2 fill_radius apart a still pixel costs nothing
+  // as object, so the cut fills the gaps that a textured object's moving edges leave.
+  cv::Mat1b hull;
+  const cv::Mat disc = cv::getStructuringElement(
+      cv::MORPH_ELLIPSE, cv::Size(2 * options.fill_radius + 1, 2 * options.fill_radius + 1));
+  cv::morphologyEx(evidence, hull, cv::MORPH_CLOSE, disc);
+  p.cost_object.setTo(0.f, hull);
   p.cost_background.setTo(static_cast<float>(options.motion_weight), evidence);
   p.seeds = cv::Mat1b(size, kSeedFree);
   p.seeds.setTo(kSeedBackground, r.arm);

@@ -12,8 +12,9 @@
 //  3. The frame before the touch models the arm: the pixels that moved between frames t-2 and
 //     t-1 (only the arm moves then), dilated; they are hard background seeds.
 //  4. The touch frame's moving pixels outside the arm model are evidence for the object; a graph
-//     cut (graph_cut.hpp, contrast-weighted) builds the object region from them: a moving pixel
-//     costs motion_weight as background, a still one still_weight as object.
+//     cut (graph_cut.hpp, contrast-weighted) builds the object region from them ("a hull around
+//     these points", 5.1.1): a moving pixel costs motion_weight as background, a still one
+//     still_weight as object unless it lies within the evidence's closing (fill_radius).
 //  5. The connected region of the cut nearest the end-effector's image position is the object.
 
 #include <Eigen/Core>
@@ -40,6 +41,9 @@ struct FmOptions {
   /// Unary costs of the cut: a moving pixel labelled background, a still one labelled object.
   double motion_weight = 1.0;
   double still_weight = 0.3;
+  /// Still pixels inside the morphological closing of the evidence by this radius, pixels, cost
+  /// nothing as object: the cut fills the hull that a textured object's moving edges outline.
+  int fill_radius = 8;
   /// Contrast-weighted smoothness etc. of the cut.
   GraphCutOptions graph_cut = {};
   /// kDifferencing: motion counts as a touch within this radius of the end-effector, pixels,
