@@ -402,4 +402,43 @@ GraphCutResult graph_cut(const GraphCutProblem& problem, const GraphCutOptions& 
   return r;
 }
 
+void MlGraphCutOptions::validate() const {
+  require(std::isfinite(mask_fraction) && mask_fraction > 0 && mask_fraction <= 1,
+          "ml-graphcut: mask fraction must be in (0, 1]");
+  require(std::isfinite(unary_weight) && unary_weight > 0 && unary_weight <= 1e4,
+          "ml-graphcut: unary weight must be in (0, 1e4]");
+  graph_cut.validate();
+}
+
+GraphCutResult ml_graph_cut(const cv::Mat& image, const cv::Mat1f& map,
+                            const MlGraphCutOptions& options) {
+  options.validate();
+  require(!map.empty() && image.size() == map.size(),
+          "ml-graphcut: the frame and the map have different sizes");
+  require(cv::checkRange(map, true, nullptr, 0.0, 1e30), "ml-graphcut: the map holds NaN or < 0");
+  double mx = 0;
+  cv::minMaxLoc(map, nullptr, &mx);
+  GraphCutResult r;
+  if (mx <= 0) {
+    r.mask = cv::Mat1b(map.size(), uchar(0));
+    r.summary.message = "the map is zero: no object";
+    return r;
+  }
+  const cv::Mat1f m = map * (1.0 / mx);
+  const float f = static_cast<float>(options.mask_fraction);
+  const float w = static_cast<float>(options.unary_weight);
+  GraphCutProblem p;
+  p.image = image;
+  p.cost_object = cv::Mat1f(map.size());
+  p.cost_background = cv::Mat1f(map.size());
+  for (int y = 0; y < m.rows; ++y) {
+    for (int x = 0; x < m.cols; ++x) {
+      const float d = m(y, x) - f;
+      p.cost_object(y, x) = d < 0 ? -w * d : 0.f;
+      p.cost_background(y, x) = d > 0 ? w * d : 0.f;
+    }
+  }
+  return graph_cut(p, options.graph_cut);
+}
+
 }  // namespace proprio::segmentation

@@ -241,3 +241,39 @@ TEST(GraphCut, BadInputIsRefused) {
 
 }  // namespace
 }  // namespace proprio::segmentation
+
+namespace proprio::segmentation {
+namespace {
+
+TEST(MlGraphCut, WithoutSmoothnessItIsTheThresholdedMap) {
+  const NoisyDisc d = noisy_disc(120, 90, 0.2, 21);
+  const cv::Mat1f map = d.probability * 0.4f;  // not normalised: the max is what counts
+  MlGraphCutOptions o;
+  o.graph_cut.smoothness = 0;
+  o.mask_fraction = 0.6;
+  double mx = 0;
+  cv::minMaxLoc(map, nullptr, &mx);
+  const cv::Mat1b expected = map > 0.6 * mx;
+  const cv::Mat1b got = ml_graph_cut(cv::Mat3b(map.size(), cv::Vec3b(0, 0, 0)), map, o).mask;
+  EXPECT_LE(cv::countNonZero(got != expected), 2);  // ties at exactly f may go either way
+}
+
+TEST(MlGraphCut, SmoothsANoisyMapTowardsTheObject) {
+  const NoisyDisc d = noisy_disc(160, 120, 0.25, 23);
+  MlGraphCutOptions o;
+  o.mask_fraction = 0.5;
+  const cv::Mat1b cut =
+      ml_graph_cut(cv::Mat1b(d.probability.size(), uchar(0)), d.probability, o).mask;
+  double mx = 0;
+  cv::minMaxLoc(d.probability, nullptr, &mx);
+  const cv::Mat1b thresholded = d.probability >= 0.5 * mx;
+  EXPECT_GT(jaccard(cut, d.truth), jaccard(thresholded, d.truth) + 0.1);
+  // A zero map is no object; mismatched sizes are an error.
+  EXPECT_EQ(cv::countNonZero(ml_graph_cut(cv::Mat1b(10, 10), cv::Mat1f(10, 10, 0.f), o).mask), 0);
+  EXPECT_THROW(ml_graph_cut(cv::Mat1b(10, 11), cv::Mat1f(10, 10, 0.f), o), Error);
+  o.mask_fraction = 0;
+  EXPECT_THROW(o.validate(), Error);
+}
+
+}  // namespace
+}  // namespace proprio::segmentation

@@ -82,6 +82,22 @@ void unary_from_probability(const cv::Mat1f& probability, cv::Mat1f& cost_object
 double cut_energy(const GraphCutProblem& problem, const GraphCutOptions& options,
                   const cv::Mat1b& mask);
 
+/// M-L followed by graph cuts (the thesis's "ML+GraphCuts", 5.1.1): the M-L map at the scored
+/// frame as unary, the frame's colour contrast as pairwise term. With m = map / max(map) and f the
+/// mask fraction, D(object) = unary_weight * max(0, f - m) and D(background) = unary_weight *
+/// max(0, m - f): with no pairwise term this is exactly M-L's mask (m >= f), so f stays the free
+/// parameter of the P-R curve and the cut only moves boundaries to image edges and fills holes.
+/// `image` is the frame (8-bit BGR or grey) of the map's size, else Error. A zero map gives an
+/// empty mask.
+struct MlGraphCutOptions {
+  double mask_fraction = 0.75;
+  double unary_weight = 8.0;
+  GraphCutOptions graph_cut = {};
+  void validate() const;  ///< throws Error naming the bad field
+};
+GraphCutResult ml_graph_cut(const cv::Mat& image, const cv::Mat1f& map,
+                            const MlGraphCutOptions& options);
+
 /// beta = 1 / (2 <|I_p - I_q|^2>) over the 4- or 8-neighbour pairs of `image` (0 when the image
 /// is constant).
 double contrast_beta(const cv::Mat& image, int connectivity);
