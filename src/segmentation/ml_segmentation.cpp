@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
@@ -33,8 +35,12 @@ struct Track {
   double pre_sum = 0.0;  // sum of (1 - p) / kappa over pre-touch intervals where it moved
   int pre_n = 0;
   int interval = -1;  // interval its accumulator belongs to
+  Eigen::Vector2d start_ee = Eigen::Vector2d::Zero();  // arm position when it joined it
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();    // translation since the interval's start
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();  // homography since the interval's start
+  Eigen::Vector2d last_motion = Eigen::Vector2d::Zero();  // robust mean of the last frame pair
+  int last_frame = -1;                                     // frame of last_motion
+  int successor = -1;  // where its evidence continues once it ended (see scores())
 
   [[nodiscard]] double score() const {
     const double post = post_n > 0 ? post_sum / post_n : 0.0;
@@ -60,10 +66,13 @@ void MlOptions::validate() const {
   require_positive(ransac_threshold, "ransac_threshold");
   require(homography_min_points >= 4, "MlOptions.homography_min_points must be >= 4");
   require_positive(evidence_step, "evidence_step");
+  require_positive(arm_removal_step, "arm_removal_step");
   require(std::isfinite(min_region_motion) && min_region_motion >= 0,
           "MlOptions.min_region_motion must be >= 0");
   require(std::isfinite(scale) && scale >= 0.1 && scale <= 1.0,
           core::cat({"MlOptions.scale must be in [0.1, 1], got ", core::num(scale)}));
+  require(std::isfinite(handover_motion) && handover_motion >= 0,
+          "MlOptions.handover_motion must be >= 0");
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
   if (!prior.empty()) {
@@ -103,6 +112,7 @@ struct MlSegmenter::Impl {
   int interval = 0;
   int interval_start = -1;
   std::optional<Eigen::Vector2d> interval_ee;
+  std::optional<Eigen::Vector2d> prev_ee;
 
   int intervals_closed = 0;
   double sum_regions = 0, sum_flow = 0, sum_model = 0, sum_total = 0;
@@ -117,25 +127,15 @@ struct MlSegmenter::Impl {
     inv_scale = static_cast<double>(size.width) / proc_size.width;
   }
 
-  void start_interval(const cv::Mat1i& current, const std::optional<Eigen::Vector2d>& ee) {
+  void start_interval(const std::optional<Eigen::Vector2d>& ee) {
     ++interval;
     interval_start = frames;
     interval_ee = ee;
-    for (int y = 0; y < current.rows; y += kSampleStride) {
-      const int* t = current[y];
-      for (int x = 0; x < current.cols; x += kSampleStride) {
-        Track& tr = tracks[t[x]];
-        if (tr.interval != interval) {
-          tr.interval = interval;
-          tr.shift.setZero();
-          tr.h.setIdentity();
-        }
-      }
-    }
   }
 
-  // Adds this frame pair's motion to the accumulators of the tracks present since the interval
-  // started; returns the ids of those tracks.
+  // Adds this frame pair's motion to the accumulators of the tracks in this frame; a track not
+  // yet in the open interval joins it now, from the previous frame's arm position (tracks that
+  // appear mid-interval still count, over their own span). Returns the ids of the tracks.
   std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow) {
     std::vector<int> local(tracks.size(), -1);
     std::vector<int> ids;
@@ -148,9 +148,15 @@ struct MlSegmenter::Impl {
       const cv::Vec2f* f = back_flow[y];
       for (int x = 0; x < current.cols; x += kSampleStride) {
         const int id = t[x];
-        if (tracks[id].interval != interval) continue;
         int& l = local[id];
         if (l < 0) {
+          Track& tr = tracks[id];
+          if (tr.interval != interval) {
+            tr.interval = interval;
+            tr.shift.setZero();
+            tr.h.setIdentity();
+            tr.start_ee = *prev_ee;
+          }
           l = static_cast<int>(ids.size());
           ids.push_back(id);
           motion.emplace_back();
@@ -165,6 +171,8 @@ struct MlSegmenter::Impl {
       const RobustMeanResult m = robust_mean(motion[l], opt.robust_bandwidth,
                                              opt.robust_tolerance, opt.robust_max_iterations);
       tr.shift += m.mean;
+      tr.last_motion = m.mean;
+      tr.last_frame = frames;
       if (homography) {
         std::vector<Eigen::Vector2f> from(at[l].size());
         for (size_t k = 0; k < from.size(); ++k) from[k] = at[l][k] - motion[l][k];
@@ -182,14 +190,17 @@ struct MlSegmenter::Impl {
     return ids;
   }
 
-  // Closes the interval ending at this frame: one term of eq 4.21 per track present throughout.
+  // Closes the interval ending at this frame: one term of eq 4.21 per track in it whose own
+  // span saw the arm move at least half the step.
   void evaluate(const std::vector<int>& ids, const Eigen::Vector2d& ee_now, bool pre_touch) {
-    const Eigen::Vector2d d = ee_now - *interval_ee;  // the arm's displacement, eq 4.12
+    const double min_span = 0.5 * (pre_touch ? opt.arm_removal_step : opt.evidence_step);
     for (int id : ids) {
       Track& tr = tracks[id];
+      const Eigen::Vector2d d = ee_now - tr.start_ee;  // the arm's displacement, eq 4.12
+      if (d.norm() < min_span) continue;
       // eq 4.12-4.13: error of the region's motion applied to the arm's position.
       const Eigen::Vector2d e = opt.model == MotionModel::kHomography
-                                    ? Eigen::Vector2d(apply_homography(tr.h, *interval_ee) - ee_now)
+                                    ? Eigen::Vector2d(apply_homography(tr.h, tr.start_ee) - ee_now)
                                     : Eigen::Vector2d(tr.shift - d);
       const double p = motion_likelihood(e, opt.lambda);
       if (pre_touch) {
@@ -205,11 +216,51 @@ struct MlSegmenter::Impl {
       }
     }
     ++intervals_closed;
+    if (std::getenv("PROPRIO_SEG_DEBUG")) {
+      int moved_n = 0;
+      for (int id : ids) moved_n += tracks[id].shift.norm() >= opt.min_region_motion;
+      std::fprintf(stderr, "interval end %d start %d pre %d tracks %zu moved %d\n", frames,
+                   interval_start, int(pre_touch), ids.size(), moved_n);
+    }
+  }
+
+  // Per-track scores. A track that ended lives on in its successor (region_tracker.hpp): its
+  // evidence is its own plus its successor's, so a region split or merged by the
+  // over-segmentation keeps receiving evidence from later frames.
+  [[nodiscard]] std::vector<float> scores() const {
+    const size_t n = tracks.size();
+    std::vector<Track> total(n);
+    std::vector<char> done(n, 0);
+    // An ended track never comes back, so successor chains have no cycles; each is resolved
+    // once, from its live end.
+    std::vector<int> chain;
+    for (size_t i = 0; i < n; ++i) {
+      if (done[i]) continue;
+      chain.clear();
+      int t = static_cast<int>(i);
+      while (t >= 0 && t < static_cast<int>(n) && !done[t]) {
+        chain.push_back(t);
+        t = tracks[t].successor;
+      }
+      Track acc;
+      if (t >= 0 && t < static_cast<int>(n) && done[t]) acc = total[t];
+      for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+        const Track& own = tracks[*it];
+        acc.post_sum += own.post_sum;
+        acc.post_n += own.post_n;
+        acc.pre_sum += own.pre_sum;
+        acc.pre_n += own.pre_n;
+        total[*it] = acc;
+        done[*it] = 1;
+      }
+    }
+    std::vector<float> score(n);
+    for (size_t i = 0; i < n; ++i) score[i] = static_cast<float>(total[i].score());
+    return score;
   }
 
   [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab) const {
-    std::vector<float> score(tracks.size());
-    for (size_t i = 0; i < tracks.size(); ++i) score[i] = static_cast<float>(tracks[i].score());
+    const std::vector<float> score = scores();
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {
       const int* l = lab[y];
@@ -274,31 +325,45 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   int count = 0;
   const cv::Mat1i sp = m.segmenter.segment(colour, count);
   const cv::Mat1i lab = m.tracker.update(sp, count, back_flow);
-  if (static_cast<int>(m.tracks.size()) < m.tracker.track_count())
-    m.tracks.resize(m.tracker.track_count());
+  // A new track inherits the arm evidence (eq 4.18) of the track it grew out of: the
+  // over-segmentation keeps re-cutting the moving arm, and a fresh piece of it is still arm.
+  for (int t = static_cast<int>(m.tracks.size()); t < m.tracker.track_count(); ++t) {
+    m.tracks.emplace_back();
+    const int parent = m.tracker.parents()[t];
+    if (parent >= 0 && parent < t) {
+      m.tracks[t].pre_sum = m.tracks[parent].pre_sum;
+      m.tracks[t].pre_n = m.tracks[parent].pre_n;
+    }
+  }
   const auto t2 = Clock::now();
   out.ms_regions = std::chrono::duration<double, std::milli>(t2 - t1).count();
 
   const bool first_touch_now = touching && !m.first_touch;
   if (first_touch_now) m.first_touch = m.frames;
-  if (m.frames == 0 || !m.interval_ee) {
-    m.start_interval(lab, ee_image);
+  if (m.frames == 0 || !ee_image || !m.prev_ee || !m.interval_ee) {
+    m.start_interval(ee_image);  // arm unknown: the open interval carries no evidence
   } else {
     const std::vector<int> ids = m.accumulate(lab, back_flow);
-    if (!ee_image) {
-      m.start_interval(lab, ee_image);  // arm unknown: this interval carries no evidence
-    } else {
-      const double moved = (*ee_image - *m.interval_ee).norm();
-      // The first touch closes the pre-touch interval (eq 4.18's T' ends there).
-      const bool pre_touch = !m.first_touch || first_touch_now;
-      if (moved >= m.opt.evidence_step ||
-          (first_touch_now && moved >= 0.5 * m.opt.evidence_step)) {
-        m.evaluate(ids, *ee_image, pre_touch);
-        m.start_interval(lab, ee_image);
-      } else if (first_touch_now) {
-        m.start_interval(lab, ee_image);  // too short to tell: dropped
-      }
+    const double moved = (*ee_image - *m.interval_ee).norm();
+    // Before the touch the arm's approach is slow: shorter intervals for arm removal. The first
+    // touch closes the pre-touch interval (eq 4.18's T' ends there).
+    const bool pre_touch = !m.first_touch || first_touch_now;
+    const double step = pre_touch ? m.opt.arm_removal_step : m.opt.evidence_step;
+    if (moved >= step || first_touch_now) {
+      m.evaluate(ids, *ee_image, pre_touch);
+      m.start_interval(ee_image);
     }
+  }
+  m.prev_ee = ee_image;
+  // A track that ended hands its evidence on only to a track moving as it did: a background
+  // region covered by the pushed object must not inherit the object's evidence.
+  for (int t : m.tracker.ended()) {
+    const int next = m.tracker.successors()[t];
+    const Track& a = m.tracks[t];
+    const Track& b = m.tracks[next];
+    if (a.last_frame == m.frames - 1 && b.last_frame == m.frames &&
+        (a.last_motion - b.last_motion).norm() <= m.opt.handover_motion)
+      m.tracks[t].successor = next;
   }
   if (m.opt.keep_frame_labels) m.labels.push_back(lab);
   if (first_touch_now) m.touch_labels = lab;

@@ -1,5 +1,6 @@
 #include "proprio/segmentation/motion_models.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
@@ -10,9 +11,17 @@ RobustMeanResult robust_mean(const std::vector<Eigen::Vector2f>& samples, double
                              double tolerance, int max_iterations) {
   assert(!samples.empty() && bandwidth > 0);
   RobustMeanResult r;
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  for (const auto& s : samples) sum += s.cast<double>();
-  r.mean = sum / static_cast<double>(samples.size());
+  // Start at the coordinate-wise median: the plain mean (Algorithm 1's start) can be dragged by
+  // far outliers to where no inlier lies within the bandwidth, and the iteration stops there.
+  std::vector<float> xs(samples.size()), ys(samples.size());
+  for (size_t i = 0; i < samples.size(); ++i) {
+    xs[i] = samples[i].x();
+    ys[i] = samples[i].y();
+  }
+  const auto mid = static_cast<std::ptrdiff_t>(samples.size() / 2);
+  std::nth_element(xs.begin(), xs.begin() + mid, xs.end());
+  std::nth_element(ys.begin(), ys.begin() + mid, ys.end());
+  r.mean = Eigen::Vector2d(xs[mid], ys[mid]);
   const double c2 = bandwidth * bandwidth;
   for (r.iterations = 0; r.iterations < max_iterations;) {
     Eigen::Vector2d acc = Eigen::Vector2d::Zero();

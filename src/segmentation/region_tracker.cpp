@@ -106,10 +106,13 @@ cv::Mat1i RegionTracker::update(const cv::Mat1i& superpixels, int count,
                                 const cv::Mat2f& back_flow) {
   cv::Mat1i tracks(superpixels.size());
   std::vector<int> lut(count, -1);
+  votes_.clear();
+  ended_.clear();
   if (!previous_.empty() && !back_flow.empty()) {
     assert(back_flow.size() == superpixels.size() && previous_.size() == superpixels.size());
     // Votes of each superpixel for the tracks its pixels came from (every 2nd pixel each way).
-    std::vector<std::vector<std::pair<int, int>>> votes(count);
+    votes_.assign(count, {});
+    auto& votes = votes_;
     std::vector<int> samples(count, 0);
     const int w = superpixels.cols, h = superpixels.rows;
     for (int y = 0; y < h; y += 2) {
@@ -142,8 +145,40 @@ cv::Mat1i RegionTracker::update(const cv::Mat1i& superpixels, int count,
       if (best >= 0 && best_n >= min_overlap_ * samples[s]) lut[s] = best;
     }
   }
-  for (int s = 0; s < count; ++s)
-    if (lut[s] < 0) lut[s] = next_id_++;
+  std::vector<int> parent_of(count, -1);
+  for (int s = 0; s < count; ++s) {
+    if (lut[s] >= 0 || votes_.empty()) continue;
+    int n_best = 0;
+    for (const auto& [t, n] : votes_[s]) {
+      if (n > n_best) {
+        n_best = n;
+        parent_of[s] = t;
+      }
+    }
+  }
+  for (int s = 0; s < count; ++s) {
+    if (lut[s] < 0) {
+      lut[s] = next_id_++;
+      parent_.push_back(parent_of[s]);
+    }
+  }
+  if (static_cast<int>(successor_.size()) < next_id_) successor_.resize(next_id_, -1);
+  if (!votes_.empty()) {
+    // A previous track that claimed no superpixel ends; it hands over to the track that got
+    // most of its pixels.
+    std::vector<char> alive(next_id_, 0);
+    for (int s = 0; s < count; ++s) alive[lut[s]] = 1;
+    std::vector<std::pair<int, int>> best(next_id_, {-1, 0});  // (superpixel, votes)
+    for (int s = 0; s < count; ++s)
+      for (const auto& [t, n] : votes_[s])
+        if (!alive[t] && n > best[t].second) best[t] = {s, n};
+    for (int t = 0; t < next_id_; ++t) {
+      if (best[t].first >= 0) {
+        successor_[t] = lut[best[t].first];
+        ended_.push_back(t);
+      }
+    }
+  }
   for (int y = 0; y < tracks.rows; ++y) {
     const int* sp = superpixels[y];
     int* t = tracks[y];

@@ -56,11 +56,17 @@ TEST(RobustMean, IgnoresOutliers) {
   EXPECT_GT((plain - Eigen::Vector2d(3, -2)).norm(), 5.0);
 }
 
-TEST(RobustMean, StartsAtThePlainMeanAndStopsWhenNothingIsNear) {
-  const std::vector<Eigen::Vector2f> s = {{0, 0}, {10, 0}};
-  const RobustMeanResult r = robust_mean(s, 1.0, 1e-6, 100);  // mean (5,0): nothing within 1
-  EXPECT_NEAR(r.mean.x(), 5.0, 1e-12);
-  EXPECT_EQ(r.inliers, 0);
+TEST(RobustMean, FindsTheMajorityModeAndStopsWhenNothingIsNear) {
+  std::vector<Eigen::Vector2f> s;
+  for (int i = 0; i < 6; ++i) s.emplace_back(1.0f + 0.1f * (i % 2), 0.0f);  // mean (1.05, 0)
+  for (int i = 0; i < 4; ++i) s.emplace_back(9.0f, 9.0f);
+  const RobustMeanResult r = robust_mean(s, 1.0, 1e-9, 100);
+  EXPECT_NEAR(r.mean.x(), 1.05, 1e-6);
+  EXPECT_NEAR(r.mean.y(), 0.0, 1e-6);
+  EXPECT_EQ(r.inliers, 6);
+  // Two samples 10 apart, bandwidth 1: it stays on the one it starts at, alone.
+  const RobustMeanResult two = robust_mean({{0, 0}, {10, 0}}, 1.0, 1e-6, 100);
+  EXPECT_EQ(two.inliers, 1);
 }
 
 TEST(Homography, RansacRecoversAKnownHomography) {

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -24,6 +25,7 @@ class TempDir {
     fs::create_directories(path_);
   }
   ~TempDir() {
+    if (std::getenv("PROPRIO_SEG_KEEP")) return;  // keep the episodes to look at
     std::error_code ec;
     fs::remove_all(path_, ec);
   }
@@ -50,12 +52,16 @@ struct PushSpec {
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
 inline cv::Mat3b texture(cv::Size size, std::uint64_t seed, cv::Scalar tint) {
-  cv::Mat3b t(size);
+  cv::Mat1f t(size);
   cv::RNG rng(seed);
-  rng.fill(t, cv::RNG::UNIFORM, 0, 255);
+  rng.fill(t, cv::RNG::UNIFORM, 0.0, 1.0);
   cv::GaussianBlur(t, t, cv::Size(), 2.0);
-  cv::Mat3b out;
-  cv::addWeighted(t, 0.7, cv::Mat3b(size, cv::Vec3b(tint[0], tint[1], tint[2])), 0.3, 0, out);
+  cv::normalize(t, t, 0.0, 1.0, cv::NORM_MINMAX);  // full contrast after the blur
+  cv::Mat3b out(size);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        out(y, x)[c] = cv::saturate_cast<uchar>(tint[c] * (0.3 + 0.9 * t(y, x)));
   return out;
 }
 

@@ -60,10 +60,18 @@ struct MlOptions {
   /// term of eq 4.21). Frames where the arm is still thus carry no evidence at all: a still region
   /// matching a still arm says nothing.
   double evidence_step = 12.0;
+  /// The same before the first touch, where it serves arm removal (eq 4.18), pixels: the arm's
+  /// approach is slow and its regions are short-lived, and a region that moves with the arm
+  /// matches it over any span; still regions are not penalised (min_region_motion).
+  double arm_removal_step = 6.0;
   /// Arm removal (eq 4.18) counts only tracks that moved at least this far, pixels, in a
   /// pre-touch interval: the arm is what moves like the arm before the touch; a still region
   /// is not made more probable by the arm moving elsewhere.
   double min_region_motion = 3.0;
+  /// A region track that the over-segmentation ends hands its evidence on to the track that
+  /// took most of its pixels only when their last motions differ by at most this, pixels (a
+  /// still region covered by the pushed object must not inherit the object's evidence).
+  double handover_motion = 0.75;
   /// Processing scale: over-segmentation, flow and tracking run on images resized by this factor
   /// (speed); the map is returned at full size.
   double scale = 1.0;

@@ -14,7 +14,8 @@ struct RobustMeanResult {
 };
 
 /// Robust mean of 2-D samples (Algorithm 1, eq 4.16-4.17): flat-kernel mean shift started at the
-/// plain mean; each step moves to the mean of the samples within `bandwidth` of the current
+/// coordinate-wise median (the thesis starts at the plain mean, which far outliers can drag away
+/// from every inlier); each step moves to the mean of the samples within `bandwidth` of the current
 /// estimate (divided by their count, not by all K), until it moves less than `tolerance` or
 /// after `max_iterations`. When no sample lies within the bandwidth it stops where it is.
 /// Requires a non-empty sample set.

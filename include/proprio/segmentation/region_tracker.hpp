@@ -12,6 +12,8 @@
 
 #include <memory>
 #include <opencv2/core.hpp>
+#include <utility>
+#include <vector>
 
 #include "proprio/segmentation/ml_segmentation.hpp"
 
@@ -43,11 +45,23 @@ class RegionTracker {
                                  const cv::Mat2f& back_flow);
   /// Tracks created so far (ids are 0..track_count()-1).
   [[nodiscard]] int track_count() const { return next_id_; }
+  /// For each track that has ended, the track that received most of its pixels when it ended
+  /// (-1 while alive, or when its pixels all left the image). Its evidence continues there.
+  [[nodiscard]] const std::vector<int>& successors() const { return successor_; }
+  /// For each track, the track that covered most of its first superpixel (-1: none, e.g. the
+  /// first frame or pixels from outside the image).
+  [[nodiscard]] const std::vector<int>& parents() const { return parent_; }
+  /// The tracks that ended in the last update and have a successor.
+  [[nodiscard]] const std::vector<int>& ended() const { return ended_; }
 
  private:
   double min_overlap_;
   cv::Mat1i previous_;
   int next_id_ = 0;
+  std::vector<int> successor_;
+  std::vector<int> ended_;
+  std::vector<int> parent_;
+  std::vector<std::vector<std::pair<int, int>>> votes_;  // per superpixel: (track, votes)
 };
 
 }  // namespace proprio::segmentation

@@ -1,0 +1,179 @@
+// Scoring M-L over a dataset of episodes (the simulator's thesis-ch5 set): mean Jaccard at the
+// first-touch frame by object and background (thesis 5.1.1). Slow (minutes): labelled `slow`.
+//
+// Environment:
+//   PROPRIO_CH5       dataset directory (default /work/datasets/ch5; skipped when absent)
+//   PROPRIO_SEG_FILTER  only episodes whose name contains this
+//   PROPRIO_SEG_OPT   option overrides "key=value,key=value" (model=homography, flow=dis-ultrafast,
+//                     regions=slic, lambda, kappa, evidence_step, region_count, scale, ...)
+//   PROPRIO_SEG_SPARSE  1: score segment_ml_sparse instead
+//   PROPRIO_SEG_DUMP  directory for PNGs (frame, map, mask vs truth) per episode
+//   PROPRIO_SEG_CSV   per-episode CSV output
+//   PROPRIO_SEG_CHECK_TARGETS  1: assert issue 4's targets (static >= 0.80, moving >= 0.75)
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "ml_test_support.hpp"
+#include "proprio/segmentation/ml_segmentation.hpp"
+
+namespace proprio::segmentation {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string env(const char* name, const std::string& fallback = "") {
+  const char* v = std::getenv(name);
+  return v ? std::string(v) : fallback;
+}
+
+void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::string& value) {
+  const double v = std::atof(value.c_str());
+  if (key == "model") {
+    o.model = value == "homography" ? MotionModel::kHomography : MotionModel::kTranslation;
+  } else if (key == "flow") {
+    static const std::map<std::string, FlowMethod> m = {
+        {"dis-ultrafast", FlowMethod::kDisUltrafast}, {"dis-fast", FlowMethod::kDisFast},
+        {"dis-medium", FlowMethod::kDisMedium},       {"farneback", FlowMethod::kFarneback},
+        {"lk", FlowMethod::kLucasKanadeGrid}};
+    o.flow = m.at(value);
+  } else if (key == "regions") {
+    o.regions = value == "slic"        ? OverSegmentation::kSlic
+                : value == "meanshift" ? OverSegmentation::kMeanShift
+                                       : OverSegmentation::kSeeds;
+  } else if (key == "lambda") {
+    o.lambda = s.lambda = v;
+  } else if (key == "kappa") {
+    o.kappa = s.kappa = v;
+  } else if (key == "evidence_step") {
+    o.evidence_step = s.evidence_step = v;
+  } else if (key == "region_count") {
+    o.region_count = static_cast<int>(v);
+  } else if (key == "region_iterations") {
+    o.region_iterations = static_cast<int>(v);
+  } else if (key == "scale") {
+    o.scale = v;
+  } else if (key == "mask_fraction") {
+    o.mask_fraction = s.mask_fraction = v;
+  } else if (key == "min_region_motion") {
+    o.min_region_motion = v;
+  } else if (key == "robust_bandwidth") {
+    o.robust_bandwidth = v;
+  } else if (key == "ransac_threshold") {
+    o.ransac_threshold = v;
+  } else if (key == "tau") {
+    s.tau = v;
+  } else if (key == "density_sigma") {
+    s.density_sigma = v;
+  } else {
+    FAIL() << "unknown option " << key;
+  }
+}
+
+struct Score {
+  double sum = 0;
+  int n = 0;
+  void add(double j) {
+    sum += j;
+    ++n;
+  }
+  [[nodiscard]] double mean() const { return n ? sum / n : 0.0; }
+};
+
+TEST(MlDataset, JaccardAtFirstTouch) {
+  const fs::path root = env("PROPRIO_CH5", "/work/datasets/ch5");
+  if (!fs::is_directory(root)) GTEST_SKIP() << root << " absent";
+  MlOptions o;
+  SparseOptions so;
+  std::stringstream opts(env("PROPRIO_SEG_OPT"));
+  for (std::string kv; std::getline(opts, kv, ',');) {
+    const auto eq = kv.find('=');
+    ASSERT_NE(eq, std::string::npos) << kv;
+    apply(o, so, kv.substr(0, eq), kv.substr(eq + 1));
+  }
+  const bool sparse = env("PROPRIO_SEG_SPARSE") == "1";
+  const std::string filter = env("PROPRIO_SEG_FILTER");
+  const std::string dump = env("PROPRIO_SEG_DUMP");
+  std::vector<fs::path> dirs;
+  for (const auto& e : fs::directory_iterator(root))
+    if (e.is_directory() && e.path().filename().string().find(filter) != std::string::npos)
+      dirs.push_back(e.path());
+  std::sort(dirs.begin(), dirs.end());
+  std::map<std::string, Score> by_group;
+  std::ofstream csv;
+  if (!env("PROPRIO_SEG_CSV").empty()) {
+    csv.open(env("PROPRIO_SEG_CSV"));
+    csv << "episode,group,object,first_touch,jaccard,precision,recall,ms_total\n";
+  }
+  double ms = 0;
+  int timed = 0;
+  for (const auto& dir : dirs) {
+    const std::string name = dir.filename().string();
+    const auto ep = episode::read_episode(dir);
+    const MlResult r = sparse ? segment_ml_sparse(ep, so) : segment_ml(ep, o);
+    // Names: push_<object>_<static|moving>_<k> or homography_<...>.
+    std::string group = "other", object = "?";
+    std::vector<std::string> parts;
+    std::stringstream ss(name);
+    for (std::string p; std::getline(ss, p, '_');) parts.push_back(p);
+    if (parts.size() >= 4 && parts[0] == "push") {
+      object = parts[1];
+      for (size_t k = 2; k + 2 < parts.size(); ++k) object += "_" + parts[k];
+      group = parts[parts.size() - 2];
+    } else if (!parts.empty()) {
+      group = parts[0];
+      object = parts.size() > 1 ? parts[1] : "?";
+    }
+    double j = 0, prec = 0, rec = 0;
+    if (r.scored_frame >= 0) {
+      const cv::Mat1b truth = ep.mask(r.scored_frame) == *ep.info().target;
+      j = testing::jaccard(r.mask, truth);
+      const int hit = cv::countNonZero(r.mask & truth);
+      prec = cv::countNonZero(r.mask) ? double(hit) / cv::countNonZero(r.mask) : 0;
+      rec = cv::countNonZero(truth) ? double(hit) / cv::countNonZero(truth) : 0;
+      if (!dump.empty()) {
+        fs::create_directories(dump);
+        cv::Mat frame = ep.frame(r.scored_frame);
+        cv::Mat map8, mapc;
+        r.map.convertTo(map8, CV_8U, 255.0);
+        cv::cvtColor(map8, mapc, cv::COLOR_GRAY2BGR);
+        cv::Mat3b cmp(truth.size(), cv::Vec3b(0, 0, 0));  // green hit, red false +, blue missed
+        cmp.setTo(cv::Vec3b(0, 255, 0), r.mask & truth);
+        cmp.setTo(cv::Vec3b(0, 0, 255), r.mask & ~truth);
+        cmp.setTo(cv::Vec3b(255, 0, 0), ~r.mask & truth);
+        if (const auto ee = ep.ee_image(r.scored_frame))
+          cv::circle(frame, cv::Point(int(ee->x()), int(ee->y())), 4, {0, 0, 255}, -1);
+        cv::Mat row;
+        cv::hconcat(std::vector<cv::Mat>{frame, mapc, cmp}, row);
+        cv::resize(row, row, {}, 0.5, 0.5, cv::INTER_AREA);
+        cv::imwrite((fs::path(dump) / (name + ".png")).string(), row);
+      }
+    }
+    by_group[group].add(j);
+    by_group[group + "/" + object].add(j);
+    by_group["all"].add(j);
+    ms += r.summary.mean_ms_total;
+    ++timed;
+    std::printf("%-34s touch %4d  J %.3f  P %.3f  R %.3f  %.1f ms/frame\n", name.c_str(),
+                r.scored_frame, j, prec, rec, r.summary.mean_ms_total);
+    std::fflush(stdout);
+    if (csv.is_open())
+      csv << name << ',' << group << ',' << object << ',' << r.scored_frame << ',' << j << ','
+          << prec << ',' << rec << ',' << r.summary.mean_ms_total << '\n';
+  }
+  std::printf("\nmean Jaccard by group (episodes):\n");
+  for (const auto& [g, s] : by_group) std::printf("  %-28s %.3f (%d)\n", g.c_str(), s.mean(), s.n);
+  if (timed) std::printf("mean time %.1f ms/frame\n", ms / timed);
+  if (env("PROPRIO_SEG_CHECK_TARGETS") == "1") {
+    EXPECT_GE(by_group["static"].mean(), 0.80);
+    EXPECT_GE(by_group["moving"].mean(), 0.75);
+  }
+}
+
+}  // namespace
+}  // namespace proprio::segmentation
