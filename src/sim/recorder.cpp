@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "async_episode_writer.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/episode/episode_writer.hpp"
@@ -26,6 +27,15 @@ namespace {
 constexpr double kPushStartX = 0.12;
 constexpr double kPushEndX = 0.32;
 constexpr double kClearance = 0.025;  // pusher tip to the object's back face at the start, m
+
+using Clock = std::chrono::steady_clock;
+
+// Adds the seconds since `t` to `total` and restarts `t`.
+void lap(Clock::time_point& t, double& total) {
+  const Clock::time_point now = Clock::now();
+  total += std::chrono::duration<double>(now - t).count();
+  t = now;
+}
 
 std::string join(const std::vector<std::string>& v) {
   std::string s;
@@ -395,6 +405,8 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   info.has_depth = options.depth;
   info.stereo = options.stereo;
   episode::EpisodeWriter writer(out, info, camera, objects, right_camera, wopt);
+  RecordSummary summary;
+  summary.timing.setup = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
   const int before_steps = static_cast<int>(std::lround(options.still_before / dt));
   const int move_steps = static_cast<int>(track.joints.size());
@@ -403,7 +415,6 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   const int frame_count =
       std::min(total_steps / steps_per_frame + 1, options.max_frames.value_or(1 << 30));
 
-  RecordSummary summary;
   // Disturbances draw from their own streams so that switching one on leaves the rest alone.
   core::Rng shake_rng(options.seed ^ 0x5348414b45ULL);
   cv::RNG noise_rng(options.seed ^ 0x4e4f495345ULL);
@@ -462,6 +473,8 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
     world.set_object_pose(target_id, p);
   };
   int step_index = 0;
+  std::optional<AsyncEpisodeWriter> async_writer(std::in_place, writer);
+  auto clock = Clock::now();
   for (int f = 0; f < frame_count; ++f) {
     bool touched = false;
     const double t = f / options.fps;
@@ -514,6 +527,7 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       p.translation().z() += 0.001;
       world.set_object_pose(neighbour_id, p);
     }
+    lap(clock, summary.timing.physics);
     if (video.isOpened()) {
       cv::Mat vf;
       if (!video.read(vf) || vf.empty()) {
@@ -523,10 +537,11 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       if (vf.empty()) throw Error::in_file(options.background_video, "cannot read a frame");
       world.set_texture_image(kBackdropTexture, vf);
       renderer.upload_texture(world, kBackdropTexture);
+      lap(clock, summary.timing.backdrop);
     }
     disturb_view(t);
-    const Frame frame = renderer.render(world, camera_name,
-                                        kPassRgb | kPassMask | (options.depth ? kPassDepth : 0U));
+    const Frame frame =
+        renderer.render(world, camera_name, kPassRgb | (options.depth ? kPassDepth : 0U));
     cv::Mat rgb = frame.rgb;
     if (!blur_sum.empty()) {
       cv::Mat last;
@@ -535,7 +550,6 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       blur_sum.convertTo(rgb, CV_8UC3, 1.0 / blur_renders);
     }
     episode::FrameExtras extras;
-    extras.mask = frame.mask;
     if (options.depth) frame.depth.convertTo(extras.depth, CV_16UC1, 1000.0);
     if (options.stereo) extras.right_image = renderer.rgb(world, world.camera_names().at(1));
     auto add_noise = [&](cv::Mat& img) {
@@ -548,6 +562,9 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
     };
     add_noise(rgb);
     if (options.stereo) add_noise(extras.right_image);
+    lap(clock, summary.timing.render_rgb);
+    extras.mask = renderer.render(world, camera_name, kPassMask).mask;
+    lap(clock, summary.timing.render_mask);
 
     episode::ArmSample sample;
     sample.t = t;
@@ -556,9 +573,15 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
     sample.ee_image = camera.project(sample.ee);
     sample.touching = touched;
     if (touched && !summary.first_touch_frame) summary.first_touch_frame = f;
-    writer.add_frame(rgb, sample, extras);
+    async_writer->add_frame(rgb, sample, std::move(extras));
+    clock = Clock::now();
   }
+  async_writer->drain();
+  summary.timing.write = async_writer->write_seconds();
+  summary.timing.write_wait = async_writer->wait_seconds();
+  async_writer.reset();
   writer.finish();
+  lap(clock, summary.timing.finish);
 
   summary.frames = frame_count;
   summary.target_moved = (world.object_pose(target_id).translation() - target_start).norm();

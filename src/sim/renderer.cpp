@@ -82,10 +82,9 @@ struct Renderer::Impl {
   cv::Mat read_rgb(int width, int height) const {
     // OpenGL rows run bottom-up.
     const cv::Mat gl_rgb(height, width, CV_8UC3, const_cast<unsigned char*>(rgb_buffer.data()));
-    cv::Mat flipped;
-    cv::flip(gl_rgb, flipped, 0);
     cv::Mat bgr;
-    cv::cvtColor(flipped, bgr, cv::COLOR_RGB2BGR);
+    cv::flip(gl_rgb, bgr, 0);
+    cv::cvtColor(bgr, bgr, cv::COLOR_RGB2BGR);  // in place: no second image
     return bgr;
   }
 

@@ -110,6 +110,19 @@ struct RecordSummary {
   /// First frame whose `touching` is 1; none when the arm never touched the target.
   std::optional<int> first_touch_frame;
   double target_moved = 0.0;  ///< distance the target's origin moved over the episode, m
+  /// Where the wall-clock time went, seconds summed over the episode. The writer runs on a
+  /// thread of its own, so `write` overlaps the other stages; `write_wait` is the time the
+  /// simulation waited for it.
+  struct Timing {
+    double setup = 0.0;        ///< scene, world, IK of the whole push, settling, writer set-up
+    double physics = 0.0;      ///< physics steps and the scripted object motions
+    double backdrop = 0.0;     ///< video frame decoding and texture upload (moving background)
+    double render_rgb = 0.0;   ///< colour pass (+ depth, right camera, blur, noise) and read-back
+    double render_mask = 0.0;  ///< id-colour pass, read-back and decoding to object ids
+    double write = 0.0;        ///< PNG encoding and writing, arm.csv (writer thread)
+    double write_wait = 0.0;   ///< simulation thread blocked on a full writer queue
+    double finish = 0.0;       ///< episode.json, calib.yml, read-back check, rename
+  } timing;
   std::string message;
 };
 
