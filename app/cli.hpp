@@ -31,6 +31,7 @@ void register_episode_commands(CLI::App& root, const Invocation& inv);
 void register_lda_commands(CLI::App& root, const Invocation& inv);
 void register_intercept_commands(CLI::App& root, const Invocation& inv);
 void register_sim_commands(CLI::App& root, const Invocation& inv);
+void register_segment_commands(CLI::App& root, const Invocation& inv);
 void register_recognition_commands(CLI::App& root, const Invocation& inv);
 
 }  // namespace proprio::app

@@ -32,6 +32,7 @@ int run(int argc, char** argv) {
   register_lda_commands(root, inv);
   register_intercept_commands(root, inv);
   register_sim_commands(root, inv);
+  register_segment_commands(root, inv);
   register_recognition_commands(root, inv);
 
   try {
