@@ -15,6 +15,7 @@
 #include "proprio/robot/joint_tracking.hpp"
 #include "proprio/robot/trajectory.hpp"
 #include "proprio/sim/renderer.hpp"
+#include "proprio/sim/scene_file.hpp"
 #include "proprio/sim/world.hpp"
 
 namespace proprio::sim {
@@ -57,7 +58,7 @@ fs::path RecordOptions::default_background_video() {
 }
 
 namespace {
-bool is_scenario_file(const std::string& s) { return fs::path(s).extension() == ".json"; }
+bool is_scenario_file(const std::string& s) { return is_scene_file(s); }
 
 Eigen::Vector3d vec3(const core::Json& j, const std::string& key, const fs::path& file) {
   const auto v = core::json_get<std::vector<double>>(j, key, file);
@@ -72,7 +73,7 @@ Eigen::Vector3d vec3(const core::Json& j, const std::string& key, const fs::path
 // {"start", "end"} (metres, robot frame; default: along +x through the target's origin).
 ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
                             const ObjectCatalogue& catalogue) {
-  const core::Json j = core::read_json(file);
+  const core::Json j = read_scene_file(file);
   ScenarioPlan plan;
   plan.scene = default_scene();
   plan.scene.cameras.at(0).width = options.width;
@@ -114,6 +115,7 @@ ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
     plan.push_start = {kPushStartX, it->position.y(), options.pusher_height};
     plan.push_end = {kPushEndX, it->position.y(), options.pusher_height};
   }
+  if (options.stereo) plan.scene.cameras.at(0).stereo_baseline = options.stereo_baseline;
   try {
     plan.scene.validate();
   } catch (const Error& e) {
@@ -131,7 +133,7 @@ void RecordOptions::validate() const {
     m += scenario;
     m += "' (known: ";
     m += join(names);
-    m += ", or a scene FILE.json)";
+    m += ", or a scene FILE.json / FILE.yaml)";
     throw Error(m);
   }
   require(width >= 16 && height >= 16 && width <= 4096 && height <= 4096,
@@ -148,6 +150,8 @@ void RecordOptions::validate() const {
   require(clutter >= 0 && clutter <= 8, "clutter must be 0..8 objects");
   require(distractor_count() >= 0 && distractor_count() <= 4, "distractors must be 0..4 objects");
   require(std::isfinite(noise) && noise >= 0 && noise <= 100, "noise must be 0..100 grey levels");
+  require(std::isfinite(stereo_baseline) && stereo_baseline > 0 && stereo_baseline <= 1.0,
+          "stereo baseline must be in (0, 1] m");
 }
 
 int RecordOptions::distractor_count() const {
@@ -172,6 +176,7 @@ core::Json RecordOptions::switches() const {
   j["noise"] = noise;
   j["motion_blur"] = motion_blur;
   j["stereo"] = stereo;
+  j["stereo_baseline"] = stereo ? core::Json(stereo_baseline) : core::Json();
   j["depth"] = depth;
   return j;
 }
@@ -296,7 +301,7 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
       placed = true;
     }
   }
-  if (options.stereo) plan.scene.cameras.at(0).stereo_baseline = 0.1;
+  if (options.stereo) plan.scene.cameras.at(0).stereo_baseline = options.stereo_baseline;
   {
     for (int i = 0; i < options.distractor_count(); ++i) {
       PlacedObject o;

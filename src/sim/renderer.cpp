@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "proprio/core/error.hpp"
+#include "proprio/sim/mujoco_messages.hpp"
 
 namespace proprio::sim {
 
@@ -133,6 +134,7 @@ struct Renderer::Impl {
 
 Renderer::Renderer(const World& world, RenderOptions options)
     : impl_(std::make_unique<Impl>(GlContext::create(options.backend))) {
+  install_mujoco_handlers();
   Impl& r = *impl_;
   r.model = &world.model();
   r.options = options;

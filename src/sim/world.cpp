@@ -9,6 +9,7 @@
 
 #include "proprio/core/error.hpp"
 #include "proprio/sim/camera_model.hpp"
+#include "proprio/sim/mujoco_messages.hpp"
 
 namespace proprio::sim {
 
@@ -38,6 +39,7 @@ World World::build(const SceneDescription& description, const ObjectCatalogue& c
 }
 
 World World::compile(SceneModel scene) {
+  install_mujoco_handlers();
   World w;
   w.scene_ = std::move(scene);
   robot::ModelPtr model = robot::load_model_from_string(w.scene_.xml, kSceneName);

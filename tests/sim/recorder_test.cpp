@@ -9,6 +9,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/episode/check.hpp"
+#include "proprio/geometry/camera.hpp"
 #include "sim_test_util.hpp"
 
 namespace proprio::sim {
@@ -199,6 +200,7 @@ TEST(Recorder, DisturbancesAreRecordedAndTheEpisodeStaysValid) {
   o.noise = 5.0;
   o.motion_blur = true;
   o.stereo = true;
+  o.stereo_baseline = 0.15;
   o.depth = true;
   o.distractors = 1;
   record_episode(out, o, run_provenance(9), catalogue());
@@ -210,7 +212,11 @@ TEST(Recorder, DisturbancesAreRecordedAndTheEpisodeStaysValid) {
   }
   EXPECT_EQ(sw["noise"], 5.0);
   EXPECT_EQ(sw["distractors"], 1);
-  EXPECT_TRUE(fs::exists(out / "calib_right.yml"));
+  EXPECT_EQ(sw["stereo_baseline"], 0.15);
+  const double baseline = (geometry::read_calib(out / "calib_right.yml").center() -
+                           geometry::read_calib(out / "calib.yml").center())
+                              .norm();
+  EXPECT_NEAR(baseline, 0.15, 1e-6);
   const cv::Mat depth = cv::imread((out / "depth" / "000000.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(depth.type(), CV_16UC1);
   // The target (id 1) is 0.4-1.0 m from the camera.

@@ -62,10 +62,11 @@ struct RecordOptions {
   /// A neighbouring object beside the push path is shoved 5 cm sideways during the push (by
   /// something other than the arm; role "distractor").
   bool nudge_neighbour = false;
-  double noise = 0.0;        ///< standard deviation of Gaussian image noise, grey levels
-  bool motion_blur = false;  ///< each frame averages renders at 4 instants of its interval
-  bool stereo = false;       ///< a stereo pair (baseline 0.1 m): frames_right/, calib_right.yml
-  bool depth = false;        ///< depth/ images (16-bit millimetres)
+  double noise = 0.0;            ///< standard deviation of Gaussian image noise, grey levels
+  bool motion_blur = false;      ///< each frame averages renders at 4 instants of its interval
+  bool stereo = false;           ///< a stereo pair: frames_right/, calib_right.yml
+  double stereo_baseline = 0.1;  ///< distance between the two camera centres, m (stereo)
+  bool depth = false;            ///< depth/ images (16-bit millimetres)
 
   /// vtest.avi of the opencv-doc samples (people walking).
   static std::filesystem::path default_background_video();

@@ -1,0 +1,95 @@
+// Scene files in JSON and YAML: one tree, one reader, errors with file and line.
+#include "proprio/sim/scene_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/sim/recorder.hpp"
+#include "proprio/sim/scene_builder.hpp"
+#include "sim_test_util.hpp"
+
+namespace proprio::sim {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kScenarios = fs::path(PROPRIO_SOURCE_DIR) / "data" / "scenarios";
+
+std::string error_of(const fs::path& file) {
+  try {
+    (void)read_scene_file(file);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(SceneFile, TheSameSceneInYamlAndJsonGivesTheSameDescription) {
+  const ObjectCatalogue catalogue = ObjectCatalogue::load_default();
+  const fs::path json = kScenarios / "crate_and_mug.json";
+  const fs::path yaml = kScenarios / "crate_and_mug.yaml";
+  EXPECT_EQ(read_scene_file(yaml), read_scene_file(json));
+  RecordOptions o;
+  o.scenario = json.string();
+  const ScenarioPlan from_json = plan_scenario(o, catalogue);
+  o.scenario = yaml.string();
+  const ScenarioPlan from_yaml = plan_scenario(o, catalogue);
+  EXPECT_EQ(from_yaml.target, "crate");
+  EXPECT_EQ(from_yaml.target, from_json.target);
+  EXPECT_EQ(from_yaml.push_start, from_json.push_start);
+  EXPECT_EQ(from_yaml.push_end, from_json.push_end);
+  ASSERT_EQ(from_yaml.scene.objects.size(), 3U);
+  EXPECT_EQ(build_scene(from_yaml.scene, catalogue).xml,
+            build_scene(from_json.scene, catalogue).xml);
+}
+
+TEST(SceneFile, YamlScalarsBecomeJsonScalars) {
+  const fs::path f = test::temp_dir() / "scalars.yaml";
+  core::write_file_atomic(f,
+                          "i: 3\nd: -0.25\nb: true\nn: ~\ne:\ns: mug\nq: \"3\"\nl: [1, 2.5, x]\n");
+  const core::Json j = read_scene_file(f);
+  EXPECT_TRUE(j["i"].is_number_integer());
+  EXPECT_EQ(j["i"], 3);
+  EXPECT_EQ(j["d"], -0.25);
+  EXPECT_EQ(j["b"], true);
+  EXPECT_TRUE(j["n"].is_null());
+  EXPECT_TRUE(j["e"].is_null());
+  EXPECT_EQ(j["s"], "mug");
+  EXPECT_EQ(j["q"], "3");  // quoted: a string
+  EXPECT_EQ(j["l"], core::Json::parse(R"([1, 2.5, "x"])"));
+}
+
+TEST(SceneFile, BadYamlNamesTheFileAndLine) {
+  const fs::path f = test::temp_dir() / "bad.yaml";
+  core::write_file_atomic(f, "objects:\n  - type: mug\n    x: [0.2, \n");
+  std::string m = error_of(f);
+  EXPECT_NE(m.find("bad.yaml:"), std::string::npos) << m;
+  core::write_file_atomic(f, "objects:\n  - type: mug\n    x: 0.2\n    x: 0.3\ntarget: mug\n");
+  m = error_of(f);
+  EXPECT_NE(m.find("bad.yaml:4: duplicate key 'x'"), std::string::npos) << m;
+  core::write_file_atomic(f, "objects:\n  - type: mug\n    x: .nan\n");
+  m = error_of(f);
+  EXPECT_NE(m.find("bad.yaml:3: '.nan' is not a finite number"), std::string::npos) << m;
+  core::write_file_atomic(f, "- just\n- a list\n");
+  m = error_of(f);
+  EXPECT_NE(m.find("bad.yaml: a scene file holds a map"), std::string::npos) << m;
+  m = error_of(test::temp_dir() / "missing.yaml");
+  EXPECT_NE(m.find("missing.yaml: cannot read"), std::string::npos) << m;
+  m = error_of(test::temp_dir() / "scene.txt");
+  EXPECT_NE(m.find("must end in .json, .yaml or .yml"), std::string::npos) << m;
+  // A YAML scene that parses but is wrong is refused by the one reader, naming the file.
+  core::write_file_atomic(f, "objects: []\ntarget: mug\n");
+  RecordOptions o;
+  o.scenario = f.string();
+  try {
+    (void)plan_scenario(o, ObjectCatalogue::load_default());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml: 'objects' must be a non-empty array"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace proprio::sim
