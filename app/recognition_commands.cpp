@@ -51,11 +51,15 @@ struct FeatureArgs {
   std::string kind = "dense";
   int step = 8;
   float size = 16.0F;
+  double min_contrast = 2.0;
+  double center_crop = 1.0;
   [[nodiscard]] ExtractOptions options() const {
     ExtractOptions o;
     o.kind = parse_feature_kind(kind);
     o.dense.step = step;
     o.dense.size = size;
+    o.min_contrast = min_contrast;
+    o.center_crop = center_crop;
     o.validate();
     return o;
   }
@@ -67,6 +71,12 @@ void add_feature_options(CLI::App* cmd, FeatureArgs& f) {
       ->capture_default_str();
   cmd->add_option("--step", f.step, "Dense grid spacing, px")->capture_default_str();
   cmd->add_option("--patch", f.size, "Dense SIFT patch size, px")->capture_default_str();
+  cmd->add_option("--min-contrast", f.min_contrast,
+                  "Dense SIFT: drop patches whose grey-level std is below this (0 keeps all)")
+      ->capture_default_str();
+  cmd->add_option("--center-crop", f.center_crop,
+                  "Images: keep the features in this central fraction of width and height")
+      ->capture_default_str();
 }
 
 ProgressFn progress_of(std::shared_ptr<core::ProgressBar>& bar, const char* label, bool quiet) {
@@ -428,6 +438,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   o.frames.masks = a.masks;
   o.frames.features = a.features.options();
   o.view_features = o.frames.features;
+  o.frames.features.center_crop = 1.0;  // frames: the region decides
   o.kmeans.seed = o.seed;
   const features::ImageSet views = features::read_image_set(a.views);
   const std::vector<episode::Episode> episodes = read_episodes(a.episodes);

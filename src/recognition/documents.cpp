@@ -25,6 +25,10 @@ std::string to_string(FeatureKind kind) { return kind == FeatureKind::kDense ? "
 void ExtractOptions::validate() const {
   dense.validate();
   sift.validate();
+  if (!(min_contrast >= 0 && min_contrast < 256)) {
+    throw Error("the dense patches' minimum contrast must be in [0, 256) grey levels");
+  }
+  if (!(center_crop > 0 && center_crop <= 1)) throw Error("the centre crop must be in (0, 1]");
 }
 
 namespace {
@@ -59,10 +63,24 @@ features::Features keep(const features::Features& f, const std::vector<int>& row
 }  // namespace
 
 features::Features extract_features(const cv::Mat& image, const ExtractOptions& options,
-                                    const cv::Mat& mask) {
+                                    const cv::Mat& region) {
   options.validate();
-  if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != image.size())) {
+  if (!region.empty() && (region.type() != CV_8UC1 || region.size() != image.size())) {
     throw Error("a feature mask must be 8-bit single-channel of the image's size");
+  }
+  cv::Mat mask = region;
+  if (options.center_crop < 1 && !image.empty()) {
+    const int w = static_cast<int>(std::lround(options.center_crop * image.cols));
+    const int h = static_cast<int>(std::lround(options.center_crop * image.rows));
+    const cv::Rect centre((image.cols - w) / 2, (image.rows - h) / 2, w, h);
+    cv::Mat crop = cv::Mat::zeros(image.size(), CV_8UC1);
+    crop(centre).setTo(255);
+    if (mask.empty()) {
+      mask = crop;
+    } else {
+      cv::bitwise_and(mask, crop, crop);
+      mask = crop;
+    }
   }
   if (options.kind == FeatureKind::kSift) {
     features::Features f = features::detect_sift(image, options.sift);
@@ -72,14 +90,29 @@ features::Features extract_features(const cv::Mat& image, const ExtractOptions& 
       if (inside(mask, f.keypoints[static_cast<std::size_t>(i)].pt)) rows.push_back(i);
     return keep(f, rows);
   }
-  if (mask.empty()) return features::dense_sift(image, options.dense);
-  // Only the grid points on the mask: a small object costs a small fraction of the frame.
+  // Only the grid points on the mask with some contrast: a small object costs a small fraction
+  // of the frame.
+  const cv::Mat grey = grey_of(image);
   std::vector<cv::KeyPoint> grid = features::dense_grid(image.size(), options.dense);
-  std::erase_if(grid, [&](const cv::KeyPoint& k) { return !inside(mask, k.pt); });
+  if (!mask.empty()) std::erase_if(grid, [&](const cv::KeyPoint& k) { return !inside(mask, k.pt); });
+  if (options.min_contrast > 0 && !grid.empty()) {
+    // Local variance E[I^2] - E[I]^2 over the patch by box filters.
+    cv::Mat g, mean, mean_sq;
+    grey.convertTo(g, CV_32F);
+    const int side = std::max(1, static_cast<int>(std::lround(options.dense.size)));
+    cv::boxFilter(g, mean, CV_32F, cv::Size(side, side));
+    cv::boxFilter(g.mul(g), mean_sq, CV_32F, cv::Size(side, side));
+    const double min_var = options.min_contrast * options.min_contrast;
+    std::erase_if(grid, [&](const cv::KeyPoint& k) {
+      const int x = std::clamp(static_cast<int>(std::lround(k.pt.x)), 0, g.cols - 1);
+      const int y = std::clamp(static_cast<int>(std::lround(k.pt.y)), 0, g.rows - 1);
+      const float m = mean.at<float>(y, x);
+      return mean_sq.at<float>(y, x) - m * m < min_var;
+    });
+  }
   features::Features f;
   f.descriptors = cv::Mat(0, features::kDescriptorLength, CV_32F);
   if (grid.empty()) return f;
-  const cv::Mat grey = grey_of(image);
   cv::Mat desc;
   cv::SIFT::create()->compute(grey, grid, desc);
   f.keypoints = std::move(grid);

@@ -69,9 +69,11 @@ TEST(Documents, MaskKeepsOnlyFeaturesInside) {
     EXPECT_EQ(left.descriptors.rows, left.size());
     for (const auto& kp : left.keypoints) EXPECT_LT(kp.pt.x, 200.5F);
   }
-  // Dense SIFT at the kept grid points equals dense SIFT of the whole image there.
+  // Dense SIFT at the kept grid points equals the features module's dense SIFT there.
   ExtractOptions d;
-  const features::Features all = extract_features(img, d);
+  d.min_contrast = 0;
+  const features::Features all = features::dense_sift(img, d.dense);
+  EXPECT_EQ(extract_features(img, d).size(), all.size());
   const features::Features left = extract_features(img, d, mask);
   int matched = 0;
   for (int i = 0; i < all.size(); ++i) {
@@ -83,12 +85,35 @@ TEST(Documents, MaskKeepsOnlyFeaturesInside) {
   EXPECT_THROW((void)extract_features(img, d, cv::Mat::zeros(10, 10, CV_8UC1)), Error);
 }
 
+TEST(Documents, ContrastAndCentreCropKeepTheTexturedCentre) {
+  const cv::Mat img = two_patches();  // grey except two textured squares
+  ExtractOptions o;
+  const features::Features f = extract_features(img, o);
+  ASSERT_GT(f.size(), 0);
+  for (const auto& k : f.keypoints) {
+    const bool on_patch = cv::Rect(22, 72, 86, 86).contains(k.pt) ||
+                          cv::Rect(282, 52, 86, 86).contains(k.pt);
+    EXPECT_TRUE(on_patch) << k.pt;
+  }
+  o.center_crop = 0.5;  // x in [100, 300): between the patches but for the right one's edge
+  const features::Features c = extract_features(img, o);
+  EXPECT_LT(c.size(), f.size());
+  for (const auto& k : c.keypoints) EXPECT_TRUE(k.pt.x >= 100 && k.pt.x < 300) << k.pt;
+  o.center_crop = 0;
+  EXPECT_THROW((void)extract_features(img, o), Error);
+}
+
 TEST(Documents, ImagesWithoutFeaturesGiveEmptyDocuments) {
   const cv::Mat flat(100, 100, CV_8UC3, cv::Scalar(50, 50, 50));
   ExtractOptions o;
   o.kind = FeatureKind::kSift;
   const features::Features f = extract_features(flat, o);
   EXPECT_TRUE(f.empty());
+  // Flat patches say nothing: dense SIFT drops them unless asked to keep them.
+  ExtractOptions dense;
+  EXPECT_TRUE(extract_features(flat, dense).empty());
+  dense.min_contrast = 0;
+  EXPECT_GT(extract_features(flat, dense).size(), 0);
   cv::Mat words(4, 128, CV_32F, cv::Scalar(0));
   const features::Vocabulary v(words);
   EXPECT_TRUE(blob_documents(f, flat.size(), v).empty());

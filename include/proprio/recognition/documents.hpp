@@ -27,6 +27,15 @@ struct ExtractOptions {
   FeatureKind kind = FeatureKind::kDense;
   features::DenseSiftOptions dense;  ///< step 8 px, patches of 16 px
   features::SiftOptions sift;
+  /// Dense SIFT: grid points whose patch has a grey-level standard deviation below this (0-255
+  /// units) are dropped. A flat patch (plain table, empty background) has no gradient, so its
+  /// descriptor says nothing, yet it would take one word and swamp the documents; vl_phow of
+  /// Bosch et al. drops low-contrast patches for the same reason. 0 keeps every grid point.
+  double min_contrast = 2.0;
+  /// Keep only the features in the central `center_crop` of the image's width and height (in
+  /// (0, 1]; 1 = all). For object-centred pictures (Caltech, the simulator's views) whose
+  /// surroundings would otherwise outweigh a small object.
+  double center_crop = 1.0;
   void validate() const;
 };
 

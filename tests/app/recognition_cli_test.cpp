@@ -1,0 +1,258 @@
+// proprio recognize ... and proprio experiment ...: run the built tool on a tiny image set made
+// here (crops of opencv-doc photographs, one photograph per class) and on a synthetic episode
+// with ground-truth masks; check the printed matrices, the JSON against its schema, and bad input.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "../support/schema_check.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/episode/episode_writer.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/sift.hpp"
+#include "proprio/features/vocabulary.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+using namespace proprio;
+
+struct CliRun {
+  int code = 0;
+  std::string out;
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = std::string(PROPRIO_CLI) + " " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+const char* kPhotos[] = {"baboon.jpg", "fruits.jpg", "building.jpg", "board.jpg"};
+const char* kClasses[] = {"baboon", "fruits", "building", "board"};
+
+cv::Mat photo(int c) {
+  const std::string path = std::string(PROPRIO_OPENCV_SAMPLES) + "/" + kPhotos[c];
+  cv::Mat m = cv::imread(path, cv::IMREAD_COLOR);
+  EXPECT_FALSE(m.empty()) << path;
+  return m;
+}
+
+class RecognitionCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("proprio_recognition_cli_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    // 4 classes x 6 images of 96 x 96: crops of one photograph per class.
+    cv::RNG rng(1);
+    for (int c = 0; c < 4; ++c) {
+      const cv::Mat p = photo(c);
+      fs::create_directories(dir_ / "images" / kClasses[c]);
+      for (int i = 0; i < 6; ++i) {
+        const int s = 110 + rng.uniform(0, 60);
+        const cv::Rect r(rng.uniform(0, p.cols - s), rng.uniform(0, p.rows - s), s, s);
+        cv::Mat crop;
+        cv::resize(p(r), crop, cv::Size(96, 96));
+        cv::imwrite((dir_ / "images" / kClasses[c] / (std::to_string(i) + ".png")).string(), crop);
+      }
+    }
+    // A vocabulary of 24 words from dense SIFT of one image per class.
+    cv::Mat d;
+    for (int c = 0; c < 4; ++c) {
+      const cv::Mat img = cv::imread((dir_ / "images" / kClasses[c] / "0.png").string());
+      d.push_back(features::dense_sift(img).descriptors);
+    }
+    features::KmeansOptions k;
+    k.words = 24;
+    features::write_vocabulary(dir_ / "v.vocab", features::build_vocabulary(d, k).vocabulary,
+                               core::Provenance::current({"recognition_cli_test"}, 1));
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static fs::path dir_;
+  std::string images() const { return (dir_ / "images").string(); }
+  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+};
+fs::path RecognitionCli::dir_;
+
+TEST_F(RecognitionCli, DictionaryExperimentPrintsFourMatricesAndValidJson) {
+  const CliRun r = run("experiment dictionary --images " + images() +
+                    " --set-a baboon,fruits --set-b building,board --words 16"
+                    " --dictionary-images 2 --per-image 40 --test-per-class 2 --quiet --json " +
+                    file("dict.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* name : {"C_AS", "C_BS", "C_AW", "C_BW"})
+    EXPECT_NE(r.out.find(name), std::string::npos) << name << "\n" << r.out;
+  EXPECT_NE(r.out.find("accuracy"), std::string::npos);
+  test::expect_schema_valid("experiment_sets.schema.json", file("dict.json"));
+  const core::Json j = core::read_json(file("dict.json"));
+  ASSERT_EQ(j["runs"].size(), 4U);
+  for (const auto& run_json : j["runs"]) {
+    int total = 0;
+    for (const auto& row : run_json["classes"]["counts"])
+      for (int n : row) total += n;
+    EXPECT_EQ(total, 4);  // 2 classes x 2 test images, none without features
+    EXPECT_EQ(run_json["train_documents"], 8);
+  }
+  EXPECT_EQ(j["set_a"], (std::vector<std::string>{"baboon", "fruits"}));
+}
+
+TEST_F(RecognitionCli, BatchOnlineExperimentRunsBothLearners) {
+  const CliRun r = run("experiment batch-online --images " + images() +
+                    " --words 16 --dictionary-images 2 --per-image 40 --test-per-class 2"
+                    " --batch 4 --passes 3 --quiet --json " + file("bo.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("C_AO"), std::string::npos);
+  test::expect_schema_valid("experiment_sets.schema.json", file("bo.json"));
+  const core::Json j = core::read_json(file("bo.json"));
+  EXPECT_EQ(j["format"], "proprio.experiment.batch_online");
+  EXPECT_EQ(j["runs"][2]["method"], "online");
+  EXPECT_EQ(j["runs"][0]["method"], "batch");
+}
+
+TEST_F(RecognitionCli, TrainThenClassifyWithLabelledImages) {
+  CliRun r = run("recognize train --images " + images() + " --vocabulary " + file("v.vocab") +
+              " -k 4 --passes 5 --batch 8 --model " + file("m.lda") + " --quiet --json " +
+              file("train.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  test::expect_schema_valid("recognize_train.schema.json", file("train.json"));
+  r = run("recognize classify --model " + file("m.lda") + " --vocabulary " + file("v.vocab") +
+          " --images " + images() + " --map-with " + images() + " --out " + file("c.csv") +
+          " --quiet --json " + file("classify.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("z_4"), std::string::npos);
+  test::expect_schema_valid("recognize_classify.schema.json", file("classify.json"));
+  const core::Json j = core::read_json(file("classify.json"));
+  EXPECT_EQ(j["documents"], 24);
+  std::ifstream csv(file("c.csv"));
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "image,truth,topic,class,theta_0,theta_1,theta_2,theta_3");
+}
+
+TEST_F(RecognitionCli, BadInputIsOneLineAndExitTwo) {
+  fs::create_directories(dir_ / "empty");
+  CliRun r = run("experiment dictionary --images " + file("empty") + " --quiet");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("empty"), std::string::npos) << r.out;
+
+  // A class folder without images is no class; naming it is an error.
+  fs::create_directories(dir_ / "images2" / "nothing");
+  fs::copy(dir_ / "images", dir_ / "images2", fs::copy_options::recursive);
+  r = run("experiment dictionary --images " + file("images2") +
+          " --set-a nothing,baboon --set-b fruits --words 8 --test-per-class 1 --quiet");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("no class 'nothing'"), std::string::npos) << r.out;
+
+  // An unreadable image names the file.
+  std::ofstream(dir_ / "images2" / "board" / "zz.png") << "not an image";
+  r = run("experiment dictionary --images " + file("images2") +
+          " --words 8 --dictionary-images 1 --per-image 20 --test-per-class 1 --quiet");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("zz.png"), std::string::npos) << r.out;
+
+  r = run("recognize train --images " + images() + " --vocabulary " + file("v.vocab") +
+          " -k 0 --model " + file("k0.lda") + " --quiet");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("topics"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(file("k0.lda")));
+
+  r = run("experiment scatter --episodes " + file("none") + " --views " + images() +
+          " --k 0 --quiet");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("'0' is not a number of topics >= 1"), std::string::npos) << r.out;
+
+  r = run("experiment dictionary --images " + images() + " --test-per-class 6 --quiet");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("it needs more than"), std::string::npos) << r.out;
+}
+
+// A synthetic video: three textured squares (crops of three photographs) move about a grey
+// table, with their ground-truth masks; views of each square alone.
+TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
+  const int w = 320, h = 240, frames = 40;
+  episode::EpisodeInfo info;
+  info.fps = 25.0;
+  info.width = w;
+  info.height = h;
+  info.arm_name = "synthetic";
+  info.joint_count = 0;
+  info.has_masks = true;
+  info.target = 1;
+  info.provenance.run = core::Provenance::current({"recognition_cli_test"}, 1);
+  geometry::Camera cam;
+  cam.K << 300.0, 0.0, w / 2.0, 0.0, 300.0, h / 2.0, 0.0, 0.0, 1.0;
+  cam.R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  cam.t = Eigen::Vector3d(0.0, 0.0, 1.0);
+  cam.width = w;
+  cam.height = h;
+  const std::vector<episode::ObjectInfo> objects = {
+      {1, "baboon", episode::ObjectRole::kTarget},
+      {2, "scatter-fruits", episode::ObjectRole::kDistractor},
+      {3, "scatter-building", episode::ObjectRole::kDistractor},
+      {4, "scatter-board", episode::ObjectRole::kDistractor}};  // not among the views: ignored
+  std::vector<cv::Mat> tex;
+  for (int c = 0; c < 4; ++c) {
+    cv::Mat t;
+    cv::resize(photo(c)(cv::Rect(0, 0, 200, 200)), t, cv::Size(70, 70));
+    tex.push_back(t);
+  }
+  const fs::path ep = dir_ / "episodes" / "e1";
+  {
+    episode::EpisodeWriter writer(ep, info, cam, objects);
+    cv::RNG rng(3);
+    for (int i = 0; i < frames; ++i) {
+      cv::Mat img(h, w, CV_8UC3, cv::Scalar(140, 150, 160));
+      cv::Mat1w mask(h, w, ushort{0});
+      for (int c = 0; c < 4; ++c) {
+        if (c > 0 && (i + 10 * c) % 25 < 5) continue;  // out of view now and then
+        const cv::Rect r(rng.uniform(0, w - 70), rng.uniform(0, h - 70), 70, 70);
+        tex[static_cast<std::size_t>(c)].copyTo(img(r));
+        mask(r).setTo(c + 1);
+      }
+      episode::ArmSample a;
+      a.t = i / 25.0;
+      a.q = Eigen::VectorXd(0);
+      a.ee = Eigen::Vector3d(0.1, 0.0, 0.0);
+      episode::FrameExtras extras;
+      extras.mask = mask;
+      writer.add_frame(img, a, extras);
+    }
+    writer.finish();
+  }
+  for (int c = 0; c < 3; ++c) {
+    const fs::path vdir = dir_ / "views" / kClasses[c];
+    fs::create_directories(vdir);
+    for (int i = 0; i < 8; ++i) {
+      cv::Mat img(160, 160, CV_8UC3, cv::Scalar(140, 150, 160));
+      tex[static_cast<std::size_t>(c)].copyTo(img(cv::Rect(10 + 8 * i, 20 + 5 * i, 70, 70)));
+      cv::imwrite((vdir / (std::to_string(i) + ".png")).string(), img);
+    }
+  }
+  const CliRun r = run("experiment scatter --episodes " + (dir_ / "episodes").string() +
+                    " --views " + (dir_ / "views").string() +
+                    " --k objects,5 --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
+                    " --passes 3 --quiet --json " + file("scatter.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("K = 3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("K = 5"), std::string::npos) << r.out;
+  test::expect_schema_valid("experiment_scatter.schema.json", file("scatter.json"));
+  const core::Json j = core::read_json(file("scatter.json"));
+  EXPECT_EQ(j["frames"], frames);
+  EXPECT_EQ(j["mapping_views"], 12);
+  EXPECT_EQ(j["test_views"], 12);
+  ASSERT_EQ(j["runs"].size(), 2U);
+  // Distinct photographs on a plain table: the learned topics separate them.
+  EXPECT_GE(j["runs"][0]["classes"]["mean_class_accuracy"].get<double>(), 0.6) << r.out;
+}
+
+}  // namespace
