@@ -20,8 +20,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 void require_positive(double v, const char* name) {
-  require(std::isfinite(v) && v > 0, core::cat({"MlOptions.", name, " must be > 0, got ",
-                                                core::num(v)}));
+  require(std::isfinite(v) && v > 0,
+          core::cat({"MlOptions.", name, " must be > 0, got ", core::num(v)}));
 }
 
 // Flow samples per track: every kSampleStride-th pixel each way.
@@ -34,16 +34,21 @@ struct Track {
   int post_n = 0;
   double pre_sum = 0.0;  // sum of (1 - p) / kappa over pre-touch intervals where it moved
   int pre_n = 0;
-  int interval = -1;  // interval its accumulator belongs to
-  Eigen::Vector2d start_ee = Eigen::Vector2d::Zero();  // arm position when it joined it
-  Eigen::Vector2d shift = Eigen::Vector2d::Zero();    // translation since the interval's start
-  Eigen::Matrix3d h = Eigen::Matrix3d::Identity();  // homography since the interval's start
+  int interval = -1;                                      // interval its accumulator belongs to
+  Eigen::Vector2d start_ee = Eigen::Vector2d::Zero();     // arm position when it joined it
+  Eigen::Vector2d shift = Eigen::Vector2d::Zero();        // translation since the interval's start
+  Eigen::Matrix3d h = Eigen::Matrix3d::Identity();        // homography since the interval's start
   Eigen::Vector2d last_motion = Eigen::Vector2d::Zero();  // robust mean of the last frame pair
-  int last_frame = -1;                                     // frame of last_motion
-  int successor = -1;  // where its evidence continues once it ended (see scores())
+  int last_frame = -1;                                    // frame of last_motion
+  int successor = -1;      // where its evidence continues once it ended (see scores())
+  bool untrusted = false;  // too little texture in a frame of the open interval
 
-  [[nodiscard]] double score() const {
-    const double post = post_n > 0 ? post_sum / post_n : 0.0;
+  // eq 4.21's mean over the window; a track seen in fewer than min_count of the window's
+  // intervals is averaged over min_count (unseen intervals count as 0), so that a region
+  // with one lucky interval does not score as high as one matched all along.
+  [[nodiscard]] double score(double min_count) const {
+    const double n = std::max<double>(post_n, min_count);
+    const double post = n > 0 ? post_sum / n : 0.0;
     const double pre = pre_n > 0 ? pre_sum / pre_n : 1.0;
     return std::clamp(post * pre, 0.0, 1.0);
   }
@@ -73,6 +78,12 @@ void MlOptions::validate() const {
           core::cat({"MlOptions.scale must be in [0.1, 1], got ", core::num(scale)}));
   require(std::isfinite(handover_motion) && handover_motion >= 0,
           "MlOptions.handover_motion must be >= 0");
+  require_positive(direction_ramp, "direction_ramp");
+  require(std::isfinite(min_gradient) && min_gradient >= 0, "MlOptions.min_gradient must be >= 0");
+  require(min_textured_samples >= 1, "MlOptions.min_textured_samples must be >= 1");
+  require(std::isfinite(min_evidence_fraction) && min_evidence_fraction >= 0 &&
+              min_evidence_fraction <= 1,
+          "MlOptions.min_evidence_fraction must be in [0, 1]");
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
   if (!prior.empty()) {
@@ -113,8 +124,10 @@ struct MlSegmenter::Impl {
   int interval_start = -1;
   std::optional<Eigen::Vector2d> interval_ee;
   std::optional<Eigen::Vector2d> prev_ee;
+  std::vector<std::optional<Eigen::Vector2d>> ee_track;  // every frame's arm position
 
   int intervals_closed = 0;
+  int post_intervals = 0;
   double sum_regions = 0, sum_flow = 0, sum_model = 0, sum_total = 0;
 
   Impl(const MlOptions& o, cv::Size s)
@@ -136,7 +149,8 @@ struct MlSegmenter::Impl {
   // Adds this frame pair's motion to the accumulators of the tracks in this frame; a track not
   // yet in the open interval joins it now, from the previous frame's arm position (tracks that
   // appear mid-interval still count, over their own span). Returns the ids of the tracks.
-  std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow) {
+  std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow,
+                              const cv::Mat1b& textured) {
     std::vector<int> local(tracks.size(), -1);
     std::vector<int> ids;
     std::vector<std::vector<Eigen::Vector2f>> motion;  // prev -> current, full-size pixels
@@ -156,20 +170,27 @@ struct MlSegmenter::Impl {
             tr.shift.setZero();
             tr.h.setIdentity();
             tr.start_ee = *prev_ee;
+            tr.untrusted = false;
           }
           l = static_cast<int>(ids.size());
           ids.push_back(id);
           motion.emplace_back();
           if (homography) at.emplace_back();
         }
+        if (!textured(y, x)) continue;
         motion[l].emplace_back(-f[x][0] * s, -f[x][1] * s);
         if (homography) at[l].emplace_back(x * s, y * s);
       }
     }
     for (size_t l = 0; l < ids.size(); ++l) {
       Track& tr = tracks[ids[l]];
-      const RobustMeanResult m = robust_mean(motion[l], opt.robust_bandwidth,
-                                             opt.robust_tolerance, opt.robust_max_iterations);
+      if (static_cast<int>(motion[l].size()) < opt.min_textured_samples) {
+        tr.untrusted = true;  // flow in texture-less regions is filled in from the neighbours
+        tr.last_frame = -1;
+        continue;
+      }
+      const RobustMeanResult m = robust_mean(motion[l], opt.robust_bandwidth, opt.robust_tolerance,
+                                             opt.robust_max_iterations);
       tr.shift += m.mean;
       tr.last_motion = m.mean;
       tr.last_frame = frames;
@@ -197,7 +218,7 @@ struct MlSegmenter::Impl {
     for (int id : ids) {
       Track& tr = tracks[id];
       const Eigen::Vector2d d = ee_now - tr.start_ee;  // the arm's displacement, eq 4.12
-      if (d.norm() < min_span) continue;
+      if (d.norm() < min_span || tr.untrusted) continue;
       // eq 4.12-4.13: error of the region's motion applied to the arm's position.
       const Eigen::Vector2d e = opt.model == MotionModel::kHomography
                                     ? Eigen::Vector2d(apply_homography(tr.h, tr.start_ee) - ee_now)
@@ -216,6 +237,7 @@ struct MlSegmenter::Impl {
       }
     }
     ++intervals_closed;
+    if (!pre_touch) ++post_intervals;
     if (std::getenv("PROPRIO_SEG_DEBUG")) {
       int moved_n = 0;
       for (int id : ids) moved_n += tracks[id].shift.norm() >= opt.min_region_motion;
@@ -255,11 +277,30 @@ struct MlSegmenter::Impl {
       }
     }
     std::vector<float> score(n);
-    for (size_t i = 0; i < n; ++i) score[i] = static_cast<float>(total[i].score());
+    const double min_count = opt.min_evidence_fraction * post_intervals;
+    for (size_t i = 0; i < n; ++i) score[i] = static_cast<float>(total[i].score(min_count));
     return score;
   }
 
-  [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab) const {
+  // The push direction: the arm's net image displacement since the first touch, when its path
+  // is straight (net >= 0.9 of the path length) and long enough; none otherwise.
+  [[nodiscard]] std::optional<Eigen::Vector2d> push_direction() const {
+    if (!first_touch) return std::nullopt;
+    std::optional<Eigen::Vector2d> start, last;
+    double path = 0;
+    for (int i = *first_touch; i < static_cast<int>(ee_track.size()); ++i) {
+      if (!ee_track[i]) continue;
+      if (!start) start = ee_track[i];
+      if (last) path += (*ee_track[i] - *last).norm();
+      last = ee_track[i];
+    }
+    if (!start) return std::nullopt;
+    const Eigen::Vector2d net = *last - *start;
+    if (net.norm() < opt.evidence_step || net.norm() < 0.9 * path) return std::nullopt;
+    return net.normalized();
+  }
+
+  [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame) const {
     const std::vector<float> score = scores();
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {
@@ -273,6 +314,20 @@ struct MlSegmenter::Impl {
       m = full;
     }
     if (!opt.prior.empty()) cv::multiply(m, opt.prior, m);  // 4.6
+    const auto dir = opt.direction_prior ? push_direction() : std::nullopt;
+    if (dir && ee_track[frame]) {
+      // 4.6's position prior from proprioception: a pushed object lies ahead of the pusher's
+      // tip; the arm behind it. 1 ahead of the tip, falling to 0 over direction_ramp behind.
+      const Eigen::Vector2d e = *ee_track[frame];
+      const double ramp = opt.direction_ramp;
+      for (int y = 0; y < m.rows; ++y) {
+        float* o = m[y];
+        for (int x = 0; x < m.cols; ++x) {
+          const double along = (x - e.x()) * dir->x() + (y - e.y()) * dir->y();
+          o[x] *= static_cast<float>(std::clamp(1.0 + along / ramp, 0.0, 1.0));
+        }
+      }
+    }
     return m;
   }
 };
@@ -291,16 +346,14 @@ MlSegmenter::MlSegmenter(MlSegmenter&&) noexcept = default;
 MlSegmenter& MlSegmenter::operator=(MlSegmenter&&) noexcept = default;
 
 MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
-                                           std::optional<Eigen::Vector2d> ee_image,
-                                           bool touching) {
+                                           std::optional<Eigen::Vector2d> ee_image, bool touching) {
   Impl& m = *impl_;
   require(!bgr.empty() && bgr.depth() == CV_8U && (bgr.channels() == 3 || bgr.channels() == 1),
           core::cat({"frame ", std::to_string(m.frames), ": expected an 8-bit BGR image"}));
   if (bgr.size() != m.size) {
-    throw Error(core::cat({"frame ", std::to_string(m.frames), " is ",
-                           std::to_string(bgr.cols), "x", std::to_string(bgr.rows),
-                           ", the episode's frames are ", std::to_string(m.size.width), "x",
-                           std::to_string(m.size.height)}));
+    throw Error(core::cat({"frame ", std::to_string(m.frames), " is ", std::to_string(bgr.cols),
+                           "x", std::to_string(bgr.rows), ", the episode's frames are ",
+                           std::to_string(m.size.width), "x", std::to_string(m.size.height)}));
   }
   if (ee_image && !ee_image->allFinite()) ee_image.reset();
   const auto t0 = Clock::now();
@@ -343,7 +396,15 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   if (m.frames == 0 || !ee_image || !m.prev_ee || !m.interval_ee) {
     m.start_interval(ee_image);  // arm unknown: the open interval carries no evidence
   } else {
-    const std::vector<int> ids = m.accumulate(lab, back_flow);
+    cv::Mat1b textured;
+    {
+      cv::Mat1s gx, gy;
+      cv::Sobel(gray, gx, CV_16S, 1, 0);
+      cv::Sobel(gray, gy, CV_16S, 0, 1);
+      cv::Mat1s mag = cv::abs(gx) + cv::abs(gy);
+      textured = mag >= m.opt.min_gradient;
+    }
+    const std::vector<int> ids = m.accumulate(lab, back_flow, textured);
     const double moved = (*ee_image - *m.interval_ee).norm();
     // Before the touch the arm's approach is slow: shorter intervals for arm removal. The first
     // touch closes the pre-touch interval (eq 4.18's T' ends there).
@@ -355,6 +416,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
     }
   }
   m.prev_ee = ee_image;
+  m.ee_track.push_back(ee_image);
   // A track that ended hands its evidence on only to a track moving as it did: a background
   // region covered by the pushed object must not inherit the object's evidence.
   for (int t : m.tracker.ended()) {
@@ -376,7 +438,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   m.sum_regions += out.ms_regions;
   m.sum_model += out.ms_model;
   m.sum_total += out.ms_total;
-  out.map = m.paint(lab);
+  out.map = m.paint(lab, out.frame);
   return out;
 }
 
@@ -387,12 +449,11 @@ std::optional<int> MlSegmenter::first_touch_frame() const { return impl_->first_
 cv::Mat1f MlSegmenter::map_for_frame(int i) const {
   const Impl& m = *impl_;
   require(i >= 0 && i < m.frames, core::cat({"map_for_frame: frame ", std::to_string(i),
-                                             " out of range [0, ", std::to_string(m.frames),
-                                             ")"}));
-  if (m.opt.keep_frame_labels) return m.paint(m.labels[i]);
+                                             " out of range [0, ", std::to_string(m.frames), ")"}));
+  if (m.opt.keep_frame_labels) return m.paint(m.labels[i], i);
   require(m.first_touch && *m.first_touch == i,
           "map_for_frame: only the first-touch frame's labels were kept (keep_frame_labels)");
-  return m.paint(m.touch_labels);
+  return m.paint(m.touch_labels, i);
 }
 
 MlSummary MlSegmenter::summary() const {
@@ -419,9 +480,9 @@ std::vector<std::optional<Eigen::Vector2d>> checked_arm_track(const episode::Epi
   const std::string dir = ep.dir().string();
   if (ep.frame_count() <= 0) throw Error::in_file(ep.dir(), "the episode has no frames");
   if (static_cast<int>(ep.arm().size()) != ep.frame_count()) {
-    throw Error::in_file(ep.dir(), core::cat({"the episode has ", std::to_string(ep.arm().size()),
-                                              " arm samples for ",
-                                              std::to_string(ep.frame_count()), " frames"}));
+    throw Error::in_file(
+        ep.dir(), core::cat({"the episode has ", std::to_string(ep.arm().size()),
+                             " arm samples for ", std::to_string(ep.frame_count()), " frames"}));
   }
   auto track = ep.ee_image_track();
   if (std::none_of(track.begin(), track.end(), [](const auto& e) { return e.has_value(); }))

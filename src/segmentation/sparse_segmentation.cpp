@@ -80,7 +80,8 @@ MlResult segment_ml_sparse(const episode::Episode& episode, const SparseOptions&
     throw Error::in_file(episode.dir(), "the episode's arm samples do not match its frames");
   const auto track = episode.ee_image_track();
   if (std::none_of(track.begin(), track.end(), [](const auto& e) { return e.has_value(); }))
-    throw Error::in_file(episode.dir(), "no frame has the end-effector's image position (arm data)");
+    throw Error::in_file(episode.dir(),
+                         "no frame has the end-effector's image position (arm data)");
   MlResult r;
   r.first_touch_frame = episode.first_touch_frame();
   r.summary.frames = episode.frame_count();
@@ -94,8 +95,10 @@ MlResult segment_ml_sparse(const episode::Episode& episode, const SparseOptions&
   // (they move with it), since single frames' features are not tracked.
   std::optional<Eigen::Vector2d> ee_touch;
   for (int d = 0; d < episode.frame_count() && !ee_touch; ++d) {
-    if (touch - d >= 0 && track[touch - d]) ee_touch = track[touch - d];
-    else if (touch + d < episode.frame_count() && track[touch + d]) ee_touch = track[touch + d];
+    if (touch - d >= 0 && track[touch - d])
+      ee_touch = track[touch - d];
+    else if (touch + d < episode.frame_count() && track[touch + d])
+      ee_touch = track[touch + d];
   }
   cv::Mat1f object(size, 0.0f), arm(size, 0.0f);
   auto sift = cv::SIFT::create(options.max_features);

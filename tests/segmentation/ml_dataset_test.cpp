@@ -38,8 +38,10 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.model = value == "homography" ? MotionModel::kHomography : MotionModel::kTranslation;
   } else if (key == "flow") {
     static const std::map<std::string, FlowMethod> m = {
-        {"dis-ultrafast", FlowMethod::kDisUltrafast}, {"dis-fast", FlowMethod::kDisFast},
-        {"dis-medium", FlowMethod::kDisMedium},       {"farneback", FlowMethod::kFarneback},
+        {"dis-ultrafast", FlowMethod::kDisUltrafast},
+        {"dis-fast", FlowMethod::kDisFast},
+        {"dis-medium", FlowMethod::kDisMedium},
+        {"farneback", FlowMethod::kFarneback},
         {"lk", FlowMethod::kLucasKanadeGrid}};
     o.flow = m.at(value);
   } else if (key == "regions") {
@@ -66,6 +68,12 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.robust_bandwidth = v;
   } else if (key == "ransac_threshold") {
     o.ransac_threshold = v;
+  } else if (key == "min_gradient") {
+    o.min_gradient = v;
+  } else if (key == "min_evidence_fraction") {
+    o.min_evidence_fraction = v;
+  } else if (key == "direction_prior") {
+    o.direction_prior = v != 0;
   } else if (key == "tau") {
     s.tau = v;
   } else if (key == "density_sigma") {

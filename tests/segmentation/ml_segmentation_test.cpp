@@ -86,9 +86,9 @@ TEST(Homography, RansacRecoversAKnownHomography) {
   ASSERT_TRUE(fit.has_value());
   for (const Eigen::Vector2d& p : {Eigen::Vector2d(100, 80), Eigen::Vector2d(157, 137)})
     EXPECT_LT((apply_homography(*fit, p) - apply_homography(h, p)).norm(), 1e-3);
-  EXPECT_FALSE(fit_homography({from.begin(), from.begin() + 5}, {to.begin(), to.begin() + 5}, 0.5,
-                              12)
-                   .has_value());
+  EXPECT_FALSE(
+      fit_homography({from.begin(), from.begin() + 5}, {to.begin(), to.begin() + 5}, 0.5, 12)
+          .has_value());
 }
 
 TEST(Likelihood, UnnormalisedGaussian) {
@@ -271,8 +271,7 @@ TEST(MlSegmentation, FramesOfDifferentSizesAreAnError) {
 TEST(MlSegmentation, NoFramesIsAnError) {
   MlSegmenter seg(MlOptions{}, cv::Size(64, 48));
   EXPECT_EQ(seg.frames(), 0);
-  EXPECT_NE(error_of([&] { (void)seg.map_for_frame(0); }).find("out of range"),
-            std::string::npos);
+  EXPECT_NE(error_of([&] { (void)seg.map_for_frame(0); }).find("out of range"), std::string::npos);
   EXPECT_NE(error_of([] { MlSegmenter s(MlOptions{}, cv::Size(0, 0)); }).find("size"),
             std::string::npos);
 }

@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 class TempDir {
  public:
   explicit TempDir(const std::string& tag) {
-    path_ = fs::temp_directory_path() / ("proprio_seg_ml_" + tag + "_" + std::to_string(::getpid()));
+    path_ =
+        fs::temp_directory_path() / ("proprio_seg_ml_" + tag + "_" + std::to_string(::getpid()));
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -41,13 +42,13 @@ struct PushSpec {
   int width = 320;
   int height = 240;
   int frames = 24;
-  int still = 2;            ///< frames before the arm moves
-  double speed = 4.0;       ///< arm speed, pixels a frame
+  int still = 2;       ///< frames before the arm moves
+  double speed = 4.0;  ///< arm speed, pixels a frame
   bool moving_background = false;
-  bool touch = true;        ///< false: the arm stops short of the square
-  bool ee_known = true;     ///< false: no end-effector position anywhere (behind the camera)
-  int square = 50;          ///< side, pixels
-  int arm = 24;             ///< side of the arm block, pixels
+  bool touch = true;     ///< false: the arm stops short of the square
+  bool ee_known = true;  ///< false: no end-effector position anywhere (behind the camera)
+  int square = 50;       ///< side, pixels
+  int arm = 24;          ///< side of the arm block, pixels
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.

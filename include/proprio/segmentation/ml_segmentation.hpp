@@ -13,8 +13,8 @@
 // not), and a region keeps its integrated evidence while it moves.
 
 #include <Eigen/Core>
-#include <opencv2/core.hpp>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,6 +68,19 @@ struct MlOptions {
   /// pre-touch interval: the arm is what moves like the arm before the touch; a still region
   /// is not made more probable by the arm moving elsewhere.
   double min_region_motion = 3.0;
+  /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
+  /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
+  /// interval must not match a region followed through the whole push. Off (0) by default:
+  /// regions that the over-segmentation cuts short lost more than lucky ones gained.
+  double min_evidence_fraction = 0.0;
+  /// Texture: dense flow in a texture-less area (a plain table, the arm's plain links) is filled
+  /// in from the neighbours and says nothing of the region's own motion. Only pixels whose
+  /// Sobel gradient |gx| + |gy| (grey levels, 3x3 kernel) is at least min_gradient feed a
+  /// region's motion; a region with fewer than min_textured_samples of them (every 2nd pixel
+  /// each way) gives no evidence in that interval. Off (0) by default: on the simulated scenes
+  /// it cost more object regions than it saved.
+  double min_gradient = 0.0;
+  int min_textured_samples = 6;
   /// A region track that the over-segmentation ends hands its evidence on to the track that
   /// took most of its pixels only when their last motions differ by at most this, pixels (a
   /// still region covered by the pushed object must not inherit the object's evidence).
@@ -77,6 +90,12 @@ struct MlOptions {
   double scale = 1.0;
   /// SEEDS iterations / SLIC iterations per frame.
   int region_iterations = 2;
+  /// Push-direction prior (4.6, a position prior from proprioception): when the arm's path after
+  /// the touch is straight, the map is multiplied by 1 ahead of the pusher's tip, falling to 0
+  /// over direction_ramp pixels behind it (where the arm is). Off for curved paths (objects
+  /// carried in 3D), where "ahead" means nothing.
+  bool direction_prior = true;
+  double direction_ramp = 8.0;
   /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
   cv::Mat1f prior;
   /// Keep the map painted with every frame's regions (MlResult::frame_maps).
@@ -90,12 +109,12 @@ struct MlOptions {
 
 /// What happened (Ceres style).
 struct MlSummary {
-  int frames = 0;             ///< frames read
-  int scored_frame = -1;      ///< frame the map was painted on (first touch); -1 never touched
-  bool touched = false;       ///< the arm touched something
-  int evidence_intervals = 0; ///< evidence intervals closed (arm moved evidence_step)
-  int tracks = 0;             ///< region tracks created over the episode
-  std::string message;        ///< one line: what happened
+  int frames = 0;                ///< frames read
+  int scored_frame = -1;         ///< frame the map was painted on (first touch); -1 never touched
+  bool touched = false;          ///< the arm touched something
+  int evidence_intervals = 0;    ///< evidence intervals closed (arm moved evidence_step)
+  int tracks = 0;                ///< region tracks created over the episode
+  std::string message;           ///< one line: what happened
   double mean_ms_regions = 0.0;  ///< over-segmentation + tracking, per frame
   double mean_ms_flow = 0.0;     ///< optical flow, per frame
   double mean_ms_model = 0.0;    ///< motion model + likelihood + integration, per frame
