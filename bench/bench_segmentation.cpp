@@ -1,0 +1,124 @@
+// M-L segmentation speed at 640x480 (issue 4: >= 30 frames/s with the translation model, flow
+// and over-segmentation included, disk I/O excluded). Frames of one episode are decoded into
+// memory first. PROPRIO_BENCH_EPISODE names the episode (default: the thesis-ch5 dataset's
+// push_mug_moving_0).
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgproc.hpp>
+
+#include "proprio/episode/episode.hpp"
+#include "proprio/segmentation/ml_segmentation.hpp"
+#include "proprio/segmentation/optical_flow.hpp"
+#include "proprio/segmentation/region_tracker.hpp"
+
+namespace seg = proprio::segmentation;
+
+namespace {
+
+struct Loaded {
+  std::vector<cv::Mat> frames;
+  std::vector<std::optional<Eigen::Vector2d>> ee;
+  std::vector<bool> touching;
+  std::string error;
+};
+
+const Loaded& loaded() {
+  static const Loaded l = [] {
+    Loaded out;
+    const char* env = std::getenv("PROPRIO_BENCH_EPISODE");
+    const std::filesystem::path dir = env ? env : "/work/datasets/ch5/push_mug_moving_0";
+    try {
+      const auto ep = proprio::episode::read_episode(dir);
+      for (int i = 0; i < ep.frame_count(); ++i) {
+        out.frames.push_back(ep.frame(i));
+        out.ee.push_back(ep.ee_image(i));
+        out.touching.push_back(ep.arm()[i].touching);
+      }
+    } catch (const std::exception& e) {
+      out.error = e.what();
+    }
+    return out;
+  }();
+  return l;
+}
+
+bool skip_without_frames(benchmark::State& state) {
+  if (loaded().frames.empty()) {
+    state.SkipWithError(("no episode: " + loaded().error).c_str());
+    return true;
+  }
+  return false;
+}
+
+void run_ml(benchmark::State& state, seg::MlOptions o) {
+  if (skip_without_frames(state)) return;
+  const auto& l = loaded();
+  o.keep_frame_labels = false;
+  seg::MlSummary s;
+  for (auto _ : state) {
+    seg::MlSegmenter m(o, l.frames[0].size());
+    for (size_t i = 0; i < l.frames.size(); ++i) {
+      auto out = m.push(l.frames[i], l.ee[i], l.touching[i]);
+      benchmark::DoNotOptimize(out.map.data);
+    }
+    s = m.summary();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(l.frames.size()));
+  state.counters["ms_regions"] = s.mean_ms_regions;
+  state.counters["ms_flow"] = s.mean_ms_flow;
+  state.counters["ms_model"] = s.mean_ms_model;
+  state.counters["ms_total"] = s.mean_ms_total;
+  state.counters["frames_per_s"] = 1000.0 / s.mean_ms_total;
+}
+
+void BM_MlTranslationDefault(benchmark::State& state) { run_ml(state, seg::MlOptions{}); }
+BENCHMARK(BM_MlTranslationDefault)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_MlTranslationHalfScale(benchmark::State& state) {
+  seg::MlOptions o;
+  o.scale = 0.5;
+  run_ml(state, o);
+}
+BENCHMARK(BM_MlTranslationHalfScale)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_MlHomography(benchmark::State& state) {
+  seg::MlOptions o;
+  o.model = seg::MotionModel::kHomography;
+  run_ml(state, o);
+}
+BENCHMARK(BM_MlHomography)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Stages alone, one 640x480 frame pair.
+void BM_Flow(benchmark::State& state) {
+  if (skip_without_frames(state)) return;
+  const auto& l = loaded();
+  cv::Mat1b a, b;
+  cv::cvtColor(l.frames[40 % l.frames.size()], a, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(l.frames[41 % l.frames.size()], b, cv::COLOR_BGR2GRAY);
+  seg::DenseFlow flow(static_cast<seg::FlowMethod>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(flow.compute(b, a).data);
+}
+BENCHMARK(BM_Flow)
+    ->ArgName("method")  // 0 DIS ultrafast, 1 DIS fast, 2 DIS medium, 3 Farneback, 4 LK grid
+    ->DenseRange(0, 4)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_OverSegmentation(benchmark::State& state) {
+  if (skip_without_frames(state)) return;
+  const auto& l = loaded();
+  const cv::Mat& f = l.frames[40 % l.frames.size()];
+  seg::OverSegmenter s(static_cast<seg::OverSegmentation>(state.range(0)), 400, 2, f.size());
+  int count = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(s.segment(f, count).data);
+  state.counters["regions"] = count;
+}
+BENCHMARK(BM_OverSegmentation)
+    ->ArgName("method")  // 0 SEEDS, 1 SLIC, 2 mean shift
+    ->DenseRange(0, 2)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
