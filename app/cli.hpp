@@ -32,6 +32,7 @@ void register_lda_commands(CLI::App& root, const Invocation& inv);
 void register_intercept_commands(CLI::App& root, const Invocation& inv);
 void register_sim_commands(CLI::App& root, const Invocation& inv);
 void register_segment_commands(CLI::App& root, const Invocation& inv);
+void register_vocab_commands(CLI::App& root, const Invocation& inv);
 void register_recognition_commands(CLI::App& root, const Invocation& inv);
 
 }  // namespace proprio::app

@@ -33,6 +33,7 @@ int run(int argc, char** argv) {
   register_intercept_commands(root, inv);
   register_sim_commands(root, inv);
   register_segment_commands(root, inv);
+  register_vocab_commands(root, inv);
   register_recognition_commands(root, inv);
 
   try {
