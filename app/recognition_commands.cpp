@@ -211,10 +211,9 @@ void run_train(const TrainArgs& a, const Invocation& inv) {
   }
   topics::save_lda_model(model, a.model);
   std::printf("%s\ndocuments: %zu\ntokens: %lld\nmodel: %s\n", summary.c_str(),
-              corpus.num_documents(), static_cast<long long>(corpus.num_tokens()),
-              a.model.c_str());
-  core::Json doc = core::result_document("proprio.recognize.train", 1,
-                                         inv.provenance(a.online.seed));
+              corpus.num_documents(), static_cast<long long>(corpus.num_tokens()), a.model.c_str());
+  core::Json doc =
+      core::result_document("proprio.recognize.train", 1, inv.provenance(a.online.seed));
   doc["model"] = a.model;
   doc["vocabulary"] = a.vocabulary;
   doc["source"] = a.images.empty() ? "episodes" : "images";
@@ -297,7 +296,8 @@ void run_classify(const ClassifyArgs& a, const Invocation& inv) {
       csv += ',';
       csv += std::to_string(topic[d]);
       csv += ',';
-      csv += mapped.empty() || mapped[d] < 0 ? "" : set.classes[static_cast<std::size_t>(mapped[d])];
+      csv +=
+          mapped.empty() || mapped[d] < 0 ? "" : set.classes[static_cast<std::size_t>(mapped[d])];
       for (int k = 0; k < model.num_topics(); ++k) {
         char buf[32];
         std::snprintf(buf, sizeof buf, ",%.6g", theta(static_cast<Eigen::Index>(d), k));
@@ -348,7 +348,8 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
   };
   std::printf("set A: %s\nset B: %s\nwide dictionary: %s\n\n", join(r.set_a).c_str(),
               join(r.set_b).c_str(), join(r.wide).c_str());
-  const char* format = dictionary ? "proprio.experiment.dictionary" : "proprio.experiment.batch_online";
+  const char* format =
+      dictionary ? "proprio.experiment.dictionary" : "proprio.experiment.batch_online";
   core::Json doc = core::result_document(format, 1, inv.provenance(o.seed));
   doc["images"] = a.images;
   doc["set_a"] = r.set_a;
@@ -357,7 +358,8 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
   doc["words"] = o.kmeans.words;
   doc["test_per_class"] = o.test_per_class;
   doc["features"] = to_string(o.features.kind);
-  if (r.specific_kmeans) doc["specific_dictionary"] = kmeans_json(*r.specific_kmeans, r.specific_descriptors);
+  if (r.specific_kmeans)
+    doc["specific_dictionary"] = kmeans_json(*r.specific_kmeans, r.specific_descriptors);
   if (r.wide_kmeans) doc["wide_dictionary"] = kmeans_json(*r.wide_kmeans, r.wide_descriptors);
   doc["runs"] = core::Json::array();
   for (const SetRunResult& run : r.runs) {
@@ -389,7 +391,8 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
 void add_set_options(CLI::App* cmd, SetArgs& a) {
   cmd->add_option("--images", a.images, "Folder-per-class image set (Caltech-256's layout)")
       ->required();
-  cmd->add_option("--set-a", a.set_a, "Classes of set A (the specific dictionary's); default: the first half")
+  cmd->add_option("--set-a", a.set_a,
+                  "Classes of set A (the specific dictionary's); default: the first half")
       ->delimiter(',');
   cmd->add_option("--set-b", a.set_b, "Classes of set B; default: the other half")->delimiter(',');
   cmd->add_option("--wide", a.wide, "Classes of the wide dictionary; default: all")->delimiter(',');
@@ -445,9 +448,8 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   std::optional<features::Vocabulary> vocabulary;
   if (!a.vocabulary.empty()) vocabulary = features::read_vocabulary(a.vocabulary);
   std::shared_ptr<core::ProgressBar> bar;
-  const ScatterExperimentResult r =
-      run_scatter_experiment(episodes, views, o, vocabulary ? &*vocabulary : nullptr,
-                             progress_of(bar, "frames", a.quiet));
+  const ScatterExperimentResult r = run_scatter_experiment(
+      episodes, views, o, vocabulary ? &*vocabulary : nullptr, progress_of(bar, "frames", a.quiet));
   std::printf("objects: %zu, episodes: %zu, frames: %d, documents: %d, tokens: %lld, words: %d\n",
               r.objects.size(), episodes.size(), r.frames, r.documents,
               static_cast<long long>(r.tokens), r.words);
@@ -510,8 +512,9 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   train->add_option("--max-iterations", t->max_iterations, "EM iterations (batch)")
       ->capture_default_str();
   train->add_option("--seed", t->online.seed, "Seed")->capture_default_str();
-  train->add_option("--region", t->region,
-                    "Episodes: whole, target, objects (ground-truth masks), blobs, masks")
+  train
+      ->add_option("--region", t->region,
+                   "Episodes: whole, target, objects (ground-truth masks), blobs, masks")
       ->capture_default_str();
   train->add_option("--objects", t->objects, "Episodes, region objects: object names")
       ->delimiter(',');
@@ -558,7 +561,8 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
       ->required();
   sc->add_option("--views", s->views, "Folder-per-object views; folder names = object names")
       ->required();
-  sc->add_option("--k", s->k, "Numbers of topics K, comma-separated; objects = the number of objects")
+  sc->add_option("--k", s->k,
+                 "Numbers of topics K, comma-separated; objects = the number of objects")
       ->capture_default_str();
   sc->add_option("--vocabulary", s->vocabulary, "Vocabulary file (default: built from the frames)");
   sc->add_option("--words", s->options.kmeans.words, "Words of a dictionary built from the frames")

@@ -94,7 +94,8 @@ features::Features extract_features(const cv::Mat& image, const ExtractOptions& 
   // of the frame.
   const cv::Mat grey = grey_of(image);
   std::vector<cv::KeyPoint> grid = features::dense_grid(image.size(), options.dense);
-  if (!mask.empty()) std::erase_if(grid, [&](const cv::KeyPoint& k) { return !inside(mask, k.pt); });
+  if (!mask.empty())
+    std::erase_if(grid, [&](const cv::KeyPoint& k) { return !inside(mask, k.pt); });
   if (options.min_contrast > 0 && !grid.empty()) {
     // Local variance E[I^2] - E[I]^2 over the patch by box filters.
     cv::Mat g, mean, mean_sq;
@@ -156,11 +157,16 @@ FrameRegion parse_frame_region(const std::string& name) {
 
 std::string to_string(FrameRegion region) {
   switch (region) {
-    case FrameRegion::kWhole: return "whole";
-    case FrameRegion::kTarget: return "target";
-    case FrameRegion::kObjects: return "objects";
-    case FrameRegion::kBlobs: return "blobs";
-    case FrameRegion::kMasks: return "masks";
+    case FrameRegion::kWhole:
+      return "whole";
+    case FrameRegion::kTarget:
+      return "target";
+    case FrameRegion::kObjects:
+      return "objects";
+    case FrameRegion::kBlobs:
+      return "blobs";
+    case FrameRegion::kMasks:
+      return "masks";
   }
   return "?";
 }
@@ -181,8 +187,7 @@ std::vector<int> selected_object_ids(const episode::Episode& episode,
     bool match = objects.empty();
     for (const std::string& n : objects) {
       const std::string suffix = "-" + n;
-      match = match || o.name == n ||
-              (o.name.size() > suffix.size() && o.name.ends_with(suffix));
+      match = match || o.name == n || (o.name.size() > suffix.size() && o.name.ends_with(suffix));
     }
     if (match) ids.push_back(o.id);
   }

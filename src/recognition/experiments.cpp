@@ -92,7 +92,8 @@ SetExperimentResult run_set_experiment(const features::ImageSet& set,
   result.set_a = options.set_a;
   result.set_b = options.set_b;
   if (result.set_a.empty() && result.set_b.empty()) {
-    if (set.classes.size() < 2) throw Error("the image set needs at least 2 classes for sets A and B");
+    if (set.classes.size() < 2)
+      throw Error("the image set needs at least 2 classes for sets A and B");
     const std::size_t half = (set.classes.size() + 1) / 2;
     result.set_a.assign(set.classes.begin(), set.classes.begin() + static_cast<long>(half));
     result.set_b.assign(set.classes.begin() + static_cast<long>(half), set.classes.end());
@@ -118,9 +119,9 @@ SetExperimentResult run_set_experiment(const features::ImageSet& set,
   };
   auto build = [&](const std::vector<std::string>& classes, std::uint64_t seed,
                    std::optional<features::KmeansSummary>& summary, int& n) {
-    const cv::Mat d = sample_descriptors(set, images_of(set, split.train, classes),
-                                         options.dictionary_images, options.descriptors_per_image,
-                                         options.features, seed, progress);
+    const cv::Mat d =
+        sample_descriptors(set, images_of(set, split.train, classes), options.dictionary_images,
+                           options.descriptors_per_image, options.features, seed, progress);
     n = d.rows;
     features::KmeansOptions k = options.kmeans;
     k.seed = seed;
@@ -137,8 +138,8 @@ SetExperimentResult run_set_experiment(const features::ImageSet& set,
     return std::move(r.vocabulary);
   };
   if (needs("specific"))
-    specific = build(result.set_a, options.seed + 1, result.specific_kmeans,
-                     result.specific_descriptors);
+    specific =
+        build(result.set_a, options.seed + 1, result.specific_kmeans, result.specific_descriptors);
   if (needs("wide"))
     wide = build(result.wide, options.seed + 2, result.wide_kmeans, result.wide_descriptors);
 
@@ -213,7 +214,8 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
   std::vector<features::Features> docs;
   std::size_t total = 0;
   for (const auto& e : episodes)
-    total += static_cast<std::size_t>((e.frame_count() + options.frame_step - 1) / options.frame_step);
+    total +=
+        static_cast<std::size_t>((e.frame_count() + options.frame_step - 1) / options.frame_step);
   std::size_t done = 0;
   for (const auto& e : episodes) {
     for (int i = 0; i < e.frame_count(); i += options.frame_step) {
@@ -282,10 +284,11 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
         throw Error(m);
       }
       std::shuffle(members.begin(), members.end(), rng.engine());
-      auto n = static_cast<std::size_t>(std::lround(options.mapping_fraction *
-                                                    static_cast<double>(members.size())));
+      auto n = static_cast<std::size_t>(
+          std::lround(options.mapping_fraction * static_cast<double>(members.size())));
       n = std::clamp<std::size_t>(n, 1, members.size() - 1);
-      mapping_idx.insert(mapping_idx.end(), members.begin(), members.begin() + static_cast<long>(n));
+      mapping_idx.insert(mapping_idx.end(), members.begin(),
+                         members.begin() + static_cast<long>(n));
       test_idx.insert(test_idx.end(), members.begin() + static_cast<long>(n), members.end());
     }
     std::sort(mapping_idx.begin(), mapping_idx.end());
@@ -293,7 +296,8 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
   }
   const LabelledCorpus mapping_docs =
       image_corpus(views, mapping_idx, *vocabulary, options.view_features);
-  const LabelledCorpus test_docs = image_corpus(views, test_idx, *vocabulary, options.view_features);
+  const LabelledCorpus test_docs =
+      image_corpus(views, test_idx, *vocabulary, options.view_features);
   result.mapping_views = static_cast<int>(mapping_idx.size());
   result.test_views = static_cast<int>(test_idx.size());
 

@@ -127,8 +127,8 @@ cv::Mat sample_descriptors(const features::ImageSet& set, std::span<const std::s
   std::size_t done = 0;
   for (std::size_t i : chosen) {
     const features::Features f = extract_features(read_image(set.images[i]), options);
-    for (std::size_t r : draw(static_cast<std::size_t>(f.size()),
-                              static_cast<std::size_t>(per_image), rng))
+    for (std::size_t r :
+         draw(static_cast<std::size_t>(f.size()), static_cast<std::size_t>(per_image), rng))
       out.push_back(f.descriptors.row(static_cast<int>(r)));
     if (progress) progress(++done, chosen.size());
   }
@@ -140,8 +140,8 @@ Evaluation evaluate_model(const topics::LdaModel& model, const LabelledCorpus& m
                           const LabelledCorpus& test, const topics::InferenceOptions& options) {
   assert(mapping_documents.classes == test.classes);
   const int n_classes = static_cast<int>(test.classes.size());
-  const topics::InferenceResult known = topics::infer_topics(model, mapping_documents.corpus,
-                                                             options);
+  const topics::InferenceResult known =
+      topics::infer_topics(model, mapping_documents.corpus, options);
   // Empty documents say nothing about any topic: leave them out of the means.
   std::vector<int> labels = mapping_documents.labels;
   const std::vector<int> known_class = known.classify();

@@ -86,9 +86,9 @@ fs::path RecognitionCli::dir_;
 
 TEST_F(RecognitionCli, DictionaryExperimentPrintsFourMatricesAndValidJson) {
   const CliRun r = run("experiment dictionary --images " + images() +
-                    " --set-a baboon,fruits --set-b building,board --words 16"
-                    " --dictionary-images 2 --per-image 40 --test-per-class 2 --quiet --json " +
-                    file("dict.json"));
+                       " --set-a baboon,fruits --set-b building,board --words 16"
+                       " --dictionary-images 2 --per-image 40 --test-per-class 2 --quiet --json " +
+                       file("dict.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   for (const char* name : {"C_AS", "C_BS", "C_AW", "C_BW"})
     EXPECT_NE(r.out.find(name), std::string::npos) << name << "\n" << r.out;
@@ -108,8 +108,9 @@ TEST_F(RecognitionCli, DictionaryExperimentPrintsFourMatricesAndValidJson) {
 
 TEST_F(RecognitionCli, BatchOnlineExperimentRunsBothLearners) {
   const CliRun r = run("experiment batch-online --images " + images() +
-                    " --words 16 --dictionary-images 2 --per-image 40 --test-per-class 2"
-                    " --batch 4 --passes 3 --quiet --json " + file("bo.json"));
+                       " --words 16 --dictionary-images 2 --per-image 40 --test-per-class 2"
+                       " --batch 4 --passes 3 --quiet --json " +
+                       file("bo.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("C_AO"), std::string::npos);
   test::expect_schema_valid("experiment_sets.schema.json", file("bo.json"));
@@ -121,8 +122,8 @@ TEST_F(RecognitionCli, BatchOnlineExperimentRunsBothLearners) {
 
 TEST_F(RecognitionCli, TrainThenClassifyWithLabelledImages) {
   CliRun r = run("recognize train --images " + images() + " --vocabulary " + file("v.vocab") +
-              " -k 4 --passes 5 --batch 8 --model " + file("m.lda") + " --quiet --json " +
-              file("train.json"));
+                 " -k 4 --passes 5 --batch 8 --model " + file("m.lda") + " --quiet --json " +
+                 file("train.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   test::expect_schema_valid("recognize_train.schema.json", file("train.json"));
   r = run("recognize classify --model " + file("m.lda") + " --vocabulary " + file("v.vocab") +
@@ -239,9 +240,10 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
     }
   }
   const CliRun r = run("experiment scatter --episodes " + (dir_ / "episodes").string() +
-                    " --views " + (dir_ / "views").string() +
-                    " --k objects,5 --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
-                    " --passes 3 --quiet --json " + file("scatter.json"));
+                       " --views " + (dir_ / "views").string() +
+                       " --k objects,5 --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
+                       " --passes 3 --quiet --json " +
+                       file("scatter.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("K = 3"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("K = 5"), std::string::npos) << r.out;

@@ -33,8 +33,8 @@ TEST(Confusion, ThesisTable64AverageIsTheMeanOfTheRows) {
         truth.push_back(r);
         pred.push_back(c);
       }
-  const ConfusionMatrix m = confusion_matrix(truth, pred, {"calc", "bike", "bottle"},
-                                             topic_names(3));
+  const ConfusionMatrix m =
+      confusion_matrix(truth, pred, {"calc", "bike", "bottle"}, topic_names(3));
   EXPECT_NEAR(m.mean_class_accuracy(), 0.8367, 1e-4);
   EXPECT_EQ(m.columns.front(), "z_1");
   EXPECT_NE(m.format(true).find("57"), std::string::npos);

@@ -91,8 +91,8 @@ TEST(Documents, ContrastAndCentreCropKeepTheTexturedCentre) {
   const features::Features f = extract_features(img, o);
   ASSERT_GT(f.size(), 0);
   for (const auto& k : f.keypoints) {
-    const bool on_patch = cv::Rect(22, 72, 86, 86).contains(k.pt) ||
-                          cv::Rect(282, 52, 86, 86).contains(k.pt);
+    const bool on_patch =
+        cv::Rect(22, 72, 86, 86).contains(k.pt) || cv::Rect(282, 52, 86, 86).contains(k.pt);
     EXPECT_TRUE(on_patch) << k.pt;
   }
   o.center_crop = 0.5;  // x in [100, 300): between the patches but for the right one's edge

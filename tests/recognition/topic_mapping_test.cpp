@@ -64,7 +64,8 @@ TEST(TopicMapping, LdaOnPlantedTopicsClassifiesHeldOutDocuments) {
       for (int t = 0; t < 40; ++t) {
         // 90% from the class's own ten words, 10% from anywhere.
         const bool own = rng.uniform() < 0.9;
-        const int w = own ? 10 * c + static_cast<int>(rng.index(10)) : static_cast<int>(rng.index(20));
+        const int w =
+            own ? 10 * c + static_cast<int>(rng.index(10)) : static_cast<int>(rng.index(20));
         tokens.push_back(w);
       }
       out.corpus.add_tokens(tokens);

@@ -87,10 +87,11 @@ struct FrameDocumentOptions {
   void validate() const;
 };
 
-/// The features of the document(s) of frame i: one, or one per blob (kBlobs). Throws Error when the episode lacks masks (kTarget,
-/// kObjects) or a target (kTarget), or a mask file is missing or of the wrong size (kMasks).
+/// The features of the document(s) of frame i: one, or one per blob (kBlobs). Throws Error when the
+/// episode lacks masks (kTarget, kObjects) or a target (kTarget), or a mask file is missing or of
+/// the wrong size (kMasks).
 std::vector<features::Features> frame_features(const episode::Episode& episode, int frame,
-                             const FrameDocumentOptions& options);
+                                               const FrameDocumentOptions& options);
 
 /// The ids of the episode's objects that kObjects keeps.
 std::vector<int> selected_object_ids(const episode::Episode& episode,

@@ -34,7 +34,7 @@ struct SetExperimentOptions {
   std::vector<std::string> set_b;  ///< classes of set B; empty: the other half
   /// Classes of the wide dictionary; empty: every class of the image set.
   std::vector<std::string> wide;
-  int dictionary_images = 30;  ///< images per class for a dictionary (thesis: 30)
+  int dictionary_images = 30;       ///< images per class for a dictionary (thesis: 30)
   int descriptors_per_image = 100;  ///< dense SIFT drawn per image (thesis: 100)
   features::KmeansOptions kmeans;   ///< 400 words, stop below 0.1% change
   int test_per_class = 20;          ///< test images per class (thesis: 20); the rest train

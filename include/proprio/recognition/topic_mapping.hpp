@@ -22,8 +22,7 @@ struct TopicMapping {
 /// Maps the K topics to `num_classes` classes from the theta (D x K, rows E[theta_d]) of labelled
 /// documents with labels in [0, num_classes). Rows with a negative label are ignored (empty
 /// documents). Throws Error when a class has no labelled document (its mean would be undefined).
-TopicMapping map_topics(const Eigen::MatrixXd& theta, std::span<const int> labels,
-                        int num_classes);
+TopicMapping map_topics(const Eigen::MatrixXd& theta, std::span<const int> labels, int num_classes);
 
 /// The class of each document: the class of its most probable topic (argmax_k theta_dk, thesis
 /// 6.1.4, then the mapping; the merged columns of 7.3.1). -1 where `topic` is -1.
