@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
@@ -238,12 +236,6 @@ struct MlSegmenter::Impl {
     }
     ++intervals_closed;
     if (!pre_touch) ++post_intervals;
-    if (std::getenv("PROPRIO_SEG_DEBUG")) {
-      int moved_n = 0;
-      for (int id : ids) moved_n += tracks[id].shift.norm() >= opt.min_region_motion;
-      std::fprintf(stderr, "interval end %d start %d pre %d tracks %zu moved %d\n", frames,
-                   interval_start, int(pre_touch), ids.size(), moved_n);
-    }
   }
 
   // Per-track scores. A track that ended lives on in its successor (region_tracker.hpp): its

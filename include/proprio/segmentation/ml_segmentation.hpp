@@ -11,6 +11,11 @@
 // labels warped along the flow (a superpixel whose overlap is too small starts a new track).
 // This keeps the cost per frame constant (the thesis's 6-D mean shift over the whole video is
 // not), and a region keeps its integrated evidence while it moves.
+//
+// Integration: a region's score is (mean likelihood over the post-touch evidence intervals) x
+// (mean arm-removal term (1 - p) / kappa over the pre-touch intervals in which it moved; 1 if it
+// never moved before the touch). Eq 4.21 averages both kinds of interval together; with a long
+// approach that would leave every still background region a score of n_pre / n_all.
 
 #include <Eigen/Core>
 #include <memory>
