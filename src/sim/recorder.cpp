@@ -230,6 +230,7 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
     plan.push_start = {0.18, -0.08, 0.13};
     plan.via = {0.24, 0.06, 0.21};
     plan.push_end = {0.27, -0.04, 0.15};
+    plan.scene.grasp_object = options.object;
   }
 
   // Clutter and distractors: other catalogue objects, drawn without repetition.
@@ -372,10 +373,26 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   track_opt.ik = ik;
   const robot::TrackResult track = robot::track_trajectory(state, move, q0, track_opt);
   world.set_arm_configuration(q0);
-  // Let the objects settle on the table before the first frame.
+  const ObjectId target_id = world.object(plan.target).id;
+  // hold-3d: the target is grasped at the start, its top face 1 cm under the pusher tip and
+  // turned with the arm, by the weld constraint of the scene (World::set_grasp): from then on
+  // the physics carries it. The fingers do not close on it: the arm's jaws span the pusher, not
+  // an object below it, so the weld stands in for the grip.
+  const ObjectType& target_type = world.object(target_id).type;
+  if (plan.held) {
+    const Eigen::Vector3d ee = world.ee_position();
+    const Eigen::Vector3d he = target_type.half_extents();
+    const Eigen::Vector3d ce = target_type.center();
+    Pose p = Pose::Identity();
+    p.linear() =
+        Eigen::AngleAxisd(std::atan2(ee.y(), ee.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    p.translation() = ee - Eigen::Vector3d(0, 0, 0.01 + he.z()) - p.linear() * ce;
+    world.set_object_pose(target_id, p);
+    world.set_grasp(true, ce);
+  }
+  // Let the objects settle on the table (or in the grasp) before the first frame.
   world.step(100);
 
-  const ObjectId target_id = world.object(plan.target).id;
   std::vector<ObjectId> distractor_ids;
   for (const auto& n : plan.distractors) distractor_ids.push_back(world.object(n).id);
   std::vector<ObjectId> slider_ids;
@@ -461,21 +478,11 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
     return renderer.rgb(world, camera_name);
   };
 
-  // hold-3d: the target welded under the pusher tip (the top of its box 1 cm below it), turning
-  // with the arm and rocking a little so that the views change in 3D. Set before every step so
-  // that it never falls.
-  const ObjectType& target_type = world.object(target_id).type;
-  auto hold_target = [&](double t) {
-    const Eigen::Vector3d ee = world.ee_position();
-    const Eigen::Vector3d he = target_type.half_extents();
-    const Eigen::Vector3d ce = target_type.center();
-    Pose p = Pose::Identity();
-    p.linear() = (Eigen::AngleAxisd(std::atan2(ee.y(), ee.x()) + 0.6 * std::sin(0.9 * t),
-                                    Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(0.25 * std::sin(1.3 * t), Eigen::Vector3d::UnitX()))
-                     .toRotationMatrix();
-    p.translation() = ee - Eigen::Vector3d(0, 0, 0.01 + he.z()) - p.linear() * ce;
-    world.set_object_pose(target_id, p);
+  // hold-3d: the hand turns the object in its grip a little so that the views change in 3D.
+  auto turn_held = [&](double t) {
+    world.set_grasp_rotation((Eigen::AngleAxisd(0.6 * std::sin(0.9 * t), Eigen::Vector3d::UnitZ()) *
+                              Eigen::AngleAxisd(0.15 * std::sin(1.3 * t), Eigen::Vector3d::UnitX()))
+                                 .toRotationMatrix());
   };
   int step_index = 0;
   std::optional<AsyncEpisodeWriter> async_writer(std::in_place, writer);
@@ -488,7 +495,7 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       for (int s = 0; s < steps_per_frame; ++s, ++step_index) {
         const int k = std::clamp(step_index - before_steps, 0, move_steps - 1);
         world.set_arm_targets(track.joints.q[static_cast<std::size_t>(k)]);
-        if (plan.held) hold_target(t - (steps_per_frame - s) * dt);
+        if (plan.held) turn_held(t - (steps_per_frame - s) * dt);
         world.step();
         touched = touched || world.arm_touches(target_id);
         if (options.motion_blur && (s + 1) % blur_every == 0 && s + 1 < steps_per_frame) {
@@ -520,10 +527,8 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       p.linear() = Eigen::AngleAxisd(3.0 * x, Eigen::Vector3d::UnitZ()).toRotationMatrix();
       world.set_object_pose(slider_ids[i], p);
     }
-    if (plan.held) {
-      hold_target(t);
-      touched = true;
-    }
+    // A grasp is a touch: the weld holds the object against the hand.
+    if (world.grasping()) touched = true;
     if (neighbour_id && t >= nudge_t0 && t - nudge_t0 <= 0.5 + 0.5 / options.fps) {
       // Shoved 5 cm away from the push path over half a second.
       const double u = std::min(1.0, (t - nudge_t0) / 0.5);

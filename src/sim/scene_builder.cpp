@@ -356,6 +356,17 @@ SceneModel build_scene(const SceneDescription& description, const ObjectCatalogu
     x << "    </body>\n";
   }
   x << "  </worldbody>\n";
+  if (!d.grasp_object.empty()) {
+    const auto it = std::find_if(scene.objects.begin(), scene.objects.end(),
+                                 [&](const SceneObject& o) { return o.name == d.grasp_object; });
+    if (it == scene.objects.end()) {
+      throw Error("scene: the grasp object '" + d.grasp_object + "' is not one of the objects");
+    }
+    if (d.arm_model.empty()) throw Error("scene: a grasp object needs the arm");
+    // World::set_grasp fills in the relative pose at the moment of the grasp.
+    x << "  <equality>\n    <weld name=\"" << kGraspConstraint << "\" body1=\"" << kGraspArmBody
+      << "\" body2=\"" << it->body << "\" active=\"false\"/>\n  </equality>\n";
+  }
   x << "</mujoco>\n";
   scene.xml = x.str();
   return scene;

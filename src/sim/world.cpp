@@ -155,6 +155,57 @@ void World::set_object_pose(ObjectId id, const Pose& pose) {
   mj_forward(model_.get(), data_.get());
 }
 
+namespace {
+// Weld constraint data in MuJoCo 2.2 (mjNEQDATA = 11): the anchor in body2's frame, the point
+// in body1's frame that it must coincide with, body2's orientation in body1's frame (w x y z)
+// and the torque scale.
+constexpr int kWeldAnchor = 0;
+constexpr int kWeldRelPos = 3;
+constexpr int kWeldRelQuat = 6;
+
+int grasp_equality(const mjModel& m) {
+  const int id = mj_name2id(&m, mjOBJ_EQUALITY, kGraspConstraint);
+  assert(id >= 0 && m.eq_type[id] == mjEQ_WELD && "the scene has no grasp object");
+  return id;
+}
+}  // namespace
+
+void World::set_grasp(bool on, const Eigen::Vector3d& anchor) {
+  mjModel& m = *model_;
+  const int id = grasp_equality(m);
+  if (on) {
+    const mjData& d = *data_;
+    const Pose p1 = body_pose(d, m.eq_obj1id[id]);
+    const Pose p2 = body_pose(d, m.eq_obj2id[id]);
+    const Eigen::Vector3d relpos = p1.inverse() * (p2 * anchor);
+    grasp_relquat_ = Eigen::Quaterniond(p1.linear().transpose() * p2.linear()).normalized();
+    mjtNum* data = m.eq_data + std::ptrdiff_t{mjNEQDATA} * id;
+    for (int k = 0; k < 3; ++k) {
+      data[kWeldAnchor + k] = anchor[k];
+      data[kWeldRelPos + k] = relpos[k];
+    }
+    set_grasp_rotation(Eigen::Matrix3d::Identity());
+  }
+  m.eq_active[id] = on ? 1 : 0;
+  mj_forward(model_.get(), data_.get());
+}
+
+void World::set_grasp_rotation(const Eigen::Matrix3d& rotation) {
+  mjModel& m = *model_;
+  const int id = grasp_equality(m);
+  const Eigen::Quaterniond q = (grasp_relquat_ * Eigen::Quaterniond(rotation)).normalized();
+  mjtNum* data = m.eq_data + std::ptrdiff_t{mjNEQDATA} * id;
+  data[kWeldRelQuat + 0] = q.w();
+  data[kWeldRelQuat + 1] = q.x();
+  data[kWeldRelQuat + 2] = q.y();
+  data[kWeldRelQuat + 3] = q.z();
+}
+
+bool World::grasping() const {
+  const int id = mj_name2id(model_.get(), mjOBJ_EQUALITY, kGraspConstraint);
+  return id >= 0 && model_->eq_active[id] != 0;
+}
+
 Eigen::Vector3d World::object_velocity(ObjectId id) const {
   // A free joint's first three velocities are its body origin's, in the world frame.
   const mjtNum* v = data_->qvel + object_dof_[object(id).id];

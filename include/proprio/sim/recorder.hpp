@@ -24,8 +24,9 @@ namespace proprio::sim {
 /// thesis 5.1), "push-rotate" (the same push offset sideways, so the object turns, 5.2),
 /// "clutter" (the push among at least 6 objects placed at random), "scatter" (the push while at
 /// least 5 other objects slide about behind it, leaving and entering the view, 6.3.3) and
-/// "hold-3d" (the object attached under the pusher and carried along a 3D curve, 5.2: it is
-/// welded kinematically to the end-effector, not grasped, so every frame counts as touching).
+/// "hold-3d" (the object held under the pusher and carried along a 3D curve, 5.2: a MuJoCo weld
+/// equality constraint between the arm's last link and the object, switched on at the start,
+/// stands in for the grip, so the physics carries it; every frame counts as touching).
 std::vector<std::string> known_scenarios();
 
 struct RecordOptions {
@@ -91,7 +92,8 @@ struct ScenarioPlan {
     double x0 = 0, y = 0, speed = 0;
   };
   std::vector<Slider> sliders;
-  /// hold-3d: the target is carried on the quadratic Bezier push_start, via, push_end.
+  /// hold-3d: the target is grasped (scene.grasp_object) and carried on the quadratic Bezier
+  /// push_start, via, push_end.
   bool held = false;
   Eigen::Vector3d via = Eigen::Vector3d::Zero();
   Eigen::Vector3d push_start = Eigen::Vector3d::Zero();  ///< pusher tip, world, m

@@ -75,6 +75,10 @@ struct PlacedObject {
 
 /// Texture names in the compiled model (for World::set_texture_image).
 inline constexpr const char* kBackdropTexture = "backdrop";
+/// The weld equality constraint of a grasp (SceneDescription::grasp_object) and the arm body it
+/// holds the object with (the last link: palm and pusher).
+inline constexpr const char* kGraspConstraint = "grasp";
+inline constexpr const char* kGraspArmBody = "arm_link5";
 /// Object ids are 16-bit mask values with the top one reserved for the arm.
 inline constexpr std::size_t kMaxObjects = 1000;
 
@@ -87,6 +91,10 @@ struct SceneDescription {
   /// The arm's MJCF fragment (<include>d; its own includes resolve relative to its directory);
   /// empty = no arm.
   std::filesystem::path arm_model;
+  /// Instance name of an object the arm can grasp (hold-3d): the model gets a weld equality
+  /// constraint "grasp" between the arm's last link and that object, inactive until
+  /// World::set_grasp turns it on. Empty = none. Needs the arm.
+  std::string grasp_object;
   double timestep = 0.002;  ///< physics step (seconds)
   /// Ambient light of MuJoCo's headlight (0..1 per channel); the rest comes from `lights`.
   double ambient = 0.25;

@@ -113,6 +113,20 @@ class World {
   /// Ids of the objects the arm touches now (ascending).
   [[nodiscard]] std::vector<ObjectId> objects_touched_by_arm() const;
 
+  // --- grasp (SceneDescription::grasp_object) ---------------------------------------------------
+  /// Grasps or releases the scene's grasp object with MuJoCo's weld equality constraint
+  /// kGraspConstraint: on, it holds the object's current pose relative to the arm's last link
+  /// (the relative pose is written into the model's eq_data, and eq_active set), so that the
+  /// physics carries the object with the arm (a soft constraint: it sags a little under load);
+  /// off, the object is free again. `anchor` (object frame, m) is the point the weld pins and
+  /// set_grasp_rotation turns about. Asserts that the scene has a grasp object. Changes the
+  /// model, which is this world's own (the arm shares it, and ignores equality constraints).
+  void set_grasp(bool on, const Eigen::Vector3d& anchor = Eigen::Vector3d::Zero());
+  /// While grasped: the object held turned by `rotation` (object frame, about the anchor)
+  /// relative to its pose at set_grasp(true), as a hand turning it in its fingers would.
+  void set_grasp_rotation(const Eigen::Matrix3d& rotation);
+  [[nodiscard]] bool grasping() const;
+
   // --- cameras and textures ----------------------------------------------------------------------
   [[nodiscard]] const std::vector<std::string>& camera_names() const { return scene_.camera_names; }
   /// MuJoCo id of a camera; throws Error naming the unknown camera.
@@ -135,6 +149,7 @@ class World {
 
   SceneModel scene_;
   std::shared_ptr<mjModel> model_;
+  Eigen::Quaterniond grasp_relquat_ = Eigen::Quaterniond::Identity();
   robot::DataPtr data_;
   std::optional<robot::Arm> arm_;
   std::vector<ObjectId> body_object_;  // per body
