@@ -8,7 +8,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/provenance.hpp"
 #include "proprio/core/random.hpp"
+#include "proprio/episode/episode_writer.hpp"
 #include "proprio/features/kmeans.hpp"
 #include "proprio/recognition/image_corpus.hpp"
 
@@ -157,6 +159,109 @@ TEST(ImageCorpus, SplitPerClassHoldsOutTheAskedNumber) {
   EXPECT_EQ(images_of(set, s.test, {"b"}).size(), 2U);
   EXPECT_THROW((void)split_per_class(set, 4, 1), Error);  // class b has only 4 images
   EXPECT_THROW((void)images_of(set, s.test, {"c"}), Error);
+}
+
+}  // namespace
+}  // namespace proprio::recognition
+
+namespace proprio::recognition {
+namespace {
+
+// A 6-frame episode: two textured squares (ids 1 "box" target, 2 "scatter-mug") on grey.
+fs::path write_two_object_episode(const fs::path& dir) {
+  episode::EpisodeInfo info;
+  info.fps = 25.0;
+  info.width = 320;
+  info.height = 240;
+  info.arm_name = "synthetic";
+  info.joint_count = 0;
+  info.has_masks = true;
+  info.target = 1;
+  info.provenance.run = core::Provenance::current({"documents_test"}, 1);
+  geometry::Camera cam;
+  cam.K << 300.0, 0.0, 160.0, 0.0, 300.0, 120.0, 0.0, 0.0, 1.0;
+  cam.R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  cam.t = Eigen::Vector3d(0.0, 0.0, 1.0);
+  cam.width = 320;
+  cam.height = 240;
+  episode::EpisodeWriter w(dir, info, cam,
+                           {{1, "box", episode::ObjectRole::kTarget},
+                            {2, "scatter-mug", episode::ObjectRole::kDistractor}});
+  for (int i = 0; i < 6; ++i) {
+    cv::Mat img(240, 320, CV_8UC3, cv::Scalar(128, 128, 128));
+    cv::Mat1w mask(240, 320, ushort{0});
+    cv::Mat tex(70, 70, CV_8UC3);
+    cv::RNG rng(static_cast<std::uint64_t>(i + 1));
+    for (int o = 0; o < 2; ++o) {
+      rng.fill(tex, cv::RNG::UNIFORM, 0, 255);
+      cv::GaussianBlur(tex, tex, cv::Size(3, 3), 0.8);
+      const cv::Rect r(20 + 150 * o + 5 * i, 60 + 3 * i, 70, 70);
+      tex.copyTo(img(r));
+      mask(r).setTo(o + 1);
+    }
+    episode::ArmSample a;
+    a.t = i / 25.0;
+    a.q = Eigen::VectorXd(0);
+    a.ee = Eigen::Vector3d(0.1, 0.0, 0.0);
+    episode::FrameExtras extras;
+    extras.mask = mask;
+    w.add_frame(img, a, extras);
+  }
+  w.finish();
+  return dir;
+}
+
+TEST(FrameDocuments, RegionsNestAndBadMasksAreNamed) {
+  const fs::path dir = fs::temp_directory_path() / "proprio_recognition_frames";
+  fs::remove_all(dir);
+  const episode::Episode e = episode::read_episode(write_two_object_episode(dir / "ep"));
+  FrameDocumentOptions o;
+  auto count = [&](FrameRegion r) {
+    o.region = r;
+    const auto docs = frame_features(e, 2, o);
+    int n = 0;
+    for (const auto& f : docs) n += f.size();
+    return std::pair<int, std::size_t>(n, docs.size());
+  };
+  const auto whole = count(FrameRegion::kWhole);
+  const auto target = count(FrameRegion::kTarget);
+  o.objects = {"box", "mug"};
+  const auto both = count(FrameRegion::kObjects);
+  o.objects = {"mug"};
+  const auto mug = count(FrameRegion::kObjects);
+  EXPECT_GT(target.first, 0);
+  EXPECT_GT(mug.first, 0);
+  EXPECT_EQ(both.first, target.first + mug.first);  // the suffix "-mug" matches scatter-mug
+  EXPECT_LE(both.first, whole.first);
+  EXPECT_EQ(selected_object_ids(e, {"mug"}), (std::vector<int>{2}));
+  EXPECT_EQ(selected_object_ids(e, {}), (std::vector<int>{1, 2}));
+
+  o.features.kind = FeatureKind::kSift;
+  const auto blobs = count(FrameRegion::kBlobs);
+  EXPECT_EQ(blobs.second, 2U);  // one blob per textured square
+
+  o.features.kind = FeatureKind::kDense;
+  o.region = FrameRegion::kMasks;
+  EXPECT_THROW(o.validate(), Error);  // no directory given
+  o.masks = dir / "masks";
+  fs::create_directories(o.masks);
+  try {
+    (void)frame_features(e, 2, o);
+    FAIL();
+  } catch (const Error& err) {
+    EXPECT_NE(std::string(err.what()).find("000002.png"), std::string::npos) << err.what();
+  }
+  cv::Mat1b left(240, 320, uchar{0});
+  left(cv::Rect(0, 0, 160, 240)).setTo(255);
+  cv::imwrite((o.masks / "000002.png").string(), left);
+  const auto in_mask = frame_features(e, 2, o);
+  ASSERT_EQ(in_mask.size(), 1U);
+  // The box and the textured patches just around its edge are in the left half; the mug is not.
+  EXPECT_GE(in_mask[0].size(), target.first);
+  EXPECT_LT(in_mask[0].size(), both.first);
+  cv::imwrite((o.masks / "000003.png").string(), cv::Mat1b(10, 10, uchar{255}));
+  EXPECT_THROW((void)frame_features(e, 3, o), Error);
+  fs::remove_all(dir);
 }
 
 }  // namespace
