@@ -30,7 +30,7 @@ struct RecordArgs {
 
 void add_scene_options(CLI::App* cmd, RecordArgs& a) {
   cmd->add_option("--scenario", a.options.scenario,
-                  "push, push-rotate, clutter, scatter, hold-3d, or a scene FILE.json")
+                  "push, push-rotate, clutter, scatter, hold-3d, or a scene FILE.json / FILE.yaml")
       ->capture_default_str();
   cmd->add_option("--object", a.options.object, "Target object (catalogue name)")
       ->capture_default_str();
@@ -45,7 +45,10 @@ void add_scene_options(CLI::App* cmd, RecordArgs& a) {
   cmd->add_flag("--shadows", a.options.shadows, "Render shadows (slower)");
   cmd->add_option("--distractors", a.distractors,
                   "Moving distractor objects (default: 2 with a moving background, else 0)");
-  cmd->add_flag("--stereo", a.options.stereo, "Also a right camera (baseline 0.1 m)");
+  cmd->add_flag("--stereo", a.options.stereo, "Also a right camera (--baseline apart)");
+  cmd->add_option("--baseline", a.options.stereo_baseline,
+                  "Stereo baseline, m (distance between the camera centres)")
+      ->capture_default_str();
   cmd->add_flag("--nudge-neighbour", a.options.nudge_neighbour,
                 "A neighbouring object is shoved sideways during the push");
 }

@@ -4,12 +4,14 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
+#include "../support/schema_check.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
 
 namespace proprio::app {
 namespace {
 namespace fs = std::filesystem;
+using proprio::test::expect_schema_valid;
 using proprio::test::run_cli;
 
 #define EXPECT_HAS(haystack, needle) \
@@ -36,6 +38,7 @@ TEST(SimCli, RecordWritesAnEpisodeThatPassesTheCheck) {
   EXPECT_GT(j["fps"].get<double>(), 0.0);
   EXPECT_GT(j["seconds"].get<double>(), 0.0);
   EXPECT_EQ(j["switches"]["background"], "moving");
+  expect_schema_valid("sim_record.schema.json", json);
   const core::Json info = core::read_json(dir / "episode.json");
   EXPECT_EQ(info["provenance"]["switches"]["background"], "moving");
   EXPECT_EQ(info["provenance"]["seed"], 7);
@@ -45,6 +48,23 @@ TEST(SimCli, RecordWritesAnEpisodeThatPassesTheCheck) {
   const auto again = run_cli("sim record --width 320 --height 240 --out " + dir.string());
   EXPECT_EQ(again.code, 2);
   EXPECT_HAS(again.err, "already exists");
+}
+
+TEST(SimCli, StereoBaselineIsAnOptionRecordedInTheProvenance) {
+  const fs::path dir = temp_dir() / "stereo";
+  const fs::path json = temp_dir() / "stereo.json";
+  fs::remove_all(dir);
+  const auto r =
+      run_cli("sim record --stereo --baseline 0.25 --speed 0.2 --width 96 --height 72 --out " +
+              dir.string() + " --json " + json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_schema_valid("sim_record.schema.json", json);
+  EXPECT_EQ(core::read_json(json)["switches"]["stereo_baseline"], 0.25);
+  EXPECT_EQ(core::read_json(dir / "episode.json")["provenance"]["switches"]["stereo_baseline"],
+            0.25);
+  const auto bad = run_cli("sim record --stereo --baseline -1 --out " + (dir / "x").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_HAS(bad.err, "baseline");
 }
 
 TEST(SimCli, UnknownObjectOrScenarioIsOneLineAndNoEpisode) {
@@ -70,6 +90,7 @@ TEST(SimCli, CalibrateReachesSubPixelRms) {
   EXPECT_LT(j["rms_px"].get<double>(), 1.0);
   EXPECT_LT(j["true_error_px"].get<double>(), 0.3);
   EXPECT_TRUE(fs::exists(calib));
+  expect_schema_valid("sim_calibrate.schema.json", json);
 }
 
 TEST(SimCli, ViewWritesAPicture) {
@@ -94,6 +115,7 @@ TEST(SimCli, DatasetWritesThePresetsEpisodes) {
   const core::Json j = core::read_json(json);
   ASSERT_EQ(j["episodes"].size(), 2U);
   EXPECT_EQ(j["frames"], 6);
+  expect_schema_valid("sim_dataset.schema.json", json);
   for (const auto& e : j["episodes"]) {
     const auto check = run_cli("episode check " + (dir / e["episode"].get<std::string>()).string());
     EXPECT_EQ(check.code, 0) << check.out;
@@ -114,6 +136,7 @@ TEST(SimCli, DatasetMovingEpisodesCarryTheThesisDisturbances) {
   ASSERT_EQ(r.code, 0) << r.err;
   const core::Json j = core::read_json(json);
   ASSERT_EQ(j["episodes"].size(), 9U);
+  expect_schema_valid("sim_dataset.schema.json", json);
   const char* kSwitch[] = {"camera_shake", "lighting_change", "nudge_neighbour"};
   for (int k = 0; k < 9; ++k) {
     const core::Json& e = j["episodes"][static_cast<std::size_t>(k)];
@@ -135,11 +158,14 @@ TEST(SimCli, DatasetMovingEpisodesCarryTheThesisDisturbances) {
 TEST(SimCli, ViewsWritesAFolderPerObject) {
   const fs::path dir = temp_dir() / "views";
   fs::remove_all(dir);
+  const fs::path json = temp_dir() / "views.json";
   const auto r = run_cli(
       "sim views --objects book,mug --per-object 3 --width 160 --height 120 "
       "--out " +
-      dir.string());
+      dir.string() + " --json " + json.string());
   ASSERT_EQ(r.code, 0) << r.err;
+  expect_schema_valid("sim_views.schema.json", json);
+  EXPECT_EQ(core::read_json(json)["images"], 6);
   for (const char* o : {"book", "mug"}) {
     for (const char* f : {"000000.png", "000002.png"}) {
       const cv::Mat img = cv::imread((dir / o / f).string());
