@@ -72,6 +72,10 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.min_gradient = v;
   } else if (key == "min_evidence_fraction") {
     o.min_evidence_fraction = v;
+  } else if (key == "handover_motion") {
+    o.handover_motion = v;
+  } else if (key == "arm_removal_step") {
+    o.arm_removal_step = v;
   } else if (key == "direction_prior") {
     o.direction_prior = v != 0;
   } else if (key == "tau") {
