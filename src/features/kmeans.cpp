@@ -162,16 +162,18 @@ int update_centres(const cv::Mat& x, const Assignment& as, cv::Mat& centres, int
   const auto n = static_cast<std::size_t>(x.rows);
   const auto kd = static_cast<std::size_t>(K) * D;
   // One accumulator per chunk (not per thread), added in chunk order: the same result for any
-  // thread count.
-  std::vector<std::vector<double>> sums(kChunks);
-  std::vector<std::vector<int>> counts(kChunks);
-  detail::parallel_for(kChunks, threads, [&](std::size_t c, int) {
+  // thread count. Fewer chunks for large K x D keep the buffers under ~64 MB (10,000 words).
+  const std::size_t chunks =
+      std::clamp<std::size_t>((std::size_t{64} << 20) / (kd * sizeof(double)), 1, kChunks);
+  std::vector<std::vector<double>> sums(chunks);
+  std::vector<std::vector<int>> counts(chunks);
+  detail::parallel_for(chunks, threads, [&](std::size_t c, int) {
     auto& s = sums[c];
     auto& cnt = counts[c];
     s.assign(kd, 0.0);
     cnt.assign(static_cast<std::size_t>(K), 0);
-    const std::size_t a = c * n / kChunks;
-    const std::size_t b = (c + 1) * n / kChunks;
+    const std::size_t a = c * n / chunks;
+    const std::size_t b = (c + 1) * n / chunks;
     for (std::size_t i = a; i < b; ++i) {
       const int l = as.labels[i];
       const float* p = x.ptr<float>(static_cast<int>(i));
@@ -182,10 +184,11 @@ int update_centres(const cv::Mat& x, const Assignment& as, cv::Mat& centres, int
   });
   std::vector<double> total(kd, 0.0);
   std::vector<long> count(static_cast<std::size_t>(K), 0);
-  for (std::size_t c = 0; c < kChunks; ++c) {
+  for (std::size_t c = 0; c < chunks; ++c) {
     for (std::size_t j = 0; j < kd; ++j) total[j] += sums[c][j];
-    for (int k = 0; k < K; ++k)
+    for (int k = 0; k < K; ++k) {
       count[static_cast<std::size_t>(k)] += counts[c][static_cast<std::size_t>(k)];
+    }
   }
   int empty = 0;
   std::vector<std::size_t> far;

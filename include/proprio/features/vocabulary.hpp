@@ -24,8 +24,9 @@ class Vocabulary {
   /// Index of the word nearest to one descriptor of dimension() floats (ties: lowest index).
   [[nodiscard]] int quantize(const float* descriptor) const;
   /// Nearest word of every row of an N x D CV_32F matrix. Exact: squared distances
-  /// ||x||^2 - 2 x.c + ||c||^2 by blocked matrix products (Eigen), split over `threads`
-  /// (0 = all cores); 10,000 words run at millions of descriptor-word pairs per ms (see
+  /// ||x||^2 - 2 x.c + ||c||^2 by a blocked matrix product fused with the arg-min (AVX2 /
+  /// AVX-512 when the processor has them), split over `threads` (0 = all cores): ~244 million
+  /// descriptor-word pairs/s on 2 busy cores, faster than FLANN's kd-trees and exact (see
   /// docs/results/features.md). Throws Error on a wrong shape or type, or non-finite values.
   [[nodiscard]] std::vector<int> quantize(const cv::Mat& descriptors, int threads = 0) const;
   /// quantize() with the squared distance to the chosen word of each row.
