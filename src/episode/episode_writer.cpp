@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <future>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -193,6 +194,16 @@ void EpisodeWriter::add_frame(const cv::Mat& image, const ArmSample& arm,
     }
   }
 
+  // The mask and depth PNGs are encoded on a second thread while the frame is written: PNG
+  // encoding is most of the writing time of a simulated recording. (A std::async future joins
+  // in its destructor, also when the frame's write throws.)
+  std::future<void> extras_written;
+  if (info_.has_masks || info_.has_depth) {
+    extras_written = std::async(std::launch::async, [&] {
+      if (info_.has_masks) write_image(detail::kMasksDir, extras.mask);
+      if (info_.has_depth) write_image(detail::kDepthDir, extras.depth);
+    });
+  }
   if (info_.storage == FrameStorage::kPng) {
     write_image(detail::kFramesDir, image);
     if (info_.stereo) write_image(detail::kFramesRightDir, extras.right_image);
@@ -216,8 +227,7 @@ void EpisodeWriter::add_frame(const cv::Mat& image, const ArmSample& arm,
     write_video(video_, info_.video_file, image);
     if (info_.stereo) write_video(video_right_, info_.video_file_right, extras.right_image);
   }
-  if (info_.has_masks) write_image(detail::kMasksDir, extras.mask);
-  if (info_.has_depth) write_image(detail::kDepthDir, extras.depth);
+  if (extras_written.valid()) extras_written.get();
   arm_csv_ << detail::format_arm_row(count_, arm);
   if (!arm_csv_) throw Error::in_file(staged_.staging_path() / detail::kArmCsv, "write failed");
   last_t_ = arm.t;
