@@ -468,7 +468,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   doc["passes"] = o.online.passes;
   doc["mapping_views"] = r.mapping_views;
   doc["test_views"] = r.test_views;
-  if (r.kmeans) doc["dictionary"] = kmeans_json(*r.kmeans, 0);
+  if (r.kmeans) doc["dictionary"] = kmeans_json(*r.kmeans, r.dictionary_descriptors);
   doc["runs"] = core::Json::array();
   for (const ScatterRunResult& run : r.runs) {
     std::string title = "K = ";

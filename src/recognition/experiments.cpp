@@ -253,6 +253,7 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
     }
     auto r = features::build_vocabulary(sample, k);
     result.kmeans = r.summary;
+    result.dictionary_descriptors = sample.rows;
     built = std::move(r.vocabulary);
     vocabulary = &*built;
   }

@@ -120,6 +120,7 @@ struct ScatterExperimentResult {
   std::int64_t tokens = 0;
   int mapping_views = 0, test_views = 0;
   std::optional<features::KmeansSummary> kmeans;  ///< when the dictionary was built here
+  int dictionary_descriptors = 0;                 ///< descriptors it was built from
   int words = 0;
   std::vector<ScatterRunResult> runs;
   double seconds = 0;
