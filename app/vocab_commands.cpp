@@ -209,13 +209,13 @@ void run_quantize(const QuantizeArgs& a, const Invocation& inv) {
   write_json_result(a.json, doc);
 }
 
-void run_info(const std::string& vocab, const std::string& json) {
+void run_info(const std::string& vocab, const std::string& json, const Invocation& inv) {
   const Vocabulary v = read_vocabulary(vocab);
   const core::Provenance p = read_vocabulary_provenance(vocab);
   std::printf("%s: %d words of %d values, written %s by proprio %s\n  %s\n", vocab.c_str(),
               v.size(), v.dimension(), p.created_utc.c_str(), p.proprio_version.c_str(),
               p.command_line.c_str());
-  core::Json doc = core::result_document("proprio.vocab.info", 1, core::Provenance::current({}));
+  core::Json doc = core::result_document("proprio.vocab.info", 1, inv.provenance());
   doc["vocabulary"] = vocab;
   doc["words"] = v.size();
   doc["dimension"] = v.dimension();
@@ -272,7 +272,7 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
   auto* info = vocab->add_subcommand("info", "Words, dimension and provenance of a vocabulary");
   info->add_option("--vocab", i->first, "Vocabulary file")->required();
   info->add_option("--json", i->second, "Also write them as JSON");
-  info->callback([i] { run_info(i->first, i->second); });
+  info->callback([i, &inv] { run_info(i->first, i->second, inv); });
 }
 
 }  // namespace proprio::app
