@@ -45,7 +45,9 @@ TEST(SegmentCli, EveryMethodWritesMapsMasksAndMetrics) {
     EXPECT_EQ(j["status"], "ok");
     EXPECT_EQ(j["scored_frame"], push_first_touch(PushSpec{}));
     // M-L's quality is its own tests' business (this 16-frame push is short for it).
-    if (std::string(m) == "fm") EXPECT_GT(j["metrics"]["jaccard"].get<double>(), 0.5);
+    if (std::string(m) == "fm") {
+      EXPECT_GT(j["metrics"]["jaccard"].get<double>(), 0.5);
+    }
     expect_schema_valid("segment.schema.json", json);
   }
 }
