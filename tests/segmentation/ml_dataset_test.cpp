@@ -1,5 +1,6 @@
 // Scoring M-L over a dataset of episodes (the simulator's thesis-ch5 set): mean Jaccard at the
-// first-touch frame by object and background (thesis 5.1.1). Slow (minutes): labelled `slow`.
+// first-touch frame by object and background (thesis 5.1.1). Slow (minutes): a tuning tool that
+// ctest does not run (tests/segmentation/CMakeLists.txt).
 //
 // Environment:
 //   PROPRIO_CH5       dataset directory (default /work/datasets/ch5; skipped when absent)
