@@ -2,17 +2,16 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 
-#include "binary_io.hpp"
-#include "proprio/core/files.hpp"
+#include "proprio/core/binary_file.hpp"
+#include "proprio/core/error.hpp"
 #include "proprio/features/features.hpp"
 
 namespace proprio::features {
 namespace fs = std::filesystem;
-using detail::put;
+using core::put_binary;
 
 namespace {
-constexpr char kMagic[9] = "PRFEATS1";
-constexpr std::uint32_t kVersion = 1;
+constexpr core::BinaryFormat kFormat{"PRFEATS1", 1, "features"};
 }  // namespace
 
 void check_descriptors(const cv::Mat& descriptors, const std::string& what) {
@@ -46,28 +45,28 @@ void write_features(const fs::path& path, const Features& features) {
   }
   std::string payload;
   payload.reserve(16 + n * (7 * 4 + kDescriptorLength * 4));
-  put<std::uint64_t>(payload, n);
-  put<std::uint32_t>(payload, static_cast<std::uint32_t>(kDescriptorLength));
+  put_binary<std::uint64_t>(payload, n);
+  put_binary<std::uint32_t>(payload, static_cast<std::uint32_t>(kDescriptorLength));
   for (const auto& k : features.keypoints) {
-    put(payload, k.pt.x);
-    put(payload, k.pt.y);
-    put(payload, k.size);
-    put(payload, k.angle);
-    put(payload, k.response);
-    put<std::int32_t>(payload, k.octave);
-    put<std::int32_t>(payload, k.class_id);
+    put_binary(payload, k.pt.x);
+    put_binary(payload, k.pt.y);
+    put_binary(payload, k.size);
+    put_binary(payload, k.angle);
+    put_binary(payload, k.response);
+    put_binary<std::int32_t>(payload, k.octave);
+    put_binary<std::int32_t>(payload, k.class_id);
   }
   if (have) {
     const cv::Mat d =
         features.descriptors.isContinuous() ? features.descriptors : features.descriptors.clone();
     payload.append(reinterpret_cast<const char*>(d.data), n * kDescriptorLength * sizeof(float));
   }
-  core::write_file_atomic(path, detail::frame(kMagic, kVersion, payload));
+  core::write_binary_file(path, kFormat, payload);
 }
 
 Features read_features(const fs::path& path) {
-  const std::string bytes = core::read_file(path);
-  detail::Reader r(detail::unframe(bytes, kMagic, kVersion, path, "features"), path, "features");
+  const std::string payload = core::read_binary_file(path, kFormat);
+  core::BinaryReader r(payload, path, kFormat.kind);
   const auto n = r.get<std::uint64_t>("the count");
   const auto dim = r.get<std::uint32_t>("the descriptor length");
   if (dim != kDescriptorLength || n > (1ULL << 31) ||

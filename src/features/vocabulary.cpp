@@ -2,19 +2,18 @@
 
 #include <cmath>
 
-#include "binary_io.hpp"
 #include "nearest.hpp"
 #include "parallel.hpp"
-#include "proprio/core/files.hpp"
+#include "proprio/core/binary_file.hpp"
 #include "proprio/features/features.hpp"
 
 namespace proprio::features {
 namespace fs = std::filesystem;
-using detail::put;
+using core::put_binary;
 
 namespace {
 
-constexpr char kMagic[9] = "PRVOCAB1";
+constexpr core::BinaryFormat kFormat{"PRVOCAB1", kVocabularyFormatVersion, "vocabulary"};
 
 void check_matrix(const cv::Mat& m, int dimension, const std::string& what) {
   if (m.empty()) throw Error(what + ": empty matrix");
@@ -32,9 +31,8 @@ struct Parsed {
 };
 
 Parsed parse(const fs::path& path) {
-  const std::string bytes = core::read_file(path);
-  detail::Reader r(detail::unframe(bytes, kMagic, kVocabularyFormatVersion, path, "vocabulary"),
-                   path, "vocabulary");
+  const std::string payload = core::read_binary_file(path, kFormat);
+  core::BinaryReader r(payload, path, kFormat.kind);
   const auto k = r.get<std::uint32_t>("the word count");
   const auto d = r.get<std::uint32_t>("the dimension");
   const auto json_size = r.get<std::uint32_t>("the provenance size");
@@ -127,12 +125,12 @@ void write_vocabulary(const fs::path& path, const Vocabulary& vocabulary,
   const std::string json = core::to_json(provenance).dump();
   const cv::Mat& w = vocabulary.words();
   std::string payload;
-  put<std::uint32_t>(payload, static_cast<std::uint32_t>(w.rows));
-  put<std::uint32_t>(payload, static_cast<std::uint32_t>(w.cols));
-  put<std::uint32_t>(payload, static_cast<std::uint32_t>(json.size()));
+  put_binary<std::uint32_t>(payload, static_cast<std::uint32_t>(w.rows));
+  put_binary<std::uint32_t>(payload, static_cast<std::uint32_t>(w.cols));
+  put_binary<std::uint32_t>(payload, static_cast<std::uint32_t>(json.size()));
   payload.append(reinterpret_cast<const char*>(w.data), w.total() * sizeof(float));
   payload += json;
-  core::write_file_atomic(path, detail::frame(kMagic, kVocabularyFormatVersion, payload));
+  core::write_binary_file(path, kFormat, payload);
 }
 
 Vocabulary read_vocabulary(const fs::path& path) { return Vocabulary(parse(path).words); }

@@ -1,66 +1,19 @@
 #include "proprio/topics/lda_model_io.hpp"
 
-#include <bit>
-#include <boost/crc.hpp>
 #include <cstring>
-#include <limits>
 
+#include "proprio/core/binary_file.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 
 namespace proprio::topics {
 namespace fs = std::filesystem;
-
-static_assert(std::endian::native == std::endian::little, "the model format is little-endian");
+using core::put_binary;
 
 namespace {
 
-constexpr char kMagic[8] = {'P', 'R', 'L', 'D', 'A', 'M', 'D', 'L'};
-constexpr std::size_t kHeaderBytes = 24;  // magic, version, crc, payload size
-
-std::uint32_t crc32(std::string_view bytes) {
-  boost::crc_32_type crc;
-  crc.process_bytes(bytes.data(), bytes.size());
-  return crc.checksum();
-}
-
-template <typename T>
-void put(std::string& out, T v) {
-  char b[sizeof(T)];
-  std::memcpy(b, &v, sizeof(T));
-  out.append(b, sizeof(T));
-}
-
-class Reader {
- public:
-  Reader(std::string_view bytes, const fs::path& source) : bytes_(bytes), source_(source) {}
-  template <typename T>
-  T get(const char* what) {
-    need(sizeof(T), what);
-    T v;
-    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
-    return v;
-  }
-  std::string_view take(std::size_t n, const char* what) {
-    need(n, what);
-    const auto s = bytes_.substr(pos_, n);
-    pos_ += n;
-    return s;
-  }
-  [[nodiscard]] std::size_t left() const { return bytes_.size() - pos_; }
-
- private:
-  void need(std::size_t n, const char* what) {
-    if (n > left()) {
-      throw Error::in_file(source_, std::string("corrupt model: ") + what + " runs past the end");
-    }
-  }
-  std::string_view bytes_;
-  const fs::path& source_;
-  std::size_t pos_ = 0;
-};
+constexpr core::BinaryFormat kFormat{"PRLDAMDL", kLdaModelFormatVersion, "LDA model"};
 
 bool plain_token(const std::string& w) {
   if (w.empty() || w[0] == '#') return false;
@@ -77,60 +30,26 @@ std::string serialize_lda_model(const LdaModel& model) {
   const auto K = static_cast<std::uint32_t>(model.num_topics());
   const auto W = static_cast<std::uint32_t>(model.num_words());
   payload.reserve(64 + static_cast<std::size_t>(K) * W * 8 + static_cast<std::size_t>(W) * 12);
-  put(payload, K);
-  put(payload, W);
-  put(payload, model.alpha);
-  put(payload, model.eta);
-  put(payload, model.tau0);
-  put(payload, model.kappa);
-  put(payload, static_cast<std::int64_t>(model.updates));
-  put(payload, static_cast<std::int64_t>(model.total_documents));
-  put(payload, static_cast<std::uint32_t>(model.vocabulary.size()));
+  put_binary(payload, K);
+  put_binary(payload, W);
+  put_binary(payload, model.alpha);
+  put_binary(payload, model.eta);
+  put_binary(payload, model.tau0);
+  put_binary(payload, model.kappa);
+  put_binary(payload, static_cast<std::int64_t>(model.updates));
+  put_binary(payload, static_cast<std::int64_t>(model.total_documents));
+  put_binary(payload, static_cast<std::uint32_t>(model.vocabulary.size()));
   for (const auto& w : model.vocabulary) {
-    put(payload, static_cast<std::uint32_t>(w.size()));
+    put_binary(payload, static_cast<std::uint32_t>(w.size()));
     payload += w;
   }
   const auto* data = reinterpret_cast<const char*>(model.lambda.data());
   payload.append(data, static_cast<std::size_t>(model.lambda.size()) * sizeof(double));
-
-  std::string out(kMagic, sizeof kMagic);
-  put(out, kLdaModelFormatVersion);
-  std::string tail;
-  put(tail, static_cast<std::uint64_t>(payload.size()));
-  tail += payload;
-  put(out, crc32(tail));
-  out += tail;
-  return out;
+  return core::frame_binary(kFormat, payload);
 }
 
 LdaModel parse_lda_model(std::string_view bytes, const fs::path& source) {
-  if (bytes.size() < kHeaderBytes) {
-    throw Error::in_file(
-        source, "not an LDA model: truncated header (" + std::to_string(bytes.size()) + " bytes)");
-  }
-  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
-    throw Error::in_file(source, "not an LDA model (wrong magic number)");
-  }
-  Reader head(bytes.substr(8, 16), source);
-  const auto version = head.get<std::uint32_t>("the version");
-  const auto crc = head.get<std::uint32_t>("the checksum");
-  const auto payload_size = head.get<std::uint64_t>("the size");
-  if (version != kLdaModelFormatVersion) {
-    throw Error::in_file(source, "LDA model format version " + std::to_string(version) +
-                                     "; this build reads version " +
-                                     std::to_string(kLdaModelFormatVersion));
-  }
-  const std::size_t have = bytes.size() - kHeaderBytes;
-  if (payload_size != have) {
-    throw Error::in_file(source, std::string(payload_size > have ? "truncated" : "corrupt") +
-                                     " model: " + std::to_string(have) +
-                                     " payload bytes where the header says " +
-                                     std::to_string(payload_size));
-  }
-  if (crc32(bytes.substr(16)) != crc) {
-    throw Error::in_file(source, "corrupt model: checksum mismatch");
-  }
-  Reader r(bytes.substr(kHeaderBytes), source);
+  core::BinaryReader r(core::unframe_binary(bytes, kFormat, source), source, kFormat.kind);
   LdaModel m;
   const auto K = r.get<std::uint32_t>("K");
   const auto W = r.get<std::uint32_t>("W");
@@ -143,8 +62,9 @@ LdaModel parse_lda_model(std::string_view bytes, const fs::path& source) {
   const auto V = r.get<std::uint32_t>("the vocabulary size");
   if (K == 0 || W == 0 || K > 100000 || W > static_cast<std::uint32_t>(INT32_MAX) ||
       (V != 0 && V != W) || static_cast<std::uint64_t>(K) * W * 8 > r.left()) {
-    throw Error::in_file(source, "corrupt model: sizes K = " + std::to_string(K) + ", W = " +
-                                     std::to_string(W) + ", vocabulary " + std::to_string(V));
+    throw Error::in_file(source, "corrupt LDA model file: sizes K = " + std::to_string(K) +
+                                     ", W = " + std::to_string(W) + ", vocabulary " +
+                                     std::to_string(V));
   }
   m.vocabulary.reserve(V);
   for (std::uint32_t i = 0; i < V; ++i) {
@@ -152,7 +72,7 @@ LdaModel parse_lda_model(std::string_view bytes, const fs::path& source) {
     m.vocabulary.emplace_back(r.take(n, "a word"));
   }
   if (static_cast<std::uint64_t>(K) * W * 8 != r.left()) {
-    throw Error::in_file(source, "corrupt model: lambda has the wrong size");
+    throw Error::in_file(source, "corrupt LDA model file: lambda has the wrong size");
   }
   m.lambda.resize(K, W);
   const auto data = r.take(static_cast<std::size_t>(K) * W * 8, "lambda");

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "../support/hex_bytes.hpp"
 #include "proprio/features/features.hpp"
 #include "proprio/features/sift.hpp"
 #include "test_util.hpp"
@@ -113,6 +114,43 @@ TEST(Sift, BadInput) {
   const auto flat = detect_sift(cv::Mat(64, 64, CV_8U, cv::Scalar(128)));
   EXPECT_TRUE(flat.empty());
   EXPECT_EQ(flat.descriptors.cols, 128);
+}
+
+TEST(FeaturesFile, ReadsAndWritesTheBytesOfVersion1) {
+  // Files as the first version of the writer saved them (docs/formats/vocabulary.md): no
+  // features, and one keypoint with descriptor 0, 1, ..., 127. The second is pinned by its
+  // header (magic, version, CRC-32 of the rest, size) and its payload laid out by hand.
+  const auto path = test::temp_path("v1.features");
+  const std::string empty = proprio::test::bytes_from_hex(
+      "5052464541545331010000005d10ba310c000000000000000000000000000000"
+      "80000000");
+  test::spill(path, empty);
+  EXPECT_TRUE(read_features(path).empty());
+  write_features(path, Features{});
+  EXPECT_EQ(test::slurp(path), empty);
+
+  std::string one =
+      proprio::test::bytes_from_hex("5052464541545331010000007402a4ff2802000000000000");
+  auto append = [&one](const auto v) { one.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  append(std::uint64_t{1});
+  append(std::uint32_t{128});
+  for (const float v : {1.5f, 2.25f, 3.0f, 90.0f, 0.5f}) append(v);
+  append(std::int32_t{2});
+  append(std::int32_t{-1});
+  for (int i = 0; i < 128; ++i) append(static_cast<float>(i));
+  test::spill(path, one);
+  const Features f = read_features(path);
+  ASSERT_EQ(f.size(), 1);
+  const auto& k = f.keypoints[0];
+  EXPECT_EQ(k.pt, cv::Point2f(1.5f, 2.25f));
+  EXPECT_EQ(k.size, 3.0f);
+  EXPECT_EQ(k.angle, 90.0f);
+  EXPECT_EQ(k.response, 0.5f);
+  EXPECT_EQ(k.octave, 2);
+  EXPECT_EQ(k.class_id, -1);
+  EXPECT_EQ(f.descriptors.at<float>(0, 127), 127.0f);
+  write_features(path, f);
+  EXPECT_EQ(test::slurp(path), one);
 }
 
 TEST(FeaturesFile, RoundTripAndCorruption) {

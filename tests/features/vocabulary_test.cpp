@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "../support/hex_bytes.hpp"
 #include "nearest.hpp"
 #include "proprio/core/random.hpp"
 #include "test_util.hpp"
@@ -90,6 +91,28 @@ TEST(Vocabulary, BagOfWords) {
   expect_error([&] { (void)v.quantize(nan); }, "non-finite");
   expect_error([&] { Vocabulary bad(nan); }, "non-finite");
   expect_error([&] { Vocabulary empty{cv::Mat()}; }, "empty");
+}
+
+TEST(VocabularyFile, ReadsAndWritesTheBytesOfVersion1) {
+  // A 2 x 3 vocabulary as the first version of the writer saved it (docs/formats/vocabulary.md).
+  const std::string v1 = proprio::test::bytes_from_hex(
+      "5052564f4341423101000000054fc738ca000000000000000200000003000000"
+      "a60000000000803f0000004000004040000090400000a0c00000c0407b22636f"
+      "6d6d616e645f6c696e65223a2270726f7072696f20766f636162206275696c64"
+      "222c22637265617465645f757463223a22323032362d31312d32325430363a30"
+      "303a30305a222c226769745f636f6d6d6974223a22222c226d756a6f636f5f76"
+      "657273696f6e223a22222c226f70656e63765f76657273696f6e223a22222c22"
+      "70726f7072696f5f76657273696f6e223a22302e312e30222c2273656564223a"
+      "377d");
+  const auto path = test::temp_path("v1.vocab");
+  test::spill(path, v1);
+  const cv::Mat words = (cv::Mat_<float>(2, 3) << 1, 2, 3, 4.5f, -5, 6);
+  EXPECT_EQ(cv::norm(read_vocabulary(path).words(), words, cv::NORM_INF), 0);
+  const auto p = read_vocabulary_provenance(path);
+  EXPECT_EQ(p.command_line, "proprio vocab build");
+  EXPECT_EQ(p.seed, std::optional<std::uint64_t>(7));
+  write_vocabulary(path, Vocabulary(words), p);
+  EXPECT_EQ(test::slurp(path), v1);
 }
 
 TEST(VocabularyFile, RoundTripAndCorruption) {

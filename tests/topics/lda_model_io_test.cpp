@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../support/hex_bytes.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/topics/lda_model_io.hpp"
@@ -40,6 +41,20 @@ TEST(LdaModelIo, RoundTripsExactly) {
   no_vocab.vocabulary.clear();
   EXPECT_TRUE(parse_lda_model(serialize_lda_model(no_vocab), "x") == no_vocab);
   fs::remove(p);
+}
+
+TEST(LdaModelIo, ReadsAndWritesTheBytesOfVersion1) {
+  // small_model() as the first version of the writer saved it (docs/formats/lda-model.md).
+  const std::string v1 = test::bytes_from_hex(
+      "50524c44414d444c01000000e12ba3d5b8000000000000000300000004000000"
+      "9a9999999999b93f7b14ae47e17a843f000000000000f03f666666666666e63f"
+      "0c000000000000002c0100000000000004000000030000006361740300000064"
+      "6f6703000000656d7503000000676e75000000000000f03f000000000000e03f"
+      "00000000000022400000000000000040000000000000d03f0000000000002440"
+      "00000000000008400000000000001c4000000000000026400000000000001040"
+      "0000000000002040000000000000c03f");
+  EXPECT_TRUE(parse_lda_model(v1, "v1.lda") == small_model());
+  EXPECT_EQ(serialize_lda_model(small_model()), v1);
 }
 
 TEST(LdaModelIo, EveryTruncationIsAnError) {
