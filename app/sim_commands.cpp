@@ -40,6 +40,10 @@ void add_scene_options(CLI::App* cmd, RecordArgs& a) {
   cmd->add_option("--seed", a.options.seed, "Seed of the random placement")->capture_default_str();
   cmd->add_option("--clutter", a.options.clutter, "Other objects placed at random")
       ->capture_default_str();
+  cmd->add_option("--scatter-objects", a.options.scatter_objects,
+                  "Scatter: exactly these objects (catalogue names, the --object among them); "
+                  "the others wander over the table in and out of view")
+      ->delimiter(',');
   cmd->add_option("--width", a.options.width, "Image width, pixels")->capture_default_str();
   cmd->add_option("--height", a.options.height, "Image height, pixels")->capture_default_str();
   cmd->add_flag("--shadows", a.options.shadows, "Render shadows (slower)");

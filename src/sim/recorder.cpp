@@ -148,6 +148,29 @@ void RecordOptions::validate() const {
           "pusher height must be in (0, 0.2) m");
   require(!max_frames || *max_frames >= 1, "max frames must be >= 1");
   require(clutter >= 0 && clutter <= 8, "clutter must be 0..8 objects");
+  if (!scatter_objects.empty()) {
+    require(scenario == "scatter", "scatter objects are for the scatter scenario only");
+    require(scatter_objects.size() <= 8, "scatter objects: at most 8");
+    for (std::size_t i = 0; i < scatter_objects.size(); ++i) {
+      for (std::size_t j = 0; j < i; ++j) {
+        if (scatter_objects[i] == scatter_objects[j]) {
+          std::string m = "scatter object '";
+          m += scatter_objects[i];
+          m += "' is given twice";
+          throw Error(m);
+        }
+      }
+    }
+    if (std::find(scatter_objects.begin(), scatter_objects.end(), object) ==
+        scatter_objects.end()) {
+      std::string m = "the target '";
+      m += object;
+      m += "' is not one of the scatter objects (";
+      m += join(scatter_objects);
+      m += "): choose it with --object";
+      throw Error(m);
+    }
+  }
   require(distractor_count() >= 0 && distractor_count() <= 4, "distractors must be 0..4 objects");
   require(std::isfinite(noise) && noise >= 0 && noise <= 100, "noise must be 0..100 grey levels");
   require(std::isfinite(stereo_baseline) && stereo_baseline > 0 && stereo_baseline <= 1.0,
@@ -164,6 +187,7 @@ core::Json RecordOptions::switches() const {
   j["background"] = moving_background ? "moving" : "static";
   j["distractors"] = distractor_count();
   j["clutter"] = clutter;
+  if (!scatter_objects.empty()) j["scatter_objects"] = scatter_objects;
   j["push_speed"] = push_speed;
   j["width"] = width;
   j["height"] = height;
@@ -180,6 +204,100 @@ core::Json RecordOptions::switches() const {
   j["depth"] = depth;
   return j;
 }
+
+namespace {
+
+// The walkers' box: x well beyond the camera's view of the table (about -0.3..0.85 m at
+// y = 0.3, computed from the camera below), so that they leave it and come back; y from behind
+// the push corridor to the backdrop (y = 0.56).
+constexpr double kWalkMinX = -0.55, kWalkMaxX = 1.05, kWalkMaxY = 0.54;
+constexpr double kWalkGap = 0.01;  // least distance between two walkers' footprints, m
+
+// scatter with chosen objects: the objects other than the target become walkers, started at
+// random non-overlapping places in view (x 0..0.6 m), heading anywhere, 0.06-0.16 m/s.
+void plan_walkers(const RecordOptions& options, const ObjectCatalogue& catalogue, double target_r,
+                  core::Rng& rng, ScenarioPlan& plan) {
+  for (const std::string& name : options.scatter_objects) {
+    const auto known = catalogue.names();
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      std::string m = "unknown scatter object '";
+      m += name;
+      m += "' (known: ";
+      m += join(known);
+      m += ")";
+      throw Error(m);
+    }
+  }
+  plan.walk_min = {kWalkMinX, 0.0};
+  plan.walk_max = {kWalkMaxX, kWalkMaxY};
+  for (const std::string& name : options.scatter_objects) {
+    if (name == options.object) continue;
+    ScenarioPlan::Walker w;
+    w.name = "scatter-" + name;
+    w.radius = catalogue.get(name).footprint_radius();
+    w.y_min = target_r + w.radius + 0.04;
+    if (w.y_min > kWalkMaxY - w.radius) {
+      std::string m = "scatter object '";
+      m += name;
+      m += "' is too large to wander behind the target";
+      throw Error(m);
+    }
+    bool placed = false;
+    for (int attempt = 0; attempt < 500 && !placed; ++attempt) {
+      const Eigen::Vector2d p(rng.uniform(0.0, 0.6), rng.uniform(w.y_min, kWalkMaxY - w.radius));
+      bool overlap = false;
+      for (const auto& o : plan.walkers)
+        overlap = overlap || (p - o.position).norm() < o.radius + w.radius + kWalkGap;
+      if (overlap) continue;
+      w.position = p;
+      placed = true;
+    }
+    if (!placed) throw Error("scatter objects: no room for them all on the table");
+    w.heading = rng.uniform(-std::numbers::pi, std::numbers::pi);
+    w.speed = rng.uniform(0.06, 0.16);
+    w.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
+    PlacedObject o;
+    o.type = name;
+    o.name = w.name;
+    o.position = w.position;
+    o.yaw = w.yaw;
+    plan.scene.objects.push_back(o);
+    plan.walkers.push_back(w);
+  }
+}
+
+// One frame (dt seconds) of the walkers' random walk: heading and speed drift, the walkers bounce
+// off the box's walls and turn back from each other.
+void advance_walkers(std::vector<ScenarioPlan::Walker>& walkers, const Eigen::Vector2d& lo,
+                     const Eigen::Vector2d& hi, double dt, core::Rng& rng) {
+  for (std::size_t i = 0; i < walkers.size(); ++i) {
+    ScenarioPlan::Walker& w = walkers[i];
+    w.heading += rng.normal() * 1.5 * std::sqrt(dt);
+    w.speed = std::clamp(w.speed + rng.normal() * 0.05 * std::sqrt(dt), 0.06, 0.2);
+    w.yaw += rng.normal() * 1.0 * std::sqrt(dt) + 0.5 * dt;
+    Eigen::Vector2d p =
+        w.position + w.speed * dt * Eigen::Vector2d(std::cos(w.heading), std::sin(w.heading));
+    if (p.x() < lo.x() || p.x() > hi.x()) w.heading = std::numbers::pi - w.heading;
+    if (p.y() < std::max(lo.y(), w.y_min) || p.y() > hi.y() - w.radius) w.heading = -w.heading;
+    p = w.position + w.speed * dt * Eigen::Vector2d(std::cos(w.heading), std::sin(w.heading));
+    bool blocked = p.x() < lo.x() || p.x() > hi.x() || p.y() < std::max(lo.y(), w.y_min) ||
+                   p.y() > hi.y() - w.radius;
+    for (std::size_t j = 0; j < walkers.size() && !blocked; ++j) {
+      if (j == i) continue;
+      const double d = (p - walkers[j].position).norm();
+      // Only moves that bring two walkers closer are refused, so that two that touch part.
+      blocked = d < w.radius + walkers[j].radius + kWalkGap &&
+                d < (w.position - walkers[j].position).norm();
+    }
+    if (blocked) {
+      w.heading += std::numbers::pi;
+    } else {
+      w.position = p;
+    }
+  }
+}
+
+}  // namespace
 
 ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
   options.validate();
@@ -263,7 +381,10 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
   }
   int clutter = options.clutter;
   if (options.scenario == "clutter") clutter = std::max(clutter, 6);
-  if (options.scenario == "scatter") {
+  if (options.scenario == "scatter" && !options.scatter_objects.empty()) {
+    plan_walkers(options, catalogue, target_r, rng, plan);
+    clutter = 0;
+  } else if (options.scenario == "scatter") {
     for (int i = 0; i < std::max(clutter, 5); ++i) {
       PlacedObject o;
       o.type = draw_type();
@@ -397,6 +518,10 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   for (const auto& n : plan.distractors) distractor_ids.push_back(world.object(n).id);
   std::vector<ObjectId> slider_ids;
   for (const auto& sl : plan.sliders) slider_ids.push_back(world.object(sl.name).id);
+  std::vector<ObjectId> walker_ids;
+  for (const auto& w : plan.walkers) walker_ids.push_back(world.object(w.name).id);
+  std::vector<ScenarioPlan::Walker> walkers = plan.walkers;
+  core::Rng walk_rng(options.seed ^ 0x57414c4bULL);
   const Eigen::Vector3d target_start = world.object_pose(target_id).translation();
 
   episode::EpisodeInfo info;
@@ -417,6 +542,7 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
     if (o.id == target_id) role = episode::ObjectRole::kTarget;
     if (std::find(distractor_ids.begin(), distractor_ids.end(), o.id) != distractor_ids.end() ||
         std::find(slider_ids.begin(), slider_ids.end(), o.id) != slider_ids.end() ||
+        std::find(walker_ids.begin(), walker_ids.end(), o.id) != walker_ids.end() ||
         o.name == plan.neighbour)
       role = episode::ObjectRole::kDistractor;
     objects.push_back({o.id, o.name, role});
@@ -526,6 +652,15 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
       p.translation() = Eigen::Vector3d(x, sl.y, world.object(slider_ids[i]).type.bottom() + 0.001);
       p.linear() = Eigen::AngleAxisd(3.0 * x, Eigen::Vector3d::UnitZ()).toRotationMatrix();
       world.set_object_pose(slider_ids[i], p);
+    }
+    if (f > 0) advance_walkers(walkers, plan.walk_min, plan.walk_max, 1.0 / options.fps, walk_rng);
+    for (std::size_t i = 0; i < walker_ids.size(); ++i) {
+      const ScenarioPlan::Walker& w = walkers[i];
+      Pose p = Pose::Identity();
+      p.translation() = Eigen::Vector3d(w.position.x(), w.position.y(),
+                                        world.object(walker_ids[i]).type.bottom() + 0.001);
+      p.linear() = Eigen::AngleAxisd(w.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      world.set_object_pose(walker_ids[i], p);
     }
     // A grasp is a touch: the weld holds the object against the hand.
     if (world.grasping()) touched = true;

@@ -23,7 +23,8 @@ namespace proprio::sim {
 /// Scenario names record_episode knows: "push" (a straight push through the object's centre,
 /// thesis 5.1), "push-rotate" (the same push offset sideways, so the object turns, 5.2),
 /// "clutter" (the push among at least 6 objects placed at random), "scatter" (the push while at
-/// least 5 other objects slide about behind it, leaving and entering the view, 6.3.3) and
+/// least 5 other objects slide about behind it, leaving and entering the view, 6.3.3; with
+/// RecordOptions::scatter_objects, exactly those objects, wandering over the table) and
 /// "hold-3d" (the object held under the pusher and carried along a 3D curve, 5.2: a MuJoCo weld
 /// equality constraint between the arm's last link and the object, switched on at the start,
 /// stands in for the grip, so the physics carries it; every frame counts as touching).
@@ -40,6 +41,11 @@ struct RecordOptions {
   /// background, 0 with a static one.
   std::optional<int> distractors;
   int clutter = 3;  ///< other objects placed at random (by seed), never in the push path
+  /// scatter: the scene's objects (catalogue names), the target among them; the others wander
+  /// over the table at random (ScenarioPlan::walkers), leaving and entering the camera's view,
+  /// as in thesis 6.3.3 ("objects moved about at random"). Empty: the target and
+  /// max(clutter, 5) other objects drawn at random, sliding along x (ScenarioPlan::sliders).
+  std::vector<std::string> scatter_objects;
   std::uint64_t seed = 7;
   int width = 640;  ///< image size, pixels
   int height = 480;
@@ -92,6 +98,22 @@ struct ScenarioPlan {
     double x0 = 0, y = 0, speed = 0;
   };
   std::vector<Slider> sliders;
+  /// scatter with chosen objects: objects that wander over the table, a random walk of heading
+  /// and speed (record_episode advances it each frame from a stream of the seed), bouncing off
+  /// each other and off the walls of [walk_min, walk_max], a box wider than the camera's view
+  /// so that they leave the view and come back. Each stays in y >= its own `y_min`, behind the
+  /// push corridor.
+  struct Walker {
+    std::string name;
+    Eigen::Vector2d position = Eigen::Vector2d::Zero();  ///< start, world x y, m
+    double heading = 0;                                  ///< direction of motion, rad from +x
+    double speed = 0;                                    ///< m/s
+    double yaw = 0;                                      ///< rad
+    double radius = 0;                                   ///< footprint radius, m
+    double y_min = 0;                                    ///< m
+  };
+  std::vector<Walker> walkers;
+  Eigen::Vector2d walk_min = Eigen::Vector2d::Zero(), walk_max = Eigen::Vector2d::Zero();
   /// hold-3d: the target is grasped (scene.grasp_object) and carried on the quadratic Bezier
   /// push_start, via, push_end.
   bool held = false;
@@ -102,8 +124,10 @@ struct ScenarioPlan {
 
 /// Builds the scene of a scenario: the target at yaw 0 placed so that the whole push stays inside
 /// the arm's reach with the pusher pointing down (0.10-0.33 m from the base axis), clutter placed
-/// at random outside the push corridor and not in front of it, distractors behind. Throws Error
-/// for an unknown scenario or object.
+/// at random outside the push corridor and not in front of it, distractors behind; scatter:
+/// sliders, or walkers started at random (non-overlapping) places in the camera's view. Throws
+/// Error for an unknown scenario or object, or scatter objects that are unknown, repeated, do not
+/// include the target, or are given for another scenario.
 ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue);
 
 struct RecordSummary {
