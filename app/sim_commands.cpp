@@ -44,6 +44,8 @@ void add_scene_options(CLI::App* cmd, RecordArgs& a) {
                   "Scatter: exactly these objects (catalogue names, the --object among them); "
                   "the others wander over the table in and out of view")
       ->delimiter(',');
+  cmd->add_flag("--scatter-in-view", a.options.scatter_in_view,
+                "Scatter objects keep inside the camera's view (else they leave it and return)");
   cmd->add_option("--width", a.options.width, "Image width, pixels")->capture_default_str();
   cmd->add_option("--height", a.options.height, "Image height, pixels")->capture_default_str();
   cmd->add_flag("--shadows", a.options.shadows, "Render shadows (slower)");

@@ -151,6 +151,10 @@ void RecordOptions::validate() const {
   if (!scatter_objects.empty()) {
     require(scenario == "scatter", "scatter objects are for the scatter scenario only");
     require(scatter_objects.size() <= 8, "scatter objects: at most 8");
+  } else {
+    require(!scatter_in_view, "scatter in view needs scatter objects");
+  }
+  if (!scatter_objects.empty()) {
     for (std::size_t i = 0; i < scatter_objects.size(); ++i) {
       for (std::size_t j = 0; j < i; ++j) {
         if (scatter_objects[i] == scatter_objects[j]) {
@@ -187,7 +191,10 @@ core::Json RecordOptions::switches() const {
   j["background"] = moving_background ? "moving" : "static";
   j["distractors"] = distractor_count();
   j["clutter"] = clutter;
-  if (!scatter_objects.empty()) j["scatter_objects"] = scatter_objects;
+  if (!scatter_objects.empty()) {
+    j["scatter_objects"] = scatter_objects;
+    j["scatter_in_view"] = scatter_in_view;
+  }
   j["push_speed"] = push_speed;
   j["width"] = width;
   j["height"] = height;
@@ -211,6 +218,8 @@ namespace {
 // y = 0.3, computed from the camera below), so that they leave it and come back; y from behind
 // the push corridor to the backdrop (y = 0.56).
 constexpr double kWalkMinX = -0.55, kWalkMaxX = 1.05, kWalkMaxY = 0.54;
+// The part of that box that the camera sees whole at every y (about -0.2..0.74 m at y = 0.15).
+constexpr double kViewMinX = -0.1, kViewMaxX = 0.62;
 constexpr double kWalkGap = 0.01;  // least distance between two walkers' footprints, m
 
 // scatter with chosen objects: the objects other than the target become walkers, started at
@@ -228,8 +237,8 @@ void plan_walkers(const RecordOptions& options, const ObjectCatalogue& catalogue
       throw Error(m);
     }
   }
-  plan.walk_min = {kWalkMinX, 0.0};
-  plan.walk_max = {kWalkMaxX, kWalkMaxY};
+  plan.walk_min = {options.scatter_in_view ? kViewMinX : kWalkMinX, 0.0};
+  plan.walk_max = {options.scatter_in_view ? kViewMaxX : kWalkMaxX, kWalkMaxY};
   for (const std::string& name : options.scatter_objects) {
     if (name == options.object) continue;
     ScenarioPlan::Walker w;

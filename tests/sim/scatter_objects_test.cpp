@@ -82,6 +82,19 @@ TEST(ScatterObjects, PlanIsDeterministicInTheSeed) {
   EXPECT_TRUE(differs);
 }
 
+TEST(ScatterObjects, InViewWalkersStayInTheNarrowerBox) {
+  RecordOptions o = scatter_options();
+  const ScenarioPlan wide = plan_scenario(o, catalogue());
+  o.scatter_in_view = true;
+  const ScenarioPlan narrow = plan_scenario(o, catalogue());
+  EXPECT_LT(wide.walk_min.x(), narrow.walk_min.x());
+  EXPECT_GT(wide.walk_max.x(), narrow.walk_max.x());
+  for (const auto& w : narrow.walkers) {
+    EXPECT_GE(w.position.x(), narrow.walk_min.x());
+    EXPECT_LE(w.position.x(), narrow.walk_max.x());
+  }
+}
+
 TEST(ScatterObjects, BadListsAreErrorsNamingTheProblem) {
   RecordOptions o = scatter_options();
   o.scatter_objects = {"calculator", "unicorn"};

@@ -46,6 +46,10 @@ struct RecordOptions {
   /// as in thesis 6.3.3 ("objects moved about at random"). Empty: the target and
   /// max(clutter, 5) other objects drawn at random, sliding along x (ScenarioPlan::sliders).
   std::vector<std::string> scatter_objects;
+  /// scatter objects: the walkers keep inside the camera's view of the table (thesis 6.3.3's
+  /// first video, "none of the objects leave the camera's field of view"; the arm may still
+  /// pass in front of them). Off: they leave it and come back (the second video).
+  bool scatter_in_view = false;
   std::uint64_t seed = 7;
   int width = 640;  ///< image size, pixels
   int height = 480;
