@@ -14,6 +14,7 @@
 #include "proprio/core/progress.hpp"
 #include "proprio/features/image_set.hpp"
 #include "proprio/features/vocabulary.hpp"
+#include "proprio/recognition/episode_classification.hpp"
 #include "proprio/recognition/experiments.hpp"
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/inference.hpp"
@@ -231,6 +232,11 @@ struct ClassifyArgs {
   std::string model;
   std::string vocabulary;
   std::string images;
+  std::vector<std::string> episodes;
+  std::string region = "whole";
+  std::vector<std::string> objects;
+  std::string masks;
+  int frame_step = 1;
   std::string map_with;
   std::string out;
   std::string json;
@@ -238,7 +244,97 @@ struct ClassifyArgs {
   bool quiet = false;
 };
 
+// The topic mapping from labelled folder-per-class images (never the test data).
+Evaluation mapping_from_images(const topics::LdaModel& model, const features::Vocabulary& v,
+                               const features::ImageSet& known, const ExtractOptions& fo,
+                               const ProgressFn& progress) {
+  std::vector<std::size_t> kall(known.images.size());
+  std::iota(kall.begin(), kall.end(), std::size_t{0});
+  const LabelledCorpus labelled = image_corpus(known, kall, v, fo, progress);
+  return evaluate_model(model, labelled, labelled);
+}
+
+void run_classify_episodes(const ClassifyArgs& a, const Invocation& inv,
+                           const topics::LdaModel& model, const features::Vocabulary& vocabulary) {
+  EpisodeClassifyOptions o;
+  o.frames.region = parse_frame_region(a.region);
+  o.frames.objects = a.objects;
+  o.frames.masks = a.masks;
+  o.frames.features = a.features.options();
+  o.frame_step = a.frame_step;
+  const std::vector<episode::Episode> episodes = read_episodes(a.episodes);
+  std::shared_ptr<core::ProgressBar> bar;
+  EpisodeClassification r =
+      classify_episodes(episodes, model, vocabulary, o, progress_of(bar, "frames", a.quiet));
+  std::printf("%s (%lld empty)\n", r.summary.message.c_str(),
+              static_cast<long long>(r.summary.empty_documents));
+  core::Json doc = core::result_document("proprio.recognize.classify", 1, inv.provenance());
+  doc["model"] = a.model;
+  doc["episodes"] = a.episodes;
+  doc["region"] = a.region;
+  doc["frame_step"] = a.frame_step;
+  doc["frames"] = r.summary.frames;
+  doc["documents"] = r.summary.documents;
+  doc["empty_documents"] = r.summary.empty_documents;
+  if (r.by_topic) {
+    std::printf("topics (argmax theta; rows: true object by the ground-truth masks)\n%s",
+                r.by_topic->format().c_str());
+    doc["topics"] = r.by_topic->to_json();
+  }
+  std::vector<std::string> mapping_classes;
+  if (!a.map_with.empty()) {
+    const features::ImageSet known = features::read_image_set(a.map_with);
+    mapping_classes = known.classes;
+    const Evaluation e = mapping_from_images(model, vocabulary, known, o.frames.features,
+                                             progress_of(bar, "labelled", a.quiet));
+    const ConfusionMatrix classes = apply_mapping(r, e.mapping, mapping_classes);
+    std::printf("topic -> class (from the labelled images of %s):", a.map_with.c_str());
+    for (std::size_t k = 0; k < e.mapping.topic_class.size(); ++k)
+      std::printf(" z_%zu->%s", k + 1,
+                  mapping_classes[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
+    std::printf("\n");
+    doc["mapping"] = evaluation_to_json(e)["mapping"];
+    if (!r.classes.empty()) {
+      std::printf("classes (topics merged)\n%s", classes.format().c_str());
+      std::printf("accuracy %.1f%%, mean class accuracy %.1f%%\n", 100 * classes.accuracy(),
+                  100 * classes.mean_class_accuracy());
+      doc["classes"] = classes.to_json();
+    }
+  }
+  if (!a.out.empty()) {
+    std::string csv = "episode,frame,document,truth,topic,class";
+    for (int k = 0; k < model.num_topics(); ++k) {
+      csv += ",theta_";
+      csv += std::to_string(k);
+    }
+    csv += '\n';
+    for (std::size_t d = 0; d < r.documents.size(); ++d) {
+      const ClassifiedDocument& c = r.documents[d];
+      csv += episodes[static_cast<std::size_t>(c.episode)].dir().string();
+      csv += ',' + std::to_string(c.frame);
+      csv += ',' + std::to_string(c.document) + ',';
+      if (c.truth >= 0) csv += r.classes[static_cast<std::size_t>(c.truth)];
+      csv += ',';
+      if (c.topic >= 0) csv += std::to_string(c.topic);
+      csv += ',';
+      if (c.mapped >= 0) csv += mapping_classes[static_cast<std::size_t>(c.mapped)];
+      for (int k = 0; k < model.num_topics(); ++k) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, ",%.6g", r.theta(static_cast<Eigen::Index>(d), k));
+        csv += buf;
+      }
+      csv += '\n';
+    }
+    core::write_file_atomic(a.out, csv);
+    doc["out"] = a.out;
+  }
+  write_json_result(a.json, doc);
+}
+
 void run_classify(const ClassifyArgs& a, const Invocation& inv) {
+  if (a.images.empty() == a.episodes.empty()) {
+    throw Error("give either --images DIR or --episodes DIR...");
+  }
   const topics::LdaModel model = topics::load_lda_model(a.model);
   const features::Vocabulary vocabulary = features::read_vocabulary(a.vocabulary);
   if (model.num_words() != vocabulary.size()) {
@@ -247,6 +343,10 @@ void run_classify(const ClassifyArgs& a, const Invocation& inv) {
     m += " words but the vocabulary ";
     m += std::to_string(vocabulary.size());
     throw Error::in_file(a.model, m);
+  }
+  if (!a.episodes.empty()) {
+    run_classify_episodes(a, inv, model, vocabulary);
+    return;
   }
   const ExtractOptions fo = a.features.options();
   std::shared_ptr<core::ProgressBar> bar;
@@ -423,6 +523,8 @@ void add_set_options(CLI::App* cmd, SetArgs& a) {
 struct ScatterArgs {
   std::vector<std::string> episodes;
   std::string views;
+  std::vector<std::string> view_episodes;
+  std::vector<std::string> objects;
   std::string vocabulary;
   std::string k = "objects,8";
   std::string region = "objects";
@@ -443,20 +545,39 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   o.view_features = o.frames.features;
   o.frames.features.center_crop = 1.0;  // frames: the region decides
   o.kmeans.seed = o.seed;
-  const features::ImageSet views = features::read_image_set(a.views);
+  if (a.views.empty() == a.view_episodes.empty()) {
+    throw Error("give either --views DIR or --view-episodes DIR... (with --objects)");
+  }
+  if (!a.view_episodes.empty() && a.objects.empty()) {
+    throw Error("--view-episodes needs --objects (the objects whose views are cut from them)");
+  }
   const std::vector<episode::Episode> episodes = read_episodes(a.episodes);
   std::optional<features::Vocabulary> vocabulary;
   if (!a.vocabulary.empty()) vocabulary = features::read_vocabulary(a.vocabulary);
   std::shared_ptr<core::ProgressBar> bar;
-  const ScatterExperimentResult r = run_scatter_experiment(
-      episodes, views, o, vocabulary ? &*vocabulary : nullptr, progress_of(bar, "frames", a.quiet));
+  ScatterExperimentResult r;
+  if (a.views.empty()) {
+    // Segmented views: the features inside each object's mask; no centre crop.
+    o.view_features.center_crop = 1.0;
+    r = run_scatter_experiment(episodes, read_episodes(a.view_episodes), a.objects, o,
+                               vocabulary ? &*vocabulary : nullptr,
+                               progress_of(bar, "frames", a.quiet));
+  } else {
+    const features::ImageSet views = features::read_image_set(a.views);
+    r = run_scatter_experiment(episodes, views, o, vocabulary ? &*vocabulary : nullptr,
+                               progress_of(bar, "frames", a.quiet));
+  }
   std::printf("objects: %zu, episodes: %zu, frames: %d, documents: %d, tokens: %lld, words: %d\n",
               r.objects.size(), episodes.size(), r.frames, r.documents,
               static_cast<long long>(r.tokens), r.words);
   std::printf("views: %d name the topics (labelled), %d test\n\n", r.mapping_views, r.test_views);
   core::Json doc = core::result_document("proprio.experiment.scatter", 1, inv.provenance(o.seed));
   doc["episodes"] = a.episodes;
-  doc["views"] = a.views;
+  if (!a.views.empty()) doc["views"] = a.views;
+  if (!a.view_episodes.empty()) {
+    doc["view_episodes"] = a.view_episodes;
+    doc["view_step"] = o.view_step;
+  }
   doc["objects"] = r.objects;
   doc["region"] = a.region;
   doc["features"] = to_string(o.frames.features.kind);
@@ -528,13 +649,26 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
 
   auto c = std::make_shared<ClassifyArgs>();
   auto* cls = rec->add_subcommand(
-      "classify", "Classify folder-per-class images by argmax theta (thesis 6.1.4)");
+      "classify",
+      "Classify folder-per-class images or episodes' frames by argmax theta (thesis 6.1.4)");
   cls->add_option("--model", c->model, "Model file")->required();
   cls->add_option("--vocabulary", c->vocabulary, "The model's vocabulary file")->required();
-  cls->add_option("--images", c->images, "Folder-per-class images to classify")->required();
+  cls->add_option("--images", c->images, "Folder-per-class images to classify");
+  cls->add_option("--episodes", c->episodes,
+                  "Episode directories, or directories of them: classify their frames");
+  cls->add_option("--region", c->region,
+                  "Episodes: whole, target, objects (ground-truth masks), blobs, masks")
+      ->capture_default_str();
+  cls->add_option("--objects", c->objects, "Episodes, region objects: object names")
+      ->delimiter(',');
+  cls->add_option("--masks", c->masks, "Episodes, region masks: directory of masks");
+  cls->add_option("--frame-step", c->frame_step, "Episodes: every n-th frame")
+      ->capture_default_str();
   cls->add_option("--map-with", c->map_with,
                   "Labelled folder-per-class images that name the topics (never the test images)");
-  cls->add_option("--out", c->out, "CSV: image, truth, topic, class, theta_0..theta_{K-1}");
+  cls->add_option("--out", c->out,
+                  "CSV: image, truth, topic, class, theta_0..theta_{K-1} (episodes: episode, "
+                  "frame, document, truth, topic, class, theta_k)");
   add_feature_options(cls, c->features);
   cls->add_flag("-q,--quiet", c->quiet, "No progress bar");
   cls->add_option("--json", c->json, "Also write the confusion matrices as JSON");
@@ -559,8 +693,17 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
       "Online LDA on videos of objects moved about; classify held-out views (6.3.3, 7.3.1)");
   sc->add_option("--episodes", s->episodes, "Episode directories, or directories of them")
       ->required();
-  sc->add_option("--views", s->views, "Folder-per-object views; folder names = object names")
-      ->required();
+  sc->add_option("--views", s->views, "Folder-per-object views; folder names = object names");
+  sc->add_option("--view-episodes", s->view_episodes,
+                 "Held-out episodes whose frames, cut by the ground-truth masks, give the views "
+                 "(the first half name the topics, the rest test); instead of --views");
+  sc->add_option("--objects", s->objects, "With --view-episodes: the objects (catalogue names)")
+      ->delimiter(',');
+  sc->add_option("--view-step", s->options.view_step, "With --view-episodes: every n-th frame")
+      ->capture_default_str();
+  sc->add_option("--view-min-features", s->options.view_min_features,
+                 "With --view-episodes: least features of a view")
+      ->capture_default_str();
   sc->add_option("--k", s->k,
                  "Numbers of topics K, comma-separated; objects = the number of objects")
       ->capture_default_str();

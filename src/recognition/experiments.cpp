@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <functional>
 #include <numeric>
 #include <set>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
+#include "proprio/recognition/episode_classification.hpp"
 
 namespace proprio::recognition {
 namespace {
@@ -187,19 +190,25 @@ void ScatterExperimentOptions::validate() const {
   view_features.validate();
 }
 
-ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
-                                               const features::ImageSet& views,
-                                               const ScatterExperimentOptions& options,
-                                               const features::Vocabulary* vocabulary,
-                                               const ProgressFn& progress) {
+namespace {
+
+// The labelled views that name the topics and the test views, over the vocabulary.
+using ViewCorpora = std::function<std::pair<LabelledCorpus, LabelledCorpus>(
+    const features::Vocabulary&, ScatterExperimentResult&)>;
+
+ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episodes,
+                                    const std::vector<std::string>& objects,
+                                    const ScatterExperimentOptions& options,
+                                    const features::Vocabulary* vocabulary,
+                                    const ProgressFn& progress, const ViewCorpora& make_views) {
   options.validate();
   if (episodes.empty()) throw Error("no episodes given");
   const auto t0 = std::chrono::steady_clock::now();
   ScatterExperimentResult result;
-  result.objects = views.classes;
+  result.objects = objects;
   FrameDocumentOptions frame_options = options.frames;
   if (frame_options.region == FrameRegion::kObjects && frame_options.objects.empty())
-    frame_options.objects = views.classes;
+    frame_options.objects = objects;
   for (const auto& e : episodes) {
     if (frame_options.region == FrameRegion::kObjects &&
         selected_object_ids(e, frame_options.objects).empty()) {
@@ -268,43 +277,10 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
   result.documents = static_cast<int>(corpus.num_documents());
   result.tokens = corpus.num_tokens();
 
-  // Views: per class, a random mapping_fraction names the topics, the rest is the test.
-  std::vector<std::size_t> all(views.images.size());
-  std::iota(all.begin(), all.end(), std::size_t{0});
-  std::vector<std::size_t> mapping_idx, test_idx;
-  {
-    core::Rng rng(options.seed + 7);
-    std::vector<std::vector<std::size_t>> per_class(views.classes.size());
-    for (std::size_t i : all) per_class[static_cast<std::size_t>(views.labels[i])].push_back(i);
-    for (std::size_t c = 0; c < per_class.size(); ++c) {
-      auto members = per_class[c];
-      if (members.size() < 2) {
-        std::string m = "class '";
-        m += views.classes[c];
-        m += "' needs at least 2 views (to name topics and to test)";
-        throw Error(m);
-      }
-      std::shuffle(members.begin(), members.end(), rng.engine());
-      auto n = static_cast<std::size_t>(
-          std::lround(options.mapping_fraction * static_cast<double>(members.size())));
-      n = std::clamp<std::size_t>(n, 1, members.size() - 1);
-      mapping_idx.insert(mapping_idx.end(), members.begin(),
-                         members.begin() + static_cast<long>(n));
-      test_idx.insert(test_idx.end(), members.begin() + static_cast<long>(n), members.end());
-    }
-    std::sort(mapping_idx.begin(), mapping_idx.end());
-    std::sort(test_idx.begin(), test_idx.end());
-  }
-  const LabelledCorpus mapping_docs =
-      image_corpus(views, mapping_idx, *vocabulary, options.view_features);
-  const LabelledCorpus test_docs =
-      image_corpus(views, test_idx, *vocabulary, options.view_features);
-  result.mapping_views = static_cast<int>(mapping_idx.size());
-  result.test_views = static_cast<int>(test_idx.size());
-
+  const auto [mapping_docs, test_docs] = make_views(*vocabulary, result);
   for (int k : options.topics) {
     topics::OnlineLdaOptions on = options.online;
-    on.num_topics = k == 0 ? static_cast<int>(views.classes.size()) : k;
+    on.num_topics = k == 0 ? static_cast<int>(objects.size()) : k;
     on.seed = options.seed;
     auto trained = topics::train_online_lda(corpus, on);
     ScatterRunResult r;
@@ -315,6 +291,99 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
   }
   result.seconds = seconds_since(t0);
   return result;
+}
+
+}  // namespace
+
+ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
+                                               const features::ImageSet& views,
+                                               const ScatterExperimentOptions& options,
+                                               const features::Vocabulary* vocabulary,
+                                               const ProgressFn& progress) {
+  auto make_views = [&](const features::Vocabulary& v, ScatterExperimentResult& result) {
+    // Views: per class, a random mapping_fraction names the topics, the rest is the test.
+    std::vector<std::size_t> all(views.images.size());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    std::vector<std::size_t> mapping_idx, test_idx;
+    {
+      core::Rng rng(options.seed + 7);
+      std::vector<std::vector<std::size_t>> per_class(views.classes.size());
+      for (std::size_t i : all) per_class[static_cast<std::size_t>(views.labels[i])].push_back(i);
+      for (std::size_t c = 0; c < per_class.size(); ++c) {
+        auto members = per_class[c];
+        if (members.size() < 2) {
+          std::string m = "class '";
+          m += views.classes[c];
+          m += "' needs at least 2 views (to name topics and to test)";
+          throw Error(m);
+        }
+        std::shuffle(members.begin(), members.end(), rng.engine());
+        auto n = static_cast<std::size_t>(
+            std::lround(options.mapping_fraction * static_cast<double>(members.size())));
+        n = std::clamp<std::size_t>(n, 1, members.size() - 1);
+        mapping_idx.insert(mapping_idx.end(), members.begin(),
+                           members.begin() + static_cast<long>(n));
+        test_idx.insert(test_idx.end(), members.begin() + static_cast<long>(n), members.end());
+      }
+      std::sort(mapping_idx.begin(), mapping_idx.end());
+      std::sort(test_idx.begin(), test_idx.end());
+    }
+    LabelledCorpus mapping_docs = image_corpus(views, mapping_idx, v, options.view_features);
+    LabelledCorpus test_docs = image_corpus(views, test_idx, v, options.view_features);
+    result.mapping_views = static_cast<int>(mapping_idx.size());
+    result.test_views = static_cast<int>(test_idx.size());
+    return std::pair(std::move(mapping_docs), std::move(test_docs));
+  };
+  return run_scatter(episodes, views.classes, options, vocabulary, progress, make_views);
+}
+
+ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
+                                               const std::vector<episode::Episode>& view_episodes,
+                                               const std::vector<std::string>& objects,
+                                               const ScatterExperimentOptions& options,
+                                               const features::Vocabulary* vocabulary,
+                                               const ProgressFn& progress) {
+  if (view_episodes.size() < 2) {
+    throw Error("views from episodes need at least 2 view episodes (to name topics and to test)");
+  }
+  if (objects.empty()) throw Error("no objects named for the views");
+  if (options.view_step < 1 || options.view_min_features < 1) {
+    throw Error("the view step and the least features of a view must be >= 1");
+  }
+  auto make_views = [&](const features::Vocabulary& v, ScatterExperimentResult& result) {
+    const std::size_t n = view_episodes.size();
+    const auto n_map = std::clamp<std::size_t>(
+        static_cast<std::size_t>(std::lround(options.mapping_fraction * static_cast<double>(n))), 1,
+        n - 1);
+    auto corpus_of = [&](std::size_t from, std::size_t to) {
+      const std::vector<episode::Episode> eps(view_episodes.begin() + static_cast<long>(from),
+                                              view_episodes.begin() + static_cast<long>(to));
+      std::vector<std::vector<int>> frames;
+      for (const auto& e : eps) {
+        frames.emplace_back();
+        for (int i = 0; i < e.frame_count(); i += options.view_step) frames.back().push_back(i);
+      }
+      LabelledCorpus c = object_view_corpus(eps, frames, objects, v, options.view_features,
+                                            options.view_min_features);
+      for (int k = 0; k < static_cast<int>(objects.size()); ++k) {
+        if (std::find(c.labels.begin(), c.labels.end(), k) == c.labels.end()) {
+          std::string m = "object '";
+          m += objects[static_cast<std::size_t>(k)];
+          m += "' has no view with enough features in the view episodes ";
+          m += eps.front().dir().string();
+          m += "...";
+          throw Error(m);
+        }
+      }
+      return c;
+    };
+    LabelledCorpus mapping_docs = corpus_of(0, n_map);
+    LabelledCorpus test_docs = corpus_of(n_map, n);
+    result.mapping_views = static_cast<int>(mapping_docs.labels.size());
+    result.test_views = static_cast<int>(test_docs.labels.size());
+    return std::pair(std::move(mapping_docs), std::move(test_docs));
+  };
+  return run_scatter(episodes, objects, options, vocabulary, progress, make_views);
 }
 
 }  // namespace proprio::recognition

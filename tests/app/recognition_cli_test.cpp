@@ -207,10 +207,9 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
     cv::resize(photo(c)(cv::Rect(0, 0, 200, 200)), t, cv::Size(70, 70));
     tex.push_back(t);
   }
-  const fs::path ep = dir_ / "episodes" / "e1";
-  {
+  auto write_episode = [&](const fs::path& ep, std::uint64_t seed) {
     episode::EpisodeWriter writer(ep, info, cam, objects);
-    cv::RNG rng(3);
+    cv::RNG rng(seed);
     for (int i = 0; i < frames; ++i) {
       cv::Mat img(h, w, CV_8UC3, cv::Scalar(140, 150, 160));
       cv::Mat1w mask(h, w, ushort{0});
@@ -229,7 +228,10 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
       writer.add_frame(img, a, extras);
     }
     writer.finish();
-  }
+  };
+  write_episode(dir_ / "episodes" / "e1", 3);
+  write_episode(dir_ / "held" / "h1", 4);
+  write_episode(dir_ / "held" / "h2", 5);
   for (int c = 0; c < 3; ++c) {
     const fs::path vdir = dir_ / "views" / kClasses[c];
     fs::create_directories(vdir);
@@ -255,6 +257,75 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   ASSERT_EQ(j["runs"].size(), 2U);
   // Distinct photographs on a plain table: the learned topics separate them.
   EXPECT_GE(j["runs"][0]["classes"]["mean_class_accuracy"].get<double>(), 0.6) << r.out;
+
+  // Views cut by the masks from held-out episodes: h1 names the topics, h2 is the test.
+  const CliRun s = run("experiment scatter --episodes " + (dir_ / "episodes").string() +
+                       " --view-episodes " + (dir_ / "held").string() +
+                       " --objects baboon,fruits,building --view-step 2"
+                       " --k objects --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
+                       " --passes 3 --quiet --json " +
+                       file("scatter-held.json"));
+  ASSERT_EQ(s.code, 0) << s.out;
+  test::expect_schema_valid("experiment_scatter.schema.json", file("scatter-held.json"));
+  const core::Json js = core::read_json(file("scatter-held.json"));
+  EXPECT_EQ(js["view_step"], 2);
+  // 20 frames of each held-out episode, each object in view in 16-20 of them.
+  EXPECT_GE(js["mapping_views"].get<int>(), 45);
+  EXPECT_LE(js["mapping_views"].get<int>(), 60);
+  EXPECT_GE(js["runs"][0]["classes"]["mean_class_accuracy"].get<double>(), 0.6) << s.out;
+
+  // Frames classified: a model from the episode's objects, topics named by the views.
+  CliRun c =
+      run("recognize train --episodes " + (dir_ / "episodes").string() +
+          " --region objects --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
+          " -k 3 --passes 5 --batch 10 --model " + file("ep.lda") + " --quiet");
+  ASSERT_EQ(c.code, 0) << c.out;
+  c = run("recognize classify --model " + file("ep.lda") + " --vocabulary " + file("v.vocab") +
+          " --episodes " + (dir_ / "episodes" / "e1").string() +
+          " --region objects --objects baboon,fruits,building --frame-step 2 --map-with " +
+          (dir_ / "views").string() + " --out " + file("ep.csv") + " --quiet --json " +
+          file("ep-classify.json"));
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_NE(c.out.find("accuracy"), std::string::npos) << c.out;
+  test::expect_schema_valid("recognize_classify.schema.json", file("ep-classify.json"));
+  const core::Json jc = core::read_json(file("ep-classify.json"));
+  EXPECT_EQ(jc["frames"], frames / 2);
+  EXPECT_EQ(jc["documents"], frames / 2);
+  EXPECT_EQ(jc["classes"]["rows"], (std::vector<std::string>{"baboon", "building", "fruits"}));
+  std::ifstream csv(file("ep.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "episode,frame,document,truth,topic,class,theta_0,theta_1,theta_2");
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, frames / 2);
+
+  // Bad input: a vocabulary of another size than the model's; an episode without its frames.
+  cv::Mat d = cv::Mat(8, 128, CV_32F);
+  cv::randu(d, 0.0F, 1.0F);
+  features::KmeansOptions k8;
+  k8.words = 4;
+  features::write_vocabulary(dir_ / "v4.vocab", features::build_vocabulary(d, k8).vocabulary,
+                             core::Provenance::current({"recognition_cli_test"}, 1));
+  c = run("recognize classify --model " + file("ep.lda") + " --vocabulary " + file("v4.vocab") +
+          " --episodes " + (dir_ / "episodes").string() + " --quiet");
+  EXPECT_EQ(c.code, 2) << c.out;
+  EXPECT_NE(c.out.find("words but the vocabulary 4"), std::string::npos) << c.out;
+  fs::create_directories(dir_ / "noframes" / "h1");
+  fs::copy(dir_ / "held" / "h1", dir_ / "noframes" / "h1", fs::copy_options::recursive);
+  fs::remove_all(dir_ / "noframes" / "h1" / "frames");
+  c = run("recognize classify --model " + file("ep.lda") + " --vocabulary " + file("v.vocab") +
+          " --episodes " + (dir_ / "noframes").string() + " --quiet");
+  EXPECT_EQ(c.code, 2) << c.out;
+  EXPECT_NE(c.out.find("h1"), std::string::npos) << c.out;
+  c = run("recognize classify --model " + file("ep.lda") + " --vocabulary " + file("v.vocab") +
+          " --episodes " + file("images") + " --quiet");
+  EXPECT_EQ(c.code, 2) << c.out;
+  EXPECT_NE(c.out.find("holds no episode"), std::string::npos) << c.out;
+  c = run("experiment scatter --episodes " + (dir_ / "episodes").string() + " --view-episodes " +
+          (dir_ / "held" / "h1").string() + " --objects baboon --quiet");
+  EXPECT_EQ(c.code, 2) << c.out;
+  EXPECT_NE(c.out.find("at least 2 view episodes"), std::string::npos) << c.out;
 }
 
 }  // namespace

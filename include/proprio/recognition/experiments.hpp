@@ -103,6 +103,11 @@ struct ScatterExperimentOptions {
   double mapping_fraction = 0.5;
   /// How a view becomes a document: the whole image (the object over its backdrop).
   ExtractOptions view_features;
+  /// Views cut from the frames of held-out episodes (run_scatter_experiment with view
+  /// episodes): every view_step-th frame, each object's features inside its ground-truth mask,
+  /// kept when there are at least view_min_features of them.
+  int view_step = 5;
+  int view_min_features = 20;
   std::uint64_t seed = 1;
   void validate() const;
 };
@@ -131,6 +136,19 @@ struct ScatterExperimentResult {
 /// `views`' classes split per class into mapping and test views (seeded).
 ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
                                                const features::ImageSet& views,
+                                               const ScatterExperimentOptions& options,
+                                               const features::Vocabulary* vocabulary = nullptr,
+                                               const ProgressFn& progress = {});
+
+/// The same with views cut from the frames of `view_episodes` (never used for the dictionary or
+/// LDA) by the ground-truth masks (object_view_corpus): the segmented views of each of `objects`
+/// that the thesis's ground-truth images were. The views of the first
+/// round(mapping_fraction * n) of the n view episodes (at least 1, at most n - 1) name the
+/// topics; those of the others are the test. Throws Error with fewer than 2 view episodes, or
+/// when an object has no view on either side.
+ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
+                                               const std::vector<episode::Episode>& view_episodes,
+                                               const std::vector<std::string>& objects,
                                                const ScatterExperimentOptions& options,
                                                const features::Vocabulary* vocabulary = nullptr,
                                                const ProgressFn& progress = {});

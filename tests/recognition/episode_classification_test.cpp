@@ -1,0 +1,184 @@
+// Classifying episodes' frames (thesis 6.1.4, 6.3.3): truth from the ground-truth masks, topics,
+// the mapping from labelled views, views cut from frames by the masks, bad input.
+#include "proprio/recognition/episode_classification.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "../support/synthetic_episode.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/topics/online_lda.hpp"
+
+namespace proprio::recognition {
+namespace {
+namespace fs = std::filesystem;
+
+// A 10-frame episode: even frames show the "box" (id 1, fine stripes), odd frames the
+// "scatter-mug" (id 2, blurred noise), each alone on grey, moving a little.
+fs::path write_alternating_episode(const fs::path& dir, bool masks = true) {
+  auto info = test::synthetic_info(240, 180, "episode_classification_test", 1);
+  info.has_masks = masks;
+  const auto cam = test::overhead_camera(300.0, 120.0, 90.0);
+  const std::vector<episode::ObjectInfo> objects = {
+      {1, "box", episode::ObjectRole::kTarget},
+      {2, "scatter-mug", episode::ObjectRole::kDistractor}};
+  return test::write_synthetic_episode(dir, info, cam, objects, 10, [masks](int i) {
+    cv::Mat img(180, 240, CV_8UC3, cv::Scalar(128, 128, 128));
+    cv::Mat1w mask(180, 240, ushort{0});
+    const cv::Rect r(40 + 4 * i, 40 + 2 * i, 90, 90);
+    cv::Mat tex(90, 90, CV_8UC3);
+    if (i % 2 == 0) {
+      for (int x = 0; x < 90; ++x) tex.col(x).setTo(cv::Scalar::all((x / 3) % 2 ? 230 : 20));
+    } else {
+      cv::RNG rng(static_cast<std::uint64_t>(i + 1));
+      rng.fill(tex, cv::RNG::UNIFORM, 0, 255);
+      cv::GaussianBlur(tex, tex, cv::Size(5, 5), 1.5);
+    }
+    tex.copyTo(img(r));
+    mask(r).setTo(i % 2 == 0 ? 1 : 2);
+    test::SyntheticFrame f{img, test::arm_at(i, 25.0, {0.1, 0.0, 0.0}), {}};
+    if (masks) f.extras.mask = mask;
+    return f;
+  });
+}
+
+struct Fixture {
+  fs::path dir;
+  std::vector<episode::Episode> episodes;
+  std::optional<features::Vocabulary> vocabulary;
+  topics::LdaModel model;
+};
+
+// The episode, a 16-word vocabulary from its frames and a K = 2 model learned from them.
+const Fixture& fixture() {
+  static const Fixture f = [] {
+    Fixture x;
+    x.dir = fs::temp_directory_path() / "proprio_episode_classification_test";
+    fs::remove_all(x.dir);
+    x.episodes.push_back(episode::read_episode(write_alternating_episode(x.dir / "ep")));
+    ExtractOptions eo;
+    cv::Mat all;
+    std::vector<features::Features> docs;
+    for (int i = 0; i < 10; ++i) {
+      docs.push_back(extract_features(x.episodes[0].frame(i), eo));
+      all.push_back(docs.back().descriptors);
+    }
+    features::KmeansOptions k;
+    k.words = 16;
+    x.vocabulary.emplace(features::build_vocabulary(all, k).vocabulary);
+    topics::Corpus corpus(x.vocabulary->size());
+    for (const auto& d : docs)
+      corpus.add_tokens(features::bag_of_words(*x.vocabulary, d.descriptors));
+    topics::OnlineLdaOptions on;
+    on.num_topics = 2;
+    on.batch_size = 5;
+    on.passes = 20;
+    x.model = topics::train_online_lda(corpus, on).model;
+    return x;
+  }();
+  return f;
+}
+
+TEST(EpisodeClassification, TruthFromMasksAndOneTopicPerObject) {
+  const Fixture& f = fixture();
+  EpisodeClassifyOptions o;  // whole frames
+  const EpisodeClassification r = classify_episodes(f.episodes, f.model, (*f.vocabulary), o);
+  ASSERT_EQ(r.documents.size(), 10U);
+  EXPECT_EQ(r.classes, (std::vector<std::string>{"box", "mug"}));
+  EXPECT_EQ(r.summary.frames, 10);
+  EXPECT_EQ(r.summary.empty_documents, 0);
+  ASSERT_TRUE(r.by_topic.has_value());
+  EXPECT_EQ(r.by_topic->total(), 10);
+  for (std::size_t d = 0; d < r.documents.size(); ++d) {
+    const ClassifiedDocument& c = r.documents[d];
+    EXPECT_EQ(c.frame, static_cast<int>(d));
+    EXPECT_EQ(c.truth, c.frame % 2);  // box on even frames, mug on odd ones
+    EXPECT_NEAR(r.theta.row(static_cast<Eigen::Index>(d)).sum(), 1.0, 1e-9);
+    EXPECT_GT(c.tokens, 0);
+  }
+  // Stripes and noise share no words: the two objects get different topics, each its own.
+  for (const auto& c : r.documents) EXPECT_EQ(c.topic, r.documents[c.frame % 2].topic);
+  EXPECT_NE(r.documents[0].topic, r.documents[1].topic);
+
+  o.frame_step = 2;
+  const EpisodeClassification even = classify_episodes(f.episodes, f.model, (*f.vocabulary), o);
+  ASSERT_EQ(even.documents.size(), 5U);
+  EXPECT_EQ(even.classes, (std::vector<std::string>{"box"}));
+}
+
+TEST(EpisodeClassification, LabelledViewsFromMasksNameTheTopics) {
+  const Fixture& f = fixture();
+  const std::vector<std::string> classes = {"mug", "box"};
+  // Views from frames 0-3 name the topics; the classification is then scored on all frames.
+  const LabelledCorpus views =
+      object_view_corpus(f.episodes, {{0, 1, 2, 3}}, classes, (*f.vocabulary), ExtractOptions{});
+  EXPECT_EQ(views.labels, (std::vector<int>{1, 0, 1, 0}));
+  const Evaluation e = evaluate_model(f.model, views, views);
+  EXPECT_DOUBLE_EQ(e.classes.accuracy(), 1.0);
+  EpisodeClassifyOptions o;
+  o.frames.region = FrameRegion::kObjects;
+  EpisodeClassification r = classify_episodes(f.episodes, f.model, (*f.vocabulary), o);
+  const ConfusionMatrix m = apply_mapping(r, e.mapping, classes);
+  EXPECT_EQ(m.rows, classes);
+  EXPECT_EQ(m.total(), 10);
+  EXPECT_DOUBLE_EQ(m.accuracy(), 1.0);
+  for (const auto& c : r.documents) EXPECT_EQ(c.mapped, c.frame % 2 == 0 ? 1 : 0);
+  // A view needs min_features features: none of these squares has 10,000.
+  EXPECT_EQ(
+      object_view_corpus(f.episodes, {{0, 1}}, classes, (*f.vocabulary), ExtractOptions{}, 10000)
+          .corpus.num_documents(),
+      0U);
+}
+
+TEST(EpisodeClassification, ClassNamesDropTheSimulatorsRolePrefixes) {
+  EXPECT_EQ(object_class_name("scatter-bike"), "bike");
+  EXPECT_EQ(object_class_name("distractor-spirit-level"), "spirit-level");
+  EXPECT_EQ(object_class_name("spirit-level"), "spirit-level");
+  EXPECT_EQ(object_class_name("my-spirit-level", {"spirit-level"}), "spirit-level");
+}
+
+TEST(EpisodeClassification, BadInputIsAnError) {
+  const Fixture& f = fixture();
+  EpisodeClassifyOptions o;
+  // A model over another number of words than the vocabulary.
+  topics::LdaModel other = f.model;
+  other.lambda = Eigen::MatrixXd::Ones(2, (*f.vocabulary).size() + 1);
+  try {
+    (void)classify_episodes(f.episodes, other, (*f.vocabulary), o);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("17 words but the vocabulary 16"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW((void)classify_episodes({}, f.model, (*f.vocabulary), o), Error);
+  o.frame_step = 0;
+  EXPECT_THROW((void)classify_episodes(f.episodes, f.model, (*f.vocabulary), o), Error);
+  // Regions that need ground-truth masks, on an episode without them.
+  const std::vector<episode::Episode> bare = {
+      episode::read_episode(write_alternating_episode(f.dir / "bare", false))};
+  o.frame_step = 1;
+  o.frames.region = FrameRegion::kObjects;
+  try {
+    (void)classify_episodes(bare, f.model, (*f.vocabulary), o);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no ground-truth masks"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bare"), std::string::npos) << e.what();
+  }
+  // Whole frames of an episode without masks: classified, no truth.
+  o.frames.region = FrameRegion::kWhole;
+  const EpisodeClassification r = classify_episodes(bare, f.model, (*f.vocabulary), o);
+  EXPECT_EQ(r.documents.size(), 10U);
+  EXPECT_TRUE(r.classes.empty());
+  EXPECT_FALSE(r.by_topic.has_value());
+  EXPECT_THROW((void)object_view_corpus(bare, {{0}}, {"box"}, (*f.vocabulary), ExtractOptions{}),
+               Error);
+}
+
+}  // namespace
+}  // namespace proprio::recognition
