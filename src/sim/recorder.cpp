@@ -223,7 +223,7 @@ constexpr double kViewMinX = -0.1, kViewMaxX = 0.62;
 constexpr double kWalkGap = 0.01;  // least distance between two walkers' footprints, m
 
 // scatter with chosen objects: the objects other than the target become walkers, started at
-// random non-overlapping places in view (x 0..0.6 m), heading anywhere, 0.06-0.16 m/s.
+// random non-overlapping places in view, heading anywhere, 0.06-0.16 m/s.
 void plan_walkers(const RecordOptions& options, const ObjectCatalogue& catalogue, double target_r,
                   core::Rng& rng, ScenarioPlan& plan) {
   for (const std::string& name : options.scatter_objects) {
@@ -239,34 +239,50 @@ void plan_walkers(const RecordOptions& options, const ObjectCatalogue& catalogue
   }
   plan.walk_min = {options.scatter_in_view ? kViewMinX : kWalkMinX, 0.0};
   plan.walk_max = {options.scatter_in_view ? kViewMaxX : kWalkMaxX, kWalkMaxY};
+  std::vector<ScenarioPlan::Walker> walkers;
   for (const std::string& name : options.scatter_objects) {
     if (name == options.object) continue;
     ScenarioPlan::Walker w;
     w.name = "scatter-" + name;
     w.radius = catalogue.get(name).footprint_radius();
-    w.y_min = target_r + w.radius + 0.04;
+    w.y_min = target_r + w.radius + 0.03;
     if (w.y_min > kWalkMaxY - w.radius) {
       std::string m = "scatter object '";
       m += name;
       m += "' is too large to wander behind the target";
       throw Error(m);
     }
-    bool placed = false;
-    for (int attempt = 0; attempt < 500 && !placed; ++attempt) {
-      const Eigen::Vector2d p(rng.uniform(0.0, 0.6), rng.uniform(w.y_min, kWalkMaxY - w.radius));
-      bool overlap = false;
-      for (const auto& o : plan.walkers)
-        overlap = overlap || (p - o.position).norm() < o.radius + w.radius + kWalkGap;
-      if (overlap) continue;
-      w.position = p;
-      placed = true;
+    walkers.push_back(w);
+  }
+  // Start places in view, drawn one after the other; where the last ones find no room the
+  // whole draw starts again.
+  bool placed_all = false;
+  for (int round = 0; round < 50 && !placed_all; ++round) {
+    placed_all = true;
+    for (std::size_t i = 0; i < walkers.size() && placed_all; ++i) {
+      ScenarioPlan::Walker& w = walkers[i];
+      bool placed = false;
+      for (int attempt = 0; attempt < 200 && !placed; ++attempt) {
+        const Eigen::Vector2d p(rng.uniform(kViewMinX, kViewMaxX),
+                                rng.uniform(w.y_min, kWalkMaxY - w.radius));
+        bool overlap = false;
+        for (std::size_t j = 0; j < i; ++j)
+          overlap =
+              overlap || (p - walkers[j].position).norm() < walkers[j].radius + w.radius + kWalkGap;
+        if (overlap) continue;
+        w.position = p;
+        placed = true;
+      }
+      placed_all = placed;
     }
-    if (!placed) throw Error("scatter objects: no room for them all on the table");
+  }
+  if (!placed_all) throw Error("scatter objects: no room for them all on the table");
+  for (ScenarioPlan::Walker& w : walkers) {
     w.heading = rng.uniform(-std::numbers::pi, std::numbers::pi);
     w.speed = rng.uniform(0.06, 0.16);
     w.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
     PlacedObject o;
-    o.type = name;
+    o.type = w.name.substr(std::string("scatter-").size());
     o.name = w.name;
     o.position = w.position;
     o.yaw = w.yaw;

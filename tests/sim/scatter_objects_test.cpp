@@ -66,6 +66,18 @@ TEST(ScatterObjects, PlanHoldsExactlyTheChosenObjects) {
   }
 }
 
+TEST(ScatterObjects, EveryTargetAndSeedFindsRoomForFourObjects) {
+  RecordOptions o = scatter_options();
+  for (const std::string target : {"calculator", "bike", "bottle", "giraffe"}) {
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      o.object = target;
+      o.seed = seed;
+      const ScenarioPlan plan = plan_scenario(o, catalogue());
+      EXPECT_EQ(plan.walkers.size(), 3U) << target << " " << seed;
+    }
+  }
+}
+
 TEST(ScatterObjects, PlanIsDeterministicInTheSeed) {
   RecordOptions o = scatter_options();
   const ScenarioPlan a = plan_scenario(o, catalogue());
