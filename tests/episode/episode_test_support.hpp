@@ -2,12 +2,13 @@
 // Test helpers: temporary directories and small synthetic episodes written with EpisodeWriter.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "../support/synthetic_episode.hpp"
+#include "../support/temp_dir.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/episode/episode_writer.hpp"
 
@@ -15,39 +16,14 @@ namespace proprio::episode::testing {
 namespace fs = std::filesystem;
 
 /// A fresh empty directory named after the running test, removed by the destructor.
-class TempDir {
+class TempDir : public proprio::test::TempDir {
  public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = "proprio_episode_";
-    name += info->test_suite_name();
-    name += "_";
-    name += info->name();
-    name += '_';
-    name += std::to_string(::getpid());
-    path_ = fs::temp_directory_path() / name;
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  [[nodiscard]] const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+  TempDir() : proprio::test::TempDir("proprio_episode_") {}
 };
 
 /// A camera 1 m above the table, looking straight down (world z up, camera z down).
 inline geometry::Camera overhead_camera(int width, int height) {
-  geometry::Camera c;
-  c.K << 60.0, 0.0, (width - 1) / 2.0, 0.0, 60.0, (height - 1) / 2.0, 0.0, 0.0, 1.0;
-  c.R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  c.t = Eigen::Vector3d(0.0, 0.0, 1.0);
-  return c;
+  return test::overhead_camera(60.0, (width - 1) / 2.0, (height - 1) / 2.0);
 }
 
 struct SyntheticSpec {
@@ -71,18 +47,13 @@ inline std::vector<ObjectInfo> synthetic_objects() {
 }
 
 inline EpisodeInfo synthetic_info(const SyntheticSpec& spec) {
-  EpisodeInfo info;
-  info.fps = 30.0;
-  info.width = spec.width;
-  info.height = spec.height;
+  EpisodeInfo info = test::synthetic_info(spec.width, spec.height, "episode_test", 42, 30.0);
   info.arm_name = "katana";
   info.joint_count = spec.joints;
   info.storage = spec.storage;
   info.has_masks = spec.masks;
   info.has_depth = spec.depth;
   info.stereo = spec.stereo;
-  info.target = 1;
-  info.provenance.run = core::Provenance::current({"episode_test"}, 42);
   info.provenance.source = Source::kSimulated;
   info.provenance.scenario = "push";
   info.provenance.switches = {{"clutter", true}, {"objects", 3}};
@@ -134,16 +105,16 @@ inline fs::path write_synthetic(const fs::path& dir, const SyntheticSpec& spec =
     right = cam;
     right->t.x() -= 0.1;
   }
-  EpisodeWriter w(dir, synthetic_info(spec), cam, synthetic_objects(), right);
-  for (int i = 0; i < spec.frames; ++i) {
-    FrameExtras x;
-    if (spec.masks) x.mask = synthetic_mask(spec, i);
-    if (spec.depth) x.depth = synthetic_depth(spec, i);
-    if (spec.stereo) x.right_image = synthetic_frame(spec, i, 7);
-    w.add_frame(synthetic_frame(spec, i), synthetic_sample(spec, i), x);
-  }
-  w.finish();
-  return dir;
+  return test::write_synthetic_episode(
+      dir, synthetic_info(spec), cam, synthetic_objects(), spec.frames,
+      [&spec](int i) {
+        test::SyntheticFrame f{synthetic_frame(spec, i), synthetic_sample(spec, i), {}};
+        if (spec.masks) f.extras.mask = synthetic_mask(spec, i);
+        if (spec.depth) f.extras.depth = synthetic_depth(spec, i);
+        if (spec.stereo) f.extras.right_image = synthetic_frame(spec, i, 7);
+        return f;
+      },
+      right);
 }
 
 /// Every message of a problem list joined by newlines (for failure output and searching).

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "../support/synthetic_episode.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/core/random.hpp"
@@ -169,25 +170,12 @@ namespace {
 
 // A 6-frame episode: two textured squares (ids 1 "box" target, 2 "scatter-mug") on grey.
 fs::path write_two_object_episode(const fs::path& dir) {
-  episode::EpisodeInfo info;
-  info.fps = 25.0;
-  info.width = 320;
-  info.height = 240;
-  info.arm_name = "synthetic";
-  info.joint_count = 0;
-  info.has_masks = true;
-  info.target = 1;
-  info.provenance.run = core::Provenance::current({"documents_test"}, 1);
-  geometry::Camera cam;
-  cam.K << 300.0, 0.0, 160.0, 0.0, 300.0, 120.0, 0.0, 0.0, 1.0;
-  cam.R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  cam.t = Eigen::Vector3d(0.0, 0.0, 1.0);
-  cam.width = 320;
-  cam.height = 240;
-  episode::EpisodeWriter w(dir, info, cam,
-                           {{1, "box", episode::ObjectRole::kTarget},
-                            {2, "scatter-mug", episode::ObjectRole::kDistractor}});
-  for (int i = 0; i < 6; ++i) {
+  const auto info = test::synthetic_info(320, 240, "documents_test", 1);
+  const auto cam = test::overhead_camera(300.0, 160.0, 120.0);
+  const std::vector<episode::ObjectInfo> objects = {
+      {1, "box", episode::ObjectRole::kTarget},
+      {2, "scatter-mug", episode::ObjectRole::kDistractor}};
+  return test::write_synthetic_episode(dir, info, cam, objects, 6, [](int i) {
     cv::Mat img(240, 320, CV_8UC3, cv::Scalar(128, 128, 128));
     cv::Mat1w mask(240, 320, ushort{0});
     cv::Mat tex(70, 70, CV_8UC3);
@@ -199,16 +187,10 @@ fs::path write_two_object_episode(const fs::path& dir) {
       tex.copyTo(img(r));
       mask(r).setTo(o + 1);
     }
-    episode::ArmSample a;
-    a.t = i / 25.0;
-    a.q = Eigen::VectorXd(0);
-    a.ee = Eigen::Vector3d(0.1, 0.0, 0.0);
-    episode::FrameExtras extras;
-    extras.mask = mask;
-    w.add_frame(img, a, extras);
-  }
-  w.finish();
-  return dir;
+    test::SyntheticFrame f{img, test::arm_at(i, 25.0, {0.1, 0.0, 0.0}), {}};
+    f.extras.mask = mask;
+    return f;
+  });
 }
 
 TEST(FrameDocuments, RegionsNestAndBadMasksAreNamed) {

@@ -4,47 +4,23 @@
 // with a moving background blocks ("people") jump about the upper third. Ground-truth masks, the
 // end-effector's image position and the touching flag are exact.
 
-#include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <string>
 
+#include "../support/synthetic_episode.hpp"
+#include "../support/temp_dir.hpp"
 #include "proprio/episode/episode_writer.hpp"
 
 namespace proprio::segmentation::testing {
 namespace fs = std::filesystem;
 
 /// A fresh empty directory named after the running test, removed by the destructor.
-class ScratchDir {
+class ScratchDir : public proprio::test::TempDir {
  public:
-  ScratchDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = "proprio_baseline_";
-    name += info->test_suite_name();
-    name += "_";
-    name += info->name();
-    name += "_" + std::to_string(::getpid());
-    for (char& c : name) {
-      if (c == '/') c = '_';
-    }
-    path_ = fs::temp_directory_path() / name;
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  [[nodiscard]] const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+  ScratchDir() : proprio::test::TempDir("proprio_baseline_") {}
 };
 
 struct PushSpec {
@@ -94,15 +70,9 @@ inline cv::Mat3b block_texture(int w, int h, int block, unsigned seed) {
 }
 
 inline fs::path write_push_episode(const fs::path& dir, const PushSpec& s) {
-  episode::EpisodeInfo info;
-  info.fps = 25.0;
-  info.width = s.width;
-  info.height = s.height;
+  episode::EpisodeInfo info = test::synthetic_info(s.width, s.height, "baseline_test", s.seed);
   info.arm_name = "test-arm";
-  info.joint_count = 0;
   info.has_masks = s.masks;
-  info.target = 1;
-  info.provenance.run = core::Provenance::current({"baseline_test"}, s.seed);
   info.provenance.source = episode::Source::kSimulated;
   info.provenance.scenario = "push";
   info.provenance.switches = {{"background", s.moving_background ? "moving" : "static"},
@@ -113,12 +83,11 @@ inline fs::path write_push_episode(const fs::path& dir, const PushSpec& s) {
   cam.t = Eigen::Vector3d(0.0, 0.0, 1.0);
   std::vector<episode::ObjectInfo> objects = {{1, s.object, episode::ObjectRole::kTarget},
                                               {2, "arm", episode::ObjectRole::kArm}};
-  episode::EpisodeWriter w(dir, info, cam, objects);
   const cv::Mat3b backdrop = block_texture(s.width * 2, s.height, 10, s.seed);
   const cv::Mat3b object_texture = block_texture(2 * s.radius + 1, 2 * s.radius + 1, 5, s.seed + 7);
   const int y0 = s.height / 2;
   const int first_touch = push_first_touch(s);
-  for (int i = 0; i < s.frames; ++i) {
+  return test::write_synthetic_episode(dir, info, cam, objects, s.frames, [&](int i) {
     cv::Mat3b img = backdrop(cv::Rect(0, 0, s.width, s.height)).clone();
     if (s.moving_background) {
       // "People" (blocks) appear at random places in the upper third.
@@ -141,17 +110,12 @@ inline fs::path write_push_episode(const fs::path& dir, const PushSpec& s) {
     const cv::Rect arm(0, y0 - 6, std::max(1, tip), 12);
     img(arm & cv::Rect(0, 0, s.width, s.height)).setTo(cv::Vec3b(128, 128, 128));
     mask(arm & cv::Rect(0, 0, s.width, s.height)).setTo(2);
-    episode::ArmSample a;
-    a.t = i / 25.0;
-    a.ee = Eigen::Vector3d(0.0, 0.0, 0.0);
-    a.ee_image = Eigen::Vector2d(tip, y0);
-    a.touching = first_touch >= 0 && i >= first_touch;
-    episode::FrameExtras x;
-    if (s.masks) x.mask = mask;
-    w.add_frame(img, a, x);
-  }
-  w.finish();
-  return dir;
+    test::SyntheticFrame f{img, test::arm_at(i, 25.0, Eigen::Vector3d::Zero()), {}};
+    f.arm.ee_image = Eigen::Vector2d(tip, y0);
+    f.arm.touching = first_touch >= 0 && i >= first_touch;
+    if (s.masks) f.extras.mask = mask;
+    return f;
+  });
 }
 
 }  // namespace proprio::segmentation::testing

@@ -2,13 +2,13 @@
 // Synthetic push episodes for the M-L tests: a textured square pushed by a textured "arm" block
 // over a static or moving textured background, with exact ground truth.
 
-#include <unistd.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "../support/synthetic_episode.hpp"
+#include "../support/temp_dir.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/episode/episode_writer.hpp"
@@ -17,25 +17,12 @@ namespace proprio::segmentation::testing {
 
 namespace fs = std::filesystem;
 
-class TempDir {
+/// Named by `tag`; kept when PROPRIO_SEG_KEEP is set, to look at the episodes.
+class TempDir : public proprio::test::TempDir {
  public:
-  explicit TempDir(const std::string& tag) {
-    path_ =
-        fs::temp_directory_path() / ("proprio_seg_ml_" + tag + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
+  explicit TempDir(const std::string& tag)
+      : proprio::test::TempDir("proprio_seg_ml_", tag, std::getenv("PROPRIO_SEG_KEEP") != nullptr) {
   }
-  ~TempDir() {
-    if (std::getenv("PROPRIO_SEG_KEEP")) return;  // keep the episodes to look at
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  [[nodiscard]] const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
 };
 
 struct PushSpec {
@@ -106,42 +93,20 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
 
 /// Writes the episode to `dir` and returns it.
 inline fs::path write_push_episode(const fs::path& dir, const PushSpec& s) {
-  episode::EpisodeInfo info;
-  info.fps = 25.0;
-  info.width = s.width;
-  info.height = s.height;
-  info.arm_name = "synthetic";
-  info.joint_count = 0;
-  info.has_masks = true;
-  info.target = 1;
-  info.provenance.run = core::Provenance::current({"segmentation_ml_test"}, 1);
-  geometry::Camera cam;  // 1 m above the table, looking down
-  cam.K << 300.0, 0.0, s.width / 2.0, 0.0, 300.0, s.height / 2.0, 0.0, 0.0, 1.0;
-  cam.R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  cam.t = Eigen::Vector3d(0.0, 0.0, 1.0);
-  cam.width = s.width;
-  cam.height = s.height;
-  std::vector<episode::ObjectInfo> objects = {{1, "square", episode::ObjectRole::kTarget},
-                                              {2, "arm", episode::ObjectRole::kArm}};
-  episode::EpisodeWriter w(dir, info, cam, objects);
-  for (int i = 0; i < s.frames; ++i) {
+  const auto info = test::synthetic_info(s.width, s.height, "segmentation_ml_test", 1);
+  const auto cam = test::overhead_camera(300.0, s.width / 2.0, s.height / 2.0);
+  const std::vector<episode::ObjectInfo> objects = {{1, "square", episode::ObjectRole::kTarget},
+                                                    {2, "arm", episode::ObjectRole::kArm}};
+  return test::write_synthetic_episode(dir, info, cam, objects, s.frames, [&s](int i) {
     const PushFrame f = push_frame(s, i);
-    episode::ArmSample a;
-    a.t = i / 25.0;
-    a.q = Eigen::VectorXd(0);
-    if (s.ee_known) {
-      a.ee = Eigen::Vector3d(0.1, 0.0, 0.0);
-      a.ee_image = f.ee;
-    } else {
-      a.ee = Eigen::Vector3d(0.1, 0.0, 2.0);  // above the camera: no image position
-    }
-    a.touching = f.touching;
-    episode::FrameExtras x;
-    x.mask = f.mask;
-    w.add_frame(f.image, a, x);
-  }
-  w.finish();
-  return dir;
+    // Without a known end effector it is above the camera: no image position.
+    test::SyntheticFrame out{
+        f.image, test::arm_at(i, 25.0, {0.1, 0.0, s.ee_known ? 0.0 : 2.0}), {}};
+    if (s.ee_known) out.arm.ee_image = f.ee;
+    out.arm.touching = f.touching;
+    out.extras.mask = f.mask;
+    return out;
+  });
 }
 
 inline double jaccard(const cv::Mat& a, const cv::Mat& b) {
