@@ -4,12 +4,8 @@
 #include <cmath>
 
 #include "proprio/core/error.hpp"
-#include "text.hpp"
 
 namespace proprio::planning {
-
-using detail::cat;
-using detail::num;
 
 void ArmMotionOptions::validate() const {
   require(std::isfinite(preferred_pitch) && std::abs(preferred_pitch) <= std::numbers::pi,
@@ -48,47 +44,14 @@ robot::TrackResult track_scheduled(robot::ArmState& state,
                                    const robot::JointVector& q_start, double rate_hz,
                                    const ArmMotionOptions& options) {
   options.validate();
-  robot::TrackResult result;
-  result.path = robot::sample_trajectory(trajectory, rate_hz);
-  const std::size_t n = result.path.size();
-  const double dt = trajectory.duration() / static_cast<double>(n - 1);
-  std::vector<robot::JointVector> q;
-  q.reserve(n);
-  robot::TrackSummary& s = result.summary;
-  robot::JointVector previous = q_start;
-  for (std::size_t i = 0; i < n; ++i) {
-    const robot::CartesianSample& sample = result.path[i];
-    robot::IkResult r;
-    try {
-      r = solve_scheduled(state, sample.position, previous, options);
-    } catch (const Error& e) {
-      throw Error(cat({"trajectory sample at t = ", num(sample.t), " s: ", e.what()}));
-    }
-    if (i > 0) {
-      const double speed = (r.q - previous).cwiseAbs().maxCoeff() / dt;
-      if (speed > options.max_joint_speed) {
-        throw Error(cat({"trajectory sample at t = ", num(sample.t), " s: the joints jump at ",
-                         num(speed), " rad/s (limit ", num(options.max_joint_speed), ")"}));
-      }
-      s.max_joint_speed = std::max(s.max_joint_speed, speed);
-    } else {
-      s.pitch_first = r.pitch;
-    }
-    s.pitch_last = r.pitch;
-    s.max_residual = std::max(s.max_residual, r.summary.residual);
-    if (r.summary.method == robot::IkMethod::analytic) {
-      ++s.analytic;
-    } else {
-      ++s.numerical;
-    }
-    if (!r.summary.pitch_met) ++s.pitch_unmet;
-    q.push_back(r.q);
-    previous = r.q;
-  }
-  s.samples = n;
-  s.message = "tracked";
-  result.joints = robot::differentiate(std::move(q), dt);
-  return result;
+  robot::TrackOptions track;
+  track.rate_hz = rate_hz;
+  track.max_joint_speed = options.max_joint_speed;
+  return robot::track_trajectory(
+      state, trajectory, q_start, track,
+      [&options](robot::ArmState& s, const Eigen::Vector3d& x, const robot::JointVector& q) {
+        return solve_scheduled(s, x, q, options);
+      });
 }
 
 }  // namespace proprio::planning

@@ -51,6 +51,15 @@ void TrackOptions::validate() const {
 
 TrackResult track_trajectory(ArmState& state, const CartesianTrajectory& trajectory,
                              const JointVector& q_start, const TrackOptions& options) {
+  return track_trajectory(state, trajectory, q_start, options,
+                          [&options](ArmState& s, const Eigen::Vector3d& x, const JointVector& q) {
+                            return solve_ik(s, x, q, options.ik);
+                          });
+}
+
+TrackResult track_trajectory(ArmState& state, const CartesianTrajectory& trajectory,
+                             const JointVector& q_start, const TrackOptions& options,
+                             const SampleIk& solve) {
   options.validate();
   TrackResult result;
   result.path = sample_trajectory(trajectory, options.rate_hz);
@@ -64,7 +73,7 @@ TrackResult track_trajectory(ArmState& state, const CartesianTrajectory& traject
     const CartesianSample& sample = result.path[i];
     IkResult r;
     try {
-      r = solve_ik(state, sample.position, previous, options.ik);
+      r = solve(state, sample.position, previous);
     } catch (const Error& e) {
       throw Error(cat({"trajectory sample at t = ", num(sample.t), " s: ", e.what()}));
     }

@@ -2,6 +2,7 @@
 // Joint-space tracking of a Cartesian trajectory: sample it at the control rate and solve the
 // inverse kinematics of each sample from the previous solution, so that q(t) is continuous.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -64,5 +65,15 @@ struct TrackResult {
 /// it). Throws Error naming the sample's time when a sample is unreachable or the solution jumps.
 TrackResult track_trajectory(ArmState& state, const CartesianTrajectory& trajectory,
                              const JointVector& q_start, const TrackOptions& options = {});
+
+/// The inverse kinematics of one sample: position `x` (m, robot frame) solved from `q_previous`.
+using SampleIk = std::function<IkResult(ArmState& state, const Eigen::Vector3d& x,
+                                        const JointVector& q_previous)>;
+
+/// track_trajectory with `solve` in place of solve_ik with options.ik (which is not used), for a
+/// per-sample choice of IK options such as planning's pitch schedule (planning::track_scheduled).
+TrackResult track_trajectory(ArmState& state, const CartesianTrajectory& trajectory,
+                             const JointVector& q_start, const TrackOptions& options,
+                             const SampleIk& solve);
 
 }  // namespace proprio::robot
