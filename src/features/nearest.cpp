@@ -1,5 +1,5 @@
-// One copy of nearest.inc per instruction set. The AVX copies live inside `#pragma GCC target`
-// regions and call nothing outside them, so no AVX code can leak into the generic path.
+// One copy of nearest.inc per instruction set (core/per_instruction_set.inc), the widest that the
+// processor runs chosen once.
 //
 // Why a hand-written kernel: the work of k-means and quantisation is N x K dot products of
 // 128-D vectors. Eigen (built here for the x86-64 baseline, SSE2, because the library must run
@@ -11,34 +11,13 @@
 
 #include <cassert>
 
+#include "proprio/core/instruction_sets.hpp"
+
 namespace proprio::features::detail {
 
-namespace generic {
-#define PROPRIO_LANES 4
-#include "nearest.inc"
-#undef PROPRIO_LANES
-}  // namespace generic
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define PROPRIO_FEATURES_X86 1
-#pragma GCC push_options
-#pragma GCC target("avx2,fma")
-namespace avx2 {
-#define PROPRIO_LANES 8
-#include "nearest.inc"
-#undef PROPRIO_LANES
-}  // namespace avx2
-#pragma GCC pop_options
-
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512vl,avx512dq,avx2,fma")
-namespace avx512 {
-#define PROPRIO_LANES 16
-#include "nearest.inc"
-#undef PROPRIO_LANES
-}  // namespace avx512
-#pragma GCC pop_options
-#endif
+#define PROPRIO_KERNEL_FILE "nearest.inc"
+#include "proprio/core/per_instruction_set.inc"
+#undef PROPRIO_KERNEL_FILE
 
 namespace {
 
@@ -58,13 +37,13 @@ struct Choice {
 
 const Choice& choice() {
   static const Choice chosen = []() -> Choice {
-#ifdef PROPRIO_FEATURES_X86
-    const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    if (avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-        __builtin_cpu_supports("avx512dq")) {
+#ifdef PROPRIO_X86_COPIES
+    using core::InstructionSet;
+    const InstructionSet set = core::best_instruction_set();
+    if (set == InstructionSet::kAvx512) {
       return {"avx512", 16, avx512::nearest, avx512::sq_distances};
     }
-    if (avx2) return {"avx2", 8, avx2::nearest, avx2::sq_distances};
+    if (set == InstructionSet::kAvx2) return {"avx2", 8, avx2::nearest, avx2::sq_distances};
 #endif
     return {"generic", 4, generic::nearest, generic::sq_distances};
   }();

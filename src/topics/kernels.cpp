@@ -1,77 +1,57 @@
-// One copy of kernels.inc per instruction set. The AVX copies live inside `#pragma GCC target`
-// regions and call nothing outside them, so no AVX code can leak into the generic path; the
-// processor is asked once which copy it can run.
+// One copy of kernels.inc per instruction set (core/per_instruction_set.inc); the processor is
+// asked once which copy it can run.
 
 #include "kernels.hpp"
 
 #include <cstdlib>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/instruction_sets.hpp"
 
 namespace proprio::topics::detail {
 
-namespace generic {
-#define PROPRIO_LANES 4
-#include "kernels.inc"
-#undef PROPRIO_LANES
-}  // namespace generic
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define PROPRIO_TOPICS_X86 1
-#pragma GCC push_options
-#pragma GCC target("avx2,fma")
-namespace avx2 {
-#define PROPRIO_LANES 8
-#include "kernels.inc"
-#undef PROPRIO_LANES
-}  // namespace avx2
-#pragma GCC pop_options
-
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512vl,avx512dq,avx2,fma")
-namespace avx512 {
-#define PROPRIO_LANES 16
-#include "kernels.inc"
-#undef PROPRIO_LANES
-}  // namespace avx512
-#pragma GCC pop_options
-#endif
+#define PROPRIO_KERNEL_FILE "kernels.inc"
+#include "proprio/core/per_instruction_set.inc"
+#undef PROPRIO_KERNEL_FILE
 
 namespace {
 
 const Kernels kGeneric{"generic",          4,
                        generic::estep_doc, generic::exp_digamma_minus,
                        generic::axpy,      generic::digamma_one};
-#ifdef PROPRIO_TOPICS_X86
+#ifdef PROPRIO_X86_COPIES
 const Kernels kAvx2{"avx2",           8, avx2::estep_doc, avx2::exp_digamma_minus, avx2::axpy,
                     avx2::digamma_one};
 const Kernels kAvx512{
     "avx512", 16, avx512::estep_doc, avx512::exp_digamma_minus, avx512::axpy, avx512::digamma_one};
-
-bool has_avx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
-bool has_avx512() {
-  return has_avx2() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-         __builtin_cpu_supports("avx512dq");
-}
 #endif
+
+constexpr core::InstructionSet kSets[] = {
+    core::InstructionSet::kGeneric, core::InstructionSet::kAvx2, core::InstructionSet::kAvx512};
+
+// The copy for `set`, which cpu_supports.
+const Kernels& copy_for(core::InstructionSet set) {
+#ifdef PROPRIO_X86_COPIES
+  if (set == core::InstructionSet::kAvx512) return kAvx512;
+  if (set == core::InstructionSet::kAvx2) return kAvx2;
+#endif
+  return kGeneric;
+}
 
 }  // namespace
 
 std::vector<std::string> supported_kernels() {
-  std::vector<std::string> names{"generic"};
-#ifdef PROPRIO_TOPICS_X86
-  if (has_avx2()) names.emplace_back("avx2");
-  if (has_avx512()) names.emplace_back("avx512");
-#endif
+  std::vector<std::string> names;
+  for (const auto set : kSets) {
+    if (core::cpu_supports(set)) names.emplace_back(core::to_string(set));
+  }
   return names;
 }
 
 const Kernels& kernels_named(std::string_view name) {
-  if (name == "generic") return kGeneric;
-#ifdef PROPRIO_TOPICS_X86
-  if (name == "avx2" && has_avx2()) return kAvx2;
-  if (name == "avx512" && has_avx512()) return kAvx512;
-#endif
+  for (const auto set : kSets) {
+    if (name == core::to_string(set) && core::cpu_supports(set)) return copy_for(set);
+  }
   std::string msg = "LDA kernel '";
   msg += name;
   msg += "' is unknown or not supported by this processor";
@@ -83,11 +63,7 @@ const Kernels& best_kernels() {
     if (const char* env = std::getenv("PROPRIO_TOPICS_KERNEL"); env != nullptr && *env != '\0') {
       return kernels_named(env);
     }
-#ifdef PROPRIO_TOPICS_X86
-    if (has_avx512()) return kAvx512;
-    if (has_avx2()) return kAvx2;
-#endif
-    return kGeneric;
+    return copy_for(core::best_instruction_set());
   }();
   return chosen;
 }
