@@ -94,6 +94,34 @@ struct Entry {
   long line;
 };
 
+// What a format calls an entry's fields and its header's entry count, in errors.
+struct EntryNames {
+  const char* document;  // "docID"
+  const char* word;      // "wordID"
+  const char* too_many;  // "more entries than the header's NNZ = "
+};
+
+// Checks the entry (d, w, c) of line `ln` (1-based ids) against the header's sizes and appends it.
+void add_entry(std::vector<Entry>& entries, const fs::path& file, long ln, std::int64_t d,
+               std::int64_t w, std::int64_t c, std::int64_t num_docs, std::int64_t num_words,
+               std::int64_t nnz, const EntryNames& names) {
+  auto outside = [&](const char* name, std::int64_t v, std::int64_t n) {
+    std::string msg = name;
+    msg += " " + std::to_string(v);
+    msg += " outside [1, " + std::to_string(n) + "]";
+    return Error::at_line(file, ln, msg);
+  };
+  if (d < 1 || d > num_docs) throw outside(names.document, d, num_docs);
+  if (w < 1 || w > num_words) throw outside(names.word, w, num_words);
+  if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
+    throw Error::at_line(file, ln, "count " + std::to_string(c) + " is not positive");
+  }
+  if (static_cast<std::int64_t>(entries.size()) == nnz) {
+    throw Error::at_line(file, ln, names.too_many + std::to_string(nnz));
+  }
+  entries.push_back({d - 1, static_cast<std::int32_t>(w - 1), static_cast<std::int32_t>(c), ln});
+}
+
 // Builds the corpus from (doc, word, count) entries, rejecting repeated (doc, word) pairs.
 Corpus build(const fs::path& file, std::vector<Entry>& entries, std::int64_t num_docs,
              std::int32_t num_words, std::vector<std::string> vocabulary) {
@@ -232,24 +260,8 @@ Corpus read_uci(const fs::path& docword, const fs::path& vocab) {
     const std::int64_t d = integer_field(docword, ln, f[0], "docID");
     const std::int64_t w = integer_field(docword, ln, f[1], "wordID");
     const std::int64_t c = integer_field(docword, ln, f[2], "count");
-    if (d < 1 || d > num_docs) {
-      throw Error::at_line(
-          docword, ln,
-          "docID " + std::to_string(d) + " outside [1, " + std::to_string(num_docs) + "]");
-    }
-    if (w < 1 || w > num_words) {
-      throw Error::at_line(
-          docword, ln,
-          "wordID " + std::to_string(w) + " outside [1, " + std::to_string(num_words) + "]");
-    }
-    if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
-      throw Error::at_line(docword, ln, "count " + std::to_string(c) + " is not positive");
-    }
-    if (static_cast<std::int64_t>(entries.size()) == nnz) {
-      throw Error::at_line(docword, ln,
-                           "more entries than the header's NNZ = " + std::to_string(nnz));
-    }
-    entries.push_back({d - 1, static_cast<std::int32_t>(w - 1), static_cast<std::int32_t>(c), ln});
+    add_entry(entries, docword, ln, d, w, c, num_docs, num_words, nnz,
+              {"docID", "wordID", "more entries than the header's NNZ = "});
   }
   if (static_cast<std::int64_t>(entries.size()) < nnz) {
     throw Error::in_file(docword, "truncated: the header's NNZ is " + std::to_string(nnz) +
@@ -391,23 +403,8 @@ Corpus read_matrix_market(const fs::path& file, const fs::path& vocab) {
       }
       c = static_cast<std::int64_t>(v);
     }
-    if (d < 1 || d > num_docs) {
-      throw Error::at_line(
-          file, ln,
-          "document " + std::to_string(d) + " outside [1, " + std::to_string(num_docs) + "]");
-    }
-    if (w < 1 || w > num_words) {
-      throw Error::at_line(
-          file, ln,
-          "word " + std::to_string(w) + " outside [1, " + std::to_string(num_words) + "]");
-    }
-    if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
-      throw Error::at_line(file, ln, "count " + std::to_string(c) + " is not positive");
-    }
-    if (static_cast<std::int64_t>(entries.size()) == nnz) {
-      throw Error::at_line(file, ln, "more entries than the size line's " + std::to_string(nnz));
-    }
-    entries.push_back({d - 1, static_cast<std::int32_t>(w - 1), static_cast<std::int32_t>(c), ln});
+    add_entry(entries, file, ln, d, w, c, num_docs, num_words, nnz,
+              {"document", "word", "more entries than the size line's "});
   }
   if (static_cast<std::int64_t>(entries.size()) < nnz) {
     throw Error::in_file(file, "truncated: the size line promises " + std::to_string(nnz) +
