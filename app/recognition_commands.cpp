@@ -577,6 +577,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   if (!a.view_episodes.empty()) {
     doc["view_episodes"] = a.view_episodes;
     doc["view_step"] = o.view_step;
+    doc["view_block"] = o.view_block;
   }
   doc["objects"] = r.objects;
   doc["region"] = a.region;
@@ -634,8 +635,9 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
       ->capture_default_str();
   train->add_option("--seed", t->online.seed, "Seed")->capture_default_str();
   train
-      ->add_option("--region", t->region,
-                   "Episodes: whole, target, objects (ground-truth masks), blobs, masks")
+      ->add_option(
+          "--region", t->region,
+          "Episodes: whole, target, objects (ground-truth masks), blobs, masks, each-object")
       ->capture_default_str();
   train->add_option("--objects", t->objects, "Episodes, region objects: object names")
       ->delimiter(',');
@@ -656,8 +658,9 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   cls->add_option("--images", c->images, "Folder-per-class images to classify");
   cls->add_option("--episodes", c->episodes,
                   "Episode directories, or directories of them: classify their frames");
-  cls->add_option("--region", c->region,
-                  "Episodes: whole, target, objects (ground-truth masks), blobs, masks")
+  cls->add_option(
+         "--region", c->region,
+         "Episodes: whole, target, objects (ground-truth masks), blobs, masks, each-object")
       ->capture_default_str();
   cls->add_option("--objects", c->objects, "Episodes, region objects: object names")
       ->delimiter(',');
@@ -696,7 +699,11 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   sc->add_option("--views", s->views, "Folder-per-object views; folder names = object names");
   sc->add_option("--view-episodes", s->view_episodes,
                  "Held-out episodes whose frames, cut by the ground-truth masks, give the views "
-                 "(the first half name the topics, the rest test); instead of --views");
+                 "(alternate blocks of --view-block frames name the topics and test); instead "
+                 "of --views");
+  sc->add_option("--view-block", s->options.view_block,
+                 "With --view-episodes: frames per block of the naming / test split")
+      ->capture_default_str();
   sc->add_option("--objects", s->objects, "With --view-episodes: the objects (catalogue names)")
       ->delimiter(',');
   sc->add_option("--view-step", s->options.view_step, "With --view-episodes: every n-th frame")
@@ -715,9 +722,10 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
       ->capture_default_str();
   sc->add_option("--per-frame", s->options.descriptors_per_frame, "Descriptors drawn per frame")
       ->capture_default_str();
-  sc->add_option("--region", s->region,
-                 "What of a frame is a document: objects (the views' objects by the ground-truth "
-                 "masks), whole, target, blobs, masks")
+  sc->add_option(
+        "--region", s->region,
+        "What of a frame is a document: objects (the views' objects by the ground-truth "
+        "masks), each-object (one document per object, masks), whole, target, blobs, masks")
       ->capture_default_str();
   sc->add_option("--masks", s->masks, "Region masks: directory of masks");
   sc->add_option("--frame-step", s->options.frame_step, "Use every n-th frame")

@@ -149,9 +149,10 @@ FrameRegion parse_frame_region(const std::string& name) {
   if (name == "objects") return FrameRegion::kObjects;
   if (name == "blobs") return FrameRegion::kBlobs;
   if (name == "masks") return FrameRegion::kMasks;
+  if (name == "each-object") return FrameRegion::kEachObject;
   std::string m = "unknown frame region '";
   m += name;
-  m += "' (known: whole, target, objects, blobs, masks)";
+  m += "' (known: whole, target, objects, blobs, masks, each-object)";
   throw Error(m);
 }
 
@@ -167,6 +168,8 @@ std::string to_string(FrameRegion region) {
       return "blobs";
     case FrameRegion::kMasks:
       return "masks";
+    case FrameRegion::kEachObject:
+      return "each-object";
   }
   return "?";
 }
@@ -226,6 +229,21 @@ std::vector<features::Features> frame_features(const episode::Episode& episode, 
       mask = cv::Mat::zeros(ids_image.size(), CV_8UC1);
       for (int id : ids) mask.setTo(255, ids_image == id);
       break;
+    }
+    case FrameRegion::kEachObject: {
+      if (!episode.info().has_masks) {
+        throw Error::in_file(episode.dir(), "the episode has no ground-truth masks");
+      }
+      const cv::Mat ids_image = episode.mask(frame);
+      const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(9, 9));
+      std::vector<features::Features> docs;
+      for (int id : selected_object_ids(episode, options.objects)) {
+        cv::Mat m = ids_image == id;
+        if (cv::countNonZero(m) == 0) continue;
+        cv::dilate(m, m, kernel);
+        docs.push_back(extract_features(image, options.features, m));
+      }
+      return docs;
     }
     case FrameRegion::kMasks: {
       const fs::path path = options.masks / episode::image_path("", "", frame).filename();

@@ -207,11 +207,11 @@ ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episode
   ScatterExperimentResult result;
   result.objects = objects;
   FrameDocumentOptions frame_options = options.frames;
-  if (frame_options.region == FrameRegion::kObjects && frame_options.objects.empty())
-    frame_options.objects = objects;
+  const bool by_objects = frame_options.region == FrameRegion::kObjects ||
+                          frame_options.region == FrameRegion::kEachObject;
+  if (by_objects && frame_options.objects.empty()) frame_options.objects = objects;
   for (const auto& e : episodes) {
-    if (frame_options.region == FrameRegion::kObjects &&
-        selected_object_ids(e, frame_options.objects).empty()) {
+    if (by_objects && selected_object_ids(e, frame_options.objects).empty()) {
       std::string m = "none of the objects ";
       m += join(frame_options.objects);
       m += " is in this episode";
@@ -343,42 +343,46 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
                                                const ScatterExperimentOptions& options,
                                                const features::Vocabulary* vocabulary,
                                                const ProgressFn& progress) {
-  if (view_episodes.size() < 2) {
-    throw Error("views from episodes need at least 2 view episodes (to name topics and to test)");
-  }
+  if (view_episodes.empty()) throw Error("no view episodes given");
   if (objects.empty()) throw Error("no objects named for the views");
-  if (options.view_step < 1 || options.view_min_features < 1) {
-    throw Error("the view step and the least features of a view must be >= 1");
+  if (options.view_step < 1 || options.view_min_features < 1 || options.view_block < 1) {
+    throw Error("the view step, block and least features of a view must be >= 1");
   }
   auto make_views = [&](const features::Vocabulary& v, ScatterExperimentResult& result) {
-    const std::size_t n = view_episodes.size();
-    const auto n_map = std::clamp<std::size_t>(
-        static_cast<std::size_t>(std::lround(options.mapping_fraction * static_cast<double>(n))), 1,
-        n - 1);
-    auto corpus_of = [&](std::size_t from, std::size_t to) {
-      const std::vector<episode::Episode> eps(view_episodes.begin() + static_cast<long>(from),
-                                              view_episodes.begin() + static_cast<long>(to));
-      std::vector<std::vector<int>> frames;
-      for (const auto& e : eps) {
-        frames.emplace_back();
-        for (int i = 0; i < e.frame_count(); i += options.view_step) frames.back().push_back(i);
+    // Blocks of view_block frames go to the mapping side when the running share of mapping
+    // blocks falls behind mapping_fraction, so both sides see every episode (whichever object
+    // is pushed near the camera there) while near-identical neighbouring frames mostly stay on
+    // one side.
+    std::vector<std::vector<int>> mapping_frames, test_frames;
+    for (const auto& e : view_episodes) {
+      mapping_frames.emplace_back();
+      test_frames.emplace_back();
+      for (int i = 0; i < e.frame_count(); i += options.view_step) {
+        const int b = i / options.view_block;
+        const bool mapping = std::floor((b + 1) * options.mapping_fraction) >
+                             std::floor(b * options.mapping_fraction);
+        (mapping ? mapping_frames : test_frames).back().push_back(i);
       }
-      LabelledCorpus c = object_view_corpus(eps, frames, objects, v, options.view_features,
-                                            options.view_min_features);
+    }
+    auto corpus_of = [&](const std::vector<std::vector<int>>& frames, const char* side) {
+      LabelledCorpus c = object_view_corpus(view_episodes, frames, objects, v,
+                                            options.view_features, options.view_min_features);
       for (int k = 0; k < static_cast<int>(objects.size()); ++k) {
         if (std::find(c.labels.begin(), c.labels.end(), k) == c.labels.end()) {
           std::string m = "object '";
           m += objects[static_cast<std::size_t>(k)];
-          m += "' has no view with enough features in the view episodes ";
-          m += eps.front().dir().string();
-          m += "...";
+          m += "' has no ";
+          m += side;
+          m += " view with enough features in the view episodes (";
+          m += view_episodes.front().dir().string();
+          m += "...)";
           throw Error(m);
         }
       }
       return c;
     };
-    LabelledCorpus mapping_docs = corpus_of(0, n_map);
-    LabelledCorpus test_docs = corpus_of(n_map, n);
+    LabelledCorpus mapping_docs = corpus_of(mapping_frames, "labelled");
+    LabelledCorpus test_docs = corpus_of(test_frames, "test");
     result.mapping_views = static_cast<int>(mapping_docs.labels.size());
     result.test_views = static_cast<int>(test_docs.labels.size());
     return std::pair(std::move(mapping_docs), std::move(test_docs));

@@ -258,10 +258,11 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   // Distinct photographs on a plain table: the learned topics separate them.
   EXPECT_GE(j["runs"][0]["classes"]["mean_class_accuracy"].get<double>(), 0.6) << r.out;
 
-  // Views cut by the masks from held-out episodes: h1 names the topics, h2 is the test.
+  // Views cut by the masks from held-out episodes: alternate blocks of 5 frames name the topics
+  // and test.
   const CliRun s = run("experiment scatter --episodes " + (dir_ / "episodes").string() +
                        " --view-episodes " + (dir_ / "held").string() +
-                       " --objects baboon,fruits,building --view-step 2"
+                       " --objects baboon,fruits,building --view-step 2 --view-block 5"
                        " --k objects --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
                        " --passes 3 --quiet --json " +
                        file("scatter-held.json"));
@@ -269,8 +270,8 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   test::expect_schema_valid("experiment_scatter.schema.json", file("scatter-held.json"));
   const core::Json js = core::read_json(file("scatter-held.json"));
   EXPECT_EQ(js["view_step"], 2);
-  // 20 frames of each held-out episode, each object in view in 16-20 of them.
-  EXPECT_GE(js["mapping_views"].get<int>(), 45);
+  // About 10 of the 20 frames used of each held-out episode, each object in view in most.
+  EXPECT_GE(js["mapping_views"].get<int>(), 35);
   EXPECT_LE(js["mapping_views"].get<int>(), 60);
   EXPECT_GE(js["runs"][0]["classes"]["mean_class_accuracy"].get<double>(), 0.6) << s.out;
 
@@ -323,9 +324,9 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   EXPECT_EQ(c.code, 2) << c.out;
   EXPECT_NE(c.out.find("holds no episode"), std::string::npos) << c.out;
   c = run("experiment scatter --episodes " + (dir_ / "episodes").string() + " --view-episodes " +
-          (dir_ / "held" / "h1").string() + " --objects baboon --quiet");
+          (dir_ / "held" / "h1").string() + " --objects baboon,unicorn --quiet");
   EXPECT_EQ(c.code, 2) << c.out;
-  EXPECT_NE(c.out.find("at least 2 view episodes"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("'unicorn' has no labelled view"), std::string::npos) << c.out;
 }
 
 }  // namespace

@@ -135,6 +135,28 @@ TEST(EpisodeClassification, LabelledViewsFromMasksNameTheTopics) {
       0U);
 }
 
+TEST(EpisodeClassification, EachObjectRegionGivesOneDocumentPerObjectInView) {
+  const Fixture& f = fixture();
+  EXPECT_EQ(parse_frame_region("each-object"), FrameRegion::kEachObject);
+  EXPECT_EQ(to_string(FrameRegion::kEachObject), "each-object");
+  FrameDocumentOptions fo;
+  fo.region = FrameRegion::kEachObject;
+  const auto docs = frame_features(f.episodes[0], 3, fo);
+  ASSERT_EQ(docs.size(), 1U);  // only the mug is in frame 3
+  fo.region = FrameRegion::kObjects;
+  const auto whole_object = frame_features(f.episodes[0], 3, fo);
+  // The mask grown by 4 px keeps the patches on the outline as well.
+  EXPECT_GT(docs[0].size(), whole_object[0].size());
+  fo.objects = {"box"};
+  fo.region = FrameRegion::kEachObject;
+  EXPECT_TRUE(frame_features(f.episodes[0], 3, fo).empty());  // the box is not in frame 3
+  EpisodeClassifyOptions o;
+  o.frames.region = FrameRegion::kEachObject;
+  const EpisodeClassification r = classify_episodes(f.episodes, f.model, (*f.vocabulary), o);
+  ASSERT_EQ(r.documents.size(), 10U);
+  for (const auto& c : r.documents) EXPECT_EQ(c.truth, c.frame % 2);
+}
+
 TEST(EpisodeClassification, ClassNamesDropTheSimulatorsRolePrefixes) {
   EXPECT_EQ(object_class_name("scatter-bike"), "bike");
   EXPECT_EQ(object_class_name("distractor-spirit-level"), "spirit-level");

@@ -68,15 +68,20 @@ enum class FrameRegion {
   kObjects,  ///< the features on the named objects (ground-truth mask), one document
   kBlobs,    ///< one document per feature-density blob (6.2)
   kMasks,    ///< the features inside a segmentation mask read from a directory
+  /// One document per named object in view (ground-truth masks, each grown by 4 px so that the
+  /// patches on its outline count, as in object_view_corpus): the thesis's blob documents
+  /// (6.2) with a perfect segmenter. No labels: which object a document is stays unknown.
+  kEachObject,
 };
 
-/// "whole", "target", "objects", "blobs", "masks"; throws Error otherwise.
+/// "whole", "target", "objects", "blobs", "masks", "each-object"; throws Error otherwise.
 FrameRegion parse_frame_region(const std::string& name);
 std::string to_string(FrameRegion region);
 
 struct FrameDocumentOptions {
   FrameRegion region = FrameRegion::kWhole;
-  /// kObjects: catalogue names; an episode object counts when its name is one of them or ends in
+  /// kObjects, kEachObject: catalogue names; an episode object counts when its name is one of them
+  /// or ends in
   /// "-" + one of them (the simulator names sliding objects "scatter-<type>"). Empty: every
   /// object that is not the arm.
   std::vector<std::string> objects;
@@ -87,8 +92,9 @@ struct FrameDocumentOptions {
   void validate() const;
 };
 
-/// The features of the document(s) of frame i: one, or one per blob (kBlobs). Throws Error when the
-/// episode lacks masks (kTarget, kObjects) or a target (kTarget), or a mask file is missing or of
+/// The features of the document(s) of frame i: one, or one per blob (kBlobs) or per object in view
+/// (kEachObject, in the order of the episode's objects). Throws Error when the episode lacks
+/// masks (kTarget, kObjects, kEachObject) or a target (kTarget), or a mask file is missing or of
 /// the wrong size (kMasks).
 std::vector<features::Features> frame_features(const episode::Episode& episode, int frame,
                                                const FrameDocumentOptions& options);

@@ -108,6 +108,9 @@ struct ScatterExperimentOptions {
   /// kept when there are at least view_min_features of them.
   int view_step = 5;
   int view_min_features = 20;
+  /// View episodes are cut into blocks of view_block frames; a mapping_fraction of the blocks
+  /// (spread evenly: alternate ones for 0.5) name the topics, the others are the test.
+  int view_block = 25;
   std::uint64_t seed = 1;
   void validate() const;
 };
@@ -142,10 +145,10 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
 
 /// The same with views cut from the frames of `view_episodes` (never used for the dictionary or
 /// LDA) by the ground-truth masks (object_view_corpus): the segmented views of each of `objects`
-/// that the thesis's ground-truth images were. The views of the first
-/// round(mapping_fraction * n) of the n view episodes (at least 1, at most n - 1) name the
-/// topics; those of the others are the test. Throws Error with fewer than 2 view episodes, or
-/// when an object has no view on either side.
+/// that the thesis's ground-truth images were. Each view episode is cut into blocks of
+/// view_block frames; the views of a mapping_fraction of the blocks name the topics, those of
+/// the others are the test. Throws Error without view episodes or objects, or when an object
+/// has no view on either side.
 ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
                                                const std::vector<episode::Episode>& view_episodes,
                                                const std::vector<std::string>& objects,
