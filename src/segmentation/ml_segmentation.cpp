@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
@@ -38,8 +39,11 @@ struct Track {
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();        // homography since the interval's start
   Eigen::Vector2d last_motion = Eigen::Vector2d::Zero();  // robust mean of the last frame pair
   int last_frame = -1;                                    // frame of last_motion
-  int successor = -1;      // where its evidence continues once it ended (see scores())
-  bool untrusted = false;  // too little texture in a frame of the open interval
+  int successor = -1;       // where its evidence continues once it ended (see scores())
+  bool untrusted = false;   // too little texture in a frame of the open interval
+  double photo_gain = 0.0;  // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
+  int photo_n = 0;          // pixels in photo_gain
+  double last_gain = 0.0;   // mean photometric gain of the last frame pair
 
   // eq 4.21's mean over the window; a track seen in fewer than min_count of the window's
   // intervals is averaged over min_count (unseen intervals count as 0), so that a region
@@ -82,6 +86,10 @@ void MlOptions::validate() const {
   require(std::isfinite(min_evidence_fraction) && min_evidence_fraction >= 0 &&
               min_evidence_fraction <= 1,
           "MlOptions.min_evidence_fraction must be in [0, 1]");
+  require(std::isfinite(peak_area) && peak_area >= 0 && peak_area < 1,
+          core::cat({"MlOptions.peak_area must be in [0, 1), got ", core::num(peak_area)}));
+  require(std::isfinite(min_photometric_gain) && min_photometric_gain >= 0,
+          "MlOptions.min_photometric_gain must be >= 0");
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
   if (!prior.empty()) {
@@ -148,12 +156,14 @@ struct MlSegmenter::Impl {
   // yet in the open interval joins it now, from the previous frame's arm position (tracks that
   // appear mid-interval still count, over their own span). Returns the ids of the tracks.
   std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow,
-                              const cv::Mat1b& textured) {
+                              const cv::Mat1b& textured, const cv::Mat1b& gray) {
     std::vector<int> local(tracks.size(), -1);
     std::vector<int> ids;
-    std::vector<std::vector<Eigen::Vector2f>> motion;  // prev -> current, full-size pixels
-    std::vector<std::vector<Eigen::Vector2f>> at;      // positions in the current frame
+    std::vector<std::vector<Eigen::Vector2f>> motion;   // prev -> current, full-size pixels
+    std::vector<std::vector<Eigen::Vector2f>> at;       // positions in the current frame
+    std::vector<std::vector<cv::Point>> region_pixels;  // sampled pixels, processing scale
     const bool homography = opt.model == MotionModel::kHomography;
+    const bool photometric = opt.min_photometric_gain > 0;
     const auto s = static_cast<float>(inv_scale);
     for (int y = 0; y < current.rows; y += kSampleStride) {
       const int* t = current[y];
@@ -169,12 +179,16 @@ struct MlSegmenter::Impl {
             tr.h.setIdentity();
             tr.start_ee = *prev_ee;
             tr.untrusted = false;
+            tr.photo_gain = 0.0;
+            tr.photo_n = 0;
           }
           l = static_cast<int>(ids.size());
           ids.push_back(id);
           motion.emplace_back();
+          region_pixels.emplace_back();
           if (homography) at.emplace_back();
         }
+        if (photometric) region_pixels[l].emplace_back(x, y);
         if (!textured(y, x)) continue;
         motion[l].emplace_back(-f[x][0] * s, -f[x][1] * s);
         if (homography) at[l].emplace_back(x * s, y * s);
@@ -192,6 +206,7 @@ struct MlSegmenter::Impl {
       tr.shift += m.mean;
       tr.last_motion = m.mean;
       tr.last_frame = frames;
+      if (opt.min_photometric_gain > 0) add_photometric_gain(tr, gray, region_pixels[l], m.mean);
       if (homography) {
         std::vector<Eigen::Vector2f> from(at[l].size());
         for (size_t k = 0; k < from.size(); ++k) from[k] = at[l][k] - motion[l][k];
@@ -209,6 +224,42 @@ struct MlSegmenter::Impl {
     return ids;
   }
 
+  // How much better the region's pixels match the previous frame displaced by its motion m
+  // (full-size pixels) than undisplaced: the image's own support for the flow. Dense flow fills
+  // texture-less areas (a plain table beside the pushed object) from their neighbours; there
+  // both hypotheses match equally and the gain stays near 0.
+  void add_photometric_gain(Track& tr, const cv::Mat1b& gray, const std::vector<cv::Point>& px,
+                            const Eigen::Vector2d& m) const {
+    const double mx = m.x() / inv_scale, my = m.y() / inv_scale;
+    const int w = prev_gray.cols, h = prev_gray.rows;
+    double gain = 0.0;
+    int n = 0;
+    for (const cv::Point& p : px) {
+      const double sx = p.x - mx, sy = p.y - my;
+      if (sx < 0 || sy < 0 || sx > w - 1.001 || sy > h - 1.001) continue;
+      const int x0 = static_cast<int>(sx), y0 = static_cast<int>(sy);
+      const double fx = sx - x0, fy = sy - y0;
+      const uchar* r0 = prev_gray[y0];
+      const uchar* r1 = prev_gray[y0 + 1];
+      const double moved = (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+                           fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+      const double now = gray(p);
+      gain += std::abs(now - prev_gray(p)) - std::abs(now - moved);
+      ++n;
+    }
+    tr.photo_gain += gain;
+    tr.photo_n += n;
+    tr.last_gain = n > 0 ? gain / n : 0.0;
+  }
+
+  // The motion of the last frame pair as the image supports it: none when the photometric
+  // check is on and the image does not support it.
+  [[nodiscard]] Eigen::Vector2d supported_last_motion(const Track& tr) const {
+    if (opt.min_photometric_gain > 0 && tr.last_gain < opt.min_photometric_gain)
+      return Eigen::Vector2d::Zero();
+    return tr.last_motion;
+  }
+
   // Closes the interval ending at this frame: one term of eq 4.21 per track in it whose own
   // span saw the arm move at least half the step.
   void evaluate(const std::vector<int>& ids, const Eigen::Vector2d& ee_now, bool pre_touch) {
@@ -217,15 +268,21 @@ struct MlSegmenter::Impl {
       Track& tr = tracks[id];
       const Eigen::Vector2d d = ee_now - tr.start_ee;  // the arm's displacement, eq 4.12
       if (d.norm() < min_span || tr.untrusted) continue;
-      // eq 4.12-4.13: error of the region's motion applied to the arm's position.
-      const Eigen::Vector2d e = opt.model == MotionModel::kHomography
+      // eq 4.12-4.13: error of the region's motion applied to the arm's position. After the
+      // touch a motion the image does not support (photometric gain below the threshold) is
+      // taken as no motion at all.
+      const bool unsupported =
+          (!pre_touch || opt.photometric_pre_touch) && opt.min_photometric_gain > 0 &&
+          !(tr.photo_n > 0 && tr.photo_gain / tr.photo_n >= opt.min_photometric_gain);
+      const Eigen::Vector2d e = unsupported ? Eigen::Vector2d(-d)
+                                : opt.model == MotionModel::kHomography
                                     ? Eigen::Vector2d(apply_homography(tr.h, tr.start_ee) - ee_now)
                                     : Eigen::Vector2d(tr.shift - d);
       const double p = motion_likelihood(e, opt.lambda);
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
         // count, a still one is no evidence either way.
-        if (tr.shift.norm() >= opt.min_region_motion) {
+        if (!unsupported && tr.shift.norm() >= opt.min_region_motion) {
           tr.pre_sum += (1.0 - p) / opt.kappa;
           ++tr.pre_n;
         }
@@ -320,7 +377,22 @@ struct MlSegmenter::Impl {
         }
       }
     }
+    clip_to_peak(m);
     return m;
+  }
+
+  // Clips the map at its robust peak: the value that at least peak_area of the pixels reach. The
+  // mask's threshold is a fraction of the map's maximum, and a sliver brighter than the object
+  // (a piece of the pusher) would otherwise raise it above most of the object.
+  void clip_to_peak(cv::Mat1f& m) const {
+    if (opt.peak_area <= 0 || !m.isContinuous()) return;
+    const auto n = static_cast<std::ptrdiff_t>(m.total());
+    const auto k = std::clamp<std::ptrdiff_t>(
+        static_cast<std::ptrdiff_t>(std::ceil(opt.peak_area * static_cast<double>(n))), 1, n);
+    std::vector<float> v(m.begin(), m.end());
+    std::nth_element(v.begin(), v.begin() + (k - 1), v.end(), std::greater<>());
+    const float peak = v[static_cast<std::size_t>(k - 1)];
+    if (peak > 0) m = cv::min(m, peak);
   }
 };
 
@@ -396,7 +468,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       cv::Mat1s mag = cv::abs(gx) + cv::abs(gy);
       textured = mag >= m.opt.min_gradient;
     }
-    const std::vector<int> ids = m.accumulate(lab, back_flow, textured);
+    const std::vector<int> ids = m.accumulate(lab, back_flow, textured, gray);
     const double moved = (*ee_image - *m.interval_ee).norm();
     // Before the touch the arm's approach is slow: shorter intervals for arm removal. The first
     // touch closes the pre-touch interval (eq 4.18's T' ends there).
@@ -416,7 +488,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
     const Track& a = m.tracks[t];
     const Track& b = m.tracks[next];
     if (a.last_frame == m.frames - 1 && b.last_frame == m.frames &&
-        (a.last_motion - b.last_motion).norm() <= m.opt.handover_motion)
+        (m.supported_last_motion(a) - m.supported_last_motion(b)).norm() <= m.opt.handover_motion)
       m.tracks[t].successor = next;
   }
   if (m.opt.keep_frame_labels) m.labels.push_back(lab);

@@ -71,6 +71,12 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.ransac_threshold = v;
   } else if (key == "min_gradient") {
     o.min_gradient = v;
+  } else if (key == "min_photometric_gain") {
+    o.min_photometric_gain = v;
+  } else if (key == "photometric_pre_touch") {
+    o.photometric_pre_touch = v != 0;
+  } else if (key == "peak_area") {
+    o.peak_area = v;
   } else if (key == "min_evidence_fraction") {
     o.min_evidence_fraction = v;
   } else if (key == "handover_motion") {
@@ -161,9 +167,13 @@ TEST(MlDataset, JaccardAtFirstTouch) {
         cmp.setTo(cv::Vec3b(255, 0, 0), ~r.mask & truth);
         if (const auto ee = ep.ee_image(r.scored_frame))
           cv::circle(frame, cv::Point(int(ee->x()), int(ee->y())), 4, {0, 0, 255}, -1);
+        // Full resolution around the object: 100 pixels beyond the truth's bounding box.
+        cv::Rect roi = cv::boundingRect(truth);
+        roi = cv::Rect(roi.x - 100, roi.y - 100, roi.width + 200, roi.height + 200) &
+              cv::Rect(0, 0, truth.cols, truth.rows);
+        if (roi.area() == 0) roi = cv::Rect(0, 0, truth.cols, truth.rows);
         cv::Mat row;
-        cv::hconcat(std::vector<cv::Mat>{frame, mapc, cmp}, row);
-        cv::resize(row, row, {}, 0.5, 0.5, cv::INTER_AREA);
+        cv::hconcat(std::vector<cv::Mat>{frame(roi), mapc(roi), cmp(roi)}, row);
         cv::imwrite((fs::path(dump) / (name + ".png")).string(), row);
       }
     }

@@ -32,10 +32,11 @@ struct PushSpec {
   int still = 2;       ///< frames before the arm moves
   double speed = 4.0;  ///< arm speed, pixels a frame
   bool moving_background = false;
-  bool touch = true;     ///< false: the arm stops short of the square
-  bool ee_known = true;  ///< false: no end-effector position anywhere (behind the camera)
-  int square = 50;       ///< side, pixels
-  int arm = 24;          ///< side of the arm block, pixels
+  bool plain_background = false;  ///< a flat grey-blue table instead of the texture
+  bool touch = true;              ///< false: the arm stops short of the square
+  bool ee_known = true;           ///< false: no end-effector position anywhere (behind the camera)
+  int square = 50;                ///< side, pixels
+  int arm = 24;                   ///< side of the arm block, pixels
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
@@ -75,7 +76,8 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
   PushFrame f;
   const int dy = s.moving_background ? 2 * i : 0;
   const int dx = s.moving_background ? i : 0;
-  f.image = bg_tex(cv::Rect(100 + dx, 100 + dy, s.width, s.height)).clone();
+  f.image = s.plain_background ? cv::Mat3b(s.height, s.width, cv::Vec3b(150, 170, 190))
+                               : bg_tex(cv::Rect(100 + dx, 100 + dy, s.width, s.height)).clone();
   f.mask = cv::Mat1w(s.height, s.width, ushort{0});
   const cv::Rect sq(static_cast<int>(std::lround(sq_left)),
                     static_cast<int>(std::lround(y_mid - s.square / 2.0)), s.square, s.square);

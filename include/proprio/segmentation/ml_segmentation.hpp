@@ -49,6 +49,9 @@ struct MlOptions {
   double lambda = 25.0;
   /// Mask = map >= mask_fraction * max(map) (5.1.1's optimum, 0.75).
   double mask_fraction = 0.75;
+  /// The map is clipped at the value that this fraction of its pixels reach (its robust peak),
+  /// so that a sliver brighter than the object does not set the mask's threshold. 0 = off.
+  double peak_area = 0.01;
   /// Arm removal (eq 4.18): before the first touch the likelihood is (1 - p) / kappa.
   double kappa = 1.0;
   /// Robust mean (Algorithm 1): flat-kernel bandwidth c, pixels, and stopping tolerance, pixels.
@@ -86,6 +89,14 @@ struct MlOptions {
   /// it cost more object regions than it saved.
   double min_gradient = 0.0;
   int min_textured_samples = 6;
+  /// Photometric support, grey levels: after the touch, a region's motion over an evidence
+  /// interval counts only when its pixels match the previous frame displaced by the motion
+  /// better than undisplaced by at least this much on average per pixel and frame; otherwise the
+  /// region is taken to be still. Dense flow fills a plain area next to the pushed object (the
+  /// table ahead of it) with the object's motion; the image there fits both equally. 0 = off.
+  double min_photometric_gain = 3.0;
+  /// The same check before the touch: an unsupported motion does not make a region arm.
+  bool photometric_pre_touch = true;
   /// A region track that the over-segmentation ends hands its evidence on to the track that
   /// took most of its pixels only when their last motions differ by at most this, pixels (a
   /// still region covered by the pushed object must not inherit the object's evidence).
