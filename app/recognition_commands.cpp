@@ -570,6 +570,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   std::printf("objects: %zu, episodes: %zu, frames: %d, documents: %d, tokens: %lld, words: %d\n",
               r.objects.size(), episodes.size(), r.frames, r.documents,
               static_cast<long long>(r.tokens), r.words);
+  std::printf("mini-batches: %d documents (%d frames)\n", r.batch_documents, o.online.batch_size);
   std::printf("views: %d name the topics (labelled), %d test\n\n", r.mapping_views, r.test_views);
   core::Json doc = core::result_document("proprio.experiment.scatter", 1, inv.provenance(o.seed));
   doc["episodes"] = a.episodes;
@@ -587,6 +588,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   doc["tokens"] = r.tokens;
   doc["words"] = r.words;
   doc["batch_size"] = o.online.batch_size;
+  doc["batch_documents"] = r.batch_documents;
   doc["passes"] = o.online.passes;
   doc["mapping_views"] = r.mapping_views;
   doc["test_views"] = r.test_views;

@@ -282,6 +282,12 @@ ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episode
     topics::OnlineLdaOptions on = options.online;
     on.num_topics = k == 0 ? static_cast<int>(objects.size()) : k;
     on.seed = options.seed;
+    // batch_size counts frames: with several documents a frame (blobs, each-object) a
+    // mini-batch holds the documents of that many frames on average.
+    on.batch_size = std::max(
+        1, static_cast<int>(std::lround(options.online.batch_size *
+                                        static_cast<double>(result.documents) / result.frames)));
+    result.batch_documents = on.batch_size;
     auto trained = topics::train_online_lda(corpus, on);
     ScatterRunResult r;
     r.topics = on.num_topics;

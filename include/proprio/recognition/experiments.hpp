@@ -93,7 +93,8 @@ struct ScatterExperimentOptions {
   int dictionary_frames = 200;
   int descriptors_per_frame = 100;
   features::KmeansOptions kmeans;  ///< 400 words
-  /// Online LDA: mini-batches of 50 frames (6.3.3).
+  /// Online LDA: mini-batches of 50 frames (6.3.3): batch_size counts frames; with several
+  /// documents a frame, a mini-batch holds batch_size * documents / frames documents.
   topics::OnlineLdaOptions online = [] {
     topics::OnlineLdaOptions o;
     o.batch_size = 50;
@@ -130,6 +131,7 @@ struct ScatterExperimentResult {
   std::optional<features::KmeansSummary> kmeans;  ///< when the dictionary was built here
   int dictionary_descriptors = 0;                 ///< descriptors it was built from
   int words = 0;
+  int batch_documents = 0;  ///< documents per mini-batch (the frames' documents, see online)
   std::vector<ScatterRunResult> runs;
   double seconds = 0;
 };
