@@ -27,7 +27,7 @@ namespace {
 // with a margin.
 constexpr double kPushStartX = 0.12;
 constexpr double kPushEndX = 0.32;
-constexpr double kClearance = 0.025;  // pusher tip to the object's back face at the start, m
+constexpr double kClearance = 0.025;  // least distance, pusher tip to the object's back face, m
 
 using Clock = std::chrono::steady_clock;
 
@@ -146,6 +146,8 @@ void RecordOptions::validate() const {
           "still times must be >= 0 s");
   require(std::isfinite(pusher_height) && pusher_height > 0 && pusher_height < 0.2,
           "pusher height must be in (0, 0.2) m");
+  require(std::isfinite(approach) && approach >= kClearance && approach <= 0.15,
+          "approach must be in [0.025, 0.15] m");
   require(!max_frames || *max_frames >= 1, "max frames must be >= 1");
   require(clutter >= 0 && clutter <= 8, "clutter must be 0..8 objects");
   if (!scatter_objects.empty()) {
@@ -196,6 +198,7 @@ core::Json RecordOptions::switches() const {
     j["scatter_in_view"] = scatter_in_view;
   }
   j["push_speed"] = push_speed;
+  j["approach"] = approach;
   j["width"] = width;
   j["height"] = height;
   j["fps"] = fps;
@@ -349,7 +352,9 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
   // Target at yaw 0: its box spans [cx - hx, cx + hx] along x about its origin.
   const Eigen::Vector3d he = target_type.half_extents();
   const Eigen::Vector3d ce = target_type.center();
-  const double back = kPushStartX + kClearance;  // x of the object's back face
+  // The approach is shortened for long objects, so that the push stays within reach.
+  const double room = kPushEndX - 0.021 - kPushStartX - he.x();
+  const double back = kPushStartX + std::max(kClearance, std::min(options.approach, room));
   const double centre_x = back + he.x();
   if (centre_x >= kPushEndX - 0.02) {
     std::string m = "object '";

@@ -58,6 +58,10 @@ struct RecordOptions {
   double still_before = 0.4;  ///< seconds recorded before the arm moves
   double still_after = 0.4;   ///< and after it stops
   double pusher_height = 0.015;  ///< height of the pusher tip above the table, m
+  /// Distance from the pusher tip to the target's back face at the start, m (0.025-0.15): the
+  /// arm's motion before the touch is the evidence that removes it (eq 4.18). Shortened, down
+  /// to 0.025, for targets too long to be pushed within reach after it.
+  double approach = 0.06;
   bool shadows = false;          ///< off: about twice the frame rate in software GL
   bool reflections = false;
   bool overwrite = false;  ///< replace an existing episode directory
