@@ -26,6 +26,9 @@ void require_positive(double v, const char* name) {
 // Flow samples per track: every kSampleStride-th pixel each way.
 constexpr int kSampleStride = 2;
 
+// Grey levels: a pixel that changed more than this between frames changed (global_change).
+constexpr int kGlobalChangeLevel = 3;
+
 // Per-track state: integrated evidence (eq 4.21, kept as sums) and the motion accumulated in
 // the open evidence interval.
 struct Track {
@@ -156,14 +159,15 @@ struct MlSegmenter::Impl {
   // yet in the open interval joins it now, from the previous frame's arm position (tracks that
   // appear mid-interval still count, over their own span). Returns the ids of the tracks.
   std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow,
-                              const cv::Mat1b& textured, const cv::Mat1b& gray) {
+                              const cv::Mat1b& textured, const cv::Mat1b& gray,
+                              bool photometric_ok) {
     std::vector<int> local(tracks.size(), -1);
     std::vector<int> ids;
     std::vector<std::vector<Eigen::Vector2f>> motion;   // prev -> current, full-size pixels
     std::vector<std::vector<Eigen::Vector2f>> at;       // positions in the current frame
     std::vector<std::vector<cv::Point>> region_pixels;  // sampled pixels, processing scale
     const bool homography = opt.model == MotionModel::kHomography;
-    const bool photometric = opt.min_photometric_gain > 0;
+    const bool photometric = opt.min_photometric_gain > 0 && photometric_ok;
     const auto s = static_cast<float>(inv_scale);
     for (int y = 0; y < current.rows; y += kSampleStride) {
       const int* t = current[y];
@@ -206,7 +210,7 @@ struct MlSegmenter::Impl {
       tr.shift += m.mean;
       tr.last_motion = m.mean;
       tr.last_frame = frames;
-      if (opt.min_photometric_gain > 0) add_photometric_gain(tr, gray, region_pixels[l], m.mean);
+      if (photometric) add_photometric_gain(tr, gray, region_pixels[l], m.mean);
       if (homography) {
         std::vector<Eigen::Vector2f> from(at[l].size());
         for (size_t k = 0; k < from.size(); ++k) from[k] = at[l][k] - motion[l][k];
@@ -258,6 +262,16 @@ struct MlSegmenter::Impl {
     if (opt.min_photometric_gain > 0 && tr.last_gain < opt.min_photometric_gain)
       return Eigen::Vector2d::Zero();
     return tr.last_motion;
+  }
+
+  // Whether most of the image changed between the frames (the light moved, the exposure
+  // jumped): then no pixel's brightness says whether it moved, and the photometric checks
+  // stand aside for this frame pair.
+  [[nodiscard]] bool global_change(const cv::Mat1b& gray) const {
+    cv::Mat1b r0;
+    cv::absdiff(gray, prev_gray, r0);
+    const int changed = cv::countNonZero(r0 > kGlobalChangeLevel);
+    return changed > 0.5 * static_cast<double>(r0.total());
   }
 
   // Closes the interval ending at this frame: one term of eq 4.21 per track in it whose own
@@ -435,7 +449,11 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   cv::Mat1b gray;
   cv::cvtColor(colour, gray, cv::COLOR_BGR2GRAY);
   cv::Mat2f back_flow;
-  if (!m.prev_gray.empty()) back_flow = m.flow.compute(gray, m.prev_gray);
+  bool photometric_ok = true;
+  if (!m.prev_gray.empty()) {
+    back_flow = m.flow.compute(gray, m.prev_gray);
+    photometric_ok = !m.global_change(gray);
+  }
   const auto t1 = Clock::now();
   out.ms_flow = std::chrono::duration<double, std::milli>(t1 - t0).count();
 
@@ -468,7 +486,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       cv::Mat1s mag = cv::abs(gx) + cv::abs(gy);
       textured = mag >= m.opt.min_gradient;
     }
-    const std::vector<int> ids = m.accumulate(lab, back_flow, textured, gray);
+    const std::vector<int> ids = m.accumulate(lab, back_flow, textured, gray, photometric_ok);
     const double moved = (*ee_image - *m.interval_ee).norm();
     // Before the touch the arm's approach is slow: shorter intervals for arm removal. The first
     // touch closes the pre-touch interval (eq 4.18's T' ends there).
