@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../support/schema_check.hpp"
+#include "../support/synthetic_episode.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/episode/episode_writer.hpp"
@@ -181,21 +182,8 @@ TEST_F(RecognitionCli, BadInputIsOneLineAndExitTwo) {
 // table, with their ground-truth masks; views of each square alone.
 TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   const int w = 320, h = 240, frames = 40;
-  episode::EpisodeInfo info;
-  info.fps = 25.0;
-  info.width = w;
-  info.height = h;
-  info.arm_name = "synthetic";
-  info.joint_count = 0;
-  info.has_masks = true;
-  info.target = 1;
-  info.provenance.run = core::Provenance::current({"recognition_cli_test"}, 1);
-  geometry::Camera cam;
-  cam.K << 300.0, 0.0, w / 2.0, 0.0, 300.0, h / 2.0, 0.0, 0.0, 1.0;
-  cam.R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  cam.t = Eigen::Vector3d(0.0, 0.0, 1.0);
-  cam.width = w;
-  cam.height = h;
+  const episode::EpisodeInfo info = test::synthetic_info(w, h, "recognition_cli_test", 1);
+  const geometry::Camera cam = test::overhead_camera(300.0, w / 2.0, h / 2.0);
   const std::vector<episode::ObjectInfo> objects = {
       {1, "baboon", episode::ObjectRole::kTarget},
       {2, "scatter-fruits", episode::ObjectRole::kDistractor},
@@ -208,26 +196,21 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
     tex.push_back(t);
   }
   auto write_episode = [&](const fs::path& ep, std::uint64_t seed) {
-    episode::EpisodeWriter writer(ep, info, cam, objects);
     cv::RNG rng(seed);
-    for (int i = 0; i < frames; ++i) {
-      cv::Mat img(h, w, CV_8UC3, cv::Scalar(140, 150, 160));
+    test::write_synthetic_episode(ep, info, cam, objects, frames, [&](int i) {
+      test::SyntheticFrame f;
+      f.image = cv::Mat(h, w, CV_8UC3, cv::Scalar(140, 150, 160));
       cv::Mat1w mask(h, w, ushort{0});
       for (int c = 0; c < 4; ++c) {
         if (c > 0 && (i + 10 * c) % 25 < 5) continue;  // out of view now and then
         const cv::Rect r(rng.uniform(0, w - 70), rng.uniform(0, h - 70), 70, 70);
-        tex[static_cast<std::size_t>(c)].copyTo(img(r));
+        tex[static_cast<std::size_t>(c)].copyTo(f.image(r));
         mask(r).setTo(c + 1);
       }
-      episode::ArmSample a;
-      a.t = i / 25.0;
-      a.q = Eigen::VectorXd(0);
-      a.ee = Eigen::Vector3d(0.1, 0.0, 0.0);
-      episode::FrameExtras extras;
-      extras.mask = mask;
-      writer.add_frame(img, a, extras);
-    }
-    writer.finish();
+      f.arm = test::arm_at(i, info.fps, Eigen::Vector3d(0.1, 0.0, 0.0));
+      f.extras.mask = mask;
+      return f;
+    });
   };
   write_episode(dir_ / "episodes" / "e1", 3);
   write_episode(dir_ / "held" / "h1", 4);

@@ -4,11 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <filesystem>
 #include <memory>
 #include <string>
 
+#include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/planning/interception_trial.hpp"
 
@@ -23,26 +23,8 @@ inline const robot::Arm& scene_arm() {
   return arm;
 }
 
-/// A fresh temporary directory, removed with its contents at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    static int counter = 0;
-    path_ = std::filesystem::temp_directory_path() /
-            ("proprio_planning_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+/// The tests' scratch directories (named after the running test; see tests/support).
+using proprio::test::TempDir;
 
 /// Grid cost options with few precision samples (fast; the costs' shape is what the tests need).
 inline GridCostOptions fast_grid_options() {

@@ -105,7 +105,7 @@ TEST(TrajectoryGrid, UnreachableEndPointsAreMarkedNotNaN) {
 }
 
 TEST(TrajectoryGridCache, RoundTripsAndInvalidatesOnChange) {
-  TempDir tmp;
+  TempDir tmp("proprio_planning_");
   const auto file = tmp.path() / "grid.json";
   GridCostOptions o = tiny_options();
   const GridCosts a = load_or_compute_grid_costs(scene_arm(), o, file);
@@ -136,7 +136,7 @@ TEST(TrajectoryGridCache, RoundTripsAndInvalidatesOnChange) {
 }
 
 TEST(TrajectoryGridCache, BadFilesAreErrorsNamingTheFile) {
-  TempDir tmp;
+  TempDir tmp("proprio_planning_");
   const auto file = tmp.path() / "grid.json";
   const GridCosts good = compute_grid_costs(scene_arm(), tiny_options());
   write_grid_costs(file, good);
