@@ -282,9 +282,9 @@ struct MlSegmenter::Impl {
       Track& tr = tracks[id];
       const Eigen::Vector2d d = ee_now - tr.start_ee;  // the arm's displacement, eq 4.12
       if (d.norm() < min_span || tr.untrusted) continue;
-      // eq 4.12-4.13: error of the region's motion applied to the arm's position. After the
-      // touch a motion the image does not support (photometric gain below the threshold) is
-      // taken as no motion at all.
+      // eq 4.12-4.13: error of the region's motion applied to the arm's position. A motion the
+      // image does not support (photometric gain below the threshold; before the touch only
+      // with photometric_pre_touch) is taken as no motion at all.
       const bool unsupported =
           (!pre_touch || opt.photometric_pre_touch) && opt.min_photometric_gain > 0 &&
           !(tr.photo_n > 0 && tr.photo_gain / tr.photo_n >= opt.min_photometric_gain);

@@ -89,11 +89,13 @@ struct MlOptions {
   /// it cost more object regions than it saved.
   double min_gradient = 0.0;
   int min_textured_samples = 6;
-  /// Photometric support, grey levels: after the touch, a region's motion over an evidence
-  /// interval counts only when its pixels match the previous frame displaced by the motion
-  /// better than undisplaced by at least this much on average per pixel and frame; otherwise the
-  /// region is taken to be still. Dense flow fills a plain area next to the pushed object (the
-  /// table ahead of it) with the object's motion; the image there fits both equally. 0 = off.
+  /// Photometric support, grey levels: a region's motion over an evidence interval counts only
+  /// when its pixels match the previous frame displaced by the motion (its robust mean over each
+  /// frame pair, also under the homography model) better than undisplaced by at least this much
+  /// on average per pixel and frame; otherwise the region is taken to be still. Dense flow fills
+  /// a plain area next to the pushed object (the table ahead of it) with the object's motion;
+  /// the image there fits both equally. Frame pairs where most of the image changed (the light
+  /// moved) are left out. 0 = off.
   double min_photometric_gain = 3.0;
   /// The same check before the touch: an unsupported motion does not make a region arm.
   bool photometric_pre_touch = true;
