@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
@@ -210,7 +211,11 @@ struct MlSegmenter::Impl {
       tr.shift += m.mean;
       tr.last_motion = m.mean;
       tr.last_frame = frames;
-      if (photometric) add_photometric_gain(tr, gray, region_pixels[l], m.mean);
+      if (photometric) {
+        add_photometric_gain(tr, gray, region_pixels[l], m.mean);
+      } else {
+        tr.last_gain = std::numeric_limits<double>::infinity();  // not judged: the flow stands
+      }
       if (homography) {
         std::vector<Eigen::Vector2f> from(at[l].size());
         for (size_t k = 0; k < from.size(); ++k) from[k] = at[l][k] - motion[l][k];
@@ -285,9 +290,10 @@ struct MlSegmenter::Impl {
       // eq 4.12-4.13: error of the region's motion applied to the arm's position. A motion the
       // image does not support (photometric gain below the threshold; before the touch only
       // with photometric_pre_touch) is taken as no motion at all.
-      const bool unsupported =
-          (!pre_touch || opt.photometric_pre_touch) && opt.min_photometric_gain > 0 &&
-          !(tr.photo_n > 0 && tr.photo_gain / tr.photo_n >= opt.min_photometric_gain);
+      // An interval whose frame pairs were all left out (global_change) is not judged.
+      const bool unsupported = (!pre_touch || opt.photometric_pre_touch) &&
+                               opt.min_photometric_gain > 0 && tr.photo_n > 0 &&
+                               tr.photo_gain / tr.photo_n < opt.min_photometric_gain;
       const Eigen::Vector2d e = unsupported ? Eigen::Vector2d(-d)
                                 : opt.model == MotionModel::kHomography
                                     ? Eigen::Vector2d(apply_homography(tr.h, tr.start_ee) - ee_now)

@@ -2,6 +2,8 @@
 // the mapping from labelled views, views cut from frames by the masks, bad input.
 #include "proprio/recognition/episode_classification.hpp"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -58,7 +60,9 @@ struct Fixture {
 const Fixture& fixture() {
   static const Fixture f = [] {
     Fixture x;
-    x.dir = fs::temp_directory_path() / "proprio_episode_classification_test";
+    // One directory per process: ctest runs this file's tests in parallel processes.
+    x.dir = fs::temp_directory_path() /
+            ("proprio_episode_classification_test_" + std::to_string(::getpid()));
     fs::remove_all(x.dir);
     x.episodes.push_back(episode::read_episode(write_alternating_episode(x.dir / "ep")));
     ExtractOptions eo;
