@@ -39,6 +39,8 @@ struct Track {
   int pre_n = 0;
   int interval = -1;                                      // interval its accumulator belongs to
   Eigen::Vector2d start_ee = Eigen::Vector2d::Zero();     // arm position when it joined it
+  int start_frame = -1;                                   // frame it joined the interval at
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();           // mean sampled position, last frame
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();        // translation since the interval's start
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();        // homography since the interval's start
   Eigen::Vector2d last_motion = Eigen::Vector2d::Zero();  // robust mean of the last frame pair
@@ -94,6 +96,8 @@ void MlOptions::validate() const {
           core::cat({"MlOptions.peak_area must be in [0, 1), got ", core::num(peak_area)}));
   require(std::isfinite(min_photometric_gain) && min_photometric_gain >= 0,
           "MlOptions.min_photometric_gain must be >= 0");
+  require(std::isfinite(min_camera_motion) && min_camera_motion >= 0,
+          "MlOptions.min_camera_motion must be >= 0");
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
   if (!prior.empty()) {
@@ -133,6 +137,9 @@ struct MlSegmenter::Impl {
   int interval = 0;
   int interval_start = -1;
   std::optional<Eigen::Vector2d> interval_ee;
+  cv::Mat1b interval_gray;  // the open interval's first frame (camera motion compensation)
+  double sum_camera_motion = 0;
+  int camera_fits = 0, camera_failures = 0;
   std::optional<Eigen::Vector2d> prev_ee;
   std::vector<std::optional<Eigen::Vector2d>> ee_track;  // every frame's arm position
 
@@ -150,10 +157,11 @@ struct MlSegmenter::Impl {
     inv_scale = static_cast<double>(size.width) / proc_size.width;
   }
 
-  void start_interval(const std::optional<Eigen::Vector2d>& ee) {
+  void start_interval(const std::optional<Eigen::Vector2d>& ee, const cv::Mat1b& gray) {
     ++interval;
     interval_start = frames;
     interval_ee = ee;
+    interval_gray = gray;
   }
 
   // Adds this frame pair's motion to the accumulators of the tracks in this frame; a track not
@@ -167,6 +175,8 @@ struct MlSegmenter::Impl {
     std::vector<std::vector<Eigen::Vector2f>> motion;   // prev -> current, full-size pixels
     std::vector<std::vector<Eigen::Vector2f>> at;       // positions in the current frame
     std::vector<std::vector<cv::Point>> region_pixels;  // sampled pixels, processing scale
+    std::vector<Eigen::Vector2d> at_sum;                // sum of sampled positions
+    std::vector<int> samples;                           // how many
     const bool homography = opt.model == MotionModel::kHomography;
     const bool photometric = opt.min_photometric_gain > 0 && photometric_ok;
     const auto s = static_cast<float>(inv_scale);
@@ -183,6 +193,7 @@ struct MlSegmenter::Impl {
             tr.shift.setZero();
             tr.h.setIdentity();
             tr.start_ee = *prev_ee;
+            tr.start_frame = frames - 1;
             tr.untrusted = false;
             tr.photo_gain = 0.0;
             tr.photo_n = 0;
@@ -191,8 +202,12 @@ struct MlSegmenter::Impl {
           ids.push_back(id);
           motion.emplace_back();
           region_pixels.emplace_back();
+          at_sum.emplace_back(Eigen::Vector2d::Zero());
+          samples.push_back(0);
           if (homography) at.emplace_back();
         }
+        at_sum[l] += Eigen::Vector2d(x, y);
+        ++samples[l];
         if (photometric) region_pixels[l].emplace_back(x, y);
         if (!textured(y, x)) continue;
         motion[l].emplace_back(-f[x][0] * s, -f[x][1] * s);
@@ -201,6 +216,7 @@ struct MlSegmenter::Impl {
     }
     for (size_t l = 0; l < ids.size(); ++l) {
       Track& tr = tracks[ids[l]];
+      tr.at = at_sum[l] * (inv_scale / samples[l]);
       if (static_cast<int>(motion[l].size()) < opt.min_textured_samples) {
         tr.untrusted = true;  // flow in texture-less regions is filled in from the neighbours
         tr.last_frame = -1;
@@ -281,8 +297,10 @@ struct MlSegmenter::Impl {
 
   // Closes the interval ending at this frame: one term of eq 4.21 per track in it whose own
   // span saw the arm move at least half the step.
-  void evaluate(const std::vector<int>& ids, const Eigen::Vector2d& ee_now, bool pre_touch) {
+  void evaluate(const std::vector<int>& ids, const Eigen::Vector2d& ee_now, bool pre_touch,
+                const cv::Mat1b& gray) {
     const double min_span = 0.5 * (pre_touch ? opt.arm_removal_step : opt.evidence_step);
+    const std::optional<cv::Matx33d> camera = camera_motion(gray);
     for (int id : ids) {
       Track& tr = tracks[id];
       const Eigen::Vector2d d = ee_now - tr.start_ee;  // the arm's displacement, eq 4.12
@@ -294,10 +312,15 @@ struct MlSegmenter::Impl {
       const bool unsupported = (!pre_touch || opt.photometric_pre_touch) &&
                                opt.min_photometric_gain > 0 && tr.photo_n > 0 &&
                                tr.photo_gain / tr.photo_n < opt.min_photometric_gain;
-      const Eigen::Vector2d e = unsupported ? Eigen::Vector2d(-d)
-                                : opt.model == MotionModel::kHomography
-                                    ? Eigen::Vector2d(apply_homography(tr.h, tr.start_ee) - ee_now)
-                                    : Eigen::Vector2d(tr.shift - d);
+      // In the interval's first frame's camera (tracks that joined later: as seen).
+      const bool compensate = camera && tr.start_frame == interval_start;
+      const Eigen::Vector2d e =
+          unsupported ? Eigen::Vector2d(-d)
+          : opt.model == MotionModel::kHomography
+              ? Eigen::Vector2d(
+                    to_interval_start(camera, compensate, apply_homography(tr.h, tr.start_ee)) -
+                    ee_now)
+              : Eigen::Vector2d(to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift - d);
       const double p = motion_likelihood(e, opt.lambda);
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
@@ -315,9 +338,41 @@ struct MlSegmenter::Impl {
     if (!pre_touch) ++post_intervals;
   }
 
+  // The camera's own motion over the open interval (compensate_camera_motion): the homography
+  // that takes the current frame's points to the interval's first frame, from the flow between
+  // the two directly. Registering the interval's ends once, rather than chaining each frame
+  // pair's motion, keeps the error of one fit: a shaking camera jitters about a mean pose, and
+  // chained fits add their errors up over the interval.
+  [[nodiscard]] std::optional<cv::Matx33d> camera_motion(const cv::Mat1b& gray) {
+    if (!opt.compensate_camera_motion || interval_gray.empty()) return std::nullopt;
+    const GlobalMotion g = estimate_global_motion(flow.compute(gray, interval_gray), gray);
+    if (!g.found) {
+      ++camera_failures;
+      return std::nullopt;
+    }
+    ++camera_fits;
+    sum_camera_motion += g.centre_motion * inv_scale;
+    if (g.centre_motion * inv_scale < opt.min_camera_motion) return std::nullopt;
+    return g.homography;
+  }
+
+  // A current-frame point (full-size pixels) in the interval's first frame's camera.
+  [[nodiscard]] Eigen::Vector2d to_interval_start(const std::optional<cv::Matx33d>& camera,
+                                                  bool compensate, const Eigen::Vector2d& x) const {
+    if (!compensate) return x;
+    const cv::Matx33d& h = *camera;
+    const double px = x.x() / inv_scale, py = x.y() / inv_scale;
+    const double w = h(2, 0) * px + h(2, 1) * py + h(2, 2);
+    return Eigen::Vector2d((h(0, 0) * px + h(0, 1) * py + h(0, 2)) / w,
+                           (h(1, 0) * px + h(1, 1) * py + h(1, 2)) / w) *
+           inv_scale;
+  }
+
   // Per-track scores. A track that ended lives on in its successor (region_tracker.hpp): its
-  // evidence is its own plus its successor's, so a region split or merged by the
-  // over-segmentation keeps receiving evidence from later frames.
+  // post-touch evidence is its own plus its successor's, so a region split or merged by the
+  // over-segmentation keeps receiving evidence from later frames. Its arm-removal evidence
+  // (eq 4.18) is its own: after the touch the object moves as the arm does, and a piece of the
+  // object handed over to a track of the pusher must not take on the pusher's pre-touch record.
   [[nodiscard]] std::vector<float> scores() const {
     const size_t n = tracks.size();
     std::vector<Track> total(n);
@@ -339,9 +394,9 @@ struct MlSegmenter::Impl {
         const Track& own = tracks[*it];
         acc.post_sum += own.post_sum;
         acc.post_n += own.post_n;
-        acc.pre_sum += own.pre_sum;
-        acc.pre_n += own.pre_n;
         total[*it] = acc;
+        total[*it].pre_sum = own.pre_sum;
+        total[*it].pre_n = own.pre_n;
         done[*it] = 1;
       }
     }
@@ -482,7 +537,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   const bool first_touch_now = touching && !m.first_touch;
   if (first_touch_now) m.first_touch = m.frames;
   if (m.frames == 0 || !ee_image || !m.prev_ee || !m.interval_ee) {
-    m.start_interval(ee_image);  // arm unknown: the open interval carries no evidence
+    m.start_interval(ee_image, gray);  // arm unknown: the open interval carries no evidence
   } else {
     cv::Mat1b textured;
     {
@@ -499,8 +554,8 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
     const bool pre_touch = !m.first_touch || first_touch_now;
     const double step = pre_touch ? m.opt.arm_removal_step : m.opt.evidence_step;
     if (moved >= step || first_touch_now) {
-      m.evaluate(ids, *ee_image, pre_touch);
-      m.start_interval(ee_image);
+      m.evaluate(ids, *ee_image, pre_touch, gray);
+      m.start_interval(ee_image, gray);
     }
   }
   m.prev_ee = ee_image;
@@ -552,6 +607,9 @@ MlSummary MlSegmenter::summary() const {
   s.scored_frame = m.first_touch.value_or(-1);
   s.evidence_intervals = m.intervals_closed;
   s.tracks = m.tracker.track_count();
+  s.camera_fits = m.camera_fits;
+  s.camera_failures = m.camera_failures;
+  if (m.camera_fits > 0) s.mean_camera_motion = m.sum_camera_motion / m.camera_fits;
   if (m.frames > 0) {
     s.mean_ms_regions = m.sum_regions / m.frames;
     s.mean_ms_flow = m.sum_flow / m.frames;

@@ -1,6 +1,8 @@
 #include "proprio/segmentation/optical_flow.hpp"
 
 #include <cassert>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -70,6 +72,49 @@ cv::Mat2f DenseFlow::compute(const cv::Mat1b& from, const cv::Mat1b& to) {
     cv::resize(grid, flow, from.size(), 0, 0, cv::INTER_LINEAR);
   }
   return flow;
+}
+
+GlobalMotion estimate_global_motion(const cv::Mat2f& flow, const cv::Mat1b& image,
+                                    const GlobalMotionOptions& options) {
+  assert(options.stride >= 1 && options.threshold > 0 && image.size() == flow.size());
+  GlobalMotion g;
+  std::vector<cv::Point2f> from, to;
+  for (int y = std::max(1, options.stride / 2); y + 1 < flow.rows; y += options.stride) {
+    const cv::Vec2f* f = flow[y];
+    const uchar* up = image[y - 1];
+    const uchar* row = image[y];
+    const uchar* down = image[y + 1];
+    for (int x = std::max(1, options.stride / 2); x + 1 < flow.cols; x += options.stride) {
+      if (!std::isfinite(f[x][0]) || !std::isfinite(f[x][1])) continue;
+      const int texture = std::abs(row[x + 1] - row[x - 1]) + std::abs(down[x] - up[x]);
+      if (texture < options.min_texture) continue;
+      from.emplace_back(static_cast<float>(x), static_cast<float>(y));
+      to.emplace_back(static_cast<float>(x) + f[x][0], static_cast<float>(y) + f[x][1]);
+    }
+  }
+  if (from.size() < 4) return g;
+  cv::Mat inliers;
+  const cv::Mat h = cv::findHomography(from, to, cv::RANSAC, options.threshold, inliers);
+  if (h.empty()) return g;
+  g.inlier_fraction = cv::countNonZero(inliers) / static_cast<double>(from.size());
+  if (g.inlier_fraction < options.min_inlier_fraction) return g;
+  float x0 = static_cast<float>(flow.cols), y0 = static_cast<float>(flow.rows), x1 = 0, y1 = 0;
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (!inliers.at<uchar>(static_cast<int>(i))) continue;
+    x0 = std::min(x0, from[i].x);
+    y0 = std::min(y0, from[i].y);
+    x1 = std::max(x1, from[i].x);
+    y1 = std::max(y1, from[i].y);
+  }
+  if (x1 - x0 < options.min_inlier_extent * (flow.cols - 1) ||
+      y1 - y0 < options.min_inlier_extent * (flow.rows - 1))
+    return g;
+  g.homography = cv::Matx33d(h);
+  g.found = true;
+  const cv::Vec3d c(0.5 * (flow.cols - 1), 0.5 * (flow.rows - 1), 1.0);
+  const cv::Vec3d moved = g.homography * c;
+  g.centre_motion = std::hypot(moved[0] / moved[2] - c[0], moved[1] / moved[2] - c[1]);
+  return g;
 }
 
 }  // namespace proprio::segmentation

@@ -83,6 +83,10 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.handover_motion = v;
   } else if (key == "arm_removal_step") {
     o.arm_removal_step = v;
+  } else if (key == "compensate_camera_motion") {
+    o.compensate_camera_motion = v != 0;
+  } else if (key == "min_camera_motion") {
+    o.min_camera_motion = v;
   } else if (key == "direction_prior") {
     o.direction_prior = v != 0;
   } else if (key == "tau") {
@@ -182,8 +186,10 @@ TEST(MlDataset, JaccardAtFirstTouch) {
     by_group["all"].add(j);
     ms += r.summary.mean_ms_total;
     ++timed;
-    std::printf("%-34s touch %4d  J %.3f  P %.3f  R %.3f  %.1f ms/frame\n", name.c_str(),
-                r.scored_frame, j, prec, rec, r.summary.mean_ms_total);
+    std::printf("%-34s touch %4d  J %.3f  P %.3f  R %.3f  %.1f ms/frame  camera %.2f px (%d/%d)\n",
+                name.c_str(), r.scored_frame, j, prec, rec, r.summary.mean_ms_total,
+                r.summary.mean_camera_motion, r.summary.camera_fits,
+                r.summary.camera_fits + r.summary.camera_failures);
     std::fflush(stdout);
     if (csv.is_open())
       csv << name << ',' << group << ',' << object << ',' << r.scored_frame << ',' << j << ','

@@ -4,11 +4,13 @@
 
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "ml_test_support.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
 #include "proprio/segmentation/motion_models.hpp"
+#include "proprio/segmentation/optical_flow.hpp"
 #include "proprio/segmentation/region_tracker.hpp"
 
 namespace proprio::segmentation {
@@ -125,6 +127,10 @@ TEST_P(SyntheticPush, SquareMovedWithTheArmComesOutWithHighJaccard) {
   const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
   MlOptions o;
   o.keep_frame_maps = true;
+  // The moving backdrop fills the view and drifts steadily: to the image that is a camera pan,
+  // which compensation would take out (MlOptions::compensate_camera_motion). Here the camera
+  // is still and the backdrop really moves.
+  o.compensate_camera_motion = false;
   const MlResult r = segment_ml(ep, o);
   ASSERT_TRUE(r.first_touch_frame.has_value());
   EXPECT_EQ(r.scored_frame, *ep.first_touch_frame());
@@ -249,6 +255,82 @@ TEST(MlSegmentation, PhotometricCheckDropsThePlainTableAheadOfTheObject) {
   const double without = precision(0.0);
   EXPECT_GT(with_check, 0.85) << "without the check: " << without;  // measured 0.88 and 0.40
   EXPECT_GT(with_check, without + 0.05) << "without the check: " << without;
+}
+
+TEST(MlSegmentation, ShakingCameraIsCompensated) {
+  // The arm's image track comes from the still camera's projection; the shaking camera adds
+  // a jitter of up to 6 px each way a frame to everything it sees.
+  TempDir tmp("shake");
+  PushSpec spec;
+  spec.shake = 6;
+  spec.frames = 30;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  const cv::Mat1b truth = truth_at(ep, *ep.first_touch_frame());
+  auto run = [&](bool compensate) {
+    MlOptions o;
+    o.compensate_camera_motion = compensate;
+    return segment_ml(ep, o);
+  };
+  const MlResult on = run(true);
+  const MlResult off = run(false);
+  const double j_on = jaccard(on.mask, truth);
+  const double j_off = jaccard(off.mask, truth);
+  EXPECT_GT(on.summary.camera_fits, on.summary.evidence_intervals / 2);
+  EXPECT_GT(on.summary.mean_camera_motion, 1.0);
+  EXPECT_EQ(off.summary.camera_fits + off.summary.camera_failures, 0);
+  EXPECT_GT(j_on, 0.7) << "without compensation: " << j_off;  // measured 0.96 and 0.73
+  EXPECT_GT(j_on, j_off + 0.1) << "without compensation: " << j_off;
+}
+
+TEST(GlobalMotion, RecoversAKnownHomographyDespiteAMovingPatch) {
+  const cv::Size size(320, 240);
+  const cv::Mat3b colour = testing::texture(size, 5, {200, 180, 160});
+  cv::Mat1b gray;
+  cv::cvtColor(colour, gray, cv::COLOR_BGR2GRAY);
+  const cv::Matx33d h(1.01, 0.004, 2.5, -0.003, 0.995, -1.5, 1e-5, -2e-5, 1.0);
+  cv::Mat2f flow(size);
+  for (int y = 0; y < size.height; ++y) {
+    for (int x = 0; x < size.width; ++x) {
+      const cv::Vec3d p = h * cv::Vec3d(x, y, 1);
+      flow(y, x) = cv::Vec2f(static_cast<float>(p[0] / p[2] - x), static_cast<float>(p[1] / p[2] - y));
+    }
+  }
+  flow(cv::Rect(100, 80, 60, 60)).setTo(cv::Vec2f(-7, 4));  // the pushed object: an outlier
+  const GlobalMotion g = estimate_global_motion(flow, gray);
+  ASSERT_TRUE(g.found);
+  EXPECT_GT(g.inlier_fraction, 0.9);
+  for (const cv::Point2d p : {cv::Point2d(0, 0), cv::Point2d(319, 239), cv::Point2d(160, 120)}) {
+    const cv::Vec3d a = h * cv::Vec3d(p.x, p.y, 1);
+    const cv::Vec3d b = g.homography * cv::Vec3d(p.x, p.y, 1);
+    EXPECT_NEAR(a[0] / a[2], b[0] / b[2], 0.05);
+    EXPECT_NEAR(a[1] / a[2], b[1] / b[2], 0.05);
+  }
+  const cv::Vec3d c = h * cv::Vec3d(159.5, 119.5, 1);
+  EXPECT_NEAR(g.centre_motion, std::hypot(c[0] / c[2] - 159.5, c[1] / c[2] - 119.5), 0.05);
+}
+
+TEST(GlobalMotion, NoneFromAPlainImageOrACompactPatchOrIncoherentFlow) {
+  const cv::Size size(320, 240);
+  cv::Mat2f flow(size, cv::Vec2f(1.5f, -2.0f));
+  // A plain image: no texture, nothing to go by.
+  EXPECT_FALSE(estimate_global_motion(flow, cv::Mat1b(size, uchar{128})).found);
+  // Texture only in a compact patch: the patch's motion, not the camera's.
+  cv::Mat1b patch(size, uchar{128});
+  cv::Mat3b tex = testing::texture({80, 80}, 9, {200, 200, 200});
+  cv::Mat1b tex_gray;
+  cv::cvtColor(tex, tex_gray, cv::COLOR_BGR2GRAY);
+  tex_gray.copyTo(patch(cv::Rect(120, 80, 80, 80)));
+  EXPECT_FALSE(estimate_global_motion(flow, patch).found);
+  // Random flow everywhere: no motion most of the image follows.
+  cv::Mat1b gray;
+  cv::cvtColor(testing::texture(size, 5, {200, 180, 160}), gray, cv::COLOR_BGR2GRAY);
+  cv::RNG rng(3);
+  rng.fill(flow, cv::RNG::UNIFORM, -20.0, 20.0);
+  const GlobalMotion g = estimate_global_motion(flow, gray);
+  EXPECT_FALSE(g.found);
+  EXPECT_LT(g.inlier_fraction, 0.5);
+  // The identity when nothing was found.
+  EXPECT_EQ(cv::norm(cv::Mat(g.homography), cv::Mat(cv::Matx33d::eye()), cv::NORM_INF), 0.0);
 }
 
 TEST(MlSegmentation, SparseVariantFindsTheSquare) {

@@ -37,6 +37,10 @@ struct PushSpec {
   bool ee_known = true;           ///< false: no end-effector position anywhere (behind the camera)
   int square = 50;                ///< side, pixels
   int arm = 24;                   ///< side of the arm block, pixels
+  /// A shaking camera: each frame, all of it (table, square, arm) shifted by a random whole
+  /// number of pixels in [-shake, shake] each way; the arm's image track stays as the still
+  /// camera would see it.
+  int shake = 0;
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
@@ -90,6 +94,14 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
   f.mask(arm_in).setTo(2);
   f.ee = {tip, y_mid};
   f.touching = s.touch && tip >= sq_left0;
+  if (s.shake > 0) {
+    cv::RNG rng(1000 + i);
+    const cv::Matx23d shift(1, 0, rng.uniform(-s.shake, s.shake + 1), 0, 1,
+                            rng.uniform(-s.shake, s.shake + 1));
+    cv::warpAffine(f.image, f.image, shift, f.image.size(), cv::INTER_NEAREST,
+                   cv::BORDER_REFLECT);
+    cv::warpAffine(f.mask, f.mask, shift, f.mask.size(), cv::INTER_NEAREST, cv::BORDER_CONSTANT);
+  }
   return f;
 }
 

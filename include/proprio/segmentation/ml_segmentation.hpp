@@ -106,6 +106,15 @@ struct MlOptions {
   /// bled flow no longer passes for motion, and 3 px kept the pieces of fragmenting objects
   /// (the bottle: 0.45 -> 0.71 static) where 0.75 px lost them.
   double handover_motion = 3.0;
+  /// Camera motion (a shaking or drifting mount): the arm's image track is projected through the
+  /// calibrated, still camera, but a moving camera adds its own motion to every pixel. At the
+  /// close of each evidence interval the current frame is registered to the interval's first
+  /// (estimate_global_motion on the flow between them), and each region's position is taken
+  /// back into that first frame's camera before it is compared with the arm's displacement.
+  /// Intervals whose camera motion at the image centre is below min_camera_motion, pixels, are
+  /// left as they are (a still camera: the fit's noise). Costs one flow per interval.
+  bool compensate_camera_motion = true;
+  double min_camera_motion = 0.25;
   /// Processing scale: over-segmentation, flow and tracking run on images resized by this factor
   /// (speed); the map is returned at full size.
   double scale = 1.0;
@@ -135,6 +144,9 @@ struct MlSummary {
   bool touched = false;          ///< the arm touched something
   int evidence_intervals = 0;    ///< evidence intervals closed (arm moved evidence_step)
   int tracks = 0;                ///< region tracks created over the episode
+  int camera_fits = 0;      ///< evidence intervals whose camera motion was found
+  int camera_failures = 0;  ///< evidence intervals with no camera motion fit (not compensated)
+  double mean_camera_motion = 0.0;  ///< mean camera motion over an interval, image centre, pixels
   std::string message;           ///< one line: what happened
   double mean_ms_regions = 0.0;  ///< over-segmentation + tracking, per frame
   double mean_ms_flow = 0.0;     ///< optical flow, per frame
