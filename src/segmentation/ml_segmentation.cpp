@@ -96,6 +96,9 @@ void MlOptions::validate() const {
           core::cat({"MlOptions.peak_area must be in [0, 1), got ", core::num(peak_area)}));
   require(std::isfinite(min_photometric_gain) && min_photometric_gain >= 0,
           "MlOptions.min_photometric_gain must be >= 0");
+  require(std::isfinite(handover_evidence) && handover_evidence >= 0 && handover_evidence <= 1,
+          core::cat({"MlOptions.handover_evidence must be in [0, 1], got ",
+                     core::num(handover_evidence)}));
   require(std::isfinite(min_camera_motion) && min_camera_motion >= 0,
           "MlOptions.min_camera_motion must be >= 0");
   require(region_iterations >= 1 && region_iterations <= 100,
@@ -369,7 +372,7 @@ struct MlSegmenter::Impl {
   }
 
   // Per-track scores. A track that ended lives on in its successor (region_tracker.hpp): its
-  // post-touch evidence is its own plus its successor's, so a region split or merged by the
+  // post-touch evidence is its own plus its successor's (when they agree, handover_evidence), so a region split or merged by the
   // over-segmentation keeps receiving evidence from later frames. Its arm-removal evidence
   // (eq 4.18) is its own: after the touch the object moves as the arm does, and a piece of the
   // object handed over to a track of the pusher must not take on the pusher's pre-touch record.
@@ -392,6 +395,14 @@ struct MlSegmenter::Impl {
       if (t >= 0 && t < static_cast<int>(n) && done[t]) acc = total[t];
       for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
         const Track& own = tracks[*it];
+        // Evidence that disagrees cuts the chain: a still background region that the pushed
+        // object slides over hands over to the object's track (their motions differ by less
+        // than handover_motion at walking pace), but its own intervals said "still".
+        if (own.post_n > 0 && acc.post_n > 0 &&
+            std::abs(own.post_sum / own.post_n - acc.post_sum / acc.post_n) >
+                opt.handover_evidence) {
+          acc = Track{};
+        }
         acc.post_sum += own.post_sum;
         acc.post_n += own.post_n;
         total[*it] = acc;

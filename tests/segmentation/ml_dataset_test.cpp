@@ -83,6 +83,8 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.handover_motion = v;
   } else if (key == "arm_removal_step") {
     o.arm_removal_step = v;
+  } else if (key == "handover_evidence") {
+    o.handover_evidence = v;
   } else if (key == "compensate_camera_motion") {
     o.compensate_camera_motion = v != 0;
   } else if (key == "min_camera_motion") {
