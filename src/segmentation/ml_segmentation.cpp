@@ -683,6 +683,13 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
                                  "; ", std::to_string(r.summary.evidence_intervals),
                                  " evidence intervals over ", std::to_string(r.summary.frames),
                                  " frames, ", std::to_string(r.summary.tracks), " region tracks"});
+  if (options.compensate_camera_motion) {
+    const MlSummary& c = r.summary;
+    r.summary.message += core::cat(
+        {"; camera motion ", core::num(c.mean_camera_motion), " px an interval (registered in ",
+         std::to_string(c.camera_fits), " of ", std::to_string(c.camera_fits + c.camera_failures),
+         ")"});
+  }
   return r;
 }
 

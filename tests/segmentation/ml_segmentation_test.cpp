@@ -303,6 +303,8 @@ TEST(MlSegmentation, ShakingCameraIsCompensated) {
   EXPECT_GT(on.summary.camera_fits, on.summary.evidence_intervals / 2);
   EXPECT_GT(on.summary.mean_camera_motion, 1.0);
   EXPECT_EQ(off.summary.camera_fits + off.summary.camera_failures, 0);
+  EXPECT_NE(on.summary.message.find("camera motion"), std::string::npos) << on.summary.message;
+  EXPECT_EQ(off.summary.message.find("camera motion"), std::string::npos) << off.summary.message;
   EXPECT_GT(j_on, 0.7) << "without compensation: " << j_off;  // measured 0.96 and 0.73
   EXPECT_GT(j_on, j_off + 0.1) << "without compensation: " << j_off;
 }
