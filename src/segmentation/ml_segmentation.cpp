@@ -323,7 +323,8 @@ struct MlSegmenter::Impl {
               ? Eigen::Vector2d(
                     to_interval_start(camera, compensate, apply_homography(tr.h, tr.start_ee)) -
                     ee_now)
-              : Eigen::Vector2d(to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift - d);
+              : Eigen::Vector2d(to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift -
+                                d);
       const double p = motion_likelihood(e, opt.lambda);
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
@@ -372,10 +373,11 @@ struct MlSegmenter::Impl {
   }
 
   // Per-track scores. A track that ended lives on in its successor (region_tracker.hpp): its
-  // post-touch evidence is its own plus its successor's (when they agree, handover_evidence), so a region split or merged by the
-  // over-segmentation keeps receiving evidence from later frames. Its arm-removal evidence
-  // (eq 4.18) is its own: after the touch the object moves as the arm does, and a piece of the
-  // object handed over to a track of the pusher must not take on the pusher's pre-touch record.
+  // post-touch evidence is its own plus its successor's (when they agree, handover_evidence), so a
+  // region split or merged by the over-segmentation keeps receiving evidence from later frames. Its
+  // arm-removal evidence (eq 4.18) is its own: after the touch the object moves as the arm does,
+  // and a piece of the object handed over to a track of the pusher must not take on the pusher's
+  // pre-touch record.
   [[nodiscard]] std::vector<float> scores() const {
     const size_t n = tracks.size();
     std::vector<Track> total(n);
@@ -685,10 +687,10 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
                                  " frames, ", std::to_string(r.summary.tracks), " region tracks"});
   if (options.compensate_camera_motion) {
     const MlSummary& c = r.summary;
-    r.summary.message += core::cat(
-        {"; camera motion ", core::num(c.mean_camera_motion), " px an interval (registered in ",
-         std::to_string(c.camera_fits), " of ", std::to_string(c.camera_fits + c.camera_failures),
-         ")"});
+    r.summary.message +=
+        core::cat({"; camera motion ", core::num(c.mean_camera_motion),
+                   " px an interval (registered in ", std::to_string(c.camera_fits), " of ",
+                   std::to_string(c.camera_fits + c.camera_failures), ")"});
   }
   return r;
 }

@@ -98,8 +98,7 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
     cv::RNG rng(1000 + i);
     const cv::Matx23d shift(1, 0, rng.uniform(-s.shake, s.shake + 1), 0, 1,
                             rng.uniform(-s.shake, s.shake + 1));
-    cv::warpAffine(f.image, f.image, shift, f.image.size(), cv::INTER_NEAREST,
-                   cv::BORDER_REFLECT);
+    cv::warpAffine(f.image, f.image, shift, f.image.size(), cv::INTER_NEAREST, cv::BORDER_REFLECT);
     cv::warpAffine(f.mask, f.mask, shift, f.mask.size(), cv::INTER_NEAREST, cv::BORDER_CONSTANT);
   }
   return f;

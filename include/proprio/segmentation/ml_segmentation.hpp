@@ -145,19 +145,19 @@ struct MlOptions {
 
 /// What happened (Ceres style).
 struct MlSummary {
-  int frames = 0;                ///< frames read
-  int scored_frame = -1;         ///< frame the map was painted on (first touch); -1 never touched
-  bool touched = false;          ///< the arm touched something
-  int evidence_intervals = 0;    ///< evidence intervals closed (arm moved evidence_step)
-  int tracks = 0;                ///< region tracks created over the episode
-  int camera_fits = 0;      ///< evidence intervals whose camera motion was found
-  int camera_failures = 0;  ///< evidence intervals with no camera motion fit (not compensated)
+  int frames = 0;              ///< frames read
+  int scored_frame = -1;       ///< frame the map was painted on (first touch); -1 never touched
+  bool touched = false;        ///< the arm touched something
+  int evidence_intervals = 0;  ///< evidence intervals closed (arm moved evidence_step)
+  int tracks = 0;              ///< region tracks created over the episode
+  int camera_fits = 0;         ///< evidence intervals whose camera motion was found
+  int camera_failures = 0;     ///< evidence intervals with no camera motion fit (not compensated)
   double mean_camera_motion = 0.0;  ///< mean camera motion over an interval, image centre, pixels
-  std::string message;           ///< one line: what happened
-  double mean_ms_regions = 0.0;  ///< over-segmentation + tracking, per frame
-  double mean_ms_flow = 0.0;     ///< optical flow, per frame
-  double mean_ms_model = 0.0;    ///< motion model + likelihood + integration, per frame
-  double mean_ms_total = 0.0;    ///< all of it (disk I/O excluded), per frame
+  std::string message;              ///< one line: what happened
+  double mean_ms_regions = 0.0;     ///< over-segmentation + tracking, per frame
+  double mean_ms_flow = 0.0;        ///< optical flow, per frame
+  double mean_ms_model = 0.0;       ///< motion model + likelihood + integration, per frame
+  double mean_ms_total = 0.0;       ///< all of it (disk I/O excluded), per frame
 };
 
 struct MlResult {
