@@ -303,7 +303,7 @@ struct MlSegmenter::Impl {
   void evaluate(const std::vector<int>& ids, const Eigen::Vector2d& ee_now, bool pre_touch,
                 const cv::Mat1b& gray) {
     const double min_span = 0.5 * (pre_touch ? opt.arm_removal_step : opt.evidence_step);
-    const std::optional<cv::Matx33d> camera = camera_motion(gray);
+    const std::optional<Eigen::Matrix3d> camera = camera_motion(gray);
     for (int id : ids) {
       Track& tr = tracks[id];
       const Eigen::Vector2d d = ee_now - tr.start_ee;  // the arm's displacement, eq 4.12
@@ -347,7 +347,7 @@ struct MlSegmenter::Impl {
   // the two directly. Registering the interval's ends once, rather than chaining each frame
   // pair's motion, keeps the error of one fit: a shaking camera jitters about a mean pose, and
   // chained fits add their errors up over the interval.
-  [[nodiscard]] std::optional<cv::Matx33d> camera_motion(const cv::Mat1b& gray) {
+  [[nodiscard]] std::optional<Eigen::Matrix3d> camera_motion(const cv::Mat1b& gray) {
     if (!opt.compensate_camera_motion || interval_gray.empty()) return std::nullopt;
     const GlobalMotion g = estimate_global_motion(flow.compute(gray, interval_gray), gray);
     if (!g.found) {
@@ -357,19 +357,18 @@ struct MlSegmenter::Impl {
     ++camera_fits;
     sum_camera_motion += g.centre_motion * inv_scale;
     if (g.centre_motion * inv_scale < opt.min_camera_motion) return std::nullopt;
-    return g.homography;
+    Eigen::Matrix3d h;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) h(r, c) = g.homography(r, c);
+    return h;
   }
 
   // A current-frame point (full-size pixels) in the interval's first frame's camera.
-  [[nodiscard]] Eigen::Vector2d to_interval_start(const std::optional<cv::Matx33d>& camera,
+  // The camera's homography works in processing pixels.
+  [[nodiscard]] Eigen::Vector2d to_interval_start(const std::optional<Eigen::Matrix3d>& camera,
                                                   bool compensate, const Eigen::Vector2d& x) const {
     if (!compensate) return x;
-    const cv::Matx33d& h = *camera;
-    const double px = x.x() / inv_scale, py = x.y() / inv_scale;
-    const double w = h(2, 0) * px + h(2, 1) * py + h(2, 2);
-    return Eigen::Vector2d((h(0, 0) * px + h(0, 1) * py + h(0, 2)) / w,
-                           (h(1, 0) * px + h(1, 1) * py + h(1, 2)) / w) *
-           inv_scale;
+    return apply_homography(*camera, x / inv_scale) * inv_scale;
   }
 
   // Per-track scores. A track that ended lives on in its successor (region_tracker.hpp): its
