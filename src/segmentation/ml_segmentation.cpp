@@ -11,6 +11,7 @@
 #include "proprio/core/text.hpp"
 #include "proprio/segmentation/motion_models.hpp"
 #include "proprio/segmentation/optical_flow.hpp"
+#include "proprio/segmentation/region_fill.hpp"
 #include "proprio/segmentation/region_tracker.hpp"
 
 namespace proprio::segmentation {
@@ -50,6 +51,7 @@ struct Track {
   double photo_gain = 0.0;  // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
   int photo_n = 0;          // pixels in photo_gain
   double last_gain = 0.0;   // mean photometric gain of the last frame pair
+  Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // mean BGR where last seen (fill_unknown)
 
   // eq 4.21's mean over the window; a track seen in fewer than min_count of the window's
   // intervals is averaged over min_count (unseen intervals count as 0), so that a region
@@ -87,6 +89,7 @@ void MlOptions::validate() const {
   require(std::isfinite(handover_motion) && handover_motion >= 0,
           "MlOptions.handover_motion must be >= 0");
   require_positive(direction_ramp, "direction_ramp");
+  require_positive(fill_colour_sigma, "fill_colour_sigma");
   require(std::isfinite(min_gradient) && min_gradient >= 0, "MlOptions.min_gradient must be >= 0");
   require(min_textured_samples >= 1, "MlOptions.min_textured_samples must be >= 1");
   require(std::isfinite(min_evidence_fraction) && min_evidence_fraction >= 0 &&
@@ -172,7 +175,7 @@ struct MlSegmenter::Impl {
   // appear mid-interval still count, over their own span). Returns the ids of the tracks.
   std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow,
                               const cv::Mat1b& textured, const cv::Mat1b& gray,
-                              bool photometric_ok) {
+                              const cv::Mat3b& colour, bool photometric_ok) {
     std::vector<int> local(tracks.size(), -1);
     std::vector<int> ids;
     std::vector<std::vector<Eigen::Vector2f>> motion;   // prev -> current, full-size pixels
@@ -180,6 +183,7 @@ struct MlSegmenter::Impl {
     std::vector<std::vector<cv::Point>> region_pixels;  // sampled pixels, processing scale
     std::vector<Eigen::Vector2d> at_sum;                // sum of sampled positions
     std::vector<int> samples;                           // how many
+    std::vector<Eigen::Vector3f> colour_sum;            // sum of sampled BGR
     const bool homography = opt.model == MotionModel::kHomography;
     const bool photometric = opt.min_photometric_gain > 0 && photometric_ok;
     const auto s = static_cast<float>(inv_scale);
@@ -207,10 +211,13 @@ struct MlSegmenter::Impl {
           region_pixels.emplace_back();
           at_sum.emplace_back(Eigen::Vector2d::Zero());
           samples.push_back(0);
+          colour_sum.emplace_back(Eigen::Vector3f::Zero());
           if (homography) at.emplace_back();
         }
         at_sum[l] += Eigen::Vector2d(x, y);
         ++samples[l];
+        const cv::Vec3b c = colour(y, x);
+        colour_sum[l] += Eigen::Vector3f(c[0], c[1], c[2]);
         if (photometric) region_pixels[l].emplace_back(x, y);
         if (!textured(y, x)) continue;
         motion[l].emplace_back(-f[x][0] * s, -f[x][1] * s);
@@ -220,6 +227,7 @@ struct MlSegmenter::Impl {
     for (size_t l = 0; l < ids.size(); ++l) {
       Track& tr = tracks[ids[l]];
       tr.at = at_sum[l] * (inv_scale / samples[l]);
+      tr.colour = colour_sum[l] / static_cast<float>(samples[l]);
       if (static_cast<int>(motion[l].size()) < opt.min_textured_samples) {
         tr.untrusted = true;  // flow in texture-less regions is filled in from the neighbours
         tr.last_frame = -1;
@@ -377,7 +385,7 @@ struct MlSegmenter::Impl {
   // arm-removal evidence (eq 4.18) is its own: after the touch the object moves as the arm does,
   // and a piece of the object handed over to a track of the pusher must not take on the pusher's
   // pre-touch record.
-  [[nodiscard]] std::vector<float> scores() const {
+  [[nodiscard]] std::vector<float> scores(std::vector<char>* known = nullptr) const {
     const size_t n = tracks.size();
     std::vector<Track> total(n);
     std::vector<char> done(n, 0);
@@ -415,6 +423,10 @@ struct MlSegmenter::Impl {
     std::vector<float> score(n);
     const double min_count = opt.min_evidence_fraction * post_intervals;
     for (size_t i = 0; i < n; ++i) score[i] = static_cast<float>(total[i].score(min_count));
+    if (known) {
+      known->resize(n);
+      for (size_t i = 0; i < n; ++i) (*known)[i] = total[i].post_n > 0 ? 1 : 0;
+    }
     return score;
   }
 
@@ -437,7 +449,13 @@ struct MlSegmenter::Impl {
   }
 
   [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame) const {
-    const std::vector<float> score = scores();
+    std::vector<char> known;
+    std::vector<float> score = scores(&known);
+    if (opt.fill_unknown && first_touch) {
+      std::vector<Eigen::Vector3f> colour(tracks.size());
+      for (size_t i = 0; i < tracks.size(); ++i) colour[i] = tracks[i].colour;
+      (void)fill_unknown_scores(lab, known, colour, opt.fill_colour_sigma, score);
+    }
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {
       const int* l = lab[y];
@@ -559,7 +577,8 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       cv::Mat1s mag = cv::abs(gx) + cv::abs(gy);
       textured = mag >= m.opt.min_gradient;
     }
-    const std::vector<int> ids = m.accumulate(lab, back_flow, textured, gray, photometric_ok);
+    const std::vector<int> ids =
+        m.accumulate(lab, back_flow, textured, gray, colour, photometric_ok);
     const double moved = (*ee_image - *m.interval_ee).norm();
     // Before the touch the arm's approach is slow: shorter intervals for arm removal. The first
     // touch closes the pre-touch interval (eq 4.18's T' ends there).

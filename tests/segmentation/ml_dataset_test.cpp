@@ -89,6 +89,10 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.compensate_camera_motion = v != 0;
   } else if (key == "min_camera_motion") {
     o.min_camera_motion = v;
+  } else if (key == "fill_unknown") {
+    o.fill_unknown = v != 0;
+  } else if (key == "fill_colour_sigma") {
+    o.fill_colour_sigma = v;
   } else if (key == "direction_prior") {
     o.direction_prior = v != 0;
   } else if (key == "tau") {

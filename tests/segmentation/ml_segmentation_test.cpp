@@ -447,6 +447,9 @@ TEST(MlOptions, ValidateNamesTheBadField) {
   o = MlOptions{};
   o.min_camera_motion = std::nan("");
   EXPECT_NE(error_of([&] { o.validate(); }).find("min_camera_motion"), std::string::npos);
+  o = MlOptions{};
+  o.fill_colour_sigma = 0;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("fill_colour_sigma"), std::string::npos);
   SparseOptions s;
   EXPECT_NO_THROW(s.validate());
   s.tau = 2;
