@@ -11,7 +11,7 @@
 #include "proprio/core/text.hpp"
 #include "proprio/segmentation/motion_models.hpp"
 #include "proprio/segmentation/optical_flow.hpp"
-#include "proprio/segmentation/region_fill.hpp"
+#include "proprio/segmentation/region_smoothing.hpp"
 #include "proprio/segmentation/region_tracker.hpp"
 
 namespace proprio::segmentation {
@@ -51,7 +51,7 @@ struct Track {
   double photo_gain = 0.0;  // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
   int photo_n = 0;          // pixels in photo_gain
   double last_gain = 0.0;   // mean photometric gain of the last frame pair
-  Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // mean BGR where last seen (fill_unknown)
+  Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // mean BGR where last seen (smoothing)
 
   // eq 4.21's mean over the window; a track seen in fewer than min_count of the window's
   // intervals is averaged over min_count (unseen intervals count as 0), so that a region
@@ -89,7 +89,10 @@ void MlOptions::validate() const {
   require(std::isfinite(handover_motion) && handover_motion >= 0,
           "MlOptions.handover_motion must be >= 0");
   require_positive(direction_ramp, "direction_ramp");
-  require_positive(fill_colour_sigma, "fill_colour_sigma");
+  require(
+      std::isfinite(smoothing_weight) && smoothing_weight >= 0,
+      core::cat({"MlOptions.smoothing_weight must be >= 0, got ", core::num(smoothing_weight)}));
+  require_positive(smoothing_colour_sigma, "smoothing_colour_sigma");
   require(std::isfinite(min_gradient) && min_gradient >= 0, "MlOptions.min_gradient must be >= 0");
   require(min_textured_samples >= 1, "MlOptions.min_textured_samples must be >= 1");
   require(std::isfinite(min_evidence_fraction) && min_evidence_fraction >= 0 &&
@@ -385,7 +388,7 @@ struct MlSegmenter::Impl {
   // arm-removal evidence (eq 4.18) is its own: after the touch the object moves as the arm does,
   // and a piece of the object handed over to a track of the pusher must not take on the pusher's
   // pre-touch record.
-  [[nodiscard]] std::vector<float> scores(std::vector<char>* known = nullptr) const {
+  [[nodiscard]] std::vector<float> scores(std::vector<int>* evidence = nullptr) const {
     const size_t n = tracks.size();
     std::vector<Track> total(n);
     std::vector<char> done(n, 0);
@@ -423,9 +426,9 @@ struct MlSegmenter::Impl {
     std::vector<float> score(n);
     const double min_count = opt.min_evidence_fraction * post_intervals;
     for (size_t i = 0; i < n; ++i) score[i] = static_cast<float>(total[i].score(min_count));
-    if (known) {
-      known->resize(n);
-      for (size_t i = 0; i < n; ++i) (*known)[i] = total[i].post_n > 0 ? 1 : 0;
+    if (evidence) {
+      evidence->resize(n);
+      for (size_t i = 0; i < n; ++i) (*evidence)[i] = total[i].post_n;
     }
     return score;
   }
@@ -449,12 +452,15 @@ struct MlSegmenter::Impl {
   }
 
   [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame) const {
-    std::vector<char> known;
-    std::vector<float> score = scores(&known);
-    if (opt.fill_unknown && first_touch) {
+    std::vector<int> evidence;
+    std::vector<float> score = scores(&evidence);
+    if (opt.region_smoothing && first_touch) {
       std::vector<Eigen::Vector3f> colour(tracks.size());
       for (size_t i = 0; i < tracks.size(); ++i) colour[i] = tracks[i].colour;
-      (void)fill_unknown_scores(lab, known, colour, opt.fill_colour_sigma, score);
+      RegionSmoothingOptions so;
+      so.data_weight = opt.smoothing_weight;
+      so.colour_sigma = opt.smoothing_colour_sigma;
+      (void)smooth_region_scores(lab, evidence, colour, so, score);
     }
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {

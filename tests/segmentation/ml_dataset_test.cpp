@@ -89,10 +89,12 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.compensate_camera_motion = v != 0;
   } else if (key == "min_camera_motion") {
     o.min_camera_motion = v;
-  } else if (key == "fill_unknown") {
-    o.fill_unknown = v != 0;
-  } else if (key == "fill_colour_sigma") {
-    o.fill_colour_sigma = v;
+  } else if (key == "region_smoothing") {
+    o.region_smoothing = v != 0;
+  } else if (key == "smoothing_weight") {
+    o.smoothing_weight = v;
+  } else if (key == "smoothing_colour_sigma") {
+    o.smoothing_colour_sigma = v;
   } else if (key == "direction_prior") {
     o.direction_prior = v != 0;
   } else if (key == "tau") {

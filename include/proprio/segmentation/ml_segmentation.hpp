@@ -121,17 +121,18 @@ struct MlOptions {
   /// left as they are (a still camera: the fit's noise). Costs one flow per interval.
   bool compensate_camera_motion = true;
   double min_camera_motion = 0.25;
-  /// Regions that no evidence reached: a track that the over-segmentation ended before the
-  /// first post-touch interval closed, and that handed over to no track moving as it did (a piece
-  /// of the object re-cut at the touch while a shaking camera gave the two pieces' frame pairs
-  /// different motions), scores 0 whatever it was. With fill_unknown such a region at the
-  /// painted frame takes the mean of its neighbours' scores, weighted by the length of their
-  /// common boundary and by exp(-|c_i - c_j|^2 / (2 fill_colour_sigma^2)) of their mean BGR
-  /// colours, pixels of grey level (a harmonic fill on the region adjacency graph): a piece of
-  /// the object is surrounded by the object, a piece of the table by the table. On the Chapter 5
-  /// dataset: +0.03 with moving backgrounds, none with static ones (sigma 8-30 alike).
-  bool fill_unknown = true;
-  double fill_colour_sigma = 15.0;
+  /// Region smoothing (smooth_region_scores, region_smoothing.hpp): the painted frame's region
+  /// scores are smoothed over the regions' adjacency, each held by its evidence
+  /// (smoothing_weight x its post-touch intervals x its boundary length) and pulled towards its
+  /// neighbours in proportion to their common boundary and exp(-|dc|^2 / (2 sigma^2)) of their
+  /// mean BGR colours. Regions that no evidence reached (a piece of the object that the
+  /// over-segmentation re-cut at the touch, handed over to no track because a shaking camera gave
+  /// the two pieces' frame pairs different motions) take their colour-alike neighbours' scores,
+  /// and a piece with one unlucky interval yields to the object around it. Measured on the
+  /// Chapter 5 dataset in docs/results/segmentation-eval.md.
+  bool region_smoothing = true;
+  double smoothing_weight = 0.01;
+  double smoothing_colour_sigma = 25.0;
   /// Processing scale: over-segmentation, flow and tracking run on images resized by this factor
   /// (speed); the map is returned at full size.
   double scale = 1.0;
