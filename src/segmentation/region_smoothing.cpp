@@ -30,6 +30,7 @@ RegionSmoothingSummary smooth_region_scores(const cv::Mat1i& lab, const std::vec
                                             const std::vector<Eigen::Vector3f>& colour,
                                             const RegionSmoothingOptions& options,
                                             std::vector<float>& score) {
+  options.validate();
   assert(evidence.size() == colour.size() && evidence.size() == score.size());
   RegionSmoothingSummary summary;
   std::vector<int> local(evidence.size(), -1);
