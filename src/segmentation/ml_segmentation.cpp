@@ -1,6 +1,7 @@
 #include "proprio/segmentation/ml_segmentation.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -89,6 +90,9 @@ void MlOptions::validate() const {
   require(std::isfinite(handover_motion) && handover_motion >= 0,
           "MlOptions.handover_motion must be >= 0");
   require_positive(direction_ramp, "direction_ramp");
+  require_positive(contact_radius, "contact_radius");
+  require(std::isfinite(contact_gap) && contact_gap >= 0,
+          core::cat({"MlOptions.contact_gap must be >= 0, got ", core::num(contact_gap)}));
   require(
       std::isfinite(smoothing_weight) && smoothing_weight >= 0,
       core::cat({"MlOptions.smoothing_weight must be >= 0, got ", core::num(smoothing_weight)}));
@@ -124,6 +128,47 @@ cv::Mat1b threshold_map(const cv::Mat1f& map, double fraction) {
   cv::minMaxLoc(map, nullptr, &hi);
   if (!(hi > 0)) return mask;
   return map >= static_cast<float>(fraction * hi);
+}
+
+int apply_contact_prior(cv::Mat1f& m, const Eigen::Vector2d& ee, double fraction, double radius,
+                        double gap) {
+  assert(radius > 0 && gap >= 0);
+  const cv::Mat1b mask = threshold_map(m, fraction);
+  if (cv::countNonZero(mask) == 0) return 0;
+  cv::Mat1b joined = mask;
+  const int half = static_cast<int>(std::lround(gap / 2));
+  if (half > 0) {
+    cv::dilate(mask, joined,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * half + 1, 2 * half + 1)));
+  }
+  cv::Mat1i blob;
+  const int n = cv::connectedComponents(joined, blob, 8, CV_32S);
+  std::vector<char> near(static_cast<size_t>(n), 0);
+  const double r2 = radius * radius;
+  const int x0 = std::max(0, static_cast<int>(std::floor(ee.x() - radius)));
+  const int x1 = std::min(m.cols - 1, static_cast<int>(std::ceil(ee.x() + radius)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(ee.y() - radius)));
+  const int y1 = std::min(m.rows - 1, static_cast<int>(std::ceil(ee.y() + radius)));
+  bool any = false;
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const int b = blob(y, x);
+      const double dx = x - ee.x(), dy = y - ee.y();
+      if (b == 0 || !mask(y, x) || dx * dx + dy * dy > r2) continue;
+      near[static_cast<size_t>(b)] = 1;
+      any = true;
+    }
+  }
+  if (!any) return 0;  // nothing bright at the contact: no reason to prefer one blob
+  int dropped = 0;
+  for (int b = 1; b < n; ++b) dropped += near[static_cast<size_t>(b)] ? 0 : 1;
+  for (int y = 0; y < m.rows; ++y) {
+    const int* b = blob[y];
+    float* o = m[y];
+    for (int x = 0; x < m.cols; ++x)
+      if (b[x] > 0 && !near[static_cast<size_t>(b[x])]) o[x] = 0.0F;
+  }
+  return dropped;
 }
 
 struct MlSegmenter::Impl {
@@ -489,6 +534,10 @@ struct MlSegmenter::Impl {
       }
     }
     clip_to_peak(m);
+    if (opt.contact_prior && ee_track[frame]) {
+      (void)apply_contact_prior(m, *ee_track[frame], opt.mask_fraction, opt.contact_radius,
+                                opt.contact_gap);
+    }
     return m;
   }
 

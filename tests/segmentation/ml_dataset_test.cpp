@@ -89,6 +89,12 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.compensate_camera_motion = v != 0;
   } else if (key == "min_camera_motion") {
     o.min_camera_motion = v;
+  } else if (key == "contact_prior") {
+    o.contact_prior = v != 0;
+  } else if (key == "contact_radius") {
+    o.contact_radius = v;
+  } else if (key == "contact_gap") {
+    o.contact_gap = v;
   } else if (key == "region_smoothing") {
     o.region_smoothing = v != 0;
   } else if (key == "smoothing_weight") {

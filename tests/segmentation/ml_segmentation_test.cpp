@@ -280,6 +280,24 @@ TEST(MlSegmentation, TableCoveredByTheObjectKeepsItsOwnEvidence) {
   EXPECT_GT(with_check, without + 0.1) << "without the check: " << without;
 }
 
+TEST(MlSegmentation, ContactPriorDropsAPatchMovingWithTheArmElsewhere) {
+  // A patch in the far corner moves exactly as the pushed square does after the touch: by its
+  // motion alone it is the object; it never comes near the arm.
+  TempDir tmp("echo");
+  PushSpec spec;
+  spec.echo = true;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  // The patch's regions reach past its edges into the table, and score about 0.7 of the
+  // square's peak: a lower threshold takes it in.
+  const double without = precision_with(ep, [](MlOptions& o) {
+    o.contact_prior = false;
+    o.mask_fraction = 0.5;
+  });
+  const double with = precision_with(ep, [](MlOptions& o) { o.mask_fraction = 0.5; });
+  EXPECT_LT(without, 0.8);
+  EXPECT_GT(with, 0.95);
+}
+
 TEST(MlSegmentation, ShakingCameraIsCompensated) {
   // The arm's image track comes from the still camera's projection; the shaking camera adds
   // a jitter of up to 6 px each way a frame to everything it sees.
@@ -461,6 +479,12 @@ TEST(MlOptions, ValidateNamesTheBadField) {
   o = MlOptions{};
   o.smoothing_weight = -1;
   EXPECT_NE(error_of([&] { o.validate(); }).find("smoothing_weight"), std::string::npos);
+  o = MlOptions{};
+  o.contact_radius = 0;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("contact_radius"), std::string::npos);
+  o = MlOptions{};
+  o.contact_gap = std::nan("");
+  EXPECT_NE(error_of([&] { o.validate(); }).find("contact_gap"), std::string::npos);
   SparseOptions s;
   EXPECT_NO_THROW(s.validate());
   s.tau = 2;
@@ -475,6 +499,36 @@ TEST(ThresholdMap, FractionOfTheMaximum) {
   EXPECT_EQ(t(0, 2), 255);
   EXPECT_EQ(t(0, 3), 255);
   EXPECT_EQ(cv::countNonZero(threshold_map(cv::Mat1f(3, 3, 0.0f), 0.75)), 0);
+}
+
+TEST(ContactPrior, ZeroesTheBlobsFarFromTheEndEffector) {
+  cv::Mat1f m(60, 100, 0.1f);
+  m(cv::Rect(10, 10, 10, 10)).setTo(1.0f);   // at the end effector
+  m(cv::Rect(26, 10, 10, 10)).setTo(0.9f);   // 6 px further: joined across the gap
+  m(cv::Rect(70, 40, 10, 10)).setTo(0.95f);  // far
+  const cv::Mat1f before = m.clone();
+  EXPECT_EQ(apply_contact_prior(m, {8.0, 15.0}, 0.75, 5.0, 10.0), 1);
+  EXPECT_EQ(cv::countNonZero(m(cv::Rect(70, 40, 10, 10))), 0);
+  EXPECT_EQ(cv::norm(m(cv::Rect(0, 0, 60, 60)), before(cv::Rect(0, 0, 60, 60)), cv::NORM_INF), 0);
+  // Without the gap the middle blob is a blob of its own, and far.
+  m = before.clone();
+  EXPECT_EQ(apply_contact_prior(m, {8.0, 15.0}, 0.75, 5.0, 0.0), 2);
+  EXPECT_EQ(cv::countNonZero(m(cv::Rect(26, 10, 10, 10))), 0);
+  EXPECT_EQ(cv::countNonZero(m(cv::Rect(10, 10, 10, 10))), 100);
+  // Below the mask's threshold nothing is touched, near or far.
+  EXPECT_FLOAT_EQ(m(55, 95), 0.1f);
+}
+
+TEST(ContactPrior, LeavesTheMapWhenNoBlobIsNear) {
+  cv::Mat1f m(60, 100, 0.0f);
+  m(cv::Rect(70, 40, 10, 10)).setTo(1.0f);
+  const cv::Mat1f before = m.clone();
+  EXPECT_EQ(apply_contact_prior(m, {5.0, 5.0}, 0.75, 20.0, 10.0), 0);
+  EXPECT_EQ(cv::norm(m, before, cv::NORM_INF), 0);
+  // An end effector outside the image, and an all-zero map.
+  EXPECT_EQ(apply_contact_prior(m, {-500.0, 900.0}, 0.75, 20.0, 10.0), 0);
+  cv::Mat1f zero(10, 10, 0.0f);
+  EXPECT_EQ(apply_contact_prior(zero, {5.0, 5.0}, 0.75, 20.0, 10.0), 0);
 }
 
 }  // namespace

@@ -41,6 +41,10 @@ struct PushSpec {
   /// number of pixels in [-shake, shake] each way; the arm's image track stays as the still
   /// camera would see it.
   int shake = 0;
+  /// A second patch (tint unlike the square's) near the top edge, ahead of the arm but far from it,
+  /// that
+  /// stays still until the touch and then moves exactly as the pushed square does (mask 3).
+  bool echo = false;
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
@@ -60,7 +64,7 @@ inline cv::Mat3b texture(cv::Size size, std::uint64_t seed, cv::Scalar tint) {
 
 struct PushFrame {
   cv::Mat3b image;
-  cv::Mat1w mask;  ///< 1 = square (target), 2 = arm
+  cv::Mat1w mask;  ///< 1 = square (target), 2 = arm, 3 = echo
   Eigen::Vector2d ee;
   bool touching = false;
 };
@@ -87,6 +91,12 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
                     static_cast<int>(std::lround(y_mid - s.square / 2.0)), s.square, s.square);
   sq_tex(cv::Rect(0, 0, s.square, s.square)).copyTo(f.image(sq));
   f.mask(sq).setTo(1);
+  if (s.echo) {
+    static const cv::Mat3b echo_tex = texture({64, 64}, 44, {60, 230, 90});
+    const cv::Rect echo(static_cast<int>(std::lround(s.width * 0.65 + sq_left - sq_left0)), 12, 30, 30);
+    echo_tex(cv::Rect(0, 0, echo.width, echo.height)).copyTo(f.image(echo));
+    f.mask(echo).setTo(3);
+  }
   const cv::Rect arm(static_cast<int>(std::lround(tip)) - s.arm,
                      static_cast<int>(std::lround(y_mid - s.arm / 2.0)), s.arm, s.arm);
   const cv::Rect arm_in = arm & cv::Rect(0, 0, s.width, s.height);
@@ -108,8 +118,9 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
 inline fs::path write_push_episode(const fs::path& dir, const PushSpec& s) {
   const auto info = test::synthetic_info(s.width, s.height, "segmentation_ml_test", 1);
   const auto cam = test::overhead_camera(300.0, s.width / 2.0, s.height / 2.0);
-  const std::vector<episode::ObjectInfo> objects = {{1, "square", episode::ObjectRole::kTarget},
-                                                    {2, "arm", episode::ObjectRole::kArm}};
+  std::vector<episode::ObjectInfo> objects = {{1, "square", episode::ObjectRole::kTarget},
+                                              {2, "arm", episode::ObjectRole::kArm}};
+  if (s.echo) objects.push_back({3, "echo", episode::ObjectRole::kObject});
   return test::write_synthetic_episode(dir, info, cam, objects, s.frames, [&s](int i) {
     const PushFrame f = push_frame(s, i);
     // Without a known end effector it is above the camera: no image position.

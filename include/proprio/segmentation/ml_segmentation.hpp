@@ -144,6 +144,15 @@ struct MlOptions {
   /// carried in 3D), where "ahead" means nothing.
   bool direction_prior = true;
   double direction_ramp = 8.0;
+  /// Contact prior (4.6, from proprioception): the pushed object touches the end effector. The
+  /// map's bright blobs (map >= mask_fraction x its maximum, joined across gaps of up to
+  /// contact_gap pixels) that come no nearer than contact_radius pixels to the end effector's
+  /// image position in the painted frame are set to 0: a patch of the background that moved
+  /// with the arm somewhere else in the image is not the object the arm touches. When no blob
+  /// comes that near, the map is left as it is. Full-size pixels.
+  bool contact_prior = true;
+  double contact_radius = 20.0;
+  double contact_gap = 10.0;
   /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
   cv::Mat1f prior;
   /// Keep the map painted with every frame's regions (MlResult::frame_maps).
@@ -249,5 +258,13 @@ class MlSegmenter {
 
 /// Binary mask (255/0) of map >= fraction * max(map); all zero when the map's max is 0.
 cv::Mat1b threshold_map(const cv::Mat1f& map, double fraction);
+
+/// The contact prior (4.6, MlOptions::contact_prior), in place: the blobs of map >= fraction x
+/// max(map), joined across gaps of up to `gap` pixels (a dilation by an ellipse of diameter
+/// gap + 1), that have no pixel within `radius` pixels of `ee` (the end effector's image
+/// position, pixels) are set to 0. Returns the number of blobs zeroed; leaves the map as it is
+/// (returns 0) when no blob comes that near. Requires radius > 0, gap >= 0.
+int apply_contact_prior(cv::Mat1f& map, const Eigen::Vector2d& ee, double fraction, double radius,
+                        double gap);
 
 }  // namespace proprio::segmentation
