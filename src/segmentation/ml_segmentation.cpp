@@ -29,6 +29,9 @@ void require_positive(double v, const char* name) {
 // Flow samples per track: every kSampleStride-th pixel each way.
 constexpr int kSampleStride = 2;
 
+// Homography model: points per track carried through an interval (interval_homography).
+constexpr size_t kHomographyPoints = 96;
+
 // Grey levels: a pixel that changed more than this between frames changed (global_change).
 constexpr int kGlobalChangeLevel = 3;
 
@@ -53,6 +56,9 @@ struct Track {
   int photo_n = 0;          // pixels in photo_gain
   double last_gain = 0.0;   // mean photometric gain of the last frame pair
   Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // mean BGR where last seen (smoothing)
+  // Homography model: some of the region's points where it joined the interval, and the same
+  // points carried along the flow to the last frame (full-size pixels).
+  std::vector<Eigen::Vector2f> h_from, h_to;
 
   // eq 4.21's mean over the window; a track seen in fewer than min_count of the window's
   // intervals is averaged over min_count (unseen intervals count as 0), so that a region
@@ -247,6 +253,8 @@ struct MlSegmenter::Impl {
             tr.interval = interval;
             tr.shift.setZero();
             tr.h.setIdentity();
+            tr.h_from.clear();
+            tr.h_to.clear();
             tr.start_ee = *prev_ee;
             tr.start_frame = frames - 1;
             tr.untrusted = false;
@@ -303,9 +311,29 @@ struct MlSegmenter::Impl {
           step(1, 2) = m.mean.y();
         }
         tr.h = step * tr.h;
+        if (tr.start_frame == frames - 1) {  // joined the interval with this frame pair
+          const size_t every = std::max<size_t>(1, at[l].size() / kHomographyPoints);
+          for (size_t k = 0; k < at[l].size(); k += every) {
+            tr.h_from.push_back(at[l][k] - motion[l][k]);
+            tr.h_to.push_back(at[l][k]);
+          }
+        } else {
+          carry_points(tr.h_to, back_flow, inv_scale);
+        }
       }
     }
     return ids;
+  }
+
+  // The region's homography over the open interval (Algorithm 2): fitted once to its points
+  // carried from where it joined the interval, since a frame pair's motion of a pixel or two
+  // leaves a small region's homography to the noise; the product of the frame pairs' fits when
+  // that fails.
+  [[nodiscard]] Eigen::Matrix3d interval_homography(const Track& tr) const {
+    if (!opt.homography_over_interval) return tr.h;
+    const auto h =
+        fit_homography(tr.h_from, tr.h_to, opt.ransac_threshold, opt.homography_min_points);
+    return h ? *h : tr.h;
   }
 
   // How much better the region's pixels match the previous frame displaced by its motion m
@@ -377,7 +405,7 @@ struct MlSegmenter::Impl {
           unsupported ? Eigen::Vector2d(-d)
           : opt.model == MotionModel::kHomography
               ? Eigen::Vector2d(
-                    to_interval_start(camera, compensate, apply_homography(tr.h, tr.start_ee)) -
+                    to_interval_start(camera, compensate, apply_homography(interval_homography(tr), tr.start_ee)) -
                     ee_now)
               : Eigen::Vector2d(to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift -
                                 d);
@@ -667,7 +695,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   m.sum_regions += out.ms_regions;
   m.sum_model += out.ms_model;
   m.sum_total += out.ms_total;
-  out.map = m.paint(lab, out.frame);
+  if (m.opt.stream_maps) out.map = m.paint(lab, out.frame);
   return out;
 }
 
@@ -736,6 +764,7 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
   }
   MlOptions o = options;
   o.keep_frame_labels = options.keep_frame_maps;
+  o.stream_maps = false;
   const cv::Size size(episode.info().width, episode.info().height);
   MlSegmenter seg(o, size);
   for (int i = 0; i < episode.frame_count(); ++i) {

@@ -1,5 +1,6 @@
 #include "proprio/segmentation/optical_flow.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
@@ -115,6 +116,23 @@ GlobalMotion estimate_global_motion(const cv::Mat2f& flow, const cv::Mat1b& imag
   const cv::Vec3d moved = g.homography * c;
   g.centre_motion = std::hypot(moved[0] / moved[2] - c[0], moved[1] / moved[2] - c[1]);
   return g;
+}
+
+void carry_points(std::vector<Eigen::Vector2f>& points, const cv::Mat2f& back_flow, double scale) {
+  assert(scale > 0 && !back_flow.empty());
+  const auto s = static_cast<float>(scale);
+  const auto flow_at = [&](const Eigen::Vector2f& q) {
+    const int x = std::clamp(static_cast<int>(std::lround(q.x())), 0, back_flow.cols - 1);
+    const int y = std::clamp(static_cast<int>(std::lround(q.y())), 0, back_flow.rows - 1);
+    const cv::Vec2f f = back_flow(y, x);
+    return Eigen::Vector2f(f[0], f[1]);
+  };
+  for (Eigen::Vector2f& p : points) {
+    const Eigen::Vector2f q = p / s;  // processing pixels
+    Eigen::Vector2f x = q - flow_at(q);
+    x = q - flow_at(x);
+    p = x * s;
+  }
 }
 
 }  // namespace proprio::segmentation

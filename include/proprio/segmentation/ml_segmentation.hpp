@@ -59,8 +59,15 @@ struct MlOptions {
   double robust_tolerance = 0.01;
   int robust_max_iterations = 30;
   /// Homography RANSAC (Algorithm 2): reprojection threshold, pixels; minimum flow samples.
-  double ransac_threshold = 1.0;
+  /// 3 px, not 1: points carried through an interval (homography_over_interval) drift by a
+  /// pixel or two (held objects: 0.39 -> 0.41 spirit level, 0.39 -> 0.45 bottle).
+  double ransac_threshold = 3.0;
   int homography_min_points = 12;
+  /// Homography model: fit each region's homography once per evidence interval, to its points
+  /// carried along the flow from where it joined the interval, rather than multiply the frame
+  /// pairs' fits (a pixel or two of motion each, which leaves a small region's perspective
+  /// terms to the noise).
+  bool homography_over_interval = true;
   /// Evidence intervals: the arm moves only a few pixels a frame, less than sqrt(lambda), so one
   /// frame pair barely tells a still region from one moving with the arm. Motion is therefore
   /// accumulated per track from the interval's first frame until the arm has moved
@@ -157,6 +164,10 @@ struct MlOptions {
   cv::Mat1f prior;
   /// Keep the map painted with every frame's regions (MlResult::frame_maps).
   bool keep_frame_maps = false;
+  /// MlSegmenter::push paints the current map (FrameOutput::map: scores, smoothing, priors,
+  /// about 2 ms a frame at 640x480). segment_ml turns it off: it paints only the frames it
+  /// returns, once the whole episode has been seen.
+  bool stream_maps = true;
   /// MlSegmenter keeps every frame's track labels (for map_for_frame; 4 bytes a processed pixel
   /// a frame). When false it keeps only the first-touch frame's.
   bool keep_frame_labels = true;
@@ -226,7 +237,8 @@ class MlSegmenter {
  public:
   struct FrameOutput {
     int frame = -1;
-    /// Current integrated map painted with this frame's regions, [0, 1].
+    /// Current integrated map painted with this frame's regions, [0, 1] (empty when
+    /// MlOptions::stream_maps is off).
     cv::Mat1f map;
     double ms_regions = 0.0, ms_flow = 0.0, ms_model = 0.0, ms_total = 0.0;
   };

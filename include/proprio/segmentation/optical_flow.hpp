@@ -1,8 +1,10 @@
 #pragma once
 // Dense optical flow between consecutive frames (step 2 of thesis 4.1).
 
+#include <Eigen/Core>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "proprio/segmentation/ml_segmentation.hpp"
 
@@ -23,6 +25,13 @@ class DenseFlow {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Carries points of the previous frame into the current one along the backward flow
+/// (`back_flow`: current -> previous, as DenseFlow::compute(current, previous) gives it, in
+/// processing pixels): each point p becomes x with x + back_flow(x) = p, by two fixed-point
+/// steps from x = p, the flow read at the nearest pixel (clamped to the image). Points are in
+/// full-size pixels, `scale` = full-size / processing pixels.
+void carry_points(std::vector<Eigen::Vector2f>& points, const cv::Mat2f& back_flow, double scale);
 
 /// The image's own (camera) motion in a flow field: the homography that most of the flow follows
 /// (cv::findHomography by RANSAC), mapping x to where x's flow takes it. A moving camera moves
