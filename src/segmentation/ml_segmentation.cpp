@@ -87,6 +87,10 @@ void MlOptions::validate() const {
   require(robust_max_iterations >= 1, "MlOptions.robust_max_iterations must be >= 1");
   require_positive(ransac_threshold, "ransac_threshold");
   require(homography_min_points >= 4, "MlOptions.homography_min_points must be >= 4");
+  require(std::isfinite(homography_selection) && homography_selection >= 0 &&
+              homography_selection <= 1,
+          core::cat({"MlOptions.homography_selection must be in [0, 1], got ",
+                     core::num(homography_selection)}));
   require_positive(evidence_step, "evidence_step");
   require_positive(arm_removal_step, "arm_removal_step");
   require(std::isfinite(min_region_motion) && min_region_motion >= 0,
@@ -328,12 +332,30 @@ struct MlSegmenter::Impl {
   // The region's homography over the open interval (Algorithm 2): fitted once to its points
   // carried from where it joined the interval, since a frame pair's motion of a pixel or two
   // leaves a small region's homography to the noise; the product of the frame pairs' fits when
-  // that fails.
-  [[nodiscard]] Eigen::Matrix3d interval_homography(const Track& tr) const {
+  // that fails. None when the region's translation explains its points nearly as well
+  // (homography_selection): the homography's eight parameters, fitted to a small region and
+  // extrapolated to the arm, then add noise and no information.
+  [[nodiscard]] std::optional<Eigen::Matrix3d> interval_homography(const Track& tr) const {
     if (!opt.homography_over_interval) return tr.h;
     const auto h =
         fit_homography(tr.h_from, tr.h_to, opt.ransac_threshold, opt.homography_min_points);
-    return h ? *h : tr.h;
+    if (!h) return tr.h;
+    if (opt.homography_selection <= 0) return h;
+    std::vector<Eigen::Vector2f> moved(tr.h_from.size());
+    for (size_t k = 0; k < moved.size(); ++k) moved[k] = tr.h_to[k] - tr.h_from[k];
+    const Eigen::Vector2d t = robust_mean(moved, opt.ransac_threshold, opt.robust_tolerance,
+                                          opt.robust_max_iterations)
+                                  .mean;
+    int by_h = 0, by_t = 0;
+    for (size_t k = 0; k < moved.size(); ++k) {
+      const Eigen::Vector2d from = tr.h_from[k].cast<double>();
+      const Eigen::Vector2d to = tr.h_to[k].cast<double>();
+      by_h += (apply_homography(*h, from) - to).norm() <= opt.ransac_threshold ? 1 : 0;
+      by_t += (from + t - to).norm() <= opt.ransac_threshold ? 1 : 0;
+    }
+    if (by_h - by_t < opt.homography_selection * static_cast<double>(moved.size()))
+      return std::nullopt;
+    return h;
   }
 
   // How much better the region's pixels match the previous frame displaced by its motion m
@@ -401,11 +423,13 @@ struct MlSegmenter::Impl {
                                tr.photo_gain / tr.photo_n < opt.min_photometric_gain;
       // In the interval's first frame's camera (tracks that joined later: as seen).
       const bool compensate = camera && tr.start_frame == interval_start;
+      const std::optional<Eigen::Matrix3d> h = opt.model == MotionModel::kHomography && !unsupported
+                                                   ? interval_homography(tr)
+                                                   : std::nullopt;
       const Eigen::Vector2d e =
           unsupported ? Eigen::Vector2d(-d)
-          : opt.model == MotionModel::kHomography
-              ? Eigen::Vector2d(
-                    to_interval_start(camera, compensate, apply_homography(interval_homography(tr), tr.start_ee)) -
+          : h ? Eigen::Vector2d(
+                    to_interval_start(camera, compensate, apply_homography(*h, tr.start_ee)) -
                     ee_now)
               : Eigen::Vector2d(to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift -
                                 d);

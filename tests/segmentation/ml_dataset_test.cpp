@@ -91,6 +91,8 @@ void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::st
     o.min_camera_motion = v;
   } else if (key == "homography_over_interval") {
     o.homography_over_interval = v != 0;
+  } else if (key == "homography_selection") {
+    o.homography_selection = v;
   } else if (key == "contact_prior") {
     o.contact_prior = v != 0;
   } else if (key == "contact_radius") {

@@ -178,6 +178,15 @@ TEST(MlSegmentation, HomographyModelSegmentsTheSquareToo) {
   const double j = jaccard(r.mask, truth_at(ep, r.scored_frame));
   EXPECT_GE(j, 0.55);
   expect_valid_map(r.map);
+  // A square that only slides: its regions' translations explain their points as well as
+  // homographies do, and model selection that asks for more than the homography can give judges
+  // every region by its translation, as the translation model does.
+  o.homography_selection = 1.0;
+  MlOptions t;
+  t.model = MotionModel::kTranslation;
+  EXPECT_EQ(cv::norm(segment_ml(ep, o).map, segment_ml(ep, t).map, cv::NORM_INF), 0.0);
+  o.homography_selection = 0.0;
+  EXPECT_GT(cv::norm(segment_ml(ep, o).map, segment_ml(ep, t).map, cv::NORM_INF), 0.0);
   // The product of the frame pairs' fits instead of one fit over the interval.
   o.homography_over_interval = false;
   const MlResult pairs = segment_ml(ep, o);
@@ -490,6 +499,9 @@ TEST(MlOptions, ValidateNamesTheBadField) {
   o = MlOptions{};
   o.smoothing_weight = -1;
   EXPECT_NE(error_of([&] { o.validate(); }).find("smoothing_weight"), std::string::npos);
+  o = MlOptions{};
+  o.homography_selection = 1.5;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("homography_selection"), std::string::npos);
   o = MlOptions{};
   o.contact_radius = 0;
   EXPECT_NE(error_of([&] { o.validate(); }).find("contact_radius"), std::string::npos);
