@@ -87,10 +87,10 @@ void MlOptions::validate() const {
   require(robust_max_iterations >= 1, "MlOptions.robust_max_iterations must be >= 1");
   require_positive(ransac_threshold, "ransac_threshold");
   require(homography_min_points >= 4, "MlOptions.homography_min_points must be >= 4");
-  require(std::isfinite(homography_selection) && homography_selection >= 0 &&
-              homography_selection <= 1,
-          core::cat({"MlOptions.homography_selection must be in [0, 1], got ",
-                     core::num(homography_selection)}));
+  require(
+      std::isfinite(homography_selection) && homography_selection >= 0 && homography_selection <= 1,
+      core::cat({"MlOptions.homography_selection must be in [0, 1], got ",
+                 core::num(homography_selection)}));
   require_positive(evidence_step, "evidence_step");
   require_positive(arm_removal_step, "arm_removal_step");
   require(std::isfinite(min_region_motion) && min_region_motion >= 0,
@@ -343,9 +343,9 @@ struct MlSegmenter::Impl {
     if (opt.homography_selection <= 0) return h;
     std::vector<Eigen::Vector2f> moved(tr.h_from.size());
     for (size_t k = 0; k < moved.size(); ++k) moved[k] = tr.h_to[k] - tr.h_from[k];
-    const Eigen::Vector2d t = robust_mean(moved, opt.ransac_threshold, opt.robust_tolerance,
-                                          opt.robust_max_iterations)
-                                  .mean;
+    const Eigen::Vector2d t =
+        robust_mean(moved, opt.ransac_threshold, opt.robust_tolerance, opt.robust_max_iterations)
+            .mean;
     int by_h = 0, by_t = 0;
     for (size_t k = 0; k < moved.size(); ++k) {
       const Eigen::Vector2d from = tr.h_from[k].cast<double>();
@@ -426,13 +426,12 @@ struct MlSegmenter::Impl {
       const std::optional<Eigen::Matrix3d> h = opt.model == MotionModel::kHomography && !unsupported
                                                    ? interval_homography(tr)
                                                    : std::nullopt;
-      const Eigen::Vector2d e =
-          unsupported ? Eigen::Vector2d(-d)
-          : h ? Eigen::Vector2d(
-                    to_interval_start(camera, compensate, apply_homography(*h, tr.start_ee)) -
-                    ee_now)
-              : Eigen::Vector2d(to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift -
-                                d);
+      Eigen::Vector2d e = -d;
+      if (h) {
+        e = to_interval_start(camera, compensate, apply_homography(*h, tr.start_ee)) - ee_now;
+      } else if (!unsupported) {
+        e = to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift - d;
+      }
       const double p = motion_likelihood(e, opt.lambda);
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions

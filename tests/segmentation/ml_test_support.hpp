@@ -41,9 +41,9 @@ struct PushSpec {
   /// number of pixels in [-shake, shake] each way; the arm's image track stays as the still
   /// camera would see it.
   int shake = 0;
-  /// A second patch (tint unlike the square's) near the top edge, ahead of the arm but far from it,
-  /// that
-  /// stays still until the touch and then moves exactly as the pushed square does (mask 3).
+  /// A second patch (tint unlike the square's) near the top edge, ahead of the arm but far from
+  /// it, that stays still until the touch and then moves exactly as the pushed square does
+  /// (mask 3).
   bool echo = false;
 };
 
@@ -93,7 +93,8 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
   f.mask(sq).setTo(1);
   if (s.echo) {
     static const cv::Mat3b echo_tex = texture({64, 64}, 44, {60, 230, 90});
-    const cv::Rect echo(static_cast<int>(std::lround(s.width * 0.65 + sq_left - sq_left0)), 12, 30, 30);
+    const cv::Rect echo(static_cast<int>(std::lround(s.width * 0.65 + sq_left - sq_left0)), 12, 30,
+                        30);
     echo_tex(cv::Rect(0, 0, echo.width, echo.height)).copyTo(f.image(echo));
     f.mask(echo).setTo(3);
   }
