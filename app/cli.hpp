@@ -16,9 +16,8 @@ namespace proprio::app {
 struct Invocation {
   std::vector<std::string> argv;
 
-  [[nodiscard]] core::Provenance provenance(std::optional<std::uint64_t> seed = {}) const {
-    return core::Provenance::current(argv, seed);
-  }
+  /// This run's provenance, with the versions of the OpenCV and MuJoCo the CLI links.
+  [[nodiscard]] core::Provenance provenance(std::optional<std::uint64_t> seed = {}) const;
 };
 
 /// Writes a result document ({"format", "format_version", "provenance", ...figures}) to `path`

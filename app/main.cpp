@@ -9,11 +9,20 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/logging.hpp"
 #include "proprio/core/version.hpp"
+#include "proprio/geometry/opencv_runtime.hpp"
+#include "proprio/robot/mujoco_runtime.hpp"
 
 namespace proprio::app {
 
 void write_json_result(const std::string& path, const core::Json& document) {
   if (!path.empty()) core::write_json_atomic(path, document);
+}
+
+core::Provenance Invocation::provenance(std::optional<std::uint64_t> seed) const {
+  core::Provenance p = core::Provenance::current(argv, seed);
+  p.opencv_version = geometry::opencv_version();
+  p.mujoco_version = robot::mujoco_version();
+  return p;
 }
 
 namespace {
@@ -26,7 +35,10 @@ int run(int argc, char** argv) {
   root.require_subcommand(1);
   int verbosity = 0;
   root.add_flag("-v,--verbose", verbosity, "More log output on stderr (repeat for more)");
-  root.parse_complete_callback([&verbosity] { core::configure_logging(verbosity); });
+  root.parse_complete_callback([&verbosity] {
+    core::configure_logging(verbosity);
+    geometry::set_opencv_log_level(verbosity);
+  });
   register_calib_commands(root, inv);
   register_episode_commands(root, inv);
   register_lda_commands(root, inv);

@@ -160,10 +160,14 @@ int main(int argc, char** argv) {
     const fs::path npy = fs::temp_directory_path() / "bench_features_descriptors.npy";
     const fs::path res = fs::temp_directory_path() / "bench_features_sklearn.json";
     write_npy(npy, data);
-    const std::string cmd = "/usr/bin/python3 " + std::string(PROPRIO_SOURCE_DIR) +
-                            "/bench/bench_kmeans.py " + npy.string() + " --words " +
-                            std::to_string(words) + " --iterations " + std::to_string(iterations) +
-                            " --threads " + std::to_string(threads) + " --out " + res.string();
+    // The peer script beside this program's source, found from the build layout (no absolute
+    // path of the tree compiled in).
+    const fs::path script = fs::read_symlink("/proc/self/exe").parent_path() /
+                            PROPRIO_BENCH_SOURCE_FROM_BIN / "bench" / "bench_kmeans.py";
+    const std::string cmd = "/usr/bin/python3 " + script.string() + " " + npy.string() +
+                            " --words " + std::to_string(words) + " --iterations " +
+                            std::to_string(iterations) + " --threads " + std::to_string(threads) +
+                            " --out " + res.string();
     if (std::system(cmd.c_str()) == 0) {
       std::ifstream f(res);
       const auto j = nlohmann::json::parse(f);

@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "proprio/core/data_dir.hpp"
 #include "proprio/planning/interception_trial.hpp"
 
 namespace {
@@ -15,7 +16,7 @@ using namespace proprio::planning;
 
 const proprio::robot::Arm& arm() {
   static const proprio::robot::Arm a =
-      proprio::robot::Arm::load(PROPRIO_SOURCE_DIR "/data/models/intercept.xml");
+      proprio::robot::Arm::load(proprio::core::data_directory() / "models" / "intercept.xml");
   return a;
 }
 

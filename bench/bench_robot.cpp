@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "proprio/core/data_dir.hpp"
 #include "proprio/robot/arm.hpp"
 #include "proprio/robot/dynamics.hpp"
 #include "proprio/robot/inverse_kinematics.hpp"
@@ -19,7 +20,7 @@ using proprio::robot::ArmState;
 using proprio::robot::JointVector;
 
 const Arm& arm() {
-  static const Arm a = Arm::load(PROPRIO_SOURCE_DIR "/data/models/arm_standalone.xml");
+  static const Arm a = Arm::load(proprio::core::data_directory() / "models" / "arm_standalone.xml");
   return a;
 }
 

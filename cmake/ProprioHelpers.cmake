@@ -36,10 +36,19 @@ function(proprio_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  # Paths relative to the test program (tests/support/paths.hpp), never absolute ones of the tree:
+  # the compile lines stay the same in every clone, so ccache serves a fresh clone elsewhere.
+  file(RELATIVE_PATH source_from_bin ${CMAKE_CURRENT_BINARY_DIR} ${PROJECT_SOURCE_DIR})
+  file(RELATIVE_PATH cli_from_bin ${CMAKE_CURRENT_BINARY_DIR} ${PROJECT_BINARY_DIR}/app/proprio)
+  if(source_from_bin STREQUAL "")
+    set(source_from_bin ".")
+  endif()
   target_compile_definitions(${name} PRIVATE
     PROPRIO_OPENCV_SAMPLES="${PROPRIO_OPENCV_SAMPLES}"
-    PROPRIO_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    PROPRIO_CLI="$<TARGET_FILE:proprio>")
+    PROPRIO_TEST_SOURCE_FROM_BIN="${source_from_bin}"
+    PROPRIO_TEST_CLI_FROM_BIN="${cli_from_bin}")
   proprio_warnings(${name})
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
+  # Tests read the source tree's data/, never an installed copy.
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
+                       PROPERTIES TIMEOUT 600 ENVIRONMENT "PROPRIO_DATA_DIR=${PROJECT_SOURCE_DIR}/data")
 endfunction()

@@ -1,10 +1,7 @@
 #include "proprio/core/provenance.hpp"
 
-#include <mujoco/mujoco.h>
-
 #include <chrono>
 #include <ctime>
-#include <opencv2/core/version.hpp>
 
 #include "proprio/core/version.hpp"
 
@@ -29,8 +26,6 @@ Provenance Provenance::current(const std::vector<std::string>& argv,
   p.git_commit = kGitCommit;
   for (const auto& a : argv) p.command_line += (p.command_line.empty() ? "" : " ") + a;
   p.seed = seed;
-  p.opencv_version = CV_VERSION;
-  p.mujoco_version = mj_versionString();
   p.created_utc = utc_now();
   return p;
 }

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 
+#include "proprio/core/data_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/progress.hpp"
 #include "proprio/robot/dynamics.hpp"
@@ -21,10 +22,7 @@ using detail::cat;
 using detail::num;
 
 std::filesystem::path default_intercept_scene() {
-  const char* env = std::getenv("PROPRIO_DATA_DIR");
-  const std::filesystem::path data =
-      env != nullptr && env[0] != '\0' ? std::filesystem::path(env) : PROPRIO_PLANNING_DATA_DIR;
-  return data / "models" / "intercept.xml";
+  return core::data_directory() / "models" / "intercept.xml";
 }
 
 std::filesystem::path default_grid_cache() {

@@ -8,6 +8,7 @@
 #include <system_error>
 #include <utility>
 
+#include "proprio/core/data_dir.hpp"
 #include "proprio/core/error.hpp"
 
 namespace proprio::sim {
@@ -303,11 +304,7 @@ void ObjectCatalogue::add(ObjectType type) {
   types_.push_back(std::move(type));
 }
 
-fs::path ObjectCatalogue::default_data_dir() {
-  const char* env = std::getenv("PROPRIO_DATA_DIR");
-  if (env != nullptr && env[0] != '\0') return env;
-  return PROPRIO_SIM_DATA_DIR;
-}
+fs::path ObjectCatalogue::default_data_dir() { return core::data_directory(); }
 
 fs::path ObjectCatalogue::default_texture_dir() { return PROPRIO_SIM_TEXTURE_DIR; }
 

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include "../support/paths.hpp"
+
 namespace proprio::test {
 
 struct CliResult {
@@ -17,7 +19,7 @@ struct CliResult {
   std::string err;
 };
 
-/// Runs `PROPRIO_CLI args` through the shell (args are shell text).
+/// Runs `proprio args` (the built CLI) through the shell (args are shell text).
 inline CliResult run_cli(const std::string& args) {
   namespace fs = std::filesystem;
   static int counter = 0;
@@ -25,7 +27,7 @@ inline CliResult run_cli(const std::string& args) {
   const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
   const fs::path out = dir / ("proprio_cli_out_" + tag);
   const fs::path err = dir / ("proprio_cli_err_" + tag);
-  std::string cmd = PROPRIO_CLI;
+  std::string cmd = cli_path();
   cmd += " " + args + " >" + out.string() + " 2>" + err.string();
   const int status = std::system(cmd.c_str());
   CliResult r;

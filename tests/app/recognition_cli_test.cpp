@@ -29,7 +29,7 @@ struct CliRun {
 };
 
 CliRun run(const std::string& args) {
-  const std::string cmd = std::string(PROPRIO_CLI) + " " + args + " 2>&1";
+  const std::string cmd = test::cli_path() + " " + args + " 2>&1";
   CliRun r;
   FILE* p = popen(cmd.c_str(), "r");
   char buf[4096];

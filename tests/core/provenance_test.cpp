@@ -8,14 +8,15 @@
 namespace proprio::core {
 namespace {
 
-TEST(Provenance, CarriesBuildCommandAndLibraryVersions) {
+TEST(Provenance, CarriesBuildAndCommandAndLeavesLibraryVersionsToTheirModules) {
   const char* argv[] = {"proprio", "calib", "dlt", "--points", "p.csv"};
   const auto p = Provenance::current(5, argv, 7);
   EXPECT_EQ(p.proprio_version, kVersion);
   EXPECT_EQ(p.command_line, "proprio calib dlt --points p.csv");
   EXPECT_EQ(p.seed, 7u);
-  EXPECT_EQ(p.opencv_version.substr(0, 2), "4.");
-  EXPECT_EQ(p.mujoco_version.substr(0, 2), "2.");
+  // core links neither OpenCV nor MuJoCo: geometry and robot say which ones a program links.
+  EXPECT_EQ(p.opencv_version, "");
+  EXPECT_EQ(p.mujoco_version, "");
   EXPECT_EQ(p.created_utc.size(), 20u);
 }
 

@@ -8,15 +8,14 @@
 #include <memory>
 #include <string>
 
+#include "../support/paths.hpp"
 #include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/planning/interception_trial.hpp"
 
 namespace proprio::planning::testing {
 
-inline std::filesystem::path scene_path() {
-  return std::filesystem::path(PROPRIO_SOURCE_DIR) / "data" / "models" / "intercept.xml";
-}
+inline std::filesystem::path scene_path() { return test::data_dir() / "models" / "intercept.xml"; }
 
 inline const robot::Arm& scene_arm() {
   static const robot::Arm arm = robot::Arm::load(scene_path());

@@ -125,8 +125,8 @@ TEST(TrajectoryGridCache, RoundTripsAndInvalidatesOnChange) {
   EXPECT_NE(grid_cache_key(scene_arm(), o), a.key);
   const GridCosts c = load_or_compute_grid_costs(scene_arm(), o, file);
   EXPECT_NE(c.summary.source.find("stale"), std::string::npos);
-  const robot::Arm standalone = robot::Arm::load(std::filesystem::path(PROPRIO_SOURCE_DIR) /
-                                                 "data/models/arm_standalone.xml");
+  const robot::Arm standalone =
+      robot::Arm::load(test::data_dir() / "models" / "arm_standalone.xml");
   EXPECT_NE(grid_cache_key(standalone, tiny_options()),
             grid_cache_key(scene_arm(), tiny_options()));
   // The thread count is not part of the key.

@@ -125,8 +125,8 @@ TEST(Trial, BadInputIsAnError) {
   EXPECT_NE(error_of([&] { (void)simulator().run(target, o, 1); }).find("noise"),
             std::string::npos);
   // A scene without the target body.
-  const robot::Arm standalone = robot::Arm::load(std::filesystem::path(PROPRIO_SOURCE_DIR) /
-                                                 "data/models/arm_standalone.xml");
+  const robot::Arm standalone =
+      robot::Arm::load(test::data_dir() / "models" / "arm_standalone.xml");
   EXPECT_NE(error_of([&] {
               InterceptionSimulator s(standalone, testing::grid_model(), default_stereo_rig());
             }).find("no target body"),

@@ -87,8 +87,8 @@ TEST(Arm, IncludedInAnotherSceneKeepsItsGeometry) {
   // (MuJoCo 2.2 resolves <include> relative to the including file).
   const auto dir = std::filesystem::temp_directory_path() / "proprio_robot_scene_test";
   std::filesystem::create_directories(dir);
-  std::filesystem::copy_file(std::filesystem::path(PROPRIO_SOURCE_DIR) / "data/models/arm.xml",
-                             dir / "arm.xml", std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(test::data_dir() / "models" / "arm.xml", dir / "arm.xml",
+                             std::filesystem::copy_options::overwrite_existing);
   std::ofstream(dir / "scene.xml")
       << "<mujoco><default><geom rgba='1 1 1 1'/></default><include file='arm.xml'/>"
       << "<worldbody><geom type='plane' size='1 1 0.1'/>"

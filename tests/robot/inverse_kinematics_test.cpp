@@ -202,7 +202,7 @@ TEST(InverseKinematics, OptionsAreValidated) {
 
 /// The arm with its roll axis turned off the ee point: no analytic solution, numerical only.
 Arm skewed_arm() {
-  std::string xml = core::read_file(PROPRIO_SOURCE_DIR "/data/models/arm.xml");
+  std::string xml = core::read_file(test::data_dir() / "models" / "arm.xml");
   const std::string from = "<joint name=\"j5\" axis=\"1 0 0\"";
   const auto at = xml.find(from);
   EXPECT_NE(at, std::string::npos);

@@ -5,12 +5,15 @@
 
 #include <string>
 
+#include "../support/paths.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/robot/arm.hpp"
 
 namespace proprio::robot::testing {
 
-inline const char* arm_model_path() { return PROPRIO_SOURCE_DIR "/data/models/arm_standalone.xml"; }
+inline std::string arm_model_path() {
+  return (test::data_dir() / "models" / "arm_standalone.xml").string();
+}
 
 inline const Arm& standard_arm() {
   static const Arm arm = Arm::load(arm_model_path());

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/paths.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/sim/recorder.hpp"
@@ -13,7 +14,7 @@ namespace proprio::sim {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kScenarios = fs::path(PROPRIO_SOURCE_DIR) / "data" / "scenarios";
+const fs::path kScenarios = proprio::test::data_dir() / "scenarios";
 
 std::string error_of(const fs::path& file) {
   try {

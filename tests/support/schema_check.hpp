@@ -11,12 +11,14 @@
 #include <filesystem>
 #include <string>
 
+#include "paths.hpp"
+
 namespace proprio::test {
 
 /// Exit code of tests/schemas/check_schema.py for `file` against docs/formats/schemas/`schema`:
 /// 0 when valid.
 inline int check_schema(const std::string& schema, const std::filesystem::path& file) {
-  const std::string source = PROPRIO_SOURCE_DIR;
+  const std::string source = source_dir().string();
   std::string cmd = "/usr/bin/python3 -W ignore " + source + "/tests/schemas/check_schema.py ";
   cmd += source + "/docs/formats/schemas " + schema + " " + file.string();
   const int status = std::system(cmd.c_str());

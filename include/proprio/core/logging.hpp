@@ -6,8 +6,8 @@
 namespace proprio::core {
 
 /// Sends spdlog's default logger to stderr at the given verbosity:
-/// 0 = warnings and errors, 1 = info, 2 or more = debug. OpenCV's own log is silenced at 0,
-/// shows warnings at 1 and information at 2.
+/// 0 = warnings and errors, 1 = info, 2 or more = debug. OpenCV logs on its own: a program that
+/// links it sets its level too (geometry::set_opencv_log_level).
 void configure_logging(int verbosity);
 
 }  // namespace proprio::core

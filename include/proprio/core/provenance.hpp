@@ -15,11 +15,15 @@ struct Provenance {
   std::string git_commit;
   std::string command_line;  ///< the argv joined by spaces, as the user typed it
   std::optional<std::uint64_t> seed;
+  /// The linked OpenCV's and MuJoCo's versions. Empty from current(): core links neither, so the
+  /// program fills them from the modules that do (geometry::opencv_version(),
+  /// robot::mujoco_version()); they stay empty in a program that links neither.
   std::string opencv_version;
   std::string mujoco_version;
   std::string created_utc;  ///< ISO 8601, e.g. 2026-11-21T23:46:32Z
 
-  /// This build's provenance for a run with the given command line and seed.
+  /// This build's provenance for a run with the given command line and seed (library versions
+  /// left empty, see above).
   static Provenance current(const std::vector<std::string>& argv,
                             std::optional<std::uint64_t> seed = std::nullopt);
   /// The same, from main()'s arguments.

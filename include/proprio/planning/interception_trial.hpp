@@ -29,7 +29,7 @@
 
 namespace proprio::planning {
 
-/// data/models/intercept.xml under $PROPRIO_DATA_DIR when set, else under the source tree's data/.
+/// models/intercept.xml in proprio's data directory (core::data_directory()).
 std::filesystem::path default_intercept_scene();
 
 /// Where the trajectory costs are cached by default: $XDG_CACHE_HOME/proprio/intercept_grid.json,

@@ -89,7 +89,8 @@ class ObjectCatalogue {
   /// Adds a user object; throws Error when the name is taken or the type is invalid.
   void add(ObjectType type);
 
-  /// $PROPRIO_DATA_DIR when set, else the source tree's data/ directory.
+  /// proprio's data directory: core::data_directory() ($PROPRIO_DATA_DIR, else the installed or
+  /// build tree's share/proprio).
   static std::filesystem::path default_data_dir();
   /// The opencv-doc sample images (where the catalogue's photographs come from).
   static std::filesystem::path default_texture_dir();
