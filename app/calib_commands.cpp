@@ -310,7 +310,7 @@ void run_stereo(const StereoArgs& a, const Invocation& inv) {
 void register_calib_commands(CLI::App& root, const Invocation& inv) {
   auto* calib = root.add_subcommand("calib", "Camera calibration and geometry (thesis 3.2-3.4)");
   calib->require_subcommand(1);
-  const char* const kJson = "Also write the figures as JSON to this file";
+  constexpr const char* kJson = "Also write the figures as JSON to this file";
 
   auto dlt_args = std::make_shared<DltArgs>();
   auto* dlt = calib->add_subcommand(

@@ -52,7 +52,7 @@ core::Json extract_json(const ExtractArgs& e) {
 }
 
 cv::Mat read_grey(const std::filesystem::path& p) {
-  const cv::Mat img = cv::imread(p.string(), cv::IMREAD_GRAYSCALE);
+  cv::Mat img = cv::imread(p.string(), cv::IMREAD_GRAYSCALE);
   if (img.empty())
     throw Error::in_file(p, "cannot read the image (missing, empty or not an image)");
   return img;

@@ -3,7 +3,7 @@
 
 usage: bench_topics.py --proprio BUILD/app/proprio [--corpus DIR] [--repeats 3] [--out F.json]
                        [-k 100] [--batch 256] [--tau0 1] [--kappa 0.7] [--passes 5]
-                       [--peers sklearn,gensim]
+                       [--peers sklearn,gensim] [--blas openblas|reference]
 
 DIR holds train/ and heldout/ UCI corpora (scripts/make-manpage-corpus builds them; without
 --corpus the man-page corpus is built under /tmp, the Google Cloud SDK's ~16,000 near-identical
@@ -12,6 +12,12 @@ installed peer on 1 thread, in an order rotated per repeat so that the machine's
 all alike; every model's lambda is then scored by the same function, `proprio lda perplexity`
 (document completion: theta from half of each held-out page's tokens, the other half scored).
 A peer that is not installed is skipped. Prints a table; --out writes every figure as JSON.
+
+The peers' numpy runs on the BLAS that users of pip's numpy get, OpenBLAS (--blas openblas, the
+default: Debian's libopenblas0-serial, one thread, put first on the peer processes' library path
+only), or on Debian's reference BLAS (--blas reference) for comparison. Which BLAS numpy really
+loaded is read back with threadpoolctl in each peer process, recorded, and checked: a run whose
+peer loaded another BLAS stops. `scripts/install-deps --bench` installs the peers and OpenBLAS.
 """
 import argparse
 import json
@@ -24,6 +30,36 @@ import tempfile
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent
+# Debian's BLAS builds, each a directory with its own libblas.so.3 / liblapack.so.3.
+BLAS_DIRS = {
+    "openblas": pathlib.Path("/usr/lib/x86_64-linux-gnu/openblas-serial"),
+    "reference": pathlib.Path("/usr/lib/x86_64-linux-gnu/blas"),
+}
+BLAS_NAMES = {"openblas": "openblas", "reference": None}
+
+
+def peer_env(blas):
+    """The environment of a peer process: the chosen BLAS first on its library path."""
+    env = dict(os.environ)
+    dirs = [str(BLAS_DIRS[blas])]
+    if blas == "reference":
+        dirs.append("/usr/lib/x86_64-linux-gnu/lapack")
+    if env.get("LD_LIBRARY_PATH"):
+        dirs.append(env["LD_LIBRARY_PATH"])
+    env["LD_LIBRARY_PATH"] = ":".join(dirs)
+    return env
+
+
+def check_blas(name, blas, info):
+    """Stops the run when the peer's numpy loaded another BLAS than the one asked for."""
+    apis = [i.get("internal_api") for i in info]
+    loaded = [i.get("filepath") or i.get("internal_api") or i.get("error") for i in info]
+    if blas == "openblas":
+        ok = "openblas" in apis
+    else:
+        ok = "openblas" not in apis and "mkl" not in apis and "blis" not in apis
+    if not ok:
+        sys.exit(f"bench_topics: {name} loaded {loaded}, not the {blas} BLAS asked for")
 
 
 def run(cmd, **kw):
@@ -53,7 +89,11 @@ def main():
     ap.add_argument("--kappa", type=float, default=0.7)
     ap.add_argument("--passes", type=int, default=5)
     ap.add_argument("--peers", default="sklearn,gensim")
+    ap.add_argument("--blas", choices=sorted(BLAS_DIRS), default="openblas")
     a = ap.parse_args()
+    if not (BLAS_DIRS[a.blas] / "libblas.so.3").exists():
+        sys.exit(f"bench_topics: {BLAS_DIRS[a.blas]}/libblas.so.3 is missing "
+                 "(scripts/install-deps --bench installs it)")
 
     work = pathlib.Path(tempfile.mkdtemp(prefix="bench_topics_"))
     corpus = a.corpus
@@ -98,7 +138,8 @@ def main():
             else:
                 lam = work / f"{tag}.lambda.csv"
                 r = run(["/usr/bin/python3", script, "--corpus", train, *common, "--alpha", alpha,
-                         "--eta", alpha, "--seed", seed, "--lambda-out", lam, "--json", js])
+                         "--eta", alpha, "--seed", seed, "--lambda-out", lam, "--json", js],
+                        env=peer_env(a.blas))
                 if r.returncode == 3:
                     print(f"bench_topics: {name} is not installed: skipped ({r.stderr.strip()})")
                     skipped.add(name)
@@ -106,10 +147,12 @@ def main():
                 if r.returncode != 0:
                     sys.exit(f"bench_topics: {name} failed: {r.stderr.strip()}")
                 doc = json.loads(js.read_text())
+                check_blas(name, a.blas, doc.get("blas", []))
                 ppl = perplexity(a.proprio, heldout, work, tag, lam=lam, alpha=alpha)
             row = {"seed": seed, "seconds": doc["seconds"], "cpu_seconds": doc.get("cpu_seconds"),
                    "docs_per_s": doc["docs_per_s"], "tokens_per_s": doc["tokens_per_s"],
-                   "perplexity": ppl, "load_before": load}
+                   "perplexity": ppl, "load_before": load, "blas": doc.get("blas"),
+                   "version": doc.get("version")}
             results[name].append(row)
             print(f"  repeat {rep + 1} {name:10s} {row['seconds']:8.2f} s wall "
                   f"{(row['cpu_seconds'] or 0):8.2f} s cpu  perplexity {ppl:8.1f}", flush=True)
@@ -153,7 +196,7 @@ def main():
     if a.out:
         doc = {"format": "proprio.bench.topics", "corpus": str(corpus),
                "settings": {"k": a.k, "batch": a.batch, "tau0": a.tau0, "kappa": a.kappa,
-                            "passes": a.passes, "alpha": alpha, "eta": alpha},
+                            "passes": a.passes, "alpha": alpha, "eta": alpha, "blas": a.blas},
                "runs": results, "summary": summary, "ratios": speed, "load": os.getloadavg()}
         a.out.write_text(json.dumps(doc, indent=2))
 

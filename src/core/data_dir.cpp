@@ -22,7 +22,7 @@ bool holds_data(const fs::path& dir) {
 fs::path data_directory() {
   const char* env = std::getenv("PROPRIO_DATA_DIR");
   if (env != nullptr && env[0] != '\0') {
-    const fs::path dir(env);
+    fs::path dir(env);
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
       throw Error::in_file(dir, "PROPRIO_DATA_DIR is not a directory");
@@ -32,11 +32,11 @@ fs::path data_directory() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) {
-    const fs::path beside = (exe.parent_path() / ".." / "share" / "proprio").lexically_normal();
+    fs::path beside = (exe.parent_path() / ".." / "share" / "proprio").lexically_normal();
     if (holds_data(beside)) return beside;
     tried.push_back(beside);
   }
-  const fs::path installed(PROPRIO_INSTALL_DATA_DIR);
+  fs::path installed(PROPRIO_INSTALL_DATA_DIR);
   if (holds_data(installed)) return installed;
   tried.push_back(installed);
   std::string where;

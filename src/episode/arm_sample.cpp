@@ -41,6 +41,17 @@ void append_number(std::string& out, double v) {
   out.append(buf, r.ptr);
 }
 
+/// "column 'COL': 'FIELD' WHAT", built by appending to one string.
+std::string bad_field_message(const std::string& col, const std::string& field, const char* what) {
+  std::string m = "column '";
+  m += col;
+  m += "': '";
+  m += field;
+  m += "' ";
+  m += what;
+  return m;
+}
+
 }  // namespace
 
 std::optional<std::vector<ArmSample>> parse_arm_csv(const std::string& text,
@@ -65,8 +76,8 @@ std::optional<std::vector<ArmSample>> parse_arm_csv(const std::string& text,
       const auto found = joints_in_header(fields);
       const int n = joint_count.value_or(found.value_or(0));
       if (!found || (joint_count && *found != *joint_count)) {
-        std::string m =
-            "header is '" + join_csv_line(fields) + "', expected '" + join_csv_line(arm_csv_header(n)) + "'";
+        std::string m = "header is '" + join_csv_line(fields) + "', expected '" +
+                        join_csv_line(arm_csv_header(n)) + "'";
         if (joint_count) m += " (episode.json says " + std::to_string(n) + " joints)";
         sink.add(file, m, line_no);
         return std::nullopt;
@@ -98,10 +109,10 @@ std::optional<std::vector<ArmSample>> parse_arm_csv(const std::string& text,
       const char* end = f.data() + f.size();
       const auto [ptr, ec] = std::from_chars(f.data(), end, x);
       if (ec != std::errc() || ptr != end) {
-        sink.add(file, "column '" + col + "': '" + f + "' is not a number", line_no);
+        sink.add(file, bad_field_message(col, f, "is not a number"), line_no);
         row_ok = false;
       } else if (!std::isfinite(x)) {
-        sink.add(file, "column '" + col + "': '" + f + "' is not finite", line_no);
+        sink.add(file, bad_field_message(col, f, "is not finite"), line_no);
         row_ok = false;
       } else {
         v[c] = x;
@@ -158,8 +169,8 @@ std::optional<std::vector<ArmSample>> parse_arm_csv(const std::string& text,
     samples.push_back(std::move(s));
   }
   if (header.empty()) {
-    sink.add(file,
-             "empty file, expected the header " + join_csv_line(arm_csv_header(joint_count.value_or(0))));
+    sink.add(file, "empty file, expected the header " +
+                       join_csv_line(arm_csv_header(joint_count.value_or(0))));
     return std::nullopt;
   }
   if (rows == 0) {

@@ -86,7 +86,7 @@ EpisodeWriter::EpisodeWriter(fs::path dir, EpisodeInfo info, geometry::Camera ca
                              std::vector<ObjectInfo> objects,
                              std::optional<geometry::Camera> right_camera,
                              EpisodeWriterOptions options)
-    : staged_(dir, options.overwrite),
+    : staged_(std::move(dir), options.overwrite),
       info_(std::move(info)),
       camera_(std::move(camera)),
       objects_(std::move(objects)),

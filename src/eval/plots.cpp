@@ -17,13 +17,13 @@ namespace {
 const cv::Scalar kBlack(0, 0, 0), kGrey(200, 200, 200), kWhite(255, 255, 255);
 
 cv::Scalar method_colour(std::size_t k) {
-  static const cv::Scalar colours[] = {{180, 119, 31}, {14, 127, 255},  {44, 160, 44},
-                                       {40, 39, 214},  {189, 103, 148}, {75, 86, 140}};
-  return colours[k % 6];
+  static const cv::Scalar kColours[] = {{180, 119, 31}, {14, 127, 255},  {44, 160, 44},
+                                        {40, 39, 214},  {189, 103, 148}, {75, 86, 140}};
+  return kColours[k % 6];
 }
 
 void text(cv::Mat& img, const std::string& s, cv::Point at, double scale = 0.5,
-          cv::Scalar colour = kBlack, int thickness = 1) {
+          const cv::Scalar& colour = kBlack, int thickness = 1) {
   cv::putText(img, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, thickness, cv::LINE_AA);
 }
 
@@ -172,6 +172,7 @@ std::vector<std::string> write_plots(const fs::path& dir,
   files.push_back("pr_by_background.png");
   {
     std::vector<cv::Mat> panels;
+    panels.reserve(objects.size());
     for (const auto& o : objects) panels.push_back(pr_panel(o, curves(kAnyGroup, o)));
     // Rows of at most four panels.
     std::vector<cv::Mat> rows;

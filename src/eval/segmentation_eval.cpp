@@ -25,13 +25,13 @@ double seconds_since(Clock::time_point t0) {
 }
 
 const std::vector<std::pair<Method, std::string>>& method_names() {
-  static const std::vector<std::pair<Method, std::string>> names = {
+  static const std::vector<std::pair<Method, std::string>> kNames = {
       {Method::kMl, "ml"},
       {Method::kMlHomography, "ml-homography"},
       {Method::kMlSparse, "ml-sparse"},
       {Method::kFm, "fm"},
       {Method::kMlGraphCut, "ml-graphcut"}};
-  return names;
+  return kNames;
 }
 
 // The target's ground truth at frame i, or an empty Mat when there is none (no masks, no target,

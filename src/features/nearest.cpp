@@ -36,7 +36,7 @@ struct Choice {
 };
 
 const Choice& choice() {
-  static const Choice chosen = []() -> Choice {
+  static const Choice kChosen = []() -> Choice {
 #ifdef PROPRIO_X86_COPIES
     using core::InstructionSet;
     const InstructionSet set = core::best_instruction_set();
@@ -47,7 +47,7 @@ const Choice& choice() {
 #endif
     return {"generic", 4, generic::nearest, generic::sq_distances};
   }();
-  return chosen;
+  return kChosen;
 }
 
 }  // namespace

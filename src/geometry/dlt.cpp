@@ -88,7 +88,7 @@ DltResult calibrate_dlt(const std::vector<Eigen::Vector3d>& world,
     A.row(2 * i + 1) << Eigen::RowVector4d::Zero(), X.transpose(), -v * X.transpose();
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
-  const Eigen::VectorXd sv = svd.singularValues();
+  const Eigen::VectorXd& sv = svd.singularValues();
   DltResult result;
   result.summary.num_points = n;
   result.summary.normalized = options.normalize;

@@ -224,15 +224,20 @@ StereoCheckResult run_stereo_check(const StereoCheckOptions& options) {
 
     double board_sum = 0.0;
     int board_count = 0;
+    // Corner (row r, column c) of the board, in the row-major order of tri.points.
+    const auto corner = [&](int r, int c) -> const Eigen::Vector3d& {
+      const size_t at = static_cast<size_t>(r) * static_cast<size_t>(cols) + static_cast<size_t>(c);
+      return tri.points[at];
+    };
     for (int i = 0; i < options.board.height; ++i) {
       for (int j = 0; j < cols; ++j) {
-        const Eigen::Vector3d& p = tri.points[static_cast<size_t>(i * cols + j)];
+        const Eigen::Vector3d& p = corner(i, j);
         if (j + 1 < cols) {
-          board_sum += (tri.points[static_cast<size_t>(i * cols + j + 1)] - p).norm();
+          board_sum += (corner(i, j + 1) - p).norm();
           ++board_count;
         }
         if (i + 1 < options.board.height) {
-          board_sum += (tri.points[static_cast<size_t>((i + 1) * cols + j)] - p).norm();
+          board_sum += (corner(i + 1, j) - p).norm();
           ++board_count;
         }
       }

@@ -74,7 +74,7 @@ Triangulation triangulate(const Matrix34d& P1, const Matrix34d& P2, const Eigen:
   A.row(2) = x2.x() * P2.row(2) - P2.row(0);
   A.row(3) = x2.y() * P2.row(2) - P2.row(1);
   const Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
-  const Eigen::Vector4d sv = svd.singularValues();
+  const Eigen::Vector4d& sv = svd.singularValues();
   if (!(sv(2) >= options.degeneracy_tolerance * sv(0))) {
     throw Error("triangulation: the two rays coincide (the point is undetermined along them)");
   }

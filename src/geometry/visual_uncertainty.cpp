@@ -43,7 +43,7 @@ Eigen::Matrix3d triangulation_covariance(const Matrix34d& P1, const Matrix34d& P
   const Eigen::Matrix<double, 2, 3> J2 = projection_jacobian(P2, X);
   const Eigen::Matrix3d information = J1.transpose() * W * J1 + J2.transpose() * W * J2;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(information);
-  const Eigen::Vector3d ev = eig.eigenvalues();  // ascending
+  const Eigen::Vector3d& ev = eig.eigenvalues();  // ascending
   if (!(ev(0) > 1e-12 * ev(2))) {
     throw Error("uncertainty: the point lies on the baseline; its depth is unobservable");
   }

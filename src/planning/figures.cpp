@@ -11,8 +11,6 @@
 
 namespace proprio::planning {
 
-using detail::num;
-
 namespace {
 
 const cv::Scalar kBlack(0, 0, 0), kGrey(150, 150, 150), kLight(215, 215, 215),
@@ -269,6 +267,7 @@ cv::Mat draw_noise_choices(const TargetMotion& target, double t_plan, const Grid
   a.area = {90, 110, 560, 500};
   std::vector<Eigen::Vector2d> pts;
   const double t_end = t_plan + grid.duration + std::max(t_max, 0.5) + 0.3;
+  pts.reserve(static_cast<std::size_t>(grid.size()) + 1);
   for (int i = 0; i < grid.size(); ++i) pts.push_back(grid.end_point(grid.params(i)).head<2>());
   pts.push_back(grid.start.head<2>());
   fit(a, pts, 0.12);

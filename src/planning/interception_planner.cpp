@@ -152,7 +152,7 @@ struct Run {
 };
 
 // Levenberg-Marquardt-damped Gauss-Newton in the box [0, 1]^4 over the variables in `active`.
-Run gauss_newton(Objective& f, Vector4d u, const std::array<bool, 4>& active,
+Run gauss_newton(Objective& f, const Vector4d& u, const std::array<bool, 4>& active,
                  const PlannerOptions& o) {
   Run run;
   run.u = u;

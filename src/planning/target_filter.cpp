@@ -67,7 +67,7 @@ TransitionFit learn_transition(const std::vector<Eigen::Vector3d>& positions, do
   // matrix whose row i has entries of std s_i has a spectral norm of about
   // max_i s_i sqrt(n) + sqrt(sum_i s_i^2).
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(H1, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd sv = svd.singularValues();
+  const Eigen::VectorXd& sv = svd.singularValues();
   const double s_pos = noise_std;
   const double s_vel = std::sqrt(2.0) * noise_std / options.dt;
   const double noise_norm =

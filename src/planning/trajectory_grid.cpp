@@ -20,7 +20,6 @@
 namespace proprio::planning {
 
 using detail::cat;
-using detail::num;
 namespace fs = std::filesystem;
 
 double GridAxis::value(int i) const {

@@ -228,7 +228,8 @@ PositionJacobian site_jacobian(const Arm& arm, const mjData& d, bool rotational)
   PositionJacobian J;
   for (int r = 0; r < 3; ++r) {
     for (int k = 0; k < kArmJoints; ++k)
-      J(r, k) = jac[static_cast<std::size_t>(r * m.nv + arm.dof_adr(k))];
+      J(r, k) = jac[static_cast<std::size_t>(r) * static_cast<std::size_t>(m.nv) +
+                    static_cast<std::size_t>(arm.dof_adr(k))];
   }
   return J;
 }

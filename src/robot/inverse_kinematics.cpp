@@ -298,7 +298,9 @@ IkResult solve_numerical(ArmState& state, const Eigen::Vector3d& target, const J
       Eigen::Matrix<double, 3, kArmJoints> Jr;
       for (int r = 0; r < 3; ++r) {
         for (int k = 0; k < kArmJoints; ++k) {
-          const auto i = static_cast<std::size_t>(r * arm.model().nv + arm.dof_adr(k));
+          const std::size_t i =
+              static_cast<std::size_t>(r) * static_cast<std::size_t>(arm.model().nv) +
+              static_cast<std::size_t>(arm.dof_adr(k));
           Jp(r, k) = jp[i];
           Jr(r, k) = jr[i];
         }

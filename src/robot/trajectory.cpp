@@ -56,16 +56,16 @@ double BezierTrajectory::length() const {
   static constexpr std::array<double, 4> kW = {0.3626837833783620, 0.3137066458778873,
                                                0.2223810344533745, 0.1012285362903763};
   constexpr int kPanels = 16;
-  constexpr double h = 1.0 / kPanels;
+  constexpr double kH = 1.0 / kPanels;
   double sum = 0;
   for (int p = 0; p < kPanels; ++p) {
-    const double mid = (p + 0.5) * h;
+    const double mid = (p + 0.5) * kH;
     for (std::size_t i = 0; i < kX.size(); ++i) {
-      sum += kW[i] * (curve_derivative(mid + 0.5 * h * kX[i]).norm() +
-                      curve_derivative(mid - 0.5 * h * kX[i]).norm());
+      sum += kW[i] * (curve_derivative(mid + 0.5 * kH * kX[i]).norm() +
+                      curve_derivative(mid - 0.5 * kH * kX[i]).norm());
     }
   }
-  return 0.5 * h * sum;
+  return 0.5 * kH * sum;
 }
 
 CartesianSample BezierTrajectory::sample(double t) const {

@@ -276,7 +276,7 @@ struct MlSegmenter::Impl {
         }
         at_sum[l] += Eigen::Vector2d(x, y);
         ++samples[l];
-        const cv::Vec3b c = colour(y, x);
+        const cv::Vec3b& c = colour(y, x);
         colour_sum[l] += Eigen::Vector3f(c[0], c[1], c[2]);
         if (photometric) region_pixels[l].emplace_back(x, y);
         if (!textured(y, x)) continue;
@@ -337,8 +337,7 @@ struct MlSegmenter::Impl {
   // extrapolated to the arm, then add noise and no information.
   [[nodiscard]] std::optional<Eigen::Matrix3d> interval_homography(const Track& tr) const {
     if (!opt.homography_over_interval) return tr.h;
-    const auto h =
-        fit_homography(tr.h_from, tr.h_to, opt.ransac_threshold, opt.homography_min_points);
+    auto h = fit_homography(tr.h_from, tr.h_to, opt.ransac_threshold, opt.homography_min_points);
     if (!h) return tr.h;
     if (opt.homography_selection <= 0) return h;
     std::vector<Eigen::Vector2f> moved(tr.h_from.size());
