@@ -31,9 +31,9 @@ function(proprio_module name)
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 endfunction()
 
-# proprio_test(name SOURCES ... LIBS ...): a GoogleTest program registered with ctest.
+# proprio_test(name SOURCES ... LIBS ... [LABELS ...]): a GoogleTest program registered with ctest.
 function(proprio_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
   # Paths relative to the test program (tests/support/paths.hpp), never absolute ones of the tree:
@@ -49,6 +49,11 @@ function(proprio_test name)
     PROPRIO_TEST_CLI_FROM_BIN="${cli_from_bin}")
   proprio_warnings(${name})
   # Tests read the source tree's data/, never an installed copy.
+  set(labels "")
+  if(ARG_LABELS)
+    set(labels LABELS ${ARG_LABELS})
+  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
-                       PROPERTIES TIMEOUT 600 ENVIRONMENT "PROPRIO_DATA_DIR=${PROJECT_SOURCE_DIR}/data")
+                       PROPERTIES TIMEOUT 600 ENVIRONMENT "PROPRIO_DATA_DIR=${PROJECT_SOURCE_DIR}/data"
+                                  ${labels})
 endfunction()
