@@ -72,6 +72,9 @@ int main(int argc, char** argv) {
   } catch (const proprio::Error& e) {
     std::fprintf(stderr, "proprio: %s\n", e.what());
     return 2;
+  } catch (const proprio::InternalError& e) {
+    std::fprintf(stderr, "proprio: internal error: %s\n", e.what());
+    return 1;
   } catch (const cv::Exception& e) {
     std::fprintf(stderr, "proprio: internal error in OpenCV: %s\n", e.err.c_str());
     return 1;

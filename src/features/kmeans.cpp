@@ -22,8 +22,8 @@
 #include <numeric>
 
 #include "nearest.hpp"
-#include "parallel.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/parallel.hpp"
 #include "proprio/core/random.hpp"
 
 namespace proprio::features {
@@ -70,7 +70,7 @@ cv::Mat seed_centres(const cv::Mat& s, int K, int trials, core::Rng& rng, int th
 
   int first = static_cast<int>(rng.index(static_cast<std::uint64_t>(n)));
   s.row(first).copyTo(centres.row(0));
-  detail::parallel_for(kChunks, threads, [&](std::size_t c, int) {
+  core::parallel_for(kChunks, threads, [&](std::size_t c, int) {
     const auto [a, b] = chunk_of(c);
     detail::squared_distances(s.ptr<float>(a), static_cast<std::size_t>(b - a), D,
                               centres.ptr<float>(0), mind.data() + a);
@@ -95,7 +95,7 @@ cv::Mat seed_centres(const cv::Mat& s, int K, int trials, core::Rng& rng, int th
             static_cast<int>(rng.index(static_cast<std::uint64_t>(n)));
       }
     }
-    detail::parallel_for(kChunks, threads, [&](std::size_t c, int) {
+    core::parallel_for(kChunks, threads, [&](std::size_t c, int) {
       const auto [a, b] = chunk_of(c);
       for (int t = 0; t < trials; ++t) {
         const float* cp = s.ptr<float>(cand[static_cast<std::size_t>(t)]);
@@ -139,7 +139,7 @@ void assign(const cv::Mat& x, const cv::Mat& centres, int threads, Assignment& o
   out.sq.resize(n);
   const auto packed = detail::pack_centres(centres.ptr<float>(), centres.rows, centres.cols);
   std::vector<double> partial(kChunks, 0.0);
-  detail::parallel_for(kChunks, threads, [&](std::size_t c, int) {
+  core::parallel_for(kChunks, threads, [&](std::size_t c, int) {
     const std::size_t a = c * n / kChunks;
     const std::size_t b = (c + 1) * n / kChunks;
     for (std::size_t i = a; i < b; i += kBlock) {
@@ -167,7 +167,7 @@ int update_centres(const cv::Mat& x, const Assignment& as, cv::Mat& centres, int
       std::clamp<std::size_t>((std::size_t{64} << 20) / (kd * sizeof(double)), 1, kChunks);
   std::vector<std::vector<double>> sums(chunks);
   std::vector<std::vector<int>> counts(chunks);
-  detail::parallel_for(chunks, threads, [&](std::size_t c, int) {
+  core::parallel_for(chunks, threads, [&](std::size_t c, int) {
     auto& s = sums[c];
     auto& cnt = counts[c];
     s.assign(kd, 0.0);

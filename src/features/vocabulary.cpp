@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "nearest.hpp"
-#include "parallel.hpp"
 #include "proprio/core/binary_file.hpp"
+#include "proprio/core/parallel.hpp"
 #include "proprio/features/features.hpp"
 
 namespace proprio::features {
@@ -106,7 +106,7 @@ std::vector<int> Vocabulary::quantize(const cv::Mat& descriptors, std::vector<fl
   sq_dist.resize(n);
   constexpr std::size_t kBlock = 2048;
   const std::size_t tasks = (n + kBlock - 1) / kBlock;
-  detail::parallel_for(tasks, threads, [&](std::size_t t, int) {
+  core::parallel_for(tasks, threads, [&](std::size_t t, int) {
     const std::size_t a = t * kBlock;
     const std::size_t m = std::min(kBlock, n - a);
     detail::nearest_centres(x.ptr<float>(static_cast<int>(a)), m, packed, ids.data() + a,

@@ -257,11 +257,11 @@ TrialResult InterceptionSimulator::run(const TargetMotion& target, const TrialOp
   auto schedule = [&](const InterceptionPlan& plan, long now) {
     const long b = std::lround(plan.t_intercept / h);
     const long a = b - std::lround(grid.duration / h);
-    require(a >= now && b > a, "internal: a plan must start after it is made");
+    ensure(a >= now && b > a, "a plan must start after it is made");
     CommandedPath p(grid.trajectory(plan.psi), static_cast<double>(a) * h);
     const robot::TrackResult track = track_scheduled(state, p, q0, rate, motion);
-    require(static_cast<long>(track.joints.size()) == b - a + 1,
-            "internal: the joint path does not match the simulation steps");
+    ensure(static_cast<long>(track.joints.size()) == b - a + 1,
+           "the joint path does not match the simulation steps");
     const auto cmd =
         robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state, track.joints));
     ctrl.assign(static_cast<std::size_t>(b) + 1, hold);
@@ -300,8 +300,8 @@ TrialResult InterceptionSimulator::run(const TargetMotion& target, const TrialOp
       const Window rest_of_path(next, from, static_cast<double>(s_hit - s_start) * h);
       const robot::TrackResult track =
           track_scheduled(state, rest_of_path, qcmd[static_cast<std::size_t>(now)], rate, motion);
-      require(static_cast<long>(track.joints.size()) == s_hit - now + 1,
-              "internal: the corrected joint path does not match the simulation steps");
+      ensure(static_cast<long>(track.joints.size()) == s_hit - now + 1,
+             "the corrected joint path does not match the simulation steps");
       const auto cmd =
           robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state, track.joints));
       for (long k = 0; k <= s_hit - now; ++k) {

@@ -12,6 +12,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/logging.hpp"
+#include "proprio/core/parallel.hpp"
 #include "proprio/core/progress.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/robot/dynamics.hpp"
@@ -249,24 +250,20 @@ GridCosts compute_grid_costs(const robot::Arm& arm, const GridCostOptions& optio
   } catch (const Error& e) {
     throw Error(cat({"the grid's start point is unreachable: ", e.what()}));
   }
-  int threads =
-      options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, n);
-  core::ProgressBar bar(static_cast<std::size_t>(n), "trajectory costs", show_progress);
+  const auto tasks = static_cast<std::size_t>(n);
+  const int threads = core::thread_count(options.threads, tasks);
+  core::ProgressBar bar(tasks, "trajectory costs", show_progress);
   std::mutex bar_mutex;
-  std::atomic<int> next{0};
-  auto work = [&] {
-    robot::ArmState state(arm);
-    for (int i = next++; i < n; i = next++) {
-      c.points[static_cast<std::size_t>(i)] = cost_of(state, q0, i, options);
-      const std::lock_guard<std::mutex> lock(bar_mutex);
-      bar.tick();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  // One MuJoCo workspace per thread; each trajectory's cost depends only on its index.
+  std::vector<robot::ArmState> states;
+  states.reserve(static_cast<std::size_t>(threads));
+  for (int t = 0; t < threads; ++t) states.emplace_back(arm);
+  core::parallel_for(tasks, threads, [&](std::size_t i, int thread) {
+    c.points[i] =
+        cost_of(states[static_cast<std::size_t>(thread)], q0, static_cast<int>(i), options);
+    const std::lock_guard<std::mutex> lock(bar_mutex);
+    bar.tick();
+  });
   bar.finish();
   finish(c);
   c.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

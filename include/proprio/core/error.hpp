@@ -1,6 +1,8 @@
 #pragma once
-// Errors caused by input from outside the program (files, command lines, user data).
-// Programming errors are asserts, not proprio::Error.
+// Errors caused by input from outside the program (files, command lines, user data), and the
+// internal errors that are not: a broken invariant of proprio's own is InternalError (or an
+// assert), never proprio::Error, so that the CLI reports a bug as a bug (exit 1), not as bad
+// input (exit 2).
 
 #include <filesystem>
 #include <stdexcept>
@@ -23,6 +25,19 @@ class Error : public std::runtime_error {
 /// Throws Error(message) unless condition holds. For checks of outside input only.
 inline void require(bool condition, const std::string& message) {
   if (!condition) throw Error(message);
+}
+
+/// A broken internal invariant: a bug in proprio, whatever the input. The CLI prints it as an
+/// internal error and exits 1. Used where a check must stay in release builds (an assert would
+/// vanish) and the caller may recover (a library user can catch it).
+class InternalError : public std::logic_error {
+ public:
+  explicit InternalError(const std::string& message) : std::logic_error(message) {}
+};
+
+/// Throws InternalError(message) unless condition holds. For proprio's own invariants only.
+inline void ensure(bool condition, const std::string& message) {
+  if (!condition) throw InternalError(message);
 }
 
 }  // namespace proprio
