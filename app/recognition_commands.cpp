@@ -12,6 +12,8 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
+#include "proprio/episode/discovery.hpp"
+#include "proprio/episode/episode.hpp"
 #include "proprio/features/image_set.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/recognition/episode_classification.hpp"
@@ -30,21 +32,8 @@ using namespace recognition;
 // episodes (its sub-directories that hold one, sorted by name).
 std::vector<episode::Episode> read_episodes(const std::vector<std::string>& args) {
   std::vector<episode::Episode> out;
-  for (const std::string& a : args) {
-    const fs::path p(a);
-    if (fs::is_regular_file(p / "episode.json")) {
-      out.push_back(episode::read_episode(p));
-      continue;
-    }
-    if (!fs::is_directory(p)) throw Error::in_file(p, "no such episode or directory of episodes");
-    std::vector<fs::path> dirs;
-    for (const auto& e : fs::directory_iterator(p))
-      if (e.is_directory() && fs::is_regular_file(e.path() / "episode.json"))
-        dirs.push_back(e.path());
-    if (dirs.empty()) throw Error::in_file(p, "holds no episode (no episode.json)");
-    std::sort(dirs.begin(), dirs.end());
-    for (const auto& d : dirs) out.push_back(episode::read_episode(d));
-  }
+  for (const fs::path& d : episode::find_episodes({args.begin(), args.end()}))
+    out.push_back(episode::read_episode(d));
   return out;
 }
 

@@ -3,8 +3,8 @@
 // ctest does not run (tests/segmentation/CMakeLists.txt).
 //
 // Environment:
-//   PROPRIO_CH5       dataset directory (default /work/datasets/ch5; skipped when absent)
-//   PROPRIO_SEG_FILTER  only episodes whose name contains this
+//   PROPRIO_CH5       dataset directory (required; the tool skips when it is unset)
+//   PROPRIO_SEG_FILTER  only episodes whose name contains this (episode::list_episode_dirs)
 //   PROPRIO_SEG_OPT   option overrides "key=value,key=value" (model=homography, flow=dis-ultrafast,
 //                     regions=slic, lambda, kappa, evidence_step, region_count, scale, ...)
 //   PROPRIO_SEG_SPARSE  1: score segment_ml_sparse instead
@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "ml_test_support.hpp"
+#include "proprio/episode/discovery.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
 
 namespace proprio::segmentation {
@@ -127,8 +128,8 @@ struct Score {
 };
 
 TEST(MlDataset, JaccardAtFirstTouch) {
-  const fs::path root = env("PROPRIO_CH5", "/work/datasets/ch5");
-  if (!fs::is_directory(root)) GTEST_SKIP() << root << " absent";
+  const fs::path root = env("PROPRIO_CH5");
+  if (root.empty()) GTEST_SKIP() << "PROPRIO_CH5 (a dataset directory) is not set";
   MlOptions o;
   SparseOptions so;
   std::stringstream opts(env("PROPRIO_SEG_OPT"));
@@ -140,11 +141,7 @@ TEST(MlDataset, JaccardAtFirstTouch) {
   const bool sparse = env("PROPRIO_SEG_SPARSE") == "1";
   const std::string filter = env("PROPRIO_SEG_FILTER");
   const std::string dump = env("PROPRIO_SEG_DUMP");
-  std::vector<fs::path> dirs;
-  for (const auto& e : fs::directory_iterator(root))
-    if (e.is_directory() && e.path().filename().string().find(filter) != std::string::npos)
-      dirs.push_back(e.path());
-  std::sort(dirs.begin(), dirs.end());
+  const std::vector<fs::path> dirs = episode::list_episode_dirs(root, filter);
   std::map<std::string, Score> by_group;
   std::ofstream csv;
   if (!env("PROPRIO_SEG_CSV").empty()) {
