@@ -445,6 +445,28 @@ core::Json dataset_summary_json(const std::vector<EpisodeEvaluation>& episodes,
   return out;
 }
 
+core::Json options_json(const EvalOptions& o) {
+  return {{"mask_fraction", o.ml.mask_fraction},
+          {"difference_threshold", o.fm.difference_threshold},
+          {"fm_touch", segmentation::to_string(o.fm.touch)},
+          {"ml_graphcut_unary_weight", o.ml_graph_cut.unary_weight},
+          {"graph_cut_smoothness", o.ml_graph_cut.graph_cut.smoothness},
+          {"graph_cut_max_side", o.ml_graph_cut.graph_cut.max_side},
+          {"fraction_sweep", o.fraction_sweep},
+          {"threshold_sweep", o.threshold_sweep}};
+}
+
+core::Json metrics_json(const MaskMetrics& m) {
+  return {{"precision", m.precision},
+          {"recall", m.recall},
+          {"jaccard", m.jaccard},
+          {"tanimoto", m.tanimoto()},
+          {"l2", m.l2},
+          {"true_positives", m.true_positives},
+          {"false_positives", m.false_positives},
+          {"false_negatives", m.false_negatives}};
+}
+
 std::string episodes_csv(const std::vector<EpisodeEvaluation>& episodes) {
   std::string out =
       core::join_csv_line({"episode", "scenario", "object", "background", "method", "status",
@@ -464,20 +486,6 @@ std::string episodes_csv(const std::vector<EpisodeEvaluation>& episodes) {
       out += '\n';
     }
   }
-  return out;
-}
-
-std::vector<fs::path> list_episodes(const fs::path& dataset) {
-  std::error_code ec;
-  if (!fs::is_directory(dataset, ec)) throw Error::in_file(dataset, "no such dataset directory");
-  std::vector<fs::path> out;
-  for (const auto& entry : fs::directory_iterator(dataset)) {
-    if (entry.is_directory() && fs::is_regular_file(entry.path() / "episode.json")) {
-      out.push_back(entry.path());
-    }
-  }
-  if (out.empty()) throw Error::in_file(dataset, "no episodes (directories with episode.json)");
-  std::sort(out.begin(), out.end());
   return out;
 }
 

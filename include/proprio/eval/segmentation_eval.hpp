@@ -125,12 +125,13 @@ GroupSummary summarise(const std::vector<EpisodeEvaluation>& episodes, std::size
 core::Json dataset_summary_json(const std::vector<EpisodeEvaluation>& episodes,
                                 const std::vector<Method>& methods, const EvalOptions& options);
 
+/// The options as segment.json and summary.json record them ("options").
+core::Json options_json(const EvalOptions& options);
+/// A mask's scores as segment.json records them ("metrics"), the Tanimoto distance included.
+core::Json metrics_json(const MaskMetrics& metrics);
+
 /// One CSV row per episode and method.
 std::string episodes_csv(const std::vector<EpisodeEvaluation>& episodes);
-
-/// Episode directories of `dataset` (subdirectories holding episode.json), sorted by name.
-/// Throws Error naming the directory when it is missing or holds no episode.
-std::vector<std::filesystem::path> list_episodes(const std::filesystem::path& dataset);
 
 /// P-R curves by background and by object, and bar charts of mean Jaccard and L2 by object and
 /// by background with standard-deviation error bars (like thesis Fig 5-3), written as PNG files
