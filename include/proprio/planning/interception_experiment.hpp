@@ -1,0 +1,121 @@
+#pragma once
+// `proprio intercept` and `proprio intercept sweep` as library calls: the interception scene set
+// up once (arm, stereo rig, trajectory costs), then a set of trials (thesis 3.3-3.8) or the sweep
+// behind Figs 3-8, 3-10 and 3-11 with its JSON table (docs/results/interception.md).
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/planning/interception_planner.hpp"
+#include "proprio/planning/interception_trial.hpp"
+#include "proprio/planning/target_filter.hpp"
+
+namespace proprio::planning {
+
+/// What the experiment and the sweep share: the scene, the cameras and the trajectory costs.
+struct InterceptionSetupOptions {
+  /// MJCF scene with the arm and a mocap body "target"; empty = default_intercept_scene().
+  std::filesystem::path scene;
+  /// Trajectory cost cache; empty = default_grid_cache(). Recomputed when the arm model or the
+  /// grid changes.
+  std::filesystem::path cache;
+  /// calib.yml of the left and right cameras: both or neither (neither = default_stereo_rig()).
+  std::filesystem::path calib_left, calib_right;
+  TransitionModel transition = TransitionModel::kLearned;  ///< the target model (3.5)
+  int precision_samples = 500;  ///< perturbed end points per trajectory (eq 3.42), >= 2
+  int threads = 0;              ///< for the trajectory costs (0 = all cores)
+  double camera_rate_hz = 25;   ///< camera frame rate, > 0
+  int observe_frames = 20;      ///< frames measured before the first plan, >= 4
+  double window = 1.5;          ///< interception times considered after the move, s, [0, 60]
+  bool progress = false;        ///< progress bars on stderr
+
+  /// Throws Error naming the first bad option.
+  void validate() const;
+};
+
+/// The scene ready for trials. Constant once made.
+struct InterceptionSetup {
+  std::filesystem::path scene, cache;
+  std::unique_ptr<InterceptionSimulator> simulator;
+  std::shared_ptr<const GridCostModel> model;
+  TrialOptions trial;  ///< the setup's trial options (camera, filter, window)
+
+  /// {"scene", "cache", "key", "source", "trajectories", "valid", "precision_samples",
+  /// "compute_seconds"}: the "grid" of the result documents.
+  [[nodiscard]] core::Json grid_json() const;
+  /// "trajectory costs: V of N trajectories valid (SOURCE, CACHE)".
+  [[nodiscard]] std::string brief() const;
+};
+
+/// Checks everything that can be checked before the (possibly long) trajectory costs, then
+/// loads the scene and computes or loads the costs. `trial` carries the caller's noise, prior and
+/// re-planning; the setup's options fill in the rest.
+InterceptionSetup make_interception_setup(const InterceptionSetupOptions& options,
+                                          TrialOptions trial = {});
+
+struct InterceptionRunOptions {
+  InterceptionSetupOptions setup;
+  double noise_cm = 0;  ///< per-axis measurement std at the workspace centre, cm, [0, 100]
+  int trials = 50;      ///< >= 1
+  PriorMode prior = PriorMode::kBoth;
+  bool replan = false;     ///< re-plan with visual feedback (3.8)
+  std::uint64_t seed = 1;  ///< of the targets and the noise
+
+  void validate() const;
+};
+
+// The implicit noexcept move of core::Json (nlohmann's) calls its assert_invariant(), which
+// clang-tidy 14 cannot prove free of exceptions.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct InterceptionRunResult {
+  std::string setup_brief;  ///< InterceptionSetup::brief()
+  ExperimentResult experiment;
+  core::Json document;  ///< format "proprio.intercept"
+
+  /// The setup line, the summary line and one line per trial not executed.
+  [[nodiscard]] std::string brief() const;
+};
+
+/// Sets up the scene and runs the trials.
+InterceptionRunResult run_interception(const InterceptionRunOptions& options,
+                                       const core::Provenance& provenance);
+
+struct InterceptionSweepOptions {
+  InterceptionSetupOptions setup;
+  std::filesystem::path out;  ///< directory to write (required)
+  bool overwrite = false;     ///< replace `out` when it exists
+  int trials = 50;            ///< per noise level and re-planning switch
+  std::uint64_t seed = 1;
+  std::vector<double> noise = {0, 0.25, 0.5, 1, 1.5, 2, 2.5, 3};  ///< cm, each in [0, 100]
+  std::vector<TransitionModel> transitions = {TransitionModel::kLearned,
+                                              TransitionModel::kConstantVelocity};
+  std::vector<double> choice_noise = {0, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 3};  ///< Fig 3-11, cm
+  int choice_draws = 10;      ///< noise draws per point of Fig 3-11, >= 1
+  double figure_noise = 1.5;  ///< noise of the Fig 3-10 trial, cm
+
+  void validate() const;
+};
+
+// The implicit noexcept move of core::Json (nlohmann's) calls its assert_invariant(), which
+// clang-tidy 14 cannot prove free of exceptions.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct InterceptionSweepResult {
+  std::string setup_brief;
+  std::vector<std::string> files;  ///< sweep.json and the PNGs, in `out`
+  core::Json document;             ///< sweep.json (format "proprio.intercept.sweep")
+  std::filesystem::path out;
+
+  [[nodiscard]] std::string brief() const;
+};
+
+/// The sweep: for each target model, every noise level open loop and re-planning; the Fig 3-10
+/// trial and the Fig 3-11 choices; the energy grid (Fig 3-8). Writes `out` atomically.
+InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& options,
+                                               const core::Provenance& provenance);
+
+}  // namespace proprio::planning

@@ -1,0 +1,312 @@
+#include "proprio/planning/interception_experiment.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/core/progress.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/geometry/camera.hpp"
+#include "proprio/planning/figures.hpp"
+
+namespace proprio::planning {
+namespace fs = std::filesystem;
+
+void InterceptionSetupOptions::validate() const {
+  require(calib_left.empty() == calib_right.empty(),
+          "intercept: give both --calib1 and --calib2, or neither");
+  require(precision_samples >= 2 && precision_samples <= 100000,
+          "intercept: precision_samples must be in [2, 100000]");
+  require(threads >= 0 && threads <= 256, "intercept: threads must be in [0, 256]");
+  require(std::isfinite(camera_rate_hz) && camera_rate_hz > 0,
+          "intercept: camera_rate_hz must be > 0");
+  require(observe_frames >= 4 && observe_frames <= 100000,
+          "intercept: observe_frames must be in [4, 100000]");
+  require(std::isfinite(window) && window >= 0 && window <= 60,
+          "intercept: window must be in [0, 60] s");
+}
+
+core::Json InterceptionSetup::grid_json() const {
+  const GridCosts& c = model->costs();
+  return {{"scene", scene.string()},
+          {"cache", cache.string()},
+          {"key", c.key},
+          {"source", c.summary.source},
+          {"trajectories", c.points.size()},
+          {"valid", c.summary.valid},
+          {"precision_samples", c.options.precision_samples},
+          {"compute_seconds", c.summary.seconds}};
+}
+
+std::string InterceptionSetup::brief() const {
+  const GridCosts& c = model->costs();
+  return fmt::format("trajectory costs: {} of {} trajectories valid ({}, {})\n", c.summary.valid,
+                     c.points.size(), c.summary.source, cache.string());
+}
+
+InterceptionSetup make_interception_setup(const InterceptionSetupOptions& options,
+                                          TrialOptions trial) {
+  options.validate();
+  InterceptionSetup s;
+  s.scene = options.scene.empty() ? default_intercept_scene() : options.scene;
+  s.cache = options.cache.empty() ? default_grid_cache() : options.cache;
+  const robot::Arm arm = robot::Arm::load(s.scene);
+  StereoRig rig = default_stereo_rig();
+  if (!options.calib_left.empty()) {
+    rig = {geometry::read_calib(options.calib_left), geometry::read_calib(options.calib_right)};
+  }
+  trial.filter.transition = options.transition;
+  trial.camera_rate_hz = options.camera_rate_hz;
+  trial.observe_frames = options.observe_frames;
+  trial.planner.window = options.window;
+  GridCostOptions go;
+  check_trial_options(trial, arm.model().opt.timestep, go.grid.duration);
+  s.trial = trial;
+  go.precision_samples = options.precision_samples;
+  go.threads = options.threads;
+  s.model = std::make_shared<GridCostModel>(
+      load_or_compute_grid_costs(arm, go, s.cache, options.progress));
+  s.simulator = std::make_unique<InterceptionSimulator>(arm, s.model, rig);
+  return s;
+}
+
+namespace {
+
+core::Json summary_json(const ExperimentSummary& s) {
+  const double ratio = s.mean_predicted_sigma > 0 ? s.mean_miss / s.mean_predicted_sigma : 0.0;
+  return {{"trials", s.trials},
+          {"executed", s.executed},
+          {"not_executed", s.not_executed},
+          {"not_planned", s.not_planned},
+          {"sigma_px", s.sigma_px},
+          {"mean_miss_mm", s.mean_miss * 1e3},
+          {"median_miss_mm", s.median_miss * 1e3},
+          {"max_miss_mm", s.max_miss * 1e3},
+          {"mean_plane_miss_mm", s.mean_plane_miss * 1e3},
+          {"mean_predicted_sigma_mm", s.mean_predicted_sigma * 1e3},
+          {"mean_first_predicted_sigma_mm", s.mean_first_predicted_sigma * 1e3},
+          {"miss_over_predicted_sigma", ratio},
+          {"mean_intercept_time_s", s.mean_intercept_time},
+          {"mean_plan_ms", s.mean_plan_ms},
+          {"max_plan_ms", s.max_plan_ms},
+          {"mean_reaims", s.mean_reaims},
+          {"mujoco_warning_trials", s.mujoco_warnings}};
+}
+
+core::Json trial_json(const TrialResult& t) {
+  core::Json j = {{"executed", t.executed},
+                  {"why_not", t.why_not},
+                  {"plan_ms", t.first_plan_ms},
+                  {"plans", t.plans},
+                  {"reaims", t.reaims}};
+  if (t.executed) {
+    j["miss_mm"] = t.miss * 1e3;
+    j["predicted_sigma_mm"] = t.predicted_sigma * 1e3;
+    j["intercept_time_s"] = t.t_intercept - t.t_plan;
+    j["psi"] = {t.final_plan.psi.theta, t.final_plan.psi.length, t.final_plan.psi.gamma};
+  }
+  return j;
+}
+
+void require_noise_levels(const std::vector<double>& levels, const char* what) {
+  for (double n : levels) {
+    require(std::isfinite(n) && n >= 0 && n <= 100,
+            fmt::format("{}: values must be in [0, 100] cm", what));
+  }
+}
+
+}  // namespace
+
+void InterceptionRunOptions::validate() const {
+  setup.validate();
+  require(std::isfinite(noise_cm) && noise_cm >= 0 && noise_cm <= 100,
+          "intercept: noise_cm must be in [0, 100]");
+  require(trials >= 1 && trials <= 1000000, "intercept: trials must be in [1, 1000000]");
+}
+
+InterceptionRunResult run_interception(const InterceptionRunOptions& options,
+                                       const core::Provenance& provenance) {
+  options.validate();
+  TrialOptions trial;
+  trial.noise_cm = options.noise_cm;
+  trial.replan = options.replan;
+  trial.planner.mode = options.prior;
+  const InterceptionSetup s = make_interception_setup(options.setup, trial);
+  InterceptionRunResult r;
+  r.setup_brief = s.brief();
+  ExperimentOptions eo;
+  eo.trial = s.trial;
+  eo.trials = options.trials;
+  eo.seed = options.seed;
+  r.experiment = run_experiment(*s.simulator, eo, options.setup.progress);
+  core::Json doc = core::result_document("proprio.intercept", 1, provenance);
+  doc["noise_cm"] = options.noise_cm;
+  doc["prior"] = to_string(options.prior);
+  doc["replan"] = options.replan;
+  doc["transition"] = to_string(options.setup.transition);
+  doc["camera_rate_hz"] = eo.trial.camera_rate_hz;
+  doc["observe_frames"] = eo.trial.observe_frames;
+  doc["grid"] = s.grid_json();
+  doc.update(summary_json(r.experiment.summary));
+  core::Json trials = core::Json::array();
+  for (const TrialResult& t : r.experiment.trials) trials.push_back(trial_json(t));
+  doc["trial_results"] = std::move(trials);
+  r.document = std::move(doc);
+  return r;
+}
+
+std::string InterceptionRunResult::brief() const {
+  const ExperimentSummary& s = experiment.summary;
+  std::string b = setup_brief;
+  b += fmt::format(
+      "intercept: {}/{} executed; miss mean {:.2f} mm, median {:.2f} mm; predicted std {:.2f} mm; "
+      "interception {:.3f} s after the plan; plan {:.2f} ms (max {:.2f})\n",
+      s.executed, s.trials, s.mean_miss * 1e3, s.median_miss * 1e3, s.mean_predicted_sigma * 1e3,
+      s.mean_intercept_time, s.mean_plan_ms, s.max_plan_ms);
+  for (std::size_t k = 0; k < experiment.trials.size(); ++k) {
+    if (!experiment.trials[k].executed) {
+      b += fmt::format("  trial {} not executed: {}\n", k + 1, experiment.trials[k].why_not);
+    }
+  }
+  return b;
+}
+
+void InterceptionSweepOptions::validate() const {
+  setup.validate();
+  require(!out.empty(), "intercept sweep: no output directory given");
+  require(trials >= 1 && trials <= 1000000, "intercept sweep: trials must be in [1, 1000000]");
+  require_noise_levels(noise, "--noise");
+  require_noise_levels(choice_noise, "--choice-noise");
+  require(choice_draws >= 1 && choice_draws <= 100000,
+          "intercept sweep: choice_draws must be in [1, 100000]");
+  require(std::isfinite(figure_noise) && figure_noise >= 0 && figure_noise <= 100,
+          "intercept sweep: figure_noise must be in [0, 100]");
+}
+
+namespace {
+
+// Fig 3-11: one target, the first plan over repeated noise draws, per prior and noise level.
+std::vector<NoiseChoice> noise_choices(const InterceptionSetup& s, const TrialOptions& base,
+                                       const InterceptionSweepOptions& options,
+                                       const TargetMotion& target, double t_plan,
+                                       core::Json& choices_json) {
+  core::Rng rng(options.seed);
+  std::vector<NoiseChoice> choices;
+  for (PriorMode mode : {PriorMode::kBoth, PriorMode::kEnergy, PriorMode::kPrecision}) {
+    for (double noise : options.choice_noise) {
+      TrialOptions o = base;
+      o.noise_cm = noise;
+      o.planner.mode = mode;
+      NoiseChoice c;
+      c.noise_cm = noise;
+      c.mode = mode;
+      double sum = 0, sum_sq = 0;
+      for (int k = 0; k < options.choice_draws; ++k) {
+        const InterceptionPlan p = s.simulator->first_plan(target, o, rng.next_seed());
+        if (!p.feasible) continue;
+        const double dt = p.t_intercept - t_plan;
+        sum += dt;
+        sum_sq += dt * dt;
+        ++c.draws;
+      }
+      if (c.draws > 0) {
+        c.mean_time = sum / c.draws;
+        c.std_time = std::sqrt(std::max(0.0, sum_sq / c.draws - c.mean_time * c.mean_time));
+      }
+      choices.push_back(c);
+      choices_json.push_back({{"transition", to_string(base.filter.transition)},
+                              {"prior", to_string(mode)},
+                              {"noise_cm", noise},
+                              {"draws", c.draws},
+                              {"mean_intercept_time_s", c.mean_time},
+                              {"std_intercept_time_s", c.std_time}});
+    }
+  }
+  return choices;
+}
+
+}  // namespace
+
+InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& options,
+                                               const core::Provenance& provenance) {
+  options.validate();
+  const InterceptionSetup s = make_interception_setup(options.setup);
+  InterceptionSweepResult r;
+  r.setup_brief = s.brief();
+  r.out = options.out;
+  core::StagedDirectory dir(options.out, options.overwrite);
+  const fs::path stage = dir.staging_path();
+  const GridSpec& grid = s.model->grid();
+  auto save = [&](const std::string& name, const cv::Mat& img) {
+    if (!cv::imwrite((stage / name).string(), img)) {
+      throw Error::in_file(options.out / name, "cannot write the image");
+    }
+    r.files.push_back(name);
+  };
+  save("energy_grid.png", draw_energy_grid(s.model->costs()));
+
+  core::Json doc = core::result_document("proprio.intercept.sweep", 1, provenance);
+  doc["trials"] = options.trials;
+  doc["noise_cm"] = options.noise;
+  doc["prior"] = "both";
+  doc["grid"] = s.grid_json();
+  core::Json rows = core::Json::array();
+  core::Json choices_json = core::Json::array();
+  core::ProgressBar bar(options.transitions.size() * options.noise.size() * 2, "sweep",
+                        options.setup.progress);
+  for (const TransitionModel transition : options.transitions) {
+    const std::string tname = to_string(transition);
+    TrialOptions base = s.trial;
+    base.filter.transition = transition;
+    for (double noise : options.noise) {
+      for (bool replan : {false, true}) {
+        ExperimentOptions eo;
+        eo.trial = base;
+        eo.trial.noise_cm = noise;
+        eo.trial.replan = replan;
+        eo.trials = options.trials;
+        eo.seed = options.seed;
+        const ExperimentResult e = run_experiment(*s.simulator, eo, false);
+        core::Json row = {{"transition", tname}, {"noise_cm", noise}, {"replan", replan}};
+        row.update(summary_json(e.summary));
+        rows.push_back(std::move(row));
+        bar.tick();
+      }
+    }
+    // Fig 3-10: one recorded open-loop trial at the figure's noise, on the figures' target.
+    {
+      TrialOptions o = base;
+      o.noise_cm = options.figure_noise;
+      o.record = true;
+      const TargetMotion target = figure_target(grid, s.simulator->plan_time(o));
+      const TrialResult t = s.simulator->run(target, o, options.seed);
+      save("interception_" + tname + ".png", draw_interception(t, grid));
+    }
+    const double t_plan = s.simulator->plan_time(base);
+    const TargetMotion target = figure_target(grid, t_plan);
+    const std::vector<NoiseChoice> choices =
+        noise_choices(s, base, options, target, t_plan, choices_json);
+    save("noise_choice_" + tname + ".png", draw_noise_choices(target, t_plan, grid, choices));
+  }
+  bar.finish();
+  doc["rows"] = std::move(rows);
+  doc["interception_choices"] = std::move(choices_json);
+  core::write_json_atomic(stage / "sweep.json", doc);
+  r.files.insert(r.files.begin(), "sweep.json");
+  dir.commit();
+  r.document = std::move(doc);
+  return r;
+}
+
+std::string InterceptionSweepResult::brief() const {
+  return setup_brief +
+         fmt::format(
+             "wrote {} (sweep.json, energy_grid.png, interception_*.png, noise_choice_*.png)\n",
+             out.string());
+}
+
+}  // namespace proprio::planning
