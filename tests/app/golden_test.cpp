@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/named_corpus.hpp"
 #include "../support/paths.hpp"
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
@@ -122,15 +123,8 @@ TEST_F(GoldenOutputs, OnlineLdaModelOfASyntheticCorpus) {
   o.num_documents = 200;
   o.mean_length = 40;
   o.seed = 5;
-  const topics::Corpus c = topics::make_synthetic_corpus(o).corpus;
-  std::vector<std::string> vocab;
-  for (int w = 0; w < o.num_words; ++w) vocab.push_back("word" + std::to_string(w));
-  topics::Corpus named(o.num_words, vocab);
-  for (std::size_t d = 0; d < c.num_documents(); ++d) {
-    const auto doc = c.document(d);
-    named.add_document(doc.words, doc.counts);
-  }
-  topics::write_corpus(named, dir_.path() / "corpus", topics::CorpusFormat::kUci);
+  topics::write_corpus(test::named_synthetic_corpus(o), dir_.path() / "corpus",
+                       topics::CorpusFormat::kUci);
   const auto r = run_cli("lda train --corpus " + at("corpus") +
                          " -k 4 --batch 40 --passes 2 --threads 1 --seed 2 --model " + at("m.lda") +
                          " --json " + at("train.json"));

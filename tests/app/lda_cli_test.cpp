@@ -5,8 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "cli_run.hpp"
+#include "../support/named_corpus.hpp"
 #include "../support/schema_check.hpp"
+#include "cli_run.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/topics/corpus_io.hpp"
@@ -33,14 +34,7 @@ class LdaCli : public ::testing::Test {
     o.num_documents = 400;
     o.mean_length = 60;
     o.seed = 3;
-    topics::Corpus c = topics::make_synthetic_corpus(o).corpus;
-    std::vector<std::string> vocab;
-    for (int w = 0; w < o.num_words; ++w) vocab.push_back("word" + std::to_string(w));
-    topics::Corpus named(o.num_words, vocab);
-    for (std::size_t d = 0; d < c.num_documents(); ++d) {
-      const auto doc = c.document(d);
-      named.add_document(doc.words, doc.counts);
-    }
+    const topics::Corpus named = test::named_synthetic_corpus(o);
     const auto split = topics::hold_out(named, 0.1, 1);
     topics::write_corpus(split.train, dir_ / "train", topics::CorpusFormat::kUci);
     topics::write_corpus(split.heldout, dir_ / "heldout", topics::CorpusFormat::kUci);

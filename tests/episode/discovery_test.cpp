@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "../support/error_of.hpp"
 #include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 
@@ -19,15 +20,7 @@ void make_episode(const fs::path& dir) {
   std::ofstream(dir / "episode.json") << "{}";
 }
 
-std::string error_of(const auto& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no Error";
-  return {};
-}
+using test::error_of;
 
 TEST(Discovery, ListsADatasetsEpisodesSortedAndFiltered) {
   const test::TempDir tmp("proprio_discovery_");

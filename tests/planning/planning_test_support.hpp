@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "../support/error_of.hpp"
 #include "../support/paths.hpp"
 #include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
@@ -44,17 +45,7 @@ inline const InterceptionSimulator& simulator() {
   return sim;
 }
 
-/// The message of the Error that `f` throws; fails the test when it throws nothing.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no Error thrown";
-  return {};
-}
+using test::error_of;  // tests/support/error_of.hpp
 
 /// Noise-free measurements of a target at frames 0..n-1, `dt` apart.
 inline std::vector<PositionMeasurement> exact_measurements(const TargetMotion& target, int n,

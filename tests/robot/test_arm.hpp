@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "../support/error_of.hpp"
 #include "../support/paths.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/robot/arm.hpp"
@@ -20,17 +21,7 @@ inline const Arm& standard_arm() {
   return arm;
 }
 
-/// The message of the Error that `f` throws; fails the test when it throws nothing.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no Error thrown";
-  return {};
-}
+using test::error_of;  // tests/support/error_of.hpp
 
 /// Fails the test when MuJoCo counted a warning in `data`.
 inline void expect_no_warnings(const mjData& data) {

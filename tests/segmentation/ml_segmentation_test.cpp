@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "../support/error_of.hpp"
 #include "ml_test_support.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
@@ -32,15 +33,7 @@ void expect_valid_map(const cv::Mat1f& map) {
   EXPECT_LE(hi, 1.0);
 }
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::error_of;  // tests/support/error_of.hpp
 
 TEST(RobustMean, IgnoresOutliers) {
   // Inliers symmetric about (3, -2): their mean is exactly (3, -2); outliers far away.
