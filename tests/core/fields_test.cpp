@@ -1,0 +1,156 @@
+#include "proprio/core/fields.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace proprio::core {
+namespace {
+
+using ::testing::HasSubstr;
+
+enum class Shape { kRound, kSquare };
+constexpr ChoiceNames<Shape, 2> kShapeNames{{{"round", Shape::kRound}, {"square", Shape::kSquare}}};
+
+struct Inner {
+  float size = 16.0F;
+};
+
+struct Sample {
+  int count = 3;
+  double rate = 0.5;
+  bool fast = false;
+  std::uint64_t seed = 1;
+  std::string label = "a";
+  std::filesystem::path file = "x.txt";
+  Shape shape = Shape::kRound;
+  Inner inner;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.count, {"count", "How many", at_least(1), "n"});
+    v(self.rate, {"rate", "A rate", positive_at_most(1.0)});
+    v(self.fast, {"fast", "Go fast"});
+    v(self.seed, {"seed", "Seed"});
+    v(self.label, {"label", "A label"});
+    v(self.file, {"file", "A file"});
+    v.choice(self.shape, {"shape", "round or square"}, kShapeNames);
+    v(self.inner.size, {"patch", "Patch side, px", positive()});
+  }
+};
+
+TEST(Fields, ToJsonNamesEveryFieldWithItsValue) {
+  Sample s;
+  s.shape = Shape::kSquare;
+  s.inner.size = 8.0F;
+  const Json j = fields_to_json(s);
+  EXPECT_EQ(j.size(), 8U);
+  EXPECT_EQ(j.at("count"), 3);
+  EXPECT_EQ(j.at("rate"), 0.5);
+  EXPECT_EQ(j.at("fast"), false);
+  EXPECT_EQ(j.at("label"), "a");
+  EXPECT_EQ(j.at("file"), "x.txt");
+  EXPECT_EQ(j.at("shape"), "square");
+  EXPECT_EQ(j.at("patch"), 8.0);
+}
+
+TEST(Fields, JsonRoundTrip) {
+  Sample s;
+  s.count = 7;
+  s.rate = 0.25;
+  s.fast = true;
+  s.seed = std::numeric_limits<std::uint64_t>::max();
+  s.label = "b";
+  s.file = "dir/y.bin";
+  s.shape = Shape::kSquare;
+  s.inner.size = 4.5F;
+  Sample back;
+  fields_from_json(fields_to_json(s), back, "t");
+  EXPECT_EQ(fields_to_json(back), fields_to_json(s));
+  EXPECT_EQ(back.seed, s.seed);
+  EXPECT_EQ(back.shape, Shape::kSquare);
+  EXPECT_EQ(back.file, s.file);
+}
+
+TEST(Fields, FromJsonKeepsWhatItDoesNotName) {
+  Sample s;
+  fields_from_json(Json{{"count", 9}}, s, "t");
+  EXPECT_EQ(s.count, 9);
+  EXPECT_EQ(s.rate, 0.5);
+  EXPECT_EQ(s.label, "a");
+}
+
+std::string error_of(const Json& j) {
+  Sample s;
+  try {
+    fields_from_json(j, s, "opts.json");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Fields, FromJsonRejectsWhatItCannotRead) {
+  EXPECT_THAT(error_of(Json{{"colour", 1}}),
+              HasSubstr("opts.json: unknown option 'colour' (known: count, rate"));
+  EXPECT_EQ(error_of(Json{{"count", 1.5}}), "opts.json: count must be an integer");
+  EXPECT_EQ(error_of(Json{{"count", "3"}}), "opts.json: count must be an integer");
+  EXPECT_EQ(error_of(Json{{"count", 1LL << 40}}), "opts.json: count is out of range");
+  EXPECT_EQ(error_of(Json{{"seed", -1}}), "opts.json: seed must be >= 0");
+  EXPECT_EQ(error_of(Json{{"fast", 1}}), "opts.json: fast must be true or false");
+  EXPECT_EQ(error_of(Json{{"rate", "x"}}), "opts.json: rate must be a number");
+  EXPECT_EQ(error_of(Json{{"shape", "oval"}}),
+            "opts.json: shape must be round or square (it is 'oval')");
+  EXPECT_EQ(error_of(Json::array()), "opts.json: must be a JSON object");
+}
+
+TEST(Fields, BoundsCheckNamesTheFirstFieldOutside) {
+  Sample s;
+  EXPECT_NO_THROW(check_field_bounds(s, "sample"));
+  s.count = 0;
+  try {
+    check_field_bounds(s, "sample");
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "sample: count must be >= 1 (it is 0)");
+  }
+  s.count = 1;
+  s.rate = 0.0;  // the lower bound is open
+  EXPECT_THROW(check_field_bounds(s, "sample"), Error);
+  s.rate = 1.0;  // the upper bound is closed
+  EXPECT_NO_THROW(check_field_bounds(s, "sample"));
+  s.rate = std::nan("");
+  try {
+    check_field_bounds(s, "sample");
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "sample: rate must be in (0, 1] (it is NaN)");
+  }
+  s.rate = 1.0;
+  s.inner.size = -std::numeric_limits<float>::infinity();
+  EXPECT_THROW(check_field_bounds(s, "sample"), Error);
+}
+
+TEST(Fields, BoundsDescribeThemselves) {
+  EXPECT_EQ(at_least(0).describe(), ">= 0");
+  EXPECT_EQ(positive().describe(), "> 0");
+  EXPECT_EQ(between(1, 10).describe(), "in [1, 10]");
+  EXPECT_EQ(positive_at_most(0.5).describe(), "in (0, 0.5]");
+  EXPECT_EQ(Bounds{}.describe(), "");
+  EXPECT_FALSE(Bounds{}.bounded());
+  EXPECT_TRUE(at_least(0).bounded());
+  EXPECT_FALSE(Bounds{}.contains(std::nan("")));
+}
+
+TEST(Fields, ChoiceNames) {
+  EXPECT_EQ(choice_name(Shape::kSquare, kShapeNames), "square");
+  EXPECT_EQ(choice_list(kShapeNames), "round or square");
+  constexpr ChoiceNames<int, 3> three{{{"a", 1}, {"b", 2}, {"c", 3}}};
+  EXPECT_EQ(choice_list(three), "a, b or c");
+  EXPECT_THROW((void)choice_name(4, three), InternalError);
+}
+
+}  // namespace
+}  // namespace proprio::core
