@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "cli.hpp"
+#include "option_binder.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -37,37 +38,9 @@ std::vector<episode::Episode> read_episodes(const std::vector<std::string>& args
   return out;
 }
 
-struct FeatureArgs {
-  std::string kind = "dense";
-  int step = 8;
-  float size = 16.0F;
-  double min_contrast = 2.0;
-  double center_crop = 1.0;
-  [[nodiscard]] ExtractOptions options() const {
-    ExtractOptions o;
-    o.kind = parse_feature_kind(kind);
-    o.dense.step = step;
-    o.dense.size = size;
-    o.min_contrast = min_contrast;
-    o.center_crop = center_crop;
-    o.validate();
-    return o;
-  }
-};
-
-void add_feature_options(CLI::App* cmd, FeatureArgs& f) {
-  cmd->add_option("--features", f.kind, "dense (SIFT on a grid) or sift (at interest points)")
-      ->check(CLI::IsMember({"dense", "sift"}))
-      ->capture_default_str();
-  cmd->add_option("--step", f.step, "Dense grid spacing, px")->capture_default_str();
-  cmd->add_option("--patch", f.size, "Dense SIFT patch size, px")->capture_default_str();
-  cmd->add_option("--min-contrast", f.min_contrast,
-                  "Dense SIFT: drop patches whose grey-level std is below this (0 keeps all)")
-      ->capture_default_str();
-  cmd->add_option("--center-crop", f.center_crop,
-                  "Images: keep the features in this central fraction of width and height")
-      ->capture_default_str();
-}
+// The feature options of every command that extracts features: one description,
+// features::ExtractOptions (the same flags as `vocab build` and `vocab quantize`).
+void add_feature_options(CLI::App* cmd, features::ExtractOptions& o) { bind_options(cmd, o); }
 
 ProgressFn progress_of(std::shared_ptr<core::ProgressBar>& bar, const char* label, bool quiet) {
   return [&bar, label, quiet](std::size_t done, std::size_t total) {
@@ -143,7 +116,7 @@ struct TrainArgs {
   std::vector<std::string> objects;
   std::string masks;
   int frame_step = 1;
-  FeatureArgs features;
+  features::ExtractOptions features;
   topics::OnlineLdaOptions online;
   int max_iterations = 100;
   bool quiet = false;
@@ -162,15 +135,14 @@ void run_train(const TrainArgs& a, const Invocation& inv) {
     const features::ImageSet set = features::read_image_set(a.images);
     std::vector<std::size_t> all(set.images.size());
     std::iota(all.begin(), all.end(), std::size_t{0});
-    corpus = image_corpus(set, all, vocabulary, a.features.options(),
-                          progress_of(bar, "images", a.quiet))
-                 .corpus;
+    corpus =
+        image_corpus(set, all, vocabulary, a.features, progress_of(bar, "images", a.quiet)).corpus;
   } else {
     FrameDocumentOptions fo;
     fo.region = parse_frame_region(a.region);
     fo.objects = a.objects;
     fo.masks = a.masks;
-    fo.features = a.features.options();
+    fo.features = a.features;
     fo.validate();
     if (a.frame_step < 1) throw Error("--frame-step must be >= 1");
     for (const auto& e : read_episodes(a.episodes)) {
@@ -229,13 +201,13 @@ struct ClassifyArgs {
   std::string map_with;
   std::string out;
   std::string json;
-  FeatureArgs features;
+  features::ExtractOptions features;
   bool quiet = false;
 };
 
 // The topic mapping from labelled folder-per-class images (never the test data).
 Evaluation mapping_from_images(const topics::LdaModel& model, const features::Vocabulary& v,
-                               const features::ImageSet& known, const ExtractOptions& fo,
+                               const features::ImageSet& known, const features::ExtractOptions& fo,
                                const ProgressFn& progress) {
   std::vector<std::size_t> kall(known.images.size());
   std::iota(kall.begin(), kall.end(), std::size_t{0});
@@ -249,7 +221,7 @@ void run_classify_episodes(const ClassifyArgs& a, const Invocation& inv,
   o.frames.region = parse_frame_region(a.region);
   o.frames.objects = a.objects;
   o.frames.masks = a.masks;
-  o.frames.features = a.features.options();
+  o.frames.features = a.features;
   o.frame_step = a.frame_step;
   const std::vector<episode::Episode> episodes = read_episodes(a.episodes);
   std::shared_ptr<core::ProgressBar> bar;
@@ -337,7 +309,7 @@ void run_classify(const ClassifyArgs& a, const Invocation& inv) {
     run_classify_episodes(a, inv, model, vocabulary);
     return;
   }
-  const ExtractOptions fo = a.features.options();
+  const features::ExtractOptions fo = a.features;
   std::shared_ptr<core::ProgressBar> bar;
   const features::ImageSet set = features::read_image_set(a.images);
   std::vector<std::size_t> all(set.images.size());
@@ -406,7 +378,7 @@ struct SetArgs {
   std::string images;
   std::vector<std::string> set_a, set_b, wide;
   SetExperimentOptions options;
-  FeatureArgs features;
+  features::ExtractOptions features;
   int lda_iterations = 100;
   int online_passes = 10;
   int online_batch = 50;
@@ -419,7 +391,7 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
   o.set_a = a.set_a;
   o.set_b = a.set_b;
   o.wide = a.wide;
-  o.features = a.features.options();
+  o.features = a.features;
   o.runs = dictionary ? dictionary_runs() : batch_online_runs();
   o.batch.max_iterations = a.lda_iterations;
   o.batch.seed = o.seed;
@@ -446,7 +418,7 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
   doc["wide"] = r.wide;
   doc["words"] = o.kmeans.words;
   doc["test_per_class"] = o.test_per_class;
-  doc["features"] = to_string(o.features.kind);
+  doc["features"] = features::to_string(o.features.kind);
   if (r.specific_kmeans)
     doc["specific_dictionary"] = kmeans_json(*r.specific_kmeans, r.specific_descriptors);
   if (r.wide_kmeans) doc["wide_dictionary"] = kmeans_json(*r.wide_kmeans, r.wide_descriptors);
@@ -519,7 +491,7 @@ struct ScatterArgs {
   std::string region = "objects";
   std::string masks;
   ScatterExperimentOptions options;
-  FeatureArgs features;
+  features::ExtractOptions features;
   std::string json;
   bool quiet = false;
 };
@@ -530,7 +502,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   o.topics = parse_topics(a.k);
   o.frames.region = parse_frame_region(a.region);
   o.frames.masks = a.masks;
-  o.frames.features = a.features.options();
+  o.frames.features = a.features;
   o.view_features = o.frames.features;
   o.frames.features.center_crop = 1.0;  // frames: the region decides
   o.kmeans.seed = o.seed;
@@ -571,7 +543,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   }
   doc["objects"] = r.objects;
   doc["region"] = a.region;
-  doc["features"] = to_string(o.frames.features.kind);
+  doc["features"] = features::to_string(o.frames.features.kind);
   doc["frames"] = r.frames;
   doc["documents"] = r.documents;
   doc["tokens"] = r.tokens;

@@ -183,7 +183,8 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const std::vector<std::vector<int>>& frames,
                                   const std::vector<std::string>& classes,
                                   const features::Vocabulary& vocabulary,
-                                  const ExtractOptions& options, int min_features, int dilate) {
+                                  const features::ExtractOptions& options, int min_features,
+                                  int dilate) {
   assert(frames.size() == episodes.size());
   options.validate();
   if (min_features < 1) throw Error("a view needs at least 1 feature");
@@ -206,7 +207,7 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
         cv::Mat m = ids == id;
         if (cv::countNonZero(m) == 0) continue;
         if (dilate > 0) cv::dilate(m, m, kernel);
-        const features::Features f = extract_features(image, options, m);
+        const features::Features f = features::extract_features(image, options, m);
         if (f.size() < min_features) continue;
         out.corpus.add_tokens(features::bag_of_words(vocabulary, f.descriptors));
         out.labels.push_back(label);

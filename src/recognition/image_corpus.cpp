@@ -35,17 +35,17 @@ std::vector<std::vector<std::size_t>> by_class(const features::ImageSet& set,
 }  // namespace
 
 LabelledCorpus image_corpus(const features::ImageSet& set, std::span<const std::size_t> indices,
-                            const features::Vocabulary& vocabulary, const ExtractOptions& options,
-                            const ProgressFn& progress) {
+                            const features::Vocabulary& vocabulary,
+                            const features::ExtractOptions& options, const ProgressFn& progress) {
   LabelledCorpus out;
   out.corpus = topics::Corpus(vocabulary.size());
   out.classes = set.classes;
   std::size_t done = 0;
   for (std::size_t i : indices) {
-    const cv::Mat image = read_image(set.images[i]);
+    const cv::Mat image = features::read_image(set.images[i]);
     features::Features f;
     try {
-      f = extract_features(image, options);
+      f = features::extract_features(image, options);
     } catch (const Error& e) {
       throw Error::in_file(set.images[i], e.what());
     }
@@ -112,8 +112,9 @@ std::vector<std::size_t> images_of(const features::ImageSet& set,
 }
 
 cv::Mat sample_descriptors(const features::ImageSet& set, std::span<const std::size_t> indices,
-                           int images_per_class, int per_image, const ExtractOptions& options,
-                           std::uint64_t seed, const ProgressFn& progress) {
+                           int images_per_class, int per_image,
+                           const features::ExtractOptions& options, std::uint64_t seed,
+                           const ProgressFn& progress) {
   if (images_per_class < 1 || per_image < 1) {
     throw Error("a dictionary needs at least 1 image per class and 1 descriptor per image");
   }
@@ -126,7 +127,8 @@ cv::Mat sample_descriptors(const features::ImageSet& set, std::span<const std::s
   cv::Mat out(0, features::kDescriptorLength, CV_32F);
   std::size_t done = 0;
   for (std::size_t i : chosen) {
-    const features::Features f = extract_features(read_image(set.images[i]), options);
+    const features::Features f =
+        features::extract_features(features::read_image(set.images[i]), options);
     for (std::size_t r :
          draw(static_cast<std::size_t>(f.size()), static_cast<std::size_t>(per_image), rng))
       out.push_back(f.descriptors.row(static_cast<int>(r)));

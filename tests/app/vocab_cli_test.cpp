@@ -76,9 +76,11 @@ TEST_F(VocabCli, BuildInfoQuantize) {
   const fs::path corpus = dir_ / "corpus";
   const fs::path qj = dir_ / "quantize.json";
   r = run_cli("vocab quantize --vocab " + v.string() + " --images " + images.string() +
-              " --dense --no-progress --corpus " + corpus.string() + " --json " + qj.string());
+              " --features dense --center-crop 0.9 --no-progress --corpus " + corpus.string() +
+              " --json " + qj.string());
   ASSERT_EQ(r.code, 0) << r.err;
   expect_schema_valid("vocab_quantize.schema.json", qj);
+  EXPECT_EQ(core::read_json(qj)["features"]["center_crop"].get<double>(), 0.9);
   const auto c = topics::read_corpus(corpus, topics::CorpusFormat::kUci);
   EXPECT_EQ(c.num_documents(), 5U);
   EXPECT_EQ(c.num_words(), 20);
@@ -110,6 +112,19 @@ TEST_F(VocabCli, BadInput) {
               v.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("x.png"), std::string::npos) << r.err;
+
+  // The feature options are recognize's (one description): same names, same bounds.
+  r = run_cli("vocab build --images " + images.string() + " --min-contrast 300 --out " +
+              v.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--min-contrast: must be in [0, 255] (it is 300)"), std::string::npos)
+      << r.err;
+  r = run_cli("vocab quantize --vocab x --images y --corpus z --features 1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--features: must be dense or sift (it is 1)"), std::string::npos) << r.err;
+  r = run_cli("vocab build --images " + images.string() + " --center-crop nan --out " + v.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--center-crop: must be in (0, 1]"), std::string::npos) << r.err;
 
   std::ofstream(v, std::ios::binary) << "PRVOCAB1 truncated";
   r = run_cli("vocab info --vocab " + v.string());

@@ -34,9 +34,9 @@ cv::Mat two_patches() {
 
 TEST(Documents, TwoTexturedPatchesGiveTwoBlobDocuments) {
   const cv::Mat img = two_patches();
-  ExtractOptions o;
-  o.kind = FeatureKind::kSift;
-  const features::Features f = extract_features(img, o);
+  features::ExtractOptions o;
+  o.kind = features::FeatureKind::kSift;
+  const features::Features f = features::extract_features(img, o);
   ASSERT_GT(f.size(), 20);
   features::KmeansOptions k;
   k.words = 8;
@@ -62,22 +62,22 @@ TEST(Documents, MaskKeepsOnlyFeaturesInside) {
   const cv::Mat img = two_patches();
   cv::Mat mask = cv::Mat::zeros(img.size(), CV_8UC1);
   mask(cv::Rect(0, 0, 200, 240)).setTo(255);
-  for (FeatureKind kind : {FeatureKind::kDense, FeatureKind::kSift}) {
-    ExtractOptions o;
+  for (features::FeatureKind kind : {features::FeatureKind::kDense, features::FeatureKind::kSift}) {
+    features::ExtractOptions o;
     o.kind = kind;
-    const features::Features all = extract_features(img, o);
-    const features::Features left = extract_features(img, o, mask);
+    const features::Features all = features::extract_features(img, o);
+    const features::Features left = features::extract_features(img, o, mask);
     ASSERT_GT(left.size(), 0);
     EXPECT_LT(left.size(), all.size());
     EXPECT_EQ(left.descriptors.rows, left.size());
     for (const auto& kp : left.keypoints) EXPECT_LT(kp.pt.x, 200.5F);
   }
   // Dense SIFT at the kept grid points equals the features module's dense SIFT there.
-  ExtractOptions d;
+  features::ExtractOptions d;
   d.min_contrast = 0;
   const features::Features all = features::dense_sift(img, d.dense);
-  EXPECT_EQ(extract_features(img, d).size(), all.size());
-  const features::Features left = extract_features(img, d, mask);
+  EXPECT_EQ(features::extract_features(img, d).size(), all.size());
+  const features::Features left = features::extract_features(img, d, mask);
   int matched = 0;
   for (int i = 0; i < all.size(); ++i) {
     if (all.keypoints[static_cast<std::size_t>(i)].pt != left.keypoints[0].pt) continue;
@@ -85,13 +85,13 @@ TEST(Documents, MaskKeepsOnlyFeaturesInside) {
     ++matched;
   }
   EXPECT_EQ(matched, 1);
-  EXPECT_THROW((void)extract_features(img, d, cv::Mat::zeros(10, 10, CV_8UC1)), Error);
+  EXPECT_THROW((void)features::extract_features(img, d, cv::Mat::zeros(10, 10, CV_8UC1)), Error);
 }
 
 TEST(Documents, ContrastAndCentreCropKeepTheTexturedCentre) {
   const cv::Mat img = two_patches();  // grey except two textured squares
-  ExtractOptions o;
-  const features::Features f = extract_features(img, o);
+  features::ExtractOptions o;
+  const features::Features f = features::extract_features(img, o);
   ASSERT_GT(f.size(), 0);
   for (const auto& k : f.keypoints) {
     const bool on_patch =
@@ -99,24 +99,24 @@ TEST(Documents, ContrastAndCentreCropKeepTheTexturedCentre) {
     EXPECT_TRUE(on_patch) << k.pt;
   }
   o.center_crop = 0.5;  // x in [100, 300): between the patches but for the right one's edge
-  const features::Features c = extract_features(img, o);
+  const features::Features c = features::extract_features(img, o);
   EXPECT_LT(c.size(), f.size());
   for (const auto& k : c.keypoints) EXPECT_TRUE(k.pt.x >= 100 && k.pt.x < 300) << k.pt;
   o.center_crop = 0;
-  EXPECT_THROW((void)extract_features(img, o), Error);
+  EXPECT_THROW((void)features::extract_features(img, o), Error);
 }
 
 TEST(Documents, ImagesWithoutFeaturesGiveEmptyDocuments) {
   const cv::Mat flat(100, 100, CV_8UC3, cv::Scalar(50, 50, 50));
-  ExtractOptions o;
-  o.kind = FeatureKind::kSift;
-  const features::Features f = extract_features(flat, o);
+  features::ExtractOptions o;
+  o.kind = features::FeatureKind::kSift;
+  const features::Features f = features::extract_features(flat, o);
   EXPECT_TRUE(f.empty());
   // Flat patches say nothing: dense SIFT drops them unless asked to keep them.
-  ExtractOptions dense;
-  EXPECT_TRUE(extract_features(flat, dense).empty());
+  features::ExtractOptions dense;
+  EXPECT_TRUE(features::extract_features(flat, dense).empty());
   dense.min_contrast = 0;
-  EXPECT_GT(extract_features(flat, dense).size(), 0);
+  EXPECT_GT(features::extract_features(flat, dense).size(), 0);
   cv::Mat words(4, 128, CV_32F, cv::Scalar(0));
   const features::Vocabulary v(words);
   EXPECT_TRUE(blob_documents(f, flat.size(), v).empty());
@@ -128,20 +128,20 @@ TEST(Documents, UnreadableImageNamesTheFile) {
   const fs::path bad = dir / "broken.png";
   std::ofstream(bad) << "not a png";
   try {
-    (void)read_image(bad);
+    (void)features::read_image(bad);
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("broken.png"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("cannot decode"), std::string::npos);
   }
-  EXPECT_THROW((void)read_image(dir / "missing.png"), Error);
+  EXPECT_THROW((void)features::read_image(dir / "missing.png"), Error);
   fs::remove_all(dir);
 }
 
 TEST(Documents, ParsersRejectUnknownNames) {
-  EXPECT_EQ(parse_feature_kind("sift"), FeatureKind::kSift);
+  EXPECT_EQ(features::parse_feature_kind("sift"), features::FeatureKind::kSift);
   EXPECT_EQ(parse_frame_region("objects"), FrameRegion::kObjects);
-  EXPECT_THROW((void)parse_feature_kind("surf"), Error);
+  EXPECT_THROW((void)features::parse_feature_kind("surf"), Error);
   EXPECT_THROW((void)parse_frame_region("everything"), Error);
 }
 
@@ -218,11 +218,11 @@ TEST(FrameDocuments, RegionsNestAndBadMasksAreNamed) {
   EXPECT_EQ(selected_object_ids(e, {"mug"}), (std::vector<int>{2}));
   EXPECT_EQ(selected_object_ids(e, {}), (std::vector<int>{1, 2}));
 
-  o.features.kind = FeatureKind::kSift;
+  o.features.kind = features::FeatureKind::kSift;
   const auto blobs = count(FrameRegion::kBlobs);
   EXPECT_EQ(blobs.second, 2U);  // one blob per textured square
 
-  o.features.kind = FeatureKind::kDense;
+  o.features.kind = features::FeatureKind::kDense;
   o.region = FrameRegion::kMasks;
   EXPECT_THROW(o.validate(), Error);  // no directory given
   o.masks = dir / "masks";

@@ -65,11 +65,11 @@ const Fixture& fixture() {
             ("proprio_episode_classification_test_" + std::to_string(::getpid()));
     fs::remove_all(x.dir);
     x.episodes.push_back(episode::read_episode(write_alternating_episode(x.dir / "ep")));
-    ExtractOptions eo;
+    features::ExtractOptions eo;
     cv::Mat all;
     std::vector<features::Features> docs;
     for (int i = 0; i < 10; ++i) {
-      docs.push_back(extract_features(x.episodes[0].frame(i), eo));
+      docs.push_back(features::extract_features(x.episodes[0].frame(i), eo));
       all.push_back(docs.back().descriptors);
     }
     features::KmeansOptions k;
@@ -119,8 +119,8 @@ TEST(EpisodeClassification, LabelledViewsFromMasksNameTheTopics) {
   const Fixture& f = fixture();
   const std::vector<std::string> classes = {"mug", "box"};
   // Views from frames 0-3 name the topics; the classification is then scored on all frames.
-  const LabelledCorpus views =
-      object_view_corpus(f.episodes, {{0, 1, 2, 3}}, classes, (*f.vocabulary), ExtractOptions{});
+  const LabelledCorpus views = object_view_corpus(f.episodes, {{0, 1, 2, 3}}, classes,
+                                                  (*f.vocabulary), features::ExtractOptions{});
   EXPECT_EQ(views.labels, (std::vector<int>{1, 0, 1, 0}));
   const Evaluation e = evaluate_model(f.model, views, views);
   EXPECT_DOUBLE_EQ(e.classes.accuracy(), 1.0);
@@ -133,10 +133,10 @@ TEST(EpisodeClassification, LabelledViewsFromMasksNameTheTopics) {
   EXPECT_DOUBLE_EQ(m.accuracy(), 1.0);
   for (const auto& c : r.documents) EXPECT_EQ(c.mapped, c.frame % 2 == 0 ? 1 : 0);
   // A view needs min_features features: none of these squares has 10,000.
-  EXPECT_EQ(
-      object_view_corpus(f.episodes, {{0, 1}}, classes, (*f.vocabulary), ExtractOptions{}, 10000)
-          .corpus.num_documents(),
-      0U);
+  EXPECT_EQ(object_view_corpus(f.episodes, {{0, 1}}, classes, (*f.vocabulary),
+                               features::ExtractOptions{}, 10000)
+                .corpus.num_documents(),
+            0U);
 }
 
 TEST(EpisodeClassification, EachObjectRegionGivesOneDocumentPerObjectInView) {
@@ -202,8 +202,9 @@ TEST(EpisodeClassification, BadInputIsAnError) {
   EXPECT_EQ(r.documents.size(), 10U);
   EXPECT_TRUE(r.classes.empty());
   EXPECT_FALSE(r.by_topic.has_value());
-  EXPECT_THROW((void)object_view_corpus(bare, {{0}}, {"box"}, (*f.vocabulary), ExtractOptions{}),
-               Error);
+  EXPECT_THROW(
+      (void)object_view_corpus(bare, {{0}}, {"box"}, (*f.vocabulary), features::ExtractOptions{}),
+      Error);
 }
 
 }  // namespace

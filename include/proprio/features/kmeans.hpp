@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/features/vocabulary.hpp"
 
 namespace proprio::features {
@@ -28,6 +29,22 @@ struct KmeansOptions {
   /// Throws Error on words < 1, max_iterations < 1, tolerance not in [0, 1), threads < 0,
   /// seeding_trials < 0, seeding_sample < 0.
   void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.words, {"words", "Number of words K", core::at_least(1)});
+    v(self.max_iterations, {"max_iterations", "Lloyd iterations at most", core::at_least(1)});
+    v(self.tolerance, {"tolerance", "Relative decrease of the cost that stops Lloyd's iterations",
+                       core::between(0, 1)});
+    v(self.seed, {"seed", "Random seed (sampling and k-means++)"});
+    v(self.threads,
+      {"threads", "Threads (0 = all cores; the words do not depend on it)", core::at_least(0)});
+    v(self.seeding_trials,
+      {"seeding_trials", "Candidates per k-means++ step (0 = 2 + ln K)", core::at_least(0)});
+    v(self.seeding_sample,
+      {"seeding_sample", "Descriptors k-means++ seeds from, at most (0 = 32 x words)",
+       core::at_least(0)});
+  }
 };
 
 struct KmeansSummary {

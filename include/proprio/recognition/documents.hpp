@@ -9,45 +9,12 @@
 
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/blobs.hpp"
+#include "proprio/features/extraction.hpp"
 #include "proprio/features/features.hpp"
 #include "proprio/features/sift.hpp"
 #include "proprio/features/vocabulary.hpp"
 
 namespace proprio::recognition {
-
-/// Which local features make the words: dense SIFT on a grid (7.3.3, the default: every part of
-/// an object speaks, however plain) or SIFT at detected interest points (6.1.1).
-enum class FeatureKind { kDense, kSift };
-
-/// "dense" or "sift"; throws Error otherwise.
-FeatureKind parse_feature_kind(const std::string& name);
-std::string to_string(FeatureKind kind);
-
-struct ExtractOptions {
-  FeatureKind kind = FeatureKind::kDense;
-  features::DenseSiftOptions dense;  ///< step 8 px, patches of 16 px
-  features::SiftOptions sift;
-  /// Dense SIFT: grid points whose patch has a grey-level standard deviation below this (0-255
-  /// units) are dropped. A flat patch (plain table, empty background) has no gradient, so its
-  /// descriptor says nothing, yet it would take one word and swamp the documents; vl_phow of
-  /// Bosch et al. drops low-contrast patches for the same reason. 0 keeps every grid point.
-  double min_contrast = 2.0;
-  /// Keep only the features in the central `center_crop` of the image's width and height (in
-  /// (0, 1]; 1 = all). For object-centred pictures (Caltech, the simulator's views) whose
-  /// surroundings would otherwise outweigh a small object.
-  double center_crop = 1.0;
-  void validate() const;
-};
-
-/// Features of an 8-bit grey or BGR image; with `mask` (CV_8U of the image's size, or empty for
-/// the whole image) only those whose (rounded) location has a non-zero mask pixel. Dense SIFT
-/// computes descriptors only at the kept grid points.
-features::Features extract_features(const cv::Mat& image, const ExtractOptions& options,
-                                    const cv::Mat& mask = {});
-
-/// Reads an image file (8-bit, colour or grey). Throws Error naming the file when it cannot be
-/// read or decoded.
-cv::Mat read_image(const std::filesystem::path& path);
 
 /// A blob (a putative object from feature density, 6.2) and its document.
 struct BlobDocument {
@@ -87,7 +54,7 @@ struct FrameDocumentOptions {
   std::vector<std::string> objects;
   /// kMasks: a directory of 8-bit masks named as the frames (000000.png ...), non-zero inside.
   std::filesystem::path masks;
-  ExtractOptions features;
+  features::ExtractOptions features;
   features::BlobOptions blobs;
   void validate() const;
 };

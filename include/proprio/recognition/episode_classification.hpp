@@ -91,7 +91,7 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const std::vector<std::vector<int>>& frames,
                                   const std::vector<std::string>& classes,
                                   const features::Vocabulary& vocabulary,
-                                  const ExtractOptions& options, int min_features = 20,
+                                  const features::ExtractOptions& options, int min_features = 20,
                                   int dilate = 4);
 
 }  // namespace proprio::recognition

@@ -38,7 +38,7 @@ struct SetExperimentOptions {
   int descriptors_per_image = 100;  ///< dense SIFT drawn per image (thesis: 100)
   features::KmeansOptions kmeans;   ///< 400 words, stop below 0.1% change
   int test_per_class = 20;          ///< test images per class (thesis: 20); the rest train
-  ExtractOptions features;
+  features::ExtractOptions features;
   topics::BatchLdaOptions batch;    ///< num_topics is set to the classes of the set
   topics::OnlineLdaOptions online;  ///< num_topics is set to the classes of the set
   std::uint64_t seed = 1;           ///< split, descriptor samples, k-means and LDA
@@ -103,7 +103,7 @@ struct ScatterExperimentOptions {
   /// Views of each object used (with their labels) to name the topics; the rest are the test.
   double mapping_fraction = 0.5;
   /// How a view becomes a document: the whole image (the object over its backdrop).
-  ExtractOptions view_features;
+  features::ExtractOptions view_features;
   /// Views cut from the frames of held-out episodes (run_scatter_experiment with view
   /// episodes): every view_step-th frame, each object's features inside its ground-truth mask,
   /// kept when there are at least view_min_features of them.

@@ -32,7 +32,8 @@ using ProgressFn = std::function<void(std::size_t, std::size_t)>;
 /// The images `indices` of `set` as whole-image documents (labels: their classes). Throws Error
 /// naming an image that cannot be read.
 LabelledCorpus image_corpus(const features::ImageSet& set, std::span<const std::size_t> indices,
-                            const features::Vocabulary& vocabulary, const ExtractOptions& options,
+                            const features::Vocabulary& vocabulary,
+                            const features::ExtractOptions& options,
                             const ProgressFn& progress = {});
 
 /// A per-class split of an image set into training and test images.
@@ -54,8 +55,9 @@ std::vector<std::size_t> images_of(const features::ImageSet& set,
 /// among `indices` (drawn at random), `per_image` descriptors each, drawn at random from the
 /// image's features (all of them when it has fewer). N x 128 CV_32F.
 cv::Mat sample_descriptors(const features::ImageSet& set, std::span<const std::size_t> indices,
-                           int images_per_class, int per_image, const ExtractOptions& options,
-                           std::uint64_t seed, const ProgressFn& progress = {});
+                           int images_per_class, int per_image,
+                           const features::ExtractOptions& options, std::uint64_t seed,
+                           const ProgressFn& progress = {});
 
 /// How a model classifies a test set.
 struct Evaluation {

@@ -1,0 +1,67 @@
+#pragma once
+// `proprio vocab build` as a library call (thesis 6.1.2, 6.3.1): the local features of every image
+// of a folder-per-class set, a uniform sample of each image's descriptors, k-means into words.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/extraction.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/vocabulary.hpp"
+
+namespace proprio::features {
+
+struct VocabularyBuildOptions {
+  std::filesystem::path images;  ///< folder-per-class image set, DIR/<class>/<image> (required)
+  /// The vocabulary file to write (docs/formats/vocabulary.md); empty: not written.
+  std::filesystem::path out;
+  /// Interest-point SIFT unless told otherwise (6.3.1 built its dictionaries so); the other
+  /// options as in every command that extracts features.
+  ExtractOptions features = sift_extraction();
+  int per_image = 100;  ///< descriptors sampled per image, uniformly without replacement; 0 = all
+  KmeansOptions kmeans;
+  bool progress = false;  ///< a progress bar on stderr
+
+  /// Throws Error naming the first bad option.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.per_image, {"per_image", "Descriptors sampled per image (0 = all)", core::at_least(0)});
+  }
+
+  static ExtractOptions sift_extraction() {
+    ExtractOptions o;
+    o.kind = FeatureKind::kSift;
+    return o;
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct VocabularyBuildResult {
+  Vocabulary vocabulary;
+  KmeansSummary kmeans;
+  std::size_t classes = 0;
+  std::size_t images = 0;
+  int images_without_features = 0;
+  int descriptors = 0;           ///< descriptors clustered
+  double extract_seconds = 0.0;  ///< reading images and computing descriptors, wall clock
+  /// The record (format "proprio.vocab.build", docs/formats/schemas/vocab_build.schema.json).
+  core::Json document;
+
+  /// One line for a person (what the CLI prints).
+  [[nodiscard]] std::string brief() const;
+};
+
+/// Reads the image set, extracts and samples descriptors (the sample draws from one stream seeded
+/// by kmeans.seed, image after image), builds the vocabulary and writes it to `out` (when given)
+/// with `provenance`. Throws Error naming the image set when it yields no features or fewer
+/// descriptors than words, or naming an image that cannot be read.
+VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options,
+                                           const core::Provenance& provenance);
+
+}  // namespace proprio::features
