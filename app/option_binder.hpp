@@ -91,16 +91,16 @@ struct Binder {
     std::map<std::string, E, std::less<>> table;
     for (const auto& [name, v] : names) table.emplace(std::string(name), v);
     const std::string list = core::choice_list(names);
-    const CLI::Validator by_name(
+    const CLI::Validator known(
         [table, list](std::string& text) -> std::string {
-          const auto it = table.find(text);
-          if (it == table.end()) return "must be " + list + " (it is " + text + ")";
-          text = std::to_string(static_cast<long long>(it->second));
-          return {};
+          if (table.find(text) != table.end()) return {};
+          return "must be " + list + " (it is " + text + ")";
         },
         "");
-    cmd->add_option(flag_of(info), value, info.help)
-        ->transform(by_name)
+    cmd->add_option_function<std::string>(
+           flag_of(info), [&value, table](const std::string& text) { value = table.at(text); },
+           info.help)
+        ->check(known)
         ->type_name(list_of(names))
         ->default_str(std::string(core::choice_name(value, names)));
   }
@@ -115,6 +115,14 @@ template <class S>
 void bind_options(CLI::App* cmd, S& options, const FieldFilter& filter = {}) {
   detail::Binder b{cmd, &filter};
   S::describe(options, b);
+}
+
+/// One choice flag (an enum with its names table) not part of a described struct.
+template <class E, std::size_t N>
+void bind_choice(CLI::App* cmd, E& value, const core::FieldInfo& info,
+                 const core::ChoiceNames<E, N>& names) {
+  const FieldFilter all;
+  detail::Binder{cmd, &all}.choice(value, info, names);
 }
 
 }  // namespace proprio::app

@@ -139,6 +139,9 @@ TEST(Fields, BoundsDescribeThemselves) {
   EXPECT_EQ(between(1, 10).describe(), "in [1, 10]");
   EXPECT_EQ(positive_at_most(0.5).describe(), "in (0, 0.5]");
   EXPECT_EQ(Bounds{}.describe(), "");
+  EXPECT_EQ(finite_at_least(0).describe(), "finite, >= 0");
+  EXPECT_TRUE(finite_at_least(0).contains(1e300));
+  EXPECT_FALSE(finite_at_least(0).contains(std::numeric_limits<double>::infinity()));
   EXPECT_FALSE(Bounds{}.bounded());
   EXPECT_TRUE(at_least(0).bounded());
   EXPECT_FALSE(Bounds{}.contains(std::nan("")));

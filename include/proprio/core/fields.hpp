@@ -49,12 +49,16 @@ struct Bounds {
     return (min_exclusive ? x > min : x >= min) && x <= max;
   }
   [[nodiscard]] bool bounded() const { return std::isfinite(min) || std::isfinite(max); }
-  /// "in [1, 10]", ">= 0", "> 0", "<= 5", or "" when unbounded.
+  /// "in [1, 10]", ">= 0", "> 0", "<= 5", "finite, >= 0", or "" when unbounded.
   [[nodiscard]] std::string describe() const;
 };
 
 [[nodiscard]] constexpr Bounds at_least(double min) { return {min}; }
 [[nodiscard]] constexpr Bounds between(double min, double max) { return {min, max}; }
+/// >= min and finite (infinity is outside).
+[[nodiscard]] constexpr Bounds finite_at_least(double min) {
+  return {min, std::numeric_limits<double>::max()};
+}
 /// > 0.
 [[nodiscard]] constexpr Bounds positive() {
   return {0.0, std::numeric_limits<double>::infinity(), true};

@@ -7,10 +7,12 @@
 // tau0 is ours + 1). The thesis prints the exponent without its minus sign.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/topics/corpus.hpp"
 #include "proprio/topics/estep_options.hpp"
 #include "proprio/topics/lda_model.hpp"
@@ -41,6 +43,30 @@ struct OnlineLdaOptions {
   void validate() const;
   [[nodiscard]] double resolved_alpha() const { return alpha > 0 ? alpha : 1.0 / num_topics; }
   [[nodiscard]] double resolved_eta() const { return eta > 0 ? eta : 1.0 / num_topics; }
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.num_topics, {"topics", "Number of topics K", core::between(1, 100000), "k"});
+    v(self.batch_size, {"batch", "Documents per mini-batch", core::at_least(1)});
+    v(self.tau0,
+      {"tau0", "Learning-rate offset: rho_t = (tau0 + t)^-kappa", core::finite_at_least(0)});
+    v(self.kappa, {"kappa", "Learning-rate decay", core::Bounds{0.5, 1.0, true}});
+    v(self.alpha, {"alpha", "Prior on topic proportions (0: 1/K)", core::finite_at_least(0)});
+    v(self.eta, {"eta", "Prior on topic words (0: 1/K)", core::finite_at_least(0)});
+    v(self.passes, {"passes", "Passes over the corpus (online)", core::at_least(1)});
+    v(self.threads,
+      {"threads", "Threads (the model does not depend on it)", core::between(1, 256)});
+    v(self.seed, {"seed", "Random seed"});
+    v(self.evaluate_every,
+      {"evaluate_every",
+       "With a held-out corpus: its perplexity every this many mini-batches (0: start and end)",
+       core::at_least(0)});
+    v(self.estep.max_iterations,
+      {"estep_max_iterations", "E-step: updates of a document's gamma at most", core::at_least(1)});
+    v(self.estep.tolerance,
+      {"estep_tolerance", "E-step: mean absolute change of gamma that stops it",
+       core::finite_at_least(0)});
+  }
 };
 
 /// What one mini-batch update did.

@@ -1,0 +1,131 @@
+#pragma once
+// The library calls behind `proprio lda ...` (thesis Ch 6, Appendix B): train a model on a corpus
+// file, infer the topic proportions of a corpus into CSV, measure held-out perplexity, list each
+// topic's words. Each reads its inputs, does the one job, writes its outputs and returns what it
+// did with the record the CLI writes for --json (docs/formats/schemas/lda_*.schema.json).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/topics/corpus.hpp"
+#include "proprio/topics/corpus_io.hpp"
+#include "proprio/topics/inference.hpp"
+#include "proprio/topics/lda_model.hpp"
+#include "proprio/topics/online_lda.hpp"
+#include "proprio/topics/perplexity.hpp"
+
+namespace proprio::topics {
+
+inline constexpr core::ChoiceNames<CorpusFormat, 3> kCorpusFormatNames{
+    {{"uci", CorpusFormat::kUci},
+     {"ldac", CorpusFormat::kLdac},
+     {"mm", CorpusFormat::kMatrixMarket}}};
+
+/// Throws Error naming `where` when `corpus` is not over the model's words: another number of
+/// words, or (when both name their words) another word at some index.
+void check_corpus_matches_model(const LdaModel& model, const Corpus& corpus,
+                                const std::filesystem::path& where);
+
+enum class LdaMethod { kOnline, kBatch };
+inline constexpr core::ChoiceNames<LdaMethod, 2> kLdaMethodNames{
+    {{"online", LdaMethod::kOnline}, {"batch", LdaMethod::kBatch}}};
+
+struct LdaTrainingOptions {
+  std::filesystem::path corpus;  ///< training corpus, a directory or file (required)
+  CorpusFormat format = CorpusFormat::kUci;
+  std::filesystem::path heldout;  ///< held-out corpus in the same format, or none
+  std::filesystem::path model;    ///< model file to write (docs/formats/lda-model.md), or none
+  /// online (Hoffman et al. 2010; its perplexity traced on `heldout`) or batch (Blei et al. 2003;
+  /// `heldout` scored once at the end).
+  LdaMethod method = LdaMethod::kOnline;
+  /// K, priors, threads and seed of both methods; batch size, learning rate and passes of online.
+  OnlineLdaOptions online;
+  int max_iterations = 100;  ///< batch: EM iterations at most
+  double tolerance = 1e-4;   ///< batch: relative change of the bound that stops EM
+
+  /// Throws Error naming the first bad option.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.format, {"format", "Corpus format (docs/formats/corpus.md)"}, kCorpusFormatNames);
+    v.choice(self.method, {"method", "online (Hoffman et al. 2010) or batch (Blei et al. 2003)"},
+             kLdaMethodNames);
+    v(self.max_iterations, {"max_iterations", "EM iterations (batch)", core::at_least(1)});
+    v(self.tolerance,
+      {"tolerance", "Relative change of the bound that stops batch EM", core::between(0, 1)});
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LdaTrainingResult {
+  LdaModel model;
+  std::string brief;  ///< the training summary's line (and the held-out perplexity of batch)
+  /// format "proprio.lda.train": corpus, method, options (alpha and eta resolved), speed, the
+  /// online summary or batch's iterations and bound, the held-out perplexity and its trace.
+  core::Json document;
+};
+
+/// Reads the corpora, trains, writes the model (when `model` is given).
+LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
+                                   const core::Provenance& provenance);
+
+struct LdaInferenceOptions {
+  std::filesystem::path model;   ///< model file (required)
+  std::filesystem::path corpus;  ///< corpus of documents (required)
+  CorpusFormat format = CorpusFormat::kUci;
+  /// CSV to write (required): document (from 0), class (argmax theta, 6.1.4; -1 when empty),
+  /// theta_0 .. theta_{K-1}.
+  std::filesystem::path out;
+  InferenceOptions inference;
+
+  void validate() const;
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LdaInferenceResult {
+  InferenceSummary summary;
+  core::Json document;  ///< format "proprio.lda.infer"
+};
+
+LdaInferenceResult run_lda_inference(const LdaInferenceOptions& options,
+                                     const core::Provenance& provenance);
+
+struct LdaPerplexityOptions {
+  std::filesystem::path corpus;  ///< held-out corpus (required)
+  CorpusFormat format = CorpusFormat::kUci;
+  std::filesystem::path model;   ///< a model file, or
+  std::filesystem::path lambda;  ///< a K x W lambda CSV from another tool (lda export's layout)
+  double alpha = 0.0;            ///< with `lambda`: the prior on topic proportions (> 0)
+  double eta = 0.0;              ///< with `lambda`: the prior on topic words (0: alpha)
+  PerplexityOptions perplexity;
+
+  /// Throws Error unless exactly one of model and lambda is given, and alpha > 0 with lambda.
+  void validate() const;
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LdaPerplexityResult {
+  PerplexityResult perplexity;
+  core::Json document;  ///< format "proprio.lda.perplexity"
+  [[nodiscard]] std::string brief() const;
+};
+
+LdaPerplexityResult run_lda_perplexity(const LdaPerplexityOptions& options,
+                                       const core::Provenance& provenance);
+
+/// The `top` most probable words of each topic: the listing's lines ("topic k: w w ...") and the
+/// record (format "proprio.lda.topics").
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LdaTopWords {
+  std::vector<std::string> lines;
+  core::Json document;
+};
+LdaTopWords run_lda_top_words(const std::filesystem::path& model, int top,
+                              const core::Provenance& provenance);
+
+}  // namespace proprio::topics
