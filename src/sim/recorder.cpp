@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <opencv2/core.hpp>
 
@@ -80,6 +81,17 @@ Eigen::Vector3d vec3(const core::Json& j, const std::string& key, const fs::path
   return {v[0], v[1], v[2]};
 }
 
+// The default scene with the recording's camera: it looks at the push band from the front and a
+// little above, close enough that the object is large in the image.
+SceneDescription recording_scene(const RecordOptions& options) {
+  SceneDescription scene = default_scene();
+  scene.cameras.at(0).width = options.width;
+  scene.cameras.at(0).height = options.height;
+  scene.cameras.at(0).position = {0.24, -0.62, 0.42};
+  scene.cameras.at(0).target = {0.26, 0.04, 0.05};
+  return scene;
+}
+
 // A scene file: {"objects": [{"type" | shape fields of a catalogue entry, "name", "x", "y",
 // "yaw"}], "target": NAME, optional "camera": {"position", "target"}, optional "push":
 // {"start", "end"} (metres, robot frame; default: along +x through the target's origin).
@@ -87,11 +99,7 @@ ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
                             const ObjectCatalogue& catalogue) {
   const core::Json j = read_scene_file(file);
   ScenarioPlan plan;
-  plan.scene = default_scene();
-  plan.scene.cameras.at(0).width = options.width;
-  plan.scene.cameras.at(0).height = options.height;
-  plan.scene.cameras.at(0).position = {0.24, -0.62, 0.42};
-  plan.scene.cameras.at(0).target = {0.26, 0.04, 0.05};
+  plan.scene = recording_scene(options);
   if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty()) {
     throw Error::in_file(file, "'objects' must be a non-empty array");
   }
@@ -246,28 +254,37 @@ void check_scatter_objects(const RecordOptions& options, const ObjectCatalogue& 
 
 }  // namespace
 
-ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
-  options.validate();
-  if (is_scenario_file(options.scenario))
-    return plan_from_file(options.scenario, options, catalogue);
-  const ObjectType& target_type = catalogue.get(options.object);
-  core::Rng rng(options.seed);
+namespace {
 
-  ScenarioPlan plan;
-  plan.scene = default_scene();
-  plan.scene.cameras.at(0).width = options.width;
-  plan.scene.cameras.at(0).height = options.height;
-  // Look at the push band from the front and a little above, close enough that the object is
-  // large in the image.
-  plan.scene.cameras.at(0).position = {0.24, -0.62, 0.42};
-  plan.scene.cameras.at(0).target = {0.26, 0.04, 0.05};
-  // A backdrop just behind the table, low enough that the camera sees the middle of its picture
-  // (where vtest.avi's people walk), with the video's 4:3 aspect.
-  plan.scene.backdrop.center = {0.30, 0.56, 0.30};
-  plan.scene.backdrop.size = {1.8, 0.9};
-  plan.scene.backdrop.texture_width = 384;
-  plan.scene.backdrop.texture_height = 288;
+// Clutter: the part of the table where it may stand (m, robot frame), how far it keeps from the
+// push corridor's side and from other objects (m), how far from the base axis (m, clear of the
+// arm's base), and the draws per object before it is left out.
+constexpr double kClutterMinX = 0.08, kClutterMaxX = 0.62;
+constexpr double kClutterMinY = -0.30, kClutterMaxY = 0.38;
+constexpr double kCorridorMargin = 0.04;
+constexpr double kClutterGap = 0.02;
+constexpr double kBaseClearance = 0.12;
+constexpr int kClutterAttempts = 200;
 
+// A footprint taken on the table: centre (m) and radius (m).
+struct Disc {
+  Eigen::Vector2d c;
+  double r;
+};
+
+// Sets the scene's backdrop: just behind the table, low enough that the camera sees the middle of
+// its picture (where vtest.avi's people walk), with the video's 4:3 aspect.
+void set_backdrop(SceneDescription& scene) {
+  scene.backdrop.center = {0.30, 0.56, 0.30};
+  scene.backdrop.size = {1.8, 0.9};
+  scene.backdrop.texture_width = 384;
+  scene.backdrop.texture_height = 288;
+}
+
+// Places the target at yaw 0 with its back face the approach ahead of the push's start; returns
+// its box centre's x, m.
+double place_target(const RecordOptions& options, const ObjectType& target_type,
+                    ScenarioPlan& plan) {
   // Target at yaw 0: its box spans [cx - hx, cx + hx] along x about its origin.
   const Eigen::Vector3d he = target_type.half_extents();
   const Eigen::Vector3d ce = target_type.center();
@@ -287,7 +304,57 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
   target.position = {centre_x - ce.x(), -ce.y()};
   plan.scene.objects.push_back(target);
   plan.target = options.object;
+  return centre_x;
+}
 
+// `count` clutter objects of types from `draw_type` at random places, clear of the push corridor
+// (beside a target of footprint radius `target_r`, m), of the arm's base and of `taken`; an
+// object that finds no room is left out.
+void place_clutter(int count, const std::function<std::string()>& draw_type,
+                   const ObjectCatalogue& catalogue, double target_r, std::vector<Disc>& taken,
+                   core::Rng& rng, ScenarioPlan& plan) {
+  for (int i = 0; i < count; ++i) {
+    const std::string type = draw_type();
+    const ObjectType& t = catalogue.get(type);
+    const double r = t.footprint_radius();
+    bool placed = false;
+    for (int attempt = 0; attempt < kClutterAttempts && !placed; ++attempt) {
+      const Eigen::Vector2d p(rng.uniform(kClutterMinX, kClutterMaxX),
+                              rng.uniform(kClutterMinY, kClutterMaxY));
+      // Keep the push corridor and everything in front of it (toward the camera) free, and
+      // stay off the arm's base.
+      const double corridor = target_r + r + kCorridorMargin;
+      if (p.x() < kPushEndX + target_r + r && p.y() < corridor) continue;
+      if (p.norm() < kBaseClearance + r) continue;
+      bool overlap = false;
+      for (const Disc& d : taken) overlap = overlap || (p - d.c).norm() < d.r + r + kClutterGap;
+      if (overlap) continue;
+      PlacedObject o;
+      o.type = type;
+      o.name = type;
+      o.position = p;
+      o.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      plan.scene.objects.push_back(o);
+      taken.push_back({p, r});
+      placed = true;
+    }
+  }
+}
+
+}  // namespace
+
+ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
+  options.validate();
+  if (is_scenario_file(options.scenario))
+    return plan_from_file(options.scenario, options, catalogue);
+  const ObjectType& target_type = catalogue.get(options.object);
+  core::Rng rng(options.seed);
+
+  ScenarioPlan plan;
+  plan.scene = recording_scene(options);
+  set_backdrop(plan.scene);
+  const double centre_x = place_target(options, target_type, plan);
+  const Eigen::Vector3d he = target_type.half_extents();
   // push-rotate: the line passes half-way between the centre and the side, so the object turns.
   const double offset = options.scenario == "push-rotate" ? 0.5 * he.y() : 0.0;
   plan.push_start = {kPushStartX, offset, options.pusher_height};
@@ -306,10 +373,6 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
     return n;
   };
   const double target_r = std::hypot(he.x(), he.y());
-  struct Disc {
-    Eigen::Vector2d c;
-    double r;
-  };
   std::vector<Disc> taken{{Eigen::Vector2d(centre_x, 0.0), target_r}};
   if (options.nudge_neighbour) {
     const PlacedObject o = place_neighbour(draw_type(), catalogue, centre_x, target_r);
@@ -327,31 +390,7 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
     plan_sliders(std::max(clutter, kLeastSliders), draw_type, rng, plan);
     clutter = 0;
   }
-  for (int i = 0; i < clutter; ++i) {
-    const std::string type = draw_type();
-    const ObjectType& t = catalogue.get(type);
-    const double r = t.footprint_radius();
-    bool placed = false;
-    for (int attempt = 0; attempt < 200 && !placed; ++attempt) {
-      const Eigen::Vector2d p(rng.uniform(0.08, 0.62), rng.uniform(-0.30, 0.38));
-      // Keep the push corridor and everything in front of it (toward the camera) free, and
-      // stay off the arm's base.
-      const double corridor = target_r + r + 0.04;
-      if (p.x() < kPushEndX + target_r + r && p.y() < corridor) continue;
-      if (p.norm() < 0.12 + r) continue;
-      bool overlap = false;
-      for (const Disc& d : taken) overlap = overlap || (p - d.c).norm() < d.r + r + 0.02;
-      if (overlap) continue;
-      PlacedObject o;
-      o.type = type;
-      o.name = type;
-      o.position = p;
-      o.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
-      plan.scene.objects.push_back(o);
-      taken.push_back({p, r});
-      placed = true;
-    }
-  }
+  place_clutter(clutter, draw_type, catalogue, target_r, taken, rng, plan);
   if (options.stereo) plan.scene.cameras.at(0).stereo_baseline = options.stereo_baseline;
   for (int i = 0; i < options.distractor_count(); ++i) {
     const PlacedObject o = distractor_start(draw_type(), i);
