@@ -152,6 +152,292 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// One trial of InterceptionSimulator::run: the arm waits at rest while the cameras observe the
+// target, plans at the end of the observation (then again while it waits, and re-aims while it
+// moves, with options.replan), and the trial ends when the planned interception time comes.
+class TrialRun {
+ public:
+  TrialRun(const robot::Arm& arm, const GridCostModel& model, const StereoRig& rig, int mocap,
+           const TrialOptions& options, std::uint64_t seed, TrialResult r)
+      : arm_(arm),
+        m_(arm.model()),
+        model_(model),
+        rig_(rig),
+        mocap_(mocap),
+        options_(options),
+        h_(m_.opt.timestep),
+        spf_(std::lround(1 / (options.camera_rate_hz * h_))),
+        grid_(model.grid()),
+        motion_(model.costs().options.motion),
+        fo_(filter_options(options.filter, static_cast<double>(spf_) * h_)),
+        po_(planner_options(options.planner, h_)),
+        rate_(1 / h_),
+        r_(std::move(r)),
+        rng_(seed),
+        state_(arm) {}
+
+  TrialResult run();
+
+ private:
+  static FilterOptions filter_options(FilterOptions fo, double dt) {
+    fo.dt = dt;
+    return fo;
+  }
+  static PlannerOptions planner_options(PlannerOptions po, double time_quantum) {
+    po.time_quantum = time_quantum;
+    return po;
+  }
+
+  void start_at_rest();
+  bool on_frame(long i, double t, const Eigen::Vector3d& truth);
+  void record_frame(long i, double t, const std::optional<PositionMeasurement>& pm);
+  bool plan_first(long i, double t);
+  void replan(long i, double t);
+  std::pair<InterceptionPlan, double> plan_now(double t, double t_latest);
+  void schedule(const InterceptionPlan& plan, long now);
+  void reaim(long now);
+  void step(long i);
+  void finish_at_hit();
+  [[nodiscard]] Eigen::Vector3d ee_position() const {
+    const int ee = arm_.ee_site();
+    return {d_->site_xpos[3 * ee], d_->site_xpos[3 * ee + 1], d_->site_xpos[3 * ee + 2]};
+  }
+
+  const robot::Arm& arm_;
+  const mjModel& m_;
+  const GridCostModel& model_;
+  const StereoRig& rig_;
+  int mocap_;
+  const TrialOptions& options_;
+  double h_;  // simulation step, s
+  long spf_;  // simulation steps per camera frame
+  const GridSpec& grid_;
+  const ArmMotionOptions& motion_;
+  FilterOptions fo_;
+  PlannerOptions po_;
+  double rate_;  // simulation steps per second
+  TrialResult r_;
+  core::Rng rng_;
+  robot::ArmState state_;
+  robot::JointVector q0_;    // the arm at rest at the grid's start
+  robot::JointVector hold_;  // the commands that hold it there
+  robot::DataPtr d_;
+  std::vector<robot::JointVector> ctrl_, qcmd_;  // per simulation step, once a move is planned
+  std::optional<CommandedPath> path_;
+  long s_start_ = -1, s_hit_ = -1;  // the move's first step and the interception's
+  std::optional<TargetFilter> filter_;
+  std::vector<PositionMeasurement> observed_;  // before the filter is built
+};
+
+TrialResult TrialRun::run() {
+  start_at_rest();
+  const long last_step =
+      std::lround((r_.t_plan + grid_.duration + 2 * po_.window + 2 * fo_.dt) / h_);
+  for (long i = 0; i <= last_step; ++i) {
+    const double t = static_cast<double>(i) * h_;
+    const Eigen::Vector3d truth = r_.target.position(t);
+    for (int k = 0; k < 3; ++k) d_->mocap_pos[3 * mocap_ + k] = truth[k];
+    if (i % spf_ == 0 && !on_frame(i, t, truth)) return std::move(r_);
+    step(i);
+    if (s_hit_ >= 0 && i + 1 == s_hit_) {
+      finish_at_hit();
+      return std::move(r_);
+    }
+  }
+  r_.why_not = "the interception time was never reached";
+  return std::move(r_);
+}
+
+// The arm at rest at the grid's start, held there by constant commands; the target at its start.
+void TrialRun::start_at_rest() {
+  q0_ = solve_scheduled(state_, grid_.start, arm_.clamp(robot::JointVector::Zero()), motion_).q;
+  robot::JointTrajectory rest;
+  rest.dt = h_;
+  rest.q = {q0_};
+  rest.qdot = rest.qddot = {robot::JointVector::Zero()};
+  hold_ = robot::servo_commands(arm_, rest, robot::inverse_dynamics(state_, rest)).front();
+  d_ = robot::make_data(m_);
+  for (int k = 0; k < robot::kArmJoints; ++k) d_->qpos[arm_.qpos_adr(k)] = q0_[k];
+  for (int k = 0; k < 3; ++k) d_->mocap_pos[3 * mocap_ + k] = r_.target.start[k];
+  mj_forward(&m_, d_.get());
+}
+
+// A camera frame at step `i`: the target is measured, then either observed (the filter is built
+// and the first plan made at the last observed frame) or tracked (the filter updated, and with
+// options.replan a new plan or a re-aim). Returns false when the trial ends here.
+bool TrialRun::on_frame(long i, double t, const Eigen::Vector3d& truth) {
+  std::optional<PositionMeasurement> pm;
+  if (const auto sm = measure(rig_, truth, r_.sigma_px, rng_)) {
+    pm = PositionMeasurement{t, sm->position, sm->covariance};
+  }
+  if (options_.record) record_frame(i, t, pm);
+  if (!filter_) {
+    if (pm) observed_.push_back(*pm);
+    if (i / spf_ == options_.observe_frames - 1) return plan_first(i, t);
+  } else if (pm) {
+    filter_->update(*pm);
+    if (options_.replan) replan(i, t);
+  }
+  return true;
+}
+
+void TrialRun::record_frame(long i, double t, const std::optional<PositionMeasurement>& pm) {
+  if (pm) r_.record.measurements.push_back(*pm);
+  mj_kinematics(&m_, d_.get());
+  r_.record.executed.push_back(ee_position());
+  r_.record.commanded.push_back(
+      path_ && i >= s_start_ ? path_->sample(t - path_->t_start()).position : grid_.start);
+}
+
+// Builds the filter from the observed frames and commits the first plan. Returns false, with
+// the reason, when there is no filter, no feasible plan or no path the arm can follow.
+bool TrialRun::plan_first(long i, double t) {
+  try {
+    filter_.emplace(observed_, fo_);
+  } catch (const Error& e) {
+    r_.why_not = e.what();
+    return false;
+  }
+  const auto [plan, ms] = plan_now(t, std::numeric_limits<double>::infinity());
+  r_.first_plan = plan;
+  r_.first_plan_ms = ms;
+  r_.first_predicted_sigma = plan.predicted_sigma;
+  if (!plan.feasible) {
+    r_.final_plan = plan;
+    r_.why_not = plan.why_not;
+    return false;
+  }
+  try {
+    schedule(plan, i);
+  } catch (const Error& e) {
+    r_.why_not = cat({"the arm cannot follow the planned path: ", e.what()});
+    return false;
+  }
+  if (options_.record) r_.record.forecast = TargetForecast(*filter_, plan.t_intercept).frames();
+  return true;
+}
+
+// Visual feedback: while the arm waits, a new plan; once it moves, a re-aim (until the cutoff).
+void TrialRun::replan(long i, double t) {
+  if (i < s_start_) {
+    // Waiting at rest: plan again, no later than the committed interception (so that re-plans
+    // cannot put the move off for ever).
+    const auto [plan, ms] = plan_now(t, static_cast<double>(s_hit_) * h_);
+    if (plan.feasible) {
+      try {
+        schedule(plan, i);
+      } catch (const Error&) {
+        // keep the current plan
+      }
+    }
+  } else if (static_cast<double>(s_hit_ - i) * h_ >= options_.replan_cutoff - 1e-9) {
+    reaim(i);
+  }
+}
+
+std::pair<InterceptionPlan, double> TrialRun::plan_now(double t, double t_latest) {
+  const auto clock0 = std::chrono::steady_clock::now();
+  InterceptionPlan plan = plan_interception(*filter_, model_, t, po_, t_latest);
+  const double ms = ms_since(clock0);
+  r_.total_plan_ms += ms;
+  ++r_.plans;
+  return std::pair{plan, ms};
+}
+
+// Commits a plan made at step `now` (the arm at rest): joint path, feed-forward commands.
+void TrialRun::schedule(const InterceptionPlan& plan, long now) {
+  const long b = std::lround(plan.t_intercept / h_);
+  const long a = b - std::lround(grid_.duration / h_);
+  ensure(a >= now && b > a, "a plan must start after it is made");
+  CommandedPath p(grid_.trajectory(plan.psi), static_cast<double>(a) * h_);
+  const robot::TrackResult track = track_scheduled(state_, p, q0_, rate_, motion_);
+  ensure(static_cast<long>(track.joints.size()) == b - a + 1,
+         "the joint path does not match the simulation steps");
+  const auto cmd =
+      robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state_, track.joints));
+  ctrl_.assign(static_cast<std::size_t>(b) + 1, hold_);
+  qcmd_.assign(static_cast<std::size_t>(b) + 1, q0_);
+  for (long k = 0; k <= b - a; ++k) {
+    ctrl_[static_cast<std::size_t>(a + k)] = cmd[static_cast<std::size_t>(k)];
+    qcmd_[static_cast<std::size_t>(a + k)] = track.joints.q[static_cast<std::size_t>(k)];
+  }
+  path_.emplace(std::move(p));
+  s_start_ = a;
+  s_hit_ = b;
+  r_.aim = plan.end_point;
+  r_.final_plan = plan;
+  r_.predicted_sigma = plan.predicted_sigma;
+  r_.t_intercept = plan.t_intercept;
+  if (options_.record) r_.record.aims.push_back(plan.end_point);
+}
+
+// Re-aims the moving arm at the filter's prediction for the interception time.
+void TrialRun::reaim(long now) {
+  const double t_hit = static_cast<double>(s_hit_) * h_;
+  const auto clock0 = std::chrono::steady_clock::now();
+  const TargetForecast forecast(*filter_, t_hit);
+  Eigen::Vector3d mean;
+  Eigen::Matrix3d cov;
+  forecast.at(t_hit, &mean, &cov);
+  const Eigen::Vector3d delta(mean.x() - path_->end().x(), mean.y() - path_->end().y(), 0);
+  if (!delta.allFinite() || !cov.allFinite()) {
+    ++r_.failed_reaims;
+    return;
+  }
+  CommandedPath next = *path_;
+  const double from = static_cast<double>(now - s_start_) * h_;
+  next.add_correction(from, delta);
+  try {
+    const Window rest_of_path(next, from, static_cast<double>(s_hit_ - s_start_) * h_);
+    const robot::TrackResult track =
+        track_scheduled(state_, rest_of_path, qcmd_[static_cast<std::size_t>(now)], rate_, motion_);
+    ensure(static_cast<long>(track.joints.size()) == s_hit_ - now + 1,
+           "the corrected joint path does not match the simulation steps");
+    const auto cmd =
+        robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state_, track.joints));
+    for (long k = 0; k <= s_hit_ - now; ++k) {
+      ctrl_[static_cast<std::size_t>(now + k)] = cmd[static_cast<std::size_t>(k)];
+      qcmd_[static_cast<std::size_t>(now + k)] = track.joints.q[static_cast<std::size_t>(k)];
+    }
+  } catch (const Error&) {
+    ++r_.failed_reaims;  // the corrected path leaves the workspace: keep the current one
+    r_.total_plan_ms += ms_since(clock0);
+    return;
+  }
+  *path_ = std::move(next);
+  r_.aim = path_->end();
+  r_.predicted_sigma = std::sqrt(cov.topLeftCorner<2, 2>().trace() / 2);
+  ++r_.reaims;
+  r_.total_plan_ms += ms_since(clock0);
+  if (options_.record) r_.record.aims.push_back(r_.aim);
+}
+
+// One simulation step under the commands for step `i` (the hold before a move is planned, the
+// last command after the move's end).
+void TrialRun::step(long i) {
+  const robot::JointVector& u =
+      ctrl_.empty()
+          ? hold_
+          : ctrl_[static_cast<std::size_t>(std::min<long>(i, static_cast<long>(ctrl_.size()) - 1))];
+  for (int k = 0; k < robot::kArmJoints; ++k) d_->ctrl[arm_.actuator_id(k)] = u[k];
+  mj_step(&m_, d_.get());
+}
+
+// The interception time has come: where the hand and the target are, and the miss.
+void TrialRun::finish_at_hit() {
+  mj_kinematics(&m_, d_.get());
+  r_.ee_at = ee_position();
+  r_.target_at = r_.target.position(static_cast<double>(s_hit_) * h_);
+  r_.miss = (r_.ee_at - r_.target_at).norm();
+  r_.plane_miss = (r_.ee_at - r_.target_at).head<2>().norm();
+  r_.executed = true;
+  r_.mujoco_warnings = robot::warnings(*d_);
+  if (options_.record) {
+    r_.record.executed.push_back(r_.ee_at);
+    r_.record.commanded.push_back(path_->end());
+  }
+}
+
 }  // namespace
 
 InterceptionSimulator::InterceptionSimulator(robot::Arm arm,
@@ -215,215 +501,11 @@ TrialResult InterceptionSimulator::run(const TargetMotion& target, const TrialOp
   check(options);
   require(target.start.allFinite() && target.velocity.allFinite(),
           "the target's motion must be finite");
-  const mjModel& m = arm_.model();
-  const double h = m.opt.timestep;
-  const long spf = std::lround(1 / (options.camera_rate_hz * h));
-  const GridSpec& grid = model_->grid();
-  const ArmMotionOptions& motion = model_->costs().options.motion;
-  FilterOptions fo = options.filter;
-  fo.dt = static_cast<double>(spf) * h;
-  PlannerOptions po = options.planner;
-  po.time_quantum = h;
-  const double rate = 1 / h;
-
   TrialResult r;
   r.target = target;
   r.sigma_px = pixel_noise_for(options.noise_cm);
   r.t_plan = plan_time(options);
-  core::Rng rng(seed);
-
-  robot::ArmState state(arm_);
-  const robot::JointVector q0 =
-      solve_scheduled(state, grid.start, arm_.clamp(robot::JointVector::Zero()), motion).q;
-  robot::JointTrajectory rest;
-  rest.dt = h;
-  rest.q = {q0};
-  rest.qdot = rest.qddot = {robot::JointVector::Zero()};
-  const robot::JointVector hold =
-      robot::servo_commands(arm_, rest, robot::inverse_dynamics(state, rest)).front();
-
-  robot::DataPtr d = robot::make_data(m);
-  for (int k = 0; k < robot::kArmJoints; ++k) d->qpos[arm_.qpos_adr(k)] = q0[k];
-  for (int k = 0; k < 3; ++k) d->mocap_pos[3 * mocap_ + k] = target.start[k];
-  mj_forward(&m, d.get());
-
-  std::vector<robot::JointVector> ctrl, qcmd;  // per simulation step, once a move is planned
-  std::optional<CommandedPath> path;
-  long s_start = -1, s_hit = -1;
-  std::optional<TargetFilter> filter;
-  std::vector<PositionMeasurement> observed;
-
-  // Commits a plan made at step `now` (the arm at rest): joint path, feed-forward commands.
-  auto schedule = [&](const InterceptionPlan& plan, long now) {
-    const long b = std::lround(plan.t_intercept / h);
-    const long a = b - std::lround(grid.duration / h);
-    ensure(a >= now && b > a, "a plan must start after it is made");
-    CommandedPath p(grid.trajectory(plan.psi), static_cast<double>(a) * h);
-    const robot::TrackResult track = track_scheduled(state, p, q0, rate, motion);
-    ensure(static_cast<long>(track.joints.size()) == b - a + 1,
-           "the joint path does not match the simulation steps");
-    const auto cmd =
-        robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state, track.joints));
-    ctrl.assign(static_cast<std::size_t>(b) + 1, hold);
-    qcmd.assign(static_cast<std::size_t>(b) + 1, q0);
-    for (long k = 0; k <= b - a; ++k) {
-      ctrl[static_cast<std::size_t>(a + k)] = cmd[static_cast<std::size_t>(k)];
-      qcmd[static_cast<std::size_t>(a + k)] = track.joints.q[static_cast<std::size_t>(k)];
-    }
-    path.emplace(std::move(p));
-    s_start = a;
-    s_hit = b;
-    r.aim = plan.end_point;
-    r.final_plan = plan;
-    r.predicted_sigma = plan.predicted_sigma;
-    r.t_intercept = plan.t_intercept;
-    if (options.record) r.record.aims.push_back(plan.end_point);
-  };
-
-  // Re-aims the moving arm at the filter's prediction for the interception time.
-  auto reaim = [&](long now) {
-    const double t_hit = static_cast<double>(s_hit) * h;
-    const auto clock0 = std::chrono::steady_clock::now();
-    const TargetForecast forecast(*filter, t_hit);
-    Eigen::Vector3d mean;
-    Eigen::Matrix3d cov;
-    forecast.at(t_hit, &mean, &cov);
-    const Eigen::Vector3d delta(mean.x() - path->end().x(), mean.y() - path->end().y(), 0);
-    if (!delta.allFinite() || !cov.allFinite()) {
-      ++r.failed_reaims;
-      return;
-    }
-    CommandedPath next = *path;
-    const double from = static_cast<double>(now - s_start) * h;
-    next.add_correction(from, delta);
-    try {
-      const Window rest_of_path(next, from, static_cast<double>(s_hit - s_start) * h);
-      const robot::TrackResult track =
-          track_scheduled(state, rest_of_path, qcmd[static_cast<std::size_t>(now)], rate, motion);
-      ensure(static_cast<long>(track.joints.size()) == s_hit - now + 1,
-             "the corrected joint path does not match the simulation steps");
-      const auto cmd =
-          robot::servo_commands(arm_, track.joints, robot::inverse_dynamics(state, track.joints));
-      for (long k = 0; k <= s_hit - now; ++k) {
-        ctrl[static_cast<std::size_t>(now + k)] = cmd[static_cast<std::size_t>(k)];
-        qcmd[static_cast<std::size_t>(now + k)] = track.joints.q[static_cast<std::size_t>(k)];
-      }
-    } catch (const Error&) {
-      ++r.failed_reaims;  // the corrected path leaves the workspace: keep the current one
-      r.total_plan_ms += ms_since(clock0);
-      return;
-    }
-    *path = std::move(next);
-    r.aim = path->end();
-    r.predicted_sigma = std::sqrt(cov.topLeftCorner<2, 2>().trace() / 2);
-    ++r.reaims;
-    r.total_plan_ms += ms_since(clock0);
-    if (options.record) r.record.aims.push_back(r.aim);
-  };
-
-  auto plan_now = [&](double t, double t_latest) {
-    const auto clock0 = std::chrono::steady_clock::now();
-    InterceptionPlan plan = plan_interception(*filter, *model_, t, po, t_latest);
-    const double ms = ms_since(clock0);
-    r.total_plan_ms += ms;
-    ++r.plans;
-    return std::pair{plan, ms};
-  };
-
-  const int ee = arm_.ee_site();
-  auto ee_position = [&] {
-    return Eigen::Vector3d(d->site_xpos[3 * ee], d->site_xpos[3 * ee + 1],
-                           d->site_xpos[3 * ee + 2]);
-  };
-  const long last_step = std::lround((r.t_plan + grid.duration + 2 * po.window + 2 * fo.dt) / h);
-  for (long i = 0; i <= last_step; ++i) {
-    const double t = static_cast<double>(i) * h;
-    const Eigen::Vector3d truth = target.position(t);
-    for (int k = 0; k < 3; ++k) d->mocap_pos[3 * mocap_ + k] = truth[k];
-    if (i % spf == 0) {
-      const long frame = i / spf;
-      std::optional<PositionMeasurement> pm;
-      if (const auto sm = measure(rig_, truth, r.sigma_px, rng)) {
-        pm = PositionMeasurement{t, sm->position, sm->covariance};
-      }
-      if (options.record) {
-        if (pm) r.record.measurements.push_back(*pm);
-        mj_kinematics(&m, d.get());
-        r.record.executed.push_back(ee_position());
-        r.record.commanded.push_back(
-            path && i >= s_start ? path->sample(t - path->t_start()).position : grid.start);
-      }
-      if (!filter) {
-        if (pm) observed.push_back(*pm);
-        if (frame == options.observe_frames - 1) {
-          try {
-            filter.emplace(observed, fo);
-          } catch (const Error& e) {
-            r.why_not = e.what();
-            return r;
-          }
-          const auto [plan, ms] = plan_now(t, std::numeric_limits<double>::infinity());
-          r.first_plan = plan;
-          r.first_plan_ms = ms;
-          r.first_predicted_sigma = plan.predicted_sigma;
-          if (!plan.feasible) {
-            r.final_plan = plan;
-            r.why_not = plan.why_not;
-            return r;
-          }
-          try {
-            schedule(plan, i);
-          } catch (const Error& e) {
-            r.why_not = cat({"the arm cannot follow the planned path: ", e.what()});
-            return r;
-          }
-          if (options.record) {
-            r.record.forecast = TargetForecast(*filter, plan.t_intercept).frames();
-          }
-        }
-      } else if (pm) {
-        filter->update(*pm);
-        if (options.replan) {
-          if (i < s_start) {
-            // Waiting at rest: plan again, no later than the committed interception (so that
-            // re-plans cannot put the move off for ever).
-            const auto [plan, ms] = plan_now(t, static_cast<double>(s_hit) * h);
-            if (plan.feasible) {
-              try {
-                schedule(plan, i);
-              } catch (const Error&) {
-                // keep the current plan
-              }
-            }
-          } else if (static_cast<double>(s_hit - i) * h >= options.replan_cutoff - 1e-9) {
-            reaim(i);
-          }
-        }
-      }
-    }
-    const robot::JointVector& u =
-        ctrl.empty()
-            ? hold
-            : ctrl[static_cast<std::size_t>(std::min<long>(i, static_cast<long>(ctrl.size()) - 1))];
-    for (int k = 0; k < robot::kArmJoints; ++k) d->ctrl[arm_.actuator_id(k)] = u[k];
-    mj_step(&m, d.get());
-    if (s_hit >= 0 && i + 1 == s_hit) {
-      mj_kinematics(&m, d.get());
-      r.ee_at = ee_position();
-      r.target_at = target.position(static_cast<double>(s_hit) * h);
-      r.miss = (r.ee_at - r.target_at).norm();
-      r.plane_miss = (r.ee_at - r.target_at).head<2>().norm();
-      r.executed = true;
-      r.mujoco_warnings = robot::warnings(*d);
-      if (options.record) {
-        r.record.executed.push_back(r.ee_at);
-        r.record.commanded.push_back(path->end());
-      }
-      return r;
-    }
-  }
-  r.why_not = "the interception time was never reached";
-  return r;
+  return TrialRun(arm_, *model_, rig_, mocap_, options, seed, std::move(r)).run();
 }
 
 InterceptionPlan InterceptionSimulator::first_plan(const TargetMotion& target,

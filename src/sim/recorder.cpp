@@ -3,11 +3,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <opencv2/core.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "async_episode_writer.hpp"
+#include "backdrop_video.hpp"
+#include "camera_shake.hpp"
+#include "distractor_mover.hpp"
+#include "held_object.hpp"
+#include "image_noise.hpp"
+#include "lighting_change.hpp"
+#include "motion_blur.hpp"
+#include "neighbour_nudge.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/episode/episode_writer.hpp"
@@ -17,6 +25,8 @@
 #include "proprio/sim/renderer.hpp"
 #include "proprio/sim/scene_file.hpp"
 #include "proprio/sim/world.hpp"
+#include "slider_mover.hpp"
+#include "walker_mover.hpp"
 
 namespace proprio::sim {
 namespace fs = std::filesystem;
@@ -28,6 +38,9 @@ namespace {
 constexpr double kPushStartX = 0.12;
 constexpr double kPushEndX = 0.32;
 constexpr double kClearance = 0.025;  // least distance, pusher tip to the object's back face, m
+// Other objects in the clutter scenario, and sliders in scatter, at the least (thesis 5.1, 6.3.3).
+constexpr int kLeastClutter = 6;
+constexpr int kLeastSliders = 5;
 
 using Clock = std::chrono::steady_clock;
 
@@ -68,6 +81,17 @@ Eigen::Vector3d vec3(const core::Json& j, const std::string& key, const fs::path
   return {v[0], v[1], v[2]};
 }
 
+// The default scene with the recording's camera: it looks at the push band from the front and a
+// little above, close enough that the object is large in the image.
+SceneDescription recording_scene(const RecordOptions& options) {
+  SceneDescription scene = default_scene();
+  scene.cameras.at(0).width = options.width;
+  scene.cameras.at(0).height = options.height;
+  scene.cameras.at(0).position = {0.24, -0.62, 0.42};
+  scene.cameras.at(0).target = {0.26, 0.04, 0.05};
+  return scene;
+}
+
 // A scene file: {"objects": [{"type" | shape fields of a catalogue entry, "name", "x", "y",
 // "yaw"}], "target": NAME, optional "camera": {"position", "target"}, optional "push":
 // {"start", "end"} (metres, robot frame; default: along +x through the target's origin).
@@ -75,11 +99,7 @@ ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
                             const ObjectCatalogue& catalogue) {
   const core::Json j = read_scene_file(file);
   ScenarioPlan plan;
-  plan.scene = default_scene();
-  plan.scene.cameras.at(0).width = options.width;
-  plan.scene.cameras.at(0).height = options.height;
-  plan.scene.cameras.at(0).position = {0.24, -0.62, 0.42};
-  plan.scene.cameras.at(0).target = {0.26, 0.04, 0.05};
+  plan.scene = recording_scene(options);
   if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty()) {
     throw Error::in_file(file, "'objects' must be a non-empty array");
   }
@@ -217,18 +237,8 @@ core::Json RecordOptions::switches() const {
 
 namespace {
 
-// The walkers' box: x well beyond the camera's view of the table (about -0.3..0.85 m at
-// y = 0.3, computed from the camera below), so that they leave it and come back; y from behind
-// the push corridor to the backdrop (y = 0.56).
-constexpr double kWalkMinX = -0.55, kWalkMaxX = 1.05, kWalkMaxY = 0.54;
-// The part of that box that the camera sees whole at every y (about -0.2..0.74 m at y = 0.15).
-constexpr double kViewMinX = -0.1, kViewMaxX = 0.62;
-constexpr double kWalkGap = 0.01;  // least distance between two walkers' footprints, m
-
-// scatter with chosen objects: the objects other than the target become walkers, started at
-// random non-overlapping places in view, heading anywhere, 0.06-0.16 m/s.
-void plan_walkers(const RecordOptions& options, const ObjectCatalogue& catalogue, double target_r,
-                  core::Rng& rng, ScenarioPlan& plan) {
+// scatter objects must be catalogue names (plan_walkers takes them as such).
+void check_scatter_objects(const RecordOptions& options, const ObjectCatalogue& catalogue) {
   for (const std::string& name : options.scatter_objects) {
     const auto known = catalogue.names();
     if (std::find(known.begin(), known.end(), name) == known.end()) {
@@ -240,115 +250,41 @@ void plan_walkers(const RecordOptions& options, const ObjectCatalogue& catalogue
       throw Error(m);
     }
   }
-  plan.walk_min = {options.scatter_in_view ? kViewMinX : kWalkMinX, 0.0};
-  plan.walk_max = {options.scatter_in_view ? kViewMaxX : kWalkMaxX, kWalkMaxY};
-  std::vector<ScenarioPlan::Walker> walkers;
-  for (const std::string& name : options.scatter_objects) {
-    if (name == options.object) continue;
-    ScenarioPlan::Walker w;
-    w.name = "scatter-" + name;
-    w.radius = catalogue.get(name).footprint_radius();
-    w.y_min = target_r + w.radius + 0.03;
-    if (w.y_min > kWalkMaxY - w.radius) {
-      std::string m = "scatter object '";
-      m += name;
-      m += "' is too large to wander behind the target";
-      throw Error(m);
-    }
-    walkers.push_back(w);
-  }
-  // Start places in view, drawn one after the other; where the last ones find no room the
-  // whole draw starts again.
-  bool placed_all = false;
-  for (int round = 0; round < 50 && !placed_all; ++round) {
-    placed_all = true;
-    for (std::size_t i = 0; i < walkers.size() && placed_all; ++i) {
-      ScenarioPlan::Walker& w = walkers[i];
-      bool placed = false;
-      for (int attempt = 0; attempt < 200 && !placed; ++attempt) {
-        const Eigen::Vector2d p(rng.uniform(kViewMinX, kViewMaxX),
-                                rng.uniform(w.y_min, kWalkMaxY - w.radius));
-        bool overlap = false;
-        for (std::size_t j = 0; j < i; ++j)
-          overlap =
-              overlap || (p - walkers[j].position).norm() < walkers[j].radius + w.radius + kWalkGap;
-        if (overlap) continue;
-        w.position = p;
-        placed = true;
-      }
-      placed_all = placed;
-    }
-  }
-  if (!placed_all) throw Error("scatter objects: no room for them all on the table");
-  for (ScenarioPlan::Walker& w : walkers) {
-    w.heading = rng.uniform(-std::numbers::pi, std::numbers::pi);
-    w.speed = rng.uniform(0.06, 0.16);
-    w.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
-    PlacedObject o;
-    o.type = w.name.substr(std::string("scatter-").size());
-    o.name = w.name;
-    o.position = w.position;
-    o.yaw = w.yaw;
-    plan.scene.objects.push_back(o);
-    plan.walkers.push_back(w);
-  }
-}
-
-// One frame (dt seconds) of the walkers' random walk: heading and speed drift, the walkers bounce
-// off the box's walls and turn back from each other.
-void advance_walkers(std::vector<ScenarioPlan::Walker>& walkers, const Eigen::Vector2d& lo,
-                     const Eigen::Vector2d& hi, double dt, core::Rng& rng) {
-  for (std::size_t i = 0; i < walkers.size(); ++i) {
-    ScenarioPlan::Walker& w = walkers[i];
-    w.heading += rng.normal() * 1.5 * std::sqrt(dt);
-    w.speed = std::clamp(w.speed + rng.normal() * 0.05 * std::sqrt(dt), 0.06, 0.2);
-    w.yaw += rng.normal() * 1.0 * std::sqrt(dt) + 0.5 * dt;
-    Eigen::Vector2d p =
-        w.position + w.speed * dt * Eigen::Vector2d(std::cos(w.heading), std::sin(w.heading));
-    if (p.x() < lo.x() || p.x() > hi.x()) w.heading = std::numbers::pi - w.heading;
-    if (p.y() < std::max(lo.y(), w.y_min) || p.y() > hi.y() - w.radius) w.heading = -w.heading;
-    p = w.position + w.speed * dt * Eigen::Vector2d(std::cos(w.heading), std::sin(w.heading));
-    bool blocked = p.x() < lo.x() || p.x() > hi.x() || p.y() < std::max(lo.y(), w.y_min) ||
-                   p.y() > hi.y() - w.radius;
-    for (std::size_t j = 0; j < walkers.size() && !blocked; ++j) {
-      if (j == i) continue;
-      const double d = (p - walkers[j].position).norm();
-      // Only moves that bring two walkers closer are refused, so that two that touch part.
-      blocked = d < w.radius + walkers[j].radius + kWalkGap &&
-                d < (w.position - walkers[j].position).norm();
-    }
-    if (blocked) {
-      w.heading += std::numbers::pi;
-    } else {
-      w.position = p;
-    }
-  }
 }
 
 }  // namespace
 
-ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
-  options.validate();
-  if (is_scenario_file(options.scenario))
-    return plan_from_file(options.scenario, options, catalogue);
-  const ObjectType& target_type = catalogue.get(options.object);
-  core::Rng rng(options.seed);
+namespace {
 
-  ScenarioPlan plan;
-  plan.scene = default_scene();
-  plan.scene.cameras.at(0).width = options.width;
-  plan.scene.cameras.at(0).height = options.height;
-  // Look at the push band from the front and a little above, close enough that the object is
-  // large in the image.
-  plan.scene.cameras.at(0).position = {0.24, -0.62, 0.42};
-  plan.scene.cameras.at(0).target = {0.26, 0.04, 0.05};
-  // A backdrop just behind the table, low enough that the camera sees the middle of its picture
-  // (where vtest.avi's people walk), with the video's 4:3 aspect.
-  plan.scene.backdrop.center = {0.30, 0.56, 0.30};
-  plan.scene.backdrop.size = {1.8, 0.9};
-  plan.scene.backdrop.texture_width = 384;
-  plan.scene.backdrop.texture_height = 288;
+// Clutter: the part of the table where it may stand (m, robot frame), how far it keeps from the
+// push corridor's side and from other objects (m), how far from the base axis (m, clear of the
+// arm's base), and the draws per object before it is left out.
+constexpr double kClutterMinX = 0.08, kClutterMaxX = 0.62;
+constexpr double kClutterMinY = -0.30, kClutterMaxY = 0.38;
+constexpr double kCorridorMargin = 0.04;
+constexpr double kClutterGap = 0.02;
+constexpr double kBaseClearance = 0.12;
+constexpr int kClutterAttempts = 200;
 
+// A footprint taken on the table: centre (m) and radius (m).
+struct Disc {
+  Eigen::Vector2d c;
+  double r;
+};
+
+// Sets the scene's backdrop: just behind the table, low enough that the camera sees the middle of
+// its picture (where vtest.avi's people walk), with the video's 4:3 aspect.
+void set_backdrop(SceneDescription& scene) {
+  scene.backdrop.center = {0.30, 0.56, 0.30};
+  scene.backdrop.size = {1.8, 0.9};
+  scene.backdrop.texture_width = 384;
+  scene.backdrop.texture_height = 288;
+}
+
+// Places the target at yaw 0 with its back face the approach ahead of the push's start; returns
+// its box centre's x, m.
+double place_target(const RecordOptions& options, const ObjectType& target_type,
+                    ScenarioPlan& plan) {
   // Target at yaw 0: its box spans [cx - hx, cx + hx] along x about its origin.
   const Eigen::Vector3d he = target_type.half_extents();
   const Eigen::Vector3d ce = target_type.center();
@@ -368,18 +304,62 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
   target.position = {centre_x - ce.x(), -ce.y()};
   plan.scene.objects.push_back(target);
   plan.target = options.object;
+  return centre_x;
+}
 
+// `count` clutter objects of types from `draw_type` at random places, clear of the push corridor
+// (beside a target of footprint radius `target_r`, m), of the arm's base and of `taken`; an
+// object that finds no room is left out.
+void place_clutter(int count, const std::function<std::string()>& draw_type,
+                   const ObjectCatalogue& catalogue, double target_r, std::vector<Disc>& taken,
+                   core::Rng& rng, ScenarioPlan& plan) {
+  for (int i = 0; i < count; ++i) {
+    const std::string type = draw_type();
+    const ObjectType& t = catalogue.get(type);
+    const double r = t.footprint_radius();
+    bool placed = false;
+    for (int attempt = 0; attempt < kClutterAttempts && !placed; ++attempt) {
+      const Eigen::Vector2d p(rng.uniform(kClutterMinX, kClutterMaxX),
+                              rng.uniform(kClutterMinY, kClutterMaxY));
+      // Keep the push corridor and everything in front of it (toward the camera) free, and
+      // stay off the arm's base.
+      const double corridor = target_r + r + kCorridorMargin;
+      if (p.x() < kPushEndX + target_r + r && p.y() < corridor) continue;
+      if (p.norm() < kBaseClearance + r) continue;
+      bool overlap = false;
+      for (const Disc& d : taken) overlap = overlap || (p - d.c).norm() < d.r + r + kClutterGap;
+      if (overlap) continue;
+      PlacedObject o;
+      o.type = type;
+      o.name = type;
+      o.position = p;
+      o.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      plan.scene.objects.push_back(o);
+      taken.push_back({p, r});
+      placed = true;
+    }
+  }
+}
+
+}  // namespace
+
+ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
+  options.validate();
+  if (is_scenario_file(options.scenario))
+    return plan_from_file(options.scenario, options, catalogue);
+  const ObjectType& target_type = catalogue.get(options.object);
+  core::Rng rng(options.seed);
+
+  ScenarioPlan plan;
+  plan.scene = recording_scene(options);
+  set_backdrop(plan.scene);
+  const double centre_x = place_target(options, target_type, plan);
+  const Eigen::Vector3d he = target_type.half_extents();
   // push-rotate: the line passes half-way between the centre and the side, so the object turns.
   const double offset = options.scenario == "push-rotate" ? 0.5 * he.y() : 0.0;
   plan.push_start = {kPushStartX, offset, options.pusher_height};
   plan.push_end = {kPushEndX, offset, options.pusher_height};
-  if (options.scenario == "hold-3d") {
-    plan.held = true;
-    plan.push_start = {0.18, -0.08, 0.13};
-    plan.via = {0.24, 0.06, 0.21};
-    plan.push_end = {0.27, -0.04, 0.15};
-    plan.scene.grasp_object = options.object;
-  }
+  if (options.scenario == "hold-3d") plan_hold(options.object, plan);
 
   // Clutter and distractors: other catalogue objects, drawn without repetition.
   std::vector<std::string> pool;
@@ -393,362 +373,307 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
     return n;
   };
   const double target_r = std::hypot(he.x(), he.y());
-  struct Disc {
-    Eigen::Vector2d c;
-    double r;
-  };
   std::vector<Disc> taken{{Eigen::Vector2d(centre_x, 0.0), target_r}};
   if (options.nudge_neighbour) {
-    // Beside the push path, toward the back, clear of the pusher.
-    PlacedObject o;
-    o.type = draw_type();
-    o.name = "neighbour-" + o.type;
-    const double r = catalogue.get(o.type).footprint_radius();
-    o.position = {centre_x, target_r + r + 0.03};
+    const PlacedObject o = place_neighbour(draw_type(), catalogue, centre_x, target_r);
     plan.scene.objects.push_back(o);
     plan.neighbour = o.name;
-    taken.push_back({o.position, r});
+    taken.push_back({o.position, catalogue.get(o.type).footprint_radius()});
   }
   int clutter = options.clutter;
-  if (options.scenario == "clutter") clutter = std::max(clutter, 6);
+  if (options.scenario == "clutter") clutter = std::max(clutter, kLeastClutter);
   if (options.scenario == "scatter" && !options.scatter_objects.empty()) {
+    check_scatter_objects(options, catalogue);
     plan_walkers(options, catalogue, target_r, rng, plan);
     clutter = 0;
   } else if (options.scenario == "scatter") {
-    for (int i = 0; i < std::max(clutter, 5); ++i) {
-      PlacedObject o;
-      o.type = draw_type();
-      o.name = "scatter-" + o.type;
-      const double y = 0.2 + 0.06 * i;
-      const double x0 = rng.uniform(-0.5, 1.0);
-      const double speed = rng.uniform(0.08, 0.2) * (rng.uniform() < 0.5 ? -1.0 : 1.0);
-      o.position = {x0, y};
-      plan.scene.objects.push_back(o);
-      plan.sliders.push_back({o.name, x0, y, speed});
-    }
+    plan_sliders(std::max(clutter, kLeastSliders), draw_type, rng, plan);
     clutter = 0;
   }
-  for (int i = 0; i < clutter; ++i) {
-    const std::string type = draw_type();
-    const ObjectType& t = catalogue.get(type);
-    const double r = t.footprint_radius();
-    bool placed = false;
-    for (int attempt = 0; attempt < 200 && !placed; ++attempt) {
-      const Eigen::Vector2d p(rng.uniform(0.08, 0.62), rng.uniform(-0.30, 0.38));
-      // Keep the push corridor and everything in front of it (toward the camera) free, and
-      // stay off the arm's base.
-      const double corridor = target_r + r + 0.04;
-      if (p.x() < kPushEndX + target_r + r && p.y() < corridor) continue;
-      if (p.norm() < 0.12 + r) continue;
-      bool overlap = false;
-      for (const Disc& d : taken) overlap = overlap || (p - d.c).norm() < d.r + r + 0.02;
-      if (overlap) continue;
-      PlacedObject o;
-      o.type = type;
-      o.name = type;
-      o.position = p;
-      o.yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
-      plan.scene.objects.push_back(o);
-      taken.push_back({p, r});
-      placed = true;
-    }
-  }
+  place_clutter(clutter, draw_type, catalogue, target_r, taken, rng, plan);
   if (options.stereo) plan.scene.cameras.at(0).stereo_baseline = options.stereo_baseline;
-  {
-    for (int i = 0; i < options.distractor_count(); ++i) {
-      PlacedObject o;
-      o.type = draw_type();
-      o.name = "distractor-" + o.type;
-      // Start positions; record_episode moves them along y = 0.46 (behind everything).
-      o.position = {0.15 + 0.3 * i, 0.46};
-      plan.scene.objects.push_back(o);
-      plan.distractors.push_back(o.name);
-    }
+  for (int i = 0; i < options.distractor_count(); ++i) {
+    const PlacedObject o = distractor_start(draw_type(), i);
+    plan.scene.objects.push_back(o);
+    plan.distractors.push_back(o.name);
   }
   plan.scene.validate();
   return plan;
 }
 
-RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
-                             const core::Provenance& run, const ObjectCatalogue& catalogue) {
-  const auto wall_start = std::chrono::steady_clock::now();
+namespace {
+
+// Physics steps before the first frame, for the objects to come to rest on the table (or in the
+// grasp).
+constexpr int kSettleSteps = 100;
+// Depth images hold millimetres (docs/formats/episode.md), the renderer gives metres.
+constexpr double kMillimetresPerMetre = 1000.0;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+void check_destination(const fs::path& out, const RecordOptions& options) {
   options.validate();
   if (fs::exists(out) && !options.overwrite) {
     std::string m = out.string();
     m += ": already exists (use --overwrite to replace it)";
     throw Error(m);
   }
-  const ScenarioPlan plan = plan_scenario(options, catalogue);
+}
 
-  cv::VideoCapture video;
-  if (options.moving_background) {
-    if (!fs::is_regular_file(options.background_video)) {
-      throw Error::in_file(options.background_video, "no such background video");
-    }
-    video.open(options.background_video.string());
-    if (!video.isOpened()) {
-      throw Error::in_file(options.background_video, "cannot open the background video");
-    }
-  }
-
-  World world = World::build(plan.scene, catalogue);
-  const double dt = world.timestep();
-  const double steps_real = 1.0 / (options.fps * dt);
+// Physics steps per frame; throws Error unless a frame is a whole number of them.
+int physics_steps_per_frame(double dt, double fps) {
+  const double steps_real = 1.0 / (fps * dt);
   const int steps_per_frame = static_cast<int>(std::lround(steps_real));
   if (steps_per_frame < 1 || std::abs(steps_real - steps_per_frame) > 1e-6) {
     throw Error("fps must divide the physics rate (1 / timestep = " + std::to_string(1.0 / dt) +
                 " Hz) into whole steps");
   }
+  return steps_per_frame;
+}
+
+std::optional<geometry::Camera> right_camera_of(const World& world, bool stereo) {
+  if (!stereo) return std::nullopt;
+  return world.camera(world.camera_names().at(1));
+}
+
+RenderOptions render_options(const RecordOptions& options) {
   RenderOptions ropt;
   ropt.shadows = options.shadows;
   ropt.reflections = options.reflections;
-  Renderer renderer(world, ropt);
-  const std::string camera_name = world.camera_names().at(0);
-  const geometry::Camera camera = world.camera(camera_name);
-  std::optional<geometry::Camera> right_camera;
-  if (options.stereo) right_camera = world.camera(world.camera_names().at(1));
+  return ropt;
+}
 
-  // The push, in joint space, one sample per physics step.
+// The arm's push (hold-3d: carry) in joint space, one sample per physics step, from q0.
+struct ArmMove {
+  robot::JointVector q0;
+  double duration = 0.0;  // s
+  robot::TrackResult track;
+};
+
+ArmMove plan_arm_move(const World& world, const ScenarioPlan& plan, double push_speed) {
   robot::ArmState state(world.arm());
   robot::IkOptions ik;
   const robot::JointVector q_rest = world.arm_joints();
-  const robot::JointVector q0 = robot::solve_ik(state, plan.push_start, q_rest, ik).q;
+  ArmMove m;
+  m.q0 = robot::solve_ik(state, plan.push_start, q_rest, ik).q;
   const robot::BezierTrajectory move =
-      plan.held ? robot::BezierTrajectory(
-                      plan.push_start, plan.via, plan.push_end,
-                      ((plan.via - plan.push_start).norm() + (plan.push_end - plan.via).norm()) /
-                          std::min(options.push_speed, 0.06))
-                : robot::straight_move(plan.push_start, plan.push_end, options.push_speed);
+      plan.held ? carry_move(plan, push_speed)
+                : robot::straight_move(plan.push_start, plan.push_end, push_speed);
   robot::TrackOptions track_opt;
-  track_opt.rate_hz = 1.0 / dt;
+  track_opt.rate_hz = 1.0 / world.timestep();
   track_opt.ik = ik;
-  const robot::TrackResult track = robot::track_trajectory(state, move, q0, track_opt);
+  m.track = robot::track_trajectory(state, move, m.q0, track_opt);
+  m.duration = move.duration();
+  return m;
+}
+
+// Puts the arm at the start of its move, grasps the target (hold-3d) and lets the objects settle.
+// Returns the target's id.
+ObjectId set_start(World& world, const ScenarioPlan& plan, const robot::JointVector& q0) {
   world.set_arm_configuration(q0);
-  const ObjectId target_id = world.object(plan.target).id;
-  // hold-3d: the target is grasped at the start, its top face 1 cm under the pusher tip and
-  // turned with the arm, by the weld constraint of the scene (World::set_grasp): from then on
-  // the physics carries it. The fingers do not close on it: the arm's jaws span the pusher, not
-  // an object below it, so the weld stands in for the grip.
-  const ObjectType& target_type = world.object(target_id).type;
-  if (plan.held) {
-    const Eigen::Vector3d ee = world.ee_position();
-    const Eigen::Vector3d he = target_type.half_extents();
-    const Eigen::Vector3d ce = target_type.center();
-    Pose p = Pose::Identity();
-    p.linear() =
-        Eigen::AngleAxisd(std::atan2(ee.y(), ee.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    p.translation() = ee - Eigen::Vector3d(0, 0, 0.01 + he.z()) - p.linear() * ce;
-    world.set_object_pose(target_id, p);
-    world.set_grasp(true, ce);
-  }
-  // Let the objects settle on the table (or in the grasp) before the first frame.
-  world.step(100);
+  const ObjectId target = world.object(plan.target).id;
+  if (plan.held) grasp_target(world, target);
+  world.step(kSettleSteps);
+  return target;
+}
 
-  std::vector<ObjectId> distractor_ids;
-  for (const auto& n : plan.distractors) distractor_ids.push_back(world.object(n).id);
-  std::vector<ObjectId> slider_ids;
-  for (const auto& sl : plan.sliders) slider_ids.push_back(world.object(sl.name).id);
-  std::vector<ObjectId> walker_ids;
-  for (const auto& w : plan.walkers) walker_ids.push_back(world.object(w.name).id);
-  std::vector<ScenarioPlan::Walker> walkers = plan.walkers;
-  core::Rng walk_rng(options.seed ^ 0x57414c4bULL);
-  const Eigen::Vector3d target_start = world.object_pose(target_id).translation();
+// The frames: still, the arm's move, still, in physics steps, and the frames that cover them.
+struct Schedule {
+  int steps_per_frame = 1;
+  int before_steps = 0;
+  int move_steps = 0;
+  int total_steps = 0;
+  int frame_count = 0;
+};
 
-  episode::EpisodeInfo info;
-  info.fps = options.fps;
-  info.width = options.width;
-  info.height = options.height;
-  info.arm_name = "proprio-sim-arm";
-  info.joint_count = robot::kArmJoints;
-  info.has_masks = true;
-  info.target = target_id;
-  info.provenance.run = run;
-  info.provenance.source = episode::Source::kSimulated;
-  info.provenance.scenario = options.scenario;
-  info.provenance.switches = options.switches();
-  std::vector<episode::ObjectInfo> objects;
-  for (const SceneObject& o : world.objects()) {
-    episode::ObjectRole role = episode::ObjectRole::kObject;
-    if (o.id == target_id) role = episode::ObjectRole::kTarget;
-    if (std::find(distractor_ids.begin(), distractor_ids.end(), o.id) != distractor_ids.end() ||
-        std::find(slider_ids.begin(), slider_ids.end(), o.id) != slider_ids.end() ||
-        std::find(walker_ids.begin(), walker_ids.end(), o.id) != walker_ids.end() ||
-        o.name == plan.neighbour)
-      role = episode::ObjectRole::kDistractor;
-    objects.push_back({o.id, o.name, role});
-  }
-  objects.push_back({kArmId, "arm", episode::ObjectRole::kArm});
-  episode::EpisodeWriterOptions wopt;
-  wopt.overwrite = options.overwrite;
-  info.has_depth = options.depth;
-  info.stereo = options.stereo;
-  episode::EpisodeWriter writer(out, info, camera, objects, right_camera, wopt);
-  RecordSummary summary;
-  summary.timing.setup = std::chrono::duration<double>(Clock::now() - wall_start).count();
-
-  const int before_steps = static_cast<int>(std::lround(options.still_before / dt));
-  const int move_steps = static_cast<int>(track.joints.size());
+Schedule make_schedule(const RecordOptions& options, double dt, int steps_per_frame,
+                       int move_steps) {
+  Schedule s;
+  s.steps_per_frame = steps_per_frame;
+  s.before_steps = static_cast<int>(std::lround(options.still_before / dt));
+  s.move_steps = move_steps;
   const int after_steps = static_cast<int>(std::lround(options.still_after / dt));
-  const int total_steps = before_steps + move_steps + after_steps;
-  const int frame_count =
-      std::min(total_steps / steps_per_frame + 1, options.max_frames.value_or(1 << 30));
+  s.total_steps = s.before_steps + s.move_steps + after_steps;
+  s.frame_count =
+      std::min(s.total_steps / steps_per_frame + 1, options.max_frames.value_or(1 << 30));
+  return s;
+}
 
-  // Disturbances draw from their own streams so that switching one on leaves the rest alone.
-  core::Rng shake_rng(options.seed ^ 0x5348414b45ULL);
-  cv::RNG noise_rng(options.seed ^ 0x4e4f495345ULL);
-  const int blur_renders = options.motion_blur ? 4 : 1;
-  const int blur_every = std::max(1, steps_per_frame / blur_renders);
-  std::vector<int> camera_ids;
-  for (const auto& n : world.camera_names()) camera_ids.push_back(world.camera_id(n));
-  const ObjectId neighbour_id = plan.neighbour.empty() ? 0 : world.object(plan.neighbour).id;
-  const Pose neighbour_start = neighbour_id ? world.object_pose(neighbour_id) : Pose::Identity();
-  const double nudge_t0 = options.still_before + 0.3 * move.duration();
-  const double lighting_t = 0.5 * total_steps * dt;
+// The scenario's scripted motions, played frame by frame.
+struct ScriptedMovers {
+  ScriptedMovers(const World& world, const ScenarioPlan& plan, std::uint64_t seed)
+      : distractors(world, plan.distractors),
+        sliders(world, plan.sliders),
+        walkers(world, plan, seed) {}
+
+  // Puts the scripted objects where they are at frame `f`, time `t`.
+  void move(World& world, int f, double t, double fps) {
+    distractors.move(world, t);
+    sliders.move(world, t);
+    if (f > 0) walkers.advance(1.0 / fps);
+    walkers.move(world);
+  }
+
+  [[nodiscard]] bool moves(ObjectId id) const {
+    const auto in = [id](const std::vector<ObjectId>& ids) {
+      return std::find(ids.begin(), ids.end(), id) != ids.end();
+    };
+    return in(distractors.ids()) || in(sliders.ids()) || in(walkers.ids());
+  }
+
+  DistractorMover distractors;
+  SliderMover sliders;
+  WalkerMover walkers;
+};
+
+// The disturbances that are switched on (thesis 5.1). Each draws from a stream of its own, so
+// that switching one on leaves the rest alone.
+struct Disturbances {
+  Disturbances(const World& world, const ScenarioPlan& plan, const RecordOptions& options,
+               const Schedule& schedule, double move_duration)
+      : noise(options.noise, options.seed), blur(options.motion_blur, schedule.steps_per_frame) {
+    if (options.camera_shake) shake.emplace(world, options.seed);
+    if (options.lighting_change) lighting.emplace(schedule.total_steps, world.timestep());
+    if (!plan.neighbour.empty()) {
+      nudge.emplace(world, plan.neighbour, options.still_before, move_duration);
+    }
+  }
 
   // The disturbances of the rendered view: they act on mjData's derived camera and light poses,
   // which every step and mj_forward recompute, so they are applied again right before rendering.
-  auto disturb_view = [&](double t) {
-    mjData& d = world.data();
-    if (options.camera_shake) {
-      const Eigen::Vector3d dp(shake_rng.uniform(-0.004, 0.004), shake_rng.uniform(-0.004, 0.004),
-                               shake_rng.uniform(-0.004, 0.004));
-      const Eigen::Vector3d axis(shake_rng.normal(), shake_rng.normal(), shake_rng.normal());
-      const double angle = shake_rng.uniform(-0.007, 0.007);
-      const Eigen::Matrix3d dr = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-      for (int id : camera_ids) {
-        Eigen::Map<Eigen::Vector3d> pos(d.cam_xpos + 3 * id);
-        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(d.cam_xmat + 9 * id);
-        pos += dp;
-        rot = (dr * rot).eval();
-      }
-    }
-    if (options.lighting_change && t >= lighting_t && world.model().nlight > 0) {
-      Eigen::Map<Eigen::Vector3d> pos(d.light_xpos);
-      Eigen::Map<Eigen::Vector3d> dir(d.light_xdir);
-      pos = Eigen::Vector3d(0.9, -0.6, 1.0);
-      dir = (Eigen::Vector3d(0.3, 0.05, 0.0) - pos).normalized();
-    }
-  };
-  auto render_rgb = [&](double t) {
-    disturb_view(t);
-    return renderer.rgb(world, camera_name);
-  };
+  void disturb_view(World& world, double t) {
+    if (shake) shake->apply(world);
+    if (lighting) lighting->apply(world, t);
+  }
 
-  // hold-3d: the hand turns the object in its grip a little so that the views change in 3D.
-  auto turn_held = [&](double t) {
-    world.set_grasp_rotation((Eigen::AngleAxisd(0.6 * std::sin(0.9 * t), Eigen::Vector3d::UnitZ()) *
-                              Eigen::AngleAxisd(0.15 * std::sin(1.3 * t), Eigen::Vector3d::UnitX()))
-                                 .toRotationMatrix());
-  };
-  int step_index = 0;
+  std::optional<CameraShake> shake;
+  std::optional<LightingChange> lighting;
+  std::optional<NeighbourNudge> nudge;
+  ImageNoise noise;
+  MotionBlur blur;
+};
+
+// One episode's world, arm move, scripted motions and disturbances, set up from the plan; then
+// played and rendered frame by frame.
+class EpisodeRecording {
+ public:
+  EpisodeRecording(const RecordOptions& options, const ObjectCatalogue& catalogue)
+      : options_(options),
+        plan_(plan_scenario(options, catalogue)),
+        video_(options.moving_background, options.background_video),
+        world_(World::build(plan_.scene, catalogue)),
+        steps_per_frame_(physics_steps_per_frame(world_.timestep(), options.fps)),
+        renderer_(world_, render_options(options)),
+        camera_name_(world_.camera_names().at(0)),
+        camera_(world_.camera(camera_name_)),
+        right_camera_(right_camera_of(world_, options.stereo)),
+        move_(plan_arm_move(world_, plan_, options.push_speed)),
+        target_(set_start(world_, plan_, move_.q0)),
+        movers_(world_, plan_, options.seed),
+        target_start_(world_.object_pose(target_).translation()),
+        schedule_(make_schedule(options, world_.timestep(), steps_per_frame_,
+                                static_cast<int>(move_.track.joints.size()))),
+        disturbances_(world_, plan_, options, schedule_, move_.duration) {}
+
+  [[nodiscard]] episode::EpisodeInfo info(const core::Provenance& run) const;
+  [[nodiscard]] std::vector<episode::ObjectInfo> objects() const;
+  [[nodiscard]] const geometry::Camera& camera() const { return camera_; }
+  [[nodiscard]] const std::optional<geometry::Camera>& right_camera() const {
+    return right_camera_;
+  }
+  [[nodiscard]] int frame_count() const { return schedule_.frame_count; }
+  /// Distance the target's origin has moved since the first frame, m.
+  [[nodiscard]] double target_moved() const {
+    return (world_.object_pose(target_).translation() - target_start_).norm();
+  }
+
+  /// Plays and renders every frame into `writer`, then finishes it; timings and the first touch
+  /// go to `summary`.
+  void record(episode::EpisodeWriter& writer, RecordSummary& summary);
+
+ private:
+  bool play_interval(double t);
+  cv::Mat render_colour(double t, episode::FrameExtras& extras);
+  [[nodiscard]] episode::ArmSample arm_sample(double t, bool touched) const;
+
+  // In the order of set-up (the members are initialised in this order).
+  const RecordOptions& options_;
+  ScenarioPlan plan_;
+  BackdropVideo video_;
+  World world_;
+  int steps_per_frame_;
+  Renderer renderer_;
+  std::string camera_name_;
+  geometry::Camera camera_;
+  std::optional<geometry::Camera> right_camera_;
+  ArmMove move_;
+  ObjectId target_;
+  ScriptedMovers movers_;
+  Eigen::Vector3d target_start_;
+  Schedule schedule_;
+  Disturbances disturbances_;
+  int step_index_ = 0;
+};
+
+}  // namespace
+
+namespace {
+
+episode::EpisodeInfo EpisodeRecording::info(const core::Provenance& run) const {
+  episode::EpisodeInfo info;
+  info.fps = options_.fps;
+  info.width = options_.width;
+  info.height = options_.height;
+  info.arm_name = "proprio-sim-arm";
+  info.joint_count = robot::kArmJoints;
+  info.has_masks = true;
+  info.target = target_;
+  info.provenance.run = run;
+  info.provenance.source = episode::Source::kSimulated;
+  info.provenance.scenario = options_.scenario;
+  info.provenance.switches = options_.switches();
+  info.has_depth = options_.depth;
+  info.stereo = options_.stereo;
+  return info;
+}
+
+// Every object with its role: the scripted movers and the nudged neighbour are distractors.
+std::vector<episode::ObjectInfo> EpisodeRecording::objects() const {
+  std::vector<episode::ObjectInfo> objects;
+  for (const SceneObject& o : world_.objects()) {
+    episode::ObjectRole role = episode::ObjectRole::kObject;
+    if (o.id == target_) role = episode::ObjectRole::kTarget;
+    if (movers_.moves(o.id) || o.name == plan_.neighbour) role = episode::ObjectRole::kDistractor;
+    objects.push_back({o.id, o.name, role});
+  }
+  objects.push_back({kArmId, "arm", episode::ObjectRole::kArm});
+  return objects;
+}
+
+void EpisodeRecording::record(episode::EpisodeWriter& writer, RecordSummary& summary) {
   std::optional<AsyncEpisodeWriter> async_writer(std::in_place, writer);
   auto clock = Clock::now();
-  for (int f = 0; f < frame_count; ++f) {
-    bool touched = false;
-    const double t = f / options.fps;
-    cv::Mat blur_sum;
-    if (f > 0) {
-      for (int s = 0; s < steps_per_frame; ++s, ++step_index) {
-        const int k = std::clamp(step_index - before_steps, 0, move_steps - 1);
-        world.set_arm_targets(track.joints.q[static_cast<std::size_t>(k)]);
-        if (plan.held) turn_held(t - (steps_per_frame - s) * dt);
-        world.step();
-        touched = touched || world.arm_touches(target_id);
-        if (options.motion_blur && (s + 1) % blur_every == 0 && s + 1 < steps_per_frame) {
-          cv::Mat sub;
-          render_rgb(t).convertTo(sub, CV_32FC3);
-          if (blur_sum.empty()) {
-            blur_sum = sub;
-          } else {
-            blur_sum += sub;
-          }
-        }
-      }
-    }
-    for (std::size_t i = 0; i < distractor_ids.size(); ++i) {
-      const SceneObject& o = world.object(distractor_ids[i]);
-      Pose p = Pose::Identity();
-      const double phase = 2.0 * std::numbers::pi * (0.15 * t + 0.5 * static_cast<double>(i));
-      p.translation() =
-          Eigen::Vector3d(0.35 + 0.30 * std::sin(phase), 0.46, o.type.bottom() + 0.001);
-      p.linear() = Eigen::AngleAxisd(0.8 * t + static_cast<double>(i), Eigen::Vector3d::UnitZ())
-                       .toRotationMatrix();
-      world.set_object_pose(distractor_ids[i], p);
-    }
-    for (std::size_t i = 0; i < slider_ids.size(); ++i) {
-      const ScenarioPlan::Slider& sl = plan.sliders[i];
-      const double x = std::fmod(sl.x0 + sl.speed * t + 0.5 + 15.0, 1.5) - 0.5;
-      Pose p = Pose::Identity();
-      p.translation() = Eigen::Vector3d(x, sl.y, world.object(slider_ids[i]).type.bottom() + 0.001);
-      p.linear() = Eigen::AngleAxisd(3.0 * x, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      world.set_object_pose(slider_ids[i], p);
-    }
-    if (f > 0) advance_walkers(walkers, plan.walk_min, plan.walk_max, 1.0 / options.fps, walk_rng);
-    for (std::size_t i = 0; i < walker_ids.size(); ++i) {
-      const ScenarioPlan::Walker& w = walkers[i];
-      Pose p = Pose::Identity();
-      p.translation() = Eigen::Vector3d(w.position.x(), w.position.y(),
-                                        world.object(walker_ids[i]).type.bottom() + 0.001);
-      p.linear() = Eigen::AngleAxisd(w.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      world.set_object_pose(walker_ids[i], p);
-    }
+  for (int f = 0; f < schedule_.frame_count; ++f) {
+    const double t = f / options_.fps;
+    bool touched = f > 0 && play_interval(t);
+    movers_.move(world_, f, t, options_.fps);
     // A grasp is a touch: the weld holds the object against the hand.
-    if (world.grasping()) touched = true;
-    if (neighbour_id && t >= nudge_t0 && t - nudge_t0 <= 0.5 + 0.5 / options.fps) {
-      // Shoved 5 cm away from the push path over half a second.
-      const double u = std::min(1.0, (t - nudge_t0) / 0.5);
-      Pose p = neighbour_start;
-      p.translation().y() += 0.05 * u;
-      p.translation().z() += 0.001;
-      world.set_object_pose(neighbour_id, p);
-    }
+    if (world_.grasping()) touched = true;
+    if (disturbances_.nudge) disturbances_.nudge->apply(world_, t, options_.fps);
     lap(clock, summary.timing.physics);
-    if (video.isOpened()) {
-      cv::Mat vf;
-      if (!video.read(vf) || vf.empty()) {
-        video.set(cv::CAP_PROP_POS_FRAMES, 0);
-        video.read(vf);
-      }
-      if (vf.empty()) throw Error::in_file(options.background_video, "cannot read a frame");
-      world.set_texture_image(kBackdropTexture, vf);
-      renderer.upload_texture(world, kBackdropTexture);
+    if (video_.on()) {
+      video_.show_next(world_, renderer_);
       lap(clock, summary.timing.backdrop);
     }
-    disturb_view(t);
-    const Frame frame =
-        renderer.render(world, camera_name, kPassRgb | (options.depth ? kPassDepth : 0U));
-    cv::Mat rgb = frame.rgb;
-    if (!blur_sum.empty()) {
-      cv::Mat last;
-      rgb.convertTo(last, CV_32FC3);
-      blur_sum += last;
-      blur_sum.convertTo(rgb, CV_8UC3, 1.0 / blur_renders);
-    }
     episode::FrameExtras extras;
-    if (options.depth) frame.depth.convertTo(extras.depth, CV_16UC1, 1000.0);
-    if (options.stereo) extras.right_image = renderer.rgb(world, world.camera_names().at(1));
-    auto add_noise = [&](cv::Mat& img) {
-      if (options.noise <= 0) return;
-      cv::Mat n(img.size(), CV_16SC3);
-      noise_rng.fill(n, cv::RNG::NORMAL, 0.0, options.noise);
-      cv::Mat noisy;
-      cv::add(img, n, noisy, cv::noArray(), CV_8UC3);
-      img = noisy;
-    };
-    add_noise(rgb);
-    if (options.stereo) add_noise(extras.right_image);
+    const cv::Mat rgb = render_colour(t, extras);
     lap(clock, summary.timing.render_rgb);
-    extras.mask = renderer.render(world, camera_name, kPassMask).mask;
+    extras.mask = renderer_.render(world_, camera_name_, kPassMask).mask;
     lap(clock, summary.timing.render_mask);
-
-    episode::ArmSample sample;
-    sample.t = t;
-    sample.q = world.arm_joints();
-    sample.ee = world.ee_position();
-    sample.ee_image = camera.project(sample.ee);
-    sample.touching = touched;
     if (touched && !summary.first_touch_frame) summary.first_touch_frame = f;
-    async_writer->add_frame(rgb, sample, std::move(extras));
+    async_writer->add_frame(rgb, arm_sample(t, touched), std::move(extras));
     clock = Clock::now();
   }
   async_writer->drain();
@@ -757,14 +682,73 @@ RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
   async_writer.reset();
   writer.finish();
   lap(clock, summary.timing.finish);
+}
 
-  summary.frames = frame_count;
-  summary.target_moved = (world.object_pose(target_id).translation() - target_start).norm();
-  summary.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+// One frame's interval of physics, ending at `t`: the arm follows its move, a held object turns,
+// the motion blur's renders are taken. Returns whether the arm touched the target in any step.
+bool EpisodeRecording::play_interval(double t) {
+  const double dt = world_.timestep();
+  const int steps = schedule_.steps_per_frame;
+  bool touched = false;
+  for (int s = 0; s < steps; ++s, ++step_index_) {
+    const int k = std::clamp(step_index_ - schedule_.before_steps, 0, schedule_.move_steps - 1);
+    world_.set_arm_targets(move_.track.joints.q[static_cast<std::size_t>(k)]);
+    if (plan_.held) turn_held(world_, t - (steps - s) * dt);
+    world_.step();
+    touched = touched || world_.arm_touches(target_);
+    if (disturbances_.blur.due_after(s)) {
+      disturbances_.disturb_view(world_, t);
+      disturbances_.blur.add(renderer_.rgb(world_, camera_name_));
+    }
+  }
+  return touched;
+}
+
+// The frame's colour image, disturbed, blurred and noisy as the options say; its depth and right
+// image go to `extras`.
+cv::Mat EpisodeRecording::render_colour(double t, episode::FrameExtras& extras) {
+  disturbances_.disturb_view(world_, t);
+  const Frame frame =
+      renderer_.render(world_, camera_name_, kPassRgb | (options_.depth ? kPassDepth : 0U));
+  cv::Mat rgb = frame.rgb;
+  disturbances_.blur.finish(rgb);
+  if (options_.depth) frame.depth.convertTo(extras.depth, CV_16UC1, kMillimetresPerMetre);
+  if (options_.stereo) extras.right_image = renderer_.rgb(world_, world_.camera_names().at(1));
+  disturbances_.noise.apply(rgb);
+  if (options_.stereo) disturbances_.noise.apply(extras.right_image);
+  return rgb;
+}
+
+episode::ArmSample EpisodeRecording::arm_sample(double t, bool touched) const {
+  episode::ArmSample sample;
+  sample.t = t;
+  sample.q = world_.arm_joints();
+  sample.ee = world_.ee_position();
+  sample.ee_image = camera_.project(sample.ee);
+  sample.touching = touched;
+  return sample;
+}
+
+}  // namespace
+
+RecordSummary record_episode(const fs::path& out, const RecordOptions& options,
+                             const core::Provenance& run, const ObjectCatalogue& catalogue) {
+  const auto wall_start = Clock::now();
+  check_destination(out, options);
+  EpisodeRecording recording(options, catalogue);
+  episode::EpisodeWriterOptions wopt;
+  wopt.overwrite = options.overwrite;
+  episode::EpisodeWriter writer(out, recording.info(run), recording.camera(), recording.objects(),
+                                recording.right_camera(), wopt);
+  RecordSummary summary;
+  summary.timing.setup = seconds_since(wall_start);
+  recording.record(writer, summary);
+  summary.frames = recording.frame_count();
+  summary.target_moved = recording.target_moved();
+  summary.seconds = seconds_since(wall_start);
   summary.fps = summary.frames / summary.seconds;
-  summary.message = "recorded " + std::to_string(frame_count) + " frames of '" + options.scenario +
-                    "' with " + options.object;
+  summary.message = "recorded " + std::to_string(summary.frames) + " frames of '" +
+                    options.scenario + "' with " + options.object;
   return summary;
 }
 
