@@ -14,6 +14,8 @@ namespace {
 
 // Halvings of one Newton step before a fixed-point step replaces it.
 constexpr int kMaxHalvings = 30;
+// The smallest mean log p accepted: alpha_k stays above ~1e-100, where psi'(alpha_k) is finite.
+constexpr double kMinMeanLog = -1e100;
 
 // The log-likelihood per sample (eq 4 divided by N) and the size of its terms, which bounds its
 // rounding error.
@@ -117,8 +119,9 @@ DirichletFit fit_dirichlet(const DirichletStats& stats, const DirichletFitOption
                                 std::to_string(stats.dim()));
   const Eigen::VectorXd& m = stats.mean_log();
   for (Eigen::Index k = 0; k < m.size(); ++k) {
-    require(std::isfinite(m(k)),
-            "Dirichlet fit: the mean log-proportion " + std::to_string(k) + " is not finite");
+    require(std::isfinite(m(k)) && m(k) >= kMinMeanLog,
+            "Dirichlet fit: the mean log-proportion " + std::to_string(k) + " is " + number(m(k)) +
+                ", not finite or below -1e100");
   }
   const Eigen::Index T = m.size();
   const double n = stats.count();

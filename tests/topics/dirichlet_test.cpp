@@ -298,6 +298,9 @@ TEST(DirichletFit, OptionValidationNamesTheOption) {
   EXPECT_TRUE(has(bad([](DirichletFitOptions& o) { o.proportions.sum_tolerance = -1.0; }),
                   "sum_tolerance"));
   EXPECT_TRUE(has(error_of([] { (void)fit_dirichlet(DirichletStats(3)); }), "no samples"));
+  DirichletStats far;
+  far.add_log(Eigen::Vector2d(0.0, -1e200));
+  EXPECT_TRUE(has(error_of([&] { (void)fit_dirichlet(far); }), "mean log-proportion 1"));
   DirichletStats one_dim;
   one_dim.add_log(Eigen::VectorXd::Zero(1));
   EXPECT_TRUE(has(error_of([&] { (void)fit_dirichlet(one_dim); }), "at least 2"));

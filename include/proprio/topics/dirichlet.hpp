@@ -35,9 +35,10 @@ class Dirichlet {
   /// log Gamma(s) - sum_k log Gamma(alpha_k), the log of the density's normalising constant.
   [[nodiscard]] double log_normalizer() const { return log_normalizer_; }
 
-  /// log Dir(p | alpha) (Minka eq 1, thesis 7.1) for p of size T. No check that p is on the
-  /// simplex (the caller's data was checked where it entered, see DirichletStats); a zero p_k
-  /// gives the limit: -inf if alpha_k > 1, +inf if alpha_k < 1, and no term if alpha_k == 1.
+  /// log Dir(p | alpha) (Minka eq 1; the thesis's Dir(theta | omega), eq 7.2) for p of size T. No
+  /// check that p is on the simplex (the caller's data was checked where it entered, see
+  /// DirichletStats); a zero p_k gives the limit: -inf if alpha_k > 1, +inf if alpha_k < 1, and no
+  /// term if alpha_k == 1.
   [[nodiscard]] double log_density(const Eigen::Ref<const Eigen::VectorXd>& p) const;
   /// The same from log p (finite entries): for points whose proportions underflow a double.
   [[nodiscard]] double log_density_of_log(const Eigen::Ref<const Eigen::VectorXd>& log_p) const;

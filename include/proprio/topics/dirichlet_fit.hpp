@@ -71,7 +71,8 @@ struct DirichletFitSummary {
   std::int64_t clamped = 0;        ///< proportions raised to the floor (DirichletStats::clamped)
 
   [[nodiscard]] int iterations() const { return fixed_point_iterations + newton_iterations; }
-  /// One line: "converged in 2 fixed-point + 4 Newton iterations, log-likelihood ..., 0 clamped".
+  /// One line: "converged after 2 fixed-point + 4 Newton iterations (...), log-likelihood ...,
+  /// ... proportions clamped to the floor", and the message unless converged.
   [[nodiscard]] std::string brief() const;
 };
 
@@ -80,8 +81,10 @@ struct DirichletFit {
   DirichletFitSummary summary;
 };
 
-/// The maximum-likelihood Dirichlet of the summarised samples. Throws Error when options are
-/// invalid, stats has no samples (count 0) or dimension < 2, or a mean log is not finite.
+/// The maximum-likelihood Dirichlet of the summarised samples: the thesis's omega of eq 7.2 for
+/// one object's theta_1..theta_N. Throws Error when options are invalid, stats has no samples
+/// (count 0) or dimension < 2, or a mean log-proportion is not finite or below -1e100 (an alpha
+/// below ~1e-100, where psi' overflows).
 [[nodiscard]] DirichletFit fit_dirichlet(const DirichletStats& stats,
                                          const DirichletFitOptions& options = {});
 /// The same from n x T proportions, one sample per row (DirichletStats::of_proportions with
