@@ -1,11 +1,15 @@
 // The LDA engine's own speed: the per-document E-step on each instruction set, and online
 // mini-batch updates on 1 and 2 threads, on a synthetic corpus shaped like the man-page one
 // (K = 100, W = 10,000, about 600 tokens per document). The comparison with gensim and
-// scikit-learn on real text is bench/bench_topics.py.
+// scikit-learn on real text is bench/bench_topics.py. Last, the Dirichlet fit (issue 17).
 #include <benchmark/benchmark.h>
 
 #include "engine.hpp"
 #include "kernels.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/topics/dirichlet.hpp"
+#include "proprio/topics/dirichlet_fit.hpp"
+#include "proprio/topics/dirichlet_stats.hpp"
 #include "proprio/topics/online_lda.hpp"
 #include "proprio/topics/synthetic.hpp"
 
@@ -104,6 +108,52 @@ void BM_OnlineMiniBatches(benchmark::State& state) {
       benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_OnlineMiniBatches)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// The Dirichlet fit of issue 17 on 10,000 x 25 proportions (alpha log-uniform in [0.05, 20]):
+// the one pass that checks the rows and sums log p (the floor of any fit), and the whole fit
+// (that pass, then O(T) per iteration). Target: the fit under 5 ms and at most 1.5x the pass.
+const Eigen::MatrixXd& dirichlet_proportions() {
+  static const Eigen::MatrixXd p = [] {
+    core::Rng rng(17);
+    Eigen::VectorXd alpha(25);
+    for (auto& a : alpha) a = std::exp(rng.uniform(std::log(0.05), std::log(20.0)));
+    return Eigen::MatrixXd(Dirichlet(alpha).sample_log(rng, 10000).array().exp());
+  }();
+  return p;
+}
+
+void BM_DirichletStatsPass(benchmark::State& state) {
+  const auto& p = dirichlet_proportions();
+  for (auto _ : state) {
+    auto stats = DirichletStats::of_proportions(p);
+    benchmark::DoNotOptimize(stats);
+  }
+  state.SetItemsProcessed(state.iterations() * p.size());
+}
+BENCHMARK(BM_DirichletStatsPass)->Unit(benchmark::kMillisecond);
+
+void BM_DirichletFit(benchmark::State& state) {
+  const auto& p = dirichlet_proportions();
+  int iterations = 0;
+  for (auto _ : state) {
+    auto fit = fit_dirichlet(p);
+    iterations = fit.summary.iterations();
+    benchmark::DoNotOptimize(fit);
+  }
+  state.SetItemsProcessed(state.iterations() * p.size());
+  state.counters["fit-iterations"] = iterations;
+}
+BENCHMARK(BM_DirichletFit)->Unit(benchmark::kMillisecond);
+
+// The fit's own part, from statistics already computed: O(T) per iteration.
+void BM_DirichletFitFromStats(benchmark::State& state) {
+  const auto stats = DirichletStats::of_proportions(dirichlet_proportions());
+  for (auto _ : state) {
+    auto fit = fit_dirichlet(stats);
+    benchmark::DoNotOptimize(fit);
+  }
+}
+BENCHMARK(BM_DirichletFitFromStats)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace proprio::topics

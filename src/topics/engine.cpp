@@ -7,20 +7,6 @@
 
 namespace proprio::topics::detail {
 
-double digamma(double x) {
-  assert(x > 0.0);
-  double r = 0.0;
-  while (x < 10.0) {
-    r -= 1.0 / x;
-    x += 1.0;
-  }
-  const double f = 1.0 / (x * x);
-  return r + std::log(x) - 0.5 / x -
-         f * (1.0 / 12 -
-              f * (1.0 / 120 -
-                   f * (1.0 / 252 - f * (1.0 / 240 - f * (1.0 / 132 - f * 691.0 / 32760)))));
-}
-
 namespace {
 constexpr Eigen::Index kWordBlock = 512;
 }

@@ -14,6 +14,7 @@
 #include "proprio/topics/corpus.hpp"
 #include "proprio/topics/estep_options.hpp"
 #include "proprio/topics/lda_model.hpp"
+#include "special_functions.hpp"
 #include "thread_pool.hpp"
 
 namespace proprio::topics::detail {
@@ -32,9 +33,6 @@ struct AlignedAllocator {
   bool operator==(const AlignedAllocator&) const { return true; }
 };
 using FloatBuffer = std::vector<float, AlignedAllocator<float>>;
-
-/// psi(x) in double precision, x > 0.
-double digamma(double x);
 
 /// Row sums of lambda (sum over words for each topic), summed in fixed blocks of words.
 Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, ThreadPool& pool);
