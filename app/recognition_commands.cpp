@@ -19,6 +19,7 @@
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/recognition/episode_classification.hpp"
 #include "proprio/recognition/experiments.hpp"
+#include "proprio/recognition/recognize_runs.hpp"
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/inference.hpp"
 #include "proprio/topics/lda_model_io.hpp"
@@ -81,18 +82,6 @@ std::vector<int> parse_topics(const std::string& text) {
   return ks;
 }
 
-void print_evaluation(const std::string& title, const Evaluation& e) {
-  std::printf("%s: topics (argmax theta; rows: true class)\n%s", title.c_str(),
-              e.topics.format().c_str());
-  std::printf("topic -> class (from the labelled training images):");
-  for (std::size_t k = 0; k < e.mapping.topic_class.size(); ++k)
-    std::printf(" z_%zu->%s", k + 1,
-                e.classes.columns[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
-  std::printf("\n%s: classes (topics merged)\n%s", title.c_str(), e.classes.format().c_str());
-  std::printf("%s: accuracy %.1f%%, mean class accuracy %.1f%%\n\n", title.c_str(),
-              100 * e.classes.accuracy(), 100 * e.classes.mean_class_accuracy());
-}
-
 core::Json kmeans_json(const features::KmeansSummary& s, int descriptors) {
   core::Json j;
   j["descriptors"] = descriptors;
@@ -106,270 +95,27 @@ core::Json kmeans_json(const features::KmeansSummary& s, int descriptors) {
 // ---- recognize train / classify ----
 
 struct TrainArgs {
-  std::string images;
-  std::vector<std::string> episodes;
-  std::string vocabulary;
-  std::string model;
+  RecognizeTrainOptions options;
   std::string json;
-  std::string method = "online";
-  std::string region = "whole";
-  std::vector<std::string> objects;
-  std::string masks;
-  int frame_step = 1;
-  features::ExtractOptions features;
-  topics::OnlineLdaOptions online;
-  int max_iterations = 100;
   bool quiet = false;
 };
-
-void run_train(const TrainArgs& a, const Invocation& inv) {
-  if (a.images.empty() == a.episodes.empty()) {
-    throw Error("give either --images DIR or --episodes DIR...");
-  }
-  if (a.online.num_topics < 1) throw Error("the number of topics K must be >= 1");
-  const features::Vocabulary vocabulary = features::read_vocabulary(a.vocabulary);
-  std::shared_ptr<core::ProgressBar> bar;
-  topics::Corpus corpus(vocabulary.size());
-  int frames = 0;
-  if (!a.images.empty()) {
-    const features::ImageSet set = features::read_image_set(a.images);
-    std::vector<std::size_t> all(set.images.size());
-    std::iota(all.begin(), all.end(), std::size_t{0});
-    corpus =
-        image_corpus(set, all, vocabulary, a.features, progress_of(bar, "images", a.quiet)).corpus;
-  } else {
-    FrameDocumentOptions fo;
-    fo.region = parse_frame_region(a.region);
-    fo.objects = a.objects;
-    fo.masks = a.masks;
-    fo.features = a.features;
-    fo.validate();
-    if (a.frame_step < 1) throw Error("--frame-step must be >= 1");
-    for (const auto& e : read_episodes(a.episodes)) {
-      for (int i = 0; i < e.frame_count(); i += a.frame_step) {
-        for (const auto& f : frame_features(e, i, fo))
-          if (!f.empty()) corpus.add_tokens(features::bag_of_words(vocabulary, f.descriptors));
-        ++frames;
-      }
-    }
-  }
-  if (corpus.num_documents() == 0 || corpus.num_tokens() == 0) {
-    throw Error("no features to learn from (every document is empty)");
-  }
-  topics::LdaModel model;
-  std::string summary;
-  if (a.method == "online") {
-    auto r = topics::train_online_lda(corpus, a.online);
-    model = std::move(r.model);
-    summary = r.summary.brief();
-  } else {
-    topics::BatchLdaOptions b;
-    b.num_topics = a.online.num_topics;
-    b.seed = a.online.seed;
-    b.max_iterations = a.max_iterations;
-    auto r = topics::train_batch_lda(corpus, b);
-    model = std::move(r.model);
-    summary = r.summary.brief();
-  }
-  topics::save_lda_model(model, a.model);
-  std::printf("%s\ndocuments: %zu\ntokens: %lld\nmodel: %s\n", summary.c_str(),
-              corpus.num_documents(), static_cast<long long>(corpus.num_tokens()), a.model.c_str());
-  core::Json doc =
-      core::result_document("proprio.recognize.train", 1, inv.provenance(a.online.seed));
-  doc["model"] = a.model;
-  doc["vocabulary"] = a.vocabulary;
-  doc["source"] = a.images.empty() ? "episodes" : "images";
-  doc["method"] = a.method;
-  doc["topics"] = model.num_topics();
-  doc["words"] = model.num_words();
-  doc["documents"] = corpus.num_documents();
-  doc["tokens"] = corpus.num_tokens();
-  doc["frames"] = frames;
-  doc["summary"] = summary;
-  write_json_result(a.json, doc);
-}
 
 struct ClassifyArgs {
-  std::string model;
-  std::string vocabulary;
-  std::string images;
-  std::vector<std::string> episodes;
-  std::string region = "whole";
-  std::vector<std::string> objects;
-  std::string masks;
-  int frame_step = 1;
-  std::string map_with;
-  std::string out;
+  RecognizeClassifyOptions options;
   std::string json;
-  features::ExtractOptions features;
   bool quiet = false;
 };
 
-// The topic mapping from labelled folder-per-class images (never the test data).
-Evaluation mapping_from_images(const topics::LdaModel& model, const features::Vocabulary& v,
-                               const features::ImageSet& known, const features::ExtractOptions& fo,
-                               const ProgressFn& progress) {
-  std::vector<std::size_t> kall(known.images.size());
-  std::iota(kall.begin(), kall.end(), std::size_t{0});
-  const LabelledCorpus labelled = image_corpus(known, kall, v, fo, progress);
-  return evaluate_model(model, labelled, labelled);
-}
-
-void run_classify_episodes(const ClassifyArgs& a, const Invocation& inv,
-                           const topics::LdaModel& model, const features::Vocabulary& vocabulary) {
-  EpisodeClassifyOptions o;
-  o.frames.region = parse_frame_region(a.region);
-  o.frames.objects = a.objects;
-  o.frames.masks = a.masks;
-  o.frames.features = a.features;
-  o.frame_step = a.frame_step;
-  const std::vector<episode::Episode> episodes = read_episodes(a.episodes);
-  std::shared_ptr<core::ProgressBar> bar;
-  EpisodeClassification r =
-      classify_episodes(episodes, model, vocabulary, o, progress_of(bar, "frames", a.quiet));
-  std::printf("%s (%lld empty)\n", r.summary.message.c_str(),
-              static_cast<long long>(r.summary.empty_documents));
-  core::Json doc = core::result_document("proprio.recognize.classify", 1, inv.provenance());
-  doc["model"] = a.model;
-  doc["episodes"] = a.episodes;
-  doc["region"] = a.region;
-  doc["frame_step"] = a.frame_step;
-  doc["frames"] = r.summary.frames;
-  doc["documents"] = r.summary.documents;
-  doc["empty_documents"] = r.summary.empty_documents;
-  if (r.by_topic) {
-    std::printf("topics (argmax theta; rows: true object by the ground-truth masks)\n%s",
-                r.by_topic->format().c_str());
-    doc["topics"] = r.by_topic->to_json();
-  }
-  std::vector<std::string> mapping_classes;
-  if (!a.map_with.empty()) {
-    const features::ImageSet known = features::read_image_set(a.map_with);
-    mapping_classes = known.classes;
-    const Evaluation e = mapping_from_images(model, vocabulary, known, o.frames.features,
-                                             progress_of(bar, "labelled", a.quiet));
-    const ConfusionMatrix classes = apply_mapping(r, e.mapping, mapping_classes);
-    std::printf("topic -> class (from the labelled images of %s):", a.map_with.c_str());
-    for (std::size_t k = 0; k < e.mapping.topic_class.size(); ++k)
-      std::printf(" z_%zu->%s", k + 1,
-                  mapping_classes[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
-    std::printf("\n");
-    doc["mapping"] = evaluation_to_json(e)["mapping"];
-    if (!r.classes.empty()) {
-      std::printf("classes (topics merged)\n%s", classes.format().c_str());
-      std::printf("accuracy %.1f%%, mean class accuracy %.1f%%\n", 100 * classes.accuracy(),
-                  100 * classes.mean_class_accuracy());
-      doc["classes"] = classes.to_json();
-    }
-  }
-  if (!a.out.empty()) {
-    std::string csv = "episode,frame,document,truth,topic,class";
-    for (int k = 0; k < model.num_topics(); ++k) {
-      csv += ",theta_";
-      csv += std::to_string(k);
-    }
-    csv += '\n';
-    for (std::size_t d = 0; d < r.documents.size(); ++d) {
-      const ClassifiedDocument& c = r.documents[d];
-      csv += episodes[static_cast<std::size_t>(c.episode)].dir().string();
-      csv += ',' + std::to_string(c.frame);
-      csv += ',' + std::to_string(c.document) + ',';
-      if (c.truth >= 0) csv += r.classes[static_cast<std::size_t>(c.truth)];
-      csv += ',';
-      if (c.topic >= 0) csv += std::to_string(c.topic);
-      csv += ',';
-      if (c.mapped >= 0) csv += mapping_classes[static_cast<std::size_t>(c.mapped)];
-      for (int k = 0; k < model.num_topics(); ++k) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, ",%.6g", r.theta(static_cast<Eigen::Index>(d), k));
-        csv += buf;
-      }
-      csv += '\n';
-    }
-    core::write_file_atomic(a.out, csv);
-    doc["out"] = a.out;
-  }
-  write_json_result(a.json, doc);
-}
-
-void run_classify(const ClassifyArgs& a, const Invocation& inv) {
-  if (a.images.empty() == a.episodes.empty()) {
-    throw Error("give either --images DIR or --episodes DIR...");
-  }
-  const topics::LdaModel model = topics::load_lda_model(a.model);
-  const features::Vocabulary vocabulary = features::read_vocabulary(a.vocabulary);
-  if (model.num_words() != vocabulary.size()) {
-    std::string m = "the model has ";
-    m += std::to_string(model.num_words());
-    m += " words but the vocabulary ";
-    m += std::to_string(vocabulary.size());
-    throw Error::in_file(a.model, m);
-  }
-  if (!a.episodes.empty()) {
-    run_classify_episodes(a, inv, model, vocabulary);
-    return;
-  }
-  const features::ExtractOptions fo = a.features;
-  std::shared_ptr<core::ProgressBar> bar;
-  const features::ImageSet set = features::read_image_set(a.images);
-  std::vector<std::size_t> all(set.images.size());
-  std::iota(all.begin(), all.end(), std::size_t{0});
-  const LabelledCorpus test =
-      image_corpus(set, all, vocabulary, fo, progress_of(bar, "images", a.quiet));
-  const topics::InferenceResult r = topics::infer_topics(model, test.corpus);
-  const std::vector<int> topic = r.classify();
-  const ConfusionMatrix by_topic =
-      confusion_matrix(test.labels, topic, test.classes, topic_names(model.num_topics()));
-  std::printf("topics (argmax theta; rows: folder)\n%s", by_topic.format().c_str());
-  core::Json doc = core::result_document("proprio.recognize.classify", 1, inv.provenance());
-  doc["model"] = a.model;
-  doc["images"] = a.images;
-  doc["documents"] = test.corpus.num_documents();
-  doc["empty_documents"] = r.summary.empty_documents;
-  doc["topics"] = by_topic.to_json();
-  std::vector<int> mapped;
-  if (!a.map_with.empty()) {
-    const features::ImageSet known = features::read_image_set(a.map_with);
-    if (known.classes != set.classes) {
-      throw Error::in_file(a.map_with, "its class folders differ from those of --images");
-    }
-    std::vector<std::size_t> kall(known.images.size());
-    std::iota(kall.begin(), kall.end(), std::size_t{0});
-    const LabelledCorpus labelled =
-        image_corpus(known, kall, vocabulary, fo, progress_of(bar, "labelled", a.quiet));
-    const Evaluation e = evaluate_model(model, labelled, test);
-    print_evaluation("classification", e);
-    mapped = mapped_classes(topic, e.mapping);
-    doc["mapped"] = evaluation_to_json(e);
-  }
-  if (!a.out.empty()) {
-    std::string csv = "image,truth,topic,class";
-    for (int k = 0; k < model.num_topics(); ++k) {
-      csv += ",theta_";
-      csv += std::to_string(k);
-    }
-    csv += '\n';
-    const Eigen::MatrixXd theta = r.theta();
-    for (std::size_t d = 0; d < all.size(); ++d) {
-      csv += set.images[d].string();
-      csv += ',';
-      csv += set.classes[static_cast<std::size_t>(test.labels[d])];
-      csv += ',';
-      csv += std::to_string(topic[d]);
-      csv += ',';
-      csv +=
-          mapped.empty() || mapped[d] < 0 ? "" : set.classes[static_cast<std::size_t>(mapped[d])];
-      for (int k = 0; k < model.num_topics(); ++k) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, ",%.6g", theta(static_cast<Eigen::Index>(d), k));
-        csv += buf;
-      }
-      csv += '\n';
-    }
-    core::write_file_atomic(a.out, csv);
-    doc["out"] = a.out;
-  }
-  write_json_result(a.json, doc);
+// Where documents come from: --images or --episodes, the region and the feature options.
+void add_source_options(CLI::App* cmd, DocumentSource& s, const char* images_help,
+                        const char* episodes_help) {
+  cmd->add_option("--images", s.images, images_help);
+  cmd->add_option("--episodes", s.episodes, episodes_help);
+  bind_options(cmd, s);
+  cmd->add_option("--objects", s.frames.objects, "Episodes, region objects: object names")
+      ->delimiter(',');
+  cmd->add_option("--masks", s.frames.masks, "Episodes, region masks: directory of masks");
+  add_feature_options(cmd, s.frames.features);
 }
 
 // ---- experiment dictionary / batch-online ----
@@ -432,7 +178,7 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
     title += " dictionary, ";
     title += to_string(run.run.method);
     title += " LDA)";
-    print_evaluation(title, run.evaluation);
+    std::fputs(evaluation_report(title, run.evaluation).c_str(), stdout);
     core::Json j = evaluation_to_json(run.evaluation);
     j["name"] = run.run.name;
     j["set"] = run.run.set;
@@ -558,7 +304,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   for (const ScatterRunResult& run : r.runs) {
     std::string title = "K = ";
     title += std::to_string(run.topics);
-    print_evaluation(title, run.evaluation);
+    std::fputs(evaluation_report(title, run.evaluation).c_str(), stdout);
     core::Json j = evaluation_to_json(run.evaluation);
     j["topics_k"] = run.topics;
     j["updates"] = run.summary.updates;
@@ -580,65 +326,45 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   auto t = std::make_shared<TrainArgs>();
   auto* train = rec->add_subcommand(
       "train", "Learn LDA from an image folder (an image a document) or from episodes");
-  train->add_option("--images", t->images, "Folder-per-class images (labels are not used)");
-  train->add_option("--episodes", t->episodes, "Episode directories, or directories of them");
-  train->add_option("--vocabulary", t->vocabulary, "Vocabulary file (proprio vocab build)")
+  add_source_options(train, t->options.source, "Folder-per-class images (labels are not used)",
+                     "Episode directories, or directories of them");
+  train->add_option("--vocabulary", t->options.vocabulary, "Vocabulary file (proprio vocab build)")
       ->required();
-  train->add_option("--model", t->model, "Model file to write")->required();
-  train->add_option("-k,--topics", t->online.num_topics, "Number of topics K")
-      ->capture_default_str();
-  train->add_option("--method", t->method, "online or batch")
-      ->check(CLI::IsMember({"online", "batch"}))
-      ->capture_default_str();
-  t->online.batch_size = 50;
-  train->add_option("--batch", t->online.batch_size, "Documents per mini-batch (online)")
-      ->capture_default_str();
-  train->add_option("--passes", t->online.passes, "Passes (online)")->capture_default_str();
-  train->add_option("--max-iterations", t->max_iterations, "EM iterations (batch)")
-      ->capture_default_str();
-  train->add_option("--seed", t->online.seed, "Seed")->capture_default_str();
-  train
-      ->add_option(
-          "--region", t->region,
-          "Episodes: whole, target, objects (ground-truth masks), blobs, masks, each-object")
-      ->capture_default_str();
-  train->add_option("--objects", t->objects, "Episodes, region objects: object names")
-      ->delimiter(',');
-  train->add_option("--masks", t->masks, "Episodes, region masks: directory of masks");
-  train->add_option("--frame-step", t->frame_step, "Episodes: every n-th frame")
-      ->capture_default_str();
-  add_feature_options(train, t->features);
+  train->add_option("--model", t->options.model, "Model file to write")->required();
+  bind_options(train, t->options);
+  t->options.online.batch_size = 50;
+  bind_options(train, t->options.online, {{"topics", "batch", "passes", "seed"}, {}});
   train->add_flag("-q,--quiet", t->quiet, "No progress bar");
   train->add_option("--json", t->json, "Also write a summary as JSON");
-  train->callback([t, &inv] { run_train(*t, inv); });
+  train->callback([t, &inv] {
+    t->options.progress = !t->quiet;
+    const RecognizeTrainResult r =
+        run_recognize_train(t->options, inv.provenance(t->options.online.seed));
+    std::fputs(r.report.c_str(), stdout);
+    write_json_result(t->json, r.document);
+  });
 
   auto c = std::make_shared<ClassifyArgs>();
   auto* cls = rec->add_subcommand(
       "classify",
       "Classify folder-per-class images or episodes' frames by argmax theta (thesis 6.1.4)");
-  cls->add_option("--model", c->model, "Model file")->required();
-  cls->add_option("--vocabulary", c->vocabulary, "The model's vocabulary file")->required();
-  cls->add_option("--images", c->images, "Folder-per-class images to classify");
-  cls->add_option("--episodes", c->episodes,
-                  "Episode directories, or directories of them: classify their frames");
-  cls->add_option(
-         "--region", c->region,
-         "Episodes: whole, target, objects (ground-truth masks), blobs, masks, each-object")
-      ->capture_default_str();
-  cls->add_option("--objects", c->objects, "Episodes, region objects: object names")
-      ->delimiter(',');
-  cls->add_option("--masks", c->masks, "Episodes, region masks: directory of masks");
-  cls->add_option("--frame-step", c->frame_step, "Episodes: every n-th frame")
-      ->capture_default_str();
-  cls->add_option("--map-with", c->map_with,
+  cls->add_option("--model", c->options.model, "Model file")->required();
+  cls->add_option("--vocabulary", c->options.vocabulary, "The model's vocabulary file")->required();
+  add_source_options(cls, c->options.source, "Folder-per-class images to classify",
+                     "Episode directories, or directories of them: classify their frames");
+  cls->add_option("--map-with", c->options.map_with,
                   "Labelled folder-per-class images that name the topics (never the test images)");
-  cls->add_option("--out", c->out,
+  cls->add_option("--out", c->options.out,
                   "CSV: image, truth, topic, class, theta_0..theta_{K-1} (episodes: episode, "
                   "frame, document, truth, topic, class, theta_k)");
-  add_feature_options(cls, c->features);
   cls->add_flag("-q,--quiet", c->quiet, "No progress bar");
   cls->add_option("--json", c->json, "Also write the confusion matrices as JSON");
-  cls->callback([c, &inv] { run_classify(*c, inv); });
+  cls->callback([c, &inv] {
+    c->options.progress = !c->quiet;
+    const RecognizeClassifyResult r = run_recognize_classify(c->options, inv.provenance());
+    std::fputs(r.report.c_str(), stdout);
+    write_json_result(c->json, r.document);
+  });
 
   auto* exp = root.add_subcommand("experiment", "Rerun the thesis's object-modelling experiments");
   exp->require_subcommand(1);

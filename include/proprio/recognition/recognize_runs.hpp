@@ -1,0 +1,117 @@
+#pragma once
+// The library calls behind `proprio recognize train` and `proprio recognize classify` (thesis
+// 6.1, 6.3, 7.3.1): an LDA model learned from the visual words of a folder-per-class image set or
+// of episodes' frames, and documents classified by argmax theta, their topics named after classes
+// from labelled images (never the test documents).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/extraction.hpp"
+#include "proprio/recognition/documents.hpp"
+#include "proprio/recognition/image_corpus.hpp"
+#include "proprio/topics/lda_model.hpp"
+#include "proprio/topics/lda_runs.hpp"
+#include "proprio/topics/online_lda.hpp"
+
+namespace proprio::recognition {
+
+inline constexpr core::ChoiceNames<FrameRegion, 6> kFrameRegionNames{
+    {{"whole", FrameRegion::kWhole},
+     {"target", FrameRegion::kTarget},
+     {"objects", FrameRegion::kObjects},
+     {"blobs", FrameRegion::kBlobs},
+     {"masks", FrameRegion::kMasks},
+     {"each-object", FrameRegion::kEachObject}}};
+
+/// Where the documents come from: a folder-per-class image set (a document per image) or
+/// episodes (each a directory holding episode.json, or a directory of them), every
+/// frame_step-th frame made into documents by `frames`.
+struct DocumentSource {
+  std::filesystem::path images;
+  std::vector<std::filesystem::path> episodes;
+  FrameDocumentOptions frames;  ///< region, objects, masks and the feature options
+  int frame_step = 1;
+
+  /// Throws Error unless exactly one of images and episodes is given, or on a bad option.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.frames.region,
+             {"region",
+              "Episodes: whole frame, target, objects, blobs, masks or each-object (ground truth)"},
+             kFrameRegionNames);
+    v(self.frame_step, {"frame_step", "Episodes: every n-th frame", core::at_least(1)});
+  }
+};
+
+struct RecognizeTrainOptions {
+  DocumentSource source;
+  std::filesystem::path vocabulary;  ///< vocabulary file (proprio vocab build; required)
+  std::filesystem::path model;       ///< model file to write (required)
+  topics::LdaMethod method = topics::LdaMethod::kOnline;
+  topics::OnlineLdaOptions online;  ///< K, seed and the online method's options
+  int max_iterations = 100;         ///< batch: EM iterations at most
+  bool progress = false;            ///< a progress bar on stderr
+
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.method, {"method", "online or batch"}, topics::kLdaMethodNames);
+    v(self.max_iterations, {"max_iterations", "EM iterations (batch)", core::at_least(1)});
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct RecognizeTrainResult {
+  topics::LdaModel model;
+  std::size_t documents = 0;
+  long long tokens = 0;
+  int frames = 0;       ///< frames read (episodes)
+  std::string summary;  ///< the training summary's line
+  std::string report;   ///< what the CLI prints, lines ending in '\n'
+  core::Json document;  ///< format "proprio.recognize.train"
+};
+
+/// Reads the vocabulary and the documents, trains, writes the model. Throws Error when every
+/// document is empty.
+RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
+                                         const core::Provenance& provenance);
+
+struct RecognizeClassifyOptions {
+  std::filesystem::path model;       ///< LDA model file (required)
+  std::filesystem::path vocabulary;  ///< the model's vocabulary file (required)
+  DocumentSource source;
+  /// Labelled folder-per-class images that name the topics (7.3.1); none: topics only. With
+  /// `source.images` its class folders must be the same.
+  std::filesystem::path map_with;
+  /// CSV to write, a row per document: its image or episode and frame, truth, topic, class and
+  /// theta; none: not written.
+  std::filesystem::path out;
+  bool progress = false;
+
+  void validate() const;
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct RecognizeClassifyResult {
+  std::string report;   ///< the confusion matrices and accuracies, as the CLI prints them
+  core::Json document;  ///< format "proprio.recognize.classify"
+};
+
+/// Classifies the documents, names the topics when `map_with` is given, writes `out`. Throws
+/// Error naming the model when its number of words is not the vocabulary's.
+RecognizeClassifyResult run_recognize_classify(const RecognizeClassifyOptions& options,
+                                               const core::Provenance& provenance);
+
+/// An evaluation as `recognize classify` and `experiment` print it: the topic confusion matrix,
+/// the topic -> class mapping, the merged class matrix and the accuracies, under `title`.
+std::string evaluation_report(const std::string& title, const Evaluation& e);
+
+}  // namespace proprio::recognition

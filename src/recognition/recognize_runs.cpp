@@ -1,0 +1,296 @@
+#include "proprio/recognition/recognize_runs.hpp"
+
+#include <cstdio>
+#include <memory>
+#include <numeric>
+
+#include "proprio/core/csv.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/core/progress.hpp"
+#include "proprio/episode/discovery.hpp"
+#include "proprio/episode/episode.hpp"
+#include "proprio/features/image_set.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/recognition/episode_classification.hpp"
+#include "proprio/recognition/image_corpus.hpp"
+#include "proprio/topics/batch_lda.hpp"
+#include "proprio/topics/inference.hpp"
+#include "proprio/topics/lda_model_io.hpp"
+
+namespace proprio::recognition {
+namespace {
+
+std::vector<episode::Episode> read_episodes(const std::vector<std::filesystem::path>& args) {
+  std::vector<episode::Episode> out;
+  for (const auto& d : episode::find_episodes(args)) out.push_back(episode::read_episode(d));
+  return out;
+}
+
+// A progress bar made on the first call of each pass (a pass counts from 1 again).
+ProgressFn progress_bar(std::shared_ptr<core::ProgressBar>& bar, const char* label, bool show) {
+  return [&bar, label, show](std::size_t done, std::size_t total) {
+    if (!show) return;
+    if (!bar || done == 1) bar = std::make_shared<core::ProgressBar>(total, label);
+    bar->tick();
+    if (done == total) bar->finish();
+  };
+}
+
+std::vector<std::size_t> every_image(const features::ImageSet& set) {
+  std::vector<std::size_t> all(set.images.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  return all;
+}
+
+std::string format(const char* fmt, auto... args) {
+  const int n = std::snprintf(nullptr, 0, fmt, args...);
+  std::string out(static_cast<std::size_t>(n), '\0');
+  std::snprintf(out.data(), out.size() + 1, fmt, args...);
+  return out;
+}
+
+std::string theta_field(double x) { return format("%.6g", x); }
+
+std::vector<std::string> theta_header(std::vector<std::string> first, int topics) {
+  for (int k = 0; k < topics; ++k) first.push_back("theta_" + std::to_string(k));
+  return first;
+}
+
+void check_model_vocabulary(const topics::LdaModel& model, const features::Vocabulary& v,
+                            const std::filesystem::path& model_file) {
+  if (model.num_words() == v.size()) return;
+  throw Error::in_file(model_file, "the model has " + std::to_string(model.num_words()) +
+                                       " words but the vocabulary " + std::to_string(v.size()));
+}
+
+void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::LdaModel& model,
+                            const features::Vocabulary& vocabulary, RecognizeClassifyResult& out) {
+  EpisodeClassifyOptions eo;
+  eo.frames = o.source.frames;
+  eo.frame_step = o.source.frame_step;
+  const std::vector<episode::Episode> episodes = read_episodes(o.source.episodes);
+  std::shared_ptr<core::ProgressBar> bar;
+  EpisodeClassification r =
+      classify_episodes(episodes, model, vocabulary, eo, progress_bar(bar, "frames", o.progress));
+  std::string& text = out.report;
+  text += format("%s (%lld empty)\n", r.summary.message.c_str(),
+                 static_cast<long long>(r.summary.empty_documents));
+  core::Json& doc = out.document;
+  std::vector<std::string> episode_args;
+  for (const auto& e : o.source.episodes) episode_args.push_back(e.string());
+  doc["episodes"] = episode_args;
+  doc["region"] = to_string(o.source.frames.region);
+  doc["frame_step"] = o.source.frame_step;
+  doc["frames"] = r.summary.frames;
+  doc["documents"] = r.summary.documents;
+  doc["empty_documents"] = r.summary.empty_documents;
+  if (r.by_topic) {
+    text += "topics (argmax theta; rows: true object by the ground-truth masks)\n" +
+            r.by_topic->format();
+    doc["topics"] = r.by_topic->to_json();
+  }
+  std::vector<std::string> mapping_classes;
+  if (!o.map_with.empty()) {
+    const features::ImageSet known = features::read_image_set(o.map_with);
+    mapping_classes = known.classes;
+    const LabelledCorpus labelled =
+        image_corpus(known, every_image(known), vocabulary, eo.frames.features,
+                     progress_bar(bar, "labelled", o.progress));
+    const Evaluation e = evaluate_model(model, labelled, labelled);
+    const ConfusionMatrix classes = apply_mapping(r, e.mapping, mapping_classes);
+    text += format("topic -> class (from the labelled images of %s):", o.map_with.c_str());
+    for (std::size_t k = 0; k < e.mapping.topic_class.size(); ++k)
+      text += format(" z_%zu->%s", k + 1,
+                     mapping_classes[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
+    text += "\n";
+    doc["mapping"] = evaluation_to_json(e)["mapping"];
+    if (!r.classes.empty()) {
+      text += "classes (topics merged)\n" + classes.format();
+      text += format("accuracy %.1f%%, mean class accuracy %.1f%%\n", 100 * classes.accuracy(),
+                     100 * classes.mean_class_accuracy());
+      doc["classes"] = classes.to_json();
+    }
+  }
+  if (o.out.empty()) return;
+  std::string csv =
+      core::join_csv_line(theta_header({"episode", "frame", "document", "truth", "topic", "class"},
+                                       model.num_topics())) +
+      '\n';
+  for (std::size_t d = 0; d < r.documents.size(); ++d) {
+    const ClassifiedDocument& c = r.documents[d];
+    std::vector<std::string> row{episodes[static_cast<std::size_t>(c.episode)].dir().string(),
+                                 std::to_string(c.frame), std::to_string(c.document)};
+    row.push_back(c.truth >= 0 ? r.classes[static_cast<std::size_t>(c.truth)] : "");
+    row.push_back(c.topic >= 0 ? std::to_string(c.topic) : "");
+    row.push_back(c.mapped >= 0 ? mapping_classes[static_cast<std::size_t>(c.mapped)] : "");
+    for (int k = 0; k < model.num_topics(); ++k)
+      row.push_back(theta_field(r.theta(static_cast<Eigen::Index>(d), k)));
+    csv += core::join_csv_line(row) + '\n';
+  }
+  core::write_file_atomic(o.out, csv);
+  doc["out"] = o.out.string();
+}
+
+void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaModel& model,
+                          const features::Vocabulary& vocabulary, RecognizeClassifyResult& out) {
+  std::shared_ptr<core::ProgressBar> bar;
+  const features::ExtractOptions& fo = o.source.frames.features;
+  const features::ImageSet set = features::read_image_set(o.source.images);
+  const LabelledCorpus test =
+      image_corpus(set, every_image(set), vocabulary, fo, progress_bar(bar, "images", o.progress));
+  const topics::InferenceResult r = topics::infer_topics(model, test.corpus);
+  const std::vector<int> topic = r.classify();
+  const ConfusionMatrix by_topic =
+      confusion_matrix(test.labels, topic, test.classes, topic_names(model.num_topics()));
+  out.report += "topics (argmax theta; rows: folder)\n" + by_topic.format();
+  core::Json& doc = out.document;
+  doc["images"] = o.source.images.string();
+  doc["documents"] = test.corpus.num_documents();
+  doc["empty_documents"] = r.summary.empty_documents;
+  doc["topics"] = by_topic.to_json();
+  std::vector<int> mapped;
+  if (!o.map_with.empty()) {
+    const features::ImageSet known = features::read_image_set(o.map_with);
+    if (known.classes != set.classes) {
+      throw Error::in_file(o.map_with, "its class folders differ from those of --images");
+    }
+    const LabelledCorpus labelled = image_corpus(known, every_image(known), vocabulary, fo,
+                                                 progress_bar(bar, "labelled", o.progress));
+    const Evaluation e = evaluate_model(model, labelled, test);
+    out.report += evaluation_report("classification", e);
+    mapped = mapped_classes(topic, e.mapping);
+    doc["mapped"] = evaluation_to_json(e);
+  }
+  if (o.out.empty()) return;
+  std::string csv =
+      core::join_csv_line(theta_header({"image", "truth", "topic", "class"}, model.num_topics())) +
+      '\n';
+  const Eigen::MatrixXd theta = r.theta();
+  for (std::size_t d = 0; d < set.images.size(); ++d) {
+    std::vector<std::string> row{set.images[d].string(),
+                                 set.classes[static_cast<std::size_t>(test.labels[d])],
+                                 std::to_string(topic[d])};
+    row.push_back(
+        mapped.empty() || mapped[d] < 0 ? "" : set.classes[static_cast<std::size_t>(mapped[d])]);
+    for (int k = 0; k < model.num_topics(); ++k)
+      row.push_back(theta_field(theta(static_cast<Eigen::Index>(d), k)));
+    csv += core::join_csv_line(row) + '\n';
+  }
+  core::write_file_atomic(o.out, csv);
+  doc["out"] = o.out.string();
+}
+
+}  // namespace
+
+std::string evaluation_report(const std::string& title, const Evaluation& e) {
+  std::string out = format("%s: topics (argmax theta; rows: true class)\n%s", title.c_str(),
+                           e.topics.format().c_str());
+  out += "topic -> class (from the labelled training images):";
+  for (std::size_t k = 0; k < e.mapping.topic_class.size(); ++k)
+    out += format(" z_%zu->%s", k + 1,
+                  e.classes.columns[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
+  out += format("\n%s: classes (topics merged)\n%s", title.c_str(), e.classes.format().c_str());
+  out += format("%s: accuracy %.1f%%, mean class accuracy %.1f%%\n\n", title.c_str(),
+                100 * e.classes.accuracy(), 100 * e.classes.mean_class_accuracy());
+  return out;
+}
+
+void DocumentSource::validate() const {
+  if (images.empty() == episodes.empty())
+    throw Error("give either --images DIR or --episodes DIR...");
+  core::check_field_bounds(*this, "documents");
+  frames.validate();
+}
+
+void RecognizeTrainOptions::validate() const {
+  source.validate();
+  if (vocabulary.empty() || model.empty())
+    throw Error("recognize train: the vocabulary and the model file are required");
+  core::check_field_bounds(*this, "recognize train");
+  if (online.num_topics < 1) throw Error("the number of topics K must be >= 1");
+  core::check_field_bounds(online, "recognize train");
+}
+
+RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
+                                         const core::Provenance& provenance) {
+  options.validate();
+  const features::Vocabulary vocabulary = features::read_vocabulary(options.vocabulary);
+  std::shared_ptr<core::ProgressBar> bar;
+  topics::Corpus corpus(vocabulary.size());
+  RecognizeTrainResult r;
+  const DocumentSource& source = options.source;
+  if (!source.images.empty()) {
+    const features::ImageSet set = features::read_image_set(source.images);
+    corpus = image_corpus(set, every_image(set), vocabulary, source.frames.features,
+                          progress_bar(bar, "images", options.progress))
+                 .corpus;
+  } else {
+    for (const auto& e : read_episodes(source.episodes)) {
+      for (int i = 0; i < e.frame_count(); i += source.frame_step) {
+        for (const auto& f : frame_features(e, i, source.frames))
+          if (!f.empty()) corpus.add_tokens(features::bag_of_words(vocabulary, f.descriptors));
+        ++r.frames;
+      }
+    }
+  }
+  if (corpus.num_documents() == 0 || corpus.num_tokens() == 0) {
+    throw Error("no features to learn from (every document is empty)");
+  }
+  if (options.method == topics::LdaMethod::kOnline) {
+    auto t = topics::train_online_lda(corpus, options.online);
+    r.model = std::move(t.model);
+    r.summary = t.summary.brief();
+  } else {
+    topics::BatchLdaOptions b;
+    b.num_topics = options.online.num_topics;
+    b.seed = options.online.seed;
+    b.max_iterations = options.max_iterations;
+    auto t = topics::train_batch_lda(corpus, b);
+    r.model = std::move(t.model);
+    r.summary = t.summary.brief();
+  }
+  topics::save_lda_model(r.model, options.model);
+  r.documents = corpus.num_documents();
+  r.tokens = static_cast<long long>(corpus.num_tokens());
+  r.report = format("%s\ndocuments: %zu\ntokens: %lld\nmodel: %s\n", r.summary.c_str(), r.documents,
+                    r.tokens, options.model.c_str());
+  core::Json& doc = r.document;
+  doc = core::result_document("proprio.recognize.train", 1, provenance);
+  doc["model"] = options.model.string();
+  doc["vocabulary"] = options.vocabulary.string();
+  doc["source"] = source.images.empty() ? "episodes" : "images";
+  doc["method"] = core::choice_name(options.method, topics::kLdaMethodNames);
+  doc["topics"] = r.model.num_topics();
+  doc["words"] = r.model.num_words();
+  doc["documents"] = r.documents;
+  doc["tokens"] = r.tokens;
+  doc["frames"] = r.frames;
+  doc["summary"] = r.summary;
+  return r;
+}
+
+void RecognizeClassifyOptions::validate() const {
+  source.validate();
+  if (model.empty() || vocabulary.empty())
+    throw Error("recognize classify: the model and the vocabulary files are required");
+}
+
+RecognizeClassifyResult run_recognize_classify(const RecognizeClassifyOptions& options,
+                                               const core::Provenance& provenance) {
+  options.validate();
+  const topics::LdaModel model = topics::load_lda_model(options.model);
+  const features::Vocabulary vocabulary = features::read_vocabulary(options.vocabulary);
+  check_model_vocabulary(model, vocabulary, options.model);
+  RecognizeClassifyResult out;
+  out.document = core::result_document("proprio.recognize.classify", 1, provenance);
+  out.document["model"] = options.model.string();
+  if (!options.source.episodes.empty()) {
+    classify_episodes_into(options, model, vocabulary, out);
+  } else {
+    classify_images_into(options, model, vocabulary, out);
+  }
+  return out;
+}
+
+}  // namespace proprio::recognition
