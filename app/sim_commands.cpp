@@ -6,15 +6,15 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli.hpp"
+#include "option_binder.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
-#include "proprio/core/progress.hpp"
 #include "proprio/geometry/camera.hpp"
 #include "proprio/sim/calibration.hpp"
+#include "proprio/sim/dataset.hpp"
 #include "proprio/sim/recorder.hpp"
-#include "proprio/sim/renderer.hpp"
+#include "proprio/sim/scenario_view.hpp"
 #include "proprio/sim/views.hpp"
-#include "proprio/sim/world.hpp"
 
 namespace proprio::app {
 namespace {
@@ -116,15 +116,7 @@ void run_calibrate(const CalibrateArgs& a, const Invocation& inv) {
 }
 
 void run_view(const RecordArgs& a) {
-  const sim::RecordOptions o = resolved(a);
-  const auto catalogue = sim::ObjectCatalogue::load_default();
-  const sim::ScenarioPlan plan = sim::plan_scenario(o, catalogue);
-  sim::World world = sim::World::build(plan.scene, catalogue);
-  world.step(50);
-  sim::RenderOptions ropt;
-  ropt.shadows = o.shadows;
-  sim::Renderer renderer(world, ropt);
-  const cv::Mat rgb = renderer.rgb(world, world.camera_names().at(0));
+  const cv::Mat rgb = sim::render_scenario_view(resolved(a), sim::ObjectCatalogue::load_default());
   std::vector<uchar> png;
   if (!cv::imencode(".png", rgb, png)) throw Error::in_file(a.out, "cannot encode the image");
   core::write_file_atomic(a.out,
@@ -133,111 +125,10 @@ void run_view(const RecordArgs& a) {
 }
 
 struct DatasetArgs {
-  std::string preset = "thesis-ch5";
-  std::string out;
-  int frames = 0;
-  int episodes = 0;
-  int width = 640;
-  int height = 480;
-  std::uint64_t seed = 1;
+  sim::SimDatasetOptions options;
   bool quiet = false;
   std::string json;
 };
-
-// The Chapter 5 set: the five objects pushed with static and moving backgrounds (6 seeds each,
-// 60 episodes), then 10 episodes each of the rotating bottle (push-rotate), the held box and the
-// held spirit level (hold-3d) for the homography experiments. Every moving episode has the
-// disturbances of the thesis's experiment (a) (SPEC 3): people walking behind (the video
-// backdrop) and moving distractors, plus, cycling over k, camera shake (k = 0, 3), a lighting
-// change (k = 1, 4) or a neighbouring object nudged (k = 2, 5).
-std::vector<std::pair<std::string, sim::RecordOptions>> thesis_ch5(const DatasetArgs& a) {
-  std::vector<std::pair<std::string, sim::RecordOptions>> list;
-  auto base = [&](std::uint64_t seed) {
-    sim::RecordOptions o;
-    o.width = a.width;
-    o.height = a.height;
-    o.seed = seed;
-    if (a.frames > 0) o.max_frames = a.frames;
-    return o;
-  };
-  std::uint64_t seed = a.seed;
-  for (const char* object : {"rabbit", "mug", "spirit-level", "bottle", "book"}) {
-    for (const bool moving : {false, true}) {
-      for (int k = 0; k < 6; ++k) {
-        sim::RecordOptions o = base(seed++);
-        o.object = object;
-        o.moving_background = moving;
-        if (moving) {
-          o.camera_shake = k % 3 == 0;
-          o.lighting_change = k % 3 == 1;
-          o.nudge_neighbour = k % 3 == 2;
-        }
-        std::string name = "push_";
-        name += object;
-        name += moving ? "_moving_" : "_static_";
-        name += std::to_string(k);
-        list.emplace_back(name, o);
-      }
-    }
-  }
-  struct Homography {
-    const char* scenario;
-    const char* object;
-  };
-  for (const Homography h : {Homography{"push-rotate", "bottle"}, Homography{"hold-3d", "box"},
-                             Homography{"hold-3d", "spirit-level"}}) {
-    for (int k = 0; k < 10; ++k) {
-      sim::RecordOptions o = base(seed++);
-      o.scenario = h.scenario;
-      o.object = h.object;
-      std::string name = "homography_";
-      name += h.scenario;
-      name += "_";
-      name += h.object;
-      name += "_" + std::to_string(k);
-      list.emplace_back(name, o);
-    }
-  }
-  return list;
-}
-
-void run_dataset(const DatasetArgs& a, const Invocation& inv) {
-  auto list = thesis_ch5(a);
-  if (a.episodes > 0 && static_cast<std::size_t>(a.episodes) < list.size()) {
-    list.resize(static_cast<std::size_t>(a.episodes));
-  }
-  if (fs::exists(a.out)) throw Error::in_file(a.out, "already exists");
-  const auto catalogue = sim::ObjectCatalogue::load_default();
-  // Episodes go into a staging directory that is renamed at the end: a dataset is whole or absent.
-  core::StagedDirectory staged(a.out);
-  core::ProgressBar bar(list.size(), "sim dataset", !a.quiet);
-  core::Json episodes = core::Json::array();
-  int frames = 0;
-  double seconds = 0.0;
-  for (const auto& [name, options] : list) {
-    const auto s = sim::record_episode(staged.staging_path() / name, options,
-                                       inv.provenance(options.seed), catalogue);
-    frames += s.frames;
-    seconds += s.seconds;
-    episodes.push_back({{"episode", name},
-                        {"scenario", options.scenario},
-                        {"switches", options.switches()},
-                        {"frames", s.frames}});
-    bar.tick();
-  }
-  bar.finish();
-  staged.commit();
-  std::printf("dataset: %s\nepisodes: %zu\nframes: %d\nfps: %.2f\n", a.out.c_str(), list.size(),
-              frames, frames / seconds);
-  core::Json doc = core::result_document("proprio.sim.dataset", 1, inv.provenance(a.seed));
-  doc["preset"] = a.preset;
-  doc["out"] = a.out;
-  doc["episodes"] = episodes;
-  doc["frames"] = frames;
-  doc["seconds"] = seconds;
-  doc["fps"] = frames / seconds;
-  write_json_result(a.json, doc);
-}
 
 struct ViewsArgs {
   sim::ViewsOptions options;
@@ -298,18 +189,20 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
 
   auto ds = std::make_shared<DatasetArgs>();
   auto* dataset = sim->add_subcommand("dataset", "Record a preset set of episodes");
-  dataset->add_option("--preset", ds->preset, "Preset")
+  dataset->add_option("--preset", ds->options.preset, "Preset")
       ->check(CLI::IsMember({"thesis-ch5"}))
       ->capture_default_str();
-  dataset->add_option("--out", ds->out, "Directory to create")->required();
-  dataset->add_option("--frames", ds->frames, "At most this many frames per episode");
-  dataset->add_option("--episodes", ds->episodes, "Only the first N episodes of the preset");
-  dataset->add_option("--width", ds->width, "Image width, pixels")->capture_default_str();
-  dataset->add_option("--height", ds->height, "Image height, pixels")->capture_default_str();
-  dataset->add_option("--seed", ds->seed, "Seed of the first episode")->capture_default_str();
+  dataset->add_option("--out", ds->options.out, "Directory to create")->required();
+  bind_options(dataset, ds->options);
   dataset->add_flag("-q,--quiet", ds->quiet, "No progress bar");
   dataset->add_option("--json", ds->json, "Also write the episode list as JSON");
-  dataset->callback([ds, &inv] { run_dataset(*ds, inv); });
+  dataset->callback([ds, &inv] {
+    ds->options.progress = !ds->quiet;
+    const sim::SimDatasetResult r =
+        sim::run_sim_dataset(ds->options, inv.provenance(ds->options.seed));
+    std::printf("dataset: %s\n%s\n", ds->options.out.c_str(), r.brief().c_str());
+    write_json_result(ds->json, r.document);
+  });
 
   auto vs = std::make_shared<ViewsArgs>();
   auto* views = sim->add_subcommand(

@@ -62,7 +62,7 @@ struct RecordOptions {
   /// arm's motion before the touch is the evidence that removes it (eq 4.18). Shortened, down
   /// to 0.025, for targets too long to be pushed within reach after it.
   double approach = 0.06;
-  bool shadows = false;          ///< off: about twice the frame rate in software GL
+  bool shadows = false;  ///< off: about twice the frame rate in software GL
   bool reflections = false;
   bool overwrite = false;  ///< replace an existing episode directory
   /// Stop after this many frames (none: the whole push and the still times).
