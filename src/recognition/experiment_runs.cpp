@@ -1,0 +1,190 @@
+#include "proprio/recognition/experiment_runs.hpp"
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/progress.hpp"
+#include "proprio/episode/discovery.hpp"
+#include "proprio/features/image_set.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/recognition/recognize_runs.hpp"
+
+namespace proprio::recognition {
+namespace {
+
+std::vector<episode::Episode> read_episodes(const std::vector<std::filesystem::path>& args) {
+  std::vector<episode::Episode> out;
+  for (const auto& d : episode::find_episodes(args)) out.push_back(episode::read_episode(d));
+  return out;
+}
+
+ProgressFn progress_bar(std::shared_ptr<core::ProgressBar>& bar, const char* label, bool show) {
+  return [&bar, label, show](std::size_t done, std::size_t total) {
+    if (!show) return;
+    if (!bar || done == 1) bar = std::make_shared<core::ProgressBar>(total, label);
+    bar->tick();
+    if (done == total) bar->finish();
+  };
+}
+
+std::string format(const char* fmt, auto... args) {
+  const int n = std::snprintf(nullptr, 0, fmt, args...);
+  std::string out(static_cast<std::size_t>(n), '\0');
+  std::snprintf(out.data(), out.size() + 1, fmt, args...);
+  return out;
+}
+
+core::Json kmeans_json(const features::KmeansSummary& s, int descriptors) {
+  core::Json j;
+  j["descriptors"] = descriptors;
+  j["iterations"] = s.iterations;
+  j["cost"] = s.cost;
+  j["seconds"] = s.seconds;
+  j["termination"] = s.termination;
+  return j;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) {
+    if (!s.empty()) s += ',';
+    s += x;
+  }
+  return s;
+}
+
+std::vector<std::string> strings(const std::vector<std::filesystem::path>& paths) {
+  std::vector<std::string> out;
+  for (const auto& p : paths) out.push_back(p.string());
+  return out;
+}
+
+}  // namespace
+
+ExperimentRun run_set_experiment_files(const SetExperimentRunOptions& options,
+                                       const core::Provenance& provenance) {
+  SetExperimentOptions o = options.options;
+  if (o.runs.empty()) o.runs = options.dictionary ? dictionary_runs() : batch_online_runs();
+  o.batch.seed = o.seed;
+  o.online.seed = o.seed;
+  o.kmeans.seed = o.seed;
+  const features::ImageSet set = features::read_image_set(options.images);
+  std::shared_ptr<core::ProgressBar> bar;
+  const SetExperimentResult r =
+      run_set_experiment(set, o, progress_bar(bar, "images", options.progress));
+  ExperimentRun out;
+  out.report = format("set A: %s\nset B: %s\nwide dictionary: %s\n\n", joined(r.set_a).c_str(),
+                      joined(r.set_b).c_str(), joined(r.wide).c_str());
+  core::Json& doc = out.document;
+  doc = core::result_document(
+      options.dictionary ? "proprio.experiment.dictionary" : "proprio.experiment.batch_online", 1,
+      provenance);
+  doc["images"] = options.images.string();
+  doc["set_a"] = r.set_a;
+  doc["set_b"] = r.set_b;
+  doc["wide"] = r.wide;
+  doc["words"] = o.kmeans.words;
+  doc["test_per_class"] = o.test_per_class;
+  doc["features"] = features::to_string(o.features.kind);
+  if (r.specific_kmeans)
+    doc["specific_dictionary"] = kmeans_json(*r.specific_kmeans, r.specific_descriptors);
+  if (r.wide_kmeans) doc["wide_dictionary"] = kmeans_json(*r.wide_kmeans, r.wide_descriptors);
+  doc["runs"] = core::Json::array();
+  for (const SetRunResult& run : r.runs) {
+    const std::string title = run.run.name + " (set " + run.run.set + ", " + run.run.dictionary +
+                              " dictionary, " + to_string(run.run.method) + " LDA)";
+    out.report += evaluation_report(title, run.evaluation);
+    core::Json j = evaluation_to_json(run.evaluation);
+    j["name"] = run.run.name;
+    j["set"] = run.run.set;
+    j["dictionary"] = run.run.dictionary;
+    j["method"] = to_string(run.run.method);
+    j["train_documents"] = run.train_documents;
+    j["test_documents"] = run.test_documents;
+    j["train_seconds"] = run.train_seconds;
+    j["lda_summary"] = run.lda_summary;
+    doc["runs"].push_back(j);
+  }
+  out.report += format("seconds: %.1f\n", r.seconds);
+  doc["seconds"] = r.seconds;
+  return out;
+}
+
+void ScatterExperimentRunOptions::validate() const {
+  if (views.empty() == view_episodes.empty()) {
+    throw Error("give either --views DIR or --view-episodes DIR... (with --objects)");
+  }
+  if (!view_episodes.empty() && objects.empty()) {
+    throw Error("--view-episodes needs --objects (the objects whose views are cut from them)");
+  }
+}
+
+ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& options,
+                                           const core::Provenance& provenance) {
+  options.validate();
+  ScatterExperimentOptions o = options.options;
+  o.view_features = o.frames.features;
+  o.frames.features.center_crop = 1.0;  // frames: the region decides
+  o.kmeans.seed = o.seed;
+  const std::vector<episode::Episode> episodes = read_episodes(options.episodes);
+  std::optional<features::Vocabulary> vocabulary;
+  if (!options.vocabulary.empty()) vocabulary = features::read_vocabulary(options.vocabulary);
+  const features::Vocabulary* v = vocabulary ? &*vocabulary : nullptr;
+  std::shared_ptr<core::ProgressBar> bar;
+  ScatterExperimentResult r;
+  if (options.views.empty()) {
+    // Segmented views: the features inside each object's mask; no centre crop.
+    o.view_features.center_crop = 1.0;
+    r = run_scatter_experiment(episodes, read_episodes(options.view_episodes), options.objects, o,
+                               v, progress_bar(bar, "frames", options.progress));
+  } else {
+    const features::ImageSet views = features::read_image_set(options.views);
+    r = run_scatter_experiment(episodes, views, o, v,
+                               progress_bar(bar, "frames", options.progress));
+  }
+  ExperimentRun out;
+  out.report =
+      format("objects: %zu, episodes: %zu, frames: %d, documents: %d, tokens: %lld, words: %d\n",
+             r.objects.size(), episodes.size(), r.frames, r.documents,
+             static_cast<long long>(r.tokens), r.words) +
+      format("mini-batches: %d documents (%d frames)\n", r.batch_documents, o.online.batch_size) +
+      format("views: %d name the topics (labelled), %d test\n\n", r.mapping_views, r.test_views);
+  core::Json& doc = out.document;
+  doc = core::result_document("proprio.experiment.scatter", 1, provenance);
+  doc["episodes"] = strings(options.episodes);
+  if (!options.views.empty()) doc["views"] = options.views.string();
+  if (!options.view_episodes.empty()) {
+    doc["view_episodes"] = strings(options.view_episodes);
+    doc["view_step"] = o.view_step;
+    doc["view_block"] = o.view_block;
+  }
+  doc["objects"] = r.objects;
+  doc["region"] = to_string(o.frames.region);
+  doc["features"] = features::to_string(o.frames.features.kind);
+  doc["frames"] = r.frames;
+  doc["documents"] = r.documents;
+  doc["tokens"] = r.tokens;
+  doc["words"] = r.words;
+  doc["batch_size"] = o.online.batch_size;
+  doc["batch_documents"] = r.batch_documents;
+  doc["passes"] = o.online.passes;
+  doc["mapping_views"] = r.mapping_views;
+  doc["test_views"] = r.test_views;
+  if (r.kmeans) doc["dictionary"] = kmeans_json(*r.kmeans, r.dictionary_descriptors);
+  doc["runs"] = core::Json::array();
+  for (const ScatterRunResult& run : r.runs) {
+    out.report += evaluation_report("K = " + std::to_string(run.topics), run.evaluation);
+    core::Json j = evaluation_to_json(run.evaluation);
+    j["topics_k"] = run.topics;
+    j["updates"] = run.summary.updates;
+    j["train_seconds"] = run.summary.seconds;
+    doc["runs"].push_back(j);
+  }
+  out.report += format("seconds: %.1f\n", r.seconds);
+  doc["seconds"] = r.seconds;
+  return out;
+}
+
+}  // namespace proprio::recognition
