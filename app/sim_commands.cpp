@@ -9,11 +9,11 @@
 #include "option_binder.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
-#include "proprio/geometry/camera.hpp"
 #include "proprio/sim/calibration.hpp"
 #include "proprio/sim/dataset.hpp"
 #include "proprio/sim/recorder.hpp"
 #include "proprio/sim/scenario_view.hpp"
+#include "proprio/sim/sim_runs.hpp"
 #include "proprio/sim/views.hpp"
 
 namespace proprio::app {
@@ -69,22 +69,9 @@ sim::RecordOptions resolved(const RecordArgs& a) {
 
 void run_record(RecordArgs& a, const Invocation& inv) {
   a.options = resolved(a);
-  const core::Provenance provenance = inv.provenance(a.options.seed);
-  const auto catalogue = sim::ObjectCatalogue::load_default();
-  const sim::RecordSummary s = sim::record_episode(a.out, a.options, provenance, catalogue);
-  std::printf("episode: %s\n%s\nframes: %d\nseconds: %.3f\nfps: %.2f\nfirst touch: %s\n",
-              a.out.c_str(), s.message.c_str(), s.frames, s.seconds, s.fps,
-              s.first_touch_frame ? std::to_string(*s.first_touch_frame).c_str() : "none");
-  core::Json doc = core::result_document("proprio.sim.record", 1, provenance);
-  doc["episode"] = a.out;
-  doc["scenario"] = a.options.scenario;
-  doc["switches"] = a.options.switches();
-  doc["frames"] = s.frames;
-  doc["seconds"] = s.seconds;
-  doc["fps"] = s.fps;
-  doc["first_touch_frame"] = s.first_touch_frame ? core::Json(*s.first_touch_frame) : core::Json();
-  doc["target_moved_m"] = s.target_moved;
-  write_json_result(a.json, doc);
+  const sim::SimRun r = sim::run_sim_record(a.options, a.out, inv.provenance(a.options.seed));
+  std::fputs(r.report.c_str(), stdout);
+  write_json_result(a.json, r.document);
 }
 
 struct CalibrateArgs {
@@ -94,25 +81,9 @@ struct CalibrateArgs {
 };
 
 void run_calibrate(const CalibrateArgs& a, const Invocation& inv) {
-  const sim::SimCalibrationResult r = sim::calibrate_simulated(a.options);
-  geometry::Camera cam = r.dlt.camera;
-  cam.width = a.options.width;
-  cam.height = a.options.height;
-  geometry::write_calib(a.out, cam, inv.provenance());
-  std::printf("%s (%d unreachable, %d marker not seen)\nrms_px: %.4f\ntrue_error_px: %.4f\n",
-              r.summary.message.c_str(), r.summary.unreachable, r.summary.not_detected,
-              r.dlt.rms_px, r.true_error_px);
-  std::printf("calibration: %s\n", a.out.c_str());
-  core::Json doc = core::result_document("proprio.sim.calibrate", 1, inv.provenance());
-  doc["calib"] = a.out;
-  doc["grid"] = a.options.grid;
-  doc["grid_points"] = r.summary.grid_points;
-  doc["used"] = r.summary.used;
-  doc["unreachable"] = r.summary.unreachable;
-  doc["not_detected"] = r.summary.not_detected;
-  doc["rms_px"] = r.dlt.rms_px;
-  doc["true_error_px"] = r.true_error_px;
-  write_json_result(a.json, doc);
+  const sim::SimRun r = sim::run_sim_calibrate(a.options, a.out, inv.provenance());
+  std::fputs(r.report.c_str(), stdout);
+  write_json_result(a.json, r.document);
 }
 
 void run_view(const RecordArgs& a) {
@@ -145,15 +116,9 @@ void run_views(ViewsArgs& a, const Invocation& inv) {
     if (comma > start) a.options.objects.push_back(a.objects.substr(start, comma - start));
     start = comma + 1;
   }
-  const auto catalogue = sim::ObjectCatalogue::load_default();
-  const sim::ViewsSummary s = sim::render_views(a.out, a.options, catalogue);
-  std::printf("views: %s\n%s\n", a.out.c_str(), s.message.c_str());
-  core::Json doc = core::result_document("proprio.sim.views", 1, inv.provenance(a.options.seed));
-  doc["out"] = a.out;
-  doc["objects"] = a.options.objects;
-  doc["per_object"] = a.options.per_object;
-  doc["images"] = s.images;
-  write_json_result(a.json, doc);
+  const sim::SimRun r = sim::run_sim_views(a.options, a.out, inv.provenance(a.options.seed));
+  std::fputs(r.report.c_str(), stdout);
+  write_json_result(a.json, r.document);
 }
 
 }  // namespace
