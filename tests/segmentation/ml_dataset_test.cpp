@@ -5,14 +5,16 @@
 // Environment:
 //   PROPRIO_CH5       dataset directory (required; the tool skips when it is unset)
 //   PROPRIO_SEG_FILTER  only episodes whose name contains this (episode::list_episode_dirs)
-//   PROPRIO_SEG_OPT   option overrides "key=value,key=value" (model=homography, flow=dis-ultrafast,
-//                     regions=slic, lambda, kappa, evidence_step, region_count, scale, ...)
+//   PROPRIO_SEG_OPT   option overrides "key=value,key=value" by the names of MlOptions's and
+//                     SparseOptions's descriptions (model=homography, flow=dis-ultrafast,
+//                     regions=slic, lambda=10, contact_prior=false, ...)
 //   PROPRIO_SEG_SPARSE  1: score segment_ml_sparse instead
 //   PROPRIO_SEG_DUMP  directory for PNGs (frame, map, mask vs truth) per episode
 //   PROPRIO_SEG_CSV   per-episode CSV output
 //   PROPRIO_SEG_CHECK_TARGETS  1: assert issue 4's targets (static >= 0.80, moving >= 0.75)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -21,6 +23,8 @@
 #include <sstream>
 
 #include "ml_test_support.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/fields.hpp"
 #include "proprio/episode/discovery.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
 
@@ -34,87 +38,57 @@ std::string env(const char* name, const std::string& fallback = "") {
   return v ? std::string(v) : fallback;
 }
 
-void apply(MlOptions& o, SparseOptions& s, const std::string& key, const std::string& value) {
-  const double v = std::atof(value.c_str());
-  if (key == "model") {
-    o.model = value == "homography" ? MotionModel::kHomography : MotionModel::kTranslation;
-  } else if (key == "flow") {
-    static const std::map<std::string, FlowMethod> m = {
-        {"dis-ultrafast", FlowMethod::kDisUltrafast},
-        {"dis-fast", FlowMethod::kDisFast},
-        {"dis-medium", FlowMethod::kDisMedium},
-        {"farneback", FlowMethod::kFarneback},
-        {"lk", FlowMethod::kLucasKanadeGrid}};
-    o.flow = m.at(value);
-  } else if (key == "regions") {
-    o.regions = value == "slic"        ? OverSegmentation::kSlic
-                : value == "meanshift" ? OverSegmentation::kMeanShift
-                                       : OverSegmentation::kSeeds;
-  } else if (key == "lambda") {
-    o.lambda = s.lambda = v;
-  } else if (key == "kappa") {
-    o.kappa = s.kappa = v;
-  } else if (key == "evidence_step") {
-    o.evidence_step = s.evidence_step = v;
-  } else if (key == "region_count") {
-    o.region_count = static_cast<int>(v);
-  } else if (key == "region_iterations") {
-    o.region_iterations = static_cast<int>(v);
-  } else if (key == "scale") {
-    o.scale = v;
-  } else if (key == "mask_fraction") {
-    o.mask_fraction = s.mask_fraction = v;
-  } else if (key == "min_region_motion") {
-    o.min_region_motion = v;
-  } else if (key == "robust_bandwidth") {
-    o.robust_bandwidth = v;
-  } else if (key == "ransac_threshold") {
-    o.ransac_threshold = v;
-  } else if (key == "min_gradient") {
-    o.min_gradient = v;
-  } else if (key == "min_photometric_gain") {
-    o.min_photometric_gain = v;
-  } else if (key == "photometric_pre_touch") {
-    o.photometric_pre_touch = v != 0;
-  } else if (key == "peak_area") {
-    o.peak_area = v;
-  } else if (key == "min_evidence_fraction") {
-    o.min_evidence_fraction = v;
-  } else if (key == "handover_motion") {
-    o.handover_motion = v;
-  } else if (key == "arm_removal_step") {
-    o.arm_removal_step = v;
-  } else if (key == "handover_evidence") {
-    o.handover_evidence = v;
-  } else if (key == "compensate_camera_motion") {
-    o.compensate_camera_motion = v != 0;
-  } else if (key == "min_camera_motion") {
-    o.min_camera_motion = v;
-  } else if (key == "homography_over_interval") {
-    o.homography_over_interval = v != 0;
-  } else if (key == "homography_selection") {
-    o.homography_selection = v;
-  } else if (key == "contact_prior") {
-    o.contact_prior = v != 0;
-  } else if (key == "contact_radius") {
-    o.contact_radius = v;
-  } else if (key == "contact_gap") {
-    o.contact_gap = v;
-  } else if (key == "region_smoothing") {
-    o.region_smoothing = v != 0;
-  } else if (key == "smoothing_weight") {
-    o.smoothing_weight = v;
-  } else if (key == "smoothing_colour_sigma") {
-    o.smoothing_colour_sigma = v;
-  } else if (key == "direction_prior") {
-    o.direction_prior = v != 0;
-  } else if (key == "tau") {
-    s.tau = v;
-  } else if (key == "density_sigma") {
-    s.density_sigma = v;
-  } else {
-    FAIL() << "unknown option " << key;
+// A "key=value" override as JSON: true/false, a number, or text (a choice's name).
+core::Json value_of(const std::string& text) {
+  if (text == "true" || text == "false") return text == "true";
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (!text.empty() && end == text.c_str() + text.size()) {
+    if (x == static_cast<double>(static_cast<long long>(x)) && text.find('.') == std::string::npos)
+      return static_cast<long long>(x);
+    return x;
   }
+  return text;
+}
+
+// PROPRIO_SEG_OPT into the options, by the names of MlOptions's and SparseOptions's one
+// description (a name both have sets both); an unknown name or a bad value is an Error.
+void apply_overrides(const std::string& text, MlOptions& ml, SparseOptions& sparse) {
+  core::Json for_ml = core::Json::object();
+  core::Json for_sparse = core::Json::object();
+  const auto ml_names = core::field_names<MlOptions>();
+  const auto sparse_names = core::field_names<SparseOptions>();
+  std::stringstream opts(text);
+  for (std::string kv; std::getline(opts, kv, ',');) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw Error("PROPRIO_SEG_OPT: '" + kv + "' is not key=value");
+    const std::string key = kv.substr(0, eq);
+    const core::Json value = value_of(kv.substr(eq + 1));
+    const bool in_ml = std::find(ml_names.begin(), ml_names.end(), key) != ml_names.end();
+    const bool in_sparse =
+        std::find(sparse_names.begin(), sparse_names.end(), key) != sparse_names.end();
+    if (in_ml) for_ml[key] = value;
+    if (in_sparse) for_sparse[key] = value;
+    if (!in_ml && !in_sparse) for_ml[key] = value;  // reported as unknown, with the known names
+  }
+  core::fields_from_json(for_ml, ml, "PROPRIO_SEG_OPT");
+  core::fields_from_json(for_sparse, sparse, "PROPRIO_SEG_OPT");
+}
+
+TEST(MlDatasetTool, OverridesUseTheOptionsDescriptions) {
+  MlOptions ml;
+  SparseOptions sparse;
+  apply_overrides("model=homography,lambda=10,region_count=300,contact_prior=false,tau=0.25", ml,
+                  sparse);
+  EXPECT_EQ(ml.model, MotionModel::kHomography);
+  EXPECT_EQ(ml.lambda, 10.0);
+  EXPECT_EQ(sparse.lambda, 10.0);  // both describe lambda
+  EXPECT_EQ(ml.region_count, 300);
+  EXPECT_FALSE(ml.contact_prior);
+  EXPECT_EQ(sparse.tau, 0.25);
+  EXPECT_THROW(apply_overrides("colour=1", ml, sparse), Error);
+  EXPECT_THROW(apply_overrides("flow=optical", ml, sparse), Error);
+  EXPECT_THROW(apply_overrides("region_count=3.5", ml, sparse), Error);
 }
 
 struct Score {
@@ -132,12 +106,7 @@ TEST(MlDataset, JaccardAtFirstTouch) {
   if (root.empty()) GTEST_SKIP() << "PROPRIO_CH5 (a dataset directory) is not set";
   MlOptions o;
   SparseOptions so;
-  std::stringstream opts(env("PROPRIO_SEG_OPT"));
-  for (std::string kv; std::getline(opts, kv, ',');) {
-    const auto eq = kv.find('=');
-    ASSERT_NE(eq, std::string::npos) << kv;
-    apply(o, so, kv.substr(0, eq), kv.substr(eq + 1));
-  }
+  apply_overrides(env("PROPRIO_SEG_OPT"), o, so);
   const bool sparse = env("PROPRIO_SEG_SPARSE") == "1";
   const std::string filter = env("PROPRIO_SEG_FILTER");
   const std::string dump = env("PROPRIO_SEG_DUMP");

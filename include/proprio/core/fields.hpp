@@ -264,6 +264,15 @@ void check_field_bounds(const S& s, std::string_view what) {
   S::describe(s, v);
 }
 
+/// The names of the fields of S, in the description's order.
+template <class S>
+std::vector<std::string_view> field_names() {
+  S s{};
+  detail::Names names;
+  S::describe(std::as_const(s), names);
+  return names.names;
+}
+
 /// Sets the fields of `s` that `json` (an object) names; the others keep their values. Throws
 /// Error naming `where` and the key for a key the description lacks, a value of the wrong type,
 /// or a name outside a choice's table. Bounds are not checked here (validate() does).

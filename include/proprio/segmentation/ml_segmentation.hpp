@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/episode/episode.hpp"
 
 namespace proprio::segmentation {
@@ -38,6 +39,19 @@ enum class FlowMethod { kDisUltrafast, kDisFast, kDisMedium, kFarneback, kLucasK
 /// Per-frame over-segmentation (tracked by warping, see above). kMeanShift is the thesis's front
 /// end (pyrMeanShiftFiltering + flood fill), about 0.5 s a frame at 640x480.
 enum class OverSegmentation { kSeeds, kSlic, kMeanShift };
+
+inline constexpr core::ChoiceNames<MotionModel, 2> kMotionModelNames{
+    {{"translation", MotionModel::kTranslation}, {"homography", MotionModel::kHomography}}};
+inline constexpr core::ChoiceNames<FlowMethod, 5> kFlowMethodNames{
+    {{"dis-ultrafast", FlowMethod::kDisUltrafast},
+     {"dis-fast", FlowMethod::kDisFast},
+     {"dis-medium", FlowMethod::kDisMedium},
+     {"farneback", FlowMethod::kFarneback},
+     {"lk", FlowMethod::kLucasKanadeGrid}}};
+inline constexpr core::ChoiceNames<OverSegmentation, 3> kOverSegmentationNames{
+    {{"seeds", OverSegmentation::kSeeds},
+     {"slic", OverSegmentation::kSlic},
+     {"meanshift", OverSegmentation::kMeanShift}}};
 
 struct MlOptions {
   MotionModel model = MotionModel::kTranslation;
@@ -179,6 +193,46 @@ struct MlOptions {
   bool keep_frame_labels = true;
   /// Throws Error naming the bad field.
   void validate() const;
+
+  /// The options a tuning run may set, by name (the tuning tool reads "key=value" with these
+  /// names). Bounds are validate()'s.
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.model, {"model", "Motion model of the regions (4.3)"}, kMotionModelNames);
+    v.choice(self.flow, {"flow", "Dense optical flow"}, kFlowMethodNames);
+    v.choice(self.regions, {"regions", "Per-frame over-segmentation"}, kOverSegmentationNames);
+    v(self.region_count, {"region_count", "Superpixels per frame (SEEDS/SLIC)"});
+    v(self.region_iterations, {"region_iterations", "Over-segmentation iterations"});
+    v(self.lambda, {"lambda", "Sigma = lambda I of the error density, px^2 (4.4.2)"});
+    v(self.mask_fraction, {"mask_fraction", "Mask = map >= fraction x max (5.1.1)"});
+    v(self.peak_area, {"peak_area", "Fraction of the frame that defines the map's peak"});
+    v(self.kappa, {"kappa", "Prior ratio of the object and background hypotheses"});
+    v(self.robust_bandwidth, {"robust_bandwidth", "Robust motion fit bandwidth, px"});
+    v(self.ransac_threshold, {"ransac_threshold", "Homography RANSAC threshold, px"});
+    v(self.homography_over_interval,
+      {"homography_over_interval", "Fit homographies over the evidence interval"});
+    v(self.homography_selection, {"homography_selection", "Evidence margin that selects it"});
+    v(self.evidence_step, {"evidence_step", "Arm motion between evidence frames, px"});
+    v(self.arm_removal_step, {"arm_removal_step", "Arm motion that removes its regions, px"});
+    v(self.min_region_motion, {"min_region_motion", "Least region motion that counts, px"});
+    v(self.min_evidence_fraction, {"min_evidence_fraction", "Least evidenced fraction"});
+    v(self.min_gradient, {"min_gradient", "Least image gradient of a flow sample"});
+    v(self.min_photometric_gain, {"min_photometric_gain", "Photometric check's least gain"});
+    v(self.photometric_pre_touch, {"photometric_pre_touch", "Photometric check before touch"});
+    v(self.handover_motion, {"handover_motion", "Largest hand-over motion difference, px"});
+    v(self.handover_evidence, {"handover_evidence", "Evidence carried over a hand-over"});
+    v(self.compensate_camera_motion, {"compensate_camera_motion", "Remove camera motion"});
+    v(self.min_camera_motion, {"min_camera_motion", "Least camera motion compensated, px"});
+    v(self.region_smoothing, {"region_smoothing", "Smooth region scores over the graph"});
+    v(self.smoothing_weight, {"smoothing_weight", "Data weight of the smoothing"});
+    v(self.smoothing_colour_sigma, {"smoothing_colour_sigma", "Colour sigma of the smoothing"});
+    v(self.scale, {"scale", "Image scale of the processing"});
+    v(self.direction_prior, {"direction_prior", "Prior on the push direction"});
+    v(self.contact_prior, {"contact_prior", "Keep blobs near the arm's contact"});
+    v(self.contact_radius, {"contact_radius", "Contact prior radius, px"});
+    v(self.contact_gap, {"contact_gap", "Contact prior gap, px"});
+  }
+
 };
 
 /// What happened (Ceres style).
@@ -234,6 +288,19 @@ struct SparseOptions {
   double ratio = 0.75;
   int max_features = 1500;
   void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.lambda, {"lambda", "Sigma = lambda I, px^2"});
+    v(self.velocity_bandwidth, {"velocity_bandwidth", "Mean-shift bandwidth, px/frame"});
+    v(self.tau, {"tau", "Least likelihood of a kept cluster"});
+    v(self.density_sigma, {"density_sigma", "Density blur sigma, px"});
+    v(self.mask_fraction, {"mask_fraction", "Mask = map >= fraction x max"});
+    v(self.kappa, {"kappa", "Prior ratio of the hypotheses"});
+    v(self.evidence_step, {"evidence_step", "Arm motion between matched frames, px"});
+    v(self.ratio, {"ratio", "Lowe ratio test"});
+    v(self.max_features, {"max_features", "SIFT features per frame at most"});
+  }
 };
 
 MlResult segment_ml_sparse(const episode::Episode& episode, const SparseOptions& options);
