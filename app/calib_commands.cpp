@@ -13,7 +13,6 @@
 namespace proprio::app {
 namespace {
 namespace fs = std::filesystem;
-using geometry::Camera;
 
 // "a,b,..." -> exactly n finite numbers; `what` names the option in the error.
 std::vector<double> parse_numbers(const std::string& text, size_t n, const std::string& what,

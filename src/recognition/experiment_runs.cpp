@@ -1,5 +1,6 @@
 #include "proprio/recognition/experiment_runs.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -56,8 +57,9 @@ std::string joined(const std::vector<std::string>& v) {
 }
 
 std::vector<std::string> strings(const std::vector<std::filesystem::path>& paths) {
-  std::vector<std::string> out;
-  for (const auto& p : paths) out.push_back(p.string());
+  std::vector<std::string> out(paths.size());
+  std::transform(paths.begin(), paths.end(), out.begin(),
+                 [](const std::filesystem::path& p) { return p.string(); });
   return out;
 }
 

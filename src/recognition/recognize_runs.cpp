@@ -1,5 +1,6 @@
 #include "proprio/recognition/recognize_runs.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <numeric>
@@ -77,8 +78,9 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
   text += format("%s (%lld empty)\n", r.summary.message.c_str(),
                  static_cast<long long>(r.summary.empty_documents));
   core::Json& doc = out.document;
-  std::vector<std::string> episode_args;
-  for (const auto& e : o.source.episodes) episode_args.push_back(e.string());
+  std::vector<std::string> episode_args(o.source.episodes.size());
+  std::transform(o.source.episodes.begin(), o.source.episodes.end(), episode_args.begin(),
+                 [](const std::filesystem::path& e) { return e.string(); });
   doc["episodes"] = episode_args;
   doc["region"] = to_string(o.source.frames.region);
   doc["frame_step"] = o.source.frame_step;
