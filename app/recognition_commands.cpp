@@ -540,7 +540,9 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
     doc["view_episodes"] = a.view_episodes;
     doc["view_step"] = o.view_step;
     doc["view_block"] = o.view_block;
+    doc["view_split"] = o.split_by_episode ? "episodes" : "blocks";
   }
+  doc["mot"] = o.mot;
   doc["objects"] = r.objects;
   doc["region"] = a.region;
   doc["features"] = features::to_string(o.frames.features.kind);
@@ -563,6 +565,15 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
     j["topics_k"] = run.topics;
     j["updates"] = run.summary.updates;
     j["train_seconds"] = run.summary.seconds;
+    if (run.mot) {
+      std::printf("%s: Mixture of Topics (supervised, thesis 7.1; rows: true object)\n%s",
+                  title.c_str(), run.mot->classes.format().c_str());
+      std::printf("%s: Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
+                  title.c_str(), 100 * run.mot->classes.accuracy(),
+                  100 * run.mot->classes.mean_class_accuracy());
+      j["mot"] = run.mot->classes.to_json();
+      j["mot"]["summary"] = run.mot->fit.summary.brief();
+    }
     doc["runs"].push_back(j);
   }
   std::printf("seconds: %.1f\n", r.seconds);
@@ -701,6 +712,12 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
                  "Fraction of each object's views (labelled) that names the topics; the rest test")
       ->capture_default_str();
   sc->add_option("--seed", s->options.seed, "Seed")->capture_default_str();
+  sc->add_flag("--split-by-episode", s->options.split_by_episode,
+               "With --view-episodes: the first --mapping-fraction of the view episodes give the "
+               "labelled views, the others the test views (instead of alternate blocks)");
+  sc->add_flag("--mot", s->options.mot,
+               "Also classify the test views by a supervised Mixture of Topics (thesis 7.1) "
+               "fitted to the labelled views' theta");
   add_feature_options(sc, s->features);
   sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
   sc->add_option("--json", s->json, "Also write the confusion matrices as JSON");
