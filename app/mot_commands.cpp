@@ -7,6 +7,7 @@
 #include "cli.hpp"
 #include "option_binder.hpp"
 #include "proprio/recognition/mot.hpp"
+#include "proprio/recognition/topic_localisation.hpp"
 
 namespace proprio::app {
 namespace {
@@ -35,6 +36,9 @@ struct TrainArgs {
 struct ClassifyArgs {
   MotClassifyOptions options;
   std::string json;
+};
+struct MapsArgs {
+  TopicMapRun run;
 };
 struct InfoArgs {
   std::string model;
@@ -78,6 +82,19 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
     std::printf("rows: true object; columns: the Mixture of Topics' object\n%s%s\n",
                 r.confusion.format().c_str(), r.brief().c_str());
     write_json_result(c->json, r.document);
+  });
+
+  auto m = std::make_shared<MapsArgs>();
+  auto* maps = mot->add_subcommand(
+      "maps", "Where each topic's features lie in an image: localisation maps (eqs 7.6-7.7)");
+  maps->add_option("--lda-model", m->run.lda_model, "LDA model file")->required();
+  maps->add_option("--vocabulary", m->run.vocabulary, "Vocabulary file")->required();
+  maps->add_option("--image", m->run.image, "The image")->required();
+  maps->add_option("--out", m->run.out, "Directory for topic_<i>.png")->required();
+  bind_options(maps, m->run.maps);
+  bind_options(maps, m->run.features);
+  maps->callback([m] {
+    for (const auto& line : run_topic_maps(m->run)) std::printf("%s\n", line.c_str());
   });
 
   auto i = std::make_shared<InfoArgs>();
