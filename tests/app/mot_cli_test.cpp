@@ -116,9 +116,9 @@ TEST_F(MotCli, TrainClassifyAndInfo) {
 }
 
 TEST_F(MotCli, MapsWriteOneImagePerTopic) {
-  const auto r = run_cli("mot maps --lda-model " + file("m1.lda") + " --vocabulary " +
-                         file("v.vocab") + " --image " + file("images/fruits/3.png") +
-                         " --sigma 6 --out " + file("maps"));
+  const auto r =
+      run_cli("mot maps --lda-model " + file("m1.lda") + " --vocabulary " + file("v.vocab") +
+              " --image " + file("images/fruits/3.png") + " --sigma 6 --out " + file("maps"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(test::line_count(r.out), 3) << r.out;
   for (const char* f : {"topic_1.png", "topic_2.png", "topic_3.png"})
