@@ -574,6 +574,19 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
       j["mot"] = run.mot->classes.to_json();
       j["mot"]["summary"] = run.mot->fit.summary.brief();
     }
+    if (run.mot_unsupervised) {
+      const MotUnsupervisedEvaluation& u = *run.mot_unsupervised;
+      std::printf(
+          "%s: Mixture of Topics, unsupervised (k-means over theta, C = %zu; objects named "
+          "by the labelled views; BIC would choose C = %d)\n%s",
+          title.c_str(), r.objects.size(), u.chosen_classes, u.classes.format().c_str());
+      std::printf(
+          "%s: unsupervised Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
+          title.c_str(), 100 * u.classes.accuracy(), 100 * u.classes.mean_class_accuracy());
+      j["mot_unsupervised"] = u.classes.to_json();
+      j["mot_unsupervised"]["chosen_classes"] = u.chosen_classes;
+      j["mot_unsupervised"]["object_class"] = u.object_class;
+    }
     doc["runs"].push_back(j);
   }
   std::printf("seconds: %.1f\n", r.seconds);

@@ -296,6 +296,8 @@ ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episode
     r.evaluation = evaluate_model(trained.model, mapping_docs, test_docs);
     if (options.mot) {
       r.mot = evaluate_mot(trained.model, mapping_docs, test_docs, options.mot_options);
+      r.mot_unsupervised =
+          evaluate_mot_unsupervised(trained.model, mapping_docs, test_docs, options.mot_options);
     }
     result.runs.push_back(std::move(r));
   }

@@ -176,6 +176,54 @@ MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& 
   return e;
 }
 
+MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& model,
+                                                    const LabelledCorpus& train,
+                                                    const LabelledCorpus& test,
+                                                    const topics::MotOptions& options,
+                                                    const topics::InferenceOptions& inference) {
+  require(train.classes == test.classes, "evaluate_mot_unsupervised: classes differ");
+  const int n_classes = static_cast<int>(train.classes.size());
+  const DocumentTheta known = document_theta(model, train.corpus, inference);
+  std::vector<int> rows;
+  for (std::size_t d = 0; d < known.empty.size(); ++d)
+    if (!known.empty[d]) rows.push_back(static_cast<int>(d));
+  Eigen::MatrixXd theta(static_cast<Eigen::Index>(rows.size()), known.theta.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    theta.row(static_cast<Eigen::Index>(i)) = known.theta.row(rows[i]);
+  MotUnsupervisedEvaluation e;
+  topics::MotOptions o = options;
+  o.classes = 0;
+  e.chosen_classes = topics::fit_mot_unsupervised(theta, o).model.num_classes();
+  o.classes = n_classes;
+  e.fit = topics::fit_mot_unsupervised(theta, o);
+  // Name each object after the majority class of its training documents.
+  std::vector<std::vector<int>> votes(static_cast<std::size_t>(e.fit.model.num_classes()),
+                                      std::vector<int>(static_cast<std::size_t>(n_classes), 0));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int label = train.labels[static_cast<std::size_t>(rows[i])];
+    if (label >= 0)
+      ++votes[static_cast<std::size_t>(e.fit.assignment[i])][static_cast<std::size_t>(label)];
+  }
+  for (const auto& v : votes)
+    e.object_class.push_back(static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin()));
+  const DocumentTheta t = document_theta(model, test.corpus, inference);
+  std::vector<int> test_rows;
+  for (std::size_t d = 0; d < t.empty.size(); ++d)
+    if (!t.empty[d]) test_rows.push_back(static_cast<int>(d));
+  Eigen::MatrixXd test_theta(static_cast<Eigen::Index>(test_rows.size()), t.theta.cols());
+  for (std::size_t i = 0; i < test_rows.size(); ++i)
+    test_theta.row(static_cast<Eigen::Index>(i)) = t.theta.row(test_rows[i]);
+  const topics::MotClassification c =
+      topics::classify_mot(e.fit.model, test_theta, options.fit.proportions);
+  std::vector<int> predicted(t.empty.size(), -1);
+  for (std::size_t i = 0; i < test_rows.size(); ++i) {
+    predicted[static_cast<std::size_t>(test_rows[i])] =
+        e.object_class[static_cast<std::size_t>(c.predicted[i])];
+  }
+  e.classes = confusion_matrix(test.labels, predicted, test.classes, test.classes);
+  return e;
+}
+
 std::uint32_t vocabulary_checksum(const features::Vocabulary& vocabulary) {
   std::string bytes;
   core::put_binary(bytes, static_cast<std::uint32_t>(vocabulary.size()));

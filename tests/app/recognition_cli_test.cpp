@@ -298,6 +298,8 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   const core::Json jm = core::read_json(file("scatter-mot.json"));
   EXPECT_EQ(jm["view_split"], "episodes");
   EXPECT_GE(jm["runs"][0]["mot"]["mean_class_accuracy"].get<double>(), 0.6) << mt.out;
+  EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["mean_class_accuracy"].get<double>(), 0.45) << mt.out;
+  EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["chosen_classes"].get<int>(), 1);
 
   // proprio mot on views cut from episodes: train on one held-out episode, classify the other,
   // with an LDA model of one document per object in view (a frame of all the objects gives LDA

@@ -131,6 +131,9 @@ struct ScatterRunResult {
   Evaluation evaluation;
   topics::OnlineLdaSummary summary;
   std::optional<MotEvaluation> mot;  ///< with ScatterExperimentOptions::mot
+  /// With ScatterExperimentOptions::mot: the unsupervised MoT on the same views (labels only
+  /// name its objects).
+  std::optional<MotUnsupervisedEvaluation> mot_unsupervised;
 };
 
 struct ScatterExperimentResult {

@@ -52,6 +52,26 @@ MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& 
                            const LabelledCorpus& test, const topics::MotOptions& options = {},
                            const topics::InferenceOptions& inference = {});
 
+/// An unsupervised MoT learned from unlabelled documents and tested on others.
+struct MotUnsupervisedEvaluation {
+  topics::MotFit fit;  ///< with C = the number of classes
+  /// The class each learned object is named after: the class most of its training documents
+  /// have (the labels name the objects after learning, as topics are named; they do not guide
+  /// it). Several objects may get one class, a class none.
+  std::vector<int> object_class;
+  ConfusionMatrix classes;  ///< test classes x classes, by the named objects
+  int chosen_classes = 0;   ///< C chosen by BIC (options.max_classes) on the same theta
+};
+
+/// Fits an unsupervised MoT (C = the number of classes) to the theta of `train`'s documents
+/// without their labels, names each object after the majority class of its documents, and
+/// classifies `test`'s documents; also reports the C that BIC would choose.
+MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& model,
+                                                    const LabelledCorpus& train,
+                                                    const LabelledCorpus& test,
+                                                    const topics::MotOptions& options = {},
+                                                    const topics::InferenceOptions& inference = {});
+
 /// The identity of a visual vocabulary: CRC-32 of its word count, dimension and float32 words.
 std::uint32_t vocabulary_checksum(const features::Vocabulary& vocabulary);
 
