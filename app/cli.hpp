@@ -33,5 +33,6 @@ void register_sim_commands(CLI::App& root, const Invocation& inv);
 void register_segment_commands(CLI::App& root, const Invocation& inv);
 void register_vocab_commands(CLI::App& root, const Invocation& inv);
 void register_recognition_commands(CLI::App& root, const Invocation& inv);
+void register_mot_commands(CLI::App& root, const Invocation& inv);
 
 }  // namespace proprio::app

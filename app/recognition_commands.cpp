@@ -264,6 +264,12 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
                  "Fraction of each object's views (labelled) that names the topics; the rest test")
       ->capture_default_str();
   sc->add_option("--seed", s->options.options.seed, "Seed")->capture_default_str();
+  sc->add_flag("--split-by-episode", s->options.options.split_by_episode,
+               "With --view-episodes: the first --mapping-fraction of the view episodes give the "
+               "labelled views, the others the test views (instead of alternate blocks)");
+  sc->add_flag("--mot", s->options.options.mot,
+               "Also classify the test views by a supervised Mixture of Topics (thesis 7.1) "
+               "fitted to the labelled views' theta");
   add_feature_options(sc, s->options.options.frames.features);
   sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
   sc->add_option("--json", s->json, "Also write the confusion matrices as JSON");

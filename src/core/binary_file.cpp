@@ -9,13 +9,14 @@
 
 namespace proprio::core {
 namespace fs = std::filesystem;
-namespace {
 
 std::uint32_t crc32(std::string_view bytes) {
   boost::crc_32_type crc;
   crc.process_bytes(bytes.data(), bytes.size());
   return crc.checksum();
 }
+
+namespace {
 
 // "a vocabulary", "an LDA model": acronyms read letter by letter.
 std::string with_article(std::string_view kind) {

@@ -161,7 +161,9 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
     doc["view_episodes"] = strings(options.view_episodes);
     doc["view_step"] = o.view_step;
     doc["view_block"] = o.view_block;
+    doc["view_split"] = o.split_by_episode ? "episodes" : "blocks";
   }
+  doc["mot"] = o.mot;
   doc["objects"] = r.objects;
   doc["region"] = to_string(o.frames.region);
   doc["features"] = features::to_string(o.frames.features.kind);
@@ -177,11 +179,34 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
   if (r.kmeans) doc["dictionary"] = kmeans_json(*r.kmeans, r.dictionary_descriptors);
   doc["runs"] = core::Json::array();
   for (const ScatterRunResult& run : r.runs) {
-    out.report += evaluation_report("K = " + std::to_string(run.topics), run.evaluation);
+    const std::string title = "K = " + std::to_string(run.topics);
+    out.report += evaluation_report(title, run.evaluation);
     core::Json j = evaluation_to_json(run.evaluation);
     j["topics_k"] = run.topics;
     j["updates"] = run.summary.updates;
     j["train_seconds"] = run.summary.seconds;
+    if (run.mot) {
+      out.report += format("%s: Mixture of Topics (supervised, thesis 7.1; rows: true object)\n%s",
+                           title.c_str(), run.mot->classes.format().c_str());
+      out.report += format("%s: Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
+                           title.c_str(), 100 * run.mot->classes.accuracy(),
+                           100 * run.mot->classes.mean_class_accuracy());
+      j["mot"] = run.mot->classes.to_json();
+      j["mot"]["summary"] = run.mot->fit.summary.brief();
+    }
+    if (run.mot_unsupervised) {
+      const MotUnsupervisedEvaluation& u = *run.mot_unsupervised;
+      out.report += format(
+          "%s: Mixture of Topics, unsupervised (k-means over theta, C = %zu; objects named "
+          "by the labelled views; BIC would choose C = %d)\n%s",
+          title.c_str(), r.objects.size(), u.chosen_classes, u.classes.format().c_str());
+      out.report += format(
+          "%s: unsupervised Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
+          title.c_str(), 100 * u.classes.accuracy(), 100 * u.classes.mean_class_accuracy());
+      j["mot_unsupervised"] = u.classes.to_json();
+      j["mot_unsupervised"]["chosen_classes"] = u.chosen_classes;
+      j["mot_unsupervised"]["object_class"] = u.object_class;
+    }
     doc["runs"].push_back(j);
   }
   out.report += format("seconds: %.1f\n", r.seconds);

@@ -184,6 +184,7 @@ void ScatterExperimentOptions::validate() const {
   topics::OnlineLdaOptions on = online;
   on.num_topics = 1;
   on.validate();
+  if (mot) mot_options.validate();
   if (!(mapping_fraction > 0 && mapping_fraction < 1)) {
     throw Error("the fraction of views used to name topics must be in (0, 1)");
   }
@@ -293,6 +294,11 @@ ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episode
     r.topics = on.num_topics;
     r.summary = trained.summary;
     r.evaluation = evaluate_model(trained.model, mapping_docs, test_docs);
+    if (options.mot) {
+      r.mot = evaluate_mot(trained.model, mapping_docs, test_docs, options.mot_options);
+      r.mot_unsupervised =
+          evaluate_mot_unsupervised(trained.model, mapping_docs, test_docs, options.mot_options);
+    }
     result.runs.push_back(std::move(r));
   }
   result.seconds = seconds_since(t0);
@@ -365,8 +371,12 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
       test_frames.emplace_back();
       for (int i = 0; i < e.frame_count(); i += options.view_step) {
         const int b = i / options.view_block;
-        const bool mapping = std::floor((b + 1) * options.mapping_fraction) >
-                             std::floor(b * options.mapping_fraction);
+        const bool mapping = options.split_by_episode
+                                 ? static_cast<double>(mapping_frames.size()) <=
+                                       std::round(options.mapping_fraction *
+                                                  static_cast<double>(view_episodes.size()))
+                                 : std::floor((b + 1) * options.mapping_fraction) >
+                                       std::floor(b * options.mapping_fraction);
         (mapping ? mapping_frames : test_frames).back().push_back(i);
       }
     }

@@ -284,6 +284,47 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   while (std::getline(csv, line)) ++rows;
   EXPECT_EQ(rows, frames / 2);
 
+  // The Mixture of Topics beside argmax theta, labelled and test views from different episodes.
+  const CliRun mt =
+      run("experiment scatter --episodes " + (dir_ / "episodes").string() + " --view-episodes " +
+          (dir_ / "held" / "h1").string() + " " + (dir_ / "held" / "h2").string() +
+          " --objects baboon,fruits,building --view-step 2 --split-by-episode --mot"
+          " --k objects --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
+          " --passes 3 --quiet --json " +
+          file("scatter-mot.json"));
+  ASSERT_EQ(mt.code, 0) << mt.out;
+  EXPECT_NE(mt.out.find("Mixture of Topics accuracy"), std::string::npos) << mt.out;
+  test::expect_schema_valid("experiment_scatter.schema.json", file("scatter-mot.json"));
+  const core::Json jm = core::read_json(file("scatter-mot.json"));
+  EXPECT_EQ(jm["view_split"], "episodes");
+  EXPECT_GE(jm["runs"][0]["mot"]["mean_class_accuracy"].get<double>(), 0.6) << mt.out;
+  EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["mean_class_accuracy"].get<double>(), 0.45) << mt.out;
+  EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["chosen_classes"].get<int>(), 1);
+
+  // proprio mot on views cut from episodes: train on one held-out episode, classify the other,
+  // with an LDA model of one document per object in view (a frame of all the objects gives LDA
+  // no contrast to separate them by, and theta the same for every object).
+  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
+          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
+          " -k 3 --passes 5 --batch 10 --model " + file("each.lda") + " --quiet");
+  ASSERT_EQ(c.code, 0) << c.out;
+  c = run("mot train --lda-model " + file("each.lda") + " --vocabulary " + file("v.vocab") +
+          " --episodes " + (dir_ / "held" / "h1").string() +
+          " --objects baboon,fruits,building --view-step 2 --model " + file("ep.mot") + " --json " +
+          file("ep-mot-train.json"));
+  ASSERT_EQ(c.code, 0) << c.out;
+  test::expect_schema_valid("mot_train.schema.json", file("ep-mot-train.json"));
+  c = run("mot classify --lda-model " + file("each.lda") + " --vocabulary " + file("v.vocab") +
+          " --episodes " + (dir_ / "held" / "h2").string() +
+          " --objects baboon,fruits,building --view-step 2 --model " + file("ep.mot") + " --out " +
+          file("ep-mot.csv") + " --json " + file("ep-mot.json"));
+  ASSERT_EQ(c.code, 0) << c.out;
+  test::expect_schema_valid("mot_classify.schema.json", file("ep-mot.json"));
+  const core::Json jmc = core::read_json(file("ep-mot.json"));
+  EXPECT_GT(jmc["documents"].get<int>(), 20);
+  // Chance is 1/3; a 24-word vocabulary of other photographs' crops makes a weak model (0.55).
+  EXPECT_GE(jmc["confusion"]["mean_class_accuracy"].get<double>(), 0.45) << c.out;
+
   // Bad input: a vocabulary of another size than the model's; an episode without its frames.
   cv::Mat d = cv::Mat(8, 128, CV_32F);
   cv::randu(d, 0.0F, 1.0F);

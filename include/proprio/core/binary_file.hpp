@@ -37,6 +37,9 @@ struct BinaryFormat {
   std::string_view kind;   ///< names the kind in errors: "not a <kind> file", e.g. "vocabulary"
 };
 
+/// CRC-32 (IEEE 802.3, as zlib's crc32) of `bytes`: the checksum of the header above.
+std::uint32_t crc32(std::string_view bytes);
+
 /// The whole file: header for `format`, then `payload`.
 std::string frame_binary(const BinaryFormat& format, std::string_view payload);
 

@@ -20,6 +20,7 @@
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/recognition/documents.hpp"
 #include "proprio/recognition/image_corpus.hpp"
+#include "proprio/recognition/mot.hpp"
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/online_lda.hpp"
 
@@ -112,6 +113,15 @@ struct ScatterExperimentOptions {
   /// View episodes are cut into blocks of view_block frames; a mapping_fraction of the blocks
   /// (spread evenly: alternate ones for 0.5) name the topics, the others are the test.
   int view_block = 25;
+  /// View episodes split by episode instead of by blocks: the first round(mapping_fraction * n)
+  /// view episodes (in the order given) give the labelled views, the others the test views, so
+  /// that no test frame has a near-copy among the labelled ones.
+  bool split_by_episode = false;
+  /// Also fit a supervised Mixture of Topics (thesis 7.1) to the theta of the labelled views and
+  /// classify the test views by it (ScatterRunResult::mot): the same LDA model and views as the
+  /// argmax-theta evaluation.
+  bool mot = false;
+  topics::MotOptions mot_options;
   std::uint64_t seed = 1;
   void validate() const;
 };
@@ -120,6 +130,10 @@ struct ScatterRunResult {
   int topics = 0;
   Evaluation evaluation;
   topics::OnlineLdaSummary summary;
+  std::optional<MotEvaluation> mot;  ///< with ScatterExperimentOptions::mot
+  /// With ScatterExperimentOptions::mot: the unsupervised MoT on the same views (labels only
+  /// name its objects).
+  std::optional<MotUnsupervisedEvaluation> mot_unsupervised;
 };
 
 struct ScatterExperimentResult {

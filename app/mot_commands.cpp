@@ -1,0 +1,111 @@
+// proprio mot ...: the Mixture of Topics object model (thesis 7.1; docs/formats/mot-model.md).
+// train: recognition::run_mot_train; classify: recognition::run_mot_classify; info:
+// recognition::run_mot_info. Each command binds its options, makes one library call and prints.
+#include <cstdio>
+#include <memory>
+
+#include "cli.hpp"
+#include "option_binder.hpp"
+#include "proprio/recognition/mot.hpp"
+#include "proprio/recognition/topic_localisation.hpp"
+
+namespace proprio::app {
+namespace {
+using namespace recognition;
+
+// The inputs every mot command that reads views takes: the LDA model, the vocabulary, the
+// views (images or episodes) and the feature options (features::ExtractOptions, the same
+// description and flags as `recognize`).
+void add_source_options(CLI::App* cmd, MotSourceOptions& o) {
+  cmd->add_option("--lda-model", o.lda_model, "LDA model file (proprio recognize train)")
+      ->required();
+  cmd->add_option("--vocabulary", o.vocabulary, "Vocabulary file (proprio vocab build)")
+      ->required();
+  cmd->add_option("--images", o.images, "Folder-per-object images: an image a view");
+  cmd->add_option("--episodes", o.episodes,
+                  "Or an episode or a directory of episodes: each object of every --view-step-th "
+                  "frame cut out by its ground-truth mask is a view");
+  bind_options(cmd, o);
+  bind_options(cmd, o.features);
+}
+
+struct TrainArgs {
+  MotTrainOptions options;
+  std::string json;
+};
+struct ClassifyArgs {
+  MotClassifyOptions options;
+  std::string json;
+};
+struct MapsArgs {
+  TopicMapRun run;
+};
+struct InfoArgs {
+  std::string model;
+  std::string json;
+};
+
+}  // namespace
+
+void register_mot_commands(CLI::App& root, const Invocation& inv) {
+  auto* mot = root.add_subcommand(
+      "mot", "Mixture of Topics: a Dirichlet over LDA's topic proportions per object (7.1)");
+  mot->require_subcommand(1);
+
+  auto t = std::make_shared<TrainArgs>();
+  auto* train = mot->add_subcommand("train", "Learn each object's Dirichlet from labelled views");
+  add_source_options(train, t->options.source);
+  train->add_option("--model", t->options.model, "Mixture of Topics model file to write")
+      ->required();
+  bind_options(train, t->options);
+  // The online rule and its forgetting belong to updates, which train does not make.
+  bind_options(train, t->options.mot, FieldFilter{{}, {"update", "forgetting"}});
+  train->add_option("--json", t->json, "Also write each object's Dirichlet and the fit as JSON");
+  train->callback([t, &inv] {
+    const MotTrainResult r = run_mot_train(t->options, inv.provenance(t->options.mot.seed));
+    std::printf("%s\nmodel: %s\n", r.brief().c_str(), t->options.model.c_str());
+    write_json_result(t->json, r.document);
+  });
+
+  auto c = std::make_shared<ClassifyArgs>();
+  auto* classify = mot->add_subcommand(
+      "classify", "Classify views by Bayes over the objects' Dirichlets (eq 7.3)");
+  add_source_options(classify, c->options.source);
+  classify->add_option("--model", c->options.model, "Mixture of Topics model file")->required();
+  classify
+      ->add_option("--out", c->options.out,
+                   "CSV to write: document, source, frame, truth, class, p_<object>...")
+      ->required();
+  classify->add_option("--json", c->json, "Also write the confusion matrix as JSON");
+  classify->callback([c, &inv] {
+    const MotClassifyResult r = run_mot_classify(c->options, inv.provenance());
+    std::printf("rows: true object; columns: the Mixture of Topics' object\n%s%s\n",
+                r.confusion.format().c_str(), r.brief().c_str());
+    write_json_result(c->json, r.document);
+  });
+
+  auto m = std::make_shared<MapsArgs>();
+  auto* maps = mot->add_subcommand(
+      "maps", "Where each topic's features lie in an image: localisation maps (eqs 7.6-7.7)");
+  maps->add_option("--lda-model", m->run.lda_model, "LDA model file")->required();
+  maps->add_option("--vocabulary", m->run.vocabulary, "Vocabulary file")->required();
+  maps->add_option("--image", m->run.image, "The image")->required();
+  maps->add_option("--out", m->run.out, "Directory for topic_<i>.png")->required();
+  bind_options(maps, m->run.maps);
+  bind_options(maps, m->run.features);
+  maps->callback([m] {
+    for (const auto& line : run_topic_maps(m->run)) std::printf("%s\n", line.c_str());
+  });
+
+  auto i = std::make_shared<InfoArgs>();
+  auto* info = mot->add_subcommand("info", "What a Mixture of Topics model file holds");
+  info->add_option("--model", i->model, "Mixture of Topics model file")->required();
+  info->add_option("--json", i->json, "Also write it as JSON");
+  info->callback([i, &inv] {
+    const MotInfo r = run_mot_info(i->model, inv.provenance());
+    for (const auto& line : r.lines) std::printf("%s\n", line.c_str());
+    write_json_result(i->json, r.document);
+  });
+}
+
+}  // namespace proprio::app

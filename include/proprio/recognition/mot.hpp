@@ -1,0 +1,174 @@
+#pragma once
+// The Mixture of Topics (thesis 7.1; proprio/topics/mixture_of_topics.hpp) on pictures: labelled
+// views become documents (folder-per-class images, or objects cut from episodes' frames by their
+// ground-truth masks), LDA's E-step gives each its theta, a Dirichlet per object is fitted to the
+// theta of its views, and new views are classified by eq 7.3. The library calls behind `proprio
+// mot train|classify|info` (docs/formats/schemas/mot_*.schema.json): each reads its inputs, does
+// the one job, writes its outputs and returns what it did with the record the CLI writes for
+// --json.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/extraction.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/recognition/confusion.hpp"
+#include "proprio/recognition/image_corpus.hpp"
+#include "proprio/topics/inference.hpp"
+#include "proprio/topics/lda_model.hpp"
+#include "proprio/topics/mixture_of_topics.hpp"
+#include "proprio/topics/mot_model_io.hpp"
+
+namespace proprio::recognition {
+
+/// A supervised MoT learned from labelled documents and tested on others.
+struct MotEvaluation {
+  topics::MotFit fit;
+  /// Test documents with features, classified (rows in the order of `classified`).
+  topics::MotClassification classification;
+  std::vector<int> classified;  ///< index of each classified test document
+  ConfusionMatrix classes;  ///< test classes x the model's objects; empty documents unclassified
+};
+
+/// E[theta] of every document of `corpus` by the E-step of `model`, and which documents are
+/// empty (no tokens: their theta is the prior's and says nothing).
+struct DocumentTheta {
+  Eigen::MatrixXd theta;  ///< D x K
+  std::vector<bool> empty;
+};
+DocumentTheta document_theta(const topics::LdaModel& model, const topics::Corpus& corpus,
+                             const topics::InferenceOptions& options = {});
+
+/// Fits a supervised MoT to the theta of `train`'s documents (labels: their classes; empty
+/// documents left out) and classifies `test`'s (thesis 7.1, eq 7.3). train and test have the same
+/// classes. Throws Error as topics::fit_mot (a class with fewer than 2 non-empty views).
+MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& train,
+                           const LabelledCorpus& test, const topics::MotOptions& options = {},
+                           const topics::InferenceOptions& inference = {});
+
+/// An unsupervised MoT learned from unlabelled documents and tested on others.
+struct MotUnsupervisedEvaluation {
+  topics::MotFit fit;  ///< with C = the number of classes
+  /// The class each learned object is named after: the class most of its training documents
+  /// have (the labels name the objects after learning, as topics are named; they do not guide
+  /// it). Several objects may get one class, a class none.
+  std::vector<int> object_class;
+  ConfusionMatrix classes;  ///< test classes x classes, by the named objects
+  int chosen_classes = 0;   ///< C chosen by BIC (options.max_classes) on the same theta
+};
+
+/// Fits an unsupervised MoT (C = the number of classes) to the theta of `train`'s documents
+/// without their labels, names each object after the majority class of its documents, and
+/// classifies `test`'s documents; also reports the C that BIC would choose.
+MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& model,
+                                                    const LabelledCorpus& train,
+                                                    const LabelledCorpus& test,
+                                                    const topics::MotOptions& options = {},
+                                                    const topics::InferenceOptions& inference = {});
+
+/// The identity of a visual vocabulary: CRC-32 of its word count, dimension and float32 words.
+std::uint32_t vocabulary_checksum(const features::Vocabulary& vocabulary);
+
+/// Where `mot train` and `mot classify` get their documents: either a folder-per-class image set
+/// (each image a document, its folder its object) or episodes (each object of every
+/// view_step-th frame cut out by its ground-truth mask, object_view_corpus).
+struct MotSourceOptions {
+  std::filesystem::path lda_model;   ///< LDA model file (required)
+  std::filesystem::path vocabulary;  ///< vocabulary file (required)
+  std::filesystem::path images;      ///< folder-per-class image set, or
+  std::filesystem::path episodes;    ///< an episode, or a directory of episodes
+  /// Episodes: the objects (catalogue names, comma-separated); empty: every object that is not
+  /// the arm, named as EpisodeClassification::classes.
+  std::string objects;
+  int view_step = 5;      ///< episodes: every n-th frame
+  int min_features = 20;  ///< episodes: a view needs this many features
+  int dilate = 4;         ///< episodes: masks grown by this many pixels
+  /// How documents' features are extracted: the same options (and flags) as `recognize`.
+  features::ExtractOptions features;
+
+  /// Throws Error unless exactly one of images and episodes is given, and bounds hold.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.objects, {"objects", "Episodes: objects to cut out, comma-separated (default: all)"});
+    v(self.view_step, {"view_step", "Episodes: use every n-th frame", core::between(1, 1000000)});
+    v(self.min_features,
+      {"min_features", "Episodes: features a view needs", core::between(1, 1000000)});
+    v(self.dilate, {"dilate", "Episodes: grow the masks by this many px", core::between(0, 100)});
+  }
+};
+
+struct MotTrainOptions {
+  MotSourceOptions source;
+  std::filesystem::path model;  ///< MoT model file to write (required, docs/formats/mot-model.md)
+  /// Learn without labels (k-means over theta, mot.classes objects or chosen by BIC).
+  bool unsupervised = false;
+  topics::MotOptions mot;
+
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.unsupervised,
+      {"unsupervised", "Learn without labels: k-means over theta (thesis 7.3.3)"});
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct MotTrainResult {
+  topics::MotFit fit;
+  topics::MotBasis basis;
+  int documents = 0;        ///< views made
+  int empty_documents = 0;  ///< of which without features (left out)
+  core::Json document;      ///< format "proprio.mot.train" (mot_train.schema.json)
+  [[nodiscard]] std::string brief() const;
+};
+
+/// Reads the LDA model, vocabulary and views, infers theta, fits the MoT (supervised by the
+/// views' objects, or unsupervised), writes the model file recording the LDA model's and
+/// vocabulary's checksums. Throws Error when the LDA model and the vocabulary disagree on the
+/// number of words, an object has fewer than 2 views with features, or as fit_mot.
+MotTrainResult run_mot_train(const MotTrainOptions& options, const core::Provenance& provenance);
+
+struct MotClassifyOptions {
+  MotSourceOptions source;
+  std::filesystem::path model;  ///< MoT model file (required)
+  /// CSV to write (required): document, source (image file or episode directory), frame (-1 for
+  /// images), truth (the folder's or mask's object), class (the MoT's, empty for a view without
+  /// features), then p_<object> for each of the model's objects (eq 7.3).
+  std::filesystem::path out;
+
+  void validate() const;
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct MotClassifyResult {
+  ConfusionMatrix confusion;  ///< truth classes x the model's objects
+  int documents = 0;
+  int empty_documents = 0;
+  core::Json document;  ///< format "proprio.mot.classify" (mot_classify.schema.json)
+  [[nodiscard]] std::string brief() const;
+};
+
+/// Reads the MoT model and checks that the LDA model and vocabulary are the ones it was built on
+/// (Error otherwise: the CLI exits 2), then classifies every view and writes the CSV.
+MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
+                                   const core::Provenance& provenance);
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct MotInfo {
+  std::vector<std::string> lines;  ///< for a person
+  core::Json document;             ///< format "proprio.mot.info" (mot_info.schema.json)
+};
+
+/// What a MoT model file holds: its basis and each object's Dirichlet (alpha, precision, mean).
+MotInfo run_mot_info(const std::filesystem::path& model, const core::Provenance& provenance);
+
+}  // namespace proprio::recognition

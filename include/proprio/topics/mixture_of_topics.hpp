@@ -1,0 +1,193 @@
+#pragma once
+// The Mixture of Topics object model (thesis 7.1): LDA gives each view (document) of an object its
+// topic proportions theta; the thetas of one object c are modelled as Dir(theta | omega_c) (eq
+// 7.2), omega_c by maximum likelihood (Minka 2003, proprio/topics/dirichlet_fit.hpp), and a new
+// view is classified by Bayes over the objects (eq 7.3):
+//   p(c | theta) = Dir(theta | omega_c) p(c) / sum_c' Dir(theta | omega_c') p(c').
+// Learning is supervised (labelled views), unsupervised (k-means over theta, thesis 7.3.3; the
+// number of objects given or chosen by BIC) or online (thesis 8.1.2: new views update a model).
+//
+// Theta rows are checked where they enter (check_theta): every entry in [0, 1] and not NaN, each
+// row summing to 1 within ProportionOptions::sum_tolerance (1e-5), or Error naming the row (from
+// 0). Entries below the floor (1e-300 by default) are raised to it before their log is taken.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/topics/dirichlet.hpp"
+#include "proprio/topics/dirichlet_fit.hpp"
+#include "proprio/topics/dirichlet_stats.hpp"
+
+namespace proprio::topics {
+
+/// How the prior p(c) of eq 7.3 is set.
+enum class MotPrior {
+  kViews,    ///< p(c) proportional to the views c was learned from
+  kUniform,  ///< p(c) = 1 / C
+};
+inline constexpr core::ChoiceNames<MotPrior, 2> kMotPriorNames{
+    {{"views", MotPrior::kViews}, {"uniform", MotPrior::kUniform}}};
+
+/// How new views update an object's Dirichlet (update_mot).
+enum class MotUpdateRule {
+  /// Merge the new views' sufficient statistics into the object's (after multiplying the old
+  /// count by `forgetting`) and refit: with forgetting 1 the same model as fitting all views at
+  /// once. The default: see docs/results/mot.md for the measurements.
+  kExact,
+  /// Thesis 8.1.2's 50:50 rule: draw as many samples of the old Dirichlet as there are new views,
+  /// append the new views, refit on those alone (the old views are forgotten, their Dirichlet
+  /// weighs as much as the new batch).
+  kResample,
+};
+inline constexpr core::ChoiceNames<MotUpdateRule, 2> kMotUpdateRuleNames{
+    {{"exact", MotUpdateRule::kExact}, {"resample", MotUpdateRule::kResample}}};
+
+struct MotOptions {
+  MotPrior prior = MotPrior::kViews;
+  /// Unsupervised: the number of objects C; 0 chooses it in [1, max_classes] by the smallest BIC
+  /// of the Dirichlet mixture (choose_num_classes).
+  int classes = 0;
+  int max_classes = 10;     ///< the largest C tried when choosing (further bounded by views / 2)
+  int kmeans_restarts = 8;  ///< k-means++ starts; the lowest within-cluster sum of squares wins
+  int kmeans_iterations = 100;  ///< Lloyd iterations per start at most
+  /// Unsupervised: hard-EM rounds after k-means (reassign each view to its most probable object
+  /// under the fitted Dirichlets, refit), stopping early when no view moves; 0 keeps k-means'.
+  int refine_iterations = 10;
+  MotUpdateRule update = MotUpdateRule::kExact;
+  /// kExact: the old statistics' count is multiplied by this before new views merge in (1: no
+  /// forgetting).
+  double forgetting = 1.0;
+  std::uint64_t seed = 1;  ///< k-means starts and the resample rule's draws
+  /// The Dirichlet fits (tolerance, iterations, precision bound) and the theta checks (floor,
+  /// row-sum tolerance).
+  DirichletFitOptions fit;
+
+  /// Throws Error naming the first bad option (bounds from describe, then fit.validate()).
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.prior, {"prior", "p(c): views (proportional to training views) or uniform"},
+             kMotPriorNames);
+    v(self.classes,
+      {"classes", "Unsupervised: number of objects (0: chosen by BIC)", core::between(0, 100000)});
+    v(self.max_classes, {"max_classes", "Unsupervised: largest number of objects tried by BIC",
+                         core::between(1, 100000)});
+    v(self.kmeans_restarts, {"kmeans_restarts", "k-means++ starts", core::between(1, 1000)});
+    v(self.kmeans_iterations,
+      {"kmeans_iterations", "Lloyd iterations per start", core::between(1, 100000)});
+    v(self.refine_iterations,
+      {"refine_iterations", "Hard-EM rounds after k-means", core::between(0, 1000)});
+    v.choice(self.update, {"update", "Online rule: exact (merge statistics) or resample (50:50)"},
+             kMotUpdateRuleNames);
+    v(self.forgetting,
+      {"forgetting", "Exact rule: factor on the old views' weight", core::Bounds{0, 1, true}});
+    v(self.seed, {"seed", "Seed of k-means and of the resample rule"});
+  }
+};
+
+/// One object's model.
+struct MotObject {
+  std::string name;
+  DirichletStats stats;  ///< the views it was fitted on (count, mean log theta)
+  Dirichlet dirichlet;   ///< omega_c
+  double views = 0;      ///< views learned from (the weight behind p(c) for MotPrior::kViews)
+};
+
+/// A Mixture of Topics over T topics.
+struct MotModel {
+  std::vector<MotObject> objects;
+  MotPrior prior = MotPrior::kViews;
+
+  [[nodiscard]] int num_classes() const { return static_cast<int>(objects.size()); }
+  /// T; 0 for an empty model.
+  [[nodiscard]] int num_topics() const { return objects.empty() ? 0 : objects[0].dirichlet.dim(); }
+  /// log p(c) for each object (natural log).
+  [[nodiscard]] Eigen::VectorXd log_prior() const;
+  [[nodiscard]] std::vector<std::string> names() const;
+  /// Throws Error unless there is at least one object, all of one dimension T >= 2, with views > 0.
+  void validate() const;
+};
+
+/// Checks n x T theta (see the file comment) and returns log(max(theta, floor)). Error names the
+/// row and the problem; `expected_topics` > 0 also checks the number of columns.
+Eigen::MatrixXd check_theta(const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                            const ProportionOptions& options, int expected_topics = 0);
+
+struct MotFitSummary {
+  int views = 0;
+  int classes = 0;
+  int topics = 0;
+  std::vector<DirichletFitSummary> fits;  ///< one per object
+  /// Unsupervised: the k-means within-cluster sum of squares of the chosen start, the hard-EM
+  /// rounds run, the BIC of each C tried (index C - 1; empty when C was given).
+  double kmeans_sse = 0;
+  int refine_rounds = 0;
+  std::vector<double> bic;
+  /// The mixture's log-likelihood of the training views, sum_d log sum_c p(c) Dir(theta_d |
+  /// omega_c), nats.
+  double log_likelihood = 0;
+  [[nodiscard]] std::string brief() const;
+};
+
+struct MotFit {
+  MotModel model;
+  MotFitSummary summary;
+  /// The object of each training view (the labels given, or the clusters found).
+  std::vector<int> assignment;
+};
+
+/// Supervised fit (thesis 7.1): omega_c by maximum likelihood over the views labelled c. theta is
+/// D x T, labels[d] in [0, C) or -1 (ignored), classes the C names. Throws Error on bad theta
+/// (naming the row), a label out of range, or an object with fewer than 2 views (naming it: one
+/// view does not determine a Dirichlet's precision).
+MotFit fit_mot(const Eigen::Ref<const Eigen::MatrixXd>& theta, std::span<const int> labels,
+               const std::vector<std::string>& classes, const MotOptions& options = {});
+
+/// Unsupervised fit (thesis 7.3.3): k-means++ over theta (options.kmeans_restarts starts,
+/// seeded), a Dirichlet per cluster, then hard-EM refinement; C = options.classes, or chosen by
+/// BIC when 0. Objects are named object_1 .. object_C. Throws Error on bad theta, fewer than 2
+/// views, C > views / 2 (every object needs 2 views), or when no start gives every cluster 2
+/// views.
+MotFit fit_mot_unsupervised(const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                            const MotOptions& options = {});
+
+/// BIC = -2 L + p ln D of the unsupervised fit with C objects, p = C T + C - 1 free parameters
+/// (alpha per object and the prior weights), L the mixture log-likelihood: the smaller the
+/// better. choose C = argmin over [1, min(max_classes, D / 2)].
+double mot_bic(const MotFitSummary& summary, int views);
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct MotClassification {
+  /// D x C posterior p(c | theta_d) (eq 7.3), rows sum to 1.
+  Eigen::MatrixXd posterior;
+  /// D x C log Dir(theta_d | omega_c) + log p(c), nats (unnormalised log posterior).
+  Eigen::MatrixXd log_score;
+  std::vector<int> predicted;  ///< argmax_c per row (ties: lowest c)
+};
+
+/// Classifies each row of theta (D x T, T the model's) by eq 7.3. Throws Error on bad theta
+/// (naming the row) or another T.
+MotClassification classify_mot(const MotModel& model,
+                               const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                               const ProportionOptions& options = {});
+
+struct MotUpdateSummary {
+  int views = 0;                          ///< new views
+  int new_objects = 0;                    ///< labels not in the model before
+  int resampled = 0;                      ///< samples drawn from old Dirichlets (kResample)
+  std::vector<DirichletFitSummary> fits;  ///< the refits, in order of the objects updated
+};
+
+/// Online update (thesis 8.1.2) with new labelled views: theta D x T, labels[d] naming an object
+/// (an existing name updates it, a new name adds an object, which needs >= 2 views; an empty
+/// name is skipped). options.update picks the rule, options.forgetting and options.seed apply.
+/// Throws Error on bad theta or a new object with fewer than 2 views; the model is unchanged then.
+MotUpdateSummary update_mot(MotModel& model, const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                            const std::vector<std::string>& labels, const MotOptions& options = {});
+
+}  // namespace proprio::topics

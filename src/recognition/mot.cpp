@@ -1,0 +1,455 @@
+#include "proprio/recognition/mot.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "proprio/core/binary_file.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/episode/discovery.hpp"
+#include "proprio/episode/episode.hpp"
+#include "proprio/features/image_set.hpp"
+#include "proprio/recognition/episode_classification.hpp"
+#include "proprio/topics/lda_model_io.hpp"
+
+namespace proprio::recognition {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string hex(std::uint32_t v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%08x", v);
+  return buf;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (const char c : s) {
+    if (c == '"') q += '"';
+    q += c;
+  }
+  return q + '"';
+}
+
+std::vector<std::string> split_names(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream s(text);
+  std::string item;
+  while (std::getline(s, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+/// The views of a source: labelled documents and where each came from.
+struct Views {
+  LabelledCorpus docs;
+  std::vector<std::string> where;  ///< image file or episode directory
+  std::vector<int> frame;          ///< -1 for images
+};
+
+void append(LabelledCorpus& to, const LabelledCorpus& from, std::vector<std::string>& where,
+            std::vector<int>& frame, const std::string& w, int f) {
+  for (std::size_t d = 0; d < from.corpus.num_documents(); ++d) {
+    const topics::DocumentView doc = from.corpus.document(d);
+    to.corpus.add_document(doc.words, doc.counts);
+    to.labels.push_back(from.labels[d]);
+    where.push_back(w);
+    frame.push_back(f);
+  }
+}
+
+Views read_views(const MotSourceOptions& o, const features::Vocabulary& vocabulary) {
+  Views v;
+  if (!o.images.empty()) {
+    const features::ImageSet set = features::read_image_set(o.images);
+    std::vector<std::size_t> all(set.images.size());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    v.docs = image_corpus(set, all, vocabulary, o.features);
+    for (const auto& p : set.images) v.where.push_back(p.string());
+    v.frame.assign(set.images.size(), -1);
+    return v;
+  }
+  std::vector<episode::Episode> episodes;
+  for (const fs::path& d : episode::find_episodes({o.episodes}))
+    episodes.push_back(episode::read_episode(d));
+  if (episodes.empty()) throw Error::in_file(o.episodes, "no episodes there");
+  std::vector<std::string> classes = split_names(o.objects);
+  if (classes.empty()) {
+    std::set<std::string> names;
+    for (const auto& e : episodes) {
+      for (const auto& obj : e.objects())
+        if (obj.role != episode::ObjectRole::kArm) names.insert(object_class_name(obj.name));
+    }
+    classes.assign(names.begin(), names.end());
+  }
+  if (classes.empty()) throw Error::in_file(o.episodes, "the episodes have no objects");
+  v.docs = LabelledCorpus{topics::Corpus(vocabulary.size()), {}, classes};
+  for (const auto& e : episodes) {
+    const std::vector<episode::Episode> one{e};
+    for (int i = 0; i < e.frame_count(); i += o.view_step) {
+      const LabelledCorpus c =
+          object_view_corpus(one, {{i}}, classes, vocabulary, o.features, o.min_features, o.dilate);
+      append(v.docs, c, v.where, v.frame, e.dir().string(), i);
+    }
+  }
+  return v;
+}
+
+void check_words(const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+                 const fs::path& where) {
+  if (model.num_words() != vocabulary.size()) {
+    throw Error::in_file(where, "the LDA model has " + std::to_string(model.num_words()) +
+                                    " words but the vocabulary " +
+                                    std::to_string(vocabulary.size()) +
+                                    ": they do not belong together");
+  }
+}
+
+core::Json fit_json(const topics::DirichletFitSummary& s) {
+  core::Json j;
+  j["converged"] = s.converged;
+  j["stop"] = topics::to_string(s.stop);
+  j["iterations"] = s.iterations();
+  j["log_likelihood"] = s.log_likelihood;
+  return j;
+}
+
+core::Json object_json(const topics::MotObject& o) {
+  core::Json j;
+  j["name"] = o.name;
+  j["views"] = o.views;
+  const Eigen::VectorXd& a = o.dirichlet.alpha();
+  j["alpha"] = std::vector<double>(a.data(), a.data() + a.size());
+  const Eigen::VectorXd m = o.dirichlet.mean();
+  j["mean"] = std::vector<double>(m.data(), m.data() + m.size());
+  j["precision"] = o.dirichlet.precision();
+  return j;
+}
+
+core::Json basis_json(const topics::MotBasis& b) {
+  core::Json j;
+  j["lda_checksum"] = hex(b.lda_checksum);
+  j["lda_topics"] = b.lda_topics;
+  j["lda_words"] = b.lda_words;
+  j["vocabulary_checksum"] =
+      b.has_vocabulary ? core::Json(hex(b.vocabulary_checksum)) : core::Json();
+  return j;
+}
+
+}  // namespace
+
+DocumentTheta document_theta(const topics::LdaModel& model, const topics::Corpus& corpus,
+                             const topics::InferenceOptions& options) {
+  const topics::InferenceResult r = topics::infer_topics(model, corpus, options);
+  DocumentTheta out{r.theta(), {}};
+  for (const auto t : r.tokens) out.empty.push_back(t == 0);
+  return out;
+}
+
+MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& train,
+                           const LabelledCorpus& test, const topics::MotOptions& options,
+                           const topics::InferenceOptions& inference) {
+  require(train.classes == test.classes, "evaluate_mot: training and test classes differ");
+  const DocumentTheta known = document_theta(model, train.corpus, inference);
+  std::vector<int> labels = train.labels;
+  for (std::size_t d = 0; d < labels.size(); ++d)
+    if (known.empty[d]) labels[d] = -1;
+  MotEvaluation e;
+  e.fit = topics::fit_mot(known.theta, labels, train.classes, options);
+  const DocumentTheta t = document_theta(model, test.corpus, inference);
+  for (std::size_t d = 0; d < t.empty.size(); ++d)
+    if (!t.empty[d]) e.classified.push_back(static_cast<int>(d));
+  Eigen::MatrixXd theta(static_cast<Eigen::Index>(e.classified.size()), t.theta.cols());
+  for (std::size_t i = 0; i < e.classified.size(); ++i)
+    theta.row(static_cast<Eigen::Index>(i)) = t.theta.row(e.classified[i]);
+  e.classification = topics::classify_mot(e.fit.model, theta, options.fit.proportions);
+  std::vector<int> predicted(t.empty.size(), -1);
+  for (std::size_t i = 0; i < e.classified.size(); ++i)
+    predicted[static_cast<std::size_t>(e.classified[i])] = e.classification.predicted[i];
+  e.classes = confusion_matrix(test.labels, predicted, test.classes, test.classes);
+  return e;
+}
+
+MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& model,
+                                                    const LabelledCorpus& train,
+                                                    const LabelledCorpus& test,
+                                                    const topics::MotOptions& options,
+                                                    const topics::InferenceOptions& inference) {
+  require(train.classes == test.classes, "evaluate_mot_unsupervised: classes differ");
+  const int n_classes = static_cast<int>(train.classes.size());
+  const DocumentTheta known = document_theta(model, train.corpus, inference);
+  std::vector<int> rows;
+  for (std::size_t d = 0; d < known.empty.size(); ++d)
+    if (!known.empty[d]) rows.push_back(static_cast<int>(d));
+  Eigen::MatrixXd theta(static_cast<Eigen::Index>(rows.size()), known.theta.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    theta.row(static_cast<Eigen::Index>(i)) = known.theta.row(rows[i]);
+  MotUnsupervisedEvaluation e;
+  topics::MotOptions o = options;
+  o.classes = 0;
+  e.chosen_classes = topics::fit_mot_unsupervised(theta, o).model.num_classes();
+  o.classes = n_classes;
+  e.fit = topics::fit_mot_unsupervised(theta, o);
+  // Name each object after the majority class of its training documents.
+  std::vector<std::vector<int>> votes(static_cast<std::size_t>(e.fit.model.num_classes()),
+                                      std::vector<int>(static_cast<std::size_t>(n_classes), 0));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int label = train.labels[static_cast<std::size_t>(rows[i])];
+    if (label >= 0)
+      ++votes[static_cast<std::size_t>(e.fit.assignment[i])][static_cast<std::size_t>(label)];
+  }
+  for (const auto& v : votes)
+    e.object_class.push_back(static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin()));
+  const DocumentTheta t = document_theta(model, test.corpus, inference);
+  std::vector<int> test_rows;
+  for (std::size_t d = 0; d < t.empty.size(); ++d)
+    if (!t.empty[d]) test_rows.push_back(static_cast<int>(d));
+  Eigen::MatrixXd test_theta(static_cast<Eigen::Index>(test_rows.size()), t.theta.cols());
+  for (std::size_t i = 0; i < test_rows.size(); ++i)
+    test_theta.row(static_cast<Eigen::Index>(i)) = t.theta.row(test_rows[i]);
+  const topics::MotClassification c =
+      topics::classify_mot(e.fit.model, test_theta, options.fit.proportions);
+  std::vector<int> predicted(t.empty.size(), -1);
+  for (std::size_t i = 0; i < test_rows.size(); ++i) {
+    predicted[static_cast<std::size_t>(test_rows[i])] =
+        e.object_class[static_cast<std::size_t>(c.predicted[i])];
+  }
+  e.classes = confusion_matrix(test.labels, predicted, test.classes, test.classes);
+  return e;
+}
+
+std::uint32_t vocabulary_checksum(const features::Vocabulary& vocabulary) {
+  std::string bytes;
+  core::put_binary(bytes, static_cast<std::uint32_t>(vocabulary.size()));
+  core::put_binary(bytes, static_cast<std::uint32_t>(vocabulary.dimension()));
+  const cv::Mat w =
+      vocabulary.words().isContinuous() ? vocabulary.words() : vocabulary.words().clone();
+  bytes.append(reinterpret_cast<const char*>(w.data), w.total() * w.elemSize());
+  return core::crc32(bytes);
+}
+
+void MotSourceOptions::validate() const {
+  if (lda_model.empty() || vocabulary.empty()) {
+    throw Error("mot: the LDA model and the vocabulary are required");
+  }
+  if (images.empty() == episodes.empty()) {
+    throw Error("mot: give either the images (a folder per object) or the episodes");
+  }
+  core::check_field_bounds(*this, "mot");
+  features.validate();
+}
+
+void MotTrainOptions::validate() const {
+  source.validate();
+  if (model.empty()) throw Error("mot train: the model file to write is required");
+  mot.validate();
+}
+
+std::string MotTrainResult::brief() const {
+  return fit.summary.brief() + " (" + std::to_string(empty_documents) +
+         " views without features left out)";
+}
+
+MotTrainResult run_mot_train(const MotTrainOptions& options, const core::Provenance& provenance) {
+  options.validate();
+  const topics::LdaModel lda = topics::load_lda_model(options.source.lda_model);
+  const features::Vocabulary vocabulary = features::read_vocabulary(options.source.vocabulary);
+  check_words(lda, vocabulary, options.source.lda_model);
+  const Views views = read_views(options.source, vocabulary);
+  const DocumentTheta dt = document_theta(lda, views.docs.corpus);
+  MotTrainResult r;
+  r.documents = static_cast<int>(dt.empty.size());
+  for (const bool e : dt.empty) r.empty_documents += e ? 1 : 0;
+  if (options.unsupervised) {
+    Eigen::MatrixXd theta(r.documents - r.empty_documents, dt.theta.cols());
+    Eigen::Index row = 0;
+    for (std::size_t d = 0; d < dt.empty.size(); ++d)
+      if (!dt.empty[d]) theta.row(row++) = dt.theta.row(static_cast<Eigen::Index>(d));
+    r.fit = topics::fit_mot_unsupervised(theta, options.mot);
+  } else {
+    std::vector<int> labels = views.docs.labels;
+    for (std::size_t d = 0; d < labels.size(); ++d)
+      if (dt.empty[d]) labels[d] = -1;
+    r.fit = topics::fit_mot(dt.theta, labels, views.docs.classes, options.mot);
+  }
+  const std::uint32_t vc = vocabulary_checksum(vocabulary);
+  r.basis = topics::mot_basis(lda, &vc);
+  topics::save_mot_model(r.fit.model, r.basis, options.model);
+
+  core::Json& doc = r.document;
+  doc = core::result_document("proprio.mot.train", 1, provenance);
+  doc["model"] = options.model.string();
+  doc["lda_model"] = options.source.lda_model.string();
+  doc["vocabulary"] = options.source.vocabulary.string();
+  doc["source"] = options.source.images.empty() ? "episodes" : "images";
+  doc["input"] =
+      (options.source.images.empty() ? options.source.episodes : options.source.images).string();
+  doc["unsupervised"] = options.unsupervised;
+  doc["options"] = core::fields_to_json(options.mot);
+  doc["documents"] = r.documents;
+  doc["empty_documents"] = r.empty_documents;
+  doc["basis"] = basis_json(r.basis);
+  doc["objects"] = core::Json::array();
+  for (std::size_t c = 0; c < r.fit.model.objects.size(); ++c) {
+    core::Json j = object_json(r.fit.model.objects[c]);
+    j["fit"] = fit_json(r.fit.summary.fits[c]);
+    doc["objects"].push_back(j);
+  }
+  doc["log_likelihood"] = r.fit.summary.log_likelihood;
+  core::Json bic = core::Json::array();
+  for (const double b : r.fit.summary.bic)
+    bic.push_back(std::isfinite(b) ? core::Json(b) : core::Json());
+  doc["bic"] = bic;
+  doc["summary"] = r.brief();
+  return r;
+}
+
+void MotClassifyOptions::validate() const {
+  source.validate();
+  if (model.empty() || out.empty()) {
+    throw Error("mot classify: the model file and the output CSV are required");
+  }
+}
+
+std::string MotClassifyResult::brief() const {
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "%d views (%d without features): accuracy %.1f%%, mean class accuracy %.1f%%",
+                documents, empty_documents, 100 * confusion.accuracy(),
+                100 * confusion.mean_class_accuracy());
+  return buf;
+}
+
+MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
+                                   const core::Provenance& provenance) {
+  options.validate();
+  const topics::MotModelFile file = topics::load_mot_model(options.model);
+  const topics::LdaModel lda = topics::load_lda_model(options.source.lda_model);
+  const features::Vocabulary vocabulary = features::read_vocabulary(options.source.vocabulary);
+  check_words(lda, vocabulary, options.source.lda_model);
+  const std::uint32_t vc = vocabulary_checksum(vocabulary);
+  topics::check_mot_basis(file.basis, lda, &vc, options.model);
+  const Views views = read_views(options.source, vocabulary);
+  const DocumentTheta dt = document_theta(lda, views.docs.corpus);
+
+  MotClassifyResult r;
+  r.documents = static_cast<int>(dt.empty.size());
+  std::vector<int> rows;
+  for (std::size_t d = 0; d < dt.empty.size(); ++d) {
+    if (dt.empty[d]) {
+      ++r.empty_documents;
+    } else {
+      rows.push_back(static_cast<int>(d));
+    }
+  }
+  Eigen::MatrixXd theta(static_cast<Eigen::Index>(rows.size()), dt.theta.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    theta.row(static_cast<Eigen::Index>(i)) = dt.theta.row(rows[i]);
+  const topics::MotClassification c = topics::classify_mot(file.model, theta);
+
+  // Rows of the confusion matrix: the model's objects, then any true class it does not know, so
+  // that the diagonal counts the views given their own object.
+  const std::vector<std::string> names = file.model.names();
+  std::vector<std::string> truth_names = names;
+  std::vector<int> truth(dt.empty.size(), -1);
+  for (std::size_t d = 0; d < truth.size(); ++d) {
+    const int l = views.docs.labels[d];
+    if (l < 0) continue;
+    const std::string& n = views.docs.classes[static_cast<std::size_t>(l)];
+    auto it = std::find(truth_names.begin(), truth_names.end(), n);
+    if (it == truth_names.end()) it = truth_names.insert(truth_names.end(), n);
+    truth[d] = static_cast<int>(it - truth_names.begin());
+  }
+  std::vector<int> predicted(dt.empty.size(), -1);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    predicted[static_cast<std::size_t>(rows[i])] = c.predicted[i];
+  // Documents without a truth (none today) cannot be counted in the matrix.
+  std::vector<int> t_known, p_known;
+  for (std::size_t d = 0; d < truth.size(); ++d) {
+    if (truth[d] < 0) continue;
+    t_known.push_back(truth[d]);
+    p_known.push_back(predicted[d]);
+  }
+  r.confusion = confusion_matrix(t_known, p_known, truth_names, names);
+
+  std::string csv = "document,source,frame,truth,class";
+  for (const auto& n : names) {
+    std::string column = "p_";
+    column += n;
+    csv += ',';
+    csv += csv_field(column);
+  }
+  csv += '\n';
+  std::size_t next = 0;
+  for (std::size_t d = 0; d < dt.empty.size(); ++d) {
+    csv += std::to_string(d) + ',' + csv_field(views.where[d]) + ',' +
+           std::to_string(views.frame[d]) + ',';
+    if (truth[d] >= 0) csv += csv_field(truth_names[static_cast<std::size_t>(truth[d])]);
+    csv += ',';
+    const bool classified = next < rows.size() && rows[next] == static_cast<int>(d);
+    if (classified) csv += csv_field(names[static_cast<std::size_t>(c.predicted[next])]);
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      csv += ',';
+      if (classified) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.6g",
+                      c.posterior(static_cast<Eigen::Index>(next), static_cast<Eigen::Index>(k)));
+        csv += buf;
+      }
+    }
+    if (classified) ++next;
+    csv += '\n';
+  }
+  core::write_file_atomic(options.out, csv);
+
+  core::Json& doc = r.document;
+  doc = core::result_document("proprio.mot.classify", 1, provenance);
+  doc["model"] = options.model.string();
+  doc["lda_model"] = options.source.lda_model.string();
+  doc["vocabulary"] = options.source.vocabulary.string();
+  doc["source"] = options.source.images.empty() ? "episodes" : "images";
+  doc["input"] =
+      (options.source.images.empty() ? options.source.episodes : options.source.images).string();
+  doc["out"] = options.out.string();
+  doc["documents"] = r.documents;
+  doc["empty_documents"] = r.empty_documents;
+  doc["confusion"] = r.confusion.to_json();
+  return r;
+}
+
+MotInfo run_mot_info(const fs::path& model, const core::Provenance& provenance) {
+  const topics::MotModelFile f = topics::load_mot_model(model);
+  MotInfo out;
+  const topics::MotBasis& b = f.basis;
+  out.lines.push_back(model.string() + ": " + std::to_string(f.model.num_classes()) +
+                      " objects over " + std::to_string(f.model.num_topics()) + " topics, prior " +
+                      std::string(core::choice_name(f.model.prior, topics::kMotPriorNames)));
+  out.lines.push_back("built on LDA model " + hex(b.lda_checksum) + " (" +
+                      std::to_string(b.lda_topics) + " topics, " + std::to_string(b.lda_words) +
+                      " words)" +
+                      (b.has_vocabulary ? ", vocabulary " + hex(b.vocabulary_checksum) : ""));
+  for (const auto& o : f.model.objects) {
+    std::ostringstream s;
+    s.precision(4);
+    s << o.name << ": " << o.views << " views, precision " << o.dirichlet.precision()
+      << ", mean theta";
+    for (Eigen::Index k = 0; k < o.dirichlet.dim(); ++k) s << ' ' << o.dirichlet.mean()(k);
+    out.lines.push_back(s.str());
+  }
+  out.document = core::result_document("proprio.mot.info", 1, provenance);
+  out.document["model"] = model.string();
+  out.document["format_version_of_model"] = topics::kMotModelFormatVersion;
+  out.document["prior"] = std::string(core::choice_name(f.model.prior, topics::kMotPriorNames));
+  out.document["basis"] = basis_json(b);
+  out.document["objects"] = core::Json::array();
+  for (const auto& o : f.model.objects) out.document["objects"].push_back(object_json(o));
+  return out;
+}
+
+}  // namespace proprio::recognition

@@ -1,0 +1,446 @@
+#include "proprio/topics/mixture_of_topics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+
+namespace proprio::topics {
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+double log_sum_exp(const Eigen::Ref<const Eigen::VectorXd>& x) {
+  const double m = x.maxCoeff();
+  if (!std::isfinite(m)) return m;
+  return m + std::log((x.array() - m).exp().sum());
+}
+
+/// Minimum number of views of an object: one view does not determine a Dirichlet's precision.
+constexpr int kMinViews = 2;
+
+/// Statistics of the rows of log_theta whose label is c.
+DirichletStats stats_of(const Eigen::MatrixXd& log_theta, std::span<const int> labels, int c) {
+  DirichletStats s(static_cast<int>(log_theta.cols()));
+  for (Eigen::Index d = 0; d < log_theta.rows(); ++d) {
+    if (labels[static_cast<std::size_t>(d)] == c) s.add_log(log_theta.row(d).transpose());
+  }
+  return s;
+}
+
+/// The model fitted to log_theta by labels in [0, C) (-1 ignored); every class has >= 2 views.
+MotFit fit_labelled(const Eigen::MatrixXd& log_theta, std::span<const int> labels,
+                    const std::vector<std::string>& classes, const MotOptions& options) {
+  MotFit out;
+  out.model.prior = options.prior;
+  out.summary.topics = static_cast<int>(log_theta.cols());
+  out.summary.classes = static_cast<int>(classes.size());
+  for (int c = 0; c < static_cast<int>(classes.size()); ++c) {
+    DirichletStats s = stats_of(log_theta, labels, c);
+    DirichletFit f = fit_dirichlet(s, options.fit);
+    out.summary.fits.push_back(f.summary);
+    const double views = s.count();
+    out.model.objects.push_back(MotObject{classes[static_cast<std::size_t>(c)], std::move(s),
+                                          std::move(f.dirichlet), views});
+  }
+  out.assignment.assign(labels.begin(), labels.end());
+  for (const int l : labels) out.summary.views += l >= 0 ? 1 : 0;
+  return out;
+}
+
+/// log Dir(theta_d | omega_c) + log p(c), D x C.
+Eigen::MatrixXd log_scores(const MotModel& model, const Eigen::MatrixXd& log_theta) {
+  const Eigen::VectorXd prior = model.log_prior();
+  Eigen::MatrixXd out(log_theta.rows(), model.num_classes());
+  for (Eigen::Index d = 0; d < log_theta.rows(); ++d) {
+    for (int c = 0; c < model.num_classes(); ++c) {
+      out(d, c) = model.objects[static_cast<std::size_t>(c)].dirichlet.log_density_of_log(
+                      log_theta.row(d).transpose()) +
+                  prior(c);
+    }
+  }
+  return out;
+}
+
+double mixture_log_likelihood(const Eigen::MatrixXd& scores) {
+  double l = 0;
+  for (Eigen::Index d = 0; d < scores.rows(); ++d) l += log_sum_exp(scores.row(d).transpose());
+  return l;
+}
+
+std::vector<int> argmax_rows(const Eigen::MatrixXd& m) {
+  std::vector<int> out(static_cast<std::size_t>(m.rows()));
+  for (Eigen::Index d = 0; d < m.rows(); ++d) {
+    Eigen::Index best = 0;
+    m.row(d).maxCoeff(&best);
+    out[static_cast<std::size_t>(d)] = static_cast<int>(best);
+  }
+  return out;
+}
+
+std::vector<int> cluster_sizes(const std::vector<int>& assignment, int k) {
+  std::vector<int> n(static_cast<std::size_t>(k), 0);
+  for (const int a : assignment) ++n[static_cast<std::size_t>(a)];
+  return n;
+}
+
+struct Clustering {
+  std::vector<int> assignment;
+  double sse = std::numeric_limits<double>::infinity();
+};
+
+/// One k-means++ start followed by Lloyd iterations over the rows of x.
+Clustering kmeans_once(const Eigen::MatrixXd& x, int k, int iterations, core::Rng& rng) {
+  const Eigen::Index n = x.rows();
+  Eigen::MatrixXd centres(k, x.cols());
+  centres.row(0) = x.row(static_cast<Eigen::Index>(rng.index(static_cast<std::uint64_t>(n))));
+  Eigen::VectorXd d2 = (x.rowwise() - centres.row(0)).rowwise().squaredNorm();
+  for (int j = 1; j < k; ++j) {
+    const double total = d2.sum();
+    Eigen::Index pick = 0;
+    if (total > 0) {
+      double u = rng.uniform() * total;
+      for (pick = 0; pick < n - 1; ++pick) {
+        u -= d2(pick);
+        if (u < 0) break;
+      }
+    } else {
+      pick = static_cast<Eigen::Index>(rng.index(static_cast<std::uint64_t>(n)));
+    }
+    centres.row(j) = x.row(pick);
+    d2 = d2.cwiseMin((x.rowwise() - centres.row(j)).rowwise().squaredNorm());
+  }
+  Clustering out;
+  out.assignment.assign(static_cast<std::size_t>(n), -1);
+  for (int it = 0; it < iterations; ++it) {
+    bool moved = false;
+    double sse = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      Eigen::Index best = 0;
+      const double dist = (centres.rowwise() - x.row(i)).rowwise().squaredNorm().minCoeff(&best);
+      sse += dist;
+      auto& a = out.assignment[static_cast<std::size_t>(i)];
+      if (a != static_cast<int>(best)) {
+        a = static_cast<int>(best);
+        moved = true;
+      }
+    }
+    out.sse = sse;
+    if (!moved) break;
+    centres.setZero();
+    std::vector<int> count(static_cast<std::size_t>(k), 0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const int a = out.assignment[static_cast<std::size_t>(i)];
+      centres.row(a) += x.row(i);
+      ++count[static_cast<std::size_t>(a)];
+    }
+    for (int j = 0; j < k; ++j) {
+      if (count[static_cast<std::size_t>(j)] > 0) {
+        centres.row(j) /= count[static_cast<std::size_t>(j)];
+      } else {
+        // An empty cluster restarts at the point farthest from its centre.
+        Eigen::Index far = 0;
+        Eigen::VectorXd dist(n);
+        for (Eigen::Index i = 0; i < n; ++i) {
+          dist(i) =
+              (x.row(i) - centres.row(out.assignment[static_cast<std::size_t>(i)])).squaredNorm();
+        }
+        dist.maxCoeff(&far);
+        centres.row(j) = x.row(far);
+        out.assignment[static_cast<std::size_t>(far)] = j;
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> object_names(int k) {
+  std::vector<std::string> names;
+  for (int c = 1; c <= k; ++c) names.push_back("object_" + std::to_string(c));
+  return names;
+}
+
+/// The unsupervised fit with k objects; seed fixed per k so that results do not depend on which
+/// other k were tried.
+MotFit fit_clusters(const Eigen::MatrixXd& theta, const Eigen::MatrixXd& log_theta, int k,
+                    const MotOptions& options) {
+  core::Rng rng(options.seed + 0x9E3779B97F4A7C15ULL * static_cast<std::uint64_t>(k));
+  Clustering best;
+  for (int r = 0; r < options.kmeans_restarts; ++r) {
+    Clustering c = kmeans_once(theta, k, options.kmeans_iterations, rng);
+    const auto sizes = cluster_sizes(c.assignment, k);
+    if (*std::min_element(sizes.begin(), sizes.end()) < kMinViews) continue;
+    if (c.sse < best.sse) best = std::move(c);
+  }
+  if (best.assignment.empty()) {
+    throw Error("Mixture of Topics: no k-means start over " + std::to_string(theta.rows()) +
+                " views gave each of " + std::to_string(k) +
+                " objects at least 2 views; ask for fewer objects");
+  }
+  const auto names = object_names(k);
+  MotFit fit = fit_labelled(log_theta, best.assignment, names, options);
+  fit.summary.kmeans_sse = best.sse;
+  for (int round = 0; round < options.refine_iterations && k > 1; ++round) {
+    const std::vector<int> next = argmax_rows(log_scores(fit.model, log_theta));
+    if (next == fit.assignment) break;
+    const auto sizes = cluster_sizes(next, k);
+    if (*std::min_element(sizes.begin(), sizes.end()) < kMinViews) break;
+    MotFit refit = fit_labelled(log_theta, next, names, options);
+    refit.summary.kmeans_sse = fit.summary.kmeans_sse;
+    refit.summary.refine_rounds = round + 1;
+    fit = std::move(refit);
+  }
+  fit.summary.log_likelihood = mixture_log_likelihood(log_scores(fit.model, log_theta));
+  return fit;
+}
+
+}  // namespace
+
+void MotOptions::validate() const {
+  core::check_field_bounds(*this, "Mixture of Topics");
+  fit.validate();
+}
+
+Eigen::VectorXd MotModel::log_prior() const {
+  const int c = num_classes();
+  Eigen::VectorXd out(c);
+  if (prior == MotPrior::kUniform) {
+    out.setConstant(-std::log(static_cast<double>(c)));
+    return out;
+  }
+  double total = 0;
+  for (const auto& o : objects) total += o.views;
+  for (int i = 0; i < c; ++i) out(i) = std::log(objects[static_cast<std::size_t>(i)].views / total);
+  return out;
+}
+
+std::vector<std::string> MotModel::names() const {
+  std::vector<std::string> out;
+  out.reserve(objects.size());
+  for (const auto& o : objects) out.push_back(o.name);
+  return out;
+}
+
+void MotModel::validate() const {
+  require(!objects.empty(), "Mixture of Topics model: no objects");
+  const int t = num_topics();
+  require(t >= 2, "Mixture of Topics model: fewer than 2 topics");
+  for (const auto& o : objects) {
+    require(o.dirichlet.dim() == t,
+            "Mixture of Topics model: object '" + o.name + "' has another number of topics");
+    require(std::isfinite(o.views) && o.views > 0,
+            "Mixture of Topics model: object '" + o.name + "' has no views");
+  }
+}
+
+Eigen::MatrixXd check_theta(const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                            const ProportionOptions& options, int expected_topics) {
+  options.validate();
+  if (expected_topics > 0 && theta.cols() != expected_topics) {
+    throw Error("theta has " + std::to_string(theta.cols()) + " topics, the model " +
+                std::to_string(expected_topics));
+  }
+  if (theta.cols() < 2) throw Error("theta needs at least 2 topics (columns)");
+  Eigen::MatrixXd out(theta.rows(), theta.cols());
+  for (Eigen::Index d = 0; d < theta.rows(); ++d) {
+    double sum = 0;
+    for (Eigen::Index k = 0; k < theta.cols(); ++k) {
+      const double v = theta(d, k);
+      if (!(v >= 0.0 && v <= 1.0)) {
+        throw Error("theta row " + std::to_string(d) + ", topic " + std::to_string(k) + ": " +
+                    number(v) + " is not a proportion in [0, 1]");
+      }
+      sum += v;
+      out(d, k) = std::log(std::max(v, options.floor));
+    }
+    if (!(std::abs(sum - 1.0) <= options.sum_tolerance)) {
+      throw Error("theta row " + std::to_string(d) + " sums to " + number(sum) + ", not 1 within " +
+                  number(options.sum_tolerance));
+    }
+  }
+  return out;
+}
+
+std::string MotFitSummary::brief() const {
+  std::ostringstream s;
+  s << classes << " objects over " << topics << " topics from " << views << " views";
+  int converged = 0;
+  for (const auto& f : fits) converged += f.converged ? 1 : 0;
+  s << "; " << converged << " of " << fits.size() << " Dirichlet fits converged";
+  if (refine_rounds > 0) s << "; " << refine_rounds << " hard-EM rounds";
+  if (!bic.empty()) s << "; C chosen by BIC among 1.." << bic.size();
+  s.precision(8);
+  s << "; log-likelihood " << log_likelihood;
+  return s.str();
+}
+
+MotFit fit_mot(const Eigen::Ref<const Eigen::MatrixXd>& theta, std::span<const int> labels,
+               const std::vector<std::string>& classes, const MotOptions& options) {
+  options.validate();
+  require(!classes.empty(), "Mixture of Topics: no objects (classes)");
+  if (labels.size() != static_cast<std::size_t>(theta.rows())) {
+    throw Error("Mixture of Topics: " + std::to_string(labels.size()) + " labels for " +
+                std::to_string(theta.rows()) + " theta rows");
+  }
+  const Eigen::MatrixXd log_theta = check_theta(theta, options.fit.proportions);
+  const int c = static_cast<int>(classes.size());
+  std::vector<int> count(classes.size(), 0);
+  for (std::size_t d = 0; d < labels.size(); ++d) {
+    if (labels[d] < -1 || labels[d] >= c) {
+      throw Error("Mixture of Topics: label " + std::to_string(labels[d]) + " of row " +
+                  std::to_string(d) + " is not an object in [0, " + std::to_string(c) + ")");
+    }
+    if (labels[d] >= 0) ++count[static_cast<std::size_t>(labels[d])];
+  }
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    if (count[i] < kMinViews) {
+      throw Error("Mixture of Topics: object '" + classes[i] + "' has " + std::to_string(count[i]) +
+                  " view(s); its Dirichlet needs at least 2 (one view does not fix its precision)");
+    }
+  }
+  MotFit fit = fit_labelled(log_theta, labels, classes, options);
+  Eigen::MatrixXd labelled(fit.summary.views, log_theta.cols());
+  Eigen::Index r = 0;
+  for (std::size_t d = 0; d < labels.size(); ++d) {
+    if (labels[d] >= 0) labelled.row(r++) = log_theta.row(static_cast<Eigen::Index>(d));
+  }
+  fit.summary.log_likelihood = mixture_log_likelihood(log_scores(fit.model, labelled));
+  return fit;
+}
+
+double mot_bic(const MotFitSummary& summary, int views) {
+  const double p = summary.classes * summary.topics + summary.classes - 1.0;
+  return -2.0 * summary.log_likelihood + p * std::log(static_cast<double>(views));
+}
+
+MotFit fit_mot_unsupervised(const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                            const MotOptions& options) {
+  options.validate();
+  const Eigen::MatrixXd log_theta = check_theta(theta, options.fit.proportions);
+  const int views = static_cast<int>(theta.rows());
+  if (views < kMinViews) {
+    throw Error("Mixture of Topics: " + std::to_string(views) +
+                " view(s); at least 2 are needed to learn an object");
+  }
+  const Eigen::MatrixXd x = theta;
+  if (options.classes > 0) {
+    if (options.classes > views / kMinViews) {
+      throw Error("Mixture of Topics: " + std::to_string(options.classes) + " objects from " +
+                  std::to_string(views) + " views; each object needs at least 2 views");
+    }
+    return fit_clusters(x, log_theta, options.classes, options);
+  }
+  const int largest = std::min(options.max_classes, views / kMinViews);
+  std::vector<double> bic;
+  MotFit best;
+  double best_bic = std::numeric_limits<double>::infinity();
+  for (int k = 1; k <= largest; ++k) {
+    MotFit f;
+    try {
+      f = fit_clusters(x, log_theta, k, options);
+    } catch (const Error&) {
+      bic.push_back(std::numeric_limits<double>::infinity());
+      continue;  // no clustering into k objects of 2 views: k is not a candidate
+    }
+    const double b = mot_bic(f.summary, views);
+    bic.push_back(b);
+    if (b < best_bic) {
+      best_bic = b;
+      best = std::move(f);
+    }
+  }
+  ensure(!best.model.objects.empty(), "Mixture of Topics: one object always fits");
+  best.summary.bic = std::move(bic);
+  return best;
+}
+
+MotClassification classify_mot(const MotModel& model,
+                               const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                               const ProportionOptions& options) {
+  model.validate();
+  const Eigen::MatrixXd log_theta = check_theta(theta, options, model.num_topics());
+  MotClassification out;
+  out.log_score = log_scores(model, log_theta);
+  out.posterior.resize(out.log_score.rows(), out.log_score.cols());
+  for (Eigen::Index d = 0; d < out.log_score.rows(); ++d) {
+    const double z = log_sum_exp(out.log_score.row(d).transpose());
+    out.posterior.row(d) = (out.log_score.row(d).array() - z).exp();
+  }
+  out.predicted = argmax_rows(out.log_score);
+  return out;
+}
+
+MotUpdateSummary update_mot(MotModel& model, const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                            const std::vector<std::string>& labels, const MotOptions& options) {
+  options.validate();
+  model.validate();
+  if (labels.size() != static_cast<std::size_t>(theta.rows())) {
+    throw Error("Mixture of Topics update: " + std::to_string(labels.size()) + " labels for " +
+                std::to_string(theta.rows()) + " theta rows");
+  }
+  const Eigen::MatrixXd log_theta = check_theta(theta, options.fit.proportions, model.num_topics());
+  // Group the new views by object, in order of first appearance.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<Eigen::Index>> rows;
+  for (std::size_t d = 0; d < labels.size(); ++d) {
+    if (labels[d].empty()) continue;
+    auto [it, fresh] = rows.try_emplace(labels[d]);
+    if (fresh) order.push_back(labels[d]);
+    it->second.push_back(static_cast<Eigen::Index>(d));
+  }
+  MotModel next = model;
+  MotUpdateSummary summary;
+  core::Rng rng(options.seed);
+  for (const auto& name : order) {
+    const auto& idx = rows[name];
+    DirichletStats fresh(model.num_topics());
+    for (const Eigen::Index d : idx) fresh.add_log(log_theta.row(d).transpose());
+    const auto n = static_cast<int>(idx.size());
+    summary.views += n;
+    auto it = std::find_if(next.objects.begin(), next.objects.end(),
+                           [&](const MotObject& o) { return o.name == name; });
+    if (it == next.objects.end()) {
+      if (n < kMinViews) {
+        throw Error("Mixture of Topics update: new object '" + name + "' has " + std::to_string(n) +
+                    " view(s); its Dirichlet needs at least 2");
+      }
+      DirichletFit f = fit_dirichlet(fresh, options.fit);
+      summary.fits.push_back(f.summary);
+      next.objects.push_back(
+          MotObject{name, fresh, std::move(f.dirichlet), static_cast<double>(n)});
+      ++summary.new_objects;
+      continue;
+    }
+    DirichletStats stats = it->stats;
+    if (options.update == MotUpdateRule::kExact) {
+      if (options.forgetting < 1.0) stats.scale(options.forgetting);
+      stats.merge(fresh);
+      it->views = it->views * options.forgetting + n;
+    } else {
+      // Thesis 8.1.2: as many samples of the old Dirichlet as new views, appended, refitted.
+      stats = DirichletStats(model.num_topics());
+      const Eigen::MatrixXd old = it->dirichlet.sample_log(rng, n);
+      for (Eigen::Index i = 0; i < old.rows(); ++i) stats.add_log(old.row(i).transpose());
+      stats.merge(fresh);
+      summary.resampled += n;
+      it->views += n;
+    }
+    DirichletFit f = fit_dirichlet(stats, options.fit);
+    summary.fits.push_back(f.summary);
+    it->stats = std::move(stats);
+    it->dirichlet = std::move(f.dirichlet);
+  }
+  model = std::move(next);
+  return summary;
+}
+
+}  // namespace proprio::topics

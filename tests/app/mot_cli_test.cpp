@@ -1,0 +1,184 @@
+// proprio mot train|classify|info: run the built tool on a tiny image set made here (crops of
+// opencv-doc photographs, one photograph per object) with an LDA model trained on it; check the
+// CSV and the confusion matrix, the JSON against its schemas, the model file's record of its LDA
+// model, and bad input as exit 2 with one line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "../support/schema_check.hpp"
+#include "cli_run.hpp"
+#include "proprio/core/csv.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/sift.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/topics/mot_model_io.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+using namespace proprio;
+using test::run_cli;
+
+const char* kPhotos[] = {"baboon.jpg", "fruits.jpg", "building.jpg"};
+const char* kClasses[] = {"baboon", "fruits", "building"};
+
+class MotCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("proprio_mot_cli_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    // 3 objects x 10 images of 96 x 96: crops of one photograph per object.
+    cv::RNG rng(1);
+    cv::Mat d;
+    for (int c = 0; c < 3; ++c) {
+      const std::string path = std::string(PROPRIO_OPENCV_SAMPLES) + "/" + kPhotos[c];
+      const cv::Mat p = cv::imread(path, cv::IMREAD_COLOR);
+      ASSERT_FALSE(p.empty()) << path;
+      fs::create_directories(dir_ / "images" / kClasses[c]);
+      for (int i = 0; i < 10; ++i) {
+        const int s = 110 + rng.uniform(0, 60);
+        const cv::Rect r(rng.uniform(0, p.cols - s), rng.uniform(0, p.rows - s), s, s);
+        cv::Mat crop;
+        cv::resize(p(r), crop, cv::Size(96, 96));
+        const fs::path f = dir_ / "images" / kClasses[c] / (std::to_string(i) + ".png");
+        cv::imwrite(f.string(), crop);
+        if (i == 0) d.push_back(features::dense_sift(crop).descriptors);
+      }
+    }
+    features::KmeansOptions k;
+    k.words = 24;
+    features::write_vocabulary(dir_ / "v.vocab", features::build_vocabulary(d, k).vocabulary,
+                               core::Provenance::current({"mot_cli_test"}, 1));
+    for (const char* seed : {"1", "2"}) {
+      const auto r = run_cli("recognize train --images " + file("images") + " --vocabulary " +
+                             file("v.vocab") + " -k 3 --batch 10 --passes 5 --seed " + seed +
+                             " --quiet --model " + file(std::string("m") + seed + ".lda"));
+      ASSERT_EQ(r.code, 0) << r.err;
+    }
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static std::string file(const std::string& name) { return (dir_ / name).string(); }
+  static std::string inputs(const std::string& lda = "m1.lda") {
+    return " --lda-model " + file(lda) + " --vocabulary " + file("v.vocab") + " --images " +
+           file("images");
+  }
+  static fs::path dir_;
+};
+fs::path MotCli::dir_;
+
+TEST_F(MotCli, TrainClassifyAndInfo) {
+  auto r = run_cli("mot train" + inputs() + " --model " + file("a.mot") + " --json " +
+                   file("train.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("3 objects over 3 topics from 30 views"), std::string::npos) << r.out;
+  test::expect_schema_valid("mot_train.schema.json", file("train.json"));
+  const core::Json t = core::read_json(file("train.json"));
+  ASSERT_EQ(t["objects"].size(), 3U);
+  EXPECT_EQ(t["objects"][0]["name"], "baboon");
+  EXPECT_EQ(t["objects"][0]["views"].get<double>(), 10.0);
+
+  r = run_cli("mot classify" + inputs() + " --model " + file("a.mot") + " --out " + file("c.csv") +
+              " --json " + file("classify.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  test::expect_schema_valid("mot_classify.schema.json", file("classify.json"));
+  const core::Json c = core::read_json(file("classify.json"));
+  EXPECT_EQ(c["documents"], 30);
+  int total = 0;
+  for (const auto& row : c["confusion"]["counts"])
+    for (int n : row) total += n;
+  EXPECT_EQ(total, 30);
+  // The training views themselves: a photograph's crops are told apart.
+  EXPECT_GT(c["confusion"]["accuracy"].get<double>(), 0.6) << r.out;
+
+  const std::string csv = core::read_file(file("c.csv"));
+  std::istringstream lines(csv);
+  std::string header, first;
+  std::getline(lines, header);
+  std::getline(lines, first);
+  EXPECT_EQ(header, "document,source,frame,truth,class,p_baboon,p_building,p_fruits");
+  const auto fields = core::split_csv_line(first);
+  ASSERT_EQ(fields.size(), 8U);
+  EXPECT_EQ(fields[3], "baboon");
+  EXPECT_NEAR(std::stod(fields[5]) + std::stod(fields[6]) + std::stod(fields[7]), 1.0, 1e-4);
+  EXPECT_EQ(test::line_count(csv), 31);
+
+  r = run_cli("mot info --model " + file("a.mot") + " --json " + file("info.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("3 objects over 3 topics"), std::string::npos) << r.out;
+  test::expect_schema_valid("mot_info.schema.json", file("info.json"));
+}
+
+TEST_F(MotCli, MapsWriteOneImagePerTopic) {
+  const auto r =
+      run_cli("mot maps --lda-model " + file("m1.lda") + " --vocabulary " + file("v.vocab") +
+              " --image " + file("images/fruits/3.png") + " --sigma 6 --out " + file("maps"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(test::line_count(r.out), 3) << r.out;
+  for (const char* f : {"topic_1.png", "topic_2.png", "topic_3.png"})
+    EXPECT_TRUE(fs::exists(dir_ / "maps" / f)) << f;
+}
+
+TEST_F(MotCli, UnsupervisedChoosesTheNumberOfObjects) {
+  const auto r = run_cli("mot train" + inputs() + " --unsupervised --max-classes 5 --model " +
+                         file("u.mot") + " --json " + file("u.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  test::expect_schema_valid("mot_train.schema.json", file("u.json"));
+  const core::Json j = core::read_json(file("u.json"));
+  EXPECT_EQ(j["bic"].size(), 5U);
+  EXPECT_EQ(j["objects"][0]["name"], "object_1");
+}
+
+TEST_F(MotCli, AnotherLdaModelIsExit2) {
+  ASSERT_EQ(run_cli("mot train" + inputs() + " --model " + file("b.mot")).code, 0);
+  const auto r = run_cli("mot classify" + inputs("m2.lda") + " --model " + file("b.mot") +
+                         " --out " + file("x.csv"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("was built on LDA model"), std::string::npos) << r.err;
+  EXPECT_EQ(test::line_count(r.err), 1);
+  EXPECT_FALSE(fs::exists(file("x.csv")));
+}
+
+TEST_F(MotCli, BadInputIsOneLineAndExit2) {
+  // A damaged model file.
+  ASSERT_EQ(run_cli("mot train" + inputs() + " --model " + file("d.mot")).code, 0);
+  std::string bytes = core::read_file(file("d.mot"));
+  bytes[bytes.size() / 2] ^= 0x20;
+  core::write_file_atomic(file("d.mot"), bytes);
+  auto r = run_cli("mot info --model " + file("d.mot"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("checksum"), std::string::npos) << r.err;
+
+  // An object with one view.
+  fs::create_directories(dir_ / "one" / "baboon");
+  fs::create_directories(dir_ / "one" / "fruits");
+  for (int i = 0; i < 3; ++i)
+    fs::copy_file(dir_ / "images" / "baboon" / (std::to_string(i) + ".png"),
+                  dir_ / "one" / "baboon" / (std::to_string(i) + ".png"),
+                  fs::copy_options::overwrite_existing);
+  fs::copy_file(dir_ / "images" / "fruits" / "0.png", dir_ / "one" / "fruits" / "0.png",
+                fs::copy_options::overwrite_existing);
+  r = run_cli("mot train --lda-model " + file("m1.lda") + " --vocabulary " + file("v.vocab") +
+              " --images " + (dir_ / "one").string() + " --model " + file("e.mot"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("object 'fruits' has 1 view(s)"), std::string::npos) << r.err;
+
+  // Neither images nor episodes; both.
+  r = run_cli("mot train --lda-model " + file("m1.lda") + " --vocabulary " + file("v.vocab") +
+              " --model " + file("e.mot"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("either the images"), std::string::npos) << r.err;
+  // More objects than the views allow.
+  r = run_cli("mot train" + inputs() + " --unsupervised --classes 16 --model " + file("e.mot"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("16 objects from 30 views"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(file("e.mot")));
+}
+
+}  // namespace

@@ -1,0 +1,341 @@
+// The Mixture of Topics (thesis 7.1, 7.3.3, 8.1.2): supervised, unsupervised and online fits on
+// theta drawn from known Dirichlets, the posterior of eq 7.3, and bad input.
+#include "proprio/topics/mixture_of_topics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "../support/error_of.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+
+namespace proprio::topics {
+namespace {
+
+using test::error_of;
+
+::testing::AssertionResult has(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << '"' << text << "\" does not contain \"" << part << '"';
+}
+
+/// Three objects over T = 5 topics, each concentrated on its own topics (as LDA's theta of views
+/// of distinct objects), with some overlap.
+std::vector<Eigen::VectorXd> three_objects() {
+  Eigen::VectorXd a(5), b(5), c(5);
+  a << 4.0, 1.0, 0.3, 0.3, 0.5;
+  b << 0.5, 3.0, 3.0, 0.3, 0.4;
+  c << 0.4, 0.4, 0.6, 5.0, 2.0;
+  return {a, b, c};
+}
+
+struct Views {
+  Eigen::MatrixXd theta;
+  std::vector<int> labels;
+};
+
+Views draw(const std::vector<Eigen::VectorXd>& alphas, int per_object, std::uint64_t seed) {
+  core::Rng rng(seed);
+  const int t = static_cast<int>(alphas[0].size());
+  Views v;
+  v.theta.resize(static_cast<Eigen::Index>(alphas.size()) * per_object, t);
+  Eigen::Index r = 0;
+  for (std::size_t c = 0; c < alphas.size(); ++c) {
+    const Dirichlet dir(alphas[c]);
+    for (int i = 0; i < per_object; ++i) {
+      v.theta.row(r++) = dir.sample(rng).transpose();
+      v.labels.push_back(static_cast<int>(c));
+    }
+  }
+  return v;
+}
+
+double accuracy(const std::vector<int>& predicted, const std::vector<int>& truth) {
+  int right = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i) right += predicted[i] == truth[i] ? 1 : 0;
+  return static_cast<double>(right) / static_cast<double>(truth.size());
+}
+
+/// The accuracy of a clustering under the best matching of clusters to classes (3 classes).
+double best_permutation_accuracy(const std::vector<int>& clusters, const std::vector<int>& truth,
+                                 int k) {
+  std::vector<int> perm(static_cast<std::size_t>(k));
+  std::iota(perm.begin(), perm.end(), 0);
+  double best = 0;
+  do {
+    int right = 0;
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      right += perm[static_cast<std::size_t>(clusters[i])] == truth[i] ? 1 : 0;
+    }
+    best = std::max(best, static_cast<double>(right) / static_cast<double>(truth.size()));
+  } while (std::next_permutation(perm.begin(), perm.end()));
+  return best;
+}
+
+double max_relative_error(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
+  return ((got - want).array().abs() / want.array()).maxCoeff();
+}
+
+const std::vector<std::string> kNames{"book", "bottle", "giraffe"};
+
+TEST(MixtureOfTopics, SupervisedFitRecoversEachObjectsDirichlet) {
+  const auto alphas = three_objects();
+  const Views train = draw(alphas, 3000, 1);
+  const MotFit fit = fit_mot(train.theta, train.labels, kNames);
+  ASSERT_EQ(fit.model.num_classes(), 3);
+  EXPECT_EQ(fit.model.num_topics(), 5);
+  EXPECT_EQ(fit.summary.views, 9000);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(fit.model.objects[c].name, kNames[c]);
+    EXPECT_LT(max_relative_error(fit.model.objects[c].dirichlet.alpha(), alphas[c]), 0.1) << c;
+    EXPECT_TRUE(fit.summary.fits[c].converged);
+  }
+  EXPECT_TRUE(std::isfinite(fit.summary.log_likelihood));
+}
+
+TEST(MixtureOfTopics, ClassifiesHeldOutViewsNearlyAsTheTrueModelDoes) {
+  const auto alphas = three_objects();
+  const Views train = draw(alphas, 300, 2);
+  const Views test = draw(alphas, 500, 3);
+  const MotFit fit = fit_mot(train.theta, train.labels, kNames);
+  const MotClassification got = classify_mot(fit.model, test.theta);
+
+  // The Bayes classifier with the true alphas: the best any classifier can do.
+  MotModel truth;
+  for (int c = 0; c < 3; ++c) truth.objects.push_back({kNames[c], {}, Dirichlet(alphas[c]), 1.0});
+  const MotClassification ideal = classify_mot(truth, test.theta);
+  const double acc = accuracy(got.predicted, test.labels);
+  const double ideal_acc = accuracy(ideal.predicted, test.labels);
+  std::cout << "MoT accuracy " << acc << ", Bayes with the true alphas " << ideal_acc << '\n';
+  EXPECT_GT(acc, 0.9);
+  EXPECT_GT(acc, ideal_acc - 0.01);
+  ASSERT_EQ(got.posterior.rows(), test.theta.rows());
+  for (Eigen::Index d = 0; d < got.posterior.rows(); ++d) {
+    EXPECT_NEAR(got.posterior.row(d).sum(), 1.0, 1e-12);
+    EXPECT_TRUE(got.posterior.row(d).allFinite());
+  }
+}
+
+TEST(MixtureOfTopics, PosteriorIsBayesOverTheDirichlets) {  // eq 7.3
+  Eigen::VectorXd a(3), b(3);
+  a << 2.0, 1.0, 1.0;
+  b << 1.0, 1.0, 3.0;
+  MotModel m;
+  m.objects.push_back({"a", {}, Dirichlet(a), 3.0});
+  m.objects.push_back({"b", {}, Dirichlet(b), 1.0});
+  Eigen::MatrixXd theta(1, 3);
+  theta << 0.5, 0.3, 0.2;
+  const double la = Dirichlet(a).log_density(theta.row(0).transpose()) + std::log(0.75);
+  const double lb = Dirichlet(b).log_density(theta.row(0).transpose()) + std::log(0.25);
+  const MotClassification got = classify_mot(m, theta);
+  EXPECT_NEAR(got.posterior(0, 0), std::exp(la) / (std::exp(la) + std::exp(lb)), 1e-12);
+  EXPECT_NEAR(got.log_score(0, 1), lb, 1e-12);
+  EXPECT_EQ(got.predicted[0], la > lb ? 0 : 1);
+
+  m.prior = MotPrior::kUniform;
+  const double ua = la - std::log(0.75) + std::log(0.5);
+  const double ub = lb - std::log(0.25) + std::log(0.5);
+  EXPECT_NEAR(classify_mot(m, theta).posterior(0, 1), std::exp(ub) / (std::exp(ua) + std::exp(ub)),
+              1e-12);
+}
+
+TEST(MixtureOfTopics, ZerosInThetaAreFlooredNotNaN) {
+  const Views train = draw(three_objects(), 50, 4);
+  Eigen::MatrixXd theta = train.theta;
+  theta.row(0) << 1.0, 0.0, 0.0, 0.0, 0.0;
+  const MotFit fit = fit_mot(theta, train.labels, kNames);
+  const MotClassification got = classify_mot(fit.model, theta.topRows(3));
+  EXPECT_TRUE(got.posterior.allFinite());
+  EXPECT_TRUE(got.log_score.allFinite());
+}
+
+TEST(MixtureOfTopics, BadThetaIsAnErrorNamingTheRow) {
+  const Views v = draw(three_objects(), 4, 5);
+  Eigen::MatrixXd bad = v.theta;
+  bad(3, 1) = -0.1;
+  EXPECT_TRUE(has(error_of([&] { (void)fit_mot(bad, v.labels, kNames); }), "theta row 3, topic 1"));
+  bad = v.theta;
+  bad(7, 0) = std::nan("");
+  EXPECT_TRUE(has(error_of([&] { (void)fit_mot_unsupervised(bad); }), "theta row 7"));
+  bad = v.theta;
+  bad.row(5) *= 0.9;
+  EXPECT_TRUE(has(error_of([&] { (void)fit_mot(bad, v.labels, kNames); }), "theta row 5 sums to"));
+  const MotFit fit = fit_mot(v.theta, v.labels, kNames);
+  EXPECT_TRUE(has(error_of([&] { (void)classify_mot(fit.model, bad); }), "theta row 5"));
+  EXPECT_TRUE(has(error_of([&] { (void)classify_mot(fit.model, v.theta.leftCols(4)); }),
+                  "theta has 4 topics, the model 5"));
+}
+
+TEST(MixtureOfTopics, AnObjectWithFewerThanTwoViewsIsAnError) {
+  const Views v = draw(three_objects(), 3, 6);
+  std::vector<int> labels = v.labels;
+  std::fill(labels.begin() + 3, labels.begin() + 5, -1);  // bottle keeps one view
+  EXPECT_TRUE(has(error_of([&] { (void)fit_mot(v.theta, labels, kNames); }),
+                  "object 'bottle' has 1 view(s)"));
+  std::fill(labels.begin() + 3, labels.begin() + 6, -1);  // bottle has none
+  EXPECT_TRUE(has(error_of([&] { (void)fit_mot(v.theta, labels, kNames); }),
+                  "object 'bottle' has 0 view(s)"));
+  labels = v.labels;
+  labels[0] = 3;
+  EXPECT_TRUE(has(error_of([&] { (void)fit_mot(v.theta, labels, kNames); }), "label 3 of row 0"));
+  EXPECT_TRUE(has(error_of([&] { (void)fit_mot(v.theta, std::vector<int>(2, 0), kNames); }),
+                  "2 labels for 9 theta rows"));
+}
+
+TEST(MixtureOfTopics, MoreObjectsThanViewsAllowIsAnError) {
+  const Views v = draw(three_objects(), 3, 7);  // 9 views: at most 4 objects of 2 views
+  MotOptions o;
+  o.classes = 5;
+  EXPECT_TRUE(
+      has(error_of([&] { (void)fit_mot_unsupervised(v.theta, o); }), "5 objects from 9 views"));
+  EXPECT_TRUE(
+      has(error_of([&] { (void)fit_mot_unsupervised(v.theta.topRows(1), o); }), "1 view(s)"));
+  o.classes = 4;
+  EXPECT_NO_THROW((void)fit_mot_unsupervised(v.theta, o));
+}
+
+TEST(MixtureOfTopics, OptionsAreValidated) {
+  MotOptions o;
+  o.forgetting = 0;
+  EXPECT_TRUE(has(error_of([&] { o.validate(); }), "forgetting"));
+  o = {};
+  o.kmeans_restarts = 0;
+  EXPECT_TRUE(has(error_of([&] { o.validate(); }), "kmeans_restarts"));
+  o = {};
+  o.fit.tolerance = -1;
+  EXPECT_TRUE(has(error_of([&] { o.validate(); }), "tolerance"));
+}
+
+TEST(MixtureOfTopics, UnsupervisedFindsTheObjectsWhenToldHowMany) {
+  const Views v = draw(three_objects(), 200, 8);
+  MotOptions o;
+  o.classes = 3;
+  const MotFit fit = fit_mot_unsupervised(v.theta, o);
+  ASSERT_EQ(fit.model.num_classes(), 3);
+  EXPECT_EQ(fit.model.objects[0].name, "object_1");
+  const double acc = best_permutation_accuracy(fit.assignment, v.labels, 3);
+  std::cout << "unsupervised clustering accuracy " << acc << ", hard-EM rounds "
+            << fit.summary.refine_rounds << '\n';
+  EXPECT_GT(acc, 0.9);
+  // Deterministic for the seed.
+  EXPECT_EQ(fit_mot_unsupervised(v.theta, o).assignment, fit.assignment);
+}
+
+TEST(MixtureOfTopics, BicChoosesTheNumberOfObjects) {
+  MotOptions o;  // classes = 0: chosen
+  o.max_classes = 6;
+  const Views three = draw(three_objects(), 150, 9);
+  const MotFit fit3 = fit_mot_unsupervised(three.theta, o);
+  EXPECT_EQ(fit3.model.num_classes(), 3) << fit3.summary.brief();
+  ASSERT_EQ(fit3.summary.bic.size(), 6U);
+  EXPECT_EQ(
+      std::min_element(fit3.summary.bic.begin(), fit3.summary.bic.end()) - fit3.summary.bic.begin(),
+      2);
+
+  const Views one = draw({three_objects()[1]}, 300, 10);
+  EXPECT_EQ(fit_mot_unsupervised(one.theta, o).model.num_classes(), 1);
+}
+
+TEST(MixtureOfTopics, ExactUpdateWithoutForgettingEqualsOneFitOfAllViews) {
+  const auto alphas = three_objects();
+  const Views first = draw(alphas, 40, 11);
+  const Views second = draw(alphas, 30, 12);
+  MotFit fit = fit_mot(first.theta, first.labels, kNames);
+  std::vector<std::string> names;
+  for (const int l : second.labels) names.push_back(kNames[l]);
+  const MotUpdateSummary s = update_mot(fit.model, second.theta, names);
+  EXPECT_EQ(s.views, 90);
+  EXPECT_EQ(s.new_objects, 0);
+
+  Eigen::MatrixXd all(first.theta.rows() + second.theta.rows(), 5);
+  all << first.theta, second.theta;
+  std::vector<int> labels = first.labels;
+  labels.insert(labels.end(), second.labels.begin(), second.labels.end());
+  const MotFit batch = fit_mot(all, labels, kNames);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_LT(max_relative_error(fit.model.objects[c].dirichlet.alpha(),
+                                 batch.model.objects[c].dirichlet.alpha()),
+              1e-6);
+    EXPECT_DOUBLE_EQ(fit.model.objects[c].views, 70.0);
+  }
+}
+
+TEST(MixtureOfTopics, UpdateAddsNewObjectsAndRefusesOneViewObjects) {
+  const auto alphas = three_objects();
+  const Views v = draw(alphas, 20, 13);
+  std::vector<int> labels = v.labels;
+  for (auto& l : labels) l = l == 2 ? -1 : l;
+  MotFit fit = fit_mot(v.theta, labels, {"book", "bottle"});
+  ASSERT_EQ(fit.model.num_classes(), 2);
+  const MotModel before = fit.model;
+
+  std::vector<std::string> names(static_cast<std::size_t>(v.theta.rows()));
+  names[45] = "giraffe";  // one view of a new object
+  EXPECT_TRUE(has(error_of([&] { (void)update_mot(fit.model, v.theta, names); }),
+                  "new object 'giraffe' has 1 view(s)"));
+  EXPECT_EQ(fit.model.num_classes(), 2);
+  EXPECT_EQ(fit.model.objects[0].dirichlet.alpha(), before.objects[0].dirichlet.alpha());
+
+  for (int d = 40; d < 60; ++d) names[static_cast<std::size_t>(d)] = "giraffe";
+  const MotUpdateSummary s = update_mot(fit.model, v.theta, names);
+  EXPECT_EQ(s.new_objects, 1);
+  ASSERT_EQ(fit.model.num_classes(), 3);
+  EXPECT_EQ(fit.model.objects[2].name, "giraffe");
+}
+
+/// The two online rules on a stream of batches of new views: the relative error of alpha after
+/// each, for a fixed object (stationary) and for one whose Dirichlet changes halfway (drift).
+struct StreamErrors {
+  double stationary = 0;
+  double drift = 0;
+};
+
+StreamErrors run_stream(MotUpdateRule rule, double forgetting) {
+  Eigen::VectorXd a(4), b(4);
+  a << 3.0, 1.0, 0.5, 0.5;
+  b << 0.5, 0.5, 1.0, 3.0;
+  constexpr int kBatches = 20;
+  constexpr int kBatchViews = 20;
+  StreamErrors out;
+  for (const bool drift : {false, true}) {
+    double err = 0;
+    for (std::uint64_t rep = 0; rep < 10; ++rep) {
+      const Views first = draw({a}, kBatchViews, 100 + rep);
+      MotModel m = fit_mot(first.theta, first.labels, {"o"}).model;
+      MotOptions o;
+      o.update = rule;
+      o.forgetting = forgetting;
+      for (int i = 1; i < kBatches; ++i) {
+        const Eigen::VectorXd& now = drift && i >= kBatches / 2 ? b : a;
+        const Views batch = draw({now}, kBatchViews, 1000 * (rep + 1) + i);
+        o.seed = 7 * rep + i;
+        (void)update_mot(m, batch.theta, std::vector<std::string>(kBatchViews, "o"), o);
+      }
+      err += max_relative_error(m.objects[0].dirichlet.alpha(), drift ? b : a);
+    }
+    (drift ? out.drift : out.stationary) = err / 10;
+  }
+  return out;
+}
+
+TEST(MixtureOfTopics, ExactUpdateBeatsResamplingOnAStationaryObject) {
+  const StreamErrors exact = run_stream(MotUpdateRule::kExact, 1.0);
+  const StreamErrors forget = run_stream(MotUpdateRule::kExact, 0.5);
+  const StreamErrors resample = run_stream(MotUpdateRule::kResample, 1.0);
+  std::cout << "mean max relative alpha error after 20 batches of 20 views (stationary, drift "
+               "halfway):\n  exact "
+            << exact.stationary << ", " << exact.drift << "\n  exact, forgetting 0.5 "
+            << forget.stationary << ", " << forget.drift << "\n  resample (50:50) "
+            << resample.stationary << ", " << resample.drift << '\n';
+  EXPECT_LT(exact.stationary, resample.stationary);
+  EXPECT_LT(forget.drift, exact.drift);  // forgetting follows an object that changes
+}
+
+}  // namespace
+}  // namespace proprio::topics

@@ -1,0 +1,131 @@
+// Mixture of Topics model files: a round trip, every truncation and flipped byte an Error, sizes
+// bounded before allocating, and the LDA model / vocabulary they were built on enforced.
+#include "proprio/topics/mot_model_io.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "../support/error_of.hpp"
+#include "../support/temp_dir.hpp"
+#include "proprio/core/binary_file.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+
+namespace proprio::topics {
+namespace {
+
+using test::error_of;
+
+::testing::AssertionResult has(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << '"' << text << "\" does not contain \"" << part << '"';
+}
+
+LdaModel small_lda(double shift = 0.0) {
+  LdaModel m;
+  m.lambda.resize(3, 5);
+  for (int k = 0; k < 3; ++k) {
+    for (int w = 0; w < 5; ++w) m.lambda(k, w) = 1.0 + k + 0.5 * w + shift;
+  }
+  m.alpha = 0.3;
+  m.eta = 0.1;
+  return m;
+}
+
+MotModel small_model() {
+  core::Rng rng(3);
+  Eigen::VectorXd a(3), b(3);
+  a << 3.0, 1.0, 0.5;
+  b << 0.5, 1.0, 3.0;
+  Eigen::MatrixXd theta(40, 3);
+  std::vector<int> labels;
+  for (int i = 0; i < 40; ++i) {
+    theta.row(i) = Dirichlet(i < 20 ? a : b).sample(rng).transpose();
+    labels.push_back(i < 20 ? 0 : 1);
+  }
+  return fit_mot(theta, labels, {"cup", "toy giraffe"}).model;
+}
+
+TEST(MotModelIo, RoundTripsExactly) {
+  test::TempDir dir("proprio_mot_io_");
+  const MotModel m = small_model();
+  const std::uint32_t vocab = 0xDEADBEEF;
+  const MotBasis basis = mot_basis(small_lda(), &vocab);
+  save_mot_model(m, basis, dir.path() / "m.mot");
+  const MotModelFile f = load_mot_model(dir.path() / "m.mot");
+  EXPECT_EQ(f.basis, basis);
+  ASSERT_EQ(f.model.num_classes(), 2);
+  EXPECT_EQ(f.model.prior, m.prior);
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_EQ(f.model.objects[c].name, m.objects[c].name);
+    EXPECT_EQ(f.model.objects[c].dirichlet.alpha(), m.objects[c].dirichlet.alpha());
+    EXPECT_EQ(f.model.objects[c].stats.mean_log(), m.objects[c].stats.mean_log());
+    EXPECT_EQ(f.model.objects[c].stats.count(), m.objects[c].stats.count());
+    EXPECT_EQ(f.model.objects[c].views, m.objects[c].views);
+  }
+  EXPECT_EQ(serialize_mot_model(f.model, f.basis), serialize_mot_model(m, basis));
+}
+
+TEST(MotModelIo, EveryTruncationAndFlippedByteIsAnError) {
+  const std::string bytes = serialize_mot_model(small_model(), mot_basis(small_lda()));
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    EXPECT_THROW((void)parse_mot_model(bytes.substr(0, n), "t.mot"), Error) << n;
+  }
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    for (const unsigned char bit : {0x01, 0x80}) {
+      std::string b = bytes;
+      b[i] = static_cast<char>(static_cast<unsigned char>(b[i]) ^ bit);
+      EXPECT_THROW((void)parse_mot_model(b, "t.mot"), Error) << "byte " << i;
+    }
+  }
+  std::string flipped = bytes;
+  flipped[bytes.size() - 1] ^= 0x04;
+  EXPECT_TRUE(has(error_of([&] { (void)parse_mot_model(flipped, "t.mot"); }), "checksum"));
+}
+
+TEST(MotModelIo, HostileSizesAreRefusedBeforeAllocating) {
+  // A well-framed file (valid checksum) whose payload claims 100,000 objects of 100,000 topics.
+  std::string payload;
+  core::put_binary(payload, std::uint32_t{100000});
+  core::put_binary(payload, std::uint32_t{100000});
+  for (int i = 0; i < 5; ++i) core::put_binary(payload, std::uint32_t{1});
+  const std::string file =
+      core::frame_binary({"PRMOTMDL", kMotModelFormatVersion, "Mixture of Topics model"}, payload);
+  EXPECT_TRUE(
+      has(error_of([&] { (void)parse_mot_model(file, "h.mot"); }), "sizes T = 100000, C = 100000"));
+  // A negative alpha with a valid checksum.
+  std::string good = serialize_mot_model(small_model(), mot_basis(small_lda()));
+  std::string body = good.substr(core::kBinaryHeaderBytes);
+  const double minus = -1.0;
+  std::memcpy(body.data() + body.size() - 8, &minus, 8);
+  const std::string bad =
+      core::frame_binary({"PRMOTMDL", kMotModelFormatVersion, "Mixture of Topics model"}, body);
+  EXPECT_TRUE(has(error_of([&] { (void)parse_mot_model(bad, "h.mot"); }), "corrupt"));
+}
+
+TEST(MotModelIo, AnotherLdaModelOrVocabularyIsAnError) {
+  const std::uint32_t vocab = 7;
+  const MotBasis basis = mot_basis(small_lda(), &vocab);
+  EXPECT_NO_THROW(check_mot_basis(basis, small_lda(), &vocab, "m.mot"));
+  EXPECT_NO_THROW(check_mot_basis(basis, small_lda(), nullptr, "m.mot"));
+  EXPECT_TRUE(has(error_of([&] { check_mot_basis(basis, small_lda(1e-9), &vocab, "m.mot"); }),
+                  "was built on LDA model"));
+  const std::uint32_t other = 8;
+  EXPECT_TRUE(has(error_of([&] { check_mot_basis(basis, small_lda(), &other, "m.mot"); }),
+                  "vocabulary 00000007"));
+  EXPECT_NE(lda_model_checksum(small_lda()), lda_model_checksum(small_lda(1e-9)));
+}
+
+TEST(MotModelIo, RefusesAModelOfAnotherTopicCountThanItsBasis) {
+  LdaModel four = small_lda();
+  four.lambda.conservativeResize(4, 5);
+  four.lambda.row(3).setConstant(2.0);
+  EXPECT_TRUE(has(error_of([&] { (void)serialize_mot_model(small_model(), mot_basis(four)); }),
+                  "of 3 topics recorded as built on an LDA model of 4"));
+}
+
+}  // namespace
+}  // namespace proprio::topics
