@@ -47,6 +47,7 @@ int run(int argc, char** argv) {
   register_segment_commands(root, inv);
   register_vocab_commands(root, inv);
   register_recognition_commands(root, inv);
+  register_push_commands(root, inv);
 
   try {
     root.parse(argc, argv);
