@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -23,9 +24,10 @@ namespace {
 constexpr int kMaxTableObjects = 8;
 constexpr int kScatterAttempts = 400;
 constexpr int kSettleSteps = 150;       // physics steps for objects to come to rest (0.3 s)
-constexpr double kFallenBelow = -0.01;  // m: an object's origin this far below its rest is off
-// Where the arm waits between pushes: above and behind its base, out of the camera's view.
-const Eigen::Vector3d kParkPoint(-0.06, 0.10, 0.32);
+constexpr double kFallenBelow = -0.01;  // m: an object's origin below the table top is off
+// Where the arm waits between pushes, j1..j5 (rad): turned toward -x, upper arm raised, forearm
+// and hand folded up.
+constexpr std::array<double, robot::kArmJoints> kParkJoints{2.9, 0.3, 1.2, 1.0, 0.0};
 
 }  // namespace
 
@@ -87,7 +89,8 @@ std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& 
       const double yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
       const Footprint f = footprint(*t, p, yaw);
       const double r = f.h.norm();
-      double o = std::max(0.0, region.base_clearance + r - f.c.norm());
+      double o = std::max(0.0, region.base_clearance + r - f.c.norm()) +
+                 std::max(0.0, f.c.norm() - region.max_radius);
       for (const Footprint& g : taken) o += overlap(f, g, region.gap);
       if (o < best_overlap) {
         best_overlap = o;
@@ -136,8 +139,8 @@ SceneDescription table_scene(const TableOptions& options,
   CameraSpec& cam = scene.cameras.at(0);
   cam.width = options.width;
   cam.height = options.height;
-  cam.position = {0.30, -0.62, 0.72};
-  cam.target = {0.30, 0.02, 0.0};
+  cam.position = {0.24, -0.40, 0.80};
+  cam.target = {0.24, 0.02, 0.0};
   for (std::size_t i = 0; i < types.size(); ++i) {
     PlacedObject o;
     o.type = types[i]->name;
@@ -176,16 +179,12 @@ struct SimulatedRobot::State {
     return r;
   }
 
+  // Parks the arm turned away from the table (j1 near its limit, toward -x) and folded up, out
+  // of the camera's view.
   void park() {
-    robot::IkOptions ik;
-    ik.pitch = 0;
-    robot::JointVector q = world.arm_joints();
-    try {
-      q = robot::solve_ik(ik_state, kParkPoint, q, ik).q;
-    } catch (const Error& e) {
-      spdlog::warn("simulated robot: cannot park the arm ({}); it stays", e.what());
-    }
-    world.set_arm_configuration(q);
+    robot::JointVector q;
+    q << kParkJoints[0], kParkJoints[1], kParkJoints[2], kParkJoints[3], kParkJoints[4];
+    world.set_arm_configuration(world.arm().clamp(q));
   }
 
   void settle() {
@@ -273,6 +272,13 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
       std::max(1, static_cast<int>(std::lround(1.0 / (recording.fps * world.timestep()))));
 
   world.set_arm_configuration(motion.q_above_start);
+  if (!world.objects_touched_by_arm().empty()) {
+    // The transit is not simulated: an arm put into an object would throw it across the room.
+    s_->park();
+    world.forward();
+    throw Error("push: the arm above the start (" + std::to_string(push.start.x()) + ", " +
+                std::to_string(push.start.y()) + ") m would be inside an object; nothing moved");
+  }
   robot::PushReport report;
   report.push = push;
   s_->contacts.clear();
@@ -335,7 +341,8 @@ std::vector<ObjectTruth> SimulatedRobot::ground_truth() const {
     const Eigen::Vector3d x_axis = pose.rotation().col(0);
     t.yaw = std::atan2(x_axis.y(), x_axis.x());
     t.footprint_radius = o.type.footprint_radius();
-    t.on_table = t.position.z() > o.type.bottom() + kFallenBelow && t.position.x() >= lo.x() &&
+    t.upright = x_axis.z() > -0.5 && x_axis.z() < 0.5 && pose.rotation()(2, 2) > 0.7;
+    t.on_table = t.position.z() > kFallenBelow && t.position.x() >= lo.x() &&
                  t.position.x() <= hi.x() && t.position.y() >= lo.y() && t.position.y() <= hi.y();
     out.push_back(t);
   }

@@ -53,6 +53,7 @@ struct ObjectTruth {
   double yaw = 0;               ///< rad about world z
   double footprint_radius = 0;  ///< m
   bool on_table = true;         ///< still on the table top (not fallen off)
+  bool upright = true;          ///< its z axis still points up (not toppled)
 };
 
 /// Where a scatter put one object.
@@ -65,11 +66,14 @@ struct Placement {
 /// The part of the table objects are scattered over (m, world x y): in front of the arm, inside
 /// the camera's view, clear of the arm's base.
 struct ScatterRegion {
-  Eigen::Vector2d min{0.10, -0.28};
-  Eigen::Vector2d max{0.50, 0.28};
+  Eigen::Vector2d min{0.08, -0.30};
+  Eigen::Vector2d max{0.46, 0.30};
+  /// Most distance from the base axis to an object's box centre, m: within the arm's reach
+  /// (0.49 m at the table with the pitch free) with room to push from behind.
+  double max_radius = 0.40;
   /// Least distance from the base axis to an object's box centre, plus its half diagonal, m.
   double base_clearance = 0.10;
-  double gap = 0.015;  ///< least gap between two objects' footprints (yawed bounding boxes), m
+  double gap = 0.03;  ///< least gap between two objects' footprints (yawed bounding boxes), m
 };
 
 /// Places `types` at random non-overlapping places (their bounding boxes, turned by their yaw,
@@ -94,7 +98,9 @@ class SimulatedRobot final : public robot::Robot {
   [[nodiscard]] robot::JointVector joints() const override;
   /// The arm is put above the push's start at once (the transit is not simulated), lowered,
   /// pushes, is lifted, and the objects are left to come to rest; then the arm is parked out of
-  /// the view again. The touch flag is MuJoCo's contact of the arm with any object.
+  /// the view again. The touch flag is MuJoCo's contact of the arm with any object. Throws Error,
+  /// with nothing moved, when the arm put above the start would be inside an object (a tall one
+  /// under the hand).
   robot::PushReport push(const robot::TablePush& push,
                          const robot::PushRecording& recording) override;
 
