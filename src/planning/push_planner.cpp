@@ -18,6 +18,9 @@ constexpr double kTransitLift = 0.06;       // m: robot::PushMotionOptions::lift
 constexpr int kCorridorLines = 5;           // lines across the swept corridor
 constexpr double kEdgeWeight = 1.0;         // kEdge: cost per image side of distance to the edge
 constexpr double kMetresToMm = 1000.0;      // hull computation in integer-free float mm
+// Rate at which the chosen path's whole motion is checked, Hz: the simulated controller's,
+// so that a joint jump (an IK branch change) on the way is caught as it would be there.
+constexpr double kMotionCheckRate = 500.0;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -99,11 +102,42 @@ std::vector<Eigen::Vector2d> convex_hull(const std::vector<Eigen::Vector2d>& poi
   return out;
 }
 
+// The footprint of a blob seen from camera centre `eye` (world): its hull back-projected onto the
+// table top, cut at the lateral width beyond the edge nearest the camera; its centre in `centre`.
+std::vector<Eigen::Vector2d> footprint(const std::vector<Eigen::Vector2d>& table_hull,
+                                       const Eigen::Vector2d& eye, Eigen::Vector2d& centre) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : table_hull) mean += p;
+  mean /= static_cast<double>(table_hull.size());
+  Eigen::Vector2d u = mean - eye;  // away from the camera, along the table
+  if (u.norm() < 1e-9) u = Eigen::Vector2d::UnitY();
+  u.normalize();
+  const Eigen::Vector2d v(-u.y(), u.x());
+  double near = std::numeric_limits<double>::infinity();
+  double vmin = near;
+  double vmax = -near;
+  for (const auto& p : table_hull) {
+    near = std::min(near, p.dot(u));
+    vmin = std::min(vmin, p.dot(v));
+    vmax = std::max(vmax, p.dot(v));
+  }
+  const double half = 0.5 * (vmax - vmin);
+  const double far = near + 2 * half;
+  centre = (near + half) * u + 0.5 * (vmin + vmax) * v;
+  std::vector<Eigen::Vector2d> cut;
+  for (const auto& p : table_hull) {
+    const double s = std::min(p.dot(u), far);
+    cut.push_back(s * u + p.dot(v) * v);
+  }
+  return cut;
+}
+
 // The putative object of one blob, or none when it does not map onto the table.
 std::optional<PutativeObject> putative_object(const features::Blob& blob,
                                               const std::vector<cv::KeyPoint>& features,
                                               const geometry::Camera& camera,
-                                              const TableRegion& region, double height) {
+                                              const TableRegion& region,
+                                              const PushPlanOptions& options) {
   PutativeObject o;
   o.box = blob.box;
   o.mask = blob.mask;
@@ -118,8 +152,15 @@ std::optional<PutativeObject> putative_object(const features::Blob& blob,
   o.hull_pixels = convex_hull(o.pixels, 1.0);
   std::vector<Eigen::Vector2d> table;
   try {
-    o.centre = robot::pixel_to_table(camera, o.centre_pixel, height);
-    for (const auto& h : o.hull_pixels) table.push_back(robot::pixel_to_table(camera, h, height));
+    if (options.centre == CentreMethod::kFeatures) {
+      o.centre = robot::pixel_to_table(camera, o.centre_pixel, options.centre_height);
+      for (const auto& h : o.hull_pixels) {
+        table.push_back(robot::pixel_to_table(camera, h, options.centre_height));
+      }
+    } else {
+      for (const auto& h : o.hull_pixels) table.push_back(robot::pixel_to_table(camera, h, 0.0));
+      table = footprint(table, camera.center().head<2>(), o.centre);
+    }
   } catch (const Error&) {
     return std::nullopt;  // above the horizon: not on the table
   }
@@ -152,7 +193,7 @@ PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
   const std::vector<cv::KeyPoint>& kept = view.features;
   view.density = features::feature_density(kept, view.image_size, options.blobs);
   for (const features::Blob& b : features::find_blobs(kept, view.image_size, options.blobs)) {
-    if (auto o = putative_object(b, kept, camera, region, options.centre_height)) {
+    if (auto o = putative_object(b, kept, camera, region, options)) {
       view.objects.push_back(std::move(*o));
     }
   }
@@ -338,8 +379,14 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   }
   const cv::Mat1f others = others_density(view, o);
   core::Rng rng(options.seed);
-  double best = std::numeric_limits<double>::infinity();
   const robot::IkOptions ik;
+  struct Candidate {
+    double cost;
+    Eigen::Vector2d target;
+    double approach;
+    robot::TablePush push;
+  };
+  std::vector<Candidate> feasible;
   for (int i = 0; i < options.candidates; ++i) {
     ++plan.sampled;
     Eigen::Vector2d t = target;
@@ -367,23 +414,37 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       ++plan.rejected_region;
       continue;
     }
-    double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
-                            options.path_step);
-    if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
-    if (cost >= best) continue;  // reachability only for a better path
     if (!robot::reachable(arm, push.start, push.height, q_rest, ik) ||
         !robot::reachable(arm, push.start, push.height + kTransitLift, q_rest, ik) ||
         !robot::reachable(arm, push.end, push.height, q_rest, ik)) {
       ++plan.rejected_reach;
       continue;
     }
-    best = cost;
-    plan.target = t;
-    plan.push = push;
-    plan.approach = approach;
-    plan.cost = cost;
-    plan.direction = (t - o.centre).normalized();
+    double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
+                            options.path_step);
+    if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
+    feasible.push_back({cost, t, approach, push});
+  }
+  std::stable_sort(feasible.begin(), feasible.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  double best = std::numeric_limits<double>::infinity();
+  robot::PushMotionOptions motion;
+  motion.rate_hz = kMotionCheckRate;
+  for (const Candidate& c : feasible) {
+    try {
+      (void)robot::plan_push_motion(arm, c.push, q_rest, motion);
+    } catch (const Error&) {
+      ++plan.rejected_reach;
+      continue;
+    }
+    best = c.cost;
+    plan.target = c.target;
+    plan.push = c.push;
+    plan.approach = c.approach;
+    plan.cost = c.cost;
+    plan.direction = (c.target - o.centre).normalized();
     plan.edge_distance = distance_to_hull_edge(o.hull, o.centre, -plan.direction);
+    break;
   }
   if (!std::isfinite(best)) {
     return finish(PlanOutcome::kUnreachable,

@@ -44,17 +44,31 @@ enum class PushGoal {
 inline constexpr core::ChoiceNames<PushGoal, 2> kPushGoalNames{
     {{"target", PushGoal::kTarget}, {"edge", PushGoal::kEdge}}};
 
+/// How an object's centre p_c and footprint come from its features.
+enum class CentreMethod {
+  /// The mean feature position back-projected at centre_height (the thesis's centre of mass).
+  /// Tall objects come out too far from the camera: their features lie above the table.
+  kFeatures,
+  /// Parallax corrected from the footprint: the blob's edge nearest the camera is the object's
+  /// foot (on the table); its lateral width (across the line of sight, where parallax does not
+  /// stretch it) is taken as its depth too, and p_c is the middle of that footprint.
+  kFootprint,
+};
+inline constexpr core::ChoiceNames<CentreMethod, 2> kCentreMethodNames{
+    {{"features", CentreMethod::kFeatures}, {"footprint", CentreMethod::kFootprint}}};
+
 struct PushPlanOptions {
   // Putative objects (6.2).
   int grid_step = 6;         ///< spacing of the dense feature grid, px
   int patch = 12;            ///< side of the patch whose contrast is measured, px
   double min_contrast = 10;  ///< grey-level standard deviation a patch needs to be a feature
-  /// Blobs: sigma 8 px, threshold 8 (about a third of the density of a fully textured patch
-  /// with a 6 px grid), so that objects a few centimetres apart stay apart.
-  features::BlobOptions blobs{8.0, 8.0, 8};
+  /// Blobs: sigma 6 px, threshold 4 (about two thirds of the density of a fully textured patch with
+  /// a 6 px grid), so that objects a few centimetres apart stay apart.
+  features::BlobOptions blobs{6.0, 4.0, 8};
   /// Height above the table at which feature points are back-projected, m: the middle of a
   /// typical object's textured side (corrects most of the parallax of tall objects).
   double centre_height = 0.02;
+  CentreMethod centre = CentreMethod::kFeatures;
   // Sampling (7.2.1): random approach lengths and targets, the least-cost path kept.
   int candidates = 48;          ///< paths sampled
   double min_approach = 0.02;   ///< pusher start to the object's edge, least, m
@@ -83,6 +97,9 @@ struct PushPlanOptions {
       {"blob_threshold", "Density threshold of a blob (features within sigma)", core::positive()});
     v(self.centre_height,
       {"centre_height", "Height features are back-projected at, m", core::between(0, 0.2)});
+    v.choice(self.centre,
+             {"centre", "Object centre: features (mean, thesis) or footprint (parallax corrected)"},
+             kCentreMethodNames);
     v(self.candidates,
       {"candidates", "Paths sampled; the least-cost one is kept", core::between(1, 10000)});
     v(self.min_approach,
@@ -107,11 +124,11 @@ struct PushPlanOptions {
 
 /// One putative object: a feature-density blob (6.2) mapped to the table.
 struct PutativeObject {
-  cv::Rect box;                              ///< blob bounding box, px
-  cv::Mat1b mask;                            ///< box-sized, 255 inside the blob
-  std::vector<Eigen::Vector2d> pixels;       ///< its feature points, px
-  Eigen::Vector2d centre_pixel;              ///< mean feature position, px
-  Eigen::Vector2d centre;                    ///< p_c: centre_pixel back-projected, table m
+  cv::Rect box;                         ///< blob bounding box, px
+  cv::Mat1b mask;                       ///< box-sized, 255 inside the blob
+  std::vector<Eigen::Vector2d> pixels;  ///< its feature points, px
+  Eigen::Vector2d centre_pixel;         ///< mean feature position, px
+  Eigen::Vector2d centre;               ///< p_c on the table, m (PushPlanOptions::centre says how)
   std::vector<Eigen::Vector2d> hull_pixels;  ///< convex hull of the features, px
   std::vector<Eigen::Vector2d> hull;         ///< the hull back-projected to the table, m (CCW)
 };
@@ -208,8 +225,10 @@ double path_cost(const cv::Mat1f& density, const geometry::Camera& camera,
 /// Plans a push of view.objects[object] toward `target` (kTarget, table m) or toward the edge of
 /// the view (kEdge; `target` ignored): samples options.candidates targets and approaches, rejects
 /// those that leave the region or that the arm cannot reach from `q_rest` (robot::reachable at the
-/// start, above it and at the end), keeps the least-cost one. Bad outside input (a non-finite
-/// target, bad options) throws Error; every planning failure is an outcome with a message.
+/// start, above it and at the end), and keeps the least-cost one whose whole motion
+/// (robot::plan_push_motion: lowering, push, lifting) tracks without a joint jump. Bad outside
+/// input (a non-finite target, bad options) throws Error; every planning failure is an outcome with
+/// a message.
 PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
                    const Eigen::Vector2d& target, const TableRegion& region, robot::ArmState& arm,
                    const robot::JointVector& q_rest, const PushPlanOptions& options);
