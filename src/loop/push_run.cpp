@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -73,6 +74,7 @@ core::Json score_json(const PushScore& s) {
   core::Json j;
   j["intended"] = s.intended;
   j["final_distance"] = s.final_distance >= 0 ? core::Json(s.final_distance) : core::Json();
+  j["centre_error"] = s.centre_error >= 0 ? core::Json(s.centre_error) : core::Json();
   j["moved_intended"] = s.moved_intended;
   j["moved_others"] = s.moved_others;
   j["only_intended"] = s.only_intended;
@@ -149,6 +151,43 @@ int putative_object_on(const planning::PlanningView& view, const cv::Mat& mask, 
   return best;
 }
 
+namespace {
+
+cv::Point pixel(const geometry::Camera& cam, const Eigen::Vector2d& p, double height) {
+  const Eigen::Vector2d px = cam.project(Eigen::Vector3d(p.x(), p.y(), height));
+  return {static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y()))};
+}
+
+// The look with the putative objects (boxes, hulls, centres) and the plan (path red, target
+// green) drawn on it.
+cv::Mat draw_plan(const robot::Look& look, const planning::PlanningView& view,
+                  const planning::PushPlan& plan, const sim::ObjectTruth* truth) {
+  cv::Mat img = look.image.clone();
+  const cv::Scalar cyan(255, 255, 0);
+  for (const auto& o : view.objects) {
+    cv::rectangle(img, o.box, cyan, 1);
+    std::vector<cv::Point> hull;
+    for (const auto& h : o.hull_pixels) {
+      hull.emplace_back(static_cast<int>(std::lround(h.x())), static_cast<int>(std::lround(h.y())));
+    }
+    cv::polylines(img, hull, true, cyan, 1);
+    cv::circle(img, pixel(look.camera, o.centre, 0.0), 3, cyan, -1);
+  }
+  for (const auto& f : view.features) cv::circle(img, f.pt, 1, cv::Scalar(0, 200, 255), -1);
+  if (truth != nullptr) {  // ground truth, magenta: where the object's centre really is
+    cv::drawMarker(img, pixel(look.camera, truth->centre.head<2>(), 0.0), cv::Scalar(255, 0, 255),
+                   cv::MARKER_CROSS, 12, 2);
+  }
+  if (plan.outcome == planning::PlanOutcome::kPlanned) {
+    cv::arrowedLine(img, pixel(look.camera, plan.push.start, plan.push.height),
+                    pixel(look.camera, plan.push.end, plan.push.height), cv::Scalar(0, 0, 255), 2);
+    cv::circle(img, pixel(look.camera, plan.target, 0.0), 5, cv::Scalar(0, 255, 0), -1);
+  }
+  return img;
+}
+
+}  // namespace
+
 PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
                         const core::Provenance& provenance) {
   options.validate();
@@ -197,22 +236,36 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
       rec.fps = options.fps;
       rec.overwrite = options.overwrite;
       rec.run = provenance;
-      r.report = robot.push(r.plan.push, rec);
-      r.score =
-          score(before, robot.ground_truth(), intended, r.plan.target, robot.last_push_contacts());
-      if (!r.score.moved_intended && !r.score.moved_others) {
-        r.outcome = PushOutcome::kMovedNothing;
-        r.message = "the push moved nothing";
-      } else if (!r.score.moved_intended) {
-        r.outcome = PushOutcome::kMovedWrong;
-        r.message = "the push moved another object, not the " + intended;
-      } else {
-        r.outcome = PushOutcome::kPushed;
-        r.message = r.plan.message;
+      try {
+        r.report = robot.push(r.plan.push, rec);
+      } catch (const Error& e) {
+        r.outcome = PushOutcome::kRobotRefused;
+        r.message = e.what();
+      }
+      if (r.report) {
+        r.score = score(before, robot.ground_truth(), intended, r.plan.target,
+                        robot.last_push_contacts());
+        if (const sim::ObjectTruth* t = find_truth(before, intended)) {
+          r.score.centre_error = (t->centre.head<2>() - r.plan.centre).norm();
+        }
+        if (!r.score.moved_intended && !r.score.moved_others) {
+          r.outcome = PushOutcome::kMovedNothing;
+          r.message = "the push moved nothing";
+        } else if (!r.score.moved_intended) {
+          r.outcome = PushOutcome::kMovedWrong;
+          r.message = "the push moved another object, not the " + intended;
+        } else {
+          r.outcome = PushOutcome::kPushed;
+          r.message = r.plan.message;
+        }
       }
     }
   }
   if (r.outcome != PushOutcome::kPushed) spdlog::warn("push: {}", r.message);
+  if (!options.out.empty()) {
+    cv::imwrite((options.out / "plan.png").string(),
+                draw_plan(look, view, r.plan, find_truth(before, intended)));
+  }
 
   core::Json& d = r.document;
   d = core::result_document(kPushFormat, kFormatVersion, provenance);
@@ -286,15 +339,17 @@ double percentile(std::vector<double> v, double q) {
 
 std::string PushEvaluationResult::brief() const {
   char b[512];
-  std::snprintf(b, sizeof b,
-                "%d tables: %d pushed, %d not planned, %d object not seen\n"
-                "final distance to target: median %.1f mm, 90th pct %.1f mm\n"
-                "moved the intended object and only it: %.0f%%; arm touched another: %.0f%%; "
-                "objects off the table: %d\n"
-                "plan time: median %.2f ms, max %.2f ms; look %.1f ms",
-                tables, planned, not_planned, not_seen, median_distance * kMs, p90_distance * kMs,
-                100 * only_intended_rate, 100 * touched_other_rate, off_table, median_plan_ms,
-                max_plan_ms, median_look_ms);
+  std::snprintf(
+      b, sizeof b,
+      "%d tables: %d pushed, %d not planned, %d object not seen, %d refused by the robot\n"
+      "final distance to target: median %.1f mm, 90th pct %.1f mm (centre estimate off by "
+      "%.1f mm, median)\n"
+      "moved the intended object and only it: %.0f%%; arm touched another: %.0f%%; "
+      "objects off the table: %d\n"
+      "plan time: median %.2f ms, max %.2f ms; look %.1f ms",
+      tables, planned, not_planned, not_seen, refused, median_distance * kMs, p90_distance * kMs,
+      median_centre_error * kMs, 100 * only_intended_rate, 100 * touched_other_rate, off_table,
+      median_plan_ms, max_plan_ms, median_look_ms);
   return b;
 }
 
@@ -305,6 +360,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
   PushEvaluationResult r;
   std::vector<double> distances;
+  std::vector<double> centre_errors;
   std::vector<double> plan_ms;
   std::vector<double> look_ms;
   int only = 0;
@@ -356,9 +412,11 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     ++r.tables;
     if (p.outcome == PushOutcome::kObjectNotSeen) ++r.not_seen;
     if (p.outcome == PushOutcome::kNotPlanned) ++r.not_planned;
+    if (p.outcome == PushOutcome::kRobotRefused) ++r.refused;
     if (p.report) {
       ++r.planned;
       distances.push_back(p.score.final_distance);
+      if (p.score.centre_error >= 0) centre_errors.push_back(p.score.centre_error);
       only += p.score.only_intended ? 1 : 0;
       touched += p.score.touched_other ? 1 : 0;
       r.off_table += p.score.off_table;
@@ -373,6 +431,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     row["outcome"] = std::string(core::choice_name(p.outcome, kPushOutcomeNames));
     row["message"] = p.message;
     row["final_distance"] = p.report ? core::Json(p.score.final_distance) : core::Json();
+    row["centre_error"] = p.report ? core::Json(p.score.centre_error) : core::Json();
     row["only_intended"] = p.score.only_intended;
     row["touched_other"] = p.score.touched_other;
     row["off_table"] = p.score.off_table;
@@ -381,6 +440,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   }
   r.median_distance = percentile(distances, 0.5);
   r.p90_distance = percentile(distances, 0.9);
+  r.median_centre_error = percentile(centre_errors, 0.5);
   r.only_intended_rate = r.planned > 0 ? static_cast<double>(only) / r.planned : 0.0;
   r.touched_other_rate = r.planned > 0 ? static_cast<double>(touched) / r.planned : 0.0;
   r.median_plan_ms = std::max(0.0, percentile(plan_ms, 0.5));
@@ -395,8 +455,11 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   d["planned"] = r.planned;
   d["not_planned"] = r.not_planned;
   d["not_seen"] = r.not_seen;
+  d["refused"] = r.refused;
   d["median_distance"] = r.median_distance >= 0 ? core::Json(r.median_distance) : core::Json();
   d["p90_distance"] = r.p90_distance >= 0 ? core::Json(r.p90_distance) : core::Json();
+  d["median_centre_error"] =
+      r.median_centre_error >= 0 ? core::Json(r.median_centre_error) : core::Json();
   d["only_intended_rate"] = r.only_intended_rate;
   d["touched_other_rate"] = r.touched_other_rate;
   d["off_table"] = r.off_table;

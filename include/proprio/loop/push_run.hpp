@@ -60,8 +60,11 @@ struct ObjectMove {
 
 /// A push scored against the ground truth.
 struct PushScore {
-  std::string intended;         ///< the object the plan was for (by ground truth), or empty
-  double final_distance = -1;   ///< intended object's centre to the target after, m; -1 none
+  std::string intended;        ///< the object the plan was for (by ground truth), or empty
+  double final_distance = -1;  ///< intended object's centre to the target after, m; -1 none
+  /// The planner's p_c (mean feature position back-projected) to the object's true centre
+  /// before the push, m; -1 none. Part of final_distance comes from here.
+  double centre_error = -1;
   bool moved_intended = false;  ///< it moved more than kMovedThreshold
   bool moved_others = false;    ///< another object did
   bool only_intended = false;   ///< moved_intended and not moved_others
@@ -80,9 +83,11 @@ enum class PushOutcome {
   kObjectNotSeen,  ///< the requested object is on the table but no putative object is on it
   kMovedNothing,   ///< executed, nothing moved
   kMovedWrong,     ///< executed, the intended object did not move but another did
+  kRobotRefused,   ///< the robot did not execute the plan (its motion blocked or unreachable)
 };
-inline constexpr core::ChoiceNames<PushOutcome, 5> kPushOutcomeNames{
+inline constexpr core::ChoiceNames<PushOutcome, 6> kPushOutcomeNames{
     {{"pushed", PushOutcome::kPushed},
+     {"robot-refused", PushOutcome::kRobotRefused},
      {"not-planned", PushOutcome::kNotPlanned},
      {"object-not-seen", PushOutcome::kObjectNotSeen},
      {"moved-nothing", PushOutcome::kMovedNothing},
@@ -111,8 +116,9 @@ int putative_object_on(const planning::PlanningView& view, const cv::Mat& mask, 
 PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
                         const core::Provenance& provenance);
 
-/// push_once on a new table of options.table: `proprio push`. Writes out/episode, out/before.png
-/// and out/after.png when options.out is set.
+/// push_once on a new table of options.table: `proprio push`. Writes out/episode, out/before.png,
+/// out/plan.png (putative objects, path, target), out/after.png and out/push.json when
+/// options.out is set.
 PushRunResult run_push(const PushOptions& options, const core::Provenance& provenance);
 
 struct PushEvaluationOptions {
@@ -149,12 +155,14 @@ struct PushEvaluationResult {
   int planned = 0;              ///< pushes planned and executed
   int not_planned = 0;          ///< planner gave no path
   int not_seen = 0;             ///< the chosen object had no putative object
+  int refused = 0;              ///< the robot refused the plan (its transit blocked)
   double median_distance = -1;  ///< final distance to target over executed pushes, m
   double p90_distance = -1;
-  double only_intended_rate = 0;  ///< executed pushes that moved the intended object and only it
-  double touched_other_rate = 0;  ///< executed pushes whose arm touched another object
-  int off_table = 0;              ///< objects pushed off the table, all pushes
-  double median_plan_ms = 0;      ///< planning time (after the look)
+  double median_centre_error = -1;  ///< planner's centre to the true centre, m
+  double only_intended_rate = 0;    ///< executed pushes that moved the intended object and only it
+  double touched_other_rate = 0;    ///< executed pushes whose arm touched another object
+  int off_table = 0;                ///< objects pushed off the table, all pushes
+  double median_plan_ms = 0;        ///< planning time (after the look)
   double max_plan_ms = 0;
   double median_look_ms = 0;  ///< features + density + blobs
   double seconds = 0;
