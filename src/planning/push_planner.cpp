@@ -300,7 +300,6 @@ double path_cost(const cv::Mat1f& density, const geometry::Camera& camera,
 
 namespace {
 
-// The density of everything but `object`: its blob and its hull zeroed (7.5).
 cv::Mat1f others_density(const PlanningView& view, const PutativeObject& object) {
   cv::Mat1f d = view.density.clone();
   d(object.box).setTo(0.0F, object.mask);
@@ -341,6 +340,12 @@ std::string metres(const Eigen::Vector2d& p) {
 }
 
 }  // namespace
+
+cv::Mat1f density_of_others(const PlanningView& view, int object) {
+  require(object >= 0 && object < static_cast<int>(view.objects.size()),
+          "density of others: no putative object " + std::to_string(object));
+  return others_density(view, view.objects[static_cast<std::size_t>(object)]);
+}
 
 PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
                    const Eigen::Vector2d& target, const TableRegion& region, robot::ArmState& arm,

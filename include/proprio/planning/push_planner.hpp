@@ -222,6 +222,10 @@ double path_cost(const cv::Mat1f& density, const geometry::Camera& camera,
                  const Eigen::Vector2d& centre, const Eigen::Vector2d& target, double height,
                  double step);
 
+/// The density of every putative object but view.objects[object]: its blob and its convex hull
+/// zeroed (eq 7.5's "own hull zeroed").
+cv::Mat1f density_of_others(const PlanningView& view, int object);
+
 /// Plans a push of view.objects[object] toward `target` (kTarget, table m) or toward the edge of
 /// the view (kEdge; `target` ignored): samples options.candidates targets and approaches, rejects
 /// those that leave the region or that the arm cannot reach from `q_rest` (robot::reachable at the
