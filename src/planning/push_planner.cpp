@@ -182,13 +182,18 @@ PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
   PlanningView view;
   view.camera = camera;
   view.image_size = cv::Size(camera.width, camera.height);
+  // The table point of each feature: the viewing ray X = C + s R^T K^-1 (u, v, 1) meets z = 0
+  // (eqs 3.13-3.17 in closed form; back_project_to_plane's SVD per point would cost more than the
+  // rest of the view).
+  const Eigen::Matrix3d ray = camera.R.transpose() * camera.K.inverse();
+  const Eigen::Vector3d eye = camera.center();
   for (const cv::KeyPoint& k : features) {
-    try {
-      const Eigen::Vector2d t = robot::pixel_to_table(camera, Eigen::Vector2d(k.pt.x, k.pt.y));
-      if (inside_region(t, region, region.edge_band)) view.features.push_back(k);
-    } catch (const Error&) {
-      // above the horizon: not on the table
-    }
+    const Eigen::Vector3d d = ray * Eigen::Vector3d(k.pt.x, k.pt.y, 1.0);
+    if (d.z() >= -1e-12) continue;  // at or above the horizon: not on the table
+    const double s = -eye.z() / d.z();
+    if (s <= 0) continue;
+    const Eigen::Vector2d t = (eye + s * d).head<2>();
+    if (inside_region(t, region, region.edge_band)) view.features.push_back(k);
   }
   const std::vector<cv::KeyPoint>& kept = view.features;
   view.density = features::feature_density(kept, view.image_size, options.blobs);
