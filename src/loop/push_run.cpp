@@ -251,7 +251,7 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
         if (!r.score.moved_intended && !r.score.moved_others) {
           r.outcome = PushOutcome::kMovedNothing;
           r.message = "the push moved nothing";
-        } else if (!r.score.moved_intended) {
+        } else if (!r.score.moved_intended && !intended.empty()) {
           r.outcome = PushOutcome::kMovedWrong;
           r.message = "the push moved another object, not the " + intended;
         } else {
