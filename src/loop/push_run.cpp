@@ -24,6 +24,8 @@ constexpr const char* kPushFormat = "proprio.push";
 constexpr const char* kEvaluationFormat = "proprio.push.evaluation";
 constexpr int kFormatVersion = 1;
 constexpr double kMs = 1000.0;
+// Multiplier giving each table's choices (object, target) a stream apart from its scene's seed.
+constexpr std::uint64_t kTableStream = 7919;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -369,12 +371,12 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   const sim::ScatterRegion scatter;
   for (int t = 0; t < options.tables; ++t) {
     const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
-    core::Rng rng(seed * 7919 + 17);
+    core::Rng rng((seed * kTableStream) + 17);
     sim::TableOptions table;
     table.seed = seed;
+    const int spread = options.max_objects - options.min_objects + 1;
     table.object_count =
-        options.min_objects + static_cast<int>(rng.index(static_cast<std::uint64_t>(
-                                  options.max_objects - options.min_objects + 1)));
+        options.min_objects + static_cast<int>(rng.index(static_cast<std::uint64_t>(spread)));
     table.width = options.width;
     table.height = options.height;
     sim::SimulatedRobot robot(table, catalogue);

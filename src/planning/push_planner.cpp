@@ -226,7 +226,7 @@ double distance_to_hull_edge(const std::vector<Eigen::Vector2d>& hull, const Eig
   if (positive > 0 && negative > 0) return 0.0;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = hull[i];
+    const Eigen::Vector2d& a = hull[i];
     const Eigen::Vector2d e = hull[(i + 1) % n] - a;
     const double denom = cross(u, e);
     if (std::abs(denom) < 1e-15) continue;

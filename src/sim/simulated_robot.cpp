@@ -356,7 +356,7 @@ cv::Mat SimulatedRobot::ground_truth_mask() {
 const std::vector<ObjectId>& SimulatedRobot::last_push_contacts() const { return s_->contacts; }
 
 std::vector<Placement> SimulatedRobot::scatter(std::uint64_t seed) {
-  const std::vector<Placement> places = scatter_placements(s_->types, {}, seed);
+  std::vector<Placement> places = scatter_placements(s_->types, {}, seed);
   World& world = s_->world;
   for (std::size_t i = 0; i < places.size(); ++i) {
     const SceneObject& o = world.objects().at(i);

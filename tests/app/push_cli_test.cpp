@@ -17,7 +17,7 @@ using proprio::test::run_cli;
   EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << (haystack)
 
 fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("proprio_push_cli_" + std::to_string(getpid()));
+  fs::path d = fs::temp_directory_path() / ("proprio_push_cli_" + std::to_string(getpid()));
   fs::create_directories(d);
   return d;
 }
