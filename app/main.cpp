@@ -48,6 +48,7 @@ int run(int argc, char** argv) {
   register_vocab_commands(root, inv);
   register_recognition_commands(root, inv);
   register_mot_commands(root, inv);
+  register_push_commands(root, inv);
 
   try {
     root.parse(argc, argv);

@@ -1,0 +1,81 @@
+// Timings of the push planner (docs/results/push.md; target: a plan in under 20 ms): the view
+// of a 640 x 480 image's features (density through the FFT, blobs, back-projection) and one plan
+// (sampled paths, their cost integrals, reachability and the chosen motion's check).
+
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "proprio/core/data_dir.hpp"
+#include "proprio/planning/push_planner.hpp"
+
+namespace {
+
+using namespace proprio;
+
+// 640 x 480, 1 m above (0.25, 0), looking down.
+geometry::Camera camera() {
+  geometry::Camera c;
+  c.K << 600, 0, 320, 0, 600, 240, 0, 0, 1;
+  c.R = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  c.t = -c.R * Eigen::Vector3d(0.25, 0.0, 1.0);
+  c.width = 640;
+  c.height = 480;
+  return c;
+}
+
+// Five 6-8 cm objects as squares of grid features (6 px), like the dense features of a table.
+std::vector<cv::KeyPoint> table_features(const geometry::Camera& cam) {
+  std::vector<cv::KeyPoint> f;
+  const std::vector<Eigen::Vector3d> objects{{0.20, 0.10, 0.04},
+                                             {0.32, -0.12, 0.03},
+                                             {0.15, -0.18, 0.035},
+                                             {0.35, 0.15, 0.04},
+                                             {0.28, 0.0, 0.03}};
+  for (const Eigen::Vector3d& o : objects) {
+    const Eigen::Vector2d a = cam.project(Eigen::Vector3d(o.x() - o.z(), o.y() + o.z(), 0));
+    const Eigen::Vector2d b = cam.project(Eigen::Vector3d(o.x() + o.z(), o.y() - o.z(), 0));
+    for (double v = a.y(); v <= b.y(); v += 6) {
+      for (double u = a.x(); u <= b.x(); u += 6) {
+        f.emplace_back(static_cast<float>(u), static_cast<float>(v), 12.0F);
+      }
+    }
+  }
+  return f;
+}
+
+const robot::Arm& arm() {
+  static const robot::Arm a =
+      robot::Arm::load(core::data_directory() / "models" / "arm_standalone.xml");
+  return a;
+}
+
+void BM_PlanningView(benchmark::State& state) {
+  const geometry::Camera cam = camera();
+  const auto f = table_features(cam);
+  planning::PushPlanOptions o;
+  o.centre_height = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(planning::make_planning_view(f, cam, {}, o));
+  }
+}
+BENCHMARK(BM_PlanningView)->Unit(benchmark::kMillisecond);
+
+void BM_PlanPush(benchmark::State& state) {
+  const geometry::Camera cam = camera();
+  planning::PushPlanOptions o;
+  o.centre_height = 0;
+  const planning::PlanningView view = planning::make_planning_view(table_features(cam), cam, {}, o);
+  robot::ArmState s(arm());
+  const auto goal = static_cast<planning::PushGoal>(state.range(0));
+  for (auto _ : state) {
+    const planning::PushPlan p =
+        planning::plan_push(view, 0, goal, {0.26, 0.16}, {}, s, robot::JointVector::Zero(), o);
+    if (p.outcome != planning::PlanOutcome::kPlanned) state.SkipWithError(p.message.c_str());
+  }
+}
+BENCHMARK(BM_PlanPush)->Arg(0)->Arg(1)->ArgNames({"edge"})->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,179 @@
+#pragma once
+// One look-plan-push (thesis 7.2.1) on the simulated table, and its measurement against the ground
+// truth: the library calls behind `proprio push` and `proprio push evaluate`. The learner's side
+// (planning) sees only robot::Robot (image, calibration, arm); the simulator's ground truth picks
+// the object a person asked for by name and scores what happened.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/planning/push_planner.hpp"
+#include "proprio/sim/simulated_robot.hpp"
+
+namespace proprio::loop {
+
+struct PushOptions {
+  sim::TableOptions table;
+  planning::PushPlanOptions plan;
+  planning::PushGoal goal = planning::PushGoal::kTarget;
+  /// The object to push, a catalogue name on the table (found in the view through the ground
+  /// truth); empty: putative object `blob`.
+  std::string object;
+  int blob = 0;               ///< putative object index (largest first) when `object` is empty
+  double target_x = 0.30;     ///< kTarget: where the object's centre should end, world x, m
+  double target_y = 0.0;      ///< world y, m
+  double fps = 25;            ///< frame rate of the episode
+  std::filesystem::path out;  ///< directory for episode/, before.png, after.png; empty: none
+  bool overwrite = false;
+
+  /// Throws Error naming the first bad option.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.goal, {"goal", "target (a table point) or edge (toward the view's edge)"},
+             planning::kPushGoalNames);
+    v(self.object, {"object", "Object to push, a catalogue name on the table (else --blob)"});
+    v(self.blob, {"blob", "Putative object to push, largest first", core::between(0, 1000)});
+    v(self.target_x,
+      {"target_x", "Target of the object's centre, world x, m", core::between(-2, 2)});
+    v(self.target_y,
+      {"target_y", "Target of the object's centre, world y, m", core::between(-2, 2)});
+    v(self.fps, {"fps", "Episode frame rate", core::positive_at_most(100)});
+    v(self.out, {"out", "Directory for the episode and the before/after images"});
+    v(self.overwrite, {"overwrite", "Replace an existing output directory"});
+  }
+};
+
+/// What happened to one object, from the ground truth.
+struct ObjectMove {
+  std::string name;
+  double moved = 0;  ///< distance its centre moved, m
+  bool on_table = true;
+};
+
+/// A push scored against the ground truth.
+struct PushScore {
+  std::string intended;        ///< the object the plan was for (by ground truth), or empty
+  double final_distance = -1;  ///< intended object's centre to the target after, m; -1 none
+  /// The planner's p_c (mean feature position back-projected) to the object's true centre
+  /// before the push, m; -1 none. Part of final_distance comes from here.
+  double centre_error = -1;
+  bool moved_intended = false;  ///< it moved more than kMovedThreshold
+  bool moved_others = false;    ///< another object did
+  bool only_intended = false;   ///< moved_intended and not moved_others
+  bool touched_other = false;   ///< the arm touched another object (MuJoCo contacts)
+  int off_table = 0;            ///< objects no longer on the table
+  std::vector<ObjectMove> objects;
+};
+
+/// An object counts as moved when its centre moved more than this, m.
+inline constexpr double kMovedThreshold = 0.005;
+
+/// How one push ended.
+enum class PushOutcome {
+  kPushed,         ///< planned and executed
+  kNotPlanned,     ///< the planner gave no path (PushPlan::outcome says why)
+  kObjectNotSeen,  ///< the requested object is on the table but no putative object is on it
+  kMovedNothing,   ///< executed, nothing moved
+  kMovedWrong,     ///< executed, the intended object did not move but another did
+  kRobotRefused,   ///< the robot did not execute the plan (its motion blocked or unreachable)
+};
+inline constexpr core::ChoiceNames<PushOutcome, 6> kPushOutcomeNames{
+    {{"pushed", PushOutcome::kPushed},
+     {"robot-refused", PushOutcome::kRobotRefused},
+     {"not-planned", PushOutcome::kNotPlanned},
+     {"object-not-seen", PushOutcome::kObjectNotSeen},
+     {"moved-nothing", PushOutcome::kMovedNothing},
+     {"moved-wrong", PushOutcome::kMovedWrong}}};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct PushRunResult {
+  PushOutcome outcome = PushOutcome::kNotPlanned;
+  planning::PushPlan plan;
+  std::optional<robot::PushReport> report;
+  PushScore score;
+  double look_seconds = 0;  ///< image to putative objects (features, density, blobs), s
+  std::string message;
+  core::Json document;  ///< format "proprio.push" (docs/formats/schemas/push.schema.json)
+  [[nodiscard]] std::string brief() const;
+};
+
+/// The putative object of `view` that lies on object `id` of the ground-truth mask: the one with
+/// most of its feature points on it (at least half of them); -1 when none.
+int putative_object_on(const planning::PlanningView& view, const cv::Mat& mask, int id);
+
+/// Looks (robot.look), finds the putative objects, plans one push of the chosen object and
+/// executes it on `robot`, scores it against the ground truth. Planning failures, a push that
+/// moves nothing or the wrong object are outcomes, logged; bad options and an unknown object
+/// name throw Error.
+PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
+                        const core::Provenance& provenance);
+
+/// push_once on a new table of options.table: `proprio push`. Writes out/episode, out/before.png,
+/// out/plan.png (putative objects, path, target), out/after.png and out/push.json when
+/// options.out is set.
+PushRunResult run_push(const PushOptions& options, const core::Provenance& provenance);
+
+struct PushEvaluationOptions {
+  int tables = 100;     ///< seeded tables
+  int min_objects = 4;  ///< objects per table, drawn in [min, max]
+  int max_objects = 6;
+  std::uint64_t seed = 1;   ///< table t uses seed + t
+  double min_shift = 0.05;  ///< targets at this distance from the object's centre, least, m
+  double max_shift = 0.12;  ///< most, m
+  int width = 640;          ///< image size, px
+  int height = 480;
+  planning::PushPlanOptions plan;
+
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.tables, {"tables", "Seeded tables, one push each", core::between(1, 100000)});
+    v(self.min_objects, {"min_objects", "Least objects per table", core::between(1, 8)});
+    v(self.max_objects, {"max_objects", "Most objects per table", core::between(1, 8)});
+    v(self.seed, {"seed", "Seed of the first table"});
+    v(self.min_shift,
+      {"min_shift", "Least target distance from the object, m", core::between(0.02, 0.5)});
+    v(self.max_shift,
+      {"max_shift", "Most target distance from the object, m", core::between(0.02, 0.5)});
+    v(self.width, {"width", "Image width, px", core::between(64, 4096)});
+    v(self.height, {"height", "Image height, px", core::between(48, 4096)});
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct PushEvaluationResult {
+  int tables = 0;
+  int planned = 0;              ///< pushes planned and executed
+  int not_planned = 0;          ///< planner gave no path
+  int not_seen = 0;             ///< the chosen object had no putative object
+  int refused = 0;              ///< the robot refused the plan (its transit blocked)
+  double median_distance = -1;  ///< final distance to target over executed pushes, m
+  double p90_distance = -1;
+  double median_centre_error = -1;  ///< planner's centre to the true centre, m
+  double only_intended_rate = 0;    ///< executed pushes that moved the intended object and only it
+  double touched_other_rate = 0;    ///< executed pushes whose arm touched another object
+  int off_table = 0;                ///< objects pushed off the table, all pushes
+  double median_plan_ms = 0;        ///< planning time (after the look)
+  double max_plan_ms = 0;
+  double median_look_ms = 0;  ///< features + density + blobs
+  double seconds = 0;
+  core::Json document;  ///< format "proprio.push.evaluation"
+  [[nodiscard]] std::string brief() const;
+};
+
+/// Over `tables` seeded tables of min..max catalogue objects: a random object on each (by the
+/// seed), a random target min..max_shift from its centre inside the scatter region, one planned
+/// push, scored by the ground truth.
+PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
+                                         const core::Provenance& provenance);
+
+}  // namespace proprio::loop

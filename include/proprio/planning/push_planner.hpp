@@ -1,0 +1,240 @@
+#pragma once
+// Push planning (thesis 7.2.1; SPEC §5): putative objects from the live image as feature-density
+// blobs (6.2), and a straight push through an object's centre of mass that leaves it over a
+// target point, along the path of least feature density of the other objects (7.4-7.5).
+//
+// Works on images and the robot interface only (never the simulator): features are the dense
+// grid points of textured patches, the camera calibration maps them to the table by
+// back-projection (eqs 3.13-3.17), and the arm's inverse kinematics says what is reachable.
+//
+// Frames: table points are world x y (metres, robot base frame, table top z = 0); pixels are
+// ideal image pixels (OpenCV: x right, y down).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/features/blobs.hpp"
+#include "proprio/geometry/camera.hpp"
+#include "proprio/robot/arm.hpp"
+#include "proprio/robot/robot_interface.hpp"
+
+namespace proprio::planning {
+
+/// The part of the table pushes may use: objects, paths and targets stay inside it (m).
+struct TableRegion {
+  Eigen::Vector2d min{-0.25, -0.50};
+  Eigen::Vector2d max{0.85, 0.50};
+  /// Features whose table point is within this of the region's edge are the edge, m.
+  double edge_band = 0.03;
+  /// Objects whose centre is nearer the arm's base axis than this are the arm's own body, m.
+  double base_radius = 0.09;
+};
+
+/// What the goal of a push is.
+enum class PushGoal {
+  kTarget,  ///< a given table point
+  kEdge,    ///< toward the edge of the view (clearing the table, thesis 7.2 step b)
+};
+inline constexpr core::ChoiceNames<PushGoal, 2> kPushGoalNames{
+    {{"target", PushGoal::kTarget}, {"edge", PushGoal::kEdge}}};
+
+/// How an object's centre p_c and footprint come from its features.
+enum class CentreMethod {
+  /// The mean feature position back-projected at centre_height (the thesis's centre of mass).
+  /// Tall objects come out too far from the camera: their features lie above the table.
+  kFeatures,
+  /// Parallax corrected from the footprint: the blob's edge nearest the camera is the object's
+  /// foot (on the table); its lateral width (across the line of sight, where parallax does not
+  /// stretch it) is taken as its depth too, and p_c is the middle of that footprint.
+  kFootprint,
+};
+inline constexpr core::ChoiceNames<CentreMethod, 2> kCentreMethodNames{
+    {{"features", CentreMethod::kFeatures}, {"footprint", CentreMethod::kFootprint}}};
+
+struct PushPlanOptions {
+  // Putative objects (6.2).
+  int grid_step = 6;         ///< spacing of the dense feature grid, px
+  int patch = 12;            ///< side of the patch whose contrast is measured, px
+  double min_contrast = 10;  ///< grey-level standard deviation a patch needs to be a feature
+  /// Blobs: sigma 6 px, threshold 4 (about two thirds of the density of a fully textured patch with
+  /// a 6 px grid), so that objects a few centimetres apart stay apart.
+  features::BlobOptions blobs{6.0, 4.0, 8};
+  /// Height above the table at which feature points are back-projected, m: the middle of a
+  /// typical object's textured side (corrects most of the parallax of tall objects).
+  double centre_height = 0.02;
+  CentreMethod centre = CentreMethod::kFeatures;
+  // Sampling (7.2.1): random approach lengths and targets, the least-cost path kept.
+  int candidates = 48;          ///< paths sampled
+  double min_approach = 0.02;   ///< pusher start to the object's edge, least, m
+  double max_approach = 0.06;   ///< and most, m
+  double target_spread = 0.01;  ///< kTarget: targets sampled within this of the given one, m
+  double min_distance = 0.06;   ///< kEdge: least distance the object is pushed, m
+  double max_distance = 0.16;   ///< kEdge: most, m
+  double path_step = 0.005;     ///< spacing of the cost integral's samples along a path, m
+  double table_margin = 0.03;   ///< paths and pushed objects keep this far inside the region, m
+  double tip_height = 0.008;    ///< pusher tip above the table while pushing, m
+  double push_speed = 0.05;     ///< m/s
+  std::uint64_t seed = 1;
+
+  /// Throws Error naming the first option out of its bounds or inconsistent.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.grid_step, {"grid_step", "Dense feature grid spacing, px", core::between(1, 64)});
+    v(self.min_contrast,
+      {"min_contrast", "Grey-level standard deviation of a feature's patch, 0-255",
+       core::between(0, 255)});
+    v(self.blobs.sigma,
+      {"blob_sigma", "Feature density kernel sigma, px (eq 6.3)", core::positive_at_most(200)});
+    v(self.blobs.threshold,
+      {"blob_threshold", "Density threshold of a blob (features within sigma)", core::positive()});
+    v(self.centre_height,
+      {"centre_height", "Height features are back-projected at, m", core::between(0, 0.2)});
+    v.choice(self.centre,
+             {"centre", "Object centre: features (mean, thesis) or footprint (parallax corrected)"},
+             kCentreMethodNames);
+    v(self.candidates,
+      {"candidates", "Paths sampled; the least-cost one is kept", core::between(1, 10000)});
+    v(self.min_approach,
+      {"min_approach", "Least approach before the object, m", core::between(0.005, 0.3)});
+    v(self.max_approach,
+      {"max_approach", "Most approach before the object, m", core::between(0.005, 0.3)});
+    v(self.target_spread,
+      {"target_spread", "Targets sampled within this of the given one, m", core::between(0, 0.1)});
+    v(self.min_distance,
+      {"min_distance", "Edge goal: least push distance, m", core::between(0.01, 0.5)});
+    v(self.max_distance,
+      {"max_distance", "Edge goal: most push distance, m", core::between(0.01, 0.5)});
+    v(self.path_step, {"path_step", "Cost integral sample spacing, m", core::between(0.001, 0.05)});
+    v(self.table_margin,
+      {"table_margin", "Margin inside the table region, m", core::between(0, 0.2)});
+    v(self.tip_height,
+      {"tip_height", "Pusher tip height above the table, m", core::between(0.002, 0.05)});
+    v(self.push_speed, {"push_speed", "Push speed, m/s", core::positive_at_most(0.5)});
+    v(self.seed, {"plan_seed", "Seed of the sampled paths"});
+  }
+};
+
+/// One putative object: a feature-density blob (6.2) mapped to the table.
+struct PutativeObject {
+  cv::Rect box;                         ///< blob bounding box, px
+  cv::Mat1b mask;                       ///< box-sized, 255 inside the blob
+  std::vector<Eigen::Vector2d> pixels;  ///< its feature points, px
+  Eigen::Vector2d centre_pixel;         ///< mean feature position, px
+  Eigen::Vector2d centre;               ///< p_c on the table, m (PushPlanOptions::centre says how)
+  std::vector<Eigen::Vector2d> hull_pixels;  ///< convex hull of the features, px
+  std::vector<Eigen::Vector2d> hull;         ///< the hull back-projected to the table, m (CCW)
+};
+
+/// What the planner knows of the view: the features, their density (eq 6.3) and the putative
+/// objects, sorted by size (largest first).
+struct PlanningView {
+  geometry::Camera camera;
+  cv::Size image_size;
+  std::vector<cv::KeyPoint> features;
+  cv::Mat1f density;  ///< (h * N)(x) of eq 6.3 over all features
+  std::vector<PutativeObject> objects;
+};
+
+/// Feature points of an 8-bit image: the dense grid points (spacing options.grid_step) whose
+/// patch has a grey-level standard deviation of at least options.min_contrast (as the dense
+/// features of 7.3.3 keep them; only locations, no descriptors). Points within a patch of a
+/// non-zero pixel of `ignore` (CV_8U, e.g. Look::arm_mask; empty: none) are left out.
+std::vector<cv::KeyPoint> textured_points(const cv::Mat& image, const PushPlanOptions& options,
+                                          const cv::Mat& ignore = {});
+
+/// The planning view of `features` seen by `camera`: density, blobs, each blob's centre and
+/// convex hull back-projected to the table at options.centre_height. Features whose
+/// back-projection onto the table top falls outside `region` (table edges, the world beyond) are
+/// left out first; blobs whose centre falls within region.base_radius of the base axis are
+/// dropped.
+PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
+                                const geometry::Camera& camera, const TableRegion& region,
+                                const PushPlanOptions& options);
+/// make_planning_view of textured_points(look.image, ignoring look.arm_mask).
+PlanningView look_for_objects(const robot::Look& look, const TableRegion& region,
+                              const PushPlanOptions& options);
+
+/// How planning ended.
+enum class PlanOutcome {
+  kPlanned,         ///< a path was found
+  kNoObjects,       ///< no putative object in view
+  kUnknownObject,   ///< the object index is not one of the view's
+  kTargetOffTable,  ///< the target (and the object over it) is outside the table region
+  kUnreachable,     ///< no sampled path is reachable by the arm (IK) inside the region
+  kAtTarget,        ///< the object's centre is already within 1 cm of the target
+};
+inline constexpr core::ChoiceNames<PlanOutcome, 6> kPlanOutcomeNames{
+    {{"planned", PlanOutcome::kPlanned},
+     {"at-target", PlanOutcome::kAtTarget},
+     {"no-objects", PlanOutcome::kNoObjects},
+     {"unknown-object", PlanOutcome::kUnknownObject},
+     {"target-off-table", PlanOutcome::kTargetOffTable},
+     {"unreachable", PlanOutcome::kUnreachable}}};
+
+struct PushPlan {
+  PlanOutcome outcome = PlanOutcome::kNoObjects;
+  std::string message;
+  int object = -1;                                   ///< index into PlanningView::objects
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< p_c, table m
+  Eigen::Vector2d target = Eigen::Vector2d::Zero();  ///< p_t chosen, table m
+  /// The push: start p_s behind the object on the line through p_c and p_t, end where the
+  /// object's centre is over p_t (valid when outcome is kPlanned).
+  robot::TablePush push;
+  Eigen::Vector2d direction = Eigen::Vector2d::UnitX();  ///< n = (p_t - p_s) / |p_t - p_s|
+  double edge_distance = 0;  ///< d: p_c to the hull's edge behind it, along -n, m (Algorithm 4)
+  double approach = 0;       ///< pusher start to that edge, m
+  double cost = 0;           ///< feature density of the other objects along the path (eq 7.5)
+  int sampled = 0;           ///< candidate paths sampled
+  int rejected_region = 0;   ///< of them outside the table region
+  int rejected_reach = 0;    ///< of them out of the arm's reach
+  double seconds = 0;        ///< wall-clock planning time
+};
+
+/// Distance from `p` (inside the convex polygon `hull`, CCW) to its boundary along direction
+/// `u` (unit): the exact line-hull intersection (Algorithm 4's walk, done in closed form). 0 when
+/// p is outside or on the boundary.
+double distance_to_hull_edge(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p,
+                             const Eigen::Vector2d& u);
+
+/// The start and end of a push of an object with centre p_c to target p_t (SPEC §5, the sign of
+/// the thesis's n corrected): n = (p_t - p_c) / |p_t - p_c|, p_s = p_c - (d + approach) n, where
+/// d is the distance from p_c to the hull's edge along -n, and the pusher stops at p_t - d n so
+/// that p_c ends over p_t; the path is f(t) = p_s + t n (eq 7.4). Throws Error when p_t = p_c.
+robot::TablePush push_through_centre(const std::vector<Eigen::Vector2d>& hull,
+                                     const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
+                                     double approach, double height, double speed);
+
+/// Cost of a push (eq 7.5): the density of `density` (the other objects' features; the pushed
+/// object's hull zeroed) integrated, in steps of `step` m, along the pusher's path and the
+/// corridor the pushed object sweeps (its `hull` carried from p_c to p_t: five lines across its
+/// width, from its back edge at the start to its front edge at the end), table points projected
+/// into the image at `height`. Units: features x m.
+double path_cost(const cv::Mat1f& density, const geometry::Camera& camera,
+                 const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
+                 const Eigen::Vector2d& centre, const Eigen::Vector2d& target, double height,
+                 double step);
+
+/// The density of every putative object but view.objects[object]: its blob and its convex hull
+/// zeroed (eq 7.5's "own hull zeroed").
+cv::Mat1f density_of_others(const PlanningView& view, int object);
+
+/// Plans a push of view.objects[object] toward `target` (kTarget, table m) or toward the edge of
+/// the view (kEdge; `target` ignored): samples options.candidates targets and approaches, rejects
+/// those that leave the region or that the arm cannot reach from `q_rest` (robot::reachable at the
+/// start, above it and at the end), and keeps the least-cost one whose whole motion
+/// (robot::plan_push_motion: lowering, push, lifting) tracks without a joint jump. Bad outside
+/// input (a non-finite target, bad options) throws Error; every planning failure is an outcome with
+/// a message.
+PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
+                   const Eigen::Vector2d& target, const TableRegion& region, robot::ArmState& arm,
+                   const robot::JointVector& q_rest, const PushPlanOptions& options);
+
+}  // namespace proprio::planning

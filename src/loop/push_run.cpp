@@ -1,0 +1,476 @@
+#include "proprio/loop/push_run.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/core/random.hpp"
+
+namespace proprio::loop {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kPushFormat = "proprio.push";
+constexpr const char* kEvaluationFormat = "proprio.push.evaluation";
+constexpr int kFormatVersion = 1;
+constexpr double kMs = 1000.0;
+// Multiplier giving each table's choices (object, target) a stream apart from its scene's seed.
+constexpr std::uint64_t kTableStream = 7919;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
+
+// The planner's table region: the table top; objects near the base axis are the arm.
+planning::TableRegion region_of(const sim::SimulatedRobot& robot) {
+  planning::TableRegion r;
+  r.min = robot.table_min();
+  r.max = robot.table_max();
+  return r;
+}
+
+const sim::ObjectTruth* find_truth(const std::vector<sim::ObjectTruth>& t, const std::string& n) {
+  for (const auto& o : t) {
+    if (o.name == n) return &o;
+  }
+  return nullptr;
+}
+
+PushScore score(const std::vector<sim::ObjectTruth>& before,
+                const std::vector<sim::ObjectTruth>& after, const std::string& intended,
+                const Eigen::Vector2d& target, const std::vector<sim::ObjectId>& contacts) {
+  PushScore s;
+  s.intended = intended;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    ObjectMove m;
+    m.name = before[i].name;
+    m.moved = (after[i].centre - before[i].centre).head<2>().norm();
+    m.on_table = after[i].on_table;
+    if (!m.on_table) ++s.off_table;
+    const bool is_intended = m.name == intended;
+    if (m.moved > kMovedThreshold) (is_intended ? s.moved_intended : s.moved_others) = true;
+    if (is_intended) s.final_distance = (after[i].centre.head<2>() - target).norm();
+    if (!is_intended &&
+        std::find(contacts.begin(), contacts.end(), before[i].id) != contacts.end()) {
+      s.touched_other = true;
+    }
+    s.objects.push_back(m);
+  }
+  s.only_intended = s.moved_intended && !s.moved_others;
+  return s;
+}
+
+core::Json score_json(const PushScore& s) {
+  core::Json j;
+  j["intended"] = s.intended;
+  j["final_distance"] = s.final_distance >= 0 ? core::Json(s.final_distance) : core::Json();
+  j["centre_error"] = s.centre_error >= 0 ? core::Json(s.centre_error) : core::Json();
+  j["moved_intended"] = s.moved_intended;
+  j["moved_others"] = s.moved_others;
+  j["only_intended"] = s.only_intended;
+  j["touched_other"] = s.touched_other;
+  j["off_table"] = s.off_table;
+  core::Json objects = core::Json::array();
+  for (const ObjectMove& m : s.objects) {
+    objects.push_back({{"name", m.name}, {"moved", m.moved}, {"on_table", m.on_table}});
+  }
+  j["objects"] = objects;
+  return j;
+}
+
+core::Json plan_json(const planning::PushPlan& p) {
+  core::Json j;
+  j["outcome"] = std::string(core::choice_name(p.outcome, planning::kPlanOutcomeNames));
+  j["message"] = p.message;
+  j["object"] = p.object;
+  j["seconds"] = p.seconds;
+  j["sampled"] = p.sampled;
+  j["rejected_region"] = p.rejected_region;
+  j["rejected_reach"] = p.rejected_reach;
+  if (p.outcome == planning::PlanOutcome::kPlanned) {
+    j["centre"] = xy(p.centre);
+    j["target"] = xy(p.target);
+    j["start"] = xy(p.push.start);
+    j["end"] = xy(p.push.end);
+    j["edge_distance"] = p.edge_distance;
+    j["approach"] = p.approach;
+    j["cost"] = p.cost;
+  }
+  return j;
+}
+
+}  // namespace
+
+void PushOptions::validate() const {
+  core::check_field_bounds(*this, "push");
+  table.validate();
+  plan.validate();
+}
+
+std::string PushRunResult::brief() const {
+  std::string s = std::string(core::choice_name(outcome, kPushOutcomeNames)) + ": " + message;
+  if (score.final_distance >= 0) {
+    char b[160];
+    std::snprintf(b, sizeof b, "\n%s ended %.1f mm from the target; plan %.1f ms, look %.1f ms",
+                  score.intended.c_str(), score.final_distance * kMs, plan.seconds * kMs,
+                  look_seconds * kMs);
+    s += b;
+  }
+  return s;
+}
+
+int putative_object_on(const planning::PlanningView& view, const cv::Mat& mask, int id) {
+  int best = -1;
+  std::size_t best_count = 0;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    const auto& o = view.objects[k];
+    std::size_t on = 0;
+    for (const auto& p : o.pixels) {
+      const int u = static_cast<int>(std::lround(p.x()));
+      const int v = static_cast<int>(std::lround(p.y()));
+      if (u >= 0 && v >= 0 && u < mask.cols && v < mask.rows &&
+          mask.at<std::uint16_t>(v, u) == id) {
+        ++on;
+      }
+    }
+    if (2 * on >= o.pixels.size() && on > best_count) {
+      best_count = on;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+namespace {
+
+cv::Point pixel(const geometry::Camera& cam, const Eigen::Vector2d& p, double height) {
+  const Eigen::Vector2d px = cam.project(Eigen::Vector3d(p.x(), p.y(), height));
+  return {static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y()))};
+}
+
+// The look with the putative objects (boxes, hulls, centres) and the plan (path red, target
+// green) drawn on it.
+cv::Mat draw_plan(const robot::Look& look, const planning::PlanningView& view,
+                  const planning::PushPlan& plan, const sim::ObjectTruth* truth) {
+  cv::Mat img = look.image.clone();
+  const cv::Scalar cyan(255, 255, 0);
+  for (const auto& o : view.objects) {
+    cv::rectangle(img, o.box, cyan, 1);
+    std::vector<cv::Point> hull;
+    for (const auto& h : o.hull_pixels) {
+      hull.emplace_back(static_cast<int>(std::lround(h.x())), static_cast<int>(std::lround(h.y())));
+    }
+    cv::polylines(img, hull, true, cyan, 1);
+    cv::circle(img, pixel(look.camera, o.centre, 0.0), 3, cyan, -1);
+  }
+  for (const auto& f : view.features) cv::circle(img, f.pt, 1, cv::Scalar(0, 200, 255), -1);
+  if (truth != nullptr) {  // ground truth, magenta: where the object's centre really is
+    cv::drawMarker(img, pixel(look.camera, truth->centre.head<2>(), 0.0), cv::Scalar(255, 0, 255),
+                   cv::MARKER_CROSS, 12, 2);
+  }
+  if (plan.outcome == planning::PlanOutcome::kPlanned) {
+    cv::arrowedLine(img, pixel(look.camera, plan.push.start, plan.push.height),
+                    pixel(look.camera, plan.push.end, plan.push.height), cv::Scalar(0, 0, 255), 2);
+    cv::circle(img, pixel(look.camera, plan.target, 0.0), 5, cv::Scalar(0, 255, 0), -1);
+  }
+  return img;
+}
+
+}  // namespace
+
+PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
+                        const core::Provenance& provenance) {
+  options.validate();
+  PushRunResult r;
+  const auto t_look = std::chrono::steady_clock::now();
+  const robot::Look look = robot.look();
+  const planning::TableRegion region = region_of(robot);
+  const planning::PlanningView view = planning::look_for_objects(look, region, options.plan);
+  r.look_seconds = seconds_since(t_look);
+  const std::vector<sim::ObjectTruth> before = robot.ground_truth();
+
+  int object = options.blob;
+  std::string intended;
+  if (!options.object.empty()) {
+    const sim::ObjectTruth* t = find_truth(before, options.object);
+    if (t == nullptr) {
+      std::string known;
+      for (const auto& o : before) known += (known.empty() ? "" : ", ") + o.name;
+      throw Error("unknown object '" + options.object + "' (on the table: " + known + ")");
+    }
+    intended = t->name;
+    object = putative_object_on(view, robot.ground_truth_mask(), t->id);
+    if (object < 0) {
+      r.outcome = PushOutcome::kObjectNotSeen;
+      r.message = "no putative object lies on the " + intended + " (" +
+                  std::to_string(view.objects.size()) + " in view)";
+    }
+  }
+  const Eigen::Vector2d target(options.target_x, options.target_y);
+  if (r.outcome != PushOutcome::kObjectNotSeen) {
+    robot::ArmState arm(robot.arm());
+    r.plan = planning::plan_push(view, object, options.goal, target, region, arm, robot.joints(),
+                                 options.plan);
+    if (intended.empty() && r.plan.outcome == planning::PlanOutcome::kPlanned) {
+      const cv::Mat mask = robot.ground_truth_mask();
+      for (const auto& o : before) {
+        if (putative_object_on(view, mask, o.id) == object) intended = o.name;
+      }
+    }
+    if (r.plan.outcome != planning::PlanOutcome::kPlanned) {
+      r.outcome = PushOutcome::kNotPlanned;
+      r.message = r.plan.message;
+    } else {
+      robot::PushRecording rec;
+      if (!options.out.empty()) rec.episode_dir = options.out / "episode";
+      rec.fps = options.fps;
+      rec.overwrite = options.overwrite;
+      rec.run = provenance;
+      try {
+        r.report = robot.push(r.plan.push, rec);
+      } catch (const Error& e) {
+        r.outcome = PushOutcome::kRobotRefused;
+        r.message = e.what();
+      }
+      if (r.report) {
+        r.score = score(before, robot.ground_truth(), intended, r.plan.target,
+                        robot.last_push_contacts());
+        if (const sim::ObjectTruth* t = find_truth(before, intended)) {
+          r.score.centre_error = (t->centre.head<2>() - r.plan.centre).norm();
+        }
+        if (!r.score.moved_intended && !r.score.moved_others) {
+          r.outcome = PushOutcome::kMovedNothing;
+          r.message = "the push moved nothing";
+        } else if (!r.score.moved_intended && !intended.empty()) {
+          r.outcome = PushOutcome::kMovedWrong;
+          r.message = "the push moved another object, not the " + intended;
+        } else {
+          r.outcome = PushOutcome::kPushed;
+          r.message = r.plan.message;
+        }
+      }
+    }
+  }
+  if (r.outcome != PushOutcome::kPushed) spdlog::warn("push: {}", r.message);
+  if (!options.out.empty()) {
+    cv::imwrite((options.out / "plan.png").string(),
+                draw_plan(look, view, r.plan, find_truth(before, intended)));
+  }
+
+  core::Json& d = r.document;
+  d = core::result_document(kPushFormat, kFormatVersion, provenance);
+  d["outcome"] = std::string(core::choice_name(r.outcome, kPushOutcomeNames));
+  d["message"] = r.message;
+  d["options"] = core::fields_to_json(options);
+  d["table"] = core::fields_to_json(options.table);
+  d["planner"] = core::fields_to_json(options.plan);
+  core::Json objects = core::Json::array();
+  for (const auto& o : view.objects) {
+    objects.push_back({{"centre", xy(o.centre)},
+                       {"centre_pixel", xy(o.centre_pixel)},
+                       {"features", static_cast<int>(o.pixels.size())},
+                       {"box", core::Json::array({o.box.x, o.box.y, o.box.width, o.box.height})}});
+  }
+  d["putative_objects"] = objects;
+  d["look_seconds"] = r.look_seconds;
+  d["plan"] = plan_json(r.plan);
+  if (r.report) {
+    d["execution"] = {
+        {"frames", r.report->frames},
+        {"touched", r.report->touched},
+        {"first_touch_frame",
+         r.report->first_touch_frame ? core::Json(*r.report->first_touch_frame) : core::Json()},
+        {"seconds", r.report->seconds},
+        {"episode", r.report->episode_dir.string()}};
+    d["ground_truth"] = score_json(r.score);
+  }
+  return r;
+}
+
+PushRunResult run_push(const PushOptions& options, const core::Provenance& provenance) {
+  options.validate();
+  if (!options.out.empty()) {
+    if (fs::exists(options.out) && !options.overwrite) {
+      throw Error(options.out.string() + ": already exists (use --overwrite to replace it)");
+    }
+    fs::create_directories(options.out);
+  }
+  sim::SimulatedRobot robot(options.table, sim::ObjectCatalogue::load_default());
+  if (!options.out.empty()) cv::imwrite((options.out / "before.png").string(), robot.look().image);
+  PushOptions o = options;
+  o.overwrite = true;  // the directory was checked above
+  PushRunResult r = push_once(robot, o, provenance);
+  if (!options.out.empty()) {
+    cv::imwrite((options.out / "after.png").string(), robot.look().image);
+    core::write_json_atomic(options.out / "push.json", r.document);
+  }
+  return r;
+}
+
+void PushEvaluationOptions::validate() const {
+  core::check_field_bounds(*this, "push evaluation");
+  require(min_objects <= max_objects, "push evaluation: min_objects must be <= max_objects");
+  require(min_shift <= max_shift, "push evaluation: min_shift must be <= max_shift");
+  plan.validate();
+}
+
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return -1;
+  std::sort(v.begin(), v.end());
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+}  // namespace
+
+std::string PushEvaluationResult::brief() const {
+  char b[512];
+  std::snprintf(
+      b, sizeof b,
+      "%d tables: %d pushed, %d not planned, %d object not seen, %d refused by the robot\n"
+      "final distance to target: median %.1f mm, 90th pct %.1f mm (centre estimate off by "
+      "%.1f mm, median)\n"
+      "moved the intended object and only it: %.0f%%; arm touched another: %.0f%%; "
+      "objects off the table: %d\n"
+      "plan time: median %.2f ms, max %.2f ms; look %.1f ms",
+      tables, planned, not_planned, not_seen, refused, median_distance * kMs, p90_distance * kMs,
+      median_centre_error * kMs, 100 * only_intended_rate, 100 * touched_other_rate, off_table,
+      median_plan_ms, max_plan_ms, median_look_ms);
+  return b;
+}
+
+PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
+                                         const core::Provenance& provenance) {
+  options.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  PushEvaluationResult r;
+  std::vector<double> distances;
+  std::vector<double> centre_errors;
+  std::vector<double> plan_ms;
+  std::vector<double> look_ms;
+  int only = 0;
+  int touched = 0;
+  core::Json pushes = core::Json::array();
+  const sim::ScatterRegion scatter;
+  for (int t = 0; t < options.tables; ++t) {
+    const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
+    core::Rng rng((seed * kTableStream) + 17);
+    sim::TableOptions table;
+    table.seed = seed;
+    const int spread = options.max_objects - options.min_objects + 1;
+    table.object_count =
+        options.min_objects + static_cast<int>(rng.index(static_cast<std::uint64_t>(spread)));
+    table.width = options.width;
+    table.height = options.height;
+    sim::SimulatedRobot robot(table, catalogue);
+    const auto truth = robot.ground_truth();
+    const sim::ObjectTruth& chosen = truth[rng.index(truth.size())];
+    // A target min..max_shift away, inside the scatter region.
+    Eigen::Vector2d target = chosen.centre.head<2>();
+    for (int k = 0; k < 100; ++k) {
+      const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      const double d = rng.uniform(options.min_shift, options.max_shift);
+      const Eigen::Vector2d c =
+          chosen.centre.head<2>() + d * Eigen::Vector2d(std::cos(a), std::sin(a));
+      if (c.x() >= scatter.min.x() && c.x() <= scatter.max.x() && c.y() >= scatter.min.y() &&
+          c.y() <= scatter.max.y() && c.norm() >= scatter.base_clearance) {
+        target = c;
+        break;
+      }
+    }
+    PushOptions po;
+    po.table = table;
+    po.plan = options.plan;
+    po.plan.seed = seed;
+    po.object = chosen.name;
+    po.target_x = target.x();
+    po.target_y = target.y();
+    PushRunResult p;
+    try {
+      p = push_once(robot, po, provenance);
+    } catch (const Error& e) {
+      // A physics warning or an unreachable motion after planning: logged, counted as not planned.
+      spdlog::warn("table {}: {}", seed, e.what());
+      p.outcome = PushOutcome::kNotPlanned;
+      p.message = e.what();
+    }
+    ++r.tables;
+    if (p.outcome == PushOutcome::kObjectNotSeen) ++r.not_seen;
+    if (p.outcome == PushOutcome::kNotPlanned) ++r.not_planned;
+    if (p.outcome == PushOutcome::kRobotRefused) ++r.refused;
+    if (p.report) {
+      ++r.planned;
+      distances.push_back(p.score.final_distance);
+      if (p.score.centre_error >= 0) centre_errors.push_back(p.score.centre_error);
+      only += p.score.only_intended ? 1 : 0;
+      touched += p.score.touched_other ? 1 : 0;
+      r.off_table += p.score.off_table;
+      plan_ms.push_back(p.plan.seconds * kMs);
+    }
+    look_ms.push_back(p.look_seconds * kMs);
+    core::Json row;
+    row["seed"] = seed;
+    row["objects"] = table.object_count;
+    row["object"] = chosen.name;
+    row["target"] = xy(target);
+    row["outcome"] = std::string(core::choice_name(p.outcome, kPushOutcomeNames));
+    row["message"] = p.message;
+    row["final_distance"] = p.report ? core::Json(p.score.final_distance) : core::Json();
+    row["centre_error"] = p.report ? core::Json(p.score.centre_error) : core::Json();
+    row["only_intended"] = p.score.only_intended;
+    row["touched_other"] = p.score.touched_other;
+    row["off_table"] = p.score.off_table;
+    row["plan_ms"] = p.plan.seconds * kMs;
+    pushes.push_back(row);
+  }
+  r.median_distance = percentile(distances, 0.5);
+  r.p90_distance = percentile(distances, 0.9);
+  r.median_centre_error = percentile(centre_errors, 0.5);
+  r.only_intended_rate = r.planned > 0 ? static_cast<double>(only) / r.planned : 0.0;
+  r.touched_other_rate = r.planned > 0 ? static_cast<double>(touched) / r.planned : 0.0;
+  r.median_plan_ms = std::max(0.0, percentile(plan_ms, 0.5));
+  r.max_plan_ms = plan_ms.empty() ? 0.0 : *std::max_element(plan_ms.begin(), plan_ms.end());
+  r.median_look_ms = std::max(0.0, percentile(look_ms, 0.5));
+  r.seconds = seconds_since(t0);
+  core::Json& d = r.document;
+  d = core::result_document(kEvaluationFormat, kFormatVersion, provenance);
+  d["options"] = core::fields_to_json(options);
+  d["planner"] = core::fields_to_json(options.plan);
+  d["tables"] = r.tables;
+  d["planned"] = r.planned;
+  d["not_planned"] = r.not_planned;
+  d["not_seen"] = r.not_seen;
+  d["refused"] = r.refused;
+  d["median_distance"] = r.median_distance >= 0 ? core::Json(r.median_distance) : core::Json();
+  d["p90_distance"] = r.p90_distance >= 0 ? core::Json(r.p90_distance) : core::Json();
+  d["median_centre_error"] =
+      r.median_centre_error >= 0 ? core::Json(r.median_centre_error) : core::Json();
+  d["only_intended_rate"] = r.only_intended_rate;
+  d["touched_other_rate"] = r.touched_other_rate;
+  d["off_table"] = r.off_table;
+  d["median_plan_ms"] = r.median_plan_ms;
+  d["max_plan_ms"] = r.max_plan_ms;
+  d["median_look_ms"] = r.median_look_ms;
+  d["seconds"] = r.seconds;
+  d["pushes"] = pushes;
+  return r;
+}
+
+}  // namespace proprio::loop

@@ -1,0 +1,470 @@
+#include "proprio/planning/push_planner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/robot/inverse_kinematics.hpp"
+
+namespace proprio::planning {
+
+namespace {
+constexpr double kAtTargetDistance = 0.01;  // m
+constexpr double kTransitLift = 0.06;       // m: robot::PushMotionOptions::lift
+constexpr int kCorridorLines = 5;           // lines across the swept corridor
+constexpr double kEdgeWeight = 1.0;         // kEdge: cost per image side of distance to the edge
+constexpr double kMetresToMm = 1000.0;      // hull computation in integer-free float mm
+// Rate at which the chosen path's whole motion is checked, Hz: the simulated controller's,
+// so that a joint jump (an IK branch change) on the way is caught as it would be there.
+constexpr double kMotionCheckRate = 500.0;
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+}  // namespace
+
+void PushPlanOptions::validate() const {
+  core::check_field_bounds(*this, "push planning");
+  blobs.validate();
+  require(patch >= 2, "push planning: patch must be >= 2 px");
+  require(min_approach <= max_approach, "push planning: min_approach must be <= max_approach");
+  require(min_distance <= max_distance, "push planning: min_distance must be <= max_distance");
+}
+
+std::vector<cv::KeyPoint> textured_points(const cv::Mat& image, const PushPlanOptions& options,
+                                          const cv::Mat& ignore) {
+  require(!image.empty() && image.depth() == CV_8U, "textured points: need an 8-bit image");
+  options.validate();
+  cv::Mat grey;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  } else {
+    grey = image;
+  }
+  cv::Mat sum;
+  cv::Mat sqsum;
+  cv::integral(grey, sum, sqsum, CV_64F, CV_64F);
+  const int half = options.patch / 2;
+  const double n = static_cast<double>(options.patch) * options.patch;
+  const double min_var = options.min_contrast * options.min_contrast;
+  cv::Mat1b skip;
+  if (!ignore.empty()) {
+    require(ignore.size() == image.size() && ignore.type() == CV_8U,
+            "textured points: the ignore mask must be CV_8U of the image's size");
+    cv::dilate(
+        ignore, skip,
+        cv::getStructuringElement(cv::MORPH_RECT, cv::Size(options.patch + 1, options.patch + 1)));
+  }
+  std::vector<cv::KeyPoint> out;
+  for (int y = half; y + half <= grey.rows; y += options.grid_step) {
+    for (int x = half; x + half <= grey.cols; x += options.grid_step) {
+      const int x0 = x - half;
+      const int y0 = y - half;
+      const int x1 = x0 + options.patch;
+      const int y1 = y0 + options.patch;
+      const double s = sum.at<double>(y1, x1) - sum.at<double>(y0, x1) - sum.at<double>(y1, x0) +
+                       sum.at<double>(y0, x0);
+      const double q = sqsum.at<double>(y1, x1) - sqsum.at<double>(y0, x1) -
+                       sqsum.at<double>(y1, x0) + sqsum.at<double>(y0, x0);
+      const double var = q / n - (s / n) * (s / n);
+      if (var >= min_var && (skip.empty() || skip(y, x) == 0)) {
+        out.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                         static_cast<float>(options.patch));
+      }
+    }
+  }
+  return out;
+}
+
+namespace {
+
+bool inside_region(const Eigen::Vector2d& p, const TableRegion& r, double margin) {
+  return p.x() >= r.min.x() + margin && p.x() <= r.max.x() - margin &&
+         p.y() >= r.min.y() + margin && p.y() <= r.max.y() - margin;
+}
+
+// The convex hull of points (any units), counter-clockwise in their own axes.
+std::vector<Eigen::Vector2d> convex_hull(const std::vector<Eigen::Vector2d>& points, double scale) {
+  std::vector<cv::Point2f> p;
+  p.reserve(points.size());
+  for (const auto& x : points) {
+    p.emplace_back(static_cast<float>(x.x() * scale), static_cast<float>(x.y() * scale));
+  }
+  std::vector<cv::Point2f> h;
+  cv::convexHull(p, h, /*clockwise=*/false);
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(h.size());
+  for (const auto& q : h) out.emplace_back(q.x / scale, q.y / scale);
+  return out;
+}
+
+// The footprint of a blob seen from camera centre `eye` (world): its hull back-projected onto the
+// table top, cut at the lateral width beyond the edge nearest the camera; its centre in `centre`.
+std::vector<Eigen::Vector2d> footprint(const std::vector<Eigen::Vector2d>& table_hull,
+                                       const Eigen::Vector2d& eye, Eigen::Vector2d& centre) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : table_hull) mean += p;
+  mean /= static_cast<double>(table_hull.size());
+  Eigen::Vector2d u = mean - eye;  // away from the camera, along the table
+  if (u.norm() < 1e-9) u = Eigen::Vector2d::UnitY();
+  u.normalize();
+  const Eigen::Vector2d v(-u.y(), u.x());
+  double near = std::numeric_limits<double>::infinity();
+  double vmin = near;
+  double vmax = -near;
+  for (const auto& p : table_hull) {
+    near = std::min(near, p.dot(u));
+    vmin = std::min(vmin, p.dot(v));
+    vmax = std::max(vmax, p.dot(v));
+  }
+  const double half = 0.5 * (vmax - vmin);
+  const double far = near + 2 * half;
+  centre = (near + half) * u + 0.5 * (vmin + vmax) * v;
+  std::vector<Eigen::Vector2d> cut;
+  for (const auto& p : table_hull) {
+    const double s = std::min(p.dot(u), far);
+    cut.push_back(s * u + p.dot(v) * v);
+  }
+  return cut;
+}
+
+// The putative object of one blob, or none when it does not map onto the table.
+std::optional<PutativeObject> putative_object(const features::Blob& blob,
+                                              const std::vector<cv::KeyPoint>& features,
+                                              const geometry::Camera& camera,
+                                              const TableRegion& region,
+                                              const PushPlanOptions& options) {
+  PutativeObject o;
+  o.box = blob.box;
+  o.mask = blob.mask;
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const int i : blob.features) {
+    const cv::Point2f& pt = features.at(static_cast<std::size_t>(i)).pt;
+    o.pixels.emplace_back(pt.x, pt.y);
+    sum += o.pixels.back();
+  }
+  if (o.pixels.size() < 3) return std::nullopt;
+  o.centre_pixel = sum / static_cast<double>(o.pixels.size());
+  o.hull_pixels = convex_hull(o.pixels, 1.0);
+  std::vector<Eigen::Vector2d> table;
+  try {
+    if (options.centre == CentreMethod::kFeatures) {
+      o.centre = robot::pixel_to_table(camera, o.centre_pixel, options.centre_height);
+      for (const auto& h : o.hull_pixels) {
+        table.push_back(robot::pixel_to_table(camera, h, options.centre_height));
+      }
+    } else {
+      for (const auto& h : o.hull_pixels) table.push_back(robot::pixel_to_table(camera, h, 0.0));
+      table = footprint(table, camera.center().head<2>(), o.centre);
+    }
+  } catch (const Error&) {
+    return std::nullopt;  // above the horizon: not on the table
+  }
+  if (!inside_region(o.centre, region, 0.0) || o.centre.norm() < region.base_radius) {
+    return std::nullopt;
+  }
+  o.hull = convex_hull(table, kMetresToMm);
+  if (o.hull.size() < 3) return std::nullopt;
+  return o;
+}
+
+}  // namespace
+
+PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
+                                const geometry::Camera& camera, const TableRegion& region,
+                                const PushPlanOptions& options) {
+  options.validate();
+  require(camera.width > 0 && camera.height > 0, "planning view: the camera has no image size");
+  PlanningView view;
+  view.camera = camera;
+  view.image_size = cv::Size(camera.width, camera.height);
+  // The table point of each feature: the viewing ray X = C + s R^T K^-1 (u, v, 1) meets z = 0
+  // (eqs 3.13-3.17 in closed form; back_project_to_plane's SVD per point would cost more than the
+  // rest of the view).
+  const Eigen::Matrix3d ray = camera.R.transpose() * camera.K.inverse();
+  const Eigen::Vector3d eye = camera.center();
+  for (const cv::KeyPoint& k : features) {
+    const Eigen::Vector3d d = ray * Eigen::Vector3d(k.pt.x, k.pt.y, 1.0);
+    if (d.z() >= -1e-12) continue;  // at or above the horizon: not on the table
+    const double s = -eye.z() / d.z();
+    if (s <= 0) continue;
+    const Eigen::Vector2d t = (eye + s * d).head<2>();
+    if (inside_region(t, region, region.edge_band)) view.features.push_back(k);
+  }
+  const std::vector<cv::KeyPoint>& kept = view.features;
+  view.density = features::feature_density(kept, view.image_size, options.blobs);
+  for (const features::Blob& b : features::find_blobs(kept, view.image_size, options.blobs)) {
+    if (auto o = putative_object(b, kept, camera, region, options)) {
+      view.objects.push_back(std::move(*o));
+    }
+  }
+  return view;
+}
+
+PlanningView look_for_objects(const robot::Look& look, const TableRegion& region,
+                              const PushPlanOptions& options) {
+  return make_planning_view(textured_points(look.image, options, look.arm_mask), look.camera,
+                            region, options);
+}
+
+double distance_to_hull_edge(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p,
+                             const Eigen::Vector2d& u) {
+  const std::size_t n = hull.size();
+  if (n < 3) return 0.0;
+  // Inside: p on the same side of every edge (either orientation).
+  int positive = 0;
+  int negative = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double c = cross(hull[(i + 1) % n] - hull[i], p - hull[i]);
+    positive += c > 0 ? 1 : 0;
+    negative += c < 0 ? 1 : 0;
+  }
+  if (positive > 0 && negative > 0) return 0.0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d e = hull[(i + 1) % n] - a;
+    const double denom = cross(u, e);
+    if (std::abs(denom) < 1e-15) continue;
+    const double s = cross(a - p, e) / denom;
+    const double t = cross(a - p, u) / denom;
+    if (s >= 0 && t >= -1e-12 && t <= 1 + 1e-12) best = std::min(best, s);
+  }
+  return std::isfinite(best) ? best : 0.0;
+}
+
+robot::TablePush push_through_centre(const std::vector<Eigen::Vector2d>& hull,
+                                     const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
+                                     double approach, double height, double speed) {
+  const Eigen::Vector2d d = target - centre;
+  require(d.allFinite() && d.norm() > 1e-9, "push: the target is the object's centre");
+  const Eigen::Vector2d n = d / d.norm();  // SPEC §5: p_t - p_s, not the thesis's p_s - p_t
+  const double back = distance_to_hull_edge(hull, centre, -n);
+  robot::TablePush push;
+  push.start = centre - (back + approach) * n;  // p_s, behind the object
+  push.end = target - back * n;                 // the back edge where p_c is over p_t
+  push.height = height;
+  push.speed = speed;
+  return push;
+}
+
+namespace {
+
+// Density at table point xy (z = height) seen by the camera; 0 outside the image.
+double density_at(const cv::Mat1f& density, const geometry::Matrix34d& P, const Eigen::Vector2d& xy,
+                  double height) {
+  const Eigen::Vector3d h = P * Eigen::Vector4d(xy.x(), xy.y(), height, 1.0);
+  if (h.z() <= 0) return 0.0;
+  const int u = static_cast<int>(std::lround(h.x() / h.z()));
+  const int v = static_cast<int>(std::lround(h.y() / h.z()));
+  if (u < 0 || v < 0 || u >= density.cols || v >= density.rows) return 0.0;
+  return density(v, u);
+}
+
+// The integral of the density along the segment a -> b in steps of `step`.
+double line_integral(const cv::Mat1f& density, const geometry::Matrix34d& P,
+                     const Eigen::Vector2d& a, const Eigen::Vector2d& b, double height,
+                     double step) {
+  const double len = (b - a).norm();
+  const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
+  double sum = 0;
+  for (int i = 0; i <= n; ++i) {
+    sum += density_at(density, P, a + (b - a) * (static_cast<double>(i) / n), height);
+  }
+  return sum * len / (n + 1);
+}
+
+}  // namespace
+
+double path_cost(const cv::Mat1f& density, const geometry::Camera& camera,
+                 const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
+                 const Eigen::Vector2d& centre, const Eigen::Vector2d& target, double height,
+                 double step) {
+  const geometry::Matrix34d P = camera.P();
+  const Eigen::Vector2d n = (target - centre).normalized();
+  const Eigen::Vector2d side(-n.y(), n.x());
+  const double back = distance_to_hull_edge(hull, centre, -n);
+  const double front = distance_to_hull_edge(hull, centre, n);
+  double half_width = 0;
+  for (const auto& h : hull) half_width = std::max(half_width, std::abs((h - centre).dot(side)));
+  // The pusher alone, from p_s to the object's back edge (eq 7.5 along f(t)).
+  double cost = line_integral(density, P, push.start, centre - back * n, height, step);
+  // The corridor the object sweeps.
+  for (int k = 0; k < kCorridorLines; ++k) {
+    const double o = half_width * (2.0 * k / (kCorridorLines - 1) - 1.0);
+    cost += line_integral(density, P, centre - back * n + o * side, target + front * n + o * side,
+                          height, step) /
+            kCorridorLines;
+  }
+  return cost;
+}
+
+namespace {
+
+cv::Mat1f others_density(const PlanningView& view, const PutativeObject& object) {
+  cv::Mat1f d = view.density.clone();
+  d(object.box).setTo(0.0F, object.mask);
+  std::vector<cv::Point> poly;
+  for (const auto& h : object.hull_pixels) {
+    poly.emplace_back(static_cast<int>(std::lround(h.x())), static_cast<int>(std::lround(h.y())));
+  }
+  if (poly.size() >= 3) cv::fillConvexPoly(d, poly, cv::Scalar(0.0));
+  return d;
+}
+
+double hull_radius(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& c) {
+  double r = 0;
+  for (const auto& h : hull) r = std::max(r, (h - c).norm());
+  return r;
+}
+
+// Distance of the target's pixel to the nearest image border, as a fraction of the larger side.
+double border_fraction(const geometry::Camera& cam, const Eigen::Vector2d& t, double height) {
+  const Eigen::Vector3d X(t.x(), t.y(), height);
+  if (cam.depth(X) <= 0) return 1.0;
+  const Eigen::Vector2d px = cam.project(X);
+  const double d = std::min({px.x(), px.y(), cam.width - 1 - px.x(), cam.height - 1 - px.y()});
+  return std::max(0.0, d) / std::max(cam.width, cam.height);
+}
+
+bool in_view(const geometry::Camera& cam, const Eigen::Vector2d& t, double height) {
+  const Eigen::Vector3d X(t.x(), t.y(), height);
+  if (cam.depth(X) <= 0) return false;
+  const Eigen::Vector2d px = cam.project(X);
+  return px.x() >= 0 && px.y() >= 0 && px.x() <= cam.width - 1 && px.y() <= cam.height - 1;
+}
+
+std::string metres(const Eigen::Vector2d& p) {
+  char b[64];
+  std::snprintf(b, sizeof b, "(%.3f, %.3f) m", p.x(), p.y());
+  return b;
+}
+
+}  // namespace
+
+cv::Mat1f density_of_others(const PlanningView& view, int object) {
+  require(object >= 0 && object < static_cast<int>(view.objects.size()),
+          "density of others: no putative object " + std::to_string(object));
+  return others_density(view, view.objects[static_cast<std::size_t>(object)]);
+}
+
+PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
+                   const Eigen::Vector2d& target, const TableRegion& region, robot::ArmState& arm,
+                   const robot::JointVector& q_rest, const PushPlanOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  options.validate();
+  if (goal == PushGoal::kTarget) require(target.allFinite(), "push: the target must be finite");
+  PushPlan plan;
+  plan.object = object;
+  auto finish = [&](PlanOutcome outcome, std::string message) {
+    plan.outcome = outcome;
+    plan.message = std::move(message);
+    plan.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return plan;
+  };
+  if (view.objects.empty()) return finish(PlanOutcome::kNoObjects, "no putative object in view");
+  if (object < 0 || object >= static_cast<int>(view.objects.size())) {
+    return finish(PlanOutcome::kUnknownObject,
+                  "object " + std::to_string(object) + " is not in view (" +
+                      std::to_string(view.objects.size()) + " putative objects)");
+  }
+  const PutativeObject& o = view.objects[static_cast<std::size_t>(object)];
+  plan.centre = o.centre;
+  const double radius = hull_radius(o.hull, o.centre);
+  if (goal == PushGoal::kTarget) {
+    plan.target = target;
+    if (!inside_region(target, region, options.table_margin + radius)) {
+      return finish(PlanOutcome::kTargetOffTable,
+                    "target " + metres(target) + " is off the table (the object, " +
+                        std::to_string(static_cast<int>(std::lround(radius * 1000))) +
+                        " mm across its centre, would not fit)");
+    }
+    if ((target - o.centre).norm() < kAtTargetDistance) {
+      return finish(PlanOutcome::kAtTarget, "the object is already at the target");
+    }
+  }
+  const cv::Mat1f others = others_density(view, o);
+  core::Rng rng(options.seed);
+  const robot::IkOptions ik;
+  struct Candidate {
+    double cost;
+    Eigen::Vector2d target;
+    double approach;
+    robot::TablePush push;
+  };
+  std::vector<Candidate> feasible;
+  for (int i = 0; i < options.candidates; ++i) {
+    ++plan.sampled;
+    Eigen::Vector2d t = target;
+    if (goal == PushGoal::kTarget) {
+      if (i > 0 && options.target_spread > 0) {
+        const double r = options.target_spread * std::sqrt(rng.uniform());
+        const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
+        t += r * Eigen::Vector2d(std::cos(a), std::sin(a));
+      }
+    } else {
+      const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      const double r = rng.uniform(options.min_distance, options.max_distance);
+      t = o.centre + r * Eigen::Vector2d(std::cos(a), std::sin(a));
+    }
+    const double approach = rng.uniform(options.min_approach, options.max_approach);
+    if ((t - o.centre).norm() < kAtTargetDistance) {
+      ++plan.rejected_region;
+      continue;
+    }
+    const robot::TablePush push =
+        push_through_centre(o.hull, o.centre, t, approach, options.tip_height, options.push_speed);
+    if (!inside_region(push.start, region, options.table_margin) ||
+        !inside_region(t, region, options.table_margin + radius) ||
+        (goal == PushGoal::kEdge && !in_view(view.camera, t, 0.0)) || push.length() < 0.005) {
+      ++plan.rejected_region;
+      continue;
+    }
+    if (!robot::reachable(arm, push.start, push.height, q_rest, ik) ||
+        !robot::reachable(arm, push.start, push.height + kTransitLift, q_rest, ik) ||
+        !robot::reachable(arm, push.end, push.height, q_rest, ik)) {
+      ++plan.rejected_reach;
+      continue;
+    }
+    double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
+                            options.path_step);
+    if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
+    feasible.push_back({cost, t, approach, push});
+  }
+  std::stable_sort(feasible.begin(), feasible.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  double best = std::numeric_limits<double>::infinity();
+  robot::PushMotionOptions motion;
+  motion.rate_hz = kMotionCheckRate;
+  for (const Candidate& c : feasible) {
+    try {
+      (void)robot::plan_push_motion(arm, c.push, q_rest, motion);
+    } catch (const Error&) {
+      ++plan.rejected_reach;
+      continue;
+    }
+    best = c.cost;
+    plan.target = c.target;
+    plan.push = c.push;
+    plan.approach = c.approach;
+    plan.cost = c.cost;
+    plan.direction = (c.target - o.centre).normalized();
+    plan.edge_distance = distance_to_hull_edge(o.hull, o.centre, -plan.direction);
+    break;
+  }
+  if (!std::isfinite(best)) {
+    return finish(PlanOutcome::kUnreachable,
+                  "no path: of " + std::to_string(plan.sampled) + " sampled, " +
+                      std::to_string(plan.rejected_region) + " left the table or view and " +
+                      std::to_string(plan.rejected_reach) + " were out of the arm's reach");
+  }
+  return finish(PlanOutcome::kPlanned,
+                "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
+                    " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target));
+}
+
+}  // namespace proprio::planning

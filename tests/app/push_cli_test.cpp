@@ -1,0 +1,90 @@
+// proprio push / proprio evaluate push, run as a user would.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "../support/schema_check.hpp"
+#include "cli_run.hpp"
+#include "proprio/core/json_io.hpp"
+
+namespace proprio::app {
+namespace {
+namespace fs = std::filesystem;
+using proprio::test::expect_schema_valid;
+using proprio::test::run_cli;
+
+#define EXPECT_HAS(haystack, needle) \
+  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << (haystack)
+
+fs::path temp_dir() {
+  fs::path d = fs::temp_directory_path() / ("proprio_push_cli_" + std::to_string(getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(PushCli, PushesTheNamedObjectAndWritesWhatHappened) {
+  const fs::path out = temp_dir() / "push";
+  const fs::path json = temp_dir() / "push.json";
+  fs::remove_all(out);
+  // A table where the box is seen apart from the others (docs/results/push.md: seed 5).
+  const auto r = run_cli(
+      "push --objects 5 --seed 5 --object box --target-x 0.205 --target-y 0.017 --fps 5 --out " +
+      out.string() + " --json " + json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "box ended");
+  expect_schema_valid("push.schema.json", json);
+  const core::Json j = core::read_json(json);
+  EXPECT_EQ(j["outcome"], "pushed");
+  EXPECT_EQ(j["plan"]["outcome"], "planned");
+  EXPECT_TRUE(j["execution"]["touched"].get<bool>());
+  EXPECT_EQ(j["ground_truth"]["intended"], "box");
+  EXPECT_TRUE(j["ground_truth"]["moved_intended"].get<bool>());
+  EXPECT_LT(j["ground_truth"]["final_distance"].get<double>(), 0.03);
+  EXPECT_LT(j["ground_truth"]["final_distance"].get<double>(), 0.03);
+  for (const char* f :
+       {"before.png", "plan.png", "after.png", "push.json", "episode/episode.json"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  fs::remove_all(out);
+}
+
+TEST(PushCli, OffTableTargetIsAnOutcomeNotACrash) {
+  const fs::path json = temp_dir() / "off.json";
+  const auto r =
+      run_cli("push --objects 5 --seed 5 --object box --target-x 1.5 --target-y 0.0 --json " +
+              json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "not-planned");
+  EXPECT_HAS(r.out, "off the table");
+  const core::Json j = core::read_json(json);
+  EXPECT_EQ(j["plan"]["outcome"], "target-off-table");
+  EXPECT_FALSE(j.contains("execution"));
+}
+
+TEST(PushCli, BadOptionsExitTwoWithOneLine) {
+  for (const char* args :
+       {"push --object unicorn --width 320 --height 240", "push --min-approach -0.01",
+        "push --objects 0", "evaluate push --tables 0", "push --goal sideways"}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+  }
+}
+
+TEST(PushCli, EvaluatesAFewTables) {
+  const fs::path json = temp_dir() / "eval.json";
+  const auto r =
+      run_cli("evaluate push --tables 3 --width 320 --height 240 --json " + json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "3 tables");
+  expect_schema_valid("evaluate_push.schema.json", json);
+  const core::Json j = core::read_json(json);
+  EXPECT_EQ(j["tables"], 3);
+  EXPECT_EQ(j["pushes"].size(), 3U);
+  EXPECT_EQ(j["planned"].get<int>() + j["not_planned"].get<int>() + j["not_seen"].get<int>() +
+                j["refused"].get<int>(),
+            3);
+}
+
+}  // namespace
+}  // namespace proprio::app

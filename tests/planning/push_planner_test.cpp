@@ -1,0 +1,159 @@
+// The push planner (thesis 7.2.1) on synthetic views: a camera looking straight down on the
+// table, square patches of features as objects, the standalone arm for reachability.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../support/paths.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/planning/push_planner.hpp"
+
+namespace proprio::planning {
+namespace {
+
+// 640 x 480, 1 m above (0.25, 0), looking down; image x = world x, image y = -world y.
+geometry::Camera down_camera() {
+  geometry::Camera c;
+  c.K << 600, 0, 320, 0, 600, 240, 0, 0, 1;
+  c.R = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  c.t = -c.R * Eigen::Vector3d(0.25, 0.0, 1.0);
+  c.width = 640;
+  c.height = 480;
+  return c;
+}
+
+// Grid features covering a square of half side `h` (m) centred at table point `c`.
+void add_square(std::vector<cv::KeyPoint>& f, const geometry::Camera& cam, Eigen::Vector2d c,
+                double h) {
+  const Eigen::Vector2d a = cam.project(Eigen::Vector3d(c.x() - h, c.y() + h, 0));
+  const Eigen::Vector2d b = cam.project(Eigen::Vector3d(c.x() + h, c.y() - h, 0));
+  for (double v = a.y(); v <= b.y(); v += 6) {
+    for (double u = a.x(); u <= b.x(); u += 6) {
+      f.emplace_back(static_cast<float>(u), static_cast<float>(v), 12.0F);
+    }
+  }
+}
+
+const robot::Arm& arm() {
+  static const robot::Arm a = robot::Arm::load(test::data_dir() / "models" / "arm_standalone.xml");
+  return a;
+}
+
+PushPlanOptions flat_options() {
+  PushPlanOptions o;
+  o.centre_height = 0.0;  // the squares lie on the table
+  return o;
+}
+
+TEST(PushGeometry, DistanceToHullEdgeIsTheExactIntersection) {
+  const std::vector<Eigen::Vector2d> square{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  EXPECT_NEAR(distance_to_hull_edge(square, {0, 0}, {1, 0}), 1.0, 1e-12);
+  EXPECT_NEAR(distance_to_hull_edge(square, {0.5, 0}, {-1, 0}), 1.5, 1e-12);
+  const Eigen::Vector2d diag = Eigen::Vector2d(1, 1).normalized();
+  EXPECT_NEAR(distance_to_hull_edge(square, {0, 0}, diag), std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(distance_to_hull_edge(square, {3, 0}, {1, 0}), 0.0);  // outside
+  // Clockwise hulls too.
+  const std::vector<Eigen::Vector2d> cw{{-1, 1}, {1, 1}, {1, -1}, {-1, -1}};
+  EXPECT_NEAR(distance_to_hull_edge(cw, {0, 0}, {0, 1}), 1.0, 1e-12);
+}
+
+TEST(PushGeometry, StartIsBehindTheObjectAndTheCentreEndsOverTheTarget) {
+  const std::vector<Eigen::Vector2d> square{
+      {0.18, -0.02}, {0.22, -0.02}, {0.22, 0.02}, {0.18, 0.02}};
+  const Eigen::Vector2d c(0.2, 0.0);
+  const Eigen::Vector2d t(0.2, 0.1);  // push along +y
+  const robot::TablePush p = push_through_centre(square, c, t, 0.03, 0.008, 0.05);
+  // n = (p_t - p_s) / |p_t - p_s| points from the start to the target (the sign SPEC §5 fixes).
+  EXPECT_NEAR(p.start.x(), 0.2, 1e-12);
+  EXPECT_NEAR(p.start.y(), -0.05, 1e-12);  // 2 cm to the edge + 3 cm approach, behind
+  EXPECT_NEAR(p.end.y(), 0.08, 1e-12);     // the back edge where the centre is over the target
+  const Eigen::Vector2d n = (t - p.start).normalized();
+  EXPECT_NEAR(n.y(), 1.0, 1e-12);
+  EXPECT_THROW((void)push_through_centre(square, c, c, 0.03, 0.008, 0.05), Error);
+}
+
+TEST(PushPlanner, FindsTheObjectsAndTheirCentres) {
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_square(f, cam, {0.20, 0.10}, 0.04);
+  add_square(f, cam, {0.30, -0.12}, 0.03);
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 2U);
+  EXPECT_LT((view.objects[0].centre - Eigen::Vector2d(0.20, 0.10)).norm(), 0.005);
+  EXPECT_LT((view.objects[1].centre - Eigen::Vector2d(0.30, -0.12)).norm(), 0.005);
+  EXPECT_GE(view.objects[0].hull.size(), 4U);
+}
+
+TEST(PushPlanner, PathCostCountsOtherObjectsOnTheWayOnly) {
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_square(f, cam, {0.20, 0.0}, 0.03);
+  add_square(f, cam, {0.30, 0.0}, 0.03);  // in the way along +x
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 2U);
+  const auto& o = view.objects[0].centre.x() < 0.25 ? view.objects[0] : view.objects[1];
+  const auto through = push_through_centre(o.hull, o.centre, {0.36, 0.0}, 0.03, 0.008, 0.05);
+  const auto aside = push_through_centre(o.hull, o.centre, {0.20, 0.16}, 0.03, 0.008, 0.05);
+  const cv::Mat1f others = density_of_others(view, view.objects[0].centre.x() < 0.25 ? 0 : 1);
+  const double c_through =
+      path_cost(others, cam, through, o.hull, o.centre, {0.36, 0.0}, 0.0, 0.005);
+  const double c_aside = path_cost(others, cam, aside, o.hull, o.centre, {0.20, 0.16}, 0.0, 0.005);
+  EXPECT_GT(c_through, 0.2);          // 6 cm of the obstacle, ~6 features per px of density
+  EXPECT_LT(c_aside, c_through / 3);  // only the tail of its own density past the blob
+}
+
+TEST(PushPlanner, PlansAroundAnObstacleAndRejectsWhatItCannotDo) {
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_square(f, cam, {0.20, 0.05}, 0.03);
+  add_square(f, cam, {0.30, 0.05}, 0.03);
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 2U);
+  const int a = view.objects[0].centre.x() < 0.25 ? 0 : 1;
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const TableRegion region;
+
+  // To the edge of the view: the planner takes a path away from the obstacle at +x.
+  PushPlan p = plan_push(view, a, PushGoal::kEdge, {0, 0}, region, state, q0, flat_options());
+  ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
+  EXPECT_TRUE(p.push.start.allFinite() && p.push.end.allFinite());
+  EXPECT_LT(p.direction.x(), 0.9);  // not straight into the obstacle
+  EXPECT_LT(p.seconds, 0.5);
+
+  // A given target: the centre ends over it, the start is behind on the line.
+  const Eigen::Vector2d target(0.22, -0.08);
+  p = plan_push(view, a, PushGoal::kTarget, target, region, state, q0, flat_options());
+  ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
+  EXPECT_LT((p.target - target).norm(), flat_options().target_spread + 1e-9);
+  const Eigen::Vector2d n = (p.target - p.push.start).normalized();
+  EXPECT_NEAR(n.dot(p.direction), 1.0, 1e-9);
+
+  EXPECT_EQ(
+      plan_push(view, a, PushGoal::kTarget, {2.0, 0.0}, region, state, q0, flat_options()).outcome,
+      PlanOutcome::kTargetOffTable);
+  EXPECT_EQ(
+      plan_push(view, a, PushGoal::kTarget, {0.70, 0.0}, region, state, q0, flat_options()).outcome,
+      PlanOutcome::kUnreachable);
+  EXPECT_EQ(
+      plan_push(view, 7, PushGoal::kTarget, target, region, state, q0, flat_options()).outcome,
+      PlanOutcome::kUnknownObject);
+  EXPECT_EQ(plan_push(view, a, PushGoal::kTarget, view.objects[static_cast<std::size_t>(a)].centre,
+                      region, state, q0, flat_options())
+                .outcome,
+            PlanOutcome::kAtTarget);
+  const PlanningView empty = make_planning_view({}, cam, {}, flat_options());
+  EXPECT_EQ(
+      plan_push(empty, 0, PushGoal::kTarget, target, region, state, q0, flat_options()).outcome,
+      PlanOutcome::kNoObjects);
+  EXPECT_THROW((void)plan_push(view, a, PushGoal::kTarget, {std::nan(""), 0.0}, region, state, q0,
+                               flat_options()),
+               Error);
+  PushPlanOptions bad = flat_options();
+  bad.min_approach = 0.1;
+  bad.max_approach = 0.05;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
+}  // namespace
+}  // namespace proprio::planning

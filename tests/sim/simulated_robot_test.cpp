@@ -1,0 +1,142 @@
+// The simulated robot behind robot::Robot: a persistent table, pushes that move what they touch,
+// the touch flag, episodes without ground truth, re-scattering.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/episode/episode.hpp"
+#include "proprio/sim/simulated_robot.hpp"
+#include "sim_test_util.hpp"
+
+namespace proprio::sim {
+namespace {
+namespace fs = std::filesystem;
+
+TableOptions small_table() {
+  TableOptions o;
+  o.objects = {"book", "mug", "calculator"};
+  o.seed = 3;
+  o.width = 320;
+  o.height = 240;
+  return o;
+}
+
+const ObjectTruth& truth_of(const std::vector<ObjectTruth>& t, const std::string& name) {
+  for (const ObjectTruth& o : t) {
+    if (o.name == name) return o;
+  }
+  throw Error("no object " + name);
+}
+
+TEST(ScatterPlacements, AreSeededAndDoNotOverlap) {
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  std::vector<const ObjectType*> types;
+  for (const char* n : {"book", "mug", "cd", "box", "bottle"}) types.push_back(&cat.get(n));
+  const ScatterRegion region;
+  const auto a = scatter_placements(types, region, 11);
+  const auto b = scatter_placements(types, region, 11);
+  const auto c = scatter_placements(types, region, 12);
+  ASSERT_EQ(a.size(), types.size());
+  EXPECT_EQ(a[2].position, b[2].position);
+  EXPECT_NE(a[2].position, c[2].position);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    // Apart by more than their narrowest extents (the boxes are yawed).
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_GE((a[i].position - a[j].position).norm(),
+                types[i]->half_extents().head<2>().minCoeff() +
+                    types[j]->half_extents().head<2>().minCoeff());
+    }
+  }
+}
+
+TEST(SimulatedRobot, LooksPushesAndKeepsTheScene) {
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  SimulatedRobot robot(small_table(), cat);
+  const robot::Look look = robot.look();
+  ASSERT_EQ(look.image.cols, 320);
+  ASSERT_EQ(look.image.rows, 240);
+  EXPECT_EQ(look.camera.width, 320);
+  if (const char* dump = std::getenv("PROPRIO_DUMP_LOOK")) cv::imwrite(dump, look.image);
+  // Every object is in view and none is hidden by the parked arm.
+  const cv::Mat mask = robot.ground_truth_mask();
+  for (const ObjectTruth& o : robot.ground_truth()) {
+    EXPECT_GT(cv::countNonZero(mask == o.id), 50) << o.name;
+    EXPECT_TRUE(o.on_table) << o.name;
+  }
+  // The parked arm (its base stays in view) covers little of the image.
+  EXPECT_LT(cv::countNonZero(mask == kArmId), 320 * 240 / 8);
+
+  // Push the mug 6 cm along its line from the base, starting 4 cm behind it.
+  const ObjectTruth mug = truth_of(robot.ground_truth(), "mug");
+  const Eigen::Vector2d c = mug.centre.head<2>();
+  const Eigen::Vector2d n = c.normalized();
+  robot::TablePush push;
+  push.start = c - n * (mug.footprint_radius + 0.03);
+  push.end = c - n * 0.02 + n * 0.06;
+  const fs::path dir = test::temp_dir() / "robot_push";
+  fs::remove_all(dir);
+  robot::PushRecording rec;
+  rec.episode_dir = dir;
+  rec.fps = 10;
+  rec.run.seed = 3;
+  const robot::PushReport r = robot.push(push, rec);
+  EXPECT_TRUE(r.touched);
+  ASSERT_TRUE(r.first_touch_frame.has_value());
+  EXPECT_GT(*r.first_touch_frame, 0);
+  ASSERT_EQ(robot.last_push_contacts().size(), 1U);
+  const auto after = robot.ground_truth();
+  const ObjectTruth moved = truth_of(after, "mug");
+  EXPECT_GT((moved.centre - mug.centre).head<2>().dot(n), 0.03);
+  EXPECT_LT(
+      (truth_of(after, "book").position - truth_of(robot.ground_truth(), "book").position).norm(),
+      1e-3);
+
+  // The episode: frames and the touch flag, no ground truth.
+  const episode::Episode e = episode::read_episode(dir);
+  EXPECT_EQ(e.frame_count(), r.frames);
+  EXPECT_FALSE(e.info().has_masks);
+  EXPECT_TRUE(e.objects().empty());
+  EXPECT_EQ(e.first_touch_frame(), r.first_touch_frame);
+
+  // The scene persists: a second look sees the mug where the push left it.
+  const auto again = robot.ground_truth();
+  EXPECT_LT((truth_of(again, "mug").position - moved.position).norm(), 1e-3);
+  fs::remove_all(dir);
+}
+
+TEST(SimulatedRobot, RejectsUnreachableAndBadPushesWithoutMoving) {
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  SimulatedRobot robot(small_table(), cat);
+  const auto before = robot.ground_truth();
+  robot::TablePush far;
+  far.start = {0.9, 0.0};
+  far.end = {1.0, 0.0};
+  EXPECT_THROW((void)robot.push(far, {}), Error);
+  robot::TablePush nan;
+  nan.start = {std::nan(""), 0.0};
+  EXPECT_THROW((void)robot.push(nan, {}), Error);
+  const auto after = robot.ground_truth();
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    EXPECT_LT((before[i].position - after[i].position).norm(), 1e-6);
+  }
+}
+
+TEST(SimulatedRobot, ScatterMovesEveryObject) {
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  SimulatedRobot robot(small_table(), cat);
+  const auto before = robot.ground_truth();
+  const auto places = robot.scatter(99);
+  const auto after = robot.ground_truth();
+  ASSERT_EQ(places.size(), before.size());
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    EXPECT_GT((before[i].position - after[i].position).norm(), 1e-3);
+    EXPECT_LT((after[i].position.head<2>() - places[i].position).norm(), 0.01);
+    EXPECT_TRUE(after[i].on_table);
+  }
+}
+
+}  // namespace
+}  // namespace proprio::sim
