@@ -6,6 +6,7 @@
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
+#include "proprio/core/text.hpp"
 #include "proprio/geometry/json.hpp"
 #include "proprio/geometry/point_files.hpp"
 #include "proprio/geometry/triangulation.hpp"
@@ -13,13 +14,6 @@
 namespace proprio::geometry {
 namespace {
 namespace fs = std::filesystem;
-
-std::string format(const char* fmt, auto... args) {
-  const int n = std::snprintf(nullptr, 0, fmt, args...);
-  std::string out(static_cast<std::size_t>(n), '\0');
-  std::snprintf(out.data(), out.size() + 1, fmt, args...);
-  return out;
-}
 
 // Runs f; an Error from the library gets the name of the file it came from.
 template <typename F>
@@ -49,9 +43,9 @@ void write_png(const fs::path& path, const cv::Mat& image) {
 std::string describe_camera(const std::string& name, const Camera& c) {
   const Eigen::Vector3d C = c.center();
   // + 0.0 prints -0 as 0.
-  return format("%s: fx %.2f fy %.2f cx %.2f cy %.2f skew %.3g; centre (%.5g, %.5g, %.5g)\n",
-                name.c_str(), c.K(0, 0), c.K(1, 1), c.K(0, 2), c.K(1, 2), c.K(0, 1), C.x() + 0.0,
-                C.y() + 0.0, C.z() + 0.0);
+  return core::printf_string(
+      "%s: fx %.2f fy %.2f cx %.2f cy %.2f skew %.3g; centre (%.5g, %.5g, %.5g)\n", name.c_str(),
+      c.K(0, 0), c.K(1, 1), c.K(0, 2), c.K(1, 2), c.K(0, 1), C.x() + 0.0, C.y() + 0.0, C.z() + 0.0);
 }
 
 void CalibDltOptions::validate() const {
@@ -69,12 +63,12 @@ CalibRun run_calib_dlt(const CalibDltOptions& o, const core::Provenance& provena
   cam.height = o.height;
   write_calib(o.out, cam, provenance);
   CalibRun run;
-  run.report = format("DLT on %d points: reprojection RMS %.4f px, max %.4f px\n",
-                      r.summary.num_points, r.rms_px, r.summary.max_residual_px) +
-               describe_camera("camera", cam) + format("wrote %s\n", o.out.c_str());
+  run.report = core::printf_string("DLT on %d points: reprojection RMS %.4f px, max %.4f px\n",
+                                   r.summary.num_points, r.rms_px, r.summary.max_residual_px) +
+               describe_camera("camera", cam) + core::printf_string("wrote %s\n", o.out.c_str());
   if (r.summary.points_behind > 0) {
-    run.warnings.push_back(format("%s: %d points lie behind the estimated camera", o.points.c_str(),
-                                  r.summary.points_behind));
+    run.warnings.push_back(core::printf_string("%s: %d points lie behind the estimated camera",
+                                               o.points.c_str(), r.summary.points_behind));
   }
   core::Json& doc = run.document;
   doc = core::result_document("proprio.calib.dlt", 1, provenance);
@@ -119,7 +113,7 @@ CalibRun run_calib_triangulate(const CalibTriangulateOptions& o,
   }
   write_points_csv(o.out, all.points);
   CalibRun run;
-  run.report = format("%s\nwrote %s\n", all.summary.brief().c_str(), o.out.c_str());
+  run.report = core::printf_string("%s\nwrote %s\n", all.summary.brief().c_str(), o.out.c_str());
   core::Json& doc = run.document;
   doc = core::result_document("proprio.calib.triangulate", 1, provenance);
   doc["points_file"] = o.points.string();
@@ -159,7 +153,7 @@ CalibRun run_calib_backproject(const CalibBackprojectOptions& o,
   write_points_csv(o.out, points);
   const Eigen::Vector3d& n = o.plane.n;
   CalibRun run;
-  run.report = format(
+  run.report = core::printf_string(
       "back-projected %zu pixels onto %g x + %g y + %g z = %g (most grazing ray: cos %.3f)\n"
       "wrote %s\n",
       points.size(), n.x(), n.y(), n.z(), o.plane.kappa, min_cos, o.out.c_str());
@@ -192,7 +186,7 @@ CalibRun run_calib_uncertainty(const CalibUncertaintyOptions& o,
   const double f = o.render.unit_scale;
   const char* unit = o.render.unit.c_str();
   CalibRun run;
-  run.report = format(
+  run.report = core::printf_string(
       "visual uncertainty (sigma %.3g px): %d of %d cells seen by both cameras\n"
       "max std of the triangulated point: min %.4g %s at (%.4g, %.4g, %.4g), median %.4g %s, "
       "max %.4g %s\nwrote %s\n",
@@ -225,18 +219,18 @@ CalibRun run_calib_stereo(const CalibStereoOptions& o, const core::Provenance& p
   write_stereo_corners_csv(o.out / "corners.csv", r.corners);
   CalibRun run;
   std::string& text = run.report;
-  text =
-      format("stereo check on %s (board %dx%d, square %g)\n%s\n", check.images_dir.c_str(),
-             check.board.width, check.board.height, check.square_size, r.summary.brief().c_str());
+  text = core::printf_string("stereo check on %s (board %dx%d, square %g)\n%s\n",
+                             check.images_dir.c_str(), check.board.width, check.board.height,
+                             check.square_size, r.summary.brief().c_str());
   text += describe_camera("left camera", r.left);
   text += describe_camera("right camera", r.right);
   for (const auto& p : r.pairs) {
-    text +=
-        format("  pair %s: board %s/%s, %d corners, planarity %.4f, neighbours %.5f squares\n",
-               p.id.c_str(), p.found_left ? "found" : "missed", p.found_right ? "found" : "missed",
-               p.corners, p.planarity_rms, p.neighbour_mean);
+    text += core::printf_string(
+        "  pair %s: board %s/%s, %d corners, planarity %.4f, neighbours %.5f squares\n",
+        p.id.c_str(), p.found_left ? "found" : "missed", p.found_right ? "found" : "missed",
+        p.corners, p.planarity_rms, p.neighbour_mean);
   }
-  text += format("wrote %s/{left.yml,right.yml,corners.csv}\n", o.out.c_str());
+  text += core::printf_string("wrote %s/{left.yml,right.yml,corners.csv}\n", o.out.c_str());
   core::Json& doc = run.document;
   doc = core::result_document("proprio.calib.stereo", 1, provenance);
   doc["images"] = check.images_dir.string();

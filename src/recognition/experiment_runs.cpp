@@ -7,35 +7,18 @@
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/progress.hpp"
+#include "proprio/core/text.hpp"
 #include "proprio/episode/discovery.hpp"
 #include "proprio/features/image_set.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/recognition/recognize_runs.hpp"
+#include "run_support.hpp"
 
 namespace proprio::recognition {
 namespace {
 
-std::vector<episode::Episode> read_episodes(const std::vector<std::filesystem::path>& args) {
-  std::vector<episode::Episode> out;
-  for (const auto& d : episode::find_episodes(args)) out.push_back(episode::read_episode(d));
-  return out;
-}
-
-ProgressFn progress_bar(std::shared_ptr<core::ProgressBar>& bar, const char* label, bool show) {
-  return [&bar, label, show](std::size_t done, std::size_t total) {
-    if (!show) return;
-    if (!bar || done == 1) bar = std::make_shared<core::ProgressBar>(total, label);
-    bar->tick();
-    if (done == total) bar->finish();
-  };
-}
-
-std::string format(const char* fmt, auto... args) {
-  const int n = std::snprintf(nullptr, 0, fmt, args...);
-  std::string out(static_cast<std::size_t>(n), '\0');
-  std::snprintf(out.data(), out.size() + 1, fmt, args...);
-  return out;
-}
+using detail::progress_bar;
+using detail::read_episodes;
 
 core::Json kmeans_json(const features::KmeansSummary& s, int descriptors) {
   core::Json j;
@@ -77,8 +60,9 @@ ExperimentRun run_set_experiment_files(const SetExperimentRunOptions& options,
   const SetExperimentResult r =
       run_set_experiment(set, o, progress_bar(bar, "images", options.progress));
   ExperimentRun out;
-  out.report = format("set A: %s\nset B: %s\nwide dictionary: %s\n\n", joined(r.set_a).c_str(),
-                      joined(r.set_b).c_str(), joined(r.wide).c_str());
+  out.report =
+      core::printf_string("set A: %s\nset B: %s\nwide dictionary: %s\n\n", joined(r.set_a).c_str(),
+                          joined(r.set_b).c_str(), joined(r.wide).c_str());
   core::Json& doc = out.document;
   doc = core::result_document(
       options.dictionary ? "proprio.experiment.dictionary" : "proprio.experiment.batch_online", 1,
@@ -109,7 +93,7 @@ ExperimentRun run_set_experiment_files(const SetExperimentRunOptions& options,
     j["lda_summary"] = run.lda_summary;
     doc["runs"].push_back(j);
   }
-  out.report += format("seconds: %.1f\n", r.seconds);
+  out.report += core::printf_string("seconds: %.1f\n", r.seconds);
   doc["seconds"] = r.seconds;
   return out;
 }
@@ -148,11 +132,14 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
   }
   ExperimentRun out;
   out.report =
-      format("objects: %zu, episodes: %zu, frames: %d, documents: %d, tokens: %lld, words: %d\n",
-             r.objects.size(), episodes.size(), r.frames, r.documents,
-             static_cast<long long>(r.tokens), r.words) +
-      format("mini-batches: %d documents (%d frames)\n", r.batch_documents, o.online.batch_size) +
-      format("views: %d name the topics (labelled), %d test\n\n", r.mapping_views, r.test_views);
+      core::printf_string(
+          "objects: %zu, episodes: %zu, frames: %d, documents: %d, tokens: %lld, words: %d\n",
+          r.objects.size(), episodes.size(), r.frames, r.documents,
+          static_cast<long long>(r.tokens), r.words) +
+      core::printf_string("mini-batches: %d documents (%d frames)\n", r.batch_documents,
+                          o.online.batch_size) +
+      core::printf_string("views: %d name the topics (labelled), %d test\n\n", r.mapping_views,
+                          r.test_views);
   core::Json& doc = out.document;
   doc = core::result_document("proprio.experiment.scatter", 1, provenance);
   doc["episodes"] = strings(options.episodes);
@@ -186,21 +173,22 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
     j["updates"] = run.summary.updates;
     j["train_seconds"] = run.summary.seconds;
     if (run.mot) {
-      out.report += format("%s: Mixture of Topics (supervised, thesis 7.1; rows: true object)\n%s",
-                           title.c_str(), run.mot->classes.format().c_str());
-      out.report += format("%s: Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
-                           title.c_str(), 100 * run.mot->classes.accuracy(),
-                           100 * run.mot->classes.mean_class_accuracy());
+      out.report += core::printf_string(
+          "%s: Mixture of Topics (supervised, thesis 7.1; rows: true object)\n%s", title.c_str(),
+          run.mot->classes.format().c_str());
+      out.report += core::printf_string(
+          "%s: Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n", title.c_str(),
+          100 * run.mot->classes.accuracy(), 100 * run.mot->classes.mean_class_accuracy());
       j["mot"] = run.mot->classes.to_json();
       j["mot"]["summary"] = run.mot->fit.summary.brief();
     }
     if (run.mot_unsupervised) {
       const MotUnsupervisedEvaluation& u = *run.mot_unsupervised;
-      out.report += format(
+      out.report += core::printf_string(
           "%s: Mixture of Topics, unsupervised (k-means over theta, C = %zu; objects named "
           "by the labelled views; BIC would choose C = %d)\n%s",
           title.c_str(), r.objects.size(), u.chosen_classes, u.classes.format().c_str());
-      out.report += format(
+      out.report += core::printf_string(
           "%s: unsupervised Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
           title.c_str(), 100 * u.classes.accuracy(), 100 * u.classes.mean_class_accuracy());
       j["mot_unsupervised"] = u.classes.to_json();
@@ -209,7 +197,7 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
     }
     doc["runs"].push_back(j);
   }
-  out.report += format("seconds: %.1f\n", r.seconds);
+  out.report += core::printf_string("seconds: %.1f\n", r.seconds);
   doc["seconds"] = r.seconds;
   return out;
 }

@@ -9,6 +9,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
+#include "proprio/core/text.hpp"
 #include "proprio/episode/discovery.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/image_set.hpp"
@@ -18,25 +19,13 @@
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/inference.hpp"
 #include "proprio/topics/lda_model_io.hpp"
+#include "run_support.hpp"
 
 namespace proprio::recognition {
 namespace {
 
-std::vector<episode::Episode> read_episodes(const std::vector<std::filesystem::path>& args) {
-  std::vector<episode::Episode> out;
-  for (const auto& d : episode::find_episodes(args)) out.push_back(episode::read_episode(d));
-  return out;
-}
-
-// A progress bar made on the first call of each pass (a pass counts from 1 again).
-ProgressFn progress_bar(std::shared_ptr<core::ProgressBar>& bar, const char* label, bool show) {
-  return [&bar, label, show](std::size_t done, std::size_t total) {
-    if (!show) return;
-    if (!bar || done == 1) bar = std::make_shared<core::ProgressBar>(total, label);
-    bar->tick();
-    if (done == total) bar->finish();
-  };
-}
+using detail::progress_bar;
+using detail::read_episodes;
 
 std::vector<std::size_t> every_image(const features::ImageSet& set) {
   std::vector<std::size_t> all(set.images.size());
@@ -44,14 +33,7 @@ std::vector<std::size_t> every_image(const features::ImageSet& set) {
   return all;
 }
 
-std::string format(const char* fmt, auto... args) {
-  const int n = std::snprintf(nullptr, 0, fmt, args...);
-  std::string out(static_cast<std::size_t>(n), '\0');
-  std::snprintf(out.data(), out.size() + 1, fmt, args...);
-  return out;
-}
-
-std::string theta_field(double x) { return format("%.6g", x); }
+std::string theta_field(double x) { return core::printf_string("%.6g", x); }
 
 std::vector<std::string> theta_header(std::vector<std::string> first, int topics) {
   for (int k = 0; k < topics; ++k) first.push_back("theta_" + std::to_string(k));
@@ -75,8 +57,8 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
   EpisodeClassification r =
       classify_episodes(episodes, model, vocabulary, eo, progress_bar(bar, "frames", o.progress));
   std::string& text = out.report;
-  text += format("%s (%lld empty)\n", r.summary.message.c_str(),
-                 static_cast<long long>(r.summary.empty_documents));
+  text += core::printf_string("%s (%lld empty)\n", r.summary.message.c_str(),
+                              static_cast<long long>(r.summary.empty_documents));
   core::Json& doc = out.document;
   std::vector<std::string> episode_args(o.source.episodes.size());
   std::transform(o.source.episodes.begin(), o.source.episodes.end(), episode_args.begin(),
@@ -101,16 +83,18 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
                      progress_bar(bar, "labelled", o.progress));
     const Evaluation e = evaluate_model(model, labelled, labelled);
     const ConfusionMatrix classes = apply_mapping(r, e.mapping, mapping_classes);
-    text += format("topic -> class (from the labelled images of %s):", o.map_with.c_str());
+    text +=
+        core::printf_string("topic -> class (from the labelled images of %s):", o.map_with.c_str());
     for (std::size_t k = 0; k < e.mapping.topic_class.size(); ++k)
-      text += format(" z_%zu->%s", k + 1,
-                     mapping_classes[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
+      text += core::printf_string(
+          " z_%zu->%s", k + 1,
+          mapping_classes[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
     text += "\n";
     doc["mapping"] = evaluation_to_json(e)["mapping"];
     if (!r.classes.empty()) {
       text += "classes (topics merged)\n" + classes.format();
-      text += format("accuracy %.1f%%, mean class accuracy %.1f%%\n", 100 * classes.accuracy(),
-                     100 * classes.mean_class_accuracy());
+      text += core::printf_string("accuracy %.1f%%, mean class accuracy %.1f%%\n",
+                                  100 * classes.accuracy(), 100 * classes.mean_class_accuracy());
       doc["classes"] = classes.to_json();
     }
   }
@@ -186,15 +170,17 @@ void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaMo
 }  // namespace
 
 std::string evaluation_report(const std::string& title, const Evaluation& e) {
-  std::string out = format("%s: topics (argmax theta; rows: true class)\n%s", title.c_str(),
-                           e.topics.format().c_str());
+  std::string out = core::printf_string("%s: topics (argmax theta; rows: true class)\n%s",
+                                        title.c_str(), e.topics.format().c_str());
   out += "topic -> class (from the labelled training images):";
   for (std::size_t k = 0; k < e.mapping.topic_class.size(); ++k)
-    out += format(" z_%zu->%s", k + 1,
-                  e.classes.columns[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
-  out += format("\n%s: classes (topics merged)\n%s", title.c_str(), e.classes.format().c_str());
-  out += format("%s: accuracy %.1f%%, mean class accuracy %.1f%%\n\n", title.c_str(),
-                100 * e.classes.accuracy(), 100 * e.classes.mean_class_accuracy());
+    out += core::printf_string(
+        " z_%zu->%s", k + 1,
+        e.classes.columns[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
+  out += core::printf_string("\n%s: classes (topics merged)\n%s", title.c_str(),
+                             e.classes.format().c_str());
+  out += core::printf_string("%s: accuracy %.1f%%, mean class accuracy %.1f%%\n\n", title.c_str(),
+                             100 * e.classes.accuracy(), 100 * e.classes.mean_class_accuracy());
   return out;
 }
 
@@ -255,8 +241,8 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   topics::save_lda_model(r.model, options.model);
   r.documents = corpus.num_documents();
   r.tokens = static_cast<long long>(corpus.num_tokens());
-  r.report = format("%s\ndocuments: %zu\ntokens: %lld\nmodel: %s\n", r.summary.c_str(), r.documents,
-                    r.tokens, options.model.c_str());
+  r.report = core::printf_string("%s\ndocuments: %zu\ntokens: %lld\nmodel: %s\n", r.summary.c_str(),
+                                 r.documents, r.tokens, options.model.c_str());
   core::Json& doc = r.document;
   doc = core::result_document("proprio.recognize.train", 1, provenance);
   doc["model"] = options.model.string();

@@ -5,26 +5,20 @@
 #include "proprio/geometry/camera.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 
+#include "proprio/core/text.hpp"
+
 namespace proprio::sim {
-namespace {
-
-std::string format(const char* fmt, auto... args) {
-  const int n = std::snprintf(nullptr, 0, fmt, args...);
-  std::string out(static_cast<std::size_t>(n), '\0');
-  std::snprintf(out.data(), out.size() + 1, fmt, args...);
-  return out;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 SimRun run_sim_record(const RecordOptions& options, const std::filesystem::path& out,
                       const core::Provenance& provenance) {
   const auto catalogue = ObjectCatalogue::load_default();
   const RecordSummary s = record_episode(out, options, provenance, catalogue);
   SimRun r;
-  r.report = format("episode: %s\n%s\nframes: %d\nseconds: %.3f\nfps: %.2f\nfirst touch: %s\n",
-                    out.c_str(), s.message.c_str(), s.frames, s.seconds, s.fps,
-                    s.first_touch_frame ? std::to_string(*s.first_touch_frame).c_str() : "none");
+  r.report = core::printf_string(
+      "episode: %s\n%s\nframes: %d\nseconds: %.3f\nfps: %.2f\nfirst touch: %s\n", out.c_str(),
+      s.message.c_str(), s.frames, s.seconds, s.fps,
+      s.first_touch_frame ? std::to_string(*s.first_touch_frame).c_str() : "none");
   core::Json& doc = r.document;
   doc = core::result_document("proprio.sim.record", 1, provenance);
   doc["episode"] = out.string();
@@ -46,10 +40,11 @@ SimRun run_sim_calibrate(const SimCalibrationOptions& options, const std::filesy
   cam.height = options.height;
   geometry::write_calib(out, cam, provenance);
   SimRun r;
-  r.report = format("%s (%d unreachable, %d marker not seen)\nrms_px: %.4f\ntrue_error_px: %.4f\n",
-                    c.summary.message.c_str(), c.summary.unreachable, c.summary.not_detected,
-                    c.dlt.rms_px, c.true_error_px) +
-             format("calibration: %s\n", out.c_str());
+  r.report = core::printf_string(
+                 "%s (%d unreachable, %d marker not seen)\nrms_px: %.4f\ntrue_error_px: %.4f\n",
+                 c.summary.message.c_str(), c.summary.unreachable, c.summary.not_detected,
+                 c.dlt.rms_px, c.true_error_px) +
+             core::printf_string("calibration: %s\n", out.c_str());
   core::Json& doc = r.document;
   doc = core::result_document("proprio.sim.calibrate", 1, provenance);
   doc["calib"] = out.string();
@@ -68,7 +63,7 @@ SimRun run_sim_views(const ViewsOptions& options, const std::filesystem::path& o
   const auto catalogue = ObjectCatalogue::load_default();
   const ViewsSummary s = render_views(out, options, catalogue);
   SimRun r;
-  r.report = format("views: %s\n%s\n", out.c_str(), s.message.c_str());
+  r.report = core::printf_string("views: %s\n%s\n", out.c_str(), s.message.c_str());
   core::Json& doc = r.document;
   doc = core::result_document("proprio.sim.views", 1, provenance);
   doc["out"] = out.string();

@@ -1,5 +1,5 @@
 #pragma once
-// Building error messages.
+// Building messages and reports.
 
 #include <cstdio>
 #include <initializer_list>
@@ -20,6 +20,19 @@ inline std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.4g", v);
   return buf;
+}
+
+/// printf-style formatting into a string (the reports commands print keep printf's formats, so
+/// that their text stays byte for byte what it was).
+template <class... Args>
+std::string printf_string(const char* format, Args... args) {
+  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-vararg)
+  const int n = std::snprintf(nullptr, 0, format, args...);
+  if (n <= 0) return {};
+  std::string out(static_cast<std::size_t>(n), '\0');
+  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-vararg)
+  std::snprintf(out.data(), out.size() + 1, format, args...);
+  return out;
 }
 
 }  // namespace proprio::core
