@@ -1,5 +1,6 @@
 #include "proprio/core/yaml_depth.hpp"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,66 @@ void check_yaml_depth(std::string_view text, const std::filesystem::path& source
     }
     if (static_cast<long>(indents.size()) + dashes + deepest_flow > max_depth) throw too_deep();
   }
+}
+
+namespace {
+
+// The offset of the first byte that is not part of well-formed UTF-8 and why, or npos.
+std::size_t first_non_utf8(std::string_view text, std::string& why) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    std::size_t n = 0;
+    unsigned min = 0;
+    if ((c & 0xE0) == 0xC0) {
+      n = 1;
+      min = 0x80;
+    } else if ((c & 0xF0) == 0xE0) {
+      n = 2;
+      min = 0x800;
+    } else if ((c & 0xF8) == 0xF0) {
+      n = 3;
+      min = 0x10000;
+    } else {
+      why = "byte " + std::to_string(c);
+      return i;
+    }
+    unsigned code = c & (0x3Fu >> n);
+    for (std::size_t k = 1; k <= n; ++k) {
+      const auto b = i + k < text.size() ? static_cast<unsigned char>(text[i + k]) : 0;
+      if ((b & 0xC0) != 0x80) {
+        why = "a truncated sequence";
+        return i;
+      }
+      code = (code << 6) | (b & 0x3Fu);
+    }
+    // Overlong forms, UTF-16 surrogates and code points past U+10FFFF are not UTF-8 either.
+    if (code < min || (code >= 0xD800 && code <= 0xDFFF) || code > 0x10FFFF) {
+      why = "an invalid sequence";
+      return i;
+    }
+    i += n + 1;
+  }
+  return std::string_view::npos;
+}
+
+}  // namespace
+
+void check_utf8(std::string_view text, const std::filesystem::path& source) {
+  std::string why;
+  const std::size_t at = first_non_utf8(text, why);
+  if (at == std::string_view::npos) return;
+  const long line =
+      1 + static_cast<long>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+  throw Error::at_line(source, line, "not UTF-8 text (" + why + ")");
+}
+
+bool is_utf8(std::string_view text) {
+  std::string why;
+  return first_non_utf8(text, why) == std::string_view::npos;
 }
 
 }  // namespace proprio::core

@@ -103,12 +103,32 @@ Camera decompose_projection(const Matrix34d& P_in) {
 
 namespace {
 
+// The largest side of a matrix in calib.yml (dist_coeffs has up to 14 values).
+constexpr int kMaxCalibMatrixSide = 16;
+
 Eigen::MatrixXd read_matrix(const cv::FileStorage& fs, const std::string& key,
                             const std::filesystem::path& path, int rows, int cols, bool required) {
   const cv::FileNode node = fs[key];
   if (node.empty()) {
     if (required) throw Error::in_file(path, "missing '" + key + "'");
     return {};
+  }
+  // OpenCV allocates rows x cols as declared before it reads the data: a bogus size ("rows: Y3",
+  // found by fuzz_calib) asked for 64 GB. Calibration matrices are small; check the declaration.
+  if (node.isMap()) {
+    const cv::FileNode r = node["rows"];
+    const cv::FileNode c = node["cols"];
+    const cv::FileNode data = node["data"];
+    const bool sane = r.isInt() && c.isInt() && static_cast<int>(r) >= 1 &&
+                      static_cast<int>(r) <= kMaxCalibMatrixSide && static_cast<int>(c) >= 1 &&
+                      static_cast<int>(c) <= kMaxCalibMatrixSide && data.isSeq() &&
+                      data.size() == static_cast<std::size_t>(static_cast<int>(r)) *
+                                         static_cast<std::size_t>(static_cast<int>(c));
+    if (!sane) {
+      throw Error::in_file(path, "'" + key + "' is not a matrix (rows, cols and data disagree)");
+    }
+  } else if (node.isSeq() && node.size() > static_cast<std::size_t>(kMaxCalibMatrixSide)) {
+    throw Error::in_file(path, "'" + key + "' has too many values");
   }
   cv::Mat m;
   try {
@@ -140,6 +160,11 @@ Camera read_calib(const std::filesystem::path& path) {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {
     throw Error::in_file(path, "not an OpenCV YAML file: " + e.err);
+  } catch (const std::exception& e) {
+    // OpenCV's YAML parser throws std::length_error on some malformed keys (found by fuzz_calib):
+    // bad input, not a bug of proprio's.
+    throw Error::in_file(
+        path, std::string("not an OpenCV YAML file (its parser failed: ") + e.what() + ")");
   }
   if (!fs.isOpened()) throw Error::in_file(path, "not an OpenCV YAML file");
   if (!fs["format_version"].empty()) {

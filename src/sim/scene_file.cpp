@@ -30,6 +30,11 @@ core::Json to_json_node(const YAML::Node& node, const fs::path& file, Budget& bu
 
 core::Json scalar_to_json(const YAML::Node& node, const fs::path& file) {
   const std::string& text = node.Scalar();
+  // yaml-cpp can make bytes that are not UTF-8 out of escapes (found by fuzz_scene); JSON holds
+  // only UTF-8.
+  if (!core::is_utf8(text)) {
+    throw Error::at_line(file, node.Mark().line + 1, "a value is not UTF-8 text");
+  }
   // yaml-cpp tags quoted scalars "!" and plain ones "?": only plain ones are typed by their text.
   if (node.Tag() == "!") return text;
   if (text.empty() || text == "~" || text == "null" || text == "Null" || text == "NULL") {
@@ -88,6 +93,9 @@ core::Json to_json_node(const YAML::Node& node, const fs::path& file, Budget& bu
           throw Error::at_line(file, kv.first.Mark().line + 1, "a map key must be a plain value");
         }
         const std::string key = kv.first.Scalar();
+        if (!core::is_utf8(key)) {
+          throw Error::at_line(file, kv.first.Mark().line + 1, "a key is not UTF-8 text");
+        }
         if (o.contains(key)) {
           throw Error::at_line(file, kv.first.Mark().line + 1, "duplicate key '" + key + "'");
         }
@@ -114,6 +122,7 @@ core::Json read_scene_file(const fs::path& file) {
   const std::string text = core::read_file(file, kMaxSceneFileBytes);
   // yaml-cpp parses nested values by recursion: bound the nesting before it sees the text.
   core::check_yaml_depth(text, file);
+  core::check_utf8(text, file);
   YAML::Node root;
   try {
     root = YAML::Load(text);

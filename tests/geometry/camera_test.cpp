@@ -171,6 +171,16 @@ TEST_F(CalibFileTest, HostileValuesAreRefused) {
   std::string block = valid + "deep:\n";
   for (int i = 1; i < 200; ++i) block += std::string(static_cast<std::size_t>(i), ' ') + "a:\n";
   EXPECT_NE(error_reading(block).find("nested deeper than"), std::string::npos);
+  // Found by fuzz_calib: OpenCV's parser threw std::length_error (exit 1) on this key.
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: 3\n   :lcso 4\n"
+                          "   dt: d\n   data: [520, 0, 321, 52, 0, 515, 239, -103, 0, 0, 1, 1.5]\n")
+                .rfind(p + ": not an OpenCV YAML file", 0),
+            0U);
+  // Found by fuzz_calib: "rows: Y3" made OpenCV allocate 64 GB before reading the data.
+  EXPECT_EQ(
+      error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: Y3\n   cols: 4\n"
+                    "   dt: d\n   data: [519, 0, 321, 52, 0, 515, 239, -103, 0, 0, 11, .5]\n"),
+      p + ": 'P' is not a matrix (rows, cols and data disagree)");
   c.t = Eigen::Vector3d(1e200, 0, 0);
   write_calib(path_, c);
   const std::string far = core::read_file(path_);

@@ -87,6 +87,13 @@ TEST(SceneFile, NestedAliasesAndDeepNestingAreRefused) {
   // A few aliases within the budget still work.
   core::write_file_atomic(f, "base: &b {x: 1, y: 2}\nfirst: *b\nsecond: *b\n");
   EXPECT_EQ(read_scene_file(f)["second"]["y"], 2);
+  // Found by fuzz_scene: a byte that is not UTF-8 became a JSON string that failed when written.
+  core::write_file_atomic(f, "base: &b {x: 1, \xff\xff: 2}\n");
+  m = error_of(f);
+  EXPECT_NE(m.find("laughs.yaml:1: not UTF-8 text"), std::string::npos) << m;
+  // Found by fuzz_scene: yaml-cpp turned this valid UTF-8 into a value that is not.
+  core::write_file_atomic(f, std::string("base: \x15\0N4YAML9ExceptionE2}\nftypt: \nb\n", 38));
+  EXPECT_NE(error_of(f).find("laughs.yaml:"), std::string::npos) << error_of(f);
   core::write_file_atomic(f, "deep: " + std::string(50000, '[') + "\n");
   m = error_of(f);
   EXPECT_NE(m.find("laughs.yaml:1: nested deeper than 64 levels"), std::string::npos) << m;

@@ -19,4 +19,11 @@ inline constexpr int kMaxYamlDepth = 64;
 void check_yaml_depth(std::string_view text, const std::filesystem::path& source,
                       int max_depth = kMaxYamlDepth);
 
+/// Throws Error "FILE:LINE: not UTF-8 text" unless `text` is well-formed UTF-8. YAML is UTF-8
+/// text; a stray byte would otherwise reach a JSON value and fail when it is written.
+void check_utf8(std::string_view text, const std::filesystem::path& source);
+
+/// Whether `text` is well-formed UTF-8 (for strings a parser made, which have no line).
+[[nodiscard]] bool is_utf8(std::string_view text);
+
 }  // namespace proprio::core
