@@ -167,6 +167,9 @@ Camera read_calib(const std::filesystem::path& path) {
         path, std::string("not an OpenCV YAML file (its parser failed: ") + e.what() + ")");
   }
   if (!fs.isOpened()) throw Error::in_file(path, "not an OpenCV YAML file");
+  // Looking a key up in anything but a map is an OpenCV assertion (found by fuzz_calib).
+  if (!fs.root().isMap())
+    throw Error::in_file(path, "not a calibration (the top level is not a map)");
   if (!fs["format_version"].empty()) {
     const cv::FileNode v = fs["format_version"];
     if (!v.isInt()) throw Error::in_file(path, "'format_version' is not an integer");

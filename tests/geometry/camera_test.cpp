@@ -176,6 +176,9 @@ TEST_F(CalibFileTest, HostileValuesAreRefused) {
                           "   dt: d\n   data: [520, 0, 321, 52, 0, 515, 239, -103, 0, 0, 1, 1.5]\n")
                 .rfind(p + ": not an OpenCV YAML file", 0),
             0U);
+  // Found by fuzz_calib: a top level that is a list made OpenCV assert (cv::Exception, exit 1).
+  EXPECT_EQ(error_reading("%YAML:1.0\n-at_versio [ 52.0$ 0., 321.,ata0\n"),
+            p + ": not a calibration (the top level is not a map)");
   // Found by fuzz_calib: "rows: Y3" made OpenCV allocate 64 GB before reading the data.
   EXPECT_EQ(
       error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: Y3\n   cols: 4\n"
