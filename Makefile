@@ -1,10 +1,13 @@
 # proprio: `make demo` and `make test` are the two commands a user needs (README.md).
 BUILD ?= build
 BUILD_ASAN ?= build-asan
+BUILD_FUZZ ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?= json csv calib scene corpus lda_model
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: deps configure build demo test test-unit test-asan bench install format lint clean
+.PHONY: deps configure build demo test test-unit test-asan fuzz bench install format lint clean
 
 deps:
 	bash scripts/install-deps
@@ -31,6 +34,15 @@ test-asan: deps
 
 test: test-unit lint test-asan
 
+# libFuzzer on every parser of outside input (tests/fuzz), FUZZ_SECONDS each, with clang and
+# ASan/UBSan, in its own build tree. New crash inputs land in $(BUILD_FUZZ)/fuzz-crashes/<target>/;
+# executions are appended to $(BUILD_FUZZ)/fuzz-log.tsv (docs/results/reliability.md).
+fuzz: deps
+	cmake -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  -DPROPRIO_FUZZ=ON -DPROPRIO_BUILD_BENCH=OFF $(CMAKE_FLAGS)
+	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_targets
+	bash scripts/fuzz $(BUILD_FUZZ) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
 bench: build
 	@for b in $(BUILD)/bench/bench_*; do [ -x $$b ] && $$b; done
 
@@ -50,4 +62,4 @@ lint:
 	/usr/bin/python3 scripts/lint $(BUILD) -j $(JOBS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD_ASAN)
+	rm -rf $(BUILD) $(BUILD_ASAN) $(BUILD_FUZZ)

@@ -131,7 +131,8 @@ void register_episode_commands(CLI::App& root, const Invocation& inv) {
   imp->add_option("--frames", import_args->frames, "Store frames as png or video")
       ->check(CLI::IsMember({"png", "video"}))
       ->capture_default_str();
-  imp->add_flag("--force", import_args->options.overwrite, "Replace an existing episode at --out");
+  imp->add_flag("--overwrite,--force", import_args->options.overwrite,
+                "Replace an existing episode at --out (--force: the older name)");
   imp->add_flag("-q,--quiet", import_args->quiet, "No progress bar");
   imp->add_option("--json", import_args->json,
                   "Also write the import summary as JSON to this file");

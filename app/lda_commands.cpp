@@ -6,6 +6,7 @@
 
 #include "cli.hpp"
 #include "option_binder.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/topics/lda_model_io.hpp"
 #include "proprio/topics/lda_runs.hpp"
 
@@ -56,6 +57,11 @@ void register_train(CLI::App* lda, const Invocation& inv) {
   cmd->add_option("--json", t->json,
                   "Also write seconds, docs_per_s, tokens_per_s and the trace as JSON");
   cmd->callback([t, &inv] {
+    const CorpusFiles files = find_corpus_files(t->options.corpus, t->options.format);
+    core::require_output_not_input(
+        t->json,
+        {t->options.model, t->options.corpus, files.file, files.vocabulary, t->options.heldout},
+        "--json");
     const LdaTrainingResult r =
         run_lda_training(t->options, inv.provenance(t->options.online.seed));
     std::printf("%s\n", r.brief.c_str());
@@ -74,6 +80,8 @@ void register_infer(CLI::App* lda, const Invocation& inv) {
   cmd->add_option("--threads", i->options.inference.threads, "Threads")->capture_default_str();
   cmd->add_option("--json", i->json, "Also write a summary as JSON");
   cmd->callback([i, &inv] {
+    core::require_output_not_input(i->json, {i->options.out, i->options.model, i->options.corpus},
+                                   "--json");
     const LdaInferenceResult r = run_lda_inference(i->options, inv.provenance());
     std::printf("%s\n", r.summary.brief().c_str());
     write_json_result(i->json, r.document);

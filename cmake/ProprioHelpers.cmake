@@ -2,12 +2,18 @@
 # against combining the two).
 function(proprio_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wshadow)
-  if(PROPRIO_WERROR AND NOT PROPRIO_SANITIZE)
+  if(PROPRIO_WERROR AND NOT PROPRIO_SANITIZE AND NOT PROPRIO_FUZZ)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
 endfunction()
 
-if(PROPRIO_SANITIZE)
+# The libFuzzer build (make fuzz, clang only): every source instrumented for coverage and checked by
+# ASan/UBSan; the fuzz_* programs link libFuzzer's main (tests/fuzz).
+if(PROPRIO_FUZZ)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+                      -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+elseif(PROPRIO_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
 endif()

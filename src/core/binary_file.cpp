@@ -1,5 +1,6 @@
 #include "proprio/core/binary_file.hpp"
 
+#include <algorithm>
 #include <boost/crc.hpp>
 #include <cassert>
 #include <cctype>
@@ -45,38 +46,64 @@ std::string frame_binary(const BinaryFormat& format, std::string_view payload) {
   return out;
 }
 
-std::string_view unframe_binary(std::string_view bytes, const BinaryFormat& format,
-                                const fs::path& source) {
+namespace {
+
+// Checks the 24-byte header `head` of a file of `total` bytes (see binary_file.hpp).
+void check_header(std::string_view head, std::uintmax_t total, const BinaryFormat& format,
+                  const fs::path& source) {
   assert(format.magic.size() == 8);
   const std::string kind(format.kind);
-  if (bytes.size() < kBinaryHeaderBytes) {
+  if (head.size() < kBinaryHeaderBytes) {
     std::string msg = "not " + with_article(kind);
-    msg += " file: truncated header (" + std::to_string(bytes.size()) + " bytes)";
+    msg += " file: truncated header (" + std::to_string(head.size()) + " bytes)";
     throw Error::in_file(source, msg);
   }
-  if (bytes.substr(0, 8) != format.magic) {
+  if (head.substr(0, 8) != format.magic) {
     throw Error::in_file(source, "not " + with_article(kind) + " file (wrong magic number)");
   }
-  BinaryReader head(bytes.substr(8, 16), source, kind);
-  const auto version = head.get<std::uint32_t>("the version");
-  const auto crc = head.get<std::uint32_t>("the checksum");
-  const auto size = head.get<std::uint64_t>("the payload size");
+  BinaryReader fields(head.substr(8, 16), source, kind);
+  const auto version = fields.get<std::uint32_t>("the version");
+  (void)fields.get<std::uint32_t>("the checksum");
+  const auto size = fields.get<std::uint64_t>("the payload size");
   if (version != format.version) {
     std::string msg = kind + " format version " + std::to_string(version);
     msg += "; this build reads version " + std::to_string(format.version);
     throw Error::in_file(source, msg);
   }
-  const std::size_t have = bytes.size() - kBinaryHeaderBytes;
+  const std::uintmax_t have = total - kBinaryHeaderBytes;
   if (size != have) {
     std::string msg = size > have ? "truncated " : "corrupt ";
     msg += kind + " file: " + std::to_string(have);
     msg += " payload bytes where the header says " + std::to_string(size);
     throw Error::in_file(source, msg);
   }
+}
+
+// A framed file is read whole only after its header agreed with its real size, so the cap is
+// the file system's, not read_file's default.
+constexpr std::uintmax_t kMaxBinaryBytes = std::uintmax_t{1} << 40;
+
+}  // namespace
+
+std::string_view unframe_binary(std::string_view bytes, const BinaryFormat& format,
+                                const fs::path& source) {
+  check_header(bytes.substr(0, std::min(bytes.size(), kBinaryHeaderBytes)), bytes.size(), format,
+               source);
+  std::uint32_t crc = 0;
+  std::memcpy(&crc, bytes.data() + 12, sizeof crc);
   if (crc32(bytes.substr(16)) != crc) {
-    throw Error::in_file(source, "corrupt " + kind + " file: checksum mismatch");
+    throw Error::in_file(source,
+                         "corrupt " + std::string(format.kind) + " file: checksum mismatch");
   }
   return bytes.substr(kBinaryHeaderBytes);
+}
+
+std::uintmax_t check_binary_file_header(const fs::path& path, const BinaryFormat& format) {
+  const std::string head = read_file_head(path, kBinaryHeaderBytes);
+  const std::uintmax_t total =
+      head.size() < kBinaryHeaderBytes ? head.size() : regular_file_size(path);
+  check_header(head, total, format, path);
+  return total;
 }
 
 void write_binary_file(const fs::path& path, const BinaryFormat& format, std::string_view payload) {
@@ -84,7 +111,8 @@ void write_binary_file(const fs::path& path, const BinaryFormat& format, std::st
 }
 
 std::string read_binary_file(const fs::path& path, const BinaryFormat& format) {
-  std::string bytes = read_file(path);
+  std::string bytes =
+      read_file(path, std::min(check_binary_file_header(path, format), kMaxBinaryBytes));
   (void)unframe_binary(bytes, format, path);
   bytes.erase(0, kBinaryHeaderBytes);
   return bytes;

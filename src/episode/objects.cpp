@@ -75,6 +75,7 @@ std::optional<std::vector<ObjectInfo>> parse_objects(const core::Json& j,
   }
   std::vector<ObjectInfo> out;
   std::set<int> ids;
+  std::set<std::string> names;
   bool ok = true;
   int targets = 0;
   for (size_t k = 0; k < list->size(); ++k) {
@@ -104,6 +105,12 @@ std::optional<std::vector<ObjectInfo>> parse_objects(const core::Json& j,
       ok = false;
     } else {
       info.name = name->get<std::string>();
+      // Objects are told apart by name in results and classifications: a repeated name would
+      // merge two objects.
+      if (!names.insert(info.name).second) {
+        sink.add(file, where + ": name '" + info.name + "' appears twice");
+        ok = false;
+      }
     }
     const auto role = o.find("role");
     const auto parsed = role != o.end() && role->is_string()

@@ -46,6 +46,13 @@ std::optional<PngHeader> probe_png(const std::filesystem::path& path, std::strin
   // The IEND chunk: length 0, type, CRC. Every complete PNG ends with these 12 bytes.
   static constexpr std::array<unsigned char, 12> kIend = {0,   0,   0,    0,    'I',  'E',
                                                           'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+  // A FIFO would block the open below, a device never end: only regular files are read.
+  std::error_code ec;
+  const auto type = std::filesystem::status(path, ec).type();
+  if (!ec && type != std::filesystem::file_type::regular) {
+    why = "is not a regular file (a FIFO, device or socket)";
+    return std::nullopt;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     why = "cannot open";

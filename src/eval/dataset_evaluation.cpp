@@ -63,6 +63,7 @@ core::Json episode_results_json(const std::vector<EpisodeEvaluation>& episodes) 
 DatasetEvaluationResult run_dataset_evaluation(const DatasetEvaluationOptions& options,
                                                const core::Provenance& provenance) {
   options.validate();
+  core::require_output_not_input(options.out, {options.dataset}, "--out");
   const std::vector<fs::path> dirs = episode::list_episode_dirs(options.dataset);
   core::StagedDirectory dir(options.out, options.overwrite);
   const fs::path stage = dir.staging_path();

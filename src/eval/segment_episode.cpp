@@ -48,6 +48,7 @@ cv::Mat overlay_mask(const cv::Mat& frame, const cv::Mat1b& mask, const cv::Mat1
 SegmentEpisodeResult run_segment_episode(const SegmentEpisodeOptions& options,
                                          const core::Provenance& provenance) {
   options.validate();
+  core::require_output_not_input(options.out, {options.episode}, "--out");
   EvalOptions o = options.eval;
   o.all_frames = false;
   const episode::Episode ep = episode::read_episode(options.episode);

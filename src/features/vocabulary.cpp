@@ -51,7 +51,7 @@ Parsed parse(const fs::path& path) {
   }
   const auto text = r.take(json_size, "the provenance");
   try {
-    p.provenance = core::provenance_from_json(core::Json::parse(text), path.string());
+    p.provenance = core::provenance_from_json(core::parse_json(text, path), path.string());
   } catch (const core::Json::exception& e) {
     throw Error::in_file(path, std::string("corrupt vocabulary file: bad provenance: ") + e.what());
   }

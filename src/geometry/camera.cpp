@@ -5,9 +5,12 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <string_view>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
+#include "proprio/core/text.hpp"
+#include "proprio/core/yaml_depth.hpp"
 
 namespace proprio::geometry {
 
@@ -100,12 +103,32 @@ Camera decompose_projection(const Matrix34d& P_in) {
 
 namespace {
 
+// The largest side of a matrix in calib.yml (dist_coeffs has up to 14 values).
+constexpr int kMaxCalibMatrixSide = 16;
+
 Eigen::MatrixXd read_matrix(const cv::FileStorage& fs, const std::string& key,
                             const std::filesystem::path& path, int rows, int cols, bool required) {
   const cv::FileNode node = fs[key];
   if (node.empty()) {
     if (required) throw Error::in_file(path, "missing '" + key + "'");
     return {};
+  }
+  // OpenCV allocates rows x cols as declared before it reads the data: a bogus size ("rows: Y3",
+  // found by fuzz_calib) asked for 64 GB. Calibration matrices are small; check the declaration.
+  if (node.isMap()) {
+    const cv::FileNode r = node["rows"];
+    const cv::FileNode c = node["cols"];
+    const cv::FileNode data = node["data"];
+    const bool sane = r.isInt() && c.isInt() && static_cast<int>(r) >= 1 &&
+                      static_cast<int>(r) <= kMaxCalibMatrixSide && static_cast<int>(c) >= 1 &&
+                      static_cast<int>(c) <= kMaxCalibMatrixSide && data.isSeq() &&
+                      data.size() == static_cast<std::size_t>(static_cast<int>(r)) *
+                                         static_cast<std::size_t>(static_cast<int>(c));
+    if (!sane) {
+      throw Error::in_file(path, "'" + key + "' is not a matrix (rows, cols and data disagree)");
+    }
+  } else if (node.isSeq() && node.size() > static_cast<std::size_t>(kMaxCalibMatrixSide)) {
+    throw Error::in_file(path, "'" + key + "' has too many values");
   }
   cv::Mat m;
   try {
@@ -130,13 +153,23 @@ Eigen::MatrixXd read_matrix(const cv::FileStorage& fs, const std::string& key,
 
 Camera read_calib(const std::filesystem::path& path) {
   const std::string text = core::read_file(path);
+  // OpenCV's parser recurses on nested values: bound the nesting before it sees the text.
+  core::check_yaml_depth(text, path);
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {
     throw Error::in_file(path, "not an OpenCV YAML file: " + e.err);
+  } catch (const std::exception& e) {
+    // OpenCV's YAML parser throws std::length_error on some malformed keys (found by fuzz_calib):
+    // bad input, not a bug of proprio's.
+    throw Error::in_file(
+        path, std::string("not an OpenCV YAML file (its parser failed: ") + e.what() + ")");
   }
   if (!fs.isOpened()) throw Error::in_file(path, "not an OpenCV YAML file");
+  // Looking a key up in anything but a map is an OpenCV assertion (found by fuzz_calib).
+  if (!fs.root().isMap())
+    throw Error::in_file(path, "not a calibration (the top level is not a map)");
   if (!fs["format_version"].empty()) {
     const cv::FileNode v = fs["format_version"];
     if (!v.isInt()) throw Error::in_file(path, "'format_version' is not an integer");
@@ -164,9 +197,25 @@ Camera read_calib(const std::filesystem::path& path) {
     }
     cam.dist.assign(d.data(), d.data() + d.size());
   }
-  if (!fs["image_width"].empty()) cam.width = static_cast<int>(fs["image_width"]);
-  if (!fs["image_height"].empty()) cam.height = static_cast<int>(fs["image_height"]);
-  if (cam.width < 0 || cam.height < 0) throw Error::in_file(path, "negative image size");
+  // OpenCV reads a string as INT_MAX when asked for an int: check the type first.
+  for (const char* key : {"image_width", "image_height"}) {
+    const cv::FileNode n = fs[key];
+    if (n.empty()) continue;
+    if (!n.isInt()) throw Error::in_file(path, std::string("'") + key + "' is not an integer");
+    const int v = static_cast<int>(n);
+    if (v < 0 || v > kMaxCalibImageSide) {
+      throw Error::in_file(path, std::string("'") + key + "' = " + std::to_string(v) +
+                                     " is outside [0, " + std::to_string(kMaxCalibImageSide) + "]");
+    }
+    (std::string_view(key) == "image_width" ? cam.width : cam.height) = v;
+  }
+  if (cam.t.stableNorm() > kMaxCalibTranslation || cam.K.cwiseAbs().maxCoeff() > kMaxCalibPixels) {
+    throw Error::in_file(path, "absurd calibration: |t| = " + core::num(cam.t.stableNorm()) +
+                                   " (at most " + core::num(kMaxCalibTranslation) +
+                                   "), largest entry of K " +
+                                   core::num(cam.K.cwiseAbs().maxCoeff()) + " (at most " +
+                                   core::num(kMaxCalibPixels) + ")");
+  }
   if (cam.K(0, 0) <= 0 || cam.K(1, 1) <= 0 || std::abs(cam.K(2, 2) - 1.0) > 1e-9 ||
       cam.K(1, 0) != 0 || cam.K(2, 0) != 0 || cam.K(2, 1) != 0) {
     throw Error::in_file(path,
@@ -195,7 +244,9 @@ Camera read_calib(const std::filesystem::path& path) {
 void write_calib(const std::filesystem::path& path, const Camera& cam,
                  const std::optional<core::Provenance>& provenance) {
   cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
-  fs << "format" << "proprio.calib" << "format_version" << kCalibFormatVersion;
+  fs << "format"
+     << "proprio.calib"
+     << "format_version" << kCalibFormatVersion;
   cv::Mat K, R, t, P;
   cv::eigen2cv(cam.K, K);
   cv::eigen2cv(cam.R, R);
@@ -208,7 +259,8 @@ void write_calib(const std::filesystem::path& path, const Camera& cam,
   if (cam.width > 0) fs << "image_width" << cam.width << "image_height" << cam.height;
   if (provenance) {
     const core::Json j = core::to_json(*provenance);
-    fs << "provenance" << "{";
+    fs << "provenance"
+       << "{";
     for (const auto& [key, value] : j.items()) {
       fs << key << (value.is_string() ? value.get<std::string>() : value.dump());
     }

@@ -1,6 +1,9 @@
 #include "proprio/geometry/point_files.hpp"
 
+#include <algorithm>
+
 #include "proprio/core/csv.hpp"
+#include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 
 namespace proprio::geometry {
@@ -9,7 +12,16 @@ namespace {
 core::CsvTable read_exact(const std::filesystem::path& path, std::vector<std::string> columns) {
   core::CsvReadOptions o;
   o.exact_columns = std::move(columns);
-  return core::read_csv(path, o);
+  const std::string text = core::read_file(path);
+  // Every line proprio and spreadsheets write ends in a newline: a last line without one is
+  // most likely a file cut short, maybe in the middle of a number ("12.5" read as "12").
+  if (!text.empty() && text.back() != '\n') {
+    const long lines = 1 + static_cast<long>(std::count(text.begin(), text.end(), '\n'));
+    throw Error::at_line(path, lines,
+                         "the last line does not end in a newline: the file looks "
+                         "cut short (a number may be cut in the middle)");
+  }
+  return core::parse_csv(text, path, o);
 }
 
 }  // namespace

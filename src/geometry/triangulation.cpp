@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <unsupported/Eigen/NonLinearOptimization>
@@ -41,6 +42,24 @@ struct ReprojectionResiduals {
   }
 };
 
+// The centre of a finite camera P = [M | p4]: -M^-1 p4.
+Eigen::Vector3d centre_of(const Matrix34d& P) {
+  return -P.leftCols<3>().fullPivLu().solve(P.col(3));
+}
+
+// Two views from one centre see no depth: every pair of rays meets at that centre, so each point
+// would "triangulate" to it (issue 16: the same calibration given as both cameras).
+void require_baseline(const Matrix34d& P1, const Matrix34d& P2) {
+  const Eigen::Vector3d c1 = centre_of(P1);
+  const Eigen::Vector3d c2 = centre_of(P2);
+  const double scale = std::max({1.0, c1.norm(), c2.norm()});
+  if (!((c1 - c2).norm() > 1e-9 * scale)) {
+    throw Error(
+        "triangulation: the two cameras have the same centre (the same calibration given twice?); "
+        "they see no depth");
+  }
+}
+
 }  // namespace
 
 void TriangulationOptions::validate() const {
@@ -67,6 +86,7 @@ const char* to_string(TriangulationTermination t) {
 Triangulation triangulate(const Matrix34d& P1, const Matrix34d& P2, const Eigen::Vector2d& x1,
                           const Eigen::Vector2d& x2, const TriangulationOptions& options) {
   options.validate();
+  require_baseline(P1, P2);
   if (!x1.allFinite() || !x2.allFinite()) throw Error("triangulation: pixel is not finite");
   Eigen::Matrix4d A;
   A.row(0) = x1.x() * P1.row(2) - P1.row(0);
@@ -122,6 +142,7 @@ BatchTriangulation triangulate(const Matrix34d& P1, const Matrix34d& P2,
                                const std::vector<Eigen::Vector2d>& x2,
                                const TriangulationOptions& options) {
   options.validate();
+  require_baseline(P1, P2);
   if (x1.size() != x2.size()) {
     throw Error("triangulation: " + std::to_string(x1.size()) + " pixels in view 1 but " +
                 std::to_string(x2.size()) + " in view 2");

@@ -160,6 +160,20 @@ Corpus build(const fs::path& file, std::vector<Entry>& entries, std::int64_t num
 
 std::string read_text(const fs::path& path) { return core::read_file(path); }
 
+// Holds declared sizes to the documented caps (corpus_io.hpp) before anything is allocated.
+void check_caps(const fs::path& file, long line, std::int64_t num_docs, std::int64_t num_words) {
+  if (num_words > kMaxCorpusWords) {
+    throw Error::at_line(file, line,
+                         "W = " + std::to_string(num_words) + " words is more than the " +
+                             std::to_string(kMaxCorpusWords) + " a corpus may have");
+  }
+  if (num_docs > kMaxCorpusDocuments) {
+    throw Error::at_line(file, line,
+                         "D = " + std::to_string(num_docs) + " documents is more than the " +
+                             std::to_string(kMaxCorpusDocuments) + " a corpus may have");
+  }
+}
+
 }  // namespace
 
 CorpusFormat parse_corpus_format(std::string_view name) {
@@ -201,8 +215,9 @@ std::vector<std::string> read_vocabulary(const fs::path& path) {
     words.emplace_back(line);
   }
   if (words.empty()) throw Error::in_file(path, "empty vocabulary");
-  if (words.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
-    throw Error::in_file(path, "too many words");
+  if (static_cast<std::int64_t>(words.size()) > kMaxCorpusWords) {
+    throw Error::in_file(path, std::to_string(words.size()) + " words, more than the " +
+                                   std::to_string(kMaxCorpusWords) + " a vocabulary may have");
   }
   return words;
 }
@@ -232,6 +247,7 @@ Corpus read_uci(const fs::path& docword, const fs::path& vocab) {
   const std::int64_t num_docs = header[0];
   const std::int64_t num_words = header[1];
   const std::int64_t nnz = header[2];
+  check_caps(docword, lines.number(), num_docs, num_words);
   if (num_words > std::numeric_limits<std::int32_t>::max() ||
       num_docs > std::numeric_limits<std::int32_t>::max()) {
     throw Error::in_file(docword, "absurd header: D = " + std::to_string(num_docs) +
@@ -281,8 +297,8 @@ Corpus read_ldac(const fs::path& file, const fs::path& vocab) {
   std::vector<Entry> entries;
   std::int64_t doc = 0;
   std::int64_t max_id = -1;
-  const std::int64_t limit = vocabulary.empty() ? std::numeric_limits<std::int32_t>::max() - 1
-                                                : static_cast<std::int64_t>(vocabulary.size());
+  const std::int64_t limit =
+      vocabulary.empty() ? kMaxCorpusWords : static_cast<std::int64_t>(vocabulary.size());
   while (lines.next(line)) {
     const long ln = lines.number();
     if (is_blank(line)) {
@@ -305,7 +321,8 @@ Corpus read_ldac(const fs::path& file, const fs::path& vocab) {
       if (id < 0 || id >= limit) {
         std::string msg = "word id " + std::to_string(id) + " outside [0, ";
         msg += std::to_string(limit) + ")";
-        if (!vocabulary.empty()) msg += " (the vocabulary's size)";
+        msg += vocabulary.empty() ? " (the cap on W without a vocabulary)"
+                                  : " (the vocabulary's size)";
         throw Error::at_line(file, ln, msg);
       }
       if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
@@ -315,6 +332,7 @@ Corpus read_ldac(const fs::path& file, const fs::path& vocab) {
       entries.push_back({doc, static_cast<std::int32_t>(id), static_cast<std::int32_t>(c), ln});
     }
     ++doc;
+    if (doc > kMaxCorpusDocuments) check_caps(file, ln, doc, 0);
   }
   if (doc == 0) throw Error::in_file(file, "no documents");
   const auto num_words = vocabulary.empty() ? static_cast<std::int32_t>(max_id + 1)
@@ -363,6 +381,7 @@ Corpus read_matrix_market(const fs::path& file, const fs::path& vocab) {
   const std::int64_t num_docs = size[0];
   const std::int64_t num_words = size[1];
   const std::int64_t nnz = size[2];
+  check_caps(file, lines.number(), num_docs, num_words);
   if (num_words > std::numeric_limits<std::int32_t>::max() ||
       num_docs > std::numeric_limits<std::int32_t>::max() ||
       (num_docs > 0 && num_words > 0 && nnz / num_docs > num_words)) {
@@ -446,7 +465,7 @@ fs::path find_one(const fs::path& dir, const std::string& exact, const std::stri
 
 }  // namespace
 
-Corpus read_corpus(const fs::path& dir_or_file, CorpusFormat format) {
+CorpusFiles find_corpus_files(const fs::path& dir_or_file, CorpusFormat format) {
   if (!fs::exists(dir_or_file)) throw Error::in_file(dir_or_file, "no such file or directory");
   const bool is_dir = fs::is_directory(dir_or_file);
   const fs::path dir = is_dir ? dir_or_file : dir_or_file.parent_path();
@@ -465,22 +484,35 @@ Corpus read_corpus(const fs::path& dir_or_file, CorpusFormat format) {
           throw Error::in_file(vocab_dir, "no vocab.txt beside " + docword.filename().string());
         }
       }
-      return read_uci(docword, vocab);
+      return {docword, vocab};
     }
     case CorpusFormat::kLdac: {
       const fs::path file =
           is_dir ? find_one(dir, "corpus.ldac", "", {".ldac", ".dat"}, true) : dir_or_file;
       const fs::path vocab =
           fs::is_regular_file(vocab_dir / "vocab.txt") ? vocab_dir / "vocab.txt" : fs::path();
-      return read_ldac(file, vocab);
+      return {file, vocab};
     }
     case CorpusFormat::kMatrixMarket: {
       const fs::path file =
           is_dir ? find_one(dir, "corpus.mm", "", {".mm", ".mtx"}, true) : dir_or_file;
       const fs::path vocab =
           fs::is_regular_file(vocab_dir / "vocab.txt") ? vocab_dir / "vocab.txt" : fs::path();
-      return read_matrix_market(file, vocab);
+      return {file, vocab};
     }
+  }
+  return {};
+}
+
+Corpus read_corpus(const fs::path& dir_or_file, CorpusFormat format) {
+  const CorpusFiles files = find_corpus_files(dir_or_file, format);
+  switch (format) {
+    case CorpusFormat::kUci:
+      return read_uci(files.file, files.vocabulary);
+    case CorpusFormat::kLdac:
+      return read_ldac(files.file, files.vocabulary);
+    case CorpusFormat::kMatrixMarket:
+      return read_matrix_market(files.file, files.vocabulary);
   }
   return {};
 }

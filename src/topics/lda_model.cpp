@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/text.hpp"
 #include "proprio/topics/estep_options.hpp"
 
 namespace proprio::topics {
@@ -33,17 +34,25 @@ void LdaModel::validate() const {
     throw Error("LDA model: no topics or no words (" + std::to_string(lambda.rows()) + " x " +
                 std::to_string(lambda.cols()) + ")");
   }
-  if (!(std::isfinite(alpha) && alpha > 0)) throw Error("LDA model: alpha is not positive");
-  if (!(std::isfinite(eta) && eta > 0)) throw Error("LDA model: eta is not positive");
+  // Priors and lambda beyond the caps overflow the E-step's sums into NaN (issue 16: infer wrote
+  // rows of -nan): such a model is refused, not used.
+  if (!(alpha > 0 && alpha <= kMaxLdaPrior)) {
+    throw Error("LDA model: alpha = " + core::num(alpha) + " is not in (0, " +
+                core::num(kMaxLdaPrior) + "]");
+  }
+  if (!(eta > 0 && eta <= kMaxLdaPrior)) {
+    throw Error("LDA model: eta = " + core::num(eta) + " is not in (0, " + core::num(kMaxLdaPrior) +
+                "]");
+  }
   if (!(std::isfinite(tau0) && tau0 >= 0)) throw Error("LDA model: tau0 is negative");
   if (!(std::isfinite(kappa) && kappa > 0)) throw Error("LDA model: kappa is not positive");
   if (updates < 0 || total_documents < 0) throw Error("LDA model: negative counts");
   for (Eigen::Index w = 0; w < lambda.cols(); ++w) {
     for (Eigen::Index k = 0; k < lambda.rows(); ++k) {
       const double v = lambda(k, w);
-      if (!(std::isfinite(v) && v > 0)) {
+      if (!(v > 0 && v <= kMaxLdaLambda)) {
         throw Error("LDA model: lambda(" + std::to_string(k) + ", " + std::to_string(w) +
-                    ") = " + std::to_string(v) + " is not positive and finite");
+                    ") = " + core::num(v) + " is not in (0, 1e100]");
       }
     }
   }

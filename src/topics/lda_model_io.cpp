@@ -91,7 +91,9 @@ void save_lda_model(const LdaModel& model, const fs::path& path) {
 }
 
 LdaModel load_lda_model(const fs::path& path) {
-  return parse_lda_model(core::read_file(path), path);
+  // The header first: a big file of another kind is refused before its body is read.
+  const std::uintmax_t size = core::check_binary_file_header(path, kFormat);
+  return parse_lda_model(core::read_file(path, size), path);
 }
 
 void write_lambda_csv(const LdaModel& model, const fs::path& path, bool normalize) {

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <optional>
+#include <vector>
 
 #include "proprio/core/csv.hpp"
 #include "proprio/core/error.hpp"
@@ -10,7 +11,15 @@
 #include "proprio/topics/lda_model_io.hpp"
 
 namespace proprio::topics {
+namespace fs = std::filesystem;
 namespace {
+
+// What reading this corpus reads (the directory or file named, the corpus file, the vocabulary):
+// none of it may be an output of the run.
+std::vector<fs::path> corpus_inputs(const fs::path& corpus, CorpusFormat format) {
+  const CorpusFiles files = find_corpus_files(corpus, format);
+  return {corpus, files.file, files.vocabulary};
+}
 
 // The options as they were used: alpha and eta resolved (0 means 1/K).
 core::Json used_options_json(OnlineLdaOptions o) {
@@ -122,6 +131,12 @@ void LdaTrainingOptions::validate() const {
 LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
                                    const core::Provenance& provenance) {
   options.validate();
+  std::vector<fs::path> inputs = corpus_inputs(options.corpus, options.format);
+  if (!options.heldout.empty()) {
+    const auto more = corpus_inputs(options.heldout, options.format);
+    inputs.insert(inputs.end(), more.begin(), more.end());
+  }
+  core::require_output_not_input(options.model, inputs, "--model");
   const Corpus corpus = read_corpus(options.corpus, options.format);
   std::optional<Corpus> heldout;
   if (!options.heldout.empty()) {
@@ -160,6 +175,9 @@ void LdaInferenceOptions::validate() const {
 LdaInferenceResult run_lda_inference(const LdaInferenceOptions& options,
                                      const core::Provenance& provenance) {
   options.validate();
+  std::vector<fs::path> inputs = corpus_inputs(options.corpus, options.format);
+  inputs.push_back(options.model);
+  core::require_output_not_input(options.out, inputs, "--out");
   const LdaModel model = load_lda_model(options.model);
   const Corpus corpus = read_corpus(options.corpus, options.format);
   check_corpus_matches_model(model, corpus, options.corpus);

@@ -8,6 +8,7 @@
 
 #include "engine.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/text.hpp"
 
 namespace proprio::topics {
 
@@ -45,6 +46,10 @@ void OnlineLdaOptions::validate() const {
   }
   if (alpha != 0) check_positive_finite(alpha, "alpha");
   if (eta != 0) check_positive_finite(eta, "eta");
+  if (alpha > kMaxLdaPrior || eta > kMaxLdaPrior) {
+    throw Error("online LDA: alpha and eta must be at most " + core::num(kMaxLdaPrior) +
+                " (larger priors overflow into NaN)");
+  }
   if (passes < 1) throw Error("online LDA: passes must be at least 1");
   if (threads < 1 || threads > 256) throw Error("online LDA: threads must be in [1, 256]");
   if (total_documents < 0) throw Error("online LDA: total_documents must be >= 0");

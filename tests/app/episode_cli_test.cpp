@@ -1,11 +1,14 @@
 // proprio episode info / check / import, run as a user would.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <cstdio>
 
 #include "../episode/episode_test_support.hpp"
 #include "cli_run.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/episode/episode.hpp"
 
@@ -100,6 +103,49 @@ TEST(EpisodeCli, InfoOfABrokenEpisodeIsOneLineAndExitTwo) {
             "proprio: " + (tmp.path() / "nope").string() + ": no such episode directory\n");
 }
 
+// Issue 16: deep nesting in episode.json / objects.json crashed (SIGSEGV); 1e400 exited 1; a
+// FIFO as arm.csv hung; non-UTF-8 bytes in a problem made `check --json` exit 1.
+TEST(EpisodeCli, HostileEpisodeFilesAreOneLineAndExitTwo) {
+  TempDir tmp;
+  auto expect_bad = [](const fs::path& dir, const std::string& expect) {
+    for (const char* verb : {"info", "check"}) {
+      const auto r = run_cli(std::string("episode ") + verb + " " + dir.string());
+      EXPECT_EQ(r.code, 2) << verb << ": " << r.err;
+      EXPECT_EQ(line_count(r.err), 1) << r.err;
+      EXPECT_HAS(r.out + r.err, expect);
+    }
+  };
+  const auto deep = write_synthetic(tmp.path() / "deep");
+  core::write_file_atomic(deep / "objects.json", "{\"objects\": " + std::string(300000, '[') +
+                                                     std::string(300000, ']') + "}");
+  expect_bad(deep, "objects.json:1: invalid JSON: nested deeper than 256 levels");
+  const auto info = write_synthetic(tmp.path() / "info");
+  core::write_file_atomic(info / "episode.json", std::string(300000, '{'));
+  expect_bad(info, "episode.json:1: invalid JSON: nested deeper");
+  const auto big = write_synthetic(tmp.path() / "big");
+  std::string text = core::read_file(big / "episode.json");
+  text.insert(text.find('{') + 1, "\"extra\": 1e400,");
+  core::write_file_atomic(big / "episode.json", text);
+  expect_bad(big, "episode.json: invalid JSON: number overflow");
+  const auto fifo = write_synthetic(tmp.path() / "fifo");
+  fs::remove(fifo / "arm.csv");
+  ASSERT_EQ(::mkfifo((fifo / "arm.csv").c_str(), 0600), 0);
+  expect_bad(fifo, "arm.csv: is not a regular file");
+  const auto frame = write_synthetic(tmp.path() / "frame");
+  fs::remove(image_path(frame, "frames", 2));
+  ASSERT_EQ(::mkfifo(image_path(frame, "frames", 2).c_str(), 0600), 0);
+  const auto checked = run_cli("episode check " + frame.string());
+  EXPECT_EQ(checked.code, 2) << checked.err;
+  EXPECT_HAS(checked.out, "000002.png: is not a regular file");
+
+  const auto odd = write_synthetic(tmp.path() / "odd\xff\xfe");
+  fs::remove(odd / "calib.yml");
+  const auto json = tmp.path() / "check.json";
+  const auto r = run_cli("episode check '" + odd.string() + "' --json " + json.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(core::read_json(json)["problems"].size(), 1U);
+}
+
 class EpisodeImportCli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -154,9 +200,11 @@ TEST_F(EpisodeImportCli, ImportsARealVideo) {
   // An existing episode is not replaced without --force.
   const auto again = run_cli(args() + " --max-frames 4");
   EXPECT_EQ(again.code, 2);
-  EXPECT_HAS(again.err, "exists and is not empty");
+  EXPECT_HAS(again.err, "exists and is not empty (pass --overwrite to replace it)");
   EXPECT_EQ(run_cli(args() + " --max-frames 4 --force").code, 0);
   EXPECT_EQ(read_episode(out_).frame_count(), 4);
+  EXPECT_EQ(run_cli(args() + " --max-frames 3 --overwrite").code, 0);
+  EXPECT_EQ(read_episode(out_).frame_count(), 3);
 }
 
 TEST_F(EpisodeImportCli, BadInputIsOneLineAndExitTwo) {

@@ -2,6 +2,8 @@
 // results that match the library's, JSON that matches its schema, and bad input as one line.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -185,6 +187,48 @@ TEST_F(LdaCli, BadInputIsOneLineNamingTheFileAndExitTwo) {
     EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
   }
   EXPECT_FALSE(fs::exists(d("x.lda")));
+}
+
+// Issue 16: outputs equal to inputs, absurd priors written as NaN with exit 0, a FIFO given as a
+// model (a hang), a corpus naming word 9,999,999 (an 800 MB model).
+TEST_F(LdaCli, HostileArgumentsAreRefusedWithExitTwo) {
+  const fs::path fifo = dir_ / "pipe.lda";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::ofstream(dir_ / "huge_id.ldac") << "1 9999999:1\n";
+  // A model whose alpha makes the E-step overflow (written past save's checks).
+  topics::LdaModel nan_model = topics::load_lda_model(d("m.lda"));
+  nan_model.alpha = 1e300;
+  std::ofstream(dir_ / "nan.lda", std::ios::binary) << topics::serialize_lda_model(nan_model);
+  const std::string train = "lda train --corpus " + d("train") + " -k 3 ";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {train + "--model " + d("same.lda") + " --json " + d("same.lda"),
+       "--json is the same file as"},
+      {train + "--model " + d("train/docword.txt"), "--model is the same file as"},
+      {train + "--alpha 1e300 --model " + d("x.lda"), "alpha"},
+      {train + "--eta 1e300 --model " + d("x.lda"), "eta"},
+      {"lda infer --model " + d("m.lda") + " --corpus " + d("heldout") + " --out " + d("m.lda"),
+       "--out is the same file as"},
+      {"lda infer --model " + d("nan.lda") + " --corpus " + d("heldout") + " --out " + d("x.csv"),
+       "nan.lda: LDA model: alpha = "},
+      {"lda infer --model " + fifo.string() + " --corpus " + d("heldout") + " --out " + d("x.csv"),
+       "pipe.lda: is not a regular file"},
+      {"lda topics --model /dev/zero", "/dev/zero: is not a regular file"},
+      {"lda train --format ldac --corpus " + d("huge_id.ldac") + " -k 2 --model " + d("x.lda"),
+       "huge_id.ldac:1: word id 9999999 outside [0, 1000000)"},
+  };
+  for (const auto& [args, expect] : cases) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(d("x.lda")));
+  EXPECT_FALSE(fs::exists(d("x.csv")));
+  EXPECT_FALSE(fs::exists(d("same.lda")));
+  EXPECT_NO_THROW((void)topics::load_lda_model(d("m.lda"))) << "an input was overwritten";
+  EXPECT_NO_THROW((void)topics::read_corpus(d("train"), topics::CorpusFormat::kUci));
+  fs::remove(fifo);
 }
 
 }  // namespace

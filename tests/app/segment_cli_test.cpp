@@ -2,6 +2,8 @@
 // pushes; results checked against their JSON schemas.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "../segmentation/baseline_test_episode.hpp"
@@ -84,6 +86,39 @@ TEST(SegmentCli, BadInput) {
               (tmp.path() / "o").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_HAS(r.err, "nope");
+}
+
+// Issue 16: `segment ep --out ep --overwrite` deleted the input episode; --overwrite replaced any
+// directory at all.
+TEST(SegmentCli, OverwriteNeverDeletesAnInputOrAForeignDirectory) {
+  ScratchDir tmp;
+  const auto ep = write_push_episode(tmp.path() / "ep", PushSpec{});
+  auto r = run_cli("segment " + ep.string() + " --method fm --overwrite --out " + ep.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_HAS(r.err, "--out is the same file as");
+  fs::create_directory_symlink(ep, tmp.path() / "link");
+  r = run_cli("segment " + ep.string() + " --method fm --overwrite --out " +
+              (tmp.path() / "link").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  r = run_cli("segment " + ep.string() + " --method fm --overwrite --out " + tmp.path().string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_HAS(r.err, "holds the input");
+  EXPECT_TRUE(fs::exists(ep / "episode.json"));
+  const auto mine = tmp.path() / "notes";
+  fs::create_directories(mine);
+  std::ofstream(mine / "todo.txt") << "keep me\n";
+  r = run_cli("segment " + ep.string() + " --method fm --overwrite --out " + mine.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_HAS(r.err, "not a directory proprio wrote");
+  EXPECT_TRUE(fs::exists(mine / "todo.txt"));
+  // A segmentation is replaced.
+  const auto out = tmp.path() / "seg";
+  ASSERT_EQ(run_cli("segment " + ep.string() + " --method fm --out " + out.string()).code, 0);
+  r = run_cli("segment " + ep.string() + " --method fm --out " + out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_HAS(r.err, "pass --overwrite");
+  EXPECT_EQ(
+      run_cli("segment " + ep.string() + " --method fm --overwrite --out " + out.string()).code, 0);
 }
 
 TEST(SegmentCli, EvaluateADataset) {

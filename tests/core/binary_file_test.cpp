@@ -184,5 +184,33 @@ TEST_F(BinaryFileTest, MissingFileIsNamed) {
   }
 }
 
+// Issue 16: a 5 GB file passed as a model or vocabulary was read whole before its magic number
+// was checked. Sparse files: their size costs no disk, reading them would cost the memory.
+TEST_F(BinaryFileTest, TheHeaderIsCheckedBeforeTheBodyIsRead) {
+  const fs::path big = dir_ / "big.bin";
+  write_file_atomic(big, "JUNKJUNK");
+  fs::resize_file(big, std::uintmax_t{5} << 30);
+  try {
+    (void)read_binary_file(big, kTest);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), big.string() + ": not a test file (wrong magic number)");
+  }
+  // The right magic, but a header that does not match the file's real size.
+  std::string head = frame_binary(kTest, "payload");
+  write_file_atomic(big, head.substr(0, kBinaryHeaderBytes));
+  fs::resize_file(big, std::uintmax_t{5} << 30);
+  try {
+    (void)check_binary_file_header(big, kTest);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("corrupt test file: 5368709096 payload bytes where the "
+                                         "header says 7"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW((void)read_binary_file("/dev/zero", kTest), Error);
+}
+
 }  // namespace
 }  // namespace proprio::core

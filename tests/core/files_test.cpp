@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <chrono>
 #include <filesystem>
+#include <future>
 
 #include "proprio/core/error.hpp"
 
@@ -14,7 +18,8 @@ class FilesTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("proprio_files_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("proprio_files_test_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -65,12 +70,134 @@ TEST_F(FilesTest, StagedDirectoryRefusesNonEmptyUnlessOverwrite) {
   const fs::path out = dir_ / "ep";
   fs::create_directories(out);
   write_file_atomic(out / "old.txt", "old");
+  write_file_atomic(out / "segment.json", "{}");  // marks it as a result proprio wrote
   EXPECT_THROW(StagedDirectory{out}, Error);
   StagedDirectory staged(out, /*overwrite=*/true);
   write_file_atomic(staged.staging_path() / "new.txt", "new");
   staged.commit();
   EXPECT_FALSE(fs::exists(out / "old.txt"));
   EXPECT_TRUE(fs::exists(out / "new.txt"));
+}
+
+// Issue 16: a FIFO given as an input hung the reader; /dev/zero was read for ever.
+TEST_F(FilesTest, RefusesFifosAndDevicesWithoutBlocking) {
+  const fs::path fifo = dir_ / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // Run in another thread so that a regression fails the test instead of hanging it.
+  auto read_fifo = std::async(std::launch::async, [&] {
+    try {
+      read_file(fifo);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  });
+  ASSERT_EQ(read_fifo.wait_for(std::chrono::seconds(10)), std::future_status::ready)
+      << "read_file blocked on a FIFO";
+  EXPECT_EQ(read_fifo.get(), fifo.string() + ": is not a regular file (a FIFO, device or socket)");
+  EXPECT_THROW(read_file("/dev/zero"), Error);
+  EXPECT_THROW(read_file_head("/dev/zero", 24), Error);
+  EXPECT_THROW(regular_file_size(fifo), Error);
+}
+
+TEST_F(FilesTest, RefusesFilesOverTheCapBeforeReading) {
+  const fs::path p = dir_ / "big";
+  write_file_atomic(p, "0123456789");
+  EXPECT_EQ(read_file(p, 10), "0123456789");
+  EXPECT_THROW(read_file(p, 9), Error);
+  EXPECT_EQ(read_file_head(p, 4), "0123");
+  EXPECT_EQ(read_file_head(p, 40), "0123456789");
+  EXPECT_EQ(regular_file_size(p), 10U);
+  // A sparse file past the default cap is refused from its size alone.
+  const fs::path huge = dir_ / "huge";
+  write_file_atomic(huge, "x");
+  fs::resize_file(huge, kMaxReadBytes + 1);
+  try {
+    read_file(huge);
+    FAIL() << "read a file over the cap";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("more than the"), std::string::npos) << e.what();
+  }
+}
+
+// Issue 16: --overwrite deleted any directory; core's message told every command to pass --force.
+TEST_F(FilesTest, OverwriteReplacesOnlyADirectoryProprioWrote) {
+  const fs::path out = dir_ / "photos";
+  fs::create_directories(out);
+  write_file_atomic(out / "holiday.jpg", "not ours");
+  try {
+    StagedDirectory staged(out);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("pass --overwrite"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("--force"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(StagedDirectory(out, /*overwrite=*/true), Error);
+  EXPECT_TRUE(fs::exists(out / "holiday.jpg"));
+  // An empty directory is fine without --overwrite.
+  fs::create_directories(dir_ / "empty");
+  StagedDirectory empty(dir_ / "empty");
+  empty.commit();
+}
+
+// Issue 16: a kill -9 left temporary files and staging directories that nothing removed.
+TEST_F(FilesTest, StaleTemporariesOfKilledWritersAreRemovedByTheNextWrite) {
+  // Process id 999999999 is above any pid_max: the writer is gone. Process 1 is alive.
+  write_file_atomic(dir_ / "a.txt.tmp-999999999-0-1f", "half");
+  write_file_atomic(dir_ / "a.txt.tmp-1-0-1f", "another writer's, alive");
+  fs::create_directories(dir_ / ".ep.tmp-999999999-3-ab" / "frames");
+  fs::create_directories(dir_ / "ep.tmp-999999999-4-cd.old");
+  write_file_atomic(dir_ / "a.txt", "new");
+  EXPECT_FALSE(fs::exists(dir_ / "a.txt.tmp-999999999-0-1f"));
+  EXPECT_TRUE(fs::exists(dir_ / "a.txt.tmp-1-0-1f"));
+  StagedDirectory staged(dir_ / "ep");
+  EXPECT_FALSE(fs::exists(dir_ / ".ep.tmp-999999999-3-ab"));
+  EXPECT_FALSE(fs::exists(dir_ / "ep.tmp-999999999-4-cd.old"));
+}
+
+// Issue 16: a legal long name failed because of the temporary suffix.
+TEST_F(FilesTest, LongNamesUpToTheFileSystemLimitAreWritable) {
+  const std::string name(255, 'n');
+  write_file_atomic(dir_ / name, "long");
+  EXPECT_EQ(read_file(dir_ / name), "long");
+  StagedDirectory staged(dir_ / std::string(255, 'd'));
+  write_file_atomic(staged.staging_path() / "x", "1");
+  staged.commit();
+  EXPECT_TRUE(fs::exists(dir_ / std::string(255, 'd') / "x"));
+}
+
+TEST_F(FilesTest, ReplacingADirectoryLeavesNothingBeside) {
+  const fs::path out = dir_ / "ep";
+  fs::create_directories(out);
+  write_file_atomic(out / "episode.json", "{}");
+  StagedDirectory staged(out, /*overwrite=*/true);
+  write_file_atomic(staged.staging_path() / "episode.json", "[]");
+  staged.commit();
+  EXPECT_EQ(read_file(out / "episode.json"), "[]");
+  int n = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
+  EXPECT_EQ(n, 1);
+}
+
+// Issue 16: `segment ep --out ep --overwrite` deleted its input; `--model m --json m` wrote over
+// the model.
+TEST_F(FilesTest, AnOutputThatIsAnInputIsRefused) {
+  const fs::path ep = dir_ / "ep";
+  fs::create_directories(ep);
+  write_file_atomic(ep / "arm.csv", "t\n");
+  EXPECT_THROW(require_output_not_input(ep, {ep}, "--out"), Error);
+  EXPECT_THROW(require_output_not_input(dir_ / "ep/", {ep}, "--out"), Error);
+  EXPECT_THROW(require_output_not_input(dir_ / "x/../ep", {ep}, "--out"), Error);
+  EXPECT_THROW(require_output_not_input(dir_, {ep / "arm.csv"}, "--out"), Error);
+  fs::create_directory_symlink(ep, dir_ / "link");
+  EXPECT_THROW(require_output_not_input(dir_ / "link", {ep}, "--out"), Error);
+  fs::create_hard_link(ep / "arm.csv", dir_ / "hard.csv");
+  EXPECT_THROW(require_output_not_input(dir_ / "hard.csv", {ep / "arm.csv"}, "--out"), Error);
+  // Not yet written outputs compare by name.
+  EXPECT_THROW(require_output_not_input(dir_ / "m.bin", {dir_ / "m.bin"}, "--json"), Error);
+  EXPECT_NO_THROW(require_output_not_input(dir_ / "seg", {ep}, "--out"));
+  EXPECT_NO_THROW(require_output_not_input(ep / "seg", {ep / "arm.csv"}, "--out"));
+  EXPECT_NO_THROW(require_output_not_input(dir_ / "m.json", {dir_ / "m.bin", {}}, "--json"));
 }
 
 }  // namespace

@@ -39,5 +39,45 @@ TEST(JsonIo, RoundTripAndTypedAccess) {
   fs::remove(p);
 }
 
+// Issue 16: deeply nested JSON crashed the readers of episode.json and objects.json (SIGSEGV).
+TEST(JsonIo, NestingBeyondTheLimitIsRefusedWithItsLine) {
+  const fs::path p = fs::temp_directory_path() / "proprio_json_io_deep.json";
+  write_file_atomic(p, "{\"a\":\n" + std::string(200000, '[') + std::string(200000, ']') + "}");
+  try {
+    read_json(p);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ":2: invalid JSON: nested deeper than " +
+                                         std::to_string(kMaxJsonDepth) + " levels");
+  }
+  // Brackets inside strings do not count; the limit itself is accepted.
+  const std::string ok = std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']');
+  EXPECT_NO_THROW(parse_json(ok, p));
+  EXPECT_NO_THROW(parse_json("[\"" + std::string(1000, '[') + "\\\"\"]", p));
+  fs::remove(p);
+}
+
+// Issue 16: a number beyond a double exited 1 "internal error" instead of 2.
+TEST(JsonIo, NumberOutOfRangeIsBadInput) {
+  const fs::path p = fs::temp_directory_path() / "proprio_json_io_1e400.json";
+  write_file_atomic(p, "{\"x\": 1e400}");
+  try {
+    read_json(p);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(p.string() + ": invalid JSON: number overflow", 0), 0u)
+        << e.what();
+  }
+  fs::remove(p);
+}
+
+// Issue 16: a problem message quoting non-UTF-8 bytes made --json exit 1.
+TEST(JsonIo, NonUtf8StringsAreWrittenReplaced) {
+  const fs::path p = fs::temp_directory_path() / "proprio_json_io_utf8.json";
+  write_json_atomic(p, Json{{"problem", std::string("bad \xff\xfe byte")}});
+  EXPECT_EQ(read_json(p)["problem"], "bad \xEF\xBF\xBD\xEF\xBF\xBD byte");
+  fs::remove(p);
+}
+
 }  // namespace
 }  // namespace proprio::core

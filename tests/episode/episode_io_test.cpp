@@ -285,6 +285,10 @@ TEST(ObjectsJson, RoundTripsAndRejectsBadObjects) {
   j = objects_to_json(objects);
   j["objects"][2]["role"] = "target";
   EXPECT_EQ(error(j), "objects.json: more than one object has the role 'target'");
+  // Issue 16: repeated object names were accepted (results and classes name objects).
+  j = objects_to_json(objects);
+  j["objects"][2]["name"] = j["objects"][1]["name"];
+  EXPECT_EQ(error(j), "objects.json: objects[2]: name '" + objects[1].name + "' appears twice");
 }
 
 // --- the writer -------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <opencv2/calib3d.hpp>
@@ -10,6 +11,7 @@
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
+#include "proprio/geometry/point_files.hpp"
 
 namespace proprio::geometry {
 namespace {
@@ -49,7 +51,7 @@ TEST(Camera, DecomposeRecoversKRtFromAnyScaleAndSign) {
 
 TEST(Camera, UndistortInvertsOpenCVsDistortion) {
   Camera c = example_camera();
-  c.K(0, 1) = 0.0;  // OpenCV's distortion model has no skew
+  c.K(0, 1) = 0.0;                                  // OpenCV's distortion model has no skew
   c.dist = {-0.28, 0.10, -0.0006, 0.0013, -0.024};  // a wide lens (opencv-doc's left camera)
   std::vector<cv::Point3d> world;
   for (int i = 0; i < 40; ++i) world.emplace_back(-0.25 + 0.0125 * i, 0.15 * std::sin(i), 0.05);
@@ -140,6 +142,59 @@ TEST_F(CalibFileTest, BadFilesNameTheProblem) {
   write_calib(path_, c);
   EXPECT_THROW(read_calib(path_), Error);
   EXPECT_THROW(read_calib(path_.string() + ".missing"), Error);
+}
+
+// Issue 16: a point CSV cut in the middle of a number ("12.5" becomes "12") was accepted.
+TEST_F(CalibFileTest, APointFileCutShortIsRefused) {
+  core::write_file_atomic(path_, "u1,v1,u2,v2\n1,2,3,4\n5,6,7,8.2\n");
+  EXPECT_EQ(read_pixel_pairs_csv(path_).x2.back().y(), 8.2);
+  core::write_file_atomic(path_, "u1,v1,u2,v2\n1,2,3,4\n5,6,7,8");
+  try {
+    (void)read_pixel_pairs_csv(path_);
+    FAIL() << "accepted a file cut short";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path_.string() + ":3: the last line does not end", 0), 0U)
+        << e.what();
+  }
+}
+
+// Issue 16: a deeply nested value in an otherwise valid calib.yml crashed OpenCV's parser (its
+// recursion overflowed the stack); 1e200 as a translation and image_width "abc" were accepted.
+TEST_F(CalibFileTest, HostileValuesAreRefused) {
+  const std::string p = path_.string();
+  Camera c = example_camera();
+  write_calib(path_, c);
+  const std::string valid = core::read_file(path_);
+  EXPECT_EQ(error_reading(valid + "deep: " + std::string(100000, '[') + "\n"),
+            p + ":" + std::to_string(1 + std::count(valid.begin(), valid.end(), '\n')) +
+                ": nested deeper than 64 levels");
+  std::string block = valid + "deep:\n";
+  for (int i = 1; i < 200; ++i) block += std::string(static_cast<std::size_t>(i), ' ') + "a:\n";
+  EXPECT_NE(error_reading(block).find("nested deeper than"), std::string::npos);
+  // Found by fuzz_calib: OpenCV's parser threw std::length_error (exit 1) on this key.
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: 3\n   :lcso 4\n"
+                          "   dt: d\n   data: [520, 0, 321, 52, 0, 515, 239, -103, 0, 0, 1, 1.5]\n")
+                .rfind(p + ": not an OpenCV YAML file", 0),
+            0U);
+  // Found by fuzz_calib: a top level that is a list made OpenCV assert (cv::Exception, exit 1).
+  EXPECT_EQ(error_reading("%YAML:1.0\n-at_versio [ 52.0$ 0., 321.,ata0\n"),
+            p + ": not a calibration (the top level is not a map)");
+  // Found by fuzz_calib: "rows: Y3" made OpenCV allocate 64 GB before reading the data.
+  EXPECT_EQ(
+      error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: Y3\n   cols: 4\n"
+                    "   dt: d\n   data: [519, 0, 321, 52, 0, 515, 239, -103, 0, 0, 11, .5]\n"),
+      p + ": 'P' is not a matrix (rows, cols and data disagree)");
+  c.t = Eigen::Vector3d(1e200, 0, 0);
+  write_calib(path_, c);
+  const std::string far = core::read_file(path_);
+  EXPECT_NE(error_reading(far).find("absurd calibration: |t| = 1e+200"), std::string::npos)
+      << error_reading(far);
+  std::string text = valid;
+  text.replace(text.find("image_width: 640"), 16, "image_width: \"abc\"");
+  EXPECT_EQ(error_reading(text), p + ": 'image_width' is not an integer");
+  text = valid;
+  text.replace(text.find("image_height: 480"), 17, "image_height: 2000000");
+  EXPECT_EQ(error_reading(text), p + ": 'image_height' = 2000000 is outside [0, 1000000]");
 }
 
 }  // namespace

@@ -105,6 +105,24 @@ TEST(Triangulation, RefinementReachesTheReprojectionMinimum) {
   EXPECT_LE(refined_error, linear_error * 1.02);
 }
 
+// Issue 16: the same calibration given as both cameras turned every point into the camera centre.
+TEST(Triangulation, TwoViewsFromOneCentreAreRefused) {
+  const Camera c = testing::robot_camera();
+  const Matrix34d P = c.P();
+  const Eigen::Vector2d x1(300, 200);
+  const Eigen::Vector2d x2(310, 205);
+  try {
+    (void)triangulate(P, P, x1, x2);
+    FAIL() << "triangulated with no baseline";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the same centre"), std::string::npos) << e.what();
+  }
+  // Also through a scaled copy of P (the same camera written at another scale).
+  EXPECT_THROW((void)triangulate(P, -2.5 * P, std::vector<Eigen::Vector2d>{x1},
+                                 std::vector<Eigen::Vector2d>{x2}),
+               Error);
+}
+
 TEST(Triangulation, BadInputIsAnError) {
   // Two cameras with the same orientation, both looking at the principal point: parallel rays.
   Camera c1;
@@ -121,12 +139,13 @@ TEST(Triangulation, BadInputIsAnError) {
     EXPECT_EQ(std::string(e.what()),
               "point 2: triangulation: the rays are parallel (point at infinity)");
   }
-  // One camera twice: the rays coincide and the depth along them is undetermined.
+  // One camera twice: the rays coincide and the depth along them is undetermined (refused
+  // before the rays are formed: the cameras share a centre).
   try {
     triangulate(c1.P(), c1.P(), Eigen::Vector2d(300, 200), Eigen::Vector2d(300, 200));
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("coincide"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the same centre"), std::string::npos) << e.what();
   }
   EXPECT_THROW(triangulate(c1.P(), c2.P(), Eigen::Vector2d(std::nan(""), 1.0), pp), Error);
   EXPECT_THROW(triangulate(c1.P(), c2.P(), std::vector<Eigen::Vector2d>(2, pp),

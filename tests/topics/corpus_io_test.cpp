@@ -207,6 +207,22 @@ TEST(CorpusIo, MatrixMarketReadsRealAndPatternAndNamesBadLines) {
   bad(head, {"truncated: no size line"});
 }
 
+// Issue 16: a 12-byte LDA-C corpus naming word id 9,999,999 trained an 800 MB model; a
+// MatrixMarket size line with W = 10^9 ended in "internal error: std::bad_alloc".
+TEST(CorpusIo, DeclaredSizesAreHeldToTheCaps) {
+  TempDir dir;
+  expect_error([&] { read_ldac(dir.write("big.ldac", "1 9999999:1\n"), {}); },
+               {"big.ldac:1:", "word id 9999999 outside [0, 1000000)"});
+  EXPECT_EQ(read_ldac(dir.write("ok.ldac", "1 999999:1\n"), {}).num_words(), kMaxCorpusWords);
+  const std::string head = "%%MatrixMarket matrix coordinate integer general\n";
+  expect_error([&] { read_matrix_market(dir.write("w.mm", head + "1 1000000000 1\n1 1 1\n"), {}); },
+               {"w.mm:2:", "W = 1000000000 words is more than the 1000000"});
+  expect_error([&] { read_matrix_market(dir.write("d.mm", head + "2000000000 5 0\n"), {}); },
+               {"d.mm:2:", "D = 2000000000 documents is more than the 10000000"});
+  expect_error([&] { read_uci(dir.write("docword.txt", "3\n2000000\n1\n1 1 1\n"), {}); },
+               {"docword.txt:3:", "W = 2000000 words"});
+}
+
 TEST(CorpusIo, DirectoryLookupErrors) {
   TempDir dir;
   expect_error([&] { read_corpus(dir.path() / "nope", CorpusFormat::kUci); },

@@ -103,6 +103,31 @@ TEST(LdaModelIo, NamesTheProblem) {
   EXPECT_THROW(load_lda_model(temp("missing.lda")), Error);
 }
 
+// Issue 16: a model with an absurd alpha (or lambda) was read, and infer wrote rows of -nan.
+TEST(LdaModelIo, AModelThatWouldGiveNanIsRefusedWhenRead) {
+  auto refused = [](const LdaModel& m, const std::string& fragment) {
+    try {
+      (void)parse_lda_model(serialize_lda_model(m), "m.lda");
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "read a model with " << fragment;
+  };
+  LdaModel m = small_model();
+  m.alpha = 1e300;
+  refused(m, "m.lda: LDA model: alpha = ");
+  m = small_model();
+  m.eta = 1e7;
+  refused(m, "eta = ");
+  m = small_model();
+  m.lambda(2, 3) = 1e200;
+  refused(m, "lambda(2, 3)");
+  m = small_model();
+  m.alpha = kMaxLdaPrior;
+  EXPECT_NO_THROW((void)parse_lda_model(serialize_lda_model(m), "m.lda"));
+}
+
 TEST(LdaModelIo, RefusesToSaveAnInvalidModel) {
   LdaModel m = small_model();
   m.lambda(1, 1) = std::nan("");

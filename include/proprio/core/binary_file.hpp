@@ -52,8 +52,15 @@ std::string_view unframe_binary(std::string_view bytes, const BinaryFormat& form
 void write_binary_file(const std::filesystem::path& path, const BinaryFormat& format,
                        std::string_view payload);
 
-/// Reads `path` and checks its frame; returns the payload. Throws Error naming the file when it
-/// is missing, unreadable or fails a check.
+/// Checks the header of the file at `path` (magic, version, then the payload size against the
+/// file's real size), reading only its first 24 bytes, and returns the file's size: a file of
+/// another kind, or one whose size disagrees with its header, is refused before its body is read.
+std::uintmax_t check_binary_file_header(const std::filesystem::path& path,
+                                        const BinaryFormat& format);
+
+/// Reads `path` and checks its frame; returns the payload. The header is checked first
+/// (check_binary_file_header). Throws Error naming the file when it is missing, unreadable, not a
+/// regular file or fails a check.
 std::string read_binary_file(const std::filesystem::path& path, const BinaryFormat& format);
 
 /// Appends the bytes of `value` (little-endian, as in memory) to `out`.

@@ -4,15 +4,26 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 namespace proprio::core {
 
 using Json = nlohmann::json;
 
-/// Parses a JSON file. Throws Error "FILE:LINE: problem" on a syntax error.
+/// The deepest nesting of arrays and objects a JSON input may have. proprio's own files nest a few
+/// levels; a bound keeps hostile input (100,000 '[') from exhausting the stack of code that walks
+/// the parsed value recursively.
+inline constexpr int kMaxJsonDepth = 256;
+
+/// Parses JSON text read from `source`. Throws Error "FILE:LINE: problem" on a syntax error, on
+/// nesting deeper than kMaxJsonDepth, and on a number out of a double's range (1e400).
+Json parse_json(std::string_view text, const std::filesystem::path& source);
+
+/// Parses a JSON file (core::read_file, then parse_json).
 Json read_json(const std::filesystem::path& path);
 
-/// Writes `value` pretty-printed (2-space indent) atomically.
+/// Writes `value` pretty-printed (2-space indent) atomically. Bytes of strings that are not
+/// UTF-8 (a file name, a problem quoting outside input) are written as U+FFFD.
 void write_json_atomic(const std::filesystem::path& path, const Json& value);
 
 /// Reads `key` from object `j` as T; throws Error naming `file` and the key when it is missing or

@@ -59,9 +59,17 @@ Camera decompose_projection(const Matrix34d& P);
 
 /// Reads calib.yml (OpenCV FileStorage YAML: camera_matrix, dist_coeffs, R, t, P, and optionally
 /// image_width and image_height). A file with only P is decomposed. Checks that every matrix has
-/// its size, is finite, that R is a rotation, that P agrees with K [R | t], and that the format
-/// version is not newer than kCalibFormatVersion; throws Error naming the file and the problem.
+/// its size, is finite, that R is a rotation, that P agrees with K [R | t], that the format
+/// version is not newer than kCalibFormatVersion, that image_width and image_height are integers,
+/// and that the sizes are within the caps below; throws Error naming the file and the problem.
+/// The nesting of the YAML is bounded (core::check_yaml_depth) before OpenCV parses it.
 Camera read_calib(const std::filesystem::path& path);
+
+/// Caps of read_calib: a camera translated by more than 10^6 units (1000 km in metres), a K with
+/// an entry above 10^7 pixels, or an image side above 10^6 pixels is garbage, not a camera.
+inline constexpr double kMaxCalibTranslation = 1e6;
+inline constexpr double kMaxCalibPixels = 1e7;
+inline constexpr int kMaxCalibImageSide = 1000000;
 
 /// Format version of the calib.yml that write_calib writes (its `format_version` key). Files
 /// without the key (written by other tools) are read as version 1.

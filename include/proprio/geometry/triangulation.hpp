@@ -58,7 +58,8 @@ struct Triangulation {
 /// Triangulates one point from ideal (undistorted) pixels. The linear method is the one of
 /// Hartley & Zisserman 12.2 (and cv::triangulatePoints): the rows u P3 - P1, v P3 - P2 of both
 /// cameras, the right singular vector of the smallest singular value. Throws Error when the pixels
-/// are not finite, the rays are parallel (the point is at infinity) or coincide.
+/// are not finite, the rays are parallel (the point is at infinity) or coincide, or the cameras
+/// share one centre.
 Triangulation triangulate(const Matrix34d& P1, const Matrix34d& P2, const Eigen::Vector2d& x1,
                           const Eigen::Vector2d& x2, const TriangulationOptions& options = {});
 
@@ -80,7 +81,7 @@ struct BatchTriangulation {
 };
 
 /// Triangulates corresponding pixel lists (same length) point by point. Throws Error naming the
-/// point (1-based) on the first failure.
+/// point (1-based) on the first failure, and when the two cameras share one centre (no baseline).
 BatchTriangulation triangulate(const Matrix34d& P1, const Matrix34d& P2,
                                const std::vector<Eigen::Vector2d>& x1,
                                const std::vector<Eigen::Vector2d>& x2,

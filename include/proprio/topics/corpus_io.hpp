@@ -3,6 +3,7 @@
 // corpus.md): UCI bag-of-words (docword.txt + vocab.txt), Blei's LDA-C, and MatrixMarket
 // coordinate files. Every reader checks every line; errors name the file and line.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -16,6 +17,13 @@ enum class CorpusFormat { kUci, kLdac, kMatrixMarket };
 /// "uci", "ldac" or "mm"; throws Error naming the accepted values otherwise.
 CorpusFormat parse_corpus_format(std::string_view name);
 std::string_view to_string(CorpusFormat format);
+
+/// Caps on the sizes a corpus file declares, checked before anything is allocated: a model costs
+/// K x W doubles, so a declared W is held to 1,000,000 words (the largest UCI corpus, PubMed, has
+/// 141,043), and D to 10,000,000 documents (PubMed has 8.2 million). An LDA-C file without a
+/// vocabulary takes W from its largest id, which is held to the same cap.
+inline constexpr std::int64_t kMaxCorpusWords = 1'000'000;
+inline constexpr std::int64_t kMaxCorpusDocuments = 10'000'000;
 
 /// Reads a vocabulary file: one word per line, no blank or repeated words.
 std::vector<std::string> read_vocabulary(const std::filesystem::path& path);
@@ -38,6 +46,14 @@ Corpus read_matrix_market(const std::filesystem::path& file, const std::filesyst
 /// *.dat file; mm: corpus.mm or the one *.mm file; vocab.txt optional for ldac and mm), or from
 /// the corpus file itself (its vocabulary beside it).
 Corpus read_corpus(const std::filesystem::path& dir_or_file, CorpusFormat format);
+
+/// The files read_corpus reads for `dir_or_file`: the corpus file and its vocabulary (empty when
+/// there is none). For checks that an output is not one of them.
+struct CorpusFiles {
+  std::filesystem::path file;
+  std::filesystem::path vocabulary;
+};
+CorpusFiles find_corpus_files(const std::filesystem::path& dir_or_file, CorpusFormat format);
 
 /// Writes `corpus` into directory `dir` (created if missing) as docword.txt / corpus.ldac /
 /// corpus.mm, plus vocab.txt when the corpus has a vocabulary; each file written atomically.

@@ -10,6 +10,12 @@
 
 namespace proprio::topics {
 
+/// The largest alpha or eta a model or a training run accepts. Far above any useful prior
+/// (1/K is the default), and low enough that the E-step's sums stay finite.
+inline constexpr double kMaxLdaPrior = 1e6;
+/// The largest lambda entry a model may hold; a sum of W of them stays finite.
+inline constexpr double kMaxLdaLambda = 1e100;
+
 struct LdaModel {
   /// K x W variational parameters of q(beta_k) = Dir(lambda_k) (eq B.20, B.23-B.24). Stored
   /// column-major, so the K values of one word are contiguous.
@@ -31,8 +37,9 @@ struct LdaModel {
   /// The `n` most probable words of topic k, most probable first.
   [[nodiscard]] std::vector<int> top_words(int k, int n) const;
 
-  /// Throws Error when the model is not usable: K or W zero, alpha or eta not positive and
-  /// finite, lambda not positive and finite everywhere, or a vocabulary of the wrong size.
+  /// Throws Error when the model is not usable: K or W zero, alpha or eta outside
+  /// (0, kMaxLdaPrior], lambda outside (0, kMaxLdaLambda] anywhere, or a vocabulary of the wrong
+  /// size. Models that would give NaN are refused here, when read.
   void validate() const;
 
   bool operator==(const LdaModel& other) const;

@@ -51,8 +51,8 @@ struct OnlineLdaOptions {
     v(self.tau0,
       {"tau0", "Learning-rate offset: rho_t = (tau0 + t)^-kappa", core::finite_at_least(0)});
     v(self.kappa, {"kappa", "Learning-rate decay", core::Bounds{0.5, 1.0, true}});
-    v(self.alpha, {"alpha", "Prior on topic proportions (0: 1/K)", core::finite_at_least(0)});
-    v(self.eta, {"eta", "Prior on topic words (0: 1/K)", core::finite_at_least(0)});
+    v(self.alpha, {"alpha", "Prior on topic proportions (0: 1/K)", core::between(0, kMaxLdaPrior)});
+    v(self.eta, {"eta", "Prior on topic words (0: 1/K)", core::between(0, kMaxLdaPrior)});
     v(self.passes, {"passes", "Passes over the corpus (online)", core::at_least(1)});
     v(self.threads,
       {"threads", "Threads (the model does not depend on it)", core::between(1, 256)});
