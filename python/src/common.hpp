@@ -10,8 +10,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "proprio/core/provenance.hpp"
 
 namespace proprio::python {
 
@@ -74,9 +77,14 @@ py::array array_from_image(const cv::Mat& image, bool bgr_to_rgb = true);
 /// os.fspath(obj) as a path; ValueError naming `name` unless str or os.PathLike.
 std::filesystem::path to_path(const py::handle& obj, const char* name);
 
+/// The provenance of a result written from Python: this build, "python3 <sys.argv>", the linked
+/// OpenCV's and MuJoCo's versions.
+core::Provenance python_provenance(std::optional<std::uint64_t> seed);
+
 void bind_core(py::module_& m);
 void bind_topics(py::module_& m);
 void bind_features(py::module_& m);
+void bind_geometry(py::module_& m);
 void bind_episode(py::module_& m);
 void bind_vision(py::module_& m);
 void bind_sim(py::module_& m);

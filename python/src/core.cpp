@@ -8,6 +8,8 @@
 #include "proprio/core/data_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/version.hpp"
+#include "proprio/geometry/opencv_runtime.hpp"
+#include "proprio/robot/mujoco_runtime.hpp"
 
 namespace proprio::python {
 
@@ -112,6 +114,19 @@ std::filesystem::path to_path(const py::handle& obj, const char* name) {
   return s.cast<std::string>();
 }
 
+core::Provenance python_provenance(std::optional<std::uint64_t> seed) {
+  std::vector<std::string> argv{"python3"};
+  try {
+    for (const auto& a : py::module_::import("sys").attr("argv")) argv.push_back(py::str(a));
+  } catch (const py::error_already_set&) {
+    // no sys.argv (embedded interpreter): "python3" alone
+  }
+  auto p = core::Provenance::current(argv, seed);
+  p.opencv_version = geometry::opencv_version();
+  p.mujoco_version = robot::mujoco_version();
+  return p;
+}
+
 namespace {
 
 // proprio::Error says "FILE: problem"; a file that could not be opened or does not exist becomes
@@ -120,9 +135,8 @@ bool is_open_failure(const std::string& message) {
   std::string lower(message);
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (const char* key :
-       {"cannot open", "no such file", "no such image file", "no such video file", "does not exist",
-        "cannot read the image", "not found", "permission denied"}) {
+  for (const char* key : {"cannot open", "no such ", "does not exist", "cannot read the image",
+                          "not found", "permission denied"}) {
     if (lower.find(key) != std::string::npos) return true;
   }
   return false;

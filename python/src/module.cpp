@@ -11,6 +11,8 @@ PYBIND11_MODULE(_proprio, m) {
   p::bind_topics(topics);
   auto features = m.def_submodule("features", "Local features and visual vocabularies.");
   p::bind_features(features);
+  auto geometry = m.def_submodule("geometry", "Pinhole cameras: K, R, t, P.");
+  p::bind_geometry(geometry);
   auto episode = m.def_submodule("episode", "Recorded interactions read as arrays.");
   p::bind_episode(episode);
   auto vision = m.def_submodule("segmentation", "Motion-Likelihood segmentation of episodes.");

@@ -5,6 +5,8 @@
 
 #include <cassert>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -45,6 +47,35 @@ GlBackend parse_gl_backend(const std::string& name) {
   throw Error("unknown OpenGL backend '" + name + "' (expected auto, egl or osmesa)");
 }
 
+#if PROPRIO_HAVE_EGL_HEADERS
+// EGL displays are per process: eglGetDisplay gives every context in the process the same one, and
+// eglTerminate ends every context on it. So that two renderers can live in one process (a Python
+// session with a Scene and a SimulatedRobot), a display is terminated only when its last context
+// goes, or when a candidate display that no context uses is abandoned.
+namespace {
+std::mutex& egl_display_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::map<EGLDisplay, int>& egl_display_users() {
+  static std::map<EGLDisplay, int> users;
+  return users;
+}
+void acquire_egl_display(EGLDisplay display) {
+  const std::lock_guard lock(egl_display_mutex());
+  ++egl_display_users()[display];
+}
+// Drops one user (when `used`) and terminates the display when none is left.
+void release_egl_display(EGLDisplay display, PFNEGLTERMINATEPROC terminate, bool used = true) {
+  const std::lock_guard lock(egl_display_mutex());
+  auto& users = egl_display_users();
+  auto it = users.find(display);
+  if (used && it != users.end() && --it->second == 0) users.erase(it);
+  if (users.find(display) == users.end()) terminate(display);
+}
+}  // namespace
+#endif
+
 struct GlContext::Impl {
   GlBackend backend = GlBackend::kOsMesa;
   // OSMesa
@@ -71,7 +102,7 @@ struct GlContext::Impl {
       egl_make_current(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       egl_destroy_context(egl_display, egl_context);
     }
-    if (egl_display != EGL_NO_DISPLAY) egl_terminate(egl_display);
+    if (egl_display != EGL_NO_DISPLAY) release_egl_display(egl_display, egl_terminate);
 #endif
     if (egl_lib != nullptr) dlclose(egl_lib);
   }
@@ -176,19 +207,20 @@ std::unique_ptr<GlContext::Impl> create_egl(std::string& why) {
     EGLint configs = 0;
     if (!choose_config(display, attributes, &config, 1, &configs) || configs < 1 ||
         !bind_api(EGL_OPENGL_API)) {
-      impl->egl_terminate(display);
+      release_egl_display(display, impl->egl_terminate, false);
       continue;
     }
     EGLContext context = create_context(display, config, EGL_NO_CONTEXT, nullptr);
     if (context == EGL_NO_CONTEXT) {
-      impl->egl_terminate(display);
+      release_egl_display(display, impl->egl_terminate, false);
       continue;
     }
     if (!impl->egl_make_current(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
       impl->egl_destroy_context(display, context);
-      impl->egl_terminate(display);
+      release_egl_display(display, impl->egl_terminate, false);
       continue;
     }
+    acquire_egl_display(display);
     impl->egl_display = display;
     impl->egl_context = context;
     return impl;

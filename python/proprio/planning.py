@@ -1,0 +1,4 @@
+"""proprio.planning: not bound yet (docs/python.md says what is). The planning library's calls take
+the Options structs bound elsewhere in this package; their Python entry points are to come."""
+
+__all__ = []
