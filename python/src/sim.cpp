@@ -34,9 +34,20 @@ py::array_t<double> joints_array(const robot::JointVector& q) {
   return array_from_vector(Eigen::VectorXd(q));
 }
 
+// Two numbers (x, y) from any sequence or array of reals (converted: a point is not bulk data).
 Eigen::Vector2d point2(const py::handle& obj, const char* name) {
-  const auto a = require_array<double>(obj, name, 1, {2});
-  return {a.at(0), a.at(1)};
+  py::array_t<double> a;
+  try {
+    a = py::array_t<double, py::array::forcecast>::ensure(obj);
+  } catch (const py::error_already_set&) {
+  }
+  if (!a || a.ndim() != 1 || a.shape(0) != 2) {
+    throw py::value_error(std::string(name) + ": expected 2 numbers (x, y), got " +
+                          std::string(py::repr(obj)));
+  }
+  const Eigen::Vector2d p(a.at(0), a.at(1));
+  if (!p.allFinite()) throw py::value_error(std::string(name) + ": expected finite numbers");
+  return p;
 }
 
 // A world and its renderer, kept together (the renderer serves the world it was made with).

@@ -248,6 +248,19 @@ void bind_topics(py::module_& m) {
           "K x W posterior mean of beta (rows sum to 1); a copy.")
       .def("top_words", &LdaModel::top_words, py::arg("k"), py::arg("n"),
            "The n most probable word ids of topic k.")
+      .def_static(
+          "from_lambda",
+          [](const py::handle& lambda, double alpha, double eta) {
+            LdaModel model;
+            model.lambda = matrix_from_array(lambda, "lambda");
+            model.alpha = alpha;
+            model.eta = eta;
+            model.validate();
+            return model;
+          },
+          py::arg("lambda_"), py::arg("alpha"), py::arg("eta"),
+          "A model from K x W float64 lambda (e.g. scikit-learn's components_, copied) and the "
+          "priors, to score or infer with proprio. ValueError when it is not a valid model.")
       .def("to_bytes", &model_bytes, "The model file's bytes (docs/formats/lda-model.md).")
       .def_static("from_bytes", &model_from_bytes, py::arg("data"),
                   "Parses a model file's bytes; ValueError when they are not a valid model.")

@@ -67,7 +67,7 @@ def test_robot_look_and_push(pushed):
     assert report["touched"] and report["frames"] > 10
     truth = robot.ground_truth_mask()
     assert truth.shape == (H, W) and truth.dtype == np.uint16
-    with pytest.raises(ValueError, match="start: expected size 2"):
+    with pytest.raises(ValueError, match="start: expected 2 numbers"):
         robot.push(np.zeros(3), np.zeros(2))
 
 
