@@ -1,4 +1,8 @@
-"""proprio.planning: not bound yet (docs/python.md says what is). The planning library's calls take
-the Options structs bound elsewhere in this package; their Python entry points are to come."""
+"""proprio.planning: the push planner's options (thesis 7.2.1); the planner runs inside
+proprio.loop.run_push. Planning on a look of your own is not bound yet."""
 
-__all__ = []
+from . import _proprio
+
+PushPlanOptions = _proprio.planning.PushPlanOptions
+
+__all__ = ["PushPlanOptions"]

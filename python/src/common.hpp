@@ -88,5 +88,7 @@ void bind_geometry(py::module_& m);
 void bind_episode(py::module_& m);
 void bind_vision(py::module_& m);
 void bind_sim(py::module_& m);
+void bind_planning(py::module_& m);
+void bind_loop(py::module_& m);
 
 }  // namespace proprio::python

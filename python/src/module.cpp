@@ -19,4 +19,8 @@ PYBIND11_MODULE(_proprio, m) {
   p::bind_vision(vision);
   auto sim = m.def_submodule("sim", "The simulated world and robot, cameras.");
   p::bind_sim(sim);
+  auto planning = m.def_submodule("planning", "Push planning options.");
+  p::bind_planning(planning);
+  auto loop = m.def_submodule("loop", "Look, plan, push: `proprio push` as a call.");
+  p::bind_loop(loop);
 }
