@@ -146,3 +146,27 @@ def test_dense_features_of_an_rgb_image():
         extract_features(image[..., :2].copy())
     with pytest.raises(ValueError, match="image: expected a 3-d C-contiguous uint8"):
         extract_features(image.astype(np.float32))
+
+
+def test_run_push_returns_its_record():
+    from proprio.loop import PushOptions, run_push
+    result = run_push(PushOptions(), TableOptions(objects=2, seed=2, width=W, height=H))
+    assert result["document"]["format"] == "proprio.push"
+    assert result["message"] and "\n" not in result["message"]
+
+
+def test_bag_of_words_counts_words():
+    from proprio.recognition import bag_of_words
+    v = Vocabulary(np.array([[0.0, 0.0], [10.0, 10.0]], dtype=np.float32))
+    d = np.array([[0.1, 0.0], [9.0, 9.5], [0.0, 0.2]], dtype=np.float32)
+    np.testing.assert_array_equal(bag_of_words(v, d), [2, 1])
+
+
+def test_type_stubs_were_generated():
+    import pathlib
+
+    import proprio
+    stubs = pathlib.Path(proprio.__file__).parent / "_proprio"
+    names = {p.name for p in stubs.glob("*.pyi")}
+    assert {"__init__.pyi", "topics.pyi", "sim.pyi", "features.pyi"} <= names
+    assert "class LdaModel" in (stubs / "topics.pyi").read_text()

@@ -32,4 +32,12 @@ if readelf -d "$work/topics_only" | grep -Eiq 'mujoco|opencv'; then
   echo "topics_only needs MuJoCo or OpenCV at run time" >&2
   exit 1
 fi
+# The Python package, when it was built: importable from the prefix's dist-packages by
+# /usr/bin/python3, with the installed data (docs/python.md).
+pydir=$(find "$prefix/lib" -maxdepth 3 -type d -path '*/dist-packages/proprio' | head -1)
+if [ -n "$pydir" ]; then
+  (cd "$work" && PYTHONPATH=$(dirname "$pydir") PROPRIO_DATA_DIR="$prefix/share/proprio" \
+    /usr/bin/python3 -c "import proprio, proprio.sim; assert proprio.__file__.startswith('$prefix'); \
+print(len(proprio.sim.catalogue_names()), 'catalogue objects from the installed package')")
+fi
 echo "install: every module linked and ran; topics_only links neither MuJoCo nor OpenCV"
