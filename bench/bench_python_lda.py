@@ -9,6 +9,8 @@ setting: K = 100, alpha = eta = 1/K, mini-batches of 256, tau0 = 1, kappa = 0.7,
 thread each). Per repeat r (seed r), in an order rotated per repeat:
   proprio-py   proprio.topics.LatentDirichletAllocation(...).fit(X) on the scipy CSR matrix a
                user has (float64 counts): wall time of the whole fit, conversion included
+  proprio-call proprio.topics.train_online_lda(corpus, options), the library call itself on a
+               corpus built beforehand (the binding's own call cost is microseconds)
   sklearn      sklearn.decomposition.LatentDirichletAllocation(learning_method="online", ...)
                .fit(X), the same X, numpy on the chosen BLAS
 Every model is scored by the same function as bench_topics.py (document completion on the
@@ -48,6 +50,8 @@ def main():
     ap.add_argument("--out", type=pathlib.Path)
     ap.add_argument("--blas", choices=sorted(BLAS_DIRS), default="openblas")
     ap.add_argument("--skip-cpp-bench", action="store_true")
+    ap.add_argument("--skip-sklearn", action="store_true",
+                    help="only the binding's overhead (proprio-py, proprio-call, proprio-cli)")
     ap.add_argument("-k", type=int, default=100)
     ap.add_argument("--passes", type=int, default=5)
     a = ap.parse_args()
@@ -104,6 +108,18 @@ def main():
         return LdaModel.from_lambda(np.ascontiguousarray(lda.components_), alpha, alpha), wall, \
             cpu, None
 
+    corpus = Corpus.read(str(a.corpus / "train"))  # built once: the C++ call's own input
+
+    def call_proprio(seed):
+        # The library call through the binding, on a prebuilt corpus: what the C++ program does.
+        o = proprio.topics.OnlineLdaOptions(topics=a.k, batch=256, tau0=1.0, kappa=0.7,
+                                            alpha=alpha, eta=alpha, passes=a.passes, threads=1,
+                                            seed=seed)
+        t0, c0 = time.perf_counter(), time.process_time()
+        model, summary = proprio.topics.train_online_lda(corpus, o)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        return model, wall, cpu, summary["seconds"]
+
     def cli_seconds(seed, work):
         js = work / f"cli{seed}.json"
         r = subprocess.run([str(a.proprio), "lda", "train", "--corpus", str(a.corpus / "train"),
@@ -117,7 +133,9 @@ def main():
         return json.loads(js.read_text())["seconds"], LdaModel.load(work / f"cli{seed}.lda")
 
     work = pathlib.Path(tempfile.mkdtemp(prefix="bench_python_lda_"))
-    engines = [("proprio-py", fit_proprio), ("sklearn", fit_sklearn), ("proprio-cli", None)]
+    engines = [("proprio-py", fit_proprio), ("proprio-call", call_proprio), ("proprio-cli", None)]
+    if not a.skip_sklearn:
+        engines.insert(1, ("sklearn", fit_sklearn))
     runs = {name: [] for name, _ in engines}
     for rep in range(a.repeats):
         seed = rep + 1
@@ -148,37 +166,47 @@ def main():
     by_seed = {name: {r["seed"]: r for r in rows} for name, rows in runs.items()}
     seeds = sorted(by_seed["proprio-py"])
     ratio_py = [by_seed["sklearn"][s]["seconds"] / by_seed["proprio-py"][s]["seconds"]
-                for s in seeds]
+                for s in seeds] if "sklearn" in by_seed and by_seed["sklearn"] else [float("nan")]
+    overhead_call = [by_seed["proprio-py"][s]["seconds"] / by_seed["proprio-call"][s]["seconds"]
+                     - 1 for s in seeds]
     overhead_engine = [by_seed["proprio-py"][s]["seconds"] / by_seed["proprio-py"][s]["engine_seconds"]
                        - 1 for s in seeds]
     overhead_cli = [by_seed["proprio-py"][s]["seconds"] / by_seed["proprio-cli"][s]["seconds"] - 1
                     for s in seeds]
-    ppl = {name: statistics.mean(r["perplexity"] for r in rows) for name, rows in runs.items()}
+    ppl = {name: statistics.mean(r["perplexity"] for r in rows) for name, rows in runs.items()
+           if rows}
     summary = {
         "speedup_over_sklearn_in_python": ratio_py,
         "speedup_over_sklearn_in_python_median": med(ratio_py),
+        "overhead_vs_call_wall": overhead_call,
+        "overhead_vs_call_wall_median": med(overhead_call),
         "overhead_vs_engine_seconds": overhead_engine,
         "overhead_vs_engine_seconds_median": med(overhead_engine),
         "overhead_vs_cli_seconds": overhead_cli,
         "overhead_vs_cli_seconds_median": med(overhead_cli),
         "perplexity_mean": ppl,
-        "perplexity_proprio_over_sklearn": ppl["proprio-py"] / ppl["sklearn"],
+        "perplexity_proprio_over_sklearn": ppl["proprio-py"] / ppl["sklearn"]
+        if "sklearn" in ppl else None,
         "same_model_python_and_cli": all(r["same_model_as_python"] is not False
                                          for r in runs["proprio-cli"]),
     }
     print()
-    print(f"speed-up over scikit-learn, one Python process: per repeat "
-          f"{', '.join(f'{x:.2f}' for x in ratio_py)}; median {med(ratio_py):.2f}x")
+    if not a.skip_sklearn:
+        print(f"speed-up over scikit-learn, one Python process: per repeat "
+              f"{', '.join(f'{x:.2f}' for x in ratio_py)}; median {med(ratio_py):.2f}x")
+    print(f"binding overhead vs the library call (train_online_lda on a prebuilt corpus, same "
+          f"process): {', '.join(f'{100 * x:+.1f}%' for x in overhead_call)}")
     print(f"binding overhead vs the engine's own training time: "
           f"{', '.join(f'{100 * x:+.1f}%' for x in overhead_engine)}")
     print(f"binding overhead vs `proprio lda train`'s training time: "
           f"{', '.join(f'{100 * x:+.1f}%' for x in overhead_cli)}")
-    print(f"held-out perplexity: proprio {ppl['proprio-py']:.1f}, scikit-learn {ppl['sklearn']:.1f} "
-          f"(ratio {summary['perplexity_proprio_over_sklearn']:.3f}); Python and CLI models "
-          f"identical: {summary['same_model_python_and_cli']}")
+    if "sklearn" in ppl:
+        print(f"held-out perplexity: proprio {ppl['proprio-py']:.1f}, scikit-learn "
+              f"{ppl['sklearn']:.1f} (ratio {summary['perplexity_proprio_over_sklearn']:.3f})")
+    print(f"Python and CLI models identical: {summary['same_model_python_and_cli']}")
 
     cpp = None
-    if not a.skip_cpp_bench:
+    if not a.skip_cpp_bench and not a.skip_sklearn:
         out = work / "bench_topics.json"
         r = subprocess.run(["/usr/bin/python3", str(HERE / "bench_topics.py"), "--proprio",
                             str(a.proprio), "--corpus", str(a.corpus), "--repeats",

@@ -152,6 +152,8 @@ void bind_core(py::module_& m) {
       "data_directory", []() { return core::data_directory().string(); },
       "The directory of proprio's shipped data (models/, objects/, scenarios/): $PROPRIO_DATA_DIR, "
       "beside the program, or the installation's. OSError when none holds it.");
+  // pybind11 takes void (*)(std::exception_ptr): the parameter is by value.
+  // NOLINTNEXTLINE(performance-unnecessary-value-param)
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
