@@ -6,6 +6,7 @@
 // build (Open MPI's own allocations would be reported as leaks).
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,6 +15,8 @@
 #include "../support/paths.hpp"
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/features/vocabulary.hpp"
 #include "proprio/topics/corpus_io.hpp"
 
 namespace proprio {
@@ -144,6 +147,53 @@ TEST_F(MpiLda, ARankThatDiesEndsTheJobAndLeavesNoModel) {
   EXPECT_FALSE(fs::exists(model));
   for (const auto& e : fs::directory_iterator(dir_->path())) {
     EXPECT_EQ(e.path().string().find("dead.lda"), std::string::npos) << e.path();
+  }
+}
+
+// k-means vocabularies: 2 and 3 ranks give the one-process words (the files differ only in their
+// provenance's time), sampled (--per-image) and whole, and the same record.
+TEST(MpiVocab, TwoAndThreeRanksBuildTheOneProcessVocabulary) {
+  const test::TempDir dir("proprio_mpi_", "vocab");
+  const fs::path samples = PROPRIO_OPENCV_SAMPLES;
+  const std::vector<std::pair<std::string, std::vector<std::string>>> set{
+      {"fruit", {"apple.jpg", "orange.jpg", "fruits.jpg"}},
+      {"scene", {"box_in_scene.png", "graf1.png"}}};
+  for (const auto& [cls, files] : set) {
+    fs::create_directories(dir.path() / "images" / cls);
+    for (const auto& f : files) fs::copy_file(samples / f, dir.path() / "images" / cls / f);
+  }
+  const std::string images = (dir.path() / "images").string();
+  for (const std::string per_image : {"60", "0"}) {
+    std::string args = " vocab build --no-progress --words 24 --seed 3 --per-image ";
+    args += per_image;
+    args += " --images ";
+    args += images;
+    const auto out = [&](const std::string& name) { return (dir.path() / name).string(); };
+    const auto one = test::run_cli(args.substr(1) + " --threads 2 --out " + out("one.voc") +
+                                   " --json " + out("one.json"));
+    ASSERT_EQ(one.code, 0) << one.err;
+    const features::Vocabulary v1 = features::read_vocabulary(out("one.voc"));
+    const core::Json j1 = core::read_json(out("one.json"));
+    for (const int ranks : {2, 3}) {
+      if (per_image == "0" && ranks == 2) continue;  // time: whole images once, on 3 ranks
+      std::string name = "v";
+      name += std::to_string(ranks);
+      const auto r = run(mpirun(ranks) + test::cli_path() + args + " --threads 1 --out " +
+                         out(name + ".voc") + " --json " + out(name + ".json"));
+      ASSERT_EQ(r.code, 0) << r.err;
+      const features::Vocabulary v = features::read_vocabulary(out(name + ".voc"));
+      ASSERT_EQ(v.size(), v1.size());
+      ASSERT_EQ(v.dimension(), v1.dimension());
+      EXPECT_EQ(std::memcmp(v.words().ptr<float>(), v1.words().ptr<float>(),
+                            v1.words().total() * sizeof(float)),
+                0)
+          << ranks << " ranks, --per-image " << per_image << ": other words";
+      const core::Json j = core::read_json(out(name + ".json"));
+      EXPECT_EQ(j["cost"], j1["cost"]);
+      EXPECT_EQ(j["iterations"], j1["iterations"]);
+      EXPECT_EQ(j["descriptors"], j1["descriptors"]);
+      EXPECT_EQ(j["ranks"], ranks);
+    }
   }
 }
 
