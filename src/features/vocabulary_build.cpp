@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
-#include <optional>
 #include <numeric>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -141,7 +141,6 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
   if (comm.size() == 1) {
     std::optional<VocabularyBuildResult> r;
     core::agree(comm, [&] { r.emplace(run_vocabulary_build(options, provenance)); });
-    r->document["ranks"] = 1;
     return std::move(*r);
   }
   const int rank = comm.rank();

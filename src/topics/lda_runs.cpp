@@ -187,7 +187,6 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
   if (comm.size() == 1) {
     LdaTrainingResult r;
     core::agree(comm, [&] { r = run_lda_training(options, provenance); });
-    r.document["ranks"] = 1;
     return r;
   }
   const int rank = comm.rank();

@@ -13,6 +13,7 @@
 
 #include "../support/named_corpus.hpp"
 #include "../support/paths.hpp"
+#include "../support/schema_check.hpp"
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
@@ -96,6 +97,7 @@ TEST_F(MpiLda, TwoAndThreeRanksWriteTheOneProcessModelByteForByte) {
     std::string ranks_field = "\"ranks\": ";
     ranks_field += std::to_string(ranks);
     EXPECT_NE(slurp(model + ".json").find(ranks_field), std::string::npos);
+    test::expect_schema_valid("lda_train.schema.json", model + ".json");
   }
 }
 
@@ -193,6 +195,7 @@ TEST(MpiVocab, TwoAndThreeRanksBuildTheOneProcessVocabulary) {
       EXPECT_EQ(j["iterations"], j1["iterations"]);
       EXPECT_EQ(j["descriptors"], j1["descriptors"]);
       EXPECT_EQ(j["ranks"], ranks);
+      test::expect_schema_valid("vocab_build.schema.json", out(name + ".json"));
     }
   }
 }

@@ -71,7 +71,7 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
 /// the one random stream); the sampled rows go to the ranks that hold their chunks of k-means
 /// (kmeans_rows_of_rank) and k-means runs over the ranks. Every rank ends with the one-process
 /// vocabulary, bit for bit; rank 0 alone writes it, after the last collective step. Bad input on
-/// any rank: core::CollectiveError on every rank. The record adds "ranks".
+/// any rank: core::CollectiveError on every rank. The record adds "ranks" (with more than one).
 VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options,
                                            const core::Provenance& provenance,
                                            core::Communicator& comm);

@@ -81,7 +81,7 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
 /// or when any rank meets bad input. Every rank ends with the one-process model (checked by a
 /// checksum of lambda across the ranks); rank 0 alone reads the held-out corpus, scores it and
 /// writes the model file, atomically, after the last collective step, so that a job whose rank
-/// dies leaves no model. The record adds "ranks".
+/// dies leaves no model. The record adds "ranks" (with more than one).
 LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
                                    const core::Provenance& provenance, core::Communicator& comm);
 
