@@ -9,6 +9,7 @@
 #include "proprio/core/files.hpp"
 #include "proprio/topics/lda_model_io.hpp"
 #include "proprio/topics/lda_runs.hpp"
+#include "world.hpp"
 
 namespace proprio::app {
 namespace {
@@ -56,16 +57,22 @@ void register_train(CLI::App* lda, const Invocation& inv) {
                   "Held-out corpus (same format): trace its perplexity (document completion)");
   cmd->add_option("--json", t->json,
                   "Also write seconds, docs_per_s, tokens_per_s and the trace as JSON");
+  // Under mpirun, data-parallel over the ranks (topics/lda_runs.hpp); rank 0 prints and writes.
   cmd->callback([t, &inv] {
-    const CorpusFiles files = find_corpus_files(t->options.corpus, t->options.format);
-    core::require_output_not_input(
-        t->json,
-        {t->options.model, t->options.corpus, files.file, files.vocabulary, t->options.heldout},
-        "--json");
-    const LdaTrainingResult r =
-        run_lda_training(t->options, inv.provenance(t->options.online.seed));
-    std::printf("%s\n", r.brief.c_str());
-    write_json_result(t->json, r.document);
+    run_on_world([&](core::Communicator& comm) {
+      core::agree(comm, [&] {
+        const CorpusFiles files = find_corpus_files(t->options.corpus, t->options.format);
+        core::require_output_not_input(
+            t->json,
+            {t->options.model, t->options.corpus, files.file, files.vocabulary, t->options.heldout},
+            "--json");
+      });
+      const LdaTrainingResult r =
+          run_lda_training(t->options, inv.provenance(t->options.online.seed), comm);
+      if (comm.rank() != 0) return;
+      std::printf("%s\n", r.brief.c_str());
+      write_json_result(t->json, r.document);
+    });
   });
 }
 

@@ -9,6 +9,7 @@
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/features/vocabulary_build.hpp"
 #include "proprio/recognition/image_quantize.hpp"
+#include "world.hpp"
 
 namespace proprio::app {
 namespace {
@@ -67,11 +68,15 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
   build->add_option("--json", b->json,
                     "Also write descriptors, extract_seconds, kmeans_seconds, iterations, cost");
   build->add_flag("!--no-progress", b->options.progress, "No progress bar");
+  // Under mpirun, data-parallel over the ranks (features/vocabulary_build.hpp); rank 0 prints.
   build->callback([b, &inv] {
-    const auto r =
-        features::run_vocabulary_build(b->options, inv.provenance(b->options.kmeans.seed));
-    std::printf("%s\n", r.brief().c_str());
-    write_json_result(b->json, r.document);
+    run_on_world([&](core::Communicator& comm) {
+      const auto r =
+          features::run_vocabulary_build(b->options, inv.provenance(b->options.kmeans.seed), comm);
+      if (comm.rank() != 0) return;
+      std::printf("%s\n", r.brief().c_str());
+      write_json_result(b->json, r.document);
+    });
   });
 
   auto q = std::make_shared<QuantizeArgs>();

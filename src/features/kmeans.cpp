@@ -20,8 +20,10 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <span>
 
 #include "nearest.hpp"
+#include "proprio/core/communicator.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/parallel.hpp"
 #include "proprio/core/random.hpp"
@@ -154,6 +156,44 @@ void assign(const cv::Mat& x, const cv::Mat& centres, int threads, Assignment& o
   out.cost = std::accumulate(partial.begin(), partial.end(), 0.0);
 }
 
+// Adds to total/count, in chunk order, the per-chunk sums (in double, rows in order) of the rows of
+// chunks [c0, c1) of a data set of n rows of which `x` holds rows [first, first + x.rows).
+void accumulate_chunks(const cv::Mat& x, const Assignment& as, std::size_t first, std::size_t n,
+                       std::size_t c0, std::size_t c1, int K, int threads,
+                       std::vector<double>& total, std::vector<long>& count) {
+  const int D = x.cols;
+  const auto kd = static_cast<std::size_t>(K) * D;
+  const std::size_t group =
+      std::clamp<std::size_t>((std::size_t{64} << 20) / (kd * sizeof(double)), 1, kChunks);
+  std::vector<std::vector<double>> sums(group);
+  std::vector<std::vector<int>> counts(group);
+  for (std::size_t g0 = c0; g0 < c1; g0 += group) {
+    const std::size_t g1 = std::min(c1, g0 + group);
+    core::parallel_for(g1 - g0, threads, [&](std::size_t j, int) {
+      const std::size_t c = g0 + j;
+      auto& s = sums[j];
+      auto& cnt = counts[j];
+      s.assign(kd, 0.0);
+      cnt.assign(static_cast<std::size_t>(K), 0);
+      const std::size_t a = c * n / kChunks - first;
+      const std::size_t b = (c + 1) * n / kChunks - first;
+      for (std::size_t i = a; i < b; ++i) {
+        const int l = as.labels[i];
+        const float* p = x.ptr<float>(static_cast<int>(i));
+        double* dst = s.data() + static_cast<std::size_t>(l) * D;
+        for (int d = 0; d < D; ++d) dst[d] += p[d];
+        ++cnt[static_cast<std::size_t>(l)];
+      }
+    });
+    for (std::size_t j = 0; j < g1 - g0; ++j) {
+      for (std::size_t e = 0; e < kd; ++e) total[e] += sums[j][e];
+      for (int k = 0; k < K; ++k) {
+        count[static_cast<std::size_t>(k)] += counts[j][static_cast<std::size_t>(k)];
+      }
+    }
+  }
+}
+
 // Centres = means of their points (sums in double per chunk, added in chunk order). Empty
 // clusters take the points farthest from their centres. Returns how many were empty.
 int update_centres(const cv::Mat& x, const Assignment& as, cv::Mat& centres, int threads) {
@@ -162,34 +202,11 @@ int update_centres(const cv::Mat& x, const Assignment& as, cv::Mat& centres, int
   const auto n = static_cast<std::size_t>(x.rows);
   const auto kd = static_cast<std::size_t>(K) * D;
   // One accumulator per chunk (not per thread), added in chunk order: the same result for any
-  // thread count. Fewer chunks for large K x D keep the buffers under ~64 MB (10,000 words).
-  const std::size_t chunks =
-      std::clamp<std::size_t>((std::size_t{64} << 20) / (kd * sizeof(double)), 1, kChunks);
-  std::vector<std::vector<double>> sums(chunks);
-  std::vector<std::vector<int>> counts(chunks);
-  core::parallel_for(chunks, threads, [&](std::size_t c, int) {
-    auto& s = sums[c];
-    auto& cnt = counts[c];
-    s.assign(kd, 0.0);
-    cnt.assign(static_cast<std::size_t>(K), 0);
-    const std::size_t a = c * n / chunks;
-    const std::size_t b = (c + 1) * n / chunks;
-    for (std::size_t i = a; i < b; ++i) {
-      const int l = as.labels[i];
-      const float* p = x.ptr<float>(static_cast<int>(i));
-      double* dst = s.data() + static_cast<std::size_t>(l) * D;
-      for (int d = 0; d < D; ++d) dst[d] += p[d];
-      ++cnt[static_cast<std::size_t>(l)];
-    }
-  });
+  // thread count, and for any number of MPI ranks owning whole chunks (issue 23). At most ~64 MB
+  // of accumulators at once for large K x D (10,000 words): the chunks then go in groups.
   std::vector<double> total(kd, 0.0);
   std::vector<long> count(static_cast<std::size_t>(K), 0);
-  for (std::size_t c = 0; c < chunks; ++c) {
-    for (std::size_t j = 0; j < kd; ++j) total[j] += sums[c][j];
-    for (int k = 0; k < K; ++k) {
-      count[static_cast<std::size_t>(k)] += counts[c][static_cast<std::size_t>(k)];
-    }
-  }
+  accumulate_chunks(x, as, 0, n, 0, kChunks, K, threads, total, count);
   int empty = 0;
   std::vector<std::size_t> far;
   for (int k = 0; k < K; ++k) {
@@ -283,6 +300,172 @@ VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOption
                          centres.ptr<float>(as.labels[static_cast<std::size_t>(i)]), x.cols);
   }
   summary.cost = cost;
+  summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return {Vocabulary(centres), summary};
+}
+
+std::pair<std::int64_t, std::int64_t> kmeans_rows_of_rank(std::int64_t total, int rank, int ranks) {
+  const auto chunks = static_cast<std::int64_t>(kChunks);
+  const std::int64_t c0 = rank * chunks / ranks;
+  const std::int64_t c1 = (rank + 1) * chunks / ranks;
+  return {c0 * total / chunks, c1 * total / chunks};
+}
+
+VocabularyResult build_vocabulary(const DescriptorBlock& mine, const KmeansOptions& options,
+                                  core::Communicator& comm) {
+  const int rank = comm.rank();
+  const int ranks = comm.size();
+  const auto N = static_cast<std::size_t>(mine.total);
+  const auto first = static_cast<std::size_t>(mine.first);
+  const int K = options.words;
+  int D = mine.rows.cols;
+  cv::Mat x;
+  core::agree(comm, [&] {
+    options.validate();
+    const auto [lo, hi] = kmeans_rows_of_rank(mine.total, rank, ranks);
+    ensure(lo == mine.first && hi - lo == mine.rows.rows, "k-means: a rank holds the wrong rows");
+    if (mine.total == 0) throw Error("k-means: no descriptors");
+    if (!mine.rows.empty()) check_input(mine.rows, "k-means");
+    if (K > mine.total) {
+      throw Error("k-means: " + std::to_string(K) + " words from " + std::to_string(mine.total) +
+                  " descriptors (need at least as many descriptors as words)");
+    }
+  });
+  std::vector<std::int64_t> dims{D};
+  comm.allreduce_max(dims);
+  D = static_cast<int>(dims[0]);
+  x = mine.rows.empty() ? cv::Mat(0, D, CV_32F)
+                        : (mine.rows.isContinuous() ? mine.rows : mine.rows.clone());
+  const auto t0 = Clock::now();
+  const auto own = static_cast<std::size_t>(x.rows);
+  const std::size_t c0 = static_cast<std::size_t>(rank) * kChunks / static_cast<std::size_t>(ranks);
+  const std::size_t c1 =
+      static_cast<std::size_t>(rank + 1) * kChunks / static_cast<std::size_t>(ranks);
+
+  // Seeding, as one process: the same draws over all N rows, the sampled rows gathered.
+  core::Rng rng(options.seed);
+  const int trials = options.seeding_trials > 0
+                         ? options.seeding_trials
+                         : 2 + static_cast<int>(std::log(static_cast<double>(K)));
+  const long sample_max = options.seeding_sample > 0 ? options.seeding_sample : 32L * K;
+  std::vector<float> rows_out;
+  if (sample_max >= static_cast<long>(N)) {
+    rows_out.assign(x.ptr<float>(), x.ptr<float>() + own * static_cast<std::size_t>(D));
+  } else {
+    std::vector<int> idx(N);
+    std::iota(idx.begin(), idx.end(), 0);
+    for (long i = 0; i < sample_max; ++i) {
+      const auto j = static_cast<std::size_t>(i) +
+                     rng.index(static_cast<std::uint64_t>(static_cast<long>(N) - i));
+      std::swap(idx[static_cast<std::size_t>(i)], idx[j]);
+    }
+    idx.resize(static_cast<std::size_t>(std::max<long>(sample_max, K)));
+    std::sort(idx.begin(), idx.end());
+    for (const int i : idx) {
+      const auto g = static_cast<std::size_t>(i);
+      if (g < first || g >= first + own) continue;
+      const float* p = x.ptr<float>(static_cast<int>(g - first));
+      rows_out.insert(rows_out.end(), p, p + D);
+    }
+  }
+  std::vector<float> sampled = core::allgather_values<float>(comm, rows_out);
+  const cv::Mat sample(static_cast<int>(sampled.size() / static_cast<std::size_t>(D)), D, CV_32F,
+                       sampled.data());
+  cv::Mat centres = seed_centres(sample, K, trials, rng, options.threads);
+
+  // Assignment of this rank's rows; the cost folded over the chunks in order.
+  Assignment as;
+  auto assign_mine = [&] {
+    as.labels.resize(own);
+    as.sq.resize(own);
+    const auto packed = detail::pack_centres(centres.ptr<float>(), centres.rows, centres.cols);
+    std::vector<double> partial(kChunks, 0.0);
+    core::parallel_for(c1 - c0, options.threads, [&](std::size_t j, int) {
+      const std::size_t c = c0 + j;
+      const std::size_t a = c * N / kChunks - first;
+      const std::size_t b = (c + 1) * N / kChunks - first;
+      for (std::size_t i = a; i < b; i += kBlock) {
+        const std::size_t m = std::min(kBlock, b - i);
+        detail::nearest_centres(x.ptr<float>(static_cast<int>(i)), m, packed, as.labels.data() + i,
+                                as.sq.data() + i, nullptr);
+      }
+      double sum = 0;
+      for (std::size_t i = a; i < b; ++i) sum += as.sq[i];
+      partial[c] = sum;
+    });
+    std::vector<double> cost{0.0};
+    core::fold_in_rank_order(comm, cost, [&](std::span<double> acc) {
+      for (std::size_t c = c0; c < c1; ++c) acc[0] += partial[c];
+    });
+    as.cost = cost[0];
+  };
+  // Centres from the sums and counts folded over the chunks in order.
+  auto update_mine = [&] {
+    const auto kd = static_cast<std::size_t>(K) * static_cast<std::size_t>(D);
+    std::vector<double> acc(kd + static_cast<std::size_t>(K), 0.0);
+    core::fold_in_rank_order(comm, acc, [&](std::span<double> a) {
+      std::vector<double> total(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(kd));
+      std::vector<long> count(static_cast<std::size_t>(K));
+      for (int k = 0; k < K; ++k)
+        count[static_cast<std::size_t>(k)] = static_cast<long>(a[kd + static_cast<std::size_t>(k)]);
+      accumulate_chunks(x, as, first, N, c0, c1, K, options.threads, total, count);
+      std::copy(total.begin(), total.end(), a.begin());
+      for (int k = 0; k < K; ++k)
+        a[kd + static_cast<std::size_t>(k)] =
+            static_cast<double>(count[static_cast<std::size_t>(k)]);
+    });
+    int empty = 0;
+    std::vector<std::size_t> far;
+    std::vector<float> sq_all;
+    for (int k = 0; k < K; ++k) {
+      float* cp = centres.ptr<float>(k);
+      const auto m = static_cast<long>(acc[kd + static_cast<std::size_t>(k)]);
+      if (m > 0) {
+        for (int d = 0; d < D; ++d)
+          cp[d] =
+              static_cast<float>(acc[static_cast<std::size_t>(k) * D + d] / static_cast<double>(m));
+        continue;
+      }
+      if (far.empty()) {
+        sq_all = core::allgather_values<float>(comm, as.sq);
+        far.resize(N);
+        std::iota(far.begin(), far.end(), std::size_t{0});
+        std::stable_sort(far.begin(), far.end(),
+                         [&](std::size_t a, std::size_t b) { return sq_all[a] > sq_all[b]; });
+      }
+      const std::size_t i = far[static_cast<std::size_t>(empty) % N];
+      int owner = 0;
+      while (kmeans_rows_of_rank(mine.total, owner, ranks).second <= static_cast<std::int64_t>(i))
+        ++owner;
+      if (owner == rank) x.row(static_cast<int>(i - first)).copyTo(centres.row(k));
+      comm.broadcast(std::as_writable_bytes(std::span(cp, static_cast<std::size_t>(D))), owner);
+      ++empty;
+    }
+    return empty;
+  };
+
+  KmeansSummary summary;
+  assign_mine();
+  summary.termination = "max_iterations";
+  while (summary.iterations < options.max_iterations) {
+    const double before = as.cost;
+    const int empty = update_mine();
+    summary.empty_clusters_reseeded += empty;
+    ++summary.iterations;
+    assign_mine();
+    if (empty == 0 && (before <= 0 || (before - as.cost) / before <= options.tolerance)) {
+      summary.termination = "converged";
+      break;
+    }
+  }
+  std::vector<double> cost{0.0};
+  core::fold_in_rank_order(comm, cost, [&](std::span<double> acc) {
+    for (std::size_t i = 0; i < own; ++i) {
+      acc[0] +=
+          exact_sqdist(x.ptr<float>(static_cast<int>(i)), centres.ptr<float>(as.labels[i]), D);
+    }
+  });
+  summary.cost = cost[0];
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return {Vocabulary(centres), summary};
 }

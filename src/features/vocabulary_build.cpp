@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <numeric>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
+#include <span>
 #include <vector>
 
 #include "proprio/core/error.hpp"
@@ -49,6 +52,31 @@ core::Json features_json(const ExtractOptions& o) {
   core::Json j = core::fields_to_json(o);
   j["dense"] = o.kind == FeatureKind::kDense;
   return j;
+}
+
+// The record (format "proprio.vocab.build") of a build.
+void fill_document(const VocabularyBuildOptions& options, const core::Provenance& provenance,
+                   VocabularyBuildResult& r) {
+  core::Json& doc = r.document;
+  doc = core::result_document("proprio.vocab.build", 1, provenance);
+  doc["images_dir"] = options.images.string();
+  doc["vocabulary"] = options.out.string();
+  doc["classes"] = r.classes;
+  doc["images"] = r.images;
+  doc["images_without_features"] = r.images_without_features;
+  doc["features"] = features_json(options.features);
+  doc["per_image"] = options.per_image;
+  doc["words"] = r.vocabulary.size();
+  doc["descriptors"] = r.descriptors;
+  doc["extract_seconds"] = r.extract_seconds;
+  doc["kmeans_seconds"] = r.kmeans.seconds;
+  doc["iterations"] = r.kmeans.iterations;
+  doc["termination"] = r.kmeans.termination;
+  doc["cost"] = r.kmeans.cost;
+  doc["empty_clusters_reseeded"] = r.kmeans.empty_clusters_reseeded;
+  doc["tolerance"] = options.kmeans.tolerance;
+  doc["seed"] = options.kmeans.seed;
+  doc["threads"] = options.kmeans.threads;
 }
 
 }  // namespace
@@ -103,27 +131,148 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
                           set.images.size(),       without,     all.rows,
                           extract_seconds,         core::Json()};
   if (!options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
+  fill_document(options, provenance, r);
+  return r;
+}
 
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.vocab.build", 1, provenance);
-  doc["images_dir"] = options.images.string();
-  doc["vocabulary"] = options.out.string();
-  doc["classes"] = r.classes;
-  doc["images"] = r.images;
-  doc["images_without_features"] = r.images_without_features;
-  doc["features"] = features_json(options.features);
-  doc["per_image"] = options.per_image;
-  doc["words"] = r.vocabulary.size();
-  doc["descriptors"] = r.descriptors;
-  doc["extract_seconds"] = r.extract_seconds;
-  doc["kmeans_seconds"] = r.kmeans.seconds;
-  doc["iterations"] = r.kmeans.iterations;
-  doc["termination"] = r.kmeans.termination;
-  doc["cost"] = r.kmeans.cost;
-  doc["empty_clusters_reseeded"] = r.kmeans.empty_clusters_reseeded;
-  doc["tolerance"] = options.kmeans.tolerance;
-  doc["seed"] = options.kmeans.seed;
-  doc["threads"] = options.kmeans.threads;
+VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options,
+                                           const core::Provenance& provenance,
+                                           core::Communicator& comm) {
+  if (comm.size() == 1) {
+    std::optional<VocabularyBuildResult> r;
+    core::agree(comm, [&] { r.emplace(run_vocabulary_build(options, provenance)); });
+    return std::move(*r);
+  }
+  const int rank = comm.rank();
+  const int ranks = comm.size();
+  ImageSet set;
+  core::agree(comm, [&] {
+    options.validate();
+    set = read_image_set(options.images);
+  });
+  // 1. This rank's images' features.
+  const std::size_t I = set.images.size();
+  std::vector<cv::Mat> own(I);
+  std::vector<std::int64_t> n(I, 0);
+  const auto t0 = Clock::now();
+  core::agree(comm, [&] {
+    core::ProgressBar bar(
+        (I + static_cast<std::size_t>(ranks) - 1) / static_cast<std::size_t>(ranks), "descriptors",
+        options.progress && rank == 0);
+    for (std::size_t i = static_cast<std::size_t>(rank); i < I;
+         i += static_cast<std::size_t>(ranks)) {
+      const Features f = extract_features(read_grey(set.images[i]), options.features);
+      bar.tick();
+      if (f.empty()) continue;
+      own[i] = f.descriptors;
+      n[i] = f.descriptors.rows;
+    }
+  });
+  comm.allreduce_sum(n);
+  // 2. Every image's sample, as one process draws it, image after image.
+  core::Rng rng(options.kmeans.seed);
+  int without = 0;
+  const int count = options.per_image;
+  std::vector<std::int64_t> offset(I + 1, 0);
+  std::vector<std::vector<int>> picked(I);  // sampled rows of this rank's images
+  for (std::size_t i = 0; i < I; ++i) {
+    const auto rows = static_cast<int>(n[i]);
+    offset[i + 1] = offset[i];
+    if (rows == 0) {
+      ++without;
+      continue;
+    }
+    const bool mine = i % static_cast<std::size_t>(ranks) == static_cast<std::size_t>(rank);
+    if (count == 0 || rows <= count) {
+      offset[i + 1] += rows;
+      if (mine) {
+        picked[i].resize(static_cast<std::size_t>(rows));
+        std::iota(picked[i].begin(), picked[i].end(), 0);
+      }
+      continue;
+    }
+    std::vector<int> idx(static_cast<std::size_t>(rows));
+    std::iota(idx.begin(), idx.end(), 0);
+    for (int j = 0; j < count; ++j) {
+      std::swap(idx[static_cast<std::size_t>(j)],
+                idx[static_cast<std::size_t>(j) + rng.index(static_cast<std::uint64_t>(rows - j))]);
+    }
+    idx.resize(static_cast<std::size_t>(count));
+    std::sort(idx.begin(), idx.end());
+    offset[i + 1] += count;
+    if (mine) picked[i] = std::move(idx);
+  }
+  const double extract_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  const std::int64_t N = offset[I];
+  if (N == 0)
+    throw core::CollectiveError(
+        Error::in_file(options.images, "no features in any of its images").what());
+  if (N < options.kmeans.words) {
+    throw core::CollectiveError(
+        Error::in_file(options.images, std::to_string(N) + " descriptors from " +
+                                           std::to_string(I) + " images, fewer than " +
+                                           std::to_string(options.kmeans.words) + " words")
+            .what());
+  }
+  // 3. The sampled rows to the ranks that hold their k-means chunks: rank q sends rank r, in image
+  // order, its rows that fall in r's block; pairs in one fixed order (no deadlock).
+  std::vector<std::int64_t> dims{0};
+  for (std::size_t i = 0; i < I; ++i)
+    if (!own[i].empty()) dims[0] = own[i].cols;
+  comm.allreduce_max(dims);
+  const int D = static_cast<int>(dims[0]);
+  const auto [lo, hi] = features::kmeans_rows_of_rank(N, rank, ranks);
+  cv::Mat block(static_cast<int>(hi - lo), D, CV_32F);
+  const auto rows_for = [&](int q, int r,
+                            const std::function<void(std::size_t, int, std::int64_t)>& f) {
+    // f(image, row of the image, global row) for the rows of q's images in r's block.
+    const auto [rlo, rhi] = features::kmeans_rows_of_rank(N, r, ranks);
+    for (std::size_t i = static_cast<std::size_t>(q); i < I; i += static_cast<std::size_t>(ranks)) {
+      if (offset[i + 1] <= rlo || offset[i] >= rhi) continue;
+      for (std::int64_t g = std::max(offset[i], rlo); g < std::min(offset[i + 1], rhi); ++g)
+        f(i, static_cast<int>(g - offset[i]), g);
+    }
+  };
+  for (int q = 0; q < ranks; ++q) {
+    for (int r = 0; r < ranks; ++r) {
+      if (rank != q && rank != r) continue;
+      std::vector<float> buffer;
+      std::vector<std::int64_t> where;
+      rows_for(q, r, [&](std::size_t i, int k, std::int64_t g) {
+        where.push_back(g);
+        if (rank == q) {
+          const float* p = own[i].ptr<float>(picked[i][static_cast<std::size_t>(k)]);
+          buffer.insert(buffer.end(), p, p + D);
+        }
+      });
+      if (q == r) {
+        for (std::size_t j = 0; j < where.size(); ++j)
+          std::copy_n(buffer.data() + j * static_cast<std::size_t>(D), D,
+                      block.ptr<float>(static_cast<int>(where[j] - lo)));
+        continue;
+      }
+      if (where.empty()) continue;
+      if (rank == q) {
+        comm.send(std::as_bytes(std::span(buffer)), r);
+      } else {
+        buffer.resize(where.size() * static_cast<std::size_t>(D));
+        comm.receive(std::as_writable_bytes(std::span(buffer)), q);
+        for (std::size_t j = 0; j < where.size(); ++j)
+          std::copy_n(buffer.data() + j * static_cast<std::size_t>(D), D,
+                      block.ptr<float>(static_cast<int>(where[j] - lo)));
+      }
+    }
+  }
+  own.clear();
+  // 4. k-means over the ranks.
+  VocabularyResult v = build_vocabulary(DescriptorBlock{block, lo, N}, options.kmeans, comm);
+  VocabularyBuildResult r{std::move(v.vocabulary), v.summary,       set.classes.size(), I, without,
+                          static_cast<int>(N),     extract_seconds, core::Json()};
+  core::agree(comm, [&] {
+    if (rank == 0 && !options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
+  });
+  fill_document(options, provenance, r);
+  r.document["ranks"] = ranks;
   return r;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <set>
 #include <unordered_set>
@@ -37,6 +38,33 @@ class Lines {
   std::string_view text_;
   std::size_t pos_ = 0;
   long number_ = 0;
+};
+
+// Reads a file line by line without holding it (sharded reading: every rank parses the whole file
+// and keeps only its documents), with a checksum (FNV-1a, 64 bits) of the lines read.
+class StreamLines {
+ public:
+  explicit StreamLines(const fs::path& path) : in_(path, std::ios::binary) {
+    if (!in_) throw Error::in_file(path, "cannot open");
+  }
+  bool next(std::string_view& line) {
+    if (!std::getline(in_, buffer_)) return false;
+    for (const char c : buffer_) hash_ = (hash_ ^ static_cast<unsigned char>(c)) * kPrime;
+    hash_ = (hash_ ^ static_cast<unsigned char>('\n')) * kPrime;
+    line = buffer_;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    ++number_;
+    return true;
+  }
+  [[nodiscard]] long number() const { return number_; }
+  [[nodiscard]] std::uint64_t checksum() const { return hash_; }
+
+ private:
+  static constexpr std::uint64_t kPrime = 1099511628211ULL;
+  std::ifstream in_;
+  std::string buffer_;
+  long number_ = 0;
+  std::uint64_t hash_ = 14695981039346656037ULL;
 };
 
 bool is_blank(std::string_view s) {
@@ -502,6 +530,172 @@ CorpusFiles find_corpus_files(const fs::path& dir_or_file, CorpusFormat format) 
     }
   }
   return {};
+}
+
+namespace {
+
+// The documents of `shard` among UCI or LDA-C lines, read as a stream.
+CorpusShard read_uci_shard(const fs::path& docword, const fs::path& vocab, int shard, int shards) {
+  StreamLines lines(docword);
+  std::string_view line;
+  std::int64_t header[3] = {0, 0, 0};
+  const char* names[3] = {"D (documents)", "W (words)", "NNZ (entries)"};
+  for (int h = 0; h < 3; ++h) {
+    do {
+      if (!lines.next(line)) {
+        throw Error::in_file(docword, std::string("truncated: no header line ") + names[h]);
+      }
+    } while (is_blank(line));
+    const auto f = fields(line);
+    if (f.size() != 1) {
+      throw Error::at_line(docword, lines.number(),
+                           std::string("expected one integer, ") + names[h]);
+    }
+    header[h] = integer_field(docword, lines.number(), f[0], names[h]);
+    if (header[h] < 0) {
+      throw Error::at_line(docword, lines.number(), std::string(names[h]) + " is negative");
+    }
+  }
+  const std::int64_t num_docs = header[0];
+  const std::int64_t num_words = header[1];
+  const std::int64_t nnz = header[2];
+  check_caps(docword, lines.number(), num_docs, num_words);
+  std::vector<std::string> vocabulary;
+  if (!vocab.empty()) {
+    vocabulary = read_vocabulary(vocab);
+    if (static_cast<std::int64_t>(vocabulary.size()) != num_words) {
+      throw Error::in_file(vocab, "has " + std::to_string(vocabulary.size()) + " words but " +
+                                      docword.string() + " says W = " + std::to_string(num_words));
+    }
+  }
+  CorpusShard out;
+  out.shard = shard;
+  out.shards = shards;
+  out.total_documents = num_docs;
+  std::vector<Entry> entries;
+  std::int64_t seen = 0;
+  while (lines.next(line)) {
+    if (is_blank(line)) continue;
+    const auto f = fields(line);
+    const long ln = lines.number();
+    if (f.size() != 3) {
+      throw Error::at_line(docword, ln, "expected 'docID wordID count', found " + quote(line));
+    }
+    const std::int64_t d = integer_field(docword, ln, f[0], "docID");
+    const std::int64_t w = integer_field(docword, ln, f[1], "wordID");
+    const std::int64_t c = integer_field(docword, ln, f[2], "count");
+    if (seen == nnz) {
+      throw Error::at_line(docword, ln,
+                           "more entries than the header's NNZ = " + std::to_string(nnz));
+    }
+    ++seen;
+    std::vector<Entry> one;
+    add_entry(one, docword, ln, d, w, c, num_docs, num_words, 1,
+              {"docID", "wordID", "more entries than the header's NNZ = "});
+    out.total_tokens += c;
+    if ((d - 1) % shards == shard) {
+      Entry e = one.front();
+      e.doc = (e.doc - shard) / shards;
+      entries.push_back(e);
+    }
+  }
+  if (seen < nnz) {
+    throw Error::in_file(docword, "truncated: the header's NNZ is " + std::to_string(nnz) +
+                                      " but the file has " + std::to_string(seen) + " entries");
+  }
+  const std::int64_t mine = num_docs > shard ? (num_docs - shard + shards - 1) / shards : 0;
+  out.documents =
+      build(docword, entries, mine, static_cast<std::int32_t>(num_words), std::move(vocabulary));
+  out.checksum = lines.checksum();
+  return out;
+}
+
+CorpusShard read_ldac_shard(const fs::path& file, const fs::path& vocab, int shard, int shards) {
+  std::vector<std::string> vocabulary;
+  if (!vocab.empty()) vocabulary = read_vocabulary(vocab);
+  StreamLines lines(file);
+  std::string_view line;
+  std::vector<Entry> entries;
+  std::int64_t doc = 0;
+  std::int64_t max_id = -1;
+  CorpusShard out;
+  out.shard = shard;
+  out.shards = shards;
+  const std::int64_t limit =
+      vocabulary.empty() ? kMaxCorpusWords : static_cast<std::int64_t>(vocabulary.size());
+  while (lines.next(line)) {
+    const long ln = lines.number();
+    if (is_blank(line)) {
+      throw Error::at_line(file, ln, "blank line (an empty document is written '0')");
+    }
+    const auto f = fields(line);
+    const std::int64_t n = integer_field(file, ln, f[0], "the number of distinct words");
+    if (n < 0 || n != static_cast<std::int64_t>(f.size()) - 1) {
+      throw Error::at_line(file, ln,
+                           "the line starts with N = " + std::to_string(n) + " but has " +
+                               std::to_string(f.size() - 1) + " id:count pairs");
+    }
+    const bool mine = doc % shards == shard;
+    for (std::size_t i = 1; i < f.size(); ++i) {
+      const auto colon = f[i].find(':');
+      if (colon == std::string_view::npos) {
+        throw Error::at_line(file, ln, "expected id:count, found " + quote(f[i]));
+      }
+      const std::int64_t id = integer_field(file, ln, f[i].substr(0, colon), "word id");
+      const std::int64_t c = integer_field(file, ln, f[i].substr(colon + 1), "count");
+      if (id < 0 || id >= limit) {
+        std::string msg = "word id " + std::to_string(id) + " outside [0, ";
+        msg += std::to_string(limit) + ")";
+        throw Error::at_line(file, ln, msg);
+      }
+      if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
+        throw Error::at_line(file, ln, "count " + std::to_string(c) + " is not positive");
+      }
+      max_id = std::max(max_id, id);
+      out.total_tokens += c;
+      if (mine) {
+        entries.push_back({(doc - shard) / shards, static_cast<std::int32_t>(id),
+                           static_cast<std::int32_t>(c), ln});
+      }
+    }
+    ++doc;
+    if (doc > kMaxCorpusDocuments) check_caps(file, ln, doc, 0);
+  }
+  if (doc == 0) throw Error::in_file(file, "no documents");
+  const auto num_words = vocabulary.empty() ? static_cast<std::int32_t>(max_id + 1)
+                                            : static_cast<std::int32_t>(vocabulary.size());
+  out.total_documents = doc;
+  const std::int64_t own = doc > shard ? (doc - shard + shards - 1) / shards : 0;
+  out.documents = build(file, entries, own, num_words, std::move(vocabulary));
+  out.checksum = lines.checksum();
+  return out;
+}
+
+}  // namespace
+
+CorpusShard read_corpus_shard(const fs::path& dir_or_file, CorpusFormat format, int shard,
+                              int shards) {
+  if (shards < 1 || shard < 0 || shard >= shards) {
+    throw InternalError("read_corpus_shard: shard " + std::to_string(shard) + " of " +
+                        std::to_string(shards));
+  }
+  const CorpusFiles files = find_corpus_files(dir_or_file, format);
+  CorpusShard out;
+  switch (format) {
+    case CorpusFormat::kUci:
+      out = read_uci_shard(files.file, files.vocabulary, shard, shards);
+      break;
+    case CorpusFormat::kLdac:
+      out = read_ldac_shard(files.file, files.vocabulary, shard, shards);
+      break;
+    case CorpusFormat::kMatrixMarket:
+      throw Error::in_file(files.file,
+                           "a MatrixMarket corpus cannot be read in shards (use uci or ldac)");
+  }
+  std::error_code ec;
+  const auto size = fs::file_size(files.file, ec);
+  out.bytes = ec ? 0 : static_cast<std::uint64_t>(size);
+  return out;
 }
 
 Corpus read_corpus(const fs::path& dir_or_file, CorpusFormat format) {

@@ -1,6 +1,7 @@
 #include "proprio/topics/lda_runs.hpp"
 
 #include <cstdio>
+#include <cstring>
 #include <optional>
 #include <vector>
 
@@ -163,6 +164,117 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
     train_batch(options, corpus, held, r);
   }
   if (!options.model.empty()) save_lda_model(r.model, options.model);
+  return r;
+}
+
+namespace {
+
+// FNV-1a over the bytes of lambda: the ranks' models compared after training.
+std::int64_t lambda_checksum(const Eigen::MatrixXd& lambda) {
+  std::uint64_t h = 14695981039346656037ULL;
+  const auto* p = reinterpret_cast<const unsigned char*>(lambda.data());
+  const auto n = static_cast<std::size_t>(lambda.size()) * sizeof(double);
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+  std::int64_t out = 0;
+  std::memcpy(&out, &h, sizeof out);
+  return out;
+}
+
+}  // namespace
+
+LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
+                                   const core::Provenance& provenance, core::Communicator& comm) {
+  if (comm.size() == 1) {
+    LdaTrainingResult r;
+    core::agree(comm, [&] { r = run_lda_training(options, provenance); });
+    return r;
+  }
+  const int rank = comm.rank();
+  const int ranks = comm.size();
+  CorpusShard shard;
+  std::optional<Corpus> heldout;
+  core::agree(comm, [&] {
+    options.validate();
+    if (options.method != LdaMethod::kOnline) {
+      throw Error("lda train: only the online method runs on several MPI ranks (--method online)");
+    }
+    std::vector<fs::path> inputs = corpus_inputs(options.corpus, options.format);
+    if (!options.heldout.empty()) {
+      const auto more = corpus_inputs(options.heldout, options.format);
+      inputs.insert(inputs.end(), more.begin(), more.end());
+    }
+    core::require_output_not_input(options.model, inputs, "--model");
+    shard = read_corpus_shard(options.corpus, options.format, rank, ranks);
+    if (rank == 0 && !options.heldout.empty()) {
+      heldout = read_corpus(options.heldout, options.format);
+      if (heldout->num_words() != shard.documents.num_words()) {
+        throw Error::in_file(options.heldout, "has " + std::to_string(heldout->num_words()) +
+                                                  " words, the training corpus " +
+                                                  std::to_string(shard.documents.num_words()));
+      }
+    }
+  });
+  // The ranks must have read the same corpus: its size, checksum, D, W and tokens.
+  std::int64_t checksum = 0;
+  std::memcpy(&checksum, &shard.checksum, sizeof checksum);
+  std::vector<std::int64_t> lo{static_cast<std::int64_t>(shard.bytes), checksum,
+                               shard.total_documents, shard.documents.num_words(),
+                               shard.total_tokens};
+  std::vector<std::int64_t> hi = lo;
+  comm.allreduce_min(lo);
+  comm.allreduce_max(hi);
+  if (lo != hi) {
+    throw core::CollectiveError(
+        options.corpus.string() + ": the " + std::to_string(ranks) +
+        " MPI ranks read different corpora (sizes " + std::to_string(lo[0]) + " to " +
+        std::to_string(hi[0]) + " bytes, " + std::to_string(lo[2]) + " to " +
+        std::to_string(hi[2]) + " documents" + (lo[1] != hi[1] ? ", checksums differ" : "") +
+        "): give every rank the same file");
+  }
+  if (shard.total_documents < ranks) {
+    throw core::CollectiveError(
+        options.corpus.string() + ": " + std::to_string(shard.total_documents) + " documents for " +
+        std::to_string(ranks) + " MPI ranks: run at most one rank per document");
+  }
+  LdaTrainingResult r;
+  core::Json& doc = r.document;
+  doc = core::result_document("proprio.lda.train", 1, provenance);
+  doc["corpus"] = options.corpus.string();
+  doc["method"] = core::choice_name(options.method, kLdaMethodNames);
+  doc["model"] = options.model.string();
+  doc["documents_in_corpus"] = shard.total_documents;
+  doc["words"] = shard.documents.num_words();
+  doc["options"] = used_options_json(options.online);
+  const OnlineLdaResult t =
+      train_online_lda(shard, heldout ? &*heldout : nullptr, options.online, comm);
+  const OnlineLdaSummary& s = t.summary;
+  r.brief = s.brief();
+  doc["seconds"] = s.seconds;
+  doc["cpu_seconds"] = s.cpu_seconds;
+  doc["docs_per_s"] = s.documents_per_second();
+  doc["tokens_per_s"] = s.tokens_per_second();
+  doc["documents"] = s.documents;
+  doc["tokens"] = s.tokens;
+  doc["updates"] = s.updates;
+  doc["passes"] = s.passes;
+  doc["threads"] = s.threads;
+  doc["kernel"] = s.kernel;
+  doc["mean_estep_iterations"] = s.mean_estep_iterations;
+  doc["estep_capped"] = s.capped;
+  doc["evaluation_seconds"] = s.evaluation_seconds;
+  doc["perplexity_trace"] = trace_json(s.trace);
+  if (!s.trace.empty()) doc["heldout_perplexity"] = s.trace.back().perplexity;
+  doc["ranks"] = ranks;
+  r.model = t.model;
+  // The last collective step: every rank holds the same model, or the job stops here.
+  std::vector<std::int64_t> mlo{lambda_checksum(r.model.lambda)};
+  std::vector<std::int64_t> mhi = mlo;
+  comm.allreduce_min(mlo);
+  comm.allreduce_max(mhi);
+  ensure(mlo == mhi, "lda train: the MPI ranks ended with different models");
+  core::agree(comm, [&] {
+    if (rank == 0 && !options.model.empty()) save_lda_model(r.model, options.model);
+  });
   return r;
 }
 

@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <numeric>
 #include <sstream>
@@ -146,7 +149,6 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
     throw Error("online LDA: empty or out-of-range mini-batch");
   }
   const int K = model.num_topics();
-  const auto S = static_cast<std::size_t>(m.stride);
   MiniBatchStats stats;
   stats.documents = static_cast<std::int64_t>(end - begin);
 
@@ -175,6 +177,15 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
                         m.beta);
   detail::run_estep(*m.kern, m.pool, m.docs, m.beta.data(), K, m.stride, model.alpha,
                     m.options.estep, m.estep);
+  finish_update(stats);
+  return stats;
+}
+
+void OnlineLda::finish_update(MiniBatchStats& stats) {
+  Impl& m = *impl_;
+  LdaModel& model = m.model;
+  const int K = model.num_topics();
+  const auto S = static_cast<std::size_t>(m.stride);
   detail::sufficient_statistics(*m.kern, m.pool, m.docs, m.estep, m.batch_words.size(), m.sstats);
   for (std::size_t d = 0; d < m.docs.size(); ++d) {
     stats.estep_iterations += m.estep.iterations[d];
@@ -211,6 +222,143 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
   for (const auto w : m.batch_words) m.row_of_word[static_cast<std::size_t>(w)] = -1;
   ++model.updates;
   stats.rho = rho;
+}
+
+MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, std::size_t end,
+                                 core::Communicator& comm) {
+  Impl& m = *impl_;
+  LdaModel& model = m.model;
+  const Corpus& local = shard.documents;
+  if (local.num_words() != model.num_words()) {
+    throw Error("online LDA: the corpus has " + std::to_string(local.num_words()) +
+                " words, the model " + std::to_string(model.num_words()));
+  }
+  if (begin >= end || end > static_cast<std::size_t>(shard.total_documents)) {
+    throw Error("online LDA: empty or out-of-range mini-batch");
+  }
+  const int K = model.num_topics();
+  const auto S = static_cast<std::size_t>(m.stride);
+  const auto P = static_cast<std::size_t>(comm.size());
+  MiniBatchStats stats;
+  stats.documents = static_cast<std::int64_t>(end - begin);
+
+  // 1. Every rank's documents of the batch: per document its size, word ids and counts.
+  const std::size_t l0 = shard.first_local_at(begin);
+  const std::size_t l1 = std::min(shard.first_local_at(end), local.num_documents());
+  std::vector<std::int32_t> pack;
+  for (std::size_t j = l0; j < l1; ++j) {
+    const auto doc = local.document(j);
+    pack.push_back(static_cast<std::int32_t>(doc.size()));
+    pack.insert(pack.end(), doc.words.begin(), doc.words.end());
+    pack.insert(pack.end(), doc.counts.begin(), doc.counts.end());
+  }
+  std::vector<std::size_t> counts;
+  const std::vector<std::int32_t> all = core::allgather_values<std::int32_t>(comm, pack, &counts);
+  std::vector<std::size_t> cursor(P, 0);
+  for (std::size_t q = 1; q < P; ++q) cursor[q] = cursor[q - 1] + counts[q - 1];
+
+  // 2. The batch in corpus order, as one process builds it; this rank's documents beside it.
+  m.docs.clear();
+  m.batch_words.clear();
+  detail::BatchDocs mine;
+  std::vector<std::size_t> owner(end - begin);
+  const auto rank = static_cast<std::size_t>(comm.rank());
+  for (std::size_t d = begin; d < end; ++d) {
+    const std::size_t q = d % P;
+    owner[d - begin] = q;
+    std::size_t& c = cursor[q];
+    const auto n = static_cast<std::size_t>(all[c]);
+    const std::int32_t* words = all.data() + c + 1;
+    const std::int32_t* cnt = words + n;
+    c += 1 + 2 * n;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::int32_t& r = m.row_of_word[static_cast<std::size_t>(words[i])];
+      if (r < 0) {
+        r = static_cast<std::int32_t>(m.batch_words.size());
+        m.batch_words.push_back(words[i]);
+      }
+      m.docs.rows.push_back(r);
+      m.docs.counts.push_back(static_cast<float>(cnt[i]));
+      stats.tokens += cnt[i];
+      if (q == rank) {
+        mine.rows.push_back(r);
+        mine.counts.push_back(static_cast<float>(cnt[i]));
+      }
+    }
+    m.docs.offsets.push_back(m.docs.rows.size());
+    const std::uint64_t key =
+        detail::mix_key(m.options.seed, static_cast<std::uint64_t>(model.updates), d);
+    m.docs.keys.push_back(key);
+    if (q == rank) {
+      mine.offsets.push_back(mine.rows.size());
+      mine.keys.push_back(key);
+    }
+  }
+
+  // 3. The E-step of this rank's documents.
+  detail::exp_elog_beta(*m.kern, model.lambda, m.topic_sum, m.batch_words, m.stride, m.pool,
+                        m.beta);
+  detail::BatchEStep own;
+  detail::run_estep(*m.kern, m.pool, mine, m.beta.data(), K, m.stride, model.alpha, m.options.estep,
+                    own);
+
+  // 4. What every rank's E-step left, in corpus order: exp E[log theta], the entries' weights,
+  // the iterations and whether each converged.
+  std::vector<std::byte> out;
+  const auto append = [&out](const void* p, std::size_t bytes) {
+    const auto* b = static_cast<const std::byte*>(p);
+    out.insert(out.end(), b, b + bytes);
+  };
+  append(own.exp_elog_theta.data(), own.exp_elog_theta.size() * sizeof(float));
+  append(own.weights.data(), own.weights.size() * sizeof(float));
+  std::vector<std::int32_t> flags;
+  for (std::size_t j = 0; j < mine.size(); ++j) {
+    flags.push_back(own.iterations[j]);
+    flags.push_back(own.converged[j]);
+  }
+  append(flags.data(), flags.size() * sizeof(std::int32_t));
+  std::vector<std::byte> gathered;
+  std::vector<std::size_t> sizes;
+  comm.allgather(out, gathered, sizes);
+
+  const std::size_t B = end - begin;
+  detail::BatchEStep& e = m.estep;
+  e.stride = m.stride;
+  e.exp_elog_theta.resize(B * S);
+  e.weights.resize(m.docs.rows.size());
+  e.iterations.assign(B, 0);
+  e.converged.assign(B, 1);
+  // Per rank: its documents' positions in the batch, then its three blocks.
+  std::vector<std::vector<std::size_t>> docs_of(P);
+  for (std::size_t i = 0; i < B; ++i) docs_of[owner[i]].push_back(i);
+  std::size_t at = 0;
+  for (std::size_t q = 0; q < P; ++q) {
+    const std::byte* base = gathered.data() + at;
+    std::size_t entries = 0;
+    for (const std::size_t i : docs_of[q]) entries += m.docs.offsets[i + 1] - m.docs.offsets[i];
+    const std::size_t eth_bytes = docs_of[q].size() * S * sizeof(float);
+    const std::size_t w_bytes = entries * sizeof(float);
+    const std::size_t f_bytes = docs_of[q].size() * 2 * sizeof(std::int32_t);
+    ensure(eth_bytes + w_bytes + f_bytes == sizes[q], "online LDA: a rank sent a wrong E-step");
+    const std::byte* w_at = base + eth_bytes;
+    const std::byte* f_at = w_at + w_bytes;
+    std::size_t n = 0;
+    std::size_t k = 0;
+    for (const std::size_t i : docs_of[q]) {
+      std::memcpy(e.exp_elog_theta.data() + i * S, base + n * S * sizeof(float), S * sizeof(float));
+      const std::size_t len = m.docs.offsets[i + 1] - m.docs.offsets[i];
+      std::memcpy(e.weights.data() + m.docs.offsets[i], w_at + k * sizeof(float),
+                  len * sizeof(float));
+      std::int32_t f[2];
+      std::memcpy(f, f_at + n * 2 * sizeof(std::int32_t), sizeof f);
+      e.iterations[i] = f[0];
+      e.converged[i] = static_cast<char>(f[1]);
+      k += len;
+      ++n;
+    }
+    at += sizes[q];
+  }
+  finish_update(stats);
   return stats;
 }
 
@@ -290,6 +438,95 @@ OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& o
 OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus& heldout,
                                  const OnlineLdaOptions& options) {
   return train(corpus, &heldout, options);
+}
+
+namespace {
+
+// PROPRIO_MPI_TEST_FAIL="RANK:UPDATE": the update before which rank RANK aborts, or -1.
+long test_failure_update(int rank) {
+  const char* v = std::getenv("PROPRIO_MPI_TEST_FAIL");  // NOLINT(concurrency-mt-unsafe)
+  if (v == nullptr) return -1;
+  int r = -1;
+  long u = -1;
+  if (std::sscanf(v, "%d:%ld", &r, &u) != 2 || r != rank) return -1;
+  return u;
+}
+
+}  // namespace
+
+OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout,
+                                 const OnlineLdaOptions& options, core::Communicator& comm) {
+  options.validate();
+  const Corpus& local = shard.documents;
+  if (shard.total_documents == 0) throw Error("online LDA: the training corpus is empty");
+  if (local.num_words() < 1) throw Error("online LDA: the vocabulary is empty");
+  if (heldout != nullptr && heldout->num_words() != local.num_words()) {
+    throw Error("online LDA: the held-out corpus has " + std::to_string(heldout->num_words()) +
+                " words, the training corpus " + std::to_string(local.num_words()));
+  }
+  const std::int64_t D =
+      options.total_documents > 0 ? options.total_documents : shard.total_documents;
+  OnlineLda lda(options, local.num_words(), D, local.vocabulary());
+  OnlineLdaResult result;
+  OnlineLdaSummary& s = result.summary;
+  s.threads = options.threads;
+  s.kernel = lda.kernel();
+
+  const bool trace = heldout != nullptr && heldout->num_tokens() > 0;
+  CompletionSplit split;
+  PerplexityOptions eval = options.evaluation;
+  eval.threads = options.threads;
+  if (trace && eval.method == PerplexityMethod::kDocumentCompletion) {
+    split = split_for_completion(*heldout, eval.split_seed);
+  }
+  auto evaluate = [&] {
+    const auto t0 = Clock::now();
+    const PerplexityResult p = eval.method == PerplexityMethod::kDocumentCompletion
+                                   ? completion_perplexity(lda.model(), split, eval)
+                                   : perplexity(lda.model(), *heldout, eval);
+    s.trace.push_back({lda.model().updates, s.documents, p.perplexity});
+    s.evaluation_seconds += since(t0);
+  };
+  if (trace) evaluate();
+
+  std::int64_t counts[1] = {0};
+  for (std::size_t d = 0; d < local.num_documents(); ++d) counts[0] += !local.document(d).empty();
+  comm.allreduce_sum(counts);
+  const std::int64_t nonempty = counts[0];
+  const long fail_at = test_failure_update(comm.rank());
+  std::int64_t iterations = 0;
+  const auto B = static_cast<std::size_t>(options.batch_size);
+  const auto total = static_cast<std::size_t>(shard.total_documents);
+  for (int pass = 0; pass < options.passes; ++pass) {
+    for (std::size_t b = 0; b < total; b += B) {
+      if (s.updates == fail_at) {
+        std::fprintf(stderr, "rank %d: aborting before update %ld (PROPRIO_MPI_TEST_FAIL)\n",
+                     comm.rank(), fail_at);
+        std::fflush(stderr);
+        std::abort();
+      }
+      const auto t0 = Clock::now();
+      const double c0 = process_cpu_seconds();
+      const MiniBatchStats st = lda.update(shard, b, std::min(total, b + B), comm);
+      s.seconds += since(t0);
+      s.cpu_seconds += process_cpu_seconds() - c0;
+      ++s.updates;
+      s.documents += st.documents;
+      s.tokens += st.tokens;
+      s.capped += st.capped;
+      iterations += st.estep_iterations;
+      if (trace && options.evaluate_every > 0 && s.updates % options.evaluate_every == 0) {
+        evaluate();
+      }
+    }
+    ++s.passes;
+  }
+  if (trace && s.trace.back().updates != lda.model().updates) evaluate();
+  const std::int64_t docs_run = nonempty * options.passes;
+  s.mean_estep_iterations =
+      docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
+  result.model = lda.model();
+  return result;
 }
 
 }  // namespace proprio::topics

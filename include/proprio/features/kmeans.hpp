@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
+#include <utility>
 
+#include "proprio/core/communicator.hpp"
 #include "proprio/core/fields.hpp"
 #include "proprio/features/vocabulary.hpp"
 
@@ -64,6 +66,28 @@ struct VocabularyResult {
 /// Throws Error on an empty or non-finite descriptor set or when words > N. The same seed and
 /// thread count give the same vocabulary.
 VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOptions& options = {});
+
+/// Data-parallel k-means (issue 23): the rows of the whole descriptor set that rank `rank` of
+/// `ranks` holds, [first, last): whole chunks of the fixed chunks whose partial sums k-means adds
+/// in order, so that the ranks' sums added in rank order are the one-process sums bit for bit.
+std::pair<std::int64_t, std::int64_t> kmeans_rows_of_rank(std::int64_t total, int rank, int ranks);
+
+/// One rank's share of a data-parallel k-means: rows [first, first + rows.rows) of a set of
+/// `total` rows, as kmeans_rows_of_rank gives them.
+struct DescriptorBlock {
+  cv::Mat rows;
+  std::int64_t first = 0;
+  std::int64_t total = 0;
+};
+
+/// build_vocabulary over the descriptors of every rank of `comm`, collective: each rank assigns
+/// its rows with its threads; sums, counts and costs are folded in rank order (core::
+/// fold_in_rank_order), so every rank returns the vocabulary and summary that build_vocabulary
+/// gives on the whole set in one process, bit for bit (seconds aside). The k-means++ sample is
+/// gathered from the ranks that hold it. Throws Error (the same on every rank) as
+/// build_vocabulary does.
+VocabularyResult build_vocabulary(const DescriptorBlock& mine, const KmeansOptions& options,
+                                  core::Communicator& comm);
 
 /// The k-means cost (sum of squared distances to the nearest word) of `descriptors`.
 double kmeans_cost(const Vocabulary& vocabulary, const cv::Mat& descriptors, int threads = 0);

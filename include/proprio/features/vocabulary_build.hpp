@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "proprio/core/communicator.hpp"
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
@@ -63,5 +64,16 @@ struct VocabularyBuildResult {
 /// descriptors than words, or naming an image that cannot be read.
 VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options,
                                            const core::Provenance& provenance);
+
+/// The same as one rank of a data-parallel job (issue 23), collective over `comm` (with one rank,
+/// the call above): rank r extracts the features of images i with i mod ranks = r; the sample of
+/// each image is the one-process sample (the ranks share every image's descriptor count and replay
+/// the one random stream); the sampled rows go to the ranks that hold their chunks of k-means
+/// (kmeans_rows_of_rank) and k-means runs over the ranks. Every rank ends with the one-process
+/// vocabulary, bit for bit; rank 0 alone writes it, after the last collective step. Bad input on
+/// any rank: core::CollectiveError on every rank. The record adds "ranks" (with more than one).
+VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options,
+                                           const core::Provenance& provenance,
+                                           core::Communicator& comm);
 
 }  // namespace proprio::features

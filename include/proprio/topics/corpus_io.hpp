@@ -55,6 +55,36 @@ struct CorpusFiles {
 };
 CorpusFiles find_corpus_files(const std::filesystem::path& dir_or_file, CorpusFormat format);
 
+/// One rank's share of a corpus in a data-parallel job (issue 23): the documents d (0-based, in
+/// file order) with d mod shards == shard, so that every mini-batch of the corpus is spread evenly
+/// over the ranks. Reading parses and checks every line of the file as read_corpus does, as a
+/// stream, and keeps only this shard's documents: no rank holds the whole corpus.
+struct CorpusShard {
+  Corpus documents;                  ///< this shard's documents, in corpus order
+  std::int64_t total_documents = 0;  ///< D of the whole corpus
+  std::int64_t total_tokens = 0;     ///< tokens of the whole corpus
+  int shard = 0;
+  int shards = 1;
+  std::uint64_t bytes = 0;     ///< the corpus file's size
+  std::uint64_t checksum = 0;  ///< FNV-1a (64 bits) of its lines: ranks compare it
+
+  /// The corpus index of this shard's document `local`.
+  [[nodiscard]] std::size_t global_index(std::size_t local) const {
+    return local * static_cast<std::size_t>(shards) + static_cast<std::size_t>(shard);
+  }
+  /// The first of this shard's documents whose corpus index is >= `global`.
+  [[nodiscard]] std::size_t first_local_at(std::size_t global) const {
+    const auto s = static_cast<std::size_t>(shard);
+    const auto n = static_cast<std::size_t>(shards);
+    return global <= s ? 0 : (global - s + n - 1) / n;
+  }
+};
+
+/// Reads shard `shard` of `shards` of a uci or ldac corpus (directory or file, as read_corpus);
+/// throws Error as read_corpus does, and for mm (not readable as a stream of documents).
+CorpusShard read_corpus_shard(const std::filesystem::path& dir_or_file, CorpusFormat format,
+                              int shard, int shards);
+
 /// Writes `corpus` into directory `dir` (created if missing) as docword.txt / corpus.ldac /
 /// corpus.mm, plus vocab.txt when the corpus has a vocabulary; each file written atomically.
 void write_corpus(const Corpus& corpus, const std::filesystem::path& dir, CorpusFormat format);

@@ -74,6 +74,17 @@ struct LdaTrainingResult {
 LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
                                    const core::Provenance& provenance);
 
+/// The same as one rank of a data-parallel job (issue 23), collective over `comm` (with one rank,
+/// the call above). Online only. Every rank reads its shard of the corpus (read_corpus_shard);
+/// the ranks compare the corpus's size and checksum, and every rank throws core::CollectiveError
+/// (one message, the same everywhere) when they differ, when there are more ranks than documents,
+/// or when any rank meets bad input. Every rank ends with the one-process model (checked by a
+/// checksum of lambda across the ranks); rank 0 alone reads the held-out corpus, scores it and
+/// writes the model file, atomically, after the last collective step, so that a job whose rank
+/// dies leaves no model. The record adds "ranks" (with more than one).
+LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
+                                   const core::Provenance& provenance, core::Communicator& comm);
+
 struct LdaInferenceOptions {
   std::filesystem::path model;   ///< model file (required)
   std::filesystem::path corpus;  ///< corpus of documents (required)

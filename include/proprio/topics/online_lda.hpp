@@ -12,8 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/communicator.hpp"
 #include "proprio/core/fields.hpp"
 #include "proprio/topics/corpus.hpp"
+#include "proprio/topics/corpus_io.hpp"
 #include "proprio/topics/estep_options.hpp"
 #include "proprio/topics/lda_model.hpp"
 #include "proprio/topics/perplexity.hpp"
@@ -127,12 +129,22 @@ class OnlineLda {
   /// Throws Error when the corpus's W differs from the model's.
   MiniBatchStats update(const Corpus& corpus, std::size_t begin, std::size_t end);
 
+  /// The same update as one rank of a data-parallel job (issue 23), collective: the mini-batch is
+  /// documents [begin, end) of the whole corpus, of which this rank holds `shard`'s. The ranks
+  /// exchange their documents' word ids, each runs the E-step on its own documents with its
+  /// threads, they exchange what the E-step leaves (exp E[log theta] per document and the weight
+  /// of each entry) and every rank sums the sufficient statistics in document order and applies
+  /// the M-step: every rank's model is the one-process model, bit for bit.
+  MiniBatchStats update(const CorpusShard& shard, std::size_t begin, std::size_t end,
+                        core::Communicator& comm);
+
   [[nodiscard]] const LdaModel& model() const;
   [[nodiscard]] const char* kernel() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  void finish_update(MiniBatchStats& stats);
 };
 
 /// Trains on `corpus` in order, `passes` times, mini-batch by mini-batch.
@@ -140,5 +152,15 @@ OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& o
 /// The same, tracing the held-out perplexity of `heldout` (thesis Fig 6-7).
 OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus& heldout,
                                  const OnlineLdaOptions& options);
+
+/// Data-parallel training (issue 23), collective: every rank of `comm` passes its shard of the
+/// same corpus (read_corpus_shard(..., comm.rank(), comm.size())); the mini-batches are the
+/// one-process run's, and every rank returns the model train_online_lda gives on the whole corpus,
+/// bit for bit. `heldout` (may be null, and given on some ranks only) is scored on the ranks that
+/// have it, out of the training time. The summary's documents and tokens count the whole corpus.
+/// Environment PROPRIO_MPI_TEST_FAIL="RANK:UPDATE" (tests only) makes rank RANK abort before
+/// mini-batch UPDATE (from 0), as a crashed process would.
+OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout,
+                                 const OnlineLdaOptions& options, core::Communicator& comm);
 
 }  // namespace proprio::topics

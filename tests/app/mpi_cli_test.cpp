@@ -1,0 +1,214 @@
+// `mpirun -np N proprio lda train / vocab build` (issue 23) on this machine, over loopback: the
+// model of 2 and 3 ranks is the one-process model byte for byte; bad input (ranks reading
+// different corpora, more ranks than documents, a bad line) ends every rank with exit 2 and one
+// line; a rank that dies ends the job within a bounded time and leaves no model; a build without
+// MPI launched by mpirun says so on every rank and exits 2. Label `mpi`; not in the sanitizer
+// build (Open MPI's own allocations would be reported as leaks).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "../support/named_corpus.hpp"
+#include "../support/paths.hpp"
+#include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
+#include "cli_run.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/topics/corpus_io.hpp"
+
+namespace proprio {
+namespace {
+namespace fs = std::filesystem;
+
+// mpirun as CI runs it: as root, more ranks than cores, a bounded time.
+std::string mpirun(int ranks) {
+  std::string s = "timeout 120 " PROPRIO_MPIEXEC " --allow-run-as-root --oversubscribe -np ";
+  s += std::to_string(ranks);
+  s += " ";
+  return s;
+}
+
+test::CliResult run(const std::string& command) {
+  // run_cli prefixes the CLI; here the command line starts with mpirun, so run it through sh.
+  std::string line = "--version >/dev/null; ";
+  line += command;
+  return test::run_cli(line);
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int count_of(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (auto i = text.find(what); i != std::string::npos; i = text.find(what, i + 1)) ++n;
+  return n;
+}
+
+class MpiLda : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir("proprio_mpi_", "lda");
+    topics::SyntheticCorpusOptions o;
+    o.num_topics = 5;
+    o.num_words = 150;
+    o.num_documents = 301;  // not a multiple of 2 or 3: the last mini-batch is uneven
+    o.mean_length = 40;
+    o.seed = 7;
+    topics::write_corpus(test::named_synthetic_corpus(o), path("c"), topics::CorpusFormat::kUci);
+    o.seed = 8;
+    topics::write_corpus(test::named_synthetic_corpus(o), path("other"),
+                         topics::CorpusFormat::kUci);
+    const auto r = test::run_cli("lda train --corpus " + path("c") + " " + kArgs +
+                                 " --threads 2 --model " + path("one.lda"));
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static std::string path(const std::string& name) { return (dir_->path() / name).string(); }
+  static std::string cli() { return test::cli_path(); }
+  static constexpr const char* kArgs = "-k 6 --batch 32 --passes 2 --seed 4";
+  static test::TempDir* dir_;
+};
+test::TempDir* MpiLda::dir_ = nullptr;
+
+TEST_F(MpiLda, TwoAndThreeRanksWriteTheOneProcessModelByteForByte) {
+  const std::string one = slurp(path("one.lda"));
+  ASSERT_FALSE(one.empty());
+  for (const int ranks : {2, 3}) {
+    std::string name = "m";
+    name += std::to_string(ranks);
+    name += ".lda";
+    const std::string model = path(name);
+    const auto r = run(mpirun(ranks) + cli() + " lda train --corpus " + path("c") + " " + kArgs +
+                       " --threads 1 --model " + model + " --json " + model + ".json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(count_of(r.out, "mini-batch updates"), 1) << "rank 0 alone prints:\n" << r.out;
+    EXPECT_TRUE(slurp(model) == one) << ranks << " ranks: another model";
+    std::string ranks_field = "\"ranks\": ";
+    ranks_field += std::to_string(ranks);
+    EXPECT_NE(slurp(model + ".json").find(ranks_field), std::string::npos);
+    test::expect_schema_valid("lda_train.schema.json", model + ".json");
+  }
+}
+
+TEST_F(MpiLda, RanksThatReadDifferentCorporaAllExit2WithOneLine) {
+  std::string train = " lda train ";
+  train += kArgs;
+  train += " --model ";
+  train += path("x.lda");
+  const auto r = run(mpirun(1) + cli() + train + " --corpus " + path("c") + " : -np 2 " + cli() +
+                     train + " --corpus " + path("other"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(count_of(r.err, "proprio: "), 1) << r.err;
+  EXPECT_NE(r.err.find("read different corpora"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("x.lda")));
+}
+
+TEST_F(MpiLda, MoreRanksThanDocumentsAndBadLinesExit2WithOneLine) {
+  const test::TempDir d("proprio_mpi_", "tiny");
+  {
+    std::ofstream(d.path() / "docword.txt") << "2\n3\n2\n1 1 1\n2 2 1\n";
+    std::ofstream(d.path() / "vocab.txt") << "a\nb\nc\n";
+  }
+  auto r = run(mpirun(3) + cli() + " lda train -k 2 --corpus " + d.path().string() + " --model " +
+               path("y.lda"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(count_of(r.err, "proprio: "), 1) << r.err;
+  EXPECT_NE(r.err.find("2 documents for 3 MPI ranks"), std::string::npos) << r.err;
+  // A bad line in the document of rank 1: every rank reads it, every rank stops.
+  std::ofstream(d.path() / "docword.txt") << "2\n3\n2\n1 1 1\n2 9 1\n";
+  r = run(mpirun(2) + cli() + " lda train -k 2 --corpus " + d.path().string() + " --model " +
+          path("y.lda"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(count_of(r.err, "proprio: "), 1) << r.err;
+  EXPECT_NE(r.err.find("docword.txt:5: wordID 9 outside [1, 3]"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("y.lda")));
+}
+
+TEST_F(MpiLda, ARankThatDiesEndsTheJobAndLeavesNoModel) {
+  const std::string model = path("dead.lda");
+  std::string command = "PROPRIO_MPI_TEST_FAIL=1:5 ";
+  command += mpirun(3) + cli() + " lda train --corpus " + path("c") + " " + kArgs + " --model ";
+  command += model;
+  const auto r = run(command);
+  EXPECT_NE(r.code, 0) << r.err;
+  EXPECT_NE(r.code, 124) << "timed out: the job hung";
+  EXPECT_NE(r.err.find("rank 1: aborting before update 5"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("exited on signal"), std::string::npos) << "mpirun names the dead rank\n"
+                                                               << r.err;
+  EXPECT_FALSE(fs::exists(model));
+  for (const auto& e : fs::directory_iterator(dir_->path())) {
+    EXPECT_EQ(e.path().string().find("dead.lda"), std::string::npos) << e.path();
+  }
+}
+
+// k-means vocabularies: 2 and 3 ranks give the one-process words (the files differ only in their
+// provenance's time), sampled (--per-image) and whole, and the same record.
+TEST(MpiVocab, TwoAndThreeRanksBuildTheOneProcessVocabulary) {
+  const test::TempDir dir("proprio_mpi_", "vocab");
+  const fs::path samples = PROPRIO_OPENCV_SAMPLES;
+  const std::vector<std::pair<std::string, std::vector<std::string>>> set{
+      {"fruit", {"apple.jpg", "orange.jpg", "fruits.jpg"}},
+      {"scene", {"box_in_scene.png", "graf1.png"}}};
+  for (const auto& [cls, files] : set) {
+    fs::create_directories(dir.path() / "images" / cls);
+    for (const auto& f : files) fs::copy_file(samples / f, dir.path() / "images" / cls / f);
+  }
+  const std::string images = (dir.path() / "images").string();
+  for (const std::string per_image : {"60", "0"}) {
+    std::string args = " vocab build --no-progress --words 24 --seed 3 --per-image ";
+    args += per_image;
+    args += " --images ";
+    args += images;
+    const auto out = [&](const std::string& name) { return (dir.path() / name).string(); };
+    const auto one = test::run_cli(args.substr(1) + " --threads 2 --out " + out("one.voc") +
+                                   " --json " + out("one.json"));
+    ASSERT_EQ(one.code, 0) << one.err;
+    const features::Vocabulary v1 = features::read_vocabulary(out("one.voc"));
+    const core::Json j1 = core::read_json(out("one.json"));
+    for (const int ranks : {2, 3}) {
+      if (per_image == "0" && ranks == 2) continue;  // time: whole images once, on 3 ranks
+      std::string name = "v";
+      name += std::to_string(ranks);
+      const auto r = run(mpirun(ranks) + test::cli_path() + args + " --threads 1 --out " +
+                         out(name + ".voc") + " --json " + out(name + ".json"));
+      ASSERT_EQ(r.code, 0) << r.err;
+      const features::Vocabulary v = features::read_vocabulary(out(name + ".voc"));
+      ASSERT_EQ(v.size(), v1.size());
+      ASSERT_EQ(v.dimension(), v1.dimension());
+      EXPECT_EQ(std::memcmp(v.words().ptr<float>(), v1.words().ptr<float>(),
+                            v1.words().total() * sizeof(float)),
+                0)
+          << ranks << " ranks, --per-image " << per_image << ": other words";
+      const core::Json j = core::read_json(out(name + ".json"));
+      EXPECT_EQ(j["cost"], j1["cost"]);
+      EXPECT_EQ(j["iterations"], j1["iterations"]);
+      EXPECT_EQ(j["descriptors"], j1["descriptors"]);
+      EXPECT_EQ(j["ranks"], ranks);
+      test::expect_schema_valid("vocab_build.schema.json", out(name + ".json"));
+    }
+  }
+}
+
+TEST(MpiWithoutMpi, ABuildWithoutMpiUnderMpirunExits2OnEveryRank) {
+  const fs::path stub =
+      fs::path(test::cli_path()).parent_path().parent_path() / "tests" / "app" / "mpi_stub_world";
+  ASSERT_TRUE(fs::exists(stub)) << stub;
+  const auto r = run(mpirun(2) + stub.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(count_of(r.err, "built without MPI"), 2) << r.err;
+  EXPECT_EQ(count_of(r.out, "local world"), 0);
+}
+
+}  // namespace
+}  // namespace proprio

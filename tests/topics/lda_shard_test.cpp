@@ -1,0 +1,118 @@
+// Sharded corpus reading and the data-parallel online LDA update on one rank (issue 23): the
+// shards of a corpus are its documents d mod n, and the data-parallel path with a world of one
+// gives the one-process model bit for bit. Two and three ranks: tests/app/mpi_cli_test.cpp.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "../support/named_corpus.hpp"
+#include "../support/temp_dir.hpp"
+#include "proprio/core/communicator.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/topics/corpus_io.hpp"
+#include "proprio/topics/online_lda.hpp"
+
+namespace proprio::topics {
+namespace {
+
+Corpus small_corpus() {
+  SyntheticCorpusOptions o;
+  o.num_topics = 4;
+  o.num_words = 60;
+  o.num_documents = 103;
+  o.mean_length = 30;
+  o.seed = 5;
+  const Corpus c = test::named_synthetic_corpus(o);
+  // With an empty document, which the shards must keep in place.
+  Corpus out(c.num_words(), c.vocabulary());
+  for (std::size_t d = 0; d < c.num_documents(); ++d) {
+    if (d == 10) out.add_document({}, {});
+    out.add_document(c.document(d).words, c.document(d).counts);
+  }
+  return out;
+}
+
+class CorpusShards : public ::testing::TestWithParam<CorpusFormat> {};
+
+TEST_P(CorpusShards, ShardsAreTheDocumentsModuloTheirCount) {
+  const test::TempDir dir("proprio_shard_");
+  const Corpus c = small_corpus();
+  write_corpus(c, dir.path(), GetParam());
+  for (const int n : {1, 2, 3, 7}) {
+    std::uint64_t checksum = 0;
+    for (int s = 0; s < n; ++s) {
+      const CorpusShard shard = read_corpus_shard(dir.path(), GetParam(), s, n);
+      EXPECT_EQ(shard.total_documents, static_cast<std::int64_t>(c.num_documents()));
+      EXPECT_EQ(shard.total_tokens, c.num_tokens());
+      EXPECT_EQ(shard.documents.num_words(), c.num_words());
+      EXPECT_EQ(shard.documents.vocabulary(), c.vocabulary());
+      std::vector<std::size_t> mine;
+      for (std::size_t d = static_cast<std::size_t>(s); d < c.num_documents(); d += n) {
+        mine.push_back(d);
+      }
+      EXPECT_EQ(shard.documents, c.subset(mine)) << s << " of " << n;
+      EXPECT_EQ(shard.global_index(1), static_cast<std::size_t>(s + n));
+      EXPECT_EQ(shard.first_local_at(static_cast<std::size_t>(s + n)), 1u);
+      EXPECT_EQ(shard.first_local_at(static_cast<std::size_t>(s + n + 1)), 2u);
+      if (s > 0) {
+        EXPECT_EQ(shard.checksum, checksum);
+      }
+      checksum = shard.checksum;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, CorpusShards,
+                         ::testing::Values(CorpusFormat::kUci, CorpusFormat::kLdac));
+
+TEST(CorpusShards, BadInputIsFoundByEveryShardAndMatrixMarketIsRefused) {
+  const test::TempDir dir("proprio_shard_");
+  const auto f = dir.path() / "docword.txt";
+  {
+    std::ofstream out(f);
+    out << "2\n3\n2\n1 1 1\n2 4 1\n";  // word 4 of 3, in shard 1's document
+    std::ofstream(dir.path() / "vocab.txt") << "a\nb\nc\n";
+  }
+  for (int s = 0; s < 2; ++s) {
+    try {
+      (void)read_corpus_shard(f, CorpusFormat::kUci, s, 2);
+      FAIL() << "no error in shard " << s;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("docword.txt:5: wordID 4 outside [1, 3]"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  write_corpus(small_corpus(), dir.path() / "mm", CorpusFormat::kMatrixMarket);
+  EXPECT_THROW((void)read_corpus_shard(dir.path() / "mm", CorpusFormat::kMatrixMarket, 0, 2),
+               Error);
+}
+
+TEST(DataParallelLda, OneRankGivesTheOneProcessModelBitForBit) {
+  const test::TempDir dir("proprio_shard_");
+  const Corpus c = small_corpus();
+  write_corpus(c, dir.path(), CorpusFormat::kUci);
+  OnlineLdaOptions o;
+  o.num_topics = 5;
+  o.batch_size = 16;
+  o.passes = 2;
+  o.seed = 3;
+  o.threads = 2;
+  const OnlineLdaResult one = train_online_lda(c, o);
+  core::LocalCommunicator world;
+  const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
+  const OnlineLdaResult par = train_online_lda(shard, nullptr, o, world);
+  ASSERT_EQ(par.model.lambda.size(), one.model.lambda.size());
+  EXPECT_EQ(std::memcmp(par.model.lambda.data(), one.model.lambda.data(),
+                        static_cast<std::size_t>(one.model.lambda.size()) * sizeof(double)),
+            0);
+  EXPECT_EQ(par.model.updates, one.model.updates);
+  EXPECT_EQ(par.summary.documents, one.summary.documents);
+  EXPECT_EQ(par.summary.tokens, one.summary.tokens);
+  EXPECT_EQ(par.summary.mean_estep_iterations, one.summary.mean_estep_iterations);
+  EXPECT_EQ(par.summary.capped, one.summary.capped);
+}
+
+}  // namespace
+}  // namespace proprio::topics
