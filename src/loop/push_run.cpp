@@ -26,6 +26,8 @@ constexpr int kFormatVersion = 1;
 constexpr double kMs = 1000.0;
 // Multiplier giving each table's choices (object, target) a stream apart from its scene's seed.
 constexpr std::uint64_t kTableStream = 7919;
+// Plan seeds of a retry after the robot refused a push: this far apart from the first attempt's.
+constexpr std::uint64_t kRetrySeedStride = 1000;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -253,13 +255,42 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
     int cur_object = object;
     std::vector<sim::ObjectId> contacts;
     const int budget = options.goal == planning::PushGoal::kTarget ? options.max_pushes : 1;
+    // The loop's gain: how much farther than needed a correction asks the object to go, from
+    // how far the last push moved it against what it asked (an undershooting push, e.g. a
+    // pusher that meets the object later than its hull said, is made up for next time).
+    double gain = 1.0;
     for (int k = 0; k < budget; ++k) {
       PushStep step;
-      robot::ArmState arm(robot.arm());
-      planning::PushPlanOptions popt = options.plan;
-      popt.seed = options.plan.seed + static_cast<std::uint64_t>(k);
-      step.plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
-                                      robot.joints(), popt);
+      const Eigen::Vector2d c = cur_view.objects[static_cast<std::size_t>(cur_object)].centre;
+      const Eigen::Vector2d aim = c + gain * (target - c);
+      for (int attempt = 0; attempt <= options.retries; ++attempt) {
+        robot::ArmState arm(robot.arm());
+        planning::PushPlanOptions popt = options.plan;
+        popt.seed = options.plan.seed + static_cast<std::uint64_t>(k) +
+                    (kRetrySeedStride * static_cast<std::uint64_t>(attempt));
+        step.plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
+                                        robot.joints(), popt);
+        if (step.plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
+          step.plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
+                                          robot.joints(), popt);
+        }
+        if (step.plan.outcome != planning::PlanOutcome::kPlanned) break;
+        robot::PushRecording rec;
+        if (!options.out.empty()) rec.episode_dir = options.out / episode_name(k);
+        rec.fps = options.fps;
+        rec.overwrite = options.overwrite;
+        rec.run = provenance;
+        try {
+          step.report = robot.push(step.plan.push, rec);
+          step.message = step.report->message;
+          break;
+        } catch (const Error& e) {
+          // The robot refused (nothing moved): another sampled path, when retries are left.
+          step.message = e.what();
+          spdlog::info("push {}: refused ({}), attempt {} of {}", k + 1, e.what(), attempt + 1,
+                       options.retries + 1);
+        }
+      }
       if (k == 0) {
         r.plan = step.plan;
         if (intended.empty() && r.plan.outcome == planning::PlanOutcome::kPlanned) {
@@ -278,22 +309,11 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
         r.steps.push_back(std::move(step));
         break;
       }
-      robot::PushRecording rec;
-      if (!options.out.empty()) rec.episode_dir = options.out / episode_name(k);
-      rec.fps = options.fps;
-      rec.overwrite = options.overwrite;
-      rec.run = provenance;
-      try {
-        step.report = robot.push(step.plan.push, rec);
-        step.message = step.report->message;
-      } catch (const Error& e) {
-        step.message = e.what();
+      if (!step.report) {
         if (k == 0) {
           r.outcome = PushOutcome::kRobotRefused;
-          r.message = e.what();
+          r.message = step.message;
         }
-      }
-      if (!step.report) {
         r.steps.push_back(std::move(step));
         break;
       }
@@ -313,10 +333,12 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
         robot::Look next_look = robot.look();
         planning::PlanningView next_view =
             planning::look_for_objects(next_look, region, options.plan);
-        const int found = planning::find_pushed_object(
-            cur_look.image, next_look.image, next_view,
-            cur_view.objects[static_cast<std::size_t>(cur_object)], step.plan.target,
-            options.track_radius, region, options.plan);
+        const Eigen::Vector2d asked = step.plan.target - c;
+        const Eigen::Vector2d expected = c + asked / gain;  // where the loop wants it
+        const int found =
+            planning::find_pushed_object(cur_look.image, next_look.image, next_view,
+                                         cur_view.objects[static_cast<std::size_t>(cur_object)],
+                                         expected, options.track_radius, region, options.plan);
         step.look_seconds = seconds_since(t1);
         if (found >= 0) {
           const planning::PutativeObject& o = next_view.objects[static_cast<std::size_t>(found)];
@@ -326,6 +348,10 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
             step.tracked_on_object =
                 putative_object_on(next_view, robot.ground_truth_mask(), t->id) == found;
           }
+        }
+        if (found >= 0 && asked.norm() > 1e-6) {
+          const double moved = (step.seen_centre - c).dot(asked) / asked.squaredNorm();
+          gain = std::clamp(1.0 / std::max(moved, 1e-3), 1.0, options.max_gain);
         }
         const bool done = found < 0 || step.seen_distance <= options.tolerance;
         if (found < 0) step.message += "; the pushed object was not found again";
@@ -522,6 +548,8 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     po.target_y = target.y();
     po.max_pushes = options.max_pushes;
     po.tolerance = options.tolerance;
+    po.max_gain = options.max_gain;
+    po.retries = options.retries;
     PushRunResult p;
     try {
       p = push_once(robot, po, provenance);

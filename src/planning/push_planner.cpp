@@ -313,6 +313,7 @@ int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
     // The whole blob holding the moving one, when it is the object alone (nearly all its features
     // inside the carried hull): its centre is not biased toward the parts that changed most.
     constexpr double kAlone = 0.85;
+    constexpr double kAloneGrowth = 1.5;
     for (std::size_t k = 0; k < after_view.objects.size(); ++k) {
       const PutativeObject& o = after_view.objects[k];
       if (!o.box.contains(cv::Point(static_cast<int>(std::lround(best->centre_pixel.x())),
@@ -328,8 +329,17 @@ int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
         } catch (const Error&) {
         }
       }
-      if (static_cast<double>(inside) >= kAlone * static_cast<double>(o.pixels.size()) &&
-          o.pixels.size() >= best->pixels.size()) {
+      // Or it moved nearly everywhere (no still neighbour in it; a turned object leaves its
+      // carried hull) and is not much larger than the object was (no swept neighbour either).
+      std::size_t moved = 0;
+      for (const auto& p : o.pixels) {
+        moved += moved_at(motion, static_cast<float>(p.x()), static_cast<float>(p.y())) ? 1 : 0;
+      }
+      const auto n = static_cast<double>(o.pixels.size());
+      const bool alone = static_cast<double>(inside) >= kAlone * n ||
+                         (static_cast<double>(moved) >= kAlone * n &&
+                          n <= kAloneGrowth * static_cast<double>(previous.pixels.size()));
+      if (alone && o.pixels.size() >= best->pixels.size()) {
         return static_cast<int>(k);
       }
     }

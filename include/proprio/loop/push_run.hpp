@@ -36,8 +36,14 @@ struct PushOptions {
   /// `tolerance` of the target or `max_pushes` pushes were made. 1: one open-loop push.
   int max_pushes = 3;
   double tolerance = 0.015;  ///< m: the estimated centre this near the target is done
-  double track_radius =
-      0.08;  ///< m: the pushed object is looked for this far from where it should be
+  /// m: the pushed object is looked for this far from where it should be.
+  double track_radius = 0.08;
+  /// A correction asks the object to go up to this many times the remaining distance, by how far
+  /// the previous push moved it against what it asked (1: no gain).
+  double max_gain = 2.0;
+  /// When the robot refuses a push (its arm would meet an object on the way), another path is
+  /// planned (another plan seed) this many times.
+  int retries = 2;
 
   /// Throws Error naming the first bad option.
   void validate() const;
@@ -63,6 +69,10 @@ struct PushOptions {
     v(self.track_radius,
       {"track_radius", "Look for the pushed object this far from where it should be, m",
        core::between(0.01, 0.3)});
+    v(self.max_gain, {"max_gain", "Most gain of a correction push (after an undershooting push)",
+                      core::between(1, 5)});
+    v(self.retries,
+      {"retries", "Other paths planned when the robot refuses a push", core::between(0, 10)});
   }
 };
 
@@ -170,6 +180,8 @@ struct PushEvaluationOptions {
   int height = 480;
   int max_pushes = 3;        ///< PushOptions::max_pushes (1: open loop)
   double tolerance = 0.015;  ///< PushOptions::tolerance, m
+  double max_gain = 2.0;     ///< PushOptions::max_gain
+  int retries = 2;           ///< PushOptions::retries
   planning::PushPlanOptions plan;
 
   void validate() const;
@@ -191,6 +203,10 @@ struct PushEvaluationOptions {
     v(self.tolerance,
       {"tolerance", "Stop when the object's estimated centre is this near the target, m",
        core::between(0.002, 0.1)});
+    v(self.max_gain, {"max_gain", "Most gain of a correction push (after an undershooting push)",
+                      core::between(1, 5)});
+    v(self.retries,
+      {"retries", "Other paths planned when the robot refuses a push", core::between(0, 10)});
   }
 };
 

@@ -177,9 +177,11 @@ inline constexpr double kMotionChange = 6.0;
 /// (where the push should have left its centre, table m) are grouped into density blobs of their
 /// own (options.blobs), so that an object that now touches a neighbour, still or swept along, is
 /// not merged with it; the moving blob whose centre is nearest `expected` within `radius` is
-/// appended to after_view.objects. When nothing moved there (the push missed it), the putative
-/// object nearest the previous centre within a quarter of `radius` is taken. Returns its index, or
-/// -1 when none.
+/// taken: the whole putative object holding it when that is the object alone (85% of its
+/// features inside the carried hull, or 85% of them moved and it is at most 1.5 times the
+/// object's feature count before), else the moving blob itself, appended to after_view.objects.
+/// When nothing moved there (the push missed it), the putative object nearest the previous centre
+/// within a quarter of `radius` is taken. Returns its index, or -1 when none.
 int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
                        PlanningView& after_view, const PutativeObject& previous,
                        const Eigen::Vector2d& expected, double radius, const TableRegion& region,
