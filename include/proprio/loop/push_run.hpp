@@ -39,8 +39,9 @@ struct PushOptions {
   /// m: the pushed object is looked for this far from where it should be.
   double track_radius = 0.08;
   /// A correction asks the object to go up to this many times the remaining distance, by how far
-  /// the previous push moved it against what it asked (1: no gain).
-  double max_gain = 2.0;
+  /// the previous push moved it against what it asked (1, the default: no gain; 2 gave the same
+  /// median and a worse 90th percentile on tables 1-100, docs/results/push.md).
+  double max_gain = 1.0;
   /// When the robot refuses a push (its arm would meet an object on the way), another path is
   /// planned (another plan seed) this many times.
   int retries = 2;
@@ -180,7 +181,7 @@ struct PushEvaluationOptions {
   int height = 480;
   int max_pushes = 3;        ///< PushOptions::max_pushes (1: open loop)
   double tolerance = 0.015;  ///< PushOptions::tolerance, m
-  double max_gain = 2.0;     ///< PushOptions::max_gain
+  double max_gain = 1.0;     ///< PushOptions::max_gain
   int retries = 2;           ///< PushOptions::retries
   planning::PushPlanOptions plan;
 
