@@ -28,8 +28,9 @@ void register_push_commands(CLI::App& root, const Invocation& inv) {
   auto p = std::make_shared<PushArgs>();
   auto* cmd = root.add_subcommand(
       "push",
-      "Plan one push of an object toward a target or the view's edge (thesis 7.2.1) and execute "
-      "it on a simulated table: the episode, before/after images and what happened");
+      "Plan a push of an object toward a target or the view's edge (thesis 7.2.1) and execute "
+      "it on a simulated table; toward a target, look again and push again until within "
+      "--tolerance or --max-pushes: the episodes, before/after images and what happened");
   bind_options(cmd, p->options);
   bind_options(cmd, p->options.table);
   bind_options(cmd, p->options.plan);

@@ -4,6 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "proprio/core/data_dir.hpp"
@@ -75,6 +76,49 @@ void BM_PlanPush(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_PlanPush)->Arg(0)->Arg(1)->ArgNames({"edge"})->Unit(benchmark::kMillisecond);
+
+// A checkered square of half side h (m) centred at table point (x, y), drawn into img.
+void draw_square(cv::Mat& img, const geometry::Camera& cam, double x, double y, double h) {
+  const Eigen::Vector2d a = cam.project(Eigen::Vector3d(x - h, y + h, 0));
+  const Eigen::Vector2d b = cam.project(Eigen::Vector3d(x + h, y - h, 0));
+  for (int v = static_cast<int>(a.y()); v <= static_cast<int>(b.y()); ++v) {
+    for (int u = static_cast<int>(a.x()); u <= static_cast<int>(b.x()); ++u) {
+      img.at<cv::Vec3b>(v, u) =
+          ((u / 4 + v / 4) % 2) != 0 ? cv::Vec3b(40, 40, 40) : cv::Vec3b(220, 220, 220);
+    }
+  }
+}
+
+// The closed loop's look after a push: the pushed object found from the motion between two
+// 640 x 480 looks (motion image, moving features' blobs, the whole blob when alone).
+void BM_FindPushedObject(benchmark::State& state) {
+  const geometry::Camera cam = camera();
+  planning::PushPlanOptions o;
+  o.centre_height = 0;
+  cv::Mat before(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
+  cv::Mat after = before.clone();
+  draw_square(before, cam, 0.20, 0.06, 0.03);
+  draw_square(after, cam, 0.20, -0.005, 0.03);
+  for (cv::Mat* m : {&before, &after}) {
+    draw_square(*m, cam, 0.20, -0.07, 0.03);
+    draw_square(*m, cam, 0.35, 0.15, 0.04);
+  }
+  const planning::PlanningView v0 =
+      planning::make_planning_view(planning::textured_points(before, o), cam, {}, o);
+  const planning::PlanningView v1 =
+      planning::make_planning_view(planning::textured_points(after, o), cam, {}, o);
+  const Eigen::Vector2d was(0.20, 0.06);
+  const auto& pushed =
+      *std::min_element(v0.objects.begin(), v0.objects.end(), [&](const auto& a, const auto& b) {
+        return (a.centre - was).norm() < (b.centre - was).norm();
+      });
+  for (auto _ : state) {
+    planning::PlanningView v = v1;
+    const int k = planning::find_pushed_object(before, after, v, pushed, {0.20, 0.0}, 0.08, {}, o);
+    if (k < 0) state.SkipWithError("not found");
+  }
+}
+BENCHMARK(BM_FindPushedObject)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -26,6 +26,8 @@ constexpr int kFormatVersion = 1;
 constexpr double kMs = 1000.0;
 // Multiplier giving each table's choices (object, target) a stream apart from its scene's seed.
 constexpr std::uint64_t kTableStream = 7919;
+// Plan seeds of a retry after the robot refused a push: this far apart from the first attempt's.
+constexpr std::uint64_t kRetrySeedStride = 1000;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -122,10 +124,11 @@ void PushOptions::validate() const {
 std::string PushRunResult::brief() const {
   std::string s = std::string(core::choice_name(outcome, kPushOutcomeNames)) + ": " + message;
   if (score.final_distance >= 0) {
-    char b[160];
-    std::snprintf(b, sizeof b, "\n%s ended %.1f mm from the target; plan %.1f ms, look %.1f ms",
-                  score.intended.c_str(), score.final_distance * kMs, plan.seconds * kMs,
-                  look_seconds * kMs);
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "\n%s ended %.1f mm from the target after %d push%s; plan %.1f ms, look %.1f ms",
+                  score.intended.c_str(), score.final_distance * kMs, pushes,
+                  pushes == 1 ? "" : "es", plan.seconds * kMs, look_seconds * kMs);
     s += b;
   }
   return s;
@@ -190,6 +193,32 @@ cv::Mat draw_plan(const robot::Look& look, const planning::PlanningView& view,
 
 }  // namespace
 
+namespace {
+
+std::string episode_name(int k) {
+  if (k == 0) return "episode";
+  std::string s = "episode_";
+  s += std::to_string(k + 1);
+  return s;
+}
+
+core::Json step_json(const PushStep& s) {
+  core::Json j;
+  j["plan"] = plan_json(s.plan);
+  j["message"] = s.message;
+  j["executed"] = s.report.has_value();
+  j["touched"] = s.report ? s.report->touched : false;
+  j["episode"] = s.report ? s.report->episode_dir.string() : std::string();
+  j["seen_centre"] = s.seen_distance >= 0 ? xy(s.seen_centre) : core::Json();
+  j["seen_distance"] = s.seen_distance >= 0 ? core::Json(s.seen_distance) : core::Json();
+  j["true_distance"] = s.true_distance >= 0 ? core::Json(s.true_distance) : core::Json();
+  j["tracked_on_object"] = s.tracked_on_object;
+  j["look_seconds"] = s.look_seconds;
+  return j;
+}
+
+}  // namespace
+
 PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
                         const core::Provenance& provenance) {
   options.validate();
@@ -220,45 +249,150 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
   }
   const Eigen::Vector2d target(options.target_x, options.target_y);
   if (r.outcome != PushOutcome::kObjectNotSeen) {
-    robot::ArmState arm(robot.arm());
-    r.plan = planning::plan_push(view, object, options.goal, target, region, arm, robot.joints(),
-                                 options.plan);
-    if (intended.empty() && r.plan.outcome == planning::PlanOutcome::kPlanned) {
-      const cv::Mat mask = robot.ground_truth_mask();
-      for (const auto& o : before) {
-        if (putative_object_on(view, mask, o.id) == object) intended = o.name;
+    // The closed loop: look (the first look above), plan, push, look again and find the object.
+    robot::Look cur_look = look;
+    planning::PlanningView cur_view = view;
+    int cur_object = object;
+    std::vector<sim::ObjectId> contacts;
+    const int budget = options.goal == planning::PushGoal::kTarget ? options.max_pushes : 1;
+    // The loop's gain: how much farther than needed a correction asks the object to go, from
+    // how far the last push moved it against what it asked (an undershooting push, e.g. a
+    // pusher that meets the object later than its hull said, is made up for next time).
+    double gain = 1.0;
+    for (int k = 0; k < budget; ++k) {
+      PushStep step;
+      const Eigen::Vector2d c = cur_view.objects[static_cast<std::size_t>(cur_object)].centre;
+      const Eigen::Vector2d aim = c + gain * (target - c);
+      for (int attempt = 0; attempt <= options.retries; ++attempt) {
+        robot::ArmState arm(robot.arm());
+        planning::PushPlanOptions popt = options.plan;
+        popt.seed = options.plan.seed + static_cast<std::uint64_t>(k) +
+                    (kRetrySeedStride * static_cast<std::uint64_t>(attempt));
+        step.plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
+                                        robot.joints(), popt);
+        if (step.plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
+          step.plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
+                                          robot.joints(), popt);
+        }
+        if (step.plan.outcome != planning::PlanOutcome::kPlanned) break;
+        robot::PushRecording rec;
+        if (!options.out.empty()) rec.episode_dir = options.out / episode_name(k);
+        rec.fps = options.fps;
+        rec.overwrite = options.overwrite;
+        rec.run = provenance;
+        try {
+          step.report = robot.push(step.plan.push, rec);
+          step.message = step.report->message;
+          break;
+        } catch (const Error& e) {
+          // The robot refused (nothing moved): another sampled path, when retries are left.
+          step.message = e.what();
+          spdlog::info("push {}: refused ({}), attempt {} of {}", k + 1, e.what(), attempt + 1,
+                       options.retries + 1);
+        }
+      }
+      if (k == 0) {
+        r.plan = step.plan;
+        if (intended.empty() && r.plan.outcome == planning::PlanOutcome::kPlanned) {
+          const cv::Mat mask = robot.ground_truth_mask();
+          for (const auto& o : before) {
+            if (putative_object_on(view, mask, o.id) == object) intended = o.name;
+          }
+        }
+      }
+      if (step.plan.outcome != planning::PlanOutcome::kPlanned) {
+        step.message = step.plan.message;
+        if (k == 0) {
+          r.outcome = PushOutcome::kNotPlanned;
+          r.message = step.plan.message;
+        }
+        r.steps.push_back(std::move(step));
+        break;
+      }
+      if (!step.report) {
+        if (k == 0) {
+          r.outcome = PushOutcome::kRobotRefused;
+          r.message = step.message;
+        }
+        r.steps.push_back(std::move(step));
+        break;
+      }
+      ++r.pushes;
+      if (k == 0) r.report = step.report;
+      for (const sim::ObjectId id : robot.last_push_contacts()) contacts.push_back(id);
+      const std::vector<sim::ObjectTruth> now = robot.ground_truth();
+      if (const sim::ObjectTruth* t = find_truth(now, intended)) {
+        step.true_distance = (t->centre.head<2>() - target).norm();
+        if (options.goal != planning::PushGoal::kTarget) {
+          step.true_distance = (t->centre.head<2>() - step.plan.target).norm();
+        }
+      }
+      if (k + 1 < budget) {
+        // Look again and find the pushed object from the images alone.
+        const auto t1 = std::chrono::steady_clock::now();
+        robot::Look next_look = robot.look();
+        planning::PlanningView next_view =
+            planning::look_for_objects(next_look, region, options.plan);
+        const Eigen::Vector2d asked = step.plan.target - c;
+        const Eigen::Vector2d expected = c + asked / gain;  // where the loop wants it
+        const int found =
+            planning::find_pushed_object(cur_look.image, next_look.image, next_view,
+                                         cur_view.objects[static_cast<std::size_t>(cur_object)],
+                                         expected, options.track_radius, region, options.plan);
+        step.look_seconds = seconds_since(t1);
+        if (found >= 0) {
+          const planning::PutativeObject& o = next_view.objects[static_cast<std::size_t>(found)];
+          step.seen_centre = o.centre;
+          step.seen_distance = (o.centre - target).norm();
+          if (const sim::ObjectTruth* t = find_truth(now, intended)) {
+            step.tracked_on_object =
+                putative_object_on(next_view, robot.ground_truth_mask(), t->id) == found;
+          }
+        }
+        if (found >= 0 && asked.norm() > 1e-6) {
+          const double moved = (step.seen_centre - c).dot(asked) / asked.squaredNorm();
+          gain = std::clamp(1.0 / std::max(moved, 1e-3), 1.0, options.max_gain);
+        }
+        const bool done = found < 0 || step.seen_distance <= options.tolerance;
+        if (found < 0) step.message += "; the pushed object was not found again";
+        if (!options.out.empty()) {  // the look after push k: out/look_2.png, ...
+          std::string name = "look_";
+          name += std::to_string(k + 2);
+          name += ".png";
+          planning::PushPlan none;
+          cv::imwrite((options.out / name).string(),
+                      draw_plan(next_look, next_view, none, find_truth(now, intended)));
+        }
+        r.steps.push_back(std::move(step));
+        if (done) break;
+        cur_look = std::move(next_look);
+        cur_view = std::move(next_view);
+        cur_object = found;
+      } else {
+        r.steps.push_back(std::move(step));
       }
     }
-    if (r.plan.outcome != planning::PlanOutcome::kPlanned) {
-      r.outcome = PushOutcome::kNotPlanned;
-      r.message = r.plan.message;
-    } else {
-      robot::PushRecording rec;
-      if (!options.out.empty()) rec.episode_dir = options.out / "episode";
-      rec.fps = options.fps;
-      rec.overwrite = options.overwrite;
-      rec.run = provenance;
-      try {
-        r.report = robot.push(r.plan.push, rec);
-      } catch (const Error& e) {
-        r.outcome = PushOutcome::kRobotRefused;
-        r.message = e.what();
+    if (r.pushes > 0) {
+      std::sort(contacts.begin(), contacts.end());
+      const Eigen::Vector2d goal_point =
+          options.goal == planning::PushGoal::kTarget ? target : r.plan.target;
+      r.score = score(before, robot.ground_truth(), intended, goal_point, contacts);
+      if (const sim::ObjectTruth* t = find_truth(before, intended)) {
+        r.score.centre_error = (t->centre.head<2>() - r.plan.centre).norm();
       }
-      if (r.report) {
-        r.score = score(before, robot.ground_truth(), intended, r.plan.target,
-                        robot.last_push_contacts());
-        if (const sim::ObjectTruth* t = find_truth(before, intended)) {
-          r.score.centre_error = (t->centre.head<2>() - r.plan.centre).norm();
-        }
-        if (!r.score.moved_intended && !r.score.moved_others) {
-          r.outcome = PushOutcome::kMovedNothing;
-          r.message = "the push moved nothing";
-        } else if (!r.score.moved_intended && !intended.empty()) {
-          r.outcome = PushOutcome::kMovedWrong;
-          r.message = "the push moved another object, not the " + intended;
-        } else {
-          r.outcome = PushOutcome::kPushed;
-          r.message = r.plan.message;
+      if (!r.score.moved_intended && !r.score.moved_others) {
+        r.outcome = PushOutcome::kMovedNothing;
+        r.message = "the push moved nothing";
+      } else if (!r.score.moved_intended && !intended.empty()) {
+        r.outcome = PushOutcome::kMovedWrong;
+        r.message = "the push moved another object, not the " + intended;
+      } else {
+        r.outcome = PushOutcome::kPushed;
+        r.message = r.plan.message;
+        if (r.pushes > 1) {
+          r.message += " (then ";
+          r.message += std::to_string(r.pushes - 1);
+          r.message += r.pushes == 2 ? " more push)" : " more pushes)";
         }
       }
     }
@@ -296,6 +430,9 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
         {"episode", r.report->episode_dir.string()}};
     d["ground_truth"] = score_json(r.score);
   }
+  core::Json steps = core::Json::array();
+  for (const PushStep& s : r.steps) steps.push_back(step_json(s));
+  d["pushes"] = steps;
   return r;
 }
 
@@ -340,7 +477,7 @@ double percentile(std::vector<double> v, double q) {
 }  // namespace
 
 std::string PushEvaluationResult::brief() const {
-  char b[512];
+  char b[768];
   std::snprintf(
       b, sizeof b,
       "%d tables: %d pushed, %d not planned, %d object not seen, %d refused by the robot\n"
@@ -348,10 +485,13 @@ std::string PushEvaluationResult::brief() const {
       "%.1f mm, median)\n"
       "moved the intended object and only it: %.0f%%; arm touched another: %.0f%%; "
       "objects off the table: %d\n"
-      "plan time: median %.2f ms, max %.2f ms; look %.1f ms",
+      "plan time: median %.2f ms, max %.2f ms; look %.1f ms\n"
+      "pushes per table %.2f (closed loop); after the first push alone: median %.1f mm; "
+      "object found again on the right object: %.0f%%",
       tables, planned, not_planned, not_seen, refused, median_distance * kMs, p90_distance * kMs,
       median_centre_error * kMs, 100 * only_intended_rate, 100 * touched_other_rate, off_table,
-      median_plan_ms, max_plan_ms, median_look_ms);
+      median_plan_ms, max_plan_ms, median_look_ms, mean_pushes, median_first_distance * kMs,
+      100 * tracked_rate);
   return b;
 }
 
@@ -365,8 +505,12 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   std::vector<double> centre_errors;
   std::vector<double> plan_ms;
   std::vector<double> look_ms;
+  std::vector<double> first_distances;
   int only = 0;
   int touched = 0;
+  int pushes_made = 0;
+  int looks_after = 0;
+  int tracked = 0;
   core::Json pushes = core::Json::array();
   const sim::ScatterRegion scatter;
   for (int t = 0; t < options.tables; ++t) {
@@ -402,6 +546,10 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     po.object = chosen.name;
     po.target_x = target.x();
     po.target_y = target.y();
+    po.max_pushes = options.max_pushes;
+    po.tolerance = options.tolerance;
+    po.max_gain = options.max_gain;
+    po.retries = options.retries;
     PushRunResult p;
     try {
       p = push_once(robot, po, provenance);
@@ -423,6 +571,16 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
       touched += p.score.touched_other ? 1 : 0;
       r.off_table += p.score.off_table;
       plan_ms.push_back(p.plan.seconds * kMs);
+      pushes_made += p.pushes;
+      if (!p.steps.empty() && p.steps.front().true_distance >= 0) {
+        first_distances.push_back(p.steps.front().true_distance);
+      }
+      for (const PushStep& s : p.steps) {
+        if (s.look_seconds > 0) {
+          ++looks_after;
+          tracked += s.tracked_on_object ? 1 : 0;
+        }
+      }
     }
     look_ms.push_back(p.look_seconds * kMs);
     core::Json row;
@@ -438,6 +596,18 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     row["touched_other"] = p.score.touched_other;
     row["off_table"] = p.score.off_table;
     row["plan_ms"] = p.plan.seconds * kMs;
+    row["pushes"] = p.pushes;
+    core::Json steps = core::Json::array();
+    for (const PushStep& s : p.steps) {
+      steps.push_back(
+          {{"true_distance", s.true_distance >= 0 ? core::Json(s.true_distance) : core::Json()},
+           {"seen_distance", s.seen_distance >= 0 ? core::Json(s.seen_distance) : core::Json()},
+           {"tracked_on_object", s.tracked_on_object},
+           {"plan", std::string(core::choice_name(s.plan.outcome, planning::kPlanOutcomeNames))},
+           {"executed", s.report.has_value()},
+           {"message", s.message}});
+    }
+    row["steps"] = steps;
     pushes.push_back(row);
   }
   r.median_distance = percentile(distances, 0.5);
@@ -448,6 +618,9 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   r.median_plan_ms = std::max(0.0, percentile(plan_ms, 0.5));
   r.max_plan_ms = plan_ms.empty() ? 0.0 : *std::max_element(plan_ms.begin(), plan_ms.end());
   r.median_look_ms = std::max(0.0, percentile(look_ms, 0.5));
+  r.median_first_distance = percentile(first_distances, 0.5);
+  r.mean_pushes = r.planned > 0 ? static_cast<double>(pushes_made) / r.planned : 0.0;
+  r.tracked_rate = looks_after > 0 ? static_cast<double>(tracked) / looks_after : 0.0;
   r.seconds = seconds_since(t0);
   core::Json& d = r.document;
   d = core::result_document(kEvaluationFormat, kFormatVersion, provenance);
@@ -468,6 +641,10 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   d["median_plan_ms"] = r.median_plan_ms;
   d["max_plan_ms"] = r.max_plan_ms;
   d["median_look_ms"] = r.median_look_ms;
+  d["median_first_distance"] =
+      r.median_first_distance >= 0 ? core::Json(r.median_first_distance) : core::Json();
+  d["mean_pushes"] = r.mean_pushes;
+  d["tracked_rate"] = r.tracked_rate;
   d["seconds"] = r.seconds;
   d["pushes"] = pushes;
   return r;

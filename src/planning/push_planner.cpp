@@ -211,6 +211,153 @@ PlanningView look_for_objects(const robot::Look& look, const TableRegion& region
                             region, options);
 }
 
+namespace {
+
+// Mean absolute grey-level change over a 9 x 9 px window between two 8-bit looks.
+cv::Mat1f motion_image(const cv::Mat& before, const cv::Mat& after) {
+  require(!before.empty() && before.size() == after.size() && before.type() == after.type() &&
+              before.depth() == CV_8U,
+          "motion: the two looks must be 8-bit images of one size");
+  cv::Mat gb;
+  cv::Mat ga;
+  if (before.channels() == 3) {
+    cv::cvtColor(before, gb, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(after, ga, cv::COLOR_BGR2GRAY);
+  } else {
+    gb = before;
+    ga = after;
+  }
+  cv::Mat diff;
+  cv::absdiff(gb, ga, diff);
+  cv::Mat1f mean;
+  cv::boxFilter(diff, mean, CV_32F, cv::Size(9, 9));
+  return mean;
+}
+
+bool moved_at(const cv::Mat1f& motion, float x, float y) {
+  const int u = std::clamp(static_cast<int>(std::lround(x)), 0, motion.cols - 1);
+  const int v = std::clamp(static_cast<int>(std::lround(y)), 0, motion.rows - 1);
+  return motion(v, u) >= kMotionChange;
+}
+
+}  // namespace
+
+double moved_share(const cv::Mat& before, const cv::Mat& after, const PutativeObject& object) {
+  const cv::Mat1f motion = motion_image(before, after);
+  if (object.pixels.empty()) return 0.0;
+  std::size_t moved = 0;
+  for (const auto& p : object.pixels) {
+    moved += moved_at(motion, static_cast<float>(p.x()), static_cast<float>(p.y())) ? 1 : 0;
+  }
+  return static_cast<double>(moved) / static_cast<double>(object.pixels.size());
+}
+
+namespace {
+
+// Distance of p to the convex polygon `hull` (either orientation): 0 inside.
+double distance_to_polygon(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) {
+  const std::size_t n = hull.size();
+  int positive = 0;
+  int negative = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d e = hull[(i + 1) % n] - a;
+    const double c = cross(e, p - a);
+    positive += c > 0 ? 1 : 0;
+    negative += c < 0 ? 1 : 0;
+    const double t = std::clamp((p - a).dot(e) / std::max(e.squaredNorm(), 1e-18), 0.0, 1.0);
+    best = std::min(best, (a + t * e - p).norm());
+  }
+  return positive > 0 && negative > 0 ? best : 0.0;
+}
+
+}  // namespace
+
+int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
+                       PlanningView& after_view, const PutativeObject& previous,
+                       const Eigen::Vector2d& expected, double radius, const TableRegion& region,
+                       const PushPlanOptions& options) {
+  options.validate();
+  const cv::Mat1f motion = motion_image(before_image, after_image);
+  std::vector<Eigen::Vector2d> carried;
+  for (const auto& h : previous.hull) carried.push_back(h + (expected - previous.centre));
+  const double margin = 0.25 * radius;
+  std::vector<cv::KeyPoint> moving;
+  for (const cv::KeyPoint& k : after_view.features) {
+    if (!moved_at(motion, k.pt.x, k.pt.y)) continue;
+    if (carried.size() >= 3) {
+      try {
+        const Eigen::Vector2d t = robot::pixel_to_table(
+            after_view.camera, Eigen::Vector2d(k.pt.x, k.pt.y), options.centre_height);
+        if (distance_to_polygon(carried, t) > margin) continue;
+      } catch (const Error&) {
+        continue;
+      }
+    }
+    moving.push_back(k);
+  }
+  std::optional<PutativeObject> best;
+  double best_d = radius;
+  for (const features::Blob& b :
+       features::find_blobs(moving, after_view.image_size, options.blobs)) {
+    if (auto o = putative_object(b, moving, after_view.camera, region, options)) {
+      const double d = (o->centre - expected).norm();
+      if (d <= best_d) {
+        best_d = d;
+        best = std::move(o);
+      }
+    }
+  }
+  if (best) {
+    // The whole blob holding the moving one, when it is the object alone (nearly all its features
+    // inside the carried hull): its centre is not biased toward the parts that changed most.
+    constexpr double kAlone = 0.85;
+    constexpr double kAloneGrowth = 1.5;
+    for (std::size_t k = 0; k < after_view.objects.size(); ++k) {
+      const PutativeObject& o = after_view.objects[k];
+      if (!o.box.contains(cv::Point(static_cast<int>(std::lround(best->centre_pixel.x())),
+                                    static_cast<int>(std::lround(best->centre_pixel.y()))))) {
+        continue;
+      }
+      std::size_t inside = 0;
+      for (const auto& p : o.pixels) {
+        try {
+          const Eigen::Vector2d t =
+              robot::pixel_to_table(after_view.camera, p, options.centre_height);
+          inside += distance_to_polygon(carried, t) <= margin ? 1 : 0;
+        } catch (const Error&) {
+        }
+      }
+      // Or it moved nearly everywhere (no still neighbour in it; a turned object leaves its
+      // carried hull) and is not much larger than the object was (no swept neighbour either).
+      std::size_t moved = 0;
+      for (const auto& p : o.pixels) {
+        moved += moved_at(motion, static_cast<float>(p.x()), static_cast<float>(p.y())) ? 1 : 0;
+      }
+      const auto n = static_cast<double>(o.pixels.size());
+      const bool alone = static_cast<double>(inside) >= kAlone * n ||
+                         (static_cast<double>(moved) >= kAlone * n &&
+                          n <= kAloneGrowth * static_cast<double>(previous.pixels.size()));
+      if (alone && o.pixels.size() >= best->pixels.size()) {
+        return static_cast<int>(k);
+      }
+    }
+    after_view.objects.push_back(std::move(*best));
+    return static_cast<int>(after_view.objects.size()) - 1;
+  }
+  int still = -1;
+  double still_d = margin;
+  for (std::size_t k = 0; k < after_view.objects.size(); ++k) {
+    const double d = (after_view.objects[k].centre - previous.centre).norm();
+    if (d <= still_d) {
+      still_d = d;
+      still = static_cast<int>(k);
+    }
+  }
+  return still;
+}
+
 double distance_to_hull_edge(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p,
                              const Eigen::Vector2d& u) {
   const std::size_t n = hull.size();

@@ -35,8 +35,9 @@ void add_square(std::vector<cv::KeyPoint>& f, const geometry::Camera& cam, Eigen
 }
 
 const robot::Arm& arm() {
-  static const robot::Arm a = robot::Arm::load(test::data_dir() / "models" / "arm_standalone.xml");
-  return a;
+  static const robot::Arm kArm =
+      robot::Arm::load(test::data_dir() / "models" / "arm_standalone.xml");
+  return kArm;
 }
 
 PushPlanOptions flat_options() {
@@ -153,6 +154,47 @@ TEST(PushPlanner, PlansAroundAnObstacleAndRejectsWhatItCannotDo) {
   bad.min_approach = 0.1;
   bad.max_approach = 0.05;
   EXPECT_THROW(bad.validate(), Error);
+}
+
+// A checkered square of half side `h` (m) centred at table point `c`, drawn into `img`.
+void draw_square(cv::Mat& img, const geometry::Camera& cam, Eigen::Vector2d c, double h) {
+  const Eigen::Vector2d a = cam.project(Eigen::Vector3d(c.x() - h, c.y() + h, 0));
+  const Eigen::Vector2d b = cam.project(Eigen::Vector3d(c.x() + h, c.y() - h, 0));
+  for (int v = static_cast<int>(a.y()); v <= static_cast<int>(b.y()); ++v) {
+    for (int u = static_cast<int>(a.x()); u <= static_cast<int>(b.x()); ++u) {
+      img.at<std::uint8_t>(v, u) = ((u / 4 + v / 4) % 2) != 0 ? 40 : 220;
+    }
+  }
+}
+
+TEST(PushTracking, FindsThePushedObjectWhereItNowTouchesAStillOne) {
+  const geometry::Camera cam = down_camera();
+  const PushPlanOptions o = flat_options();
+  cv::Mat before(480, 640, CV_8U, cv::Scalar(128));
+  cv::Mat after = before.clone();
+  draw_square(before, cam, {0.20, 0.06}, 0.03);   // the object, before the push
+  draw_square(before, cam, {0.20, -0.07}, 0.03);  // a still neighbour
+  draw_square(after, cam, {0.20, -0.005}, 0.03);  // pushed by 6.5 cm, now 5 mm from it
+  draw_square(after, cam, {0.20, -0.07}, 0.03);
+  const TableRegion region;
+  const PlanningView view0 = make_planning_view(textured_points(before, o), cam, region, o);
+  ASSERT_EQ(view0.objects.size(), 2U);
+  const PutativeObject& pushed =
+      view0.objects[0].centre.y() > 0 ? view0.objects[0] : view0.objects[1];
+  PlanningView view1 = make_planning_view(textured_points(after, o), cam, region, o);
+  ASSERT_EQ(view1.objects.size(), 1U);  // the two blobs merged
+  const Eigen::Vector2d expected(0.20, 0.0);
+  const int k = find_pushed_object(before, after, view1, pushed, expected, 0.08, region, o);
+  ASSERT_GE(k, 0);
+  const PutativeObject& found = view1.objects[static_cast<std::size_t>(k)];
+  EXPECT_NEAR(found.centre.x(), 0.20, 0.01);
+  EXPECT_NEAR(found.centre.y(), -0.005, 0.01);  // not pulled toward the neighbour at -0.07
+  // Nothing moved: the object where it was.
+  PlanningView same = view0;
+  const int s = find_pushed_object(before, before, same, pushed, expected, 0.08, region, o);
+  ASSERT_GE(s, 0);
+  EXPECT_NEAR(same.objects[static_cast<std::size_t>(s)].centre.y(), pushed.centre.y(), 1e-9);
+  EXPECT_EQ(moved_share(before, before, pushed), 0.0);
 }
 
 }  // namespace
