@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -268,7 +269,12 @@ class Learner {
   // away. Returns the chosen blob's centre after it (nullopt: lost).
   std::optional<Eigen::Vector2d> clear(int r, Eigen::Vector2d chosen, int& index) {
     int pushes = 0;
-    std::optional<Eigen::Vector2d> last_pushed;
+    std::optional<Eigen::Vector2d> last_pushed;  // the pushed blob's centre before its push
+    std::map<std::pair<double, double>, int> still_count;
+    std::vector<Eigen::Vector2d> stuck;  // blobs that two pushes did not move: left alone
+    const auto still = [&](const Eigen::Vector2d& p) -> int& {
+      return still_count[{std::round(p.x() / kStill), std::round(p.y() / kStill)}];
+    };
     while (true) {
       const planning::PlanningView view = look();
       const int c = track(view, chosen);
@@ -282,12 +288,22 @@ class Learner {
         const int same = track(view, *last_pushed);
         if (same >= 0 && same != c &&
             (view.objects[static_cast<std::size_t>(same)].centre - *last_pushed).norm() < kStill) {
-          fault(r, "moved-nothing", "the last clearing push moved nothing; re-planning");
+          if (++still(*last_pushed) >= 2) {
+            stuck.push_back(*last_pushed);
+            fault(r, "moved-nothing",
+                  "two pushes left a blob where it was (two objects seen as one?); left alone");
+          } else {
+            fault(r, "moved-nothing", "the last clearing push moved nothing; re-planning");
+          }
         }
       }
       std::vector<std::pair<double, int>> others;
       for (std::size_t k = 0; k < view.objects.size(); ++k) {
         if (static_cast<int>(k) == c) continue;
+        const bool left_alone = std::any_of(stuck.begin(), stuck.end(), [&](const auto& p) {
+          return (view.objects[k].centre - p).norm() < kStill;
+        });
+        if (left_alone) continue;
         const double gap = hull_gap(view.objects[k].hull, view.objects[static_cast<std::size_t>(c)].hull);
         if (gap < o_.clearance) others.emplace_back(gap, static_cast<int>(k));
       }
@@ -321,7 +337,7 @@ class Learner {
         ++pushes;
         if (execute(in, "")) {
           ++out_.pushes_clear;
-          last_pushed = p.target;
+          last_pushed = view.objects[static_cast<std::size_t>(k)].centre;
           pushed = true;
           break;
         }
