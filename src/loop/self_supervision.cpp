@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -30,6 +31,11 @@ namespace {
 
 constexpr double kTrackRadius = 0.08;  // a blob is the chosen object when its centre is this near, m
 constexpr double kStill = 0.01;        // a blob that moved less than this did not move, m
+constexpr double kApproachStep = 0.03;      // approach added after a refusal, m
+constexpr double kMaxExtraApproach = 0.12;  // at most, m
+constexpr double kClearMargin = 0.04;  // (b): pushed this much beyond the clearance, m
+constexpr double kLandRadius = 0.15;   // a pushed object is looked for this near its target, m
+constexpr double kMaxLearnPush = 0.12;  // (c): the object is moved at most this far a push, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 
 core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
@@ -59,9 +65,10 @@ core::Json plan_json(const planning::PushPlan& p) {
 }
 
 // The blob of `view` nearest `centre` within kTrackRadius; -1 none.
-int track(const planning::PlanningView& view, const Eigen::Vector2d& centre) {
+int track(const planning::PlanningView& view, const Eigen::Vector2d& centre,
+          double radius = kTrackRadius) {
   int best = -1;
-  double best_d = kTrackRadius;
+  double best_d = radius;
   for (std::size_t k = 0; k < view.objects.size(); ++k) {
     const double d = (view.objects[k].centre - centre).norm();
     if (d < best_d) {
@@ -126,6 +133,13 @@ class Learner {
     const auto c = static_cast<std::size_t>(out_.classes);
     core::ProgressBar bar(c * static_cast<std::size_t>(o_.pushes), "self-supervision", progress);
     const robot::Look first = robot_.look();
+    // The planner's blob scales are for 640 x 480 images: scale them with the image, so that
+    // neighbouring objects do not merge into one blob in a smaller image.
+    const double scale = first.image.cols / 640.0;
+    plan_options_ = o_.plan;
+    plan_options_.grid_step = std::max(2, static_cast<int>(std::lround(o_.plan.grid_step * scale)));
+    plan_options_.patch = std::max(4, static_cast<int>(std::lround(o_.plan.patch * scale)));
+    plan_options_.blobs.sigma = o_.plan.blobs.sigma * scale;
     centre_ = robot::pixel_to_table(first.camera, Eigen::Vector2d(first.image.cols / 2.0,
                                                                   first.image.rows / 2.0));
     log({{"event", "start"},
@@ -169,7 +183,7 @@ class Learner {
     const robot::Look l = robot_.look();
     size_ = l.image.size();
     image_ = l.image;
-    return planning::look_for_objects(l, region_, o_.plan);
+    return planning::look_for_objects(l, region_, plan_options_);
   }
 
   Eigen::MatrixXd theta_of(const std::vector<std::vector<std::int32_t>>& docs) {
@@ -253,14 +267,25 @@ class Learner {
          {"executed", ok},
          {"message", message},
          {"episode", episode}});
-    if (!ok) fault(intent.round, "robot-refused", message);
+    if (!ok) {
+      fault(intent.round, "robot-refused", message);
+      extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
+      log({{"event", "replan"},
+           {"round", intent.round},
+           {"why", "refused: approaches grow"},
+           {"extra_approach", extra_approach_}});
+    }
     return ok;
   }
 
   planning::PushPlan plan(const planning::PlanningView& view, int blob, planning::PushGoal goal,
                           const Eigen::Vector2d& target) {
     robot::ArmState arm(robot_.arm());
-    planning::PushPlanOptions po = o_.plan;
+    planning::PushPlanOptions po = plan_options_;
+    // After a refusal (the hand would come down inside a tall object, whose features lie above
+    // the table and make it look nearer than it is) approaches grow.
+    po.max_approach = std::min(0.3, po.max_approach + extra_approach_);
+    po.min_approach = std::min(po.max_approach, po.min_approach + extra_approach_);
     po.seed = o_.seed * 1000003 + static_cast<std::uint64_t>(++plans_);
     return planning::plan_push(view, blob, goal, target, region_, arm, robot_.joints(), po);
   }
@@ -327,7 +352,18 @@ class Learner {
       }
       bool pushed = false;
       for (const auto& [gap, k] : others) {
-        const planning::PushPlan p = plan(view, k, planning::PushGoal::kEdge, {});
+        // Away from the chosen object, far enough to leave it alone (a kEdge push's direction
+        // ignores the chosen object and often brought the other one nearer to it); kEdge when
+        // that cannot be planned.
+        const auto& other = view.objects[static_cast<std::size_t>(k)];
+        const Eigen::Vector2d away = (other.centre - chosen).normalized();
+        const double distance =
+            std::clamp(o_.clearance - gap + kClearMargin, o_.plan.min_distance, o_.plan.max_distance);
+        planning::PushPlan p =
+            plan(view, k, planning::PushGoal::kTarget, other.centre + distance * away);
+        if (p.outcome != planning::PlanOutcome::kPlanned) {
+          p = plan(view, k, planning::PushGoal::kEdge, {});
+        }
         if (p.outcome != planning::PlanOutcome::kPlanned) {
           log({{"event", "plan"}, {"round", r}, {"phase", "clear"}, {"blob", k}, {"gap", gap},
                {"plan", plan_json(p)}});
@@ -408,7 +444,12 @@ class Learner {
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
       const planning::PlanningView view = look();
-      const int c = track(view, chosen);
+      int c = track(view, chosen);
+      if (c < 0 && view.objects.size() == 1) {
+        // Singulated: the one blob in view is the object, wherever the push left it.
+        c = 0;
+        log({{"event", "refound"}, {"round", r}, {"why", "the only blob in view"}});
+      }
       if (c < 0) {
         fault(r, "lost", "the chosen object is no longer in view (off the table or out of reach)");
         out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost";
@@ -420,6 +461,9 @@ class Learner {
       angle += kGoldenAngle;
       if ((target - chosen).norm() < 0.03) {
         target = centre_ - (target - centre_);
+      }
+      if ((target - chosen).norm() > kMaxLearnPush) {  // short pushes: it turns, stays in view
+        target = chosen + kMaxLearnPush * (target - chosen).normalized();
       }
       const planning::PushPlan p = plan(view, c, planning::PushGoal::kTarget, target);
       if (p.outcome != planning::PlanOutcome::kPlanned) {
@@ -435,7 +479,7 @@ class Learner {
       ++out_.pushes_learn;
       // Where is it now? Near the plan's target, or (a push that moved nothing) where it was.
       const planning::PlanningView after = look();
-      int now = track(after, p.target);
+      int now = track(after, p.target, kLandRadius);
       if (now < 0) now = track(after, chosen);
       if (now >= 0 &&
           (after.objects[static_cast<std::size_t>(now)].centre - chosen).norm() < kStill) {
@@ -477,8 +521,14 @@ class Learner {
   }
 
   void round(int r, core::ProgressBar& bar) {
+    extra_approach_ = 0;
     const planning::PlanningView view = look();
     log({{"event", "look"}, {"round", r}, {"phase", "choose"}, {"blobs", blobs_json(view)}});
+    if (!episodes_.empty()) {
+      cv::Mat img = image_.clone();
+      for (const auto& o : view.objects) cv::rectangle(img, o.box, cv::Scalar(255, 255, 0), 1);
+      cv::imwrite((episodes_ / core::printf_string("round%d-look.png", r + 1)).string(), img);
+    }
     if (view.objects.empty()) {
       fault(r, "no-blobs", "no putative object in view; round skipped");
       out_.stop_reasons[static_cast<std::size_t>(r)] = "no blobs";
@@ -548,6 +598,7 @@ class Learner {
   core::Rng rng_;
   std::ofstream log_file_;
   planning::TableRegion region_;  ///< the planner's default: the table top
+  planning::PushPlanOptions plan_options_;  ///< o_.plan scaled to the image
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
   cv::Size size_;
   cv::Mat image_;
@@ -555,6 +606,7 @@ class Learner {
   topics::MotModel model_so_far_;
   std::vector<int> model_class_;
   int plans_ = 0;
+  double extra_approach_ = 0;  ///< m, grown after each refusal of the round
 };
 
 }  // namespace
@@ -645,10 +697,10 @@ Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int cl
                            " words, the LDA model ", std::to_string(model.num_words()),
                            ": not the vocabulary the model was made with"}));
   }
-  if (options.views == ViewSource::kMotion) {
-    if (episodes.empty()) throw Error("self-supervision: motion views need an episode directory");
-    fs::create_directories(episodes);
+  if (options.views == ViewSource::kMotion && episodes.empty()) {
+    throw Error("self-supervision: motion views need an episode directory");
   }
+  if (!episodes.empty()) fs::create_directories(episodes);
   Learner learner(robot, attendant, classes, model, vocabulary, options, episodes, log_path);
   return learner.run(progress);
 }
