@@ -33,6 +33,8 @@ constexpr double kTrackRadius = 0.08;  // a blob is the chosen object when its c
 constexpr double kStill = 0.01;        // a blob that moved less than this did not move, m
 constexpr double kApproachStep = 0.03;      // approach added after a refusal, m
 constexpr double kMaxExtraApproach = 0.12;  // at most, m
+constexpr int kSides = 8;               // (c): sides tried when a push is out of reach
+constexpr double kSidePush = 0.08;      // (c): how far those pushes go, m
 constexpr double kClearMargin = 0.04;  // (b): pushed this much beyond the clearance, m
 constexpr double kLandRadius = 0.15;   // a pushed object is looked for this near its target, m
 constexpr double kMaxLearnPush = 0.12;  // (c): the object is moved at most this far a push, m
@@ -465,11 +467,23 @@ class Learner {
       if ((target - chosen).norm() > kMaxLearnPush) {  // short pushes: it turns, stays in view
         target = chosen + kMaxLearnPush * (target - chosen).normalized();
       }
-      const planning::PushPlan p = plan(view, c, planning::PushGoal::kTarget, target);
+      planning::PushPlan p = plan(view, c, planning::PushGoal::kTarget, target);
+      // Out of reach from that side (an object far from the arm cannot be pushed toward it):
+      // the other sides, an eighth of a turn apart, pushed kSidePush far.
+      const Eigen::Vector2d first = target - chosen;
+      const double a0 = std::atan2(first.y(), first.x());
+      for (int side = 1; side < kSides && p.outcome != planning::PlanOutcome::kPlanned; ++side) {
+        log({{"event", "plan"}, {"round", r}, {"phase", "learn"}, {"blob", c},
+             {"plan", plan_json(p)}, {"then", "another side"}});
+        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
+        p = plan(view, c, planning::PushGoal::kTarget,
+                 chosen + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      }
       if (p.outcome != planning::PlanOutcome::kPlanned) {
         log({{"event", "plan"}, {"round", r}, {"phase", "learn"}, {"blob", c},
              {"plan", plan_json(p)}});
-        fault(r, "not-planned", p.message);
+        fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
+        if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
         continue;
       }
       const std::string name =
