@@ -29,15 +29,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kTrackRadius = 0.08;  // a blob is the chosen object when its centre is this near, m
-constexpr double kStill = 0.01;        // a blob that moved less than this did not move, m
+constexpr double kTrackRadius =
+    0.08;                        // a blob is the chosen object when its centre is this near, m
+constexpr double kStill = 0.01;  // a blob that moved less than this did not move, m
 constexpr double kApproachStep = 0.03;      // approach added after a refusal, m
 constexpr double kMaxExtraApproach = 0.12;  // at most, m
-constexpr int kSides = 8;               // (c): sides tried when a push is out of reach
-constexpr double kSidePush = 0.08;      // (c): how far those pushes go, m
-constexpr double kClearMargin = 0.04;  // (b): pushed this much beyond the clearance, m
-constexpr double kLandRadius = 0.15;   // a pushed object is looked for this near its target, m
-constexpr double kMaxLearnPush = 0.12;  // (c): the object is moved at most this far a push, m
+constexpr int kSides = 8;                   // (c): sides tried when a push is out of reach
+constexpr double kSidePush = 0.08;          // (c): how far those pushes go, m
+constexpr double kClearMargin = 0.04;       // (b): pushed this much beyond the clearance, m
+constexpr double kLandRadius = 0.15;        // a pushed object is looked for this near its target, m
+constexpr double kMaxLearnPush = 0.12;      // (c): the object is moved at most this far a push, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 
 core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
@@ -142,8 +143,8 @@ class Learner {
     plan_options_.grid_step = std::max(2, static_cast<int>(std::lround(o_.plan.grid_step * scale)));
     plan_options_.patch = std::max(4, static_cast<int>(std::lround(o_.plan.patch * scale)));
     plan_options_.blobs.sigma = o_.plan.blobs.sigma * scale;
-    centre_ = robot::pixel_to_table(first.camera, Eigen::Vector2d(first.image.cols / 2.0,
-                                                                  first.image.rows / 2.0));
+    centre_ = robot::pixel_to_table(
+        first.camera, Eigen::Vector2d(first.image.cols / 2.0, first.image.rows / 2.0));
     log({{"event", "start"},
          {"classes", out_.classes},
          {"topics", model_.num_topics()},
@@ -155,8 +156,7 @@ class Learner {
     }
     bar.finish();
     fit();
-    out_.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     log({{"event", "end"},
          {"pushes_clear", out_.pushes_clear},
          {"pushes_learn", out_.pushes_learn},
@@ -331,7 +331,8 @@ class Learner {
           return (view.objects[k].centre - p).norm() < kStill;
         });
         if (left_alone) continue;
-        const double gap = hull_gap(view.objects[k].hull, view.objects[static_cast<std::size_t>(c)].hull);
+        const double gap =
+            hull_gap(view.objects[k].hull, view.objects[static_cast<std::size_t>(c)].hull);
         if (gap < o_.clearance) others.emplace_back(gap, static_cast<int>(k));
       }
       std::sort(others.begin(), others.end());
@@ -359,15 +360,19 @@ class Learner {
         // that cannot be planned.
         const auto& other = view.objects[static_cast<std::size_t>(k)];
         const Eigen::Vector2d away = (other.centre - chosen).normalized();
-        const double distance =
-            std::clamp(o_.clearance - gap + kClearMargin, o_.plan.min_distance, o_.plan.max_distance);
+        const double distance = std::clamp(o_.clearance - gap + kClearMargin, o_.plan.min_distance,
+                                           o_.plan.max_distance);
         planning::PushPlan p =
             plan(view, k, planning::PushGoal::kTarget, other.centre + distance * away);
         if (p.outcome != planning::PlanOutcome::kPlanned) {
           p = plan(view, k, planning::PushGoal::kEdge, {});
         }
         if (p.outcome != planning::PlanOutcome::kPlanned) {
-          log({{"event", "plan"}, {"round", r}, {"phase", "clear"}, {"blob", k}, {"gap", gap},
+          log({{"event", "plan"},
+               {"round", r},
+               {"phase", "clear"},
+               {"blob", k},
+               {"gap", gap},
                {"plan", plan_json(p)}});
           continue;
         }
@@ -458,8 +463,8 @@ class Learner {
         break;
       }
       chosen = view.objects[static_cast<std::size_t>(c)].centre;
-      Eigen::Vector2d target = centre_ + o_.circle_radius * Eigen::Vector2d(std::cos(angle),
-                                                                            std::sin(angle));
+      Eigen::Vector2d target =
+          centre_ + o_.circle_radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
       angle += kGoldenAngle;
       if ((target - chosen).norm() < 0.03) {
         target = centre_ - (target - centre_);
@@ -473,21 +478,27 @@ class Learner {
       const Eigen::Vector2d first = target - chosen;
       const double a0 = std::atan2(first.y(), first.x());
       for (int side = 1; side < kSides && p.outcome != planning::PlanOutcome::kPlanned; ++side) {
-        log({{"event", "plan"}, {"round", r}, {"phase", "learn"}, {"blob", c},
-             {"plan", plan_json(p)}, {"then", "another side"}});
+        log({{"event", "plan"},
+             {"round", r},
+             {"phase", "learn"},
+             {"blob", c},
+             {"plan", plan_json(p)},
+             {"then", "another side"}});
         const double a = a0 + (side * 2 * std::numbers::pi / kSides);
         p = plan(view, c, planning::PushGoal::kTarget,
                  chosen + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
       }
       if (p.outcome != planning::PlanOutcome::kPlanned) {
-        log({{"event", "plan"}, {"round", r}, {"phase", "learn"}, {"blob", c},
+        log({{"event", "plan"},
+             {"round", r},
+             {"phase", "learn"},
+             {"blob", c},
              {"plan", plan_json(p)}});
         fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
         if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
         continue;
       }
-      const std::string name =
-          core::printf_string("round%d-push%02d", r + 1, done + 1);
+      const std::string name = core::printf_string("round%d-push%02d", r + 1, done + 1);
       PushIntent in{r, "learn", index++, &view, c, &p};
       if (!execute(in, o_.views == ViewSource::kMotion ? name : std::string())) continue;
       ++out_.pushes_learn;
@@ -611,7 +622,7 @@ class Learner {
   fs::path episodes_;
   core::Rng rng_;
   std::ofstream log_file_;
-  planning::TableRegion region_;  ///< the planner's default: the table top
+  planning::TableRegion region_;            ///< the planner's default: the table top
   planning::PushPlanOptions plan_options_;  ///< o_.plan scaled to the image
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
   cv::Size size_;
@@ -684,10 +695,10 @@ double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::
   // Crossing edges (overlap without a vertex inside) give a small but non-zero d here; that
   // case is the vertex test above for convex hulls, except for crosses: check them.
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const Eigen::Vector2d p = a[i];
+    const Eigen::Vector2d& p = a[i];
     const Eigen::Vector2d r = a[(i + 1) % a.size()] - p;
     for (std::size_t j = 0; j < b.size(); ++j) {
-      const Eigen::Vector2d q = b[j];
+      const Eigen::Vector2d& q = b[j];
       const Eigen::Vector2d s = b[(j + 1) % b.size()] - q;
       const double den = r.x() * s.y() - r.y() * s.x();
       if (std::abs(den) < 1e-15) continue;

@@ -56,9 +56,9 @@ SelfSupervisionResult learn(const SelfSupervisionOptions& options, robot::Robot&
                             TableAttendant& attendant, const Inputs& in, int classes,
                             const core::Provenance& provenance) {
   SelfSupervisionResult r;
-  r.learning = learn_by_pushing(robot, attendant, classes, in.model, in.vocabulary, options,
-                                options.out / "episodes", options.out / "decisions.jsonl",
-                                options.progress);
+  r.learning =
+      learn_by_pushing(robot, attendant, classes, in.model, in.vocabulary, options,
+                       options.out / "episodes", options.out / "decisions.jsonl", options.progress);
   if (r.learning.model.num_classes() > 0) {
     const std::uint32_t vc = recognition::vocabulary_checksum(in.vocabulary);
     topics::save_mot_model(r.learning.model, topics::mot_basis(in.model, &vc),
@@ -97,16 +97,15 @@ std::string SelfSupervisionResult::brief() const {
       100 * g.singulation, g.pushes_per_cleared, 100 * g.only_intended, g.off_table,
       100 * g.purity);
   for (std::size_t c = 0; c < g.class_object.size(); ++c) {
-    s += core::printf_string("\n  %s -> %s: %d views, purity %.1f%%",
-                             l.class_names[c].c_str(),
+    s += core::printf_string("\n  %s -> %s: %d views, purity %.1f%%", l.class_names[c].c_str(),
                              g.class_object[c].empty() ? "?" : g.class_object[c].c_str(),
                              l.views_per_class[c], 100 * g.class_purity[c]);
   }
   for (const ObjectScore& o : g.objects) {
     s += core::printf_string(
-        "\n  %-12s held out %3d: Mixture of Topics %5.1f%%, argmax theta %5.1f%%; yaw seen %3.0f deg",
-        o.name.c_str(), o.held_out, 100 * o.mot_accuracy, 100 * o.argmax_accuracy,
-        o.yaw_range_deg);
+        "\n  %-12s held out %3d: Mixture of Topics %5.1f%%, argmax theta %5.1f%%; yaw seen %3.0f "
+        "deg",
+        o.name.c_str(), o.held_out, 100 * o.mot_accuracy, 100 * o.argmax_accuracy, o.yaw_range_deg);
   }
   s += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
                            100 * g.mot_accuracy, 100 * g.argmax_accuracy);
@@ -148,8 +147,8 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
   SelfSupervisionResult r =
       learn(options, *robot, attendant, in, static_cast<int>(objects.size()), provenance);
   robot.reset();
-  r.score = score_self_supervision(r.learning, attendant, objects, in.model, in.vocabulary,
-                                   options);
+  r.score =
+      score_self_supervision(r.learning, attendant, objects, in.model, in.vocabulary, options);
   r.document["ground_truth"] = r.score->to_json();
   core::write_json_atomic(options.out / "selfsupervise.json", r.document);
   return r;

@@ -261,8 +261,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     s.off_table += p.fell_off;
   }
   s.singulation = fraction(singulated, c_count);
-  s.pushes_per_cleared = cleared_objects > 0 ? static_cast<double>(clear_pushes) / cleared_objects
-                                             : 0.0;
+  s.pushes_per_cleared =
+      cleared_objects > 0 ? static_cast<double>(clear_pushes) / cleared_objects : 0.0;
   s.only_intended = fraction(only, executed);
 
   // Held-out views: each object alone at the table's centre, yaw stepped through 360 degrees.
@@ -321,7 +321,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
       alone.place({{os.name, kHeldOutCentre, yaw}});
       const robot::Look look = alone.look();
       const cv::Mat mask = alone.ground_truth_mask() == id;
-      const auto doc = masked_document(look.image, mask, vocabulary, options.features, options.dilate);
+      const auto doc =
+          masked_document(look.image, mask, vocabulary, options.features, options.dilate);
       if (static_cast<int>(doc.size()) < options.min_features) continue;
       corpus.add_tokens(doc);
     }

@@ -67,10 +67,11 @@ class SelfSuperviseCli : public ::testing::Test {
 fs::path SelfSuperviseCli::dir_;
 
 TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
-  const auto r = run_cli("selfsupervise --objects book,bottle --pushes 1 --clear-pushes 1 "
-                         "--views blob --held-out 3 --width 160 --height 120 --step 4 "
-                         "--min-features 3 --seed 3 -q" +
-                         inputs() + " --out " + file("run") + " --json " + file("run.json"));
+  const auto r = run_cli(
+      "selfsupervise --objects book,bottle --pushes 1 --clear-pushes 1 "
+      "--views blob --held-out 3 --width 160 --height 120 --step 4 "
+      "--min-features 3 --seed 3 -q" +
+      inputs() + " --out " + file("run") + " --json " + file("run.json"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "held-out accuracy: Mixture of Topics");
   EXPECT_HAS(r.out, "singulation");
@@ -86,8 +87,8 @@ TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   std::getline(log, first);
   EXPECT_EQ(core::Json::parse(first)["event"], "start");
   // The same directory again without --overwrite: exit 2.
-  const auto again = run_cli("selfsupervise --objects book,bottle" + inputs() + " --out " +
-                             file("run"));
+  const auto again =
+      run_cli("selfsupervise --objects book,bottle" + inputs() + " --out " + file("run"));
   EXPECT_EQ(again.code, 2);
   EXPECT_HAS(again.err, "already exists");
 }
@@ -104,7 +105,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book --pushes 0" + inputs() + out, "pushes"},
       {"--objects book,mug,bottle,spirit-level,rabbit,cd,calculator,giraffe,bike" + inputs() + out,
        "do not fit on the table"},
-      {"--objects book,cd" + inputs("other.lda") + out, "not the vocabulary the model was made with"},
+      {"--objects book,cd" + inputs("other.lda") + out,
+       "not the vocabulary the model was made with"},
       {"--objects book,cd --vocabulary " + file("v.vocab") + out, "--model"},
   };
   for (const auto& c : cases) {

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <memory>
 #include <numbers>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "proprio/core/error.hpp"
 #include "proprio/features/kmeans.hpp"
@@ -32,20 +32,22 @@ TEST(SelfSupervision, ObjectListIsTrimmedAndChecked) {
 
 TEST(SelfSupervision, HullGapKnownAnswers) {
   const std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  std::vector<Eigen::Vector2d> b;
-  for (const auto& p : a) b.push_back(p + Eigen::Vector2d(3, 0));
+  const auto shifted = [&](const Eigen::Vector2d& by) {
+    std::vector<Eigen::Vector2d> out(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) out[i] = a[i] + by;
+    return out;
+  };
+  const std::vector<Eigen::Vector2d> b = shifted({3, 0});
   EXPECT_NEAR(hull_gap(a, b), 2.0, 1e-12);
   EXPECT_NEAR(hull_gap(b, a), 2.0, 1e-12);
-  std::vector<Eigen::Vector2d> c;  // overlapping, a vertex inside
-  for (const auto& p : a) c.push_back(p + Eigen::Vector2d(0.5, 0.5));
+  const std::vector<Eigen::Vector2d> c = shifted({0.5, 0.5});  // overlapping, a vertex inside
   EXPECT_EQ(hull_gap(a, c), 0.0);
   // A cross: no vertex of either inside the other, yet they overlap.
   const std::vector<Eigen::Vector2d> h{{-2, -0.1}, {2, -0.1}, {2, 0.1}, {-2, 0.1}};
   const std::vector<Eigen::Vector2d> v{{-0.1, -2}, {0.1, -2}, {0.1, 2}, {-0.1, 2}};
   EXPECT_EQ(hull_gap(h, v), 0.0);
   // Diagonal: corner (1,1) to corner (2,2).
-  std::vector<Eigen::Vector2d> d;
-  for (const auto& p : a) d.push_back(p + Eigen::Vector2d(2, 2));
+  const std::vector<Eigen::Vector2d> d = shifted({2, 2});
   EXPECT_NEAR(hull_gap(a, d), std::sqrt(2.0), 1e-12);
 }
 
@@ -234,8 +236,8 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   EXPECT_EQ(pushes, l.pushes_clear + l.pushes_learn + (pushes - l.pushes_clear - l.pushes_learn));
   EXPECT_EQ(l.log.back()["event"], "end");
 
-  const SelfSupervisionScore s = score_self_supervision(l, *attendant, {"book", "bottle"}, m.lda,
-                                                         m.vocabulary, o);
+  const SelfSupervisionScore s =
+      score_self_supervision(l, *attendant, {"book", "bottle"}, m.lda, m.vocabulary, o);
   EXPECT_EQ(s.objects.size(), 2U);
   EXPECT_GE(s.purity, 0.0);
   EXPECT_LE(s.purity, 1.0);

@@ -73,7 +73,7 @@ struct SelfSupervisionOptions {
   std::uint64_t seed = 1;  ///< (a)'s choice, the planner's paths, the re-scatters
   int width = 320;         ///< image size of the simulated camera, px
   int height = 240;
-  int held_out = 100;      ///< held-out views per object (yaw stepped through 360 degrees)
+  int held_out = 100;         ///< held-out views per object (yaw stepped through 360 degrees)
   std::filesystem::path out;  ///< output directory (required by run_self_supervision)
   bool overwrite = false;
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
@@ -93,10 +93,10 @@ struct SelfSupervisionOptions {
     v(self.lda_model, {"model", "LDA model file (T topics)"});
     v(self.vocabulary, {"vocabulary", "Its visual vocabulary"});
     v(self.pushes, {"pushes", "Pushes of each chosen object (7.2 c)", core::between(1, 1000)});
-    v(self.clear_pushes,
-      {"clear_pushes", "Most pushes to clear the others per round (7.2 b)", core::between(0, 1000)});
-    v(self.clearance, {"clearance", "Gap that makes the chosen object alone, m",
-                       core::between(0.01, 0.5)});
+    v(self.clear_pushes, {"clear_pushes", "Most pushes to clear the others per round (7.2 b)",
+                          core::between(0, 1000)});
+    v(self.clearance,
+      {"clearance", "Gap that makes the chosen object alone, m", core::between(0.01, 0.5)});
     v(self.circle_radius,
       {"circle_radius", "Radius of the circle of push targets, m", core::between(0.02, 0.3)});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
@@ -157,10 +157,10 @@ class TableAttendant {
 
 /// One training view: its document's theta and its class (the round that took it).
 struct TrainingViews {
-  Eigen::MatrixXd theta;     ///< views x T, E[theta] of each view's document
-  std::vector<int> labels;   ///< class of each view (0..C-1)
-  std::vector<int> push;     ///< the push of its round that took it
-  std::vector<int> tokens;   ///< its document's length
+  Eigen::MatrixXd theta;    ///< views x T, E[theta] of each view's document
+  std::vector<int> labels;  ///< class of each view (0..C-1)
+  std::vector<int> push;    ///< the push of its round that took it
+  std::vector<int> tokens;  ///< its document's length
 };
 
 /// What the learner did and learned.
@@ -170,7 +170,7 @@ struct Learning {
   std::vector<std::string> class_names;  ///< object_1 .. object_C
   TrainingViews views;
   std::vector<int> views_per_class;
-  topics::MotModel model;        ///< the self-supervised Mixture of Topics (classes with >= 2 views)
+  topics::MotModel model;  ///< the self-supervised Mixture of Topics (classes with >= 2 views)
   std::vector<int> model_class;  ///< the class of each model object
   int pushes_clear = 0;          ///< executed pushes in (b)
   int pushes_learn = 0;          ///< executed pushes in (c)

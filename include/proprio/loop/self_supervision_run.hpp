@@ -20,7 +20,7 @@ inline constexpr const char* kSelfSupervisionFormat = "proprio.selfsupervise";
 struct SelfSupervisionResult {
   Learning learning;
   std::optional<SelfSupervisionScore> score;  ///< on the simulated table
-  core::Json document;                         ///< format "proprio.selfsupervise"
+  core::Json document;                        ///< format "proprio.selfsupervise"
   [[nodiscard]] std::string brief() const;
 };
 

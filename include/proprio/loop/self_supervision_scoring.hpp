@@ -29,16 +29,16 @@ struct PushTruth {
   bool only_intended = false;      ///< the intended object moved and nothing else
   int fell_off = 0;                ///< objects that left the table in this push
   bool executed = false;
-  int views = 0;          ///< learn pushes: training views taken
+  int views = 0;           ///< learn pushes: training views taken
   std::string view_truth;  ///< learn pushes: the object under most of the learner's last mask
 };
 
 /// A round as the ground truth saw it.
 struct RoundTruth {
-  std::string chosen;          ///< the object under the chosen blob at (a)/(d), or ""
-  bool singulated = false;     ///< after (b) its footprint is >= 10 cm from every other's
-  double least_gap = -1;       ///< that least footprint gap, m (-1: chosen object not seen)
-  std::vector<double> yaws;    ///< the chosen object's yaw before and after each learn push, rad
+  std::string chosen;        ///< the object under the chosen blob at (a)/(d), or ""
+  bool singulated = false;   ///< after (b) its footprint is >= 10 cm from every other's
+  double least_gap = -1;     ///< that least footprint gap, m (-1: chosen object not seen)
+  std::vector<double> yaws;  ///< the chosen object's yaw before and after each learn push, rad
 };
 
 /// The person at the simulated table and the scorer (see the file comment).
@@ -76,11 +76,11 @@ double yaw_coverage_deg(std::vector<double> yaws);
 /// Per object: what the learner made of it.
 struct ObjectScore {
   std::string name;
-  std::vector<int> classes;  ///< learned classes named after it
-  int views = 0;             ///< training views of those classes
-  double purity = 0;         ///< of them, the fraction showing this object
-  double yaw_range_deg = 0;  ///< yaw range seen in training
-  int held_out = 0;          ///< held-out views with features
+  std::vector<int> classes;    ///< learned classes named after it
+  int views = 0;               ///< training views of those classes
+  double purity = 0;           ///< of them, the fraction showing this object
+  double yaw_range_deg = 0;    ///< yaw range seen in training
+  int held_out = 0;            ///< held-out views with features
   double mot_accuracy = 0;     ///< of them, right by the Mixture of Topics
   double argmax_accuracy = 0;  ///< right by argmax theta (merged topics)
 };
@@ -105,7 +105,8 @@ struct SelfSupervisionScore {
 /// Scores the learning from the attendant's records (its robot is not used: it may be gone),
 /// renders `held_out` views of each object of
 /// `objects` (alone at the table's centre, yaw stepped through 360 degrees, width x height) and
-/// classifies them (one simulated table at a time: no other SimulatedRobot may exist). `options` gives the features, dilation and min_features.
+/// classifies them (one simulated table at a time: no other SimulatedRobot may exist). `options`
+/// gives the features, dilation and min_features.
 SelfSupervisionScore score_self_supervision(const Learning& learning,
                                             const GroundTruthAttendant& attendant,
                                             const std::vector<std::string>& objects,
