@@ -169,6 +169,8 @@ core::Json SelfSupervisionScore::to_json() const {
   core::Json j;
   j["class_object"] = class_object;
   j["class_purity"] = class_purity;
+  j["class_chosen"] = class_chosen;
+  j["class_gap"] = class_gap;
   j["singulation"] = singulation;
   j["pushes_per_cleared"] = pushes_per_cleared;
   j["only_intended"] = only_intended;
@@ -236,6 +238,11 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     all_views += views;
   }
   s.purity = fraction(pure_views, all_views);
+  for (int c = 0; c < c_count; ++c) {
+    const bool seen = c < static_cast<int>(rounds.size());
+    s.class_chosen.push_back(seen ? rounds[static_cast<std::size_t>(c)].chosen : std::string());
+    s.class_gap.push_back(seen ? rounds[static_cast<std::size_t>(c)].least_gap : -1.0);
+  }
   // Singulation, clearing pushes, intended-only, off the table.
   int singulated = 0;
   int executed = 0;

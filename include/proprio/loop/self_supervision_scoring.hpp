@@ -89,6 +89,10 @@ struct ObjectScore {
 struct SelfSupervisionScore {
   std::vector<std::string> class_object;  ///< each class named after the object pushed most
   std::vector<double> class_purity;       ///< fraction of its views showing that object
+  /// The object under the blob the learner chose for each class at (a)/(d) ("" unknown), and
+  /// each round's least footprint gap after (b), m (-1: the chosen object was lost).
+  std::vector<std::string> class_chosen;
+  std::vector<double> class_gap;
   std::vector<ObjectScore> objects;
   double singulation = 0;               ///< rounds singulated / rounds
   double pushes_per_cleared = 0;        ///< clear pushes / distinct objects they moved (per round)
