@@ -151,7 +151,19 @@ class Learner {
          {"words", vocabulary_.size()},
          {"work_centre", xy(centre_)}});
     for (int r = 0; r < out_.classes; ++r) {
-      if (r > 0) log({{"event", "rescatter"}, {"round", r}, {"what", attendant_.rescatter(r)}});
+      if (r > 0) {
+        try {
+          log({{"event", "rescatter"}, {"round", r}, {"what", attendant_.rescatter(r)}});
+        } catch (const Error& e) {
+          // The world could not put the objects down again: stop with the reason.
+          fault(r, "rescatter-failed", e.what());
+          for (int q = r; q < out_.classes; ++q) {
+            out_.stop_reasons[static_cast<std::size_t>(q)] = "the re-scatter failed";
+          }
+          bar.tick(static_cast<std::size_t>((out_.classes - r) * o_.pushes));
+          break;
+        }
+      }
       round(r, bar);
     }
     bar.finish();

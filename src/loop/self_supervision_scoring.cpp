@@ -23,6 +23,8 @@ namespace {
 
 // The table point the held-out views put an object at: the middle of the scatter region.
 const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};
+constexpr int kScatterAttempts = 10;
+constexpr std::uint64_t kScatterSeedStep = 100;
 
 double fraction(int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; }
 
@@ -37,8 +39,24 @@ RoundTruth& GroundTruthAttendant::round(int r) {
 }
 
 std::string GroundTruthAttendant::rescatter(int round) {
-  const std::uint64_t s = (seed_ * 1000) + static_cast<std::uint64_t>(round);
-  const std::vector<sim::Placement> places = robot_.scatter(s);
+  // As SimulatedRobot::scatter, but a draw that found no room for an object (it leaves the
+  // object at the arm's base, which blows the simulation up) is drawn again with the next seed.
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  std::vector<const sim::ObjectType*> types;
+  for (const auto& o : robot_.ground_truth()) types.push_back(&catalogue.get(o.name));
+  const sim::ScatterRegion region;
+  std::uint64_t s = (seed_ * 1000) + static_cast<std::uint64_t>(round);
+  std::vector<sim::Placement> places;
+  for (int attempt = 0; attempt < kScatterAttempts; ++attempt, s += kScatterSeedStep) {
+    places = sim::scatter_placements(types, region, s);
+    const bool ok = std::all_of(places.begin(), places.end(), [&](const sim::Placement& p) {
+      return std::isfinite(p.position.x()) && std::isfinite(p.position.y()) &&
+             p.position.norm() >= region.base_clearance;
+    });
+    if (ok) break;
+    spdlog::warn("re-scatter (seed {}): no room for every object; drawing again", s);
+  }
+  robot_.place(places);
   std::string line = core::cat({"re-scattered (seed ", std::to_string(s), "):"});
   for (const auto& p : places) {
     line += core::printf_string(" %s (%.3f, %.3f) m yaw %.2f;", p.name.c_str(), p.position.x(),

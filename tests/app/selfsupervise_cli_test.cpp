@@ -29,9 +29,8 @@ using proprio::test::run_cli;
 class SelfSuperviseCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("proprio_selfsup_cli_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    fs::remove_all(dir());
+    fs::create_directories(dir());
     const cv::Mat img =
         cv::imread(std::string(PROPRIO_OPENCV_SAMPLES) + "/fruits.jpg", cv::IMREAD_COLOR);
     ASSERT_FALSE(img.empty());
@@ -40,7 +39,7 @@ class SelfSuperviseCli : public ::testing::Test {
     k.words = 24;
     k.threads = 1;
     const features::Vocabulary v = features::build_vocabulary(f.descriptors, k).vocabulary;
-    features::write_vocabulary(dir_ / "v.vocab", v,
+    features::write_vocabulary(dir() / "v.vocab", v,
                                core::Provenance::current({"selfsupervise_cli_test"}, 1));
     const std::vector<std::int32_t> words = features::bag_of_words(v, f.descriptors);
     topics::Corpus corpus(v.size());
@@ -52,19 +51,22 @@ class SelfSuperviseCli : public ::testing::Test {
     lo.num_topics = 3;
     lo.max_iterations = 10;
     topics::LdaModel m = topics::train_batch_lda(corpus, lo).model;
-    topics::save_lda_model(m, dir_ / "m.lda");
+    topics::save_lda_model(m, dir() / "m.lda");
     m.lambda.conservativeResize(Eigen::NoChange, m.lambda.cols() + 1);
     m.lambda.rightCols(1).setOnes();
-    topics::save_lda_model(m, dir_ / "other.lda");
+    topics::save_lda_model(m, dir() / "other.lda");
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static std::string file(const std::string& name) { return (dir_ / name).string(); }
+  static void TearDownTestSuite() { fs::remove_all(dir()); }
+  static std::string file(const std::string& name) { return (dir() / name).string(); }
   static std::string inputs(const std::string& lda = "m.lda") {
     return " --model " + file(lda) + " --vocabulary " + file("v.vocab");
   }
-  static fs::path dir_;
+  static const fs::path& dir() {
+    static const fs::path d =
+        fs::temp_directory_path() / ("proprio_selfsup_cli_" + std::to_string(getpid()));
+    return d;
+  }
 };
-fs::path SelfSuperviseCli::dir_;
 
 TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   const auto r = run_cli(
@@ -75,14 +77,14 @@ TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "held-out accuracy: Mixture of Topics");
   EXPECT_HAS(r.out, "singulation");
-  const core::Json j = core::read_json(dir_ / "run.json");
+  const core::Json j = core::read_json(dir() / "run.json");
   EXPECT_EQ(j["format"], "proprio.selfsupervise");
   EXPECT_EQ(j["classes"].size(), 2U);
   EXPECT_TRUE(j["ground_truth"].contains("mot_confusion"));
   EXPECT_EQ(j["ground_truth"]["objects"].size(), 2U);
-  EXPECT_TRUE(fs::exists(dir_ / "run" / "decisions.jsonl"));
-  EXPECT_TRUE(fs::exists(dir_ / "run" / "selfsupervise.json"));
-  std::ifstream log(dir_ / "run" / "decisions.jsonl");
+  EXPECT_TRUE(fs::exists(dir() / "run" / "decisions.jsonl"));
+  EXPECT_TRUE(fs::exists(dir() / "run" / "selfsupervise.json"));
+  std::ifstream log(dir() / "run" / "decisions.jsonl");
   std::string first;
   std::getline(log, first);
   EXPECT_EQ(core::Json::parse(first)["event"], "start");
@@ -114,7 +116,7 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.err;
     EXPECT_HAS(r.err, c.message);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_FALSE(fs::exists(dir_ / "bad")) << c.args;
+    EXPECT_FALSE(fs::exists(dir() / "bad")) << c.args;
   }
 }
 

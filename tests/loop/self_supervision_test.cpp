@@ -111,10 +111,10 @@ SelfSupervisionOptions small_options() {
   o.views = ViewSource::kBlob;
   o.min_features = 3;
   o.held_out = 4;
-  o.width = 160;
-  o.height = 120;
+  o.width = 320;
+  o.height = 240;
   o.features.dense.step = 4;
-  o.seed = 3;
+  o.seed = 2;
   return o;
 }
 
@@ -170,7 +170,8 @@ bool logged(const Learning& l, const std::string& fault) {
 
 TEST(SelfSupervision, FaultsAreLoggedOutcomesNotCrashes) {
   const SelfSupervisionOptions o = small_options();
-  sim::SimulatedRobot sim_robot(table_of(o), sim::ObjectCatalogue::load_default());
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+  sim::SimulatedRobot sim_robot(table_of(o), catalogue);
   const TinyModel m = tiny_model(sim_robot.look().image);
   {
     RefusingRobot robot(sim_robot, false);
@@ -207,7 +208,8 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   Learning l;
   std::unique_ptr<GroundTruthAttendant> attendant;
   {
-    sim::SimulatedRobot robot(table_of(o), sim::ObjectCatalogue::load_default());
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+    sim::SimulatedRobot robot(table_of(o), catalogue);
     tiny = tiny_model(robot.look().image);
     attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
     l = learn_by_pushing(robot, *attendant, 2, tiny->lda, tiny->vocabulary, o, {});
