@@ -160,7 +160,8 @@ class Learner {
           for (int q = r; q < out_.classes; ++q) {
             out_.stop_reasons[static_cast<std::size_t>(q)] = "the re-scatter failed";
           }
-          bar.tick(static_cast<std::size_t>((out_.classes - r) * o_.pushes));
+          bar.tick(static_cast<std::size_t>(out_.classes - r) *
+                   static_cast<std::size_t>(o_.pushes));
           break;
         }
       }

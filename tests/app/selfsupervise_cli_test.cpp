@@ -62,9 +62,9 @@ class SelfSuperviseCli : public ::testing::Test {
     return " --model " + file(lda) + " --vocabulary " + file("v.vocab");
   }
   static const fs::path& dir() {
-    static const fs::path d =
+    static const fs::path kDir =
         fs::temp_directory_path() / ("proprio_selfsup_cli_" + std::to_string(getpid()));
-    return d;
+    return kDir;
   }
 };
 
