@@ -379,4 +379,16 @@ Eigen::Vector2d SimulatedRobot::table_max() const {
   return t.center + 0.5 * t.size;
 }
 
+// --- added for self-supervision's held-out views ---------------------------------------------
+
+void SimulatedRobot::place(const std::vector<Placement>& places) {
+  require(places.size() == s_->types.size(), "place: one place per object is needed");
+  World& world = s_->world;
+  for (std::size_t i = 0; i < places.size(); ++i) {
+    world.set_object_pose(world.objects().at(i).id, resting_pose(*s_->types[i], places[i]));
+  }
+  s_->park();
+  s_->settle();
+}
+
 }  // namespace proprio::sim

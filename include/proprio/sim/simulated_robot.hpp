@@ -117,6 +117,12 @@ class SimulatedRobot final : public robot::Robot {
   [[nodiscard]] Eigen::Vector2d table_min() const;
   [[nodiscard]] Eigen::Vector2d table_max() const;
 
+  // --- added for self-supervision's held-out views (loop/self_supervision_scoring) -------------
+  /// Puts object i (in the order of ground_truth()) at places[i] (world x y of its origin, m,
+  /// and yaw, rad; names are not checked), parks the arm and lets them settle. Throws Error
+  /// unless there is one place per object.
+  void place(const std::vector<Placement>& places);
+
  private:
   struct State;
   std::unique_ptr<State> s_;

@@ -1,0 +1,202 @@
+#pragma once
+// The robot teaches itself (thesis 7.2 a-d, 7.3.2): given only the number of objects C on a table
+// with a plain static backdrop, it (a) picks a putative object (a feature-density blob) at random,
+// (b) pushes every other blob toward the edge of the view until the chosen one stands alone,
+// (c) pushes the chosen object again and again from several sides so that it turns, each push's
+// frames becoming its training views (Motion-Likelihood mask -> visual words -> LDA theta -> one
+// Mixture of Topics class), then (d) asks for the objects to be re-scattered (a person does it;
+// logged) and chooses the blob least likely under the classes learned so far, until C classes
+// are learned; the Mixture of Topics (a Dirichlet per class, thesis 7.1) is fitted to them.
+//
+// The learner talks to robot::Robot only (look, push) and names its classes object_1..object_C;
+// what the objects really are, and how well it did, is for a TableAttendant (the person who
+// re-scatters, and in simulation the ground-truth scorer, loop/self_supervision_scoring.hpp),
+// which the learner tells what it does but never asks anything of the world.
+//
+// Every decision goes to a log of JSON lines: the blobs seen, the choice and why, each planned
+// path and its cost, what happened. Faults (fewer blobs than C, the chosen object lost, a push
+// that cannot be planned or is refused, a push that moves nothing) are logged outcomes: re-look,
+// re-plan, or stop the round with the reason; never a crash, never a view given a class it was
+// not seen with.
+//
+// Frames: table points are world x y (m, robot base frame); pixels as planning::PlanningView.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/extraction.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/planning/push_planner.hpp"
+#include "proprio/robot/robot_interface.hpp"
+#include "proprio/segmentation/ml_segmentation.hpp"
+#include "proprio/topics/lda_model.hpp"
+#include "proprio/topics/mixture_of_topics.hpp"
+
+namespace proprio::loop {
+
+/// Where a push's training views come from.
+enum class ViewSource {
+  /// Motion-Likelihood segmentation of the push's episode (thesis Ch 4): every view_step-th frame
+  /// from the first touch on, cut out by the integrated map painted with that frame's regions.
+  kMotion,
+  /// The planner's blob of the chosen object in the look after the push (one view a push, arm
+  /// parked out of view).
+  kBlob,
+};
+inline constexpr core::ChoiceNames<ViewSource, 2> kViewSourceNames{
+    {{"motion", ViewSource::kMotion}, {"blob", ViewSource::kBlob}}};
+
+struct SelfSupervisionOptions {
+  /// The objects on the table, catalogue names, comma-separated: the world's business (the
+  /// simulated table is made of them); the learner is told only how many there are (C).
+  std::string objects = "calculator,bike,bottle";
+  std::filesystem::path lda_model;   ///< LDA model file (T topics; required)
+  std::filesystem::path vocabulary;  ///< its visual vocabulary (required, same number of words)
+  int pushes = 10;                   ///< (c): pushes of each chosen object
+  int clear_pushes = 12;             ///< (b): pushes at most to clear the others, per round
+  /// (b): the chosen object stands alone when every other blob's footprint (hull on the table)
+  /// is at least this far from its own, m (the learner's own estimate).
+  double clearance = 0.10;
+  /// (c): pushes aim at points on a circle of this radius about the table point at the image's
+  /// centre, m, stepped by the golden angle, so the object is pushed from ever other sides.
+  double circle_radius = 0.07;
+  ViewSource views = ViewSource::kMotion;
+  int view_step = 2;       ///< kMotion: every n-th frame from the first touch
+  int min_features = 15;   ///< a view needs this many features (else left out, logged)
+  int dilate = 4;          ///< masks grown by this many pixels (features on the outline count)
+  double fps = 15;         ///< frame rate of the pushes' episodes
+  std::uint64_t seed = 1;  ///< (a)'s choice, the planner's paths, the re-scatters
+  int width = 320;         ///< image size of the simulated camera, px
+  int height = 240;
+  int held_out = 100;         ///< held-out views per object (yaw stepped through 360 degrees)
+  std::filesystem::path out;  ///< output directory (required by run_self_supervision)
+  bool overwrite = false;
+  bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
+  /// How documents' features are extracted: must be how the vocabulary and model were made.
+  features::ExtractOptions features;
+  planning::PushPlanOptions plan;
+  segmentation::MlOptions segmentation;
+  topics::MotOptions mot;
+
+  /// Throws Error naming the first bad option (bounds, an empty, unknown or repeated object is
+  /// checked by the world that gets the names).
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.objects, {"objects", "Objects on the table, catalogue names, comma-separated"});
+    v(self.lda_model, {"model", "LDA model file (T topics)"});
+    v(self.vocabulary, {"vocabulary", "Its visual vocabulary"});
+    v(self.pushes, {"pushes", "Pushes of each chosen object (7.2 c)", core::between(1, 1000)});
+    v(self.clear_pushes, {"clear_pushes", "Most pushes to clear the others per round (7.2 b)",
+                          core::between(0, 1000)});
+    v(self.clearance,
+      {"clearance", "Gap that makes the chosen object alone, m", core::between(0.01, 0.5)});
+    v(self.circle_radius,
+      {"circle_radius", "Radius of the circle of push targets, m", core::between(0.02, 0.3)});
+    v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
+             kViewSourceNames);
+    v(self.view_step, {"view_step", "Motion views: every n-th frame", core::between(1, 1000)});
+    v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
+    v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
+    v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
+    v(self.seed, {"seed", "Seed of the table, choices, paths and re-scatters"});
+    v(self.width, {"width", "Image width, px", core::between(64, 4096)});
+    v(self.height, {"height", "Image height, px", core::between(48, 4096)});
+    v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
+    v(self.out, {"out", "Output directory: episodes, decision log, model, results"});
+    v(self.overwrite, {"overwrite", "Replace an existing output directory"});
+  }
+};
+
+/// The objects named in `list` (comma-separated, blanks trimmed). Throws Error for an empty list,
+/// an empty or repeated name.
+std::vector<std::string> parse_object_list(const std::string& list);
+
+/// What the learner tells the attendant about a push.
+struct PushIntent {
+  int round = 0;
+  std::string phase;  ///< "clear" (7.2 b) or "learn" (7.2 c)
+  int index = 0;      ///< push of the round (both phases counted)
+  /// The look before the push, the planning view and the blob pushed.
+  const planning::PlanningView* view = nullptr;
+  int blob = -1;
+  const planning::PushPlan* plan = nullptr;
+};
+
+/// The person at the table (7.2 d: re-scatters the objects when asked) and, in simulation, the
+/// scorer: the learner calls it, and never reads anything back but the re-scatter's log line.
+class TableAttendant {
+ public:
+  TableAttendant() = default;
+  TableAttendant(const TableAttendant&) = delete;
+  TableAttendant& operator=(const TableAttendant&) = delete;
+  TableAttendant(TableAttendant&&) = delete;
+  TableAttendant& operator=(TableAttendant&&) = delete;
+  virtual ~TableAttendant() = default;
+
+  /// Re-scatters the objects before round `round` (>= 1); returns a line for the log.
+  virtual std::string rescatter(int round) = 0;
+  /// (a)/(d): the learner chose blob `blob` of `view` to learn as class `round`.
+  virtual void chose(int /*round*/, const planning::PlanningView& /*view*/, int /*blob*/) {}
+  /// Before and after each executed push (after: `executed` false when the robot refused).
+  virtual void before_push(const PushIntent& /*intent*/) {}
+  virtual void after_push(const PushIntent& /*intent*/, bool /*executed*/) {}
+  /// (b) ended: `view` is the look then, `blob` the chosen object in it (-1: lost).
+  virtual void cleared(int /*round*/, const planning::PlanningView& /*view*/, int /*blob*/) {}
+  /// A learn push gave `views` training views of class `round`; `last_mask` (CV_8U, image
+  /// size) is the learner's mask of the object in the push's last view frame (empty: none).
+  virtual void views_taken(const PushIntent& /*intent*/, int /*views*/,
+                           const cv::Mat& /*last_mask*/) {}
+};
+
+/// One training view: its document's theta and its class (the round that took it).
+struct TrainingViews {
+  Eigen::MatrixXd theta;    ///< views x T, E[theta] of each view's document
+  std::vector<int> labels;  ///< class of each view (0..C-1)
+  std::vector<int> push;    ///< the push of its round that took it
+  std::vector<int> tokens;  ///< its document's length
+};
+
+/// What the learner did and learned.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct Learning {
+  int classes = 0;                       ///< C
+  std::vector<std::string> class_names;  ///< object_1 .. object_C
+  TrainingViews views;
+  std::vector<int> views_per_class;
+  topics::MotModel model;  ///< the self-supervised Mixture of Topics (classes with >= 2 views)
+  std::vector<int> model_class;  ///< the class of each model object
+  int pushes_clear = 0;          ///< executed pushes in (b)
+  int pushes_learn = 0;          ///< executed pushes in (c)
+  int faults = 0;                ///< logged faults (not planned, refused, moved nothing, lost)
+  std::vector<std::string> stop_reasons;  ///< per round: why it ended early ("" when it did not)
+  std::vector<core::Json> log;            ///< the decision log, one JSON object a line
+  double seconds = 0;
+};
+
+/// The self-supervision loop (7.2 a-d) on `robot` with the LDA `model` and `vocabulary`: the
+/// learner's side of run_self_supervision. `classes` is C; `episodes` is where each push's episode
+/// goes (created; required for ViewSource::kMotion); `log_path`, when not empty, gets each log
+/// line as it is made. Throws Error for bad options, a vocabulary of another size than the
+/// model's words, or C < 1; everything the world does is a logged outcome.
+Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int classes,
+                          const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+                          const SelfSupervisionOptions& options,
+                          const std::filesystem::path& episodes,
+                          const std::filesystem::path& log_path = {}, bool progress = false);
+
+/// The visual-word document of `image`'s features inside `mask` (CV_8U, grown by `dilate` px).
+std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
+                                          const features::Vocabulary& vocabulary,
+                                          const features::ExtractOptions& options, int dilate);
+
+/// The table distance between two convex polygons (m): 0 when they overlap.
+double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b);
+
+}  // namespace proprio::loop

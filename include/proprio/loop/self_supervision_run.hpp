@@ -1,0 +1,42 @@
+#pragma once
+// `proprio selfsupervise`: the self-supervision loop (loop/self_supervision.hpp) as one library
+// call: read and check the LDA model and vocabulary, run the learner on a robot, write the
+// Mixture of Topics model, the decision log and the pushes' episodes; on the simulated table
+// also score it against the ground truth and on held-out views (loop/self_supervision_scoring).
+
+#include <optional>
+#include <string>
+
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/loop/self_supervision.hpp"
+#include "proprio/loop/self_supervision_scoring.hpp"
+
+namespace proprio::loop {
+
+inline constexpr const char* kSelfSupervisionFormat = "proprio.selfsupervise";
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct SelfSupervisionResult {
+  Learning learning;
+  std::optional<SelfSupervisionScore> score;  ///< on the simulated table
+  core::Json document;                        ///< format "proprio.selfsupervise"
+  [[nodiscard]] std::string brief() const;
+};
+
+/// The learner on `robot` with the objects re-scattered by `attendant` (C = the number of
+/// options.objects): reads the model and vocabulary (Error when their numbers of words differ),
+/// writes options.out/episodes/, decisions.jsonl and model.mot (recording the LDA model's and the
+/// vocabulary's checksums). Throws Error for bad options or an existing out (unless overwrite).
+SelfSupervisionResult run_self_supervision(const SelfSupervisionOptions& options,
+                                           robot::Robot& robot, TableAttendant& attendant,
+                                           const core::Provenance& provenance);
+
+/// run_self_supervision on a simulated table of options.objects (plain backdrop, seed
+/// options.seed), scored against the ground truth and on held-out views; also writes
+/// options.out/selfsupervise.json. Throws Error for an unknown or repeated object, more objects
+/// than fit on the table (8), or as run_self_supervision.
+SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& options,
+                                               const core::Provenance& provenance);
+
+}  // namespace proprio::loop

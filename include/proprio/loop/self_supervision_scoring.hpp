@@ -1,0 +1,121 @@
+#pragma once
+// Self-supervision (loop/self_supervision.hpp) measured against the simulator's ground truth
+// (thesis 7.3.2, Tables 7.3 vs 7.4). The GroundTruthAttendant is the person at the simulated table:
+// it re-scatters the objects when the learner asks (SimulatedRobot::scatter, logged) and, told
+// what the learner does, records what really happened; the learner never reads it. Held-out
+// views: each object alone on the plain table at its centre, seen by the robot's camera, its yaw
+// stepped through 360 degrees, classified by the learned Mixture of Topics and by argmax theta
+// (same LDA model, topics merged by the learner's own labels).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "proprio/core/json_io.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/loop/self_supervision.hpp"
+#include "proprio/recognition/confusion.hpp"
+#include "proprio/sim/simulated_robot.hpp"
+#include "proprio/topics/lda_model.hpp"
+
+namespace proprio::loop {
+
+/// One push as the ground truth saw it.
+struct PushTruth {
+  int round = 0;
+  std::string phase;     ///< "clear" or "learn"
+  std::string intended;  ///< the object under the pushed blob (most of its features), or ""
+  std::vector<std::string> moved;  ///< objects whose centre moved > kMovedThreshold
+  bool only_intended = false;      ///< the intended object moved and nothing else
+  int fell_off = 0;                ///< objects that left the table in this push
+  bool executed = false;
+  int views = 0;           ///< learn pushes: training views taken
+  std::string view_truth;  ///< learn pushes: the object under most of the learner's last mask
+};
+
+/// A round as the ground truth saw it.
+struct RoundTruth {
+  std::string chosen;        ///< the object under the chosen blob at (a)/(d), or ""
+  bool singulated = false;   ///< after (b) its footprint is >= 10 cm from every other's
+  double least_gap = -1;     ///< that least footprint gap, m (-1: chosen object not seen)
+  std::vector<double> yaws;  ///< the chosen object's yaw before and after each learn push, rad
+};
+
+/// The person at the simulated table and the scorer (see the file comment).
+class GroundTruthAttendant final : public TableAttendant {
+ public:
+  GroundTruthAttendant(sim::SimulatedRobot& robot, std::uint64_t seed);
+  std::string rescatter(int round) override;
+  void chose(int round, const planning::PlanningView& view, int blob) override;
+  void before_push(const PushIntent& intent) override;
+  void after_push(const PushIntent& intent, bool executed) override;
+  void cleared(int round, const planning::PlanningView& view, int blob) override;
+  void views_taken(const PushIntent& intent, int views, const cv::Mat& last_mask) override;
+
+  [[nodiscard]] const std::vector<RoundTruth>& rounds() const { return rounds_; }
+  [[nodiscard]] const std::vector<PushTruth>& pushes() const { return pushes_; }
+
+ private:
+  RoundTruth& round(int r);
+  std::string object_under(const planning::PutativeObject& blob);
+  sim::SimulatedRobot& robot_;
+  std::uint64_t seed_;
+  std::vector<RoundTruth> rounds_;
+  std::vector<PushTruth> pushes_;
+  std::vector<sim::ObjectTruth> before_;
+};
+
+/// Least distance between two objects' footprints, m: centre distance less both footprint radii
+/// (conservative: the footprint is the circle about the bounding box), at least 0.
+double footprint_gap(const sim::ObjectTruth& a, const sim::ObjectTruth& b);
+
+/// The arc of yaw (degrees, 0..360) covered by `yaws` (rad): 360 less the largest gap between
+/// neighbouring yaws around the circle; 0 for fewer than 2.
+double yaw_coverage_deg(std::vector<double> yaws);
+
+/// Per object: what the learner made of it.
+struct ObjectScore {
+  std::string name;
+  std::vector<int> classes;    ///< learned classes named after it
+  int views = 0;               ///< training views of those classes
+  double purity = 0;           ///< of them, the fraction showing this object
+  double yaw_range_deg = 0;    ///< yaw range seen in training
+  int held_out = 0;            ///< held-out views with features
+  double mot_accuracy = 0;     ///< of them, right by the Mixture of Topics
+  double argmax_accuracy = 0;  ///< right by argmax theta (merged topics)
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct SelfSupervisionScore {
+  std::vector<std::string> class_object;  ///< each class named after the object pushed most
+  std::vector<double> class_purity;       ///< fraction of its views showing that object
+  /// The object under the blob the learner chose for each class at (a)/(d) ("" unknown), and
+  /// each round's least footprint gap after (b), m (-1: the chosen object was lost).
+  std::vector<std::string> class_chosen;
+  std::vector<double> class_gap;
+  std::vector<ObjectScore> objects;
+  double singulation = 0;               ///< rounds singulated / rounds
+  double pushes_per_cleared = 0;        ///< clear pushes / distinct objects they moved (per round)
+  double only_intended = 0;             ///< executed pushes that moved the intended object alone
+  int off_table = 0;                    ///< objects that fell off the table
+  double purity = 0;                    ///< all training views
+  recognition::ConfusionMatrix mot;     ///< held out: true objects x learned classes (named)
+  recognition::ConfusionMatrix argmax;  ///< the same by argmax theta
+  double mot_accuracy = 0;              ///< held-out views classified as their object
+  double argmax_accuracy = 0;
+  core::Json to_json() const;
+};
+
+/// Scores the learning from the attendant's records (its robot is not used: it may be gone),
+/// renders `held_out` views of each object of
+/// `objects` (alone at the table's centre, yaw stepped through 360 degrees, width x height) and
+/// classifies them (one simulated table at a time: no other SimulatedRobot may exist). `options`
+/// gives the features, dilation and min_features.
+SelfSupervisionScore score_self_supervision(const Learning& learning,
+                                            const GroundTruthAttendant& attendant,
+                                            const std::vector<std::string>& objects,
+                                            const topics::LdaModel& model,
+                                            const features::Vocabulary& vocabulary,
+                                            const SelfSupervisionOptions& options);
+
+}  // namespace proprio::loop

@@ -1,0 +1,746 @@
+// The self-supervision loop (thesis 7.2 a-d): the learner's side, on robot::Robot only.
+#include "proprio/loop/self_supervision.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/progress.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/core/text.hpp"
+#include "proprio/episode/episode.hpp"
+#include "proprio/features/features.hpp"
+#include "proprio/recognition/mot.hpp"
+#include "proprio/topics/corpus.hpp"
+
+namespace proprio::loop {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kTrackRadius =
+    0.08;                        // a blob is the chosen object when its centre is this near, m
+constexpr double kStill = 0.01;  // a blob that moved less than this did not move, m
+constexpr double kApproachStep = 0.03;      // approach added after a refusal, m
+constexpr double kMaxExtraApproach = 0.12;  // at most, m
+constexpr int kSides = 8;                   // (c): sides tried when a push is out of reach
+constexpr double kSidePush = 0.08;          // (c): how far those pushes go, m
+constexpr double kClearMargin = 0.04;       // (b): pushed this much beyond the clearance, m
+constexpr double kLandRadius = 0.15;        // a pushed object is looked for this near its target, m
+constexpr double kMaxLearnPush = 0.12;      // (c): the object is moved at most this far a push, m
+constexpr double kGoldenAngle = 2.399963229728653;  // rad
+
+core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
+
+core::Json blobs_json(const planning::PlanningView& view) {
+  core::Json a = core::Json::array();
+  for (const auto& o : view.objects) {
+    a.push_back({{"centre", xy(o.centre)},
+                 {"features", static_cast<int>(o.pixels.size())},
+                 {"box", core::Json::array({o.box.x, o.box.y, o.box.width, o.box.height})}});
+  }
+  return a;
+}
+
+core::Json plan_json(const planning::PushPlan& p) {
+  core::Json j;
+  j["outcome"] = std::string(core::choice_name(p.outcome, planning::kPlanOutcomeNames));
+  j["message"] = p.message;
+  j["blob"] = p.object;
+  if (p.outcome == planning::PlanOutcome::kPlanned) {
+    j["start"] = xy(p.push.start);
+    j["end"] = xy(p.push.end);
+    j["target"] = xy(p.target);
+    j["cost"] = p.cost;
+  }
+  return j;
+}
+
+// The blob of `view` nearest `centre` within kTrackRadius; -1 none.
+int track(const planning::PlanningView& view, const Eigen::Vector2d& centre,
+          double radius = kTrackRadius) {
+  int best = -1;
+  double best_d = radius;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    const double d = (view.objects[k].centre - centre).norm();
+    if (d < best_d) {
+      best_d = d;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+cv::Mat blob_mask(const planning::PutativeObject& o, cv::Size size) {
+  cv::Mat m = cv::Mat::zeros(size, CV_8U);
+  o.mask.copyTo(m(o.box), o.mask);
+  return m;
+}
+
+double point_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+bool inside(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Eigen::Vector2d& a = poly[i];
+    const Eigen::Vector2d& b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      in = !in;
+    }
+  }
+  return in;
+}
+
+// The learner's state of one run.
+class Learner {
+ public:
+  Learner(robot::Robot& robot, TableAttendant& attendant, int classes,
+          const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+          const SelfSupervisionOptions& options, fs::path episodes, const fs::path& log_path)
+      : robot_(robot),
+        attendant_(attendant),
+        model_(model),
+        vocabulary_(vocabulary),
+        o_(options),
+        episodes_(std::move(episodes)),
+        rng_(options.seed * 7919 + 3) {
+    out_.classes = classes;
+    for (int c = 0; c < classes; ++c) {
+      out_.class_names.push_back(core::cat({"object_", std::to_string(c + 1)}));
+    }
+    out_.views_per_class.assign(static_cast<std::size_t>(classes), 0);
+    out_.stop_reasons.assign(static_cast<std::size_t>(classes), "");
+    out_.views.theta.resize(0, model.num_topics());
+    if (!log_path.empty()) log_file_.open(log_path);
+  }
+
+  Learning run(bool progress) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto c = static_cast<std::size_t>(out_.classes);
+    core::ProgressBar bar(c * static_cast<std::size_t>(o_.pushes), "self-supervision", progress);
+    const robot::Look first = robot_.look();
+    // The planner's blob scales are for 640 x 480 images: scale them with the image, so that
+    // neighbouring objects do not merge into one blob in a smaller image.
+    const double scale = first.image.cols / 640.0;
+    plan_options_ = o_.plan;
+    plan_options_.grid_step = std::max(2, static_cast<int>(std::lround(o_.plan.grid_step * scale)));
+    plan_options_.patch = std::max(4, static_cast<int>(std::lround(o_.plan.patch * scale)));
+    plan_options_.blobs.sigma = o_.plan.blobs.sigma * scale;
+    centre_ = robot::pixel_to_table(
+        first.camera, Eigen::Vector2d(first.image.cols / 2.0, first.image.rows / 2.0));
+    log({{"event", "start"},
+         {"classes", out_.classes},
+         {"topics", model_.num_topics()},
+         {"words", vocabulary_.size()},
+         {"work_centre", xy(centre_)}});
+    for (int r = 0; r < out_.classes; ++r) {
+      if (r > 0) {
+        try {
+          log({{"event", "rescatter"}, {"round", r}, {"what", attendant_.rescatter(r)}});
+        } catch (const Error& e) {
+          // The world could not put the objects down again: stop with the reason.
+          fault(r, "rescatter-failed", e.what());
+          for (int q = r; q < out_.classes; ++q) {
+            out_.stop_reasons[static_cast<std::size_t>(q)] = "the re-scatter failed";
+          }
+          bar.tick(static_cast<std::size_t>(out_.classes - r) *
+                   static_cast<std::size_t>(o_.pushes));
+          break;
+        }
+      }
+      round(r, bar);
+    }
+    bar.finish();
+    fit();
+    out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    log({{"event", "end"},
+         {"pushes_clear", out_.pushes_clear},
+         {"pushes_learn", out_.pushes_learn},
+         {"faults", out_.faults},
+         {"views", static_cast<int>(out_.views.labels.size())},
+         {"seconds", out_.seconds}});
+    return std::move(out_);
+  }
+
+ private:
+  void log(core::Json j) {
+    if (log_file_.is_open()) {
+      log_file_ << j.dump() << '\n';
+      log_file_.flush();
+    }
+    out_.log.push_back(std::move(j));
+  }
+
+  void fault(int r, const std::string& what, const std::string& message) {
+    ++out_.faults;
+    spdlog::warn("self-supervision, round {}: {}: {}", r, what, message);
+    log({{"event", "fault"}, {"round", r}, {"fault", what}, {"message", message}});
+  }
+
+  planning::PlanningView look() {
+    const robot::Look l = robot_.look();
+    size_ = l.image.size();
+    image_ = l.image;
+    return planning::look_for_objects(l, region_, plan_options_);
+  }
+
+  Eigen::MatrixXd theta_of(const std::vector<std::vector<std::int32_t>>& docs) {
+    topics::Corpus corpus(vocabulary_.size());
+    for (const auto& d : docs) corpus.add_tokens(d);
+    return recognition::document_theta(model_, corpus).theta;
+  }
+
+  // (a) / (d): the blob to learn. Round 0: at random; later: the blob least likely under the
+  // classes learned so far (the largest log Dir(theta | omega_c) + log p(c) over c is least).
+  int choose(int r, const planning::PlanningView& view) {
+    const int n = static_cast<int>(view.objects.size());
+    if (r == 0 || model_so_far_.objects.empty()) {
+      const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
+      log({{"event", "choose"}, {"round", r}, {"blob", k}, {"why", "at random (7.2 a)"}});
+      return k;
+    }
+    std::vector<std::vector<std::int32_t>> docs;
+    std::vector<int> rows;
+    for (int k = 0; k < n; ++k) {
+      auto d = masked_document(image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_),
+                               vocabulary_, o_.features, o_.dilate);
+      if (static_cast<int>(d.size()) >= o_.min_features) {
+        docs.push_back(std::move(d));
+        rows.push_back(k);
+      }
+    }
+    if (docs.empty()) {
+      const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
+      log({{"event", "choose"},
+           {"round", r},
+           {"blob", k},
+           {"why", "at random: no blob has enough features to be scored"}});
+      return k;
+    }
+    const topics::MotClassification cls = topics::classify_mot(model_so_far_, theta_of(docs));
+    int best = rows[0];
+    double best_score = std::numeric_limits<double>::infinity();
+    core::Json scores = core::Json::array();
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const double s = cls.log_score.row(static_cast<Eigen::Index>(i)).maxCoeff();
+      scores.push_back({{"blob", rows[i]}, {"best_log_score", s}});
+      if (s < best_score) {
+        best_score = s;
+        best = rows[i];
+      }
+    }
+    log({{"event", "choose"},
+         {"round", r},
+         {"blob", best},
+         {"why", "least likely under the classes learned so far (7.2 d)"},
+         {"scores", scores}});
+    return best;
+  }
+
+  // One push: plan given, executed, logged. Returns whether the robot executed it.
+  bool execute(PushIntent& intent, const std::string& episode) {
+    attendant_.before_push(intent);
+    robot::PushRecording rec;
+    if (!episode.empty()) {
+      rec.episode_dir = episodes_ / episode;
+      rec.overwrite = true;
+    }
+    rec.fps = o_.fps;
+    bool ok = true;
+    std::string message;
+    try {
+      const robot::PushReport rep = robot_.push(intent.plan->push, rec);
+      message = rep.message;
+    } catch (const Error& e) {
+      ok = false;
+      message = e.what();
+    }
+    attendant_.after_push(intent, ok);
+    log({{"event", "push"},
+         {"round", intent.round},
+         {"phase", intent.phase},
+         {"index", intent.index},
+         {"blob", intent.blob},
+         {"plan", plan_json(*intent.plan)},
+         {"executed", ok},
+         {"message", message},
+         {"episode", episode}});
+    if (!ok) {
+      fault(intent.round, "robot-refused", message);
+      extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
+      log({{"event", "replan"},
+           {"round", intent.round},
+           {"why", "refused: approaches grow"},
+           {"extra_approach", extra_approach_}});
+    }
+    return ok;
+  }
+
+  planning::PushPlan plan(const planning::PlanningView& view, int blob, planning::PushGoal goal,
+                          const Eigen::Vector2d& target) {
+    robot::ArmState arm(robot_.arm());
+    planning::PushPlanOptions po = plan_options_;
+    // After a refusal (the hand would come down inside a tall object, whose features lie above
+    // the table and make it look nearer than it is) approaches grow.
+    po.max_approach = std::min(0.3, po.max_approach + extra_approach_);
+    po.min_approach = std::min(po.max_approach, po.min_approach + extra_approach_);
+    po.seed = o_.seed * 1000003 + static_cast<std::uint64_t>(++plans_);
+    return planning::plan_push(view, blob, goal, target, region_, arm, robot_.joints(), po);
+  }
+
+  // (b): push the blob nearest the chosen one toward the edge until every other is `clearance`
+  // away. Returns the chosen blob's centre after it (nullopt: lost).
+  std::optional<Eigen::Vector2d> clear(int r, Eigen::Vector2d chosen, int& index) {
+    int pushes = 0;
+    std::optional<Eigen::Vector2d> last_pushed;  // the pushed blob's centre before its push
+    std::map<std::pair<double, double>, int> still_count;
+    std::vector<Eigen::Vector2d> stuck;  // blobs that two pushes did not move: left alone
+    const auto still = [&](const Eigen::Vector2d& p) -> int& {
+      return still_count[{std::round(p.x() / kStill), std::round(p.y() / kStill)}];
+    };
+    while (true) {
+      const planning::PlanningView view = look();
+      const int c = track(view, chosen);
+      if (c < 0) {
+        fault(r, "lost", "the chosen object is no longer where it was (off the table or merged)");
+        attendant_.cleared(r, view, -1);
+        return std::nullopt;
+      }
+      chosen = view.objects[static_cast<std::size_t>(c)].centre;
+      if (last_pushed) {
+        const int same = track(view, *last_pushed);
+        if (same >= 0 && same != c &&
+            (view.objects[static_cast<std::size_t>(same)].centre - *last_pushed).norm() < kStill) {
+          if (++still(*last_pushed) >= 2) {
+            stuck.push_back(*last_pushed);
+            fault(r, "moved-nothing",
+                  "two pushes left a blob where it was (two objects seen as one?); left alone");
+          } else {
+            fault(r, "moved-nothing", "the last clearing push moved nothing; re-planning");
+          }
+        }
+      }
+      std::vector<std::pair<double, int>> others;
+      for (std::size_t k = 0; k < view.objects.size(); ++k) {
+        if (static_cast<int>(k) == c) continue;
+        const bool left_alone = std::any_of(stuck.begin(), stuck.end(), [&](const auto& p) {
+          return (view.objects[k].centre - p).norm() < kStill;
+        });
+        if (left_alone) continue;
+        const double gap =
+            hull_gap(view.objects[k].hull, view.objects[static_cast<std::size_t>(c)].hull);
+        if (gap < o_.clearance) others.emplace_back(gap, static_cast<int>(k));
+      }
+      std::sort(others.begin(), others.end());
+      log({{"event", "look"},
+           {"round", r},
+           {"phase", "clear"},
+           {"blobs", blobs_json(view)},
+           {"chosen", c},
+           {"too_near", static_cast<int>(others.size())}});
+      if (others.empty()) {
+        log({{"event", "singulated"}, {"round", r}, {"clear_pushes", pushes}});
+        attendant_.cleared(r, view, c);
+        return chosen;
+      }
+      if (pushes >= o_.clear_pushes) {
+        fault(r, "not-singulated",
+              core::cat({"gave up clearing after ", std::to_string(pushes), " pushes"}));
+        attendant_.cleared(r, view, c);
+        return chosen;
+      }
+      bool pushed = false;
+      for (const auto& [gap, k] : others) {
+        // Away from the chosen object, far enough to leave it alone (a kEdge push's direction
+        // ignores the chosen object and often brought the other one nearer to it); kEdge when
+        // that cannot be planned.
+        const auto& other = view.objects[static_cast<std::size_t>(k)];
+        const Eigen::Vector2d away = (other.centre - chosen).normalized();
+        const double distance = std::clamp(o_.clearance - gap + kClearMargin, o_.plan.min_distance,
+                                           o_.plan.max_distance);
+        planning::PushPlan p =
+            plan(view, k, planning::PushGoal::kTarget, other.centre + distance * away);
+        if (p.outcome != planning::PlanOutcome::kPlanned) {
+          p = plan(view, k, planning::PushGoal::kEdge, {});
+        }
+        if (p.outcome != planning::PlanOutcome::kPlanned) {
+          log({{"event", "plan"},
+               {"round", r},
+               {"phase", "clear"},
+               {"blob", k},
+               {"gap", gap},
+               {"plan", plan_json(p)}});
+          continue;
+        }
+        PushIntent in{r, "clear", index++, &view, k, &p};
+        ++pushes;
+        if (execute(in, "")) {
+          ++out_.pushes_clear;
+          last_pushed = view.objects[static_cast<std::size_t>(k)].centre;
+          pushed = true;
+          break;
+        }
+      }
+      if (!pushed) {
+        fault(r, "cannot-clear", "no push of a nearby object could be planned or executed");
+        attendant_.cleared(r, view, c);
+        return chosen;
+      }
+    }
+  }
+
+  // The training views of one learn push's episode (kMotion) or of the look after it (kBlob).
+  std::vector<std::vector<std::int32_t>> views_of(const fs::path& dir,
+                                                  const planning::PlanningView& after, int blob,
+                                                  cv::Mat& last_mask, core::Json& what) {
+    std::vector<std::vector<std::int32_t>> docs;
+    if (o_.views == ViewSource::kBlob) {
+      if (blob < 0) return docs;
+      last_mask = blob_mask(after.objects[static_cast<std::size_t>(blob)], size_);
+      auto d = masked_document(image_, last_mask, vocabulary_, o_.features, o_.dilate);
+      if (static_cast<int>(d.size()) >= o_.min_features) docs.push_back(std::move(d));
+      what["source"] = "blob";
+      return docs;
+    }
+    const episode::Episode e = episode::read_episode(dir);
+    segmentation::MlOptions mo = o_.segmentation;
+    mo.keep_frame_maps = true;
+    const segmentation::MlResult ml = segmentation::segment_ml(e, mo);
+    what["source"] = "motion";
+    what["segmentation"] = ml.summary.message;
+    if (ml.scored_frame < 0 || ml.frame_maps.empty()) return docs;
+    // The mask's threshold of the scored frame, applied to every frame's painted map.
+    double thr = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < ml.mask.rows; ++v) {
+      for (int u = 0; u < ml.mask.cols; ++u) {
+        if (ml.mask(v, u) != 0) thr = std::min(thr, static_cast<double>(ml.map(v, u)));
+      }
+    }
+    if (!std::isfinite(thr) || thr <= 0) return docs;
+    const int first = ml.first_touch_frame.value_or(0);
+    int used = 0;
+    int small = 0;
+    for (int i = first; i < static_cast<int>(ml.frame_maps.size()); i += o_.view_step) {
+      cv::Mat m = ml.frame_maps[static_cast<std::size_t>(i)] >= thr;
+      if (cv::countNonZero(m) == 0) continue;
+      auto d = masked_document(e.frame(i), m, vocabulary_, o_.features, o_.dilate);
+      if (static_cast<int>(d.size()) < o_.min_features) {
+        ++small;
+        continue;
+      }
+      docs.push_back(std::move(d));
+      last_mask = m;
+      ++used;
+    }
+    what["frames"] = e.frame_count();
+    what["first_touch"] = first;
+    what["views"] = used;
+    what["too_few_features"] = small;
+    return docs;
+  }
+
+  // (c): push the chosen object again and again from several sides, taking its views.
+  void learn(int r, Eigen::Vector2d chosen, int& index, core::ProgressBar& bar) {
+    double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
+    int done = 0;
+    int attempts = 0;
+    while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
+      ++attempts;
+      const planning::PlanningView view = look();
+      int c = track(view, chosen);
+      if (c < 0 && view.objects.size() == 1) {
+        // Singulated: the one blob in view is the object, wherever the push left it.
+        c = 0;
+        log({{"event", "refound"}, {"round", r}, {"why", "the only blob in view"}});
+      }
+      if (c < 0) {
+        fault(r, "lost", "the chosen object is no longer in view (off the table or out of reach)");
+        out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost";
+        break;
+      }
+      chosen = view.objects[static_cast<std::size_t>(c)].centre;
+      Eigen::Vector2d target =
+          centre_ + o_.circle_radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      angle += kGoldenAngle;
+      if ((target - chosen).norm() < 0.03) {
+        target = centre_ - (target - centre_);
+      }
+      if ((target - chosen).norm() > kMaxLearnPush) {  // short pushes: it turns, stays in view
+        target = chosen + kMaxLearnPush * (target - chosen).normalized();
+      }
+      planning::PushPlan p = plan(view, c, planning::PushGoal::kTarget, target);
+      // Out of reach from that side (an object far from the arm cannot be pushed toward it):
+      // the other sides, an eighth of a turn apart, pushed kSidePush far.
+      const Eigen::Vector2d first = target - chosen;
+      const double a0 = std::atan2(first.y(), first.x());
+      for (int side = 1; side < kSides && p.outcome != planning::PlanOutcome::kPlanned; ++side) {
+        log({{"event", "plan"},
+             {"round", r},
+             {"phase", "learn"},
+             {"blob", c},
+             {"plan", plan_json(p)},
+             {"then", "another side"}});
+        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
+        p = plan(view, c, planning::PushGoal::kTarget,
+                 chosen + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      }
+      if (p.outcome != planning::PlanOutcome::kPlanned) {
+        log({{"event", "plan"},
+             {"round", r},
+             {"phase", "learn"},
+             {"blob", c},
+             {"plan", plan_json(p)}});
+        fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
+        if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
+        continue;
+      }
+      const std::string name = core::printf_string("round%d-push%02d", r + 1, done + 1);
+      PushIntent in{r, "learn", index++, &view, c, &p};
+      if (!execute(in, o_.views == ViewSource::kMotion ? name : std::string())) continue;
+      ++out_.pushes_learn;
+      // Where is it now? Near the plan's target, or (a push that moved nothing) where it was.
+      const planning::PlanningView after = look();
+      int now = track(after, p.target, kLandRadius);
+      if (now < 0) now = track(after, chosen);
+      if (now >= 0 &&
+          (after.objects[static_cast<std::size_t>(now)].centre - chosen).norm() < kStill) {
+        fault(r, "moved-nothing", "the push left the chosen object where it was");
+      }
+      cv::Mat last_mask;
+      core::Json what;
+      const auto docs = views_of(episodes_ / name, after, now, last_mask, what);
+      attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
+      if (!docs.empty()) {
+        const Eigen::MatrixXd th = theta_of(docs);
+        auto& v = out_.views;
+        const Eigen::Index n0 = v.theta.rows();
+        v.theta.conservativeResize(n0 + th.rows(), th.cols());
+        v.theta.bottomRows(th.rows()) = th;
+        for (const auto& d : docs) {
+          v.labels.push_back(r);
+          v.push.push_back(done);
+          v.tokens.push_back(static_cast<int>(d.size()));
+        }
+        out_.views_per_class[static_cast<std::size_t>(r)] += static_cast<int>(docs.size());
+      }
+      what["event"] = "views";
+      what["round"] = r;
+      what["push"] = done;
+      what["taken"] = static_cast<int>(docs.size());
+      log(what);
+      if (now >= 0) chosen = after.objects[static_cast<std::size_t>(now)].centre;
+      ++done;
+      bar.tick();
+    }
+    if (done < o_.pushes) {
+      bar.tick(static_cast<std::size_t>(o_.pushes - done));
+      if (out_.stop_reasons[static_cast<std::size_t>(r)].empty()) {
+        out_.stop_reasons[static_cast<std::size_t>(r)] =
+            core::cat({"only ", std::to_string(done), " pushes succeeded"});
+      }
+    }
+  }
+
+  void round(int r, core::ProgressBar& bar) {
+    extra_approach_ = 0;
+    const planning::PlanningView view = look();
+    log({{"event", "look"}, {"round", r}, {"phase", "choose"}, {"blobs", blobs_json(view)}});
+    if (!episodes_.empty()) {
+      cv::Mat img = image_.clone();
+      for (const auto& o : view.objects) cv::rectangle(img, o.box, cv::Scalar(255, 255, 0), 1);
+      cv::imwrite((episodes_ / core::printf_string("round%d-look.png", r + 1)).string(), img);
+    }
+    if (view.objects.empty()) {
+      fault(r, "no-blobs", "no putative object in view; round skipped");
+      out_.stop_reasons[static_cast<std::size_t>(r)] = "no blobs";
+      bar.tick(static_cast<std::size_t>(o_.pushes));
+      return;
+    }
+    if (static_cast<int>(view.objects.size()) < out_.classes) {
+      fault(r, "fewer-blobs",
+            core::cat({std::to_string(view.objects.size()), " blobs for ",
+                       std::to_string(out_.classes),
+                       " objects: some are merged or out of view; going on with what is seen"}));
+    }
+    const int k = choose(r, view);
+    attendant_.chose(r, view, k);
+    int index = 0;
+    const std::optional<Eigen::Vector2d> chosen =
+        clear(r, view.objects[static_cast<std::size_t>(k)].centre, index);
+    if (!chosen) {
+      out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost while clearing";
+      bar.tick(static_cast<std::size_t>(o_.pushes));
+      return;
+    }
+    learn(r, *chosen, index, bar);
+    refit();
+  }
+
+  // The classes learned so far (for (d)'s choice).
+  void refit() {
+    std::vector<int> labels = out_.views.labels;
+    std::vector<std::string> names;
+    std::vector<int> remap(static_cast<std::size_t>(out_.classes), -1);
+    for (int c = 0; c < out_.classes; ++c) {
+      if (out_.views_per_class[static_cast<std::size_t>(c)] >= 2) {
+        remap[static_cast<std::size_t>(c)] = static_cast<int>(names.size());
+        names.push_back(out_.class_names[static_cast<std::size_t>(c)]);
+      }
+    }
+    if (names.empty()) return;
+    for (int& l : labels) l = remap[static_cast<std::size_t>(l)];
+    model_so_far_ = topics::fit_mot(out_.views.theta, labels, names, o_.mot).model;
+    model_class_.clear();
+    for (int c = 0; c < out_.classes; ++c) {
+      if (remap[static_cast<std::size_t>(c)] >= 0) model_class_.push_back(c);
+    }
+  }
+
+  void fit() {
+    refit();
+    out_.model = model_so_far_;
+    out_.model_class = model_class_;
+    for (int c = 0; c < out_.classes; ++c) {
+      if (out_.views_per_class[static_cast<std::size_t>(c)] < 2) {
+        fault(c, "class-dropped",
+              core::cat({out_.class_names[static_cast<std::size_t>(c)], " has ",
+                         std::to_string(out_.views_per_class[static_cast<std::size_t>(c)]),
+                         " views (a Dirichlet needs 2); left out of the model"}));
+      }
+    }
+  }
+
+  robot::Robot& robot_;
+  TableAttendant& attendant_;
+  const topics::LdaModel& model_;
+  const features::Vocabulary& vocabulary_;
+  const SelfSupervisionOptions& o_;
+  fs::path episodes_;
+  core::Rng rng_;
+  std::ofstream log_file_;
+  planning::TableRegion region_;            ///< the planner's default: the table top
+  planning::PushPlanOptions plan_options_;  ///< o_.plan scaled to the image
+  Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
+  cv::Size size_;
+  cv::Mat image_;
+  Learning out_;
+  topics::MotModel model_so_far_;
+  std::vector<int> model_class_;
+  int plans_ = 0;
+  double extra_approach_ = 0;  ///< m, grown after each refusal of the round
+};
+
+}  // namespace
+
+void SelfSupervisionOptions::validate() const {
+  core::check_field_bounds(*this, "selfsupervise");
+  (void)parse_object_list(objects);
+  features.validate();
+  plan.validate();
+  segmentation.validate();
+  mot.validate();
+}
+
+std::vector<std::string> parse_object_list(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t b = 0;
+  while (b <= list.size()) {
+    std::size_t e = list.find(',', b);
+    if (e == std::string::npos) e = list.size();
+    std::string name = list.substr(b, e - b);
+    const auto l = name.find_first_not_of(" \t");
+    const auto r = name.find_last_not_of(" \t");
+    name = l == std::string::npos ? std::string() : name.substr(l, r - l + 1);
+    if (name.empty()) throw Error("objects: an empty object name in '" + list + "'");
+    if (std::find(out.begin(), out.end(), name) != out.end()) {
+      throw Error("objects: '" + name + "' is named twice");
+    }
+    out.push_back(name);
+    b = e + 1;
+  }
+  return out;
+}
+
+std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
+                                          const features::Vocabulary& vocabulary,
+                                          const features::ExtractOptions& options, int dilate) {
+  cv::Mat m = mask;
+  if (dilate > 0) {
+    const cv::Mat kernel =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilate + 1, 2 * dilate + 1));
+    cv::dilate(mask, m, kernel);
+  }
+  const features::Features f = features::extract_features(image, options, m);
+  if (f.size() == 0) return {};
+  return features::bag_of_words(vocabulary, f.descriptors);
+}
+
+double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
+  if (a.empty() || b.empty()) return std::numeric_limits<double>::infinity();
+  if ((a.size() >= 3 && inside(a, b[0])) || (b.size() >= 3 && inside(b, a[0]))) return 0;
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Eigen::Vector2d& a0 = a[i];
+    const Eigen::Vector2d& a1 = a[(i + 1) % a.size()];
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      const Eigen::Vector2d& b0 = b[j];
+      const Eigen::Vector2d& b1 = b[(j + 1) % b.size()];
+      d = std::min({d, point_segment(a0, b0, b1), point_segment(b0, a0, a1)});
+    }
+  }
+  // Crossing edges (overlap without a vertex inside) give a small but non-zero d here; that
+  // case is the vertex test above for convex hulls, except for crosses: check them.
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Eigen::Vector2d& p = a[i];
+    const Eigen::Vector2d r = a[(i + 1) % a.size()] - p;
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      const Eigen::Vector2d& q = b[j];
+      const Eigen::Vector2d s = b[(j + 1) % b.size()] - q;
+      const double den = r.x() * s.y() - r.y() * s.x();
+      if (std::abs(den) < 1e-15) continue;
+      const Eigen::Vector2d qp = q - p;
+      const double t = (qp.x() * s.y() - qp.y() * s.x()) / den;
+      const double u = (qp.x() * r.y() - qp.y() * r.x()) / den;
+      if (t >= 0 && t <= 1 && u >= 0 && u <= 1) return 0;
+    }
+  }
+  return d;
+}
+
+Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int classes,
+                          const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+                          const SelfSupervisionOptions& options, const fs::path& episodes,
+                          const fs::path& log_path, bool progress) {
+  options.validate();
+  if (classes < 1) throw Error("self-supervision: at least one object is needed");
+  if (vocabulary.size() != model.num_words()) {
+    throw Error(core::cat({"the vocabulary has ", std::to_string(vocabulary.size()),
+                           " words, the LDA model ", std::to_string(model.num_words()),
+                           ": not the vocabulary the model was made with"}));
+  }
+  if (options.views == ViewSource::kMotion && episodes.empty()) {
+    throw Error("self-supervision: motion views need an episode directory");
+  }
+  if (!episodes.empty()) fs::create_directories(episodes);
+  Learner learner(robot, attendant, classes, model, vocabulary, options, episodes, log_path);
+  return learner.run(progress);
+}
+
+}  // namespace proprio::loop

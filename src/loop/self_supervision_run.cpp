@@ -1,0 +1,157 @@
+// `proprio selfsupervise`: the self-supervision loop as one library call.
+#include "proprio/loop/self_supervision_run.hpp"
+
+#include <filesystem>
+#include <memory>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/text.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/recognition/mot.hpp"
+#include "proprio/sim/object_catalogue.hpp"
+#include "proprio/sim/simulated_robot.hpp"
+#include "proprio/topics/lda_model_io.hpp"
+#include "proprio/topics/mot_model_io.hpp"
+
+namespace proprio::loop {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kFormatVersion = 1;
+// The most objects a simulated table holds (sim::TableOptions).
+constexpr std::size_t kMaxObjects = 8;
+
+struct Inputs {
+  topics::LdaModel model;
+  features::Vocabulary vocabulary;
+};
+
+Inputs read_inputs(const SelfSupervisionOptions& o) {
+  if (o.lda_model.empty()) throw Error("selfsupervise: --model (an LDA model file) is required");
+  if (o.vocabulary.empty()) throw Error("selfsupervise: --vocabulary is required");
+  if (o.out.empty()) throw Error("selfsupervise: --out is required");
+  Inputs in{topics::load_lda_model(o.lda_model), features::read_vocabulary(o.vocabulary)};
+  if (in.vocabulary.size() != in.model.num_words()) {
+    throw Error(core::cat({o.vocabulary.string(), ": ", std::to_string(in.vocabulary.size()),
+                           " words, but the LDA model ", o.lda_model.string(), " has ",
+                           std::to_string(in.model.num_words()),
+                           ": not the vocabulary the model was made with"}));
+  }
+  return in;
+}
+
+void prepare_out(const SelfSupervisionOptions& o) {
+  if (fs::exists(o.out)) {
+    if (!o.overwrite) {
+      throw Error(o.out.string() + ": already exists (use --overwrite to replace it)");
+    }
+    fs::remove_all(o.out);
+  }
+  fs::create_directories(o.out);
+}
+
+SelfSupervisionResult learn(const SelfSupervisionOptions& options, robot::Robot& robot,
+                            TableAttendant& attendant, const Inputs& in, int classes,
+                            const core::Provenance& provenance) {
+  SelfSupervisionResult r;
+  r.learning =
+      learn_by_pushing(robot, attendant, classes, in.model, in.vocabulary, options,
+                       options.out / "episodes", options.out / "decisions.jsonl", options.progress);
+  if (r.learning.model.num_classes() > 0) {
+    const std::uint32_t vc = recognition::vocabulary_checksum(in.vocabulary);
+    topics::save_mot_model(r.learning.model, topics::mot_basis(in.model, &vc),
+                           options.out / "model.mot");
+  }
+  core::Json& d = r.document;
+  d = core::result_document(kSelfSupervisionFormat, kFormatVersion, provenance);
+  d["options"] = core::fields_to_json(options);
+  const Learning& l = r.learning;
+  d["classes"] = l.class_names;
+  d["views_per_class"] = l.views_per_class;
+  d["model_classes"] = l.model.names();
+  d["pushes_clear"] = l.pushes_clear;
+  d["pushes_learn"] = l.pushes_learn;
+  d["faults"] = l.faults;
+  d["stop_reasons"] = l.stop_reasons;
+  d["seconds"] = l.seconds;
+  d["model"] = l.model.num_classes() > 0 ? (options.out / "model.mot").string() : std::string();
+  d["decisions"] = (options.out / "decisions.jsonl").string();
+  return r;
+}
+
+}  // namespace
+
+std::string SelfSupervisionResult::brief() const {
+  const Learning& l = learning;
+  std::string s = core::printf_string(
+      "learned %d of %d classes from %d views; %d pushes to clear, %d to learn, %d faults, %.0f s",
+      l.model.num_classes(), l.classes, static_cast<int>(l.views.labels.size()), l.pushes_clear,
+      l.pushes_learn, l.faults, l.seconds);
+  if (!score) return s;
+  const SelfSupervisionScore& g = *score;
+  s += core::printf_string(
+      "\nsingulation %.0f%%, %.2f pushes per object cleared, %.0f%% pushes moved only the "
+      "intended object, %d off the table, purity %.1f%%",
+      100 * g.singulation, g.pushes_per_cleared, 100 * g.only_intended, g.off_table,
+      100 * g.purity);
+  for (std::size_t c = 0; c < g.class_object.size(); ++c) {
+    s += core::printf_string("\n  %s -> %s: %d views, purity %.1f%%", l.class_names[c].c_str(),
+                             g.class_object[c].empty() ? "?" : g.class_object[c].c_str(),
+                             l.views_per_class[c], 100 * g.class_purity[c]);
+  }
+  for (const ObjectScore& o : g.objects) {
+    s += core::printf_string(
+        "\n  %-12s held out %3d: Mixture of Topics %5.1f%%, argmax theta %5.1f%%; yaw seen %3.0f "
+        "deg",
+        o.name.c_str(), o.held_out, 100 * o.mot_accuracy, 100 * o.argmax_accuracy, o.yaw_range_deg);
+  }
+  s += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
+                           100 * g.mot_accuracy, 100 * g.argmax_accuracy);
+  return s;
+}
+
+SelfSupervisionResult run_self_supervision(const SelfSupervisionOptions& options,
+                                           robot::Robot& robot, TableAttendant& attendant,
+                                           const core::Provenance& provenance) {
+  options.validate();
+  const std::vector<std::string> objects = parse_object_list(options.objects);
+  const Inputs in = read_inputs(options);
+  prepare_out(options);
+  return learn(options, robot, attendant, in, static_cast<int>(objects.size()), provenance);
+}
+
+SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& options,
+                                               const core::Provenance& provenance) {
+  options.validate();
+  const std::vector<std::string> objects = parse_object_list(options.objects);
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  for (const auto& name : objects) (void)catalogue.get(name);  // Error: unknown object
+  if (objects.size() > kMaxObjects) {
+    throw Error(core::cat({"objects: ", std::to_string(objects.size()),
+                           " objects do not fit on the table (at most ",
+                           std::to_string(kMaxObjects), ")"}));
+  }
+  const Inputs in = read_inputs(options);
+  prepare_out(options);
+  sim::TableOptions table;
+  table.objects = objects;
+  table.seed = options.seed;
+  table.width = options.width;
+  table.height = options.height;
+  // One GL context at a time: the table's robot goes before the held-out views are rendered
+  // (the attendant keeps its records, not the robot).
+  auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
+  GroundTruthAttendant attendant(*robot, options.seed);
+  SelfSupervisionResult r =
+      learn(options, *robot, attendant, in, static_cast<int>(objects.size()), provenance);
+  robot.reset();
+  r.score =
+      score_self_supervision(r.learning, attendant, objects, in.model, in.vocabulary, options);
+  r.document["ground_truth"] = r.score->to_json();
+  core::write_json_atomic(options.out / "selfsupervise.json", r.document);
+  return r;
+}
+
+}  // namespace proprio::loop

@@ -1,0 +1,399 @@
+// Self-supervision against the simulator's ground truth, and its held-out views.
+#include "proprio/loop/self_supervision_scoring.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/text.hpp"
+#include "proprio/loop/push_run.hpp"
+#include "proprio/recognition/mot.hpp"
+#include "proprio/recognition/topic_mapping.hpp"
+#include "proprio/topics/corpus.hpp"
+#include "proprio/topics/inference.hpp"
+
+namespace proprio::loop {
+
+namespace {
+
+// The table point the held-out views put an object at: the middle of the scatter region.
+const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};
+constexpr int kScatterAttempts = 10;
+constexpr std::uint64_t kScatterSeedStep = 100;
+
+double fraction(int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; }
+
+}  // namespace
+
+GroundTruthAttendant::GroundTruthAttendant(sim::SimulatedRobot& robot, std::uint64_t seed)
+    : robot_(robot), seed_(seed) {}
+
+RoundTruth& GroundTruthAttendant::round(int r) {
+  if (static_cast<int>(rounds_.size()) <= r) rounds_.resize(static_cast<std::size_t>(r) + 1);
+  return rounds_[static_cast<std::size_t>(r)];
+}
+
+std::string GroundTruthAttendant::rescatter(int round) {
+  // As SimulatedRobot::scatter, but a draw that found no room for an object (it leaves the
+  // object at the arm's base, which blows the simulation up) is drawn again with the next seed.
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  std::vector<const sim::ObjectType*> types;
+  for (const auto& o : robot_.ground_truth()) types.push_back(&catalogue.get(o.name));
+  const sim::ScatterRegion region;
+  std::uint64_t s = (seed_ * 1000) + static_cast<std::uint64_t>(round);
+  std::vector<sim::Placement> places;
+  for (int attempt = 0; attempt < kScatterAttempts; ++attempt, s += kScatterSeedStep) {
+    places = sim::scatter_placements(types, region, s);
+    const bool ok = std::all_of(places.begin(), places.end(), [&](const sim::Placement& p) {
+      return std::isfinite(p.position.x()) && std::isfinite(p.position.y()) &&
+             p.position.norm() >= region.base_clearance;
+    });
+    if (ok) break;
+    spdlog::warn("re-scatter (seed {}): no room for every object; drawing again", s);
+  }
+  robot_.place(places);
+  std::string line = core::cat({"re-scattered (seed ", std::to_string(s), "):"});
+  for (const auto& p : places) {
+    line += core::printf_string(" %s (%.3f, %.3f) m yaw %.2f;", p.name.c_str(), p.position.x(),
+                                p.position.y(), p.yaw);
+  }
+  return line;
+}
+
+std::string GroundTruthAttendant::object_under(const planning::PutativeObject& blob) {
+  const cv::Mat mask = robot_.ground_truth_mask();
+  std::map<int, int> votes;
+  for (const auto& p : blob.pixels) {
+    const int u = static_cast<int>(std::lround(p.x()));
+    const int v = static_cast<int>(std::lround(p.y()));
+    if (u < 0 || v < 0 || u >= mask.cols || v >= mask.rows) continue;
+    const int id = mask.at<std::uint16_t>(v, u);
+    if (id != 0) ++votes[id];
+  }
+  int best = 0;
+  int best_n = 0;
+  for (const auto& [id, n] : votes) {
+    if (n > best_n) {
+      best = id;
+      best_n = n;
+    }
+  }
+  for (const auto& o : robot_.ground_truth()) {
+    if (o.id == best) return o.name;
+  }
+  return {};
+}
+
+void GroundTruthAttendant::chose(int r, const planning::PlanningView& view, int blob) {
+  round(r).chosen = object_under(view.objects.at(static_cast<std::size_t>(blob)));
+}
+
+void GroundTruthAttendant::before_push(const PushIntent& intent) {
+  before_ = robot_.ground_truth();
+  PushTruth t;
+  t.round = intent.round;
+  t.phase = intent.phase;
+  t.intended = object_under(intent.view->objects.at(static_cast<std::size_t>(intent.blob)));
+  pushes_.push_back(t);
+  if (intent.phase == "learn") {
+    for (const auto& o : before_) {
+      if (o.name == round(intent.round).chosen) round(intent.round).yaws.push_back(o.yaw);
+    }
+  }
+}
+
+void GroundTruthAttendant::after_push(const PushIntent& intent, bool executed) {
+  PushTruth& t = pushes_.back();
+  t.executed = executed;
+  const std::vector<sim::ObjectTruth> after = robot_.ground_truth();
+  bool intended_moved = false;
+  for (std::size_t i = 0; i < after.size() && i < before_.size(); ++i) {
+    if ((after[i].centre - before_[i].centre).head<2>().norm() > kMovedThreshold) {
+      t.moved.push_back(after[i].name);
+      if (after[i].name == t.intended) intended_moved = true;
+    }
+    if (before_[i].on_table && !after[i].on_table) ++t.fell_off;
+    if (intent.phase == "learn" && after[i].name == round(intent.round).chosen) {
+      round(intent.round).yaws.push_back(after[i].yaw);
+    }
+  }
+  t.only_intended = intended_moved && t.moved.size() == 1;
+}
+
+void GroundTruthAttendant::cleared(int r, const planning::PlanningView& view, int blob) {
+  RoundTruth& rt = round(r);
+  if (blob < 0) return;
+  const std::string now = object_under(view.objects.at(static_cast<std::size_t>(blob)));
+  const std::vector<sim::ObjectTruth> truth = robot_.ground_truth();
+  const auto it = std::find_if(truth.begin(), truth.end(),
+                               [&](const sim::ObjectTruth& o) { return o.name == now; });
+  if (it == truth.end()) return;
+  double gap = 1e9;
+  for (const auto& o : truth) {
+    if (o.name != now && o.on_table) gap = std::min(gap, footprint_gap(*it, o));
+  }
+  rt.least_gap = gap >= 1e9 ? 1.0 : gap;
+  rt.singulated = now == rt.chosen && rt.least_gap >= 0.10;
+}
+
+void GroundTruthAttendant::views_taken(const PushIntent& /*intent*/, int views,
+                                       const cv::Mat& last_mask) {
+  PushTruth& t = pushes_.back();
+  t.views = views;
+  if (last_mask.empty()) return;
+  const cv::Mat ids = robot_.ground_truth_mask();
+  std::map<int, int> votes;
+  for (int v = 0; v < ids.rows; ++v) {
+    for (int u = 0; u < ids.cols; ++u) {
+      if (last_mask.at<std::uint8_t>(v, u) == 0) continue;
+      const int id = ids.at<std::uint16_t>(v, u);
+      if (id != 0 && id != sim::kArmId) ++votes[id];
+    }
+  }
+  int best = 0;
+  int best_n = 0;
+  for (const auto& [id, n] : votes) {
+    if (n > best_n) {
+      best = id;
+      best_n = n;
+    }
+  }
+  for (const auto& o : robot_.ground_truth()) {
+    if (o.id == best) t.view_truth = o.name;
+  }
+}
+
+double footprint_gap(const sim::ObjectTruth& a, const sim::ObjectTruth& b) {
+  const double d = (a.centre - b.centre).head<2>().norm() - a.footprint_radius - b.footprint_radius;
+  return std::max(0.0, d);
+}
+
+double yaw_coverage_deg(std::vector<double> yaws) {
+  if (yaws.size() < 2) return 0;
+  constexpr double kTwoPi = 2 * std::numbers::pi;
+  for (double& y : yaws) y = std::fmod(std::fmod(y, kTwoPi) + kTwoPi, kTwoPi);
+  std::sort(yaws.begin(), yaws.end());
+  double largest = kTwoPi - yaws.back() + yaws.front();
+  for (std::size_t i = 1; i < yaws.size(); ++i) largest = std::max(largest, yaws[i] - yaws[i - 1]);
+  return (kTwoPi - largest) * 180.0 / std::numbers::pi;
+}
+
+core::Json SelfSupervisionScore::to_json() const {
+  core::Json j;
+  j["class_object"] = class_object;
+  j["class_purity"] = class_purity;
+  j["class_chosen"] = class_chosen;
+  j["class_gap"] = class_gap;
+  j["singulation"] = singulation;
+  j["pushes_per_cleared"] = pushes_per_cleared;
+  j["only_intended"] = only_intended;
+  j["off_table"] = off_table;
+  j["purity"] = purity;
+  j["mot_accuracy"] = mot_accuracy;
+  j["argmax_accuracy"] = argmax_accuracy;
+  j["mot_confusion"] = mot.to_json();
+  j["argmax_confusion"] = argmax.to_json();
+  core::Json objs = core::Json::array();
+  for (const ObjectScore& o : objects) {
+    objs.push_back({{"name", o.name},
+                    {"classes", o.classes},
+                    {"views", o.views},
+                    {"purity", o.purity},
+                    {"yaw_range_deg", o.yaw_range_deg},
+                    {"held_out", o.held_out},
+                    {"mot_accuracy", o.mot_accuracy},
+                    {"argmax_accuracy", o.argmax_accuracy}});
+  }
+  j["objects"] = objs;
+  return j;
+}
+
+SelfSupervisionScore score_self_supervision(const Learning& learning,
+                                            const GroundTruthAttendant& attendant,
+                                            const std::vector<std::string>& objects,
+                                            const topics::LdaModel& model,
+                                            const features::Vocabulary& vocabulary,
+                                            const SelfSupervisionOptions& options) {
+  SelfSupervisionScore s;
+  const int c_count = learning.classes;
+  const auto& pushes = attendant.pushes();
+  const auto& rounds = attendant.rounds();
+  // Each class is named after the object the ground truth says it pushed most (learn pushes).
+  s.class_object.assign(static_cast<std::size_t>(c_count), "");
+  s.class_purity.assign(static_cast<std::size_t>(c_count), 0.0);
+  int pure_views = 0;
+  int all_views = 0;
+  for (int c = 0; c < c_count; ++c) {
+    std::map<std::string, int> pushed;
+    for (const auto& p : pushes) {
+      if (p.round == c && p.phase == "learn" && p.executed && !p.intended.empty()) {
+        ++pushed[p.intended];
+      }
+    }
+    int best = 0;
+    for (const auto& [name, n] : pushed) {
+      if (n > best) {
+        best = n;
+        s.class_object[static_cast<std::size_t>(c)] = name;
+      }
+    }
+    int pure = 0;
+    int views = 0;
+    for (const auto& p : pushes) {
+      if (p.round != c || p.phase != "learn") continue;
+      views += p.views;
+      if (!p.view_truth.empty() && p.view_truth == s.class_object[static_cast<std::size_t>(c)]) {
+        pure += p.views;
+      }
+    }
+    s.class_purity[static_cast<std::size_t>(c)] = fraction(pure, views);
+    pure_views += pure;
+    all_views += views;
+  }
+  s.purity = fraction(pure_views, all_views);
+  for (int c = 0; c < c_count; ++c) {
+    const bool seen = c < static_cast<int>(rounds.size());
+    s.class_chosen.push_back(seen ? rounds[static_cast<std::size_t>(c)].chosen : std::string());
+    s.class_gap.push_back(seen ? rounds[static_cast<std::size_t>(c)].least_gap : -1.0);
+  }
+  // Singulation, clearing pushes, intended-only, off the table.
+  int singulated = 0;
+  int executed = 0;
+  int only = 0;
+  int clear_pushes = 0;
+  int cleared_objects = 0;
+  for (int r = 0; r < static_cast<int>(rounds.size()); ++r) {
+    if (rounds[static_cast<std::size_t>(r)].singulated) ++singulated;
+    std::set<std::string> moved;
+    for (const auto& p : pushes) {
+      if (p.round != r || p.phase != "clear" || !p.executed) continue;
+      ++clear_pushes;
+      for (const auto& m : p.moved) {
+        if (m != rounds[static_cast<std::size_t>(r)].chosen) moved.insert(m);
+      }
+    }
+    cleared_objects += static_cast<int>(moved.size());
+  }
+  for (const auto& p : pushes) {
+    if (!p.executed) continue;
+    ++executed;
+    if (p.only_intended) ++only;
+    s.off_table += p.fell_off;
+  }
+  s.singulation = fraction(singulated, c_count);
+  s.pushes_per_cleared =
+      cleared_objects > 0 ? static_cast<double>(clear_pushes) / cleared_objects : 0.0;
+  s.only_intended = fraction(only, executed);
+
+  // Held-out views: each object alone at the table's centre, yaw stepped through 360 degrees.
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  const topics::MotModel& mot = learning.model;
+  std::vector<std::string> columns;
+  for (int m = 0; m < mot.num_classes(); ++m) {
+    const int c = learning.model_class[static_cast<std::size_t>(m)];
+    columns.push_back(core::cat({learning.class_names[static_cast<std::size_t>(c)], " (",
+                                 s.class_object[static_cast<std::size_t>(c)], ")"}));
+  }
+  // Argmax theta: topics merged onto the learner's classes by its own training views.
+  std::vector<int> train_labels(learning.views.labels.size(), -1);
+  for (std::size_t i = 0; i < train_labels.size(); ++i) {
+    for (int m = 0; m < mot.num_classes(); ++m) {
+      if (learning.model_class[static_cast<std::size_t>(m)] == learning.views.labels[i]) {
+        train_labels[i] = m;
+      }
+    }
+  }
+  std::optional<recognition::TopicMapping> mapping;
+  if (mot.num_classes() > 0) {
+    mapping = recognition::map_topics(learning.views.theta, train_labels, mot.num_classes());
+  }
+  std::vector<int> truth_rows;
+  std::vector<int> mot_pred;
+  std::vector<int> argmax_pred;
+  for (std::size_t oi = 0; oi < objects.size(); ++oi) {
+    ObjectScore os;
+    os.name = objects[oi];
+    for (int c = 0; c < c_count; ++c) {
+      if (s.class_object[static_cast<std::size_t>(c)] != os.name) continue;
+      os.classes.push_back(c);
+      os.views += learning.views_per_class[static_cast<std::size_t>(c)];
+      os.purity = s.class_purity[static_cast<std::size_t>(c)];
+    }
+    std::vector<double> yaws;
+    for (const auto& r : rounds) {
+      if (r.chosen == os.name) yaws.insert(yaws.end(), r.yaws.begin(), r.yaws.end());
+    }
+    os.yaw_range_deg = yaw_coverage_deg(yaws);
+    if (mot.num_classes() == 0) {
+      s.objects.push_back(os);
+      continue;
+    }
+    sim::TableOptions table;
+    table.objects = {os.name};
+    table.seed = options.seed;
+    table.width = options.width;
+    table.height = options.height;
+    sim::SimulatedRobot alone(table, catalogue);
+    const int id = alone.ground_truth().at(0).id;
+    topics::Corpus corpus(vocabulary.size());
+    for (int v = 0; v < options.held_out; ++v) {
+      const double yaw = 2 * std::numbers::pi * v / options.held_out;
+      alone.place({{os.name, kHeldOutCentre, yaw}});
+      const robot::Look look = alone.look();
+      const cv::Mat mask = alone.ground_truth_mask() == id;
+      const auto doc =
+          masked_document(look.image, mask, vocabulary, options.features, options.dilate);
+      if (static_cast<int>(doc.size()) < options.min_features) continue;
+      corpus.add_tokens(doc);
+    }
+    os.held_out = static_cast<int>(corpus.num_documents());
+    if (os.held_out > 0) {
+      const Eigen::MatrixXd theta = recognition::document_theta(model, corpus).theta;
+      const topics::MotClassification cls = topics::classify_mot(mot, theta);
+      std::vector<int> topic(static_cast<std::size_t>(theta.rows()));
+      for (Eigen::Index d = 0; d < theta.rows(); ++d) {
+        Eigen::Index k = 0;
+        theta.row(d).maxCoeff(&k);
+        topic[static_cast<std::size_t>(d)] = static_cast<int>(k);
+      }
+      const std::vector<int> mapped = recognition::mapped_classes(topic, *mapping);
+      int right_mot = 0;
+      int right_argmax = 0;
+      for (std::size_t d = 0; d < cls.predicted.size(); ++d) {
+        const auto name_of = [&](int m) {
+          return m < 0 ? std::string()
+                       : s.class_object[static_cast<std::size_t>(
+                             learning.model_class[static_cast<std::size_t>(m)])];
+        };
+        if (name_of(cls.predicted[d]) == os.name) ++right_mot;
+        if (name_of(mapped[d]) == os.name) ++right_argmax;
+        truth_rows.push_back(static_cast<int>(oi));
+        mot_pred.push_back(cls.predicted[d]);
+        argmax_pred.push_back(mapped[d]);
+      }
+      os.mot_accuracy = fraction(right_mot, os.held_out);
+      os.argmax_accuracy = fraction(right_argmax, os.held_out);
+    }
+    s.objects.push_back(os);
+  }
+  s.mot = recognition::confusion_matrix(truth_rows, mot_pred, objects, columns);
+  s.argmax = recognition::confusion_matrix(truth_rows, argmax_pred, objects, columns);
+  int right_mot = 0;
+  int right_argmax = 0;
+  int n = 0;
+  for (const auto& o : s.objects) {
+    right_mot += static_cast<int>(std::lround(o.mot_accuracy * o.held_out));
+    right_argmax += static_cast<int>(std::lround(o.argmax_accuracy * o.held_out));
+    n += o.held_out;
+  }
+  s.mot_accuracy = fraction(right_mot, n);
+  s.argmax_accuracy = fraction(right_argmax, n);
+  return s;
+}
+
+}  // namespace proprio::loop

@@ -1,0 +1,124 @@
+// proprio selfsupervise, run as a user would: a tiny run on a simulated table of two objects
+// (blob views, one push each, a vocabulary and LDA model made here), and bad options as one line
+// and exit 2.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "cli_run.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/sift.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/topics/batch_lda.hpp"
+#include "proprio/topics/corpus.hpp"
+#include "proprio/topics/lda_model_io.hpp"
+
+namespace proprio::app {
+namespace {
+namespace fs = std::filesystem;
+using proprio::test::run_cli;
+
+#define EXPECT_HAS(haystack, needle) \
+  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << (haystack)
+
+class SelfSuperviseCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    fs::remove_all(dir());
+    fs::create_directories(dir());
+    const cv::Mat img =
+        cv::imread(std::string(PROPRIO_OPENCV_SAMPLES) + "/fruits.jpg", cv::IMREAD_COLOR);
+    ASSERT_FALSE(img.empty());
+    const features::Features f = features::dense_sift(img);
+    features::KmeansOptions k;
+    k.words = 24;
+    k.threads = 1;
+    const features::Vocabulary v = features::build_vocabulary(f.descriptors, k).vocabulary;
+    features::write_vocabulary(dir() / "v.vocab", v,
+                               core::Provenance::current({"selfsupervise_cli_test"}, 1));
+    const std::vector<std::int32_t> words = features::bag_of_words(v, f.descriptors);
+    topics::Corpus corpus(v.size());
+    for (std::size_t b = 0; b + 50 <= words.size(); b += 50) {
+      corpus.add_tokens(std::vector<std::int32_t>(words.begin() + static_cast<long>(b),
+                                                  words.begin() + static_cast<long>(b + 50)));
+    }
+    topics::BatchLdaOptions lo;
+    lo.num_topics = 3;
+    lo.max_iterations = 10;
+    topics::LdaModel m = topics::train_batch_lda(corpus, lo).model;
+    topics::save_lda_model(m, dir() / "m.lda");
+    m.lambda.conservativeResize(Eigen::NoChange, m.lambda.cols() + 1);
+    m.lambda.rightCols(1).setOnes();
+    topics::save_lda_model(m, dir() / "other.lda");
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir()); }
+  static std::string file(const std::string& name) { return (dir() / name).string(); }
+  static std::string inputs(const std::string& lda = "m.lda") {
+    return " --model " + file(lda) + " --vocabulary " + file("v.vocab");
+  }
+  static const fs::path& dir() {
+    static const fs::path kDir =
+        fs::temp_directory_path() / ("proprio_selfsup_cli_" + std::to_string(getpid()));
+    return kDir;
+  }
+};
+
+TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
+  const auto r = run_cli(
+      "selfsupervise --objects book,bottle --pushes 1 --clear-pushes 1 "
+      "--views blob --held-out 3 --width 160 --height 120 --step 4 "
+      "--min-features 3 --seed 3 -q" +
+      inputs() + " --out " + file("run") + " --json " + file("run.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "held-out accuracy: Mixture of Topics");
+  EXPECT_HAS(r.out, "singulation");
+  const core::Json j = core::read_json(dir() / "run.json");
+  EXPECT_EQ(j["format"], "proprio.selfsupervise");
+  EXPECT_EQ(j["classes"].size(), 2U);
+  EXPECT_TRUE(j["ground_truth"].contains("mot_confusion"));
+  EXPECT_EQ(j["ground_truth"]["objects"].size(), 2U);
+  EXPECT_TRUE(fs::exists(dir() / "run" / "decisions.jsonl"));
+  EXPECT_TRUE(fs::exists(dir() / "run" / "selfsupervise.json"));
+  std::ifstream log(dir() / "run" / "decisions.jsonl");
+  std::string first;
+  std::getline(log, first);
+  EXPECT_EQ(core::Json::parse(first)["event"], "start");
+  // The same directory again without --overwrite: exit 2.
+  const auto again =
+      run_cli("selfsupervise --objects book,bottle" + inputs() + " --out " + file("run"));
+  EXPECT_EQ(again.code, 2);
+  EXPECT_HAS(again.err, "already exists");
+}
+
+TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
+  const std::string out = " --out " + file("bad");
+  const struct {
+    std::string args;
+    std::string message;
+  } cases[] = {
+      {"--objects book,unicorn" + inputs() + out, "unknown object 'unicorn'"},
+      {"--objects book,cd,book" + inputs() + out, "named twice"},
+      {"--objects book,,cd" + inputs() + out, "empty object name"},
+      {"--objects book --pushes 0" + inputs() + out, "pushes"},
+      {"--objects book,mug,bottle,spirit-level,rabbit,cd,calculator,giraffe,bike" + inputs() + out,
+       "do not fit on the table"},
+      {"--objects book,cd" + inputs("other.lda") + out,
+       "not the vocabulary the model was made with"},
+      {"--objects book,cd --vocabulary " + file("v.vocab") + out, "--model"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_cli("selfsupervise " + c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.err;
+    EXPECT_HAS(r.err, c.message);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir() / "bad")) << c.args;
+  }
+}
+
+}  // namespace
+}  // namespace proprio::app

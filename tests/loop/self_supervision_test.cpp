@@ -1,0 +1,262 @@
+// Self-supervision (thesis 7.2 a-d): the object list, the footprint geometry, the yaw coverage,
+// faults as logged outcomes on a robot that refuses every push or sees nothing, and a small run
+// on the simulated table (2 objects, blob views, a vocabulary and LDA model made here from the
+// robot's first look) scored against the ground truth and on held-out views.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "proprio/core/error.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/sift.hpp"
+#include "proprio/loop/self_supervision.hpp"
+#include "proprio/loop/self_supervision_run.hpp"
+#include "proprio/loop/self_supervision_scoring.hpp"
+#include "proprio/topics/batch_lda.hpp"
+#include "proprio/topics/corpus.hpp"
+
+namespace proprio::loop {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(SelfSupervision, ObjectListIsTrimmedAndChecked) {
+  EXPECT_EQ(parse_object_list(" bike, cd ,book"), (std::vector<std::string>{"bike", "cd", "book"}));
+  EXPECT_THROW(parse_object_list("bike,,cd"), Error);
+  EXPECT_THROW(parse_object_list(""), Error);
+  EXPECT_THROW(parse_object_list("bike,cd,bike"), Error);
+}
+
+TEST(SelfSupervision, HullGapKnownAnswers) {
+  const std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const auto shifted = [&](const Eigen::Vector2d& by) {
+    std::vector<Eigen::Vector2d> out(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) out[i] = a[i] + by;
+    return out;
+  };
+  const std::vector<Eigen::Vector2d> b = shifted({3, 0});
+  EXPECT_NEAR(hull_gap(a, b), 2.0, 1e-12);
+  EXPECT_NEAR(hull_gap(b, a), 2.0, 1e-12);
+  const std::vector<Eigen::Vector2d> c = shifted({0.5, 0.5});  // overlapping, a vertex inside
+  EXPECT_EQ(hull_gap(a, c), 0.0);
+  // A cross: no vertex of either inside the other, yet they overlap.
+  const std::vector<Eigen::Vector2d> h{{-2, -0.1}, {2, -0.1}, {2, 0.1}, {-2, 0.1}};
+  const std::vector<Eigen::Vector2d> v{{-0.1, -2}, {0.1, -2}, {0.1, 2}, {-0.1, 2}};
+  EXPECT_EQ(hull_gap(h, v), 0.0);
+  // Diagonal: corner (1,1) to corner (2,2).
+  const std::vector<Eigen::Vector2d> d = shifted({2, 2});
+  EXPECT_NEAR(hull_gap(a, d), std::sqrt(2.0), 1e-12);
+}
+
+TEST(SelfSupervision, YawCoverageAndFootprintGap) {
+  EXPECT_EQ(yaw_coverage_deg({0.3}), 0.0);
+  EXPECT_NEAR(yaw_coverage_deg({0.0, std::numbers::pi / 2}), 90.0, 1e-9);
+  // Wraps around: -10 and +10 degrees cover 20 degrees, not 340.
+  const double ten = 10 * std::numbers::pi / 180;
+  EXPECT_NEAR(yaw_coverage_deg({-ten, ten}), 20.0, 1e-9);
+  EXPECT_NEAR(yaw_coverage_deg({0, 2.1, 4.2}), 360 - (2.1 * 180 / std::numbers::pi), 1e-9);
+  sim::ObjectTruth a;
+  sim::ObjectTruth b;
+  a.centre = {0, 0, 0.02};
+  b.centre = {0.3, 0.4, 0.05};
+  a.footprint_radius = 0.1;
+  b.footprint_radius = 0.15;
+  EXPECT_NEAR(footprint_gap(a, b), 0.25, 1e-12);
+  b.centre = {0.1, 0, 0};
+  EXPECT_EQ(footprint_gap(a, b), 0.0);
+}
+
+// A vocabulary and an LDA model (K = 3) made from the robot's first look: dense SIFT of the
+// image, 24 words; documents are the words of 40 x 40 tiles.
+struct TinyModel {
+  features::Vocabulary vocabulary;
+  topics::LdaModel lda;
+};
+
+TinyModel tiny_model(const cv::Mat& image) {
+  features::DenseSiftOptions ds;
+  ds.step = 4;
+  const features::Features f = features::dense_sift(image, ds);
+  features::KmeansOptions k;
+  k.words = 24;
+  k.threads = 1;
+  TinyModel m{features::build_vocabulary(f.descriptors, k).vocabulary, {}};
+  const std::vector<std::int32_t> words = features::bag_of_words(m.vocabulary, f.descriptors);
+  topics::Corpus corpus(m.vocabulary.size());
+  for (int ty = 0; ty < image.rows; ty += 40) {
+    for (int tx = 0; tx < image.cols; tx += 40) {
+      std::vector<std::int32_t> doc;
+      for (std::size_t i = 0; i < words.size(); ++i) {
+        const cv::Point2f p = f.keypoints[i].pt;
+        if (p.x >= tx && p.x < tx + 40 && p.y >= ty && p.y < ty + 40) doc.push_back(words[i]);
+      }
+      if (!doc.empty()) corpus.add_tokens(doc);
+    }
+  }
+  topics::BatchLdaOptions lo;
+  lo.num_topics = 3;
+  lo.max_iterations = 20;
+  m.lda = topics::train_batch_lda(corpus, lo).model;
+  return m;
+}
+
+SelfSupervisionOptions small_options() {
+  SelfSupervisionOptions o;
+  o.objects = "book,bottle";
+  o.pushes = 2;
+  o.clear_pushes = 2;
+  o.views = ViewSource::kBlob;
+  o.min_features = 3;
+  o.held_out = 4;
+  o.width = 320;
+  o.height = 240;
+  o.features.dense.step = 4;
+  o.seed = 2;
+  return o;
+}
+
+sim::TableOptions table_of(const SelfSupervisionOptions& o) {
+  sim::TableOptions t;
+  t.objects = parse_object_list(o.objects);
+  t.seed = o.seed;
+  t.width = o.width;
+  t.height = o.height;
+  return t;
+}
+
+// A robot that sees and refuses: every push throws, as a real arm's driver would for a path it
+// cannot follow; or, with `blind`, every look is a blank image.
+class RefusingRobot final : public robot::Robot {
+ public:
+  RefusingRobot(sim::SimulatedRobot& inner, bool blind) : inner_(inner), blind_(blind) {}
+  robot::Look look() override {
+    robot::Look l = inner_.look();
+    if (blind_) l.image.setTo(cv::Scalar(128, 128, 128));
+    return l;
+  }
+  [[nodiscard]] geometry::Camera camera() const override { return inner_.camera(); }
+  [[nodiscard]] const robot::Arm& arm() const override { return inner_.arm(); }
+  [[nodiscard]] robot::JointVector joints() const override { return inner_.joints(); }
+  robot::PushReport push(const robot::TablePush& /*push*/,
+                         const robot::PushRecording& /*recording*/) override {
+    ++refused;
+    throw Error("push: the arm's driver refused the path");
+  }
+  int refused = 0;
+
+ private:
+  sim::SimulatedRobot& inner_;
+  bool blind_;
+};
+
+class CountingAttendant final : public TableAttendant {
+ public:
+  std::string rescatter(int round) override {
+    ++rescatters;
+    return "re-scatter " + std::to_string(round);
+  }
+  int rescatters = 0;
+};
+
+bool logged(const Learning& l, const std::string& fault) {
+  for (const auto& j : l.log) {
+    if (j.value("fault", std::string()) == fault) return true;
+  }
+  return false;
+}
+
+TEST(SelfSupervision, FaultsAreLoggedOutcomesNotCrashes) {
+  const SelfSupervisionOptions o = small_options();
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+  sim::SimulatedRobot sim_robot(table_of(o), catalogue);
+  const TinyModel m = tiny_model(sim_robot.look().image);
+  {
+    RefusingRobot robot(sim_robot, false);
+    CountingAttendant attendant;
+    const Learning l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+    EXPECT_GT(robot.refused, 0);
+    EXPECT_EQ(attendant.rescatters, 1);
+    EXPECT_TRUE(logged(l, "robot-refused"));
+    EXPECT_TRUE(l.views.labels.empty());  // no view without a push behind it
+    EXPECT_EQ(l.model.num_classes(), 0);
+    EXPECT_TRUE(logged(l, "class-dropped"));
+    EXPECT_EQ(l.pushes_learn, 0);
+  }
+  {
+    RefusingRobot robot(sim_robot, true);
+    CountingAttendant attendant;
+    const Learning l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+    EXPECT_TRUE(logged(l, "no-blobs"));
+    EXPECT_EQ(robot.refused, 0);
+    EXPECT_EQ(l.stop_reasons.at(0), "no blobs");
+  }
+  // Bad input: a vocabulary that is not the model's, no objects.
+  CountingAttendant attendant;
+  topics::LdaModel other = m.lda;
+  other.lambda.conservativeResize(Eigen::NoChange, other.lambda.cols() + 1);
+  other.lambda.rightCols(1).setOnes();
+  EXPECT_THROW(learn_by_pushing(sim_robot, attendant, 2, other, m.vocabulary, o, {}), Error);
+  EXPECT_THROW(learn_by_pushing(sim_robot, attendant, 0, m.lda, m.vocabulary, o, {}), Error);
+}
+
+TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
+  const SelfSupervisionOptions o = small_options();
+  std::optional<TinyModel> tiny;
+  Learning l;
+  std::unique_ptr<GroundTruthAttendant> attendant;
+  {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+    sim::SimulatedRobot robot(table_of(o), catalogue);
+    tiny = tiny_model(robot.look().image);
+    attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
+    l = learn_by_pushing(robot, *attendant, 2, tiny->lda, tiny->vocabulary, o, {});
+  }
+  const TinyModel& m = *tiny;
+  EXPECT_EQ(l.classes, 2);
+  EXPECT_EQ(l.class_names, (std::vector<std::string>{"object_1", "object_2"}));
+  EXPECT_GT(l.pushes_learn, 0);
+  EXPECT_EQ(attendant->rounds().size(), 2U);
+  // Every view has a class and a theta row summing to 1.
+  ASSERT_EQ(static_cast<std::size_t>(l.views.theta.rows()), l.views.labels.size());
+  for (Eigen::Index d = 0; d < l.views.theta.rows(); ++d) {
+    EXPECT_NEAR(l.views.theta.row(d).sum(), 1.0, 1e-6);
+  }
+  // The log has the choice, looks, pushes with their plans, and the end.
+  int chooses = 0;
+  int pushes = 0;
+  for (const auto& j : l.log) {
+    if (j["event"] == "choose") ++chooses;
+    if (j["event"] == "push") {
+      ++pushes;
+      EXPECT_TRUE(j["plan"].contains("cost"));
+    }
+  }
+  EXPECT_EQ(chooses, 2);
+  EXPECT_EQ(pushes, l.pushes_clear + l.pushes_learn + (pushes - l.pushes_clear - l.pushes_learn));
+  EXPECT_EQ(l.log.back()["event"], "end");
+
+  const SelfSupervisionScore s =
+      score_self_supervision(l, *attendant, {"book", "bottle"}, m.lda, m.vocabulary, o);
+  EXPECT_EQ(s.objects.size(), 2U);
+  EXPECT_GE(s.purity, 0.0);
+  EXPECT_LE(s.purity, 1.0);
+  EXPECT_GE(s.singulation, 0.0);
+  EXPECT_LE(s.singulation, 1.0);
+  for (const ObjectScore& os : s.objects) {
+    if (l.model.num_classes() > 0) {
+      EXPECT_EQ(os.held_out, o.held_out) << os.name;
+    }
+    EXPECT_GE(os.mot_accuracy, 0.0);
+    EXPECT_LE(os.mot_accuracy, 1.0);
+  }
+  EXPECT_EQ(s.mot.total(), s.objects[0].held_out + s.objects[1].held_out);
+  const core::Json j = s.to_json();
+  EXPECT_TRUE(j.contains("mot_confusion"));
+  EXPECT_NO_THROW((void)j.dump());  // no NaN or Inf
+}
+
+}  // namespace
+}  // namespace proprio::loop
