@@ -8,6 +8,7 @@
 
 #include "cli.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/geometry/calib_runs.hpp"
 
 namespace proprio::app {
@@ -138,6 +139,8 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
       ->check(CLI::PositiveNumber);
   dlt->add_option("--json", dlt_args->json, kJson);
   dlt->callback([dlt_args, &inv] {
+    const auto& o = dlt_args->options;
+    core::require_output_not_input(dlt_args->json, {o.out, o.points}, "--json");
     print(geometry::run_calib_dlt(dlt_args->options, inv.provenance()), dlt_args->json);
   });
 
@@ -158,6 +161,8 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
                 "The pixels are as measured: remove the lens distortion of the calibrations first");
   tri->add_option("--json", tri_args->json, kJson);
   tri->callback([tri_args, &inv] {
+    const auto& o = tri_args->options;
+    core::require_output_not_input(tri_args->json, {o.out, o.calib1, o.calib2, o.points}, "--json");
     print(geometry::run_calib_triangulate(tri_args->options, inv.provenance()), tri_args->json);
   });
 
@@ -176,6 +181,8 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
                "The pixels are as measured: remove the lens distortion first");
   bp->add_option("--json", bp_args->json, kJson);
   bp->callback([bp_args, &inv] {
+    const auto& o = bp_args->options;
+    core::require_output_not_input(bp_args->json, {o.out, o.calib, o.points}, "--json");
     const auto v = parse_numbers(bp_args->plane, 4, "--plane", "nx,ny,nz,kappa");
     bp_args->options.plane = geometry::Plane{{v[0], v[1], v[2]}, v[3]};
     print(geometry::run_calib_backproject(bp_args->options, inv.provenance()), bp_args->json);
@@ -211,6 +218,8 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
       ->capture_default_str();
   un->add_option("--json", un_args->json, kJson);
   un->callback([un_args, &inv] {
+    const auto& o = un_args->options;
+    core::require_output_not_input(un_args->json, {o.out, o.calib1, o.calib2}, "--json");
     set_slice(*un_args);
     un_args->options.map.cells_b = un_args->options.map.cells_a;
     print(geometry::run_calib_uncertainty(un_args->options, inv.provenance()), un_args->json);
@@ -237,6 +246,7 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
     geometry::CalibStereoOptions& o = st_args->options;
     o.check.images_dir = st_args->images;
     o.check.board = parse_board(st_args->board);
+    core::require_output_not_input(st_args->json, {o.out, o.check.images_dir}, "--json");
     print(geometry::run_calib_stereo(o, inv.provenance()), st_args->json);
   });
 }

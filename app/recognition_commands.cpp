@@ -3,11 +3,14 @@
 // of 6.3 (specific vs wide dictionary, batch vs online LDA, videos of objects moved about).
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "cli.hpp"
 #include "option_binder.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/recognition/experiment_runs.hpp"
 #include "proprio/recognition/recognize_runs.hpp"
 
@@ -100,6 +103,7 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
   o.batch.max_iterations = a.lda_iterations;
   o.online.passes = a.online_passes;
   o.online.batch_size = a.online_batch;
+  core::require_output_not_input(a.json, {a.options.images}, "--json");
   const ExperimentRun r = run_set_experiment_files(a.options, inv.provenance(o.seed));
   std::fputs(r.report.c_str(), stdout);
   write_json_result(a.json, r.document);
@@ -108,6 +112,11 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
 void run_scatter(ScatterArgs& a, const Invocation& inv) {
   a.options.options.topics = parse_topics(a.k);
   a.options.progress = !a.quiet;
+  std::vector<std::filesystem::path> paths = a.options.episodes;
+  paths.insert(paths.end(), a.options.view_episodes.begin(), a.options.view_episodes.end());
+  paths.emplace_back(a.options.views);
+  paths.emplace_back(a.options.vocabulary);
+  core::require_output_not_input(a.json, paths, "--json");
   const ExperimentRun r =
       run_scatter_experiment_files(a.options, inv.provenance(a.options.options.seed));
   std::fputs(r.report.c_str(), stdout);
@@ -169,6 +178,10 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   train->add_option("--json", t->json, "Also write a summary as JSON");
   train->callback([t, &inv] {
     t->options.progress = !t->quiet;
+    const auto& o = t->options;
+    std::vector<std::filesystem::path> paths = o.source.episodes;
+    for (const auto& q : {o.model, o.vocabulary, o.source.images}) paths.push_back(q);
+    core::require_output_not_input(t->json, paths, "--json");
     const RecognizeTrainResult r =
         run_recognize_train(t->options, inv.provenance(t->options.online.seed));
     std::fputs(r.report.c_str(), stdout);
@@ -192,6 +205,11 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   cls->add_option("--json", c->json, "Also write the confusion matrices as JSON");
   cls->callback([c, &inv] {
     c->options.progress = !c->quiet;
+    const auto& o = c->options;
+    std::vector<std::filesystem::path> paths = o.source.episodes;
+    for (const auto& q : {o.out, o.model, o.vocabulary, o.map_with, o.source.images})
+      paths.push_back(q);
+    core::require_output_not_input(c->json, paths, "--json");
     const RecognizeClassifyResult r = run_recognize_classify(c->options, inv.provenance());
     std::fputs(r.report.c_str(), stdout);
     write_json_result(c->json, r.document);

@@ -69,6 +69,7 @@ sim::RecordOptions resolved(const RecordArgs& a) {
 
 void run_record(RecordArgs& a, const Invocation& inv) {
   a.options = resolved(a);
+  core::require_output_not_input(a.json, {a.out, a.options.background_video}, "--json");
   const sim::SimRun r = sim::run_sim_record(a.options, a.out, inv.provenance(a.options.seed));
   std::fputs(r.report.c_str(), stdout);
   write_json_result(a.json, r.document);
@@ -81,13 +82,16 @@ struct CalibrateArgs {
 };
 
 void run_calibrate(const CalibrateArgs& a, const Invocation& inv) {
+  core::require_output_not_input(a.json, {a.out}, "--json");
   const sim::SimRun r = sim::run_sim_calibrate(a.options, a.out, inv.provenance());
   std::fputs(r.report.c_str(), stdout);
   write_json_result(a.json, r.document);
 }
 
 void run_view(const RecordArgs& a) {
-  const cv::Mat rgb = sim::render_scenario_view(resolved(a), sim::ObjectCatalogue::load_default());
+  const sim::RecordOptions o = resolved(a);
+  core::require_output_not_input(a.out, {o.background_video}, "--out");
+  const cv::Mat rgb = sim::render_scenario_view(o, sim::ObjectCatalogue::load_default());
   std::vector<uchar> png;
   if (!cv::imencode(".png", rgb, png)) throw Error::in_file(a.out, "cannot encode the image");
   core::write_file_atomic(a.out,
@@ -116,6 +120,9 @@ void run_views(ViewsArgs& a, const Invocation& inv) {
     if (comma > start) a.options.objects.push_back(a.objects.substr(start, comma - start));
     start = comma + 1;
   }
+  std::vector<std::filesystem::path> paths = a.options.backgrounds;
+  paths.emplace_back(a.out);
+  core::require_output_not_input(a.json, paths, "--json");
   const sim::SimRun r = sim::run_sim_views(a.options, a.out, inv.provenance(a.options.seed));
   std::fputs(r.report.c_str(), stdout);
   write_json_result(a.json, r.document);
@@ -163,6 +170,7 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
   dataset->add_option("--json", ds->json, "Also write the episode list as JSON");
   dataset->callback([ds, &inv] {
     ds->options.progress = !ds->quiet;
+    core::require_output_not_input(ds->json, {ds->options.out}, "--json");
     const sim::SimDatasetResult r =
         sim::run_sim_dataset(ds->options, inv.provenance(ds->options.seed));
     std::printf("dataset: %s\n%s\n", ds->options.out.c_str(), r.brief().c_str());

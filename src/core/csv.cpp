@@ -138,6 +138,11 @@ std::string format_csv(const std::vector<std::string>& header,
     for (size_t c = 0; c < row.size(); ++c) {
       if (c > 0) out += ',';
       if (row[c]) {
+        // to_chars would write "nan" or "inf": a figure no reader of ours accepts. A bug upstream.
+        if (!std::isfinite(*row[c])) {
+          throw InternalError("refusing to write a non-finite number in CSV column '" +
+                              (c < header.size() ? header[c] : std::to_string(c)) + "'");
+        }
         const auto r = std::to_chars(buf, buf + sizeof buf, *row[c]);
         out.append(buf, r.ptr);
       }

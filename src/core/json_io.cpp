@@ -1,6 +1,9 @@
 #include "proprio/core/json_io.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -55,6 +58,27 @@ std::string plain_message(const nlohmann::json::exception& e) {
 
 }  // namespace
 
+std::optional<std::string> first_non_finite(const Json& value) {
+  // An explicit stack, not recursion: a parsed value may nest kMaxJsonDepth levels.
+  std::vector<std::pair<const Json*, std::string>> todo{{&value, ""}};
+  while (!todo.empty()) {
+    auto [v, where] = std::move(todo.back());
+    todo.pop_back();
+    if (v->is_number_float()) {
+      if (!std::isfinite(v->get<double>())) return where.empty() ? std::string("/") : where;
+    } else if (v->is_object()) {
+      for (auto it = v->begin(); it != v->end(); ++it) {
+        todo.emplace_back(&it.value(), where + "/" + it.key());
+      }
+    } else if (v->is_array()) {
+      for (std::size_t i = 0; i < v->size(); ++i) {
+        todo.emplace_back(&(*v)[i], where + "/" + std::to_string(i));
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 Json parse_json(std::string_view text, const std::filesystem::path& source) {
   check_depth(text, source);
   try {
@@ -74,6 +98,11 @@ Json parse_json(std::string_view text, const std::filesystem::path& source) {
 Json read_json(const std::filesystem::path& path) { return parse_json(read_file(path), path); }
 
 void write_json_atomic(const std::filesystem::path& path, const Json& value) {
+  // nlohmann would write NaN and Inf as null: a figure silently lost. proprio never writes them;
+  // one here is a bug upstream (inputs and options are checked where they come in).
+  if (const auto where = first_non_finite(value)) {
+    throw InternalError(path.string() + ": refusing to write a non-finite number at " + *where);
+  }
   write_file_atomic(path, value.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 }
 

@@ -8,6 +8,7 @@
 
 #include "layout.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/geometry/image_file.hpp"
 #include "video_cursor.hpp"
 
 namespace proprio::episode {
@@ -29,9 +30,7 @@ cv::Mat to_bgr(cv::Mat m) {
 }
 
 cv::Mat read_png(const std::filesystem::path& file, int flags) {
-  cv::Mat m = cv::imread(file.string(), flags);
-  if (m.empty()) throw Error::in_file(file, "cannot be decoded (missing, or corrupt PNG data)");
-  return m;
+  return geometry::read_image(file, flags);
 }
 
 cv::Mat read_ids16(const std::filesystem::path& file, const EpisodeInfo& info, const char* what) {

@@ -5,9 +5,10 @@
 
 #include "layout.hpp"
 #include "parse.hpp"
-#include "png_probe.hpp"
 #include "proprio/core/files.hpp"
+#include "proprio/core/image_header.hpp"
 #include "proprio/episode/episode.hpp"
+#include "proprio/geometry/image_file.hpp"
 
 namespace proprio::episode {
 
@@ -103,9 +104,13 @@ void check_png_set(const fs::path& dir, const std::string& subdir, const Episode
       continue;
     }
     std::string why;
-    const auto header = probe_png(file, why);
+    const auto header = core::probe_image_header(file, why);
     if (!header) {
       sink.add(file, why, 0, group);
+      continue;
+    }
+    if (header->format != core::ImageFormat::kPng) {
+      sink.add(file, "is a " + core::describe(*header) + ", episode images must be PNG", 0, group);
       continue;
     }
     if (header->width != info.width || header->height != info.height) {
@@ -116,20 +121,23 @@ void check_png_set(const fs::path& dir, const std::string& subdir, const Episode
       continue;
     }
     if (kind == ImageKind::kFrame && header->bit_depth != 8) {
-      sink.add(file, "is " + describe(*header) + ", frames must be 8-bit", 0, group);
+      sink.add(file, "is " + core::describe(*header) + ", frames must be 8-bit", 0, group);
       continue;
     }
-    if (kind != ImageKind::kFrame && (header->bit_depth != 16 || header->color_type != 0)) {
+    if (kind != ImageKind::kFrame &&
+        (header->bit_depth != 16 || header->channels != 1 || header->palette)) {
       sink.add(file,
-               "is " + describe(*header) + ", " + (ids ? "masks" : "depth images") +
+               "is " + core::describe(*header) + ", " + (ids ? "masks" : "depth images") +
                    " must be 16-bit grey",
                0, group);
       continue;
     }
     if (!decode) continue;
-    const cv::Mat image = cv::imread(
-        file.string(), kind == ImageKind::kFrame ? cv::IMREAD_COLOR : cv::IMREAD_UNCHANGED);
-    if (image.empty()) {
+    cv::Mat image;
+    try {
+      image = geometry::read_image(
+          file, kind == ImageKind::kFrame ? cv::IMREAD_COLOR : cv::IMREAD_UNCHANGED);
+    } catch (const Error&) {
       sink.add(file, "cannot be decoded (corrupt PNG data)", 0, group);
       continue;
     }

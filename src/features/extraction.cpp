@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
+#include "proprio/geometry/image_file.hpp"
 
 namespace proprio::features {
 namespace fs = std::filesystem;
@@ -118,11 +119,6 @@ Features select_features(const Features& f, const std::vector<int>& rows) {
   return out;
 }
 
-cv::Mat read_image(const fs::path& path) {
-  if (!fs::is_regular_file(path)) throw Error::in_file(path, "no such image file");
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (image.empty()) throw Error::in_file(path, "cannot decode the image");
-  return image;
-}
+cv::Mat read_image(const fs::path& path) { return geometry::read_image(path, cv::IMREAD_COLOR); }
 
 }  // namespace proprio::features

@@ -11,7 +11,7 @@ namespace fs = std::filesystem;
 using core::put_binary;
 
 namespace {
-constexpr core::BinaryFormat kFormat{"PRFEATS1", 1, "features"};
+constexpr core::BinaryFormat kFormat{"PRFEATS1", kFeaturesFormatVersion, "features"};
 }  // namespace
 
 void check_descriptors(const cv::Mat& descriptors, const std::string& what) {

@@ -14,6 +14,7 @@
 #include "proprio/core/progress.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/features/image_set.hpp"
+#include "proprio/geometry/image_file.hpp"
 
 namespace proprio::features {
 namespace {
@@ -22,10 +23,7 @@ using Clock = std::chrono::steady_clock;
 
 // Read as grey by the decoder, as `vocab build` always has (the vocabulary's bytes depend on it).
 cv::Mat read_grey(const std::filesystem::path& p) {
-  cv::Mat img = cv::imread(p.string(), cv::IMREAD_GRAYSCALE);
-  if (img.empty())
-    throw Error::in_file(p, "cannot read the image (missing, empty or not an image)");
-  return img;
+  return geometry::read_image(p, cv::IMREAD_GRAYSCALE);
 }
 
 // A uniform sample of `count` rows without replacement (partial Fisher-Yates), in row order.

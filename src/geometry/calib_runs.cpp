@@ -50,6 +50,7 @@ std::string describe_camera(const std::string& name, const Camera& c) {
 
 void CalibDltOptions::validate() const {
   require_paths({&points, &out}, "dlt: the point file and the output calib.yml");
+  core::require_output_not_input(out, {points}, "--out");
   if ((width > 0) != (height > 0)) throw Error("dlt: give both --width and --height, or neither");
   if (width < 0 || height < 0) throw Error("dlt: the image size must be positive");
 }
@@ -82,6 +83,7 @@ CalibRun run_calib_dlt(const CalibDltOptions& o, const core::Provenance& provena
 void CalibTriangulateOptions::validate() const {
   require_paths({&calib1, &calib2, &points, &out},
                 "triangulate: both calibrations, the point file and the output");
+  core::require_output_not_input(out, {calib1, calib2, points}, "--out");
 }
 
 CalibRun run_calib_triangulate(const CalibTriangulateOptions& o,
@@ -97,6 +99,12 @@ CalibRun run_calib_triangulate(const CalibTriangulateOptions& o,
   TriangulationOptions to;
   to.refine = o.refine;
   const Matrix34d P1 = c1.P(), P2 = c2.P();
+  try {
+    require_distinct_centres(P1, P2);
+  } catch (const Error& e) {
+    // A fault of the two calibrations, not of a line of the point file.
+    throw Error::in_file(o.calib2, std::string(e.what()) + " (calib1: " + o.calib1.string() + ")");
+  }
   BatchTriangulation all;
   try {
     all = triangulate(P1, P2, px.x1, px.x2, to);
@@ -126,6 +134,7 @@ CalibRun run_calib_triangulate(const CalibTriangulateOptions& o,
 void CalibBackprojectOptions::validate() const {
   require_paths({&calib, &points, &out},
                 "backproject: the calibration, the point file and the output");
+  core::require_output_not_input(out, {calib, points}, "--out");
   naming("--plane", [&] {
     plane.validate();
     return 0;
@@ -171,6 +180,7 @@ CalibRun run_calib_backproject(const CalibBackprojectOptions& o,
 void CalibUncertaintyOptions::validate() const {
   require_paths({&calib1, &calib2, &out}, "uncertainty: both calibrations and the output");
   if (out.extension() != ".png") throw Error("uncertainty: --out must name a .png file");
+  core::require_output_not_input(out, {calib1, calib2}, "--out");
   map.validate();
   render.validate();
 }
@@ -213,6 +223,7 @@ CalibRun run_calib_stereo(const CalibStereoOptions& o, const core::Provenance& p
   o.validate();
   StereoCheckOptions check = o.check;
   if (check.images_dir.empty()) check.images_dir = default_stereo_images_dir();
+  core::require_output_not_input(o.out, {check.images_dir}, "--out");
   const auto r = run_stereo_check(check);
   write_calib(o.out / "left.yml", r.left, provenance);
   write_calib(o.out / "right.yml", r.right, provenance);

@@ -13,6 +13,7 @@
 #include <regex>
 
 #include "proprio/core/error.hpp"
+#include "proprio/geometry/image_file.hpp"
 #include "proprio/geometry/triangulation.hpp"
 
 namespace proprio::geometry {
@@ -25,8 +26,7 @@ struct Detection {
 };
 
 Detection detect(const fs::path& path, cv::Size board, cv::Size& image_size) {
-  const cv::Mat gray = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-  if (gray.empty()) throw Error::in_file(path, "cannot read the image");
+  const cv::Mat gray = read_image(path, cv::IMREAD_GRAYSCALE);
   if (image_size.area() == 0) {
     image_size = gray.size();
   } else if (gray.size() != image_size) {

@@ -47,19 +47,6 @@ Eigen::Vector3d centre_of(const Matrix34d& P) {
   return -P.leftCols<3>().fullPivLu().solve(P.col(3));
 }
 
-// Two views from one centre see no depth: every pair of rays meets at that centre, so each point
-// would "triangulate" to it (issue 16: the same calibration given as both cameras).
-void require_baseline(const Matrix34d& P1, const Matrix34d& P2) {
-  const Eigen::Vector3d c1 = centre_of(P1);
-  const Eigen::Vector3d c2 = centre_of(P2);
-  const double scale = std::max({1.0, c1.norm(), c2.norm()});
-  if (!((c1 - c2).norm() > 1e-9 * scale)) {
-    throw Error(
-        "triangulation: the two cameras have the same centre (the same calibration given twice?); "
-        "they see no depth");
-  }
-}
-
 }  // namespace
 
 void TriangulationOptions::validate() const {
@@ -86,7 +73,7 @@ const char* to_string(TriangulationTermination t) {
 Triangulation triangulate(const Matrix34d& P1, const Matrix34d& P2, const Eigen::Vector2d& x1,
                           const Eigen::Vector2d& x2, const TriangulationOptions& options) {
   options.validate();
-  require_baseline(P1, P2);
+  require_distinct_centres(P1, P2);
   if (!x1.allFinite() || !x2.allFinite()) throw Error("triangulation: pixel is not finite");
   Eigen::Matrix4d A;
   A.row(0) = x1.x() * P1.row(2) - P1.row(0);
@@ -142,7 +129,7 @@ BatchTriangulation triangulate(const Matrix34d& P1, const Matrix34d& P2,
                                const std::vector<Eigen::Vector2d>& x2,
                                const TriangulationOptions& options) {
   options.validate();
-  require_baseline(P1, P2);
+  require_distinct_centres(P1, P2);
   if (x1.size() != x2.size()) {
     throw Error("triangulation: " + std::to_string(x1.size()) + " pixels in view 1 but " +
                 std::to_string(x2.size()) + " in view 2");
@@ -175,6 +162,19 @@ BatchTriangulation triangulate(const Matrix34d& P1, const Matrix34d& P2,
     s.final_rms_px = std::sqrt(final_sq / static_cast<double>(x1.size()));
   }
   return out;
+}
+
+// Two views from one centre see no depth: every pair of rays meets at that centre, so each point
+// would "triangulate" to it (issue 16: the same calibration given as both cameras).
+void require_distinct_centres(const Matrix34d& P1, const Matrix34d& P2) {
+  const Eigen::Vector3d c1 = centre_of(P1);
+  const Eigen::Vector3d c2 = centre_of(P2);
+  const double scale = std::max({1.0, c1.norm(), c2.norm()});
+  if (!((c1 - c2).norm() > 1e-9 * scale)) {
+    throw Error(
+        "triangulation: the two cameras have the same centre (the same calibration given twice?); "
+        "they see no depth");
+  }
 }
 
 }  // namespace proprio::geometry

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
+#include "proprio/geometry/image_file.hpp"
 
 namespace proprio::recognition {
 namespace fs = std::filesystem;
@@ -130,9 +131,7 @@ std::vector<features::Features> frame_features(const episode::Episode& episode, 
     }
     case FrameRegion::kMasks: {
       const fs::path path = options.masks / episode::image_path("", "", frame).filename();
-      if (!fs::is_regular_file(path)) throw Error::in_file(path, "no such mask file");
-      mask = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-      if (mask.empty()) throw Error::in_file(path, "cannot decode the mask");
+      mask = geometry::read_image(path, cv::IMREAD_GRAYSCALE);
       if (mask.size() != image.size()) throw Error::in_file(path, "mask and frame sizes differ");
       break;
     }

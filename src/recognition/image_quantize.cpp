@@ -11,6 +11,7 @@
 #include "proprio/core/progress.hpp"
 #include "proprio/features/image_set.hpp"
 #include "proprio/features/vocabulary.hpp"
+#include "proprio/geometry/image_file.hpp"
 #include "proprio/topics/corpus_io.hpp"
 
 namespace proprio::recognition {
@@ -18,10 +19,7 @@ namespace {
 
 // Read as grey by the decoder, as `vocab build` reads its images.
 cv::Mat read_grey(const std::filesystem::path& p) {
-  cv::Mat img = cv::imread(p.string(), cv::IMREAD_GRAYSCALE);
-  if (img.empty())
-    throw Error::in_file(p, "cannot read the image (missing, empty or not an image)");
-  return img;
+  return geometry::read_image(p, cv::IMREAD_GRAYSCALE);
 }
 
 core::Json features_json(const features::ExtractOptions& o) {
@@ -36,6 +34,7 @@ void QuantizeImagesOptions::validate() const {
   if (vocabulary.empty()) throw Error("vocab quantize: the vocabulary is required");
   if (images.empty()) throw Error("vocab quantize: the image set is required");
   if (corpus.empty()) throw Error("vocab quantize: the corpus directory is required");
+  core::require_output_not_input(corpus, {vocabulary, images}, "--corpus");
   features.validate();
 }
 

@@ -24,6 +24,7 @@
 namespace proprio::recognition {
 namespace {
 
+namespace fs = std::filesystem;
 using detail::progress_bar;
 using detail::read_episodes;
 
@@ -195,6 +196,10 @@ void RecognizeTrainOptions::validate() const {
   source.validate();
   if (vocabulary.empty() || model.empty())
     throw Error("recognize train: the vocabulary and the model file are required");
+  std::vector<fs::path> inputs = source.episodes;
+  inputs.push_back(source.images);
+  inputs.push_back(vocabulary);
+  core::require_output_not_input(model, inputs, "--model");
   core::check_field_bounds(*this, "recognize train");
   if (online.num_topics < 1) throw Error("the number of topics K must be >= 1");
   core::check_field_bounds(online, "recognize train");
@@ -262,6 +267,11 @@ void RecognizeClassifyOptions::validate() const {
   source.validate();
   if (model.empty() || vocabulary.empty())
     throw Error("recognize classify: the model and the vocabulary files are required");
+  if (!out.empty()) {
+    std::vector<fs::path> inputs = source.episodes;
+    for (const auto& p : {source.images, model, vocabulary, map_with}) inputs.push_back(p);
+    core::require_output_not_input(out, inputs, "--out");
+  }
 }
 
 RecognizeClassifyResult run_recognize_classify(const RecognizeClassifyOptions& options,

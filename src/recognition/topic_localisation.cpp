@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
+#include "proprio/geometry/image_file.hpp"
 #include "proprio/topics/corpus.hpp"
 #include "proprio/topics/lda_model_io.hpp"
 
@@ -109,8 +110,7 @@ std::vector<std::string> run_topic_maps(const TopicMapRun& run) {
   run.validate();
   const topics::LdaModel model = topics::load_lda_model(run.lda_model);
   const features::Vocabulary vocabulary = features::read_vocabulary(run.vocabulary);
-  const cv::Mat image = cv::imread(run.image.string(), cv::IMREAD_COLOR);
-  if (image.empty()) throw Error::in_file(run.image, "not an image OpenCV can read");
+  const cv::Mat image = geometry::read_image(run.image, cv::IMREAD_COLOR);
   const features::Features f = features::extract_features(image, run.features);
   const TopicMaps maps = topic_maps(f, image.size(), model, vocabulary, run.maps);
   const auto files = write_topic_maps(maps, run.out, image);

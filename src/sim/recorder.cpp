@@ -17,6 +17,7 @@
 #include "motion_blur.hpp"
 #include "neighbour_nudge.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/episode/episode_writer.hpp"
 #include "proprio/robot/inverse_kinematics.hpp"
@@ -415,6 +416,7 @@ double seconds_since(Clock::time_point t) {
 
 void check_destination(const fs::path& out, const RecordOptions& options) {
   options.validate();
+  core::require_output_not_input(out, {options.background_video}, "--out");
   if (fs::exists(out) && !options.overwrite) {
     std::string m = out.string();
     m += ": already exists (use --overwrite to replace it)";

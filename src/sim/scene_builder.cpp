@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "proprio/core/error.hpp"
+#include "proprio/geometry/image_file.hpp"
 
 namespace proprio::sim {
 
@@ -130,14 +131,7 @@ ObjectType resolve_type(const PlacedObject& o, const ObjectCatalogue& catalogue)
 
 std::string object_body_name(const std::string& instance_name) { return "obj_" + instance_name; }
 
-cv::Mat read_image(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error::in_file(path, "no such image file");
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (image.empty())
-    throw Error::in_file(path, "cannot read the image (not an image OpenCV reads)");
-  return image;
-}
+cv::Mat read_image(const fs::path& path) { return geometry::read_image(path, cv::IMREAD_COLOR); }
 
 cv::Mat cube_texture(const cv::Mat& bgr_photo, const Eigen::Vector3d& half_extents, int face_size) {
   assert(!bgr_photo.empty() && bgr_photo.type() == CV_8UC3 && face_size > 0);

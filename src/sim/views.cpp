@@ -8,6 +8,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/random.hpp"
+#include "proprio/geometry/image_file.hpp"
 #include "proprio/sim/renderer.hpp"
 #include "proprio/sim/world.hpp"
 
@@ -42,11 +43,10 @@ ViewsSummary render_views(const fs::path& out, const ViewsOptions& options,
                           const ObjectCatalogue& catalogue) {
   options.validate();
   for (const auto& o : options.objects) (void)catalogue.get(o);  // unknown names fail first
+  core::require_output_not_input(out, options.backgrounds, "--out");
   std::vector<cv::Mat> photos;
   for (const auto& p : options.backgrounds) {
-    cv::Mat img = cv::imread(p.string());
-    if (img.empty()) throw Error::in_file(p, "cannot read the background photograph");
-    photos.push_back(img);
+    photos.push_back(geometry::read_image(p, cv::IMREAD_COLOR));
   }
   core::StagedDirectory staged(out);
   core::Rng rng(options.seed);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "proprio/core/error.hpp"
 
@@ -70,6 +71,12 @@ TEST(Csv, FormatRoundTripsExactly) {
   for (size_t r = 0; r < rows.size(); ++r) {
     for (size_t c = 0; c < 3; ++c) EXPECT_EQ(t.rows[r][c], rows[r][c]);
   }
+}
+
+TEST(Csv, NonFiniteValuesAreRefusedNotWrittenAsNan) {
+  EXPECT_THROW((void)format_csv({"a", "b"}, {{1.0, std::nan("")}}), InternalError);
+  EXPECT_THROW((void)format_csv({"a"}, {{std::numeric_limits<double>::infinity()}}), InternalError);
+  EXPECT_EQ(format_csv({"a"}, {{std::nullopt}}), "a\n\n");  // missing is empty, not nan
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -77,6 +79,22 @@ TEST(JsonIo, NonUtf8StringsAreWrittenReplaced) {
   write_json_atomic(p, Json{{"problem", std::string("bad \xff\xfe byte")}});
   EXPECT_EQ(read_json(p)["problem"], "bad \xEF\xBF\xBD\xEF\xBF\xBD byte");
   fs::remove(p);
+}
+
+TEST(JsonIo, NonFiniteNumbersAreNeverWritten) {
+  const fs::path p = fs::temp_directory_path() / "proprio_json_io_nan.json";
+  fs::remove(p);
+  EXPECT_EQ(first_non_finite(Json{{"a", 1.5}, {"b", {1, 2.5, "x"}}}), std::nullopt);
+  const Json nan_deep{{"a", 1}, {"b", {{"c", {0.5, std::nan("")}}}}};
+  EXPECT_EQ(first_non_finite(nan_deep), "/b/c/1");
+  EXPECT_EQ(first_non_finite(Json(-std::numeric_limits<double>::infinity())), "/");
+  try {
+    write_json_atomic(p, nan_deep);
+    FAIL() << "a NaN was written";
+  } catch (const InternalError& e) {
+    EXPECT_NE(std::string(e.what()).find("/b/c/1"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(p));  // nothing written, not even null
 }
 
 }  // namespace

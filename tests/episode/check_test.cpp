@@ -87,7 +87,7 @@ TEST_F(CheckTest, PngCutInsideItsHeader) {
 
 TEST_F(CheckTest, NotAPng) {
   core::write_file_atomic(image_path(dir_, "frames", 1), "GIF89a, not a PNG at all");
-  EXPECT_EQ(read_error(), image_path(dir_, "frames", 1).string() + ": not a PNG file");
+  EXPECT_EQ(read_error(), image_path(dir_, "frames", 1).string() + ": not an image proprio reads (PNG, JPEG, BMP or PNM)");
 }
 
 TEST_F(CheckTest, CorruptPngDataIsFoundByDecoding) {
@@ -296,7 +296,7 @@ TEST_F(CheckTest, VideoFileNameMustStayInTheEpisode) {
 TEST_F(CheckTest, MaskOfTheWrongType) {
   const fs::path f = image_path(dir_, "masks", 1);
   cv::imwrite(f.string(), cv::Mat(48, 64, CV_8UC1, cv::Scalar(1)));
-  const std::string expect = f.string() + ": is 8-bit grey, masks must be 16-bit grey";
+  const std::string expect = f.string() + ": is 8-bit grey PNG, masks must be 16-bit grey";
   EXPECT_HAS(problems(), expect);
   EXPECT_EQ(read_error(), expect);
 }

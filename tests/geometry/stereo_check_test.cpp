@@ -116,7 +116,7 @@ TEST(StereoCheck, BadFoldersAreErrors) {
       tmp.path.string() + ": the 9x6 board was found in both images of 1 pairs, need at least 3");
 
   core::write_file_atomic(tmp.path / "right02.jpg", "not a JPEG");
-  EXPECT_EQ(error_of(o), (tmp.path / "right02.jpg").string() + ": cannot read the image");
+  EXPECT_EQ(error_of(o), (tmp.path / "right02.jpg").string() + ": not an image proprio reads (PNG, JPEG, BMP or PNM)");
 
   o.square_size = -1.0;
   EXPECT_THROW(run_stereo_check(o), Error);

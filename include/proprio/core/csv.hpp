@@ -51,7 +51,8 @@ CsvTable parse_csv(const std::string& text, const std::filesystem::path& source,
 CsvTable read_csv(const std::filesystem::path& path, const CsvReadOptions& options = {});
 
 /// Formats rows of numbers as CSV with a header line; values use the shortest representation
-/// that reads back exactly, and std::nullopt becomes an empty field.
+/// that reads back exactly, and std::nullopt becomes an empty field. Throws InternalError when a
+/// value is NaN or Inf (a missing value is std::nullopt, never NaN).
 std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<std::optional<double>>>& rows);
 

@@ -2,6 +2,7 @@
 // Local image features (thesis 6.1.1): keypoints with their 128-D SIFT descriptors, and the
 // binary file that stores them (docs/formats/vocabulary.md, "features file").
 
+#include <cstdint>
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <string>
@@ -21,6 +22,9 @@ struct Features {
 
 /// The length of a SIFT descriptor.
 inline constexpr int kDescriptorLength = 128;
+
+/// The version of the features file format this build writes (and the only one it reads).
+inline constexpr std::uint32_t kFeaturesFormatVersion = 1;
 
 /// Writes keypoints and descriptors atomically in a versioned, checksummed binary format.
 void write_features(const std::filesystem::path& path, const Features& features);

@@ -55,6 +55,10 @@ struct Triangulation {
   TriangulationSummary summary;
 };
 
+/// Throws Error unless the centres of the two cameras differ (by more than 1e-9 of their distance
+/// from the origin, at least 1e-9): two views from one centre see no depth.
+void require_distinct_centres(const Matrix34d& P1, const Matrix34d& P2);
+
 /// Triangulates one point from ideal (undistorted) pixels. The linear method is the one of
 /// Hartley & Zisserman 12.2 (and cv::triangulatePoints): the rows u P3 - P1, v P3 - P2 of both
 /// cameras, the right singular vector of the smallest singular value. Throws Error when the pixels

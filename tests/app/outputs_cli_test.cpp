@@ -1,0 +1,80 @@
+// Every writer of the CLI refuses an output that is one of its inputs (issue 16): exit 2, one line
+// naming the option, before any work is done and without touching the input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "../support/temp_dir.hpp"
+#include "cli_run.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/sim/recorder.hpp"
+
+namespace proprio {
+namespace {
+namespace fs = std::filesystem;
+using test::line_count;
+using test::run_cli;
+
+TEST(OutputsCli, AnOutputThatIsAnInputIsRefusedByEveryWriter) {
+  const test::TempDir dir("proprio_outputs_cli_");
+  auto file = [&](const std::string& name) {
+    const fs::path p = dir.path() / name;
+    if (!fs::exists(p)) core::write_file_atomic(p, "input " + name + "\n");
+    return p.string();
+  };
+  const std::string images = (dir.path() / "images").string();
+  fs::create_directories(dir.path() / "images" / "a");
+  core::write_file_atomic(dir.path() / "images" / "a" / "x.png", "not read");
+  const std::string c1 = file("c1.yml");
+  const std::string c2 = file("c2.yml");
+  const std::string pts = file("pts.csv");
+  const std::string model = file("m.lda");
+  const std::string vocab = file("v.vocab");
+  const std::string video = sim::RecordOptions::default_background_video().string();
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"calib dlt --points " + pts + " --out " + pts, "--out is the same file as"},
+      {"calib triangulate --calib1 " + c1 + " --calib2 " + c2 + " --points " + pts + " --out " + c2,
+       "--out is the same file as"},
+      {"calib triangulate --calib1 " + c1 + " --calib2 " + c2 + " --points " + pts + " --out " +
+           (dir.path() / "o.csv").string() + " --json " + pts,
+       "--json is the same file as"},
+      {"calib backproject --calib " + c1 + " --points " + pts + " --plane 0,0,1,0 --out " + c1,
+       "--out is the same file as"},
+      {"calib uncertainty --calib1 " + c1 + " --calib2 " + c2 + " --out " +
+           (dir.path() / "u.png").string() + " --json " + c2,
+       "--json is the same file as"},
+      {"calib stereo --images " + images + " --out " + images, "--out is the same file as"},
+      {"calib stereo --images " + images + " --out " + dir.path().string(),
+       "--out holds the input"},
+      {"recognize train --images " + images + " --vocabulary " + vocab + " --model " + vocab,
+       "--model is the same file as"},
+      {"recognize classify --images " + images + " --vocabulary " + vocab + " --model " + model +
+           " --out " + model,
+       "--out is the same file as"},
+      {"recognize classify --images " + images + " --vocabulary " + vocab + " --model " + model +
+           " --json " + vocab,
+       "--json is the same file as"},
+      {"vocab quantize --vocab " + vocab + " --images " + images + " --corpus " + images,
+       "--corpus is the same file as"},
+      {"sim calibrate --out " + c1 + " --json " + c1, "--json is the same file as"},
+      {"sim record --out " + (dir.path() / "ep").string() + " --json " + video,
+       "--json is the same file as"},
+  };
+  for (const auto& [args, expect] : cases) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+  }
+  for (const auto& name : {"c1.yml", "c2.yml", "pts.csv", "m.lda", "v.vocab"}) {
+    EXPECT_EQ(core::read_file(dir.path() / name), std::string("input ") + name + "\n") << name;
+  }
+  EXPECT_TRUE(fs::exists(dir.path() / "images" / "a" / "x.png"));
+  EXPECT_FALSE(fs::exists(dir.path() / "ep"));
+}
+
+}  // namespace
+}  // namespace proprio
