@@ -6,6 +6,7 @@
 
 #include "cli.hpp"
 #include "option_binder.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/features/vocabulary_build.hpp"
 #include "proprio/recognition/image_quantize.hpp"
@@ -70,6 +71,7 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
   build->add_flag("!--no-progress", b->options.progress, "No progress bar");
   // Under mpirun, data-parallel over the ranks (features/vocabulary_build.hpp); rank 0 prints.
   build->callback([b, &inv] {
+    core::require_output_not_input(b->json, {b->options.out, b->options.images}, "--json");
     run_on_world([&](core::Communicator& comm) {
       const auto r =
           features::run_vocabulary_build(b->options, inv.provenance(b->options.kmeans.seed), comm);
@@ -93,6 +95,8 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
   quantize->add_option("--json", q->json, "Also write a summary as JSON");
   quantize->add_flag("!--no-progress", q->options.progress, "No progress bar");
   quantize->callback([q, &inv] {
+    const auto& o = q->options;
+    core::require_output_not_input(q->json, {o.corpus, o.vocabulary, o.images}, "--json");
     const auto r = recognition::run_quantize_images(q->options, inv.provenance());
     std::printf("%s -> %s\n", r.brief().c_str(), q->options.corpus.c_str());
     write_json_result(q->json, r.document);

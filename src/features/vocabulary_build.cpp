@@ -1,4 +1,5 @@
 #include "proprio/features/vocabulary_build.hpp"
+#include "proprio/core/files.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -81,6 +82,7 @@ void fill_document(const VocabularyBuildOptions& options, const core::Provenance
 
 void VocabularyBuildOptions::validate() const {
   if (images.empty()) throw Error("vocab build: the image set is required");
+  core::require_output_not_input(out, {images}, "--out");
   core::check_field_bounds(*this, "vocab build");
   features.validate();
   kmeans.validate();

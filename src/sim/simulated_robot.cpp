@@ -160,12 +160,28 @@ Pose resting_pose(const ObjectType& type, const Placement& p) {
   return pose;
 }
 
+// Copies of the table's object types: the robot outlives the catalogue it was built from.
+std::vector<ObjectType> copies(const std::vector<const ObjectType*>& types) {
+  std::vector<ObjectType> out;
+  out.reserve(types.size());
+  for (const ObjectType* t : types) out.push_back(*t);
+  return out;
+}
+
+std::vector<const ObjectType*> pointers(const std::vector<ObjectType>& types) {
+  std::vector<const ObjectType*> out;
+  out.reserve(types.size());
+  for (const ObjectType& t : types) out.push_back(&t);
+  return out;
+}
+
 }  // namespace
 
 struct SimulatedRobot::State {
   State(const TableOptions& o, const ObjectCatalogue& catalogue)
       : options(o),
-        types(table_types(o, catalogue)),
+        owned(copies(table_types(o, catalogue))),
+        types(pointers(owned)),
         world(
             World::build(table_scene(o, types, scatter_placements(types, {}, o.seed)), catalogue)),
         renderer(world, render_options(o)),
@@ -192,6 +208,7 @@ struct SimulatedRobot::State {
   }
 
   TableOptions options;
+  std::vector<ObjectType> owned;  // never resized: `types` points into it
   std::vector<const ObjectType*> types;
   World world;
   Renderer renderer;

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 
 #include "proprio/core/error.hpp"
@@ -136,6 +137,21 @@ TEST(SimulatedRobot, ScatterMovesEveryObject) {
     EXPECT_LT((after[i].position.head<2>() - places[i].position).norm(), 0.01);
     EXPECT_TRUE(after[i].on_table);
   }
+}
+
+// The robot keeps its own copies of the object types: built from a catalogue that is gone by the
+// time it scatters (as the CLI's and Python's temporaries are), it still works (ASan would report
+// the use after free).
+TEST(SimulatedRobot, OutlivesTheCatalogueItWasBuiltFrom) {
+  std::unique_ptr<SimulatedRobot> robot;
+  {
+    const ObjectCatalogue temporary = ObjectCatalogue::load_default();
+    robot = std::make_unique<SimulatedRobot>(small_table(), temporary);
+  }
+  const auto places = robot->scatter(5);
+  ASSERT_EQ(places.size(), 3u);
+  EXPECT_EQ(places[1].name, "mug");
+  EXPECT_EQ(robot->ground_truth()[2].name, "calculator");
 }
 
 }  // namespace
