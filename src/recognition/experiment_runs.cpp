@@ -205,6 +205,7 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
       j["mot_unsupervised"] = u.classes.to_json();
       j["mot_unsupervised"]["chosen_classes"] = u.chosen_classes;
       j["mot_unsupervised"]["object_class"] = u.object_class;
+      j["mot_unsupervised"]["chosen_classes_per_object"] = u.chosen_per_class;
     }
     if (!run.mot_grid.empty()) {
       j["mot_grid"] = core::Json::array();

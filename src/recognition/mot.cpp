@@ -233,6 +233,20 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
   topics::MotOptions o = options;
   o.classes = 0;
   e.chosen_classes = topics::fit_mot_unsupervised(theta, o).model.num_classes();
+  for (int c = 0; c < n_classes; ++c) {
+    std::vector<Eigen::Index> mine;
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (train.labels[static_cast<std::size_t>(rows[i])] == c)
+        mine.push_back(static_cast<Eigen::Index>(i));
+    if (mine.size() < 4) {
+      e.chosen_per_class.push_back(0);
+      continue;
+    }
+    Eigen::MatrixXd one(static_cast<Eigen::Index>(mine.size()), theta.cols());
+    for (std::size_t i = 0; i < mine.size(); ++i)
+      one.row(static_cast<Eigen::Index>(i)) = theta.row(mine[i]);
+    e.chosen_per_class.push_back(topics::fit_mot_unsupervised(one, o).model.num_classes());
+  }
   o.classes = n_classes;
   e.fit = topics::fit_mot_unsupervised(theta, o);
   // Name each object after the majority class of its training documents.

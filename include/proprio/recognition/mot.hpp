@@ -88,6 +88,10 @@ struct MotUnsupervisedEvaluation {
   std::vector<int> object_class;
   ConfusionMatrix classes;  ///< test classes x classes, by the named objects
   int chosen_classes = 0;   ///< C chosen by BIC (options.max_classes) on the same theta
+  /// For each class: the C BIC chooses on that class's training views alone (0 when it has
+  /// fewer than 4). Above 1, one object's theta is itself a mixture: why BIC over-estimates the
+  /// number of objects (docs/results/mot.md).
+  std::vector<int> chosen_per_class;
 };
 
 /// Fits an unsupervised MoT (C = the number of classes) to the theta of `train`'s documents
