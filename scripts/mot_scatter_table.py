@@ -48,7 +48,7 @@ for n in (3, 4):
     for g in r["mot_grid"]:
         print(f"  {g['theta']:>14} s={g['smoothing']:<5} prior {g['prior']:<8} "
               f"{100 * g['mean_class_accuracy']:.1f}")
-    table, per_object, bic = {}, {}, []
+    table, per_object, bic, summed = {}, {}, [], {}
     names = None
     for s in seeds:
         try:
@@ -59,6 +59,9 @@ for n in (3, 4):
         for k, c in methods(run).items():
             table.setdefault(k, {})[s] = 100 * c["mean_class_accuracy"]
             per_object.setdefault(k, []).append([100 * x for x in recalls(c)])
+            prev = summed.get(k)
+            summed[k] = c["counts"] if prev is None else [
+                [a + b for a, b in zip(ra, rb)] for ra, rb in zip(prev, c["counts"])]
         u = run["mot_unsupervised"]
         bic.append((s, u["chosen_classes"], u.get("chosen_classes_per_object")))
     done = sorted(next(iter(table.values())).keys(), key=int)
@@ -68,6 +71,7 @@ for n in (3, 4):
         vals = [v[s] for s in done]
         print(f"| {k} | " + " | ".join(f"{x:.1f}" for x in vals) + f" | {interval(vals)} |")
     a = table["argmax theta, merged"]
+    print()
     for k in ("MoT, E-step theta", "MoT, word-posterior theta"):
         wins = sum(table[k][s] > a[s] for s in done)
         print(f"{k} above argmax on {wins} of {len(done)} seeds")
@@ -78,7 +82,12 @@ for n in (3, 4):
         cols = list(zip(*rows))
         print(f"| {k} | " + " | ".join(
             f"{statistics.mean(c):.1f} ({min(c):.0f}-{max(c):.0f})" for c in cols) + " |")
+    print("\nconfusion matrices summed over the report seeds (rows: true object):")
+    for k in ("argmax theta, merged", "MoT, word-posterior theta"):
+        print(f"{k}:\n" + " " * 12 + "".join(f"{x[:10]:>11}" for x in names))
+        for label, row in zip(names, summed[k]):
+            print(f"{label[:10]:>10}  " + "".join(f"{x:11d}" for x in row))
     print("\nBIC's C (all training views; per object alone):")
     for s, c, per in bic:
-        print(f"  seed {s}: {c}; per object {per}")
+        print(f"  seed {s}: {c}; per object " + (str(per) if per is not None else "not recorded"))
     print()
