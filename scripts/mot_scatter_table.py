@@ -75,7 +75,7 @@ for n in (3, 4):
     for k in ("MoT, E-step theta", "MoT, word-posterior theta"):
         wins = sum(table[k][s] > a[s] for s in done)
         print(f"{k} above argmax on {wins} of {len(done)} seeds")
-    print("\nper object, recall % (mean over the seeds, min-max):")
+    print("\nper object, recall % (mean over the seeds, min-max):\n")
     print("| method | " + " | ".join(names) + " |")
     print("|---|" + "---|" * len(names))
     for k, rows in per_object.items():
