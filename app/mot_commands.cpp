@@ -1,6 +1,7 @@
 // proprio mot ...: the Mixture of Topics object model (thesis 7.1; docs/formats/mot-model.md).
-// train: recognition::run_mot_train; classify: recognition::run_mot_classify; info:
-// recognition::run_mot_info. Each command binds its options, makes one library call and prints.
+// train: recognition::run_mot_train; classify: recognition::run_mot_classify; update:
+// recognition::run_mot_update; info: recognition::run_mot_info. Each command binds its options,
+// makes one library call and prints.
 #include <cstdio>
 #include <memory>
 
@@ -35,6 +36,10 @@ struct TrainArgs {
 };
 struct ClassifyArgs {
   MotClassifyOptions options;
+  std::string json;
+};
+struct UpdateArgs {
+  MotUpdateOptions options;
   std::string json;
 };
 struct MapsArgs {
@@ -82,6 +87,24 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
     std::printf("rows: true object; columns: the Mixture of Topics' object\n%s%s\n",
                 r.confusion.format().c_str(), r.brief().c_str());
     write_json_result(c->json, r.document);
+  });
+
+  auto u = std::make_shared<UpdateArgs>();
+  auto* update = mot->add_subcommand(
+      "update",
+      "Add labelled views to a model's objects: online update of their Dirichlets (8.1.2)");
+  add_source_options(update, u->options.source);
+  update->add_option("--model", u->options.model, "Mixture of Topics model file to update")
+      ->required();
+  update->add_option("--out", u->options.out, "Where the updated model goes (may be --model)")
+      ->required();
+  // Only the online rule's options: the model keeps its prior and smoothing.
+  bind_options(update, u->options.mot, FieldFilter{{"update", "forgetting", "seed"}, {}});
+  update->add_option("--json", u->json, "Also write the updated objects as JSON");
+  update->callback([u, &inv] {
+    const MotUpdateResult r = run_mot_update(u->options, inv.provenance(u->options.mot.seed));
+    std::printf("%s\nmodel: %s\n", r.brief().c_str(), u->options.out.c_str());
+    write_json_result(u->json, r.document);
   });
 
   auto m = std::make_shared<MapsArgs>();

@@ -288,6 +288,13 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   sc->add_flag("--mot", s->options.options.mot,
                "Also classify the test views by a supervised Mixture of Topics (thesis 7.1) "
                "fitted to the labelled views' theta");
+  sc->add_option("--mot-smoothing", s->options.options.mot_options.smoothing,
+                 "With --mot: theta smoothing s, (1 - s) theta + s / T before the log")
+      ->capture_default_str();
+  sc->add_option("--mot-smoothing-grid", s->options.options.mot_smoothing_grid,
+                 "With --mot: also evaluate the supervised MoT at these smoothings (comma-"
+                 "separated), with either prior (tuning)")
+      ->delimiter(',');
   add_feature_options(sc, s->options.options.frames.features);
   sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
   sc->add_option("--json", s->json, "Also write the confusion matrices as JSON");

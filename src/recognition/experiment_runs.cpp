@@ -181,6 +181,17 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
           100 * run.mot->classes.accuracy(), 100 * run.mot->classes.mean_class_accuracy());
       j["mot"] = run.mot->classes.to_json();
       j["mot"]["summary"] = run.mot->fit.summary.brief();
+      j["mot"]["smoothing"] = run.mot->fit.model.smoothing;
+      j["mot"]["objects"] = core::Json::array();
+      for (const auto& obj : run.mot->fit.model.objects) {
+        core::Json oj;
+        oj["name"] = obj.name;
+        oj["views"] = obj.views;
+        const Eigen::VectorXd& a = obj.dirichlet.alpha();
+        oj["alpha"] = std::vector<double>(a.data(), a.data() + a.size());
+        oj["precision"] = obj.dirichlet.precision();
+        j["mot"]["objects"].push_back(oj);
+      }
     }
     if (run.mot_unsupervised) {
       const MotUnsupervisedEvaluation& u = *run.mot_unsupervised;
@@ -194,6 +205,17 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
       j["mot_unsupervised"] = u.classes.to_json();
       j["mot_unsupervised"]["chosen_classes"] = u.chosen_classes;
       j["mot_unsupervised"]["object_class"] = u.object_class;
+      j["mot_unsupervised"]["chosen_classes_per_object"] = u.chosen_per_class;
+    }
+    if (!run.mot_grid.empty()) {
+      j["mot_grid"] = core::Json::array();
+      for (const MotGridPoint& g : run.mot_grid) {
+        core::Json gj = g.classes.to_json();
+        gj["theta"] = std::string(core::choice_name(g.source, kThetaSourceNames));
+        gj["smoothing"] = g.smoothing;
+        gj["prior"] = g.prior == topics::MotPrior::kUniform ? "uniform" : "views";
+        j["mot_grid"].push_back(gj);
+      }
     }
     doc["runs"].push_back(j);
   }

@@ -298,6 +298,18 @@ ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episode
       r.mot = evaluate_mot(trained.model, mapping_docs, test_docs, options.mot_options);
       r.mot_unsupervised =
           evaluate_mot_unsupervised(trained.model, mapping_docs, test_docs, options.mot_options);
+      for (const auto source : {ThetaSource::kEStep, ThetaSource::kWordPosterior}) {
+        for (const double s : options.mot_smoothing_grid) {
+          for (const auto prior : {topics::MotPrior::kViews, topics::MotPrior::kUniform}) {
+            topics::MotOptions g = options.mot_options;
+            g.smoothing = s;
+            g.prior = prior;
+            r.mot_grid.push_back(
+                {source, s, prior,
+                 evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source).classes});
+          }
+        }
+      }
     }
     result.runs.push_back(std::move(r));
   }

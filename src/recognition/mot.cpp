@@ -9,6 +9,7 @@
 #include "proprio/core/binary_file.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
+#include "proprio/core/text.hpp"
 #include "proprio/episode/discovery.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/image_set.hpp"
@@ -152,17 +153,55 @@ DocumentTheta document_theta(const topics::LdaModel& model, const topics::Corpus
   return out;
 }
 
+DocumentTheta word_posterior_theta(const topics::LdaModel& model, const topics::Corpus& corpus) {
+  if (static_cast<int>(corpus.num_words()) != model.num_words()) {
+    throw Error("the corpus has " + std::to_string(corpus.num_words()) + " words, the LDA model " +
+                std::to_string(model.num_words()));
+  }
+  const Eigen::MatrixXd beta = model.topic_word();
+  // p(k | w) per word: the columns of beta normalised.
+  Eigen::MatrixXd post = beta;
+  for (Eigen::Index w = 0; w < post.cols(); ++w) post.col(w) /= post.col(w).sum();
+  const auto k = static_cast<Eigen::Index>(model.num_topics());
+  const auto n = static_cast<Eigen::Index>(corpus.num_documents());
+  DocumentTheta out{Eigen::MatrixXd::Constant(n, k, 1.0 / static_cast<double>(k)), {}};
+  for (Eigen::Index d = 0; d < n; ++d) {
+    const topics::DocumentView doc = corpus.document(static_cast<std::size_t>(d));
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(k);
+    double tokens = 0;
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      sum += static_cast<double>(doc.counts[i]) * post.col(doc.words[i]);
+      tokens += doc.counts[i];
+    }
+    out.empty.push_back(tokens == 0);
+    if (tokens > 0) out.theta.row(d) = (sum / sum.sum()).transpose();
+  }
+  return out;
+}
+
+DocumentTheta view_theta(const topics::LdaModel& model, const topics::Corpus& corpus,
+                         ThetaSource source, const topics::InferenceOptions& options) {
+  return source == ThetaSource::kEStep ? document_theta(model, corpus, options)
+                                       : word_posterior_theta(model, corpus);
+}
+
 MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& train,
                            const LabelledCorpus& test, const topics::MotOptions& options,
                            const topics::InferenceOptions& inference) {
+  return evaluate_mot(model, train, test, options, inference, ThetaSource::kEStep);
+}
+
+MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& train,
+                           const LabelledCorpus& test, const topics::MotOptions& options,
+                           const topics::InferenceOptions& inference, ThetaSource source) {
   require(train.classes == test.classes, "evaluate_mot: training and test classes differ");
-  const DocumentTheta known = document_theta(model, train.corpus, inference);
+  const DocumentTheta known = view_theta(model, train.corpus, source, inference);
   std::vector<int> labels = train.labels;
   for (std::size_t d = 0; d < labels.size(); ++d)
     if (known.empty[d]) labels[d] = -1;
   MotEvaluation e;
   e.fit = topics::fit_mot(known.theta, labels, train.classes, options);
-  const DocumentTheta t = document_theta(model, test.corpus, inference);
+  const DocumentTheta t = view_theta(model, test.corpus, source, inference);
   for (std::size_t d = 0; d < t.empty.size(); ++d)
     if (!t.empty[d]) e.classified.push_back(static_cast<int>(d));
   Eigen::MatrixXd theta(static_cast<Eigen::Index>(e.classified.size()), t.theta.cols());
@@ -194,6 +233,20 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
   topics::MotOptions o = options;
   o.classes = 0;
   e.chosen_classes = topics::fit_mot_unsupervised(theta, o).model.num_classes();
+  for (int c = 0; c < n_classes; ++c) {
+    std::vector<Eigen::Index> mine;
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (train.labels[static_cast<std::size_t>(rows[i])] == c)
+        mine.push_back(static_cast<Eigen::Index>(i));
+    if (mine.size() < 4) {
+      e.chosen_per_class.push_back(0);
+      continue;
+    }
+    Eigen::MatrixXd one(static_cast<Eigen::Index>(mine.size()), theta.cols());
+    for (std::size_t i = 0; i < mine.size(); ++i)
+      one.row(static_cast<Eigen::Index>(i)) = theta.row(mine[i]);
+    e.chosen_per_class.push_back(topics::fit_mot_unsupervised(one, o).model.num_classes());
+  }
   o.classes = n_classes;
   e.fit = topics::fit_mot_unsupervised(theta, o);
   // Name each object after the majority class of its training documents.
@@ -423,13 +476,78 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
   return r;
 }
 
+void MotUpdateOptions::validate() const {
+  source.validate();
+  if (model.empty()) throw Error("mot update: the model file to update is required");
+  if (out.empty()) throw Error("mot update: the file to write the updated model to is required");
+  mot.validate();
+}
+
+std::string MotUpdateResult::brief() const {
+  std::ostringstream s;
+  s << summary.views << " new views (" << empty_documents << " without features skipped), "
+    << summary.fits.size() << " objects refitted, " << summary.new_objects << " new; "
+    << model.num_classes() << " objects now";
+  return s.str();
+}
+
+MotUpdateResult run_mot_update(const MotUpdateOptions& options,
+                               const core::Provenance& provenance) {
+  options.validate();
+  topics::MotModelFile file = topics::load_mot_model(options.model);
+  const topics::LdaModel lda = topics::load_lda_model(options.source.lda_model);
+  const features::Vocabulary vocabulary = features::read_vocabulary(options.source.vocabulary);
+  check_words(lda, vocabulary, options.source.lda_model);
+  const std::uint32_t vc = vocabulary_checksum(vocabulary);
+  topics::check_mot_basis(file.basis, lda, &vc, options.model);
+  const Views views = read_views(options.source, vocabulary);
+  const DocumentTheta dt = document_theta(lda, views.docs.corpus);
+
+  MotUpdateResult r;
+  r.documents = static_cast<int>(dt.empty.size());
+  std::vector<std::string> labels(dt.empty.size());
+  for (std::size_t d = 0; d < labels.size(); ++d) {
+    const int l = views.docs.labels[d];
+    if (dt.empty[d]) {
+      ++r.empty_documents;
+    } else if (l >= 0) {
+      labels[d] = views.docs.classes[static_cast<std::size_t>(l)];
+    }
+  }
+  r.summary = topics::update_mot(file.model, dt.theta, labels, options.mot);
+  topics::save_mot_model(file.model, file.basis, options.out);
+  r.model = file.model;
+
+  core::Json& doc = r.document;
+  doc = core::result_document("proprio.mot.update", 1, provenance);
+  doc["model"] = options.model.string();
+  doc["out"] = options.out.string();
+  doc["lda_model"] = options.source.lda_model.string();
+  doc["vocabulary"] = options.source.vocabulary.string();
+  doc["source"] = options.source.images.empty() ? "episodes" : "images";
+  doc["input"] =
+      (options.source.images.empty() ? options.source.episodes : options.source.images).string();
+  doc["rule"] = std::string(core::choice_name(options.mot.update, topics::kMotUpdateRuleNames));
+  doc["forgetting"] = options.mot.forgetting;
+  doc["documents"] = r.documents;
+  doc["empty_documents"] = r.empty_documents;
+  doc["new_views"] = r.summary.views;
+  doc["new_objects"] = r.summary.new_objects;
+  doc["resampled"] = r.summary.resampled;
+  doc["basis"] = basis_json(file.basis);
+  doc["objects"] = core::Json::array();
+  for (const auto& o : file.model.objects) doc["objects"].push_back(object_json(o));
+  return r;
+}
+
 MotInfo run_mot_info(const fs::path& model, const core::Provenance& provenance) {
   const topics::MotModelFile f = topics::load_mot_model(model);
   MotInfo out;
   const topics::MotBasis& b = f.basis;
   out.lines.push_back(model.string() + ": " + std::to_string(f.model.num_classes()) +
                       " objects over " + std::to_string(f.model.num_topics()) + " topics, prior " +
-                      std::string(core::choice_name(f.model.prior, topics::kMotPriorNames)));
+                      std::string(core::choice_name(f.model.prior, topics::kMotPriorNames)) +
+                      ", theta smoothing " + core::printf_string("%g", f.model.smoothing));
   out.lines.push_back("built on LDA model " + hex(b.lda_checksum) + " (" +
                       std::to_string(b.lda_topics) + " topics, " + std::to_string(b.lda_words) +
                       " words)" +
@@ -446,6 +564,7 @@ MotInfo run_mot_info(const fs::path& model, const core::Provenance& provenance) 
   out.document["model"] = model.string();
   out.document["format_version_of_model"] = topics::kMotModelFormatVersion;
   out.document["prior"] = std::string(core::choice_name(f.model.prior, topics::kMotPriorNames));
+  out.document["smoothing"] = f.model.smoothing;
   out.document["basis"] = basis_json(b);
   out.document["objects"] = core::Json::array();
   for (const auto& o : f.model.objects) out.document["objects"].push_back(object_json(o));

@@ -42,6 +42,7 @@ MotFit fit_labelled(const Eigen::MatrixXd& log_theta, std::span<const int> label
                     const std::vector<std::string>& classes, const MotOptions& options) {
   MotFit out;
   out.model.prior = options.prior;
+  out.model.smoothing = options.smoothing;
   out.summary.topics = static_cast<int>(log_theta.cols());
   out.summary.classes = static_cast<int>(classes.size());
   for (int c = 0; c < static_cast<int>(classes.size()); ++c) {
@@ -270,6 +271,17 @@ Eigen::MatrixXd check_theta(const Eigen::Ref<const Eigen::MatrixXd>& theta,
   return out;
 }
 
+Eigen::MatrixXd smoothed_log_theta(const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                                   const ProportionOptions& options, double smoothing,
+                                   int expected_topics) {
+  Eigen::MatrixXd out = check_theta(theta, options, expected_topics);
+  require(smoothing >= 0.0 && smoothing <= 0.5, "Mixture of Topics: smoothing outside [0, 0.5]");
+  if (smoothing == 0.0) return out;
+  const double u = smoothing / static_cast<double>(theta.cols());
+  out = ((1.0 - smoothing) * theta.array() + u).log().matrix();
+  return out;
+}
+
 std::string MotFitSummary::brief() const {
   std::ostringstream s;
   s << classes << " objects over " << topics << " topics from " << views << " views";
@@ -291,7 +303,8 @@ MotFit fit_mot(const Eigen::Ref<const Eigen::MatrixXd>& theta, std::span<const i
     throw Error("Mixture of Topics: " + std::to_string(labels.size()) + " labels for " +
                 std::to_string(theta.rows()) + " theta rows");
   }
-  const Eigen::MatrixXd log_theta = check_theta(theta, options.fit.proportions);
+  const Eigen::MatrixXd log_theta =
+      smoothed_log_theta(theta, options.fit.proportions, options.smoothing);
   const int c = static_cast<int>(classes.size());
   std::vector<int> count(classes.size(), 0);
   for (std::size_t d = 0; d < labels.size(); ++d) {
@@ -325,7 +338,8 @@ double mot_bic(const MotFitSummary& summary, int views) {
 MotFit fit_mot_unsupervised(const Eigen::Ref<const Eigen::MatrixXd>& theta,
                             const MotOptions& options) {
   options.validate();
-  const Eigen::MatrixXd log_theta = check_theta(theta, options.fit.proportions);
+  const Eigen::MatrixXd log_theta =
+      smoothed_log_theta(theta, options.fit.proportions, options.smoothing);
   const int views = static_cast<int>(theta.rows());
   if (views < kMinViews) {
     throw Error("Mixture of Topics: " + std::to_string(views) +
@@ -367,7 +381,8 @@ MotClassification classify_mot(const MotModel& model,
                                const Eigen::Ref<const Eigen::MatrixXd>& theta,
                                const ProportionOptions& options) {
   model.validate();
-  const Eigen::MatrixXd log_theta = check_theta(theta, options, model.num_topics());
+  const Eigen::MatrixXd log_theta =
+      smoothed_log_theta(theta, options, model.smoothing, model.num_topics());
   MotClassification out;
   out.log_score = log_scores(model, log_theta);
   out.posterior.resize(out.log_score.rows(), out.log_score.cols());
@@ -387,7 +402,8 @@ MotUpdateSummary update_mot(MotModel& model, const Eigen::Ref<const Eigen::Matri
     throw Error("Mixture of Topics update: " + std::to_string(labels.size()) + " labels for " +
                 std::to_string(theta.rows()) + " theta rows");
   }
-  const Eigen::MatrixXd log_theta = check_theta(theta, options.fit.proportions, model.num_topics());
+  const Eigen::MatrixXd log_theta =
+      smoothed_log_theta(theta, options.fit.proportions, model.smoothing, model.num_topics());
   // Group the new views by object, in order of first appearance.
   std::vector<std::string> order;
   std::map<std::string, std::vector<Eigen::Index>> rows;

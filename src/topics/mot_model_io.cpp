@@ -17,6 +17,16 @@ using core::put_binary;
 namespace {
 
 constexpr core::BinaryFormat kFormat{"PRMOTMDL", kMotModelFormatVersion, "Mixture of Topics model"};
+/// Version 1: as version 2 without the trailing theta smoothing.
+constexpr core::BinaryFormat kFormatV1{"PRMOTMDL", 1, "Mixture of Topics model"};
+
+/// The format version in a file's header, when the header is there and its magic is ours.
+std::uint32_t header_version(std::string_view bytes) {
+  std::uint32_t v = 0;
+  if (bytes.size() >= 12 && bytes.substr(0, 8) == kFormat.magic)
+    std::memcpy(&v, bytes.data() + 8, 4);
+  return v;
+}
 
 /// Bytes of one object's record besides its name: name length, views, count, T mean logs, T
 /// alphas.
@@ -102,11 +112,17 @@ std::string serialize_mot_model(const MotModel& model, const MotBasis& basis) {
     for (int k = 0; k < t; ++k) put_binary(payload, o.stats.mean_log()(k));
     for (int k = 0; k < t; ++k) put_binary(payload, o.dirichlet.alpha()(k));
   }
+  require(model.smoothing >= 0.0 && model.smoothing <= 0.5,
+          "Mixture of Topics model: smoothing outside [0, 0.5]");
+  put_binary(payload, model.smoothing);
   return core::frame_binary(kFormat, payload);
 }
 
 MotModelFile parse_mot_model(std::string_view bytes, const fs::path& source) {
-  core::BinaryReader r(core::unframe_binary(bytes, kFormat, source), source, kFormat.kind);
+  const bool v1 = header_version(bytes) == 1;
+  core::BinaryReader r(core::unframe_binary(bytes, v1 ? kFormatV1 : kFormat, source), source,
+                       kFormat.kind);
+  const std::uint64_t trailer = v1 ? 0 : 8;  // the smoothing after the objects
   const auto t = r.get<std::uint32_t>("T");
   const auto c = r.get<std::uint32_t>("C");
   const auto prior = r.get<std::uint32_t>("the prior");
@@ -119,7 +135,7 @@ MotModelFile parse_mot_model(std::string_view bytes, const fs::path& source) {
     return Error::in_file(source, "corrupt Mixture of Topics model file: " + what);
   };
   if (t < 2 || t > kMotMaxTopics || c < 1 || c > kMotMaxClasses ||
-      static_cast<std::uint64_t>(c) * object_bytes(t) > r.left()) {
+      static_cast<std::uint64_t>(c) * object_bytes(t) + trailer > r.left()) {
     throw corrupt("sizes T = " + std::to_string(t) + ", C = " + std::to_string(c) + " for " +
                   std::to_string(r.left()) + " bytes");
   }
@@ -155,6 +171,13 @@ MotModelFile parse_mot_model(std::string_view bytes, const fs::path& source) {
     } catch (const Error& e) {
       throw corrupt(e.what());
     }
+  }
+  if (!v1) {
+    const auto smoothing = r.get<double>("the smoothing");
+    if (!(smoothing >= 0.0 && smoothing <= 0.5)) {
+      throw corrupt("theta smoothing " + std::to_string(smoothing) + " outside [0, 0.5]");
+    }
+    out.model.smoothing = smoothing;
   }
   if (r.left() != 0) throw corrupt(std::to_string(r.left()) + " bytes after the last object");
   return out;

@@ -115,6 +115,51 @@ TEST_F(MotCli, TrainClassifyAndInfo) {
   test::expect_schema_valid("mot_info.schema.json", file("info.json"));
 }
 
+TEST_F(MotCli, UpdateByMergingStatisticsEqualsTrainingOnAllViews) {
+  // The first 5 images of each object train a model; the other 5 update it (exact rule, no
+  // forgetting): the same Dirichlets as one model trained on all 10.
+  for (const char* c : kClasses) {
+    fs::create_directories(dir_ / "first" / c);
+    fs::create_directories(dir_ / "second" / c);
+    for (int i = 0; i < 10; ++i) {
+      const std::string name = std::to_string(i) + ".png";
+      fs::copy_file(dir_ / "images" / c / name, dir_ / (i < 5 ? "first" : "second") / c / name,
+                    fs::copy_options::overwrite_existing);
+    }
+  }
+  const std::string lda = " --lda-model " + file("m1.lda") + " --vocabulary " + file("v.vocab");
+  auto r = run_cli("mot train" + inputs() + " --model " + file("all.mot"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_cli("mot train" + lda + " --images " + file("first") + " --model " + file("first.mot"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_cli("mot update" + lda + " --images " + file("second") + " --model " + file("first.mot") +
+              " --out " + file("merged.mot") + " --json " + file("update.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("15 new views"), std::string::npos) << r.out;
+  test::expect_schema_valid("mot_update.schema.json", file("update.json"));
+  const topics::MotModelFile all = topics::load_mot_model(file("all.mot"));
+  const topics::MotModelFile merged = topics::load_mot_model(file("merged.mot"));
+  EXPECT_EQ(merged.basis, all.basis);
+  ASSERT_EQ(merged.model.num_classes(), all.model.num_classes());
+  for (int c = 0; c < all.model.num_classes(); ++c) {
+    const auto& a = all.model.objects[static_cast<std::size_t>(c)];
+    const auto& m = merged.model.objects[static_cast<std::size_t>(c)];
+    EXPECT_EQ(m.name, a.name);
+    EXPECT_EQ(m.views, a.views);
+    EXPECT_NEAR(m.stats.count(), a.stats.count(), 1e-12);
+    EXPECT_LT((m.stats.mean_log() - a.stats.mean_log()).cwiseAbs().maxCoeff(), 1e-9);
+    const Eigen::VectorXd rel =
+        (m.dirichlet.alpha() - a.dirichlet.alpha()).cwiseAbs().cwiseQuotient(a.dirichlet.alpha());
+    EXPECT_LT(rel.maxCoeff(), 1e-6) << a.name;
+  }
+  // Another LDA model: exit 2 and the model file untouched.
+  r = run_cli("mot update --lda-model " + file("m2.lda") + " --vocabulary " + file("v.vocab") +
+              " --images " + file("second") + " --model " + file("first.mot") + " --out " +
+              file("bad.mot"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad.mot"));
+}
+
 TEST_F(MotCli, MapsWriteOneImagePerTopic) {
   const auto r =
       run_cli("mot maps --lda-model " + file("m1.lda") + " --vocabulary " + file("v.vocab") +

@@ -145,6 +145,32 @@ TEST(MixtureOfTopics, PosteriorIsBayesOverTheDirichlets) {  // eq 7.3
               1e-12);
 }
 
+TEST(MixtureOfTopics, SmoothingIsAppliedInFittingAndKeptForClassifying) {
+  const Views train = draw(three_objects(), 60, 11);
+  MotOptions o;
+  o.smoothing = 0.05;
+  const MotFit fit = fit_mot(train.theta, train.labels, kNames, o);
+  EXPECT_EQ(fit.model.smoothing, 0.05);
+  // The statistics are those of log((1 - s) theta + s / T).
+  const Eigen::MatrixXd smoothed = (0.95 * train.theta.array() + 0.01).matrix();
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(5);
+  for (int d = 0; d < 60; ++d) mean += smoothed.row(d).array().log().matrix().transpose();
+  EXPECT_LT((fit.model.objects[0].stats.mean_log() - mean / 60.0).cwiseAbs().maxCoeff(), 1e-12);
+  // classify_mot applies the model's smoothing: the same scores as the unsmoothed model of the
+  // smoothed theta.
+  MotModel plain = fit.model;
+  plain.smoothing = 0;
+  const MotClassification a = classify_mot(fit.model, train.theta.topRows(5));
+  const MotClassification b = classify_mot(plain, smoothed.topRows(5));
+  EXPECT_LT((a.log_score - b.log_score).cwiseAbs().maxCoeff(), 1e-9);
+  // Exact zeros stay finite, and the smoothing bound is enforced.
+  Eigen::MatrixXd zero = train.theta.topRows(1);
+  zero.row(0) << 1.0, 0.0, 0.0, 0.0, 0.0;
+  EXPECT_TRUE(classify_mot(fit.model, zero).log_score.allFinite());
+  o.smoothing = 0.51;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 TEST(MixtureOfTopics, ZerosInThetaAreFlooredNotNaN) {
   const Views train = draw(three_objects(), 50, 4);
   Eigen::MatrixXd theta = train.theta;

@@ -127,5 +127,32 @@ TEST(MotModelIo, RefusesAModelOfAnotherTopicCountThanItsBasis) {
                   "of 3 topics recorded as built on an LDA model of 4"));
 }
 
+TEST(MotModelIo, SmoothingRoundTripsAndVersion1IsReadWithoutIt) {
+  MotModel m = small_model();
+  m.smoothing = 0.03;
+  const MotBasis basis = mot_basis(small_lda());
+  const std::string v2 = serialize_mot_model(m, basis);
+  EXPECT_EQ(parse_mot_model(v2, "m.mot").model.smoothing, 0.03);
+  // Version 1: the same payload without the trailing smoothing.
+  const std::string payload =
+      v2.substr(core::kBinaryHeaderBytes, v2.size() - 8 - core::kBinaryHeaderBytes);
+  const std::string v1 = core::frame_binary({"PRMOTMDL", 1, "Mixture of Topics model"}, payload);
+  const MotModelFile f = parse_mot_model(v1, "old.mot");
+  EXPECT_EQ(f.model.smoothing, 0.0);
+  ASSERT_EQ(f.model.num_classes(), 2);
+  EXPECT_EQ(f.model.objects[1].dirichlet.alpha(), m.objects[1].dirichlet.alpha());
+  // A version 2 payload framed as version 1 has 8 bytes too many; a bad smoothing is corrupt.
+  const std::string mixed = core::frame_binary({"PRMOTMDL", 1, "Mixture of Topics model"},
+                                               v2.substr(core::kBinaryHeaderBytes));
+  EXPECT_TRUE(
+      has(error_of([&] { (void)parse_mot_model(mixed, "x.mot"); }), "after the last object"));
+  std::string body = v2.substr(core::kBinaryHeaderBytes);
+  const double big = 0.6;
+  std::memcpy(body.data() + body.size() - 8, &big, 8);
+  const std::string bad =
+      core::frame_binary({"PRMOTMDL", kMotModelFormatVersion, "Mixture of Topics model"}, body);
+  EXPECT_TRUE(has(error_of([&] { (void)parse_mot_model(bad, "x.mot"); }), "smoothing"));
+}
+
 }  // namespace
 }  // namespace proprio::topics

@@ -122,8 +122,20 @@ struct ScatterExperimentOptions {
   /// argmax-theta evaluation.
   bool mot = false;
   topics::MotOptions mot_options;
+  /// With mot: also evaluate the supervised MoT at each of these theta smoothings
+  /// (MotOptions::smoothing), with either prior (ScatterRunResult::mot_grid): the tuning grid of
+  /// docs/results/mot.md. Empty: none.
+  std::vector<double> mot_smoothing_grid;
   std::uint64_t seed = 1;
   void validate() const;
+};
+
+/// One point of ScatterExperimentOptions::mot_smoothing_grid.
+struct MotGridPoint {
+  ThetaSource source = ThetaSource::kEStep;
+  double smoothing = 0;
+  topics::MotPrior prior = topics::MotPrior::kViews;
+  ConfusionMatrix classes;
 };
 
 struct ScatterRunResult {
@@ -134,6 +146,7 @@ struct ScatterRunResult {
   /// With ScatterExperimentOptions::mot: the unsupervised MoT on the same views (labels only
   /// name its objects).
   std::optional<MotUnsupervisedEvaluation> mot_unsupervised;
+  std::vector<MotGridPoint> mot_grid;  ///< with ScatterExperimentOptions::mot_smoothing_grid
 };
 
 struct ScatterExperimentResult {

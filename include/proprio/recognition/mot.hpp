@@ -45,6 +45,33 @@ struct DocumentTheta {
 DocumentTheta document_theta(const topics::LdaModel& model, const topics::Corpus& corpus,
                              const topics::InferenceOptions& options = {});
 
+/// Where a view's theta comes from.
+enum class ThetaSource {
+  /// E[theta] of LDA's variational E-step (document_theta): the thesis's theta.
+  kEStep,
+  /// The mean over the view's words of p(topic | word) = beta_kw / sum_k' beta_k'w (beta the
+  /// model's topic_word()): each word's topic posterior under a uniform prior, with no mean-field
+  /// iterations that let a view's dominant topic absorb its other words
+  /// (word_posterior_theta).
+  kWordPosterior,
+};
+inline constexpr core::ChoiceNames<ThetaSource, 2> kThetaSourceNames{
+    {{"estep", ThetaSource::kEStep}, {"word-posterior", ThetaSource::kWordPosterior}}};
+
+/// theta of every document by ThetaSource::kWordPosterior: row d = (1/N_d) sum_n p(k | w_dn);
+/// empty documents get the uniform theta and are marked empty. The corpus must have the model's
+/// W words (Error otherwise).
+DocumentTheta word_posterior_theta(const topics::LdaModel& model, const topics::Corpus& corpus);
+
+/// theta of every document from `source`.
+DocumentTheta view_theta(const topics::LdaModel& model, const topics::Corpus& corpus,
+                         ThetaSource source, const topics::InferenceOptions& options = {});
+
+/// evaluate_mot with the views' theta from `source`.
+MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& train,
+                           const LabelledCorpus& test, const topics::MotOptions& options,
+                           const topics::InferenceOptions& inference, ThetaSource source);
+
 /// Fits a supervised MoT to the theta of `train`'s documents (labels: their classes; empty
 /// documents left out) and classifies `test`'s (thesis 7.1, eq 7.3). train and test have the same
 /// classes. Throws Error as topics::fit_mot (a class with fewer than 2 non-empty views).
@@ -61,6 +88,10 @@ struct MotUnsupervisedEvaluation {
   std::vector<int> object_class;
   ConfusionMatrix classes;  ///< test classes x classes, by the named objects
   int chosen_classes = 0;   ///< C chosen by BIC (options.max_classes) on the same theta
+  /// For each class: the C BIC chooses on that class's training views alone (0 when it has
+  /// fewer than 4). Above 1, one object's theta is itself a mixture: why BIC over-estimates the
+  /// number of objects (docs/results/mot.md).
+  std::vector<int> chosen_per_class;
 };
 
 /// Fits an unsupervised MoT (C = the number of classes) to the theta of `train`'s documents
@@ -161,6 +192,35 @@ struct MotClassifyResult {
 /// (Error otherwise: the CLI exits 2), then classifies every view and writes the CSV.
 MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
                                    const core::Provenance& provenance);
+
+struct MotUpdateOptions {
+  MotSourceOptions source;      ///< the new labelled views (their folder's or mask's object)
+  std::filesystem::path model;  ///< MoT model file to update (required)
+  /// Where the updated model goes (required; may be `model` itself: written atomically).
+  std::filesystem::path out;
+  /// The online rule (update: exact or resample), forgetting and seed; the smoothing is the
+  /// model's own.
+  topics::MotOptions mot;
+
+  void validate() const;
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct MotUpdateResult {
+  topics::MotUpdateSummary summary;
+  topics::MotModel model;   ///< the updated model (as written)
+  int documents = 0;        ///< new views made
+  int empty_documents = 0;  ///< of which without features (skipped)
+  core::Json document;      ///< format "proprio.mot.update" (mot_update.schema.json)
+  [[nodiscard]] std::string brief() const;
+};
+
+/// Online update (thesis 8.1.2; topics::update_mot): reads the model and checks that the LDA
+/// model and vocabulary are the ones it was built on (Error otherwise: the CLI exits 2), infers
+/// the new views' theta, merges them into their objects (a new object name adds an object, which
+/// needs 2 views) and writes the updated model to options.out. With the exact rule and no
+/// forgetting the result equals training on the old and new views at once.
+MotUpdateResult run_mot_update(const MotUpdateOptions& options, const core::Provenance& provenance);
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct MotInfo {

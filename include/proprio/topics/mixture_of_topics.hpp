@@ -62,6 +62,13 @@ struct MotOptions {
   /// forgetting).
   double forgetting = 1.0;
   std::uint64_t seed = 1;  ///< k-means starts and the resample rule's draws
+  /// Theta smoothing s in [0, 0.5]: every theta (training, update and classified) is replaced by
+  /// (1 - s) theta + s / T before its log is taken (MotModel::smoothing keeps it, so classifying
+  /// uses the training's). A view's theta from N words puts about alpha / N on the topics it does
+  /// not use, so without smoothing log theta of those topics, which dominate the Dirichlet's
+  /// density when omega_ck < 1, varies with the number of words of the view rather than with the
+  /// object; s bounds that tail at s / T. 0 keeps theta as it is. docs/results/mot.md measures it.
+  double smoothing = 0.0;
   /// The Dirichlet fits (tolerance, iterations, precision bound) and the theta checks (floor,
   /// row-sum tolerance).
   DirichletFitOptions fit;
@@ -87,6 +94,8 @@ struct MotOptions {
     v(self.forgetting,
       {"forgetting", "Exact rule: factor on the old views' weight", core::Bounds{0, 1, true}});
     v(self.seed, {"seed", "Seed of k-means and of the resample rule"});
+    v(self.smoothing, {"smoothing", "Theta smoothing s: (1 - s) theta + s / T before the log",
+                       core::Bounds{0, 0.5, false}});
   }
 };
 
@@ -102,6 +111,9 @@ struct MotObject {
 struct MotModel {
   std::vector<MotObject> objects;
   MotPrior prior = MotPrior::kViews;
+  /// The theta smoothing the model was fitted with (MotOptions::smoothing); classify_mot and
+  /// update_mot apply it to their theta.
+  double smoothing = 0.0;
 
   [[nodiscard]] int num_classes() const { return static_cast<int>(objects.size()); }
   /// T; 0 for an empty model.
@@ -117,6 +129,11 @@ struct MotModel {
 /// row and the problem; `expected_topics` > 0 also checks the number of columns.
 Eigen::MatrixXd check_theta(const Eigen::Ref<const Eigen::MatrixXd>& theta,
                             const ProportionOptions& options, int expected_topics = 0);
+/// check_theta, then log((1 - smoothing) theta + smoothing / T) (MotOptions::smoothing; 0: the
+/// same as check_theta).
+Eigen::MatrixXd smoothed_log_theta(const Eigen::Ref<const Eigen::MatrixXd>& theta,
+                                   const ProportionOptions& options, double smoothing,
+                                   int expected_topics = 0);
 
 struct MotFitSummary {
   int views = 0;

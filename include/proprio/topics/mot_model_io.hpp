@@ -16,8 +16,9 @@
 
 namespace proprio::topics {
 
-/// The version of the binary MoT model format this build writes (and the only one it reads).
-inline constexpr std::uint32_t kMotModelFormatVersion = 1;
+/// The version of the binary MoT model format this build writes. It reads this one and version 1
+/// (which has no theta smoothing: read as MotModel::smoothing = 0).
+inline constexpr std::uint32_t kMotModelFormatVersion = 2;
 
 /// Bounds a reader enforces before allocating (hostile files are normal input).
 inline constexpr std::uint32_t kMotMaxTopics = 100000;
