@@ -21,6 +21,36 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The documents of `t` that have words (theta is undefined for the others) and their theta rows.
+struct NonEmpty {
+  std::vector<int> rows;  ///< document indices
+  Eigen::MatrixXd theta;  ///< one row per entry of `rows`
+};
+
+NonEmpty non_empty(const DocumentTheta& t) {
+  NonEmpty n;
+  for (std::size_t d = 0; d < t.empty.size(); ++d)
+    if (!t.empty[d]) n.rows.push_back(static_cast<int>(d));
+  n.theta.resize(static_cast<Eigen::Index>(n.rows.size()), t.theta.cols());
+  for (std::size_t i = 0; i < n.rows.size(); ++i)
+    n.theta.row(static_cast<Eigen::Index>(i)) = t.theta.row(n.rows[i]);
+  return n;
+}
+
+/// Every document's predicted class (-1 for the empty ones), from the classes of `n`'s rows
+/// mapped through `name` (the identity when empty).
+std::vector<int> predictions(const NonEmpty& n, std::size_t documents,
+                             const std::vector<int>& classified,
+                             const std::vector<int>& name = {}) {
+  std::vector<int> predicted(documents, -1);
+  for (std::size_t i = 0; i < n.rows.size(); ++i) {
+    const int c = classified[i];
+    predicted[static_cast<std::size_t>(n.rows[i])] =
+        name.empty() ? c : name[static_cast<std::size_t>(c)];
+  }
+  return predicted;
+}
+
 std::string hex(std::uint32_t v) {
   char buf[16];
   std::snprintf(buf, sizeof buf, "%08x", v);
@@ -202,15 +232,11 @@ MotEvaluation evaluate_mot(const topics::LdaModel& model, const LabelledCorpus& 
   MotEvaluation e;
   e.fit = topics::fit_mot(known.theta, labels, train.classes, options);
   const DocumentTheta t = view_theta(model, test.corpus, source, inference);
-  for (std::size_t d = 0; d < t.empty.size(); ++d)
-    if (!t.empty[d]) e.classified.push_back(static_cast<int>(d));
-  Eigen::MatrixXd theta(static_cast<Eigen::Index>(e.classified.size()), t.theta.cols());
-  for (std::size_t i = 0; i < e.classified.size(); ++i)
-    theta.row(static_cast<Eigen::Index>(i)) = t.theta.row(e.classified[i]);
-  e.classification = topics::classify_mot(e.fit.model, theta, options.fit.proportions);
-  std::vector<int> predicted(t.empty.size(), -1);
-  for (std::size_t i = 0; i < e.classified.size(); ++i)
-    predicted[static_cast<std::size_t>(e.classified[i])] = e.classification.predicted[i];
+  const NonEmpty test_rows = non_empty(t);
+  e.classified = test_rows.rows;
+  e.classification = topics::classify_mot(e.fit.model, test_rows.theta, options.fit.proportions);
+  const std::vector<int> predicted =
+      predictions(test_rows, t.empty.size(), e.classification.predicted);
   e.classes = confusion_matrix(test.labels, predicted, test.classes, test.classes);
   return e;
 }
@@ -222,13 +248,9 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
                                                     const topics::InferenceOptions& inference) {
   require(train.classes == test.classes, "evaluate_mot_unsupervised: classes differ");
   const int n_classes = static_cast<int>(train.classes.size());
-  const DocumentTheta known = document_theta(model, train.corpus, inference);
-  std::vector<int> rows;
-  for (std::size_t d = 0; d < known.empty.size(); ++d)
-    if (!known.empty[d]) rows.push_back(static_cast<int>(d));
-  Eigen::MatrixXd theta(static_cast<Eigen::Index>(rows.size()), known.theta.cols());
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    theta.row(static_cast<Eigen::Index>(i)) = known.theta.row(rows[i]);
+  const NonEmpty known = non_empty(document_theta(model, train.corpus, inference));
+  const std::vector<int>& rows = known.rows;
+  const Eigen::MatrixXd& theta = known.theta;
   MotUnsupervisedEvaluation e;
   topics::MotOptions o = options;
   o.classes = 0;
@@ -260,19 +282,11 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
   for (const auto& v : votes)
     e.object_class.push_back(static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin()));
   const DocumentTheta t = document_theta(model, test.corpus, inference);
-  std::vector<int> test_rows;
-  for (std::size_t d = 0; d < t.empty.size(); ++d)
-    if (!t.empty[d]) test_rows.push_back(static_cast<int>(d));
-  Eigen::MatrixXd test_theta(static_cast<Eigen::Index>(test_rows.size()), t.theta.cols());
-  for (std::size_t i = 0; i < test_rows.size(); ++i)
-    test_theta.row(static_cast<Eigen::Index>(i)) = t.theta.row(test_rows[i]);
+  const NonEmpty test_rows = non_empty(t);
   const topics::MotClassification c =
-      topics::classify_mot(e.fit.model, test_theta, options.fit.proportions);
-  std::vector<int> predicted(t.empty.size(), -1);
-  for (std::size_t i = 0; i < test_rows.size(); ++i) {
-    predicted[static_cast<std::size_t>(test_rows[i])] =
-        e.object_class[static_cast<std::size_t>(c.predicted[i])];
-  }
+      topics::classify_mot(e.fit.model, test_rows.theta, options.fit.proportions);
+  const std::vector<int> predicted =
+      predictions(test_rows, t.empty.size(), c.predicted, e.object_class);
   e.classes = confusion_matrix(test.labels, predicted, test.classes, test.classes);
   return e;
 }
@@ -393,18 +407,10 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
 
   MotClassifyResult r;
   r.documents = static_cast<int>(dt.empty.size());
-  std::vector<int> rows;
-  for (std::size_t d = 0; d < dt.empty.size(); ++d) {
-    if (dt.empty[d]) {
-      ++r.empty_documents;
-    } else {
-      rows.push_back(static_cast<int>(d));
-    }
-  }
-  Eigen::MatrixXd theta(static_cast<Eigen::Index>(rows.size()), dt.theta.cols());
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    theta.row(static_cast<Eigen::Index>(i)) = dt.theta.row(rows[i]);
-  const topics::MotClassification c = topics::classify_mot(file.model, theta);
+  const NonEmpty known = non_empty(dt);
+  const std::vector<int>& rows = known.rows;
+  r.empty_documents = r.documents - static_cast<int>(rows.size());
+  const topics::MotClassification c = topics::classify_mot(file.model, known.theta);
 
   // Rows of the confusion matrix: the model's objects, then any true class it does not know, so
   // that the diagonal counts the views given their own object.
@@ -419,9 +425,7 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
     if (it == truth_names.end()) it = truth_names.insert(truth_names.end(), n);
     truth[d] = static_cast<int>(it - truth_names.begin());
   }
-  std::vector<int> predicted(dt.empty.size(), -1);
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    predicted[static_cast<std::size_t>(rows[i])] = c.predicted[i];
+  const std::vector<int> predicted = predictions(known, dt.empty.size(), c.predicted);
   // Documents without a truth (none today) cannot be counted in the matrix.
   std::vector<int> t_known, p_known;
   for (std::size_t d = 0; d < truth.size(); ++d) {
