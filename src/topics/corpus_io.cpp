@@ -202,6 +202,170 @@ void check_caps(const fs::path& file, long line, std::int64_t num_docs, std::int
   }
 }
 
+// Which documents (0-based, in file order) a reader keeps, and their index in what it returns:
+// all of them (the default), or every `shards`-th from `shard` (sharded reading under MPI).
+struct DocumentFilter {
+  int shard = 0;
+  int shards = 1;
+  [[nodiscard]] bool keeps(std::int64_t doc) const { return doc % shards == shard; }
+  [[nodiscard]] std::int64_t index(std::int64_t doc) const { return (doc - shard) / shards; }
+  /// How many of `documents` it keeps.
+  [[nodiscard]] std::int64_t count(std::int64_t documents) const {
+    return documents > shard ? (documents - shard + shards - 1) / shards : 0;
+  }
+};
+
+// What a parser found: the kept entries (documents renumbered by the filter) and the whole file's
+// sizes.
+struct Parsed {
+  std::vector<Entry> entries;
+  std::int64_t documents = 0;  // D of the whole file
+  std::int32_t words = 0;      // W
+  std::int64_t tokens = 0;     // tokens of the whole file
+  std::vector<std::string> vocabulary;
+};
+
+// UCI bag of words (docword.txt: D, W, NNZ, then 'docID wordID count' lines) from a line source
+// (Lines over a buffer, or StreamLines over a file); `reserve` bounds the entries reserved up
+// front (0: none), so that a header's NNZ is never trusted for an allocation.
+template <class LineSource>
+Parsed parse_uci(LineSource& lines, const fs::path& docword, const fs::path& vocab,
+                 const DocumentFilter& keep, std::size_t reserve) {
+  std::string_view line;
+  std::int64_t header[3] = {0, 0, 0};
+  const char* names[3] = {"D (documents)", "W (words)", "NNZ (entries)"};
+  for (int h = 0; h < 3; ++h) {
+    do {
+      if (!lines.next(line)) {
+        throw Error::in_file(docword, std::string("truncated: no header line ") + names[h]);
+      }
+    } while (is_blank(line));
+    const auto f = fields(line);
+    if (f.size() != 1) {
+      throw Error::at_line(docword, lines.number(),
+                           std::string("expected one integer, ") + names[h]);
+    }
+    header[h] = integer_field(docword, lines.number(), f[0], names[h]);
+    if (header[h] < 0) {
+      throw Error::at_line(docword, lines.number(), std::string(names[h]) + " is negative");
+    }
+  }
+  const std::int64_t num_docs = header[0];
+  const std::int64_t num_words = header[1];
+  const std::int64_t nnz = header[2];
+  check_caps(docword, lines.number(), num_docs, num_words);
+  if (num_words > std::numeric_limits<std::int32_t>::max() ||
+      num_docs > std::numeric_limits<std::int32_t>::max()) {
+    throw Error::in_file(docword, "absurd header: D = " + std::to_string(num_docs) +
+                                      ", W = " + std::to_string(num_words));
+  }
+  if (num_docs > 0 && num_words > 0 && nnz / num_docs > num_words) {
+    throw Error::in_file(docword, "header NNZ = " + std::to_string(nnz) + " exceeds D x W");
+  }
+  Parsed p;
+  p.documents = num_docs;
+  p.words = static_cast<std::int32_t>(num_words);
+  if (!vocab.empty()) {
+    p.vocabulary = read_vocabulary(vocab);
+    if (static_cast<std::int64_t>(p.vocabulary.size()) != num_words) {
+      throw Error::in_file(vocab, "has " + std::to_string(p.vocabulary.size()) + " words but " +
+                                      docword.string() + " says W = " + std::to_string(num_words));
+    }
+  }
+  p.entries.reserve(std::min<std::size_t>(static_cast<std::size_t>(nnz), reserve));
+  std::int64_t seen = 0;
+  std::vector<Entry> one;
+  while (lines.next(line)) {
+    if (is_blank(line)) continue;
+    const auto f = fields(line);
+    const long ln = lines.number();
+    if (f.size() != 3) {
+      throw Error::at_line(docword, ln, "expected 'docID wordID count', found " + quote(line));
+    }
+    const std::int64_t d = integer_field(docword, ln, f[0], "docID");
+    const std::int64_t w = integer_field(docword, ln, f[1], "wordID");
+    const std::int64_t c = integer_field(docword, ln, f[2], "count");
+    if (seen == nnz) {
+      throw Error::at_line(docword, ln,
+                           "more entries than the header's NNZ = " + std::to_string(nnz));
+    }
+    ++seen;
+    one.clear();
+    add_entry(one, docword, ln, d, w, c, num_docs, num_words, 1,
+              {"docID", "wordID", "more entries than the header's NNZ = "});
+    p.tokens += c;
+    if (keep.keeps(one.front().doc)) {
+      Entry e = one.front();
+      e.doc = keep.index(e.doc);
+      p.entries.push_back(e);
+    }
+  }
+  if (seen < nnz) {
+    throw Error::in_file(docword, "truncated: the header's NNZ is " + std::to_string(nnz) +
+                                      " but the file has " + std::to_string(seen) + " entries");
+  }
+  return p;
+}
+
+// LDA-C (a line per document: 'N id:count ...', ids from 0) from a line source; W is the
+// vocabulary's size, or the largest id + 1 without one.
+template <class LineSource>
+Parsed parse_ldac(LineSource& lines, const fs::path& file, std::vector<std::string> vocabulary,
+                  const DocumentFilter& keep) {
+  std::string_view line;
+  Parsed p;
+  std::int64_t doc = 0;
+  std::int64_t max_id = -1;
+  const std::int64_t limit =
+      vocabulary.empty() ? kMaxCorpusWords : static_cast<std::int64_t>(vocabulary.size());
+  while (lines.next(line)) {
+    const long ln = lines.number();
+    if (is_blank(line)) {
+      throw Error::at_line(file, ln, "blank line (an empty document is written '0')");
+    }
+    const auto f = fields(line);
+    const std::int64_t n = integer_field(file, ln, f[0], "the number of distinct words");
+    if (n < 0 || n != static_cast<std::int64_t>(f.size()) - 1) {
+      throw Error::at_line(file, ln,
+                           "the line starts with N = " + std::to_string(n) + " but has " +
+                               std::to_string(f.size() - 1) + " id:count pairs");
+    }
+    const bool mine = keep.keeps(doc);
+    for (std::size_t i = 1; i < f.size(); ++i) {
+      const auto colon = f[i].find(':');
+      if (colon == std::string_view::npos) {
+        throw Error::at_line(file, ln, "expected id:count, found " + quote(f[i]));
+      }
+      const std::int64_t id = integer_field(file, ln, f[i].substr(0, colon), "word id");
+      const std::int64_t c = integer_field(file, ln, f[i].substr(colon + 1), "count");
+      if (id < 0 || id >= limit) {
+        std::string msg = "word id " + std::to_string(id) + " outside [0, ";
+        msg += std::to_string(limit) + ")";
+        msg += vocabulary.empty() ? " (the cap on W without a vocabulary)"
+                                  : " (the vocabulary's size)";
+        throw Error::at_line(file, ln, msg);
+      }
+      if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
+        throw Error::at_line(file, ln, "count " + std::to_string(c) + " is not positive");
+      }
+      max_id = std::max(max_id, id);
+      p.tokens += c;
+      if (mine) {
+        p.entries.push_back(
+            {keep.index(doc), static_cast<std::int32_t>(id), static_cast<std::int32_t>(c), ln});
+      }
+    }
+    ++doc;
+    if (doc > kMaxCorpusDocuments) check_caps(file, ln, doc, 0);
+  }
+  if (doc == 0) throw Error::in_file(file, "no documents");
+  p.documents = doc;
+  p.words = vocabulary.empty() ? static_cast<std::int32_t>(max_id + 1)
+                               : static_cast<std::int32_t>(vocabulary.size());
+  p.vocabulary = std::move(vocabulary);
+  return p;
+}
+
 }  // namespace
 
 CorpusFormat parse_corpus_format(std::string_view name) {
@@ -253,67 +417,8 @@ std::vector<std::string> read_vocabulary(const fs::path& path) {
 Corpus read_uci(const fs::path& docword, const fs::path& vocab) {
   const std::string text = read_text(docword);
   Lines lines(text);
-  std::string_view line;
-  std::int64_t header[3] = {0, 0, 0};
-  const char* names[3] = {"D (documents)", "W (words)", "NNZ (entries)"};
-  for (int h = 0; h < 3; ++h) {
-    do {
-      if (!lines.next(line)) {
-        throw Error::in_file(docword, std::string("truncated: no header line ") + names[h]);
-      }
-    } while (is_blank(line));
-    const auto f = fields(line);
-    if (f.size() != 1) {
-      throw Error::at_line(docword, lines.number(),
-                           std::string("expected one integer, ") + names[h]);
-    }
-    header[h] = integer_field(docword, lines.number(), f[0], names[h]);
-    if (header[h] < 0) {
-      throw Error::at_line(docword, lines.number(), std::string(names[h]) + " is negative");
-    }
-  }
-  const std::int64_t num_docs = header[0];
-  const std::int64_t num_words = header[1];
-  const std::int64_t nnz = header[2];
-  check_caps(docword, lines.number(), num_docs, num_words);
-  if (num_words > std::numeric_limits<std::int32_t>::max() ||
-      num_docs > std::numeric_limits<std::int32_t>::max()) {
-    throw Error::in_file(docword, "absurd header: D = " + std::to_string(num_docs) +
-                                      ", W = " + std::to_string(num_words));
-  }
-  if (num_docs > 0 && num_words > 0 && nnz / num_docs > num_words) {
-    throw Error::in_file(docword, "header NNZ = " + std::to_string(nnz) + " exceeds D x W");
-  }
-  std::vector<std::string> vocabulary;
-  if (!vocab.empty()) {
-    vocabulary = read_vocabulary(vocab);
-    if (static_cast<std::int64_t>(vocabulary.size()) != num_words) {
-      throw Error::in_file(vocab, "has " + std::to_string(vocabulary.size()) + " words but " +
-                                      docword.string() + " says W = " + std::to_string(num_words));
-    }
-  }
-  std::vector<Entry> entries;
-  entries.reserve(static_cast<std::size_t>(std::min<std::int64_t>(nnz, text.size() / 6 + 1)));
-  while (lines.next(line)) {
-    if (is_blank(line)) continue;
-    const auto f = fields(line);
-    const long ln = lines.number();
-    if (f.size() != 3) {
-      throw Error::at_line(docword, ln, "expected 'docID wordID count', found " + quote(line));
-    }
-    const std::int64_t d = integer_field(docword, ln, f[0], "docID");
-    const std::int64_t w = integer_field(docword, ln, f[1], "wordID");
-    const std::int64_t c = integer_field(docword, ln, f[2], "count");
-    add_entry(entries, docword, ln, d, w, c, num_docs, num_words, nnz,
-              {"docID", "wordID", "more entries than the header's NNZ = "});
-  }
-  if (static_cast<std::int64_t>(entries.size()) < nnz) {
-    throw Error::in_file(docword, "truncated: the header's NNZ is " + std::to_string(nnz) +
-                                      " but the file has " + std::to_string(entries.size()) +
-                                      " entries");
-  }
-  return build(docword, entries, num_docs, static_cast<std::int32_t>(num_words),
-               std::move(vocabulary));
+  Parsed p = parse_uci(lines, docword, vocab, {}, text.size() / 6 + 1);
+  return build(docword, p.entries, p.documents, p.words, std::move(p.vocabulary));
 }
 
 Corpus read_ldac(const fs::path& file, const fs::path& vocab) {
@@ -321,51 +426,8 @@ Corpus read_ldac(const fs::path& file, const fs::path& vocab) {
   if (!vocab.empty()) vocabulary = read_vocabulary(vocab);
   const std::string text = read_text(file);
   Lines lines(text);
-  std::string_view line;
-  std::vector<Entry> entries;
-  std::int64_t doc = 0;
-  std::int64_t max_id = -1;
-  const std::int64_t limit =
-      vocabulary.empty() ? kMaxCorpusWords : static_cast<std::int64_t>(vocabulary.size());
-  while (lines.next(line)) {
-    const long ln = lines.number();
-    if (is_blank(line)) {
-      throw Error::at_line(file, ln, "blank line (an empty document is written '0')");
-    }
-    const auto f = fields(line);
-    const std::int64_t n = integer_field(file, ln, f[0], "the number of distinct words");
-    if (n < 0 || n != static_cast<std::int64_t>(f.size()) - 1) {
-      throw Error::at_line(file, ln,
-                           "the line starts with N = " + std::to_string(n) + " but has " +
-                               std::to_string(f.size() - 1) + " id:count pairs");
-    }
-    for (std::size_t i = 1; i < f.size(); ++i) {
-      const auto colon = f[i].find(':');
-      if (colon == std::string_view::npos) {
-        throw Error::at_line(file, ln, "expected id:count, found " + quote(f[i]));
-      }
-      const std::int64_t id = integer_field(file, ln, f[i].substr(0, colon), "word id");
-      const std::int64_t c = integer_field(file, ln, f[i].substr(colon + 1), "count");
-      if (id < 0 || id >= limit) {
-        std::string msg = "word id " + std::to_string(id) + " outside [0, ";
-        msg += std::to_string(limit) + ")";
-        msg += vocabulary.empty() ? " (the cap on W without a vocabulary)"
-                                  : " (the vocabulary's size)";
-        throw Error::at_line(file, ln, msg);
-      }
-      if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
-        throw Error::at_line(file, ln, "count " + std::to_string(c) + " is not positive");
-      }
-      max_id = std::max(max_id, id);
-      entries.push_back({doc, static_cast<std::int32_t>(id), static_cast<std::int32_t>(c), ln});
-    }
-    ++doc;
-    if (doc > kMaxCorpusDocuments) check_caps(file, ln, doc, 0);
-  }
-  if (doc == 0) throw Error::in_file(file, "no documents");
-  const auto num_words = vocabulary.empty() ? static_cast<std::int32_t>(max_id + 1)
-                                            : static_cast<std::int32_t>(vocabulary.size());
-  return build(file, entries, doc, num_words, std::move(vocabulary));
+  Parsed p = parse_ldac(lines, file, std::move(vocabulary), {});
+  return build(file, p.entries, p.documents, p.words, std::move(p.vocabulary));
 }
 
 Corpus read_matrix_market(const fs::path& file, const fs::path& vocab) {
@@ -534,139 +596,21 @@ CorpusFiles find_corpus_files(const fs::path& dir_or_file, CorpusFormat format) 
 
 namespace {
 
-// The documents of `shard` among UCI or LDA-C lines, read as a stream.
-CorpusShard read_uci_shard(const fs::path& docword, const fs::path& vocab, int shard, int shards) {
-  StreamLines lines(docword);
-  std::string_view line;
-  std::int64_t header[3] = {0, 0, 0};
-  const char* names[3] = {"D (documents)", "W (words)", "NNZ (entries)"};
-  for (int h = 0; h < 3; ++h) {
-    do {
-      if (!lines.next(line)) {
-        throw Error::in_file(docword, std::string("truncated: no header line ") + names[h]);
-      }
-    } while (is_blank(line));
-    const auto f = fields(line);
-    if (f.size() != 1) {
-      throw Error::at_line(docword, lines.number(),
-                           std::string("expected one integer, ") + names[h]);
-    }
-    header[h] = integer_field(docword, lines.number(), f[0], names[h]);
-    if (header[h] < 0) {
-      throw Error::at_line(docword, lines.number(), std::string(names[h]) + " is negative");
-    }
-  }
-  const std::int64_t num_docs = header[0];
-  const std::int64_t num_words = header[1];
-  const std::int64_t nnz = header[2];
-  check_caps(docword, lines.number(), num_docs, num_words);
+// The documents of `keep`'s shard among UCI or LDA-C lines, read as a stream (no rank holds the
+// whole file).
+CorpusShard read_shard(const fs::path& file, const fs::path& vocab, CorpusFormat format,
+                       const DocumentFilter& keep) {
   std::vector<std::string> vocabulary;
-  if (!vocab.empty()) {
-    vocabulary = read_vocabulary(vocab);
-    if (static_cast<std::int64_t>(vocabulary.size()) != num_words) {
-      throw Error::in_file(vocab, "has " + std::to_string(vocabulary.size()) + " words but " +
-                                      docword.string() + " says W = " + std::to_string(num_words));
-    }
-  }
-  CorpusShard out;
-  out.shard = shard;
-  out.shards = shards;
-  out.total_documents = num_docs;
-  std::vector<Entry> entries;
-  std::int64_t seen = 0;
-  while (lines.next(line)) {
-    if (is_blank(line)) continue;
-    const auto f = fields(line);
-    const long ln = lines.number();
-    if (f.size() != 3) {
-      throw Error::at_line(docword, ln, "expected 'docID wordID count', found " + quote(line));
-    }
-    const std::int64_t d = integer_field(docword, ln, f[0], "docID");
-    const std::int64_t w = integer_field(docword, ln, f[1], "wordID");
-    const std::int64_t c = integer_field(docword, ln, f[2], "count");
-    if (seen == nnz) {
-      throw Error::at_line(docword, ln,
-                           "more entries than the header's NNZ = " + std::to_string(nnz));
-    }
-    ++seen;
-    std::vector<Entry> one;
-    add_entry(one, docword, ln, d, w, c, num_docs, num_words, 1,
-              {"docID", "wordID", "more entries than the header's NNZ = "});
-    out.total_tokens += c;
-    if ((d - 1) % shards == shard) {
-      Entry e = one.front();
-      e.doc = (e.doc - shard) / shards;
-      entries.push_back(e);
-    }
-  }
-  if (seen < nnz) {
-    throw Error::in_file(docword, "truncated: the header's NNZ is " + std::to_string(nnz) +
-                                      " but the file has " + std::to_string(seen) + " entries");
-  }
-  const std::int64_t mine = num_docs > shard ? (num_docs - shard + shards - 1) / shards : 0;
-  out.documents =
-      build(docword, entries, mine, static_cast<std::int32_t>(num_words), std::move(vocabulary));
-  out.checksum = lines.checksum();
-  return out;
-}
-
-CorpusShard read_ldac_shard(const fs::path& file, const fs::path& vocab, int shard, int shards) {
-  std::vector<std::string> vocabulary;
-  if (!vocab.empty()) vocabulary = read_vocabulary(vocab);
+  if (format == CorpusFormat::kLdac && !vocab.empty()) vocabulary = read_vocabulary(vocab);
   StreamLines lines(file);
-  std::string_view line;
-  std::vector<Entry> entries;
-  std::int64_t doc = 0;
-  std::int64_t max_id = -1;
+  Parsed p = format == CorpusFormat::kUci ? parse_uci(lines, file, vocab, keep, 0)
+                                          : parse_ldac(lines, file, std::move(vocabulary), keep);
   CorpusShard out;
-  out.shard = shard;
-  out.shards = shards;
-  const std::int64_t limit =
-      vocabulary.empty() ? kMaxCorpusWords : static_cast<std::int64_t>(vocabulary.size());
-  while (lines.next(line)) {
-    const long ln = lines.number();
-    if (is_blank(line)) {
-      throw Error::at_line(file, ln, "blank line (an empty document is written '0')");
-    }
-    const auto f = fields(line);
-    const std::int64_t n = integer_field(file, ln, f[0], "the number of distinct words");
-    if (n < 0 || n != static_cast<std::int64_t>(f.size()) - 1) {
-      throw Error::at_line(file, ln,
-                           "the line starts with N = " + std::to_string(n) + " but has " +
-                               std::to_string(f.size() - 1) + " id:count pairs");
-    }
-    const bool mine = doc % shards == shard;
-    for (std::size_t i = 1; i < f.size(); ++i) {
-      const auto colon = f[i].find(':');
-      if (colon == std::string_view::npos) {
-        throw Error::at_line(file, ln, "expected id:count, found " + quote(f[i]));
-      }
-      const std::int64_t id = integer_field(file, ln, f[i].substr(0, colon), "word id");
-      const std::int64_t c = integer_field(file, ln, f[i].substr(colon + 1), "count");
-      if (id < 0 || id >= limit) {
-        std::string msg = "word id " + std::to_string(id) + " outside [0, ";
-        msg += std::to_string(limit) + ")";
-        throw Error::at_line(file, ln, msg);
-      }
-      if (c <= 0 || c > std::numeric_limits<std::int32_t>::max()) {
-        throw Error::at_line(file, ln, "count " + std::to_string(c) + " is not positive");
-      }
-      max_id = std::max(max_id, id);
-      out.total_tokens += c;
-      if (mine) {
-        entries.push_back({(doc - shard) / shards, static_cast<std::int32_t>(id),
-                           static_cast<std::int32_t>(c), ln});
-      }
-    }
-    ++doc;
-    if (doc > kMaxCorpusDocuments) check_caps(file, ln, doc, 0);
-  }
-  if (doc == 0) throw Error::in_file(file, "no documents");
-  const auto num_words = vocabulary.empty() ? static_cast<std::int32_t>(max_id + 1)
-                                            : static_cast<std::int32_t>(vocabulary.size());
-  out.total_documents = doc;
-  const std::int64_t own = doc > shard ? (doc - shard + shards - 1) / shards : 0;
-  out.documents = build(file, entries, own, num_words, std::move(vocabulary));
+  out.shard = keep.shard;
+  out.shards = keep.shards;
+  out.total_documents = p.documents;
+  out.total_tokens = p.tokens;
+  out.documents = build(file, p.entries, keep.count(p.documents), p.words, std::move(p.vocabulary));
   out.checksum = lines.checksum();
   return out;
 }
@@ -683,10 +627,8 @@ CorpusShard read_corpus_shard(const fs::path& dir_or_file, CorpusFormat format, 
   CorpusShard out;
   switch (format) {
     case CorpusFormat::kUci:
-      out = read_uci_shard(files.file, files.vocabulary, shard, shards);
-      break;
     case CorpusFormat::kLdac:
-      out = read_ldac_shard(files.file, files.vocabulary, shard, shards);
+      out = read_shard(files.file, files.vocabulary, format, {shard, shards});
       break;
     case CorpusFormat::kMatrixMarket:
       throw Error::in_file(files.file,
