@@ -4,6 +4,7 @@
 #include <sstream>
 #include <utility>
 
+#include "gamma_variate.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/topics/dirichlet_stats.hpp"
 #include "special_functions.hpp"
@@ -19,19 +20,8 @@ double log_gamma_variate(core::Rng& rng, double shape) {
     const double u = 1.0 - rng.uniform();  // (0, 1]: log(u) is finite
     return log_gamma_variate(rng, shape + 1.0) + std::log(u) / shape;
   }
-  const double d = shape - 1.0 / 3.0;
-  const double c = 1.0 / std::sqrt(9.0 * d);
-  for (;;) {
-    const double x = rng.normal();
-    double v = 1.0 + c * x;
-    if (v <= 0.0) continue;
-    v = v * v * v;
-    const double u = rng.uniform();
-    if (u < 1.0 - 0.0331 * x * x * x * x ||
-        std::log(u) < 0.5 * x * x + d * (1.0 - v + std::log(v))) {
-      return std::log(d) + std::log(v);
-    }
-  }
+  const detail::GammaFactors g = detail::marsaglia_tsang(rng, shape);
+  return std::log(g.d) + std::log(g.v);
 }
 
 }  // namespace

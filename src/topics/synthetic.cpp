@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "gamma_variate.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 
@@ -13,19 +14,8 @@ namespace {
 // Gamma(shape, 1) by Marsaglia & Tsang, with the shape < 1 boost u^(1/shape).
 double gamma_variate(core::Rng& rng, double shape) {
   if (shape < 1.0) return gamma_variate(rng, shape + 1.0) * std::pow(rng.uniform(), 1.0 / shape);
-  const double d = shape - 1.0 / 3.0;
-  const double c = 1.0 / std::sqrt(9.0 * d);
-  for (;;) {
-    const double x = rng.normal();
-    double v = 1.0 + c * x;
-    if (v <= 0.0) continue;
-    v = v * v * v;
-    const double u = rng.uniform();
-    if (u < 1.0 - 0.0331 * x * x * x * x ||
-        std::log(u) < 0.5 * x * x + d * (1.0 - v + std::log(v))) {
-      return d * v;
-    }
-  }
+  const detail::GammaFactors g = detail::marsaglia_tsang(rng, shape);
+  return g.d * g.v;
 }
 
 Eigen::VectorXd dirichlet(core::Rng& rng, int n, double a) {
