@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
 
@@ -17,16 +18,10 @@ using proprio::test::run_cli;
 #define EXPECT_HAS(haystack, needle) \
   EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << (haystack)
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("proprio_sim_cli_" + std::to_string(getpid()));
-  fs::create_directories(d);
-  return d;
-}
-
 TEST(SimCli, RecordWritesAnEpisodeThatPassesTheCheck) {
-  const fs::path dir = temp_dir() / "ep";
-  const fs::path json = temp_dir() / "rec.json";
-  fs::remove_all(dir);
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
+  const fs::path dir = scratch.path() / "ep";
+  const fs::path json = scratch.path() / "rec.json";
   const auto r = run_cli(
       "sim record --scenario push --object mug --background moving --seed 7 "
       "--width 320 --height 240 --speed 0.2 --out " +
@@ -51,9 +46,9 @@ TEST(SimCli, RecordWritesAnEpisodeThatPassesTheCheck) {
 }
 
 TEST(SimCli, StereoBaselineIsAnOptionRecordedInTheProvenance) {
-  const fs::path dir = temp_dir() / "stereo";
-  const fs::path json = temp_dir() / "stereo.json";
-  fs::remove_all(dir);
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
+  const fs::path dir = scratch.path() / "stereo";
+  const fs::path json = scratch.path() / "stereo.json";
   const auto r =
       run_cli("sim record --stereo --baseline 0.25 --speed 0.2 --width 96 --height 72 --out " +
               dir.string() + " --json " + json.string());
@@ -68,8 +63,8 @@ TEST(SimCli, StereoBaselineIsAnOptionRecordedInTheProvenance) {
 }
 
 TEST(SimCli, UnknownObjectOrScenarioIsOneLineAndNoEpisode) {
-  const fs::path dir = temp_dir() / "bad";
-  fs::remove_all(dir);
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
+  const fs::path dir = scratch.path() / "bad";
   auto r = run_cli("sim record --object teapot --out " + dir.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_HAS(r.err, "unknown object 'teapot'");
@@ -80,8 +75,9 @@ TEST(SimCli, UnknownObjectOrScenarioIsOneLineAndNoEpisode) {
 }
 
 TEST(SimCli, CalibrateReachesSubPixelRms) {
-  const fs::path calib = temp_dir() / "calib.yml";
-  const fs::path json = temp_dir() / "cal.json";
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
+  const fs::path calib = scratch.path() / "calib.yml";
+  const fs::path json = scratch.path() / "cal.json";
   const auto r =
       run_cli("sim calibrate --grid 3 --out " + calib.string() + " --json " + json.string());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -94,7 +90,8 @@ TEST(SimCli, CalibrateReachesSubPixelRms) {
 }
 
 TEST(SimCli, ViewWritesAPicture) {
-  const fs::path png = temp_dir() / "view.png";
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
+  const fs::path png = scratch.path() / "view.png";
   const auto r = run_cli("sim view --scenario push --object book --width 320 --height 240 --out " +
                          png.string());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -104,9 +101,9 @@ TEST(SimCli, ViewWritesAPicture) {
 }
 
 TEST(SimCli, DatasetWritesThePresetsEpisodes) {
-  const fs::path dir = temp_dir() / "dataset";
-  const fs::path json = temp_dir() / "dataset.json";
-  fs::remove_all(dir);
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
+  const fs::path dir = scratch.path() / "dataset";
+  const fs::path json = scratch.path() / "dataset.json";
   const auto r = run_cli(
       "sim dataset --preset thesis-ch5 --episodes 2 --frames 3 --width 160 "
       "--height 120 -q --out " +
@@ -125,11 +122,11 @@ TEST(SimCli, DatasetWritesThePresetsEpisodes) {
 }
 
 TEST(SimCli, DatasetMovingEpisodesCarryTheThesisDisturbances) {
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
   // Episodes 6-8 of thesis-ch5 are the rabbit's first moving ones: video backdrop and
   // distractors in each, plus camera shake, a lighting change and a nudged neighbour in turn.
-  const fs::path dir = temp_dir() / "dataset_moving";
-  const fs::path json = temp_dir() / "dataset_moving.json";
-  fs::remove_all(dir);
+  const fs::path dir = scratch.path() / "dataset_moving";
+  const fs::path json = scratch.path() / "dataset_moving.json";
   const auto r = run_cli(
       "sim dataset --preset thesis-ch5 --episodes 9 --frames 1 --width 64 --height 48 -q --out " +
       dir.string() + " --json " + json.string());
@@ -156,9 +153,9 @@ TEST(SimCli, DatasetMovingEpisodesCarryTheThesisDisturbances) {
 }
 
 TEST(SimCli, ViewsWritesAFolderPerObject) {
-  const fs::path dir = temp_dir() / "views";
-  fs::remove_all(dir);
-  const fs::path json = temp_dir() / "views.json";
+  const proprio::test::TempDir scratch("proprio_sim_cli_");  // removed when the test ends
+  const fs::path dir = scratch.path() / "views";
+  const fs::path json = scratch.path() / "views.json";
   const auto r = run_cli(
       "sim views --objects book,mug --per-object 3 --width 160 --height 120 "
       "--out " +
