@@ -1,6 +1,7 @@
 // proprio sim record / calibrate / view, run as a user would.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
@@ -134,7 +135,8 @@ TEST(SimCli, DatasetMovingEpisodesCarryTheThesisDisturbances) {
   const core::Json j = core::read_json(json);
   ASSERT_EQ(j["episodes"].size(), 9U);
   expect_schema_valid("sim_dataset.schema.json", json);
-  const char* kSwitch[] = {"camera_shake", "lighting_change", "nudge_neighbour"};
+  constexpr std::array<const char*, 3> kSwitch = {"camera_shake", "lighting_change",
+                                                  "nudge_neighbour"};
   for (int k = 0; k < 9; ++k) {
     const core::Json& e = j["episodes"][static_cast<std::size_t>(k)];
     const core::Json sw = core::read_json(dir / e["episode"].get<std::string>() /
