@@ -66,7 +66,7 @@ class Reader {
   }
   const Json& required(const Json& obj, const std::string& key, const std::string& where) const {
     const Json* m = optional(obj, key);
-    if (m == nullptr) fail(where, "is missing");
+    if (m == nullptr) fail(where == key ? key : core::cat({where, "/", key}), "is missing");
     return *m;
   }
   static const Json* optional(const Json& obj, const std::string& key) {
@@ -109,7 +109,7 @@ class Reader {
   // A path inside the run directory: relative, without "..".
   fs::path inside(const Json& v, const std::string& where) const {
     const std::string s = string(v, where);
-    const fs::path p(s);
+    fs::path p(s);
     if (s.empty() || p.is_absolute()) fail(where, "must be a relative path inside the run");
     for (const auto& part : p) {
       if (part == "..") fail(where, "must not leave the run directory (\"..\")");
@@ -203,10 +203,12 @@ Confusion read_confusion(const Reader& r, const Json& v, const std::string& wher
   const Json& rows = r.array(r.required(v, "rows", where), where + "/rows");
   const Json& cols = r.array(r.required(v, "columns", where), where + "/columns");
   const Json& counts = r.array(r.required(v, "counts", where), where + "/counts");
-  for (std::size_t i = 0; i < rows.size(); ++i) c.rows.push_back(r.string(rows[i], at(where + "/rows", i)));
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    c.rows.push_back(r.string(rows[i], at(where + "/rows", i)));
   for (std::size_t i = 0; i < cols.size(); ++i)
     c.columns.push_back(r.string(cols[i], at(where + "/columns", i)));
-  if (counts.size() != rows.size()) r.fail(where + "/counts", "must have one row per \"rows\" entry");
+  if (counts.size() != rows.size())
+    r.fail(where + "/counts", "must have one row per \"rows\" entry");
   for (std::size_t i = 0; i < counts.size(); ++i) {
     const std::string w = at(where + "/counts", i);
     const Json& row = r.array(counts[i], w);
@@ -226,8 +228,8 @@ Run read_learn_json(const fs::path& file) {
   if (format != kLearnFormat) {
     r.fail("format", core::cat({"is \"", format, "\", not \"", kLearnFormat, "\""}));
   }
-  const long long version = r.integer(r.required(doc, "format_version", "format_version"),
-                                      "format_version");
+  const long long version =
+      r.integer(r.required(doc, "format_version", "format_version"), "format_version");
   if (version != kLearnFormatVersion) {
     r.fail("format_version", core::cat({"is ", std::to_string(version), "; this build reads ",
                                         std::to_string(kLearnFormatVersion)}));
@@ -285,15 +287,16 @@ Run read_learn_json(const fs::path& file) {
   }
 
   // A complete run has its held-out scores and timing; an interrupted one may lack them.
-  const Json* held = run.complete ? &r.required(doc, "held_out", "held_out")
-                                  : Reader::optional(doc, "held_out");
+  const Json* held =
+      run.complete ? &r.required(doc, "held_out", "held_out") : Reader::optional(doc, "held_out");
   if (held != nullptr) {
     r.object(*held, "held_out");
     run.held_out = true;
     if (const Json* v = Reader::optional(*held, "views_per_object")) {
       run.views_per_object = r.count(*v, "held_out/views_per_object");
     }
-    if (const Json* v = Reader::optional(*held, "mot")) run.mot = read_confusion(r, *v, "held_out/mot");
+    if (const Json* v = Reader::optional(*held, "mot"))
+      run.mot = read_confusion(r, *v, "held_out/mot");
     if (const Json* v = Reader::optional(*held, "argmax")) {
       run.argmax = read_confusion(r, *v, "held_out/argmax");
     }
@@ -304,7 +307,8 @@ Run read_learn_json(const fs::path& file) {
     run.timing = true;
     const Json* stages = timing;
     if (timing->is_object()) {  // also accepted: {"clock": ..., "stages": [...]}
-      if (const Json* c = Reader::optional(*timing, "clock")) run.clock = r.string(*c, "timing/clock");
+      if (const Json* c = Reader::optional(*timing, "clock"))
+        run.clock = r.string(*c, "timing/clock");
       stages = &r.required(*timing, "stages", "timing");
     }
     r.array(*stages, "timing");
@@ -326,12 +330,15 @@ Run read_learn_json(const fs::path& file) {
   }
   if (const Json* v = Reader::optional(doc, "vocabulary")) {
     r.object(*v, "vocabulary");
-    if (const Json* n = Reader::optional(*v, "words")) run.vocabulary_words = r.count(*n, "vocabulary/words");
-    if (const Json* f = Reader::optional(*v, "file")) run.vocabulary_file = r.inside(*f, "vocabulary/file");
+    if (const Json* n = Reader::optional(*v, "words"))
+      run.vocabulary_words = r.count(*n, "vocabulary/words");
+    if (const Json* f = Reader::optional(*v, "file"))
+      run.vocabulary_file = r.inside(*f, "vocabulary/file");
   }
   if (const Json* v = Reader::optional(doc, "topics")) {
     r.object(*v, "topics");
-    if (const Json* n = Reader::optional(*v, "count")) run.topics_count = r.count(*n, "topics/count");
+    if (const Json* n = Reader::optional(*v, "count"))
+      run.topics_count = r.count(*n, "topics/count");
     if (const Json* f = Reader::optional(*v, "file")) run.topics_file = r.inside(*f, "topics/file");
   }
   if (const Json* v = Reader::optional(doc, "model")) run.model_file = r.inside(*v, "model");
@@ -346,7 +353,7 @@ struct Decisions {
   bool truncated = false;
   std::uintmax_t bytes = 0;
   std::vector<std::pair<std::string, int>> events;  // by count, most first
-  std::vector<std::string> shown;                    // the first lines, as read
+  std::vector<std::string> shown;                   // the first lines, as read
 };
 
 Decisions read_decisions(const fs::path& file, int max_shown) {
@@ -426,9 +433,8 @@ class ImageSink {
         jpeg ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, 90} : std::vector<int>{};
     ensure(cv::imencode(jpeg ? ".jpg" : ".png", image, bytes, params),
            "report: cannot encode an image");
-    core::write_file_atomic(dir_ / name,
-                            std::string_view(reinterpret_cast<const char*>(bytes.data()),
-                                             bytes.size()));
+    core::write_file_atomic(
+        dir_ / name, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
     ++count_;
     return href_prefix_ + url_part(name);
   }
@@ -557,8 +563,8 @@ std::string count_or_dash(long long n) { return n >= 0 ? std::to_string(n) : "\x
 
 // The JSON value as short text for a table cell (strings without quotes).
 std::string json_text(const Json& v) {
-  std::string s = v.is_string() ? v.get<std::string>() : v.dump(-1, ' ', false,
-                                                              Json::error_handler_t::replace);
+  std::string s =
+      v.is_string() ? v.get<std::string>() : v.dump(-1, ' ', false, Json::error_handler_t::replace);
   if (s.size() > 200) s = s.substr(0, 200) + "\xE2\x80\xA6";
   return s;
 }
@@ -590,10 +596,11 @@ std::string summary_section(const Context& c, const Decisions& dec, bool complet
   for (const Stage& st : run.stages) total += st.seconds;
   s += "<p class=\"headline\">";
   s += core::cat({"<b>", std::to_string(run.objects.size()), "</b> objects learned from <b>",
-                  std::to_string(executed), "</b> executed pushes (", std::to_string(run.pushes.size()),
-                  " planned)"});
+                  std::to_string(executed), "</b> executed pushes (",
+                  std::to_string(run.pushes.size()), " planned)"});
   if (run.mot.present && run.mot.accuracy >= 0) {
-    s += core::cat({"; held-out accuracy: Mixture of Topics <b>", percent(run.mot.accuracy), "</b>"});
+    s += core::cat(
+        {"; held-out accuracy: Mixture of Topics <b>", percent(run.mot.accuracy), "</b>"});
     if (run.argmax.present && run.argmax.accuracy >= 0) {
       s += core::cat({", argmax of topics <b>", percent(run.argmax.accuracy), "</b>"});
     }
@@ -645,22 +652,38 @@ std::string push_title(const Context& c, const Push& p) {
 std::string pushes_table(const Context& c) {
   std::string s =
       "<table><tr><th>push</th><th>class</th><th>executed</th><th>moved the intended "
-      "object</th><th>frames</th><th>views</th><th>plan (world, m)</th><th>cost</th><th>outcome</th></tr>";
+      "object</th><th>frames</th><th>views</th><th>plan (world, "
+      "m)</th><th>cost</th><th>outcome</th></tr>";
   for (const Push& p : c.run.pushes) {
     std::string plan = "\xE2\x80\x93";
     if (p.plan.start && p.plan.end) {
-      plan = core::cat({"(", fixed(p.plan.start->x, 3), ", ", fixed(p.plan.start->y, 3), ") \xE2\x86\x92 (",
-                        fixed(p.plan.end->x, 3), ", ", fixed(p.plan.end->y, 3), ")"});
+      plan = core::cat({"(", fixed(p.plan.start->x, 3), ", ", fixed(p.plan.start->y, 3),
+                        ") \xE2\x86\x92 (", fixed(p.plan.end->x, 3), ", ", fixed(p.plan.end->y, 3),
+                        ")"});
     }
     const std::string moved =
         p.moved_intended ? (*p.moved_intended ? "yes" : "no") : "\xE2\x80\x93";
-    s += core::cat({"<tr><td class=\"num\"><a href=\"#push-", std::to_string(p.index), "\">",
-                    std::to_string(p.index), "</a></td><td>", escape(class_label(c, p.cls)),
-                    "</td><td>", p.executed ? "yes" : "no", "</td><td>", moved,
-                    "</td><td class=\"num\">", count_or_dash(p.frames), "</td><td class=\"num\">",
-                    count_or_dash(p.views), "</td><td>", plan, "</td><td class=\"num\">",
-                    p.plan.cost ? fixed(*p.plan.cost, 3) : "\xE2\x80\x93", "</td><td>",
-                    escape(p.outcome), "</td></tr>"});
+    s += core::cat({"<tr><td class=\"num\"><a href=\"#push-",
+                    std::to_string(p.index),
+                    "\">",
+                    std::to_string(p.index),
+                    "</a></td><td>",
+                    escape(class_label(c, p.cls)),
+                    "</td><td>",
+                    p.executed ? "yes" : "no",
+                    "</td><td>",
+                    moved,
+                    "</td><td class=\"num\">",
+                    count_or_dash(p.frames),
+                    "</td><td class=\"num\">",
+                    count_or_dash(p.views),
+                    "</td><td>",
+                    plan,
+                    "</td><td class=\"num\">",
+                    p.plan.cost ? fixed(*p.plan.cost, 3) : "\xE2\x80\x93",
+                    "</td><td>",
+                    escape(p.outcome),
+                    "</td></tr>"});
   }
   return s + "</table>";
 }
@@ -698,21 +721,21 @@ std::string pushes_and_segmentation(const Context& c, int& drawn) {
     const cv::Mat map = geometry::read_image(d / "map.png", cv::IMREAD_GRAYSCALE);
     const std::string title = push_title(c, p);
     const std::string anchor = core::cat({"push-", std::to_string(p.index)});
-    push_cards += core::cat(
-        {"<div class=\"card\" id=\"", anchor, "\"><h3>", escape(title), "</h3><div class=\"pair\"><figure>",
-         img(c.sink.write(stem + "plan.jpg", draw_plan(before, p.plan)), "before, planned path",
-             before.cols, before.rows),
-         "<figcaption>before", p.plan.present ? ", planned path" : " (no plan recorded)",
-         "</figcaption></figure><figure>",
-         img(c.sink.write(stem + "after.jpg", after), "after", after.cols, after.rows),
-         "<figcaption>after</figcaption></figure></div></div>"});
+    push_cards +=
+        core::cat({"<div class=\"card\" id=\"", anchor, "\"><h3>", escape(title),
+                   "</h3><div class=\"pair\"><figure>",
+                   img(c.sink.write(stem + "plan.jpg", draw_plan(before, p.plan)),
+                       "before, planned path", before.cols, before.rows),
+                   "<figcaption>before", p.plan.present ? ", planned path" : " (no plan recorded)",
+                   "</figcaption></figure><figure>",
+                   img(c.sink.write(stem + "after.jpg", after), "after", after.cols, after.rows),
+                   "<figcaption>after</figcaption></figure></div></div>"});
     seg_cards += core::cat(
         {"<div class=\"card\"><h3>", escape(title), "</h3><div class=\"pair\"><figure>",
          img(c.sink.write(stem + "overlay.jpg", draw_overlay(frame, mask)), "mask over frame",
              frame.cols, frame.rows),
          "<figcaption>mask over frame</figcaption></figure><figure>",
-         img(c.sink.write(stem + "map.png", draw_map(map)), "probability map", map.cols,
-             map.rows),
+         img(c.sink.write(stem + "map.png", draw_map(map)), "probability map", map.cols, map.rows),
          "<figcaption>probability map</figcaption></figure></div></div>"});
     ++drawn;
   }
@@ -730,7 +753,8 @@ std::string pushes_and_segmentation(const Context& c, int& drawn) {
 }
 
 template <class F>
-auto try_read(const fs::path& file, F&& read, std::string& problem) -> std::optional<decltype(read())> {
+auto try_read(const fs::path& file, F&& read, std::string& problem)
+    -> std::optional<decltype(read())> {
   if (!fs::exists(file)) return std::nullopt;
   try {
     return read();
@@ -788,8 +812,8 @@ std::string words_section(const Context& c, const Models& m) {
           files[i], [&] { return geometry::read_image(files[i], cv::IMREAD_COLOR); }, problem);
       s += "<figure class=\"card\">";
       if (image) {
-        s += img(c.sink.write(core::printf_string("words_%03zu.png", i), *image), name,
-                 image->cols, image->rows);
+        s += img(c.sink.write(core::printf_string("words_%03zu.png", i), *image), name, image->cols,
+                 image->rows);
       } else {
         s += problem_note(problem);
       }
@@ -805,13 +829,14 @@ std::string words_section(const Context& c, const Models& m) {
       for (const auto& o : m.mot->model.objects) {
         const Eigen::VectorXd pw = beta.transpose() * o.dirichlet.mean();
         std::vector<report::Bar> bars;
+        bars.reserve(static_cast<std::size_t>(w));
         for (int i = 0; i < w; ++i) {
           bars.push_back({core::cat({"w", std::to_string(i)}), pw(i), fixed(pw(i), 4)});
         }
-        s += core::cat({"<div class=\"card\"><h3>", escape(class_label(c, o.name)), "</h3>",
-                        report::vertical_bars(bars, 0, class_label(c, o.name), "word",
-                                              "#3b75af", 420, 150),
-                        "</div>"});
+        s += core::cat(
+            {"<div class=\"card\"><h3>", escape(class_label(c, o.name)), "</h3>",
+             report::vertical_bars(bars, 0, class_label(c, o.name), "word", "#3b75af", 420, 150),
+             "</div>"});
       }
       s += "</div>";
     }
@@ -894,13 +919,12 @@ std::string models_section(const Context& c, const Models& m) {
         const double a = o.dirichlet.alpha()(k);
         bars.push_back({core::cat({"z", std::to_string(k + 1)}), a, fixed(a, 3)});
       }
-      s += core::cat({"<div class=\"card\"><h3>", escape(class_label(c, o.name)),
-                      "</h3><p>precision s = ", fixed(o.dirichlet.precision(), 2), "; ",
-                      fixed(o.views, 0), " views</p>",
-                      report::vertical_bars(bars, top,
-                                            core::cat({"alpha of ", class_label(c, o.name)}),
-                                            "topic", "#b5651d", 360, 150),
-                      "</div>"});
+      s += core::cat(
+          {"<div class=\"card\"><h3>", escape(class_label(c, o.name)), "</h3><p>precision s = ",
+           fixed(o.dirichlet.precision(), 2), "; ", fixed(o.views, 0), " views</p>",
+           report::vertical_bars(bars, top, core::cat({"alpha of ", class_label(c, o.name)}),
+                                 "topic", "#b5651d", 360, 150),
+           "</div>"});
     }
     s += "</div>";
   } else if (!m.mot_problem.empty()) {
@@ -919,7 +943,8 @@ std::string confusion_block(const Context& c, const Confusion& conf, const std::
   long long correct = 0;
   std::vector<report::Bar> bars;
   std::string table = "<table><tr><th>truth \xE2\x86\x93 / class \xE2\x86\x92</th>";
-  for (const std::string& col : conf.columns) table += core::cat({"<th>", escape(class_label(c, col)), "</th>"});
+  for (const std::string& col : conf.columns)
+    table += core::cat({"<th>", escape(class_label(c, col)), "</th>"});
   table += "<th>accuracy</th></tr>";
   for (std::size_t r = 0; r < conf.rows.size(); ++r) {
     long long row_total = 0;
@@ -928,8 +953,8 @@ std::string confusion_block(const Context& c, const Confusion& conf, const std::
     for (std::size_t j = 0; j < conf.columns.size(); ++j) {
       row_total += conf.counts[r][j];
       const auto it = c.truth_of.find(conf.columns[j]);
-      const bool same = conf.columns[j] == conf.rows[r] ||
-                        (it != c.truth_of.end() && it->second == conf.rows[r]);
+      const bool same =
+          conf.columns[j] == conf.rows[r] || (it != c.truth_of.end() && it->second == conf.rows[r]);
       if (same) {
         mapped = true;
         row_correct += conf.counts[r][j];
@@ -944,9 +969,11 @@ std::string confusion_block(const Context& c, const Confusion& conf, const std::
                           std::to_string(conf.counts[r][j]), "</td>"});
     }
     const double acc = row_total > 0 && mapped ? static_cast<double>(row_correct) / row_total : -1;
-    table += core::cat({"<td class=\"num\">", acc >= 0 ? percent(acc) : "\xE2\x80\x93", "</td></tr>"});
+    table +=
+        core::cat({"<td class=\"num\">", acc >= 0 ? percent(acc) : "\xE2\x80\x93", "</td></tr>"});
     if (acc >= 0) {
-      const auto ci = report::wilson_interval(static_cast<int>(row_correct), static_cast<int>(row_total));
+      const auto ci =
+          report::wilson_interval(static_cast<int>(row_correct), static_cast<int>(row_total));
       bars.push_back({conf.rows[r], acc,
                       core::cat({percent(acc), " [", percent(ci.low), ", ", percent(ci.high), "]"}),
                       ci.low, ci.high});
@@ -955,8 +982,8 @@ std::string confusion_block(const Context& c, const Confusion& conf, const std::
     }
   }
   table += "</table>";
-  const double acc = conf.accuracy >= 0 ? conf.accuracy
-                                        : (total > 0 ? static_cast<double>(correct) / total : -1);
+  const double acc =
+      conf.accuracy >= 0 ? conf.accuracy : (total > 0 ? static_cast<double>(correct) / total : -1);
   accuracy_out = acc;
   s += core::cat({"<p class=\"headline\">accuracy <b>", acc >= 0 ? percent(acc) : "\xE2\x80\x93",
                   "</b> of ", std::to_string(total), " held-out views</p>", table,
@@ -990,7 +1017,8 @@ std::string timing_section(const Context& c) {
   std::vector<report::Bar> bars;
   for (const Stage& st : c.run.stages) {
     const double f = total > 0 ? st.seconds / total : 0;
-    bars.push_back({st.name, st.seconds, core::cat({fixed(st.seconds, 2), " s (", percent(f), ")"})});
+    bars.push_back(
+        {st.name, st.seconds, core::cat({fixed(st.seconds, 2), " s (", percent(f), ")"})});
   }
   s += core::cat({"<p>", fixed(total, 1), " s in all",
                   c.run.clock.empty() ? std::string(" (clock not recorded)")
@@ -1006,17 +1034,18 @@ std::string decisions_section(const Decisions& d) {
     s += "<p class=\"missing\">No decisions logged.</p>";
   } else {
     std::vector<report::Bar> bars;
-    for (const auto& [event, n] : d.events) bars.push_back({event, static_cast<double>(n), std::to_string(n)});
+    for (const auto& [event, n] : d.events)
+      bars.push_back({event, static_cast<double>(n), std::to_string(n)});
     s += report::horizontal_bars(bars, 0, "decisions by event", "#3b75af", 560);
   }
   if (d.truncated) {
     s += core::cat({"<p class=\"missing\">The log has ", std::to_string(d.bytes),
-                    " bytes; only its first ", std::to_string(kMaxDecisionBytes), " were read.</p>"});
+                    " bytes; only its first ", std::to_string(kMaxDecisionBytes),
+                    " were read.</p>"});
   }
   if (d.skipped_long > 0) {
-    s += core::cat({"<p class=\"missing\">", std::to_string(d.skipped_long),
-                    " lines longer than ", std::to_string(kMaxDecisionLineBytes),
-                    " bytes were skipped.</p>"});
+    s += core::cat({"<p class=\"missing\">", std::to_string(d.skipped_long), " lines longer than ",
+                    std::to_string(kMaxDecisionLineBytes), " bytes were skipped.</p>"});
   }
   if (!d.shown.empty()) {
     s += core::cat({"<details><summary>The first ", std::to_string(d.shown.size()), " of ",
@@ -1052,12 +1081,14 @@ LearnReportResult write_learn_report(const LearnReportOptions& options) {
 
   Models models;
   const fs::path vfile = dir / run.vocabulary_file;
-  models.vocabulary = try_read(vfile, [&] { return features::read_vocabulary(vfile); },
-                               models.vocabulary_problem);
+  models.vocabulary = try_read(
+      vfile, [&] { return features::read_vocabulary(vfile); }, models.vocabulary_problem);
   const fs::path lfile = dir / run.topics_file;
-  models.lda = try_read(lfile, [&] { return topics::load_lda_model(lfile); }, models.lda_problem);
+  models.lda = try_read(
+      lfile, [&] { return topics::load_lda_model(lfile); }, models.lda_problem);
   const fs::path mfile = dir / run.model_file;
-  models.mot = try_read(mfile, [&] { return topics::load_mot_model(mfile); }, models.mot_problem);
+  models.mot = try_read(
+      mfile, [&] { return topics::load_mot_model(mfile); }, models.mot_problem);
 
   LearnReportResult result;
   LearnReportSummary& summary = result.summary;
@@ -1094,8 +1125,8 @@ LearnReportResult write_learn_report(const LearnReportOptions& options) {
   page += "</style></head><body><header><h1>What the robot learned</h1><div>";
   page += escape(fs::absolute(dir).lexically_normal().string());
   page += "</div></header><nav>";
-  const char* const nav_titles[] = {"Summary", "Table",   "Pushes",   "Segmentation", "Words",
-                                    "Topics",  "Models",  "Held-out", "Time",         "Decisions"};
+  const char* const nav_titles[] = {"Summary", "Table",  "Pushes",   "Segmentation", "Words",
+                                    "Topics",  "Models", "Held-out", "Time",         "Decisions"};
   for (std::size_t i = 0; i < kLearnReportSections.size(); ++i) {
     page += core::cat({"<a href=\"#", kLearnReportSections[i], "\">", nav_titles[i], "</a>"});
   }

@@ -64,11 +64,21 @@ std::string escape(std::string_view text) {
     }
     ++i;
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
       default:
         if (static_cast<unsigned char>(c) >= 0x20 || c == '\n' || c == '\t') out += c;
     }
@@ -98,7 +108,9 @@ std::string horizontal_bars(const std::vector<Bar>& bars, double max_value, std:
   if (!(top > 0)) top = 1;
   const int row = 22;
   const int label_w = 150;
-  const int text_w = 110;
+  std::size_t longest = 0;
+  for (const Bar& b : bars) longest = std::max(longest, b.text.size());
+  const int text_w = std::clamp(static_cast<int>(longest) * 7 + 8, 60, width / 2);
   const int bar_w = std::max(60, width - label_w - text_w);
   const int height = row * static_cast<int>(bars.size()) + 6;
   std::string s = core::printf_string(
@@ -111,12 +123,11 @@ std::string horizontal_bars(const std::vector<Bar>& bars, double max_value, std:
     const Bar& b = bars[i];
     const int y = 3 + row * static_cast<int>(i);
     const double w = bar_w * std::min(1.0, clean(b.value) / top);
-    s += core::printf_string(
-        "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" font-size=\"12\">", label_w - 6, y + 15);
+    s += core::printf_string("<text x=\"%d\" y=\"%d\" text-anchor=\"end\" font-size=\"12\">",
+                             label_w - 6, y + 15);
     s += escape(b.label);
-    s += core::printf_string(
-        "</text><rect x=\"%d\" y=\"%d\" width=\"%.1f\" height=\"%d\" fill=\"", label_w, y + 3, w,
-        row - 8);
+    s += core::printf_string("</text><rect x=\"%d\" y=\"%d\" width=\"%.1f\" height=\"%d\" fill=\"",
+                             label_w, y + 3, w, row - 8);
     s += escape(colour);
     s += "\"/>";
     if (b.low >= 0 && b.high >= b.low && std::isfinite(b.high)) {
@@ -172,9 +183,8 @@ std::string vertical_bars(const std::vector<Bar>& bars, double max_value, std::s
     const double h = plot_h * std::min(1.0, clean(b.value) / top);
     const double x = left + slot * static_cast<double>(i) + (labelled ? slot * 0.15 : 0);
     const double w = std::max(0.5, labelled ? slot * 0.7 : slot);
-    s += core::printf_string(
-        "<rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" fill=\"", x, 8 + plot_h - h,
-        w, h);
+    s += core::printf_string("<rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" fill=\"",
+                             x, 8 + plot_h - h, w, h);
     s += escape(colour);
     s += "\"><title>";
     s += escape(b.label);
@@ -182,9 +192,8 @@ std::string vertical_bars(const std::vector<Bar>& bars, double max_value, std::s
     s += escape(b.text);
     s += "</title></rect>";
     if (labelled) {
-      s += core::printf_string(
-          "<text x=\"%.2f\" y=\"%d\" text-anchor=\"middle\" font-size=\"10\">",
-          left + slot * (static_cast<double>(i) + 0.5), 8 + plot_h + 12);
+      s += core::printf_string("<text x=\"%.2f\" y=\"%d\" text-anchor=\"middle\" font-size=\"10\">",
+                               left + slot * (static_cast<double>(i) + 0.5), 8 + plot_h + 12);
       s += escape(b.label);
       s += "</text>";
     }

@@ -130,7 +130,9 @@ TEST(LearnReport, SaysNotRecordedForMissingOptionalItems) {
   const std::string page = core::read_file(r.summary.page);
   EXPECT_NE(page.find("incomplete"), std::string::npos);
   std::size_t n = 0;
-  for (auto p = page.find("Not recorded."); p != std::string::npos; p = page.find("Not recorded.", p + 1)) ++n;
+  for (auto p = page.find("Not recorded."); p != std::string::npos;
+       p = page.find("Not recorded.", p + 1))
+    ++n;
   EXPECT_EQ(n, 4U);  // options, table, held-out, timing
   EXPECT_NE(page.find("12 words (the vocabulary file is not in the run directory)"),
             std::string::npos);
@@ -169,6 +171,8 @@ TEST(LearnReport, BadRunDirectoriesGiveAnErrorNamingTheFile) {
   fails_with([](core::Json& j) { j["pushes"][1]["plan"]["start_px"] = {1}; }, "start_px");
   fails_with([](core::Json& j) { j["held_out"]["mot"]["counts"][0] = {1}; }, "counts/0");
   fails_with([](core::Json& j) { j["timing"][0]["seconds"] = -1; }, "seconds");
+  fails_with([](core::Json& j) { j["pushes"][1].erase("executed"); },
+             "\"pushes/1/executed\" is missing");
 
   test::write_learn_run_fixture(tmp.path());
   core::write_file_atomic(tmp.path() / "learn.json", "{\"format\": ");

@@ -102,7 +102,8 @@ inline void write_learn_run_fixture(const std::filesystem::path& dir,
     cv::Mat mask = map > 128;
     write_png(d / "mask.png", mask);
   }
-  write_png(dir / "words" / "object_1.png", draw_table(f, a0, b0)(cv::Rect(60, 90, 80, 60)).clone());
+  write_png(dir / "words" / "object_1.png",
+            draw_table(f, a0, b0)(cv::Rect(60, 90, 80, 60)).clone());
 
   Json conf_mot = {{"accuracy", 0.85},
                    {"rows", {"box", f.hostile_truth}},

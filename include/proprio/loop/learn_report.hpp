@@ -34,9 +34,9 @@ struct LearnReportOptions {
   /// The page; empty: dir/report.html. Its images go into the directory beside it named as the
   /// page without its extension (dir/report/ for the default).
   std::filesystem::path out;
-  bool overwrite = false;  ///< replace an existing page (and its image directory)
-  int top_words = 10;      ///< the most probable words drawn per topic
-  int max_pushes = 200;    ///< pushes drawn at most (the rest are listed in the table only)
+  bool overwrite = false;   ///< replace an existing page (and its image directory)
+  int top_words = 10;       ///< the most probable words drawn per topic
+  int max_pushes = 200;     ///< pushes drawn at most (the rest are listed in the table only)
   int max_decisions = 300;  ///< decisions listed in full at most (all are counted)
 
   /// Throws Error naming the first bad option (an empty dir, a bound).
