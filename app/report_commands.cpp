@@ -19,7 +19,7 @@ struct ReportArgs {
 
 }  // namespace
 
-void register_report_commands(CLI::App& root, const Invocation& /*inv*/) {
+void register_report_commands(CLI::App& root, const Invocation& inv) {
   auto a = std::make_shared<ReportArgs>();
   auto* cmd = root.add_subcommand(
       "report",
@@ -29,8 +29,8 @@ void register_report_commands(CLI::App& root, const Invocation& /*inv*/) {
   cmd->add_option("dir", a->options.dir, "The run directory of proprio learn")->required();
   bind_options(cmd, a->options, {{}, {"dir"}});
   cmd->add_option("--json", a->json, "Also write what was written as JSON");
-  cmd->callback([a] {
-    const loop::LearnReportResult r = loop::write_learn_report(a->options);
+  cmd->callback([a, &inv] {
+    const loop::LearnReportResult r = loop::write_learn_report(a->options, inv.provenance());
     std::printf("%s\n", r.brief().c_str());
     write_json_result(a->json, r.document);
   });

@@ -1058,7 +1058,8 @@ std::string decisions_section(const Decisions& d) {
 
 }  // namespace
 
-LearnReportResult write_learn_report(const LearnReportOptions& options) {
+LearnReportResult write_learn_report(const LearnReportOptions& options,
+                                     const core::Provenance& provenance) {
   options.validate();
   const fs::path& dir = options.dir;
   if (!fs::is_directory(dir)) throw Error::in_file(dir, "not a directory (the run directory)");
@@ -1137,21 +1138,19 @@ LearnReportResult write_learn_report(const LearnReportOptions& options) {
   page += "</body></html>\n";
   summary.page_bytes = page.size();
 
-  result.document = {{"format", kLearnReportFormat},
-                     {"format_version", 1},
-                     {"options", core::fields_to_json(options)},
-                     {"summary",
-                      {{"page", out.string()},
-                       {"images", images.string()},
-                       {"complete", summary.complete},
-                       {"pushes", summary.pushes},
-                       {"pushes_drawn", summary.pushes_drawn},
-                       {"image_files", summary.image_files},
-                       {"classes", summary.classes},
-                       {"decisions", summary.decisions},
-                       {"mot_accuracy", summary.mot_accuracy},
-                       {"argmax_accuracy", summary.argmax_accuracy},
-                       {"page_bytes", summary.page_bytes}}}};
+  result.document = core::result_document(kLearnReportFormat, 1, provenance);
+  result.document["options"] = core::fields_to_json(options);
+  result.document["summary"] = {{"page", out.string()},
+                                {"images", images.string()},
+                                {"complete", summary.complete},
+                                {"pushes", summary.pushes},
+                                {"pushes_drawn", summary.pushes_drawn},
+                                {"image_files", summary.image_files},
+                                {"classes", summary.classes},
+                                {"decisions", summary.decisions},
+                                {"mot_accuracy", summary.mot_accuracy},
+                                {"argmax_accuracy", summary.argmax_accuracy},
+                                {"page_bytes", summary.page_bytes}};
   // The images directory's marker (core::kResultMarkers): a later --overwrite may replace it.
   core::write_json_atomic(staged.staging_path() / "summary.json", result.document);
   staged.commit();

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "../support/learn_run_fixture.hpp"
+#include "../support/schema_check.hpp"
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/files.hpp"
@@ -43,6 +44,8 @@ TEST(ReportCli, WritesThePageWithEverySectionAndItsImages) {
   const core::Json doc = core::read_json(tmp.path() / "r.json");
   EXPECT_EQ(doc["format"], "proprio.learn_report");
   EXPECT_EQ(doc["summary"]["image_files"], 10);
+  test::expect_schema_valid("learn_report.schema.json", tmp.path() / "r.json");
+  test::expect_schema_valid("learn_report.schema.json", run / "report" / "summary.json");
 
   // Again: refused without --overwrite, one line, exit 2; done with it.
   const auto again = run_cli("report " + run.string());

@@ -12,6 +12,7 @@
 
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
 
 namespace proprio::loop {
 
@@ -71,7 +72,9 @@ struct LearnReportSummary {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LearnReportResult {
   LearnReportSummary summary;
-  core::Json document;  ///< format "proprio.learn_report": options and summary
+  /// format "proprio.learn_report" (docs/formats/schemas/learn_report.schema.json): provenance,
+  /// options and summary; also written as the image directory's summary.json.
+  core::Json document;
   [[nodiscard]] std::string brief() const;
 };
 
@@ -82,6 +85,8 @@ struct LearnReportResult {
 /// learn.json is missing, not format "proprio.learn" version 1 or lacks a required member,
 /// decisions.jsonl is missing or has a line that is no JSON object, or an executed push lacks one
 /// of its images; Error when the page exists (without overwrite) or would replace an input.
-LearnReportResult write_learn_report(const LearnReportOptions& options);
+LearnReportResult write_learn_report(
+    const LearnReportOptions& options,
+    const core::Provenance& provenance = core::Provenance::current({}));
 
 }  // namespace proprio::loop
