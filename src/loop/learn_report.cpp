@@ -51,6 +51,8 @@ constexpr int kLearnFormatVersion = 1;
 constexpr const char* kNotRecorded = "<p class=\"missing\">Not recorded.</p>";
 // Words shown in the vocabulary's per-class histograms at most (beyond, the chart is omitted).
 constexpr int kMaxHistogramWords = 4096;
+// Rows of the table of pushes at most (a hostile learn.json may list millions).
+constexpr std::size_t kMaxPushRows = 5000;
 // Per-class word images (DIR/words/) shown at most.
 constexpr int kMaxWordImages = 64;
 
@@ -654,7 +656,8 @@ std::string pushes_table(const Context& c) {
       "<table><tr><th>push</th><th>class</th><th>executed</th><th>moved the intended "
       "object</th><th>frames</th><th>views</th><th>plan (world, "
       "m)</th><th>cost</th><th>outcome</th></tr>";
-  for (const Push& p : c.run.pushes) {
+  for (std::size_t i = 0; i < c.run.pushes.size() && i < kMaxPushRows; ++i) {
+    const Push& p = c.run.pushes[i];
     std::string plan = "\xE2\x80\x93";
     if (p.plan.start && p.plan.end) {
       plan = core::cat({"(", fixed(p.plan.start->x, 3), ", ", fixed(p.plan.start->y, 3),
@@ -685,7 +688,12 @@ std::string pushes_table(const Context& c) {
                     escape(p.outcome),
                     "</td></tr>"});
   }
-  return s + "</table>";
+  s += "</table>";
+  if (c.run.pushes.size() > kMaxPushRows) {
+    s += core::cat({"<p class=\"missing\">", std::to_string(c.run.pushes.size() - kMaxPushRows),
+                    " more pushes not listed.</p>"});
+  }
+  return s;
 }
 
 std::string pushes_and_segmentation(const Context& c, int& drawn) {
@@ -831,7 +839,10 @@ std::string words_section(const Context& c, const Models& m) {
         std::vector<report::Bar> bars;
         bars.reserve(static_cast<std::size_t>(w));
         for (int i = 0; i < w; ++i) {
-          bars.push_back({core::cat({"w", std::to_string(i)}), pw(i), fixed(pw(i), 4)});
+          const auto word = static_cast<std::size_t>(i);
+          bars.push_back({word < m.lda->vocabulary.size() ? m.lda->vocabulary[word]
+                                                          : core::cat({"w", std::to_string(i)}),
+                          pw(i), fixed(pw(i), 4)});
         }
         s += core::cat(
             {"<div class=\"card\"><h3>", escape(class_label(c, o.name)), "</h3>",

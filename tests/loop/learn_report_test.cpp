@@ -88,6 +88,30 @@ TEST(LearnReport, WritesEverySectionAndEveryImageItReferences) {
   EXPECT_NE(page.find("85.0%"), std::string::npos);
   EXPECT_NE(page.find("90.0%"), std::string::npos);
   EXPECT_NE(page.find("9.8 s in all"), std::string::npos);  // 0.5 + 6 + 2.25 + 1
+  // 18 of 20 right: Wilson 95% interval [0.699, 0.972].
+  EXPECT_NE(page.find("90.0% [69.9%, 97.2%]"), std::string::npos);
+}
+
+TEST(LearnReport, ShowsBytesThatAreNotUtf8AsReplacementCharacters) {
+  test::TempDir tmp("proprio_learn_report_");
+  test::LearnRunFixture f;
+  f.models = false;
+  test::write_learn_run_fixture(tmp.path(), f);
+  // JSON that is not UTF-8 is refused by the parser; a control character in a string is dropped;
+  // a file name that is not UTF-8 (a word image) is shown with U+FFFD.
+  edit_learn_json(tmp.path(), [](core::Json& j) { j["objects"][0]["truth"] = "bo\x01xy"; });
+  cv::imwrite((tmp.path() / "words" / "ob\xFFj.png").string(), cv::Mat(8, 8, CV_8UC3));
+  const std::string page = core::read_file(report_of(tmp.path()).summary.page);
+  EXPECT_NE(page.find("boxy"), std::string::npos);
+  EXPECT_EQ(page.find('\x01'), std::string::npos);
+  EXPECT_NE(page.find("ob\xEF\xBF\xBDj"), std::string::npos);
+  EXPECT_EQ(page.find('\xFF'), std::string::npos);
+
+  std::string json = core::read_file(tmp.path() / "learn.json");
+  json.replace(json.find("bo\\u0001xy"), 10, "b\xFFxy");
+  core::write_file_atomic(tmp.path() / "learn.json", json);
+  fs::remove(tmp.path() / "report.html");
+  EXPECT_NE(error_of([&] { report_of(tmp.path()); }).find("learn.json:"), std::string::npos);
 }
 
 TEST(LearnReport, RefusesToReplaceThePageUnlessTold) {
