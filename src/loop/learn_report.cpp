@@ -652,10 +652,12 @@ std::string push_title(const Context& c, const Push& p) {
 }
 
 std::string pushes_table(const Context& c) {
-  std::string s =
-      "<table><tr><th>push</th><th>class</th><th>executed</th><th>moved the intended "
-      "object</th><th>frames</th><th>views</th><th>plan (world, "
-      "m)</th><th>cost</th><th>outcome</th></tr>";
+  // A long list is folded so that the pictures stay near the top.
+  std::string s = core::cat({"<details", c.run.pushes.size() <= 20 ? " open" : "", "><summary>All ",
+                             std::to_string(c.run.pushes.size()), " pushes</summary>"});
+  s += "<table><tr><th>push</th><th>class</th><th>executed</th><th>moved the intended "
+       "object</th><th>frames</th><th>views</th><th>plan (world, "
+       "m)</th><th>cost</th><th>outcome</th></tr>";
   for (std::size_t i = 0; i < c.run.pushes.size() && i < kMaxPushRows; ++i) {
     const Push& p = c.run.pushes[i];
     std::string plan = "\xE2\x80\x93";
@@ -693,7 +695,7 @@ std::string pushes_table(const Context& c) {
     s += core::cat({"<p class=\"missing\">", std::to_string(c.run.pushes.size() - kMaxPushRows),
                     " more pushes not listed.</p>"});
   }
-  return s;
+  return s + "</details>";
 }
 
 std::string pushes_and_segmentation(const Context& c, int& drawn) {
@@ -727,6 +729,8 @@ std::string pushes_and_segmentation(const Context& c, int& drawn) {
     const cv::Mat frame = geometry::read_image(d / "frame.png", cv::IMREAD_COLOR);
     const cv::Mat mask = geometry::read_image(d / "mask.png", cv::IMREAD_GRAYSCALE);
     const cv::Mat map = geometry::read_image(d / "map.png", cv::IMREAD_GRAYSCALE);
+    double map_max = 0;
+    cv::minMaxLoc(map, nullptr, &map_max);
     const std::string title = push_title(c, p);
     const std::string anchor = core::cat({"push-", std::to_string(p.index)});
     push_cards +=
@@ -744,7 +748,8 @@ std::string pushes_and_segmentation(const Context& c, int& drawn) {
              frame.cols, frame.rows),
          "<figcaption>mask over frame</figcaption></figure><figure>",
          img(c.sink.write(stem + "map.png", draw_map(map)), "probability map", map.cols, map.rows),
-         "<figcaption>probability map</figcaption></figure></div></div>"});
+         "<figcaption>probability map (max ", fixed(map_max / 255.0, 2),
+         ")</figcaption></figure></div></div>"});
     ++drawn;
   }
   push_cards += "</div>";
