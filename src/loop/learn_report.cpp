@@ -1072,7 +1072,32 @@ std::string decisions_section(const Decisions& d) {
   return s + "</section>";
 }
 
+std::vector<fs::path> inputs_of(const fs::path& dir, const Run& run) {
+  std::vector<fs::path> in{
+      dir / "learn.json",        dir / "decisions.jsonl", dir / "table.png",    dir / "words",
+      dir / run.vocabulary_file, dir / run.topics_file,   dir / run.model_file, dir / "pushes"};
+  for (const Push& p : run.pushes) {
+    for (const char* name : {"before.png", "after.png", "frame.png", "mask.png", "map.png"}) {
+      in.push_back(dir / p.dir / name);
+    }
+  }
+  return in;
+}
+
 }  // namespace
+
+std::vector<fs::path> learn_report_inputs(const fs::path& dir) {
+  return inputs_of(dir, read_learn_json(dir / "learn.json"));
+}
+
+fs::path learn_report_page(const LearnReportOptions& options) {
+  return options.out.empty() ? options.dir / "report.html" : options.out;
+}
+
+fs::path learn_report_images(const LearnReportOptions& options) {
+  const fs::path out = learn_report_page(options);
+  return out.parent_path() / out.stem();
+}
 
 LearnReportResult write_learn_report(const LearnReportOptions& options,
                                      const core::Provenance& provenance) {
@@ -1081,19 +1106,20 @@ LearnReportResult write_learn_report(const LearnReportOptions& options,
   if (!fs::is_directory(dir)) throw Error::in_file(dir, "not a directory (the run directory)");
   const fs::path learn_json = dir / "learn.json";
   const fs::path decisions_file = dir / "decisions.jsonl";
-  const fs::path out = options.out.empty() ? dir / "report.html" : options.out;
+  const fs::path out = learn_report_page(options);
   require(!out.filename().empty() && !out.stem().empty(),
           core::cat({"--out: ", out.string(), " is not a file name"}));
-  const fs::path images = out.parent_path() / out.stem();
+  const fs::path images = learn_report_images(options);
   if (fs::is_directory(out)) throw Error::in_file(out, "is a directory, not a page to write");
   if (fs::exists(out) && !options.overwrite) {
     throw Error::in_file(out, "exists (use --overwrite to replace it)");
   }
-  core::require_output_not_input(out, {learn_json, decisions_file}, "--out");
-  core::require_output_not_input(images, {dir, learn_json, decisions_file, dir / "pushes"},
-                                 "--out (its image directory)");
 
   const Run run = read_learn_json(learn_json);
+  std::vector<fs::path> inputs = inputs_of(dir, run);
+  core::require_output_not_input(out, inputs, "--out");
+  inputs.push_back(dir);
+  core::require_output_not_input(images, inputs, "--out (its image directory)");
   const Decisions decisions = read_decisions(decisions_file, options.max_decisions);
 
   Models models;

@@ -76,6 +76,20 @@ TEST(ReportCli, MalformedLearnJsonExitsTwoNamingTheFile) {
   EXPECT_NE(r.err.find(learn), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("\"complete\" is missing"), std::string::npos) << r.err;
 
+  test::write_learn_run_fixture(tmp.path());
+  // Outputs that are inputs are refused before any work, the input untouched.
+  for (const std::string& args :
+       {" --json " + learn, " --out " + learn, " --json " + (tmp.path() / "report.html").string(),
+        " --json " + (tmp.path() / "pushes" / "push_001" / "map.png").string(),
+        " --out " + (tmp.path() / "pushes.html").string()}) {
+    r = run_cli("report " + tmp.path().string() + args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(core::read_json(learn)["format"], "proprio.learn");
+  EXPECT_FALSE(fs::exists(tmp.path() / "report.html"));
+
   r = run_cli("report " + (tmp.path() / "nowhere").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
@@ -77,6 +78,16 @@ struct LearnReportResult {
   core::Json document;
   [[nodiscard]] std::string brief() const;
 };
+
+/// Every file and directory of the run directory `dir` the report reads (learn.json,
+/// decisions.jsonl, table.png, words/, the model files, each listed push's images): the outputs
+/// (the page, its image directory, a CLI's --json) must be none of them. Reads learn.json; throws
+/// as write_learn_report does when it is bad.
+std::vector<std::filesystem::path> learn_report_inputs(const std::filesystem::path& dir);
+
+/// The page write_learn_report writes for `options` and the directory of its images.
+std::filesystem::path learn_report_page(const LearnReportOptions& options);
+std::filesystem::path learn_report_images(const LearnReportOptions& options);
 
 /// Reads the run directory options.dir and writes the page (atomically: its images are staged and
 /// swapped in first, then the page is renamed into place) with every section of
