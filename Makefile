@@ -18,6 +18,7 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
+# out/demo/: every step's results; last, the learn run and its page out/demo/report.html.
 demo: build
 	bash scripts/demo $(BUILD)/app/proprio
 
