@@ -33,9 +33,9 @@ class BackdropVideo {
   std::filesystem::path file_;
   cv::VideoCapture video_;
   double fps_ = 25;
-  std::int64_t shown_ = -1;     // absolute index of the frame shown (show_at), -1 none
-  std::int64_t position_ = 0;   // frames read since the start of the current pass
-  std::int64_t length_ = 0;     // frames in the video, once one pass was read; 0 unknown
+  std::int64_t shown_ = -1;    // absolute index of the frame shown (show_at), -1 none
+  std::int64_t position_ = 0;  // frames read since the start of the current pass
+  std::int64_t length_ = 0;    // frames in the video, once one pass was read; 0 unknown
 };
 
 }  // namespace proprio::sim

@@ -45,9 +45,9 @@ void DistractorMover::move(World& world, double t) const {
     const SceneObject& o = world.object(ids_[i]);
     const double phase =
         2.0 * std::numbers::pi * (kFrequency * t + kPhaseStep * static_cast<double>(i));
-    world.set_object_pose(ids_[i], on_table(o.type, layout_.centre_x + layout_.amplitude * std::sin(phase),
-                                            layout_.line_y,
-                                            kSpin * t + static_cast<double>(i)));
+    world.set_object_pose(ids_[i],
+                          on_table(o.type, layout_.centre_x + layout_.amplitude * std::sin(phase),
+                                   layout_.line_y, kSpin * t + static_cast<double>(i)));
   }
 }
 

@@ -347,8 +347,8 @@ SceneModel build_scene(const SceneDescription& description, const ObjectCatalogu
         << "\" size=\"" << geom_size(p) << "\" pos=\"" << vec(p.position) << "\" euler=\""
         << vec(p.euler * (180.0 / std::numbers::pi)) << "\" material=\"mat_" << o.name
         << "\" density=\"" << num(density) << "\" friction=\"" << num(o.type.friction)
-        << " 0.005 0.0001\" contype=\"" << (ghost ? 4 : 1) << "\" conaffinity=\""
-        << (ghost ? 0 : 1) << "\"/>\n";
+        << " 0.005 0.0001\" contype=\"" << (ghost ? 4 : 1) << "\" conaffinity=\"" << (ghost ? 0 : 1)
+        << "\"/>\n";
     }
     x << "    </body>\n";
   }

@@ -10,10 +10,10 @@
 #include <numbers>
 #include <optional>
 
-#include "proprio/core/error.hpp"
-#include "proprio/core/random.hpp"
 #include "backdrop_video.hpp"
 #include "distractor_mover.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
 #include "proprio/episode/episode_writer.hpp"
 #include "proprio/robot/inverse_kinematics.hpp"
 #include "proprio/sim/renderer.hpp"
@@ -33,8 +33,8 @@ constexpr double kFallenBelow = -0.01;  // m: an object's origin below the table
 constexpr std::array<double, robot::kArmJoints> kParkJoints{2.9, 0.3, 1.2, 1.0, 0.0};
 // The distractors are put back on their script this often, physics steps (and before a render).
 constexpr int kDistractorEvery = 10;
-// Distractors: catalogue objects of at most this footprint radius, m, so that on their line they
-// keep out of the scatter region (y <= 0.30) by kDistractorClearance.
+// Distractors: catalogue objects of at most this footprint radius, m, are taken first (larger
+// ones when too few are left): the backdrop stands behind the largest.
 constexpr double kMaxDistractorRadius = 0.11;
 constexpr double kDistractorClearance = 0.01;
 // The backdrop stands behind a distractor of at least this radius, m (so a little behind the
@@ -45,6 +45,10 @@ constexpr double kLeastDistractorRadius = 0.05;
 constexpr double kTransitJointSpeed = 1.2;
 constexpr double kShortestSegment = 0.25;
 constexpr double kTransitHold = 0.1;
+// The transit's way down to the push's start and up from its end: speed, m/s, and the distance
+// between inverse-kinematics solutions on it, m.
+constexpr double kVerticalSpeed = 0.15;
+constexpr double kVerticalStep = 0.01;
 // Where the transit height is out of reach, these lower ones are tried, m.
 constexpr double kLowerTransit = 0.22;
 constexpr double kLowestTransit = 0.18;
@@ -249,11 +253,18 @@ TableNames table_names(const TableOptions& options, const ObjectCatalogue& catal
     }
   }
   remove_from(pool, t.clutter);
+  // Small distractors first (they keep the backdrop near); larger ones when too few are left.
+  std::vector<std::string> large = pool;
   std::erase_if(pool, [&](const std::string& n) {
     return catalogue.get(n).footprint_radius() > kMaxDistractorRadius;
   });
+  remove_from(large, pool);
   core::Rng rng(options.seed ^ 0xd15ac7ULL);
-  t.distractors = draw(pool, options.distractor_count(), rng, "distractors");
+  const int small = std::min(options.distractor_count(), static_cast<int>(pool.size()));
+  t.distractors = draw(pool, small, rng, "distractors");
+  for (const std::string& n : draw(large, options.distractor_count() - small, rng, "distractors")) {
+    t.distractors.push_back(n);
+  }
   double radius = kLeastDistractorRadius;
   for (const std::string& n : t.distractors) {
     radius = std::max(radius, catalogue.get(n).footprint_radius());
@@ -295,8 +306,7 @@ SceneDescription table_scene(const TableOptions& options,
     scene.objects.push_back(o);
   }
   for (std::size_t i = 0; i < distractors.size(); ++i) {
-    scene.objects.push_back(
-        distractor_start(distractors[i], static_cast<int>(i), layout));
+    scene.objects.push_back(distractor_start(distractors[i], static_cast<int>(i), layout));
   }
   scene.validate();
   return scene;
@@ -407,8 +417,8 @@ struct SimulatedRobot::State {
   // shape, unfolded to the transit height above `to_xy`, down to `to` (or the reverse order for
   // a transit back to the park, `outward` false). Samples at the physics rate.
   std::vector<robot::JointVector> transit(const robot::JointVector& from,
-                                          const robot::JointVector& to,
-                                          const Eigen::Vector2d& xy, bool outward) {
+                                          const robot::JointVector& to, const Eigen::Vector2d& xy,
+                                          bool outward) {
     const robot::JointVector arm_end = outward ? to : from;
     // The transit height, or lower where the arm cannot reach that high (far from its base).
     robot::JointVector high = arm_end;
@@ -423,17 +433,52 @@ struct SimulatedRobot::State {
     robot::JointVector folded = world.arm().clamp(park_joints());
     folded[0] = high[0];
     const robot::JointVector park_q = world.arm().clamp(park_joints());
-    std::vector<robot::JointVector> waypoints =
-        outward ? std::vector<robot::JointVector>{from, folded, high, to}
-                : std::vector<robot::JointVector>{from, high, folded, park_q};
-    if (outward && (from - park_q).cwiseAbs().maxCoeff() > 1e-6) {
-      // Not at the park (a refused push left it there, or a wait): straight up first.
-      waypoints = {from, high, to};
-    }
+    const double dt = world.timestep();
     std::vector<robot::JointVector> out;
-    for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
-      for (const auto& q : joint_segment(waypoints[i], waypoints[i + 1], world.timestep()))
-        out.push_back(q);
+    const auto append = [&out](const std::vector<robot::JointVector>& part) {
+      out.insert(out.end(), part.begin(), part.end());
+    };
+    if (outward) {
+      if ((from - park_q).cwiseAbs().maxCoeff() > 1e-6) {
+        append(joint_segment(from, high, dt));  // not at the park: straight to the height
+      } else {
+        append(joint_segment(from, folded, dt));
+        append(joint_segment(folded, high, dt));
+      }
+      append(vertical(high, to, dt));
+    } else {
+      append(vertical(from, high, dt));
+      append(joint_segment(high, folded, dt));
+      append(joint_segment(folded, park_q, dt));
+    }
+    return out;
+  }
+
+  // The pusher tip straight up or down from where `a` puts it to the height `b` puts it at
+  // (the same x y), kVerticalSpeed on average, smoothstep in time: joint interpolation between
+  // inverse-kinematics solutions every kVerticalStep.
+  std::vector<robot::JointVector> vertical(const robot::JointVector& a, const robot::JointVector& b,
+                                           double dt) {
+    const Eigen::Vector3d pa = ik_state.ee_position(a);
+    const Eigen::Vector3d pb = ik_state.ee_position(b);
+    const int m =
+        std::max(1, static_cast<int>(std::ceil(std::abs(pb.z() - pa.z()) / kVerticalStep)));
+    std::vector<robot::JointVector> way{a};
+    for (int i = 1; i < m; ++i) {
+      const Eigen::Vector3d p = pa + (pb - pa) * (static_cast<double>(i) / m);
+      way.push_back(robot::solve_ik(ik_state, p, way.back()).q);
+    }
+    way.push_back(b);
+    const double duration = std::max(kShortestSegment, (pb - pa).norm() / kVerticalSpeed);
+    const int n = std::max(1, static_cast<int>(std::lround(duration / dt)));
+    std::vector<robot::JointVector> out;
+    for (int k = 1; k <= n; ++k) {
+      const double u = static_cast<double>(k) / n;
+      const double at = u * u * (3.0 - 2.0 * u) * m;
+      const int i = std::min(static_cast<int>(at), m - 1);
+      const double f = at - i;
+      const auto iu = static_cast<std::size_t>(i);
+      out.emplace_back(way[iu] + f * (way[iu + 1] - way[iu]));
     }
     return out;
   }
@@ -453,7 +498,7 @@ struct SimulatedRobot::State {
   }
 
   TableOptions options;
-  std::vector<ObjectType> owned;  // never resized: `types` points into it
+  std::vector<ObjectType> owned;         // never resized: `types` points into it
   std::vector<const ObjectType*> types;  // objects, then clutter
   std::size_t object_count = 0;          // the first object_count of `types` are the objects
   World world;
@@ -495,8 +540,7 @@ robot::JointVector SimulatedRobot::joints() const { return s_->world.arm_joints(
 namespace {
 
 std::optional<episode::EpisodeWriter> open_writer(const robot::PushRecording& rec,
-                                                  const geometry::Camera& cam,
-                                                  std::uint64_t seed) {
+                                                  const geometry::Camera& cam, std::uint64_t seed) {
   if (rec.episode_dir.empty()) return std::nullopt;
   if (fs::exists(rec.episode_dir) && !rec.overwrite) {
     throw Error(rec.episode_dir.string() + ": already exists (use --overwrite to replace it)");

@@ -21,7 +21,9 @@ enum class Background {
   kMoving,  ///< a video on the backdrop, advancing with the simulated time, and distractors
 };
 inline constexpr core::ChoiceNames<Background, 3> kBackgroundNames{
-    {{"plain", Background::kPlain}, {"photo", Background::kPhoto}, {"moving", Background::kMoving}}};
+    {{"plain", Background::kPlain},
+     {"photo", Background::kPhoto},
+     {"moving", Background::kMoving}}};
 
 /// vtest.avi of the opencv-doc samples (people walking).
 std::filesystem::path default_background_video();

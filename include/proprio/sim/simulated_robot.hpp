@@ -82,9 +82,9 @@ struct TableOptions {
     v(self.clutter, {"clutter",
                      "Clutter on the table too: a number drawn by the seed, or catalogue names "
                      "(a,b,c)"});
-    v(self.transit_height, {"transit_height",
-                            "Height of the pusher tip during the arm's transit between pushes, m",
-                            core::between(0.2, 0.35)});
+    v(self.transit_height,
+      {"transit_height", "Height of the pusher tip during the arm's transit between pushes, m",
+       core::between(0.2, 0.35)});
     v(self.record_transit,
       {"record_transit", "Record the arm's transit to the push's start in the episode"});
   }
@@ -96,10 +96,10 @@ enum class TableRole {
   kClutter,     ///< TableOptions::clutter
   kDistractor,  ///< slides about behind the work area (TableOptions::distractors)
 };
-inline constexpr core::ChoiceNames<TableRole, 3> kTableRoleNames{{{"object", TableRole::kObject},
-                                                                  {"clutter", TableRole::kClutter},
-                                                                  {"distractor",
-                                                                   TableRole::kDistractor}}};
+inline constexpr core::ChoiceNames<TableRole, 3> kTableRoleNames{
+    {{"object", TableRole::kObject},
+     {"clutter", TableRole::kClutter},
+     {"distractor", TableRole::kDistractor}}};
 
 /// Ground truth of one object (never given to the learner).
 struct ObjectTruth {
