@@ -31,6 +31,11 @@ constexpr double kFallenBelow = -0.01;  // m: an object's origin below the table
 // Where the arm waits between pushes, j1..j5 (rad): turned toward -x, upper arm raised, forearm
 // and hand folded up.
 constexpr std::array<double, robot::kArmJoints> kParkJoints{2.9, 0.3, 1.2, 1.0, 0.0};
+// The shape the arm turns about its base in during a transit, j2..j4 (rad): upper arm, forearm
+// and hand raised over the base (every link within 0.1 m of the base's axis and above the
+// shoulder, 0.2 m), clear of the objects on the table (at least 0.1 m from the axis plus their
+// radius).
+constexpr std::array<double, 3> kRaisedJoints{1.3, 0.5, 0.5};
 // The distractors are put back on their script this often, physics steps (and before a render).
 constexpr int kDistractorEvery = 10;
 // Distractors: catalogue objects of at most this footprint radius, m, are taken first (larger
@@ -413,9 +418,9 @@ struct SimulatedRobot::State {
     video.show_at(world, renderer, world.time());
   }
 
-  // The transit from `from` to `to` through joint interpolation: turned in the park's folded
-  // shape, unfolded to the transit height above `to_xy`, down to `to` (or the reverse order for
-  // a transit back to the park, `outward` false). Samples at the physics rate.
+  // The transit from `from` (the park) to `to` through joint interpolation: raised over the
+  // base, turned toward `xy`, unfolded to the transit height above it, straight down to `to`;
+  // back to the park (`outward` false) the reverse way from `from`. Samples at the physics rate.
   std::vector<robot::JointVector> transit(const robot::JointVector& from,
                                           const robot::JointVector& to, const Eigen::Vector2d& xy,
                                           bool outward) {
@@ -430,9 +435,12 @@ struct SimulatedRobot::State {
         if (h == kLowestTransit) throw;
       }
     }
-    robot::JointVector folded = world.arm().clamp(park_joints());
-    folded[0] = high[0];
     const robot::JointVector park_q = world.arm().clamp(park_joints());
+    robot::JointVector raised_park = park_q;
+    for (int j = 0; j < 3; ++j) raised_park[j + 1] = kRaisedJoints[static_cast<std::size_t>(j)];
+    raised_park = world.arm().clamp(raised_park);
+    robot::JointVector raised = raised_park;
+    raised[0] = high[0];
     const double dt = world.timestep();
     std::vector<robot::JointVector> out;
     const auto append = [&out](const std::vector<robot::JointVector>& part) {
@@ -440,16 +448,18 @@ struct SimulatedRobot::State {
     };
     if (outward) {
       if ((from - park_q).cwiseAbs().maxCoeff() > 1e-6) {
-        append(joint_segment(from, high, dt));  // not at the park: straight to the height
+        append(joint_segment(from, raised, dt));  // not at the park: raised first
       } else {
-        append(joint_segment(from, folded, dt));
-        append(joint_segment(folded, high, dt));
+        append(joint_segment(from, raised_park, dt));
+        append(joint_segment(raised_park, raised, dt));
       }
+      append(joint_segment(raised, high, dt));
       append(vertical(high, to, dt));
     } else {
       append(vertical(from, high, dt));
-      append(joint_segment(high, folded, dt));
-      append(joint_segment(folded, park_q, dt));
+      append(joint_segment(high, raised, dt));
+      append(joint_segment(raised, raised_park, dt));
+      append(joint_segment(raised_park, park_q, dt));
     }
     return out;
   }
@@ -638,10 +648,18 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
     writer->finish();
     report.episode_dir = recording.episode_dir;
   }
-  // Back to the park (not recorded).
-  const robot::JointVector q_lifted = motion.joints.q.back();
-  for (const auto& q : s_->transit(q_lifted, q_lifted, push.end, false)) advance(q, false);
-  for (int k = 0; k < hold; ++k) advance(State::park_joints(), false);
+  // Back to the park (not recorded); where that way would meet an object (one the push left
+  // near the arm's base), the arm is put at the park at once, logged.
+  const robot::JointVector q_lifted = world.arm_joints();
+  const std::vector<robot::JointVector> back = s_->transit(q_lifted, q_lifted, push.end, false);
+  if (s_->path_meets_object(back, q_lifted)) {
+    spdlog::warn("push: the arm's way back to the park would meet an object; it is put there");
+    for (int k = 0; k < hold; ++k) advance(motion.joints.q.back(), false);
+    s_->park();
+  } else {
+    for (const auto& q : back) advance(q, false);
+    for (int k = 0; k < hold; ++k) advance(State::park_joints(), false);
+  }
   std::sort(s_->contacts.begin(), s_->contacts.end());
   report.seconds = world.time() - t0;
   report.message =
