@@ -495,13 +495,23 @@ struct SimulatedRobot::State {
 
   // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
   // would touch an object; the arm is back at `current` after.
+  // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
+  // would touch an object (`met`: the first one's name and the sample's share of the path); the
+  // arm is back at `current` after.
   bool path_meets_object(const std::vector<robot::JointVector>& path,
-                         const robot::JointVector& current) {
+                         const robot::JointVector& current, std::string* met = nullptr) {
     bool meets = false;
     for (std::size_t k = 0; k < path.size() && !meets; ++k) {
       if (k % kTransitCheckEvery != 0 && k + 1 != path.size()) continue;
       world.set_arm_configuration(path[k]);
-      meets = !world.objects_touched_by_arm().empty();
+      const std::vector<ObjectId> touched = world.objects_touched_by_arm();
+      meets = !touched.empty();
+      if (meets && met != nullptr) {
+        *met = world.object(touched.front()).name + " at " +
+               std::to_string(static_cast<int>(100.0 * static_cast<double>(k) /
+                                               static_cast<double>(path.size()))) +
+               "% of the way";
+      }
     }
     world.set_arm_configuration(current);
     return meets;
@@ -652,8 +662,10 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   // near the arm's base), the arm is put at the park at once, logged.
   const robot::JointVector q_lifted = world.arm_joints();
   const std::vector<robot::JointVector> back = s_->transit(q_lifted, q_lifted, push.end, false);
-  if (s_->path_meets_object(back, q_lifted)) {
-    spdlog::warn("push: the arm's way back to the park would meet an object; it is put there");
+  std::string met;
+  if (s_->path_meets_object(back, q_lifted, &met)) {
+    spdlog::warn("push: the arm's way back to the park would meet an object ({}); it is put there",
+                 met);
     for (int k = 0; k < hold; ++k) advance(motion.joints.q.back(), false);
     s_->park();
   } else {
