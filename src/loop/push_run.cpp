@@ -56,6 +56,8 @@ PushScore score(const std::vector<sim::ObjectTruth>& before,
   PushScore s;
   s.intended = intended;
   for (std::size_t i = 0; i < before.size(); ++i) {
+    // The distractors slide about by their script behind the work area: not the push's doing.
+    if (before[i].role == sim::TableRole::kDistractor) continue;
     ObjectMove m;
     m.name = before[i].name;
     m.moved = (after[i].centre - before[i].centre).head<2>().norm();
@@ -460,6 +462,7 @@ void PushEvaluationOptions::validate() const {
   core::check_field_bounds(*this, "push evaluation");
   require(min_objects <= max_objects, "push evaluation: min_objects must be <= max_objects");
   require(min_shift <= max_shift, "push evaluation: min_shift must be <= max_shift");
+  require(max_objects + clutter <= 8, "push evaluation: at most 8 objects and clutter together");
   plan.validate();
 }
 
@@ -523,9 +526,15 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
         options.min_objects + static_cast<int>(rng.index(static_cast<std::uint64_t>(spread)));
     table.width = options.width;
     table.height = options.height;
+    table.background = options.background;
+    table.distractors = options.distractors;
+    if (options.clutter > 0) table.clutter = std::to_string(options.clutter);
     sim::SimulatedRobot robot(table, catalogue);
-    const auto truth = robot.ground_truth();
-    const sim::ObjectTruth& chosen = truth[rng.index(truth.size())];
+    // The object to push: one of the table's objects (not the clutter, not a distractor).
+    std::vector<sim::ObjectTruth> truth = robot.ground_truth();
+    std::erase_if(truth,
+                  [](const sim::ObjectTruth& o) { return o.role != sim::TableRole::kObject; });
+    const sim::ObjectTruth chosen = truth[rng.index(truth.size())];
     // A target min..max_shift away, inside the scatter region.
     Eigen::Vector2d target = chosen.centre.head<2>();
     for (int k = 0; k < 100; ++k) {
@@ -586,6 +595,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     core::Json row;
     row["seed"] = seed;
     row["objects"] = table.object_count;
+    row["clutter"] = options.clutter;
     row["object"] = chosen.name;
     row["target"] = xy(target);
     row["outcome"] = std::string(core::choice_name(p.outcome, kPushOutcomeNames));

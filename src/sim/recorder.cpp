@@ -23,6 +23,7 @@
 #include "proprio/robot/inverse_kinematics.hpp"
 #include "proprio/robot/joint_tracking.hpp"
 #include "proprio/robot/trajectory.hpp"
+#include "proprio/sim/backdrop.hpp"
 #include "proprio/sim/renderer.hpp"
 #include "proprio/sim/scene_file.hpp"
 #include "proprio/sim/world.hpp"
@@ -67,9 +68,7 @@ std::vector<std::string> known_scenarios() {
   return {"push", "push-rotate", "clutter", "scatter", "hold-3d"};
 }
 
-fs::path RecordOptions::default_background_video() {
-  return ObjectCatalogue::default_texture_dir() / "vtest.avi";
-}
+fs::path RecordOptions::default_background_video() { return sim::default_background_video(); }
 
 namespace {
 bool is_scenario_file(const std::string& s) { return is_scene_file(s); }
@@ -273,15 +272,6 @@ struct Disc {
   double r;
 };
 
-// Sets the scene's backdrop: just behind the table, low enough that the camera sees the middle of
-// its picture (where vtest.avi's people walk), with the video's 4:3 aspect.
-void set_backdrop(SceneDescription& scene) {
-  scene.backdrop.center = {0.30, 0.56, 0.30};
-  scene.backdrop.size = {1.8, 0.9};
-  scene.backdrop.texture_width = 384;
-  scene.backdrop.texture_height = 288;
-}
-
 // Places the target at yaw 0 with its back face the approach ahead of the push's start; returns
 // its box centre's x, m.
 double place_target(const RecordOptions& options, const ObjectType& target_type,
@@ -353,7 +343,10 @@ ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& 
 
   ScenarioPlan plan;
   plan.scene = recording_scene(options);
-  set_backdrop(plan.scene);
+  // The backdrop just behind the table (the shared layout of sim/backdrop.hpp): the default
+  // scene's photograph, or the video (shown from the first frame on).
+  set_backdrop(plan.scene, options.moving_background ? Background::kMoving : Background::kPhoto,
+               recording_backdrop_layout(), default_background_photo());
   const double centre_x = place_target(options, target_type, plan);
   const Eigen::Vector3d he = target_type.half_extents();
   // push-rotate: the line passes half-way between the centre and the side, so the object turns.

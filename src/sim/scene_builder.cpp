@@ -297,7 +297,7 @@ SceneModel build_scene(const SceneDescription& description, const ObjectCatalogu
   x << "    <geom name=\"table_plane\" type=\"plane\" size=\""
     << vec(Eigen::Vector3d(t.size.x() / 2, t.size.y() / 2, 0.01)) << "\" pos=\""
     << vec(Eigen::Vector3d(t.center.x(), t.center.y(), 0.0)) << "\" group=\"3\" friction=\""
-    << num(t.friction) << " 0.005 0.0001\" rgba=\"1 1 1 0\" contype=\"1\" conaffinity=\"1\"/>\n";
+    << num(t.friction) << " 0.005 0.0001\" rgba=\"1 1 1 0\" contype=\"1\" conaffinity=\"5\"/>\n";
   for (int k = 0; k < 4; ++k) {
     const double sx = (k % 2 == 0 ? 1.0 : -1.0) * (t.size.x() / 2 - 0.05);
     const double sy = (k / 2 == 0 ? 1.0 : -1.0) * (t.size.y() / 2 - 0.05);
@@ -332,7 +332,9 @@ SceneModel build_scene(const SceneDescription& description, const ObjectCatalogu
     }
   }
 
-  for (const SceneObject& o : scene.objects) {
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    const bool ghost = d.objects[i].ghost;
     double volume = 0.0;
     for (const ObjectPart& p : o.type.parts) volume += part_volume(p);
     const double density = o.type.mass / volume;
@@ -345,7 +347,8 @@ SceneModel build_scene(const SceneDescription& description, const ObjectCatalogu
         << "\" size=\"" << geom_size(p) << "\" pos=\"" << vec(p.position) << "\" euler=\""
         << vec(p.euler * (180.0 / std::numbers::pi)) << "\" material=\"mat_" << o.name
         << "\" density=\"" << num(density) << "\" friction=\"" << num(o.type.friction)
-        << " 0.005 0.0001\" contype=\"1\" conaffinity=\"1\"/>\n";
+        << " 0.005 0.0001\" contype=\"" << (ghost ? 4 : 1) << "\" conaffinity=\"" << (ghost ? 0 : 1)
+        << "\"/>\n";
     }
     x << "    </body>\n";
   }

@@ -10,9 +10,12 @@
 #include <numbers>
 #include <optional>
 
+#include "backdrop_video.hpp"
+#include "distractor_mover.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/episode/episode_writer.hpp"
+#include "proprio/robot/inverse_kinematics.hpp"
 #include "proprio/sim/renderer.hpp"
 #include "proprio/sim/world.hpp"
 
@@ -28,12 +31,106 @@ constexpr double kFallenBelow = -0.01;  // m: an object's origin below the table
 // Where the arm waits between pushes, j1..j5 (rad): turned toward -x, upper arm raised, forearm
 // and hand folded up.
 constexpr std::array<double, robot::kArmJoints> kParkJoints{2.9, 0.3, 1.2, 1.0, 0.0};
+// The shape the arm turns about its base in during a transit, j2..j4 (rad): upper arm, forearm
+// and hand raised over the base (every link within 0.1 m of the base's axis and above the
+// shoulder, 0.2 m), clear of the objects on the table (at least 0.1 m from the axis plus their
+// radius).
+constexpr std::array<double, 3> kRaisedJoints{1.3, 0.5, 0.5};
+// The distractors are put back on their script this often, physics steps (and before a render).
+constexpr int kDistractorEvery = 10;
+// Distractors: catalogue objects of at most this footprint radius, m, are taken first (larger
+// ones when too few are left): the backdrop stands behind the largest.
+constexpr double kMaxDistractorRadius = 0.11;
+constexpr double kDistractorClearance = 0.01;
+// The backdrop stands behind a distractor of at least this radius, m (so a little behind the
+// scatter region when there are none).
+constexpr double kLeastDistractorRadius = 0.05;
+// The transit: the fastest mean joint speed of a segment, rad/s (smoothstep profile: its peak is
+// 1.5 times that), the shortest segment, s, and the arm's rest above the start before lowering, s.
+constexpr double kTransitJointSpeed = 1.2;
+constexpr double kShortestSegment = 0.25;
+constexpr double kTransitHold = 0.1;
+// The transit's way down to the push's start and up from its end: speed, m/s, and the distance
+// between inverse-kinematics solutions on it, m.
+constexpr double kVerticalSpeed = 0.15;
+constexpr double kVerticalStep = 0.01;
+// Where the transit height is out of reach, these lower ones are tried, m.
+constexpr double kLowerTransit = 0.22;
+constexpr double kLowestTransit = 0.18;
+// Poses of the transit checked for contact before the arm moves: every this many samples.
+constexpr int kTransitCheckEvery = 5;
+
+// The backdrop of the robot's table: a wall behind the scatter region (ScatterRegion: y <= 0.30)
+// seen at the top of the camera's view (the camera looks down steeply: the table's far edge,
+// y = 0.5, is at the image's top), and the distractors' line in front of it, beyond the scatter
+// region by the largest distractor's footprint radius `radius` (m) and a clearance; the wall
+// stands that far behind the line.
+BackdropLayout robot_backdrop_layout(double radius) {
+  BackdropLayout l;
+  l.line_y = ScatterRegion{}.max.y() + radius + kDistractorClearance;
+  l.center = {0.24, l.line_y + radius + kDistractorClearance, 0.35};
+  l.size = {1.6, 0.7};
+  l.centre_x = 0.24;
+  l.amplitude = 0.34;
+  l.ghost_distractors = true;
+  return l;
+}
+
+bool is_count(const std::string& s) {
+  return !s.empty() && s.size() <= 2 &&
+         std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// "a, b,c" -> {"a", "b", "c"}; throws Error for an empty name.
+std::vector<std::string> name_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  const auto flush = [&] {
+    const auto b = cur.find_first_not_of(" \t");
+    const auto e = cur.find_last_not_of(" \t");
+    require(b != std::string::npos, "table: clutter: an empty name in '" + s + "'");
+    out.push_back(cur.substr(b, e - b + 1));
+    cur.clear();
+  };
+  for (const char c : s) {
+    if (c == ',') {
+      flush();
+    } else {
+      cur += c;
+    }
+  }
+  flush();
+  return out;
+}
 
 }  // namespace
 
 void TableOptions::validate() const {
   core::check_field_bounds(*this, "table");
   require(objects.size() <= static_cast<std::size_t>(kMaxTableObjects), "table: at most 8 objects");
+  if (is_count(clutter)) {
+    const int n = std::stoi(clutter);
+    const int own = objects.empty() ? object_count : static_cast<int>(objects.size());
+    require(own + n <= kMaxTableObjects, "table: at most 8 objects and clutter together");
+  } else if (!clutter.empty()) {
+    const std::size_t own =
+        objects.empty() ? static_cast<std::size_t>(object_count) : objects.size();
+    require(own + name_list(clutter).size() <= static_cast<std::size_t>(kMaxTableObjects),
+            "table: at most 8 objects and clutter together");
+  }
+  if (background == Background::kPhoto) {
+    require(std::filesystem::is_regular_file(background_photo),
+            background_photo.string() + ": no such background photograph");
+  }
+  if (background == Background::kMoving) {
+    require(std::filesystem::is_regular_file(background_video),
+            background_video.string() + ": no such background video");
+  }
+}
+
+int TableOptions::distractor_count() const {
+  if (distractors >= 0) return distractors;
+  return background == Background::kMoving ? 2 : 0;
 }
 
 namespace {
@@ -110,32 +207,96 @@ std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& 
 
 namespace {
 
-// The objects of the table: given, or drawn without repetition from the catalogue.
-std::vector<const ObjectType*> table_types(const TableOptions& options,
-                                           const ObjectCatalogue& catalogue) {
-  std::vector<const ObjectType*> types;
+// Draws `n` names from `pool` without repetition (removing them from it).
+std::vector<std::string> draw(std::vector<std::string>& pool, int n, core::Rng& rng,
+                              const char* what) {
+  require(static_cast<std::size_t>(n) <= pool.size(),
+          std::string("table: not enough catalogue objects for the ") + what);
+  std::vector<std::string> out;
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::ptrdiff_t>(rng.index(pool.size()));
+    out.push_back(pool[static_cast<std::size_t>(k)]);
+    pool.erase(pool.begin() + k);
+  }
+  return out;
+}
+
+void remove_from(std::vector<std::string>& pool, const std::vector<std::string>& names) {
+  for (const std::string& n : names) std::erase(pool, n);
+}
+
+// The table's catalogue names: the objects (given, or drawn without repetition from the
+// catalogue), the clutter (given, or drawn from the rest) and the distractors (drawn from the
+// rest that is small enough).
+struct TableNames {
+  std::vector<std::string> objects, clutter, distractors;
+  BackdropLayout layout;  // the backdrop behind the largest distractor
+};
+
+TableNames table_names(const TableOptions& options, const ObjectCatalogue& catalogue) {
+  TableNames t;
   if (!options.objects.empty()) {
-    for (const std::string& n : options.objects) types.push_back(&catalogue.get(n));
-    return types;
+    for (const std::string& n : options.objects) (void)catalogue.get(n);
+    t.objects = options.objects;
+  } else {
+    std::vector<std::string> pool = catalogue.names();
+    core::Rng rng(options.seed ^ 0x7ab1eULL);
+    t.objects = draw(pool, options.object_count, rng, "objects");
   }
   std::vector<std::string> pool = catalogue.names();
-  core::Rng rng(options.seed ^ 0x7ab1eULL);
-  require(static_cast<std::size_t>(options.object_count) <= pool.size(),
-          "table: more objects than the catalogue has");
-  for (int i = 0; i < options.object_count; ++i) {
-    const auto k = static_cast<std::ptrdiff_t>(rng.index(pool.size()));
-    types.push_back(&catalogue.get(pool[static_cast<std::size_t>(k)]));
-    pool.erase(pool.begin() + k);
+  remove_from(pool, t.objects);
+  if (is_count(options.clutter)) {
+    core::Rng rng(options.seed ^ 0xc1a77e7ULL);
+    t.clutter = draw(pool, std::stoi(options.clutter), rng, "clutter");
+  } else if (!options.clutter.empty()) {
+    t.clutter = name_list(options.clutter);
+    for (const std::string& n : t.clutter) {
+      (void)catalogue.get(n);
+      require(std::find(pool.begin(), pool.end(), n) != pool.end(),
+              "table: clutter '" + n + "' is on the table already (an object or clutter twice)");
+      std::erase(pool, n);
+    }
+  }
+  remove_from(pool, t.clutter);
+  // Small distractors first (they keep the backdrop near); larger ones when too few are left.
+  std::vector<std::string> large = pool;
+  std::erase_if(pool, [&](const std::string& n) {
+    return catalogue.get(n).footprint_radius() > kMaxDistractorRadius;
+  });
+  remove_from(large, pool);
+  core::Rng rng(options.seed ^ 0xd15ac7ULL);
+  const int small = std::min(options.distractor_count(), static_cast<int>(pool.size()));
+  t.distractors = draw(pool, small, rng, "distractors");
+  for (const std::string& n : draw(large, options.distractor_count() - small, rng, "distractors")) {
+    t.distractors.push_back(n);
+  }
+  double radius = kLeastDistractorRadius;
+  for (const std::string& n : t.distractors) {
+    radius = std::max(radius, catalogue.get(n).footprint_radius());
+  }
+  t.layout = robot_backdrop_layout(radius);
+  return t;
+}
+
+std::vector<const ObjectType*> types_of(const std::vector<std::string>& a,
+                                        const std::vector<std::string>& b,
+                                        const ObjectCatalogue& catalogue) {
+  std::vector<const ObjectType*> types;
+  for (const auto* v : {&a, &b}) {
+    for (const std::string& n : *v) types.push_back(&catalogue.get(n));
   }
   return types;
 }
 
-// The camera looks at the scatter region from the front (-y), above.
+// The camera looks at the scatter region from the front (-y), above; the backdrop and the
+// distractors (after the objects and the clutter) as the options say.
 SceneDescription table_scene(const TableOptions& options,
                              const std::vector<const ObjectType*>& types,
-                             const std::vector<Placement>& places) {
+                             const std::vector<Placement>& places,
+                             const std::vector<std::string>& distractors,
+                             const BackdropLayout& layout) {
   SceneDescription scene = default_scene();
-  scene.backdrop.enabled = false;
+  set_backdrop(scene, options.background, layout, options.background_photo);
   CameraSpec& cam = scene.cameras.at(0);
   cam.width = options.width;
   cam.height = options.height;
@@ -149,8 +310,19 @@ SceneDescription table_scene(const TableOptions& options,
     o.yaw = places[i].yaw;
     scene.objects.push_back(o);
   }
+  for (std::size_t i = 0; i < distractors.size(); ++i) {
+    scene.objects.push_back(distractor_start(distractors[i], static_cast<int>(i), layout));
+  }
   scene.validate();
   return scene;
+}
+
+std::vector<std::string> distractor_instances(const std::vector<std::string>& types) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < types.size(); ++i) {
+    out.push_back(distractor_start(types[i], static_cast<int>(i)).name);
+  }
+  return out;
 }
 
 Pose resting_pose(const ObjectType& type, const Placement& p) {
@@ -175,18 +347,39 @@ std::vector<const ObjectType*> pointers(const std::vector<ObjectType>& types) {
   return out;
 }
 
+// A joint-space move from a to b, one sample per `dt`, smoothstep in time (no jump of speed at
+// either end), at most kTransitJointSpeed on average for the joint that moves most.
+std::vector<robot::JointVector> joint_segment(const robot::JointVector& a,
+                                              const robot::JointVector& b, double dt) {
+  const double longest = (b - a).cwiseAbs().maxCoeff();
+  const double duration = std::max(kShortestSegment, longest / kTransitJointSpeed);
+  const int n = std::max(1, static_cast<int>(std::lround(duration / dt)));
+  std::vector<robot::JointVector> out;
+  out.reserve(static_cast<std::size_t>(n));
+  for (int k = 1; k <= n; ++k) {
+    const double u = static_cast<double>(k) / n;
+    const double w = u * u * (3.0 - 2.0 * u);
+    out.emplace_back(a + w * (b - a));
+  }
+  return out;
+}
+
 }  // namespace
 
 struct SimulatedRobot::State {
-  State(const TableOptions& o, const ObjectCatalogue& catalogue)
+  State(const TableOptions& o, const ObjectCatalogue& catalogue, const TableNames& names)
       : options(o),
-        owned(copies(table_types(o, catalogue))),
+        owned(copies(types_of(names.objects, names.clutter, catalogue))),
         types(pointers(owned)),
-        world(
-            World::build(table_scene(o, types, scatter_placements(types, {}, o.seed)), catalogue)),
+        object_count(names.objects.size()),
+        world(World::build(table_scene(o, types, scatter_placements(types, {}, o.seed),
+                                       names.distractors, names.layout),
+                           catalogue)),
         renderer(world, render_options(o)),
         camera_name(world.camera_names().at(0)),
-        ik_state(world.arm()) {}
+        ik_state(world.arm()),
+        video(o.background == Background::kMoving, o.background_video),
+        distractors(world, distractor_instances(names.distractors), names.layout) {}
 
   static RenderOptions render_options(const TableOptions& o) {
     RenderOptions r;
@@ -195,31 +388,152 @@ struct SimulatedRobot::State {
     return r;
   }
 
-  // Parks the arm turned away from the table (j1 near its limit, toward -x) and folded up, out
-  // of the camera's view.
-  void park() {
+  [[nodiscard]] static robot::JointVector park_joints() {
     robot::JointVector q;
     q << kParkJoints[0], kParkJoints[1], kParkJoints[2], kParkJoints[3], kParkJoints[4];
-    world.set_arm_configuration(world.arm().clamp(q));
+    return q;
+  }
+
+  // Parks the arm at once turned away from the table (j1 near its limit, toward -x) and folded
+  // up, out of the camera's view (at the start, and when a person re-scatters the table).
+  void park() { world.set_arm_configuration(world.arm().clamp(park_joints())); }
+
+  // One physics step; the distractors are put back on their script every kDistractorEvery.
+  void step() {
+    world.step();
+    if (!distractors.ids().empty() && ++since_distractors >= kDistractorEvery) {
+      distractors.move(world, world.time());
+      since_distractors = 0;
+    }
   }
 
   void settle() {
-    for (int i = 0; i < kSettleSteps; ++i) world.step();
+    for (int i = 0; i < kSettleSteps; ++i) step();
+  }
+
+  // The moving background at the robot's time: distractors where their script puts them now,
+  // the video's frame of now. Before every render.
+  void show_now() {
+    if (!distractors.ids().empty()) distractors.move(world, world.time());
+    video.show_at(world, renderer, world.time());
+  }
+
+  // The transit from `from` (the park) to `to` through joint interpolation: raised over the
+  // base, turned toward `xy`, unfolded to the transit height above it, straight down to `to`;
+  // back to the park (`outward` false) the reverse way from `from`. Samples at the physics rate.
+  std::vector<robot::JointVector> transit(const robot::JointVector& from,
+                                          const robot::JointVector& to, const Eigen::Vector2d& xy,
+                                          bool outward) {
+    const robot::JointVector arm_end = outward ? to : from;
+    // The transit height, or lower where the arm cannot reach that high (far from its base).
+    robot::JointVector high = arm_end;
+    for (const double h : {options.transit_height, kLowerTransit, kLowestTransit}) {
+      try {
+        high = robot::solve_ik(ik_state, Eigen::Vector3d(xy.x(), xy.y(), h), arm_end).q;
+        break;
+      } catch (const Error&) {
+        if (h == kLowestTransit) throw;
+      }
+    }
+    const robot::JointVector park_q = world.arm().clamp(park_joints());
+    robot::JointVector raised_park = park_q;
+    for (int j = 0; j < 3; ++j) raised_park[j + 1] = kRaisedJoints[static_cast<std::size_t>(j)];
+    raised_park = world.arm().clamp(raised_park);
+    robot::JointVector raised = raised_park;
+    raised[0] = high[0];
+    const double dt = world.timestep();
+    std::vector<robot::JointVector> out;
+    const auto append = [&out](const std::vector<robot::JointVector>& part) {
+      out.insert(out.end(), part.begin(), part.end());
+    };
+    if (outward) {
+      if ((from - park_q).cwiseAbs().maxCoeff() > 1e-6) {
+        append(joint_segment(from, raised, dt));  // not at the park: raised first
+      } else {
+        append(joint_segment(from, raised_park, dt));
+        append(joint_segment(raised_park, raised, dt));
+      }
+      append(joint_segment(raised, high, dt));
+      append(vertical(high, to, dt));
+    } else {
+      append(vertical(from, high, dt));
+      append(joint_segment(high, raised, dt));
+      append(joint_segment(raised, raised_park, dt));
+      append(joint_segment(raised_park, park_q, dt));
+    }
+    return out;
+  }
+
+  // The pusher tip straight up or down from where `a` puts it to the height `b` puts it at
+  // (the same x y), kVerticalSpeed on average, smoothstep in time: joint interpolation between
+  // inverse-kinematics solutions every kVerticalStep.
+  std::vector<robot::JointVector> vertical(const robot::JointVector& a, const robot::JointVector& b,
+                                           double dt) {
+    const Eigen::Vector3d pa = ik_state.ee_position(a);
+    const Eigen::Vector3d pb = ik_state.ee_position(b);
+    const int m =
+        std::max(1, static_cast<int>(std::ceil(std::abs(pb.z() - pa.z()) / kVerticalStep)));
+    std::vector<robot::JointVector> way{a};
+    for (int i = 1; i < m; ++i) {
+      const Eigen::Vector3d p = pa + (pb - pa) * (static_cast<double>(i) / m);
+      way.push_back(robot::solve_ik(ik_state, p, way.back()).q);
+    }
+    way.push_back(b);
+    const double duration = std::max(kShortestSegment, (pb - pa).norm() / kVerticalSpeed);
+    const int n = std::max(1, static_cast<int>(std::lround(duration / dt)));
+    std::vector<robot::JointVector> out;
+    for (int k = 1; k <= n; ++k) {
+      const double u = static_cast<double>(k) / n;
+      const double at = u * u * (3.0 - 2.0 * u) * m;
+      const int i = std::min(static_cast<int>(at), m - 1);
+      const double f = at - i;
+      const auto iu = static_cast<std::size_t>(i);
+      out.emplace_back(way[iu] + f * (way[iu + 1] - way[iu]));
+    }
+    return out;
+  }
+
+  // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
+  // would touch an object; the arm is back at `current` after.
+  // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
+  // would touch an object (`met`: the first one's name and the sample's share of the path); the
+  // arm is back at `current` after.
+  bool path_meets_object(const std::vector<robot::JointVector>& path,
+                         const robot::JointVector& current, std::string* met = nullptr) {
+    bool meets = false;
+    for (std::size_t k = 0; k < path.size() && !meets; ++k) {
+      if (k % kTransitCheckEvery != 0 && k + 1 != path.size()) continue;
+      world.set_arm_configuration(path[k]);
+      const std::vector<ObjectId> touched = world.objects_touched_by_arm();
+      meets = !touched.empty();
+      if (meets && met != nullptr) {
+        *met = world.object(touched.front()).name + " at " +
+               std::to_string(static_cast<int>(100.0 * static_cast<double>(k) /
+                                               static_cast<double>(path.size()))) +
+               "% of the way";
+      }
+    }
+    world.set_arm_configuration(current);
+    return meets;
   }
 
   TableOptions options;
-  std::vector<ObjectType> owned;  // never resized: `types` points into it
-  std::vector<const ObjectType*> types;
+  std::vector<ObjectType> owned;         // never resized: `types` points into it
+  std::vector<const ObjectType*> types;  // objects, then clutter
+  std::size_t object_count = 0;          // the first object_count of `types` are the objects
   World world;
   Renderer renderer;
   std::string camera_name;
   robot::ArmState ik_state;
+  BackdropVideo video;
+  DistractorMover distractors;
+  int since_distractors = 0;
   std::vector<ObjectId> contacts;
 };
 
 SimulatedRobot::SimulatedRobot(const TableOptions& options, const ObjectCatalogue& catalogue) {
   options.validate();
-  s_ = std::make_unique<State>(options, catalogue);
+  s_ = std::make_unique<State>(options, catalogue, table_names(options, catalogue));
   s_->park();
   s_->settle();
 }
@@ -228,6 +542,7 @@ SimulatedRobot::~SimulatedRobot() = default;
 
 robot::Look SimulatedRobot::look() {
   robot::Look l;
+  s_->show_now();
   l.image = s_->renderer.rgb(s_->world, s_->camera_name);
   l.t = s_->world.time();
   l.q = s_->world.arm_joints();
@@ -245,8 +560,7 @@ robot::JointVector SimulatedRobot::joints() const { return s_->world.arm_joints(
 namespace {
 
 std::optional<episode::EpisodeWriter> open_writer(const robot::PushRecording& rec,
-                                                  const World& world, const geometry::Camera& cam,
-                                                  std::uint64_t seed) {
+                                                  const geometry::Camera& cam, std::uint64_t seed) {
   if (rec.episode_dir.empty()) return std::nullopt;
   if (fs::exists(rec.episode_dir) && !rec.overwrite) {
     throw Error(rec.episode_dir.string() + ": already exists (use --overwrite to replace it)");
@@ -262,7 +576,6 @@ std::optional<episode::EpisodeWriter> open_writer(const robot::PushRecording& re
   if (!info.provenance.run.seed) info.provenance.run.seed = seed;
   info.provenance.source = episode::Source::kSimulated;
   info.provenance.scenario = "robot-push";
-  (void)world;
   episode::EpisodeWriterOptions wopt;
   wopt.overwrite = rec.overwrite;
   return std::optional<episode::EpisodeWriter>(std::in_place, rec.episode_dir, info, cam,
@@ -280,64 +593,87 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   World& world = s_->world;
   robot::PushMotionOptions mopt;
   mopt.rate_hz = 1.0 / world.timestep();
-  const robot::PushMotion motion =
-      robot::plan_push_motion(s_->ik_state, push, world.arm_joints(), mopt);
+  const robot::JointVector q_now = world.arm_joints();
+  const robot::PushMotion motion = robot::plan_push_motion(s_->ik_state, push, q_now, mopt);
+  const std::vector<robot::JointVector> out_path =
+      s_->transit(q_now, motion.q_above_start, push.start, true);
+  if (s_->path_meets_object(out_path, q_now)) {
+    throw Error("push: the arm's transit to above the start (" + std::to_string(push.start.x()) +
+                ", " + std::to_string(push.start.y()) +
+                ") m would meet an object (a tall one under the hand); nothing moved");
+  }
   const geometry::Camera cam = camera();
-  std::optional<episode::EpisodeWriter> writer =
-      open_writer(recording, world, cam, s_->options.seed);
+  std::optional<episode::EpisodeWriter> writer = open_writer(recording, cam, s_->options.seed);
   const int steps_per_frame =
       std::max(1, static_cast<int>(std::lround(1.0 / (recording.fps * world.timestep()))));
 
-  world.set_arm_configuration(motion.q_above_start);
-  if (!world.objects_touched_by_arm().empty()) {
-    // The transit is not simulated: an arm put into an object would throw it across the room.
-    s_->park();
-    world.forward();
-    throw Error("push: the arm above the start (" + std::to_string(push.start.x()) + ", " +
-                std::to_string(push.start.y()) + ") m would be inside an object; nothing moved");
-  }
   robot::PushReport report;
   report.push = push;
   s_->contacts.clear();
   const double t0 = world.time();
-  const int n = static_cast<int>(motion.joints.size()) + kSettleSteps;
+  double t_record = t0;
   bool touched_since_frame = false;
-  for (int k = 0; k < n; ++k) {
-    const auto i =
-        static_cast<std::size_t>(std::min(k, static_cast<int>(motion.joints.size()) - 1));
-    world.set_arm_targets(motion.joints.q[i]);
-    world.step();
+  int recorded_steps = 0;
+  // One physics step toward q; the contacts; a frame every steps_per_frame recorded steps.
+  const auto advance = [&](const robot::JointVector& q, bool recorded) {
+    world.set_arm_targets(q);
+    s_->step();
     for (const ObjectId id : world.objects_touched_by_arm()) {
-      touched_since_frame = true;
+      touched_since_frame = touched_since_frame || recorded;
       if (std::find(s_->contacts.begin(), s_->contacts.end(), id) == s_->contacts.end()) {
         s_->contacts.push_back(id);
       }
     }
-    if ((k + 1) % steps_per_frame == 0) {
-      if (writer) {
-        episode::ArmSample a;
-        a.t = world.time() - t0;
-        a.q = world.arm_joints();
-        a.ee = world.ee_position();
-        a.ee_image = cam.project(a.ee);
-        a.touching = touched_since_frame;
-        writer->add_frame(s_->renderer.rgb(world, s_->camera_name), a);
-      }
-      if (touched_since_frame && !report.first_touch_frame)
-        report.first_touch_frame = report.frames;
-      report.touched = report.touched || touched_since_frame;
-      touched_since_frame = false;
-      ++report.frames;
+    if (!recorded) return;
+    if (recorded_steps == 0) t_record = world.time() - world.timestep();
+    if (++recorded_steps % steps_per_frame != 0) return;
+    if (writer) {
+      s_->show_now();
+      episode::ArmSample a;
+      a.t = world.time() - t_record;
+      a.q = world.arm_joints();
+      a.ee = world.ee_position();
+      a.ee_image = cam.project(a.ee);
+      a.touching = touched_since_frame;
+      writer->add_frame(s_->renderer.rgb(world, s_->camera_name), a);
     }
+    if (touched_since_frame && !report.first_touch_frame) report.first_touch_frame = report.frames;
+    report.touched = report.touched || touched_since_frame;
+    touched_since_frame = false;
+    ++report.frames;
+  };
+
+  // The transit to above the start, and a rest there for the controller to catch up.
+  for (const auto& q : out_path) advance(q, s_->options.record_transit);
+  const int hold = static_cast<int>(std::lround(kTransitHold / world.timestep()));
+  for (int k = 0; k < hold; ++k) advance(motion.q_above_start, s_->options.record_transit);
+  // Lower, push, lift, and the objects come to rest (recorded).
+  const int n = static_cast<int>(motion.joints.size()) + kSettleSteps;
+  for (int k = 0; k < n; ++k) {
+    const auto i =
+        static_cast<std::size_t>(std::min(k, static_cast<int>(motion.joints.size()) - 1));
+    advance(motion.joints.q[i], true);
   }
-  std::sort(s_->contacts.begin(), s_->contacts.end());
-  report.seconds = world.time() - t0;
   if (writer) {
     writer->finish();
     report.episode_dir = recording.episode_dir;
   }
-  s_->park();
-  s_->settle();
+  // Back to the park (not recorded); where that way would meet an object (one the push left
+  // near the arm's base), the arm is put at the park at once, logged.
+  const robot::JointVector q_lifted = world.arm_joints();
+  const std::vector<robot::JointVector> back = s_->transit(q_lifted, q_lifted, push.end, false);
+  std::string met;
+  if (s_->path_meets_object(back, q_lifted, &met)) {
+    spdlog::warn("push: the arm's way back to the park would meet an object ({}); it is put there",
+                 met);
+    for (int k = 0; k < hold; ++k) advance(motion.joints.q.back(), false);
+    s_->park();
+  } else {
+    for (const auto& q : back) advance(q, false);
+    for (int k = 0; k < hold; ++k) advance(State::park_joints(), false);
+  }
+  std::sort(s_->contacts.begin(), s_->contacts.end());
+  report.seconds = world.time() - t0;
   report.message =
       report.touched ? "pushed; the arm touched an object" : "pushed; the arm touched nothing";
   return report;
@@ -348,8 +684,13 @@ std::vector<ObjectTruth> SimulatedRobot::ground_truth() const {
   const World& world = s_->world;
   const Eigen::Vector2d lo = table_min();
   const Eigen::Vector2d hi = table_max();
+  const std::size_t n_table = s_->types.size();
   for (const SceneObject& o : world.objects()) {
     ObjectTruth t;
+    const auto index = static_cast<std::size_t>(o.id - 1);
+    t.role = index < s_->object_count ? TableRole::kObject
+             : index < n_table        ? TableRole::kClutter
+                                      : TableRole::kDistractor;
     t.id = o.id;
     t.name = o.type.name;
     const Pose pose = world.object_pose(o.id);
@@ -367,6 +708,7 @@ std::vector<ObjectTruth> SimulatedRobot::ground_truth() const {
 }
 
 cv::Mat SimulatedRobot::ground_truth_mask() {
+  s_->show_now();
   return s_->renderer.mask(s_->world, s_->camera_name);
 }
 
@@ -399,13 +741,23 @@ Eigen::Vector2d SimulatedRobot::table_max() const {
 // --- added for self-supervision's held-out views ---------------------------------------------
 
 void SimulatedRobot::place(const std::vector<Placement>& places) {
-  require(places.size() == s_->types.size(), "place: one place per object is needed");
+  require(places.size() == s_->types.size() || places.size() == s_->world.objects().size(),
+          "place: one place per object (and clutter) is needed");
   World& world = s_->world;
-  for (std::size_t i = 0; i < places.size(); ++i) {
+  for (std::size_t i = 0; i < s_->types.size(); ++i) {
     world.set_object_pose(world.objects().at(i).id, resting_pose(*s_->types[i], places[i]));
   }
   s_->park();
   s_->settle();
 }
+
+void SimulatedRobot::wait(double seconds) {
+  require(std::isfinite(seconds) && seconds >= 0 && seconds <= 3600,
+          "wait: the time must be in [0, 3600] s");
+  const auto steps = static_cast<long>(std::lround(seconds / s_->world.timestep()));
+  for (long k = 0; k < steps; ++k) s_->step();
+}
+
+double SimulatedRobot::time() const { return s_->world.time(); }
 
 }  // namespace proprio::sim

@@ -183,6 +183,12 @@ struct PushEvaluationOptions {
   double tolerance = 0.015;  ///< PushOptions::tolerance, m
   double max_gain = 1.0;     ///< PushOptions::max_gain
   int retries = 2;           ///< PushOptions::retries
+  /// The tables' world (sim::TableOptions): what stands behind them, the distractors (-1: 2
+  /// with the moving background, else 0) and clutter objects beside the 4-6 (drawn by each
+  /// table's seed; never the object pushed, but scored as the others are).
+  sim::Background background = sim::Background::kPlain;
+  int distractors = -1;
+  int clutter = 0;
   planning::PushPlanOptions plan;
 
   void validate() const;
@@ -208,6 +214,15 @@ struct PushEvaluationOptions {
                       core::between(1, 5)});
     v(self.retries,
       {"retries", "Other paths planned when the robot refuses a push", core::between(0, 10)});
+    v.choice(self.background,
+             {"background", "Behind the tables: plain, photo or moving (video, distractors)"},
+             sim::kBackgroundNames);
+    v(self.distractors, {"distractors",
+                         "Objects sliding about behind the work area; -1: 2 with the moving "
+                         "background, else 0",
+                         core::between(-1, 4)});
+    v(self.clutter,
+      {"clutter", "Clutter objects on each table beside the objects pushed", core::between(0, 4)});
   }
 };
 

@@ -71,6 +71,10 @@ struct PlacedObject {
   /// Height of the origin above the table; empty = resting on the table (ObjectType::bottom()).
   std::optional<double> z;
   std::optional<ObjectType> custom;
+  /// Felt by the table only: it passes through the other objects and the arm (a scripted
+  /// distractor, moved by its script rather than by contacts). Its geoms get MuJoCo contype 4,
+  /// conaffinity 0; the table's plane has conaffinity 5 (the arm has contype 2).
+  bool ghost = false;
 };
 
 /// Texture names in the compiled model (for World::set_texture_image).

@@ -7,6 +7,7 @@
 // Frames: world = robot base frame (metres, z up, +x forward, table top z = 0).
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
@@ -14,23 +15,50 @@
 
 #include "proprio/core/fields.hpp"
 #include "proprio/robot/robot_interface.hpp"
+#include "proprio/sim/backdrop.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/scene_builder.hpp"
 
 namespace proprio::sim {
 
-/// The table a SimulatedRobot starts with.
+/// The table a SimulatedRobot starts with: the objects to learn, clutter beside them, and what
+/// stands behind the table (sim/backdrop.hpp, as the episode recorder offers it).
 struct TableOptions {
   /// Catalogue names of the objects; empty: `object_count` distinct objects drawn by `seed`.
   std::vector<std::string> objects;
   int object_count = 5;    ///< objects drawn when `objects` is empty (1..8)
-  std::uint64_t seed = 1;  ///< draws the objects and scatters them
+  std::uint64_t seed = 1;  ///< draws the objects, the clutter, the distractors, their places
   int width = 640;         ///< image size, pixels
   int height = 480;
   bool shadows = false;  ///< shadow mapping (about half the frame rate in software GL)
+  /// Behind the table: nothing (plain), a photograph on a wall at the table's far edge (photo),
+  /// or a video of people walking on it, advancing with the robot's clock, with `distractors`
+  /// objects sliding to and fro in front of it (moving).
+  Background background = Background::kPlain;
+  std::filesystem::path background_photo = default_background_photo();  ///< photo
+  std::filesystem::path background_video = default_background_video();  ///< moving
+  /// Objects sliding about behind the work area (ground truth role "distractor"; they pass
+  /// through the table's objects and the arm: PlacedObject::ghost); -1: 2 with the moving
+  /// background, else 0.
+  int distractors = -1;
+  /// Other objects on the table (ground truth role "clutter"), scattered with the objects: a
+  /// whole number N (N catalogue objects drawn by the seed from those not otherwise on the
+  /// table) or comma-separated catalogue names; empty or "0": none. At most 8 objects and
+  /// clutter together.
+  std::string clutter;
+  /// The arm's transit between pushes (from where it waits out of the view to above the push's
+  /// start, and back) is simulated at this height of the pusher tip, m (above the tallest
+  /// catalogue object, 0.19 m).
+  double transit_height = 0.26;
+  /// Record the transit to the push's start in the push's episode too (else only the lowering,
+  /// push and lift are recorded; the transit's time counts on the robot's clock either way).
+  bool record_transit = false;
 
-  /// Throws Error naming the first bad option.
+  /// Throws Error naming the first bad option (the clutter's names are checked against the
+  /// catalogue when the robot is built).
   void validate() const;
+  /// The number of distractors in effect (see `distractors`).
+  [[nodiscard]] int distractor_count() const;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -40,8 +68,38 @@ struct TableOptions {
     v(self.width, {"width", "Image width, px", core::between(64, 4096)});
     v(self.height, {"height", "Image height, px", core::between(48, 4096)});
     v(self.shadows, {"shadows", "Render shadows (slower)"});
+    v.choice(self.background,
+             {"background",
+              "Behind the table: plain, photo (a photograph) or moving (video of people "
+              "walking, with distractors)"},
+             kBackgroundNames);
+    v(self.background_photo, {"background_photo", "Photograph of the photo background"});
+    v(self.background_video, {"background_video", "Video of the moving background"});
+    v(self.distractors, {"distractors",
+                         "Objects sliding about behind the work area; -1: 2 with the moving "
+                         "background, else 0",
+                         core::between(-1, 4)});
+    v(self.clutter, {"clutter",
+                     "Clutter on the table too: a number drawn by the seed, or catalogue names "
+                     "(a,b,c)"});
+    v(self.transit_height,
+      {"transit_height", "Height of the pusher tip during the arm's transit between pushes, m",
+       core::between(0.2, 0.35)});
+    v(self.record_transit,
+      {"record_transit", "Record the arm's transit to the push's start in the episode"});
   }
 };
+
+/// What an object is for on the robot's table (ObjectTruth::role).
+enum class TableRole {
+  kObject,      ///< one of TableOptions::objects (or drawn by object_count)
+  kClutter,     ///< TableOptions::clutter
+  kDistractor,  ///< slides about behind the work area (TableOptions::distractors)
+};
+inline constexpr core::ChoiceNames<TableRole, 3> kTableRoleNames{
+    {{"object", TableRole::kObject},
+     {"clutter", TableRole::kClutter},
+     {"distractor", TableRole::kDistractor}}};
 
 /// Ground truth of one object (never given to the learner).
 struct ObjectTruth {
@@ -54,6 +112,7 @@ struct ObjectTruth {
   double footprint_radius = 0;  ///< m
   bool on_table = true;         ///< still on the table top (not fallen off)
   bool upright = true;          ///< its z axis still points up (not toppled)
+  TableRole role = TableRole::kObject;
 };
 
 /// Where a scatter put one object.
@@ -96,32 +155,43 @@ class SimulatedRobot final : public robot::Robot {
   [[nodiscard]] geometry::Camera camera() const override;
   [[nodiscard]] const robot::Arm& arm() const override;
   [[nodiscard]] robot::JointVector joints() const override;
-  /// The arm is put above the push's start at once (the transit is not simulated), lowered,
-  /// pushes, is lifted, and the objects are left to come to rest; then the arm is parked out of
-  /// the view again. The touch flag is MuJoCo's contact of the arm with any object. Throws Error,
-  /// with nothing moved, when the arm put above the start would be inside an object (a tall one
-  /// under the hand).
+  /// The arm's transit (joint interpolation from where it waits, turned at a safe height, to
+  /// `transit_height` above the start and down to the lift height above it: recorded when
+  /// TableOptions::record_transit), then it is lowered, pushes, is lifted, and goes back the same
+  /// way while the objects come to rest; every part takes time on the robot's clock. The touch
+  /// flag is MuJoCo's contact of the arm with any object. Throws Error, with nothing moved, when
+  /// the transit would meet an object (checked pose by pose before moving: a tall object under
+  /// the hand above the start) or the push is out of reach.
   robot::PushReport push(const robot::TablePush& push,
                          const robot::PushRecording& recording) override;
 
   // --- ground truth and the scene (not part of robot::Robot) ------------------------------------
   [[nodiscard]] std::vector<ObjectTruth> ground_truth() const;
-  /// Object ids of the current view (CV_16UC1; 0 background, kArmId the arm).
+  /// Object ids of the current view (CV_16UC1; 0 background, kArmId the arm; distractors and
+  /// clutter by their ids too).
   cv::Mat ground_truth_mask();
   /// Ids of the objects the arm touched during the last push (ascending).
   [[nodiscard]] const std::vector<ObjectId>& last_push_contacts() const;
-  /// Puts every object at a random non-overlapping place (scatter_placements from `seed`) and
-  /// lets them settle; logged. Returns the placements.
+  /// Puts every object and the clutter (not the distractors) at a random non-overlapping place
+  /// (scatter_placements from `seed`) and lets them settle; logged. Returns the placements.
   std::vector<Placement> scatter(std::uint64_t seed);
   /// The table top's extent, world x y, m.
   [[nodiscard]] Eigen::Vector2d table_min() const;
   [[nodiscard]] Eigen::Vector2d table_max() const;
 
   // --- added for self-supervision's held-out views (loop/self_supervision_scoring) -------------
-  /// Puts object i (in the order of ground_truth()) at places[i] (world x y of its origin, m,
-  /// and yaw, rad; names are not checked), parks the arm and lets them settle. Throws Error
-  /// unless there is one place per object.
+  /// Puts object i (in the order of ground_truth(): objects, clutter, then distractors) at
+  /// places[i] (world x y of its origin, m, and yaw, rad; names are not checked), parks the arm
+  /// and lets them settle. Distractors keep to their script: places for them may be given (and
+  /// are ignored) or left out. Throws Error unless there is one place per object and clutter.
   void place(const std::vector<Placement>& places);
+
+  // --- the robot's clock -------------------------------------------------------------------------
+  /// The robot waits `seconds` (the physics runs, the moving background and the distractors go
+  /// on); nothing is recorded. Throws Error for a negative or non-finite time, or over an hour.
+  void wait(double seconds);
+  /// The robot's clock, s (the physics' time since the table was built).
+  [[nodiscard]] double time() const;
 
  private:
   struct State;
