@@ -270,10 +270,11 @@ core::Checkpoint kmeans_identity(const cv::Mat& x, const KmeansOptions& o) {
   return c;
 }
 
-std::string kmeans_state(const cv::Mat& centres, const KmeansSummary& s) {
+std::string kmeans_state(const cv::Mat& centres, const KmeansSummary& s, bool converged) {
   std::string out;
   core::put_binary<std::int32_t>(out, s.iterations);
   core::put_binary<std::int32_t>(out, s.empty_clusters_reseeded);
+  core::put_binary<std::int32_t>(out, converged ? 1 : 0);
   core::put_binary<double>(out, s.seconds);
   core::put_binary<std::int32_t>(out, centres.rows);
   core::put_binary<std::int32_t>(out, centres.cols);
@@ -289,6 +290,12 @@ void parse_kmeans_state(std::string_view state, const std::filesystem::path& sou
   core::BinaryReader in(state, source, "checkpoint");
   s.iterations = in.get<std::int32_t>("the iterations");
   s.empty_clusters_reseeded = in.get<std::int32_t>("the re-seeded clusters");
+  const auto converged = in.get<std::int32_t>("whether it converged");
+  if (converged != 0 && converged != 1) {
+    throw Error::in_file(
+        source, "corrupt checkpoint file: a converged flag of " + std::to_string(converged));
+  }
+  s.termination = converged != 0 ? "converged" : "";
   s.seconds = in.get<double>("the seconds");
   const auto K = in.get<std::int32_t>("the number of words");
   const auto D = in.get<std::int32_t>("the dimension");
@@ -362,8 +369,10 @@ VocabularyResult build_vocabulary_impl(const cv::Mat& descriptors, const KmeansO
 
   Assignment as;
   assign(x, centres, options.threads, as);
-  summary.termination = "max_iterations";
-  while (summary.iterations < options.max_iterations) {
+  // A checkpoint written at the iteration that converged resumes to its end.
+  const bool done = summary.termination == "converged";
+  if (!done) summary.termination = "max_iterations";
+  while (!done && summary.iterations < options.max_iterations) {
     const double before = as.cost;
     const int empty = update_centres(x, as, centres, options.threads);
     summary.empty_clusters_reseeded += empty;
@@ -374,7 +383,7 @@ VocabularyResult build_vocabulary_impl(const cv::Mat& descriptors, const KmeansO
     if (saving && summary.iterations % checkpointing->every == 0) {
       summary.seconds = seconds_before + std::chrono::duration<double>(Clock::now() - t0).count();
       core::Checkpoint c = identity;
-      c.state = kmeans_state(centres, summary);
+      c.state = kmeans_state(centres, summary, converged);
       core::save_checkpoint(c, checkpointing->checkpoint);
     }
     if (converged) {

@@ -115,7 +115,7 @@ TEST(OutputsCli, MotPushAndSelfsuperviseRefuseInputsAsOutputsAndForeignDirectori
        "is the same file as"},
       {"mot update" + src + " --model " + mot + " --out " + vocab, "--out is the same file as"},
       {"mot update" + src + " --model " + mot + " --out " + mot + " --json " + mot,
-       "--json is the same file as"},
+       "is the same file as"},
       {"mot maps --lda-model " + lda + " --vocabulary " + vocab + " --image " + img + " --out " +
            dir.path().string(),
        "--out holds the input"},
