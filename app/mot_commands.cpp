@@ -43,7 +43,7 @@ std::vector<std::filesystem::path> source_inputs(const MotSourceOptions& o) {
 // Refuses each output that is an input or another output of the same run (issue 16).
 void require_outputs_distinct(
     const std::vector<std::pair<std::filesystem::path, std::string_view>>& outputs,
-    std::vector<std::filesystem::path> inputs) {
+    const std::vector<std::filesystem::path>& inputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     std::vector<std::filesystem::path> others = inputs;
     for (std::size_t j = 0; j < outputs.size(); ++j) {

@@ -58,6 +58,7 @@ Killed run_and_kill(const std::string& args, const fs::path& checkpoint, int max
   std::vector<std::string> argv_s = split_args(args);
   argv_s.insert(argv_s.begin(), cli);
   std::vector<char*> argv;
+  argv.reserve(argv_s.size() + 1);
   for (auto& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
   std::random_device seed;
