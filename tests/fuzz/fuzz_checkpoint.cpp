@@ -21,14 +21,14 @@ using namespace proprio;
 namespace fs = std::filesystem;
 
 const topics::Corpus& tiny_corpus() {
-  static const topics::Corpus corpus = [] {
+  static const topics::Corpus kCorpus = [] {
     topics::Corpus c(6);
     const std::int32_t w[3][3] = {{0, 1, 2}, {2, 3, 4}, {1, 4, 5}};
     const std::int32_t n[3] = {1, 2, 3};
     for (const auto& doc : w) c.add_document(doc, n);
     return c;
   }();
-  return corpus;
+  return kCorpus;
 }
 
 topics::OnlineLdaOptions tiny_lda_options() {
@@ -41,14 +41,14 @@ topics::OnlineLdaOptions tiny_lda_options() {
 }
 
 const cv::Mat& tiny_descriptors() {
-  static const cv::Mat x = [] {
+  static const cv::Mat kDescriptors = [] {
     cv::Mat m(24, 3, CV_32F);
     for (int i = 0; i < m.rows; ++i) {
       for (int d = 0; d < m.cols; ++d) m.at<float>(i, d) = static_cast<float>((i * 7 + d * 3) % 11);
     }
     return m;
   }();
-  return x;
+  return kDescriptors;
 }
 
 features::KmeansOptions tiny_kmeans_options() {
@@ -66,7 +66,7 @@ fs::path scratch(const char* name) {
 
 // A valid checkpoint of each learner, written once: its identity is reused with fuzzed states.
 const core::Checkpoint& valid(bool lda) {
-  static const core::Checkpoint lda_checkpoint = [] {
+  static const core::Checkpoint kLda = [] {
     core::CheckpointOptions c;
     c.checkpoint = scratch("_lda_seed");
     (void)topics::train_online_lda(tiny_corpus(), nullptr, tiny_lda_options(), c);
@@ -74,7 +74,7 @@ const core::Checkpoint& valid(bool lda) {
     fs::remove(c.checkpoint);
     return k;
   }();
-  static const core::Checkpoint kmeans_checkpoint = [] {
+  static const core::Checkpoint kKmeans = [] {
     core::CheckpointOptions c;
     c.checkpoint = scratch("_kmeans_seed");
     (void)features::build_vocabulary(tiny_descriptors(), tiny_kmeans_options(), c);
@@ -82,11 +82,12 @@ const core::Checkpoint& valid(bool lda) {
     fs::remove(c.checkpoint);
     return k;
   }();
-  return lda ? lda_checkpoint : kmeans_checkpoint;
+  return lda ? kLda : kKmeans;
 }
 
 }  // namespace
 
+// NOLINTNEXTLINE(readability-identifier-naming): the name libFuzzer calls
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   const std::string_view rest = fuzz::as_text(data + 1, size - 1);
