@@ -57,6 +57,13 @@ void register_train(CLI::App* lda, const Invocation& inv) {
                   "Held-out corpus (same format): trace its perplexity (document completion)");
   cmd->add_option("--json", t->json,
                   "Also write seconds, docs_per_s, tokens_per_s and the trace as JSON");
+  cmd->add_option("--checkpoint", t->options.checkpointing.checkpoint,
+                  "Online: write a checkpoint here (atomically) every --checkpoint-every "
+                  "mini-batches");
+  bind_options(cmd, t->options.checkpointing);
+  cmd->add_option("--resume", t->options.checkpointing.resume,
+                  "Online: continue from this checkpoint (same corpus and options; refused "
+                  "otherwise)");
   // Under mpirun, data-parallel over the ranks (topics/lda_runs.hpp); rank 0 prints and writes.
   cmd->callback([t, &inv] {
     run_on_world([&](core::Communicator& comm) {
@@ -64,7 +71,8 @@ void register_train(CLI::App* lda, const Invocation& inv) {
         const CorpusFiles files = find_corpus_files(t->options.corpus, t->options.format);
         core::require_output_not_input(
             t->json,
-            {t->options.model, t->options.corpus, files.file, files.vocabulary, t->options.heldout},
+            {t->options.model, t->options.corpus, files.file, files.vocabulary, t->options.heldout,
+             t->options.checkpointing.checkpoint, t->options.checkpointing.resume},
             "--json");
       });
       const LdaTrainingResult r =

@@ -3,10 +3,15 @@
 // recognition::run_mot_update; info: recognition::run_mot_info. Each command binds its options,
 // makes one library call and prints.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "cli.hpp"
 #include "option_binder.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/recognition/topic_localisation.hpp"
 
@@ -28,6 +33,24 @@ void add_source_options(CLI::App* cmd, MotSourceOptions& o) {
                   "frame cut out by its ground-truth mask is a view");
   bind_options(cmd, o);
   bind_options(cmd, o.features);
+}
+
+// What every mot command that reads views reads: none of it may be one of its outputs.
+std::vector<std::filesystem::path> source_inputs(const MotSourceOptions& o) {
+  return {o.lda_model, o.vocabulary, o.images, o.episodes};
+}
+
+// Refuses each output that is an input or another output of the same run (issue 16).
+void require_outputs_distinct(
+    const std::vector<std::pair<std::filesystem::path, std::string_view>>& outputs,
+    const std::vector<std::filesystem::path>& inputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    std::vector<std::filesystem::path> others = inputs;
+    for (std::size_t j = 0; j < outputs.size(); ++j) {
+      if (j != i) others.push_back(outputs[j].first);
+    }
+    core::require_output_not_input(outputs[i].first, others, outputs[i].second);
+  }
 }
 
 struct TrainArgs {
@@ -67,6 +90,8 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
   bind_options(train, t->options.mot, FieldFilter{{}, {"update", "forgetting"}});
   train->add_option("--json", t->json, "Also write each object's Dirichlet and the fit as JSON");
   train->callback([t, &inv] {
+    require_outputs_distinct({{t->options.model, "--model"}, {t->json, "--json"}},
+                             source_inputs(t->options.source));
     const MotTrainResult r = run_mot_train(t->options, inv.provenance(t->options.mot.seed));
     std::printf("%s\nmodel: %s\n", r.brief().c_str(), t->options.model.c_str());
     write_json_result(t->json, r.document);
@@ -83,6 +108,9 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
       ->required();
   classify->add_option("--json", c->json, "Also write the confusion matrix as JSON");
   classify->callback([c, &inv] {
+    auto inputs = source_inputs(c->options.source);
+    inputs.push_back(c->options.model);
+    require_outputs_distinct({{c->options.out, "--out"}, {c->json, "--json"}}, inputs);
     const MotClassifyResult r = run_mot_classify(c->options, inv.provenance());
     std::printf("rows: true object; columns: the Mixture of Topics' object\n%s%s\n",
                 r.confusion.format().c_str(), r.brief().c_str());
@@ -102,6 +130,10 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
   bind_options(update, u->options.mot, FieldFilter{{"update", "forgetting", "seed"}, {}});
   update->add_option("--json", u->json, "Also write the updated objects as JSON");
   update->callback([u, &inv] {
+    // --out may be --model (the model is read whole before it is replaced), no other input.
+    require_outputs_distinct({{u->options.out, "--out"}, {u->json, "--json"}},
+                             source_inputs(u->options.source));
+    core::require_output_not_input(u->json, {u->options.model}, "--json");
     const MotUpdateResult r = run_mot_update(u->options, inv.provenance(u->options.mot.seed));
     std::printf("%s\nmodel: %s\n", r.brief().c_str(), u->options.out.c_str());
     write_json_result(u->json, r.document);
@@ -117,6 +149,8 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
   bind_options(maps, m->run.maps);
   bind_options(maps, m->run.features);
   maps->callback([m] {
+    core::require_output_not_input(m->run.out, {m->run.lda_model, m->run.vocabulary, m->run.image},
+                                   "--out");
     for (const auto& line : run_topic_maps(m->run)) std::printf("%s\n", line.c_str());
   });
 
@@ -125,6 +159,7 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
   info->add_option("--model", i->model, "Mixture of Topics model file")->required();
   info->add_option("--json", i->json, "Also write it as JSON");
   info->callback([i, &inv] {
+    core::require_output_not_input(i->json, {i->model}, "--json");
     const MotInfo r = run_mot_info(i->model, inv.provenance());
     for (const auto& line : r.lines) std::printf("%s\n", line.c_str());
     write_json_result(i->json, r.document);

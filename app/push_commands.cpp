@@ -1,11 +1,14 @@
 // proprio push / proprio evaluate push: bind the options, make the one library call
 // (loop::run_push, loop::run_push_evaluation), print its brief, write --json.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
 #include "cli.hpp"
 #include "option_binder.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/loop/push_run.hpp"
 
 namespace proprio::app {
@@ -22,6 +25,30 @@ struct EvaluateArgs {
   std::string json;
 };
 
+// `--overwrite` replaces only a directory proprio push wrote (issue 16): one holding push.json (a
+// finished run) or episode/episode.json (a run stopped after its first push), or an empty one.
+// loop::run_push writes into the directory it is given; a directory of anything else is refused
+// before any work.
+void require_push_output(const loop::PushOptions& o, const std::string& json) {
+  core::require_output_not_input(json, {o.out}, "--json");
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (o.out.empty() || !o.overwrite || !fs::exists(o.out, ec)) return;
+  if (!fs::is_directory(o.out, ec)) {
+    throw Error::in_file(o.out,
+                         "is not a directory; --overwrite replaces only a directory "
+                         "that proprio push wrote");
+  }
+  const bool ours = fs::is_regular_file(o.out / "push.json", ec) ||
+                    fs::is_regular_file(o.out / "episode" / "episode.json", ec) ||
+                    fs::is_empty(o.out, ec);
+  if (!ours) {
+    throw Error::in_file(o.out,
+                         "holds neither push.json nor episode/episode.json: not a "
+                         "directory proprio push wrote, so --overwrite does not replace it");
+  }
+}
+
 }  // namespace
 
 void register_push_commands(CLI::App& root, const Invocation& inv) {
@@ -36,6 +63,7 @@ void register_push_commands(CLI::App& root, const Invocation& inv) {
   bind_options(cmd, p->options.plan);
   cmd->add_option("--json", p->json, "Also write what happened as JSON (push.schema.json)");
   cmd->callback([p, &inv] {
+    require_push_output(p->options, p->json);
     const loop::PushRunResult r = loop::run_push(p->options, inv.provenance(p->options.table.seed));
     std::printf("%s\n", r.brief().c_str());
     write_json_result(p->json, r.document);

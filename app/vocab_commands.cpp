@@ -69,9 +69,20 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
   build->add_option("--json", b->json,
                     "Also write descriptors, extract_seconds, kmeans_seconds, iterations, cost");
   build->add_flag("!--no-progress", b->options.progress, "No progress bar");
+  build->add_option("--checkpoint", b->options.checkpointing.checkpoint,
+                    "Write a k-means checkpoint here (atomically) every --checkpoint-every "
+                    "iterations");
+  bind_options(build, b->options.checkpointing);
+  build->add_option("--resume", b->options.checkpointing.resume,
+                    "Continue k-means from this checkpoint (same images and options; refused "
+                    "otherwise)");
   // Under mpirun, data-parallel over the ranks (features/vocabulary_build.hpp); rank 0 prints.
   build->callback([b, &inv] {
-    core::require_output_not_input(b->json, {b->options.out, b->options.images}, "--json");
+    core::require_output_not_input(
+        b->json,
+        {b->options.out, b->options.images, b->options.checkpointing.checkpoint,
+         b->options.checkpointing.resume},
+        "--json");
     run_on_world([&](core::Communicator& comm) {
       const auto r =
           features::run_vocabulary_build(b->options, inv.provenance(b->options.kmeans.seed), comm);

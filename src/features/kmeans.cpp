@@ -19,10 +19,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <numeric>
 #include <span>
+#include <string_view>
 
 #include "nearest.hpp"
+#include "proprio/core/binary_file.hpp"
+#include "proprio/core/checkpoint.hpp"
 #include "proprio/core/communicator.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/parallel.hpp"
@@ -243,8 +248,76 @@ void KmeansOptions::validate() const {
   require(seeding_sample >= 0, "k-means: seeding_sample must be >= 0");
 }
 
-VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOptions& options) {
+namespace {
+
+constexpr const char* kKmeansCheckpointKind = "kmeans";
+
+// The checkpoint's identity: the descriptors and every option the words depend on.
+core::Checkpoint kmeans_identity(const cv::Mat& x, const KmeansOptions& o) {
+  core::Checkpoint c;
+  c.kind = kKmeansCheckpointKind;
+  const std::int64_t head[2] = {x.rows, x.cols};
+  std::uint64_t h = core::fnv1a(std::string_view(reinterpret_cast<const char*>(head), sizeof head),
+                                core::fnv1a("kmeans"));
+  c.input_checksum = core::fnv1a(
+      std::string_view(reinterpret_cast<const char*>(x.ptr<float>()), x.total() * x.elemSize()), h);
+  c.options = {{"words", std::to_string(o.words)},
+               {"max_iterations", std::to_string(o.max_iterations)},
+               {"tolerance", core::exact_text(o.tolerance)},
+               {"seed", std::to_string(o.seed)},
+               {"seeding_trials", std::to_string(o.seeding_trials)},
+               {"seeding_sample", std::to_string(o.seeding_sample)}};
+  return c;
+}
+
+std::string kmeans_state(const cv::Mat& centres, const KmeansSummary& s, bool converged) {
+  std::string out;
+  core::put_binary<std::int32_t>(out, s.iterations);
+  core::put_binary<std::int32_t>(out, s.empty_clusters_reseeded);
+  core::put_binary<std::int32_t>(out, converged ? 1 : 0);
+  core::put_binary<double>(out, s.seconds);
+  core::put_binary<std::int32_t>(out, centres.rows);
+  core::put_binary<std::int32_t>(out, centres.cols);
+  out.append(reinterpret_cast<const char*>(centres.ptr<float>()),
+             centres.total() * centres.elemSize());
+  return out;
+}
+
+// Reads kmeans_state's layout into `centres` (K x D, as this run has them); the sizes are checked
+// against this run's and against the bytes left before anything is copied.
+void parse_kmeans_state(std::string_view state, const std::filesystem::path& source,
+                        const KmeansOptions& o, cv::Mat& centres, KmeansSummary& s) {
+  core::BinaryReader in(state, source, "checkpoint");
+  s.iterations = in.get<std::int32_t>("the iterations");
+  s.empty_clusters_reseeded = in.get<std::int32_t>("the re-seeded clusters");
+  const auto converged = in.get<std::int32_t>("whether it converged");
+  if (converged != 0 && converged != 1) {
+    throw Error::in_file(
+        source, "corrupt checkpoint file: a converged flag of " + std::to_string(converged));
+  }
+  s.termination = converged != 0 ? "converged" : "";
+  s.seconds = in.get<double>("the seconds");
+  const auto K = in.get<std::int32_t>("the number of words");
+  const auto D = in.get<std::int32_t>("the dimension");
+  if (K != centres.rows || D != centres.cols || s.iterations < 0 ||
+      s.iterations > o.max_iterations || s.empty_clusters_reseeded < 0 ||
+      !std::isfinite(s.seconds)) {
+    throw Error::in_file(source, "corrupt checkpoint file: its centres or progress do not fit");
+  }
+  const std::size_t bytes = centres.total() * centres.elemSize();
+  const std::string_view data = in.take(bytes, "the centres");
+  if (in.left() != 0)
+    throw Error::in_file(source, "corrupt checkpoint file: bytes after the centres");
+  std::memcpy(centres.ptr<float>(), data.data(), bytes);
+  if (!cv::checkRange(centres, true)) {
+    throw Error::in_file(source, "corrupt checkpoint file: centres that are not finite");
+  }
+}
+
+VocabularyResult build_vocabulary_impl(const cv::Mat& descriptors, const KmeansOptions& options,
+                                       const core::CheckpointOptions* checkpointing) {
   options.validate();
+  if (checkpointing != nullptr) checkpointing->validate();
   check_input(descriptors, "k-means");
   const auto t0 = Clock::now();
   const cv::Mat x = descriptors.isContinuous() ? descriptors : descriptors.clone();
@@ -276,19 +349,44 @@ VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOption
     for (std::size_t i = 0; i < idx.size(); ++i)
       x.row(idx[i]).copyTo(sample.row(static_cast<int>(i)));
   }
-  cv::Mat centres = seed_centres(sample, K, trials, rng, options.threads);
-
+  const bool saving = checkpointing != nullptr && !checkpointing->checkpoint.empty();
+  const bool resuming = checkpointing != nullptr && !checkpointing->resume.empty();
+  core::Checkpoint identity;
+  if (saving || resuming) identity = kmeans_identity(x, options);
   KmeansSummary summary;
+  cv::Mat centres;
+  double seconds_before = 0;
+  if (resuming) {
+    // The state after some Lloyd iterations replaces the seeding (which alone draws from rng).
+    const core::Checkpoint found = core::load_checkpoint(checkpointing->resume);
+    core::check_checkpoint_matches(found, identity, checkpointing->resume, "descriptor set");
+    centres.create(K, x.cols, CV_32F);
+    parse_kmeans_state(found.state, checkpointing->resume, options, centres, summary);
+    seconds_before = summary.seconds;
+  } else {
+    centres = seed_centres(sample, K, trials, rng, options.threads);
+  }
+
   Assignment as;
   assign(x, centres, options.threads, as);
-  summary.termination = "max_iterations";
-  while (summary.iterations < options.max_iterations) {
+  // A checkpoint written at the iteration that converged resumes to its end.
+  const bool done = summary.termination == "converged";
+  if (!done) summary.termination = "max_iterations";
+  while (!done && summary.iterations < options.max_iterations) {
     const double before = as.cost;
     const int empty = update_centres(x, as, centres, options.threads);
     summary.empty_clusters_reseeded += empty;
     ++summary.iterations;
     assign(x, centres, options.threads, as);
-    if (empty == 0 && (before <= 0 || (before - as.cost) / before <= options.tolerance)) {
+    const bool converged =
+        empty == 0 && (before <= 0 || (before - as.cost) / before <= options.tolerance);
+    if (saving && summary.iterations % checkpointing->every == 0) {
+      summary.seconds = seconds_before + std::chrono::duration<double>(Clock::now() - t0).count();
+      core::Checkpoint c = identity;
+      c.state = kmeans_state(centres, summary, converged);
+      core::save_checkpoint(c, checkpointing->checkpoint);
+    }
+    if (converged) {
       summary.termination = "converged";
       break;
     }
@@ -300,8 +398,19 @@ VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOption
                          centres.ptr<float>(as.labels[static_cast<std::size_t>(i)]), x.cols);
   }
   summary.cost = cost;
-  summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  summary.seconds = seconds_before + std::chrono::duration<double>(Clock::now() - t0).count();
   return {Vocabulary(centres), summary};
+}
+
+}  // namespace
+
+VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOptions& options) {
+  return build_vocabulary_impl(descriptors, options, nullptr);
+}
+
+VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOptions& options,
+                                  const core::CheckpointOptions& checkpointing) {
+  return build_vocabulary_impl(descriptors, options, &checkpointing);
 }
 
 std::pair<std::int64_t, std::int64_t> kmeans_rows_of_rank(std::int64_t total, int rank, int ranks) {

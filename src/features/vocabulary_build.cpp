@@ -83,6 +83,13 @@ void fill_document(const VocabularyBuildOptions& options, const core::Provenance
 void VocabularyBuildOptions::validate() const {
   if (images.empty()) throw Error("vocab build: the image set is required");
   core::require_output_not_input(out, {images}, "--out");
+  checkpointing.validate();
+  if (!checkpointing.checkpoint.empty()) {
+    core::require_output_not_input(checkpointing.checkpoint, {images, out}, "--checkpoint");
+  }
+  if (!checkpointing.resume.empty()) {
+    core::require_output_not_input(out, {checkpointing.resume}, "--out");
+  }
   core::check_field_bounds(*this, "vocab build");
   features.validate();
   kmeans.validate();
@@ -126,7 +133,7 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
                                              " images, fewer than " +
                                              std::to_string(options.kmeans.words) + " words");
   }
-  VocabularyResult v = build_vocabulary(all, options.kmeans);
+  VocabularyResult v = build_vocabulary(all, options.kmeans, options.checkpointing);
   VocabularyBuildResult r{std::move(v.vocabulary), v.summary,   set.classes.size(),
                           set.images.size(),       without,     all.rows,
                           extract_seconds,         core::Json()};
@@ -148,6 +155,9 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
   ImageSet set;
   core::agree(comm, [&] {
     options.validate();
+    if (!options.checkpointing.checkpoint.empty() || !options.checkpointing.resume.empty()) {
+      throw Error("vocab build: --checkpoint and --resume run in one process, not under mpirun");
+    }
     set = read_image_set(options.images);
   });
   // 1. This rank's images' features.

@@ -41,8 +41,7 @@ core::Json trace_json(const std::vector<PerplexityPoint>& trace) {
 
 void train_online(const LdaTrainingOptions& o, const Corpus& corpus, const Corpus* heldout,
                   LdaTrainingResult& r) {
-  const OnlineLdaResult t = heldout != nullptr ? train_online_lda(corpus, *heldout, o.online)
-                                               : train_online_lda(corpus, o.online);
+  const OnlineLdaResult t = train_online_lda(corpus, heldout, o.online, o.checkpointing);
   const OnlineLdaSummary& s = t.summary;
   r.brief = s.brief();
   core::Json& doc = r.document;
@@ -127,6 +126,11 @@ void LdaTrainingOptions::validate() const {
   core::check_field_bounds(*this, "lda train");
   core::check_field_bounds(online, "lda train");
   if (method == LdaMethod::kOnline) online.validate();
+  checkpointing.validate();
+  const bool checkpoints = !checkpointing.checkpoint.empty() || !checkpointing.resume.empty();
+  if (checkpoints && method != LdaMethod::kOnline) {
+    throw Error("lda train: --checkpoint and --resume are for the online method");
+  }
 }
 
 LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
@@ -138,6 +142,15 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
     inputs.insert(inputs.end(), more.begin(), more.end());
   }
   core::require_output_not_input(options.model, inputs, "--model");
+  if (!options.checkpointing.checkpoint.empty()) {
+    std::vector<fs::path> not_checkpoint = inputs;
+    not_checkpoint.push_back(options.model);
+    core::require_output_not_input(options.checkpointing.checkpoint, not_checkpoint,
+                                   "--checkpoint");
+  }
+  if (!options.checkpointing.resume.empty()) {
+    core::require_output_not_input(options.model, {options.checkpointing.resume}, "--model");
+  }
   const Corpus corpus = read_corpus(options.corpus, options.format);
   std::optional<Corpus> heldout;
   if (!options.heldout.empty()) {
@@ -197,6 +210,9 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
     options.validate();
     if (options.method != LdaMethod::kOnline) {
       throw Error("lda train: only the online method runs on several MPI ranks (--method online)");
+    }
+    if (!options.checkpointing.checkpoint.empty() || !options.checkpointing.resume.empty()) {
+      throw Error("lda train: --checkpoint and --resume run in one process, not under mpirun");
     }
     std::vector<fs::path> inputs = corpus_inputs(options.corpus, options.format);
     if (!options.heldout.empty()) {

@@ -7,11 +7,17 @@
 #include <cstring>
 #include <ctime>
 #include <numeric>
+#include <optional>
+#include <span>
 #include <sstream>
+#include <string_view>
 
 #include "engine.hpp"
+#include "proprio/core/binary_file.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/fields.hpp"
 #include "proprio/core/text.hpp"
+#include "proprio/topics/lda_model_io.hpp"
 
 namespace proprio::topics {
 
@@ -362,11 +368,143 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   return stats;
 }
 
+std::uint64_t corpus_checksum(const Corpus& corpus) {
+  const auto bytes_of = [](const auto& span) {
+    return std::string_view(reinterpret_cast<const char*>(span.data()), span.size_bytes());
+  };
+  std::uint64_t h = core::fnv1a("corpus");
+  const std::int64_t head[2] = {corpus.num_words(),
+                                static_cast<std::int64_t>(corpus.num_documents())};
+  h = core::fnv1a(bytes_of(std::span(head)), h);
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const auto doc = corpus.document(d);
+    const auto n = static_cast<std::int64_t>(doc.size());
+    h = core::fnv1a(std::string_view(reinterpret_cast<const char*>(&n), sizeof n), h);
+    h = core::fnv1a(bytes_of(doc.words), h);
+    h = core::fnv1a(bytes_of(doc.counts), h);
+  }
+  for (const auto& w : corpus.vocabulary()) {
+    h = core::fnv1a(w, h);
+    h = core::fnv1a(std::string_view("\n", 1), h);
+  }
+  return h;
+}
+
 namespace {
 
-OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout,
-                      const OnlineLdaOptions& options) {
+constexpr const char* kLdaCheckpointKind = "online_lda";
+
+// Where training stands: what a checkpoint holds besides the model.
+struct Progress {
+  std::int32_t pass = 0;
+  std::uint64_t next_begin = 0;  // the first document of the next mini-batch of this pass
+  std::int64_t iterations = 0;   // E-step iterations summed so far
+};
+
+// The checkpoint's identity: the corpus (and held-out corpus), and every option the model or the
+// trace depends on (threads change nothing).
+core::Checkpoint lda_checkpoint_identity(const Corpus& corpus, const Corpus* heldout,
+                                         const OnlineLdaOptions& options, std::int64_t D) {
+  core::Checkpoint c;
+  c.kind = kLdaCheckpointKind;
+  c.input_checksum = corpus_checksum(corpus);
+  OnlineLdaOptions o = options;
+  o.alpha = o.resolved_alpha();
+  o.eta = o.resolved_eta();
+  const core::Json j = core::fields_to_json(o);
+  for (const auto& [name, value] : j.items()) {
+    if (name != "threads") c.options.emplace_back(name, value.dump());
+  }
+  c.options.emplace_back("total_documents", std::to_string(D));
+  c.options.emplace_back("estep_init", std::to_string(static_cast<int>(o.estep.init)));
+  c.options.emplace_back("heldout",
+                         heldout != nullptr ? std::to_string(corpus_checksum(*heldout)) : "none");
+  if (heldout != nullptr) {
+    const PerplexityOptions& e = o.evaluation;
+    c.options.emplace_back("evaluation", std::to_string(static_cast<int>(e.method)) + " " +
+                                             std::to_string(e.estep.max_iterations) + " " +
+                                             core::exact_text(e.estep.tolerance) + " " +
+                                             std::to_string(static_cast<int>(e.estep.init)) + " " +
+                                             std::to_string(e.split_seed));
+  }
+  return c;
+}
+
+std::string lda_state(const LdaModel& model, const Progress& p, const OnlineLdaSummary& s) {
+  std::string out;
+  core::put_binary<std::int32_t>(out, p.pass);
+  core::put_binary<std::uint64_t>(out, p.next_begin);
+  core::put_binary<std::int64_t>(out, p.iterations);
+  core::put_binary<std::int64_t>(out, s.updates);
+  core::put_binary<std::int32_t>(out, s.passes);
+  core::put_binary<std::int64_t>(out, s.documents);
+  core::put_binary<std::int64_t>(out, s.tokens);
+  core::put_binary<std::int64_t>(out, s.capped);
+  core::put_binary<double>(out, s.seconds);
+  core::put_binary<double>(out, s.cpu_seconds);
+  core::put_binary<double>(out, s.evaluation_seconds);
+  core::put_binary<std::uint64_t>(out, s.trace.size());
+  for (const auto& t : s.trace) {
+    core::put_binary<std::int64_t>(out, t.updates);
+    core::put_binary<std::int64_t>(out, t.documents_seen);
+    core::put_binary<double>(out, t.perplexity);
+  }
+  const std::string m = serialize_lda_model(model);
+  core::put_binary<std::uint64_t>(out, m.size());
+  out += m;
+  return out;
+}
+
+// Reads lda_state's layout; every count is checked against the bytes left before allocating, and
+// the progress against the corpus.
+LdaModel parse_lda_state(std::string_view state, const std::filesystem::path& source, Progress& p,
+                         OnlineLdaSummary& s) {
+  core::BinaryReader in(state, source, "checkpoint");
+  p.pass = in.get<std::int32_t>("the pass");
+  p.next_begin = in.get<std::uint64_t>("the next document");
+  p.iterations = in.get<std::int64_t>("the E-step iterations");
+  s.updates = in.get<std::int64_t>("the updates");
+  s.passes = in.get<std::int32_t>("the passes");
+  s.documents = in.get<std::int64_t>("the documents");
+  s.tokens = in.get<std::int64_t>("the tokens");
+  s.capped = in.get<std::int64_t>("the capped E-steps");
+  s.seconds = in.get<double>("the seconds");
+  s.cpu_seconds = in.get<double>("the processor seconds");
+  s.evaluation_seconds = in.get<double>("the evaluation seconds");
+  const auto n = in.get<std::uint64_t>("the trace's length");
+  constexpr std::size_t kPointBytes = 24;
+  if (n > in.left() / kPointBytes) {
+    throw Error::in_file(source, "corrupt checkpoint file: a trace of " + std::to_string(n) +
+                                     " points runs past the end");
+  }
+  s.trace.resize(n);
+  for (auto& t : s.trace) {
+    t.updates = in.get<std::int64_t>("a trace point");
+    t.documents_seen = in.get<std::int64_t>("a trace point");
+    t.perplexity = in.get<double>("a trace point");
+  }
+  const auto m = in.get<std::uint64_t>("the model's size");
+  LdaModel model = parse_lda_model(in.take(m, "the model"), source);
+  if (in.left() != 0)
+    throw Error::in_file(source, "corrupt checkpoint file: bytes after the model");
+  const bool finite = std::isfinite(s.seconds) && std::isfinite(s.cpu_seconds) &&
+                      std::isfinite(s.evaluation_seconds);
+  if (p.pass < 0 || s.passes != p.pass || s.updates != model.updates || s.updates < 0 ||
+      s.documents < 0 || s.tokens < 0 || s.capped < 0 || p.iterations < 0 || !finite) {
+    throw Error::in_file(source, "corrupt checkpoint file: inconsistent progress");
+  }
+  for (const auto& t : s.trace) {
+    if (!std::isfinite(t.perplexity)) {
+      throw Error::in_file(source, "corrupt checkpoint file: a perplexity that is not finite");
+    }
+  }
+  return model;
+}
+
+OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineLdaOptions& options,
+                      const core::CheckpointOptions* checkpointing) {
   options.validate();
+  if (checkpointing != nullptr) checkpointing->validate();
   if (corpus.num_documents() == 0) throw Error("online LDA: the training corpus is empty");
   if (corpus.num_words() < 1) throw Error("online LDA: the vocabulary is empty");
   if (heldout != nullptr && heldout->num_words() != corpus.num_words()) {
@@ -376,9 +514,29 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout,
   const std::int64_t D = options.total_documents > 0
                              ? options.total_documents
                              : static_cast<std::int64_t>(corpus.num_documents());
-  OnlineLda lda(options, corpus.num_words(), D, corpus.vocabulary());
+  const bool saving = checkpointing != nullptr && !checkpointing->checkpoint.empty();
+  const bool resuming = checkpointing != nullptr && !checkpointing->resume.empty();
+  core::Checkpoint identity;
+  if (saving || resuming) identity = lda_checkpoint_identity(corpus, heldout, options, D);
+
   OnlineLdaResult result;
   OnlineLdaSummary& s = result.summary;
+  Progress progress;
+  std::optional<OnlineLda> lda_holder;
+  if (resuming) {
+    const core::Checkpoint found = core::load_checkpoint(checkpointing->resume);
+    core::check_checkpoint_matches(found, identity, checkpointing->resume, "corpus");
+    LdaModel model = parse_lda_state(found.state, checkpointing->resume, progress, s);
+    if (progress.pass > options.passes || progress.next_begin > corpus.num_documents() ||
+        model.num_words() != corpus.num_words() || model.num_topics() != options.num_topics) {
+      throw Error::in_file(checkpointing->resume,
+                           "corrupt checkpoint file: its progress does not fit the corpus");
+    }
+    lda_holder.emplace(std::move(model), options);
+  } else {
+    lda_holder.emplace(options, corpus.num_words(), D, corpus.vocabulary());
+  }
+  OnlineLda& lda = *lda_holder;
   s.threads = options.threads;
   s.kernel = lda.kernel();
 
@@ -397,14 +555,14 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout,
     s.trace.push_back({lda.model().updates, s.documents, p.perplexity});
     s.evaluation_seconds += since(t0);
   };
-  if (trace) evaluate();
+  if (trace && !resuming) evaluate();
 
-  std::int64_t iterations = 0;
   std::int64_t nonempty = 0;
   for (std::size_t d = 0; d < corpus.num_documents(); ++d) nonempty += !corpus.document(d).empty();
   const auto B = static_cast<std::size_t>(options.batch_size);
-  for (int pass = 0; pass < options.passes; ++pass) {
-    for (std::size_t b = 0; b < corpus.num_documents(); b += B) {
+  for (int pass = progress.pass; pass < options.passes; ++pass) {
+    const std::size_t first = pass == progress.pass ? progress.next_begin : 0;
+    for (std::size_t b = first; b < corpus.num_documents(); b += B) {
       const auto t0 = Clock::now();
       const double c0 = process_cpu_seconds();
       const MiniBatchStats st = lda.update(corpus, b, std::min(corpus.num_documents(), b + B));
@@ -414,17 +572,24 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout,
       s.documents += st.documents;
       s.tokens += st.tokens;
       s.capped += st.capped;
-      iterations += st.estep_iterations;
+      progress.iterations += st.estep_iterations;
       if (trace && options.evaluate_every > 0 && s.updates % options.evaluate_every == 0) {
         evaluate();
+      }
+      if (saving && s.updates % checkpointing->every == 0) {
+        progress.pass = pass;
+        progress.next_begin = std::min(corpus.num_documents(), b + B);
+        core::Checkpoint c = identity;
+        c.state = lda_state(lda.model(), progress, s);
+        core::save_checkpoint(c, checkpointing->checkpoint);
       }
     }
     ++s.passes;
   }
-  if (trace && s.trace.back().updates != lda.model().updates) evaluate();
+  if (trace && (s.trace.empty() || s.trace.back().updates != lda.model().updates)) evaluate();
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
-      docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
+      docs_run > 0 ? static_cast<double>(progress.iterations) / static_cast<double>(docs_run) : 0.0;
   result.model = lda.model();
   return result;
 }
@@ -432,12 +597,18 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout,
 }  // namespace
 
 OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options) {
-  return train(corpus, nullptr, options);
+  return train(corpus, nullptr, options, nullptr);
 }
 
 OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus& heldout,
                                  const OnlineLdaOptions& options) {
-  return train(corpus, &heldout, options);
+  return train(corpus, &heldout, options, nullptr);
+}
+
+OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus* heldout,
+                                 const OnlineLdaOptions& options,
+                                 const core::CheckpointOptions& checkpointing) {
+  return train(corpus, heldout, options, &checkpointing);
 }
 
 namespace {

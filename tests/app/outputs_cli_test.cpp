@@ -79,5 +79,76 @@ TEST(OutputsCli, AnOutputThatIsAnInputIsRefusedByEveryWriter) {
   EXPECT_FALSE(fs::exists(dir.path() / "ep"));
 }
 
+// mot, push and selfsupervise (issue 16): outputs that are inputs (also through a link), and
+// --overwrite of a directory none of them wrote, are refused before any work; nothing is touched.
+TEST(OutputsCli, MotPushAndSelfsuperviseRefuseInputsAsOutputsAndForeignDirectories) {
+  const test::TempDir dir("proprio_outputs_cli_");
+  auto file = [&](const std::string& name) {
+    const fs::path p = dir.path() / name;
+    if (!fs::exists(p)) core::write_file_atomic(p, "input " + name + "\n");
+    return p.string();
+  };
+  const std::string images = (dir.path() / "images").string();
+  fs::create_directories(dir.path() / "images" / "a");
+  core::write_file_atomic(dir.path() / "images" / "a" / "x.png", "not read");
+  const std::string lda = file("m.lda");
+  const std::string vocab = file("v.vocab");
+  const std::string mot = file("o.mot");
+  const std::string img = file("i.png");
+  fs::create_symlink(dir.path() / "m.lda", dir.path() / "link.lda");
+  const std::string link = (dir.path() / "link.lda").string();
+  const std::string src = " --lda-model " + lda + " --vocabulary " + vocab + " --images " + images;
+  // A directory of someone else's, which --overwrite must not replace.
+  const fs::path foreign = dir.path() / "foreign";
+  fs::create_directories(foreign);
+  core::write_file_atomic(foreign / "thesis.tex", "mine\n");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"mot train" + src + " --model " + lda, "--model is the same file as"},
+      {"mot train" + src + " --model " + link, "--model is the same file as"},
+      {"mot train" + src + " --model " + (dir.path() / "n.mot").string() + " --json " + vocab,
+       "--json is the same file as"},
+      {"mot train" + src + " --model " + images, "--model is the same file as"},
+      {"mot train" + src + " --model " + dir.path().string(), "--model holds the input"},
+      {"mot classify" + src + " --model " + mot + " --out " + mot, "--out is the same file as"},
+      {"mot classify" + src + " --model " + mot + " --out " + (dir.path() / "c.csv").string() +
+           " --json " + (dir.path() / "c.csv").string(),
+       "is the same file as"},
+      {"mot update" + src + " --model " + mot + " --out " + vocab, "--out is the same file as"},
+      {"mot update" + src + " --model " + mot + " --out " + mot + " --json " + mot,
+       "is the same file as"},
+      {"mot maps --lda-model " + lda + " --vocabulary " + vocab + " --image " + img + " --out " +
+           dir.path().string(),
+       "--out holds the input"},
+      {"mot info --model " + mot + " --json " + mot, "--json is the same file as"},
+      {"push --out " + (dir.path() / "p").string() + " --json " + (dir.path() / "p").string(),
+       "--json is the same file as"},
+      {"push --out " + foreign.string() + " --overwrite", "not a directory proprio push wrote"},
+      {"push --out " + lda + " --overwrite", "is not a directory"},
+      {"selfsupervise --model " + lda + " --vocabulary " + vocab + " --out " + dir.path().string(),
+       "--out holds the input"},
+      {"selfsupervise --model " + link + " --vocabulary " + vocab + " --out " + lda,
+       "--out is the same file as"},
+      {"selfsupervise --model " + lda + " --vocabulary " + vocab + " --out " +
+           (dir.path() / "s").string() + " --json " + vocab,
+       "--json is the same file as"},
+      {"selfsupervise --model " + lda + " --vocabulary " + vocab + " --out " + foreign.string() +
+           " --overwrite",
+       "not a directory proprio selfsupervise wrote"},
+  };
+  for (const auto& [args, expect] : cases) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+  }
+  for (const auto& name : {"m.lda", "v.vocab", "o.mot", "i.png"}) {
+    EXPECT_EQ(core::read_file(dir.path() / name), std::string("input ") + name + "\n") << name;
+  }
+  EXPECT_EQ(core::read_file(foreign / "thesis.tex"), "mine\n");
+  EXPECT_FALSE(fs::exists(dir.path() / "p"));
+  EXPECT_FALSE(fs::exists(dir.path() / "s"));
+  EXPECT_FALSE(fs::exists(dir.path() / "n.mot"));
+}
+
 }  // namespace
 }  // namespace proprio

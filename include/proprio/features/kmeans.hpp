@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "proprio/core/checkpoint.hpp"
 #include "proprio/core/communicator.hpp"
 #include "proprio/core/fields.hpp"
 #include "proprio/features/vocabulary.hpp"
@@ -66,6 +67,15 @@ struct VocabularyResult {
 /// Throws Error on an empty or non-finite descriptor set or when words > N. The same seed and
 /// thread count give the same vocabulary.
 VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOptions& options = {});
+
+/// The same, checkpointing and resuming (issue 16): with `checkpointing.checkpoint`, the centres
+/// and the iteration count are written atomically every `checkpointing.every` Lloyd iterations
+/// (core/checkpoint.hpp, kind "kmeans"); with `checkpointing.resume`, Lloyd's iterations continue
+/// from those centres (no seeding). A run killed at any moment and resumed from its last
+/// checkpoint gives the vocabulary of the uninterrupted run, bit for bit. Throws Error naming the
+/// checkpoint when it was written over other descriptors or with other options (threads aside).
+VocabularyResult build_vocabulary(const cv::Mat& descriptors, const KmeansOptions& options,
+                                  const core::CheckpointOptions& checkpointing);
 
 /// Data-parallel k-means (issue 23): the rows of the whole descriptor set that rank `rank` of
 /// `ranks` holds, [first, last): whole chunks of the fixed chunks whose partial sums k-means adds

@@ -25,6 +25,10 @@ struct VocabularyBuildOptions {
   ExtractOptions features = sift_extraction();
   int per_image = 100;  ///< descriptors sampled per image, uniformly without replacement; 0 = all
   KmeansOptions kmeans;
+  /// k-means checkpoints every N iterations and resume (issue 16; build_vocabulary). On resume
+  /// the features are extracted and sampled again (the same, for the same options), then Lloyd's
+  /// iterations continue from the checkpoint's centres. One process only (not under mpirun).
+  core::CheckpointOptions checkpointing;
   bool progress = false;  ///< a progress bar on stderr
 
   /// Throws Error naming the first bad option.

@@ -44,6 +44,10 @@ struct LdaTrainingOptions {
   LdaMethod method = LdaMethod::kOnline;
   /// K, priors, threads and seed of both methods; batch size, learning rate and passes of online.
   OnlineLdaOptions online;
+  /// online: checkpoint every N mini-batches to a file, resume from one (issue 16;
+  /// train_online_lda). The checkpoint may be the file resumed from; it may be no input and not
+  /// the model. One process only (not under mpirun).
+  core::CheckpointOptions checkpointing;
   int max_iterations = 100;  ///< batch: EM iterations at most
   double tolerance = 1e-4;   ///< batch: relative change of the bound that stops EM
 
@@ -70,7 +74,8 @@ struct LdaTrainingResult {
   core::Json document;
 };
 
-/// Reads the corpora, trains, writes the model (when `model` is given).
+/// Reads the corpora, trains (checkpointing and resuming as `checkpointing` says), writes the
+/// model (when `model` is given).
 LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
                                    const core::Provenance& provenance);
 

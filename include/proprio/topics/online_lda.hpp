@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/checkpoint.hpp"
 #include "proprio/core/communicator.hpp"
 #include "proprio/core/fields.hpp"
 #include "proprio/topics/corpus.hpp"
@@ -152,6 +153,21 @@ OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& o
 /// The same, tracing the held-out perplexity of `heldout` (thesis Fig 6-7).
 OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus& heldout,
                                  const OnlineLdaOptions& options);
+
+/// The same, checkpointing and resuming (issue 16): with `checkpointing.checkpoint`, the state
+/// (lambda, the update count, where the pass is, the summary and trace so far) is written
+/// atomically every `checkpointing.every` mini-batches (core/checkpoint.hpp, kind "online_lda");
+/// with `checkpointing.resume`, training continues from that state. A run killed at any moment and
+/// resumed from its last checkpoint ends with the model of the uninterrupted run, bit for bit (the
+/// summary's times aside). Throws Error naming the checkpoint when it was written over another
+/// corpus (or held-out corpus) or with other options (threads aside: they change nothing).
+/// `heldout` may be null.
+OnlineLdaResult train_online_lda(const Corpus& corpus, const Corpus* heldout,
+                                 const OnlineLdaOptions& options,
+                                 const core::CheckpointOptions& checkpointing);
+
+/// A checksum (FNV-1a, 64 bits) of the corpus's documents and vocabulary: a checkpoint's input.
+std::uint64_t corpus_checksum(const Corpus& corpus);
 
 /// Data-parallel training (issue 23), collective: every rank of `comm` passes its shard of the
 /// same corpus (read_corpus_shard(..., comm.rank(), comm.size())); the mini-batches are the
