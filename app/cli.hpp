@@ -37,5 +37,6 @@ void register_mot_commands(CLI::App& root, const Invocation& inv);
 /// After register_segment_commands (it adds `evaluate push` to `evaluate`).
 void register_push_commands(CLI::App& root, const Invocation& inv);
 void register_selfsupervise_commands(CLI::App& root, const Invocation& inv);
+void register_learn_commands(CLI::App& root, const Invocation& inv);
 
 }  // namespace proprio::app

@@ -50,6 +50,7 @@ int run(int argc, char** argv) {
   register_mot_commands(root, inv);
   register_push_commands(root, inv);
   register_selfsupervise_commands(root, inv);
+  register_learn_commands(root, inv);
 
   try {
     root.parse(argc, argv);
