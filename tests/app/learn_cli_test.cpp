@@ -1,5 +1,5 @@
 // proprio learn, run as a user would: a tiny run on a simulated table (one object to learn, one
-// of clutter, two pushes, 160 x 120) writing the run directory of the learn/report contract, and
+// of clutter, two pushes, 200 x 150) writing the run directory of the learn/report contract, and
 // bad input as one line and exit 2.
 #include <gtest/gtest.h>
 
@@ -33,7 +33,7 @@ class LearnCli : public ::testing::Test {
 TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   fs::create_directories(dir());
   const auto r = run_cli(
-      "learn --objects book --clutter bottle --pushes 2 --width 160 --height 120 --words 20 "
+      "learn --objects book --clutter bottle --pushes 2 --width 200 --height 150 --words 20 "
       "--topics 2 --held-out 3 --min-features 3 --seed 2 -q --out " +
       file("run") + " --json " + file("run.json"));
   ASSERT_EQ(r.code, 0) << r.err;
@@ -52,6 +52,13 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   EXPECT_TRUE(j["timing"].is_array());
   EXPECT_EQ(j["clock"], "wall");
   ASSERT_TRUE(j["pushes"].is_array());
+  ASSERT_FALSE(j["pushes"].empty());
+  EXPECT_GT(j["objects"][0]["views"].get<int>(), 0);
+  EXPECT_EQ(j["objects"][0]["truth"], "book");
+  ASSERT_TRUE(j.contains("held_out"));
+  EXPECT_TRUE(fs::exists(run / "vocabulary.vocab"));
+  EXPECT_TRUE(fs::exists(run / "lda.model"));
+  EXPECT_TRUE(fs::exists(run / "model.mot"));
   for (const auto& p : j["pushes"]) {
     if (!p["executed"].get<bool>()) continue;
     const fs::path d = run / p["dir"].get<std::string>();
@@ -60,11 +67,9 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
     }
     EXPECT_EQ(p["plan"]["start_px"].size(), 2U);
   }
-  if (j.contains("held_out")) {
-    EXPECT_EQ(j["held_out"]["views_per_object"], 3);
-    EXPECT_TRUE(j["held_out"]["mot"].contains("counts"));
-    EXPECT_TRUE(j["held_out"]["argmax"].contains("accuracy"));
-  }
+  EXPECT_EQ(j["held_out"]["views_per_object"], 3);
+  EXPECT_TRUE(j["held_out"]["mot"].contains("counts"));
+  EXPECT_TRUE(j["held_out"]["argmax"].contains("accuracy"));
   std::ifstream log(run / "decisions.jsonl");
   std::string first;
   std::getline(log, first);
