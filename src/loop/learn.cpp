@@ -42,8 +42,12 @@ constexpr std::size_t kMaxObjects = 8;  // the most objects a simulated table ho
 constexpr double kTrackRadius = 0.08;   // a blob is the object when its centre is this near, m
 constexpr double kLandRadius = 0.15;    // a pushed object is looked for this near its target, m
 constexpr double kStill = 0.01;         // moved less than this: did not move, m
-constexpr double kCircleRadius = 0.07;  // push targets on a circle about the view's centre, m
-constexpr double kMaxPush = 0.10;       // an object is moved at most this far a push, m
+constexpr double kPushStep = 0.06;    // an object is pushed this far a push, m
+constexpr int kDirections = 12;       // directions a push target is chosen from
+constexpr double kCrowded = 0.15;     // blobs further than this from a target do not matter, m
+constexpr double kWorkRadius = 0.12;  // targets stay this near the view's centre, m
+constexpr double kArmRadius = 0.035;     // the pusher and links' half width, m
+constexpr double kArmBaseHeight = 0.1;   // a point of the arm's base above the table, m
 constexpr int kSides = 8;               // sides tried when a push is out of reach
 constexpr double kSidePush = 0.08;      // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
@@ -87,6 +91,25 @@ cv::Mat dilated(const cv::Mat& mask, int px) {
   cv::dilate(mask, m,
              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * px + 1, 2 * px + 1)));
   return m;
+}
+
+// The blob of `view` with most feature points inside `mask` (image size); -1 none.
+int blob_on(const planning::PlanningView& view, const cv::Mat1b& mask) {
+  int best = -1;
+  int best_n = 0;
+  for (std::size_t b = 0; b < view.objects.size(); ++b) {
+    int n = 0;
+    for (const auto& p : view.objects[b].pixels) {
+      const int u = std::clamp(static_cast<int>(std::lround(p.x())), 0, mask.cols - 1);
+      const int v = std::clamp(static_cast<int>(std::lround(p.y())), 0, mask.rows - 1);
+      if (mask(v, u) != 0) ++n;
+    }
+    if (n > best_n) {
+      best_n = n;
+      best = static_cast<int>(b);
+    }
+  }
+  return best;
 }
 
 // A look's features: positions and unit descriptors.
@@ -154,6 +177,7 @@ class Learner {
       : robot_(robot), attendant_(attendant), o_(o), classes_(classes), rng_(o.seed * 7919 + 5) {
     log_.open(o.out / "decisions.jsonl");
     models_.resize(static_cast<std::size_t>(classes));
+    left_at_.resize(static_cast<std::size_t>(classes));
   }
 
   template <class F>
@@ -202,7 +226,7 @@ class Learner {
          {"faults", faults_}});
   }
 
-  void log(core::Json j) {
+  void log(const core::Json& j) {
     log_ << j.dump() << '\n';
     log_.flush();
   }
@@ -259,6 +283,33 @@ class Learner {
       return k;
     }
     const LookFeatures lf = timed("recognition", [&] { return features_of(current_.image); });
+    // The objects learned so far are known: where the learner left them, and where top-down
+    // recognition finds them now; the choice is among the others (while any are left).
+    core::Json known = core::Json::array();
+    for (int k = 0; k < c; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      std::vector<int> drop;
+      if (left_at_[ku]) {
+        const int b = track(view, *left_at_[ku], kTrackRadius);
+        if (b >= 0) drop.push_back(b);
+      }
+      if (models_[ku].learned()) {
+        const TopDownResult td = timed("recognition", [&] {
+          return recognise_top_down(models_[ku], lf.points, lf.unit, current_.image.size(), wo_);
+        });
+        if (td.found) {
+          const int b = blob_on(view, td.mask);
+          if (b >= 0) drop.push_back(b);
+        }
+      }
+      for (int b : drop) {
+        const auto it = std::find(open.begin(), open.end(), b);
+        if (it != open.end() && open.size() > 1) {
+          open.erase(it);
+          known.push_back({{"object", k}, {"blob", b}});
+        }
+      }
+    }
     core::Json scores = core::Json::array();
     int best = open.front();
     double best_s = std::numeric_limits<double>::infinity();
@@ -292,6 +343,7 @@ class Learner {
          {"object", c},
          {"blob", best},
          {"why", "least likely under the object models so far (7.2 d)"},
+         {"known", known},
          {"scores", scores}});
     return best;
   }
@@ -305,22 +357,7 @@ class Learner {
         const LookFeatures lf = features_of(current_.image);
         return recognise_top_down(om, lf.points, lf.unit, current_.image.size(), wo_);
       });
-      int best = -1;
-      int best_n = 0;
-      if (td.found) {
-        for (std::size_t b = 0; b < view.objects.size(); ++b) {
-          int n = 0;
-          for (const auto& p : view.objects[b].pixels) {
-            const int u = std::clamp(static_cast<int>(std::lround(p.x())), 0, td.mask.cols - 1);
-            const int v = std::clamp(static_cast<int>(std::lround(p.y())), 0, td.mask.rows - 1);
-            if (td.mask(v, u) != 0) ++n;
-          }
-          if (n > best_n) {
-            best_n = n;
-            best = static_cast<int>(b);
-          }
-        }
-      }
+      const int best = td.found ? blob_on(view, td.mask) : -1;
       log({{"event", "recognise"},
            {"object", c},
            {"found", td.found},
@@ -353,6 +390,32 @@ class Learner {
     po.seed = o_.seed * 1000003 + static_cast<std::uint64_t>(++plans_);
     return planning::plan_push(view, blob, planning::PushGoal::kTarget, target, region_, arm,
                                robot_.joints(), po);
+  }
+
+  // Where to push the object (the table is not cleared, Ch 8): a short push, kPushStep, in the
+  // direction (of kDirections, turned by `angle` so that it is pushed from ever other sides) that
+  // keeps it furthest from the other blobs and within kWorkRadius of the view's centre.
+  Eigen::Vector2d push_target(const planning::PlanningView& view, int blob,
+                              const Eigen::Vector2d& at, double angle) const {
+    Eigen::Vector2d best = at;
+    double best_score = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < kDirections; ++i) {
+      const double a = angle + (2 * std::numbers::pi * i / kDirections);
+      const Eigen::Vector2d t = at + kPushStep * Eigen::Vector2d(std::cos(a), std::sin(a));
+      double gap = kCrowded;
+      for (std::size_t b = 0; b < view.objects.size(); ++b) {
+        if (static_cast<int>(b) == blob) continue;
+        gap = std::min(gap, (view.objects[b].centre - t).norm());
+      }
+      const double off = std::max(0.0, (t - centre_).norm() - kWorkRadius);
+      // Ties (nothing near) go to the first direction: the golden-angle turn.
+      const double score = gap - (4 * off) - (1e-3 * i);
+      if (score > best_score) {
+        best_score = score;
+        best = t;
+      }
+    }
+    return best;
   }
 
   // The pusher comes down at the push's start: refused by the robot when the arm there would be
@@ -394,6 +457,27 @@ class Learner {
     std::string message;
   };
 
+  // The arm's own image in a frame whose end effector is at `ee` (px): a band kArmRadius wide
+  // (on the table) from the end effector toward the arm's base (the robot frame's origin), where
+  // the links are. Features there move with the arm and are no object's.
+  cv::Mat1b arm_region(const std::optional<Eigen::Vector2d>& ee, cv::Size size) const {
+    cv::Mat1b m(size, 0);
+    if (!ee) return m;
+    const geometry::Camera& cam = current_.camera;
+    const Eigen::Vector2d base = cam.project(Eigen::Vector3d(0, 0, kArmBaseHeight));
+    const Eigen::Vector3d at = robot::pixel_to_table(cam, *ee).homogeneous();
+    const Eigen::Vector3d tip(at.x(), at.y(), 0.0);
+    const double r =
+        (cam.project(tip + Eigen::Vector3d(kArmRadius, 0, 0)) - cam.project(tip)).norm();
+    const int t = std::max(2, static_cast<int>(std::lround(2 * r)));
+    const Eigen::Vector2d toward = base - *ee;
+    const Eigen::Vector2d far = *ee + (toward.norm() > 0 ? 4.0 * toward : toward);
+    cv::line(m, cv::Point(static_cast<int>(ee->x()), static_cast<int>(ee->y())),
+             cv::Point(static_cast<int>(far.x()), static_cast<int>(far.y())), 255, t);
+    cv::circle(m, cv::Point(static_cast<int>(ee->x()), static_cast<int>(ee->y())), t / 2, 255, -1);
+    return m;
+  }
+
   Segmented segment(const fs::path& dir) {
     Segmented s;
     const episode::Episode e = episode::read_episode(dir);
@@ -409,7 +493,8 @@ class Learner {
     s.message = ml.summary.message;
     if (ml.scored_frame < 0 || ml.map.empty() || cv::countNonZero(ml.mask) == 0) return s;
     s.map = ml.map;
-    s.mask = ml.mask;
+    s.mask = ml.mask.clone();
+    s.mask.setTo(0, arm_region(e.ee_image(ml.scored_frame), s.mask.size()));
     s.frame = e.frame(ml.scored_frame);
     const int touch = ml.scored_frame;
     const auto at_touch = e.ee_image(touch);
@@ -427,6 +512,7 @@ class Learner {
         const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, d.x(), 0, 1, d.y());
         cv::warpAffine(s.mask, m, shift, s.mask.size(), cv::INTER_NEAREST);
       }
+      m.setTo(0, arm_region(e.ee_image(i), m.size()));
       if (cv::countNonZero(m) > 0) s.view_masks.emplace_back(i, m);
     }
     // keep the episode's frames for the views
@@ -483,12 +569,8 @@ class Learner {
         break;
       }
       last = view.objects[static_cast<std::size_t>(blob)].centre;
-      Eigen::Vector2d target =
-          centre_ + kCircleRadius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      const Eigen::Vector2d target = push_target(view, blob, last, angle);
       angle += kGoldenAngle;
-      if ((target - last).norm() < 0.03) target = centre_ - (target - centre_);
-      if ((target - last).norm() > kMaxPush)
-        target = last + kMaxPush * (target - last).normalized();
       planning::PushPlan p = timed("plan", [&] { return plan(view, blob, target); });
       const Eigen::Vector2d dir0 = target - last;
       const double a0 = std::atan2(dir0.y(), dir0.x());
@@ -624,6 +706,7 @@ class Learner {
       ++done;
       bar.tick();
     }
+    left_at_[static_cast<std::size_t>(c)] = last;
     if (done < o_.pushes) {
       bar.tick(static_cast<std::size_t>(o_.pushes - done));
       log({{"event", "move-on"},
@@ -645,6 +728,7 @@ class Learner {
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
   robot::Look current_;
   std::vector<ObjectModel> models_;
+  std::vector<std::optional<Eigen::Vector2d>> left_at_;  ///< where each object was left, m
   std::vector<LearnPush> pushes_;
   std::vector<View> views_;
   std::vector<cv::Mat> frames_;
@@ -699,6 +783,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   } else {
     l.timed("vocabulary", [&] {
       std::vector<cv::Mat> all;
+      all.reserve(views.size());
       for (const auto& v : views) all.push_back(v.descriptors);
       cv::Mat stacked;
       cv::vconcat(all, stacked);
