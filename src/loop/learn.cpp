@@ -42,12 +42,12 @@ constexpr std::size_t kMaxObjects = 8;  // the most objects a simulated table ho
 constexpr double kTrackRadius = 0.08;   // a blob is the object when its centre is this near, m
 constexpr double kLandRadius = 0.15;    // a pushed object is looked for this near its target, m
 constexpr double kStill = 0.01;         // moved less than this: did not move, m
-constexpr double kPushStep = 0.06;    // an object is pushed this far a push, m
-constexpr int kDirections = 12;       // directions a push target is chosen from
-constexpr double kCrowded = 0.15;     // blobs further than this from a target do not matter, m
-constexpr double kWorkRadius = 0.12;  // targets stay this near the view's centre, m
-constexpr double kArmRadius = 0.035;     // the pusher and links' half width, m
-constexpr double kArmBaseHeight = 0.1;   // a point of the arm's base above the table, m
+constexpr double kPushStep = 0.06;      // an object is pushed this far a push, m
+constexpr int kDirections = 12;         // directions a push target is chosen from
+constexpr double kCrowded = 0.15;       // blobs further than this from a target do not matter, m
+constexpr double kWorkRadius = 0.12;    // targets stay this near the view's centre, m
+constexpr double kArmRadius = 0.035;    // the pusher and links' half width, m
+constexpr double kArmBaseHeight = 0.1;  // a point of the arm's base above the table, m
 constexpr int kSides = 8;               // sides tried when a push is out of reach
 constexpr double kSidePush = 0.08;      // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
@@ -376,7 +376,18 @@ class Learner {
                      : td.message + "; tracking by position");
     }
     how = "tracked";
-    return track(view, last, kTrackRadius);
+    const int near = track(view, last, kTrackRadius);
+    if (near >= 0) return near;
+    // Pushed into a neighbour, the two make one blob whose centre lies further away.
+    const int merged = track(view, last, kLandRadius);
+    if (merged >= 0) {
+      how = "tracked-merged";
+      log({{"event", "refound"},
+           {"object", c},
+           {"blob", merged},
+           {"why", "the nearest blob within the landing radius (merged with a neighbour?)"}});
+    }
+    return merged;
   }
 
   planning::PushPlan plan(const planning::PlanningView& view, int blob,
@@ -1002,6 +1013,19 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
         std::chrono::duration<double>(Clock::now() - th).count();
   }
   LearnResult r = finish(k, o, provenance, score, true);
+  // What each push really moved (ground truth, scoring only): the attendant saw every push the
+  // learner made, in the same order.
+  const std::vector<PushTruth>& truth = attendant.pushes();
+  core::Json& pushes = r.document["pushes"];
+  for (std::size_t i = 0; i < pushes.size() && i < truth.size(); ++i) {
+    const PushTruth& t = truth[i];
+    pushes[i]["intended"] = t.intended;
+    pushes[i]["moved"] = t.moved;
+    pushes[i]["moved_intended"] =
+        std::find(t.moved.begin(), t.moved.end(), t.intended) != t.moved.end() &&
+        !t.intended.empty();
+    pushes[i]["moved_only_intended"] = t.only_intended;
+  }
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   r.document["seconds"] = r.summary.seconds;
   write_final(r, o);

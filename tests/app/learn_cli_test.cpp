@@ -66,6 +66,7 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
       EXPECT_TRUE(fs::exists(d / f)) << d / f;
     }
     EXPECT_EQ(p["plan"]["start_px"].size(), 2U);
+    EXPECT_TRUE(p.contains("moved_intended"));
   }
   EXPECT_EQ(j["held_out"]["views_per_object"], 3);
   EXPECT_TRUE(j["held_out"]["mot"].contains("counts"));

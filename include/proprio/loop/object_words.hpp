@@ -40,7 +40,7 @@ inline constexpr core::ChoiceNames<DirichletUpdate, 2> kDirichletUpdateNames{
 
 struct ObjectWordOptions {
   /// Mean-shift bandwidth (Gaussian kernel sigma) over unit descriptors.
-  double bandwidth = 0.35;
+  double bandwidth = 0.2;
   int max_words = 60;          ///< at most this many words (the modes with most support)
   int mean_shift_seeds = 200;  ///< descriptors the mean shift starts from (seeded sample)
   /// Sigma = sigma2 I of N(w | d, Sigma) (eq 8.3) and Sigma_hat of p(d) (8.4), unit descriptors
