@@ -304,11 +304,16 @@ class Learner {
       }
       for (int b : drop) {
         const auto it = std::find(open.begin(), open.end(), b);
-        if (it != open.end() && open.size() > 1) {
+        if (it != open.end()) {
           open.erase(it);
           known.push_back({{"object", k}, {"blob", b}});
         }
       }
+    }
+    if (open.empty()) {
+      // Learning a known object again would give two classes of one object: move on instead.
+      fault(c, "only-known-objects", "every blob in view is an object learned already");
+      return -1;
     }
     core::Json scores = core::Json::array();
     int best = open.front();
@@ -543,6 +548,10 @@ class Learner {
     extra_approach_ = 0;
     std::vector<Eigen::Vector2d> tried;
     int k = choose(c, view, tried);
+    if (k < 0) {
+      bar.tick(static_cast<std::size_t>(o_.pushes));
+      return;
+    }
     attendant_.chose(c, view, k);
     Eigen::Vector2d last = view.objects[static_cast<std::size_t>(k)].centre;
     int failures = 0;  // pushes in a row not planned or refused

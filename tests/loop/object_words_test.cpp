@@ -72,6 +72,7 @@ TEST(ObjectWords, IncrementalMeanMovesEachWordTowardItsNearestDescriptor) {
   ObjectWordOptions o;
   o.bandwidth = 0.2;
   std::vector<Eigen::MatrixXd> frames;
+  frames.reserve(6);
   for (int f = 0; f < 4; ++f) frames.push_back(cluster_frame({0, 2}, 15, rng));
   ObjectModel m;
   ASSERT_TRUE(m.first_push(frames, o, rng));
@@ -97,10 +98,12 @@ TEST(ObjectWords, BothDirichletUpdatesPredictTheNextPush) {
   ObjectWordOptions o;
   o.bandwidth = 0.2;
   std::vector<Eigen::MatrixXd> frames;
+  frames.reserve(6);
   for (int f = 0; f < 6; ++f) frames.push_back(cluster_frame({0, 2, 4}, 10 + f, rng));
   ObjectModel m;
   ASSERT_TRUE(m.first_push(frames, o, rng));
   std::vector<Eigen::MatrixXd> next;
+  next.reserve(6);
   for (int f = 0; f < 6; ++f) next.push_back(cluster_frame({0, 2, 4}, 12, rng));
   const auto ll = m.predictive_log_likelihood(next, o);
   ASSERT_TRUE(ll.has_value());
@@ -121,18 +124,22 @@ TEST(ObjectWords, TopDownRecognitionFindsTheObjectAmongOthers) {
   o.density_sigma = 4;
   o.min_features = 5;
   std::vector<Eigen::MatrixXd> frames;
+  frames.reserve(6);
   for (int f = 0; f < 5; ++f) frames.push_back(cluster_frame({0, 1}, 12, rng));
   ObjectModel m;
   ASSERT_TRUE(m.first_push(frames, o, rng));
   // The object's descriptors around (40, 30), another object's (axes 5, 6) around (120, 80).
   std::vector<cv::Point2f> pts;
+  pts.reserve(80);
   Eigen::MatrixXd x(80, kDim);
   for (int i = 0; i < 40; ++i) {
-    pts.emplace_back(35.0F + static_cast<float>(i % 8), 25.0F + static_cast<float>(i / 8) * 2);
+    const int row = i / 8;
+    pts.emplace_back(35.0F + static_cast<float>(i % 8), 25.0F + static_cast<float>(2 * row));
     x.row(i) = around(i % 2, 0.05, rng);
   }
   for (int i = 0; i < 40; ++i) {
-    pts.emplace_back(115.0F + static_cast<float>(i % 8), 75.0F + static_cast<float>(i / 8) * 2);
+    const int row = i / 8;
+    pts.emplace_back(115.0F + static_cast<float>(i % 8), 75.0F + static_cast<float>(2 * row));
     x.row(40 + i) = around(5 + (i % 2), 0.05, rng);
   }
   const TopDownResult r = recognise_top_down(m, pts, x, cv::Size(160, 120), o);
