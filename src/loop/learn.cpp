@@ -638,6 +638,7 @@ class Learner {
         const robot::PushReport rep = timed("push", [&] { return robot_.push(p.push, rec); });
         lp.executed = true;
         lp.frames = rep.frames;
+        seconds_["push_robot_clock"] += rep.seconds;  // how long the push lasted for the robot
         message = rep.message;
       } catch (const Error& e) {
         message = e.what();
