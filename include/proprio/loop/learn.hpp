@@ -7,7 +7,9 @@
 // motion, thresholded; the dense Motion-Likelihood segmentation as an option), takes the
 // segmented frames as views, updates the object's words and their Dirichlet
 // (loop/object_words.hpp), recognises the object again top-down in the next look and plans its
-// next push from the recognised region. After `pushes` pushes it moves to the blob least likely
+// next push from the recognised region. The dense Motion-Likelihood segmentation is the default
+// (its views were purer on the seeds measured, docs/results/learn.md); --segmentation sparse
+// runs the sparse variant. After `pushes` pushes it moves to the blob least likely
 // under the object models so far (7.2 d), until C objects are learned. Then a vocabulary
 // (k-means over the descriptors of all its views) and an LDA model (over their documents) are
 // built from the robot's own views, unless given, and the views feed a supervised Mixture of
@@ -16,10 +18,10 @@
 // The learner talks to robot::Robot only; a TableAttendant (in simulation the
 // GroundTruthAttendant of loop/self_supervision_scoring.hpp) is told what it does, for scoring.
 // Every decision and recovery (object lost, push not planned or refused, push moved nothing,
-// recognition found nothing) is a line of DIR/decisions.jsonl. The run directory's layout is
-// docs/formats/learn.md (notes: learn-layout contract): learn.json, decisions.jsonl,
+// recognition found nothing) is a line of DIR/decisions.jsonl. The run directory (the layout the
+// report, loop/learn_report.hpp, reads): learn.json (format "proprio.learn"), decisions.jsonl,
 // pushes/push_NNN/{before,after,map,mask,frame}.png and episode/, table.png, vocabulary.vocab,
-// lda.model, model.mot; DIR/INCOMPLETE while it runs.
+// lda.model, model.mot; DIR/INCOMPLETE while it runs (removed as the last step).
 //
 // Frames: table points world x y (m, robot base frame); pixels as planning::PlanningView.
 
@@ -72,7 +74,7 @@ struct LearnOptions {
   int words = 200;         ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
   bool quick = false;
-  /// Dense by default: its views were purer on every seed measured (docs/results/learn.md).
+  /// Dense by default: its views were purer (docs/results/learn.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
   DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
   /// The push's mask: map >= this fraction of its maximum (the sweep of experiment 8.2).
