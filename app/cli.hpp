@@ -38,5 +38,6 @@ void register_mot_commands(CLI::App& root, const Invocation& inv);
 void register_push_commands(CLI::App& root, const Invocation& inv);
 void register_selfsupervise_commands(CLI::App& root, const Invocation& inv);
 void register_report_commands(CLI::App& root, const Invocation& inv);
+void register_learn_commands(CLI::App& root, const Invocation& inv);
 
 }  // namespace proprio::app

@@ -51,6 +51,7 @@ int run(int argc, char** argv) {
   register_push_commands(root, inv);
   register_selfsupervise_commands(root, inv);
   register_report_commands(root, inv);
+  register_learn_commands(root, inv);
 
   try {
     root.parse(argc, argv);

@@ -1,0 +1,189 @@
+#pragma once
+// `proprio learn` (thesis Ch 8, issue 21): look, plan, move. The robot learns the objects of a
+// cluttered table by itself without clearing it: it looks, picks a putative object (a feature-
+// density blob; the first at random), pushes it (planning/push_planner.hpp), segments the push
+// bottom-up by the arm's motion (the sparse variant of segmentation/ml_segmentation.hpp: SIFT
+// matched at keyframes, mean shift on velocities, motion models' likelihood against the arm's
+// motion, thresholded; the dense Motion-Likelihood segmentation as an option), takes the
+// segmented frames as views, updates the object's words and their Dirichlet
+// (loop/object_words.hpp), recognises the object again top-down in the next look and plans its
+// next push from the recognised region. The dense Motion-Likelihood segmentation is the default
+// (its views were purer on the seeds measured, docs/results/learn.md); --segmentation sparse
+// runs the sparse variant. After `pushes` pushes it moves to the blob least likely
+// under the object models so far (7.2 d), until C objects are learned. Then a vocabulary
+// (k-means over the descriptors of all its views) and an LDA model (over their documents) are
+// built from the robot's own views, unless given, and the views feed a supervised Mixture of
+// Topics whose labels are the robot's own classes object_1..object_C.
+//
+// The learner talks to robot::Robot only; a TableAttendant (in simulation the
+// GroundTruthAttendant of loop/self_supervision_scoring.hpp) is told what it does, for scoring.
+// Every decision and recovery (object lost, push not planned or refused, push moved nothing,
+// recognition found nothing) is a line of DIR/decisions.jsonl. The run directory (the layout the
+// report, loop/learn_report.hpp, reads): learn.json (format "proprio.learn"), decisions.jsonl,
+// pushes/push_NNN/{before,after,map,mask,frame}.png and episode/, table.png, vocabulary.vocab,
+// lda.model, model.mot; DIR/INCOMPLETE while it runs (removed as the last step).
+//
+// Frames: table points world x y (m, robot base frame); pixels as planning::PlanningView.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/extraction.hpp"
+#include "proprio/loop/object_words.hpp"
+#include "proprio/loop/self_supervision.hpp"
+#include "proprio/loop/self_supervision_scoring.hpp"
+#include "proprio/planning/push_planner.hpp"
+#include "proprio/robot/robot_interface.hpp"
+#include "proprio/segmentation/ml_segmentation.hpp"
+#include "proprio/topics/mixture_of_topics.hpp"
+
+namespace proprio::loop {
+
+inline constexpr const char* kLearnFormat = "proprio.learn";
+
+/// Bottom-up segmentation of a push.
+enum class PushSegmentation {
+  kSparse,  ///< SIFT at keyframes, mean shift on velocities (Algorithm 3, 8.1.1)
+  kDense    ///< the dense Motion-Likelihood segmentation (Ch 4)
+};
+inline constexpr core::ChoiceNames<PushSegmentation, 2> kPushSegmentationNames{
+    {{"sparse", PushSegmentation::kSparse}, {"dense", PushSegmentation::kDense}}};
+
+/// The features of proprio learn's views, looks and vocabulary: dense SIFT every 4 px.
+inline features::ExtractOptions learn_features() {
+  features::ExtractOptions f;
+  f.dense.step = 4;
+  return f;
+}
+
+struct LearnOptions {
+  /// Objects to learn, catalogue names, comma-separated (the learner is told only how many).
+  std::string objects = "book,bottle,cd,giraffe";
+  /// More catalogue objects on the table, never to be learned (clutter).
+  std::string clutter = "mug,rabbit,calculator";
+  /// The backdrop: "plain" (moving and photo backdrops come with the world's distractors).
+  std::string background = "plain";
+  std::uint64_t seed = 1;  ///< the table, the choices, the paths
+  int pushes = 10;         ///< pushes of each object before moving on
+  int topics = 10;         ///< LDA topics (when no --model is given)
+  int words = 200;         ///< vocabulary words (when no --vocabulary is given)
+  /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
+  bool quick = false;
+  /// Dense by default: its views were purer (docs/results/learn.md).
+  PushSegmentation segmentation = PushSegmentation::kDense;
+  DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
+  /// The push's mask: map >= this fraction of its maximum (the sweep of experiment 8.2).
+  double mask_fraction = 0.5;
+  int view_step = 3;      ///< views: every n-th frame from the first touch
+  int min_features = 10;  ///< a view needs this many features
+  int dilate = 4;         ///< masks grown by this many px
+  double fps = 15;        ///< frame rate of the pushes' episodes
+  int width = 320;        ///< image size of the camera, px
+  int height = 240;
+  int held_out = 20;                 ///< held-out ground-truth views per object (scoring)
+  std::filesystem::path vocabulary;  ///< given vocabulary (else built from the robot's views)
+  std::filesystem::path lda_model;   ///< given LDA model (else trained on the robot's views)
+  std::filesystem::path out;         ///< the run directory (required)
+  bool overwrite = false;
+  bool progress = true;  ///< progress on stderr (the CLI's --quiet turns it off)
+  /// Dense SIFT every 4 px (as `proprio selfsupervise`'s experiments): twice the grid of the
+  /// default gives an object of a 320 x 240 view four times the features.
+  features::ExtractOptions features = learn_features();
+  planning::PushPlanOptions plan;
+  segmentation::SparseOptions sparse;
+  segmentation::MlOptions dense;
+  ObjectWordOptions words_model;
+  topics::MotOptions mot;
+
+  /// The options with --quick applied (pushes, image size, words, topics made small).
+  [[nodiscard]] LearnOptions resolved() const;
+  /// Throws Error naming the first bad option: bounds, an empty or repeated name (objects and
+  /// clutter together), a background other than plain.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.objects, {"objects", "Objects to learn, catalogue names, comma-separated"});
+    v(self.clutter, {"clutter", "More catalogue objects on the table (not learned); '' none"});
+    v(self.background, {"background", "Backdrop: plain (moving/photo: not yet available)"});
+    v(self.seed, {"seed", "Seed of the table, the choices and the paths"});
+    v(self.pushes, {"pushes", "Pushes of each object", core::between(1, 1000)});
+    v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
+    v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
+    v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
+    v.choice(self.segmentation, {"segmentation", "Push segmentation: sparse or dense"},
+             kPushSegmentationNames);
+    v.choice(self.dirichlet_update,
+             {"dirichlet_update", "Object-word Dirichlet update: exact or fifty-fifty"},
+             kDirichletUpdateNames);
+    v(self.mask_fraction,
+      {"mask_fraction", "Push mask: map >= fraction x its maximum", core::between(0.05, 1)});
+    v(self.view_step,
+      {"view_step", "Views: every n-th frame from the touch", core::between(1, 1000)});
+    v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
+    v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
+    v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
+    v(self.width, {"width", "Image width, px", core::between(64, 4096)});
+    v(self.height, {"height", "Image height, px", core::between(48, 4096)});
+    v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
+    v(self.vocabulary, {"vocabulary", "Visual vocabulary file (default: built from the views)"});
+    v(self.lda_model, {"model", "LDA model file (default: trained on the views)"});
+    v(self.out, {"out", "Run directory"});
+    v(self.overwrite, {"overwrite", "Replace an existing run directory"});
+  }
+};
+
+/// One push as the learner did it (the "pushes" array of learn.json).
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LearnPush {
+  int index = 0;
+  int object = 0;   ///< class 0..C-1
+  std::string dir;  ///< "pushes/push_NNN"
+  core::Json plan;  ///< start_px, end_px, start, end, cost
+  bool executed = false;
+  int frames = 0;
+  int views = 0;
+  std::string located;  ///< how the object was found: "chosen", "top-down", "tracked"
+  std::string outcome;
+};
+
+/// What a run did (the learner's side and the ground truth's).
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LearnSummary {
+  int classes = 0;
+  int pushes_executed = 0;
+  int views = 0;
+  int faults = 0;
+  int model_classes = 0;
+  double seconds = 0;
+  std::optional<double> mot_accuracy;     ///< held out (simulation)
+  std::optional<double> argmax_accuracy;  ///< held out (simulation)
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LearnResult {
+  LearnSummary summary;
+  std::vector<LearnPush> pushes;
+  std::optional<SelfSupervisionScore> score;
+  core::Json document;  ///< format "proprio.learn" (also DIR/learn.json)
+  [[nodiscard]] std::string brief() const;
+};
+
+/// The loop on `robot` with `attendant` told what it does; writes the run directory (but not
+/// the held-out scores: that is the sim wrapper's). `classes` is C. Throws Error for bad options,
+/// an existing out without overwrite, unreadable --vocabulary/--model.
+LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAttendant& attendant,
+                      int classes, const core::Provenance& provenance);
+
+/// run_learn on a simulated table of options.objects + options.clutter (seed options.seed),
+/// scored against the ground truth and on held-out views (20 per object, as
+/// score_self_supervision renders them). Throws Error for an unknown or repeated object, more
+/// objects than the table holds (8), zero pushes, a non-plain background, an existing out.
+LearnResult run_learn(const LearnOptions& options, const core::Provenance& provenance);
+
+}  // namespace proprio::loop

@@ -1,0 +1,1045 @@
+// `proprio learn`: look, plan, move (thesis Ch 8). See the header.
+#include "proprio/loop/learn.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/core/progress.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/core/text.hpp"
+#include "proprio/episode/episode.hpp"
+#include "proprio/features/features.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/recognition/mot.hpp"
+#include "proprio/sim/object_catalogue.hpp"
+#include "proprio/sim/simulated_robot.hpp"
+#include "proprio/topics/batch_lda.hpp"
+#include "proprio/topics/corpus.hpp"
+#include "proprio/topics/lda_model_io.hpp"
+#include "proprio/topics/mot_model_io.hpp"
+
+namespace proprio::loop {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kFormatVersion = 1;
+constexpr std::size_t kMaxObjects = 8;  // the most objects a simulated table holds
+constexpr double kTrackRadius = 0.08;   // a blob is the object when its centre is this near, m
+constexpr double kLandRadius = 0.15;    // a pushed object is looked for this near its target, m
+constexpr double kStill = 0.01;         // moved less than this: did not move, m
+constexpr double kPushStep = 0.06;      // an object is pushed this far a push, m
+constexpr int kDirections = 12;         // directions a push target is chosen from
+constexpr double kCrowded = 0.15;       // blobs further than this from a target do not matter, m
+constexpr double kWorkRadius = 0.12;    // targets stay this near the view's centre, m
+constexpr double kArmRadius = 0.035;    // the pusher and links' half width, m
+constexpr double kArmBaseHeight = 0.1;  // a point of the arm's base above the table, m
+constexpr int kSides = 8;               // sides tried when a push is out of reach
+constexpr double kSidePush = 0.08;      // how far those pushes go, m
+constexpr double kGoldenAngle = 2.399963229728653;  // rad
+constexpr int kLdaIterations = 60;
+constexpr double kApproachStep = 0.03;      // approach added after a refusal, m
+constexpr double kMaxExtraApproach = 0.12;  // at most, m
+
+using Clock = std::chrono::steady_clock;
+
+core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
+
+void write_png(const fs::path& path, const cv::Mat& image) {
+  std::vector<uchar> buf;
+  if (!cv::imencode(".png", image, buf)) throw Error(path.string() + ": cannot encode the image");
+  core::write_file_atomic(path,
+                          std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
+}
+
+cv::Mat blob_mask(const planning::PutativeObject& o, cv::Size size) {
+  cv::Mat m = cv::Mat::zeros(size, CV_8U);
+  o.mask.copyTo(m(o.box), o.mask);
+  return m;
+}
+
+int track(const planning::PlanningView& view, const Eigen::Vector2d& centre, double radius) {
+  int best = -1;
+  double best_d = radius;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    const double d = (view.objects[k].centre - centre).norm();
+    if (d < best_d) {
+      best_d = d;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+cv::Mat dilated(const cv::Mat& mask, int px) {
+  if (px <= 0) return mask;
+  cv::Mat m;
+  cv::dilate(mask, m,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * px + 1, 2 * px + 1)));
+  return m;
+}
+
+// The blob of `view` with most feature points inside `mask` (image size); -1 none.
+int blob_on(const planning::PlanningView& view, const cv::Mat1b& mask) {
+  int best = -1;
+  int best_n = 0;
+  for (std::size_t b = 0; b < view.objects.size(); ++b) {
+    int n = 0;
+    for (const auto& p : view.objects[b].pixels) {
+      const int u = std::clamp(static_cast<int>(std::lround(p.x())), 0, mask.cols - 1);
+      const int v = std::clamp(static_cast<int>(std::lround(p.y())), 0, mask.rows - 1);
+      if (mask(v, u) != 0) ++n;
+    }
+    if (n > best_n) {
+      best_n = n;
+      best = static_cast<int>(b);
+    }
+  }
+  return best;
+}
+
+// A look's features: positions and unit descriptors.
+struct LookFeatures {
+  std::vector<cv::Point2f> points;
+  Eigen::MatrixXd unit;
+};
+
+// One segmented view: its raw descriptors (for the vocabulary) and its class.
+struct View {
+  int cls = 0;
+  int push = 0;
+  cv::Mat descriptors;
+};
+
+std::vector<std::string> names_or_empty(const std::string& list) {
+  const auto l = list.find_first_not_of(" \t");
+  if (l == std::string::npos) return {};
+  return parse_object_list(list);
+}
+
+}  // namespace
+
+LearnOptions LearnOptions::resolved() const {
+  LearnOptions o = *this;
+  if (!quick) return o;
+  const LearnOptions d;
+  if (o.pushes == d.pushes) o.pushes = 3;
+  if (o.width == d.width && o.height == d.height) {
+    o.width = 240;
+    o.height = 180;
+  }
+  if (o.words == d.words) o.words = 100;
+  if (o.topics == d.topics) o.topics = 6;
+  return o;
+}
+
+void LearnOptions::validate() const {
+  core::check_field_bounds(*this, "learn");
+  std::vector<std::string> all = parse_object_list(objects);
+  for (const auto& c : names_or_empty(clutter)) {
+    if (std::find(all.begin(), all.end(), c) != all.end()) {
+      throw Error("learn: '" + c + "' is named twice (objects and clutter)");
+    }
+    all.push_back(c);
+  }
+  if (background != "plain") {
+    throw Error("learn: --background '" + background +
+                "': only 'plain' is available (moving and photo backdrops are not wired yet)");
+  }
+  features.validate();
+  plan.validate();
+  sparse.validate();
+  dense.validate();
+  words_model.validate();
+  mot.validate();
+}
+
+namespace {
+
+// The learner's state of one run.
+class Learner {
+ public:
+  Learner(robot::Robot& robot, TableAttendant& attendant, int classes, const LearnOptions& o)
+      : robot_(robot), attendant_(attendant), o_(o), classes_(classes), rng_(o.seed * 7919 + 5) {
+    log_.open(o.out / "decisions.jsonl");
+    models_.resize(static_cast<std::size_t>(classes));
+    left_at_.resize(static_cast<std::size_t>(classes));
+  }
+
+  template <class F>
+  auto timed(const std::string& stage, F f) {
+    const auto t0 = Clock::now();
+    if constexpr (std::is_void_v<decltype(f())>) {
+      f();
+      seconds_[stage] += std::chrono::duration<double>(Clock::now() - t0).count();
+    } else {
+      auto r = f();
+      seconds_[stage] += std::chrono::duration<double>(Clock::now() - t0).count();
+      return r;
+    }
+  }
+
+  void run(bool progress) {
+    core::ProgressBar bar(static_cast<std::size_t>(classes_ * o_.pushes), "learn: pushing",
+                          progress);
+    robot::Look first = timed("look", [&] { return robot_.look(); });
+    const double scale = first.image.cols / 640.0;
+    po_ = o_.plan;
+    po_.grid_step = std::max(2, static_cast<int>(std::lround(o_.plan.grid_step * scale)));
+    po_.patch = std::max(4, static_cast<int>(std::lround(o_.plan.patch * scale)));
+    po_.blobs.sigma = o_.plan.blobs.sigma * scale;
+    sparse_ = o_.sparse;
+    sparse_.mask_fraction = o_.mask_fraction;
+    // Pixel quantities of the sparse segmentation scale with the image (lambda is px^2).
+    sparse_.evidence_step = std::max(3.0, o_.sparse.evidence_step * scale);
+    sparse_.lambda = o_.sparse.lambda * scale * scale;
+    sparse_.velocity_bandwidth = o_.sparse.velocity_bandwidth * scale;
+    sparse_.density_sigma = std::max(2.0, o_.sparse.density_sigma * scale);
+    wo_ = o_.words_model;
+    wo_.density_sigma = std::max(2.0, o_.words_model.density_sigma * scale);
+    centre_ = robot::pixel_to_table(
+        first.camera, Eigen::Vector2d(first.image.cols / 2.0, first.image.rows / 2.0));
+    write_png(o_.out / "table.png", first.image);
+    log({{"event", "start"}, {"classes", classes_}, {"work_centre", xy(centre_)}});
+    current_ = std::move(first);
+    for (int c = 0; c < classes_; ++c) {
+      learn_object(c, bar);
+    }
+    bar.finish();
+    log({{"event", "end"},
+         {"pushes", static_cast<int>(pushes_.size())},
+         {"views", static_cast<int>(views_.size())},
+         {"faults", faults_}});
+  }
+
+  void log(const core::Json& j) {
+    log_ << j.dump() << '\n';
+    log_.flush();
+  }
+
+  void fault(int c, const std::string& what, const std::string& message) {
+    ++faults_;
+    spdlog::debug("learn, object {}: {}: {}", c + 1, what, message);
+    log({{"event", "fault"}, {"object", c}, {"fault", what}, {"message", message}});
+  }
+
+  [[nodiscard]] const std::vector<LearnPush>& pushes() const { return pushes_; }
+  [[nodiscard]] const std::vector<View>& views() const { return views_; }
+  [[nodiscard]] const std::map<std::string, double>& seconds() const { return seconds_; }
+  [[nodiscard]] int faults() const { return faults_; }
+  [[nodiscard]] const core::Json& dirichlet_measure() const { return dirichlet_measure_; }
+  std::map<std::string, double>& mutable_seconds() { return seconds_; }
+
+ private:
+  LookFeatures features_of(const cv::Mat& image, const cv::Mat& mask = {}) {
+    const features::Features f = features::extract_features(image, o_.features, mask);
+    LookFeatures lf;
+    for (const auto& k : f.keypoints) lf.points.push_back(k.pt);
+    lf.unit = f.empty() ? Eigen::MatrixXd(0, features::kDescriptorLength)
+                        : unit_descriptors(f.descriptors);
+    return lf;
+  }
+
+  planning::PlanningView plan_view() {
+    return timed("look", [&] { return planning::look_for_objects(current_, region_, po_); });
+  }
+
+  void relook() {
+    current_ = timed("look", [&] { return robot_.look(); });
+  }
+
+  // (a) / (d): the blob to learn next: the first at random; later the blob whose descriptors
+  // are least likely under the object models so far (the largest mean log p(d) over the models
+  // is least).
+  int choose(int c, const planning::PlanningView& view, const std::vector<Eigen::Vector2d>& tried) {
+    const int n = static_cast<int>(view.objects.size());
+    std::vector<int> open;
+    for (int b = 0; b < n; ++b) {
+      const bool was = std::any_of(tried.begin(), tried.end(), [&](const Eigen::Vector2d& t) {
+        return (view.objects[static_cast<std::size_t>(b)].centre - t).norm() < kTrackRadius;
+      });
+      if (!was) open.push_back(b);
+    }
+    if (open.empty()) return -1;
+    bool any = false;
+    for (int k = 0; k < c; ++k) any = any || models_[static_cast<std::size_t>(k)].learned();
+    if (!any) {
+      const int k = open[rng_.index(open.size())];
+      log({{"event", "choose"}, {"object", c}, {"blob", k}, {"why", "at random (7.2 a)"}});
+      return k;
+    }
+    const LookFeatures lf = timed("recognition", [&] { return features_of(current_.image); });
+    // The objects learned so far are known: where the learner left them, and where top-down
+    // recognition finds them now; the choice is among the others (while any are left).
+    core::Json known = core::Json::array();
+    for (int k = 0; k < c; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      std::vector<int> drop;
+      if (left_at_[ku]) {
+        const int b = track(view, *left_at_[ku], kTrackRadius);
+        if (b >= 0) drop.push_back(b);
+      }
+      if (models_[ku].learned()) {
+        const TopDownResult td = timed("recognition", [&] {
+          return recognise_top_down(models_[ku], lf.points, lf.unit, current_.image.size(), wo_);
+        });
+        if (td.found) {
+          const int b = blob_on(view, td.mask);
+          if (b >= 0) drop.push_back(b);
+        }
+      }
+      for (int b : drop) {
+        const auto it = std::find(open.begin(), open.end(), b);
+        if (it != open.end()) {
+          open.erase(it);
+          known.push_back({{"object", k}, {"blob", b}});
+        }
+      }
+    }
+    if (open.empty()) {
+      // Learning a known object again would give two classes of one object: move on instead.
+      fault(c, "only-known-objects", "every blob in view is an object learned already");
+      return -1;
+    }
+    core::Json scores = core::Json::array();
+    int best = open.front();
+    double best_s = std::numeric_limits<double>::infinity();
+    for (int b : open) {
+      const auto& o = view.objects[static_cast<std::size_t>(b)];
+      const cv::Mat m = blob_mask(o, current_.image.size());
+      std::vector<Eigen::Index> rows;
+      for (std::size_t i = 0; i < lf.points.size(); ++i) {
+        const cv::Point p(static_cast<int>(lf.points[i].x), static_cast<int>(lf.points[i].y));
+        if (p.inside(cv::Rect(0, 0, m.cols, m.rows)) && m.at<uchar>(p) != 0) {
+          rows.push_back(static_cast<Eigen::Index>(i));
+        }
+      }
+      if (static_cast<int>(rows.size()) < o_.min_features) continue;
+      Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), lf.unit.cols());
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        x.row(static_cast<Eigen::Index>(i)) = lf.unit.row(rows[i]);
+      }
+      double s = -std::numeric_limits<double>::infinity();
+      for (int k = 0; k < c; ++k) {
+        const ObjectModel& om = models_[static_cast<std::size_t>(k)];
+        if (om.learned()) s = std::max(s, om.log_p_descriptors(x, wo_).mean());
+      }
+      scores.push_back({{"blob", b}, {"best_mean_log_p", s}});
+      if (s < best_s) {
+        best_s = s;
+        best = b;
+      }
+    }
+    log({{"event", "choose"},
+         {"object", c},
+         {"blob", best},
+         {"why", "least likely under the object models so far (7.2 d)"},
+         {"known", known},
+         {"scores", scores}});
+    return best;
+  }
+
+  // Where is object c in the current look? Top-down when it has a model, else by position.
+  int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
+             std::string& how) {
+    const ObjectModel& om = models_[static_cast<std::size_t>(c)];
+    if (om.learned()) {
+      const TopDownResult td = timed("recognition", [&] {
+        const LookFeatures lf = features_of(current_.image);
+        return recognise_top_down(om, lf.points, lf.unit, current_.image.size(), wo_);
+      });
+      const int best = td.found ? blob_on(view, td.mask) : -1;
+      log({{"event", "recognise"},
+           {"object", c},
+           {"found", td.found},
+           {"kappa", td.kappa},
+           {"log_density", std::isfinite(td.log_density) ? td.log_density : 0.0},
+           {"features", td.features},
+           {"centre_px", xy(td.centre)},
+           {"blob", best},
+           {"message", td.message}});
+      if (best >= 0) {
+        how = "top-down";
+        return best;
+      }
+      fault(c, "recognition-found-nothing",
+            td.found ? "the recognised region lies on no blob; tracking by position"
+                     : td.message + "; tracking by position");
+    }
+    how = "tracked";
+    const int near = track(view, last, kTrackRadius);
+    if (near >= 0) return near;
+    // Pushed into a neighbour, the two make one blob whose centre lies further away.
+    const int merged = track(view, last, kLandRadius);
+    if (merged >= 0) {
+      how = "tracked-merged";
+      log({{"event", "refound"},
+           {"object", c},
+           {"blob", merged},
+           {"why", "the nearest blob within the landing radius (merged with a neighbour?)"}});
+    }
+    return merged;
+  }
+
+  planning::PushPlan plan(const planning::PlanningView& view, int blob,
+                          const Eigen::Vector2d& target) {
+    robot::ArmState arm(robot_.arm());
+    planning::PushPlanOptions po = po_;
+    // After a refusal (the hand would come down inside a tall object, whose features lie above
+    // the table and make it look nearer than it is) approaches grow.
+    po.max_approach = std::min(0.3, po.max_approach + extra_approach_);
+    po.min_approach = std::min(po.max_approach, po.min_approach + extra_approach_);
+    po.seed = o_.seed * 1000003 + static_cast<std::uint64_t>(++plans_);
+    return planning::plan_push(view, blob, planning::PushGoal::kTarget, target, region_, arm,
+                               robot_.joints(), po);
+  }
+
+  // Where to push the object (the table is not cleared, Ch 8): a short push, kPushStep, in the
+  // direction (of kDirections, turned by `angle` so that it is pushed from ever other sides) that
+  // keeps it furthest from the other blobs and within kWorkRadius of the view's centre.
+  Eigen::Vector2d push_target(const planning::PlanningView& view, int blob,
+                              const Eigen::Vector2d& at, double angle) const {
+    Eigen::Vector2d best = at;
+    double best_score = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < kDirections; ++i) {
+      const double a = angle + (2 * std::numbers::pi * i / kDirections);
+      const Eigen::Vector2d t = at + kPushStep * Eigen::Vector2d(std::cos(a), std::sin(a));
+      double gap = kCrowded;
+      for (std::size_t b = 0; b < view.objects.size(); ++b) {
+        if (static_cast<int>(b) == blob) continue;
+        gap = std::min(gap, (view.objects[b].centre - t).norm());
+      }
+      const double off = std::max(0.0, (t - centre_).norm() - kWorkRadius);
+      // Ties (nothing near) go to the first direction: the golden-angle turn.
+      const double score = gap - (4 * off) - (1e-3 * i);
+      if (score > best_score) {
+        best_score = score;
+        best = t;
+      }
+    }
+    return best;
+  }
+
+  // The pusher comes down at the push's start: refused by the robot when the arm there would be
+  // inside an object. A start seen on a blob (at the table or at the lift height) is not taken.
+  bool start_clear(const planning::PlanningView& view, const planning::PushPlan& p) const {
+    for (const double h : {0.0, 0.03, 0.06}) {
+      const Eigen::Vector2d px =
+          view.camera.project(Eigen::Vector3d(p.push.start.x(), p.push.start.y(), h));
+      const cv::Point q(static_cast<int>(std::lround(px.x())),
+                        static_cast<int>(std::lround(px.y())));
+      for (const auto& o : view.objects) {
+        const cv::Rect grown(o.box.x - 3, o.box.y - 3, o.box.width + 6, o.box.height + 6);
+        if (!grown.contains(q)) continue;
+        const cv::Point local(std::clamp(q.x - o.box.x, 0, o.box.width - 1),
+                              std::clamp(q.y - o.box.y, 0, o.box.height - 1));
+        if (o.mask(local) != 0) return false;
+      }
+    }
+    return true;
+  }
+
+  core::Json plan_json(const planning::PlanningView& view, const planning::PushPlan& p) const {
+    const Eigen::Vector2d s =
+        view.camera.project(Eigen::Vector3d(p.push.start.x(), p.push.start.y(), 0.0));
+    const Eigen::Vector2d e =
+        view.camera.project(Eigen::Vector3d(p.push.end.x(), p.push.end.y(), 0.0));
+    return {{"start_px", xy(s)},         {"end_px", xy(e)},
+            {"start", xy(p.push.start)}, {"end", xy(p.push.end)},
+            {"target", xy(p.target)},    {"cost", std::isfinite(p.cost) ? p.cost : -1.0}};
+  }
+
+  // Segments a push's episode; fills map/mask/frame of the scored frame and the views' masks
+  // (frame index, mask) carried from it along the arm's motion after the touch.
+  struct Segmented {
+    cv::Mat1f map;
+    cv::Mat1b mask;
+    cv::Mat frame;
+    std::vector<std::pair<int, cv::Mat>> view_masks;
+    std::string message;
+  };
+
+  // The arm's own image in a frame whose end effector is at `ee` (px): a band kArmRadius wide
+  // (on the table) from the end effector toward the arm's base (the robot frame's origin), where
+  // the links are. Features there move with the arm and are no object's.
+  cv::Mat1b arm_region(const std::optional<Eigen::Vector2d>& ee, cv::Size size) const {
+    cv::Mat1b m(size, 0);
+    if (!ee) return m;
+    const geometry::Camera& cam = current_.camera;
+    const Eigen::Vector2d base = cam.project(Eigen::Vector3d(0, 0, kArmBaseHeight));
+    const Eigen::Vector3d at = robot::pixel_to_table(cam, *ee).homogeneous();
+    const Eigen::Vector3d tip(at.x(), at.y(), 0.0);
+    const double r =
+        (cam.project(tip + Eigen::Vector3d(kArmRadius, 0, 0)) - cam.project(tip)).norm();
+    const int t = std::max(2, static_cast<int>(std::lround(2 * r)));
+    const Eigen::Vector2d toward = base - *ee;
+    const Eigen::Vector2d far = *ee + (toward.norm() > 0 ? 4.0 * toward : toward);
+    cv::line(m, cv::Point(static_cast<int>(ee->x()), static_cast<int>(ee->y())),
+             cv::Point(static_cast<int>(far.x()), static_cast<int>(far.y())), 255, t);
+    cv::circle(m, cv::Point(static_cast<int>(ee->x()), static_cast<int>(ee->y())), t / 2, 255, -1);
+    return m;
+  }
+
+  Segmented segment(const fs::path& dir) {
+    Segmented s;
+    const episode::Episode e = episode::read_episode(dir);
+    segmentation::MlResult ml;
+    if (o_.segmentation == PushSegmentation::kSparse) {
+      ml = segmentation::segment_ml_sparse(e, sparse_);
+    } else {
+      segmentation::MlOptions mo = o_.dense;
+      mo.mask_fraction = o_.mask_fraction;
+      mo.keep_frame_maps = true;
+      ml = segmentation::segment_ml(e, mo);
+    }
+    s.message = ml.summary.message;
+    if (ml.scored_frame < 0 || ml.map.empty() || cv::countNonZero(ml.mask) == 0) return s;
+    s.map = ml.map;
+    s.mask = ml.mask.clone();
+    s.mask.setTo(0, arm_region(e.ee_image(ml.scored_frame), s.mask.size()));
+    s.frame = e.frame(ml.scored_frame);
+    const int touch = ml.scored_frame;
+    const auto at_touch = e.ee_image(touch);
+    for (int i = touch; i < e.frame_count(); i += o_.view_step) {
+      cv::Mat m;
+      if (o_.segmentation == PushSegmentation::kDense &&
+          i < static_cast<int>(ml.frame_maps.size())) {
+        double hi = 0;
+        cv::minMaxLoc(ml.map, nullptr, &hi);
+        m = ml.frame_maps[static_cast<std::size_t>(i)] >= o_.mask_fraction * hi;
+      } else {
+        const auto at = e.ee_image(i);
+        Eigen::Vector2d d = Eigen::Vector2d::Zero();
+        if (at && at_touch) d = *at - *at_touch;
+        const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, d.x(), 0, 1, d.y());
+        cv::warpAffine(s.mask, m, shift, s.mask.size(), cv::INTER_NEAREST);
+      }
+      m.setTo(0, arm_region(e.ee_image(i), m.size()));
+      if (cv::countNonZero(m) > 0) s.view_masks.emplace_back(i, m);
+    }
+    // keep the episode's frames for the views
+    frames_.clear();
+    for (const auto& [i, m] : s.view_masks) frames_.push_back(e.frame(i));
+    return s;
+  }
+
+  void learn_object(int c, core::ProgressBar& bar) {
+    planning::PlanningView view = plan_view();
+    log({{"event", "look"}, {"object", c}, {"blobs", static_cast<int>(view.objects.size())}});
+    if (view.objects.empty()) {
+      fault(c, "no-blobs", "no putative object in view; object skipped");
+      bar.tick(static_cast<std::size_t>(o_.pushes));
+      return;
+    }
+    extra_approach_ = 0;
+    std::vector<Eigen::Vector2d> tried;
+    int k = choose(c, view, tried);
+    if (k < 0) {
+      bar.tick(static_cast<std::size_t>(o_.pushes));
+      return;
+    }
+    attendant_.chose(c, view, k);
+    Eigen::Vector2d last = view.objects[static_cast<std::size_t>(k)].centre;
+    int failures = 0;  // pushes in a row not planned or refused
+    double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
+    int done = 0;
+    int attempts = 0;
+    bool first = true;
+    while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
+      ++attempts;
+      if (!first) view = plan_view();
+      if (failures >= 3 && done == 0) {
+        // The object cannot be pushed (out of reach, or the hand would come down on it):
+        // another blob instead, logged.
+        tried.push_back(last);
+        k = choose(c, view, tried);
+        if (k < 0) {
+          fault(c, "no-pushable-object", "every blob in view was tried; moving on");
+          break;
+        }
+        log({{"event", "rechoose"},
+             {"object", c},
+             {"blob", k},
+             {"why", "three pushes in a row could not be planned or were refused"}});
+        attendant_.chose(c, view, k);
+        last = view.objects[static_cast<std::size_t>(k)].centre;
+        failures = 0;
+        extra_approach_ = 0;
+        first = true;
+      }
+      std::string how = "chosen";
+      const int blob = first ? k : locate(c, view, last, how);
+      first = false;
+      if (blob < 0) {
+        fault(c, "lost", "the object is no longer in view (off the table or out of reach)");
+        break;
+      }
+      last = view.objects[static_cast<std::size_t>(blob)].centre;
+      const Eigen::Vector2d target = push_target(view, blob, last, angle);
+      angle += kGoldenAngle;
+      planning::PushPlan p = timed("plan", [&] { return plan(view, blob, target); });
+      const Eigen::Vector2d dir0 = target - last;
+      const double a0 = std::atan2(dir0.y(), dir0.x());
+      const auto usable = [&](const planning::PushPlan& q) {
+        return q.outcome == planning::PlanOutcome::kPlanned && start_clear(view, q);
+      };
+      int blocked = 0;
+      for (int side = 1; side < kSides && !usable(p); ++side) {
+        if (p.outcome == planning::PlanOutcome::kPlanned) ++blocked;
+        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
+        p = timed("plan", [&] {
+          return plan(view, blob, last + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
+        });
+      }
+      if (blocked > 0) {
+        log({{"event", "replan"},
+             {"object", c},
+             {"why", "the pusher would come down on a blob"},
+             {"sides_rejected", blocked}});
+      }
+      if (p.outcome != planning::PlanOutcome::kPlanned) {
+        fault(c, "not-planned", core::cat({"no side could be pushed: ", p.message}));
+        ++failures;
+        extra_approach_ = 0;  // the grown approach may be to blame
+        relook();
+        continue;
+      }
+      LearnPush lp;
+      lp.index = static_cast<int>(pushes_.size());
+      lp.object = c;
+      lp.dir = core::printf_string("pushes/push_%03d", lp.index);
+      lp.plan = plan_json(view, p);
+      lp.located = how;
+      const fs::path dir = o_.out / lp.dir;
+      fs::create_directories(dir);
+      write_png(dir / "before.png", current_.image);
+      PushIntent in{c, "learn", lp.index, &view, blob, &p};
+      attendant_.before_push(in);
+      robot::PushRecording rec;
+      rec.episode_dir = dir / "episode";
+      rec.overwrite = true;
+      rec.fps = o_.fps;
+      std::string message;
+      try {
+        const robot::PushReport rep = timed("push", [&] { return robot_.push(p.push, rec); });
+        lp.executed = true;
+        lp.frames = rep.frames;
+        seconds_["push_robot_clock"] += rep.seconds;  // how long the push lasted for the robot
+        message = rep.message;
+      } catch (const Error& e) {
+        message = e.what();
+      }
+      attendant_.after_push(in, lp.executed);
+      log({{"event", "push"},
+           {"object", c},
+           {"index", lp.index},
+           {"blob", blob},
+           {"located", how},
+           {"plan", lp.plan},
+           {"executed", lp.executed},
+           {"message", message}});
+      if (!lp.executed) {
+        fault(c, "robot-refused", message);
+        ++failures;
+        extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
+        lp.outcome = "refused: " + message;
+        pushes_.push_back(lp);
+        relook();
+        continue;
+      }
+      failures = 0;
+      relook();
+      write_png(dir / "after.png", current_.image);
+      const Segmented seg = timed("segmentation", [&] { return segment(dir / "episode"); });
+      cv::Mat last_mask;
+      std::vector<Eigen::MatrixXd> frames;
+      if (seg.map.empty()) {
+        fault(c, "moved-nothing", "segmentation found nothing moving with the arm: " + seg.message);
+        lp.outcome = "nothing segmented: " + seg.message;
+        const cv::Mat1b zero(current_.image.size(), 0);
+        write_png(dir / "map.png", zero);
+        write_png(dir / "mask.png", zero);
+        write_png(dir / "frame.png", current_.image);
+      } else {
+        cv::Mat map8;
+        seg.map.convertTo(map8, CV_8U, 255.0);
+        write_png(dir / "map.png", map8);
+        write_png(dir / "mask.png", seg.mask);
+        write_png(dir / "frame.png", seg.frame);
+        timed("words", [&] {
+          for (std::size_t v = 0; v < seg.view_masks.size(); ++v) {
+            const cv::Mat m = dilated(seg.view_masks[v].second, o_.dilate);
+            const features::Features f = features::extract_features(frames_[v], o_.features, m);
+            if (f.size() < o_.min_features) continue;
+            views_.push_back({c, done, f.descriptors.clone()});
+            frames.push_back(unit_descriptors(f.descriptors));
+            last_mask = seg.view_masks[v].second;
+            ++lp.views;
+          }
+        });
+        lp.outcome = core::cat({std::to_string(lp.views), " views; ", seg.message});
+      }
+      attendant_.views_taken(in, lp.views, last_mask);
+      // Did the object move? It is looked for near the plan's target, then where it was.
+      const planning::PlanningView after = plan_view();
+      int now = track(after, p.target, kLandRadius);
+      if (now < 0) now = track(after, last, kTrackRadius);
+      if (now >= 0 &&
+          (after.objects[static_cast<std::size_t>(now)].centre - last).norm() < kStill) {
+        fault(c, "moved-nothing", "the push left the object where it was");
+      }
+      if (now >= 0) last = after.objects[static_cast<std::size_t>(now)].centre;
+      // Object words and their Dirichlet (8.1.2).
+      ObjectModel& om = models_[static_cast<std::size_t>(c)];
+      timed("words", [&] {
+        if (const auto ll = om.predictive_log_likelihood(frames, wo_)) {
+          dirichlet_measure_.push_back(
+              {{"object", c}, {"push", done}, {"exact", ll->first}, {"fifty_fifty", ll->second}});
+        }
+        if (!frames.empty()) {
+          if (om.learned())
+            om.later_push(frames, wo_, rng_);
+          else
+            (void)om.first_push(frames, wo_, rng_);
+        }
+      });
+      log({{"event", "views"},
+           {"object", c},
+           {"index", lp.index},
+           {"views", lp.views},
+           {"words", om.learned() ? om.num_words() : 0},
+           {"segmentation", seg.message}});
+      pushes_.push_back(lp);
+      ++done;
+      bar.tick();
+    }
+    left_at_[static_cast<std::size_t>(c)] = last;
+    if (done < o_.pushes) {
+      bar.tick(static_cast<std::size_t>(o_.pushes - done));
+      log({{"event", "move-on"},
+           {"object", c},
+           {"why", core::cat({"only ", std::to_string(done), " pushes succeeded"})}});
+    }
+  }
+
+  robot::Robot& robot_;
+  TableAttendant& attendant_;
+  const LearnOptions& o_;
+  int classes_;
+  core::Rng rng_;
+  std::ofstream log_;
+  planning::TableRegion region_;
+  planning::PushPlanOptions po_;
+  segmentation::SparseOptions sparse_;
+  ObjectWordOptions wo_;
+  Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
+  robot::Look current_;
+  std::vector<ObjectModel> models_;
+  std::vector<std::optional<Eigen::Vector2d>> left_at_;  ///< where each object was left, m
+  std::vector<LearnPush> pushes_;
+  std::vector<View> views_;
+  std::vector<cv::Mat> frames_;
+  std::map<std::string, double> seconds_;
+  core::Json dirichlet_measure_ = core::Json::array();
+  int faults_ = 0;
+  int plans_ = 0;
+  double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
+};
+
+// Everything a run leaves besides the JSON: the learner's record, the models, the views' theta.
+struct Core {
+  std::unique_ptr<Learner> learner;
+  Learning learning;
+  std::optional<topics::LdaModel> lda;
+  std::optional<features::Vocabulary> vocabulary;
+  int classes = 0;
+};
+
+void prepare_out(const LearnOptions& o) {
+  if (o.out.empty()) throw Error("learn: --out (the run directory) is required");
+  if (fs::exists(o.out)) {
+    if (!o.overwrite) {
+      throw Error(o.out.string() + ": already exists (use --overwrite to replace it)");
+    }
+    fs::remove_all(o.out);
+  }
+  fs::create_directories(o.out / "pushes");
+  core::write_file_atomic(o.out / "INCOMPLETE", "proprio learn is running or was interrupted\n");
+}
+
+// The loop, then the vocabulary, LDA and the Mixture of Topics over the robot's views.
+void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttendant& attendant,
+                const core::Provenance& provenance) {
+  k.learner = std::make_unique<Learner>(robot, attendant, k.classes, o);
+  Learner& l = *k.learner;
+  l.run(o.progress);
+  const auto& views = l.views();
+  Learning& g = k.learning;
+  g.classes = k.classes;
+  for (int c = 0; c < k.classes; ++c) {
+    g.class_names.push_back(core::cat({"object_", std::to_string(c + 1)}));
+  }
+  g.views_per_class.assign(static_cast<std::size_t>(k.classes), 0);
+  if (views.empty()) {
+    l.log({{"event", "no-views"}, {"why", "no push gave a view: no model"}});
+    return;
+  }
+  // Vocabulary: given, or k-means over the descriptors of every view.
+  if (!o.vocabulary.empty()) {
+    k.vocabulary = features::read_vocabulary(o.vocabulary);
+  } else {
+    l.timed("vocabulary", [&] {
+      std::vector<cv::Mat> all;
+      all.reserve(views.size());
+      for (const auto& v : views) all.push_back(v.descriptors);
+      cv::Mat stacked;
+      cv::vconcat(all, stacked);
+      features::KmeansOptions ko;
+      ko.words = std::min(o.words, stacked.rows);
+      ko.seed = o.seed;
+      k.vocabulary = features::build_vocabulary(stacked, ko).vocabulary;
+    });
+  }
+  features::write_vocabulary(o.out / "vocabulary.vocab", *k.vocabulary, provenance);
+  topics::Corpus corpus(k.vocabulary->size());
+  for (const auto& v : views)
+    corpus.add_tokens(features::bag_of_words(*k.vocabulary, v.descriptors));
+  if (!o.lda_model.empty()) {
+    k.lda = topics::load_lda_model(o.lda_model);
+    if (k.lda->num_words() != k.vocabulary->size()) {
+      throw Error(
+          core::cat({o.lda_model.string(), ": ", std::to_string(k.lda->num_words()),
+                     " words, but the vocabulary has ", std::to_string(k.vocabulary->size())}));
+    }
+  } else {
+    l.timed("lda", [&] {
+      topics::BatchLdaOptions bo;
+      bo.num_topics = o.topics;
+      bo.seed = o.seed;
+      bo.max_iterations = kLdaIterations;
+      k.lda = topics::train_batch_lda(corpus, bo).model;
+    });
+  }
+  topics::save_lda_model(*k.lda, o.out / "lda.model");
+  l.timed("model", [&] {
+    g.views.theta = recognition::document_theta(*k.lda, corpus).theta;
+    for (const auto& v : views) {
+      g.views.labels.push_back(v.cls);
+      g.views.push.push_back(v.push);
+      g.views.tokens.push_back(v.descriptors.rows);
+      ++g.views_per_class[static_cast<std::size_t>(v.cls)];
+    }
+    std::vector<int> remap(static_cast<std::size_t>(k.classes), -1);
+    std::vector<std::string> names;
+    for (int c = 0; c < k.classes; ++c) {
+      if (g.views_per_class[static_cast<std::size_t>(c)] >= 2) {
+        remap[static_cast<std::size_t>(c)] = static_cast<int>(names.size());
+        names.push_back(g.class_names[static_cast<std::size_t>(c)]);
+        g.model_class.push_back(c);
+      } else {
+        l.fault(c, "class-dropped", "fewer than 2 views: left out of the model");
+      }
+    }
+    if (names.empty()) return;
+    std::vector<int> labels;
+    for (int lab : g.views.labels) labels.push_back(remap[static_cast<std::size_t>(lab)]);
+    g.model = topics::fit_mot(g.views.theta, labels, names, o.mot).model;
+  });
+  if (g.model.num_classes() > 0) {
+    const std::uint32_t vc = recognition::vocabulary_checksum(*k.vocabulary);
+    topics::save_mot_model(g.model, topics::mot_basis(*k.lda, &vc), o.out / "model.mot");
+  }
+}
+
+LearnResult finish(Core& k, const LearnOptions& o, const core::Provenance& provenance,
+                   const std::optional<SelfSupervisionScore>& score, bool complete) {
+  LearnResult r;
+  r.score = score;
+  const Learner& l = *k.learner;
+  const Learning& g = k.learning;
+  r.pushes = l.pushes();
+  LearnSummary& s = r.summary;
+  s.classes = k.classes;
+  s.faults = l.faults();
+  s.views = static_cast<int>(l.views().size());
+  s.model_classes = g.model.num_classes();
+  for (const auto& p : r.pushes) s.pushes_executed += p.executed ? 1 : 0;
+  core::Json& d = r.document;
+  d = core::result_document(kLearnFormat, kFormatVersion, provenance);
+  d["complete"] = complete;
+  d["options"] = core::fields_to_json(o);
+  d["options"]["segmentation"] =
+      std::string(core::choice_name(o.segmentation, kPushSegmentationNames));
+  d["classes"] = g.class_names;
+  core::Json objs = core::Json::array();
+  for (int c = 0; c < k.classes; ++c) {
+    const auto cu = static_cast<std::size_t>(c);
+    int n = 0;
+    for (const auto& p : r.pushes) n += (p.object == c && p.executed) ? 1 : 0;
+    core::Json j{{"class", g.class_names[cu]},
+                 {"pushes", n},
+                 {"views", cu < g.views_per_class.size() ? g.views_per_class[cu] : 0}};
+    if (r.score) {
+      j["truth"] = r.score->class_object[cu];
+      j["purity"] = r.score->class_purity[cu];
+    }
+    objs.push_back(j);
+  }
+  d["objects"] = objs;
+  core::Json pushes = core::Json::array();
+  for (const auto& p : r.pushes) {
+    core::Json j{
+        {"index", p.index},       {"class", g.class_names[static_cast<std::size_t>(p.object)]},
+        {"dir", p.dir},           {"plan", p.plan},
+        {"executed", p.executed}, {"frames", p.frames},
+        {"views", p.views},       {"located", p.located},
+        {"outcome", p.outcome}};
+    pushes.push_back(j);
+  }
+  d["pushes"] = pushes;
+  core::Json timing = core::Json::array();
+  for (const auto& [stage, sec] : l.seconds())
+    timing.push_back({{"stage", stage}, {"seconds", sec}});
+  d["timing"] = timing;
+  d["clock"] = "wall";
+  if (k.vocabulary)
+    d["vocabulary"] = {{"words", k.vocabulary->size()}, {"file", "vocabulary.vocab"}};
+  if (k.lda) d["topics"] = {{"count", k.lda->num_topics()}, {"file", "lda.model"}};
+  if (g.model.num_classes() > 0) d["model"] = "model.mot";
+  d["model_classes"] = g.model.names();
+  d["faults"] = s.faults;
+  d["dirichlet_update"] = {
+      {"default", std::string(core::choice_name(o.dirichlet_update, kDirichletUpdateNames))},
+      {"predictive_log_likelihood", l.dirichlet_measure()}};
+  if (r.score) {
+    d["held_out"] = {{"views_per_object", o.held_out},
+                     {"mot", r.score->mot.to_json()},
+                     {"argmax", r.score->argmax.to_json()}};
+    d["ground_truth"] = r.score->to_json();
+    s.mot_accuracy = r.score->mot_accuracy;
+    s.argmax_accuracy = r.score->argmax_accuracy;
+  }
+  return r;
+}
+
+void write_final(LearnResult& r, const LearnOptions& o) {
+  core::write_json_atomic(o.out / "learn.json", r.document);
+  if (r.document.value("complete", false)) fs::remove(o.out / "INCOMPLETE");
+}
+
+}  // namespace
+
+std::string LearnResult::brief() const {
+  const LearnSummary& s = summary;
+  std::string b = core::printf_string(
+      "learned %d of %d objects: %d pushes, %d views, %d faults logged, %.0f s", s.model_classes,
+      s.classes, s.pushes_executed, s.views, s.faults, s.seconds);
+  if (score) {
+    for (const ObjectScore& o : score->objects) {
+      b += core::printf_string(
+          "\n  %-12s held out %3d: Mixture of Topics %5.1f%%, argmax theta %5.1f%%", o.name.c_str(),
+          o.held_out, 100 * o.mot_accuracy, 100 * o.argmax_accuracy);
+    }
+    b += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
+                             100 * score->mot_accuracy, 100 * score->argmax_accuracy);
+  }
+  return b;
+}
+
+LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAttendant& attendant,
+                      int classes, const core::Provenance& provenance) {
+  const auto t0 = Clock::now();
+  const LearnOptions o = options.resolved();
+  o.validate();
+  if (classes < 1) throw Error("learn: at least one object is needed");
+  prepare_out(o);
+  Core k;
+  k.classes = classes;
+  learn_core(k, o, robot, attendant, provenance);
+  LearnResult r = finish(k, o, provenance, std::nullopt, true);
+  r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  write_final(r, o);
+  return r;
+}
+
+LearnResult run_learn(const LearnOptions& options, const core::Provenance& provenance) {
+  const auto t0 = Clock::now();
+  const LearnOptions o = options.resolved();
+  o.validate();
+  const std::vector<std::string> objects = parse_object_list(o.objects);
+  std::vector<std::string> all = objects;
+  for (const auto& c : names_or_empty(o.clutter)) all.push_back(c);
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  for (const auto& name : all) (void)catalogue.get(name);  // Error: unknown object
+  if (all.size() > kMaxObjects) {
+    throw Error(core::cat({"learn: ", std::to_string(all.size()),
+                           " objects do not fit on the table (at most ",
+                           std::to_string(kMaxObjects), ")"}));
+  }
+  prepare_out(o);
+  sim::TableOptions table;
+  table.objects = all;
+  table.seed = o.seed;
+  table.width = o.width;
+  table.height = o.height;
+  auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
+  GroundTruthAttendant attendant(*robot, o.seed);
+  Core k;
+  k.classes = static_cast<int>(objects.size());
+  learn_core(k, o, *robot, attendant, provenance);
+  robot.reset();  // one GL context at a time: the held-out views need their own
+  {
+    const LearnResult partial = finish(k, o, provenance, std::nullopt, false);
+    core::write_json_atomic(o.out / "learn.json", partial.document);
+  }
+  std::optional<SelfSupervisionScore> score;
+  if (k.lda && k.vocabulary) {
+    const auto th = Clock::now();
+    SelfSupervisionOptions so;
+    so.objects = o.objects;
+    so.seed = o.seed;
+    so.width = o.width;
+    so.height = o.height;
+    so.held_out = o.held_out;
+    so.features = o.features;
+    so.dilate = o.dilate;
+    so.min_features = o.min_features;
+    score = score_self_supervision(k.learning, attendant, objects, *k.lda, *k.vocabulary, so);
+    k.learner->mutable_seconds()["held_out"] =
+        std::chrono::duration<double>(Clock::now() - th).count();
+  }
+  LearnResult r = finish(k, o, provenance, score, true);
+  // What each push really moved (ground truth, scoring only): the attendant saw every push the
+  // learner made, in the same order.
+  const std::vector<PushTruth>& truth = attendant.pushes();
+  core::Json& pushes = r.document["pushes"];
+  for (std::size_t i = 0; i < pushes.size() && i < truth.size(); ++i) {
+    const PushTruth& t = truth[i];
+    pushes[i]["intended"] = t.intended;
+    pushes[i]["moved"] = t.moved;
+    pushes[i]["moved_intended"] =
+        std::find(t.moved.begin(), t.moved.end(), t.intended) != t.moved.end() &&
+        !t.intended.empty();
+    pushes[i]["moved_only_intended"] = t.only_intended;
+  }
+  r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.document["seconds"] = r.summary.seconds;
+  write_final(r, o);
+  return r;
+}
+
+}  // namespace proprio::loop

@@ -1,0 +1,111 @@
+// proprio learn, run as a user would: a tiny run on a simulated table (one object to learn, one
+// of clutter, two pushes, 200 x 150) writing the run directory of the learn/report contract, and
+// bad input as one line and exit 2.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_run.hpp"
+#include "proprio/core/json_io.hpp"
+
+namespace proprio::app {
+namespace {
+namespace fs = std::filesystem;
+using proprio::test::run_cli;
+
+#define EXPECT_HAS(haystack, needle) \
+  EXPECT_NE((haystack).find(needle), std::string::npos) << (haystack)
+
+class LearnCli : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() { fs::remove_all(dir()); }
+  static std::string file(const std::string& name) { return (dir() / name).string(); }
+  static const fs::path& dir() {
+    static const fs::path kDir =
+        fs::temp_directory_path() / ("proprio_learn_cli_" + std::to_string(getpid()));
+    return kDir;
+  }
+};
+
+TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
+  fs::create_directories(dir());
+  const auto r = run_cli(
+      "learn --objects book --clutter bottle --pushes 2 --width 200 --height 150 --words 20 "
+      "--topics 2 --held-out 3 --min-features 3 --seed 2 -q --out " +
+      file("run") + " --json " + file("run.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "learned");
+  const fs::path run = dir() / "run";
+  const core::Json j = core::read_json(run / "learn.json");
+  EXPECT_EQ(j["format"], "proprio.learn");
+  EXPECT_EQ(j["format_version"], 1);
+  EXPECT_TRUE(j["complete"].get<bool>());
+  EXPECT_FALSE(fs::exists(run / "INCOMPLETE"));
+  EXPECT_TRUE(fs::exists(run / "decisions.jsonl"));
+  EXPECT_TRUE(fs::exists(run / "table.png"));
+  ASSERT_EQ(j["objects"].size(), 1U);
+  EXPECT_EQ(j["objects"][0]["class"], "object_1");
+  EXPECT_TRUE(j["options"].contains("objects"));
+  EXPECT_TRUE(j["timing"].is_array());
+  EXPECT_EQ(j["clock"], "wall");
+  ASSERT_TRUE(j["pushes"].is_array());
+  ASSERT_FALSE(j["pushes"].empty());
+  EXPECT_GT(j["objects"][0]["views"].get<int>(), 0);
+  EXPECT_EQ(j["objects"][0]["truth"], "book");
+  ASSERT_TRUE(j.contains("held_out"));
+  EXPECT_TRUE(fs::exists(run / "vocabulary.vocab"));
+  EXPECT_TRUE(fs::exists(run / "lda.model"));
+  EXPECT_TRUE(fs::exists(run / "model.mot"));
+  for (const auto& p : j["pushes"]) {
+    if (!p["executed"].get<bool>()) continue;
+    const fs::path d = run / p["dir"].get<std::string>();
+    for (const char* f : {"before.png", "after.png", "map.png", "mask.png", "frame.png"}) {
+      EXPECT_TRUE(fs::exists(d / f)) << d / f;
+    }
+    EXPECT_EQ(p["plan"]["start_px"].size(), 2U);
+    EXPECT_TRUE(p.contains("moved_intended"));
+  }
+  EXPECT_EQ(j["held_out"]["views_per_object"], 3);
+  EXPECT_TRUE(j["held_out"]["mot"].contains("counts"));
+  EXPECT_TRUE(j["held_out"]["argmax"].contains("accuracy"));
+  std::ifstream log(run / "decisions.jsonl");
+  std::string first;
+  std::getline(log, first);
+  EXPECT_EQ(core::Json::parse(first)["event"], "start");
+  // The same directory again without --overwrite: exit 2, the run left alone.
+  const auto again = run_cli("learn --objects book --out " + file("run"));
+  EXPECT_EQ(again.code, 2);
+  EXPECT_HAS(again.err, "already exists");
+  EXPECT_TRUE(fs::exists(run / "learn.json"));
+}
+
+TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
+  fs::create_directories(dir());
+  const std::string out = " --out " + file("bad");
+  const struct {
+    std::string args;
+    std::string message;
+  } cases[] = {
+      {"--objects book,unicorn" + out, "unknown object 'unicorn'"},
+      {"--objects book,cd,book" + out, "named twice"},
+      {"--objects book,cd --clutter cd" + out, "named twice"},
+      {"--objects book --pushes 0" + out, "pushes"},
+      {"--objects book,mug,bottle,rabbit,cd,calculator --clutter giraffe,bike,box" + out,
+       "do not fit on the table"},
+      {"--objects book --background moving" + out, "background"},
+      {"--objects book", "--out"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_cli("learn -q " + c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.err;
+    EXPECT_HAS(r.err, c.message);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir() / "bad")) << c.args;
+  }
+}
+
+}  // namespace
+}  // namespace proprio::app

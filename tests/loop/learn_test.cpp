@@ -1,0 +1,181 @@
+// proprio learn's options: defaults from the issue, --quick, and bad input (the sim run itself
+// is exercised by tests/app/learn_cli_test.cpp).
+#include "proprio/loop/learn.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/sim/object_catalogue.hpp"
+#include "proprio/sim/simulated_robot.hpp"
+
+namespace proprio::loop {
+namespace {
+
+TEST(Learn, DefaultsAreTheIssuesWorld) {
+  const LearnOptions o;
+  EXPECT_EQ(o.objects, "book,bottle,cd,giraffe");
+  EXPECT_EQ(o.background, "plain");
+  EXPECT_EQ(o.seed, 1U);
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(o.resolved().pushes, o.pushes);  // not quick: unchanged
+}
+
+TEST(Learn, QuickMakesTheRunSmall) {
+  LearnOptions o;
+  o.quick = true;
+  const LearnOptions q = o.resolved();
+  EXPECT_LT(q.pushes, o.pushes);
+  EXPECT_LT(q.width, o.width);
+  EXPECT_LT(q.words, o.words);
+  o.pushes = 5;  // given explicitly: kept
+  EXPECT_EQ(o.resolved().pushes, 5);
+}
+
+TEST(Learn, BadOptionsThrow) {
+  LearnOptions o;
+  o.background = "moving";
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.clutter = "book";
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.pushes = 0;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.objects = "book,,cd";
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.clutter = "";
+  EXPECT_NO_THROW(o.validate());
+}
+
+TEST(Learn, AnExistingOutIsRefusedWithoutOverwrite) {
+  namespace fs = std::filesystem;
+  const fs::path d = fs::temp_directory_path() / ("proprio_learn_test_" + std::to_string(getpid()));
+  fs::create_directories(d);
+  LearnOptions o;
+  o.out = d;
+  o.progress = false;
+  try {
+    (void)run_learn(o, core::Provenance::current({"learn_test"}, 1));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("already exists"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::exists(d));
+  fs::remove_all(d);
+}
+
+// A robot that sees and refuses every push (as a real arm's driver would a path it cannot
+// follow); with `blind`, every look is a blank image; with `offset`, it pushes that far (m) beside
+// where it was asked, in the air over the empty table: the push moves nothing.
+class FaultyRobot final : public robot::Robot {
+ public:
+  FaultyRobot(sim::SimulatedRobot& inner, bool blind, bool refuse, Eigen::Vector2d offset)
+      : inner_(inner), blind_(blind), refuse_(refuse), offset_(std::move(offset)) {}
+  robot::Look look() override {
+    robot::Look l = inner_.look();
+    if (blind_) l.image.setTo(cv::Scalar(128, 128, 128));
+    return l;
+  }
+  [[nodiscard]] geometry::Camera camera() const override { return inner_.camera(); }
+  [[nodiscard]] const robot::Arm& arm() const override { return inner_.arm(); }
+  [[nodiscard]] robot::JointVector joints() const override { return inner_.joints(); }
+  robot::PushReport push(const robot::TablePush& push,
+                         const robot::PushRecording& recording) override {
+    if (refuse_) {
+      ++refused;
+      throw Error("push: the arm's driver refused the path");
+    }
+    robot::TablePush p = push;
+    p.start += offset_;
+    p.end += offset_;
+    return inner_.push(p, recording);
+  }
+  int refused = 0;
+
+ private:
+  sim::SimulatedRobot& inner_;
+  bool blind_;
+  bool refuse_;
+  Eigen::Vector2d offset_;
+};
+
+class NullAttendant final : public TableAttendant {
+ public:
+  std::string rescatter(int /*round*/) override { return {}; }
+};
+
+std::string events_of(const std::filesystem::path& log) {
+  std::ifstream in(log);
+  std::string all;
+  std::string line;
+  while (std::getline(in, line)) {
+    const core::Json j = core::Json::parse(line);
+    all += j.value("event", std::string()) + ":" + j.value("fault", std::string()) + " ";
+  }
+  return all;
+}
+
+TEST(Learn, FaultsAreLoggedAndTheRunStillCompletes) {
+  namespace fs = std::filesystem;
+  const fs::path d =
+      fs::temp_directory_path() / ("proprio_learn_faults_" + std::to_string(getpid()));
+  LearnOptions o;
+  o.objects = "book";
+  o.clutter = "bottle";
+  o.pushes = 2;
+  o.width = 200;
+  o.height = 150;
+  o.progress = false;
+  o.overwrite = true;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  sim::TableOptions table;
+  table.objects = {"book", "bottle"};
+  table.seed = 2;
+  table.width = o.width;
+  table.height = o.height;
+  sim::SimulatedRobot sim_robot(table, catalogue);
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  {
+    FaultyRobot robot(sim_robot, false, true, Eigen::Vector2d::Zero());
+    NullAttendant attendant;
+    o.out = d / "refused";
+    const LearnResult r = run_learn(o, robot, attendant, 1, prov);
+    EXPECT_GT(robot.refused, 0);
+    EXPECT_EQ(r.summary.views, 0);
+    const std::string ev = events_of(o.out / "decisions.jsonl");
+    EXPECT_NE(ev.find("fault:robot-refused"), std::string::npos) << ev;
+    EXPECT_NE(ev.find("rechoose:"), std::string::npos) << ev;
+    EXPECT_NE(ev.find("no-views:"), std::string::npos) << ev;
+    const core::Json j = core::read_json(o.out / "learn.json");
+    EXPECT_TRUE(j["complete"].get<bool>());
+    EXPECT_FALSE(fs::exists(o.out / "INCOMPLETE"));
+    for (const auto& p : j["pushes"]) EXPECT_FALSE(p["executed"].get<bool>());
+  }
+  {
+    FaultyRobot robot(sim_robot, true, false, Eigen::Vector2d::Zero());
+    NullAttendant attendant;
+    o.out = d / "blind";
+    (void)run_learn(o, robot, attendant, 1, prov);
+    EXPECT_NE(events_of(o.out / "decisions.jsonl").find("fault:no-blobs"), std::string::npos);
+  }
+  {
+    // Pushes 12 cm beside the object (toward the robot): they move nothing.
+    FaultyRobot robot(sim_robot, false, false, Eigen::Vector2d(-0.12, 0.0));
+    NullAttendant attendant;
+    o.out = d / "missed";
+    (void)run_learn(o, robot, attendant, 1, prov);
+    const std::string ev = events_of(o.out / "decisions.jsonl");
+    EXPECT_NE(ev.find("fault:moved-nothing"), std::string::npos) << ev;
+  }
+  fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace proprio::loop
