@@ -23,6 +23,7 @@
 #include "proprio/features/features.hpp"
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/vocabulary.hpp"
+#include "proprio/loop/learn_report.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
@@ -147,6 +148,19 @@ LearnOptions LearnOptions::resolved() const {
   return o;
 }
 
+namespace {
+
+// The simulated world's backdrop named by the options (sim::kBackgroundNames).
+sim::Background background_of(const LearnOptions& o) {
+  for (const auto& [name, value] : sim::kBackgroundNames) {
+    if (name == o.background) return value;
+  }
+  throw Error("learn: --background must be " + core::choice_list(sim::kBackgroundNames) +
+              " (it is '" + o.background + "')");
+}
+
+}  // namespace
+
 void LearnOptions::validate() const {
   core::check_field_bounds(*this, "learn");
   std::vector<std::string> all = parse_object_list(objects);
@@ -156,10 +170,7 @@ void LearnOptions::validate() const {
     }
     all.push_back(c);
   }
-  if (background != "plain") {
-    throw Error("learn: --background '" + background +
-                "': only 'plain' is available (moving and photo backdrops are not wired yet)");
-  }
+  (void)background_of(*this);  // Error: an unknown backdrop
   features.validate();
   plan.validate();
   sparse.validate();
@@ -957,6 +968,7 @@ std::string LearnResult::brief() const {
     b += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
                              100 * score->mot_accuracy, 100 * score->argmax_accuracy);
   }
+  if (!report.empty()) b += "\nreport: " + report.string();
   return b;
 }
 
@@ -992,7 +1004,10 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   }
   prepare_out(o);
   sim::TableOptions table;
-  table.objects = all;
+  table.objects = objects;
+  table.clutter = o.clutter;  // ground truth role "clutter": scattered, never learned or scored
+  table.background = background_of(o);
+  table.distractors = o.distractors;
   table.seed = o.seed;
   table.width = o.width;
   table.height = o.height;
@@ -1039,6 +1054,10 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   r.document["seconds"] = r.summary.seconds;
   write_final(r, o);
+  LearnReportOptions page;
+  page.dir = o.out;
+  page.overwrite = true;  // in the run directory this run has just written
+  r.report = write_learn_report(page, provenance).summary.page;
   return r;
 }
 

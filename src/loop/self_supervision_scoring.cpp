@@ -43,7 +43,11 @@ std::string GroundTruthAttendant::rescatter(int round) {
   // object at the arm's base, which blows the simulation up) is drawn again with the next seed.
   const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
   std::vector<const sim::ObjectType*> types;
-  for (const auto& o : robot_.ground_truth()) types.push_back(&catalogue.get(o.name));
+  // The distractors slide about behind the work area (a moving backdrop): a person re-scatters
+  // what is on the table, objects and clutter.
+  for (const auto& o : robot_.ground_truth()) {
+    if (o.role != sim::TableRole::kDistractor) types.push_back(&catalogue.get(o.name));
+  }
   const sim::ScatterRegion region;
   std::uint64_t s = (seed_ * 1000) + static_cast<std::uint64_t>(round);
   std::vector<sim::Placement> places;
@@ -113,6 +117,7 @@ void GroundTruthAttendant::after_push(const PushIntent& intent, bool executed) {
   const std::vector<sim::ObjectTruth> after = robot_.ground_truth();
   bool intended_moved = false;
   for (std::size_t i = 0; i < after.size() && i < before_.size(); ++i) {
+    if (after[i].role == sim::TableRole::kDistractor) continue;  // they always move
     if ((after[i].centre - before_[i].centre).head<2>().norm() > kMovedThreshold) {
       t.moved.push_back(after[i].name);
       if (after[i].name == t.intended) intended_moved = true;
@@ -135,7 +140,9 @@ void GroundTruthAttendant::cleared(int r, const planning::PlanningView& view, in
   if (it == truth.end()) return;
   double gap = 1e9;
   for (const auto& o : truth) {
-    if (o.name != now && o.on_table) gap = std::min(gap, footprint_gap(*it, o));
+    if (o.name != now && o.on_table && o.role != sim::TableRole::kDistractor) {
+      gap = std::min(gap, footprint_gap(*it, o));
+    }
   }
   rt.least_gap = gap >= 1e9 ? 1.0 : gap;
   rt.singulated = now == rt.chosen && rt.least_gap >= 0.10;

@@ -66,8 +66,12 @@ struct LearnOptions {
   std::string objects = "book,bottle,cd,giraffe";
   /// More catalogue objects on the table, never to be learned (clutter).
   std::string clutter = "mug,rabbit,calculator";
-  /// The backdrop: "plain" (moving and photo backdrops come with the world's distractors).
-  std::string background = "plain";
+  /// The simulated world's backdrop (the learner never knows it): "plain", "photo" or "moving"
+  /// (a video of people walking, advancing with the robot's clock, with distractors sliding
+  /// about behind the work area; sim::TableOptions::background).
+  std::string background = "moving";
+  /// Moving distractors behind the work area: -1 = 2 with the moving backdrop, else 0.
+  int distractors = -1;
   std::uint64_t seed = 1;  ///< the table, the choices, the paths
   int pushes = 10;         ///< pushes of each object before moving on
   int topics = 10;         ///< LDA topics (when no --model is given)
@@ -103,14 +107,16 @@ struct LearnOptions {
   /// The options with --quick applied (pushes, image size, words, topics made small).
   [[nodiscard]] LearnOptions resolved() const;
   /// Throws Error naming the first bad option: bounds, an empty or repeated name (objects and
-  /// clutter together), a background other than plain.
+  /// clutter together), an unknown background.
   void validate() const;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.objects, {"objects", "Objects to learn, catalogue names, comma-separated"});
     v(self.clutter, {"clutter", "More catalogue objects on the table (not learned); '' none"});
-    v(self.background, {"background", "Backdrop: plain (moving/photo: not yet available)"});
+    v(self.background, {"background", "Backdrop: plain, photo or moving (people walking)"});
+    v(self.distractors, {"distractors", "Moving distractors: -1 = 2 with a moving backdrop, else 0",
+                         core::between(-1, 4)});
     v(self.seed, {"seed", "Seed of the table, the choices and the paths"});
     v(self.pushes, {"pushes", "Pushes of each object", core::between(1, 1000)});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
@@ -171,6 +177,9 @@ struct LearnResult {
   std::vector<LearnPush> pushes;
   std::optional<SelfSupervisionScore> score;
   core::Json document;  ///< format "proprio.learn" (also DIR/learn.json)
+  /// The run's HTML page (loop/learn_report.hpp), written last by the simulated run; empty
+  /// after the robot-only run (it has no held-out views to show).
+  std::filesystem::path report;
   [[nodiscard]] std::string brief() const;
 };
 
@@ -183,7 +192,7 @@ LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAtt
 /// run_learn on a simulated table of options.objects + options.clutter (seed options.seed),
 /// scored against the ground truth and on held-out views (20 per object, as
 /// score_self_supervision renders them). Throws Error for an unknown or repeated object, more
-/// objects than the table holds (8), zero pushes, a non-plain background, an existing out.
+/// objects than the table holds (8), zero pushes, an unknown background, an existing out.
 LearnResult run_learn(const LearnOptions& options, const core::Provenance& provenance);
 
 }  // namespace proprio::loop
