@@ -105,6 +105,22 @@ TEST(RegionTracker, KeepsIdentitiesAlongTheFlow) {
   EXPECT_EQ(b(10, 10), a(10, 10));
   EXPECT_EQ(b(10, 30), a(10, 30));
   EXPECT_NE(b(10, 10), b(10, 30));
+  EXPECT_TRUE(t.ended().empty());
+  EXPECT_TRUE(t.created().empty());
+  // One superpixel over all: the left track (24 of 40 columns) claims it, the right one ends and
+  // hands over to it; a superpixel from outside the image starts a track with no parent.
+  const cv::Mat1i c = t.update(cv::Mat1i(40, 40, 0), 1, cv::Mat2f(40, 40, cv::Vec2f(0, 0)));
+  EXPECT_EQ(c(10, 30), b(10, 10));
+  ASSERT_EQ(t.ended().size(), 1U);
+  EXPECT_EQ(t.ended()[0], std::make_pair(b(10, 30), b(10, 10)));
+  EXPECT_EQ(t.live(), std::vector<int>{b(10, 10)});
+  (void)t.update(cv::Mat1i(40, 40, 0), 1, cv::Mat2f(40, 40, cv::Vec2f(100, 0)));
+  ASSERT_EQ(t.created().size(), 1U);
+  EXPECT_EQ(t.created()[0], std::make_pair(t.track_count() - 1, -1));
+  ASSERT_EQ(t.ended().size(), 1U);
+  EXPECT_EQ(t.ended()[0], std::make_pair(b(10, 10), -1));  // its pixels all left the image
+  // Ids are never reused (unused superpixel labels above took some too).
+  EXPECT_GT(t.created()[0].first, b(10, 10));
 }
 
 struct PushCase {
@@ -211,6 +227,37 @@ TEST(MlSegmentation, StreamingAndBatchGiveTheSameMaps) {
   for (int i = 0; i < ep.frame_count(); ++i)
     EXPECT_TRUE(quiet.push(ep.frame(i), ep.ee_image(i), ep.arm()[i].touching).map.empty());
   EXPECT_EQ(cv::norm(quiet.map_for_frame(batch.scored_frame), batch.map, cv::NORM_INF), 0.0);
+}
+
+TEST(MlSegmentation, ForgettingEndedTracksKeepsEveryMapAndBoundsTheTracksHeld) {
+  // Issue 16's soak: a stream keeps only the tracks the first touch's map still needs. The maps
+  // (the current frame's and the first touch's) must be exactly those of a segmenter that keeps
+  // every track.
+  PushSpec spec;
+  spec.moving_background = true;
+  spec.frames = 40;
+  MlOptions all;
+  all.keep_frame_labels = true;
+  MlOptions stream = all;
+  stream.keep_frame_labels = false;
+  MlSegmenter keep(all, cv::Size(spec.width, spec.height));
+  MlSegmenter lean(stream, cv::Size(spec.width, spec.height));
+  for (int i = 0; i < spec.frames; ++i) {
+    const PushFrame f = push_frame(spec, i);
+    const auto a = keep.push(f.image, f.ee, f.touching);
+    const auto b = lean.push(f.image, f.ee, f.touching);
+    ASSERT_EQ(cv::norm(a.map, b.map, cv::NORM_INF), 0.0) << i;
+  }
+  ASSERT_TRUE(lean.first_touch_frame().has_value());
+  const int touch = *lean.first_touch_frame();
+  EXPECT_EQ(cv::norm(keep.map_for_frame(touch), lean.map_for_frame(touch), cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(lean.map_for_frame(touch), cv::NORM_INF), 0.0);
+  const MlSummary ks = keep.summary(), ls = lean.summary();
+  EXPECT_EQ(ks.tracks, ls.tracks);
+  EXPECT_EQ(ks.tracks_kept, ks.tracks);  // every track, for every frame's labels
+  EXPECT_LT(ls.tracks_kept, ls.tracks);
+  // Only the first touch's frame can be painted again.
+  EXPECT_THROW((void)lean.map_for_frame(touch - 1), Error);
 }
 
 TEST(MlSegmentation, PriorMultipliesIn) {

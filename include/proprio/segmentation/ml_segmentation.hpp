@@ -232,7 +232,6 @@ struct MlOptions {
     v(self.contact_radius, {"contact_radius", "Contact prior radius, px"});
     v(self.contact_gap, {"contact_gap", "Contact prior gap, px"});
   }
-
 };
 
 /// What happened (Ceres style).
@@ -242,8 +241,11 @@ struct MlSummary {
   bool touched = false;        ///< the arm touched something
   int evidence_intervals = 0;  ///< evidence intervals closed (arm moved evidence_step)
   int tracks = 0;              ///< region tracks created over the episode
-  int camera_fits = 0;         ///< evidence intervals whose camera motion was found
-  int camera_failures = 0;     ///< evidence intervals with no camera motion fit (not compensated)
+  /// Region tracks held at the end: the live ones and the ended ones whose evidence the first
+  /// touch's map still needs (all of them with keep_frame_labels).
+  int tracks_kept = 0;
+  int camera_fits = 0;      ///< evidence intervals whose camera motion was found
+  int camera_failures = 0;  ///< evidence intervals with no camera motion fit (not compensated)
   double mean_camera_motion = 0.0;  ///< mean camera motion over an interval, image centre, pixels
   std::string message;              ///< one line: what happened
   double mean_ms_regions = 0.0;     ///< over-segmentation + tracking, per frame
