@@ -1,5 +1,6 @@
 #include "proprio/segmentation/ml_segmentation.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cassert>
 #include <chrono>
@@ -11,6 +12,7 @@
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/text.hpp"
+#include "proprio/geometry/camera.hpp"
 #include "proprio/segmentation/motion_models.hpp"
 #include "proprio/segmentation/optical_flow.hpp"
 #include "proprio/segmentation/region_smoothing.hpp"
@@ -50,8 +52,13 @@ struct Track {
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();        // translation since the interval's start
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();        // homography since the interval's start
   Eigen::Vector2d last_motion = Eigen::Vector2d::Zero();  // robust mean of the last frame pair
-  int last_frame = -1;                                    // frame of last_motion
-  int successor = -1;  // where its evidence continues once it ended (see scores())
+  // Depth variant: 3-D translation since the interval's start (camera frame, mm), the arm's 3-D
+  // position when it joined, and whether every frame pair of its span had enough depth.
+  Eigen::Vector3d shift3 = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Vector3d> start_ee3;
+  bool depth_ok = true;
+  int last_frame = -1;  // frame of last_motion
+  int successor = -1;   // where its evidence continues once it ended (see scores())
   // Memory (release_ended): a track is kept after it ends only while a kept label image (the
   // first touch's) names it or one of its predecessors: `root` when the first touch's labels
   // name it, `needed` when they name it or a predecessor, `preds` its needed predecessors.
@@ -130,6 +137,11 @@ void MlOptions::validate() const {
           "MlOptions.min_camera_motion must be >= 0");
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
+  require_positive(depth_lambda, "depth_lambda");
+  require_positive(depth_bandwidth, "depth_bandwidth");
+  require(std::isfinite(depth_edge) && depth_edge >= 0,
+          core::cat({"MlOptions.depth_edge must be >= 0, got ", core::num(depth_edge)}));
+  require(min_depth_samples >= 1, "MlOptions.min_depth_samples must be >= 1");
   if (!prior.empty()) {
     double lo = 0, hi = 0;
     cv::minMaxLoc(prior, &lo, &hi);
@@ -214,6 +226,11 @@ struct MlSegmenter::Impl {
   double sum_camera_motion = 0;
   int camera_fits = 0, camera_failures = 0;
   std::optional<Eigen::Vector2d> prev_ee;
+  // Depth variant: this frame's and the previous frame's depth (processing size, mm, 0 =
+  // unknown), the arm in the camera frame (mm), and K^-1 (full-size pixels).
+  cv::Mat1f depth_now, prev_depth;
+  std::optional<Eigen::Vector3d> ee3_now, prev_ee3;
+  Eigen::Matrix3d k_inv = Eigen::Matrix3d::Identity();
   // Every frame's arm position when keep_frame_labels, else only the first touch's and the
   // last frame's (a stream keeps no per-frame history).
   std::vector<std::optional<Eigen::Vector2d>> ee_track;
@@ -260,6 +277,8 @@ struct MlSegmenter::Impl {
     std::vector<Eigen::Vector2d> at_sum;                // sum of sampled positions
     std::vector<int> samples;                           // how many
     std::vector<Eigen::Vector3f> colour_sum;            // sum of sampled BGR
+    std::vector<std::vector<Eigen::Vector3f>> motion3;  // depth variant: prev -> current, mm
+    const bool depth = opt.use_depth && !depth_now.empty() && !prev_depth.empty();
     const bool homography = opt.model == MotionModel::kHomography;
     const bool photometric = opt.min_photometric_gain > 0 && photometric_ok;
     const auto s = static_cast<float>(inv_scale);
@@ -292,8 +311,12 @@ struct MlSegmenter::Impl {
             tr.untrusted = false;
             tr.photo_gain = 0.0;
             tr.photo_n = 0;
+            tr.shift3.setZero();
+            tr.start_ee3 = prev_ee3;
+            tr.depth_ok = true;
           }
           motion.emplace_back();
+          if (depth) motion3.emplace_back();
           region_pixels.emplace_back();
           at_sum.emplace_back(Eigen::Vector2d::Zero());
           samples.push_back(0);
@@ -307,6 +330,7 @@ struct MlSegmenter::Impl {
         if (photometric) region_pixels[l].emplace_back(x, y);
         if (!textured(y, x)) continue;
         motion[l].emplace_back(-f[x][0] * s, -f[x][1] * s);
+        if (depth) add_motion_3d(x, y, f[x], motion3[l]);
         if (homography) at[l].emplace_back(x * s, y * s);
       }
     }
@@ -321,6 +345,12 @@ struct MlSegmenter::Impl {
       }
       const RobustMeanResult m = robust_mean(motion[l], opt.robust_bandwidth, opt.robust_tolerance,
                                              opt.robust_max_iterations);
+      if (!depth || static_cast<int>(motion3[l].size()) < opt.min_depth_samples) {
+        tr.depth_ok = false;
+      } else {
+        tr.shift3 += robust_mean_3d(motion3[l], opt.depth_bandwidth, opt.robust_tolerance,
+                                    opt.robust_max_iterations);
+      }
       tr.shift += m.mean;
       tr.last_motion = m.mean;
       tr.last_frame = frames;
@@ -353,6 +383,22 @@ struct MlSegmenter::Impl {
       }
     }
     return ids;
+  }
+
+  // Depth variant: the 3-D motion (mm, camera frame) of the sample at processing pixel (x, y),
+  // whose backward flow is f, when its depth is known in both frames.
+  void add_motion_3d(int x, int y, const cv::Vec2f& f, std::vector<Eigen::Vector3f>& out) const {
+    const float z1 = depth_now(y, x);
+    if (!(z1 > 0)) return;
+    const double px = x + f[0], py = y + f[1];
+    const int ix = static_cast<int>(std::lround(px)), iy = static_cast<int>(std::lround(py));
+    if (ix < 0 || iy < 0 || ix >= prev_depth.cols || iy >= prev_depth.rows) return;
+    const float z0 = prev_depth(iy, ix);
+    if (!(z0 > 0)) return;
+    const Eigen::Vector3d now = z1 * (k_inv * Eigen::Vector3d(x * inv_scale, y * inv_scale, 1.0));
+    const Eigen::Vector3d before =
+        z0 * (k_inv * Eigen::Vector3d(px * inv_scale, py * inv_scale, 1.0));
+    out.push_back((now - before).cast<float>());
   }
 
   // The region's homography over the open interval (Algorithm 2): fitted once to its points
@@ -457,7 +503,14 @@ struct MlSegmenter::Impl {
       } else if (!unsupported) {
         e = to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift - d;
       }
-      const double p = motion_likelihood(e, opt.lambda);
+      double p = motion_likelihood(e, opt.lambda);
+      if (opt.use_depth && tr.depth_ok && tr.start_ee3 && ee3_now) {
+        // The depth variant: the region's 3-D translation against the arm's (mm); a motion the
+        // image does not support is none.
+        const Eigen::Vector3d d3 = *ee3_now - *tr.start_ee3;
+        p = motion_likelihood_3d((unsupported ? Eigen::Vector3d::Zero() : tr.shift3) - d3,
+                                 opt.depth_lambda);
+      }
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
         // count, a still one is no evidence either way.
@@ -720,8 +773,36 @@ MlSegmenter::~MlSegmenter() = default;
 MlSegmenter::MlSegmenter(MlSegmenter&&) noexcept = default;
 MlSegmenter& MlSegmenter::operator=(MlSegmenter&&) noexcept = default;
 
+namespace {
+
+// The depth image as CV_32F millimetres with every unknown value (0, NaN, infinite, negative)
+// 0, at `size` (nearest neighbour). Error naming the frame for a missing, empty, mis-sized or
+// mis-typed image.
+cv::Mat1f checked_depth(const MlSegmenter::DepthFrame* d, int frame, cv::Size full, cv::Size size) {
+  const std::string f = core::cat({"frame ", std::to_string(frame)});
+  require(d != nullptr && !d->depth.empty(),
+          core::cat({f, ": depth asked for (MlOptions::use_depth) but the frame has none"}));
+  require(d->depth.size() == full,
+          core::cat({f, ": depth image is ", std::to_string(d->depth.cols), "x",
+                     std::to_string(d->depth.rows), ", the frames are ", std::to_string(full.width),
+                     "x", std::to_string(full.height)}));
+  require(d->depth.type() == CV_16UC1 || d->depth.type() == CV_32FC1,
+          core::cat({f, ": depth must be 16-bit or float single-channel millimetres"}));
+  require(d->intrinsics.allFinite() && std::abs(d->intrinsics.determinant()) > 0,
+          core::cat({f, ": the camera intrinsics are singular or not finite"}));
+  cv::Mat1f mm;
+  d->depth.convertTo(mm, CV_32F);
+  for (auto it = mm.begin(); it != mm.end(); ++it)
+    if (!std::isfinite(*it) || *it < 0) *it = 0.0F;
+  if (size != full) cv::resize(mm, mm, size, 0, 0, cv::INTER_NEAREST);
+  return mm;
+}
+
+}  // namespace
+
 MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
-                                           std::optional<Eigen::Vector2d> ee_image, bool touching) {
+                                           std::optional<Eigen::Vector2d> ee_image, bool touching,
+                                           const DepthFrame* depth) {
   Impl& m = *impl_;
   require(!bgr.empty() && bgr.depth() == CV_8U && (bgr.channels() == 3 || bgr.channels() == 1),
           core::cat({"frame ", std::to_string(m.frames), ": expected an 8-bit BGR image"}));
@@ -731,6 +812,12 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
                            std::to_string(m.size.width), "x", std::to_string(m.size.height)}));
   }
   if (ee_image && !ee_image->allFinite()) ee_image.reset();
+  if (m.opt.use_depth) {
+    m.depth_now = checked_depth(depth, m.frames, m.size, m.proc_size);
+    m.ee3_now = depth->ee_camera;
+    if (m.ee3_now && !m.ee3_now->allFinite()) m.ee3_now.reset();
+    m.k_inv = depth->intrinsics.inverse();
+  }
   const auto t0 = Clock::now();
   FrameOutput out;
   out.frame = m.frames;
@@ -755,7 +842,9 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   out.ms_flow = std::chrono::duration<double, std::milli>(t1 - t0).count();
 
   int count = 0;
-  const cv::Mat1i sp = m.segmenter.segment(colour, count);
+  cv::Mat1i sp = m.segmenter.segment(colour, count);
+  if (m.opt.use_depth && m.opt.depth_edge > 0)
+    sp = split_at_depth_steps(sp, m.depth_now, m.opt.depth_edge, count);
   const cv::Mat1i lab = m.tracker.update(sp, count, back_flow);
   // A new track inherits the arm evidence (eq 4.18) of the track it grew out of: the
   // over-segmentation keeps re-cutting the moving arm, and a fresh piece of it is still arm.
@@ -825,6 +914,8 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   }
   if (!m.opt.keep_frame_labels) m.release_ended();
   m.prev_gray = gray;
+  m.prev_depth = m.depth_now;
+  m.prev_ee3 = m.ee3_now;
   ++m.frames;
   const auto t3 = Clock::now();
   out.ms_model = std::chrono::duration<double, std::milli>(t3 - t2).count();
@@ -894,6 +985,11 @@ std::vector<std::optional<Eigen::Vector2d>> checked_arm_track(const episode::Epi
 MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
   options.validate();
   const auto track = checked_arm_track(episode);
+  if (options.use_depth && !episode.info().has_depth) {
+    throw Error::in_file(episode.dir(),
+                         "depth asked for (ml-depth, MlOptions::use_depth) but the episode has no "
+                         "depth images (record it with `sim record --depth`)");
+  }
   MlResult r;
   r.first_touch_frame = episode.first_touch_frame();
   if (!r.first_touch_frame) {
@@ -906,10 +1002,19 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
   o.stream_maps = false;
   const cv::Size size(episode.info().width, episode.info().height);
   MlSegmenter seg(o, size);
+  const geometry::Camera& cam = episode.camera();
   for (int i = 0; i < episode.frame_count(); ++i) {
     const cv::Mat bgr = episode.frame(i);
+    MlSegmenter::DepthFrame d;
+    if (options.use_depth) {
+      d.depth = episode.depth(i);
+      d.intrinsics = cam.K;
+      // Metres (robot frame) -> millimetres in the camera frame; behind the camera: unknown.
+      const Eigen::Vector3d x = cam.R * episode.arm()[i].ee + cam.t;
+      if (x.allFinite() && x.z() > 0) d.ee_camera = 1000.0 * x;
+    }
     try {
-      (void)seg.push(bgr, track[i], episode.arm()[i].touching);
+      (void)seg.push(bgr, track[i], episode.arm()[i].touching, options.use_depth ? &d : nullptr);
     } catch (const Error& e) {
       throw Error::in_file(episode::image_path(episode.dir(), "frames", i), e.what());
     }

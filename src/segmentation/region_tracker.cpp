@@ -42,6 +42,39 @@ cv::Mat1i label_equal_colours(const cv::Mat3b& img, int& count) {
 
 }  // namespace
 
+cv::Mat1i split_at_depth_steps(const cv::Mat1i& labels, const cv::Mat1f& depth, double max_step,
+                               int& count) {
+  assert(labels.size() == depth.size() && max_step > 0);
+  cv::Mat1i out(labels.size(), -1);
+  std::vector<cv::Point> stack;
+  count = 0;
+  const auto step = static_cast<float>(max_step);
+  for (int y = 0; y < labels.rows; ++y) {
+    for (int x = 0; x < labels.cols; ++x) {
+      if (out(y, x) >= 0) continue;
+      out(y, x) = count;
+      stack.assign(1, {x, y});
+      while (!stack.empty()) {
+        const cv::Point p = stack.back();
+        stack.pop_back();
+        const int l = labels(p);
+        const float d = depth(p);
+        const cv::Point nb[4] = {{p.x + 1, p.y}, {p.x - 1, p.y}, {p.x, p.y + 1}, {p.x, p.y - 1}};
+        for (const auto& q : nb) {
+          if (q.x < 0 || q.y < 0 || q.x >= labels.cols || q.y >= labels.rows) continue;
+          if (out(q) >= 0 || labels(q) != l) continue;
+          const float e = depth(q);
+          if (d > 0 && e > 0 && std::abs(d - e) > step) continue;
+          out(q) = count;
+          stack.push_back(q);
+        }
+      }
+      ++count;
+    }
+  }
+  return out;
+}
+
 struct OverSegmenter::Impl {
   OverSegmentation method;
   int region_count;

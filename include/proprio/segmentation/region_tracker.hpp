@@ -34,6 +34,15 @@ class OverSegmenter {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Depth discontinuities as region boundaries (the depth variant, thesis 9.2): `labels`' regions
+/// (CV_32S, 0..count-1) cut into their 4-connected pieces that no depth step crosses. Two
+/// neighbouring pixels are joined when they have the same label and their depths (`depth`,
+/// CV_32F, millimetres, of labels' size; 0 = unknown) differ by at most `max_step` mm or either
+/// is unknown (holes neither cut nor join regions of their own). Returns the new labels
+/// (0..count'-1, numbered in scan order) and sets `count` to their number.
+cv::Mat1i split_at_depth_steps(const cv::Mat1i& labels, const cv::Mat1f& depth, double max_step,
+                               int& count);
+
 /// Track identities across frames (see above).
 class RegionTracker {
  public:
