@@ -88,8 +88,9 @@ void register_segment_commands(CLI::App& root, const Invocation& inv) {
       "Segment the pushed object of an episode (thesis Ch 4-5): Motion-Likelihood, its homography "
       "and sparse variants, the Fitzpatrick & Metta baseline, or M-L + graph cuts");
   cmd->add_option("episode", seg->options.episode, "Episode directory")->required();
-  cmd->add_option("--method", seg->method, "ml, ml-homography, ml-sparse, fm or ml-graphcut")
-      ->check(CLI::IsMember({"ml", "ml-homography", "ml-sparse", "fm", "ml-graphcut"}));
+  cmd->add_option("--method", seg->method,
+                  "ml, ml-homography, ml-sparse, fm, ml-graphcut or ml-depth (needs depth)")
+      ->check(CLI::IsMember({"ml", "ml-homography", "ml-sparse", "fm", "ml-graphcut", "ml-depth"}));
   cmd->add_option("--out", seg->options.out,
                   "Directory to write: map.png (16-bit), mask.png, overlay.png, frame.png, "
                   "truth.png, segment.json")
@@ -108,7 +109,7 @@ void register_segment_commands(CLI::App& root, const Invocation& inv) {
       "(thesis 5.1-5.2): P-R curves, Jaccard, L2, KS tests, CSV, plots and a JSON summary");
   es->add_option("dataset", ev->options.dataset, "Directory of episode directories")->required();
   es->add_option("--methods", ev->methods,
-                 "Comma-separated: ml, ml-homography, ml-sparse, fm, ml-graphcut");
+                 "Comma-separated: ml, ml-homography, ml-sparse, fm, ml-graphcut, ml-depth");
   es->add_option("--out", ev->options.out, "Directory to write")->required();
   es->add_option("--json", ev->json, "Also write the summary to this file");
   es->add_option("--threads", ev->options.threads, "Episodes evaluated at once")

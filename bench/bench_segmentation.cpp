@@ -1,7 +1,7 @@
 // M-L segmentation speed at 640x480 (issue 4: >= 30 frames/s with the translation model, flow
 // and over-segmentation included, disk I/O excluded). Frames of one episode are decoded into
 // memory first. PROPRIO_BENCH_EPISODE names the episode (default: the thesis-ch5 dataset's
-// push_mug_moving_0).
+// push_mug_moving_0; BM_MlDepth needs one recorded with `sim record --depth`).
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -21,6 +21,7 @@ struct Loaded {
   std::vector<cv::Mat> frames;
   std::vector<std::optional<Eigen::Vector2d>> ee;
   std::vector<bool> touching;
+  std::vector<seg::MlSegmenter::DepthFrame> depth;  // when the episode has depth
   std::string error;
 };
 
@@ -35,6 +36,13 @@ const Loaded& loaded() {
         out.frames.push_back(ep.frame(i));
         out.ee.push_back(ep.ee_image(i));
         out.touching.push_back(ep.arm()[i].touching);
+        if (ep.info().has_depth) {
+          seg::MlSegmenter::DepthFrame d;
+          d.depth = ep.depth(i);
+          d.intrinsics = ep.camera().K;
+          d.ee_camera = 1000.0 * (ep.camera().R * ep.arm()[i].ee + ep.camera().t);
+          out.depth.push_back(d);
+        }
       }
     } catch (const std::exception& e) {
       out.error = e.what();
@@ -55,12 +63,16 @@ bool skip_without_frames(benchmark::State& state) {
 void run_ml(benchmark::State& state, seg::MlOptions o) {
   if (skip_without_frames(state)) return;
   const auto& l = loaded();
+  if (o.use_depth && l.depth.empty()) {
+    state.SkipWithError("the episode has no depth (record it with sim record --depth)");
+    return;
+  }
   o.keep_frame_labels = false;
   seg::MlSummary s;
   for (auto _ : state) {
     seg::MlSegmenter m(o, l.frames[0].size());
     for (size_t i = 0; i < l.frames.size(); ++i) {
-      auto out = m.push(l.frames[i], l.ee[i], l.touching[i]);
+      auto out = m.push(l.frames[i], l.ee[i], l.touching[i], o.use_depth ? &l.depth[i] : nullptr);
       benchmark::DoNotOptimize(out.map.data);
     }
     s = m.summary();
@@ -89,6 +101,14 @@ void BM_MlHomography(benchmark::State& state) {
   run_ml(state, o);
 }
 BENCHMARK(BM_MlHomography)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The depth variant (thesis 9.2; issue 20: >= 20 frames/s): needs an episode with depth.
+void BM_MlDepth(benchmark::State& state) {
+  seg::MlOptions o;
+  o.use_depth = true;
+  run_ml(state, o);
+}
+BENCHMARK(BM_MlDepth)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Stages alone, one 640x480 frame pair.
 void BM_Flow(benchmark::State& state) {

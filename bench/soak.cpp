@@ -121,6 +121,7 @@ nlohmann::json soak_segmentation(long frames, int width, int height) {
   j["width"] = width;
   j["height"] = height;
   j["tracks"] = seg.summary().tracks;
+  j["tracks_kept"] = seg.summary().tracks_kept;
   return j;
 }
 

@@ -30,7 +30,8 @@ const std::vector<std::pair<Method, std::string>>& method_names() {
       {Method::kMlHomography, "ml-homography"},
       {Method::kMlSparse, "ml-sparse"},
       {Method::kFm, "fm"},
-      {Method::kMlGraphCut, "ml-graphcut"}};
+      {Method::kMlGraphCut, "ml-graphcut"},
+      {Method::kMlDepth, "ml-depth"}};
   return kNames;
 }
 
@@ -132,7 +133,7 @@ Method parse_method(const std::string& s) {
     if (v == s) return k;
   }
   std::string msg = "unknown segmentation method '" + s;
-  msg += "' (ml, ml-homography, ml-sparse, fm, ml-graphcut)";
+  msg += "' (ml, ml-homography, ml-sparse, fm, ml-graphcut, ml-depth)";
   throw Error(msg);
 }
 
@@ -195,9 +196,11 @@ EpisodeEvaluation evaluate_episode(const episode::Episode& ep, const std::vector
   // M-L (translation) runs once when both ml and ml-graphcut are asked for.
   std::optional<seg::MlResult> ml_cache;
   double ml_seconds = 0;
-  auto run_ml = [&](bool homography) {
+  auto run_ml = [&](Method m) {
     seg::MlOptions mo = options.ml;
-    mo.model = homography ? seg::MotionModel::kHomography : seg::MotionModel::kTranslation;
+    mo.model =
+        m == Method::kMlHomography ? seg::MotionModel::kHomography : seg::MotionModel::kTranslation;
+    mo.use_depth = m == Method::kMlDepth;
     mo.keep_frame_maps = options.all_frames;
     return seg::segment_ml(ep, mo);
   };
@@ -208,14 +211,15 @@ EpisodeEvaluation evaluate_episode(const episode::Episode& ep, const std::vector
     o.method = m;
     const auto t0 = Clock::now();
     try {
-      if (m == Method::kMl || m == Method::kMlHomography || m == Method::kMlSparse) {
+      if (m == Method::kMl || m == Method::kMlHomography || m == Method::kMlSparse ||
+          m == Method::kMlDepth) {
         seg::MlResult r;
         double fraction = options.ml.mask_fraction;
         if (m == Method::kMlSparse) {
           r = seg::segment_ml_sparse(ep, options.sparse);
           fraction = options.sparse.mask_fraction;
         } else {
-          r = run_ml(m == Method::kMlHomography);
+          r = run_ml(m);
         }
         o.scored_frame = r.scored_frame;
         o.message = r.summary.message;
@@ -288,7 +292,7 @@ EpisodeEvaluation evaluate_episode(const episode::Episode& ep, const std::vector
         }
       } else {  // kMlGraphCut
         if (!ml_cache) {
-          ml_cache = run_ml(false);
+          ml_cache = run_ml(Method::kMl);
           ml_cache->frame_maps.clear();
           ml_seconds = seconds_since(t0);
         }

@@ -1,5 +1,6 @@
 #include "proprio/segmentation/ml_segmentation.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cassert>
 #include <chrono>
@@ -7,9 +8,11 @@
 #include <functional>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <unordered_map>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/text.hpp"
+#include "proprio/geometry/camera.hpp"
 #include "proprio/segmentation/motion_models.hpp"
 #include "proprio/segmentation/optical_flow.hpp"
 #include "proprio/segmentation/region_smoothing.hpp"
@@ -49,8 +52,19 @@ struct Track {
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();        // translation since the interval's start
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();        // homography since the interval's start
   Eigen::Vector2d last_motion = Eigen::Vector2d::Zero();  // robust mean of the last frame pair
-  int last_frame = -1;                                    // frame of last_motion
-  int successor = -1;       // where its evidence continues once it ended (see scores())
+  // Depth variant: 3-D translation since the interval's start (camera frame, mm), the arm's 3-D
+  // position when it joined, and whether every frame pair of its span had enough depth.
+  Eigen::Vector3d shift3 = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Vector3d> start_ee3;
+  bool depth_ok = true;
+  int last_frame = -1;  // frame of last_motion
+  int successor = -1;   // where its evidence continues once it ended (see scores())
+  // Memory (release_ended): a track is kept after it ends only while a kept label image (the
+  // first touch's) names it or one of its predecessors: `root` when the first touch's labels
+  // name it, `needed` when they name it or a predecessor, `preds` its needed predecessors.
+  bool root = false;
+  bool needed = false;
+  std::vector<int> preds;
   bool untrusted = false;   // too little texture in a frame of the open interval
   double photo_gain = 0.0;  // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
   int photo_n = 0;          // pixels in photo_gain
@@ -123,6 +137,11 @@ void MlOptions::validate() const {
           "MlOptions.min_camera_motion must be >= 0");
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
+  require_positive(depth_lambda, "depth_lambda");
+  require_positive(depth_bandwidth, "depth_bandwidth");
+  require(std::isfinite(depth_edge) && depth_edge >= 0,
+          core::cat({"MlOptions.depth_edge must be >= 0, got ", core::num(depth_edge)}));
+  require(min_depth_samples >= 1, "MlOptions.min_depth_samples must be >= 1");
   if (!prior.empty()) {
     double lo = 0, hi = 0;
     cv::minMaxLoc(prior, &lo, &hi);
@@ -195,7 +214,9 @@ struct MlSegmenter::Impl {
   cv::Mat1b prev_gray;
   std::vector<cv::Mat1i> labels;  // per frame (or only the first touch's)
   cv::Mat1i touch_labels;
-  std::vector<Track> tracks;
+  // Tracks by id: the live ones and the ended ones a kept label image still needs (their
+  // evidence; release_ended frees the others).
+  std::unordered_map<int, Track> tracks;
 
   // Open evidence interval.
   int interval = 0;
@@ -205,7 +226,19 @@ struct MlSegmenter::Impl {
   double sum_camera_motion = 0;
   int camera_fits = 0, camera_failures = 0;
   std::optional<Eigen::Vector2d> prev_ee;
-  std::vector<std::optional<Eigen::Vector2d>> ee_track;  // every frame's arm position
+  // Depth variant: this frame's and the previous frame's depth (processing size, mm, 0 =
+  // unknown), the arm in the camera frame (mm), and K^-1 (full-size pixels).
+  cv::Mat1f depth_now, prev_depth;
+  std::optional<Eigen::Vector3d> ee3_now, prev_ee3;
+  Eigen::Matrix3d k_inv = Eigen::Matrix3d::Identity();
+  // Every frame's arm position when keep_frame_labels, else only the first touch's and the
+  // last frame's (a stream keeps no per-frame history).
+  std::vector<std::optional<Eigen::Vector2d>> ee_track;
+  std::optional<Eigen::Vector2d> touch_ee, last_ee;
+  // The arm's path since the first touch (push_direction): its first and last known positions
+  // and its length, pixels.
+  std::optional<Eigen::Vector2d> path_start, path_last;
+  double path_length = 0;
 
   int intervals_closed = 0;
   int post_intervals = 0;
@@ -234,14 +267,18 @@ struct MlSegmenter::Impl {
   std::vector<int> accumulate(const cv::Mat1i& current, const cv::Mat2f& back_flow,
                               const cv::Mat1b& textured, const cv::Mat1b& gray,
                               const cv::Mat3b& colour, bool photometric_ok) {
-    std::vector<int> local(tracks.size(), -1);
+    std::unordered_map<int, int> local;  // track id -> index in ids
+    int cached_id = -1, cached_l = -1;   // consecutive pixels mostly share a track
     std::vector<int> ids;
+    std::vector<Track*> track_of;  // tracks[ids[l]] (unordered_map keeps references)
     std::vector<std::vector<Eigen::Vector2f>> motion;   // prev -> current, full-size pixels
     std::vector<std::vector<Eigen::Vector2f>> at;       // positions in the current frame
     std::vector<std::vector<cv::Point>> region_pixels;  // sampled pixels, processing scale
     std::vector<Eigen::Vector2d> at_sum;                // sum of sampled positions
     std::vector<int> samples;                           // how many
     std::vector<Eigen::Vector3f> colour_sum;            // sum of sampled BGR
+    std::vector<std::vector<Eigen::Vector3f>> motion3;  // depth variant: prev -> current, mm
+    const bool depth = opt.use_depth && !depth_now.empty() && !prev_depth.empty();
     const bool homography = opt.model == MotionModel::kHomography;
     const bool photometric = opt.min_photometric_gain > 0 && photometric_ok;
     const auto s = static_cast<float>(inv_scale);
@@ -250,9 +287,19 @@ struct MlSegmenter::Impl {
       const cv::Vec2f* f = back_flow[y];
       for (int x = 0; x < current.cols; x += kSampleStride) {
         const int id = t[x];
-        int& l = local[id];
-        if (l < 0) {
-          Track& tr = tracks[id];
+        int l = cached_l;
+        if (id != cached_id) {
+          const auto [slot, inserted] = local.try_emplace(id, -1);
+          if (inserted) {
+            slot->second = static_cast<int>(ids.size());
+            ids.push_back(id);
+            track_of.push_back(&tracks[id]);
+          }
+          l = cached_l = slot->second;
+          cached_id = id;
+        }
+        if (ids.size() > motion.size()) {  // track l joined this frame pair just now
+          Track& tr = *track_of[l];
           if (tr.interval != interval) {
             tr.interval = interval;
             tr.shift.setZero();
@@ -264,10 +311,12 @@ struct MlSegmenter::Impl {
             tr.untrusted = false;
             tr.photo_gain = 0.0;
             tr.photo_n = 0;
+            tr.shift3.setZero();
+            tr.start_ee3 = prev_ee3;
+            tr.depth_ok = true;
           }
-          l = static_cast<int>(ids.size());
-          ids.push_back(id);
           motion.emplace_back();
+          if (depth) motion3.emplace_back();
           region_pixels.emplace_back();
           at_sum.emplace_back(Eigen::Vector2d::Zero());
           samples.push_back(0);
@@ -281,11 +330,12 @@ struct MlSegmenter::Impl {
         if (photometric) region_pixels[l].emplace_back(x, y);
         if (!textured(y, x)) continue;
         motion[l].emplace_back(-f[x][0] * s, -f[x][1] * s);
+        if (depth) add_motion_3d(x, y, f[x], motion3[l]);
         if (homography) at[l].emplace_back(x * s, y * s);
       }
     }
     for (size_t l = 0; l < ids.size(); ++l) {
-      Track& tr = tracks[ids[l]];
+      Track& tr = *track_of[l];
       tr.at = at_sum[l] * (inv_scale / samples[l]);
       tr.colour = colour_sum[l] / static_cast<float>(samples[l]);
       if (static_cast<int>(motion[l].size()) < opt.min_textured_samples) {
@@ -295,6 +345,12 @@ struct MlSegmenter::Impl {
       }
       const RobustMeanResult m = robust_mean(motion[l], opt.robust_bandwidth, opt.robust_tolerance,
                                              opt.robust_max_iterations);
+      if (!depth || static_cast<int>(motion3[l].size()) < opt.min_depth_samples) {
+        tr.depth_ok = false;
+      } else {
+        tr.shift3 += robust_mean_3d(motion3[l], opt.depth_bandwidth, opt.robust_tolerance,
+                                    opt.robust_max_iterations);
+      }
       tr.shift += m.mean;
       tr.last_motion = m.mean;
       tr.last_frame = frames;
@@ -327,6 +383,22 @@ struct MlSegmenter::Impl {
       }
     }
     return ids;
+  }
+
+  // Depth variant: the 3-D motion (mm, camera frame) of the sample at processing pixel (x, y),
+  // whose backward flow is f, when its depth is known in both frames.
+  void add_motion_3d(int x, int y, const cv::Vec2f& f, std::vector<Eigen::Vector3f>& out) const {
+    const float z1 = depth_now(y, x);
+    if (!(z1 > 0)) return;
+    const double px = x + f[0], py = y + f[1];
+    const int ix = static_cast<int>(std::lround(px)), iy = static_cast<int>(std::lround(py));
+    if (ix < 0 || iy < 0 || ix >= prev_depth.cols || iy >= prev_depth.rows) return;
+    const float z0 = prev_depth(iy, ix);
+    if (!(z0 > 0)) return;
+    const Eigen::Vector3d now = z1 * (k_inv * Eigen::Vector3d(x * inv_scale, y * inv_scale, 1.0));
+    const Eigen::Vector3d before =
+        z0 * (k_inv * Eigen::Vector3d(px * inv_scale, py * inv_scale, 1.0));
+    out.push_back((now - before).cast<float>());
   }
 
   // The region's homography over the open interval (Algorithm 2): fitted once to its points
@@ -431,7 +503,14 @@ struct MlSegmenter::Impl {
       } else if (!unsupported) {
         e = to_interval_start(camera, compensate, tr.at) - tr.at + tr.shift - d;
       }
-      const double p = motion_likelihood(e, opt.lambda);
+      double p = motion_likelihood(e, opt.lambda);
+      if (opt.use_depth && tr.depth_ok && tr.start_ee3 && ee3_now) {
+        // The depth variant: the region's 3-D translation against the arm's (mm); a motion the
+        // image does not support is none.
+        const Eigen::Vector3d d3 = *ee3_now - *tr.start_ee3;
+        p = motion_likelihood_3d((unsupported ? Eigen::Vector3d::Zero() : tr.shift3) - d3,
+                                 opt.depth_lambda);
+      }
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
         // count, a still one is no evidence either way.
@@ -483,25 +562,36 @@ struct MlSegmenter::Impl {
   // arm-removal evidence (eq 4.18) is its own: after the touch the object moves as the arm does,
   // and a piece of the object handed over to a track of the pusher must not take on the pusher's
   // pre-touch record.
-  [[nodiscard]] std::vector<float> scores(std::vector<int>* evidence = nullptr) const {
-    const size_t n = tracks.size();
-    std::vector<Track> total(n);
-    std::vector<char> done(n, 0);
+  struct Scored {
+    float score = 0.0F;
+    int evidence = 0;  // post-touch intervals, own and inherited
+  };
+
+  [[nodiscard]] std::unordered_map<int, Scored> scores() const {
+    std::unordered_map<int, Track> total;
+    std::vector<int> order;
+    order.reserve(tracks.size());
+    for (const auto& [id, tr] : tracks) order.push_back(id);
+    std::sort(order.begin(), order.end());
     // An ended track never comes back, so successor chains have no cycles; each is resolved
     // once, from its live end.
     std::vector<int> chain;
-    for (size_t i = 0; i < n; ++i) {
-      if (done[i]) continue;
+    for (int i : order) {
+      if (total.count(i) != 0) continue;
       chain.clear();
-      int t = static_cast<int>(i);
-      while (t >= 0 && t < static_cast<int>(n) && !done[t]) {
+      int t = i;
+      while (t >= 0 && tracks.count(t) != 0 && total.count(t) == 0) {
         chain.push_back(t);
-        t = tracks[t].successor;
+        t = tracks.at(t).successor;
       }
       Track acc;
-      if (t >= 0 && t < static_cast<int>(n) && done[t]) acc = total[t];
+      if (t >= 0 && total.count(t) != 0) {
+        const Track& done = total.at(t);
+        acc.post_sum = done.post_sum;
+        acc.post_n = done.post_n;
+      }
       for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-        const Track& own = tracks[*it];
+        const Track& own = tracks.at(*it);
         // Evidence that disagrees cuts the chain: a still background region that the pushed
         // object slides over hands over to the object's track (their motions differ by less
         // than handover_motion at walking pace), but its own intervals said "still".
@@ -512,56 +602,90 @@ struct MlSegmenter::Impl {
         }
         acc.post_sum += own.post_sum;
         acc.post_n += own.post_n;
-        total[*it] = acc;
-        total[*it].pre_sum = own.pre_sum;
-        total[*it].pre_n = own.pre_n;
-        done[*it] = 1;
+        Track& out = total[*it];
+        out.post_sum = acc.post_sum;
+        out.post_n = acc.post_n;
+        out.pre_sum = own.pre_sum;
+        out.pre_n = own.pre_n;
       }
     }
-    std::vector<float> score(n);
+    std::unordered_map<int, Scored> score;
+    score.reserve(total.size());
     const double min_count = opt.min_evidence_fraction * post_intervals;
-    for (size_t i = 0; i < n; ++i) score[i] = static_cast<float>(total[i].score(min_count));
-    if (evidence) {
-      evidence->resize(n);
-      for (size_t i = 0; i < n; ++i) (*evidence)[i] = total[i].post_n;
-    }
+    for (const auto& [id, tr] : total)
+      score[id] = {static_cast<float>(tr.score(min_count)), tr.post_n};
     return score;
   }
 
   // The push direction: the arm's net image displacement since the first touch, when its path
   // is straight (net >= 0.9 of the path length) and long enough; none otherwise.
   [[nodiscard]] std::optional<Eigen::Vector2d> push_direction() const {
-    if (!first_touch) return std::nullopt;
-    std::optional<Eigen::Vector2d> start, last;
-    double path = 0;
-    for (int i = *first_touch; i < static_cast<int>(ee_track.size()); ++i) {
-      if (!ee_track[i]) continue;
-      if (!start) start = ee_track[i];
-      if (last) path += (*ee_track[i] - *last).norm();
-      last = ee_track[i];
-    }
-    if (!start) return std::nullopt;
-    const Eigen::Vector2d net = *last - *start;
-    if (net.norm() < opt.evidence_step || net.norm() < 0.9 * path) return std::nullopt;
+    if (!first_touch || !path_start) return std::nullopt;
+    const Eigen::Vector2d net = *path_last - *path_start;
+    if (net.norm() < opt.evidence_step || net.norm() < 0.9 * path_length) return std::nullopt;
     return net.normalized();
   }
 
+  // The arm's image position in frame i (one that was kept: see ee_track).
+  [[nodiscard]] std::optional<Eigen::Vector2d> ee_at(int i) const {
+    if (opt.keep_frame_labels) return ee_track[static_cast<size_t>(i)];
+    if (i == frames - 1) return last_ee;
+    assert(first_touch && i == *first_touch);
+    return touch_ee;
+  }
+
   [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame) const {
-    std::vector<int> evidence;
-    std::vector<float> score = scores(&evidence);
+    const std::unordered_map<int, Scored> scored = scores();
+    // The frame's tracks, numbered 0.. in increasing id order (the smoothing visits them in
+    // that order).
+    std::vector<int> ids;
+    {
+      std::unordered_map<int, char> seen;
+      int last = -1;
+      for (auto it = lab.begin(); it != lab.end(); ++it) {
+        if (*it == last) continue;
+        last = *it;
+        if (seen.try_emplace(last, 0).second) ids.push_back(last);
+      }
+    }
+    std::sort(ids.begin(), ids.end());
+    std::unordered_map<int, int> index;
+    std::vector<float> score(ids.size(), 0.0F);
+    std::vector<int> evidence(ids.size(), 0);
+    std::vector<Eigen::Vector3f> colour(ids.size(), Eigen::Vector3f::Zero());
+    for (size_t k = 0; k < ids.size(); ++k) {
+      index[ids[k]] = static_cast<int>(k);
+      const auto sc = scored.find(ids[k]);
+      if (sc != scored.end()) {
+        score[k] = sc->second.score;
+        evidence[k] = sc->second.evidence;
+      }
+      const auto tr = tracks.find(ids[k]);
+      if (tr != tracks.end()) colour[k] = tr->second.colour;
+    }
+    cv::Mat1i compact(lab.size());
+    {
+      int last = -1, last_k = -1;
+      auto o = compact.begin();
+      for (auto it = lab.begin(); it != lab.end(); ++it, ++o) {
+        if (*it != last) {
+          last = *it;
+          last_k = index.at(last);
+        }
+        *o = last_k;
+      }
+    }
     if (opt.region_smoothing && first_touch) {
-      std::vector<Eigen::Vector3f> colour(tracks.size());
-      for (size_t i = 0; i < tracks.size(); ++i) colour[i] = tracks[i].colour;
       RegionSmoothingOptions so;
       so.data_weight = opt.smoothing_weight;
       so.colour_sigma = opt.smoothing_colour_sigma;
-      (void)smooth_region_scores(lab, evidence, colour, so, score);
+      (void)smooth_region_scores(compact, evidence, colour, so, score);
     }
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {
-      const int* l = lab[y];
+      const int* l = compact[y];
       float* o = m[y];
-      for (int x = 0; x < lab.cols; ++x) o[x] = score[l[x]];
+      for (int x = 0; x < lab.cols; ++x) o[x] = score[static_cast<size_t>(l[x])];
     }
     if (lab.size() != size) {
       cv::Mat1f full;
@@ -570,10 +694,11 @@ struct MlSegmenter::Impl {
     }
     if (!opt.prior.empty()) cv::multiply(m, opt.prior, m);  // 4.6
     const auto dir = opt.direction_prior ? push_direction() : std::nullopt;
-    if (dir && ee_track[frame]) {
+    const std::optional<Eigen::Vector2d> ee = ee_at(frame);
+    if (dir && ee) {
       // 4.6's position prior from proprioception: a pushed object lies ahead of the pusher's
       // tip; the arm behind it. 1 ahead of the tip, falling to 0 over direction_ramp behind.
-      const Eigen::Vector2d e = *ee_track[frame];
+      const Eigen::Vector2d& e = *ee;
       const double ramp = opt.direction_ramp;
       for (int y = 0; y < m.rows; ++y) {
         float* o = m[y];
@@ -584,11 +709,40 @@ struct MlSegmenter::Impl {
       }
     }
     clip_to_peak(m);
-    if (opt.contact_prior && ee_track[frame]) {
-      (void)apply_contact_prior(m, *ee_track[frame], opt.mask_fraction, opt.contact_radius,
-                                opt.contact_gap);
+    if (opt.contact_prior && ee) {
+      (void)apply_contact_prior(m, *ee, opt.mask_fraction, opt.contact_radius, opt.contact_gap);
     }
     return m;
+  }
+
+  // Frees the tracks that ended in the last update and that no kept label image needs: with
+  // keep_frame_labels off the only kept labels are the first touch's, and a track's score
+  // (scores()) depends only on its own evidence and its successors'. So a track is kept after it
+  // ends only when it is named by the first touch's labels (root) or is a successor of one that
+  // is (needed). A needed track that is no root and has no post-touch evidence of its own adds
+  // nothing to the chain through it: its predecessors are handed straight to its successor and
+  // it is freed too. The scores of every kept track stay exactly as they were.
+  void release_ended() {
+    for (const auto& [t, next] : tracker.ended()) {
+      const auto it = tracks.find(t);
+      if (it == tracks.end()) continue;
+      Track& a = it->second;
+      const int succ = a.successor;
+      if (!a.needed) {
+        tracks.erase(it);
+        continue;
+      }
+      if (succ >= 0) tracks[succ].needed = true;
+      if (!a.root && a.post_n == 0) {
+        for (int p : a.preds) {
+          tracks.at(p).successor = succ;
+          if (succ >= 0) tracks[succ].preds.push_back(p);
+        }
+        tracks.erase(it);
+        continue;
+      }
+      if (succ >= 0) tracks[succ].preds.push_back(t);
+    }
   }
 
   // Clips the map at its robust peak: the value that at least peak_area of the pixels reach. The
@@ -619,8 +773,36 @@ MlSegmenter::~MlSegmenter() = default;
 MlSegmenter::MlSegmenter(MlSegmenter&&) noexcept = default;
 MlSegmenter& MlSegmenter::operator=(MlSegmenter&&) noexcept = default;
 
+namespace {
+
+// The depth image as CV_32F millimetres with every unknown value (0, NaN, infinite, negative)
+// 0, at `size` (nearest neighbour). Error naming the frame for a missing, empty, mis-sized or
+// mis-typed image.
+cv::Mat1f checked_depth(const MlSegmenter::DepthFrame* d, int frame, cv::Size full, cv::Size size) {
+  const std::string f = core::cat({"frame ", std::to_string(frame)});
+  require(d != nullptr && !d->depth.empty(),
+          core::cat({f, ": depth asked for (MlOptions::use_depth) but the frame has none"}));
+  require(d->depth.size() == full,
+          core::cat({f, ": depth image is ", std::to_string(d->depth.cols), "x",
+                     std::to_string(d->depth.rows), ", the frames are ", std::to_string(full.width),
+                     "x", std::to_string(full.height)}));
+  require(d->depth.type() == CV_16UC1 || d->depth.type() == CV_32FC1,
+          core::cat({f, ": depth must be 16-bit or float single-channel millimetres"}));
+  require(d->intrinsics.allFinite() && std::abs(d->intrinsics.determinant()) > 0,
+          core::cat({f, ": the camera intrinsics are singular or not finite"}));
+  cv::Mat1f mm;
+  d->depth.convertTo(mm, CV_32F);
+  for (auto it = mm.begin(); it != mm.end(); ++it)
+    if (!std::isfinite(*it) || *it < 0) *it = 0.0F;
+  if (size != full) cv::resize(mm, mm, size, 0, 0, cv::INTER_NEAREST);
+  return mm;
+}
+
+}  // namespace
+
 MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
-                                           std::optional<Eigen::Vector2d> ee_image, bool touching) {
+                                           std::optional<Eigen::Vector2d> ee_image, bool touching,
+                                           const DepthFrame* depth) {
   Impl& m = *impl_;
   require(!bgr.empty() && bgr.depth() == CV_8U && (bgr.channels() == 3 || bgr.channels() == 1),
           core::cat({"frame ", std::to_string(m.frames), ": expected an 8-bit BGR image"}));
@@ -630,6 +812,12 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
                            std::to_string(m.size.width), "x", std::to_string(m.size.height)}));
   }
   if (ee_image && !ee_image->allFinite()) ee_image.reset();
+  if (m.opt.use_depth) {
+    m.depth_now = checked_depth(depth, m.frames, m.size, m.proc_size);
+    m.ee3_now = depth->ee_camera;
+    if (m.ee3_now && !m.ee3_now->allFinite()) m.ee3_now.reset();
+    m.k_inv = depth->intrinsics.inverse();
+  }
   const auto t0 = Clock::now();
   FrameOutput out;
   out.frame = m.frames;
@@ -654,16 +842,18 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   out.ms_flow = std::chrono::duration<double, std::milli>(t1 - t0).count();
 
   int count = 0;
-  const cv::Mat1i sp = m.segmenter.segment(colour, count);
+  cv::Mat1i sp = m.segmenter.segment(colour, count);
+  if (m.opt.use_depth && m.opt.depth_edge > 0)
+    sp = split_at_depth_steps(sp, m.depth_now, m.opt.depth_edge, count);
   const cv::Mat1i lab = m.tracker.update(sp, count, back_flow);
   // A new track inherits the arm evidence (eq 4.18) of the track it grew out of: the
   // over-segmentation keeps re-cutting the moving arm, and a fresh piece of it is still arm.
-  for (int t = static_cast<int>(m.tracks.size()); t < m.tracker.track_count(); ++t) {
-    m.tracks.emplace_back();
-    const int parent = m.tracker.parents()[t];
-    if (parent >= 0 && parent < t) {
-      m.tracks[t].pre_sum = m.tracks[parent].pre_sum;
-      m.tracks[t].pre_n = m.tracks[parent].pre_n;
+  for (const auto& [t, parent] : m.tracker.created()) {
+    Track& fresh = m.tracks[t];
+    const auto p = parent >= 0 && parent < t ? m.tracks.find(parent) : m.tracks.end();
+    if (p != m.tracks.end()) {
+      fresh.pre_sum = p->second.pre_sum;
+      fresh.pre_n = p->second.pre_n;
     }
   }
   const auto t2 = Clock::now();
@@ -695,20 +885,37 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
     }
   }
   m.prev_ee = ee_image;
-  m.ee_track.push_back(ee_image);
+  if (m.opt.keep_frame_labels) m.ee_track.push_back(ee_image);
+  m.last_ee = ee_image;
+  if (first_touch_now) m.touch_ee = ee_image;
+  if (m.first_touch && ee_image) {
+    if (!m.path_start) m.path_start = ee_image;
+    if (m.path_last) m.path_length += (*ee_image - *m.path_last).norm();
+    m.path_last = ee_image;
+  }
   // A track that ended hands its evidence on only to a track moving as it did: a background
   // region covered by the pushed object must not inherit the object's evidence.
-  for (int t : m.tracker.ended()) {
-    const int next = m.tracker.successors()[t];
-    const Track& a = m.tracks[t];
-    const Track& b = m.tracks[next];
+  for (const auto& [t, next] : m.tracker.ended()) {
+    if (next < 0) continue;
+    Track& a = m.tracks.at(t);
+    const Track& b = m.tracks.at(next);
     if (a.last_frame == m.frames - 1 && b.last_frame == m.frames &&
         (m.supported_last_motion(a) - m.supported_last_motion(b)).norm() <= m.opt.handover_motion)
-      m.tracks[t].successor = next;
+      a.successor = next;
   }
   if (m.opt.keep_frame_labels) m.labels.push_back(lab);
-  if (first_touch_now) m.touch_labels = lab;
+  if (first_touch_now) {
+    m.touch_labels = lab;
+    for (int t : m.tracker.live()) {
+      Track& r = m.tracks.at(t);
+      r.root = true;
+      r.needed = true;
+    }
+  }
+  if (!m.opt.keep_frame_labels) m.release_ended();
   m.prev_gray = gray;
+  m.prev_depth = m.depth_now;
+  m.prev_ee3 = m.ee3_now;
   ++m.frames;
   const auto t3 = Clock::now();
   out.ms_model = std::chrono::duration<double, std::milli>(t3 - t2).count();
@@ -743,6 +950,7 @@ MlSummary MlSegmenter::summary() const {
   s.scored_frame = m.first_touch.value_or(-1);
   s.evidence_intervals = m.intervals_closed;
   s.tracks = m.tracker.track_count();
+  s.tracks_kept = static_cast<int>(m.tracks.size());
   s.camera_fits = m.camera_fits;
   s.camera_failures = m.camera_failures;
   if (m.camera_fits > 0) s.mean_camera_motion = m.sum_camera_motion / m.camera_fits;
@@ -777,6 +985,11 @@ std::vector<std::optional<Eigen::Vector2d>> checked_arm_track(const episode::Epi
 MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
   options.validate();
   const auto track = checked_arm_track(episode);
+  if (options.use_depth && !episode.info().has_depth) {
+    throw Error::in_file(episode.dir(),
+                         "depth asked for (ml-depth, MlOptions::use_depth) but the episode has no "
+                         "depth images (record it with `sim record --depth`)");
+  }
   MlResult r;
   r.first_touch_frame = episode.first_touch_frame();
   if (!r.first_touch_frame) {
@@ -789,10 +1002,19 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
   o.stream_maps = false;
   const cv::Size size(episode.info().width, episode.info().height);
   MlSegmenter seg(o, size);
+  const geometry::Camera& cam = episode.camera();
   for (int i = 0; i < episode.frame_count(); ++i) {
     const cv::Mat bgr = episode.frame(i);
+    MlSegmenter::DepthFrame d;
+    if (options.use_depth) {
+      d.depth = episode.depth(i);
+      d.intrinsics = cam.K;
+      // Metres (robot frame) -> millimetres in the camera frame; behind the camera: unknown.
+      const Eigen::Vector3d x = cam.R * episode.arm()[i].ee + cam.t;
+      if (x.allFinite() && x.z() > 0) d.ee_camera = 1000.0 * x;
+    }
     try {
-      (void)seg.push(bgr, track[i], episode.arm()[i].touching);
+      (void)seg.push(bgr, track[i], episode.arm()[i].touching, options.use_depth ? &d : nullptr);
     } catch (const Error& e) {
       throw Error::in_file(episode::image_path(episode.dir(), "frames", i), e.what());
     }

@@ -43,6 +43,36 @@ RobustMeanResult robust_mean(const std::vector<Eigen::Vector2f>& samples, double
   return r;
 }
 
+Eigen::Vector3d robust_mean_3d(const std::vector<Eigen::Vector3f>& samples, double bandwidth,
+                               double tolerance, int max_iterations) {
+  assert(!samples.empty() && bandwidth > 0);
+  Eigen::Vector3d mean;
+  std::vector<float> v(samples.size());
+  const auto mid = static_cast<std::ptrdiff_t>(samples.size() / 2);
+  for (int c = 0; c < 3; ++c) {
+    for (size_t i = 0; i < samples.size(); ++i) v[i] = samples[i][c];
+    std::nth_element(v.begin(), v.begin() + mid, v.end());
+    mean[c] = v[static_cast<size_t>(mid)];
+  }
+  const double c2 = bandwidth * bandwidth;
+  for (int it = 0; it < max_iterations; ++it) {
+    Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (const auto& s : samples) {
+      const Eigen::Vector3d d = s.cast<double>() - mean;
+      if (d.squaredNorm() < c2) {
+        acc += d;
+        ++n;
+      }
+    }
+    if (n == 0) break;
+    const Eigen::Vector3d shift = acc / n;
+    mean += shift;
+    if (shift.norm() <= tolerance) break;
+  }
+  return mean;
+}
+
 std::optional<Eigen::Matrix3d> fit_homography(const std::vector<Eigen::Vector2f>& from,
                                               const std::vector<Eigen::Vector2f>& to,
                                               double threshold, int min_points) {
@@ -73,6 +103,11 @@ Eigen::Vector2d apply_homography(const Eigen::Matrix3d& h, const Eigen::Vector2d
 }
 
 double motion_likelihood(const Eigen::Vector2d& error, double lambda) {
+  assert(lambda > 0);
+  return std::exp(-error.squaredNorm() / (2.0 * lambda));
+}
+
+double motion_likelihood_3d(const Eigen::Vector3d& error, double lambda) {
   assert(lambda > 0);
   return std::exp(-error.squaredNorm() / (2.0 * lambda));
 }

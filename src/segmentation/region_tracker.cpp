@@ -1,5 +1,6 @@
 #include "proprio/segmentation/region_tracker.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -40,6 +41,39 @@ cv::Mat1i label_equal_colours(const cv::Mat3b& img, int& count) {
 }
 
 }  // namespace
+
+cv::Mat1i split_at_depth_steps(const cv::Mat1i& labels, const cv::Mat1f& depth, double max_step,
+                               int& count) {
+  assert(labels.size() == depth.size() && max_step > 0);
+  cv::Mat1i out(labels.size(), -1);
+  std::vector<cv::Point> stack;
+  count = 0;
+  const auto step = static_cast<float>(max_step);
+  for (int y = 0; y < labels.rows; ++y) {
+    for (int x = 0; x < labels.cols; ++x) {
+      if (out(y, x) >= 0) continue;
+      out(y, x) = count;
+      stack.assign(1, {x, y});
+      while (!stack.empty()) {
+        const cv::Point p = stack.back();
+        stack.pop_back();
+        const int l = labels(p);
+        const float d = depth(p);
+        const cv::Point nb[4] = {{p.x + 1, p.y}, {p.x - 1, p.y}, {p.x, p.y + 1}, {p.x, p.y - 1}};
+        for (const auto& q : nb) {
+          if (q.x < 0 || q.y < 0 || q.x >= labels.cols || q.y >= labels.rows) continue;
+          if (out(q) >= 0 || labels(q) != l) continue;
+          const float e = depth(q);
+          if (d > 0 && e > 0 && std::abs(d - e) > step) continue;
+          out(q) = count;
+          stack.push_back(q);
+        }
+      }
+      ++count;
+    }
+  }
+  return out;
+}
 
 struct OverSegmenter::Impl {
   OverSegmentation method;
@@ -156,29 +190,44 @@ cv::Mat1i RegionTracker::update(const cv::Mat1i& superpixels, int count,
       }
     }
   }
+  // Superpixels that cover some pixel (a label may be unused).
+  std::vector<char> present(count, 0);
+  for (auto it = superpixels.begin(); it != superpixels.end(); ++it) present[*it] = 1;
+  created_.clear();
   for (int s = 0; s < count; ++s) {
     if (lut[s] < 0) {
       lut[s] = next_id_++;
-      parent_.push_back(parent_of[s]);
+      if (present[s]) created_.emplace_back(lut[s], parent_of[s]);
     }
   }
-  if (static_cast<int>(successor_.size()) < next_id_) successor_.resize(next_id_, -1);
-  if (!votes_.empty()) {
-    // A previous track that claimed no superpixel ends; it hands over to the track that got
-    // most of its pixels.
-    std::vector<char> alive(next_id_, 0);
-    for (int s = 0; s < count; ++s) alive[lut[s]] = 1;
-    std::vector<std::pair<int, int>> best(next_id_, {-1, 0});  // (superpixel, votes)
-    for (int s = 0; s < count; ++s)
-      for (const auto& [t, n] : votes_[s])
-        if (!alive[t] && n > best[t].second) best[t] = {s, n};
-    for (int t = 0; t < next_id_; ++t) {
-      if (best[t].first >= 0) {
-        successor_[t] = lut[best[t].first];
-        ended_.push_back(t);
-      }
+  // A previous track that claimed no superpixel ends; it hands over to the track that got most
+  // of its pixels. Previous tracks are indexed by their place in live_ (sorted ids).
+  const auto place = [this](int t) {
+    const auto it = std::lower_bound(live_.begin(), live_.end(), t);
+    assert(it != live_.end() && *it == t);
+    return static_cast<size_t>(it - live_.begin());
+  };
+  std::vector<int> now;
+  for (int s = 0; s < count; ++s)
+    if (present[s]) now.push_back(lut[s]);
+  std::sort(now.begin(), now.end());
+  now.erase(std::unique(now.begin(), now.end()), now.end());
+  std::vector<char> alive(live_.size(), 0);
+  for (int t : now) {
+    const auto it = std::lower_bound(live_.begin(), live_.end(), t);
+    if (it != live_.end() && *it == t) alive[static_cast<size_t>(it - live_.begin())] = 1;
+  }
+  std::vector<std::pair<int, int>> best(live_.size(), {-1, 0});  // (superpixel, votes)
+  for (int s = 0; s < static_cast<int>(votes_.size()); ++s) {
+    for (const auto& [t, n] : votes_[s]) {
+      const size_t k = place(t);
+      if (!alive[k] && n > best[k].second) best[k] = {s, n};
     }
   }
+  for (size_t k = 0; k < live_.size(); ++k) {
+    if (!alive[k]) ended_.emplace_back(live_[k], best[k].first >= 0 ? lut[best[k].first] : -1);
+  }
+  live_ = std::move(now);
   for (int y = 0; y < tracks.rows; ++y) {
     const int* sp = superpixels[y];
     int* t = tracks[y];

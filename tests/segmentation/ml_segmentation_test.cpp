@@ -2,8 +2,11 @@
 // mean and homography models, arm removal, streaming = batch, invariants and bad input.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -105,6 +108,22 @@ TEST(RegionTracker, KeepsIdentitiesAlongTheFlow) {
   EXPECT_EQ(b(10, 10), a(10, 10));
   EXPECT_EQ(b(10, 30), a(10, 30));
   EXPECT_NE(b(10, 10), b(10, 30));
+  EXPECT_TRUE(t.ended().empty());
+  EXPECT_TRUE(t.created().empty());
+  // One superpixel over all: the left track (24 of 40 columns) claims it, the right one ends and
+  // hands over to it; a superpixel from outside the image starts a track with no parent.
+  const cv::Mat1i c = t.update(cv::Mat1i(40, 40, 0), 1, cv::Mat2f(40, 40, cv::Vec2f(0, 0)));
+  EXPECT_EQ(c(10, 30), b(10, 10));
+  ASSERT_EQ(t.ended().size(), 1U);
+  EXPECT_EQ(t.ended()[0], std::make_pair(b(10, 30), b(10, 10)));
+  EXPECT_EQ(t.live(), std::vector<int>{b(10, 10)});
+  (void)t.update(cv::Mat1i(40, 40, 0), 1, cv::Mat2f(40, 40, cv::Vec2f(100, 0)));
+  ASSERT_EQ(t.created().size(), 1U);
+  EXPECT_EQ(t.created()[0], std::make_pair(t.track_count() - 1, -1));
+  ASSERT_EQ(t.ended().size(), 1U);
+  EXPECT_EQ(t.ended()[0], std::make_pair(b(10, 10), -1));  // its pixels all left the image
+  // Ids are never reused (unused superpixel labels above took some too).
+  EXPECT_GT(t.created()[0].first, b(10, 10));
 }
 
 struct PushCase {
@@ -211,6 +230,157 @@ TEST(MlSegmentation, StreamingAndBatchGiveTheSameMaps) {
   for (int i = 0; i < ep.frame_count(); ++i)
     EXPECT_TRUE(quiet.push(ep.frame(i), ep.ee_image(i), ep.arm()[i].touching).map.empty());
   EXPECT_EQ(cv::norm(quiet.map_for_frame(batch.scored_frame), batch.map, cv::NORM_INF), 0.0);
+}
+
+TEST(MlSegmentation, ForgettingEndedTracksKeepsEveryMapAndBoundsTheTracksHeld) {
+  // Issue 16's soak: a stream keeps only the tracks the first touch's map still needs. The maps
+  // (the current frame's and the first touch's) must be exactly those of a segmenter that keeps
+  // every track.
+  PushSpec spec;
+  spec.moving_background = true;
+  spec.frames = 40;
+  MlOptions all;
+  all.keep_frame_labels = true;
+  MlOptions stream = all;
+  stream.keep_frame_labels = false;
+  MlSegmenter keep(all, cv::Size(spec.width, spec.height));
+  MlSegmenter lean(stream, cv::Size(spec.width, spec.height));
+  for (int i = 0; i < spec.frames; ++i) {
+    const PushFrame f = push_frame(spec, i);
+    const auto a = keep.push(f.image, f.ee, f.touching);
+    const auto b = lean.push(f.image, f.ee, f.touching);
+    ASSERT_EQ(cv::norm(a.map, b.map, cv::NORM_INF), 0.0) << i;
+  }
+  ASSERT_TRUE(lean.first_touch_frame().has_value());
+  const int touch = *lean.first_touch_frame();
+  EXPECT_EQ(cv::norm(keep.map_for_frame(touch), lean.map_for_frame(touch), cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(lean.map_for_frame(touch), cv::NORM_INF), 0.0);
+  const MlSummary ks = keep.summary(), ls = lean.summary();
+  EXPECT_EQ(ks.tracks, ls.tracks);
+  EXPECT_EQ(ks.tracks_kept, ks.tracks);  // every track, for every frame's labels
+  EXPECT_LT(ls.tracks_kept, ls.tracks);
+  // Only the first touch's frame can be painted again.
+  EXPECT_THROW((void)lean.map_for_frame(touch - 1), Error);
+}
+
+// The depth variant's synthetic scene: table at 1000 mm, the square at 940, the arm at 930,
+// seen through K (f = 300 px, centre of the 320 x 240 frame).
+Eigen::Matrix3d test_intrinsics() {
+  Eigen::Matrix3d k;
+  k << 300, 0, 160, 0, 300, 120, 0, 0, 1;
+  return k;
+}
+
+MlSegmenter::DepthFrame test_depth(const PushFrame& f) {
+  MlSegmenter::DepthFrame d;
+  cv::Mat1f z(f.mask.size(), 1000.0F);
+  z.setTo(940.0F, f.mask == 1);
+  z.setTo(930.0F, f.mask == 2);
+  d.depth = z;
+  d.intrinsics = test_intrinsics();
+  d.ee_camera = 935.0 * (d.intrinsics.inverse() * Eigen::Vector3d(f.ee.x(), f.ee.y(), 1.0));
+  return d;
+}
+
+double depth_variant_jaccard(const PushSpec& spec, bool holes) {
+  MlOptions o;
+  o.use_depth = true;
+  o.keep_frame_labels = false;
+  MlSegmenter seg(o, cv::Size(spec.width, spec.height));
+  PushFrame touch;
+  for (int i = 0; i < spec.frames; ++i) {
+    const PushFrame f = push_frame(spec, i);
+    MlSegmenter::DepthFrame d = test_depth(f);
+    if (holes) {  // every 5th pixel unknown, as 0 or NaN
+      cv::Mat1f z = d.depth;
+      for (int y = 0; y < z.rows; ++y)
+        for (int x = (y % 5); x < z.cols; x += 5)
+          z(y, x) = (x + y) % 2 ? 0.0F : std::numeric_limits<float>::quiet_NaN();
+    }
+    (void)seg.push(f.image, f.ee, f.touching, &d);
+    if (seg.first_touch_frame() == i) touch = f;
+  }
+  const int t = seg.first_touch_frame().value_or(-1);
+  EXPECT_GE(t, 0);
+  if (t < 0) return 0;
+  const cv::Mat1f map = seg.map_for_frame(t);
+  expect_valid_map(map);
+  return jaccard(threshold_map(map, o.mask_fraction), touch.mask == 1);
+}
+
+TEST(MlDepth, SegmentsTheSquareAndTakesHolesAsUnknown) {
+  PushSpec spec;
+  spec.moving_background = true;
+  spec.frames = 26;
+  const double clean = depth_variant_jaccard(spec, false);
+  const double holes = depth_variant_jaccard(spec, true);
+  EXPECT_GE(clean, 0.7);
+  EXPECT_GE(holes, 0.6);
+}
+
+TEST(MlDepth, BadDepthIsAnErrorNamingTheFrame) {
+  MlOptions o;
+  o.use_depth = true;
+  const cv::Size size(64, 48);
+  const cv::Mat3b img(size, cv::Vec3b(90, 120, 150));
+  const Eigen::Vector2d ee(10, 10);
+  {
+    MlSegmenter seg(o, size);
+    const std::string e = error_of([&] { (void)seg.push(img, ee, false); });
+    EXPECT_NE(e.find("frame 0: depth asked for"), std::string::npos) << e;
+  }
+  MlSegmenter::DepthFrame d;
+  d.intrinsics = test_intrinsics();
+  for (const auto& [depth, what] :
+       {std::pair{cv::Mat(), std::string("depth asked for")},
+        std::pair{cv::Mat(cv::Mat1w(24, 32, ushort{900})), std::string("depth image is 32x24")},
+        std::pair{cv::Mat(cv::Mat1b(size, uchar{9})), std::string("16-bit or float")}}) {
+    MlSegmenter seg(o, size);
+    d.depth = depth;
+    const std::string e = error_of([&] { (void)seg.push(img, ee, false, &d); });
+    EXPECT_NE(e.find(what), std::string::npos) << e;
+  }
+  // 16-bit millimetres with zero holes, no arm position in 3-D: accepted.
+  MlSegmenter seg(o, size);
+  d.depth = cv::Mat1w(size, ushort{0});
+  d.ee_camera.reset();
+  EXPECT_NO_THROW((void)seg.push(img, ee, false, &d));
+  EXPECT_NO_THROW((void)seg.push(img, ee, true, &d));
+  // Without use_depth the depth is ignored.
+  MlSegmenter plain(MlOptions{}, size);
+  EXPECT_NO_THROW((void)plain.push(img, ee, false, &d));
+}
+
+TEST(MlDepth, EpisodeWithoutDepthIsAnError) {
+  TempDir tmp("nodepth");
+  PushSpec spec;
+  spec.frames = 6;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  MlOptions o;
+  o.use_depth = true;
+  const std::string e = error_of([&] { (void)segment_ml(ep, o); });
+  EXPECT_NE(e.find("the episode has no depth images"), std::string::npos) << e;
+}
+
+TEST(MlDepth, DepthStepsCutRegions) {
+  // One region over a 10 x 6 image whose right half lies 50 mm nearer: two pieces; a 5 mm step
+  // or a hole cuts nothing.
+  const cv::Mat1i one(6, 10, 0);
+  cv::Mat1f z(6, 10, 1000.0F);
+  z(cv::Rect(5, 0, 5, 6)).setTo(950.0F);
+  int n = 0;
+  const cv::Mat1i cut = split_at_depth_steps(one, z, 20.0, n);
+  EXPECT_EQ(n, 2);
+  EXPECT_NE(cut(0, 0), cut(0, 9));
+  EXPECT_EQ(cut(5, 0), cut(0, 4));
+  z(cv::Rect(5, 0, 5, 6)).setTo(995.0F);
+  (void)split_at_depth_steps(one, z, 20.0, n);
+  EXPECT_EQ(n, 1);
+  z(cv::Rect(5, 0, 5, 6)).setTo(950.0F);
+  z.col(5).setTo(0.0F);  // a column of holes between them joins
+  z.col(4).setTo(0.0F);
+  (void)split_at_depth_steps(one, z, 20.0, n);
+  EXPECT_EQ(n, 1);
 }
 
 TEST(MlSegmentation, PriorMultipliesIn) {

@@ -22,10 +22,11 @@
 namespace proprio::eval {
 
 /// Segmentation methods: M-L with the translation model, with the homography model, the sparse
-/// variant, the Fitzpatrick & Metta baseline, and M-L followed by graph cuts.
-enum class Method { kMl, kMlHomography, kMlSparse, kFm, kMlGraphCut };
+/// variant, the Fitzpatrick & Metta baseline, M-L followed by graph cuts, and M-L's depth variant
+/// (thesis 9.2: 3-D region motion and depth steps; needs episodes with depth).
+enum class Method { kMl, kMlHomography, kMlSparse, kFm, kMlGraphCut, kMlDepth };
 [[nodiscard]] std::string to_string(
-    Method m);  ///< "ml", "ml-homography", "ml-sparse", "fm", "ml-graphcut"
+    Method m);  ///< "ml", "ml-homography", "ml-sparse", "fm", "ml-graphcut", "ml-depth"
 /// The method named `s`; Error listing the names otherwise.
 Method parse_method(const std::string& s);
 /// Comma-separated names; Error on an unknown or repeated name or an empty list.
@@ -35,7 +36,7 @@ std::vector<Method> parse_methods(const std::string& list);
 [[nodiscard]] std::string free_parameter(Method m);
 
 struct EvalOptions {
-  segmentation::MlOptions ml = {};  ///< translation; kMlHomography switches the model
+  segmentation::MlOptions ml = {};  ///< translation; kMlHomography / kMlDepth switch it
   segmentation::SparseOptions sparse = {};
   segmentation::FmOptions fm = {};
   segmentation::MlGraphCutOptions ml_graph_cut = {};

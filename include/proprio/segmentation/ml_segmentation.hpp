@@ -180,6 +180,25 @@ struct MlOptions {
   bool contact_prior = true;
   double contact_radius = 20.0;
   double contact_gap = 10.0;
+  /// Depth variant (thesis 9.2, "a rigid 3D motion model from stereo or depth"; `segment
+  /// --method ml-depth`): every frame comes with a depth image (MlSegmenter::DepthFrame). Each
+  /// region's flow samples are back-projected through the intrinsics at their depths in the two
+  /// frames, and the region's 3-D translation over the evidence interval (robust mean of the
+  /// samples' 3-D motions, per frame pair) is compared with the arm's 3-D displacement in the
+  /// camera frame: p = exp(-|e|^2 / (2 depth_lambda)), e in mm. A region with fewer than
+  /// min_depth_samples samples of known depth in a frame pair of its interval is judged by the
+  /// 2-D model in that interval. Superpixels are also cut at depth steps (split_at_depth_steps):
+  /// the object's outline against the table behind it is a depth discontinuity that colour may
+  /// not show. Depth holes (0, NaN, infinite) are unknown: their samples are left out, they cut
+  /// nothing. Camera motion is not compensated in 3-D.
+  bool use_depth = false;
+  /// Sigma = depth_lambda I of the 3-D error density, mm^2.
+  double depth_lambda = 400.0;
+  /// Robust 3-D mean bandwidth, mm.
+  double depth_bandwidth = 10.0;
+  /// Depth step between neighbouring pixels that cuts a superpixel, mm; 0 = no cut.
+  double depth_edge = 20.0;
+  int min_depth_samples = 6;
   /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
   cv::Mat1f prior;
   /// Keep the map painted with every frame's regions (MlResult::frame_maps).
@@ -231,8 +250,12 @@ struct MlOptions {
     v(self.contact_prior, {"contact_prior", "Keep blobs near the arm's contact"});
     v(self.contact_radius, {"contact_radius", "Contact prior radius, px"});
     v(self.contact_gap, {"contact_gap", "Contact prior gap, px"});
+    v(self.use_depth, {"use_depth", "Depth variant: 3-D region motion (thesis 9.2)"});
+    v(self.depth_lambda, {"depth_lambda", "Sigma = lambda I of the 3-D error, mm^2"});
+    v(self.depth_bandwidth, {"depth_bandwidth", "Robust 3-D mean bandwidth, mm"});
+    v(self.depth_edge, {"depth_edge", "Depth step that cuts a region, mm (0 = none)"});
+    v(self.min_depth_samples, {"min_depth_samples", "Least depth samples of a 3-D motion"});
   }
-
 };
 
 /// What happened (Ceres style).
@@ -242,8 +265,11 @@ struct MlSummary {
   bool touched = false;        ///< the arm touched something
   int evidence_intervals = 0;  ///< evidence intervals closed (arm moved evidence_step)
   int tracks = 0;              ///< region tracks created over the episode
-  int camera_fits = 0;         ///< evidence intervals whose camera motion was found
-  int camera_failures = 0;     ///< evidence intervals with no camera motion fit (not compensated)
+  /// Region tracks held at the end: the live ones and the ended ones whose evidence the first
+  /// touch's map still needs (all of them with keep_frame_labels).
+  int tracks_kept = 0;
+  int camera_fits = 0;      ///< evidence intervals whose camera motion was found
+  int camera_failures = 0;  ///< evidence intervals with no camera motion fit (not compensated)
   double mean_camera_motion = 0.0;  ///< mean camera motion over an interval, image centre, pixels
   std::string message;              ///< one line: what happened
   double mean_ms_regions = 0.0;     ///< over-segmentation + tracking, per frame
@@ -267,7 +293,9 @@ struct MlResult {
 
 /// Segments the pushed object of `episode` (needs frames, arm data; every frame of the camera's
 /// size). Throws Error on an episode without frames or arm samples, or frames of different sizes.
-/// An episode that never touches returns scored_frame = -1 and a "no touch" message.
+/// An episode that never touches returns scored_frame = -1 and a "no touch" message. With
+/// use_depth the episode must have depth images (Error naming the episode otherwise); the arm's
+/// 3-D position is the arm sample's end effector taken into the camera frame by the calibration.
 MlResult segment_ml(const episode::Episode& episode, const MlOptions& options);
 
 /// The sparse variant (Algorithm 3, 4.5).
@@ -316,6 +344,18 @@ class MlSegmenter {
     double ms_regions = 0.0, ms_flow = 0.0, ms_model = 0.0, ms_total = 0.0;
   };
 
+  /// A frame's depth (MlOptions::use_depth).
+  struct DepthFrame {
+    /// Depth along the optical axis, millimetres, of the frame's size: CV_16UC1 (0 = unknown)
+    /// or CV_32FC1 (0, NaN or infinite = unknown). Anything else is an Error.
+    cv::Mat depth;
+    /// The end effector in the camera frame, millimetres (none if unknown: the frame's 3-D
+    /// evidence falls back to 2-D).
+    std::optional<Eigen::Vector3d> ee_camera;
+    /// Camera intrinsics K, pixels of the full-size frame.
+    Eigen::Matrix3d intrinsics = Eigen::Matrix3d::Identity();
+  };
+
   /// Throws Error when options are invalid or the size is empty.
   MlSegmenter(const MlOptions& options, cv::Size image_size);
   ~MlSegmenter();
@@ -325,7 +365,10 @@ class MlSegmenter {
   /// One frame: 8-bit BGR image of image_size (else Error), the end-effector's image position,
   /// pixels (none if unknown: the frame pair carries no evidence), and whether the arm touched
   /// something since the previous frame (the first set flag ends arm removal, eq 4.18).
-  FrameOutput push(const cv::Mat& bgr, std::optional<Eigen::Vector2d> ee_image, bool touching);
+  /// With use_depth, `depth` must be given (Error naming the frame otherwise, or when its image
+  /// is empty, of another size or type); without, it is ignored.
+  FrameOutput push(const cv::Mat& bgr, std::optional<Eigen::Vector2d> ee_image, bool touching,
+                   const DepthFrame* depth = nullptr);
 
   /// Frames pushed so far.
   [[nodiscard]] int frames() const;

@@ -22,6 +22,11 @@ struct RobustMeanResult {
 RobustMeanResult robust_mean(const std::vector<Eigen::Vector2f>& samples, double bandwidth,
                              double tolerance, int max_iterations);
 
+/// The same in 3-D (the depth variant: a region's 3-D translation, millimetres): started at the
+/// coordinate-wise median, flat kernel of radius `bandwidth`. Requires a non-empty sample set.
+Eigen::Vector3d robust_mean_3d(const std::vector<Eigen::Vector3f>& samples, double bandwidth,
+                               double tolerance, int max_iterations);
+
 /// Homography H with to ~ H from (eq 4.9), by RANSAC (Algorithm 2, cv::findHomography) with a
 /// reprojection threshold in pixels. None when there are fewer than `min_points` pairs, RANSAC
 /// fails, or fewer than half the pairs are inliers.
@@ -35,5 +40,7 @@ Eigen::Vector2d apply_homography(const Eigen::Matrix3d& h, const Eigen::Vector2d
 /// Unnormalised Gaussian error density exp(-e^T e / (2 lambda)) in (0, 1] (eq 4.13-4.14 with
 /// Sigma = lambda I, SPEC §3): 1 for a region moving exactly as the arm.
 double motion_likelihood(const Eigen::Vector2d& error, double lambda);
+/// The same for a 3-D error (the depth variant; lambda in the error's units squared).
+double motion_likelihood_3d(const Eigen::Vector3d& error, double lambda);
 
 }  // namespace proprio::segmentation

@@ -34,6 +34,15 @@ class OverSegmenter {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Depth discontinuities as region boundaries (the depth variant, thesis 9.2): `labels`' regions
+/// (CV_32S, 0..count-1) cut into their 4-connected pieces that no depth step crosses. Two
+/// neighbouring pixels are joined when they have the same label and their depths (`depth`,
+/// CV_32F, millimetres, of labels' size; 0 = unknown) differ by at most `max_step` mm or either
+/// is unknown (holes neither cut nor join regions of their own). Returns the new labels
+/// (0..count'-1, numbered in scan order) and sets `count` to their number.
+cv::Mat1i split_at_depth_steps(const cv::Mat1i& labels, const cv::Mat1f& depth, double max_step,
+                               int& count);
+
 /// Track identities across frames (see above).
 class RegionTracker {
  public:
@@ -43,24 +52,27 @@ class RegionTracker {
   /// from this frame to the previous one (`back_flow`, CV_32FC2; empty for the first frame).
   [[nodiscard]] cv::Mat1i update(const cv::Mat1i& superpixels, int count,
                                  const cv::Mat2f& back_flow);
-  /// Tracks created so far (ids are 0..track_count()-1).
+  /// Tracks created so far (ids are 0..track_count()-1, never reused).
   [[nodiscard]] int track_count() const { return next_id_; }
-  /// For each track that has ended, the track that received most of its pixels when it ended
-  /// (-1 while alive, or when its pixels all left the image). Its evidence continues there.
-  [[nodiscard]] const std::vector<int>& successors() const { return successor_; }
-  /// For each track, the track that covered most of its first superpixel (-1: none, e.g. the
-  /// first frame or pixels from outside the image).
-  [[nodiscard]] const std::vector<int>& parents() const { return parent_; }
-  /// The tracks that ended in the last update and have a successor.
-  [[nodiscard]] const std::vector<int>& ended() const { return ended_; }
+  /// The tracks that ended in the last update (alive in the previous frame, in none of this
+  /// frame's superpixels), in increasing id order, each with the track that received most of its
+  /// pixels (-1 when its pixels all left the image). Its evidence continues there.
+  [[nodiscard]] const std::vector<std::pair<int, int>>& ended() const { return ended_; }
+  /// The tracks created in the last update, in increasing id order, each with the track that
+  /// covered most of its superpixel (-1: none, e.g. the first frame or pixels from outside the
+  /// image).
+  [[nodiscard]] const std::vector<std::pair<int, int>>& created() const { return created_; }
+  /// The tracks alive in the last frame, in increasing id order. The tracker keeps no state per
+  /// ended track: its memory is bounded by the frame's size, however long the video.
+  [[nodiscard]] const std::vector<int>& live() const { return live_; }
 
  private:
   double min_overlap_;
   cv::Mat1i previous_;
   int next_id_ = 0;
-  std::vector<int> successor_;
-  std::vector<int> ended_;
-  std::vector<int> parent_;
+  std::vector<int> live_;
+  std::vector<std::pair<int, int>> ended_;
+  std::vector<std::pair<int, int>> created_;
   std::vector<std::vector<std::pair<int, int>>> votes_;  // per superpixel: (track, votes)
 };
 
