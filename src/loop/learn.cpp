@@ -1038,6 +1038,13 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
         std::chrono::duration<double>(Clock::now() - th).count();
   }
   LearnResult r = finish(k, o, provenance, score, true);
+  if (!score) {
+    // Nothing to score: no views were taken, so no vocabulary, LDA or object model was made.
+    r.document["held_out"] = {
+        {"views_per_object", o.held_out},
+        {"scored", false},
+        {"why", "no model: the robot took no view it could learn from (see decisions.jsonl)"}};
+  }
   // What each push really moved (ground truth, scoring only): the attendant saw every push the
   // learner made, in the same order.
   const std::vector<PushTruth>& truth = attendant.pushes();

@@ -597,8 +597,12 @@ std::string summary_section(const Context& c, const Decisions& dec, bool complet
   double total = 0;
   for (const Stage& st : run.stages) total += st.seconds;
   s += "<p class=\"headline\">";
-  s += core::cat({"<b>", std::to_string(run.objects.size()), "</b> objects learned from <b>",
-                  std::to_string(executed), "</b> executed pushes (",
+  // A class counts as learned when it has views (a run may stop before it reaches every class;
+  // an old learn.json without view counts: every class listed).
+  long learned = 0;
+  for (const ObjectRow& o : run.objects) learned += o.views != 0 ? 1 : 0;
+  s += core::cat({"<b>", std::to_string(learned), "</b> of ", std::to_string(run.objects.size()),
+                  " objects learned from <b>", std::to_string(executed), "</b> executed pushes (",
                   std::to_string(run.pushes.size()), " planned)"});
   if (run.mot.present && run.mot.accuracy >= 0) {
     s += core::cat(

@@ -19,7 +19,9 @@ namespace {
 TEST(Learn, DefaultsAreTheIssuesWorld) {
   const LearnOptions o;
   EXPECT_EQ(o.objects, "book,bottle,cd,giraffe");
-  EXPECT_EQ(o.background, "plain");
+  EXPECT_EQ(o.clutter, "mug,rabbit,calculator");  // 3 more catalogue objects
+  EXPECT_EQ(o.background, "moving");              // people walking behind
+  EXPECT_EQ(o.distractors, -1);                   // 2 with the moving backdrop
   EXPECT_EQ(o.seed, 1U);
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(o.resolved().pushes, o.pushes);  // not quick: unchanged
@@ -38,7 +40,10 @@ TEST(Learn, QuickMakesTheRunSmall) {
 
 TEST(Learn, BadOptionsThrow) {
   LearnOptions o;
-  o.background = "moving";
+  o.background = "stripes";
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.distractors = 5;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.clutter = "book";
