@@ -14,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "blob_tracking.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
@@ -67,23 +68,10 @@ void write_png(const fs::path& path, const cv::Mat& image) {
                           std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()));
 }
 
-cv::Mat blob_mask(const planning::PutativeObject& o, cv::Size size) {
-  cv::Mat m = cv::Mat::zeros(size, CV_8U);
-  o.mask.copyTo(m(o.box), o.mask);
-  return m;
-}
+using detail::blob_mask;
 
 int track(const planning::PlanningView& view, const Eigen::Vector2d& centre, double radius) {
-  int best = -1;
-  double best_d = radius;
-  for (std::size_t k = 0; k < view.objects.size(); ++k) {
-    const double d = (view.objects[k].centre - centre).norm();
-    if (d < best_d) {
-      best_d = d;
-      best = static_cast<int>(k);
-    }
-  }
-  return best;
+  return detail::nearest_blob(view, centre, radius);
 }
 
 cv::Mat dilated(const cv::Mat& mask, int px) {

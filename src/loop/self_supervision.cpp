@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "blob_tracking.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/progress.hpp"
 #include "proprio/core/random.hpp"
@@ -70,23 +71,10 @@ core::Json plan_json(const planning::PushPlan& p) {
 // The blob of `view` nearest `centre` within kTrackRadius; -1 none.
 int track(const planning::PlanningView& view, const Eigen::Vector2d& centre,
           double radius = kTrackRadius) {
-  int best = -1;
-  double best_d = radius;
-  for (std::size_t k = 0; k < view.objects.size(); ++k) {
-    const double d = (view.objects[k].centre - centre).norm();
-    if (d < best_d) {
-      best_d = d;
-      best = static_cast<int>(k);
-    }
-  }
-  return best;
+  return detail::nearest_blob(view, centre, radius);
 }
 
-cv::Mat blob_mask(const planning::PutativeObject& o, cv::Size size) {
-  cv::Mat m = cv::Mat::zeros(size, CV_8U);
-  o.mask.copyTo(m(o.box), o.mask);
-  return m;
-}
+using detail::blob_mask;
 
 double point_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
