@@ -34,7 +34,7 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   fs::create_directories(dir());
   const auto r = run_cli(
       "learn --objects book --clutter bottle --background plain --pushes 2 --width 200 "
-      "--height 150 --words 20 --topics 2 --held-out 3 --min-features 3 --seed 2 -q --out " +
+      "--height 150 --words 20 --topics 2 --held-out 3 --min-features 3 --seed 3 -q --out " +
       file("run") + " --json " + file("run.json"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "learned");

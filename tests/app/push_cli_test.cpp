@@ -26,18 +26,18 @@ TEST(PushCli, PushesTheNamedObjectAndWritesWhatHappened) {
   const fs::path out = temp_dir() / "push";
   const fs::path json = temp_dir() / "push.json";
   fs::remove_all(out);
-  // A table where the box is seen apart from the others (docs/results/push.md: seed 5).
+  // A table where the bike is pushed alone and ends within 2 cm of the target (seed 10).
   const auto r = run_cli(
-      "push --objects 5 --seed 5 --object box --target-x 0.205 --target-y 0.017 --fps 5 --out " +
+      "push --objects 5 --seed 10 --object bike --target-x 0.205 --target-y 0.017 --fps 5 --out " +
       out.string() + " --json " + json.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_HAS(r.out, "box ended");
+  EXPECT_HAS(r.out, "bike ended");
   expect_schema_valid("push.schema.json", json);
   const core::Json j = core::read_json(json);
   EXPECT_EQ(j["outcome"], "pushed");
   EXPECT_EQ(j["plan"]["outcome"], "planned");
   EXPECT_TRUE(j["execution"]["touched"].get<bool>());
-  EXPECT_EQ(j["ground_truth"]["intended"], "box");
+  EXPECT_EQ(j["ground_truth"]["intended"], "bike");
   EXPECT_TRUE(j["ground_truth"]["moved_intended"].get<bool>());
   EXPECT_LT(j["ground_truth"]["final_distance"].get<double>(), 0.03);
   // The closed loop reports every push; the first one's episode is out/episode.
@@ -55,7 +55,7 @@ TEST(PushCli, PushesTheNamedObjectAndWritesWhatHappened) {
 TEST(PushCli, OffTableTargetIsAnOutcomeNotACrash) {
   const fs::path json = temp_dir() / "off.json";
   const auto r =
-      run_cli("push --objects 5 --seed 5 --object box --target-x 1.5 --target-y 0.0 --json " +
+      run_cli("push --objects 5 --seed 10 --object bike --target-x 1.5 --target-y 0.0 --json " +
               json.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "not-planned");
@@ -67,7 +67,7 @@ TEST(PushCli, OffTableTargetIsAnOutcomeNotACrash) {
 
 TEST(PushCli, BadOptionsExitTwoWithOneLine) {
   for (const char* args :
-       {"push --object unicorn --width 320 --height 240", "push --min-approach -0.01",
+       {"push --object unicorn --width 320 --height 240 --seed 2", "push --min-approach -0.01",
         "push --objects 0", "evaluate push --tables 0", "push --goal sideways"}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;

@@ -91,7 +91,9 @@ TEST(TableWorld, DistractorsStayBehindTheWorkAreaAndAreInTheMasks) {
     for (const ObjectTruth& o : robot.ground_truth()) {
       if (o.role != TableRole::kDistractor) continue;
       ++distractors;
-      EXPECT_GT(o.centre.y() - o.footprint_radius, region.max.y()) << o.name;
+      // footprint_radius bounds the object about its origin (not its box centre, which turns
+      // about the origin as the distractor spins).
+      EXPECT_GT(o.position.y() - o.footprint_radius, region.max.y()) << o.name;
       EXPECT_TRUE(o.on_table) << o.name;
       if (cv::countNonZero(mask == o.id) > 20) ++seen;
     }
