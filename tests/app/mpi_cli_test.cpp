@@ -101,6 +101,48 @@ TEST_F(MpiLda, TwoAndThreeRanksWriteTheOneProcessModelByteForByte) {
   }
 }
 
+// The update split by topic rows (each rank exp E[log beta], the statistics and the M-step of its
+// rows, PROPRIO_MPI_LDA_DESIGN=by-topic, the default) and the replicated one (every rank the whole
+// M-step) give the one-process model byte for byte, also with K not a multiple of the ranks
+// (7 topics; odd, so the topic sums' order is tested on every row) and fewer topics than ranks.
+TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
+  struct Case {
+    int k;
+    int ranks;
+    const char* design;
+  };
+  for (const Case c : {Case{6, 2, "replicated"}, Case{6, 3, "replicated"}, Case{7, 2, "by-topic"},
+                       Case{7, 3, "by-topic"}, Case{2, 3, "by-topic"}}) {
+    std::string args = "--batch 32 --passes 2 --seed 4 -k ";
+    args += std::to_string(c.k);
+    std::string one = "one_k";
+    one += std::to_string(c.k);
+    one += ".lda";
+    if (!fs::exists(path(one))) {
+      const auto r = test::run_cli("lda train --corpus " + path("c") + " " + args +
+                                   " --threads 2 --model " + path(one));
+      ASSERT_EQ(r.code, 0) << r.err;
+    }
+    std::string name = "design_";
+    name += c.design;
+    name += std::to_string(c.k);
+    name += "_";
+    name += std::to_string(c.ranks);
+    name += ".lda";
+    std::string command = "PROPRIO_MPI_LDA_DESIGN=";
+    command += c.design;
+    command += " PROPRIO_LDA_PHASE_TIMES=1 ";
+    command += mpirun(c.ranks) + cli() + " lda train --corpus " + path("c") + " " + args +
+               " --threads 1 --model " + path(name);
+    const auto r = run(command);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(slurp(path(name)) == slurp(path(one)))
+        << c.design << ", K " << c.k << ", " << c.ranks << " ranks: another model";
+    // Rank 0 reports its phases once (the by-topic path times its beta rows and their exchange).
+    EXPECT_EQ(count_of(r.err, "\"phase_times\""), 1) << r.err;
+  }
+}
+
 TEST_F(MpiLda, RanksThatReadDifferentCorporaAllExit2WithOneLine) {
   std::string train = " lda train ";
   train += kArgs;
