@@ -335,7 +335,6 @@ void mstep_rows(Eigen::MatrixXd& rows, int k0, const std::vector<std::int32_t>& 
 void OnlineLda::finish_update(MiniBatchStats& stats) {
   Impl& m = *impl_;
   LdaModel& model = m.model;
-  const int K = model.num_topics();
   const auto S = static_cast<std::size_t>(m.stride);
   Lap lap;
   if (m.by_topic) {
@@ -369,7 +368,6 @@ void OnlineLda::finish_update(MiniBatchStats& stats) {
   ++m.times.updates;
   stats.rho = rho;
   lap(m.times.mstep);
-  (void)K;
 }
 
 namespace {
@@ -879,16 +877,24 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   if (trace && eval.method == PerplexityMethod::kDocumentCompletion) {
     split = split_for_completion(*heldout, eval.split_seed);
   }
+  // Only the ranks given the held-out corpus (rank 0 in `lda train`) score it, but split by topic
+  // every rank takes part in gathering the model for it: the points where it is scored are the
+  // same on every rank.
+  std::int64_t traced[1] = {trace ? 1 : 0};
+  comm.allreduce_max(traced);
+  std::int64_t scored_at = -1;
   auto evaluate = [&] {
     const auto t0 = Clock::now();
     lda.gather_topics(comm);
+    scored_at = lda.model().updates;
+    if (!trace) return;
     const PerplexityResult p = eval.method == PerplexityMethod::kDocumentCompletion
                                    ? completion_perplexity(lda.model(), split, eval)
                                    : perplexity(lda.model(), *heldout, eval);
     s.trace.push_back({lda.model().updates, s.documents, p.perplexity});
     s.evaluation_seconds += since(t0);
   };
-  if (trace) evaluate();
+  if (traced[0] != 0) evaluate();
 
   std::int64_t counts[1] = {0};
   for (std::size_t d = 0; d < local.num_documents(); ++d) counts[0] += !local.document(d).empty();
@@ -916,14 +922,14 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
       s.tokens += st.tokens;
       s.capped += st.capped;
       iterations += st.estep_iterations;
-      if (trace && options.evaluate_every > 0 && s.updates % options.evaluate_every == 0) {
+      if (traced[0] != 0 && options.evaluate_every > 0 && s.updates % options.evaluate_every == 0) {
         evaluate();
       }
     }
     ++s.passes;
   }
-  if (trace && s.trace.back().updates != lda.model().updates) evaluate();
-  lda.gather_topics(comm);
+  if (traced[0] != 0 && scored_at != lda.model().updates) evaluate();
+  if (scored_at != lda.model().updates) lda.gather_topics(comm);
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
