@@ -10,10 +10,14 @@ usage: bench_mpi.py --proprio build/app/proprio --corpus /tmp/proprio-manpage-co
 Times are `proprio lda train`'s own "seconds" (training alone: MPI start-up, reading the corpus
 and scoring the held-out pages excluded), wall clock of rank 0. The order of the two runs is
 rotated per repeat; the machine's load average (/proc/loadavg) is read before and after each run.
-The processor time of rank 0 is recorded beside (cpu_ratio: one process's over rank 0's).
+The processor time of rank 0 is recorded beside (cpu_ratio: one process's over rank 0's), and
+its processor seconds per phase of the updates (E-step, exp E[log beta], sufficient statistics,
+M-step, communication: PROPRIO_LDA_PHASE_TIMES). Each repeat runs one process and 2 ranks of each
+design in --designs (PROPRIO_MPI_LDA_DESIGN: by-topic, the default, and replicated).
 """
 import argparse
 import json
+import re
 import os
 import pathlib
 import statistics
@@ -34,7 +38,11 @@ def run(cmd, env):
     wall = time.monotonic() - t0
     if p.returncode != 0:
         sys.exit(f"bench_mpi: {' '.join(cmd)} failed ({p.returncode}):\n{p.stderr}")
-    return before, loadavg(), wall
+    phases = None
+    for line in p.stderr.splitlines():
+        if re.match(r'^\{"phase_times"', line):
+            phases = json.loads(line)["phase_times"]
+    return before, loadavg(), wall, phases
 
 
 def main():
@@ -50,15 +58,19 @@ def main():
     ap.add_argument("--passes", type=int, default=5)
     ap.add_argument("--topics", type=int, default=100)
     ap.add_argument("--batch", type=int, default=256)
+    ap.add_argument("--designs", default="by-topic,replicated",
+                    help="the 2-rank designs to run, comma-separated")
     ap.add_argument("--out")
     a = ap.parse_args()
+    designs = [d for d in a.designs.split(",") if d]
     corpus = pathlib.Path(a.corpus)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     tmp = pathlib.Path(tempfile.mkdtemp(prefix="proprio_bench_mpi_"))
     results = []
     for r in range(1, a.repeats + 1):
         runs = {}
-        order = ["1x1", "2x1"] if r % 2 else ["2x1", "1x1"]
+        names = ["1x1"] + [f"2x1-{d}" for d in designs]
+        order = names if r % 2 else names[::-1]
         for name in order:
             model = tmp / f"{name}.lda"
             js = tmp / f"{name}.json"
@@ -68,35 +80,43 @@ def main():
                      "--model", str(model), "--json", str(js)]
             cmd = train if name == "1x1" else \
                 [a.mpirun] + a.mpirun_options.split() + ["-np", "2"] + train
-            before, after, wall = run(cmd, env)
+            run_env = dict(env, PROPRIO_LDA_PHASE_TIMES="1")
+            if name != "1x1":
+                run_env["PROPRIO_MPI_LDA_DESIGN"] = name.split("-", 1)[1]
+            before, after, wall, phases = run(cmd, run_env)
             doc = json.loads(js.read_text())
             runs[name] = {"seconds": doc["seconds"], "cpu_seconds_rank0": doc["cpu_seconds"],
                           "command_wall_seconds": wall, "perplexity": doc["heldout_perplexity"],
                           "load_before": before, "load_after": after,
+                          "phase_cpu_seconds_rank0": phases,
                           "model_bytes": model.read_bytes()}
-        same = runs["1x1"].pop("model_bytes") == runs["2x1"].pop("model_bytes")
+        one = runs["1x1"].pop("model_bytes")
+        same = all(runs[n].pop("model_bytes") == one for n in names[1:])
         if not same:
-            sys.exit("bench_mpi: the 2-rank model differs from the one-process model")
-        speedup = runs["1x1"]["seconds"] / runs["2x1"]["seconds"]
-        # Processor time of one process over that of rank 0 of two: the speed-up an idle machine
-        # would give if no rank ever waited (rank 0 does the replicated work and its half).
-        cpu_ratio = runs["1x1"]["cpu_seconds_rank0"] / runs["2x1"]["cpu_seconds_rank0"]
-        results.append({"seed": r, "runs": runs, "same_model": same, "speedup": speedup,
-                        "cpu_ratio": cpu_ratio})
-        print(f"seed {r}: 1 rank {runs['1x1']['seconds']:.2f} s, 2 ranks "
-              f"{runs['2x1']['seconds']:.2f} s, speed-up {speedup:.2f}x (processor time "
-              f"{runs['1x1']['cpu_seconds_rank0']:.2f} / {runs['2x1']['cpu_seconds_rank0']:.2f} s: "
-              f"{cpu_ratio:.2f}x), perplexity "
-              f"{runs['1x1']['perplexity']:.1f} (both), load "
-              f"{runs['1x1']['load_before'][0]:.1f}/{runs['2x1']['load_before'][0]:.1f}",
-              flush=True)
+            sys.exit("bench_mpi: a 2-rank model differs from the one-process model")
+        entry = {"seed": r, "runs": runs, "same_model": same, "speedup": {}, "cpu_ratio": {}}
+        line = (f"seed {r}: 1 rank {runs['1x1']['seconds']:.2f} s "
+                f"(load {runs['1x1']['load_before'][0]:.1f})")
+        for n in names[1:]:
+            entry["speedup"][n] = runs["1x1"]["seconds"] / runs[n]["seconds"]
+            # Processor time of one process over that of rank 0 of two: the speed-up an idle
+            # machine would give if no rank ever waited.
+            entry["cpu_ratio"][n] = runs["1x1"]["cpu_seconds_rank0"] / runs[n]["cpu_seconds_rank0"]
+            line += (f"; {n} {runs[n]['seconds']:.2f} s, speed-up {entry['speedup'][n]:.2f}x, "
+                     f"processor time {entry['cpu_ratio'][n]:.2f}x "
+                     f"(load {runs[n]['load_before'][0]:.1f})")
+        results.append(entry)
+        print(line + f", perplexity {runs['1x1']['perplexity']:.1f} (all)", flush=True)
     summary = {"corpus": str(corpus), "topics": a.topics, "batch": a.batch, "passes": a.passes,
-               "cpus": os.cpu_count(), "median_speedup":
-               statistics.median(x["speedup"] for x in results),
-               "median_cpu_ratio": statistics.median(x["cpu_ratio"] for x in results),
+               "cpus": os.cpu_count(), "designs": designs,
+               "median_speedup": {n: statistics.median(x["speedup"][n] for x in results)
+                                  for n in names[1:]},
+               "median_cpu_ratio": {n: statistics.median(x["cpu_ratio"][n] for x in results)
+                                    for n in names[1:]},
                "mpirun_options": a.mpirun_options, "repeats": results}
-    print(f"median speed-up {summary['median_speedup']:.2f}x, processor-time ratio "
-          f"{summary['median_cpu_ratio']:.2f}x")
+    for n in names[1:]:
+        print(f"{n}: median speed-up {summary['median_speedup'][n]:.2f}x, processor-time ratio "
+              f"{summary['median_cpu_ratio'][n]:.2f}x")
     if a.out:
         pathlib.Path(a.out).write_text(json.dumps(summary, indent=2) + "\n")
 

@@ -17,9 +17,14 @@ documents, P ranks of one thread, on a network of bandwidth bw and latency lat. 
                 (allgather, reduce-scatter); an allreduce is a reduce-scatter and an allgather.
 
 Designs:
-  gather     (implemented; bit-identical): allgather the batch's word ids and counts (8 E_B
-             bytes), then what the E-step leaves (4 B K + 4 E_B + 8 B bytes); every rank sums the
-             statistics and applies the M-step.
+  gather     (implemented, `PROPRIO_MPI_LDA_DESIGN=replicated`; bit-identical): allgather the
+             batch's word ids and counts (8 E_B bytes), then what the E-step leaves (4 B K + 4 E_B
+             + 8 B bytes); every rank sums the statistics and applies the M-step.
+  by-topic-gather  (implemented, the default; bit-identical): the same two allgathers, plus an
+             allgather of the batch's beta rows (4 V_B K bytes); each rank computes exp E[log
+             beta], the statistics (over every document, in document order) and the M-step of
+             its K / P topic rows only (the first two on whole vectors of 16 topics, so at most
+             (ceil(K / P / 16) + 1) * 16 topics a rank).
   allreduce  the issue's first design: each rank sums its documents' statistics, allreduce of
              V_B x K (float32 or float64) plus the combination per element; M-step replicated.
              Not bit-identical to one process (another order of the sums).
@@ -39,6 +44,7 @@ D = 3_000_000
 W = 100_000
 NETWORKS = {"10 GbE": (1.25e9, 20e-6), "100 Gb InfiniBand": (12e9, 1.5e-6)}
 RANKS = [8, 16, 64]
+LANES = 16  # float32 lanes of the AVX-512 kernels
 
 
 def collective(nbytes, p, bw, lat):
@@ -70,6 +76,16 @@ def batch_time(m, k, b, p, design, net, precision=4):
         n = precision * v_b * k
         comm = 2 * collective(n, p, bw, lat)
         return estep + beta + ss / p + mstep + comm + comb * v_b * k * (p - 1) / p, comm
+    if design == "by-topic-gather":
+        comm = (collective(8 * e_b, p, bw, lat) + collective(4 * v_b * k, p, bw, lat)
+                + collective(4 * b * k + 4 * e_b + 8 * b, p, bw, lat))
+        # The vector kernels of exp E[log beta] and of the statistics run on whole vectors of
+        # LANES topics: a rank's K / P rows cover up to ceil(K / P / LANES) + 1 vectors (measured
+        # at K = 100, P = 2: rank 0 did 0.66 and 0.70 of one process's beta and statistics, the
+        # M-step 0.49-0.56).
+        covered = min(math.ceil(k / LANES) * LANES,
+                      (math.ceil(k / p / LANES) + 1) * LANES) / k
+        return estep + (beta + ss) * covered + mstep / p + comm, comm
     if design == "by-topic":
         n = 4 * v_b * k
         comm = 2 * collective(n, p, bw, lat) + collective(8 * e_b, p, bw, lat)
@@ -105,11 +121,12 @@ def main():
         print("| design | B | 10 GbE: 8 | 16 | 64 | InfiniBand: 8 | 16 | 64 | comm. share at 16, "
               "IB | pass over 3M docs at 16 ranks, IB |")
         print("|---|---|---|---|---|---|---|---|---|---|")
-        for design, prec in [("gather", 4), ("allreduce", 8), ("allreduce", 4), ("by-topic", 4),
+        for design, prec in [("gather", 4), ("by-topic-gather", 4), ("allreduce", 8),
+                             ("allreduce", 4), ("by-topic", 4),
                              ("gather+lazy", 4), ("by-topic+lazy", 4)]:
             for b in [256, 4096]:
                 label = design if not design.startswith("allreduce") else f"allreduce float{8 * prec}"
-                if design == "gather":
+                if design in ("gather", "by-topic-gather"):
                     label += " (implemented)"
                 row = []
                 for net in NETWORKS.values():

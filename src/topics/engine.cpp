@@ -17,10 +17,31 @@ Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, ThreadPool& pool) {
   const Eigen::Index W = lambda.cols();
   const auto blocks = static_cast<std::size_t>((W + kWordBlock - 1) / kWordBlock);
   Eigen::MatrixXd partial = Eigen::MatrixXd::Zero(K, static_cast<Eigen::Index>(blocks));
+  // Every row is summed in the same order, whatever K and whatever rows the matrix holds (a rank
+  // holding some rows of lambda gets the bits of one process holding all): in a block, the first
+  // column, then groups of four columns added pairwise, then the rest one by one. This is the
+  // order of Eigen 3.4's vectorised rowwise().sum(), used here before, so that models with an
+  // even K are unchanged (with an odd K, Eigen summed its last row in another order).
   pool.run(blocks, [&](std::size_t b, int) {
     const Eigen::Index w0 = static_cast<Eigen::Index>(b) * kWordBlock;
     const Eigen::Index n = std::min(kWordBlock, W - w0);
-    partial.col(static_cast<Eigen::Index>(b)) = lambda.middleCols(w0, n).rowwise().sum();
+    double* p = partial.col(static_cast<Eigen::Index>(b)).data();
+    const auto column = [&](Eigen::Index i) { return lambda.col(w0 + i).data(); };
+    const double* c0 = column(0);
+    for (Eigen::Index k = 0; k < K; ++k) p[k] = c0[k];
+    const Eigen::Index groups = (n - 1) & ~Eigen::Index{3};
+    Eigen::Index i = 1;
+    for (; i < groups; i += 4) {
+      const double* a = column(i);
+      const double* b1 = column(i + 1);
+      const double* c = column(i + 2);
+      const double* d = column(i + 3);
+      for (Eigen::Index k = 0; k < K; ++k) p[k] = p[k] + ((a[k] + b1[k]) + (c[k] + d[k]));
+    }
+    for (; i < n; ++i) {
+      const double* a = column(i);
+      for (Eigen::Index k = 0; k < K; ++k) p[k] = p[k] + a[k];
+    }
   });
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(K);
   for (std::size_t b = 0; b < blocks; ++b) sum += partial.col(static_cast<Eigen::Index>(b));

@@ -1,6 +1,8 @@
 #include "proprio/topics/online_lda.hpp"
 #include "proprio/core/random.hpp"
 
+#include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +14,7 @@
 #include <span>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 
 #include "engine.hpp"
 #include "proprio/core/binary_file.hpp"
@@ -93,6 +96,15 @@ struct OnlineLda::Impl {
   detail::FloatBuffer beta;
   detail::BatchEStep estep;
   detail::FloatBuffer sstats;
+  // The by-topic split (distribute_by_topic): this rank's rows [row0, row1) of lambda and their
+  // sums over words; first_row[q] is rank q's first row (ranks + 1 entries).
+  bool by_topic = false;
+  int row0 = 0;
+  int row1 = 0;
+  std::vector<int> first_row;
+  Eigen::MatrixXd own;
+  Eigen::VectorXd own_sum;
+  OnlineLda::PhaseTimes times;
 
   Impl(const OnlineLdaOptions& o, LdaModel m)
       : options(o),
@@ -144,6 +156,74 @@ OnlineLda::~OnlineLda() = default;
 
 const LdaModel& OnlineLda::model() const { return impl_->model; }
 const char* OnlineLda::kernel() const { return impl_->kern->name; }
+OnlineLda::PhaseTimes OnlineLda::phase_times() const { return impl_->times; }
+
+namespace {
+
+// Adds the processor time since the last lap to a phase.
+class Lap {
+ public:
+  Lap() : t_(process_cpu_seconds()) {}
+  void operator()(double& slot) {
+    const double now = process_cpu_seconds();
+    slot += now - t_;
+    t_ = now;
+  }
+
+ private:
+  double t_;
+};
+
+}  // namespace
+
+std::pair<int, int> mpi_topic_rows(int num_topics, int ranks, int rank) {
+  assert(ranks >= 1 && rank >= 0 && rank < ranks && num_topics >= 0);
+  const auto at = [&](int r) {
+    return static_cast<int>(static_cast<std::int64_t>(r) * num_topics / ranks);
+  };
+  return {at(rank), at(rank + 1)};
+}
+
+bool mpi_lda_by_topic(int /*num_topics*/, int ranks) {
+  const char* v = std::getenv("PROPRIO_MPI_LDA_DESIGN");  // NOLINT(concurrency-mt-unsafe)
+  if (v != nullptr && std::string_view(v) == "replicated") return false;
+  if (v != nullptr && std::string_view(v) == "by-topic") return ranks > 1;
+  return ranks > 1;
+}
+
+void OnlineLda::distribute_by_topic(core::Communicator& comm) {
+  Impl& m = *impl_;
+  const int K = m.model.num_topics();
+  const int P = comm.size();
+  m.first_row.resize(static_cast<std::size_t>(P) + 1);
+  for (int q = 0; q <= P; ++q) {
+    m.first_row[static_cast<std::size_t>(q)] = q < P ? mpi_topic_rows(K, P, q).first : K;
+  }
+  std::tie(m.row0, m.row1) = mpi_topic_rows(K, P, comm.rank());
+  m.own = m.model.lambda.middleRows(m.row0, m.row1 - m.row0);
+  m.own_sum = m.topic_sum.segment(m.row0, m.row1 - m.row0);
+  m.by_topic = true;
+}
+
+void OnlineLda::gather_topics(core::Communicator& comm) {
+  Impl& m = *impl_;
+  if (!m.by_topic) return;
+  const std::vector<double> all = core::allgather_values<double>(
+      comm, std::span<const double>(m.own.data(), static_cast<std::size_t>(m.own.size())));
+  const Eigen::Index W = m.model.lambda.cols();
+  const auto P = m.first_row.size() - 1;
+  std::size_t at = 0;
+  for (std::size_t q = 0; q < P; ++q) {
+    const int r0 = m.first_row[q];
+    const int n = m.first_row[q + 1] - r0;
+    ensure(at + static_cast<std::size_t>(n) * static_cast<std::size_t>(W) <= all.size(),
+           "online LDA: a rank sent wrong topic rows");
+    m.model.lambda.middleRows(r0, n) = Eigen::Map<const Eigen::MatrixXd>(all.data() + at, n, W);
+    at += static_cast<std::size_t>(n) * static_cast<std::size_t>(W);
+  }
+  ensure(at == all.size(), "online LDA: a rank sent wrong topic rows");
+  m.topic_sum = detail::topic_sums(m.model.lambda, m.pool);
+}
 
 MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::size_t end) {
   Impl& m = *impl_;
@@ -156,6 +236,7 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
     throw Error("online LDA: empty or out-of-range mini-batch");
   }
   const int K = model.num_topics();
+  Lap lap;
   MiniBatchStats stats;
   stats.documents = static_cast<std::int64_t>(end - begin);
 
@@ -180,56 +261,155 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
         core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d));
   }
 
+  lap(m.times.communication);  // the batch's assembly
   detail::exp_elog_beta(*m.kern, model.lambda, m.topic_sum, m.batch_words, m.stride, m.pool,
                         m.beta);
+  lap(m.times.beta);
   detail::run_estep(*m.kern, m.pool, m.docs, m.beta.data(), K, m.stride, model.alpha,
                     m.options.estep, m.estep);
+  lap(m.times.estep);
   finish_update(stats);
   return stats;
 }
 
+namespace {
+
+// sufficient_statistics (engine.hpp) on the topics [k0, k1) only: the whole vectors of lanes that
+// hold them, each entry summed in document order, as there.
+void statistics_of_rows(const detail::Kernels& kern, detail::ThreadPool& pool,
+                        const detail::BatchDocs& docs, const detail::BatchEStep& estep,
+                        std::size_t rows, int k0, int k1, detail::FloatBuffer& sstats) {
+  const auto S = static_cast<std::size_t>(estep.stride);
+  sstats.assign(rows * S, 0.0f);
+  if (k1 <= k0) return;
+  const int first = k0 / kern.lanes;
+  const int vectors = (k1 + kern.lanes - 1) / kern.lanes - first;
+  const int parts = std::min(pool.size(), vectors);
+  pool.run(static_cast<std::size_t>(parts), [&](std::size_t p, int) {
+    const int v0 = first + static_cast<int>(p) * vectors / parts;
+    const int v1 = first + (static_cast<int>(p) + 1) * vectors / parts;
+    const int a = v0 * kern.lanes;
+    const int len = (v1 - v0) * kern.lanes;
+    for (std::size_t d = 0; d < docs.size(); ++d) {
+      const float* eth = estep.exp_elog_theta.data() + d * S + a;
+      for (std::size_t e = docs.offsets[d]; e < docs.offsets[d + 1]; ++e) {
+        float* row = sstats.data() + static_cast<std::size_t>(docs.rows[e]) * S + a;
+        kern.axpy(estep.weights[e], eth, row, len);
+      }
+    }
+  });
+}
+
+// The M-step (eq B.23-B.24) on the rows [k0, k0 + n) of lambda held in `rows` (n x W): for every
+// word, lambda = (1 - rho) lambda + rho eta + rho D/|B| sstats exp(E[log beta]) on the batch's
+// words, the decay alone on the others.
+void mstep_rows(Eigen::MatrixXd& rows, int k0, const std::vector<std::int32_t>& row_of_word,
+                const float* sstats, const float* beta, std::size_t S, double rho, double scale,
+                double eta, detail::ThreadPool& pool) {
+  const double keep = 1.0 - rho;
+  const double prior = rho * eta;
+  const auto W = static_cast<std::size_t>(rows.cols());
+  const auto n = static_cast<int>(rows.rows());
+  if (n == 0) return;
+  constexpr std::size_t kBlock = 256;
+  pool.run((W + kBlock - 1) / kBlock, [&](std::size_t b, int) {
+    const std::size_t w1 = std::min(W, (b + 1) * kBlock);
+    for (std::size_t w = b * kBlock; w < w1; ++w) {
+      double* col = rows.col(static_cast<Eigen::Index>(w)).data();
+      const std::int32_t r = row_of_word[w];
+      if (r >= 0) {
+        const float* s = sstats + static_cast<std::size_t>(r) * S + k0;
+        const float* e = beta + static_cast<std::size_t>(r) * S + k0;
+        for (int k = 0; k < n; ++k) {
+          col[k] = keep * col[k] + prior +
+                   rho * scale * static_cast<double>(s[k]) * static_cast<double>(e[k]);
+        }
+      } else {
+        for (int k = 0; k < n; ++k) col[k] = keep * col[k] + prior;
+      }
+    }
+  });
+}
+
+}  // namespace
+
 void OnlineLda::finish_update(MiniBatchStats& stats) {
   Impl& m = *impl_;
   LdaModel& model = m.model;
-  const int K = model.num_topics();
   const auto S = static_cast<std::size_t>(m.stride);
-  detail::sufficient_statistics(*m.kern, m.pool, m.docs, m.estep, m.batch_words.size(), m.sstats);
+  Lap lap;
+  if (m.by_topic) {
+    statistics_of_rows(*m.kern, m.pool, m.docs, m.estep, m.batch_words.size(), m.row0, m.row1,
+                       m.sstats);
+  } else {
+    detail::sufficient_statistics(*m.kern, m.pool, m.docs, m.estep, m.batch_words.size(), m.sstats);
+  }
   for (std::size_t d = 0; d < m.docs.size(); ++d) {
     stats.estep_iterations += m.estep.iterations[d];
     if (m.docs.offsets[d + 1] > m.docs.offsets[d] && !m.estep.converged[d]) ++stats.capped;
   }
+  lap(m.times.statistics);
 
   // M-step (eq B.23-B.24): lambda-hat = eta + D/|B| * sstats * exp(E[log beta]).
   // t counts this update from 1, as scikit-learn does (Hoffman's code counts from 0).
   const double rho = std::pow(model.tau0 + static_cast<double>(model.updates + 1), -model.kappa);
   const double scale =
       static_cast<double>(model.total_documents) / static_cast<double>(stats.documents);
-  const double keep = 1.0 - rho;
-  const double prior = rho * model.eta;
-  const auto W = static_cast<std::size_t>(model.num_words());
-  constexpr std::size_t kBlock = 256;
-  m.pool.run((W + kBlock - 1) / kBlock, [&](std::size_t b, int) {
-    const std::size_t w1 = std::min(W, (b + 1) * kBlock);
-    for (std::size_t w = b * kBlock; w < w1; ++w) {
-      double* col = model.lambda.col(static_cast<Eigen::Index>(w)).data();
-      const std::int32_t r = m.row_of_word[w];
-      if (r >= 0) {
-        const float* s = m.sstats.data() + static_cast<std::size_t>(r) * S;
-        const float* e = m.beta.data() + static_cast<std::size_t>(r) * S;
-        for (int k = 0; k < K; ++k) {
-          col[k] = keep * col[k] + prior +
-                   rho * scale * static_cast<double>(s[k]) * static_cast<double>(e[k]);
-        }
-      } else {
-        for (int k = 0; k < K; ++k) col[k] = keep * col[k] + prior;
-      }
-    }
-  });
-  m.topic_sum = detail::topic_sums(model.lambda, m.pool);
+  if (m.by_topic) {
+    mstep_rows(m.own, m.row0, m.row_of_word, m.sstats.data(), m.beta.data(), S, rho, scale,
+               model.eta, m.pool);
+    m.own_sum = detail::topic_sums(m.own, m.pool);
+  } else {
+    mstep_rows(model.lambda, 0, m.row_of_word, m.sstats.data(), m.beta.data(), S, rho, scale,
+               model.eta, m.pool);
+    m.topic_sum = detail::topic_sums(model.lambda, m.pool);
+  }
   for (const auto w : m.batch_words) m.row_of_word[static_cast<std::size_t>(w)] = -1;
   ++model.updates;
+  ++m.times.updates;
   stats.rho = rho;
+  lap(m.times.mstep);
 }
+
+namespace {
+
+// exp(E[log beta]) (eq B.19) of the listed words on the rows [k0, k0 + n) held in `rows`, packed:
+// n floats a word. The kernel runs on the whole vectors of lanes that hold those rows, so each
+// value has the bits exp_elog_beta gives it.
+void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows, int k0,
+                        const Eigen::VectorXd& row_sum, std::span<const std::int32_t> words,
+                        detail::ThreadPool& pool, detail::FloatBuffer& out) {
+  const auto n = static_cast<int>(rows.rows());
+  out.resize(words.size() * static_cast<std::size_t>(n));
+  if (n == 0) return;
+  const int a = k0 / kern.lanes * kern.lanes;
+  const int len = detail::padded(k0 + n, kern.lanes) - a;
+  const auto off = static_cast<std::size_t>(k0 - a);
+  detail::FloatBuffer sub(static_cast<std::size_t>(len), 0.0f);
+  for (int k = 0; k < n; ++k) {
+    sub[off + static_cast<std::size_t>(k)] = static_cast<float>(detail::digamma(row_sum(k)));
+  }
+  const auto T = static_cast<std::size_t>(pool.size());
+  std::vector<detail::FloatBuffer> x(T, detail::FloatBuffer(static_cast<std::size_t>(len), 1.0f));
+  std::vector<detail::FloatBuffer> y(T, detail::FloatBuffer(static_cast<std::size_t>(len)));
+  constexpr std::size_t kBlock = 64;
+  const std::size_t blocks = (words.size() + kBlock - 1) / kBlock;
+  pool.run(blocks, [&](std::size_t b, int t) {
+    float* xt = x[static_cast<std::size_t>(t)].data();
+    float* yt = y[static_cast<std::size_t>(t)].data();
+    const std::size_t end = std::min(words.size(), (b + 1) * kBlock);
+    for (std::size_t i = b * kBlock; i < end; ++i) {
+      const double* col = rows.col(words[i]).data();
+      for (int k = 0; k < n; ++k)
+        xt[off + static_cast<std::size_t>(k)] = static_cast<float>(col[k]);
+      kern.exp_digamma_minus(xt, sub.data(), yt, len);
+      std::memcpy(out.data() + i * static_cast<std::size_t>(n), yt + off,
+                  static_cast<std::size_t>(n) * sizeof(float));
+    }
+  });
+}
+
+}  // namespace
 
 MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, std::size_t end,
                                  core::Communicator& comm) {
@@ -246,6 +426,9 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   const int K = model.num_topics();
   const auto S = static_cast<std::size_t>(m.stride);
   const auto P = static_cast<std::size_t>(comm.size());
+  ensure(!m.by_topic || m.first_row.size() == P + 1,
+         "online LDA: split by topic for another number of ranks");
+  Lap lap;
   MiniBatchStats stats;
   stats.documents = static_cast<std::int64_t>(end - begin);
 
@@ -302,12 +485,40 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     }
   }
 
-  // 3. The E-step of this rank's documents.
-  detail::exp_elog_beta(*m.kern, model.lambda, m.topic_sum, m.batch_words, m.stride, m.pool,
-                        m.beta);
+  lap(m.times.communication);
+
+  // 3. exp(E[log beta]) of the batch's words: whole, or on this rank's topic rows and then
+  // gathered; the E-step of this rank's documents.
+  if (m.by_topic) {
+    detail::FloatBuffer part;
+    exp_elog_beta_rows(*m.kern, m.own, m.row0, m.own_sum, m.batch_words, m.pool, part);
+    lap(m.times.beta);
+    std::vector<std::size_t> part_sizes;
+    const std::vector<float> rows = core::allgather_values<float>(
+        comm, std::span<const float>(part.data(), part.size()), &part_sizes);
+    const std::size_t V = m.batch_words.size();
+    m.beta.assign(V * S, 0.0f);
+    std::size_t at = 0;
+    for (std::size_t q = 0; q < P; ++q) {
+      const auto r0 = static_cast<std::size_t>(m.first_row[q]);
+      const auto n = static_cast<std::size_t>(m.first_row[q + 1]) - r0;
+      ensure(part_sizes[q] == V * n, "online LDA: a rank sent wrong beta rows");
+      for (std::size_t i = 0; i < V; ++i) {
+        if (n > 0)
+          std::memcpy(m.beta.data() + i * S + r0, rows.data() + at + i * n, n * sizeof(float));
+      }
+      at += V * n;
+    }
+    lap(m.times.communication);
+  } else {
+    detail::exp_elog_beta(*m.kern, model.lambda, m.topic_sum, m.batch_words, m.stride, m.pool,
+                          m.beta);
+    lap(m.times.beta);
+  }
   detail::BatchEStep own;
   detail::run_estep(*m.kern, m.pool, mine, m.beta.data(), K, m.stride, model.alpha, m.options.estep,
                     own);
+  lap(m.times.estep);
 
   // 4. What every rank's E-step left, in corpus order: exp E[log theta], the entries' weights,
   // the iterations and whether each converged.
@@ -365,6 +576,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     }
     at += sizes[q];
   }
+  lap(m.times.communication);
   finish_update(stats);
   return stats;
 }
@@ -394,6 +606,19 @@ std::uint64_t corpus_checksum(const Corpus& corpus) {
 namespace {
 
 constexpr const char* kLdaCheckpointKind = "online_lda";
+
+// With PROPRIO_LDA_PHASE_TIMES set (bench/bench_mpi.py), one JSON line on stderr: this process's
+// processor seconds per phase of its updates (rank 0's under MPI).
+void report_phase_times(const OnlineLda& lda, int ranks) {
+  if (std::getenv("PROPRIO_LDA_PHASE_TIMES") == nullptr) return;  // NOLINT(concurrency-mt-unsafe)
+  const OnlineLda::PhaseTimes t = lda.phase_times();
+  std::fprintf(stderr,
+               "{\"phase_times\": {\"ranks\": %d, \"updates\": %lld, \"estep\": %.6f, "
+               "\"beta\": %.6f, \"statistics\": %.6f, \"mstep\": %.6f, "
+               "\"communication\": %.6f}}\n",
+               ranks, static_cast<long long>(t.updates), t.estep, t.beta, t.statistics, t.mstep,
+               t.communication);
+}
 
 // Where training stands: what a checkpoint holds besides the model.
 struct Progress {
@@ -591,6 +816,7 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineL
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(progress.iterations) / static_cast<double>(docs_run) : 0.0;
+  report_phase_times(lda, 1);
   result.model = lda.model();
   return result;
 }
@@ -639,6 +865,7 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   const std::int64_t D =
       options.total_documents > 0 ? options.total_documents : shard.total_documents;
   OnlineLda lda(options, local.num_words(), D, local.vocabulary());
+  if (mpi_lda_by_topic(options.num_topics, comm.size())) lda.distribute_by_topic(comm);
   OnlineLdaResult result;
   OnlineLdaSummary& s = result.summary;
   s.threads = options.threads;
@@ -651,15 +878,24 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   if (trace && eval.method == PerplexityMethod::kDocumentCompletion) {
     split = split_for_completion(*heldout, eval.split_seed);
   }
+  // Only the ranks given the held-out corpus (rank 0 in `lda train`) score it, but split by topic
+  // every rank takes part in gathering the model for it: the points where it is scored are the
+  // same on every rank.
+  std::int64_t traced[1] = {trace ? 1 : 0};
+  comm.allreduce_max(traced);
+  std::int64_t scored_at = -1;
   auto evaluate = [&] {
     const auto t0 = Clock::now();
+    lda.gather_topics(comm);
+    scored_at = lda.model().updates;
+    if (!trace) return;
     const PerplexityResult p = eval.method == PerplexityMethod::kDocumentCompletion
                                    ? completion_perplexity(lda.model(), split, eval)
                                    : perplexity(lda.model(), *heldout, eval);
     s.trace.push_back({lda.model().updates, s.documents, p.perplexity});
     s.evaluation_seconds += since(t0);
   };
-  if (trace) evaluate();
+  if (traced[0] != 0) evaluate();
 
   std::int64_t counts[1] = {0};
   for (std::size_t d = 0; d < local.num_documents(); ++d) counts[0] += !local.document(d).empty();
@@ -687,16 +923,18 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
       s.tokens += st.tokens;
       s.capped += st.capped;
       iterations += st.estep_iterations;
-      if (trace && options.evaluate_every > 0 && s.updates % options.evaluate_every == 0) {
+      if (traced[0] != 0 && options.evaluate_every > 0 && s.updates % options.evaluate_every == 0) {
         evaluate();
       }
     }
     ++s.passes;
   }
-  if (trace && s.trace.back().updates != lda.model().updates) evaluate();
+  if (traced[0] != 0 && scored_at != lda.model().updates) evaluate();
+  if (scored_at != lda.model().updates) lda.gather_topics(comm);
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
+  if (comm.rank() == 0) report_phase_times(lda, comm.size());
   result.model = lda.model();
   return result;
 }

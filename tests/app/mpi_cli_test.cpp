@@ -55,7 +55,7 @@ int count_of(const std::string& text, const std::string& what) {
 class MpiLda : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new test::TempDir("proprio_mpi_", "lda");
+    shared_dir = new test::TempDir("proprio_mpi_", "lda");
     topics::SyntheticCorpusOptions o;
     o.num_topics = 5;
     o.num_words = 150;
@@ -71,15 +71,15 @@ class MpiLda : public ::testing::Test {
     ASSERT_EQ(r.code, 0) << r.err;
   }
   static void TearDownTestSuite() {
-    delete dir_;
-    dir_ = nullptr;
+    delete shared_dir;
+    shared_dir = nullptr;
   }
-  static std::string path(const std::string& name) { return (dir_->path() / name).string(); }
+  static std::string path(const std::string& name) { return (shared_dir->path() / name).string(); }
   static std::string cli() { return test::cli_path(); }
   static constexpr const char* kArgs = "-k 6 --batch 32 --passes 2 --seed 4";
-  static test::TempDir* dir_;
+  static test::TempDir* shared_dir;
 };
-test::TempDir* MpiLda::dir_ = nullptr;
+test::TempDir* MpiLda::shared_dir = nullptr;
 
 TEST_F(MpiLda, TwoAndThreeRanksWriteTheOneProcessModelByteForByte) {
   const std::string one = slurp(path("one.lda"));
@@ -89,8 +89,12 @@ TEST_F(MpiLda, TwoAndThreeRanksWriteTheOneProcessModelByteForByte) {
     name += std::to_string(ranks);
     name += ".lda";
     const std::string model = path(name);
-    const auto r = run(mpirun(ranks) + cli() + " lda train --corpus " + path("c") + " " + kArgs +
-                       " --threads 1 --model " + model + " --json " + model + ".json");
+    std::string command = mpirun(ranks) + cli() + " lda train --corpus " + path("c") + " ";
+    command += kArgs;
+    command += " --threads 1 --model " + model;
+    command += " --json " + model;
+    command += ".json";
+    const auto r = run(command);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(count_of(r.out, "mini-batch updates"), 1) << "rank 0 alone prints:\n" << r.out;
     EXPECT_TRUE(slurp(model) == one) << ranks << " ranks: another model";
@@ -98,6 +102,50 @@ TEST_F(MpiLda, TwoAndThreeRanksWriteTheOneProcessModelByteForByte) {
     ranks_field += std::to_string(ranks);
     EXPECT_NE(slurp(model + ".json").find(ranks_field), std::string::npos);
     test::expect_schema_valid("lda_train.schema.json", model + ".json");
+  }
+}
+
+// The update split by topic rows (each rank exp E[log beta], the statistics and the M-step of its
+// rows, PROPRIO_MPI_LDA_DESIGN=by-topic, the default) and the replicated one (every rank the whole
+// M-step) give the one-process model byte for byte, also with K not a multiple of the ranks
+// (7 topics; odd, so the topic sums' order is tested on every row) and fewer topics than ranks.
+TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
+  struct Case {
+    int k;
+    int ranks;
+    const char* design;
+  };
+  for (const Case c : {Case{6, 2, "replicated"}, Case{6, 3, "replicated"}, Case{7, 2, "by-topic"},
+                       Case{7, 3, "by-topic"}, Case{2, 3, "by-topic"}}) {
+    std::string args = "--batch 32 --passes 2 --seed 4 -k ";
+    args += std::to_string(c.k);
+    std::string one = "one_k";
+    one += std::to_string(c.k);
+    one += ".lda";
+    if (!fs::exists(path(one))) {
+      const auto r = test::run_cli("lda train --corpus " + path("c") + " " + args +
+                                   " --threads 2 --model " + path(one));
+      ASSERT_EQ(r.code, 0) << r.err;
+    }
+    std::string name = "design_";
+    name += c.design;
+    name += std::to_string(c.k);
+    name += "_";
+    name += std::to_string(c.ranks);
+    name += ".lda";
+    std::string command = "PROPRIO_MPI_LDA_DESIGN=";
+    command += c.design;
+    command += " PROPRIO_LDA_PHASE_TIMES=1 ";
+    // With a held-out corpus scored every 3 updates by rank 0: every rank gathers the rows.
+    command += mpirun(c.ranks) + cli() + " lda train --corpus " + path("c") + " " + args +
+               " --heldout " + path("other") + " --evaluate-every 3 --threads 1 --model " +
+               path(name);
+    const auto r = run(command);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(slurp(path(name)) == slurp(path(one)))
+        << c.design << ", K " << c.k << ", " << c.ranks << " ranks: another model";
+    // Rank 0 reports its phases once (the by-topic path times its beta rows and their exchange).
+    EXPECT_EQ(count_of(r.err, "\"phase_times\""), 1) << r.err;
   }
 }
 
@@ -147,7 +195,7 @@ TEST_F(MpiLda, ARankThatDiesEndsTheJobAndLeavesNoModel) {
   EXPECT_NE(r.err.find("exited on signal"), std::string::npos) << "mpirun names the dead rank\n"
                                                                << r.err;
   EXPECT_FALSE(fs::exists(model));
-  for (const auto& e : fs::directory_iterator(dir_->path())) {
+  for (const auto& e : fs::directory_iterator(shared_dir->path())) {
     EXPECT_EQ(e.path().string().find("dead.lda"), std::string::npos) << e.path();
   }
 }

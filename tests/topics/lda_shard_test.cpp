@@ -3,8 +3,10 @@
 // gives the one-process model bit for bit. Two and three ranks: tests/app/mpi_cli_test.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <utility>
 
 #include "../support/named_corpus.hpp"
 #include "../support/temp_dir.hpp"
@@ -112,6 +114,62 @@ TEST(DataParallelLda, OneRankGivesTheOneProcessModelBitForBit) {
   EXPECT_EQ(par.summary.tokens, one.summary.tokens);
   EXPECT_EQ(par.summary.mean_estep_iterations, one.summary.mean_estep_iterations);
   EXPECT_EQ(par.summary.capped, one.summary.capped);
+}
+
+// The update split by topic rows, on a world of one (the code path of every rank of a by-topic
+// job: its rows' exp E[log beta], statistics and M-step, then gather_topics): the one-process
+// model bit for bit, with an odd K and a vocabulary longer than one 512-word block of the sums.
+TEST(DataParallelLda, ByTopicOnOneRankGivesTheOneProcessModelBitForBit) {
+  const test::TempDir dir("proprio_shard_");
+  SyntheticCorpusOptions co;
+  co.num_topics = 3;
+  co.num_words = 700;
+  co.num_documents = 90;
+  co.mean_length = 40;
+  co.seed = 9;
+  const Corpus c = test::named_synthetic_corpus(co);
+  write_corpus(c, dir.path(), CorpusFormat::kUci);
+  OnlineLdaOptions o;
+  o.num_topics = 7;
+  o.batch_size = 16;
+  o.passes = 1;
+  o.seed = 3;
+  o.threads = 2;
+  const OnlineLdaResult one = train_online_lda(c, o);
+  core::LocalCommunicator world;
+  const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
+  OnlineLda lda(o, c.num_words(), static_cast<std::int64_t>(c.num_documents()), c.vocabulary());
+  lda.distribute_by_topic(world);
+  for (std::size_t b = 0; b < c.num_documents(); b += 16) {
+    lda.update(shard, b, std::min(c.num_documents(), b + 16), world);
+  }
+  lda.gather_topics(world);
+  const Eigen::MatrixXd& got = lda.model().lambda;
+  ASSERT_EQ(got.size(), one.model.lambda.size());
+  EXPECT_EQ(std::memcmp(got.data(), one.model.lambda.data(),
+                        static_cast<std::size_t>(got.size()) * sizeof(double)),
+            0);
+  EXPECT_EQ(lda.phase_times().updates, one.model.updates);
+}
+
+TEST(DataParallelLda, TopicRowsAreContiguousBlocksCoveringEveryTopic) {
+  EXPECT_EQ(mpi_topic_rows(7, 3, 0), std::make_pair(0, 2));
+  EXPECT_EQ(mpi_topic_rows(7, 3, 1), std::make_pair(2, 4));
+  EXPECT_EQ(mpi_topic_rows(7, 3, 2), std::make_pair(4, 7));
+  EXPECT_EQ(mpi_topic_rows(2, 3, 0), std::make_pair(0, 0));  // fewer topics than ranks
+  EXPECT_EQ(mpi_topic_rows(2, 3, 2), std::make_pair(1, 2));
+  for (const int K : {1, 5, 100, 1000}) {
+    for (const int P : {1, 2, 3, 16}) {
+      int next = 0;
+      for (int r = 0; r < P; ++r) {
+        const auto [a, b] = mpi_topic_rows(K, P, r);
+        EXPECT_EQ(a, next);
+        EXPECT_LE(b - a, K / P + 1);
+        next = b;
+      }
+      EXPECT_EQ(next, K);
+    }
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "proprio/core/checkpoint.hpp"
@@ -136,8 +137,30 @@ class OnlineLda {
   /// threads, they exchange what the E-step leaves (exp E[log theta] per document and the weight
   /// of each entry) and every rank sums the sufficient statistics in document order and applies
   /// the M-step: every rank's model is the one-process model, bit for bit.
+  ///
+  /// After distribute_by_topic(), the update is split by topic instead: rank r owns the
+  /// contiguous block of topic rows mpi_topic_rows(K, size, r) of lambda; it computes exp(E[log
+  /// beta]) of the batch's words on its rows, the ranks allgather that V_B x K block for their
+  /// E-steps, then (after the same exchange of the E-step's output) each rank sums the sufficient
+  /// statistics and applies the M-step (eq B.23-B.24) on its own rows only. Same bits as one
+  /// process; model() is stale until gather_topics().
   MiniBatchStats update(const CorpusShard& shard, std::size_t begin, std::size_t end,
                         core::Communicator& comm);
+
+  /// Switches the updates with a communicator to the by-topic split above (collective; keeps
+  /// this rank's rows of the current model).
+  void distribute_by_topic(core::Communicator& comm);
+  /// Gathers every rank's topic rows so that model() is whole on every rank (collective; a no-op
+  /// when the updates are not split by topic).
+  void gather_topics(core::Communicator& comm);
+  /// Processor seconds this process spent in each phase of its updates so far: E-step, exp(E[log
+  /// beta]), sufficient statistics, M-step (with the topic sums) and communication (with the
+  /// batch's assembly), and the number of updates.
+  struct PhaseTimes {
+    double estep = 0, beta = 0, statistics = 0, mstep = 0, communication = 0;
+    std::int64_t updates = 0;
+  };
+  [[nodiscard]] PhaseTimes phase_times() const;
 
   [[nodiscard]] const LdaModel& model() const;
   [[nodiscard]] const char* kernel() const;
@@ -147,6 +170,15 @@ class OnlineLda {
   std::unique_ptr<Impl> impl_;
   void finish_update(MiniBatchStats& stats);
 };
+
+/// Rank r's topic rows [first, second) of K split into `ranks` contiguous blocks (rows r K / ranks
+/// to (r + 1) K / ranks; empty for some ranks when K < ranks).
+std::pair<int, int> mpi_topic_rows(int num_topics, int ranks, int rank);
+
+/// Whether a data-parallel job of `ranks` ranks splits the M-step by topic (OnlineLda::
+/// distribute_by_topic) or replicates it: PROPRIO_MPI_LDA_DESIGN=by-topic or =replicated when
+/// set, else by topic whenever there are 2 ranks or more (docs/results/mpi.md: the measurements).
+bool mpi_lda_by_topic(int num_topics, int ranks);
 
 /// Trains on `corpus` in order, `passes` times, mini-batch by mini-batch.
 OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options);
