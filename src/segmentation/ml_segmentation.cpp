@@ -138,6 +138,8 @@ void MlOptions::validate() const {
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
   require_positive(depth_lambda, "depth_lambda");
+  require(std::isfinite(depth_relative) && depth_relative >= 0,
+          core::cat({"MlOptions.depth_relative must be >= 0, got ", core::num(depth_relative)}));
   require_positive(depth_bandwidth, "depth_bandwidth");
   require(std::isfinite(depth_edge) && depth_edge >= 0,
           core::cat({"MlOptions.depth_edge must be >= 0, got ", core::num(depth_edge)}));
@@ -508,8 +510,10 @@ struct MlSegmenter::Impl {
         // The depth variant: the region's 3-D translation against the arm's (mm); a motion the
         // image does not support is none.
         const Eigen::Vector3d d3 = *ee3_now - *tr.start_ee3;
-        p = motion_likelihood_3d((unsupported ? Eigen::Vector3d::Zero() : tr.shift3) - d3,
-                                 opt.depth_lambda);
+        const double p3 =
+            motion_likelihood_3d((unsupported ? Eigen::Vector3d::Zero() : tr.shift3) - d3,
+                                 opt.depth_lambda + opt.depth_relative * d3.squaredNorm());
+        p = opt.depth_with_2d ? p * p3 : p3;
       }
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
