@@ -57,6 +57,7 @@ TEST(RobustMean, IgnoresOutliers) {
 
 TEST(RobustMean, FindsTheMajorityModeAndStopsWhenNothingIsNear) {
   std::vector<Eigen::Vector2f> s;
+  s.reserve(10);
   for (int i = 0; i < 6; ++i) s.emplace_back(1.0f + 0.1f * (i % 2), 0.0f);  // mean (1.05, 0)
   for (int i = 0; i < 4; ++i) s.emplace_back(9.0f, 9.0f);
   const RobustMeanResult r = robust_mean(s, 1.0, 1e-9, 100);
