@@ -201,8 +201,9 @@ struct MlOptions {
   double depth_lambda = 400.0;
   double depth_relative = 0.0;
   /// Depth variant: the 3-D likelihood multiplies the 2-D one (both models must agree) rather
-  /// than replacing it.
-  bool depth_with_2d = false;
+  /// than replacing it; where the 3-D likelihood is flat, the 2-D one still orders the regions
+  /// (docs/results/segmentation-eval.md, session 11: held-out ml-depth 0.588 -> 0.804).
+  bool depth_with_2d = true;
   /// Robust 3-D mean bandwidth, mm.
   double depth_bandwidth = 10.0;
   /// Depth step between neighbouring pixels that cuts a superpixel, mm; 0 = no cut.
