@@ -138,6 +138,8 @@ void MlOptions::validate() const {
   require(region_iterations >= 1 && region_iterations <= 100,
           "MlOptions.region_iterations must be in [1, 100]");
   require_positive(depth_lambda, "depth_lambda");
+  require(std::isfinite(depth_relative) && depth_relative >= 0,
+          core::cat({"MlOptions.depth_relative must be >= 0, got ", core::num(depth_relative)}));
   require_positive(depth_bandwidth, "depth_bandwidth");
   require(std::isfinite(depth_edge) && depth_edge >= 0,
           core::cat({"MlOptions.depth_edge must be >= 0, got ", core::num(depth_edge)}));
@@ -508,8 +510,10 @@ struct MlSegmenter::Impl {
         // The depth variant: the region's 3-D translation against the arm's (mm); a motion the
         // image does not support is none.
         const Eigen::Vector3d d3 = *ee3_now - *tr.start_ee3;
-        p = motion_likelihood_3d((unsupported ? Eigen::Vector3d::Zero() : tr.shift3) - d3,
-                                 opt.depth_lambda);
+        const double p3 =
+            motion_likelihood_3d((unsupported ? Eigen::Vector3d::Zero() : tr.shift3) - d3,
+                                 opt.depth_lambda + opt.depth_relative * d3.squaredNorm());
+        p = opt.depth_with_2d ? p * p3 : p3;
       }
       if (pre_touch) {
         // eq 4.18: before the touch, what moves like the arm is the arm; only moving regions
@@ -635,6 +639,9 @@ struct MlSegmenter::Impl {
   }
 
   [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame) const {
+    // Before the first touch no track has post-touch evidence (every score is 0), and no prior
+    // can raise a 0: the map is all 0 without painting it.
+    if (!first_touch) return cv::Mat1f::zeros(size);
     const std::unordered_map<int, Scored> scored = scores();
     // The frame's tracks, numbered 0.. in increasing id order (the smoothing visits them in
     // that order).
@@ -642,10 +649,13 @@ struct MlSegmenter::Impl {
     {
       std::unordered_map<int, char> seen;
       int last = -1;
-      for (auto it = lab.begin(); it != lab.end(); ++it) {
-        if (*it == last) continue;
-        last = *it;
-        if (seen.try_emplace(last, 0).second) ids.push_back(last);
+      for (int y = 0; y < lab.rows; ++y) {
+        const int* l = lab[y];
+        for (int x = 0; x < lab.cols; ++x) {
+          if (l[x] == last) continue;
+          last = l[x];
+          if (seen.try_emplace(last, 0).second) ids.push_back(last);
+        }
       }
     }
     std::sort(ids.begin(), ids.end());
@@ -666,13 +676,16 @@ struct MlSegmenter::Impl {
     cv::Mat1i compact(lab.size());
     {
       int last = -1, last_k = -1;
-      auto o = compact.begin();
-      for (auto it = lab.begin(); it != lab.end(); ++it, ++o) {
-        if (*it != last) {
-          last = *it;
-          last_k = index.at(last);
+      for (int y = 0; y < lab.rows; ++y) {
+        const int* l = lab[y];
+        int* o = compact[y];
+        for (int x = 0; x < lab.cols; ++x) {
+          if (l[x] != last) {
+            last = l[x];
+            last_k = index.at(last);
+          }
+          o[x] = last_k;
         }
-        *o = last_k;
       }
     }
     if (opt.region_smoothing && first_touch) {
@@ -792,8 +805,11 @@ cv::Mat1f checked_depth(const MlSegmenter::DepthFrame* d, int frame, cv::Size fu
           core::cat({f, ": the camera intrinsics are singular or not finite"}));
   cv::Mat1f mm;
   d->depth.convertTo(mm, CV_32F);
-  for (auto it = mm.begin(); it != mm.end(); ++it)
-    if (!std::isfinite(*it) || *it < 0) *it = 0.0F;
+  for (int y = 0; y < mm.rows; ++y) {
+    float* z = mm[y];
+    for (int x = 0; x < mm.cols; ++x)
+      if (!std::isfinite(z[x]) || z[x] < 0) z[x] = 0.0F;
+  }
   if (size != full) cv::resize(mm, mm, size, 0, 0, cv::INTER_NEAREST);
   return mm;
 }

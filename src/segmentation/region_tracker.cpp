@@ -192,7 +192,12 @@ cv::Mat1i RegionTracker::update(const cv::Mat1i& superpixels, int count,
   }
   // Superpixels that cover some pixel (a label may be unused).
   std::vector<char> present(count, 0);
-  for (auto it = superpixels.begin(); it != superpixels.end(); ++it) present[*it] = 1;
+  // Row pointers: a cv::Mat iterator compared with end() builds the end iterator (seek) at every
+  // pixel, which cost more than the rest of the tracker.
+  for (int y = 0; y < superpixels.rows; ++y) {
+    const int* sp = superpixels[y];
+    for (int x = 0; x < superpixels.cols; ++x) present[static_cast<size_t>(sp[x])] = 1;
+  }
   created_.clear();
   for (int s = 0; s < count; ++s) {
     if (lut[s] < 0) {

@@ -57,6 +57,7 @@ TEST(RobustMean, IgnoresOutliers) {
 
 TEST(RobustMean, FindsTheMajorityModeAndStopsWhenNothingIsNear) {
   std::vector<Eigen::Vector2f> s;
+  s.reserve(10);
   for (int i = 0; i < 6; ++i) s.emplace_back(1.0f + 0.1f * (i % 2), 0.0f);  // mean (1.05, 0)
   for (int i = 0; i < 4; ++i) s.emplace_back(9.0f, 9.0f);
   const RobustMeanResult r = robust_mean(s, 1.0, 1e-9, 100);
@@ -219,6 +220,11 @@ TEST(MlSegmentation, StreamingAndBatchGiveTheSameMaps) {
     EXPECT_EQ(out.frame, i);
     expect_valid_map(out.map);
     EXPECT_GE(out.ms_total, out.ms_flow);
+    // Before the first touch nothing has post-touch evidence: the streamed map is all 0.
+    if (!seg.first_touch_frame()) {
+      EXPECT_EQ(out.map.size(), cv::Size(spec.width, spec.height));
+      EXPECT_EQ(cv::countNonZero(out.map), 0) << i;
+    }
   }
   EXPECT_EQ(seg.first_touch_frame(), batch.first_touch_frame);
   for (int i = 0; i < ep.frame_count(); ++i)
@@ -650,6 +656,9 @@ TEST(MlOptions, ValidateNamesTheBadField) {
   o = MlOptions{};
   o.prior = cv::Mat1f(4, 4, 0.5f);
   EXPECT_NE(error_of([&] { MlSegmenter s(o, cv::Size(8, 8)); }).find("prior"), std::string::npos);
+  o = MlOptions{};
+  o.depth_relative = -0.5;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("depth_relative"), std::string::npos);
   o = MlOptions{};
   o.handover_evidence = 1.5;
   EXPECT_NE(error_of([&] { o.validate(); }).find("handover_evidence"), std::string::npos);

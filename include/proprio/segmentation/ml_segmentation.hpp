@@ -192,8 +192,18 @@ struct MlOptions {
   /// not show. Depth holes (0, NaN, infinite) are unknown: their samples are left out, they cut
   /// nothing. Camera motion is not compensated in 3-D.
   bool use_depth = false;
-  /// Sigma = depth_lambda I of the 3-D error density, mm^2.
+  /// Sigma = (depth_lambda + depth_relative |d3|^2) I of the 3-D error density, mm^2, where d3
+  /// is the arm's 3-D displacement over the region's span in the interval: a fixed noise floor
+  /// plus a part that grows with the arm's motion, so that a still region scores about
+  /// exp(-1 / (2 depth_relative)) however far the arm moved (the 2-D model's lambda = 25 px^2
+  /// with evidence_step 12 px gives a still region exp(-144 / 50) = 0.06, as depth_relative
+  /// 0.17 does). depth_relative 0: the fixed depth_lambda alone.
   double depth_lambda = 400.0;
+  double depth_relative = 0.0;
+  /// Depth variant: the 3-D likelihood multiplies the 2-D one (both models must agree) rather
+  /// than replacing it; where the 3-D likelihood is flat, the 2-D one still orders the regions
+  /// (docs/results/segmentation-eval.md, session 11: held-out ml-depth 0.588 -> 0.804).
+  bool depth_with_2d = true;
   /// Robust 3-D mean bandwidth, mm.
   double depth_bandwidth = 10.0;
   /// Depth step between neighbouring pixels that cuts a superpixel, mm; 0 = no cut.
@@ -203,9 +213,10 @@ struct MlOptions {
   cv::Mat1f prior;
   /// Keep the map painted with every frame's regions (MlResult::frame_maps).
   bool keep_frame_maps = false;
-  /// MlSegmenter::push paints the current map (FrameOutput::map: scores, smoothing, priors,
-  /// about 2 ms a frame at 640x480). segment_ml turns it off: it paints only the frames it
-  /// returns, once the whole episode has been seen.
+  /// MlSegmenter::push paints the current map (FrameOutput::map: scores, smoothing, priors;
+  /// outside the stage timers; callgrind: 11 M instructions a frame at 320x240, 7% of push; all 0
+  /// and not painted before the first touch). segment_ml turns it off: it paints only the frames
+  /// it returns, once the whole episode has been seen.
   bool stream_maps = true;
   /// MlSegmenter keeps every frame's track labels (for map_for_frame; 4 bytes a processed pixel
   /// a frame). When false it keeps only the first-touch frame's.
@@ -252,6 +263,8 @@ struct MlOptions {
     v(self.contact_gap, {"contact_gap", "Contact prior gap, px"});
     v(self.use_depth, {"use_depth", "Depth variant: 3-D region motion (thesis 9.2)"});
     v(self.depth_lambda, {"depth_lambda", "Sigma = lambda I of the 3-D error, mm^2"});
+    v(self.depth_relative, {"depth_relative", "3-D error sigma's part per arm motion^2"});
+    v(self.depth_with_2d, {"depth_with_2d", "3-D likelihood times the 2-D one"});
     v(self.depth_bandwidth, {"depth_bandwidth", "Robust 3-D mean bandwidth, mm"});
     v(self.depth_edge, {"depth_edge", "Depth step that cuts a region, mm (0 = none)"});
     v(self.min_depth_samples, {"min_depth_samples", "Least depth samples of a 3-D motion"});
