@@ -18,16 +18,10 @@ def summary(doc):
 
 
 def fmt(x):
-    """Three significant figures, as the page's tables."""
+    """One decimal from 10 up, else two, as the page's tables."""
     if x == 0:
         return "0"
-    if abs(x) >= 100:
-        return f"{x:.1f}"
-    if abs(x) >= 10:
-        return f"{x:.1f}"
-    if abs(x) >= 1:
-        return f"{x:.2f}"
-    return f"{x:.2f}"
+    return f"{x:.1f}" if abs(x) >= 10 else f"{x:.2f}"
 
 
 def sweep_table(sweep):
