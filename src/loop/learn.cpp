@@ -54,7 +54,13 @@ constexpr int kSides = 8;               // sides tried when a push is out of rea
 constexpr double kSidePush = 0.08;      // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 constexpr int kLdaIterations = 60;
-constexpr double kApproachStep = 0.03;      // approach added after a refusal, m
+constexpr double kApproachStep = 0.03;  // approach added after a refusal, m
+// The arm's pushing reach (robot base frame): a blob whose table centre is further from the
+// base axis than this, or behind the base, cannot be pushed from behind; it is not an object
+// to learn (distractors moving behind the work area, the backdrop), m.
+constexpr double kPushReach = 0.44;
+constexpr double kBehindBase = 0.0;         // least x of a blob's centre, m
+constexpr int kMaxFailures = 3;             // pushes in a row not planned or refused: move on
 constexpr double kMaxExtraApproach = 0.12;  // at most, m
 
 using Clock = std::chrono::steady_clock;
@@ -220,6 +226,7 @@ class Learner {
     }
     bar.finish();
     log({{"event", "end"},
+         {"blobs_out_of_reach", dropped_far_},
          {"pushes", static_cast<int>(pushes_.size())},
          {"views", static_cast<int>(views_.size())},
          {"faults", faults_}});
@@ -253,8 +260,21 @@ class Learner {
     return lf;
   }
 
+  // The look's putative objects within the arm's pushing reach (kPushReach); blobs beyond it
+  // (distractors moving behind the work area) are dropped, counted in dropped_far_.
   planning::PlanningView plan_view() {
-    return timed("look", [&] { return planning::look_for_objects(current_, region_, po_); });
+    planning::PlanningView v =
+        timed("look", [&] { return planning::look_for_objects(current_, region_, po_); });
+    const auto far = [](const planning::PutativeObject& o) {
+      return o.centre.norm() > kPushReach || o.centre.x() < kBehindBase;
+    };
+    far_ = core::Json::array();
+    for (const auto& o : v.objects) {
+      if (far(o)) far_.push_back(xy(o.centre));
+    }
+    v.objects.erase(std::remove_if(v.objects.begin(), v.objects.end(), far), v.objects.end());
+    dropped_far_ += static_cast<int>(far_.size());
+    return v;
   }
 
   void relook() {
@@ -538,7 +558,13 @@ class Learner {
 
   void learn_object(int c, core::ProgressBar& bar) {
     planning::PlanningView view = plan_view();
-    log({{"event", "look"}, {"object", c}, {"blobs", static_cast<int>(view.objects.size())}});
+    core::Json centres = core::Json::array();
+    for (const auto& b : view.objects) centres.push_back(xy(b.centre));
+    log({{"event", "look"},
+         {"object", c},
+         {"blobs", static_cast<int>(view.objects.size())},
+         {"centres", centres},
+         {"out_of_reach", far_}});
     if (view.objects.empty()) {
       fault(c, "no-blobs", "no putative object in view; object skipped");
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -561,7 +587,16 @@ class Learner {
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
       if (!first) view = plan_view();
-      if (failures >= 3 && done == 0) {
+      if (failures >= kMaxFailures && done > 0) {
+        // Pushed out of reach or where the hand cannot come down: what was learned is kept.
+        fault(c, "stuck",
+              core::cat({std::to_string(kMaxFailures),
+                         " pushes in a row could not be planned or were refused "
+                         "after ",
+                         std::to_string(done), " pushes; moving on"}));
+        break;
+      }
+      if (failures >= kMaxFailures && done == 0) {
         // The object cannot be pushed (out of reach, or the hand would come down on it):
         // another blob instead, logged.
         tried.push_back(last);
@@ -756,7 +791,9 @@ class Learner {
   core::Json dirichlet_measure_ = core::Json::array();
   int faults_ = 0;
   int plans_ = 0;
-  double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
+  int dropped_far_ = 0;                   ///< blobs out of the arm's pushing reach, over all looks
+  core::Json far_ = core::Json::array();  ///< the last look's blobs out of reach (centres, m)
+  double extra_approach_ = 0;             ///< m, grown after each refusal of the object's pushes
 };
 
 // Everything a run leaves besides the JSON: the learner's record, the models, the views' theta.
@@ -1002,7 +1039,9 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, o.seed);
   Core k;
-  k.classes = static_cast<int>(objects.size());
+  // The robot is told how many objects lie on the table, not which are to be learned: with
+  // learn_clutter it learns them all and the held-out views of the named objects score it.
+  k.classes = static_cast<int>(o.learn_clutter ? all.size() : objects.size());
   learn_core(k, o, *robot, attendant, provenance);
   robot.reset();  // one GL context at a time: the held-out views need their own
   {
