@@ -47,11 +47,18 @@ constexpr double kStill = 0.01;         // moved less than this: did not move, m
 constexpr double kPushStep = 0.06;      // an object is pushed this far a push, m
 constexpr int kDirections = 12;         // directions a push target is chosen from
 constexpr double kCrowded = 0.15;       // blobs further than this from a target do not matter, m
-constexpr double kWorkRadius = 0.12;    // targets stay this near the view's centre, m
-constexpr double kArmRadius = 0.035;    // the pusher and links' half width, m
-constexpr double kArmBaseHeight = 0.1;  // a point of the arm's base above the table, m
-constexpr int kSides = 8;               // sides tried when a push is out of reach
-constexpr double kSidePush = 0.08;      // how far those pushes go, m
+// Push targets stay where the arm can push them again and the camera sees them (robot base
+// frame, m): within kTargetReach of the base axis (a push from behind needs room past the
+// object), beyond kTargetNear (clear of the arm's base), within kTargetSide of the view's centre
+// line. Inside that area a target is not pulled anywhere: pulling every object toward the
+// view's centre pushed them all into one clump.
+constexpr double kTargetReach = 0.36;
+constexpr double kTargetNear = 0.16;
+constexpr double kTargetSide = 0.27;
+constexpr double kArmRadius = 0.035;                // the pusher and links' half width, m
+constexpr double kArmBaseHeight = 0.1;              // a point of the arm's base above the table, m
+constexpr int kSides = 8;                           // sides tried when a push is out of reach
+constexpr double kSidePush = 0.08;                  // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 constexpr int kLdaIterations = 60;
 constexpr double kApproachStep = 0.03;  // approach added after a refusal, m
@@ -429,7 +436,7 @@ class Learner {
 
   // Where to push the object (the table is not cleared, Ch 8): a short push, kPushStep, in the
   // direction (of kDirections, turned by `angle` so that it is pushed from ever other sides) that
-  // keeps it furthest from the other blobs and within kWorkRadius of the view's centre.
+  // keeps it furthest from the other blobs and inside the area the arm can push it again.
   Eigen::Vector2d push_target(const planning::PlanningView& view, int blob,
                               const Eigen::Vector2d& at, double angle) const {
     Eigen::Vector2d best = at;
@@ -442,7 +449,9 @@ class Learner {
         if (static_cast<int>(b) == blob) continue;
         gap = std::min(gap, (view.objects[b].centre - t).norm());
       }
-      const double off = std::max(0.0, (t - centre_).norm() - kWorkRadius);
+      const double off = std::max(0.0, t.norm() - kTargetReach) +
+                         std::max(0.0, kTargetNear - t.norm()) +
+                         std::max(0.0, std::abs(t.y() - centre_.y()) - kTargetSide);
       // Ties (nothing near) go to the first direction: the golden-angle turn.
       const double score = gap - (4 * off) - (1e-3 * i);
       if (score > best_score) {
