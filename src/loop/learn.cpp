@@ -26,6 +26,7 @@
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
 #include "proprio/recognition/mot.hpp"
+#include "proprio/robot/arm.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
 #include "proprio/topics/batch_lda.hpp"
@@ -55,7 +56,10 @@ constexpr double kCrowded = 0.15;       // blobs further than this from a target
 constexpr double kTargetReach = 0.36;
 constexpr double kTargetNear = 0.16;
 constexpr double kTargetSide = 0.27;
-constexpr double kArmRadius = 0.035;                // the pusher and links' half width, m
+constexpr double kArmRadius = 0.035;  // the pusher and links' half width, m
+// The links' half width as the arm mask draws them, m: the image of a raised link (nearer the
+// camera, with its shading) is wider than kArmRadius at the table would give.
+constexpr double kLinkRadius = 0.06;
 constexpr double kArmBaseHeight = 0.1;              // a point of the arm's base above the table, m
 constexpr int kSides = 8;                           // sides tried when a push is out of reach
 constexpr double kSidePush = 0.08;                  // how far those pushes go, m
@@ -522,6 +526,60 @@ class Learner {
     return m;
   }
 
+  // The arm's own image in frame `i` of a push's episode: every link of its kinematic chain
+  // (base body to the end effector, placed by the frame's joint angles with the robot's own
+  // kinematics) drawn as a band kLinkRadius wide, plus the pusher. The old band from the end
+  // effector toward the base's foot missed the raised forearm and cut the table in front of it.
+  // Without joint angles, arm_region.
+  cv::Mat1b arm_mask(const episode::Episode& e, int i, cv::Size size) {
+    const auto iu = static_cast<std::size_t>(i);
+    if (iu >= e.arm().size() || e.arm()[iu].q.size() < robot::kArmJoints) {
+      return arm_region(e.ee_image(i), size);
+    }
+    if (!arm_state_) arm_state_.emplace(robot_.arm());
+    const robot::JointVector q = e.arm()[iu].q.head<robot::kArmJoints>();
+    arm_state_->set_joints(q);
+    const mjModel& m = arm_state_->arm().model();
+    const mjData& d = arm_state_->data();
+    const int base = arm_state_->arm().base_body();
+    const auto in_chain = [&](int b) {
+      for (int a = b; a > 0; a = m.body_parentid[a]) {
+        if (a == base) return true;
+      }
+      return false;
+    };
+    const geometry::Camera& cam = current_.camera;
+    cv::Mat1b out(size, 0);
+    const auto pos = [&](const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
+    const auto band = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      const Eigen::Vector3d mid = 0.5 * (a + b);
+      const Eigen::Vector2d pm = cam.project(mid);
+      const double r =
+          std::max((cam.project(mid + Eigen::Vector3d(kLinkRadius, 0, 0)) - pm).norm(),
+                   (cam.project(mid + Eigen::Vector3d(0, kLinkRadius, 0)) - pm).norm());
+      const int t = std::max(2, static_cast<int>(std::lround(2 * r)));
+      const Eigen::Vector2d pa = cam.project(a);
+      const Eigen::Vector2d pb = cam.project(b);
+      const cv::Point qa(static_cast<int>(std::lround(pa.x())),
+                         static_cast<int>(std::lround(pa.y())));
+      const cv::Point qb(static_cast<int>(std::lround(pb.x())),
+                         static_cast<int>(std::lround(pb.y())));
+      cv::line(out, qa, qb, 255, t);
+      cv::circle(out, qa, t / 2, 255, -1);
+      cv::circle(out, qb, t / 2, 255, -1);
+    };
+    for (int b = 1; b < m.nbody; ++b) {
+      if (!in_chain(b) || b == base) continue;
+      band(pos(d.xpos + (3 * m.body_parentid[b])), pos(d.xpos + (3 * b)));
+    }
+    const int site = arm_state_->arm().ee_site();
+    if (site >= 0) band(pos(d.xpos + (3 * m.site_bodyid[site])), pos(d.site_xpos + (3 * site)));
+    // The base's column, from the table up to its body.
+    const Eigen::Vector3d b0 = pos(d.xpos + (3 * base));
+    band(Eigen::Vector3d(b0.x(), b0.y(), 0.0), b0);
+    return out;
+  }
+
   Segmented segment(const fs::path& dir) {
     Segmented s;
     const episode::Episode e = episode::read_episode(dir);
@@ -538,7 +596,7 @@ class Learner {
     if (ml.scored_frame < 0 || ml.map.empty() || cv::countNonZero(ml.mask) == 0) return s;
     s.map = ml.map;
     s.mask = ml.mask.clone();
-    s.mask.setTo(0, arm_region(e.ee_image(ml.scored_frame), s.mask.size()));
+    s.mask.setTo(0, arm_mask(e, ml.scored_frame, s.mask.size()));
     s.frame = e.frame(ml.scored_frame);
     const int touch = ml.scored_frame;
     const auto at_touch = e.ee_image(touch);
@@ -556,7 +614,7 @@ class Learner {
         const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, d.x(), 0, 1, d.y());
         cv::warpAffine(s.mask, m, shift, s.mask.size(), cv::INTER_NEAREST);
       }
-      m.setTo(0, arm_region(e.ee_image(i), m.size()));
+      m.setTo(0, arm_mask(e, i, m.size()));
       if (cv::countNonZero(m) > 0) s.view_masks.emplace_back(i, m);
     }
     // keep the episode's frames for the views
@@ -803,6 +861,7 @@ class Learner {
   int dropped_far_ = 0;                   ///< blobs out of the arm's pushing reach, over all looks
   core::Json far_ = core::Json::array();  ///< the last look's blobs out of reach (centres, m)
   double extra_approach_ = 0;             ///< m, grown after each refusal of the object's pushes
+  std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for arm_mask
 };
 
 // Everything a run leaves besides the JSON: the learner's record, the models, the views' theta.
