@@ -64,7 +64,8 @@ inline features::ExtractOptions learn_features() {
 struct LearnOptions {
   /// Objects to learn, catalogue names, comma-separated (the learner is told only how many).
   std::string objects = "book,bottle,cd,giraffe";
-  /// More catalogue objects on the table, never to be learned (clutter).
+  /// More catalogue objects on the table (clutter): never scored; learned as classes of their
+  /// own with learn_clutter (the robot cannot tell them from the named objects).
   std::string clutter = "mug,rabbit,calculator";
   /// The simulated world's backdrop (the learner never knows it): "plain", "photo" or "moving"
   /// (a video of people walking, advancing with the robot's clock, with distractors sliding
@@ -118,7 +119,7 @@ struct LearnOptions {
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.objects, {"objects", "Objects to learn, catalogue names, comma-separated"});
-    v(self.clutter, {"clutter", "More catalogue objects on the table (not learned); '' none"});
+    v(self.clutter, {"clutter", "More catalogue objects on the table (never scored); '' none"});
     v(self.background, {"background", "Backdrop: plain, photo or moving (people walking)"});
     v(self.distractors, {"distractors", "Moving distractors: -1 = 2 with a moving backdrop, else 0",
                          core::between(-1, 4)});
