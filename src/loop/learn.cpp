@@ -26,6 +26,7 @@
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
 #include "proprio/recognition/mot.hpp"
+#include "proprio/robot/arm.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
 #include "proprio/topics/batch_lda.hpp"
@@ -49,14 +50,30 @@ constexpr double kStill = 0.01;         // moved less than this: did not move, m
 constexpr double kPushStep = 0.06;      // an object is pushed this far a push, m
 constexpr int kDirections = 12;         // directions a push target is chosen from
 constexpr double kCrowded = 0.15;       // blobs further than this from a target do not matter, m
-constexpr double kWorkRadius = 0.12;    // targets stay this near the view's centre, m
-constexpr double kArmRadius = 0.035;    // the pusher and links' half width, m
-constexpr double kArmBaseHeight = 0.1;  // a point of the arm's base above the table, m
-constexpr int kSides = 8;               // sides tried when a push is out of reach
-constexpr double kSidePush = 0.08;      // how far those pushes go, m
+// Push targets stay where the arm can push them again and the camera sees them (robot base
+// frame, m): within kTargetReach of the base axis (a push from behind needs room past the
+// object), beyond kTargetNear (clear of the arm's base), within kTargetSide of the view's centre
+// line. Inside that area a target is not pulled anywhere: pulling every object toward the
+// view's centre pushed them all into one clump.
+constexpr double kTargetReach = 0.36;
+constexpr double kTargetNear = 0.16;
+constexpr double kTargetSide = 0.27;
+constexpr double kArmRadius = 0.035;  // the pusher and links' half width, m
+// The links' half width as the arm mask draws them, m: the image of a raised link (nearer the
+// camera, with its shading) is wider than kArmRadius at the table would give.
+constexpr double kLinkRadius = 0.06;
+constexpr double kArmBaseHeight = 0.1;              // a point of the arm's base above the table, m
+constexpr int kSides = 8;                           // sides tried when a push is out of reach
+constexpr double kSidePush = 0.08;                  // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 constexpr int kLdaIterations = 60;
-constexpr double kApproachStep = 0.03;      // approach added after a refusal, m
+constexpr double kApproachStep = 0.03;  // approach added after a refusal, m
+// The arm's pushing reach (robot base frame): a blob whose table centre is further from the
+// base axis than this, or behind the base, cannot be pushed from behind; it is not an object
+// to learn (distractors moving behind the work area, the backdrop), m.
+constexpr double kPushReach = 0.44;
+constexpr double kBehindBase = 0.0;         // least x of a blob's centre, m
+constexpr int kMaxFailures = 3;             // pushes in a row not planned or refused: move on
 constexpr double kMaxExtraApproach = 0.12;  // at most, m
 
 using Clock = std::chrono::steady_clock;
@@ -226,6 +243,7 @@ class Learner {
     }
     bar.finish();
     log({{"event", "end"},
+         {"blobs_out_of_reach", dropped_far_},
          {"pushes", static_cast<int>(pushes_.size())},
          {"views", static_cast<int>(views_.size())},
          {"faults", faults_}});
@@ -259,8 +277,21 @@ class Learner {
     return lf;
   }
 
+  // The look's putative objects within the arm's pushing reach (kPushReach); blobs beyond it
+  // (distractors moving behind the work area) are dropped, counted in dropped_far_.
   planning::PlanningView plan_view() {
-    return timed("look", [&] { return planning::look_for_objects(current_, region_, po_); });
+    planning::PlanningView v =
+        timed("look", [&] { return planning::look_for_objects(current_, region_, po_); });
+    const auto far = [](const planning::PutativeObject& o) {
+      return o.centre.norm() > kPushReach || o.centre.x() < kBehindBase;
+    };
+    far_ = core::Json::array();
+    for (const auto& o : v.objects) {
+      if (far(o)) far_.push_back(xy(o.centre));
+    }
+    v.objects.erase(std::remove_if(v.objects.begin(), v.objects.end(), far), v.objects.end());
+    dropped_far_ += static_cast<int>(far_.size());
+    return v;
   }
 
   void relook() {
@@ -415,7 +446,7 @@ class Learner {
 
   // Where to push the object (the table is not cleared, Ch 8): a short push, kPushStep, in the
   // direction (of kDirections, turned by `angle` so that it is pushed from ever other sides) that
-  // keeps it furthest from the other blobs and within kWorkRadius of the view's centre.
+  // keeps it furthest from the other blobs and inside the area the arm can push it again.
   Eigen::Vector2d push_target(const planning::PlanningView& view, int blob,
                               const Eigen::Vector2d& at, double angle) const {
     Eigen::Vector2d best = at;
@@ -428,7 +459,9 @@ class Learner {
         if (static_cast<int>(b) == blob) continue;
         gap = std::min(gap, (view.objects[b].centre - t).norm());
       }
-      const double off = std::max(0.0, (t - centre_).norm() - kWorkRadius);
+      const double off = std::max(0.0, t.norm() - kTargetReach) +
+                         std::max(0.0, kTargetNear - t.norm()) +
+                         std::max(0.0, std::abs(t.y() - centre_.y()) - kTargetSide);
       // Ties (nothing near) go to the first direction: the golden-angle turn.
       const double score = gap - (4 * off) - (1e-3 * i);
       if (score > best_score) {
@@ -499,6 +532,60 @@ class Learner {
     return m;
   }
 
+  // The arm's own image in frame `i` of a push's episode: every link of its kinematic chain
+  // (base body to the end effector, placed by the frame's joint angles with the robot's own
+  // kinematics) drawn as a band kLinkRadius wide, plus the pusher. The old band from the end
+  // effector toward the base's foot missed the raised forearm and cut the table in front of it.
+  // Without joint angles, arm_region.
+  cv::Mat1b arm_mask(const episode::Episode& e, int i, cv::Size size) {
+    const auto iu = static_cast<std::size_t>(i);
+    if (iu >= e.arm().size() || e.arm()[iu].q.size() < robot::kArmJoints) {
+      return arm_region(e.ee_image(i), size);
+    }
+    if (!arm_state_) arm_state_.emplace(robot_.arm());
+    const robot::JointVector q = e.arm()[iu].q.head<robot::kArmJoints>();
+    arm_state_->set_joints(q);
+    const mjModel& m = arm_state_->arm().model();
+    const mjData& d = arm_state_->data();
+    const int base = arm_state_->arm().base_body();
+    const auto in_chain = [&](int b) {
+      for (int a = b; a > 0; a = m.body_parentid[a]) {
+        if (a == base) return true;
+      }
+      return false;
+    };
+    const geometry::Camera& cam = current_.camera;
+    cv::Mat1b out(size, 0);
+    const auto pos = [&](const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
+    const auto band = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      const Eigen::Vector3d mid = 0.5 * (a + b);
+      const Eigen::Vector2d pm = cam.project(mid);
+      const double r =
+          std::max((cam.project(mid + Eigen::Vector3d(kLinkRadius, 0, 0)) - pm).norm(),
+                   (cam.project(mid + Eigen::Vector3d(0, kLinkRadius, 0)) - pm).norm());
+      const int t = std::max(2, static_cast<int>(std::lround(2 * r)));
+      const Eigen::Vector2d pa = cam.project(a);
+      const Eigen::Vector2d pb = cam.project(b);
+      const cv::Point qa(static_cast<int>(std::lround(pa.x())),
+                         static_cast<int>(std::lround(pa.y())));
+      const cv::Point qb(static_cast<int>(std::lround(pb.x())),
+                         static_cast<int>(std::lround(pb.y())));
+      cv::line(out, qa, qb, 255, t);
+      cv::circle(out, qa, t / 2, 255, -1);
+      cv::circle(out, qb, t / 2, 255, -1);
+    };
+    for (int b = 1; b < m.nbody; ++b) {
+      if (!in_chain(b) || b == base) continue;
+      band(pos(d.xpos + (3 * m.body_parentid[b])), pos(d.xpos + (3 * b)));
+    }
+    const int site = arm_state_->arm().ee_site();
+    if (site >= 0) band(pos(d.xpos + (3 * m.site_bodyid[site])), pos(d.site_xpos + (3 * site)));
+    // The base's column, from the table up to its body.
+    const Eigen::Vector3d b0 = pos(d.xpos + (3 * base));
+    band(Eigen::Vector3d(b0.x(), b0.y(), 0.0), b0);
+    return out;
+  }
+
   Segmented segment(const fs::path& dir) {
     Segmented s;
     const episode::Episode e = episode::read_episode(dir);
@@ -515,7 +602,7 @@ class Learner {
     if (ml.scored_frame < 0 || ml.map.empty() || cv::countNonZero(ml.mask) == 0) return s;
     s.map = ml.map;
     s.mask = ml.mask.clone();
-    s.mask.setTo(0, arm_region(e.ee_image(ml.scored_frame), s.mask.size()));
+    s.mask.setTo(0, arm_mask(e, ml.scored_frame, s.mask.size()));
     s.frame = e.frame(ml.scored_frame);
     const int touch = ml.scored_frame;
     const auto at_touch = e.ee_image(touch);
@@ -533,7 +620,7 @@ class Learner {
         const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, d.x(), 0, 1, d.y());
         cv::warpAffine(s.mask, m, shift, s.mask.size(), cv::INTER_NEAREST);
       }
-      m.setTo(0, arm_region(e.ee_image(i), m.size()));
+      m.setTo(0, arm_mask(e, i, m.size()));
       if (cv::countNonZero(m) > 0) s.view_masks.emplace_back(i, m);
     }
     // keep the episode's frames for the views
@@ -544,7 +631,13 @@ class Learner {
 
   void learn_object(int c, core::ProgressBar& bar) {
     planning::PlanningView view = plan_view();
-    log({{"event", "look"}, {"object", c}, {"blobs", static_cast<int>(view.objects.size())}});
+    core::Json centres = core::Json::array();
+    for (const auto& b : view.objects) centres.push_back(xy(b.centre));
+    log({{"event", "look"},
+         {"object", c},
+         {"blobs", static_cast<int>(view.objects.size())},
+         {"centres", centres},
+         {"out_of_reach", far_}});
     if (view.objects.empty()) {
       fault(c, "no-blobs", "no putative object in view; object skipped");
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -567,7 +660,16 @@ class Learner {
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
       if (!first) view = plan_view();
-      if (failures >= 3 && done == 0) {
+      if (failures >= kMaxFailures && done > 0) {
+        // Pushed out of reach or where the hand cannot come down: what was learned is kept.
+        fault(c, "stuck",
+              core::cat({std::to_string(kMaxFailures),
+                         " pushes in a row could not be planned or were refused "
+                         "after ",
+                         std::to_string(done), " pushes; moving on"}));
+        break;
+      }
+      if (failures >= kMaxFailures && done == 0) {
         // The object cannot be pushed (out of reach, or the hand would come down on it):
         // another blob instead, logged.
         tried.push_back(last);
@@ -762,7 +864,10 @@ class Learner {
   core::Json dirichlet_measure_ = core::Json::array();
   int faults_ = 0;
   int plans_ = 0;
-  double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
+  int dropped_far_ = 0;                   ///< blobs out of the arm's pushing reach, over all looks
+  core::Json far_ = core::Json::array();  ///< the last look's blobs out of reach (centres, m)
+  double extra_approach_ = 0;             ///< m, grown after each refusal of the object's pushes
+  std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for arm_mask
 };
 
 // Everything a run leaves besides the JSON: the learner's record, the models, the views' theta.
@@ -1008,7 +1113,9 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, o.seed);
   Core k;
-  k.classes = static_cast<int>(objects.size());
+  // The robot is told how many objects lie on the table, not which are to be learned: with
+  // learn_clutter it learns them all and the held-out views of the named objects score it.
+  k.classes = static_cast<int>(o.learn_clutter ? all.size() : objects.size());
   learn_core(k, o, *robot, attendant, provenance);
   robot.reset();  // one GL context at a time: the held-out views need their own
   {

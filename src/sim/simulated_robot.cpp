@@ -25,7 +25,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMaxTableObjects = 8;
-constexpr int kScatterAttempts = 400;
+constexpr int kScatterAttempts = 400;   // places tried for one object in one draw
+constexpr int kScatterRestarts = 60;    // whole draws tried before objects may overlap
 constexpr int kSettleSteps = 150;       // physics steps for objects to come to rest (0.3 s)
 constexpr double kFallenBelow = -0.01;  // m: an object's origin below the table top is off
 // Where the arm waits between pushes, j1..j5 (rad): turned toward -x, upper arm raised, forearm
@@ -170,13 +171,18 @@ double overlap(const Footprint& a, const Footprint& b, double gap) {
 
 }  // namespace
 
-std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& types,
-                                          const ScatterRegion& region, std::uint64_t seed) {
-  core::Rng rng(seed);
+namespace {
+
+// One draw of the scatter: each type (in `order`) at the best of kScatterAttempts random places
+// given the ones placed before it. Returns the summed overlap (0: every object has room).
+double scatter_once(const std::vector<const ObjectType*>& types,
+                    const std::vector<std::size_t>& order, const ScatterRegion& region,
+                    core::Rng& rng, std::vector<Placement>& out) {
   std::vector<Footprint> taken;
-  std::vector<Placement> out;
-  for (const ObjectType* t : types) {
-    ensure(t != nullptr, "scatter: null object type");
+  out.assign(types.size(), Placement{});
+  double total = 0;
+  for (const std::size_t i : order) {
+    const ObjectType* t = types[i];
     Placement best;
     best.name = t->name;
     double best_overlap = std::numeric_limits<double>::infinity();
@@ -195,14 +201,45 @@ std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& 
         best.yaw = yaw;
       }
     }
-    if (best_overlap > 0) {
-      spdlog::warn("scatter: no free place for '{}', it overlaps by {:.3f} m", t->name,
-                   best_overlap);
-    }
+    total += best_overlap;
     taken.push_back(footprint(*t, best.position, best.yaw));
-    out.push_back(best);
+    out[i] = best;
   }
-  return out;
+  return total;
+}
+
+}  // namespace
+
+std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& types,
+                                          const ScatterRegion& region, std::uint64_t seed) {
+  for (const ObjectType* t : types) ensure(t != nullptr, "scatter: null object type");
+  core::Rng rng(seed);
+  // The largest footprints first (a table is filled as a person would: the big things, then
+  // the small ones in the gaps); ties keep the given order.
+  std::vector<std::size_t> order(types.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const Eigen::Vector3d ha = types[a]->half_extents();
+    const Eigen::Vector3d hb = types[b]->half_extents();
+    return ha.x() * ha.y() > hb.x() * hb.y();
+  });
+  // A draw in which some object found no room is drawn again as a whole (from the same stream),
+  // up to kScatterRestarts times; the least-overlapping draw is kept.
+  std::vector<Placement> best;
+  double best_total = std::numeric_limits<double>::infinity();
+  std::vector<Placement> draw;
+  for (int restart = 0; restart < kScatterRestarts && best_total > 0; ++restart) {
+    const double total = scatter_once(types, order, region, rng, draw);
+    if (total < best_total) {
+      best_total = total;
+      best = draw;
+    }
+  }
+  if (best_total > 0) {
+    spdlog::warn("scatter: no draw of {} gave every object room; they overlap by {:.3f} m",
+                 kScatterRestarts, best_total);
+  }
+  return best;
 }
 
 namespace {

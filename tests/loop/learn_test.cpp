@@ -93,7 +93,7 @@ class FaultyRobot final : public robot::Robot {
   [[nodiscard]] robot::JointVector joints() const override { return inner_.joints(); }
   robot::PushReport push(const robot::TablePush& push,
                          const robot::PushRecording& recording) override {
-    if (refuse_) {
+    if (refuse_ && asked_++ >= allow) {
       ++refused;
       throw Error("push: the arm's driver refused the path");
     }
@@ -103,8 +103,10 @@ class FaultyRobot final : public robot::Robot {
     return inner_.push(p, recording);
   }
   int refused = 0;
+  int allow = 0;  ///< with `refuse`: the first `allow` pushes are done all the same
 
  private:
+  int asked_ = 0;
   sim::SimulatedRobot& inner_;
   bool blind_;
   bool refuse_;
@@ -162,6 +164,22 @@ TEST(Learn, FaultsAreLoggedAndTheRunStillCompletes) {
     EXPECT_TRUE(j["complete"].get<bool>());
     EXPECT_FALSE(fs::exists(o.out / "INCOMPLETE"));
     for (const auto& p : j["pushes"]) EXPECT_FALSE(p["executed"].get<bool>());
+  }
+  {
+    // The first push is done, then every one refused: after kMaxFailures refusals in a row the
+    // learner moves on with what it has (logged "stuck"), not trying the same object again and
+    // again.
+    FaultyRobot robot(sim_robot, false, true, Eigen::Vector2d::Zero());
+    robot.allow = 1;
+    NullAttendant attendant;
+    LearnOptions s = o;
+    s.pushes = 6;
+    s.out = d / "stuck";
+    const LearnResult r = run_learn(s, robot, attendant, 1, prov);
+    const std::string ev = events_of(s.out / "decisions.jsonl");
+    EXPECT_NE(ev.find("fault:stuck"), std::string::npos) << ev;
+    EXPECT_LE(robot.refused, 3) << ev;
+    EXPECT_EQ(r.summary.pushes_executed, 1);
   }
   {
     FaultyRobot robot(sim_robot, true, false, Eigen::Vector2d::Zero());

@@ -136,9 +136,11 @@ struct ScatterRegion {
 };
 
 /// Places `types` at random non-overlapping places (their bounding boxes, turned by their yaw,
-/// `gap` apart) of `region` with random yaw (as a person
-/// would put them down), from `seed`. Objects for which no room is found after many draws are put
-/// where they overlap least. Deterministic in the seed.
+/// `gap` apart) of `region` with random yaw (as a person would put them down), from `seed`:
+/// the largest footprints first, each at the best of many random places; a draw in which an
+/// object found no room is drawn again as a whole (the default region holds the default world's
+/// 7 objects). Only when no draw of many gives every object room, the least-overlapping draw is
+/// returned (logged). Deterministic in the seed; the result is in the order of `types`.
 std::vector<Placement> scatter_placements(const std::vector<const ObjectType*>& types,
                                           const ScatterRegion& region, std::uint64_t seed);
 
