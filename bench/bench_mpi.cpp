@@ -17,6 +17,7 @@
 #include "engine.hpp"
 #include "kernels.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/random.hpp"
 #include "proprio/topics/corpus_io.hpp"
 #include "proprio/topics/online_lda.hpp"
 
@@ -80,7 +81,7 @@ core::Json measure(const Corpus& corpus, int K, int batch) {
         d.counts.push_back(static_cast<float>(doc.counts[j]));
       }
       d.offsets.push_back(d.rows.size());
-      d.keys.push_back(detail::mix_key(1, 0, i));
+      d.keys.push_back(core::stream_seed(1, 0, i));
     }
     detail::FloatBuffer cache;
     detail::BatchEStep e;

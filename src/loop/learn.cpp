@@ -40,6 +40,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kFormatVersion = 1;
+constexpr std::uint64_t kChoiceStream = 0x63686f696365ULL;  // core::stream_seed key: choices
+constexpr std::uint64_t kPlanStream = 0x706c616eULL;        // core::stream_seed key: push plans
 constexpr std::size_t kMaxObjects = 8;  // the most objects a simulated table holds
 constexpr double kTrackRadius = 0.08;   // a blob is the object when its centre is this near, m
 constexpr double kLandRadius = 0.15;    // a pushed object is looked for this near its target, m
@@ -173,7 +175,11 @@ namespace {
 class Learner {
  public:
   Learner(robot::Robot& robot, TableAttendant& attendant, int classes, const LearnOptions& o)
-      : robot_(robot), attendant_(attendant), o_(o), classes_(classes), rng_(o.seed * 7919 + 5) {
+      : robot_(robot),
+        attendant_(attendant),
+        o_(o),
+        classes_(classes),
+        rng_(core::Rng::stream(o.seed, kChoiceStream)) {
     log_.open(o.out / "decisions.jsonl");
     models_.resize(static_cast<std::size_t>(classes));
     left_at_.resize(static_cast<std::size_t>(classes));
@@ -402,7 +408,7 @@ class Learner {
     // the table and make it look nearer than it is) approaches grow.
     po.max_approach = std::min(0.3, po.max_approach + extra_approach_);
     po.min_approach = std::min(po.max_approach, po.min_approach + extra_approach_);
-    po.seed = o_.seed * 1000003 + static_cast<std::uint64_t>(++plans_);
+    po.seed = core::stream_seed(o_.seed, kPlanStream, static_cast<std::uint64_t>(++plans_));
     return planning::plan_push(view, blob, planning::PushGoal::kTarget, target, region_, arm,
                                robot_.joints(), po);
   }

@@ -24,10 +24,8 @@ constexpr const char* kPushFormat = "proprio.push";
 constexpr const char* kEvaluationFormat = "proprio.push.evaluation";
 constexpr int kFormatVersion = 1;
 constexpr double kMs = 1000.0;
-// Multiplier giving each table's choices (object, target) a stream apart from its scene's seed.
-constexpr std::uint64_t kTableStream = 7919;
-// Plan seeds of a retry after the robot refused a push: this far apart from the first attempt's.
-constexpr std::uint64_t kRetrySeedStride = 1000;
+// core::stream_seed key of each table's choices (object, target), apart from its scene's stream.
+constexpr std::uint64_t kTableStream = 0x7461626c65ULL;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -268,8 +266,8 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
       for (int attempt = 0; attempt <= options.retries; ++attempt) {
         robot::ArmState arm(robot.arm());
         planning::PushPlanOptions popt = options.plan;
-        popt.seed = options.plan.seed + static_cast<std::uint64_t>(k) +
-                    (kRetrySeedStride * static_cast<std::uint64_t>(attempt));
+        popt.seed = core::stream_seed(options.plan.seed, static_cast<std::uint64_t>(k),
+                                      static_cast<std::uint64_t>(attempt));
         step.plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
                                         robot.joints(), popt);
         if (step.plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
@@ -518,7 +516,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   const sim::ScatterRegion scatter;
   for (int t = 0; t < options.tables; ++t) {
     const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
-    core::Rng rng((seed * kTableStream) + 17);
+    auto rng = core::Rng::stream(seed, kTableStream);
     sim::TableOptions table;
     table.seed = seed;
     const int spread = options.max_objects - options.min_objects + 1;

@@ -30,6 +30,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr std::uint64_t kChoiceStream = 0x63686f696365ULL;  // core::stream_seed key: choices
+constexpr std::uint64_t kPlanStream = 0x706c616eULL;        // core::stream_seed key: push plans
+
 constexpr double kTrackRadius =
     0.08;                        // a blob is the chosen object when its centre is this near, m
 constexpr double kStill = 0.01;  // a blob that moved less than this did not move, m
@@ -108,7 +111,7 @@ class Learner {
         vocabulary_(vocabulary),
         o_(options),
         episodes_(std::move(episodes)),
-        rng_(options.seed * 7919 + 3) {
+        rng_(core::Rng::stream(options.seed, kChoiceStream)) {
     out_.classes = classes;
     for (int c = 0; c < classes; ++c) {
       out_.class_names.push_back(core::cat({"object_", std::to_string(c + 1)}));
@@ -289,7 +292,7 @@ class Learner {
     // the table and make it look nearer than it is) approaches grow.
     po.max_approach = std::min(0.3, po.max_approach + extra_approach_);
     po.min_approach = std::min(po.max_approach, po.min_approach + extra_approach_);
-    po.seed = o_.seed * 1000003 + static_cast<std::uint64_t>(++plans_);
+    po.seed = core::stream_seed(o_.seed, kPlanStream, static_cast<std::uint64_t>(++plans_));
     return planning::plan_push(view, blob, goal, target, region_, arm, robot_.joints(), po);
   }
 

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/loop/push_run.hpp"
 #include "proprio/recognition/mot.hpp"
@@ -24,7 +25,7 @@ namespace {
 // The table point the held-out views put an object at: the middle of the scatter region.
 const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};
 constexpr int kScatterAttempts = 10;
-constexpr std::uint64_t kScatterSeedStep = 100;
+constexpr std::uint64_t kRescatterStream = 0x73636174746572ULL;  // core::stream_seed key
 
 double fraction(int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; }
 
@@ -49,9 +50,11 @@ std::string GroundTruthAttendant::rescatter(int round) {
     if (o.role != sim::TableRole::kDistractor) types.push_back(&catalogue.get(o.name));
   }
   const sim::ScatterRegion region;
-  std::uint64_t s = (seed_ * 1000) + static_cast<std::uint64_t>(round);
+  std::uint64_t s = 0;
   std::vector<sim::Placement> places;
-  for (int attempt = 0; attempt < kScatterAttempts; ++attempt, s += kScatterSeedStep) {
+  for (int attempt = 0; attempt < kScatterAttempts; ++attempt) {
+    s = core::stream_seed(seed_, kRescatterStream, static_cast<std::uint64_t>(round),
+                          static_cast<std::uint64_t>(attempt));
     places = sim::scatter_placements(types, region, s);
     const bool ok = std::all_of(places.begin(), places.end(), [&](const sim::Placement& p) {
       return std::isfinite(p.position.x()) && std::isfinite(p.position.y()) &&

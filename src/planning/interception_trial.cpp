@@ -1,4 +1,5 @@
 #include "proprio/planning/interception_trial.hpp"
+#include "proprio/core/random.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -581,7 +582,7 @@ ExperimentResult run_experiment(const InterceptionSimulator& simulator,
   core::ProgressBar bar(static_cast<std::size_t>(options.trials), "interception trials",
                         show_progress);
   for (int k = 0; k < options.trials; ++k) {
-    core::Rng rng(detail::mix_seed(options.seed ^ detail::mix_seed(static_cast<std::uint64_t>(k))));
+    auto rng = core::Rng::stream(options.seed, static_cast<std::uint64_t>(k));
     const TargetMotion target =
         random_target(simulator.model().grid(), t_plan, options.trial.scenario, rng);
     result.trials.push_back(simulator.run(target, options.trial, rng.next_seed()));

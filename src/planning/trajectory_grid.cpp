@@ -119,7 +119,7 @@ GridPoint cost_of(robot::ArmState& state, const robot::JointVector& q0, int inde
   p.energy = E.total;
 
   // Precision (eq 3.42): torque statistics over perturbed end points, per joint and sample.
-  core::Rng rng(detail::mix_seed(o.seed ^ detail::mix_seed(static_cast<std::uint64_t>(index))));
+  auto rng = core::Rng::stream(o.seed, static_cast<std::uint64_t>(index));
   const Eigen::Vector3d p2 = g.end_point(p.psi);
   const std::size_t n = tau.size();
   std::vector<robot::JointVector> sum(n, robot::JointVector::Zero());

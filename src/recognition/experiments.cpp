@@ -143,10 +143,11 @@ SetExperimentResult run_set_experiment(const features::ImageSet& set,
     return std::move(r.vocabulary);
   };
   if (needs("specific"))
-    specific =
-        build(result.set_a, options.seed + 1, result.specific_kmeans, result.specific_descriptors);
+    specific = build(result.set_a, core::stream_seed(options.seed, 1), result.specific_kmeans,
+                     result.specific_descriptors);
   if (needs("wide"))
-    wide = build(result.wide, options.seed + 2, result.wide_kmeans, result.wide_descriptors);
+    wide = build(result.wide, core::stream_seed(options.seed, 2), result.wide_kmeans,
+                 result.wide_descriptors);
 
   for (const auto& run : options.runs) {
     const auto& classes = run.set == "A" ? result.set_a : result.set_b;
@@ -350,7 +351,7 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
     std::iota(all.begin(), all.end(), std::size_t{0});
     std::vector<std::size_t> mapping_idx, test_idx;
     {
-      core::Rng rng(o.seed + 7);
+      auto rng = core::Rng::stream(o.seed, 7);
       std::vector<std::vector<std::size_t>> per_class(views.classes.size());
       for (std::size_t i : all) per_class[static_cast<std::size_t>(views.labels[i])].push_back(i);
       for (std::size_t c = 0; c < per_class.size(); ++c) {

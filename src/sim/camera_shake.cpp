@@ -1,4 +1,5 @@
 #include "camera_shake.hpp"
+#include "proprio/core/random.hpp"
 
 #include <Eigen/Geometry>
 
@@ -14,7 +15,8 @@ constexpr std::uint64_t kShakeStream = 0x5348414b45ULL;
 
 }  // namespace
 
-CameraShake::CameraShake(const World& world, std::uint64_t seed) : rng_(seed ^ kShakeStream) {
+CameraShake::CameraShake(const World& world, std::uint64_t seed)
+    : rng_(core::stream_seed(seed, kShakeStream)) {
   for (const auto& n : world.camera_names()) camera_ids_.push_back(world.camera_id(n));
 }
 

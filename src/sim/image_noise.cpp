@@ -1,4 +1,5 @@
 #include "image_noise.hpp"
+#include "proprio/core/random.hpp"
 
 namespace proprio::sim {
 
@@ -10,7 +11,7 @@ constexpr std::uint64_t kNoiseStream = 0x4e4f495345ULL;
 }  // namespace
 
 ImageNoise::ImageNoise(double sigma, std::uint64_t seed)
-    : sigma_(sigma), rng_(seed ^ kNoiseStream) {}
+    : sigma_(sigma), rng_(core::stream_seed(seed, kNoiseStream)) {}
 
 void ImageNoise::apply(cv::Mat& image) {
   if (sigma_ <= 0) return;

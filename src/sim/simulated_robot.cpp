@@ -240,13 +240,13 @@ TableNames table_names(const TableOptions& options, const ObjectCatalogue& catal
     t.objects = options.objects;
   } else {
     std::vector<std::string> pool = catalogue.names();
-    core::Rng rng(options.seed ^ 0x7ab1eULL);
+    auto rng = core::Rng::stream(options.seed, 0x7ab1eULL);
     t.objects = draw(pool, options.object_count, rng, "objects");
   }
   std::vector<std::string> pool = catalogue.names();
   remove_from(pool, t.objects);
   if (is_count(options.clutter)) {
-    core::Rng rng(options.seed ^ 0xc1a77e7ULL);
+    auto rng = core::Rng::stream(options.seed, 0xc1a77e7ULL);
     t.clutter = draw(pool, std::stoi(options.clutter), rng, "clutter");
   } else if (!options.clutter.empty()) {
     t.clutter = name_list(options.clutter);
@@ -264,7 +264,7 @@ TableNames table_names(const TableOptions& options, const ObjectCatalogue& catal
     return catalogue.get(n).footprint_radius() > kMaxDistractorRadius;
   });
   remove_from(large, pool);
-  core::Rng rng(options.seed ^ 0xd15ac7ULL);
+  auto rng = core::Rng::stream(options.seed, 0xd15ac7ULL);
   const int small = std::min(options.distractor_count(), static_cast<int>(pool.size()));
   t.distractors = draw(pool, small, rng, "distractors");
   for (const std::string& n : draw(large, options.distractor_count() - small, rng, "distractors")) {

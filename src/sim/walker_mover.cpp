@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
 #include "scripted_pose.hpp"
 
 namespace proprio::sim {
@@ -93,7 +94,10 @@ void plan_walkers(const RecordOptions& options, const ObjectCatalogue& catalogue
 }
 
 WalkerMover::WalkerMover(const World& world, const ScenarioPlan& plan, std::uint64_t seed)
-    : walkers_(plan.walkers), lo_(plan.walk_min), hi_(plan.walk_max), rng_(seed ^ kWalkStream) {
+    : walkers_(plan.walkers),
+      lo_(plan.walk_min),
+      hi_(plan.walk_max),
+      rng_(core::stream_seed(seed, kWalkStream)) {
   for (const auto& w : walkers_) ids_.push_back(world.object(w.name).id);
 }
 

@@ -1,4 +1,5 @@
 #include "engine.hpp"
+#include "proprio/core/random.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -53,11 +54,11 @@ void exp_elog_beta(const Kernels& kern, const Eigen::MatrixXd& lambda,
 
 namespace {
 
+// The SplitMix64 generator: state advances by the golden gamma, each output is its mix.
 std::uint64_t splitmix(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
+  const std::uint64_t z = core::splitmix64(state);
+  state += 0x9e3779b97f4a7c15ULL;
+  return z;
 }
 
 double uniform01(std::uint64_t& state) {
@@ -65,13 +66,6 @@ double uniform01(std::uint64_t& state) {
 }
 
 }  // namespace
-
-std::uint64_t mix_key(std::uint64_t seed, std::uint64_t update, std::uint64_t doc) {
-  std::uint64_t s = seed;
-  std::uint64_t a = splitmix(s) ^ update;
-  std::uint64_t b = splitmix(a) ^ doc;
-  return splitmix(b);
-}
 
 void random_gamma(std::uint64_t key, int n, float* out) {
   // Marsaglia & Tsang (2000) for shape 100, scaled by 1/100; normals by Box-Muller.
@@ -116,7 +110,7 @@ Eigen::MatrixXd initial_lambda(int num_topics, int num_words, std::uint64_t seed
   std::vector<float> tmp(K * static_cast<std::size_t>(pool.size()));
   pool.run(static_cast<std::size_t>(num_words), [&](std::size_t w, int t) {
     float* g = tmp.data() + static_cast<std::size_t>(t) * K;
-    random_gamma(mix_key(seed, ~0ULL, w), num_topics, g);
+    random_gamma(core::stream_seed(seed, ~0ULL, w), num_topics, g);
     for (std::size_t k = 0; k < K; ++k) {
       lambda(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(w)) = g[k];
     }
@@ -133,7 +127,7 @@ void corpus_docs(const Corpus& corpus, std::uint64_t seed, std::uint64_t update,
     docs.rows.insert(docs.rows.end(), doc.words.begin(), doc.words.end());
     for (const auto c : doc.counts) docs.counts.push_back(static_cast<float>(c));
     docs.offsets.push_back(docs.rows.size());
-    docs.keys.push_back(mix_key(seed, update, d));
+    docs.keys.push_back(core::stream_seed(seed, update, d));
   }
 }
 

@@ -106,11 +106,9 @@ double document_bound(const BatchEStep& estep, std::size_t d, int num_topics, do
 /// - lgamma(eta) ] + lgamma(W eta) - lgamma(sum_w lambda_kw).
 double topic_bound(const Eigen::MatrixXd& lambda, const Eigen::VectorXd& topic_sum, double eta);
 
-/// A stream of Gamma(100, 1/100) variates for the random gamma start, keyed by document.
+/// A stream of Gamma(100, 1/100) variates for the random gamma start, keyed by document (the key
+/// is core::stream_seed(seed, update, document)).
 void random_gamma(std::uint64_t key, int n, float* out);
-
-/// A key mixing the seed, the update count and the document index.
-std::uint64_t mix_key(std::uint64_t seed, std::uint64_t update, std::uint64_t doc);
 
 /// K x W lambda drawn from Gamma(100, 1/100), the start of Hoffman's code, scikit-learn and
 /// gensim; one seeded stream per word, so it does not depend on the thread count.

@@ -174,7 +174,7 @@ std::vector<std::string> object_names(int k) {
 /// other k were tried.
 MotFit fit_clusters(const Eigen::MatrixXd& theta, const Eigen::MatrixXd& log_theta, int k,
                     const MotOptions& options) {
-  core::Rng rng(options.seed + 0x9E3779B97F4A7C15ULL * static_cast<std::uint64_t>(k));
+  auto rng = core::Rng::stream(options.seed, static_cast<std::uint64_t>(k));
   Clustering best;
   for (int r = 0; r < options.kmeans_restarts; ++r) {
     Clustering c = kmeans_once(theta, k, options.kmeans_iterations, rng);

@@ -1,4 +1,5 @@
 #include "proprio/topics/online_lda.hpp"
+#include "proprio/core/random.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -176,7 +177,7 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
     }
     m.docs.offsets.push_back(m.docs.rows.size());
     m.docs.keys.push_back(
-        detail::mix_key(m.options.seed, static_cast<std::uint64_t>(model.updates), d));
+        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d));
   }
 
   detail::exp_elog_beta(*m.kern, model.lambda, m.topic_sum, m.batch_words, m.stride, m.pool,
@@ -293,7 +294,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     }
     m.docs.offsets.push_back(m.docs.rows.size());
     const std::uint64_t key =
-        detail::mix_key(m.options.seed, static_cast<std::uint64_t>(model.updates), d);
+        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d);
     m.docs.keys.push_back(key);
     if (q == rank) {
       mine.offsets.push_back(mine.rows.size());

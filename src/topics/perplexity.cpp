@@ -46,7 +46,7 @@ CompletionSplit split_for_completion(const Corpus& corpus, std::uint64_t seed) {
       tokens.insert(tokens.end(), doc.counts[i], doc.words[i]);
     const std::size_t n = tokens.size();
     const std::size_t half = n / 2;
-    core::Rng rng(detail::mix_key(seed, 0x636f6d706c657465ULL, d));
+    core::Rng rng(core::stream_seed(seed, 0x636f6d706c657465ULL, d));
     for (std::size_t i = 0; i < half; ++i) std::swap(tokens[i], tokens[i + rng.index(n - i)]);
     split.observed.add_tokens(std::span<const std::int32_t>(tokens.data(), half));
     split.scored.add_tokens(std::span<const std::int32_t>(tokens.data() + half, n - half));

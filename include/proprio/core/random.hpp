@@ -8,9 +8,36 @@
 
 namespace proprio::core {
 
+/// SplitMix64's output function (Steele, Lea & Flood 2014) applied to x: a bijection of 64-bit
+/// words in which every input bit changes about half the output bits.
+constexpr std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30U)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27U)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31U);
+}
+
+/// The seed of the sub-stream named by `keys` (a stream constant, a trial, a document, an update,
+/// a restart...) of `seed`: h = seed, then h = splitmix64(h) ^ key for each key, then
+/// splitmix64(h). This is the one way proprio derives child streams: neighbouring seeds, keys and
+/// indices give unrelated generators, and a stream depends only on its keys, never on how many
+/// draws another stream made or on the thread that draws it.
+template <class... Keys>
+constexpr std::uint64_t stream_seed(std::uint64_t seed, Keys... keys) {
+  std::uint64_t h = seed;
+  ((h = splitmix64(h) ^ static_cast<std::uint64_t>(keys)), ...);
+  return splitmix64(h);
+}
+
 class Rng {
  public:
   explicit Rng(std::uint64_t seed) : engine_(seed) {}
+
+  /// The generator of sub-stream `keys` of `seed` (see stream_seed).
+  template <class... Keys>
+  static Rng stream(std::uint64_t seed, Keys... keys) {
+    return Rng(stream_seed(seed, keys...));
+  }
 
   /// Uniform in [0, 1).
   double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }

@@ -115,7 +115,8 @@ std::string grid_cache_key(const robot::Arm& arm, const GridCostOptions& options
 GridCosts compute_grid_costs(const robot::Arm& arm, const GridCostOptions& options,
                              bool show_progress = false);
 
-inline constexpr int kGridCacheVersion = 1;
+/// 2: the precision samples drawn from core::stream_seed streams (1: an earlier seed scheme).
+inline constexpr int kGridCacheVersion = 2;
 
 /// Writes the costs as JSON (format "proprio.intercept.grid_costs", version kGridCacheVersion),
 /// atomically.
