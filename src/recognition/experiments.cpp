@@ -8,6 +8,7 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
@@ -436,8 +437,10 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
       return c;
     };
     if (!view_features) {
-      view_features.emplace(features_of(mapping_frames, "labelled"),
-                            features_of(test_frames, "test"));
+      // In this order (an argument list's is unspecified): the labelled side's error first.
+      LabelledFeatures mapping = features_of(mapping_frames, "labelled");
+      LabelledFeatures test = features_of(test_frames, "test");
+      view_features.emplace(std::move(mapping), std::move(test));
     }
     LabelledCorpus mapping_docs = views_corpus(view_features->first, v);
     LabelledCorpus test_docs = views_corpus(view_features->second, v);
