@@ -2,9 +2,11 @@
 // (thesis Ch 6, 7.3.1): LDA from image folders or episodes, classification, and the experiments
 // of 6.3 (specific vs wide dictionary, batch vs online LDA, videos of objects moved about).
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cli.hpp"
@@ -116,11 +118,30 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   paths.insert(paths.end(), a.options.view_episodes.begin(), a.options.view_episodes.end());
   paths.emplace_back(a.options.views);
   paths.emplace_back(a.options.vocabulary);
-  core::require_output_not_input(a.json, paths, "--json");
-  const ExperimentRun r =
-      run_scatter_experiment_files(a.options, inv.provenance(a.options.options.seed));
-  std::fputs(r.report.c_str(), stdout);
-  write_json_result(a.json, r.document);
+  // Several seeds: one JSON each, "{seed}" in --json standing for the seed.
+  const std::string placeholder = "{seed}";
+  const bool several = a.options.seeds.size() > 1;
+  if (several && !a.json.empty() && a.json.find(placeholder) == std::string::npos) {
+    throw Error("with several --seeds, --json needs {seed} in its name (one file per seed)");
+  }
+  auto json_of = [&](std::uint64_t seed) {
+    std::string path = a.json;
+    const auto at = path.find(placeholder);
+    if (at != std::string::npos) path.replace(at, placeholder.size(), std::to_string(seed));
+    return path;
+  };
+  const std::vector<std::uint64_t> seeds = a.options.seeds.empty()
+                                               ? std::vector<std::uint64_t>{a.options.options.seed}
+                                               : a.options.seeds;
+  for (const std::uint64_t seed : seeds)
+    core::require_output_not_input(json_of(seed), paths, "--json");
+  const std::vector<ExperimentRun> runs =
+      run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed));
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
+    std::fputs(runs[i].report.c_str(), stdout);
+    write_json_result(json_of(seeds[i]), runs[i].document);
+  }
 }
 
 void add_set_options(CLI::App* cmd, SetArgs& a) {
@@ -282,6 +303,10 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
                  "Fraction of each object's views (labelled) that names the topics; the rest test")
       ->capture_default_str();
   sc->add_option("--seed", s->options.options.seed, "Seed")->capture_default_str();
+  sc->add_option("--seeds", s->options.seeds,
+                 "With --view-episodes: several seeds over one feature extraction (comma-"
+                 "separated; one run each, --json with {seed} in its name); instead of --seed")
+      ->delimiter(',');
   sc->add_flag("--split-by-episode", s->options.options.split_by_episode,
                "With --view-episodes: the first --mapping-fraction of the view episodes give the "
                "labelled views, the others the test views (instead of alternate blocks)");

@@ -179,17 +179,16 @@ ConfusionMatrix apply_mapping(EpisodeClassification& result, const TopicMapping&
   return confusion_matrix(truth_rows, mapped_rows, mapping_classes, mapping_classes);
 }
 
-LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
-                                  const std::vector<std::vector<int>>& frames,
-                                  const std::vector<std::string>& classes,
-                                  const features::Vocabulary& vocabulary,
-                                  const features::ExtractOptions& options, int min_features,
-                                  int dilate) {
+LabelledFeatures object_view_features(const std::vector<episode::Episode>& episodes,
+                                      const std::vector<std::vector<int>>& frames,
+                                      const std::vector<std::string>& classes,
+                                      const features::ExtractOptions& options, int min_features,
+                                      int dilate) {
   assert(frames.size() == episodes.size());
   options.validate();
   if (min_features < 1) throw Error("a view needs at least 1 feature");
   if (dilate < 0) throw Error("the mask growth must be >= 0 pixels");
-  LabelledCorpus out{topics::Corpus(vocabulary.size()), {}, classes};
+  LabelledFeatures out{{}, {}, classes};
   const cv::Mat kernel =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilate + 1, 2 * dilate + 1));
   for (std::size_t ei = 0; ei < episodes.size(); ++ei) {
@@ -207,14 +206,31 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
         cv::Mat m = ids == id;
         if (cv::countNonZero(m) == 0) continue;
         if (dilate > 0) cv::dilate(m, m, kernel);
-        const features::Features f = features::extract_features(image, options, m);
+        features::Features f = features::extract_features(image, options, m);
         if (f.size() < min_features) continue;
-        out.corpus.add_tokens(features::bag_of_words(vocabulary, f.descriptors));
+        out.views.push_back(std::move(f));
         out.labels.push_back(label);
       }
     }
   }
   return out;
+}
+
+LabelledCorpus views_corpus(const LabelledFeatures& views, const features::Vocabulary& vocabulary) {
+  LabelledCorpus out{topics::Corpus(vocabulary.size()), views.labels, views.classes};
+  for (const features::Features& f : views.views)
+    out.corpus.add_tokens(features::bag_of_words(vocabulary, f.descriptors));
+  return out;
+}
+
+LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
+                                  const std::vector<std::vector<int>>& frames,
+                                  const std::vector<std::string>& classes,
+                                  const features::Vocabulary& vocabulary,
+                                  const features::ExtractOptions& options, int min_features,
+                                  int dilate) {
+  return views_corpus(
+      object_view_features(episodes, frames, classes, options, min_features, dilate), vocabulary);
 }
 
 }  // namespace proprio::recognition

@@ -107,35 +107,17 @@ void ScatterExperimentRunOptions::validate() const {
   }
 }
 
-ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& options,
-                                           const core::Provenance& provenance) {
-  options.validate();
-  ScatterExperimentOptions o = options.options;
-  o.view_features = o.frames.features;
-  o.frames.features.center_crop = 1.0;  // frames: the region decides
-  o.kmeans.seed = o.seed;
-  const std::vector<episode::Episode> episodes = read_episodes(options.episodes);
-  std::optional<features::Vocabulary> vocabulary;
-  if (!options.vocabulary.empty()) vocabulary = features::read_vocabulary(options.vocabulary);
-  const features::Vocabulary* v = vocabulary ? &*vocabulary : nullptr;
-  std::shared_ptr<core::ProgressBar> bar;
-  ScatterExperimentResult r;
-  if (options.views.empty()) {
-    // Segmented views: the features inside each object's mask; no centre crop.
-    o.view_features.center_crop = 1.0;
-    r = run_scatter_experiment(episodes, read_episodes(options.view_episodes), options.objects, o,
-                               v, progress_bar(bar, "frames", options.progress));
-  } else {
-    const features::ImageSet views = features::read_image_set(options.views);
-    r = run_scatter_experiment(episodes, views, o, v,
-                               progress_bar(bar, "frames", options.progress));
-  }
+namespace {
+
+ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
+                          const ScatterExperimentOptions& o, std::size_t episode_count,
+                          const ScatterExperimentResult& r, const core::Provenance& provenance) {
   ExperimentRun out;
   out.report =
       core::printf_string(
           "objects: %zu, episodes: %zu, frames: %d, documents: %d, tokens: %lld, words: %d\n",
-          r.objects.size(), episodes.size(), r.frames, r.documents,
-          static_cast<long long>(r.tokens), r.words) +
+          r.objects.size(), episode_count, r.frames, r.documents, static_cast<long long>(r.tokens),
+          r.words) +
       core::printf_string("mini-batches: %d documents (%d frames)\n", r.batch_documents,
                           o.online.batch_size) +
       core::printf_string("views: %d name the topics (labelled), %d test\n\n", r.mapping_views,
@@ -222,6 +204,57 @@ ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& op
   out.report += core::printf_string("seconds: %.1f\n", r.seconds);
   doc["seconds"] = r.seconds;
   return out;
+}
+
+}  // namespace
+
+std::vector<ExperimentRun> run_scatter_experiments_files(const ScatterExperimentRunOptions& options,
+                                                         const core::Provenance& provenance) {
+  options.validate();
+  ScatterExperimentOptions o = options.options;
+  o.view_features = o.frames.features;
+  o.frames.features.center_crop = 1.0;  // frames: the region decides
+  o.kmeans.seed = o.seed;
+  const std::vector<std::uint64_t> seeds =
+      options.seeds.empty() ? std::vector<std::uint64_t>{o.seed} : options.seeds;
+  if (seeds.size() > 1 && !options.views.empty()) {
+    throw Error("several seeds at once need --view-episodes (not --views)");
+  }
+  const std::vector<episode::Episode> episodes = read_episodes(options.episodes);
+  std::optional<features::Vocabulary> vocabulary;
+  if (!options.vocabulary.empty()) vocabulary = features::read_vocabulary(options.vocabulary);
+  const features::Vocabulary* v = vocabulary ? &*vocabulary : nullptr;
+  std::shared_ptr<core::ProgressBar> bar;
+  std::vector<ScatterExperimentResult> results;
+  if (options.views.empty()) {
+    // Segmented views: the features inside each object's mask; no centre crop.
+    o.view_features.center_crop = 1.0;
+    results =
+        run_scatter_experiments(episodes, read_episodes(options.view_episodes), options.objects, o,
+                                seeds, v, progress_bar(bar, "frames", options.progress));
+  } else {
+    const features::ImageSet views = features::read_image_set(options.views);
+    o.seed = seeds.front();
+    o.kmeans.seed = o.seed;
+    results.push_back(run_scatter_experiment(episodes, views, o, v,
+                                             progress_bar(bar, "frames", options.progress)));
+  }
+  std::vector<ExperimentRun> out;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    core::Provenance p = provenance;
+    p.seed = seeds[i];
+    ScatterExperimentOptions oi = o;
+    oi.seed = seeds[i];
+    out.push_back(scatter_run(options, oi, episodes.size(), results[i], p));
+  }
+  return out;
+}
+
+ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& options,
+                                           const core::Provenance& provenance) {
+  ScatterExperimentRunOptions one = options;
+  one.seeds.clear();
+  return run_scatter_experiments_files(one, provenance).front();
 }
 
 }  // namespace proprio::recognition

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <set>
+#include <utility>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
@@ -194,20 +197,24 @@ void ScatterExperimentOptions::validate() const {
 
 namespace {
 
-// The labelled views that name the topics and the test views, over the vocabulary.
+// The labelled views that name the topics and the test views, over the vocabulary, for the
+// options' seed.
 using ViewCorpora = std::function<std::pair<LabelledCorpus, LabelledCorpus>(
-    const features::Vocabulary&, ScatterExperimentResult&)>;
+    const features::Vocabulary&, const ScatterExperimentOptions&, ScatterExperimentResult&)>;
 
-ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episodes,
-                                    const std::vector<std::string>& objects,
-                                    const ScatterExperimentOptions& options,
-                                    const features::Vocabulary* vocabulary,
-                                    const ProgressFn& progress, const ViewCorpora& make_views) {
+// One result per seed: the frames' features are extracted once; each seed then builds its
+// dictionary, documents and models exactly as a run with that seed alone.
+std::vector<ScatterExperimentResult> run_scatter(const std::vector<episode::Episode>& episodes,
+                                                 const std::vector<std::string>& objects,
+                                                 const ScatterExperimentOptions& options,
+                                                 const std::vector<std::uint64_t>& seeds,
+                                                 const features::Vocabulary* vocabulary,
+                                                 const ProgressFn& progress,
+                                                 const ViewCorpora& make_views) {
   options.validate();
   if (episodes.empty()) throw Error("no episodes given");
+  if (seeds.empty()) throw Error("no seeds given");
   const auto t0 = std::chrono::steady_clock::now();
-  ScatterExperimentResult result;
-  result.objects = objects;
   FrameDocumentOptions frame_options = options.frames;
   const bool by_objects = frame_options.region == FrameRegion::kObjects ||
                           frame_options.region == FrameRegion::kEachObject;
@@ -223,6 +230,7 @@ ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episode
 
   // Features of every used frame, in the order the robot saw them.
   std::vector<features::Features> docs;
+  int frames = 0;
   std::size_t total = 0;
   for (const auto& e : episodes)
     total +=
@@ -232,90 +240,102 @@ ScatterExperimentResult run_scatter(const std::vector<episode::Episode>& episode
     for (int i = 0; i < e.frame_count(); i += options.frame_step) {
       for (auto& f : frame_features(e, i, frame_options))
         if (!f.empty()) docs.push_back(std::move(f));
-      ++result.frames;
+      ++frames;
       if (progress) progress(++done, total);
     }
   }
   if (docs.empty()) throw Error("the episodes' frames have no features in the chosen region");
+  const double extraction_seconds = seconds_since(t0);
 
-  std::optional<features::Vocabulary> built;
-  if (vocabulary == nullptr) {
-    core::Rng rng(options.seed);
-    std::vector<std::size_t> order(docs.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::shuffle(order.begin(), order.end(), rng.engine());
-    order.resize(std::min(order.size(), static_cast<std::size_t>(options.dictionary_frames)));
-    cv::Mat sample(0, features::kDescriptorLength, CV_32F);
-    for (std::size_t d : order) {
-      const auto& f = docs[d];
-      std::vector<int> rows(static_cast<std::size_t>(f.size()));
-      std::iota(rows.begin(), rows.end(), 0);
-      std::shuffle(rows.begin(), rows.end(), rng.engine());
-      rows.resize(std::min(rows.size(), static_cast<std::size_t>(options.descriptors_per_frame)));
-      for (int r : rows) sample.push_back(f.descriptors.row(r));
+  std::vector<ScatterExperimentResult> results;
+  for (const std::uint64_t seed : seeds) {
+    const auto t1 = std::chrono::steady_clock::now();
+    ScatterExperimentOptions o = options;
+    o.seed = seed;
+    ScatterExperimentResult result;
+    result.objects = objects;
+    result.frames = frames;
+    std::optional<features::Vocabulary> built;
+    const features::Vocabulary* v = vocabulary;
+    if (v == nullptr) {
+      core::Rng rng(o.seed);
+      std::vector<std::size_t> order(docs.size());
+      std::iota(order.begin(), order.end(), std::size_t{0});
+      std::shuffle(order.begin(), order.end(), rng.engine());
+      order.resize(std::min(order.size(), static_cast<std::size_t>(o.dictionary_frames)));
+      cv::Mat sample(0, features::kDescriptorLength, CV_32F);
+      for (std::size_t d : order) {
+        const auto& f = docs[d];
+        std::vector<int> rows(static_cast<std::size_t>(f.size()));
+        std::iota(rows.begin(), rows.end(), 0);
+        std::shuffle(rows.begin(), rows.end(), rng.engine());
+        rows.resize(std::min(rows.size(), static_cast<std::size_t>(o.descriptors_per_frame)));
+        for (int r : rows) sample.push_back(f.descriptors.row(r));
+      }
+      features::KmeansOptions k = o.kmeans;
+      k.seed = o.seed;
+      if (k.words > sample.rows) {
+        std::string m = "the frames give fewer descriptors (";
+        m += std::to_string(sample.rows);
+        m += ") than the dictionary's words";
+        throw Error(m);
+      }
+      auto r = features::build_vocabulary(sample, k);
+      result.kmeans = r.summary;
+      result.dictionary_descriptors = sample.rows;
+      built = std::move(r.vocabulary);
+      v = &*built;
     }
-    features::KmeansOptions k = options.kmeans;
-    k.seed = options.seed;
-    if (k.words > sample.rows) {
-      std::string m = "the frames give fewer descriptors (";
-      m += std::to_string(sample.rows);
-      m += ") than the dictionary's words";
-      throw Error(m);
+    result.words = v->size();
+    if (v->dimension() != features::kDescriptorLength) {
+      throw Error("the vocabulary's words are not 128-D SIFT descriptors");
     }
-    auto r = features::build_vocabulary(sample, k);
-    result.kmeans = r.summary;
-    result.dictionary_descriptors = sample.rows;
-    built = std::move(r.vocabulary);
-    vocabulary = &*built;
-  }
-  result.words = vocabulary->size();
-  if (vocabulary->dimension() != features::kDescriptorLength) {
-    throw Error("the vocabulary's words are not 128-D SIFT descriptors");
-  }
 
-  topics::Corpus corpus(vocabulary->size());
-  for (const auto& f : docs) corpus.add_tokens(features::bag_of_words(*vocabulary, f.descriptors));
-  docs.clear();
-  result.documents = static_cast<int>(corpus.num_documents());
-  result.tokens = corpus.num_tokens();
+    topics::Corpus corpus(v->size());
+    for (const auto& f : docs) corpus.add_tokens(features::bag_of_words(*v, f.descriptors));
+    result.documents = static_cast<int>(corpus.num_documents());
+    result.tokens = corpus.num_tokens();
 
-  const auto [mapping_docs, test_docs] = make_views(*vocabulary, result);
-  for (int k : options.topics) {
-    topics::OnlineLdaOptions on = options.online;
-    on.num_topics = k == 0 ? static_cast<int>(objects.size()) : k;
-    on.seed = options.seed;
-    // batch_size counts frames: with several documents a frame (blobs, each-object) a
-    // mini-batch holds the documents of that many frames on average.
-    on.batch_size = std::max(
-        1, static_cast<int>(std::lround(options.online.batch_size *
-                                        static_cast<double>(result.documents) / result.frames)));
-    result.batch_documents = on.batch_size;
-    auto trained = topics::train_online_lda(corpus, on);
-    ScatterRunResult r;
-    r.topics = on.num_topics;
-    r.summary = trained.summary;
-    r.evaluation = evaluate_model(trained.model, mapping_docs, test_docs);
-    if (options.mot) {
-      r.mot = evaluate_mot(trained.model, mapping_docs, test_docs, options.mot_options);
-      r.mot_unsupervised =
-          evaluate_mot_unsupervised(trained.model, mapping_docs, test_docs, options.mot_options);
-      for (const auto source : {ThetaSource::kEStep, ThetaSource::kWordPosterior}) {
-        for (const double s : options.mot_smoothing_grid) {
-          for (const auto prior : {topics::MotPrior::kViews, topics::MotPrior::kUniform}) {
-            topics::MotOptions g = options.mot_options;
-            g.smoothing = s;
-            g.prior = prior;
-            r.mot_grid.push_back(
-                {source, s, prior,
-                 evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source).classes});
+    const auto [mapping_docs, test_docs] = make_views(*v, o, result);
+    for (int k : o.topics) {
+      topics::OnlineLdaOptions on = o.online;
+      on.num_topics = k == 0 ? static_cast<int>(objects.size()) : k;
+      on.seed = o.seed;
+      // batch_size counts frames: with several documents a frame (blobs, each-object) a
+      // mini-batch holds the documents of that many frames on average.
+      on.batch_size = std::max(
+          1, static_cast<int>(std::lround(o.online.batch_size *
+                                          static_cast<double>(result.documents) / result.frames)));
+      result.batch_documents = on.batch_size;
+      auto trained = topics::train_online_lda(corpus, on);
+      ScatterRunResult r;
+      r.topics = on.num_topics;
+      r.summary = trained.summary;
+      r.evaluation = evaluate_model(trained.model, mapping_docs, test_docs);
+      if (o.mot) {
+        r.mot = evaluate_mot(trained.model, mapping_docs, test_docs, o.mot_options);
+        r.mot_unsupervised =
+            evaluate_mot_unsupervised(trained.model, mapping_docs, test_docs, o.mot_options);
+        for (const auto source : {ThetaSource::kEStep, ThetaSource::kWordPosterior}) {
+          for (const double s : o.mot_smoothing_grid) {
+            for (const auto prior : {topics::MotPrior::kViews, topics::MotPrior::kUniform}) {
+              topics::MotOptions g = o.mot_options;
+              g.smoothing = s;
+              g.prior = prior;
+              r.mot_grid.push_back(
+                  {source, s, prior,
+                   evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source).classes});
+            }
           }
         }
       }
+      result.runs.push_back(std::move(r));
     }
-    result.runs.push_back(std::move(r));
+    // The frames' feature extraction (shared by the seeds) and this seed's own work.
+    result.seconds = extraction_seconds + seconds_since(t1);
+    results.push_back(std::move(result));
   }
-  result.seconds = seconds_since(t0);
-  return result;
+  return results;
 }
 
 }  // namespace
@@ -325,13 +345,14 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
                                                const ScatterExperimentOptions& options,
                                                const features::Vocabulary* vocabulary,
                                                const ProgressFn& progress) {
-  auto make_views = [&](const features::Vocabulary& v, ScatterExperimentResult& result) {
+  auto make_views = [&](const features::Vocabulary& v, const ScatterExperimentOptions& o,
+                        ScatterExperimentResult& result) {
     // Views: per class, a random mapping_fraction names the topics, the rest is the test.
     std::vector<std::size_t> all(views.images.size());
     std::iota(all.begin(), all.end(), std::size_t{0});
     std::vector<std::size_t> mapping_idx, test_idx;
     {
-      auto rng = core::Rng::stream(options.seed, 7);
+      auto rng = core::Rng::stream(o.seed, 7);
       std::vector<std::vector<std::size_t>> per_class(views.classes.size());
       for (std::size_t i : all) per_class[static_cast<std::size_t>(views.labels[i])].push_back(i);
       for (std::size_t c = 0; c < per_class.size(); ++c) {
@@ -359,21 +380,26 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
     result.test_views = static_cast<int>(test_idx.size());
     return std::pair(std::move(mapping_docs), std::move(test_docs));
   };
-  return run_scatter(episodes, views.classes, options, vocabulary, progress, make_views);
+  return run_scatter(episodes, views.classes, options, {options.seed}, vocabulary, progress,
+                     make_views)
+      .front();
 }
 
-ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
-                                               const std::vector<episode::Episode>& view_episodes,
-                                               const std::vector<std::string>& objects,
-                                               const ScatterExperimentOptions& options,
-                                               const features::Vocabulary* vocabulary,
-                                               const ProgressFn& progress) {
+std::vector<ScatterExperimentResult> run_scatter_experiments(
+    const std::vector<episode::Episode>& episodes,
+    const std::vector<episode::Episode>& view_episodes, const std::vector<std::string>& objects,
+    const ScatterExperimentOptions& options, const std::vector<std::uint64_t>& seeds,
+    const features::Vocabulary* vocabulary, const ProgressFn& progress) {
   if (view_episodes.empty()) throw Error("no view episodes given");
   if (objects.empty()) throw Error("no objects named for the views");
   if (options.view_step < 1 || options.view_min_features < 1 || options.view_block < 1) {
     throw Error("the view step, block and least features of a view must be >= 1");
   }
-  auto make_views = [&](const features::Vocabulary& v, ScatterExperimentResult& result) {
+  // The views' features do not depend on the seed: extracted at the first seed, quantized by
+  // each seed's vocabulary.
+  std::optional<std::pair<LabelledFeatures, LabelledFeatures>> view_features;
+  auto make_views = [&](const features::Vocabulary& v, const ScatterExperimentOptions& /*o*/,
+                        ScatterExperimentResult& result) {
     // Blocks of view_block frames go to the mapping side when the running share of mapping
     // blocks falls behind mapping_fraction, so both sides see every episode (whichever object
     // is pushed near the camera there) while near-identical neighbouring frames mostly stay on
@@ -393,9 +419,9 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
         (mapping ? mapping_frames : test_frames).back().push_back(i);
       }
     }
-    auto corpus_of = [&](const std::vector<std::vector<int>>& frames, const char* side) {
-      LabelledCorpus c = object_view_corpus(view_episodes, frames, objects, v,
-                                            options.view_features, options.view_min_features);
+    auto features_of = [&](const std::vector<std::vector<int>>& frames, const char* side) {
+      LabelledFeatures c = object_view_features(view_episodes, frames, objects,
+                                                options.view_features, options.view_min_features);
       for (int k = 0; k < static_cast<int>(objects.size()); ++k) {
         if (std::find(c.labels.begin(), c.labels.end(), k) == c.labels.end()) {
           std::string m = "object '";
@@ -410,13 +436,30 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
       }
       return c;
     };
-    LabelledCorpus mapping_docs = corpus_of(mapping_frames, "labelled");
-    LabelledCorpus test_docs = corpus_of(test_frames, "test");
+    if (!view_features) {
+      // In this order (an argument list's is unspecified): the labelled side's error first.
+      LabelledFeatures mapping = features_of(mapping_frames, "labelled");
+      LabelledFeatures test = features_of(test_frames, "test");
+      view_features.emplace(std::move(mapping), std::move(test));
+    }
+    LabelledCorpus mapping_docs = views_corpus(view_features->first, v);
+    LabelledCorpus test_docs = views_corpus(view_features->second, v);
     result.mapping_views = static_cast<int>(mapping_docs.labels.size());
     result.test_views = static_cast<int>(test_docs.labels.size());
     return std::pair(std::move(mapping_docs), std::move(test_docs));
   };
-  return run_scatter(episodes, objects, options, vocabulary, progress, make_views);
+  return run_scatter(episodes, objects, options, seeds, vocabulary, progress, make_views);
+}
+
+ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,
+                                               const std::vector<episode::Episode>& view_episodes,
+                                               const std::vector<std::string>& objects,
+                                               const ScatterExperimentOptions& options,
+                                               const features::Vocabulary* vocabulary,
+                                               const ProgressFn& progress) {
+  return run_scatter_experiments(episodes, view_episodes, objects, options, {options.seed},
+                                 vocabulary, progress)
+      .front();
 }
 
 }  // namespace proprio::recognition

@@ -14,6 +14,7 @@
 #include "../support/synthetic_episode.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/features/kmeans.hpp"
+#include "proprio/recognition/experiments.hpp"
 #include "proprio/topics/online_lda.hpp"
 
 namespace proprio::recognition {
@@ -205,6 +206,48 @@ TEST(EpisodeClassification, BadInputIsAnError) {
   EXPECT_THROW(
       (void)object_view_corpus(bare, {{0}}, {"box"}, (*f.vocabulary), features::ExtractOptions{}),
       Error);
+}
+
+// Several seeds over one feature extraction give, seed by seed, what a run with that seed alone
+// gives: the dictionary, the documents, the views and the confusion matrices.
+TEST(ScatterExperiment, SeveralSeedsEqualOneRunPerSeed) {
+  const Fixture& f = fixture();
+  ScatterExperimentOptions o;
+  o.topics = {2};
+  o.kmeans.words = 8;
+  o.dictionary_frames = 10;
+  o.descriptors_per_frame = 30;
+  o.online.batch_size = 5;
+  o.online.passes = 3;
+  o.view_step = 1;
+  o.view_block = 2;
+  o.view_min_features = 5;
+  const std::vector<std::string> objects = {"box", "mug"};
+  const std::vector<std::uint64_t> seeds = {3, 4};
+  const std::vector<ScatterExperimentResult> many =
+      run_scatter_experiments(f.episodes, f.episodes, objects, o, seeds);
+  ASSERT_EQ(many.size(), seeds.size());
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    ScatterExperimentOptions one = o;
+    one.seed = seeds[i];
+    const ScatterExperimentResult r = run_scatter_experiment(f.episodes, f.episodes, objects, one);
+    const ScatterExperimentResult& m = many[i];
+    EXPECT_EQ(m.frames, r.frames);
+    EXPECT_EQ(m.documents, r.documents);
+    EXPECT_EQ(m.tokens, r.tokens);
+    EXPECT_EQ(m.words, r.words);
+    EXPECT_GT(m.mapping_views, 0);
+    EXPECT_EQ(m.mapping_views, r.mapping_views);
+    EXPECT_EQ(m.test_views, r.test_views);
+    ASSERT_TRUE(m.kmeans.has_value() && r.kmeans.has_value());
+    EXPECT_EQ(m.kmeans->cost, r.kmeans->cost);
+    ASSERT_EQ(m.runs.size(), 1U);
+    ASSERT_EQ(r.runs.size(), 1U);
+    EXPECT_EQ(m.runs[0].evaluation.topics.counts, r.runs[0].evaluation.topics.counts);
+    EXPECT_EQ(m.runs[0].evaluation.classes.counts, r.runs[0].evaluation.classes.counts);
+    EXPECT_EQ(m.runs[0].summary.updates, r.runs[0].summary.updates);
+  }
+  EXPECT_THROW((void)run_scatter_experiments(f.episodes, f.episodes, objects, o, {}), Error);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "proprio/episode/episode.hpp"
+#include "proprio/features/features.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/recognition/confusion.hpp"
 #include "proprio/recognition/documents.hpp"
@@ -93,5 +94,21 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const features::Vocabulary& vocabulary,
                                   const features::ExtractOptions& options, int min_features = 20,
                                   int dilate = 4);
+
+/// The views of object_view_corpus before quantization (the same views, in the same order): so
+/// that several vocabularies can quantize one extraction (views_corpus).
+struct LabelledFeatures {
+  std::vector<features::Features> views;
+  std::vector<int> labels;
+  std::vector<std::string> classes;
+};
+LabelledFeatures object_view_features(const std::vector<episode::Episode>& episodes,
+                                      const std::vector<std::vector<int>>& frames,
+                                      const std::vector<std::string>& classes,
+                                      const features::ExtractOptions& options,
+                                      int min_features = 20, int dilate = 4);
+
+/// The documents of `views` over `vocabulary` (each view's bag of words), with their labels.
+LabelledCorpus views_corpus(const LabelledFeatures& views, const features::Vocabulary& vocabulary);
 
 }  // namespace proprio::recognition

@@ -41,6 +41,9 @@ struct ScatterExperimentRunOptions {
   /// The experiment's options; view_features is set from frames.features (frames themselves get
   /// no centre crop: the region decides, and neither do segmented views).
   ScatterExperimentOptions options;
+  /// With view_episodes: several seeds over one feature extraction (run_scatter_experiments),
+  /// one run each; empty: options.seed alone.
+  std::vector<std::uint64_t> seeds;
   bool progress = false;
 
   /// Throws Error unless exactly one of views and view_episodes is given, and objects with
@@ -50,5 +53,11 @@ struct ScatterExperimentRunOptions {
 
 ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& options,
                                            const core::Provenance& provenance);
+
+/// One run per seed of options.seeds (or options.seed alone), in that order; each run's
+/// provenance records its seed. Throws Error for several seeds with views (only view episodes
+/// share their features between seeds).
+std::vector<ExperimentRun> run_scatter_experiments_files(const ScatterExperimentRunOptions& options,
+                                                         const core::Provenance& provenance);
 
 }  // namespace proprio::recognition

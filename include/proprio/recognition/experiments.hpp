@@ -185,4 +185,14 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
                                                const features::Vocabulary* vocabulary = nullptr,
                                                const ProgressFn& progress = {});
 
+/// The same for several seeds at once: one result per seed, each equal to a run with
+/// options.seed = that seed alone (dictionary, documents, LDA and MoT all follow the seed), but
+/// the frames' and the views' features are extracted only once (they do not depend on the seed),
+/// which is most of a run's time. Throws Error without seeds.
+std::vector<ScatterExperimentResult> run_scatter_experiments(
+    const std::vector<episode::Episode>& episodes,
+    const std::vector<episode::Episode>& view_episodes, const std::vector<std::string>& objects,
+    const ScatterExperimentOptions& options, const std::vector<std::uint64_t>& seeds,
+    const features::Vocabulary* vocabulary = nullptr, const ProgressFn& progress = {});
+
 }  // namespace proprio::recognition
