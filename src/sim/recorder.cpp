@@ -6,6 +6,8 @@
 #include <functional>
 #include <numbers>
 #include <opencv2/core.hpp>
+#include <string>
+#include <string_view>
 
 #include "async_episode_writer.hpp"
 #include "backdrop_video.hpp"
@@ -95,8 +97,8 @@ SceneDescription recording_scene(const RecordOptions& options) {
 // A scene file: {"objects": [{"type" | shape fields of a catalogue entry, "name", "x", "y",
 // "yaw"}], "target": NAME, optional "camera": {"position", "target"}, optional "push":
 // {"start", "end"} (metres, robot frame; default: along +x through the target's origin).
-ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
-                            const ObjectCatalogue& catalogue) {
+ScenarioPlan plan_from_scene(const fs::path& file, const RecordOptions& options,
+                             const ObjectCatalogue& catalogue) {
   const core::Json j = read_scene_file(file);
   ScenarioPlan plan;
   plan.scene = recording_scene(options);
@@ -142,6 +144,18 @@ ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
     throw Error::in_file(file, e.what());
   }
   return plan;
+}
+
+// Every problem of a scene file names the file (issue 16): also those found by the catalogue
+// (an unknown "type") and by the readers of its values.
+ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
+                            const ObjectCatalogue& catalogue) {
+  try {
+    return plan_from_scene(file, options, catalogue);
+  } catch (const Error& e) {
+    if (std::string_view(e.what()).find(file.string()) != std::string_view::npos) throw;
+    throw Error::in_file(file, e.what());
+  }
 }
 }  // namespace
 

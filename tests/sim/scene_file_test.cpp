@@ -131,5 +131,31 @@ TEST(SceneFile, BadYamlNamesTheFileAndLine) {
   }
 }
 
+// Every problem of a scene file names the file (issue 16), also those the catalogue and the
+// value readers find: an unknown object type, a missing or mistyped value, a bad shape.
+TEST(SceneFile, EveryProblemOfASceneNamesTheFile) {
+  const fs::path f = test::temp_dir() / "named_scene.yaml";
+  const ObjectCatalogue catalogue = ObjectCatalogue::load_default();
+  for (const char* text : {
+           "objects:\n  - type: unicorn\n    x: 0.2\n    y: 0\ntarget: unicorn\n",
+           "objects:\n  - type: mug\n    y: 0\ntarget: mug\n",
+           "objects:\n  - type: mug\n    x: abc\n    y: 0\ntarget: mug\n",
+           "objects:\n  - type: mug\n    x: 0.2\n    y: 0\ntarget: 3\n",
+           "objects:\n  - name: blob\n    shape: sphere\n    x: 0.2\n    y: 0\ntarget: blob\n",
+           "objects:\n  - type: mug\n    x: 0.2\n    y: 0\ntarget: mug\ncamera: 7\n",
+       }) {
+    core::write_file_atomic(f, text);
+    RecordOptions o;
+    o.scenario = f.string();
+    try {
+      (void)plan_scenario(o, catalogue);
+      ADD_FAILURE() << "no error: " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace proprio::sim
