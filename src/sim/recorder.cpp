@@ -348,6 +348,19 @@ void place_clutter(int count, const std::function<std::string()>& draw_type,
 
 }  // namespace
 
+World build_scenario_world(const ScenarioPlan& plan, const ObjectCatalogue& catalogue,
+                           const RecordOptions& options) {
+  try {
+    return World::build(plan.scene, catalogue);
+  } catch (const Error& e) {
+    if (!is_scenario_file(options.scenario)) throw;
+    std::string_view what = e.what();
+    constexpr std::string_view kGenerated = "<generated scene>: ";
+    if (what.starts_with(kGenerated)) what.remove_prefix(kGenerated.size());
+    throw Error::in_file(options.scenario, std::string(what));
+  }
+}
+
 ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
   options.validate();
   if (is_scenario_file(options.scenario))
@@ -572,7 +585,7 @@ class EpisodeRecording {
       : options_(options),
         plan_(plan_scenario(options, catalogue)),
         video_(options.moving_background, options.background_video),
-        world_(World::build(plan_.scene, catalogue)),
+        world_(build_scenario_world(plan_, catalogue, options)),
         steps_per_frame_(physics_steps_per_frame(world_.timestep(), options.fps)),
         renderer_(world_, render_options(options)),
         camera_name_(world_.camera_names().at(0)),

@@ -184,6 +184,9 @@ TEST_F(CalibFileTest, HostileValuesAreRefused) {
       error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: Y3\n   cols: 4\n"
                     "   dt: d\n   data: [519, 0, 321, 52, 0, 515, 239, -103, 0, 0, 11, .5]\n"),
       p + ": 'P' is not a matrix (rows, cols and data disagree)");
+  // Issue 16: OpenCV's parse errors came out as its function's name ("parseValue"), no line.
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\na: {b: [1, 2,\n"),
+            p + ":3: not an OpenCV YAML file: Missing , between the elements");
   c.t = Eigen::Vector3d(1e200, 0, 0);
   write_calib(path_, c);
   const std::string far = core::read_file(path_);

@@ -8,6 +8,7 @@
 #include "proprio/core/files.hpp"
 #include "proprio/sim/recorder.hpp"
 #include "proprio/sim/scene_builder.hpp"
+#include "proprio/sim/world.hpp"
 #include "sim_test_util.hpp"
 
 namespace proprio::sim {
@@ -154,6 +155,16 @@ TEST(SceneFile, EveryProblemOfASceneNamesTheFile) {
       EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos) << e.what();
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
     }
+  }
+  // A scene MuJoCo's compiler refuses (it said "<generated scene>: MuJoCo warns ...").
+  core::write_file_atomic(f, "objects:\n  - type: mug\n    x: 1e30\n    y: 0\ntarget: mug\n");
+  RecordOptions o;
+  o.scenario = f.string();
+  try {
+    (void)build_scenario_world(plan_scenario(o, catalogue), catalogue, o);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(f.string() + ": MuJoCo", 0), 0U) << e.what();
   }
 }
 
