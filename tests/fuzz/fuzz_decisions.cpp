@@ -3,6 +3,7 @@
 #include "fuzz_input.hpp"
 #include "proprio/loop/learn_report.hpp"
 
+// NOLINTNEXTLINE(readability-identifier-naming): the name libFuzzer calls
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace proprio;
   const auto file = fuzz::as_file(fuzz::as_text(data, size), ".jsonl");

@@ -9,10 +9,11 @@
 #include "fuzz_input.hpp"
 #include "proprio/loop/learn_report.hpp"
 
+// NOLINTNEXTLINE(readability-identifier-naming): the name libFuzzer calls
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace proprio;
   namespace fs = std::filesystem;
-  static const fs::path dir = [] {
+  static const fs::path kDir = [] {
     std::error_code ec;
     const fs::path base =
         fs::is_directory("/dev/shm", ec) ? fs::path("/dev/shm") : fs::temp_directory_path();
@@ -21,9 +22,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return d;
   }();
   {
-    std::ofstream out(dir / "learn.json", std::ios::binary | std::ios::trunc);
+    std::ofstream out(kDir / "learn.json", std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
-  fuzz::expect_error_or_success([&] { (void)loop::learn_report_inputs(dir); });
+  fuzz::expect_error_or_success([&] { (void)loop::learn_report_inputs(kDir); });
   return 0;
 }

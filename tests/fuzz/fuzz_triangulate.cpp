@@ -8,6 +8,7 @@
 #include "proprio/core/provenance.hpp"
 #include "proprio/geometry/calib_runs.hpp"
 
+// NOLINTNEXTLINE(readability-identifier-naming): the name libFuzzer calls
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace proprio;
   constexpr std::string_view kCut = "\n---8<---\n";
@@ -24,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.points = fuzz::as_file(parts[2], "_points.csv");
   o.out = fuzz::as_file("", "_out.csv");
   o.refine = size % 2 == 1;  // the input's length picks the Levenberg-Marquardt refinement
-  static const core::Provenance provenance = core::Provenance::current({"fuzz_triangulate"}, 1);
-  fuzz::expect_error_or_success([&] { (void)geometry::run_calib_triangulate(o, provenance); });
+  static const core::Provenance kProvenance = core::Provenance::current({"fuzz_triangulate"}, 1);
+  fuzz::expect_error_or_success([&] { (void)geometry::run_calib_triangulate(o, kProvenance); });
   return 0;
 }

@@ -54,6 +54,7 @@ TEST(Camera, UndistortInvertsOpenCVsDistortion) {
   c.K(0, 1) = 0.0;                                  // OpenCV's distortion model has no skew
   c.dist = {-0.28, 0.10, -0.0006, 0.0013, -0.024};  // a wide lens (opencv-doc's left camera)
   std::vector<cv::Point3d> world;
+  world.reserve(40);
   for (int i = 0; i < 40; ++i) world.emplace_back(-0.25 + 0.0125 * i, 0.15 * std::sin(i), 0.05);
   cv::Mat K, R, rvec, tvec;
   cv::eigen2cv(c.K, K);
@@ -63,6 +64,7 @@ TEST(Camera, UndistortInvertsOpenCVsDistortion) {
   std::vector<cv::Point2d> distorted;
   cv::projectPoints(world, rvec, tvec, K, c.dist, distorted);
   std::vector<Eigen::Vector2d> measured;
+  measured.reserve(distorted.size());
   for (const auto& p : distorted) measured.emplace_back(p.x, p.y);
   const auto ideal = undistort_pixels(c, measured);
   ASSERT_EQ(ideal.size(), world.size());
