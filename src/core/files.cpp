@@ -222,7 +222,8 @@ void require_output_not_input(const fs::path& output, const std::vector<fs::path
   }
 }
 
-StagedDirectory::StagedDirectory(fs::path final_path, bool overwrite)
+StagedDirectory::StagedDirectory(fs::path final_path, bool overwrite,
+                                 std::span<const std::string_view> markers)
     : final_(std::move(final_path)), overwrite_(overwrite) {
   std::error_code ec;
   if (final_.filename().empty()) final_ = final_.parent_path();  // "dir/" -> "dir"
@@ -233,15 +234,20 @@ StagedDirectory::StagedDirectory(fs::path final_path, bool overwrite)
       if (!overwrite_) {
         throw Error::in_file(final_, "exists and is not empty (pass --overwrite to replace it)");
       }
-      const bool ours = std::any_of(std::begin(kResultMarkers), std::end(kResultMarkers),
-                                    [&](std::string_view m) {
-                                      std::error_code e;
-                                      return fs::is_regular_file(final_ / m, e);
-                                    });
+      const bool ours = std::any_of(markers.begin(), markers.end(), [&](std::string_view m) {
+        std::error_code e;
+        return fs::is_regular_file(final_ / m, e);
+      });
       if (!ours) {
-        throw Error::in_file(final_,
-                             "exists and is not a directory proprio wrote (no episode.json, "
-                             "segment.json, summary.json or sweep.json): not replacing it");
+        std::string names;
+        for (std::size_t i = 0; i < markers.size(); ++i) {
+          if (i > 0) names += i + 1 == markers.size() ? " or " : ", ";
+          names += markers[i];
+        }
+        std::string why = "exists and is not a directory proprio wrote (no ";
+        why += names;
+        why += "): not replacing it";
+        throw Error::in_file(final_, why);
       }
     }
   }

@@ -2,9 +2,11 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdlib>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <string>
 #include <string_view>
 
 #include "proprio/core/error.hpp"
@@ -159,6 +161,20 @@ Camera read_calib(const std::filesystem::path& path) {
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {
+    // OpenCV 4.6 swaps a parse error's fields: err holds its own function's name ("parseValue")
+    // and func "(LINE): problem". The user gets the line and the problem, not the name.
+    const std::string& where = e.code == cv::Error::StsParseError ? e.func : e.err;
+    if (e.code == cv::Error::StsParseError && where.size() > 3 && where[0] == '(') {
+      char* end = nullptr;
+      const long line = std::strtol(where.c_str() + 1, &end, 10);
+      if (end != nullptr && end[0] == ')' && end[1] == ':' && line > 0) {
+        const char* said = end + 2;
+        while (*said == ' ') ++said;
+        std::string problem = "not an OpenCV YAML file: ";
+        problem += said;
+        throw Error::at_line(path, line, problem);
+      }
+    }
     throw Error::in_file(path, "not an OpenCV YAML file: " + e.err);
   } catch (const std::exception& e) {
     // OpenCV's YAML parser throws std::length_error on some malformed keys (found by fuzz_calib):

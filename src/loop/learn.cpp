@@ -13,6 +13,7 @@
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string_view>
 
 #include "blob_tracking.hpp"
 #include "proprio/core/error.hpp"
@@ -879,16 +880,23 @@ struct Core {
   int classes = 0;
 };
 
-void prepare_out(const LearnOptions& o) {
+// What marks a run directory proprio learn wrote: its result, or its marker and decision log.
+constexpr std::string_view kLearnMarkers[] = {"learn.json", "INCOMPLETE", "decisions.jsonl"};
+
+// The run directory is written under a hidden name beside --out (`w` is `o` with out = that
+// name) and swapped in whole by commit_out (issue 16): a failed or killed run leaves an older
+// run as it was, and none of the older run's files stay in the new one.
+std::unique_ptr<core::StagedDirectory> prepare_out(const LearnOptions& o, LearnOptions& w) {
   if (o.out.empty()) throw Error("learn: --out (the run directory) is required");
-  if (fs::exists(o.out)) {
-    if (!o.overwrite) {
-      throw Error(o.out.string() + ": already exists (use --overwrite to replace it)");
-    }
-    fs::remove_all(o.out);
+  if (fs::exists(o.out) && !o.overwrite) {
+    throw Error(o.out.string() + ": already exists (use --overwrite to replace it)");
   }
-  fs::create_directories(o.out / "pushes");
-  core::write_file_atomic(o.out / "INCOMPLETE", "proprio learn is running or was interrupted\n");
+  auto staged = std::make_unique<core::StagedDirectory>(o.out, o.overwrite, kLearnMarkers);
+  w = o;
+  w.out = staged->staging_path();
+  fs::create_directories(w.out / "pushes");
+  core::write_file_atomic(w.out / "INCOMPLETE", "proprio learn is running or was interrupted\n");
+  return staged;
 }
 
 // The loop, then the vocabulary, LDA and the Mixture of Topics over the robot's views.
@@ -1046,9 +1054,12 @@ LearnResult finish(Core& k, const LearnOptions& o, const core::Provenance& prove
   return r;
 }
 
-void write_final(LearnResult& r, const LearnOptions& o) {
-  core::write_json_atomic(o.out / "learn.json", r.document);
-  if (r.document.value("complete", false)) fs::remove(o.out / "INCOMPLETE");
+// learn.json (naming the final directory) into the staging directory `w.out`, then the commit.
+void write_final(LearnResult& r, const LearnOptions& w, core::StagedDirectory& staged) {
+  r.document["options"]["out"] = staged.final_path().string();
+  core::write_json_atomic(w.out / "learn.json", r.document);
+  if (r.document.value("complete", false)) fs::remove(w.out / "INCOMPLETE");
+  staged.commit();
 }
 
 }  // namespace
@@ -1077,13 +1088,14 @@ LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAtt
   const LearnOptions o = options.resolved();
   o.validate();
   if (classes < 1) throw Error("learn: at least one object is needed");
-  prepare_out(o);
+  LearnOptions w;
+  const auto staged = prepare_out(o, w);
   Core k;
   k.classes = classes;
-  learn_core(k, o, robot, attendant, provenance);
-  LearnResult r = finish(k, o, provenance, std::nullopt, true);
+  learn_core(k, w, robot, attendant, provenance);
+  LearnResult r = finish(k, w, provenance, std::nullopt, true);
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  write_final(r, o);
+  write_final(r, w, *staged);
   return r;
 }
 
@@ -1101,7 +1113,8 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
                            " objects do not fit on the table (at most ",
                            std::to_string(kMaxObjects), ")"}));
   }
-  prepare_out(o);
+  LearnOptions w;
+  const auto staged = prepare_out(o, w);
   sim::TableOptions table;
   table.objects = objects;
   table.clutter = o.clutter;  // ground truth role "clutter": scattered, never learned or scored
@@ -1116,11 +1129,12 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   // The robot is told how many objects lie on the table, not which are to be learned: with
   // learn_clutter it learns them all and the held-out views of the named objects score it.
   k.classes = static_cast<int>(o.learn_clutter ? all.size() : objects.size());
-  learn_core(k, o, *robot, attendant, provenance);
+  learn_core(k, w, *robot, attendant, provenance);
   robot.reset();  // one GL context at a time: the held-out views need their own
   {
-    const LearnResult partial = finish(k, o, provenance, std::nullopt, false);
-    core::write_json_atomic(o.out / "learn.json", partial.document);
+    LearnResult partial = finish(k, w, provenance, std::nullopt, false);
+    partial.document["options"]["out"] = o.out.string();
+    core::write_json_atomic(w.out / "learn.json", partial.document);
   }
   std::optional<SelfSupervisionScore> score;
   if (k.lda && k.vocabulary) {
@@ -1138,7 +1152,7 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
     k.learner->mutable_seconds()["held_out"] =
         std::chrono::duration<double>(Clock::now() - th).count();
   }
-  LearnResult r = finish(k, o, provenance, score, true);
+  LearnResult r = finish(k, w, provenance, score, true);
   if (!score) {
     // Nothing to score: no views were taken, so no vocabulary, LDA or object model was made.
     r.document["held_out"] = {
@@ -1161,7 +1175,7 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   }
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   r.document["seconds"] = r.summary.seconds;
-  write_final(r, o);
+  write_final(r, w, *staged);
   LearnReportOptions page;
   page.dir = o.out;
   page.overwrite = true;  // in the run directory this run has just written

@@ -1094,6 +1094,8 @@ std::vector<fs::path> learn_report_inputs(const fs::path& dir) {
   return inputs_of(dir, read_learn_json(dir / "learn.json"));
 }
 
+int count_learn_decisions(const fs::path& file) { return read_decisions(file, 0).lines; }
+
 fs::path learn_report_page(const LearnReportOptions& options) {
   return options.out.empty() ? options.dir / "report.html" : options.out;
 }

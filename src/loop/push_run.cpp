@@ -10,6 +10,8 @@
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <string_view>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -436,22 +438,50 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
   return r;
 }
 
+namespace {
+
+// What marks a directory proprio push wrote: a finished run, or one stopped after its first push.
+constexpr std::string_view kPushMarkers[] = {"push.json", "episode/episode.json"};
+
+// The paths the document names inside the staging directory, as they are after the commit.
+void unstage_paths(core::Json& j, const std::string& staging, const std::string& final) {
+  if (j.is_string()) {
+    const std::string& s = j.get_ref<const std::string&>();
+    if (s.compare(0, staging.size(), staging) == 0) j = final + s.substr(staging.size());
+  } else if (j.is_structured()) {
+    for (core::Json& e : j) unstage_paths(e, staging, final);
+  }
+}
+
+}  // namespace
+
 PushRunResult run_push(const PushOptions& options, const core::Provenance& provenance) {
   options.validate();
+  // Written under a hidden name beside --out and swapped in whole at the end (issue 16): an
+  // older push's files this one does not write go, and a failed or killed run leaves the old.
+  std::optional<core::StagedDirectory> staged;
+  PushOptions o = options;
   if (!options.out.empty()) {
     if (fs::exists(options.out) && !options.overwrite) {
       throw Error(options.out.string() + ": already exists (use --overwrite to replace it)");
     }
-    fs::create_directories(options.out);
+    staged.emplace(options.out, options.overwrite, kPushMarkers);
+    o.out = staged->staging_path();
   }
-  sim::SimulatedRobot robot(options.table, sim::ObjectCatalogue::load_default());
-  if (!options.out.empty()) cv::imwrite((options.out / "before.png").string(), robot.look().image);
-  PushOptions o = options;
   o.overwrite = true;  // the directory was checked above
+  sim::SimulatedRobot robot(options.table, sim::ObjectCatalogue::load_default());
+  if (!o.out.empty()) cv::imwrite((o.out / "before.png").string(), robot.look().image);
   PushRunResult r = push_once(robot, o, provenance);
-  if (!options.out.empty()) {
-    cv::imwrite((options.out / "after.png").string(), robot.look().image);
-    core::write_json_atomic(options.out / "push.json", r.document);
+  if (staged) {
+    cv::imwrite((o.out / "after.png").string(), robot.look().image);
+    unstage_paths(r.document, o.out.string(), staged->final_path().string());
+    r.document["options"]["overwrite"] = options.overwrite;
+    if (r.report) r.report->episode_dir = staged->final_path() / r.report->episode_dir.filename();
+    for (PushStep& s : r.steps) {
+      if (s.report) s.report->episode_dir = staged->final_path() / s.report->episode_dir.filename();
+    }
+    core::write_json_atomic(o.out / "push.json", r.document);
+    staged->commit();
   }
   return r;
 }

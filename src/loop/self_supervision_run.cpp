@@ -3,8 +3,11 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <string_view>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/recognition/mot.hpp"
@@ -42,15 +45,36 @@ Inputs read_inputs(const SelfSupervisionOptions& o) {
   return in;
 }
 
-void prepare_out(const SelfSupervisionOptions& o) {
-  if (fs::exists(o.out)) {
-    if (!o.overwrite) {
+// What marks a directory proprio selfsupervise wrote: a finished run, or its decision log.
+constexpr std::string_view kSelfSupervisionMarkers[] = {"selfsupervise.json", "decisions.jsonl"};
+
+// The run is written under a hidden name beside --out and swapped in whole at the end (issue
+// 16): a failed or killed run leaves the old directory as it was, and nothing of it stays.
+struct StagedOut {
+  static const SelfSupervisionOptions& checked(const SelfSupervisionOptions& o) {
+    if (fs::exists(o.out) && !o.overwrite) {
       throw Error(o.out.string() + ": already exists (use --overwrite to replace it)");
     }
-    fs::remove_all(o.out);
+    return o;
   }
-  fs::create_directories(o.out);
-}
+  core::StagedDirectory dir;
+  SelfSupervisionOptions options;  ///< options with out = the staging directory
+  explicit StagedOut(const SelfSupervisionOptions& o)
+      : dir(checked(o).out, o.overwrite, kSelfSupervisionMarkers), options(o) {
+    options.out = dir.staging_path();
+  }
+  // The document's paths as they are after the commit.
+  void unstage(SelfSupervisionResult& r) const {
+    const std::string from = options.out.string();
+    for (const char* key : {"model", "decisions"}) {
+      std::string s = r.document[key].get<std::string>();
+      if (s.compare(0, from.size(), from) == 0) {
+        r.document[key] = dir.final_path().string() + s.substr(from.size());
+      }
+    }
+    r.document["options"]["out"] = dir.final_path().string();
+  }
+};
 
 SelfSupervisionResult learn(const SelfSupervisionOptions& options, robot::Robot& robot,
                             TableAttendant& attendant, const Inputs& in, int classes,
@@ -118,8 +142,12 @@ SelfSupervisionResult run_self_supervision(const SelfSupervisionOptions& options
   options.validate();
   const std::vector<std::string> objects = parse_object_list(options.objects);
   const Inputs in = read_inputs(options);
-  prepare_out(options);
-  return learn(options, robot, attendant, in, static_cast<int>(objects.size()), provenance);
+  StagedOut out(options);
+  SelfSupervisionResult r =
+      learn(out.options, robot, attendant, in, static_cast<int>(objects.size()), provenance);
+  out.unstage(r);
+  out.dir.commit();
+  return r;
 }
 
 SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& options,
@@ -134,7 +162,7 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
                            std::to_string(kMaxObjects), ")"}));
   }
   const Inputs in = read_inputs(options);
-  prepare_out(options);
+  StagedOut out(options);
   sim::TableOptions table;
   table.objects = objects;
   table.seed = options.seed;
@@ -145,12 +173,14 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, options.seed);
   SelfSupervisionResult r =
-      learn(options, *robot, attendant, in, static_cast<int>(objects.size()), provenance);
+      learn(out.options, *robot, attendant, in, static_cast<int>(objects.size()), provenance);
   robot.reset();
   r.score =
       score_self_supervision(r.learning, attendant, objects, in.model, in.vocabulary, options);
   r.document["ground_truth"] = r.score->to_json();
-  core::write_json_atomic(options.out / "selfsupervise.json", r.document);
+  out.unstage(r);
+  core::write_json_atomic(out.options.out / "selfsupervise.json", r.document);
+  out.dir.commit();
   return r;
 }
 

@@ -6,6 +6,8 @@
 #include <functional>
 #include <numbers>
 #include <opencv2/core.hpp>
+#include <string>
+#include <string_view>
 
 #include "async_episode_writer.hpp"
 #include "backdrop_video.hpp"
@@ -95,8 +97,8 @@ SceneDescription recording_scene(const RecordOptions& options) {
 // A scene file: {"objects": [{"type" | shape fields of a catalogue entry, "name", "x", "y",
 // "yaw"}], "target": NAME, optional "camera": {"position", "target"}, optional "push":
 // {"start", "end"} (metres, robot frame; default: along +x through the target's origin).
-ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
-                            const ObjectCatalogue& catalogue) {
+ScenarioPlan plan_from_scene(const fs::path& file, const RecordOptions& options,
+                             const ObjectCatalogue& catalogue) {
   const core::Json j = read_scene_file(file);
   ScenarioPlan plan;
   plan.scene = recording_scene(options);
@@ -142,6 +144,18 @@ ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
     throw Error::in_file(file, e.what());
   }
   return plan;
+}
+
+// Every problem of a scene file names the file (issue 16): also those found by the catalogue
+// (an unknown "type") and by the readers of its values.
+ScenarioPlan plan_from_file(const fs::path& file, const RecordOptions& options,
+                            const ObjectCatalogue& catalogue) {
+  try {
+    return plan_from_scene(file, options, catalogue);
+  } catch (const Error& e) {
+    if (std::string_view(e.what()).find(file.string()) != std::string_view::npos) throw;
+    throw Error::in_file(file, e.what());
+  }
 }
 }  // namespace
 
@@ -333,6 +347,19 @@ void place_clutter(int count, const std::function<std::string()>& draw_type,
 }
 
 }  // namespace
+
+World build_scenario_world(const ScenarioPlan& plan, const ObjectCatalogue& catalogue,
+                           const RecordOptions& options) {
+  try {
+    return World::build(plan.scene, catalogue);
+  } catch (const Error& e) {
+    if (!is_scenario_file(options.scenario)) throw;
+    std::string_view what = e.what();
+    constexpr std::string_view kGenerated = "<generated scene>: ";
+    if (what.starts_with(kGenerated)) what.remove_prefix(kGenerated.size());
+    throw Error::in_file(options.scenario, std::string(what));
+  }
+}
 
 ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue) {
   options.validate();
@@ -558,7 +585,7 @@ class EpisodeRecording {
       : options_(options),
         plan_(plan_scenario(options, catalogue)),
         video_(options.moving_background, options.background_video),
-        world_(World::build(plan_.scene, catalogue)),
+        world_(build_scenario_world(plan_, catalogue, options)),
         steps_per_frame_(physics_steps_per_frame(world_.timestep(), options.fps)),
         renderer_(world_, render_options(options)),
         camera_name_(world_.camera_names().at(0)),

@@ -8,7 +8,7 @@ namespace proprio::sim {
 cv::Mat render_scenario_view(const RecordOptions& options, const ObjectCatalogue& catalogue,
                              int settle_steps) {
   const ScenarioPlan plan = plan_scenario(options, catalogue);
-  World world = World::build(plan.scene, catalogue);
+  World world = build_scenario_world(plan, catalogue, options);
   world.step(settle_steps);
   RenderOptions ropt;
   ropt.shadows = options.shadows;

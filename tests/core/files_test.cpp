@@ -2,11 +2,21 @@
 
 #include <gtest/gtest.h>
 
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <array>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <future>
+#include <random>
+#include <set>
+#include <string>
+#include <string_view>
+#include <thread>
 
 #include "proprio/core/error.hpp"
 
@@ -198,6 +208,88 @@ TEST_F(FilesTest, AnOutputThatIsAnInputIsRefused) {
   EXPECT_NO_THROW(require_output_not_input(dir_ / "seg", {ep}, "--out"));
   EXPECT_NO_THROW(require_output_not_input(ep / "seg", {ep / "arm.csv"}, "--out"));
   EXPECT_NO_THROW(require_output_not_input(dir_ / "m.json", {dir_ / "m.bin", {}}, "--json"));
+}
+
+TEST_F(FilesTest, OverwriteTakesTheWritersOwnMarkers) {
+  const fs::path run = dir_ / "run";
+  write_file_atomic(run / "push.json", "{}");
+  constexpr std::string_view kMarkers[] = {"learn.json", "episode/episode.json"};
+  // push.json is not one of these markers: refused, untouched, naming the markers.
+  try {
+    StagedDirectory s(run, true, kMarkers);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("learn.json or episode/episode.json"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::exists(run / "push.json"));
+  write_file_atomic(run / "episode" / "episode.json", "{}");
+  StagedDirectory s(run, true, kMarkers);
+  write_file_atomic(s.staging_path() / "learn.json", "{}");
+  s.commit();
+  EXPECT_TRUE(fs::exists(run / "learn.json"));
+  EXPECT_FALSE(fs::exists(run / "push.json"));
+}
+
+// The atomic exchange under SIGKILL (issue 16): a forked child replaces a directory of four files
+// in a loop (each generation's files all hold its number); the parent kills it at a random moment
+// (seeded) and checks that the path holds one whole generation, never nothing or a mix, and that
+// the staging directories a killed child leaves are removed by the next writer there.
+TEST_F(FilesTest, ADirectoryReplacedInALoopAndKilledAtRandomIsAlwaysWhole) {
+  const fs::path out = dir_ / "result";
+  constexpr std::array<const char*, 4> kFiles{"summary.json", "a.txt", "b.txt", "c.txt"};
+  auto write_generation = [&](long g) {
+    StagedDirectory s(out, true);
+    for (const char* f : kFiles) write_file_atomic(s.staging_path() / f, std::to_string(g));
+    s.commit();
+  };
+  auto hidden = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir_)) n += e.path().filename().string()[0] == '.';
+    return n;
+  };
+  write_generation(0);
+  std::mt19937 rng(20261202);
+  std::uniform_int_distribution<int> delay_us(0, 60000);
+  constexpr int kKills = 120;
+  int killed_with_leftovers = 0;
+  std::set<std::string> generations;
+  for (int i = 0; i < kKills; ++i) {
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      try {
+        for (long g = 1 + (1000000L * i);; ++g) write_generation(g);
+      } catch (...) {
+        ::_exit(3);
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));
+    ::kill(child, SIGKILL);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the writer ended by itself at kill " << i;
+    // The path holds one whole generation.
+    ASSERT_TRUE(fs::is_directory(out)) << "missing after kill " << i;
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(out)) names.insert(e.path().filename().string());
+    ASSERT_EQ(names.size(), kFiles.size()) << "kill " << i;
+    const std::string g = read_file(out / kFiles[0]);
+    for (const char* f : kFiles) ASSERT_EQ(read_file(out / f), g) << "kill " << i << ", " << f;
+    generations.insert(g);
+    killed_with_leftovers += hidden() > 0;
+  }
+  // The next write removes what the killed writers left beside the path.
+  write_generation(-1);
+  EXPECT_EQ(hidden(), 0);
+  EXPECT_EQ(read_file(out / "a.txt"), "-1");
+  // The kills fell at different moments: the path was replaced between kills (each write syncs
+  // five files, so under load a child may finish none before its kill), and some kills left a
+  // staging directory behind (a kill in the middle of a replacement).
+  EXPECT_GE(generations.size(), 5U);
+  EXPECT_GT(killed_with_leftovers, 0);
+  std::printf("%d kills: %zu generations seen, %d kills left staging leftovers\n", kKills,
+              generations.size(), killed_with_leftovers);
 }
 
 }  // namespace

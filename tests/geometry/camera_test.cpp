@@ -54,6 +54,7 @@ TEST(Camera, UndistortInvertsOpenCVsDistortion) {
   c.K(0, 1) = 0.0;                                  // OpenCV's distortion model has no skew
   c.dist = {-0.28, 0.10, -0.0006, 0.0013, -0.024};  // a wide lens (opencv-doc's left camera)
   std::vector<cv::Point3d> world;
+  world.reserve(40);
   for (int i = 0; i < 40; ++i) world.emplace_back(-0.25 + 0.0125 * i, 0.15 * std::sin(i), 0.05);
   cv::Mat K, R, rvec, tvec;
   cv::eigen2cv(c.K, K);
@@ -63,6 +64,7 @@ TEST(Camera, UndistortInvertsOpenCVsDistortion) {
   std::vector<cv::Point2d> distorted;
   cv::projectPoints(world, rvec, tvec, K, c.dist, distorted);
   std::vector<Eigen::Vector2d> measured;
+  measured.reserve(distorted.size());
   for (const auto& p : distorted) measured.emplace_back(p.x, p.y);
   const auto ideal = undistort_pixels(c, measured);
   ASSERT_EQ(ideal.size(), world.size());
@@ -184,6 +186,9 @@ TEST_F(CalibFileTest, HostileValuesAreRefused) {
       error_reading("%YAML:1.0\n---\nP: !!opencv-matrix\n   rows: Y3\n   cols: 4\n"
                     "   dt: d\n   data: [519, 0, 321, 52, 0, 515, 239, -103, 0, 0, 11, .5]\n"),
       p + ": 'P' is not a matrix (rows, cols and data disagree)");
+  // Issue 16: OpenCV's parse errors came out as its function's name ("parseValue"), no line.
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\na: {b: [1, 2,\n"),
+            p + ":3: not an OpenCV YAML file: Missing , between the elements");
   c.t = Eigen::Vector3d(1e200, 0, 0);
   write_calib(path_, c);
   const std::string far = core::read_file(path_);

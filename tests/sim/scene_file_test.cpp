@@ -8,6 +8,7 @@
 #include "proprio/core/files.hpp"
 #include "proprio/sim/recorder.hpp"
 #include "proprio/sim/scene_builder.hpp"
+#include "proprio/sim/world.hpp"
 #include "sim_test_util.hpp"
 
 namespace proprio::sim {
@@ -128,6 +129,42 @@ TEST(SceneFile, BadYamlNamesTheFileAndLine) {
     EXPECT_NE(std::string(e.what()).find("bad.yaml: 'objects' must be a non-empty array"),
               std::string::npos)
         << e.what();
+  }
+}
+
+// Every problem of a scene file names the file (issue 16), also those the catalogue and the
+// value readers find: an unknown object type, a missing or mistyped value, a bad shape.
+TEST(SceneFile, EveryProblemOfASceneNamesTheFile) {
+  const fs::path f = test::temp_dir() / "named_scene.yaml";
+  const ObjectCatalogue catalogue = ObjectCatalogue::load_default();
+  for (const char* text : {
+           "objects:\n  - type: unicorn\n    x: 0.2\n    y: 0\ntarget: unicorn\n",
+           "objects:\n  - type: mug\n    y: 0\ntarget: mug\n",
+           "objects:\n  - type: mug\n    x: abc\n    y: 0\ntarget: mug\n",
+           "objects:\n  - type: mug\n    x: 0.2\n    y: 0\ntarget: 3\n",
+           "objects:\n  - name: blob\n    shape: sphere\n    x: 0.2\n    y: 0\ntarget: blob\n",
+           "objects:\n  - type: mug\n    x: 0.2\n    y: 0\ntarget: mug\ncamera: 7\n",
+       }) {
+    core::write_file_atomic(f, text);
+    RecordOptions o;
+    o.scenario = f.string();
+    try {
+      (void)plan_scenario(o, catalogue);
+      ADD_FAILURE() << "no error: " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+  // A scene MuJoCo's compiler refuses (it said "<generated scene>: MuJoCo warns ...").
+  core::write_file_atomic(f, "objects:\n  - type: mug\n    x: 1e30\n    y: 0\ntarget: mug\n");
+  RecordOptions o;
+  o.scenario = f.string();
+  try {
+    (void)build_scenario_world(plan_scenario(o, catalogue), catalogue, o);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(f.string() + ": MuJoCo", 0), 0U) << e.what();
   }
 }
 

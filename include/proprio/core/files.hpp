@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -56,9 +57,11 @@ inline constexpr std::string_view kResultMarkers[] = {"episode.json", "segment.j
 class StagedDirectory {
  public:
   /// Stages `final_path`. Throws Error if `final_path` exists and is not an empty directory,
-  /// unless `overwrite` is set and it holds one of kResultMarkers (then the old directory is
-  /// replaced on commit()). Staging directories of killed writers beside it are removed.
-  explicit StagedDirectory(std::filesystem::path final_path, bool overwrite = false);
+  /// unless `overwrite` is set and it holds one of `markers` (files or relative paths of files:
+  /// what the writing command leaves there; then the old directory is replaced on commit()).
+  /// Staging directories of killed writers beside it are removed.
+  explicit StagedDirectory(std::filesystem::path final_path, bool overwrite = false,
+                           std::span<const std::string_view> markers = kResultMarkers);
   StagedDirectory(const StagedDirectory&) = delete;
   StagedDirectory& operator=(const StagedDirectory&) = delete;
   ~StagedDirectory();

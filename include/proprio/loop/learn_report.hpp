@@ -85,6 +85,11 @@ struct LearnReportResult {
 /// as write_learn_report does when it is bad.
 std::vector<std::filesystem::path> learn_report_inputs(const std::filesystem::path& dir);
 
+/// Reads a decision log (DIR/decisions.jsonl) as write_learn_report does: its first
+/// kMaxDecisionBytes, lines over kMaxDecisionLineBytes skipped; returns the decisions (lines
+/// that are JSON objects). Throws Error naming the line of one that is not.
+int count_learn_decisions(const std::filesystem::path& file);
+
 /// The page write_learn_report writes for `options` and the directory of its images.
 std::filesystem::path learn_report_page(const LearnReportOptions& options);
 std::filesystem::path learn_report_images(const LearnReportOptions& options);

@@ -138,6 +138,12 @@ struct ScenarioPlan {
 /// include the target, or are given for another scenario.
 ScenarioPlan plan_scenario(const RecordOptions& options, const ObjectCatalogue& catalogue);
 
+class World;
+/// World::build of a plan of `options`; when the scenario is a scene file, an error building its
+/// world (MuJoCo's compiler refusing an object) names the scene file.
+World build_scenario_world(const ScenarioPlan& plan, const ObjectCatalogue& catalogue,
+                           const RecordOptions& options);
+
 struct RecordSummary {
   int frames = 0;
   double seconds = 0.0;  ///< wall clock, physics, rendering and writing included
