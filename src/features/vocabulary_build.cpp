@@ -45,37 +45,11 @@ void append_sample(const cv::Mat& descriptors, int count, core::Rng& rng, cv::Ma
   for (const int i : idx) all.push_back(descriptors.row(i));
 }
 
-// The extraction options as vocab build has always recorded them ("dense" plus the options of
-// that kind), with every described option beside them.
-core::Json features_json(const ExtractOptions& o) {
-  core::Json j = core::fields_to_json(o);
-  j["dense"] = o.kind == FeatureKind::kDense;
-  return j;
-}
-
-// The record (format "proprio.vocab.build") of a build.
 void fill_document(const VocabularyBuildOptions& options, const core::Provenance& provenance,
                    VocabularyBuildResult& r) {
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.vocab.build", 1, provenance);
-  doc["images_dir"] = options.images.string();
-  doc["vocabulary"] = options.out.string();
-  doc["classes"] = r.classes;
-  doc["images"] = r.images;
-  doc["images_without_features"] = r.images_without_features;
-  doc["features"] = features_json(options.features);
-  doc["per_image"] = options.per_image;
-  doc["words"] = r.vocabulary.size();
-  doc["descriptors"] = r.descriptors;
-  doc["extract_seconds"] = r.extract_seconds;
-  doc["kmeans_seconds"] = r.kmeans.seconds;
-  doc["iterations"] = r.kmeans.iterations;
-  doc["termination"] = r.kmeans.termination;
-  doc["cost"] = r.kmeans.cost;
-  doc["empty_clusters_reseeded"] = r.kmeans.empty_clusters_reseeded;
-  doc["tolerance"] = options.kmeans.tolerance;
-  doc["seed"] = options.kmeans.seed;
-  doc["threads"] = options.kmeans.threads;
+  r.options = options;
+  r.document = core::result_document("proprio.vocab.build", 1, provenance);
+  core::fields_into_json(r, r.document);
 }
 
 }  // namespace
@@ -281,8 +255,8 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
   core::agree(comm, [&] {
     if (rank == 0 && !options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
   });
+  r.ranks = ranks;
   fill_document(options, provenance, r);
-  r.document["ranks"] = ranks;
   return r;
 }
 
