@@ -94,9 +94,9 @@ SegmentEpisodeResult run_segment_episode(const SegmentEpisodeOptions& options,
 
 std::string SegmentEpisodeResult::brief() const {
   const MethodOutcome& oc = outcome();
-  const std::string episode = document.value("episode", std::string());
+  const std::string name = episode.string();
   if (oc.status == "no touch") {
-    return fmt::format("{}: no touch ({}); nothing segmented\n", episode, oc.message);
+    return fmt::format("{}: no touch ({}); nothing segmented\n", name, oc.message);
   }
   std::string s = fmt::format("{}: {} at frame {} in {:.2f} s\n", to_string(oc.method), oc.message,
                               oc.scored_frame, oc.seconds);

@@ -108,9 +108,16 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
                                              std::to_string(options.kmeans.words) + " words");
   }
   VocabularyResult v = build_vocabulary(all, options.kmeans, options.checkpointing);
-  VocabularyBuildResult r{std::move(v.vocabulary), v.summary,   set.classes.size(),
-                          set.images.size(),       without,     all.rows,
-                          extract_seconds,         core::Json()};
+  VocabularyBuildResult r{std::move(v.vocabulary),
+                          v.summary,
+                          set.classes.size(),
+                          set.images.size(),
+                          without,
+                          all.rows,
+                          extract_seconds,
+                          {},
+                          {},
+                          core::Json()};
   if (!options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
   fill_document(options, provenance, r);
   return r;
@@ -250,8 +257,16 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
   own.clear();
   // 4. k-means over the ranks.
   VocabularyResult v = build_vocabulary(DescriptorBlock{block, lo, N}, options.kmeans, comm);
-  VocabularyBuildResult r{std::move(v.vocabulary), v.summary,       set.classes.size(), I, without,
-                          static_cast<int>(N),     extract_seconds, core::Json()};
+  VocabularyBuildResult r{std::move(v.vocabulary),
+                          v.summary,
+                          set.classes.size(),
+                          I,
+                          without,
+                          static_cast<int>(N),
+                          extract_seconds,
+                          {},
+                          {},
+                          core::Json()};
   core::agree(comm, [&] {
     if (rank == 0 && !options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
   });

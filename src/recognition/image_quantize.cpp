@@ -49,7 +49,7 @@ QuantizeImagesResult run_quantize_images(const QuantizeImagesOptions& options,
   std::vector<std::string> names(static_cast<std::size_t>(v.size()));
   for (int k = 0; k < v.size(); ++k) {
     std::string& name = names[static_cast<std::size_t>(k)];
-    name = "v";
+    name.assign(1, 'v');  // not `= "v"`: GCC 12's false -Wrestrict
     name += std::to_string(k);
   }
   QuantizeImagesResult r{topics::Corpus(v.size(), names), set.classes, 0, 0, {}, core::Json()};

@@ -549,6 +549,7 @@ std::vector<MotObjectRecord> MotObjectRecord::of(
 
 std::vector<core::Json> finite_or_null(const std::vector<double>& values) {
   std::vector<core::Json> out;
+  out.reserve(values.size());
   for (const double v : values) out.push_back(std::isfinite(v) ? core::Json(v) : core::Json());
   return out;
 }

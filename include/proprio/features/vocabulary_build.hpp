@@ -52,13 +52,13 @@ struct VocabularyBuildOptions {
 struct VocabularyBuildResult {
   Vocabulary vocabulary;
   KmeansSummary kmeans;
-  VocabularyBuildOptions options;  ///< as given
   std::size_t classes = 0;
   std::size_t images = 0;
   int images_without_features = 0;
-  int descriptors = 0;           ///< descriptors clustered
-  double extract_seconds = 0.0;  ///< reading images and computing descriptors, wall clock
-  std::optional<int> ranks;      ///< MPI ranks, when more than one
+  int descriptors = 0;             ///< descriptors clustered
+  double extract_seconds = 0.0;    ///< reading images and computing descriptors, wall clock
+  VocabularyBuildOptions options;  ///< as given
+  std::optional<int> ranks;        ///< MPI ranks, when more than one
   /// The record (format "proprio.vocab.build", docs/formats/schemas/vocab_build.schema.json):
   /// the fields described below.
   core::Json document;
