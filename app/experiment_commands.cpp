@@ -11,6 +11,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/recognition/experiment_runs.hpp"
+#include "proprio/recognition/recognize_runs.hpp"
 
 namespace proprio::app {
 namespace {
