@@ -33,6 +33,7 @@ void register_sim_commands(CLI::App& root, const Invocation& inv);
 void register_segment_commands(CLI::App& root, const Invocation& inv);
 void register_vocab_commands(CLI::App& root, const Invocation& inv);
 void register_recognition_commands(CLI::App& root, const Invocation& inv);
+void register_experiment_commands(CLI::App& root, const Invocation& inv);
 void register_mot_commands(CLI::App& root, const Invocation& inv);
 /// After register_segment_commands (it adds `evaluate push` to `evaluate`).
 void register_push_commands(CLI::App& root, const Invocation& inv);

@@ -47,6 +47,7 @@ int run(int argc, char** argv) {
   register_segment_commands(root, inv);
   register_vocab_commands(root, inv);
   register_recognition_commands(root, inv);
+  register_experiment_commands(root, inv);
   register_mot_commands(root, inv);
   register_push_commands(root, inv);
   register_selfsupervise_commands(root, inv);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "../tests/support/table_views.hpp"
 #include "proprio/core/data_dir.hpp"
 #include "proprio/planning/push_planner.hpp"
 
@@ -14,33 +15,15 @@ namespace {
 
 using namespace proprio;
 
-// 640 x 480, 1 m above (0.25, 0), looking down.
-geometry::Camera camera() {
-  geometry::Camera c;
-  c.K << 600, 0, 320, 0, 600, 240, 0, 0, 1;
-  c.R = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  c.t = -c.R * Eigen::Vector3d(0.25, 0.0, 1.0);
-  c.width = 640;
-  c.height = 480;
-  return c;
-}
-
-// Five 6-8 cm objects as squares of grid features (6 px), like the dense features of a table.
+// Five 6-8 cm objects as squares of grid features, like the dense features of a table.
 std::vector<cv::KeyPoint> table_features(const geometry::Camera& cam) {
   std::vector<cv::KeyPoint> f;
-  const std::vector<Eigen::Vector3d> objects{{0.20, 0.10, 0.04},
-                                             {0.32, -0.12, 0.03},
-                                             {0.15, -0.18, 0.035},
-                                             {0.35, 0.15, 0.04},
-                                             {0.28, 0.0, 0.03}};
-  for (const Eigen::Vector3d& o : objects) {
-    const Eigen::Vector2d a = cam.project(Eigen::Vector3d(o.x() - o.z(), o.y() + o.z(), 0));
-    const Eigen::Vector2d b = cam.project(Eigen::Vector3d(o.x() + o.z(), o.y() - o.z(), 0));
-    for (double v = a.y(); v <= b.y(); v += 6) {
-      for (double u = a.x(); u <= b.x(); u += 6) {
-        f.emplace_back(static_cast<float>(u), static_cast<float>(v), 12.0F);
-      }
-    }
+  for (const Eigen::Vector3d& o : std::vector<Eigen::Vector3d>{{0.20, 0.10, 0.04},
+                                                               {0.32, -0.12, 0.03},
+                                                               {0.15, -0.18, 0.035},
+                                                               {0.35, 0.15, 0.04},
+                                                               {0.28, 0.0, 0.03}}) {
+    test::add_feature_square(f, cam, o.head<2>(), o.z());
   }
   return f;
 }
@@ -52,7 +35,7 @@ const robot::Arm& arm() {
 }
 
 void BM_PlanningView(benchmark::State& state) {
-  const geometry::Camera cam = camera();
+  const geometry::Camera cam = test::down_camera();
   const auto f = table_features(cam);
   planning::PushPlanOptions o;
   o.centre_height = 0;
@@ -63,7 +46,7 @@ void BM_PlanningView(benchmark::State& state) {
 BENCHMARK(BM_PlanningView)->Unit(benchmark::kMillisecond);
 
 void BM_PlanPush(benchmark::State& state) {
-  const geometry::Camera cam = camera();
+  const geometry::Camera cam = test::down_camera();
   planning::PushPlanOptions o;
   o.centre_height = 0;
   const planning::PlanningView view = planning::make_planning_view(table_features(cam), cam, {}, o);
@@ -77,31 +60,19 @@ void BM_PlanPush(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanPush)->Arg(0)->Arg(1)->ArgNames({"edge"})->Unit(benchmark::kMillisecond);
 
-// A checkered square of half side h (m) centred at table point (x, y), drawn into img.
-void draw_square(cv::Mat& img, const geometry::Camera& cam, double x, double y, double h) {
-  const Eigen::Vector2d a = cam.project(Eigen::Vector3d(x - h, y + h, 0));
-  const Eigen::Vector2d b = cam.project(Eigen::Vector3d(x + h, y - h, 0));
-  for (int v = static_cast<int>(a.y()); v <= static_cast<int>(b.y()); ++v) {
-    for (int u = static_cast<int>(a.x()); u <= static_cast<int>(b.x()); ++u) {
-      img.at<cv::Vec3b>(v, u) =
-          ((u / 4 + v / 4) % 2) != 0 ? cv::Vec3b(40, 40, 40) : cv::Vec3b(220, 220, 220);
-    }
-  }
-}
-
 // The closed loop's look after a push: the pushed object found from the motion between two
 // 640 x 480 looks (motion image, moving features' blobs, the whole blob when alone).
 void BM_FindPushedObject(benchmark::State& state) {
-  const geometry::Camera cam = camera();
+  const geometry::Camera cam = test::down_camera();
   planning::PushPlanOptions o;
   o.centre_height = 0;
   cv::Mat before(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
   cv::Mat after = before.clone();
-  draw_square(before, cam, 0.20, 0.06, 0.03);
-  draw_square(after, cam, 0.20, -0.005, 0.03);
+  test::draw_checkered_square(before, cam, {0.20, 0.06}, 0.03);
+  test::draw_checkered_square(after, cam, {0.20, -0.005}, 0.03);
   for (cv::Mat* m : {&before, &after}) {
-    draw_square(*m, cam, 0.20, -0.07, 0.03);
-    draw_square(*m, cam, 0.35, 0.15, 0.04);
+    test::draw_checkered_square(*m, cam, {0.20, -0.07}, 0.03);
+    test::draw_checkered_square(*m, cam, {0.35, 0.15}, 0.04);
   }
   const planning::PlanningView v0 =
       planning::make_planning_view(planning::textured_points(before, o), cam, {}, o);

@@ -14,11 +14,17 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 
 namespace proprio::python {
 
 namespace py = pybind11;
+
+/// A JSON value (a library record) as Python objects (dicts, lists, numbers, strings, None).
+inline py::object json_to_python(const core::Json& json) {
+  return py::module_::import("json").attr("loads")(json.dump());
+}
 
 /// "float64", "int32", ...: the numpy name of T.
 template <class T>

@@ -7,14 +7,6 @@
 
 namespace proprio::python {
 
-namespace {
-
-py::object json_to_python(const core::Json& json) {
-  return py::module_::import("json").attr("loads")(json.dump());
-}
-
-}  // namespace
-
 void bind_planning(py::module_& m) {
   bind_options<planning::PushPlanOptions>(
       m, "PushPlanOptions",

@@ -115,22 +115,10 @@ LdaModel model_from_bytes(const py::bytes& bytes) {
   return topics::parse_lda_model(view, "<bytes>");
 }
 
+// The summary as `lda train --json` records it (OnlineLdaSummary::describe names the keys:
+// estep_capped, docs_per_s, perplexity_trace as dicts, ...) and its brief line.
 py::dict summary_dict(const topics::OnlineLdaSummary& s) {
-  py::dict d;
-  d["updates"] = s.updates;
-  d["passes"] = s.passes;
-  d["documents"] = s.documents;
-  d["tokens"] = s.tokens;
-  d["seconds"] = s.seconds;
-  d["cpu_seconds"] = s.cpu_seconds;
-  d["mean_estep_iterations"] = s.mean_estep_iterations;
-  d["capped"] = s.capped;
-  d["threads"] = s.threads;
-  d["kernel"] = s.kernel;
-  py::list trace;
-  for (const auto& t : s.trace)
-    trace.append(py::make_tuple(t.updates, t.documents_seen, t.perplexity));
-  d["trace"] = trace;
+  auto d = json_to_python(core::fields_to_json(s)).cast<py::dict>();
   d["brief"] = s.brief();
   return d;
 }

@@ -82,32 +82,21 @@ SegmentEpisodeResult run_segment_episode(const SegmentEpisodeOptions& options,
       r.files.push_back("truth.png");
     }
   }
-  const EpisodeEvaluation& e = r.evaluation;
-  core::Json doc = core::result_document("proprio.segment", 1, provenance);
-  doc["episode"] = options.episode.string();
-  doc["method"] = to_string(options.method);
-  doc["status"] = oc.status;
-  doc["message"] = oc.message;
-  doc["scored_frame"] = oc.scored_frame;
-  doc["first_touch_frame"] =
-      e.first_touch_frame ? core::Json(*e.first_touch_frame) : core::Json(nullptr);
-  doc["background"] = e.background;
-  doc["object"] = e.object;
-  doc["seconds"] = oc.seconds;
-  doc["options"] = options_json(o);
-  doc["metrics"] = oc.status == "ok" ? metrics_json(oc.metrics) : core::Json(nullptr);
-  doc["files"] = r.files;
-  core::write_json_atomic(stage / "segment.json", doc);
+  r.episode = options.episode;
+  r.method = to_string(options.method);
+  r.options = options_json(o);
+  r.document = core::result_document("proprio.segment", 1, provenance);
+  core::fields_into_json(r, r.document);
+  core::write_json_atomic(stage / "segment.json", r.document);
   dir.commit();
-  r.document = std::move(doc);
   return r;
 }
 
 std::string SegmentEpisodeResult::brief() const {
   const MethodOutcome& oc = outcome();
-  const std::string episode = document.value("episode", std::string());
+  const std::string name = episode.string();
   if (oc.status == "no touch") {
-    return fmt::format("{}: no touch ({}); nothing segmented\n", episode, oc.message);
+    return fmt::format("{}: no touch ({}); nothing segmented\n", name, oc.message);
   }
   std::string s = fmt::format("{}: {} at frame {} in {:.2f} s\n", to_string(oc.method), oc.message,
                               oc.scored_frame, oc.seconds);

@@ -45,37 +45,11 @@ void append_sample(const cv::Mat& descriptors, int count, core::Rng& rng, cv::Ma
   for (const int i : idx) all.push_back(descriptors.row(i));
 }
 
-// The extraction options as vocab build has always recorded them ("dense" plus the options of
-// that kind), with every described option beside them.
-core::Json features_json(const ExtractOptions& o) {
-  core::Json j = core::fields_to_json(o);
-  j["dense"] = o.kind == FeatureKind::kDense;
-  return j;
-}
-
-// The record (format "proprio.vocab.build") of a build.
 void fill_document(const VocabularyBuildOptions& options, const core::Provenance& provenance,
                    VocabularyBuildResult& r) {
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.vocab.build", 1, provenance);
-  doc["images_dir"] = options.images.string();
-  doc["vocabulary"] = options.out.string();
-  doc["classes"] = r.classes;
-  doc["images"] = r.images;
-  doc["images_without_features"] = r.images_without_features;
-  doc["features"] = features_json(options.features);
-  doc["per_image"] = options.per_image;
-  doc["words"] = r.vocabulary.size();
-  doc["descriptors"] = r.descriptors;
-  doc["extract_seconds"] = r.extract_seconds;
-  doc["kmeans_seconds"] = r.kmeans.seconds;
-  doc["iterations"] = r.kmeans.iterations;
-  doc["termination"] = r.kmeans.termination;
-  doc["cost"] = r.kmeans.cost;
-  doc["empty_clusters_reseeded"] = r.kmeans.empty_clusters_reseeded;
-  doc["tolerance"] = options.kmeans.tolerance;
-  doc["seed"] = options.kmeans.seed;
-  doc["threads"] = options.kmeans.threads;
+  r.options = options;
+  r.document = core::result_document("proprio.vocab.build", 1, provenance);
+  core::fields_into_json(r, r.document);
 }
 
 }  // namespace
@@ -134,9 +108,16 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
                                              std::to_string(options.kmeans.words) + " words");
   }
   VocabularyResult v = build_vocabulary(all, options.kmeans, options.checkpointing);
-  VocabularyBuildResult r{std::move(v.vocabulary), v.summary,   set.classes.size(),
-                          set.images.size(),       without,     all.rows,
-                          extract_seconds,         core::Json()};
+  VocabularyBuildResult r{std::move(v.vocabulary),
+                          v.summary,
+                          set.classes.size(),
+                          set.images.size(),
+                          without,
+                          all.rows,
+                          extract_seconds,
+                          {},
+                          {},
+                          core::Json()};
   if (!options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
   fill_document(options, provenance, r);
   return r;
@@ -276,13 +257,21 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
   own.clear();
   // 4. k-means over the ranks.
   VocabularyResult v = build_vocabulary(DescriptorBlock{block, lo, N}, options.kmeans, comm);
-  VocabularyBuildResult r{std::move(v.vocabulary), v.summary,       set.classes.size(), I, without,
-                          static_cast<int>(N),     extract_seconds, core::Json()};
+  VocabularyBuildResult r{std::move(v.vocabulary),
+                          v.summary,
+                          set.classes.size(),
+                          I,
+                          without,
+                          static_cast<int>(N),
+                          extract_seconds,
+                          {},
+                          {},
+                          core::Json()};
   core::agree(comm, [&] {
     if (rank == 0 && !options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
   });
+  r.ranks = ranks;
   fill_document(options, provenance, r);
-  r.document["ranks"] = ranks;
   return r;
 }
 

@@ -71,12 +71,8 @@ CalibRun run_calib_dlt(const CalibDltOptions& o, const core::Provenance& provena
     run.warnings.push_back(core::printf_string("%s: %d points lie behind the estimated camera",
                                                o.points.c_str(), r.summary.points_behind));
   }
-  core::Json& doc = run.document;
-  doc = core::result_document("proprio.calib.dlt", 1, provenance);
-  doc["points_file"] = o.points.string();
-  doc["calib"] = o.out.string();
-  doc.update(to_json(r));
-  doc["camera"] = to_json(cam);
+  run.document = core::result_document("proprio.calib.dlt", 1, provenance);
+  core::fields_into_json(CalibDltRecord{o.points, o.out, to_json(r), to_json(cam)}, run.document);
   return run;
 }
 
@@ -122,12 +118,9 @@ CalibRun run_calib_triangulate(const CalibTriangulateOptions& o,
   write_points_csv(o.out, all.points);
   CalibRun run;
   run.report = core::printf_string("%s\nwrote %s\n", all.summary.brief().c_str(), o.out.c_str());
-  core::Json& doc = run.document;
-  doc = core::result_document("proprio.calib.triangulate", 1, provenance);
-  doc["points_file"] = o.points.string();
-  doc["out"] = o.out.string();
-  doc["distorted_input"] = o.distorted;
-  doc.update(to_json(all.summary));
+  run.document = core::result_document("proprio.calib.triangulate", 1, provenance);
+  core::fields_into_json(CalibTriangulateRecord{o.points, o.out, o.distorted, to_json(all.summary)},
+                         run.document);
   return run;
 }
 
@@ -166,14 +159,14 @@ CalibRun run_calib_backproject(const CalibBackprojectOptions& o,
       "back-projected %zu pixels onto %g x + %g y + %g z = %g (most grazing ray: cos %.3f)\n"
       "wrote %s\n",
       points.size(), n.x(), n.y(), n.z(), o.plane.kappa, min_cos, o.out.c_str());
-  core::Json& doc = run.document;
-  doc = core::result_document("proprio.calib.backproject", 1, provenance);
-  doc["points_file"] = o.points.string();
-  doc["out"] = o.out.string();
-  doc["plane"] = {{"n", {n.x(), n.y(), n.z()}}, {"kappa", o.plane.kappa}};
-  doc["points"] = points.size();
-  doc["distorted_input"] = o.distorted;
-  doc["min_incidence_cos"] = min_cos;
+  run.document = core::result_document("proprio.calib.backproject", 1, provenance);
+  core::fields_into_json(CalibBackprojectRecord{o.points,
+                                                o.out,
+                                                {{n.x(), n.y(), n.z()}, o.plane.kappa},
+                                                points.size(),
+                                                o.distorted,
+                                                min_cos},
+                         run.document);
   return run;
 }
 
@@ -203,12 +196,10 @@ CalibRun run_calib_uncertainty(const CalibUncertaintyOptions& o,
       o.map.sigma_px, s.valid_cells, s.cells, s.min_sigma * f, unit, s.best_point.x(),
       s.best_point.y(), s.best_point.z(), s.median_sigma * f, unit, s.max_sigma * f, unit,
       o.out.c_str());
-  core::Json& doc = run.document;
-  doc = core::result_document("proprio.calib.uncertainty", 1, provenance);
-  doc["calib1"] = o.calib1.string();
-  doc["calib2"] = o.calib2.string();
-  doc["out"] = o.out.string();
-  doc.update(to_json(map, f, o.render.unit));
+  run.document = core::result_document("proprio.calib.uncertainty", 1, provenance);
+  core::fields_into_json(
+      CalibUncertaintyRecord{o.calib1, o.calib2, o.out, to_json(map, f, o.render.unit)},
+      run.document);
   return run;
 }
 
@@ -242,14 +233,14 @@ CalibRun run_calib_stereo(const CalibStereoOptions& o, const core::Provenance& p
         p.corners, p.planarity_rms, p.neighbour_mean);
   }
   text += core::printf_string("wrote %s/{left.yml,right.yml,corners.csv}\n", o.out.c_str());
-  core::Json& doc = run.document;
-  doc = core::result_document("proprio.calib.stereo", 1, provenance);
-  doc["images"] = check.images_dir.string();
-  doc["board"] = {check.board.width, check.board.height};
-  doc["square_size"] = check.square_size;
-  doc["refined"] = check.refine_triangulation;
-  doc["out"] = o.out.string();
-  doc.update(to_json(r));
+  run.document = core::result_document("proprio.calib.stereo", 1, provenance);
+  core::fields_into_json(CalibStereoRecord{check.images_dir,
+                                           {check.board.width, check.board.height},
+                                           check.square_size,
+                                           check.refine_triangulation,
+                                           o.out,
+                                           to_json(r)},
+                         run.document);
   return run;
 }
 

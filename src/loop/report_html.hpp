@@ -6,11 +6,12 @@
 #include <string_view>
 #include <vector>
 
+#include "proprio/core/text.hpp"
+
 namespace proprio::loop::report {
 
-/// `text` escaped for HTML text and attribute values (& < > " '); bytes that are not UTF-8 become
-/// U+FFFD and control characters other than tab/newline are dropped.
-std::string escape(std::string_view text);
+/// `text` escaped for HTML text and attribute values (core::markup_escape).
+inline std::string escape(std::string_view text) { return core::markup_escape(text); }
 
 /// A number with `digits` decimals; "–" when not finite (never "nan" or "inf" on the page).
 std::string fixed(double v, int digits);

@@ -20,16 +20,6 @@ namespace {
 using detail::progress_bar;
 using detail::read_episodes;
 
-core::Json kmeans_json(const features::KmeansSummary& s, int descriptors) {
-  core::Json j;
-  j["descriptors"] = descriptors;
-  j["iterations"] = s.iterations;
-  j["cost"] = s.cost;
-  j["seconds"] = s.seconds;
-  j["termination"] = s.termination;
-  return j;
-}
-
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) {
@@ -46,7 +36,17 @@ std::vector<std::string> strings(const std::vector<std::filesystem::path>& paths
   return out;
 }
 
+std::optional<KmeansRecord> kmeans_record(const std::optional<features::KmeansSummary>& s,
+                                          int descriptors) {
+  if (!s) return std::nullopt;
+  return KmeansRecord::of(*s, descriptors);
+}
+
 }  // namespace
+
+KmeansRecord KmeansRecord::of(const features::KmeansSummary& s, int descriptors) {
+  return {descriptors, s.iterations, s.cost, s.seconds, s.termination};
+}
 
 ExperimentRun run_set_experiment_files(const SetExperimentRunOptions& options,
                                        const core::Provenance& provenance) {
@@ -63,38 +63,31 @@ ExperimentRun run_set_experiment_files(const SetExperimentRunOptions& options,
   out.report =
       core::printf_string("set A: %s\nset B: %s\nwide dictionary: %s\n\n", joined(r.set_a).c_str(),
                           joined(r.set_b).c_str(), joined(r.wide).c_str());
-  core::Json& doc = out.document;
-  doc = core::result_document(
-      options.dictionary ? "proprio.experiment.dictionary" : "proprio.experiment.batch_online", 1,
-      provenance);
-  doc["images"] = options.images.string();
-  doc["set_a"] = r.set_a;
-  doc["set_b"] = r.set_b;
-  doc["wide"] = r.wide;
-  doc["words"] = o.kmeans.words;
-  doc["test_per_class"] = o.test_per_class;
-  doc["features"] = features::to_string(o.features.kind);
-  if (r.specific_kmeans)
-    doc["specific_dictionary"] = kmeans_json(*r.specific_kmeans, r.specific_descriptors);
-  if (r.wide_kmeans) doc["wide_dictionary"] = kmeans_json(*r.wide_kmeans, r.wide_descriptors);
-  doc["runs"] = core::Json::array();
+  SetExperimentRecord& rec = out.set.emplace();
+  rec.images = options.images;
+  rec.set_a = r.set_a;
+  rec.set_b = r.set_b;
+  rec.wide = r.wide;
+  rec.words = o.kmeans.words;
+  rec.test_per_class = o.test_per_class;
+  rec.features = features::to_string(o.features.kind);
+  rec.specific_dictionary = kmeans_record(r.specific_kmeans, r.specific_descriptors);
+  rec.wide_dictionary = kmeans_record(r.wide_kmeans, r.wide_descriptors);
   for (const SetRunResult& run : r.runs) {
     const std::string title = run.run.name + " (set " + run.run.set + ", " + run.run.dictionary +
                               " dictionary, " + to_string(run.run.method) + " LDA)";
     out.report += evaluation_report(title, run.evaluation);
-    core::Json j = evaluation_to_json(run.evaluation);
-    j["name"] = run.run.name;
-    j["set"] = run.run.set;
-    j["dictionary"] = run.run.dictionary;
-    j["method"] = to_string(run.run.method);
-    j["train_documents"] = run.train_documents;
-    j["test_documents"] = run.test_documents;
-    j["train_seconds"] = run.train_seconds;
-    j["lda_summary"] = run.lda_summary;
-    doc["runs"].push_back(j);
+    rec.runs.push_back({evaluation_to_json(run.evaluation), run.run.name, run.run.set,
+                        run.run.dictionary, std::string(to_string(run.run.method)),
+                        run.train_documents, run.test_documents, run.train_seconds,
+                        run.lda_summary});
   }
   out.report += core::printf_string("seconds: %.1f\n", r.seconds);
-  doc["seconds"] = r.seconds;
+  rec.seconds = r.seconds;
+  out.document = core::result_document(
+      options.dictionary ? "proprio.experiment.dictionary" : "proprio.experiment.batch_online", 1,
+      provenance);
+  core::fields_into_json(rec, out.document);
   return out;
 }
 
@@ -122,38 +115,37 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
                           o.online.batch_size) +
       core::printf_string("views: %d name the topics (labelled), %d test\n\n", r.mapping_views,
                           r.test_views);
-  core::Json& doc = out.document;
-  doc = core::result_document("proprio.experiment.scatter", 1, provenance);
-  doc["episodes"] = strings(options.episodes);
-  if (!options.views.empty()) doc["views"] = options.views.string();
+  ScatterExperimentRecord& rec = out.scatter.emplace();
+  rec.episodes = strings(options.episodes);
+  if (!options.views.empty()) rec.views = options.views.string();
   if (!options.view_episodes.empty()) {
-    doc["view_episodes"] = strings(options.view_episodes);
-    doc["view_step"] = o.view_step;
-    doc["view_block"] = o.view_block;
-    doc["view_split"] = o.split_by_episode ? "episodes" : "blocks";
+    rec.view_episodes = strings(options.view_episodes);
+    rec.view_step = o.view_step;
+    rec.view_block = o.view_block;
+    rec.view_split = o.split_by_episode ? "episodes" : "blocks";
   }
-  doc["mot"] = o.mot;
-  doc["objects"] = r.objects;
-  doc["region"] = to_string(o.frames.region);
-  doc["features"] = features::to_string(o.frames.features.kind);
-  doc["frames"] = r.frames;
-  doc["documents"] = r.documents;
-  doc["tokens"] = r.tokens;
-  doc["words"] = r.words;
-  doc["batch_size"] = o.online.batch_size;
-  doc["batch_documents"] = r.batch_documents;
-  doc["passes"] = o.online.passes;
-  doc["mapping_views"] = r.mapping_views;
-  doc["test_views"] = r.test_views;
-  if (r.kmeans) doc["dictionary"] = kmeans_json(*r.kmeans, r.dictionary_descriptors);
-  doc["runs"] = core::Json::array();
+  rec.mot = o.mot;
+  rec.objects = r.objects;
+  rec.region = to_string(o.frames.region);
+  rec.features = features::to_string(o.frames.features.kind);
+  rec.frames = r.frames;
+  rec.documents = r.documents;
+  rec.tokens = r.tokens;
+  rec.words = r.words;
+  rec.batch_size = o.online.batch_size;
+  rec.batch_documents = r.batch_documents;
+  rec.passes = o.online.passes;
+  rec.mapping_views = r.mapping_views;
+  rec.test_views = r.test_views;
+  rec.dictionary = kmeans_record(r.kmeans, r.dictionary_descriptors);
   for (const ScatterRunResult& run : r.runs) {
     const std::string title = "K = " + std::to_string(run.topics);
     out.report += evaluation_report(title, run.evaluation);
-    core::Json j = evaluation_to_json(run.evaluation);
-    j["topics_k"] = run.topics;
-    j["updates"] = run.summary.updates;
-    j["train_seconds"] = run.summary.seconds;
+    ScatterRunRecord& j = rec.runs.emplace_back();
+    j.evaluation = evaluation_to_json(run.evaluation);
+    j.topics_k = run.topics;
+    j.updates = run.summary.updates;
+    j.train_seconds = run.summary.seconds;
     if (run.mot) {
       out.report += core::printf_string(
           "%s: Mixture of Topics (supervised, thesis 7.1; rows: true object)\n%s", title.c_str(),
@@ -161,19 +153,12 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
       out.report += core::printf_string(
           "%s: Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n", title.c_str(),
           100 * run.mot->classes.accuracy(), 100 * run.mot->classes.mean_class_accuracy());
-      j["mot"] = run.mot->classes.to_json();
-      j["mot"]["summary"] = run.mot->fit.summary.brief();
-      j["mot"]["smoothing"] = run.mot->fit.model.smoothing;
-      j["mot"]["objects"] = core::Json::array();
-      for (const auto& obj : run.mot->fit.model.objects) {
-        core::Json oj;
-        oj["name"] = obj.name;
-        oj["views"] = obj.views;
-        const Eigen::VectorXd& a = obj.dirichlet.alpha();
-        oj["alpha"] = std::vector<double>(a.data(), a.data() + a.size());
-        oj["precision"] = obj.dirichlet.precision();
-        j["mot"]["objects"].push_back(oj);
-      }
+      ScatterMotRecord& m = j.mot.emplace();
+      m.classes = run.mot->classes.to_json();
+      m.summary = run.mot->fit.summary.brief();
+      m.smoothing = run.mot->fit.model.smoothing;
+      m.objects = MotObjectRecord::of(run.mot->fit.model);
+      for (MotObjectRecord& obj : m.objects) obj.mean.reset();
     }
     if (run.mot_unsupervised) {
       const MotUnsupervisedEvaluation& u = *run.mot_unsupervised;
@@ -184,25 +169,21 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
       out.report += core::printf_string(
           "%s: unsupervised Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
           title.c_str(), 100 * u.classes.accuracy(), 100 * u.classes.mean_class_accuracy());
-      j["mot_unsupervised"] = u.classes.to_json();
-      j["mot_unsupervised"]["chosen_classes"] = u.chosen_classes;
-      j["mot_unsupervised"]["object_class"] = u.object_class;
-      j["mot_unsupervised"]["chosen_classes_per_object"] = u.chosen_per_class;
+      j.mot_unsupervised = ScatterUnsupervisedRecord{u.classes.to_json(), u.chosen_classes,
+                                                     u.object_class, u.chosen_per_class};
     }
     if (!run.mot_grid.empty()) {
-      j["mot_grid"] = core::Json::array();
+      std::vector<ScatterGridRecord>& grid = j.mot_grid.emplace();
       for (const MotGridPoint& g : run.mot_grid) {
-        core::Json gj = g.classes.to_json();
-        gj["theta"] = std::string(core::choice_name(g.source, kThetaSourceNames));
-        gj["smoothing"] = g.smoothing;
-        gj["prior"] = g.prior == topics::MotPrior::kUniform ? "uniform" : "views";
-        j["mot_grid"].push_back(gj);
+        grid.push_back({g.classes.to_json(), g.source, g.smoothing,
+                        g.prior == topics::MotPrior::kUniform ? "uniform" : "views"});
       }
     }
-    doc["runs"].push_back(j);
   }
   out.report += core::printf_string("seconds: %.1f\n", r.seconds);
-  doc["seconds"] = r.seconds;
+  rec.seconds = r.seconds;
+  out.document = core::result_document("proprio.experiment.scatter", 1, provenance);
+  core::fields_into_json(rec, out.document);
   return out;
 }
 

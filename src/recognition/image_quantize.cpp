@@ -22,12 +22,6 @@ cv::Mat read_grey(const std::filesystem::path& p) {
   return geometry::read_image(p, cv::IMREAD_GRAYSCALE);
 }
 
-core::Json features_json(const features::ExtractOptions& o) {
-  core::Json j = core::fields_to_json(o);
-  j["dense"] = o.kind == features::FeatureKind::kDense;
-  return j;
-}
-
 }  // namespace
 
 void QuantizeImagesOptions::validate() const {
@@ -55,10 +49,10 @@ QuantizeImagesResult run_quantize_images(const QuantizeImagesOptions& options,
   std::vector<std::string> names(static_cast<std::size_t>(v.size()));
   for (int k = 0; k < v.size(); ++k) {
     std::string& name = names[static_cast<std::size_t>(k)];
-    name = "v";
+    name.assign(1, 'v');  // not `= "v"`: GCC 12's false -Wrestrict
     name += std::to_string(k);
   }
-  QuantizeImagesResult r{topics::Corpus(v.size(), names), set.classes, 0, 0, core::Json()};
+  QuantizeImagesResult r{topics::Corpus(v.size(), names), set.classes, 0, 0, {}, core::Json()};
   std::vector<std::vector<std::optional<double>>> rows;
   {
     core::ProgressBar bar(set.images.size(), "images", options.progress);
@@ -89,17 +83,9 @@ QuantizeImagesResult run_quantize_images(const QuantizeImagesOptions& options,
   }
   core::write_file_atomic(options.corpus / "classes.txt", classes);
 
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.vocab.quantize", 1, provenance);
-  doc["vocabulary"] = options.vocabulary.string();
-  doc["images_dir"] = options.images.string();
-  doc["corpus"] = options.corpus.string();
-  doc["documents"] = set.images.size();
-  doc["tokens"] = r.tokens;
-  doc["words"] = v.size();
-  doc["images_without_features"] = r.images_without_features;
-  doc["classes"] = set.classes;
-  doc["features"] = features_json(options.features);
+  r.options = options;
+  r.document = core::result_document("proprio.vocab.quantize", 1, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 

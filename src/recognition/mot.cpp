@@ -142,35 +142,28 @@ void check_words(const topics::LdaModel& model, const features::Vocabulary& voca
   }
 }
 
-core::Json fit_json(const topics::DirichletFitSummary& s) {
-  core::Json j;
-  j["converged"] = s.converged;
-  j["stop"] = topics::to_string(s.stop);
-  j["iterations"] = s.iterations();
-  j["log_likelihood"] = s.log_likelihood;
-  return j;
-}
+// The views of `source` with their theta, read after checking that its LDA model and vocabulary
+// belong together (and, with `mot`, that they are the ones the MoT model was built on).
+struct SourceTheta {
+  topics::LdaModel lda;
+  std::uint32_t vocabulary_checksum = 0;
+  Views views;
+  DocumentTheta dt;
+};
 
-core::Json object_json(const topics::MotObject& o) {
-  core::Json j;
-  j["name"] = o.name;
-  j["views"] = o.views;
-  const Eigen::VectorXd& a = o.dirichlet.alpha();
-  j["alpha"] = std::vector<double>(a.data(), a.data() + a.size());
-  const Eigen::VectorXd m = o.dirichlet.mean();
-  j["mean"] = std::vector<double>(m.data(), m.data() + m.size());
-  j["precision"] = o.dirichlet.precision();
-  return j;
-}
-
-core::Json basis_json(const topics::MotBasis& b) {
-  core::Json j;
-  j["lda_checksum"] = hex(b.lda_checksum);
-  j["lda_topics"] = b.lda_topics;
-  j["lda_words"] = b.lda_words;
-  j["vocabulary_checksum"] =
-      b.has_vocabulary ? core::Json(hex(b.vocabulary_checksum)) : core::Json();
-  return j;
+SourceTheta read_source_theta(const MotSourceOptions& source,
+                              const topics::MotModelFile* mot = nullptr,
+                              const fs::path& mot_file = {}) {
+  SourceTheta out;
+  out.lda = topics::load_lda_model(source.lda_model);
+  const features::Vocabulary vocabulary = features::read_vocabulary(source.vocabulary);
+  check_words(out.lda, vocabulary, source.lda_model);
+  out.vocabulary_checksum = vocabulary_checksum(vocabulary);
+  if (mot != nullptr)
+    topics::check_mot_basis(mot->basis, out.lda, &out.vocabulary_checksum, mot_file);
+  out.views = read_views(source, vocabulary);
+  out.dt = document_theta(out.lda, out.views.docs.corpus);
+  return out;
 }
 
 }  // namespace
@@ -325,11 +318,9 @@ std::string MotTrainResult::brief() const {
 
 MotTrainResult run_mot_train(const MotTrainOptions& options, const core::Provenance& provenance) {
   options.validate();
-  const topics::LdaModel lda = topics::load_lda_model(options.source.lda_model);
-  const features::Vocabulary vocabulary = features::read_vocabulary(options.source.vocabulary);
-  check_words(lda, vocabulary, options.source.lda_model);
-  const Views views = read_views(options.source, vocabulary);
-  const DocumentTheta dt = document_theta(lda, views.docs.corpus);
+  const SourceTheta in = read_source_theta(options.source);
+  const Views& views = in.views;
+  const DocumentTheta& dt = in.dt;
   MotTrainResult r;
   r.documents = static_cast<int>(dt.empty.size());
   for (const bool e : dt.empty) r.empty_documents += e ? 1 : 0;
@@ -345,35 +336,15 @@ MotTrainResult run_mot_train(const MotTrainOptions& options, const core::Provena
       if (dt.empty[d]) labels[d] = -1;
     r.fit = topics::fit_mot(dt.theta, labels, views.docs.classes, options.mot);
   }
-  const std::uint32_t vc = vocabulary_checksum(vocabulary);
-  r.basis = topics::mot_basis(lda, &vc);
+  r.basis = topics::mot_basis(in.lda, &in.vocabulary_checksum);
   topics::save_mot_model(r.fit.model, r.basis, options.model);
 
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.mot.train", 1, provenance);
-  doc["model"] = options.model.string();
-  doc["lda_model"] = options.source.lda_model.string();
-  doc["vocabulary"] = options.source.vocabulary.string();
-  doc["source"] = options.source.images.empty() ? "episodes" : "images";
-  doc["input"] =
-      (options.source.images.empty() ? options.source.episodes : options.source.images).string();
-  doc["unsupervised"] = options.unsupervised;
-  doc["options"] = core::fields_to_json(options.mot);
-  doc["documents"] = r.documents;
-  doc["empty_documents"] = r.empty_documents;
-  doc["basis"] = basis_json(r.basis);
-  doc["objects"] = core::Json::array();
-  for (std::size_t c = 0; c < r.fit.model.objects.size(); ++c) {
-    core::Json j = object_json(r.fit.model.objects[c]);
-    j["fit"] = fit_json(r.fit.summary.fits[c]);
-    doc["objects"].push_back(j);
-  }
-  doc["log_likelihood"] = r.fit.summary.log_likelihood;
-  core::Json bic = core::Json::array();
-  for (const double b : r.fit.summary.bic)
-    bic.push_back(std::isfinite(b) ? core::Json(b) : core::Json());
-  doc["bic"] = bic;
-  doc["summary"] = r.brief();
+  r.model_file = options.model;
+  r.source = MotSourceRecord::of(options.source);
+  r.unsupervised = options.unsupervised;
+  r.options = options.mot;
+  r.document = core::result_document("proprio.mot.train", 1, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 
@@ -397,13 +368,9 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
                                    const core::Provenance& provenance) {
   options.validate();
   const topics::MotModelFile file = topics::load_mot_model(options.model);
-  const topics::LdaModel lda = topics::load_lda_model(options.source.lda_model);
-  const features::Vocabulary vocabulary = features::read_vocabulary(options.source.vocabulary);
-  check_words(lda, vocabulary, options.source.lda_model);
-  const std::uint32_t vc = vocabulary_checksum(vocabulary);
-  topics::check_mot_basis(file.basis, lda, &vc, options.model);
-  const Views views = read_views(options.source, vocabulary);
-  const DocumentTheta dt = document_theta(lda, views.docs.corpus);
+  const SourceTheta in = read_source_theta(options.source, &file, options.model);
+  const Views& views = in.views;
+  const DocumentTheta& dt = in.dt;
 
   MotClassifyResult r;
   r.documents = static_cast<int>(dt.empty.size());
@@ -465,18 +432,11 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
   }
   core::write_file_atomic(options.out, csv);
 
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.mot.classify", 1, provenance);
-  doc["model"] = options.model.string();
-  doc["lda_model"] = options.source.lda_model.string();
-  doc["vocabulary"] = options.source.vocabulary.string();
-  doc["source"] = options.source.images.empty() ? "episodes" : "images";
-  doc["input"] =
-      (options.source.images.empty() ? options.source.episodes : options.source.images).string();
-  doc["out"] = options.out.string();
-  doc["documents"] = r.documents;
-  doc["empty_documents"] = r.empty_documents;
-  doc["confusion"] = r.confusion.to_json();
+  r.model_file = options.model;
+  r.source = MotSourceRecord::of(options.source);
+  r.out = options.out;
+  r.document = core::result_document("proprio.mot.classify", 1, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 
@@ -499,13 +459,9 @@ MotUpdateResult run_mot_update(const MotUpdateOptions& options,
                                const core::Provenance& provenance) {
   options.validate();
   topics::MotModelFile file = topics::load_mot_model(options.model);
-  const topics::LdaModel lda = topics::load_lda_model(options.source.lda_model);
-  const features::Vocabulary vocabulary = features::read_vocabulary(options.source.vocabulary);
-  check_words(lda, vocabulary, options.source.lda_model);
-  const std::uint32_t vc = vocabulary_checksum(vocabulary);
-  topics::check_mot_basis(file.basis, lda, &vc, options.model);
-  const Views views = read_views(options.source, vocabulary);
-  const DocumentTheta dt = document_theta(lda, views.docs.corpus);
+  const SourceTheta in = read_source_theta(options.source, &file, options.model);
+  const Views& views = in.views;
+  const DocumentTheta& dt = in.dt;
 
   MotUpdateResult r;
   r.documents = static_cast<int>(dt.empty.size());
@@ -521,26 +477,14 @@ MotUpdateResult run_mot_update(const MotUpdateOptions& options,
   r.summary = topics::update_mot(file.model, dt.theta, labels, options.mot);
   topics::save_mot_model(file.model, file.basis, options.out);
   r.model = file.model;
-
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.mot.update", 1, provenance);
-  doc["model"] = options.model.string();
-  doc["out"] = options.out.string();
-  doc["lda_model"] = options.source.lda_model.string();
-  doc["vocabulary"] = options.source.vocabulary.string();
-  doc["source"] = options.source.images.empty() ? "episodes" : "images";
-  doc["input"] =
-      (options.source.images.empty() ? options.source.episodes : options.source.images).string();
-  doc["rule"] = std::string(core::choice_name(options.mot.update, topics::kMotUpdateRuleNames));
-  doc["forgetting"] = options.mot.forgetting;
-  doc["documents"] = r.documents;
-  doc["empty_documents"] = r.empty_documents;
-  doc["new_views"] = r.summary.views;
-  doc["new_objects"] = r.summary.new_objects;
-  doc["resampled"] = r.summary.resampled;
-  doc["basis"] = basis_json(file.basis);
-  doc["objects"] = core::Json::array();
-  for (const auto& o : file.model.objects) doc["objects"].push_back(object_json(o));
+  r.basis = file.basis;
+  r.model_file = options.model;
+  r.out = options.out;
+  r.source = MotSourceRecord::of(options.source);
+  r.rule = options.mot.update;
+  r.forgetting = options.mot.forgetting;
+  r.document = core::result_document("proprio.mot.update", 1, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 
@@ -564,14 +508,49 @@ MotInfo run_mot_info(const fs::path& model, const core::Provenance& provenance) 
     for (Eigen::Index k = 0; k < o.dirichlet.dim(); ++k) s << ' ' << o.dirichlet.mean()(k);
     out.lines.push_back(s.str());
   }
+  out.model_file = model;
+  out.file = f;
   out.document = core::result_document("proprio.mot.info", 1, provenance);
-  out.document["model"] = model.string();
-  out.document["format_version_of_model"] = topics::kMotModelFormatVersion;
-  out.document["prior"] = std::string(core::choice_name(f.model.prior, topics::kMotPriorNames));
-  out.document["smoothing"] = f.model.smoothing;
-  out.document["basis"] = basis_json(b);
-  out.document["objects"] = core::Json::array();
-  for (const auto& o : f.model.objects) out.document["objects"].push_back(object_json(o));
+  core::fields_into_json(out, out.document);
+  return out;
+}
+
+MotSourceRecord MotSourceRecord::of(const MotSourceOptions& o) {
+  return {o.lda_model, o.vocabulary, o.images.empty() ? "episodes" : "images",
+          o.images.empty() ? o.episodes : o.images};
+}
+
+MotBasisRecord MotBasisRecord::of(const topics::MotBasis& b) {
+  return {hex(b.lda_checksum), b.lda_topics, b.lda_words,
+          b.has_vocabulary ? core::Json(hex(b.vocabulary_checksum)) : core::Json()};
+}
+
+std::vector<MotObjectRecord> MotObjectRecord::of(
+    const topics::MotModel& model, const std::vector<topics::DirichletFitSummary>* fits) {
+  std::vector<MotObjectRecord> out;
+  for (std::size_t c = 0; c < model.objects.size(); ++c) {
+    const topics::MotObject& o = model.objects[c];
+    MotObjectRecord& r = out.emplace_back();
+    r.name = o.name;
+    r.views = o.views;
+    const Eigen::VectorXd& a = o.dirichlet.alpha();
+    r.alpha.assign(a.data(), a.data() + a.size());
+    const Eigen::VectorXd m = o.dirichlet.mean();
+    r.mean.emplace(m.data(), m.data() + m.size());
+    r.precision = o.dirichlet.precision();
+    if (fits != nullptr) {
+      const topics::DirichletFitSummary& s = (*fits)[c];
+      r.fit =
+          MotFitRecord{s.converged, topics::to_string(s.stop), s.iterations(), s.log_likelihood};
+    }
+  }
+  return out;
+}
+
+std::vector<core::Json> finite_or_null(const std::vector<double>& values) {
+  std::vector<core::Json> out;
+  out.reserve(values.size());
+  for (const double v : values) out.push_back(std::isfinite(v) ? core::Json(v) : core::Json());
   return out;
 }
 

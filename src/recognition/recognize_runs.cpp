@@ -60,20 +60,18 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
   std::string& text = out.report;
   text += core::printf_string("%s (%lld empty)\n", r.summary.message.c_str(),
                               static_cast<long long>(r.summary.empty_documents));
-  core::Json& doc = out.document;
-  std::vector<std::string> episode_args(o.source.episodes.size());
+  std::vector<std::string>& episode_args = out.episodes.emplace(o.source.episodes.size());
   std::transform(o.source.episodes.begin(), o.source.episodes.end(), episode_args.begin(),
                  [](const std::filesystem::path& e) { return e.string(); });
-  doc["episodes"] = episode_args;
-  doc["region"] = to_string(o.source.frames.region);
-  doc["frame_step"] = o.source.frame_step;
-  doc["frames"] = r.summary.frames;
-  doc["documents"] = r.summary.documents;
-  doc["empty_documents"] = r.summary.empty_documents;
+  out.region = to_string(o.source.frames.region);
+  out.frame_step = o.source.frame_step;
+  out.frames = r.summary.frames;
+  out.documents = r.summary.documents;
+  out.empty_documents = r.summary.empty_documents;
   if (r.by_topic) {
     text += "topics (argmax theta; rows: true object by the ground-truth masks)\n" +
             r.by_topic->format();
-    doc["topics"] = r.by_topic->to_json();
+    out.topics = r.by_topic->to_json();
   }
   std::vector<std::string> mapping_classes;
   if (!o.map_with.empty()) {
@@ -91,12 +89,12 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
           " z_%zu->%s", k + 1,
           mapping_classes[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
     text += "\n";
-    doc["mapping"] = evaluation_to_json(e)["mapping"];
+    out.mapping = evaluation_to_json(e)["mapping"];
     if (!r.classes.empty()) {
       text += "classes (topics merged)\n" + classes.format();
       text += core::printf_string("accuracy %.1f%%, mean class accuracy %.1f%%\n",
                                   100 * classes.accuracy(), 100 * classes.mean_class_accuracy());
-      doc["classes"] = classes.to_json();
+      out.classes = classes.to_json();
     }
   }
   if (o.out.empty()) return;
@@ -116,7 +114,7 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
     csv += core::join_csv_line(row) + '\n';
   }
   core::write_file_atomic(o.out, csv);
-  doc["out"] = o.out.string();
+  out.out = o.out;
 }
 
 void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaModel& model,
@@ -131,11 +129,10 @@ void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaMo
   const ConfusionMatrix by_topic =
       confusion_matrix(test.labels, topic, test.classes, topic_names(model.num_topics()));
   out.report += "topics (argmax theta; rows: folder)\n" + by_topic.format();
-  core::Json& doc = out.document;
-  doc["images"] = o.source.images.string();
-  doc["documents"] = test.corpus.num_documents();
-  doc["empty_documents"] = r.summary.empty_documents;
-  doc["topics"] = by_topic.to_json();
+  out.images = o.source.images;
+  out.documents = static_cast<std::int64_t>(test.corpus.num_documents());
+  out.empty_documents = r.summary.empty_documents;
+  out.topics = by_topic.to_json();
   std::vector<int> mapped;
   if (!o.map_with.empty()) {
     const features::ImageSet known = features::read_image_set(o.map_with);
@@ -147,7 +144,7 @@ void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaMo
     const Evaluation e = evaluate_model(model, labelled, test);
     out.report += evaluation_report("classification", e);
     mapped = mapped_classes(topic, e.mapping);
-    doc["mapped"] = evaluation_to_json(e);
+    out.mapped = evaluation_to_json(e);
   }
   if (o.out.empty()) return;
   std::string csv =
@@ -165,7 +162,7 @@ void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaMo
     csv += core::join_csv_line(row) + '\n';
   }
   core::write_file_atomic(o.out, csv);
-  doc["out"] = o.out.string();
+  out.out = o.out;
 }
 
 }  // namespace
@@ -248,18 +245,12 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   r.tokens = static_cast<long long>(corpus.num_tokens());
   r.report = core::printf_string("%s\ndocuments: %zu\ntokens: %lld\nmodel: %s\n", r.summary.c_str(),
                                  r.documents, r.tokens, options.model.c_str());
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.recognize.train", 1, provenance);
-  doc["model"] = options.model.string();
-  doc["vocabulary"] = options.vocabulary.string();
-  doc["source"] = source.images.empty() ? "episodes" : "images";
-  doc["method"] = core::choice_name(options.method, topics::kLdaMethodNames);
-  doc["topics"] = r.model.num_topics();
-  doc["words"] = r.model.num_words();
-  doc["documents"] = r.documents;
-  doc["tokens"] = r.tokens;
-  doc["frames"] = r.frames;
-  doc["summary"] = r.summary;
+  r.model_file = options.model;
+  r.vocabulary = options.vocabulary;
+  r.source = source.images.empty() ? "episodes" : "images";
+  r.method = options.method;
+  r.document = core::result_document("proprio.recognize.train", 1, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 
@@ -281,13 +272,14 @@ RecognizeClassifyResult run_recognize_classify(const RecognizeClassifyOptions& o
   const features::Vocabulary vocabulary = features::read_vocabulary(options.vocabulary);
   check_model_vocabulary(model, vocabulary, options.model);
   RecognizeClassifyResult out;
-  out.document = core::result_document("proprio.recognize.classify", 1, provenance);
-  out.document["model"] = options.model.string();
+  out.model = options.model;
   if (!options.source.episodes.empty()) {
     classify_episodes_into(options, model, vocabulary, out);
   } else {
     classify_images_into(options, model, vocabulary, out);
   }
+  out.document = core::result_document("proprio.recognize.classify", 1, provenance);
+  core::fields_into_json(out, out.document);
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/text.hpp"
 #include "proprio/geometry/image_file.hpp"
 
 namespace proprio::sim {
@@ -31,32 +32,6 @@ std::string vec(const Eigen::Ref<const Eigen::VectorXd>& v) {
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (i > 0) out += ' ';
     out += num(v[i]);
-  }
-  return out;
-}
-
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
   }
   return out;
 }
@@ -225,7 +200,8 @@ SceneModel build_scene(const SceneDescription& description, const ObjectCatalogu
   x << "<mujoco model=\"proprio_scene\">\n";
   if (!d.arm_model.empty()) {
     // The arm's own file references resolve beside it.
-    const std::string dir = xml_escape(fs::absolute(d.arm_model).parent_path().string() + "/");
+    const std::string dir =
+        core::markup_escape(fs::absolute(d.arm_model).parent_path().string() + "/");
     x << "  <compiler meshdir=\"" << dir << "\" texturedir=\"" << dir << "\"/>\n";
   }
   x << "  <option timestep=\"" << num(d.timestep) << "\"/>\n";
@@ -274,7 +250,8 @@ SceneModel build_scene(const SceneDescription& description, const ObjectCatalogu
   x << "  </asset>\n";
 
   if (!d.arm_model.empty()) {
-    x << "  <include file=\"" << xml_escape(fs::absolute(d.arm_model).string()) << "\"/>\n";
+    x << "  <include file=\"" << core::markup_escape(fs::absolute(d.arm_model).string())
+      << "\"/>\n";
   }
 
   x << "  <worldbody>\n";

@@ -19,16 +19,8 @@ SimRun run_sim_record(const RecordOptions& options, const std::filesystem::path&
       "episode: %s\n%s\nframes: %d\nseconds: %.3f\nfps: %.2f\nfirst touch: %s\n", out.c_str(),
       s.message.c_str(), s.frames, s.seconds, s.fps,
       s.first_touch_frame ? std::to_string(*s.first_touch_frame).c_str() : "none");
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.sim.record", 1, provenance);
-  doc["episode"] = out.string();
-  doc["scenario"] = options.scenario;
-  doc["switches"] = options.switches();
-  doc["frames"] = s.frames;
-  doc["seconds"] = s.seconds;
-  doc["fps"] = s.fps;
-  doc["first_touch_frame"] = s.first_touch_frame ? core::Json(*s.first_touch_frame) : core::Json();
-  doc["target_moved_m"] = s.target_moved;
+  r.document = core::result_document("proprio.sim.record", 1, provenance);
+  core::fields_into_json(SimRecordRecord{out, options.scenario, options.switches(), s}, r.document);
   return r;
 }
 
@@ -45,16 +37,9 @@ SimRun run_sim_calibrate(const SimCalibrationOptions& options, const std::filesy
                  c.summary.message.c_str(), c.summary.unreachable, c.summary.not_detected,
                  c.dlt.rms_px, c.true_error_px) +
              core::printf_string("calibration: %s\n", out.c_str());
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.sim.calibrate", 1, provenance);
-  doc["calib"] = out.string();
-  doc["grid"] = options.grid;
-  doc["grid_points"] = c.summary.grid_points;
-  doc["used"] = c.summary.used;
-  doc["unreachable"] = c.summary.unreachable;
-  doc["not_detected"] = c.summary.not_detected;
-  doc["rms_px"] = c.dlt.rms_px;
-  doc["true_error_px"] = c.true_error_px;
+  r.document = core::result_document("proprio.sim.calibrate", 1, provenance);
+  core::fields_into_json(
+      SimCalibrateRecord{out, options.grid, c.summary, c.dlt.rms_px, c.true_error_px}, r.document);
   return r;
 }
 
@@ -64,12 +49,9 @@ SimRun run_sim_views(const ViewsOptions& options, const std::filesystem::path& o
   const ViewsSummary s = render_views(out, options, catalogue);
   SimRun r;
   r.report = core::printf_string("views: %s\n%s\n", out.c_str(), s.message.c_str());
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.sim.views", 1, provenance);
-  doc["out"] = out.string();
-  doc["objects"] = options.objects;
-  doc["per_object"] = options.per_object;
-  doc["images"] = s.images;
+  r.document = core::result_document("proprio.sim.views", 1, provenance);
+  core::fields_into_json(SimViewsRecord{out, options.objects, options.per_object, s.images},
+                         r.document);
   return r;
 }
 

@@ -3,8 +3,10 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <string_view>
 #include <vector>
 
+#include "proprio/core/checkpoint.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -22,21 +24,43 @@ std::vector<fs::path> corpus_inputs(const fs::path& corpus, CorpusFormat format)
   return {corpus, files.file, files.vocabulary};
 }
 
-// The options as they were used: alpha and eta resolved (0 means 1/K).
-core::Json used_options_json(OnlineLdaOptions o) {
-  o.alpha = o.resolved_alpha();
-  o.eta = o.resolved_eta();
-  return core::fields_to_json(o);
+// What training reads: the corpus's files and the held-out corpus's.
+std::vector<fs::path> training_inputs(const LdaTrainingOptions& options) {
+  std::vector<fs::path> inputs = corpus_inputs(options.corpus, options.format);
+  if (!options.heldout.empty()) {
+    const auto more = corpus_inputs(options.heldout, options.format);
+    inputs.insert(inputs.end(), more.begin(), more.end());
+  }
+  return inputs;
 }
 
-core::Json trace_json(const std::vector<PerplexityPoint>& trace) {
-  core::Json out = core::Json::array();
-  for (const auto& p : trace) {
-    out.push_back({{"updates", p.updates},
-                   {"documents_seen", p.documents_seen},
-                   {"perplexity", p.perplexity}});
+// The held-out corpus; Error naming it unless it has the training corpus's `words`.
+Corpus read_heldout(const LdaTrainingOptions& options, std::int32_t words) {
+  Corpus heldout = read_corpus(options.heldout, options.format);
+  if (heldout.num_words() != words) {
+    throw Error::in_file(options.heldout, "has " + std::to_string(heldout.num_words()) +
+                                              " words, the training corpus " +
+                                              std::to_string(words));
   }
-  return out;
+  return heldout;
+}
+
+// The options as they were used: alpha and eta resolved (0 means 1/K).
+OnlineLdaOptions used_options(OnlineLdaOptions o) {
+  o.alpha = o.resolved_alpha();
+  o.eta = o.resolved_eta();
+  return o;
+}
+
+// The record's fields every method shares.
+void describe_run(const LdaTrainingOptions& options, std::int64_t documents, std::int64_t words,
+                  LdaTrainingResult& r) {
+  r.corpus = options.corpus;
+  r.method = options.method;
+  r.model_file = options.model;
+  r.documents_in_corpus = documents;
+  r.words = words;
+  r.options = used_options(options.online);
 }
 
 void train_online(const LdaTrainingOptions& o, const Corpus& corpus, const Corpus* heldout,
@@ -44,22 +68,7 @@ void train_online(const LdaTrainingOptions& o, const Corpus& corpus, const Corpu
   const OnlineLdaResult t = train_online_lda(corpus, heldout, o.online, o.checkpointing);
   const OnlineLdaSummary& s = t.summary;
   r.brief = s.brief();
-  core::Json& doc = r.document;
-  doc["seconds"] = s.seconds;
-  doc["cpu_seconds"] = s.cpu_seconds;
-  doc["docs_per_s"] = s.documents_per_second();
-  doc["tokens_per_s"] = s.tokens_per_second();
-  doc["documents"] = s.documents;
-  doc["tokens"] = s.tokens;
-  doc["updates"] = s.updates;
-  doc["passes"] = s.passes;
-  doc["threads"] = s.threads;
-  doc["kernel"] = s.kernel;
-  doc["mean_estep_iterations"] = s.mean_estep_iterations;
-  doc["estep_capped"] = s.capped;
-  doc["evaluation_seconds"] = s.evaluation_seconds;
-  doc["perplexity_trace"] = trace_json(s.trace);
-  if (!s.trace.empty()) doc["heldout_perplexity"] = s.trace.back().perplexity;
+  r.online = s;
   r.model = t.model;
 }
 
@@ -77,17 +86,12 @@ void train_batch(const LdaTrainingOptions& o, const Corpus& corpus, const Corpus
   const BatchLdaResult t = train_batch_lda(corpus, b);
   const BatchLdaSummary& s = t.summary;
   r.brief = s.brief();
-  core::Json& doc = r.document;
-  doc["seconds"] = s.seconds;
+  LdaBatchRecord& rec = r.batch.emplace();
+  rec.summary = s;
   const double docs = static_cast<double>(corpus.num_documents()) * s.iterations;
   const double tokens = static_cast<double>(corpus.num_tokens()) * s.iterations;
-  doc["docs_per_s"] = s.seconds > 0 ? docs / s.seconds : 0.0;
-  doc["tokens_per_s"] = s.seconds > 0 ? tokens / s.seconds : 0.0;
-  doc["iterations"] = s.iterations;
-  doc["converged"] = s.converged;
-  doc["stop_reason"] = s.stop_reason;
-  doc["bound"] = s.bound;
-  doc["perplexity_trace"] = core::Json::array();
+  rec.docs_per_s = s.seconds > 0 ? docs / s.seconds : 0.0;
+  rec.tokens_per_s = s.seconds > 0 ? tokens / s.seconds : 0.0;
   r.model = t.model;
   if (heldout != nullptr) {
     PerplexityOptions po;
@@ -96,7 +100,7 @@ void train_batch(const LdaTrainingOptions& o, const Corpus& corpus, const Corpus
     char line[64];
     std::snprintf(line, sizeof line, "\nheld-out perplexity %g", p);
     r.brief += line;
-    doc["heldout_perplexity"] = p;
+    rec.heldout_perplexity = p;
   }
 }
 
@@ -136,11 +140,7 @@ void LdaTrainingOptions::validate() const {
 LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
                                    const core::Provenance& provenance) {
   options.validate();
-  std::vector<fs::path> inputs = corpus_inputs(options.corpus, options.format);
-  if (!options.heldout.empty()) {
-    const auto more = corpus_inputs(options.heldout, options.format);
-    inputs.insert(inputs.end(), more.begin(), more.end());
-  }
+  const std::vector<fs::path> inputs = training_inputs(options);
   core::require_output_not_input(options.model, inputs, "--model");
   if (!options.checkpointing.checkpoint.empty()) {
     std::vector<fs::path> not_checkpoint = inputs;
@@ -154,28 +154,18 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
   const Corpus corpus = read_corpus(options.corpus, options.format);
   std::optional<Corpus> heldout;
   if (!options.heldout.empty()) {
-    heldout = read_corpus(options.heldout, options.format);
-    if (heldout->num_words() != corpus.num_words()) {
-      throw Error::in_file(options.heldout, "has " + std::to_string(heldout->num_words()) +
-                                                " words, the training corpus " +
-                                                std::to_string(corpus.num_words()));
-    }
+    heldout = read_heldout(options, corpus.num_words());
   }
   LdaTrainingResult r;
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.lda.train", 1, provenance);
-  doc["corpus"] = options.corpus.string();
-  doc["method"] = core::choice_name(options.method, kLdaMethodNames);
-  doc["model"] = options.model.string();
-  doc["documents_in_corpus"] = corpus.num_documents();
-  doc["words"] = corpus.num_words();
-  doc["options"] = used_options_json(options.online);
+  describe_run(options, static_cast<std::int64_t>(corpus.num_documents()), corpus.num_words(), r);
   const Corpus* held = heldout ? &*heldout : nullptr;
   if (options.method == LdaMethod::kOnline) {
     train_online(options, corpus, held, r);
   } else {
     train_batch(options, corpus, held, r);
   }
+  r.document = core::result_document("proprio.lda.train", 1, provenance);
+  core::fields_into_json(r, r.document);
   if (!options.model.empty()) save_lda_model(r.model, options.model);
   return r;
 }
@@ -184,10 +174,9 @@ namespace {
 
 // FNV-1a over the bytes of lambda: the ranks' models compared after training.
 std::int64_t lambda_checksum(const Eigen::MatrixXd& lambda) {
-  std::uint64_t h = 14695981039346656037ULL;
-  const auto* p = reinterpret_cast<const unsigned char*>(lambda.data());
-  const auto n = static_cast<std::size_t>(lambda.size()) * sizeof(double);
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+  const std::uint64_t h =
+      core::fnv1a(std::string_view(reinterpret_cast<const char*>(lambda.data()),
+                                   static_cast<std::size_t>(lambda.size()) * sizeof(double)));
   std::int64_t out = 0;
   std::memcpy(&out, &h, sizeof out);
   return out;
@@ -214,20 +203,10 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
     if (!options.checkpointing.checkpoint.empty() || !options.checkpointing.resume.empty()) {
       throw Error("lda train: --checkpoint and --resume run in one process, not under mpirun");
     }
-    std::vector<fs::path> inputs = corpus_inputs(options.corpus, options.format);
-    if (!options.heldout.empty()) {
-      const auto more = corpus_inputs(options.heldout, options.format);
-      inputs.insert(inputs.end(), more.begin(), more.end());
-    }
-    core::require_output_not_input(options.model, inputs, "--model");
+    core::require_output_not_input(options.model, training_inputs(options), "--model");
     shard = read_corpus_shard(options.corpus, options.format, rank, ranks);
     if (rank == 0 && !options.heldout.empty()) {
-      heldout = read_corpus(options.heldout, options.format);
-      if (heldout->num_words() != shard.documents.num_words()) {
-        throw Error::in_file(options.heldout, "has " + std::to_string(heldout->num_words()) +
-                                                  " words, the training corpus " +
-                                                  std::to_string(shard.documents.num_words()));
-      }
+      heldout = read_heldout(options, shard.documents.num_words());
     }
   });
   // The ranks must have read the same corpus: its size, checksum, D, W and tokens.
@@ -253,35 +232,15 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
         std::to_string(ranks) + " MPI ranks: run at most one rank per document");
   }
   LdaTrainingResult r;
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.lda.train", 1, provenance);
-  doc["corpus"] = options.corpus.string();
-  doc["method"] = core::choice_name(options.method, kLdaMethodNames);
-  doc["model"] = options.model.string();
-  doc["documents_in_corpus"] = shard.total_documents;
-  doc["words"] = shard.documents.num_words();
-  doc["options"] = used_options_json(options.online);
+  describe_run(options, shard.total_documents, shard.documents.num_words(), r);
   const OnlineLdaResult t =
       train_online_lda(shard, heldout ? &*heldout : nullptr, options.online, comm);
-  const OnlineLdaSummary& s = t.summary;
-  r.brief = s.brief();
-  doc["seconds"] = s.seconds;
-  doc["cpu_seconds"] = s.cpu_seconds;
-  doc["docs_per_s"] = s.documents_per_second();
-  doc["tokens_per_s"] = s.tokens_per_second();
-  doc["documents"] = s.documents;
-  doc["tokens"] = s.tokens;
-  doc["updates"] = s.updates;
-  doc["passes"] = s.passes;
-  doc["threads"] = s.threads;
-  doc["kernel"] = s.kernel;
-  doc["mean_estep_iterations"] = s.mean_estep_iterations;
-  doc["estep_capped"] = s.capped;
-  doc["evaluation_seconds"] = s.evaluation_seconds;
-  doc["perplexity_trace"] = trace_json(s.trace);
-  if (!s.trace.empty()) doc["heldout_perplexity"] = s.trace.back().perplexity;
-  doc["ranks"] = ranks;
+  r.brief = t.summary.brief();
+  r.online = t.summary;
+  r.ranks = ranks;
   r.model = t.model;
+  r.document = core::result_document("proprio.lda.train", 1, provenance);
+  core::fields_into_json(r, r.document);
   // The last collective step: every rank holds the same model, or the job stops here.
   std::vector<std::int64_t> mlo{lambda_checksum(r.model.lambda)};
   std::vector<std::int64_t> mhi = mlo;
@@ -327,16 +286,13 @@ LdaInferenceResult run_lda_inference(const LdaInferenceOptions& options,
       row.push_back(theta(static_cast<Eigen::Index>(d), k));
   }
   core::write_file_atomic(options.out, core::format_csv(header, rows));
-  LdaInferenceResult out{r.summary, core::result_document("proprio.lda.infer", 1, provenance)};
-  core::Json& doc = out.document;
-  doc["model"] = options.model.string();
-  doc["corpus"] = options.corpus.string();
-  doc["out"] = options.out.string();
-  doc["documents"] = r.summary.documents;
-  doc["empty_documents"] = r.summary.empty_documents;
-  doc["mean_estep_iterations"] = r.summary.mean_iterations;
-  doc["estep_capped"] = r.summary.capped;
-  doc["seconds"] = r.summary.seconds;
+  LdaInferenceResult out;
+  out.model = options.model;
+  out.corpus = options.corpus;
+  out.out = options.out;
+  out.summary = r.summary;
+  out.document = core::result_document("proprio.lda.infer", 1, provenance);
+  core::fields_into_json(out, out.document);
   return out;
 }
 
@@ -368,19 +324,13 @@ LdaPerplexityResult run_lda_perplexity(const LdaPerplexityOptions& options,
                                                options.eta > 0 ? options.eta : options.alpha);
   const Corpus corpus = read_corpus(options.corpus, options.format);
   check_corpus_matches_model(model, corpus, options.corpus);
-  LdaPerplexityResult out{perplexity(model, corpus, options.perplexity),
-                          core::result_document("proprio.lda.perplexity", 1, provenance)};
-  const PerplexityResult& r = out.perplexity;
-  core::Json& doc = out.document;
-  doc["model"] = (options.model.empty() ? options.lambda : options.model).string();
-  doc["corpus"] = options.corpus.string();
-  doc["method"] = to_string(r.method);
-  doc["perplexity"] = r.perplexity;
-  doc["log_likelihood"] = r.log_likelihood;
-  doc["tokens"] = r.tokens;
-  doc["documents"] = r.documents;
-  doc["alpha"] = model.alpha;
-  doc["seconds"] = r.seconds;
+  LdaPerplexityResult out;
+  out.perplexity = perplexity(model, corpus, options.perplexity);
+  out.model = options.model.empty() ? options.lambda : options.model;
+  out.corpus = options.corpus;
+  out.alpha = model.alpha;
+  out.document = core::result_document("proprio.lda.perplexity", 1, provenance);
+  core::fields_into_json(out, out.document);
   return out;
 }
 
@@ -389,24 +339,24 @@ LdaTopWords run_lda_top_words(const std::filesystem::path& model_file, int top,
   if (top < 1) throw Error("lda topics: --top must be >= 1");
   const LdaModel model = load_lda_model(model_file);
   const Eigen::MatrixXd beta = model.topic_word();
-  LdaTopWords out{{}, core::result_document("proprio.lda.topics", 1, provenance)};
-  core::Json topics = core::Json::array();
+  LdaTopWords out;
+  out.model = model_file;
   for (int k = 0; k < model.num_topics(); ++k) {
     std::string line = "topic " + std::to_string(k) + ":";
-    core::Json words = core::Json::array();
+    LdaTopWords::Topic& topic = out.topics.emplace_back();
+    topic.topic = k;
     for (const int w : model.top_words(k, top)) {
       const std::string name = model.vocabulary.empty()
                                    ? std::to_string(w)
                                    : model.vocabulary[static_cast<std::size_t>(w)];
       line += ' ';
       line += name;
-      words.push_back({{"word", name}, {"id", w}, {"probability", beta(k, w)}});
+      topic.words.push_back({name, w, beta(k, w)});
     }
     out.lines.push_back(line);
-    topics.push_back({{"topic", k}, {"words", words}});
   }
-  out.document["model"] = model_file.string();
-  out.document["topics"] = topics;
+  out.document = core::result_document("proprio.lda.topics", 1, provenance);
+  core::fields_into_json(out, out.document);
   return out;
 }
 

@@ -33,6 +33,44 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// Throws Error unless the held-out corpus (when there is one) has the training corpus's words.
+void check_heldout_words(const Corpus* heldout, std::int32_t words) {
+  if (heldout != nullptr && heldout->num_words() != words) {
+    throw Error("online LDA: the held-out corpus has " + std::to_string(heldout->num_words()) +
+                " words, the training corpus " + std::to_string(words));
+  }
+}
+
+// The held-out perplexity trace (Fig 6-7) of one training run: the document-completion split is
+// made once; each evaluation appends a point to the summary and counts its time.
+class HeldoutTrace {
+ public:
+  HeldoutTrace(const Corpus* heldout, const OnlineLdaOptions& options)
+      : heldout_(heldout),
+        eval_(options.evaluation),
+        active_(heldout != nullptr && heldout->num_tokens() > 0) {
+    eval_.threads = options.threads;
+    if (active_ && eval_.method == PerplexityMethod::kDocumentCompletion) {
+      split_ = split_for_completion(*heldout, eval_.split_seed);
+    }
+  }
+  [[nodiscard]] bool active() const { return active_; }
+  void evaluate(const LdaModel& model, OnlineLdaSummary& s) const {
+    const auto t0 = Clock::now();
+    const PerplexityResult p = eval_.method == PerplexityMethod::kDocumentCompletion
+                                   ? completion_perplexity(model, split_, eval_)
+                                   : perplexity(model, *heldout_, eval_);
+    s.trace.push_back({model.updates, s.documents, p.perplexity});
+    s.evaluation_seconds += since(t0);
+  }
+
+ private:
+  const Corpus* heldout_;
+  PerplexityOptions eval_;
+  bool active_;
+  CompletionSplit split_;
+};
+
 double process_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
@@ -733,10 +771,7 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineL
   if (checkpointing != nullptr) checkpointing->validate();
   if (corpus.num_documents() == 0) throw Error("online LDA: the training corpus is empty");
   if (corpus.num_words() < 1) throw Error("online LDA: the vocabulary is empty");
-  if (heldout != nullptr && heldout->num_words() != corpus.num_words()) {
-    throw Error("online LDA: the held-out corpus has " + std::to_string(heldout->num_words()) +
-                " words, the training corpus " + std::to_string(corpus.num_words()));
-  }
+  check_heldout_words(heldout, corpus.num_words());
   const std::int64_t D = options.total_documents > 0
                              ? options.total_documents
                              : static_cast<std::int64_t>(corpus.num_documents());
@@ -766,21 +801,9 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineL
   s.threads = options.threads;
   s.kernel = lda.kernel();
 
-  const bool trace = heldout != nullptr && heldout->num_tokens() > 0;
-  CompletionSplit split;
-  PerplexityOptions eval = options.evaluation;
-  eval.threads = options.threads;
-  if (trace && eval.method == PerplexityMethod::kDocumentCompletion) {
-    split = split_for_completion(*heldout, eval.split_seed);
-  }
-  auto evaluate = [&] {
-    const auto t0 = Clock::now();
-    const PerplexityResult p = eval.method == PerplexityMethod::kDocumentCompletion
-                                   ? completion_perplexity(lda.model(), split, eval)
-                                   : perplexity(lda.model(), *heldout, eval);
-    s.trace.push_back({lda.model().updates, s.documents, p.perplexity});
-    s.evaluation_seconds += since(t0);
-  };
+  const HeldoutTrace heldout_trace(heldout, options);
+  const bool trace = heldout_trace.active();
+  auto evaluate = [&] { heldout_trace.evaluate(lda.model(), s); };
   if (trace && !resuming) evaluate();
 
   std::int64_t nonempty = 0;
@@ -858,10 +881,7 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   const Corpus& local = shard.documents;
   if (shard.total_documents == 0) throw Error("online LDA: the training corpus is empty");
   if (local.num_words() < 1) throw Error("online LDA: the vocabulary is empty");
-  if (heldout != nullptr && heldout->num_words() != local.num_words()) {
-    throw Error("online LDA: the held-out corpus has " + std::to_string(heldout->num_words()) +
-                " words, the training corpus " + std::to_string(local.num_words()));
-  }
+  check_heldout_words(heldout, local.num_words());
   const std::int64_t D =
       options.total_documents > 0 ? options.total_documents : shard.total_documents;
   OnlineLda lda(options, local.num_words(), D, local.vocabulary());
@@ -871,13 +891,8 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   s.threads = options.threads;
   s.kernel = lda.kernel();
 
-  const bool trace = heldout != nullptr && heldout->num_tokens() > 0;
-  CompletionSplit split;
-  PerplexityOptions eval = options.evaluation;
-  eval.threads = options.threads;
-  if (trace && eval.method == PerplexityMethod::kDocumentCompletion) {
-    split = split_for_completion(*heldout, eval.split_seed);
-  }
+  const HeldoutTrace heldout_trace(heldout, options);
+  const bool trace = heldout_trace.active();
   // Only the ranks given the held-out corpus (rank 0 in `lda train`) score it, but split by topic
   // every rank takes part in gathering the model for it: the points where it is scored are the
   // same on every rank.
@@ -885,15 +900,9 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   comm.allreduce_max(traced);
   std::int64_t scored_at = -1;
   auto evaluate = [&] {
-    const auto t0 = Clock::now();
     lda.gather_topics(comm);
     scored_at = lda.model().updates;
-    if (!trace) return;
-    const PerplexityResult p = eval.method == PerplexityMethod::kDocumentCompletion
-                                   ? completion_perplexity(lda.model(), split, eval)
-                                   : perplexity(lda.model(), *heldout, eval);
-    s.trace.push_back({lda.model().updates, s.documents, p.perplexity});
-    s.evaluation_seconds += since(t0);
+    if (trace) heldout_trace.evaluate(lda.model(), s);
   };
   if (traced[0] != 0) evaluate();
 

@@ -7,6 +7,7 @@
 
 #include "../geometry/synthetic.hpp"
 #include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/files.hpp"
@@ -22,14 +23,8 @@ using test::run_cli;
 // A temporary folder per test, removed at the end.
 class CalibCli : public ::testing::Test {
  protected:
-  fs::path dir_ = fs::temp_directory_path() /
-                  ("proprio_calib_cli_" +
-                   std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-  void SetUp() override {
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  test::TempDir temp_{"proprio_calib_cli_"};
+  fs::path dir_ = temp_.path();
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) const {
     core::write_file_atomic(dir_ / name, text);

@@ -5,9 +5,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
-#include "cli_run.hpp"
 #include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
+#include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
 
 namespace proprio {
@@ -19,16 +21,10 @@ using test::run_cli;
 class InterceptCli : public ::testing::Test {
  protected:
   // One small cache (4 precision samples) for the whole suite.
-  static fs::path& dir() {
-    static fs::path d =
-        fs::temp_directory_path() / ("proprio_intercept_cli_" + std::to_string(::getpid()));
-    return d;
-  }
-  static void SetUpTestSuite() {
-    fs::remove_all(dir());
-    fs::create_directories(dir());
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir()); }
+  static const fs::path& dir() { return temp_->path(); }
+  static void SetUpTestSuite() { temp_.emplace("proprio_intercept_cli"); }
+  static void TearDownTestSuite() { temp_.reset(); }
+  static std::optional<test::TempDir> temp_;
   static std::string path(const std::string& name) { return (dir() / name).string(); }
   static std::string setup() { return " --precision-samples 4 --cache " + path("grid.json"); }
   static void expect_error(const test::CliResult& r, std::initializer_list<std::string> expect) {
@@ -37,6 +33,7 @@ class InterceptCli : public ::testing::Test {
     for (const auto& e : expect) EXPECT_NE(r.err.find(e), std::string::npos) << r.err;
   }
 };
+std::optional<test::TempDir> InterceptCli::temp_;
 
 using test::expect_schema_valid;
 

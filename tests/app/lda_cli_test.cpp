@@ -6,9 +6,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "../support/named_corpus.hpp"
 #include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/json_io.hpp"
@@ -28,8 +30,8 @@ using test::expect_schema_valid;
 class LdaCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("proprio_lda_cli_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
+    temp_.emplace("proprio_lda_cli");
+    dir_ = temp_->path();
     topics::SyntheticCorpusOptions o;
     o.num_topics = 5;
     o.num_words = 120;
@@ -47,11 +49,13 @@ class LdaCli : public ::testing::Test {
                            (dir_ / "m.lda").string() + " --json " + (dir_ / "train.json").string());
     ASSERT_EQ(r.code, 0) << r.err;
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static void TearDownTestSuite() { temp_.reset(); }
 
   static std::string d(const std::string& name) { return (dir_ / name).string(); }
+  static std::optional<test::TempDir> temp_;
   static fs::path dir_;
 };
+std::optional<test::TempDir> LdaCli::temp_;
 fs::path LdaCli::dir_;
 
 TEST_F(LdaCli, TrainWritesAModelAndTimings) {

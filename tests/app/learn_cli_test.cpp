@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
 
@@ -21,14 +23,13 @@ using proprio::test::run_cli;
 
 class LearnCli : public ::testing::Test {
  protected:
-  static void TearDownTestSuite() { fs::remove_all(dir()); }
+  static void SetUpTestSuite() { temp_.emplace("proprio_learn_cli"); }
+  static void TearDownTestSuite() { temp_.reset(); }
   static std::string file(const std::string& name) { return (dir() / name).string(); }
-  static const fs::path& dir() {
-    static const fs::path kDir =
-        fs::temp_directory_path() / ("proprio_learn_cli_" + std::to_string(getpid()));
-    return kDir;
-  }
+  static const fs::path& dir() { return temp_->path(); }
+  static std::optional<test::TempDir> temp_;
 };
+std::optional<test::TempDir> LearnCli::temp_;
 
 TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   fs::create_directories(dir());
@@ -46,7 +47,8 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   EXPECT_FALSE(fs::exists(run / "INCOMPLETE"));
   EXPECT_TRUE(fs::exists(run / "decisions.jsonl"));
   EXPECT_TRUE(fs::exists(run / "table.png"));
-  ASSERT_EQ(j["objects"].size(), 1U);
+  // The robot learns what lies on the table, the clutter too (--learn-clutter, the default).
+  ASSERT_EQ(j["objects"].size(), 2U);
   EXPECT_EQ(j["objects"][0]["class"], "object_1");
   EXPECT_TRUE(j["options"].contains("objects"));
   EXPECT_TRUE(j["timing"].is_array());

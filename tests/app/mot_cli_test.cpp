@@ -8,9 +8,11 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 
 #include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/csv.hpp"
 #include "proprio/core/files.hpp"
@@ -32,8 +34,8 @@ const char* kClasses[] = {"baboon", "fruits", "building"};
 class MotCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("proprio_mot_cli_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
+    temp_.emplace("proprio_mot_cli");
+    dir_ = temp_->path();
     // 3 objects x 10 images of 96 x 96: crops of one photograph per object.
     cv::RNG rng(1);
     cv::Mat d;
@@ -63,14 +65,16 @@ class MotCli : public ::testing::Test {
       ASSERT_EQ(r.code, 0) << r.err;
     }
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static void TearDownTestSuite() { temp_.reset(); }
   static std::string file(const std::string& name) { return (dir_ / name).string(); }
   static std::string inputs(const std::string& lda = "m1.lda") {
     return " --lda-model " + file(lda) + " --vocabulary " + file("v.vocab") + " --images " +
            file("images");
   }
+  static std::optional<test::TempDir> temp_;
   static fs::path dir_;
 };
+std::optional<test::TempDir> MotCli::temp_;
 fs::path MotCli::dir_;
 
 TEST_F(MotCli, TrainClassifyAndInfo) {

@@ -18,16 +18,34 @@ namespace fs = std::filesystem;
 using test::line_count;
 using test::run_cli;
 
-TEST(OutputsCli, AnOutputThatIsAnInputIsRefusedByEveryWriter) {
-  const test::TempDir dir("proprio_outputs_cli_");
-  auto file = [&](const std::string& name) {
+// A scratch directory with an image folder (images/a/x.png) and input files made on request.
+class OutputsCli : public ::testing::Test {
+ protected:
+  OutputsCli() {
+    fs::create_directories(dir.path() / "images" / "a");
+    core::write_file_atomic(dir.path() / "images" / "a" / "x.png", "not read");
+  }
+  /// An input file `name` holding "input NAME" (made on first use), as a path string.
+  std::string file(const std::string& name) const {
     const fs::path p = dir.path() / name;
     if (!fs::exists(p)) core::write_file_atomic(p, "input " + name + "\n");
     return p.string();
-  };
+  }
+  /// Each command exits 2 with one line on stderr that holds its expected words.
+  static void expect_refused(const std::vector<std::pair<std::string, std::string>>& cases) {
+    for (const auto& [args, expect] : cases) {
+      const auto r = run_cli(args);
+      EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+      EXPECT_EQ(line_count(r.err), 1) << args << "\n" << r.err;
+      EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+    }
+  }
+
+  const test::TempDir dir{"proprio_outputs_cli_"};
   const std::string images = (dir.path() / "images").string();
-  fs::create_directories(dir.path() / "images" / "a");
-  core::write_file_atomic(dir.path() / "images" / "a" / "x.png", "not read");
+};
+
+TEST_F(OutputsCli, AnOutputThatIsAnInputIsRefusedByEveryWriter) {
   const std::string c1 = file("c1.yml");
   const std::string c2 = file("c2.yml");
   const std::string pts = file("pts.csv");
@@ -66,12 +84,7 @@ TEST(OutputsCli, AnOutputThatIsAnInputIsRefusedByEveryWriter) {
       {"sim record --out " + (dir.path() / "ep").string() + " --json " + video,
        "--json is the same file as"},
   };
-  for (const auto& [args, expect] : cases) {
-    const auto r = run_cli(args);
-    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
-    EXPECT_EQ(line_count(r.err), 1) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
-  }
+  expect_refused(cases);
   for (const auto& name : {"c1.yml", "c2.yml", "pts.csv", "m.lda", "v.vocab"}) {
     EXPECT_EQ(core::read_file(dir.path() / name), std::string("input ") + name + "\n") << name;
   }
@@ -81,16 +94,7 @@ TEST(OutputsCli, AnOutputThatIsAnInputIsRefusedByEveryWriter) {
 
 // mot, push and selfsupervise (issue 16): outputs that are inputs (also through a link), and
 // --overwrite of a directory none of them wrote, are refused before any work; nothing is touched.
-TEST(OutputsCli, MotPushAndSelfsuperviseRefuseInputsAsOutputsAndForeignDirectories) {
-  const test::TempDir dir("proprio_outputs_cli_");
-  auto file = [&](const std::string& name) {
-    const fs::path p = dir.path() / name;
-    if (!fs::exists(p)) core::write_file_atomic(p, "input " + name + "\n");
-    return p.string();
-  };
-  const std::string images = (dir.path() / "images").string();
-  fs::create_directories(dir.path() / "images" / "a");
-  core::write_file_atomic(dir.path() / "images" / "a" / "x.png", "not read");
+TEST_F(OutputsCli, MotPushAndSelfsuperviseRefuseInputsAsOutputsAndForeignDirectories) {
   const std::string lda = file("m.lda");
   const std::string vocab = file("v.vocab");
   const std::string mot = file("o.mot");
@@ -135,12 +139,7 @@ TEST(OutputsCli, MotPushAndSelfsuperviseRefuseInputsAsOutputsAndForeignDirectori
            " --overwrite",
        "not a directory proprio selfsupervise wrote"},
   };
-  for (const auto& [args, expect] : cases) {
-    const auto r = run_cli(args);
-    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
-    EXPECT_EQ(line_count(r.err), 1) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
-  }
+  expect_refused(cases);
   for (const auto& name : {"m.lda", "v.vocab", "o.mot", "i.png"}) {
     EXPECT_EQ(core::read_file(dir.path() / name), std::string("input ") + name + "\n") << name;
   }

@@ -156,7 +156,7 @@ class OverwriteCli : public ::testing::Test {
 TEST_F(OverwriteCli, PushReplacesTheOlderRunWholeAndAKilledPushLeavesIt) {
   const test::TempDir parent("proprio_overwrite_push_");
   expect_replaced_whole(
-      "push --objects 5 --seed 5 --object box --target-x 0.205 --target-y 0.017 --max-pushes 1 "
+      "push --objects 5 --seed 6 --object bike --target-x 0.205 --target-y 0.017 --max-pushes 1 "
       "--fps 5 --width 320 --height 240",
       parent.path(), "push.json");
 }

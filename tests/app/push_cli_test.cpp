@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
 
@@ -16,19 +17,13 @@ using proprio::test::run_cli;
 #define EXPECT_HAS(haystack, needle) \
   EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << (haystack)
 
-fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() / ("proprio_push_cli_" + std::to_string(getpid()));
-  fs::create_directories(d);
-  return d;
-}
-
 TEST(PushCli, PushesTheNamedObjectAndWritesWhatHappened) {
-  const fs::path out = temp_dir() / "push";
-  const fs::path json = temp_dir() / "push.json";
-  fs::remove_all(out);
-  // A table where the bike is pushed alone and ends within 2 cm of the target (seed 10).
+  const test::TempDir dir("proprio_push_cli_");
+  const fs::path out = dir.path() / "push";
+  const fs::path json = dir.path() / "push.json";
+  // A table where the bike is pushed alone and ends within 2 cm of the target (seed 6).
   const auto r = run_cli(
-      "push --objects 5 --seed 10 --object bike --target-x 0.205 --target-y 0.017 --fps 5 --out " +
+      "push --objects 5 --seed 6 --object bike --target-x 0.205 --target-y 0.017 --fps 5 --out " +
       out.string() + " --json " + json.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "bike ended");
@@ -49,13 +44,13 @@ TEST(PushCli, PushesTheNamedObjectAndWritesWhatHappened) {
        {"before.png", "plan.png", "after.png", "push.json", "episode/episode.json"}) {
     EXPECT_TRUE(fs::exists(out / f)) << f;
   }
-  fs::remove_all(out);
 }
 
 TEST(PushCli, OffTableTargetIsAnOutcomeNotACrash) {
-  const fs::path json = temp_dir() / "off.json";
+  const test::TempDir dir("proprio_push_cli_");
+  const fs::path json = dir.path() / "off.json";
   const auto r =
-      run_cli("push --objects 5 --seed 10 --object bike --target-x 1.5 --target-y 0.0 --json " +
+      run_cli("push --objects 5 --seed 6 --object bike --target-x 1.5 --target-y 0.0 --json " +
               json.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "not-planned");
@@ -76,7 +71,8 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
 }
 
 TEST(PushCli, EvaluatesAFewTables) {
-  const fs::path json = temp_dir() / "eval.json";
+  const test::TempDir dir("proprio_push_cli_");
+  const fs::path json = dir.path() / "eval.json";
   const auto r =
       run_cli("evaluate push --tables 3 --width 320 --height 240 --json " + json.string());
   ASSERT_EQ(r.code, 0) << r.err;

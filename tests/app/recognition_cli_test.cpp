@@ -8,10 +8,12 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 
 #include "../support/schema_check.hpp"
 #include "../support/synthetic_episode.hpp"
+#include "../support/temp_dir.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/episode/episode_writer.hpp"
@@ -52,8 +54,8 @@ cv::Mat photo(int c) {
 class RecognitionCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("proprio_recognition_cli_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
+    temp_.emplace("proprio_recognition_cli");
+    dir_ = temp_->path();
     // 4 classes x 6 images of 96 x 96: crops of one photograph per class.
     cv::RNG rng(1);
     for (int c = 0; c < 4; ++c) {
@@ -78,11 +80,13 @@ class RecognitionCli : public ::testing::Test {
     features::write_vocabulary(dir_ / "v.vocab", features::build_vocabulary(d, k).vocabulary,
                                core::Provenance::current({"recognition_cli_test"}, 1));
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static void TearDownTestSuite() { temp_.reset(); }
+  static std::optional<test::TempDir> temp_;
   static fs::path dir_;
   std::string images() const { return (dir_ / "images").string(); }
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
 };
+std::optional<test::TempDir> RecognitionCli::temp_;
 fs::path RecognitionCli::dir_;
 
 TEST_F(RecognitionCli, DictionaryExperimentPrintsFourMatricesAndValidJson) {

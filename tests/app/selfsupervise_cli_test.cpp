@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <string>
 
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
@@ -29,8 +31,7 @@ using proprio::test::run_cli;
 class SelfSuperviseCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    fs::remove_all(dir());
-    fs::create_directories(dir());
+    temp_.emplace("proprio_selfsup_cli");
     const cv::Mat img =
         cv::imread(std::string(PROPRIO_OPENCV_SAMPLES) + "/fruits.jpg", cv::IMREAD_COLOR);
     ASSERT_FALSE(img.empty());
@@ -56,17 +57,15 @@ class SelfSuperviseCli : public ::testing::Test {
     m.lambda.rightCols(1).setOnes();
     topics::save_lda_model(m, dir() / "other.lda");
   }
-  static void TearDownTestSuite() { fs::remove_all(dir()); }
+  static void TearDownTestSuite() { temp_.reset(); }
   static std::string file(const std::string& name) { return (dir() / name).string(); }
   static std::string inputs(const std::string& lda = "m.lda") {
     return " --model " + file(lda) + " --vocabulary " + file("v.vocab");
   }
-  static const fs::path& dir() {
-    static const fs::path kDir =
-        fs::temp_directory_path() / ("proprio_selfsup_cli_" + std::to_string(getpid()));
-    return kDir;
-  }
+  static const fs::path& dir() { return temp_->path(); }
+  static std::optional<test::TempDir> temp_;
 };
+std::optional<test::TempDir> SelfSuperviseCli::temp_;
 
 TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   const auto r = run_cli(

@@ -5,8 +5,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/features/vocabulary.hpp"
@@ -22,8 +24,8 @@ using test::run_cli;
 class VocabCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("proprio_vocab_cli_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
+    temp_.emplace("proprio_vocab_cli");
+    dir_ = temp_->path();
     const fs::path samples = PROPRIO_OPENCV_SAMPLES;
     const std::vector<std::pair<std::string, std::vector<std::string>>> set{
         {"fruit", {"apple.jpg", "orange.jpg", "fruits.jpg"}},
@@ -33,9 +35,11 @@ class VocabCli : public ::testing::Test {
       for (const auto& f : files) fs::copy_file(samples / f, dir_ / "images" / cls / f);
     }
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static void TearDownTestSuite() { temp_.reset(); }
+  static std::optional<test::TempDir> temp_;
   static fs::path dir_;
 };
+std::optional<test::TempDir> VocabCli::temp_;
 fs::path VocabCli::dir_;
 
 TEST_F(VocabCli, BuildInfoQuantize) {

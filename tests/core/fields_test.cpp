@@ -5,6 +5,9 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace proprio::core {
 namespace {
@@ -153,6 +156,56 @@ TEST(Fields, ChoiceNames) {
   constexpr ChoiceNames<int, 3> three{{{"a", 1}, {"b", 2}, {"c", 3}}};
   EXPECT_EQ(choice_list(three), "a, b or c");
   EXPECT_THROW((void)choice_name(4, three), InternalError);
+}
+
+// A Result-style description: a nested described struct, vectors, an optional and a derived value.
+struct Point {
+  int step = 0;
+  double value = 0.0;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.step, {"step", "The step"});
+    v(self.value, {"value", "The value"});
+  }
+};
+
+struct Record {
+  std::string name = "run";
+  std::vector<Point> trace;
+  std::vector<int> counts;
+  std::optional<double> final_value;
+  Point best;
+  Json extra = Json::object();
+  [[nodiscard]] double twice() const { return 2.0 * best.value; }
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "A name"});
+    v(self.trace, {"trace", "Points"});
+    v(self.counts, {"counts", "Counts"});
+    v(self.final_value, {"final", "The last value, when there is one"});
+    v(self.best, {"best", "The best point"});
+    v(self.extra, {"extra", "Free-form JSON"});
+    v(self.twice(), {"twice", "Twice the best value (derived)"});
+  }
+};
+
+TEST(Fields, ResultJsonNestsObjectsArraysAndOptionals) {
+  Record r;
+  r.trace = {{1, 0.5}, {2, 0.25}};
+  r.best = {2, 0.25};
+  Json doc = Json::object();
+  doc["format"] = "x";
+  fields_into_json(r, doc);
+  EXPECT_EQ(doc.dump(),
+            R"({"best":{"step":2,"value":0.25},"counts":[],"extra":{},"format":"x","name":"run",)"
+            R"("trace":[{"step":1,"value":0.5},{"step":2,"value":0.25}],"twice":0.5})");
+  r.final_value = 0.125;
+  r.counts = {3, 4};
+  const Json full = fields_to_json(r);
+  EXPECT_EQ(full["final"], 0.125);
+  EXPECT_EQ(full["counts"], Json::array({3, 4}));
+  EXPECT_EQ(field_names<Record>().size(), 7U);
 }
 
 }  // namespace

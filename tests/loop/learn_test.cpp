@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/sim/object_catalogue.hpp"
@@ -61,8 +62,8 @@ TEST(Learn, BadOptionsThrow) {
 
 TEST(Learn, AnExistingOutIsRefusedWithoutOverwrite) {
   namespace fs = std::filesystem;
-  const fs::path d = fs::temp_directory_path() / ("proprio_learn_test_" + std::to_string(getpid()));
-  fs::create_directories(d);
+  const test::TempDir dir("proprio_learn_test_");
+  const fs::path& d = dir.path();
   LearnOptions o;
   o.out = d;
   o.progress = false;
@@ -73,7 +74,6 @@ TEST(Learn, AnExistingOutIsRefusedWithoutOverwrite) {
     EXPECT_NE(std::string(e.what()).find("already exists"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(fs::exists(d));
-  fs::remove_all(d);
 }
 
 // A robot that sees and refuses every push (as a real arm's driver would a path it cannot
@@ -131,8 +131,8 @@ std::string events_of(const std::filesystem::path& log) {
 
 TEST(Learn, FaultsAreLoggedAndTheRunStillCompletes) {
   namespace fs = std::filesystem;
-  const fs::path d =
-      fs::temp_directory_path() / ("proprio_learn_faults_" + std::to_string(getpid()));
+  const test::TempDir dir("proprio_learn_faults_");
+  const fs::path& d = dir.path();
   LearnOptions o;
   o.objects = "book";
   o.clutter = "bottle";
@@ -197,7 +197,6 @@ TEST(Learn, FaultsAreLoggedAndTheRunStillCompletes) {
     const std::string ev = events_of(o.out / "decisions.jsonl");
     EXPECT_NE(ev.find("fault:moved-nothing"), std::string::npos) << ev;
   }
-  fs::remove_all(d);
 }
 
 }  // namespace

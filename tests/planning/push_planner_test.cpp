@@ -5,34 +5,16 @@
 #include <cmath>
 
 #include "../support/paths.hpp"
+#include "../support/table_views.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/planning/push_planner.hpp"
 
 namespace proprio::planning {
 namespace {
 
-// 640 x 480, 1 m above (0.25, 0), looking down; image x = world x, image y = -world y.
-geometry::Camera down_camera() {
-  geometry::Camera c;
-  c.K << 600, 0, 320, 0, 600, 240, 0, 0, 1;
-  c.R = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  c.t = -c.R * Eigen::Vector3d(0.25, 0.0, 1.0);
-  c.width = 640;
-  c.height = 480;
-  return c;
-}
-
-// Grid features covering a square of half side `h` (m) centred at table point `c`.
-void add_square(std::vector<cv::KeyPoint>& f, const geometry::Camera& cam, Eigen::Vector2d c,
-                double h) {
-  const Eigen::Vector2d a = cam.project(Eigen::Vector3d(c.x() - h, c.y() + h, 0));
-  const Eigen::Vector2d b = cam.project(Eigen::Vector3d(c.x() + h, c.y() - h, 0));
-  for (double v = a.y(); v <= b.y(); v += 6) {
-    for (double u = a.x(); u <= b.x(); u += 6) {
-      f.emplace_back(static_cast<float>(u), static_cast<float>(v), 12.0F);
-    }
-  }
-}
+using test::add_feature_square;
+using test::down_camera;  // tests/support/table_views.hpp
+using test::draw_checkered_square;
 
 const robot::Arm& arm() {
   static const robot::Arm kArm =
@@ -76,8 +58,8 @@ TEST(PushGeometry, StartIsBehindTheObjectAndTheCentreEndsOverTheTarget) {
 TEST(PushPlanner, FindsTheObjectsAndTheirCentres) {
   const geometry::Camera cam = down_camera();
   std::vector<cv::KeyPoint> f;
-  add_square(f, cam, {0.20, 0.10}, 0.04);
-  add_square(f, cam, {0.30, -0.12}, 0.03);
+  add_feature_square(f, cam, {0.20, 0.10}, 0.04);
+  add_feature_square(f, cam, {0.30, -0.12}, 0.03);
   const PlanningView view = make_planning_view(f, cam, {}, flat_options());
   ASSERT_EQ(view.objects.size(), 2U);
   EXPECT_LT((view.objects[0].centre - Eigen::Vector2d(0.20, 0.10)).norm(), 0.005);
@@ -88,8 +70,8 @@ TEST(PushPlanner, FindsTheObjectsAndTheirCentres) {
 TEST(PushPlanner, PathCostCountsOtherObjectsOnTheWayOnly) {
   const geometry::Camera cam = down_camera();
   std::vector<cv::KeyPoint> f;
-  add_square(f, cam, {0.20, 0.0}, 0.03);
-  add_square(f, cam, {0.30, 0.0}, 0.03);  // in the way along +x
+  add_feature_square(f, cam, {0.20, 0.0}, 0.03);
+  add_feature_square(f, cam, {0.30, 0.0}, 0.03);  // in the way along +x
   const PlanningView view = make_planning_view(f, cam, {}, flat_options());
   ASSERT_EQ(view.objects.size(), 2U);
   const auto& o = view.objects[0].centre.x() < 0.25 ? view.objects[0] : view.objects[1];
@@ -106,8 +88,8 @@ TEST(PushPlanner, PathCostCountsOtherObjectsOnTheWayOnly) {
 TEST(PushPlanner, PlansAroundAnObstacleAndRejectsWhatItCannotDo) {
   const geometry::Camera cam = down_camera();
   std::vector<cv::KeyPoint> f;
-  add_square(f, cam, {0.20, 0.05}, 0.03);
-  add_square(f, cam, {0.30, 0.05}, 0.03);
+  add_feature_square(f, cam, {0.20, 0.05}, 0.03);
+  add_feature_square(f, cam, {0.30, 0.05}, 0.03);
   const PlanningView view = make_planning_view(f, cam, {}, flat_options());
   ASSERT_EQ(view.objects.size(), 2U);
   const int a = view.objects[0].centre.x() < 0.25 ? 0 : 1;
@@ -156,26 +138,15 @@ TEST(PushPlanner, PlansAroundAnObstacleAndRejectsWhatItCannotDo) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
-// A checkered square of half side `h` (m) centred at table point `c`, drawn into `img`.
-void draw_square(cv::Mat& img, const geometry::Camera& cam, Eigen::Vector2d c, double h) {
-  const Eigen::Vector2d a = cam.project(Eigen::Vector3d(c.x() - h, c.y() + h, 0));
-  const Eigen::Vector2d b = cam.project(Eigen::Vector3d(c.x() + h, c.y() - h, 0));
-  for (int v = static_cast<int>(a.y()); v <= static_cast<int>(b.y()); ++v) {
-    for (int u = static_cast<int>(a.x()); u <= static_cast<int>(b.x()); ++u) {
-      img.at<std::uint8_t>(v, u) = ((u / 4 + v / 4) % 2) != 0 ? 40 : 220;
-    }
-  }
-}
-
 TEST(PushTracking, FindsThePushedObjectWhereItNowTouchesAStillOne) {
   const geometry::Camera cam = down_camera();
   const PushPlanOptions o = flat_options();
   cv::Mat before(480, 640, CV_8U, cv::Scalar(128));
   cv::Mat after = before.clone();
-  draw_square(before, cam, {0.20, 0.06}, 0.03);   // the object, before the push
-  draw_square(before, cam, {0.20, -0.07}, 0.03);  // a still neighbour
-  draw_square(after, cam, {0.20, -0.005}, 0.03);  // pushed by 6.5 cm, now 5 mm from it
-  draw_square(after, cam, {0.20, -0.07}, 0.03);
+  draw_checkered_square(before, cam, {0.20, 0.06}, 0.03);   // the object, before the push
+  draw_checkered_square(before, cam, {0.20, -0.07}, 0.03);  // a still neighbour
+  draw_checkered_square(after, cam, {0.20, -0.005}, 0.03);  // pushed by 6.5 cm, now 5 mm from it
+  draw_checkered_square(after, cam, {0.20, -0.07}, 0.03);
   const TableRegion region;
   const PlanningView view0 = make_planning_view(textured_points(before, o), cam, region, o);
   ASSERT_EQ(view0.objects.size(), 2U);

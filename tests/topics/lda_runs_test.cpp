@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "../support/error_of.hpp"
@@ -108,6 +109,15 @@ TEST(LdaRuns, InferenceWritesARowPerDocument) {
   for (std::string line; std::getline(in, line);) ++rows;
   EXPECT_EQ(rows, 30);
   EXPECT_EQ(r.document.at("documents"), 30);
+  // The record is the description: its keys are the described fields and the header's.
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : r.document.items()) keys.push_back(key);
+  std::vector<std::string> expected{"format", "format_version", "provenance"};
+  for (const auto name : core::field_names<LdaInferenceResult>()) expected.emplace_back(name);
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(keys, expected);
+  EXPECT_EQ(r.document.at("estep_capped"), r.summary.capped);
+  EXPECT_EQ(r.document.at("out"), o.out.string());
 }
 
 TEST(LdaRuns, PerplexityOfAModelAndOfItsLambda) {

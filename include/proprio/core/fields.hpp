@@ -3,6 +3,15 @@
 // CLI's flags (app/option_binder.hpp) and, next, the Python bindings are all made from it, so that
 // a field is named, documented and bounded in one place and means the same in every command.
 //
+// A Result or Summary describes itself the same way, and its JSON record comes from that
+// description (fields_into_json), so that the CLI's --json, the tests and the Python bindings read
+// the same names. Output descriptions take three more kinds of field:
+//   - a struct with its own describe(): a nested JSON object;
+//   - std::vector<T> of any field type: a JSON array;
+//   - std::optional<T>: the key is left out when it is empty;
+// and core::Json, copied as it is. A derived value may be described as an expression
+// (`v(self.documents_per_second(), {...})`): such a description is for output only.
+//
 // A struct describes itself with a static member template that lists its fields in order:
 //
 //   struct DenseOptions {
@@ -26,6 +35,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -104,15 +114,35 @@ namespace detail {
 template <class T>
 constexpr bool kNumber = std::is_arithmetic_v<T> && !std::is_same_v<T, bool>;
 
+template <class T>
+constexpr bool kVector = false;
+template <class T, class A>
+constexpr bool kVector<std::vector<T, A>> = true;
+template <class T>
+constexpr bool kOptional = false;
+template <class T>
+constexpr bool kOptional<std::optional<T>> = true;
+
+struct ToJson;
+
+/// A struct with a describe() of its own (written as a nested JSON object).
+template <class T>
+concept Described = requires(const T& t, ToJson& v) {
+  T::describe(t, v);
+};
+
+template <class T>
+Json value_to_json(const T& value);
+
 // Writes each field into a JSON object.
 struct ToJson {
   Json* out;
   template <class T>
   void operator()(const T& value, const FieldInfo& info) {
-    if constexpr (std::is_same_v<T, std::filesystem::path>) {
-      (*out)[info.name] = value.string();
+    if constexpr (kOptional<T>) {
+      if (value) (*out)[info.name] = value_to_json(*value);
     } else {
-      (*out)[info.name] = value;
+      (*out)[info.name] = value_to_json(value);
     }
   }
   template <class E, std::size_t N>
@@ -120,6 +150,25 @@ struct ToJson {
     (*out)[info.name] = std::string(choice_name(value, names));
   }
 };
+
+// One value as JSON: a path as its string, a described struct as an object, a vector as an array.
+template <class T>
+Json value_to_json(const T& value) {
+  if constexpr (std::is_same_v<T, std::filesystem::path>) {
+    return value.string();
+  } else if constexpr (Described<T>) {
+    Json out = Json::object();
+    ToJson v{&out};
+    T::describe(value, v);
+    return out;
+  } else if constexpr (kVector<T>) {
+    Json out = Json::array();
+    for (const auto& e : value) out.push_back(value_to_json(e));
+    return out;
+  } else {
+    return Json(value);
+  }
+}
 
 // Throws Error naming the first numeric field outside its bounds.
 struct CheckBounds {
@@ -254,6 +303,14 @@ Json fields_to_json(const S& s) {
   detail::ToJson v{&out};
   S::describe(s, v);
   return out;
+}
+
+/// Adds the fields of `s` to the object `out` (a record that already holds its "format" and
+/// provenance): the one way a Result or Summary becomes JSON.
+template <class S>
+void fields_into_json(const S& s, Json& out) {
+  detail::ToJson v{&out};
+  S::describe(s, v);
 }
 
 /// Throws Error "WHAT: NAME must be BOUNDS (it is X)" for the first numeric field outside its

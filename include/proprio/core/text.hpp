@@ -22,6 +22,11 @@ inline std::string num(double v) {
   return buf;
 }
 
+/// `text` for HTML or XML text and attribute values: & < > " ' as entities (' as &#39;, which
+/// HTML and XML both read), bytes that are not UTF-8 as U+FFFD, control characters other than
+/// newline and tab dropped (XML 1.0 admits none of them).
+std::string markup_escape(std::string_view text);
+
 /// printf-style formatting into a string (the reports commands print keep printf's formats, so
 /// that their text stays byte for byte what it was).
 template <class... Args>

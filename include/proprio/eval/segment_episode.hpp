@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/eval/segmentation_eval.hpp"
@@ -32,13 +33,37 @@ struct SegmentEpisodeOptions {
 struct SegmentEpisodeResult {
   /// The method's outcome on the episode (images included) and the episode's facts.
   EpisodeEvaluation evaluation;
+  std::filesystem::path episode;
+  std::string method;              ///< the method's name
+  core::Json options;              ///< the evaluation options used (options_json)
   std::vector<std::string> files;  ///< images written into `out`, in the order written
-  /// segment.json as written (format "proprio.segment", docs/formats/schemas/segment.schema.json).
+  /// segment.json as written (format "proprio.segment", docs/formats/schemas/segment.schema.json):
+  /// the fields described below.
   core::Json document;
 
   [[nodiscard]] const MethodOutcome& outcome() const { return evaluation.outcomes.front(); }
   /// What happened, in a few lines for a person (what the CLI prints).
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    const MethodOutcome& oc = self.outcome();
+    const EpisodeEvaluation& e = self.evaluation;
+    v(self.episode, {"episode", "The episode"});
+    v(self.method, {"method", "The segmentation method"});
+    v(oc.status, {"status", "ok, no touch, no ground truth or failed"});
+    v(oc.message, {"message", "Why, when not ok"});
+    v(oc.scored_frame, {"scored_frame", "The frame scored (-1: none)"});
+    v(e.first_touch_frame ? core::Json(*e.first_touch_frame) : core::Json(nullptr),
+      {"first_touch_frame", "The first touch (null: none)"});
+    v(e.background, {"background", "static, moving or unknown"});
+    v(e.object, {"object", "The target's name"});
+    v(oc.seconds, {"seconds", "The method's time"});
+    v(self.options, {"options", "The evaluation options"});
+    v(oc.status == "ok" ? metrics_json(oc.metrics) : core::Json(nullptr),
+      {"metrics", "The mask's scores at the scored frame (null unless ok)"});
+    v(self.files, {"files", "Images written"});
+  }
 };
 
 /// Reads the episode, runs the method, writes `out` atomically (a staged directory that appears

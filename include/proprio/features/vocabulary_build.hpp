@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "proprio/core/communicator.hpp"
@@ -11,6 +12,7 @@
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/features/extraction.hpp"
+#include "proprio/features/extraction_record.hpp"
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/vocabulary.hpp"
 
@@ -53,13 +55,40 @@ struct VocabularyBuildResult {
   std::size_t classes = 0;
   std::size_t images = 0;
   int images_without_features = 0;
-  int descriptors = 0;           ///< descriptors clustered
-  double extract_seconds = 0.0;  ///< reading images and computing descriptors, wall clock
-  /// The record (format "proprio.vocab.build", docs/formats/schemas/vocab_build.schema.json).
+  int descriptors = 0;             ///< descriptors clustered
+  double extract_seconds = 0.0;    ///< reading images and computing descriptors, wall clock
+  VocabularyBuildOptions options;  ///< as given
+  std::optional<int> ranks;        ///< MPI ranks, when more than one
+  /// The record (format "proprio.vocab.build", docs/formats/schemas/vocab_build.schema.json):
+  /// the fields described below.
   core::Json document;
 
   /// One line for a person (what the CLI prints).
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    const VocabularyBuildOptions& o = self.options;
+    v(o.images, {"images_dir", "The image set"});
+    v(o.out, {"vocabulary", "The vocabulary written"});
+    v(self.classes, {"classes", "Classes of the image set"});
+    v(self.images, {"images", "Images read"});
+    v(self.images_without_features, {"images_without_features", "Images without features"});
+    v(ExtractionRecord{o.features}, {"features", "The extraction options"});
+    v(o.per_image, {"per_image", "Descriptors sampled per image (0 = all)"});
+    v(self.vocabulary.size(), {"words", "Words of the vocabulary"});
+    v(self.descriptors, {"descriptors", "Descriptors clustered"});
+    v(self.extract_seconds, {"extract_seconds", "Reading and extraction, wall clock"});
+    v(self.kmeans.seconds, {"kmeans_seconds", "k-means, wall clock"});
+    v(self.kmeans.iterations, {"iterations", "Lloyd iterations"});
+    v(self.kmeans.termination, {"termination", "converged or max_iterations"});
+    v(self.kmeans.cost, {"cost", "Sum of squared distances to the words"});
+    v(self.kmeans.empty_clusters_reseeded, {"empty_clusters_reseeded", "Empty clusters reseeded"});
+    v(o.kmeans.tolerance, {"tolerance", "k-means tolerance"});
+    v(o.kmeans.seed, {"seed", "k-means seed"});
+    v(o.kmeans.threads, {"threads", "k-means threads"});
+    v(self.ranks, {"ranks", "MPI ranks (with more than one)"});
+  }
 };
 
 /// Reads the image set, extracts and samples descriptors (the sample draws from one stream seeded

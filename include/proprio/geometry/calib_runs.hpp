@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/json_members.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/geometry/backprojection.hpp"
 #include "proprio/geometry/camera.hpp"
@@ -20,6 +21,102 @@ namespace proprio::geometry {
 
 /// "NAME: fx .. fy .. cx .. cy .. skew ..; centre (x, y, z)" and a newline.
 std::string describe_camera(const std::string& name, const Camera& camera);
+
+/// The records of the calib commands (their `document`, after the provenance). A record that
+/// carries a library type's JSON (to_json of a DLT fit, a triangulation summary, an uncertainty
+/// map, a stereo check) takes over its keys.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct CalibDltRecord {
+  std::filesystem::path points_file;
+  std::filesystem::path calib;  ///< the calibration written
+  core::Json fit;               ///< to_json(DltResult)
+  core::Json camera;            ///< to_json(Camera)
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.points_file, {"points_file", "The correspondences"});
+    v(self.calib, {"calib", "The calibration written"});
+    core::describe_json_members(self.fit, v);
+    v(self.camera, {"camera", "The camera"});
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct CalibTriangulateRecord {
+  std::filesystem::path points_file;
+  std::filesystem::path out;
+  bool distorted_input = false;
+  core::Json summary;  ///< to_json(TriangulationSummary)
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.points_file, {"points_file", "The pixel pairs"});
+    v(self.out, {"out", "The points written"});
+    v(self.distorted_input, {"distorted_input", "Whether the pixels were undistorted first"});
+    core::describe_json_members(self.summary, v);
+  }
+};
+
+/// A plane n . X = kappa.
+struct PlaneRecord {
+  std::vector<double> n;
+  double kappa = 0;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.n, {"n", "Its normal"});
+    v(self.kappa, {"kappa", "Its offset, n . X = kappa"});
+  }
+};
+
+struct CalibBackprojectRecord {
+  std::filesystem::path points_file;
+  std::filesystem::path out;
+  PlaneRecord plane;
+  std::size_t points = 0;
+  bool distorted_input = false;
+  double min_incidence_cos = 1.0;  ///< of the most grazing ray
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.points_file, {"points_file", "The pixels"});
+    v(self.out, {"out", "The points written"});
+    v(self.plane, {"plane", "The plane"});
+    v(self.points, {"points", "Points back-projected"});
+    v(self.distorted_input, {"distorted_input", "Whether the pixels were undistorted first"});
+    v(self.min_incidence_cos, {"min_incidence_cos", "Cosine of the most grazing ray"});
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct CalibUncertaintyRecord {
+  std::filesystem::path calib1;
+  std::filesystem::path calib2;
+  std::filesystem::path out;
+  core::Json map;  ///< to_json(UncertaintyMap, ...)
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.calib1, {"calib1", "The first camera"});
+    v(self.calib2, {"calib2", "The second camera"});
+    v(self.out, {"out", "The image written"});
+    core::describe_json_members(self.map, v);
+  }
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct CalibStereoRecord {
+  std::filesystem::path images;
+  std::vector<int> board;  ///< inner corners: width, height
+  double square_size = 1.0;
+  bool refined = false;
+  std::filesystem::path out;
+  core::Json check;  ///< to_json(StereoCheckResult)
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.images, {"images", "The stereo sequence"});
+    v(self.board, {"board", "Inner corners per row and per column"});
+    v(self.square_size, {"square_size", "Side of a square"});
+    v(self.refined, {"refined", "Whether triangulation was refined"});
+    v(self.out, {"out", "The directory written"});
+    core::describe_json_members(self.check, v);
+  }
+};
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct CalibRun {

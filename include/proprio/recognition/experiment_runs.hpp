@@ -3,20 +3,225 @@
 // 6.3.1-6.3.3, 7.3.1): the experiments of experiments.hpp from files, with the text the CLI
 // prints and the record it writes for --json (experiment_sets / experiment_scatter schemas).
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/json_members.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/recognition/experiments.hpp"
 
 namespace proprio::recognition {
 
-/// What an experiment command prints and records.
+/// A dictionary built by k-means for an experiment, as its record writes it.
+struct KmeansRecord {
+  int descriptors = 0;  ///< descriptors it was built from
+  int iterations = 0;
+  double cost = 0;
+  double seconds = 0;
+  std::string termination;
+
+  [[nodiscard]] static KmeansRecord of(const features::KmeansSummary& s, int descriptors);
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.descriptors, {"descriptors", "Descriptors the dictionary was built from"});
+    v(self.iterations, {"iterations", "Lloyd iterations"});
+    v(self.cost, {"cost", "Sum of squared distances to the words"});
+    v(self.seconds, {"seconds", "Wall time"});
+    v(self.termination, {"termination", "converged or max_iterations"});
+  }
+};
+
+/// One run of the dictionary / batch-online experiment: its evaluation's record and its set-up.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct SetRunRecord {
+  core::Json evaluation;  ///< evaluation_to_json: its keys are the run's
+  std::string name;
+  std::string set;
+  std::string dictionary;
+  std::string method;
+  int train_documents = 0;
+  int test_documents = 0;
+  double train_seconds = 0;
+  std::string lda_summary;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    core::describe_json_members(self.evaluation, v);
+    v(self.name, {"name", "The run (thesis's name)"});
+    v(self.set, {"set", "The image set, A or B"});
+    v(self.dictionary, {"dictionary", "specific or wide"});
+    v(self.method, {"method", "batch or online LDA"});
+    v(self.train_documents, {"train_documents", "Training images"});
+    v(self.test_documents, {"test_documents", "Test images"});
+    v(self.train_seconds, {"train_seconds", "LDA training time"});
+    v(self.lda_summary, {"lda_summary", "The learner's summary"});
+  }
+};
+
+/// The record of `experiment dictionary` and `experiment batch-online`.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct SetExperimentRecord {
+  std::filesystem::path images;
+  std::vector<std::string> set_a, set_b, wide;
+  int words = 0;
+  int test_per_class = 0;
+  std::string features;
+  std::optional<KmeansRecord> specific_dictionary, wide_dictionary;
+  std::vector<SetRunRecord> runs;
+  double seconds = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.images, {"images", "The image set"});
+    v(self.set_a, {"set_a", "Classes of set A"});
+    v(self.set_b, {"set_b", "Classes of set B"});
+    v(self.wide, {"wide", "Classes of the wide dictionary"});
+    v(self.words, {"words", "Words per dictionary"});
+    v(self.test_per_class, {"test_per_class", "Test images per class"});
+    v(self.features, {"features", "The feature kind"});
+    v(self.specific_dictionary, {"specific_dictionary", "The specific dictionary's k-means"});
+    v(self.wide_dictionary, {"wide_dictionary", "The wide dictionary's k-means"});
+    v(self.runs, {"runs", "The runs"});
+    v(self.seconds, {"seconds", "Wall time"});
+  }
+};
+
+/// A scatter run's supervised Mixture of Topics: its confusion matrix's record and its fit.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ScatterMotRecord {
+  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  std::string summary;
+  double smoothing = 0;
+  std::vector<MotObjectRecord> objects;  ///< without their mean theta
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    core::describe_json_members(self.classes, v);
+    v(self.summary, {"summary", "The fit's summary"});
+    v(self.smoothing, {"smoothing", "The theta smoothing"});
+    v(self.objects, {"objects", "The objects"});
+  }
+};
+
+/// A scatter run's unsupervised Mixture of Topics.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ScatterUnsupervisedRecord {
+  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  int chosen_classes = 0;
+  std::vector<int> object_class;
+  std::vector<int> chosen_classes_per_object;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    core::describe_json_members(self.classes, v);
+    v(self.chosen_classes, {"chosen_classes", "The number of objects BIC would choose"});
+    v(self.object_class, {"object_class", "The class each learned object is named after"});
+    v(self.chosen_classes_per_object, {"chosen_classes_per_object", "BIC's choice per object"});
+  }
+};
+
+/// A point of a scatter run's smoothing grid.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ScatterGridRecord {
+  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  ThetaSource theta = ThetaSource::kEStep;
+  double smoothing = 0;
+  std::string prior;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    core::describe_json_members(self.classes, v);
+    v.choice(self.theta, {"theta", "Where theta comes from"}, kThetaSourceNames);
+    v(self.smoothing, {"smoothing", "The theta smoothing"});
+    v(self.prior, {"prior", "uniform or views"});
+  }
+};
+
+/// One K of the scatter experiment.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ScatterRunRecord {
+  core::Json evaluation;  ///< evaluation_to_json: its keys are the run's
+  int topics_k = 0;
+  std::int64_t updates = 0;
+  double train_seconds = 0;
+  std::optional<ScatterMotRecord> mot;
+  std::optional<ScatterUnsupervisedRecord> mot_unsupervised;
+  std::optional<std::vector<ScatterGridRecord>> mot_grid;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    core::describe_json_members(self.evaluation, v);
+    v(self.topics_k, {"topics_k", "Topics K"});
+    v(self.updates, {"updates", "Online LDA's mini-batch updates"});
+    v(self.train_seconds, {"train_seconds", "LDA training time"});
+    v(self.mot, {"mot", "The supervised Mixture of Topics"});
+    v(self.mot_unsupervised, {"mot_unsupervised", "The unsupervised Mixture of Topics"});
+    v(self.mot_grid, {"mot_grid", "The smoothing grid"});
+  }
+};
+
+/// The record of `experiment scatter`.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ScatterExperimentRecord {
+  std::vector<std::string> episodes;
+  std::optional<std::string> views;
+  std::optional<std::vector<std::string>> view_episodes;
+  std::optional<int> view_step, view_block;
+  std::optional<std::string> view_split;
+  bool mot = false;
+  std::vector<std::string> objects;
+  std::string region;
+  std::string features;
+  int frames = 0;
+  int documents = 0;
+  std::int64_t tokens = 0;
+  int words = 0;
+  int batch_size = 0;
+  int batch_documents = 0;
+  int passes = 0;
+  int mapping_views = 0;
+  int test_views = 0;
+  std::optional<KmeansRecord> dictionary;
+  std::vector<ScatterRunRecord> runs;
+  double seconds = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.episodes, {"episodes", "The training episodes"});
+    v(self.views, {"views", "The folder-per-object views"});
+    v(self.view_episodes, {"view_episodes", "The episodes the views were cut from"});
+    v(self.view_step, {"view_step", "Every n-th frame of them"});
+    v(self.view_block, {"view_block", "Frames per block of the naming / test split"});
+    v(self.view_split, {"view_split", "blocks or episodes"});
+    v(self.mot, {"mot", "Whether the Mixture of Topics classified the views too"});
+    v(self.objects, {"objects", "The objects"});
+    v(self.region, {"region", "What of a frame is a document"});
+    v(self.features, {"features", "The feature kind"});
+    v(self.frames, {"frames", "Frames used"});
+    v(self.documents, {"documents", "Training documents"});
+    v(self.tokens, {"tokens", "Their tokens"});
+    v(self.words, {"words", "Words of the dictionary"});
+    v(self.batch_size, {"batch_size", "Frames per mini-batch"});
+    v(self.batch_documents, {"batch_documents", "Documents per mini-batch"});
+    v(self.passes, {"passes", "Passes over the frames"});
+    v(self.mapping_views, {"mapping_views", "Labelled views that name the topics"});
+    v(self.test_views, {"test_views", "Test views"});
+    v(self.dictionary, {"dictionary", "The dictionary's k-means, when built here"});
+    v(self.runs, {"runs", "One per K"});
+    v(self.seconds, {"seconds", "Wall time"});
+  }
+};
+
+/// What an experiment command prints and records (`document`, from the set or scatter record).
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ExperimentRun {
   std::string report;
+  std::optional<SetExperimentRecord> set;
+  std::optional<ScatterExperimentRecord> scatter;
   core::Json document;
 };
 

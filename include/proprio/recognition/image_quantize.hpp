@@ -8,6 +8,7 @@
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/features/extraction.hpp"
+#include "proprio/features/extraction_record.hpp"
 #include "proprio/topics/corpus.hpp"
 
 namespace proprio::recognition {
@@ -38,11 +39,26 @@ struct QuantizeImagesResult {
   std::vector<std::string> classes;
   long tokens = 0;
   int images_without_features = 0;  ///< empty documents (kept, so that rows match images)
-  /// The record (format "proprio.vocab.quantize", vocab_quantize.schema.json).
+  QuantizeImagesOptions options;    ///< as given
+  /// The record (format "proprio.vocab.quantize", vocab_quantize.schema.json): the fields
+  /// described below.
   core::Json document;
 
   /// One line for a person (what the CLI prints).
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.options.vocabulary, {"vocabulary", "The vocabulary file"});
+    v(self.options.images, {"images_dir", "The image set"});
+    v(self.options.corpus, {"corpus", "The corpus directory written"});
+    v(self.corpus.num_documents(), {"documents", "Documents, one per image"});
+    v(self.tokens, {"tokens", "Tokens"});
+    v(self.corpus.num_words(), {"words", "Words of the vocabulary"});
+    v(self.images_without_features, {"images_without_features", "Empty documents"});
+    v(self.classes, {"classes", "The image set's classes"});
+    v(features::ExtractionRecord{self.options.features}, {"features", "The extraction options"});
+  }
 };
 
 /// Reads the vocabulary and the images, quantises each image's features to their nearest words

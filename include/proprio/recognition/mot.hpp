@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -136,6 +137,84 @@ struct MotSourceOptions {
   }
 };
 
+/// Where a MoT command's views came from, as its record writes it.
+struct MotSourceRecord {
+  std::filesystem::path lda_model;
+  std::filesystem::path vocabulary;
+  std::string source;           ///< "episodes" or "images"
+  std::filesystem::path input;  ///< the episodes' or images' directory
+
+  [[nodiscard]] static MotSourceRecord of(const MotSourceOptions& o);
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.lda_model, {"lda_model", "The LDA model file"});
+    v(self.vocabulary, {"vocabulary", "The vocabulary file"});
+    v(self.source, {"source", "episodes or images"});
+    v(self.input, {"input", "The episodes' or images' directory"});
+  }
+};
+
+/// The LDA model and vocabulary a MoT model is built on, as records write them.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct MotBasisRecord {
+  std::string lda_checksum;  ///< 8 hex digits
+  int lda_topics = 0;
+  int lda_words = 0;
+  core::Json vocabulary_checksum;  ///< 8 hex digits, or null when none was recorded
+
+  [[nodiscard]] static MotBasisRecord of(const topics::MotBasis& b);
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.lda_checksum, {"lda_checksum", "CRC-32 of the LDA model, hex"});
+    v(self.lda_topics, {"lda_topics", "Its topics"});
+    v(self.lda_words, {"lda_words", "Its words"});
+    v(self.vocabulary_checksum, {"vocabulary_checksum", "The vocabulary's checksum, or null"});
+  }
+};
+
+/// How an object's Dirichlet fit ended.
+struct MotFitRecord {
+  bool converged = false;
+  std::string stop;
+  int iterations = 0;
+  double log_likelihood = 0.0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.converged, {"converged", "Whether the fit converged"});
+    v(self.stop, {"stop", "Why it stopped"});
+    v(self.iterations, {"iterations", "Fixed-point and Newton iterations"});
+    v(self.log_likelihood, {"log_likelihood", "eq 4 at the fitted alpha, nats"});
+  }
+};
+
+/// One object of a MoT model (its Dirichlet) as records list it.
+struct MotObjectRecord {
+  std::string name;
+  double views = 0;
+  std::vector<double> alpha;
+  std::optional<std::vector<double>> mean;  ///< in MoT model records
+  double precision = 0.0;
+  std::optional<MotFitRecord> fit;  ///< with `mot train`
+
+  /// The objects of `model`, with their fits when `fits` (one per object) is given.
+  [[nodiscard]] static std::vector<MotObjectRecord> of(
+      const topics::MotModel& model,
+      const std::vector<topics::DirichletFitSummary>* fits = nullptr);
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "The object"});
+    v(self.views, {"views", "Views learned from"});
+    v(self.alpha, {"alpha", "Its Dirichlet's parameters"});
+    v(self.mean, {"mean", "Its Dirichlet's mean theta"});
+    v(self.precision, {"precision", "Its Dirichlet's precision, sum of alpha"});
+    v(self.fit, {"fit", "How its fit ended"});
+  }
+};
+
+/// Numbers as records write them: null where not finite.
+std::vector<core::Json> finite_or_null(const std::vector<double>& values);
+
 struct MotTrainOptions {
   MotSourceOptions source;
   std::filesystem::path model;  ///< MoT model file to write (required, docs/formats/mot-model.md)
@@ -156,10 +235,29 @@ struct MotTrainOptions {
 struct MotTrainResult {
   topics::MotFit fit;
   topics::MotBasis basis;
+  std::filesystem::path model_file;  ///< the model file written
+  MotSourceRecord source;
+  bool unsupervised = false;
+  topics::MotOptions options;
   int documents = 0;        ///< views made
   int empty_documents = 0;  ///< of which without features (left out)
-  core::Json document;      ///< format "proprio.mot.train" (mot_train.schema.json)
+  core::Json document;      ///< format "proprio.mot.train" (mot_train.schema.json): describe()
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model_file, {"model", "The MoT model file written"});
+    MotSourceRecord::describe(self.source, v);
+    v(self.unsupervised, {"unsupervised", "Learned without labels"});
+    v(self.options, {"options", "The MoT options"});
+    v(self.documents, {"documents", "Views made"});
+    v(self.empty_documents, {"empty_documents", "Views without features, left out"});
+    v(MotBasisRecord::of(self.basis), {"basis", "The LDA model and vocabulary it is built on"});
+    v(MotObjectRecord::of(self.fit.model, &self.fit.summary.fits), {"objects", "Its objects"});
+    v(self.fit.summary.log_likelihood, {"log_likelihood", "Of the fit, nats"});
+    v(finite_or_null(self.fit.summary.bic), {"bic", "BIC per number of objects (null: none)"});
+    v(self.brief(), {"summary", "The summary line"});
+  }
 };
 
 /// Reads the LDA model, vocabulary and views, infers theta, fits the MoT (supervised by the
@@ -182,10 +280,23 @@ struct MotClassifyOptions {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct MotClassifyResult {
   ConfusionMatrix confusion;  ///< truth classes x the model's objects
+  std::filesystem::path model_file;
+  MotSourceRecord source;
+  std::filesystem::path out;  ///< the CSV written
   int documents = 0;
   int empty_documents = 0;
-  core::Json document;  ///< format "proprio.mot.classify" (mot_classify.schema.json)
+  core::Json document;  ///< format "proprio.mot.classify" (mot_classify.schema.json): describe()
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model_file, {"model", "The MoT model file"});
+    MotSourceRecord::describe(self.source, v);
+    v(self.out, {"out", "The CSV written"});
+    v(self.documents, {"documents", "Views made"});
+    v(self.empty_documents, {"empty_documents", "Views without features, unclassified"});
+    v(self.confusion.to_json(), {"confusion", "Truth classes x the model's objects"});
+  }
 };
 
 /// Reads the MoT model and checks that the LDA model and vocabulary are the ones it was built on
@@ -208,11 +319,33 @@ struct MotUpdateOptions {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct MotUpdateResult {
   topics::MotUpdateSummary summary;
-  topics::MotModel model;   ///< the updated model (as written)
+  topics::MotModel model;  ///< the updated model (as written)
+  topics::MotBasis basis;  ///< its basis
+  std::filesystem::path model_file;
+  std::filesystem::path out;
+  MotSourceRecord source;
+  topics::MotUpdateRule rule = topics::MotUpdateRule::kExact;
+  double forgetting = 0.0;
   int documents = 0;        ///< new views made
   int empty_documents = 0;  ///< of which without features (skipped)
-  core::Json document;      ///< format "proprio.mot.update" (mot_update.schema.json)
+  core::Json document;      ///< format "proprio.mot.update" (mot_update.schema.json): describe()
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model_file, {"model", "The MoT model file updated"});
+    v(self.out, {"out", "Where the updated model was written"});
+    MotSourceRecord::describe(self.source, v);
+    v.choice(self.rule, {"rule", "exact or resample"}, topics::kMotUpdateRuleNames);
+    v(self.forgetting, {"forgetting", "The forgetting factor"});
+    v(self.documents, {"documents", "New views made"});
+    v(self.empty_documents, {"empty_documents", "Views without features, skipped"});
+    v(self.summary.views, {"new_views", "New views learned from"});
+    v(self.summary.new_objects, {"new_objects", "Objects new to the model"});
+    v(self.summary.resampled, {"resampled", "Samples drawn from old Dirichlets"});
+    v(MotBasisRecord::of(self.basis), {"basis", "The LDA model and vocabulary it is built on"});
+    v(MotObjectRecord::of(self.model), {"objects", "Its objects"});
+  }
 };
 
 /// Online update (thesis 8.1.2; topics::update_mot): reads the model and checks that the LDA
@@ -225,7 +358,19 @@ MotUpdateResult run_mot_update(const MotUpdateOptions& options, const core::Prov
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct MotInfo {
   std::vector<std::string> lines;  ///< for a person
-  core::Json document;             ///< format "proprio.mot.info" (mot_info.schema.json)
+  std::filesystem::path model_file;
+  topics::MotModelFile file;
+  core::Json document;  ///< format "proprio.mot.info" (mot_info.schema.json): describe()
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model_file, {"model", "The MoT model file"});
+    v(topics::kMotModelFormatVersion, {"format_version_of_model", "The file's format version"});
+    v.choice(self.file.model.prior, {"prior", "The prior over objects"}, topics::kMotPriorNames);
+    v(self.file.model.smoothing, {"smoothing", "The theta smoothing"});
+    v(MotBasisRecord::of(self.file.basis), {"basis", "The LDA model and vocabulary"});
+    v(MotObjectRecord::of(self.file.model), {"objects", "Its objects"});
+  }
 };
 
 /// What a MoT model file holds: its basis and each object's Dirichlet (alpha, precision, mean).

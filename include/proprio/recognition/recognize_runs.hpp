@@ -4,7 +4,9 @@
 // of episodes' frames, and documents classified by argmax theta, their topics named after classes
 // from labelled images (never the test documents).
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,12 +73,30 @@ struct RecognizeTrainOptions {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct RecognizeTrainResult {
   topics::LdaModel model;
+  std::filesystem::path model_file;  ///< where the model was written
+  std::filesystem::path vocabulary;
+  std::string source;  ///< "episodes" or "images"
+  topics::LdaMethod method = topics::LdaMethod::kOnline;
   std::size_t documents = 0;
   long long tokens = 0;
   int frames = 0;       ///< frames read (episodes)
   std::string summary;  ///< the training summary's line
   std::string report;   ///< what the CLI prints, lines ending in '\n'
-  core::Json document;  ///< format "proprio.recognize.train"
+  core::Json document;  ///< format "proprio.recognize.train": the fields described below
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model_file, {"model", "The model file written"});
+    v(self.vocabulary, {"vocabulary", "The vocabulary file"});
+    v(self.source, {"source", "episodes or images"});
+    v.choice(self.method, {"method", "online or batch"}, topics::kLdaMethodNames);
+    v(self.model.num_topics(), {"topics", "Topics K"});
+    v(self.model.num_words(), {"words", "Words W"});
+    v(self.documents, {"documents", "Documents learned from"});
+    v(self.tokens, {"tokens", "Their tokens"});
+    v(self.frames, {"frames", "Frames read (episodes)"});
+    v(self.summary, {"summary", "The training summary's line"});
+  }
 };
 
 /// Reads the vocabulary and the documents, trains, writes the model. Throws Error when every
@@ -101,8 +121,40 @@ struct RecognizeClassifyOptions {
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct RecognizeClassifyResult {
-  std::string report;   ///< the confusion matrices and accuracies, as the CLI prints them
-  core::Json document;  ///< format "proprio.recognize.classify"
+  std::string report;  ///< the confusion matrices and accuracies, as the CLI prints them
+  std::filesystem::path model;
+  // Episodes: the episodes, their region, frame step and frames.
+  std::optional<std::vector<std::string>> episodes;
+  std::optional<std::string> region;
+  std::optional<int> frame_step;
+  std::optional<std::int64_t> frames;
+  // Images: the image set.
+  std::optional<std::filesystem::path> images;
+  std::int64_t documents = 0;
+  std::int64_t empty_documents = 0;
+  std::optional<core::Json> topics;   ///< ConfusionMatrix::to_json by topic
+  std::optional<core::Json> mapping;  ///< episodes with map_with: the topic -> class mapping
+  std::optional<core::Json> classes;  ///< episodes with map_with: topics merged into classes
+  std::optional<core::Json> mapped;   ///< images with map_with: evaluation_to_json
+  std::optional<std::filesystem::path> out;
+  core::Json document;  ///< format "proprio.recognize.classify": the fields described below
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model, {"model", "The model file"});
+    v(self.episodes, {"episodes", "The episodes classified"});
+    v(self.region, {"region", "What of a frame is a document"});
+    v(self.frame_step, {"frame_step", "Every n-th frame"});
+    v(self.frames, {"frames", "Frames read"});
+    v(self.images, {"images", "The images classified"});
+    v(self.documents, {"documents", "Documents"});
+    v(self.empty_documents, {"empty_documents", "Documents without features"});
+    v(self.topics, {"topics", "Truth x topic (argmax theta)"});
+    v(self.mapping, {"mapping", "The topic -> class mapping"});
+    v(self.classes, {"classes", "Truth x class, topics merged"});
+    v(self.mapped, {"mapped", "The classification by the mapping"});
+    v(self.out, {"out", "The CSV written"});
+  }
 };
 
 /// Classifies the documents, names the topics when `map_with` is given, writes `out`. Throws

@@ -5,7 +5,9 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/sim/calibration.hpp"
@@ -13,6 +15,62 @@
 #include "proprio/sim/views.hpp"
 
 namespace proprio::sim {
+
+/// `sim record`'s record (after the provenance).
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct SimRecordRecord {
+  std::filesystem::path episode;
+  std::string scenario;
+  core::Json switches;  ///< RecordOptions::switches()
+  RecordSummary summary;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.episode, {"episode", "The episode written"});
+    v(self.scenario, {"scenario", "The scripted scenario"});
+    v(self.switches, {"switches", "The disturbances switched on"});
+    v(self.summary.frames, {"frames", "Frames recorded"});
+    v(self.summary.seconds, {"seconds", "Wall clock"});
+    v(self.summary.fps, {"fps", "Frames per second recorded"});
+    v(self.summary.first_touch_frame ? core::Json(*self.summary.first_touch_frame) : core::Json(),
+      {"first_touch_frame", "The first frame the hand touches the target (null: none)"});
+    v(self.summary.target_moved, {"target_moved_m", "How far the target moved, m"});
+  }
+};
+
+/// `sim calibrate`'s record.
+struct SimCalibrateRecord {
+  std::filesystem::path calib;
+  int grid = 0;
+  SimCalibrationSummary summary;
+  double rms_px = 0;         ///< the DLT's reprojection RMS
+  double true_error_px = 0;  ///< against the true camera
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.calib, {"calib", "The calibration written"});
+    v(self.grid, {"grid", "Marker grid points per side"});
+    v(self.summary.grid_points, {"grid_points", "Points of the grid"});
+    v(self.summary.used, {"used", "Pairs given to the DLT"});
+    v(self.summary.unreachable, {"unreachable", "Skipped: no inverse kinematics solution"});
+    v(self.summary.not_detected, {"not_detected", "Skipped: marker not seen"});
+    v(self.rms_px, {"rms_px", "Reprojection RMS, px"});
+    v(self.true_error_px, {"true_error_px", "Mean image distance to the true camera's, px"});
+  }
+};
+
+/// `sim views`' record.
+struct SimViewsRecord {
+  std::filesystem::path out;
+  std::vector<std::string> objects;
+  int per_object = 0;
+  int images = 0;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.out, {"out", "The folder-per-object views written"});
+    v(self.objects, {"objects", "The objects"});
+    v(self.per_object, {"per_object", "Images per object"});
+    v(self.images, {"images", "Images written"});
+  }
+};
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct SimRun {

@@ -37,6 +37,15 @@ struct BatchLdaSummary {
   double seconds = 0.0;
 
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.seconds, {"seconds", "Training time (wall clock)"});
+    v(self.iterations, {"iterations", "EM iterations run"});
+    v(self.converged, {"converged", "Whether the bound's relative change fell below tolerance"});
+    v(self.stop_reason, {"stop_reason", "Why EM stopped"});
+    v(self.bound, {"bound", "The variational bound after each iteration's E-step, nats"});
+  }
 };
 
 struct BatchLdaResult {

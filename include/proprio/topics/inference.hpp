@@ -29,6 +29,15 @@ struct InferenceSummary {
   double seconds = 0.0;
 
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.documents, {"documents", "Documents inferred"});
+    v(self.empty_documents, {"empty_documents", "Documents without tokens (theta uniform)"});
+    v(self.mean_iterations, {"mean_estep_iterations", "E-step iterations per non-empty document"});
+    v(self.capped, {"estep_capped", "Documents that reached max_iterations"});
+    v(self.seconds, {"seconds", "Inference time (wall clock)"});
+  }
 };
 
 struct InferenceResult {

@@ -4,13 +4,16 @@
 // topic's words. Each reads its inputs, does the one job, writes its outputs and returns what it
 // did with the record the CLI writes for --json (docs/formats/schemas/lda_*.schema.json).
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
+#include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/corpus.hpp"
 #include "proprio/topics/corpus_io.hpp"
 #include "proprio/topics/inference.hpp"
@@ -65,13 +68,51 @@ struct LdaTrainingOptions {
   }
 };
 
+/// What batch training records: its summary, its speed over the corpus, the held-out perplexity.
+struct LdaBatchRecord {
+  BatchLdaSummary summary;
+  double docs_per_s = 0.0;    ///< documents x iterations per second
+  double tokens_per_s = 0.0;  ///< tokens x iterations per second
+  std::optional<double> heldout_perplexity;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    BatchLdaSummary::describe(self.summary, v);
+    v(self.docs_per_s, {"docs_per_s", "Documents x iterations per second"});
+    v(self.tokens_per_s, {"tokens_per_s", "Tokens x iterations per second"});
+    v(std::vector<PerplexityPoint>{}, {"perplexity_trace", "Empty: batch has no trace"});
+    v(self.heldout_perplexity, {"heldout_perplexity", "Perplexity of the held-out corpus"});
+  }
+};
+
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LdaTrainingResult {
   LdaModel model;
   std::string brief;  ///< the training summary's line (and the held-out perplexity of batch)
-  /// format "proprio.lda.train": corpus, method, options (alpha and eta resolved), speed, the
-  /// online summary or batch's iterations and bound, the held-out perplexity and its trace.
+  std::filesystem::path corpus;
+  LdaMethod method = LdaMethod::kOnline;
+  std::filesystem::path model_file;  ///< where the model was written ("" when not)
+  std::int64_t documents_in_corpus = 0;
+  std::int64_t words = 0;
+  OnlineLdaOptions options;  ///< as used: alpha and eta resolved
+  std::optional<OnlineLdaSummary> online;
+  std::optional<LdaBatchRecord> batch;
+  std::optional<int> ranks;  ///< MPI ranks, when more than one
+  /// format "proprio.lda.train": the fields described below, from describe().
   core::Json document;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.corpus, {"corpus", "The training corpus"});
+    v.choice(self.method, {"method", "online or batch"}, kLdaMethodNames);
+    v(self.model_file, {"model", "The model file written"});
+    v(self.documents_in_corpus, {"documents_in_corpus", "Documents in the corpus"});
+    v(self.words, {"words", "Words of the vocabulary"});
+    v(self.options, {"options", "The options used, alpha and eta resolved"});
+    if (self.online) OnlineLdaSummary::describe(*self.online, v);
+    if (self.batch) LdaBatchRecord::describe(*self.batch, v);
+    v(self.ranks, {"ranks", "MPI ranks (with more than one)"});
+  }
 };
 
 /// Reads the corpora, trains (checkpointing and resuming as `checkpointing` says), writes the
@@ -104,8 +145,19 @@ struct LdaInferenceOptions {
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LdaInferenceResult {
+  std::filesystem::path model;
+  std::filesystem::path corpus;
+  std::filesystem::path out;
   InferenceSummary summary;
-  core::Json document;  ///< format "proprio.lda.infer"
+  core::Json document;  ///< format "proprio.lda.infer": the fields described below
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model, {"model", "The model file"});
+    v(self.corpus, {"corpus", "The corpus inferred"});
+    v(self.out, {"out", "The CSV written"});
+    InferenceSummary::describe(self.summary, v);
+  }
 };
 
 LdaInferenceResult run_lda_inference(const LdaInferenceOptions& options,
@@ -127,8 +179,19 @@ struct LdaPerplexityOptions {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LdaPerplexityResult {
   PerplexityResult perplexity;
-  core::Json document;  ///< format "proprio.lda.perplexity"
+  std::filesystem::path model;  ///< the model file, or the lambda CSV
+  std::filesystem::path corpus;
+  double alpha = 0.0;   ///< the model's prior on topic proportions
+  core::Json document;  ///< format "proprio.lda.perplexity": the fields described below
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model, {"model", "The model file, or the lambda CSV"});
+    v(self.corpus, {"corpus", "The held-out corpus"});
+    PerplexityResult::describe(self.perplexity, v);
+    v(self.alpha, {"alpha", "The model's prior on topic proportions"});
+  }
 };
 
 LdaPerplexityResult run_lda_perplexity(const LdaPerplexityOptions& options,
@@ -138,8 +201,36 @@ LdaPerplexityResult run_lda_perplexity(const LdaPerplexityOptions& options,
 /// record (format "proprio.lda.topics").
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LdaTopWords {
+  struct Word {
+    std::string word;  ///< its name, or its id when the model has no vocabulary
+    int id = 0;
+    double probability = 0.0;  ///< beta_kw
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      v(self.word, {"word", "The word"});
+      v(self.id, {"id", "Its index in the vocabulary"});
+      v(self.probability, {"probability", "beta_kw"});
+    }
+  };
+  struct Topic {
+    int topic = 0;
+    std::vector<Word> words;  ///< most probable first
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      v(self.topic, {"topic", "The topic's index"});
+      v(self.words, {"words", "Its most probable words"});
+    }
+  };
   std::vector<std::string> lines;
-  core::Json document;
+  std::filesystem::path model;
+  std::vector<Topic> topics;
+  core::Json document;  ///< format "proprio.lda.topics": the fields described below
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.model, {"model", "The model file"});
+    v(self.topics, {"topics", "Each topic's most probable words"});
+  }
 };
 LdaTopWords run_lda_top_words(const std::filesystem::path& model, int top,
                               const core::Provenance& provenance);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -87,6 +88,13 @@ struct PerplexityPoint {
   std::int64_t updates = 0;
   std::int64_t documents_seen = 0;
   double perplexity = 0.0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.updates, {"updates", "Mini-batch updates so far"});
+    v(self.documents_seen, {"documents_seen", "Documents processed so far"});
+    v(self.perplexity, {"perplexity", "Held-out perplexity"});
+  }
 };
 
 struct OnlineLdaSummary {
@@ -107,7 +115,33 @@ struct OnlineLdaSummary {
     return seconds > 0 ? documents / seconds : 0;
   }
   [[nodiscard]] double tokens_per_second() const { return seconds > 0 ? tokens / seconds : 0; }
+  /// The last point's perplexity; none without a held-out corpus.
+  [[nodiscard]] std::optional<double> heldout_perplexity() const {
+    if (trace.empty()) return std::nullopt;
+    return trace.back().perplexity;
+  }
   [[nodiscard]] std::string brief() const;
+
+  /// Output only: speeds and the held-out perplexity are derived.
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.seconds, {"seconds", "Training time (wall clock), evaluations excluded"});
+    v(self.cpu_seconds, {"cpu_seconds", "Processor time of all threads during training"});
+    v(self.documents_per_second(), {"docs_per_s", "Documents processed per second"});
+    v(self.tokens_per_second(), {"tokens_per_s", "Tokens processed per second"});
+    v(self.documents, {"documents", "Documents processed, over all passes"});
+    v(self.tokens, {"tokens", "Tokens processed, over all passes"});
+    v(self.updates, {"updates", "Mini-batch updates"});
+    v(self.passes, {"passes", "Passes over the corpus"});
+    v(self.threads, {"threads", "Threads of the E-step"});
+    v(self.kernel, {"kernel", "The instruction set the E-step ran on"});
+    v(self.mean_estep_iterations,
+      {"mean_estep_iterations", "E-step iterations per non-empty document"});
+    v(self.capped, {"estep_capped", "Document E-steps that hit max_iterations"});
+    v(self.evaluation_seconds, {"evaluation_seconds", "Time spent scoring the held-out corpus"});
+    v(self.trace, {"perplexity_trace", "Held-out perplexity after updates (Fig 6-7)"});
+    v(self.heldout_perplexity(), {"heldout_perplexity", "The trace's last perplexity"});
+  }
 };
 
 struct OnlineLdaResult {

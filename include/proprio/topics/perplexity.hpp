@@ -37,6 +37,9 @@ struct PerplexityResult {
   std::int64_t documents = 0;  ///< documents with at least one scored token
   PerplexityMethod method = PerplexityMethod::kDocumentCompletion;
   double seconds = 0.0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v);
 };
 
 /// The two halves of each document for document completion.
@@ -59,5 +62,15 @@ PerplexityResult perplexity(const LdaModel& model, const Corpus& heldout,
                             const PerplexityOptions& options = {});
 
 std::string_view to_string(PerplexityMethod method);
+
+template <class Self, class Visitor>
+void PerplexityResult::describe(Self& self, Visitor& v) {
+  v(std::string(to_string(self.method)), {"method", "document_completion or bound"});
+  v(self.perplexity, {"perplexity", "exp(-log likelihood / tokens)"});
+  v(self.log_likelihood, {"log_likelihood", "Sum of log p over the scored tokens, nats"});
+  v(self.tokens, {"tokens", "Tokens scored"});
+  v(self.documents, {"documents", "Documents with at least one scored token"});
+  v(self.seconds, {"seconds", "Scoring time (wall clock)"});
+}
 
 }  // namespace proprio::topics

@@ -1,0 +1,240 @@
+// proprio experiment ...: the object-modelling experiments of thesis 6.3 (specific vs wide
+// dictionary, batch vs online LDA, videos of objects moved about; 7.3.1 with --mot).
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "option_binder.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
+#include "proprio/recognition/experiment_runs.hpp"
+#include "proprio/recognition/recognize_runs.hpp"
+
+namespace proprio::app {
+namespace {
+using namespace recognition;
+
+std::vector<int> parse_topics(const std::string& text) {
+  std::vector<int> ks;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, end - start);
+    std::size_t used = 0;
+    int k = -1;
+    if (item == "objects") {
+      ks.push_back(0);
+      start = end + 1;
+      continue;
+    }
+    try {
+      k = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != item.size() || item.empty() || k < 1) {
+      std::string m = "--k: '";
+      m += item;
+      m += "' is not a number of topics >= 1 (or 'objects')";
+      throw Error(m);
+    }
+    ks.push_back(k);
+    start = end + 1;
+  }
+  return ks;
+}
+
+struct SetArgs {
+  SetExperimentRunOptions options;
+  int lda_iterations = 100;
+  int online_passes = 10;
+  int online_batch = 50;
+  std::string json;
+  bool quiet = false;
+};
+
+struct ScatterArgs {
+  ScatterExperimentRunOptions options;
+  std::string k = "objects,8";
+  std::string json;
+  bool quiet = false;
+};
+
+void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
+  a.options.dictionary = dictionary;
+  a.options.progress = !a.quiet;
+  SetExperimentOptions& o = a.options.options;
+  o.batch.max_iterations = a.lda_iterations;
+  o.online.passes = a.online_passes;
+  o.online.batch_size = a.online_batch;
+  core::require_output_not_input(a.json, {a.options.images}, "--json");
+  const ExperimentRun r = run_set_experiment_files(a.options, inv.provenance(o.seed));
+  std::fputs(r.report.c_str(), stdout);
+  write_json_result(a.json, r.document);
+}
+
+void run_scatter(ScatterArgs& a, const Invocation& inv) {
+  a.options.options.topics = parse_topics(a.k);
+  a.options.progress = !a.quiet;
+  std::vector<std::filesystem::path> paths = a.options.episodes;
+  paths.insert(paths.end(), a.options.view_episodes.begin(), a.options.view_episodes.end());
+  paths.emplace_back(a.options.views);
+  paths.emplace_back(a.options.vocabulary);
+  // Several seeds: one JSON each, "{seed}" in --json standing for the seed.
+  const std::string placeholder = "{seed}";
+  const bool several = a.options.seeds.size() > 1;
+  if (several && !a.json.empty() && a.json.find(placeholder) == std::string::npos) {
+    throw Error("with several --seeds, --json needs {seed} in its name (one file per seed)");
+  }
+  auto json_of = [&](std::uint64_t seed) {
+    std::string path = a.json;
+    const auto at = path.find(placeholder);
+    if (at != std::string::npos) path.replace(at, placeholder.size(), std::to_string(seed));
+    return path;
+  };
+  const std::vector<std::uint64_t> seeds = a.options.seeds.empty()
+                                               ? std::vector<std::uint64_t>{a.options.options.seed}
+                                               : a.options.seeds;
+  for (const std::uint64_t seed : seeds)
+    core::require_output_not_input(json_of(seed), paths, "--json");
+  const std::vector<ExperimentRun> runs =
+      run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed));
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
+    std::fputs(runs[i].report.c_str(), stdout);
+    write_json_result(json_of(seeds[i]), runs[i].document);
+  }
+}
+
+void add_set_options(CLI::App* cmd, SetArgs& a) {
+  cmd->add_option("--images", a.options.images, "Folder-per-class image set (Caltech-256's layout)")
+      ->required();
+  cmd->add_option("--set-a", a.options.options.set_a,
+                  "Classes of set A (the specific dictionary's); default: the first half")
+      ->delimiter(',');
+  cmd->add_option("--set-b", a.options.options.set_b, "Classes of set B; default: the other half")
+      ->delimiter(',');
+  cmd->add_option("--wide", a.options.options.wide, "Classes of the wide dictionary; default: all")
+      ->delimiter(',');
+  cmd->add_option("--words", a.options.options.kmeans.words, "Words per dictionary")
+      ->capture_default_str();
+  cmd->add_option("--dictionary-images", a.options.options.dictionary_images,
+                  "Training images per class for a dictionary")
+      ->capture_default_str();
+  cmd->add_option("--per-image", a.options.options.descriptors_per_image,
+                  "Descriptors drawn per dictionary image")
+      ->capture_default_str();
+  cmd->add_option("--test-per-class", a.options.options.test_per_class, "Test images per class")
+      ->capture_default_str();
+  cmd->add_option("--lda-iterations", a.lda_iterations, "Batch LDA: EM iterations at most")
+      ->capture_default_str();
+  cmd->add_option("--passes", a.online_passes, "Online LDA: passes over the training images")
+      ->capture_default_str();
+  cmd->add_option("--batch", a.online_batch, "Online LDA: images per mini-batch")
+      ->capture_default_str();
+  cmd->add_option("--seed", a.options.options.seed, "Seed of the split, dictionaries and LDA")
+      ->capture_default_str();
+  bind_options(cmd, a.options.options.features);
+  cmd->add_flag("-q,--quiet", a.quiet, "No progress bar");
+  cmd->add_option("--json", a.json, "Also write the confusion matrices as JSON");
+}
+
+}  // namespace
+
+void register_experiment_commands(CLI::App& root, const Invocation& inv) {
+  auto* exp = root.add_subcommand("experiment", "Rerun the thesis's object-modelling experiments");
+  exp->require_subcommand(1);
+  auto d = std::make_shared<SetArgs>();
+  auto* dict = exp->add_subcommand(
+      "dictionary", "Specific vs wide dictionary (thesis 6.3.1, Tables 6.1-6.2), batch LDA");
+  add_set_options(dict, *d);
+  dict->callback([d, &inv] { run_set(*d, inv, true); });
+  auto b = std::make_shared<SetArgs>();
+  auto* bo = exp->add_subcommand(
+      "batch-online", "Batch vs online LDA with the wide dictionary (thesis 6.3.2, Table 6.3)");
+  add_set_options(bo, *b);
+  bo->callback([b, &inv] { run_set(*b, inv, false); });
+
+  auto s = std::make_shared<ScatterArgs>();
+  auto* sc = exp->add_subcommand(
+      "scatter",
+      "Online LDA on videos of objects moved about; classify held-out views (6.3.3, 7.3.1)");
+  sc->add_option("--episodes", s->options.episodes, "Episode directories, or directories of them")
+      ->required();
+  sc->add_option("--views", s->options.views,
+                 "Folder-per-object views; folder names = object names");
+  sc->add_option("--view-episodes", s->options.view_episodes,
+                 "Held-out episodes whose frames, cut by the ground-truth masks, give the views "
+                 "(alternate blocks of --view-block frames name the topics and test); instead "
+                 "of --views");
+  sc->add_option("--view-block", s->options.options.view_block,
+                 "With --view-episodes: frames per block of the naming / test split")
+      ->capture_default_str();
+  sc->add_option("--objects", s->options.objects,
+                 "With --view-episodes: the objects (catalogue names)")
+      ->delimiter(',');
+  sc->add_option("--view-step", s->options.options.view_step,
+                 "With --view-episodes: every n-th frame")
+      ->capture_default_str();
+  sc->add_option("--view-min-features", s->options.options.view_min_features,
+                 "With --view-episodes: least features of a view")
+      ->capture_default_str();
+  sc->add_option("--k", s->k,
+                 "Numbers of topics K, comma-separated; objects = the number of objects")
+      ->capture_default_str();
+  sc->add_option("--vocabulary", s->options.vocabulary,
+                 "Vocabulary file (default: built from the frames)");
+  sc->add_option("--words", s->options.options.kmeans.words,
+                 "Words of a dictionary built from the frames")
+      ->capture_default_str();
+  sc->add_option("--dictionary-frames", s->options.options.dictionary_frames,
+                 "Frames sampled for that dictionary")
+      ->capture_default_str();
+  sc->add_option("--per-frame", s->options.options.descriptors_per_frame,
+                 "Descriptors drawn per frame")
+      ->capture_default_str();
+  bind_choice(sc, s->options.options.frames.region,
+              {"region",
+               "What of a frame is a document: objects (the views' objects by the ground-truth "
+               "masks), each-object (one document per object, masks), whole, target, blobs, masks"},
+              kFrameRegionNames);
+  sc->add_option("--masks", s->options.options.frames.masks, "Region masks: directory of masks");
+  sc->add_option("--frame-step", s->options.options.frame_step, "Use every n-th frame")
+      ->capture_default_str();
+  sc->add_option("--batch", s->options.options.online.batch_size, "Frames per mini-batch")
+      ->capture_default_str();
+  sc->add_option("--passes", s->options.options.online.passes, "Passes over the frames")
+      ->capture_default_str();
+  sc->add_option("--mapping-fraction", s->options.options.mapping_fraction,
+                 "Fraction of each object's views (labelled) that names the topics; the rest test")
+      ->capture_default_str();
+  sc->add_option("--seed", s->options.options.seed, "Seed")->capture_default_str();
+  sc->add_option("--seeds", s->options.seeds,
+                 "With --view-episodes: several seeds over one feature extraction (comma-"
+                 "separated; one run each, --json with {seed} in its name); instead of --seed")
+      ->delimiter(',');
+  sc->add_flag("--split-by-episode", s->options.options.split_by_episode,
+               "With --view-episodes: the first --mapping-fraction of the view episodes give the "
+               "labelled views, the others the test views (instead of alternate blocks)");
+  sc->add_flag("--mot", s->options.options.mot,
+               "Also classify the test views by a supervised Mixture of Topics (thesis 7.1) "
+               "fitted to the labelled views' theta");
+  sc->add_option("--mot-smoothing", s->options.options.mot_options.smoothing,
+                 "With --mot: theta smoothing s, (1 - s) theta + s / T before the log")
+      ->capture_default_str();
+  sc->add_option("--mot-smoothing-grid", s->options.options.mot_smoothing_grid,
+                 "With --mot: also evaluate the supervised MoT at these smoothings (comma-"
+                 "separated), with either prior (tuning)")
+      ->delimiter(',');
+  bind_options(sc, s->options.options.frames.features);
+  sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
+  sc->add_option("--json", s->json, "Also write the confusion matrices as JSON");
+  sc->callback([s, &inv] { run_scatter(*s, inv); });
+}
+
+}  // namespace proprio::app
