@@ -49,18 +49,10 @@ void run_info(const InfoArgs& a, const Invocation& inv) {
 void run_check(const CheckArgs& a, const Invocation& inv) {
   episode::CheckOptions options;
   options.decode_images = !a.quick;
-  const auto problems = episode::check_episode(a.dir, options);
-  core::Json list = core::Json::array();
-  for (const auto& p : problems) {
-    std::printf("%s\n", p.message.c_str());
-    list.push_back({{"file", p.file.string()}, {"message", p.message}});
-  }
-  core::Json doc = core::result_document("proprio.episode.check", 1, inv.provenance());
-  doc["dir"] = a.dir;
-  doc["decoded_images"] = options.decode_images;
-  doc["valid"] = problems.empty();
-  doc["problems"] = list;
-  write_json_result(a.json, doc);
+  const auto r = episode::run_episode_check(a.dir, options, inv.provenance());
+  const auto& problems = r.problems;
+  for (const auto& p : problems) std::printf("%s\n", p.message.c_str());
+  write_json_result(a.json, r.document);
   if (!problems.empty()) {
     std::string m = a.dir;
     m += ": not a valid episode (";
@@ -83,10 +75,7 @@ void run_import(ImportArgs a, const Invocation& inv) {
       episode::import_recording(a.video, a.arm_log, a.calib, a.out, a.options, provenance);
   std::printf("episode: %s\n", a.out.c_str());
   std::fputs(episode::format_import_summary(result.summary).c_str(), stdout);
-  core::Json doc = core::result_document("proprio.episode.import", 1, provenance);
-  doc["episode"] = a.out;
-  doc.update(episode::to_json(result.summary));
-  write_json_result(a.json, doc);
+  write_json_result(a.json, result.document);
 }
 
 }  // namespace

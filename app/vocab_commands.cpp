@@ -35,17 +35,9 @@ struct QuantizeArgs {
 };
 
 void run_info(const std::string& vocab, const std::string& json, const Invocation& inv) {
-  const features::Vocabulary v = features::read_vocabulary(vocab);
-  const core::Provenance p = features::read_vocabulary_provenance(vocab);
-  std::printf("%s: %d words of %d values, written %s by proprio %s\n  %s\n", vocab.c_str(),
-              v.size(), v.dimension(), p.created_utc.c_str(), p.proprio_version.c_str(),
-              p.command_line.c_str());
-  core::Json doc = core::result_document("proprio.vocab.info", 1, inv.provenance());
-  doc["vocabulary"] = vocab;
-  doc["words"] = v.size();
-  doc["dimension"] = v.dimension();
-  doc["built_by"] = core::to_json(p);
-  write_json_result(json, doc);
+  const features::VocabularyInfo r = features::run_vocabulary_info(vocab, inv.provenance());
+  std::printf("%s\n", r.brief().c_str());
+  write_json_result(json, r.document);
 }
 
 }  // namespace

@@ -220,24 +220,12 @@ ImportResult import_recording(const fs::path& video, const fs::path& arm_log, co
   }
   progress.finish();
   writer.finish();
-  return {sum};
+  ImportResult r{out, sum, core::result_document("proprio.episode.import", 1, provenance)};
+  core::fields_into_json(r, r.document);
+  return r;
 }
 
-core::Json to_json(const ImportSummary& s) {
-  return {{"video_frames_read", s.video_frames_read},
-          {"frames_written", s.frames_written},
-          {"dropped_before_log", s.dropped_before_log},
-          {"first_video_frame", s.first_video_frame},
-          {"fps", s.fps},
-          {"log_span_s", {s.log_start, s.log_end}},
-          {"log_samples", s.log_samples},
-          {"undistorted", s.undistorted},
-          {"touching_frames", s.touching_frames},
-          {"first_touch_frame",
-           s.first_touch_frame ? core::Json(*s.first_touch_frame) : core::Json(nullptr)},
-          {"behind_camera_frames", s.behind_camera_frames},
-          {"stop_reason", s.stop_reason}};
-}
+core::Json to_json(const ImportSummary& s) { return core::fields_to_json(s); }
 
 std::string format_import_summary(const ImportSummary& s) {
   char buf[512];

@@ -349,4 +349,15 @@ std::vector<Problem> check_episode(const std::filesystem::path& dir, const Check
   return sink.take();
 }
 
+CheckResult run_episode_check(const std::filesystem::path& dir, const CheckOptions& options,
+                              const core::Provenance& provenance) {
+  CheckResult r;
+  r.dir = dir;
+  r.decoded_images = options.decode_images;
+  r.problems = check_episode(dir, options);
+  r.document = core::result_document("proprio.episode.check", 1, provenance);
+  core::fields_into_json(r, r.document);
+  return r;
+}
+
 }  // namespace proprio::episode

@@ -49,9 +49,11 @@ core::Json episode_results_json(const std::vector<EpisodeEvaluation>& episodes) 
                     {"object", e.object},
                     {"scenario", e.scenario}};
     for (const auto& oc : e.outcomes) {
-      core::Json r = {{"status", oc.status}, {"scored_frame", oc.scored_frame}};
-      r["jaccard"] = oc.status == "ok" ? core::Json(oc.metrics.jaccard) : core::Json(nullptr);
-      j[to_string(oc.method)] = std::move(r);
+      j.emplace(to_string(oc.method),
+                core::Json{{"status", oc.status},
+                           {"scored_frame", oc.scored_frame},
+                           {"jaccard", oc.status == "ok" ? core::Json(oc.metrics.jaccard)
+                                                         : core::Json(nullptr)}});
     }
     per.push_back(std::move(j));
   }
@@ -96,19 +98,22 @@ DatasetEvaluationResult run_dataset_evaluation(const DatasetEvaluationOptions& o
 
   core::write_file_atomic(stage / "episodes.csv", episodes_csv(r.episodes));
   r.files = write_plots(stage, r.episodes, r.methods, options.eval);
-  core::Json doc = core::result_document("proprio.evaluate.segmentation", 1, provenance);
-  doc["dataset"] = options.dataset.string();
-  core::Json names = core::Json::array();
-  for (Method m : r.methods) names.push_back(to_string(m));
-  doc["method_names"] = names;
-  doc["options"] = options_json(options.eval);
-  doc.update(dataset_summary_json(r.episodes, r.methods, options.eval));
-  doc["episode_results"] = episode_results_json(r.episodes);
-  doc["files"] = r.files;
-  core::write_json_atomic(stage / "summary.json", doc);
+  r.dataset = options.dataset;
+  r.options = options_json(options.eval);
+  r.summary = dataset_summary_json(r.episodes, r.methods, options.eval);
+  r.episode_results = episode_results_json(r.episodes);
+  r.document = core::result_document("proprio.evaluate.segmentation", 1, provenance);
+  core::fields_into_json(r, r.document);
+  core::write_json_atomic(stage / "summary.json", r.document);
   dir.commit();
-  r.document = std::move(doc);
   return r;
+}
+
+std::vector<std::string> DatasetEvaluationResult::method_names() const {
+  std::vector<std::string> names;
+  names.reserve(methods.size());
+  for (Method m : methods) names.emplace_back(to_string(m));
+  return names;
 }
 
 std::string DatasetEvaluationResult::brief() const {

@@ -137,4 +137,32 @@ Vocabulary read_vocabulary(const fs::path& path) { return Vocabulary(parse(path)
 
 core::Provenance read_vocabulary_provenance(const fs::path& path) { return parse(path).provenance; }
 
+std::string VocabularyInfo::brief() const {
+  std::string s = vocabulary.string();
+  s += ": ";
+  s += std::to_string(words);
+  s += " words of ";
+  s += std::to_string(dimension);
+  s += " values, written ";
+  s += built_by.created_utc;
+  s += " by proprio ";
+  s += built_by.proprio_version;
+  s += "\n  ";
+  s += built_by.command_line;
+  return s;
+}
+
+VocabularyInfo run_vocabulary_info(const fs::path& path, const core::Provenance& provenance) {
+  auto parsed = parse(path);
+  const Vocabulary vocabulary(parsed.words);  // the same checks as read_vocabulary
+  VocabularyInfo r;
+  r.vocabulary = path;
+  r.words = vocabulary.size();
+  r.dimension = vocabulary.dimension();
+  r.built_by = std::move(parsed.provenance);
+  r.document = core::result_document("proprio.vocab.info", 1, provenance);
+  core::fields_into_json(r, r.document);
+  return r;
+}
+
 }  // namespace proprio::features

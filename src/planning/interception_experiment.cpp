@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -97,19 +98,42 @@ core::Json summary_json(const ExperimentSummary& s) {
           {"mujoco_warning_trials", s.mujoco_warnings}};
 }
 
-core::Json trial_json(const TrialResult& t) {
-  core::Json j = {{"executed", t.executed},
-                  {"why_not", t.why_not},
-                  {"plan_ms", t.first_plan_ms},
-                  {"plans", t.plans},
-                  {"reaims", t.reaims}};
-  if (t.executed) {
-    j["miss_mm"] = t.miss * 1e3;
-    j["predicted_sigma_mm"] = t.predicted_sigma * 1e3;
-    j["intercept_time_s"] = t.t_intercept - t.t_plan;
-    j["psi"] = {t.final_plan.psi.theta, t.final_plan.psi.length, t.final_plan.psi.gamma};
+// One trial as the record lists it (the last four only when it was executed).
+struct TrialRecord {
+  bool executed = false;
+  std::string why_not;
+  double plan_ms = 0;
+  int plans = 0;
+  int reaims = 0;
+  std::optional<double> miss_mm;
+  std::optional<double> predicted_sigma_mm;
+  std::optional<double> intercept_time_s;
+  std::optional<std::vector<double>> psi;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.executed, {"executed", "A plan was made and the arm reached the interception time"});
+    v(self.why_not, {"why_not", "Why not, when not executed"});
+    v(self.plan_ms, {"plan_ms", "Wall time of the first plan, ms"});
+    v(self.plans, {"plans", "Full plans"});
+    v(self.reaims, {"reaims", "Corrections during the move"});
+    v(self.miss_mm, {"miss_mm", "Miss at the interception, mm"});
+    v(self.predicted_sigma_mm, {"predicted_sigma_mm", "The filter's std when last aimed, mm"});
+    v(self.intercept_time_s, {"intercept_time_s", "Interception time after the plan, s"});
+    v(self.psi, {"psi", "The final plan's theta, length, gamma"});
   }
-  return j;
+};
+
+core::Json trial_json(const TrialResult& t) {
+  TrialRecord r{t.executed, t.why_not, t.first_plan_ms, t.plans, t.reaims, {}, {}, {}, {}};
+  if (t.executed) {
+    r.miss_mm = t.miss * 1e3;
+    r.predicted_sigma_mm = t.predicted_sigma * 1e3;
+    r.intercept_time_s = t.t_intercept - t.t_plan;
+    r.psi = std::vector<double>{t.final_plan.psi.theta, t.final_plan.psi.length,
+                                t.final_plan.psi.gamma};
+  }
+  return core::fields_to_json(r);
 }
 
 void require_noise_levels(const std::vector<double>& levels, const char* what) {
@@ -143,19 +167,18 @@ InterceptionRunResult run_interception(const InterceptionRunOptions& options,
   eo.trials = options.trials;
   eo.seed = options.seed;
   r.experiment = run_experiment(*s.simulator, eo, options.setup.progress);
-  core::Json doc = core::result_document("proprio.intercept", 1, provenance);
-  doc["noise_cm"] = options.noise_cm;
-  doc["prior"] = to_string(options.prior);
-  doc["replan"] = options.replan;
-  doc["transition"] = to_string(options.setup.transition);
-  doc["camera_rate_hz"] = eo.trial.camera_rate_hz;
-  doc["observe_frames"] = eo.trial.observe_frames;
-  doc["grid"] = s.grid_json();
-  doc.update(summary_json(r.experiment.summary));
-  core::Json trials = core::Json::array();
-  for (const TrialResult& t : r.experiment.trials) trials.push_back(trial_json(t));
-  doc["trial_results"] = std::move(trials);
-  r.document = std::move(doc);
+  r.noise_cm = options.noise_cm;
+  r.prior = to_string(options.prior);
+  r.replan = options.replan;
+  r.transition = to_string(options.setup.transition);
+  r.camera_rate_hz = eo.trial.camera_rate_hz;
+  r.observe_frames = eo.trial.observe_frames;
+  r.grid = s.grid_json();
+  r.summary = summary_json(r.experiment.summary);
+  r.trial_results = core::Json::array();
+  for (const TrialResult& t : r.experiment.trials) r.trial_results.push_back(trial_json(t));
+  r.document = core::result_document("proprio.intercept", 1, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 
@@ -249,11 +272,9 @@ InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& o
   };
   save("energy_grid.png", draw_energy_grid(s.model->costs()));
 
-  core::Json doc = core::result_document("proprio.intercept.sweep", 1, provenance);
-  doc["trials"] = options.trials;
-  doc["noise_cm"] = options.noise;
-  doc["prior"] = "both";
-  doc["grid"] = s.grid_json();
+  r.trials = options.trials;
+  r.noise_cm = options.noise;
+  r.grid = s.grid_json();
   core::Json rows = core::Json::array();
   core::Json choices_json = core::Json::array();
   core::ProgressBar bar(options.transitions.size() * options.noise.size() * 2, "sweep",
@@ -293,12 +314,13 @@ InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& o
     save("noise_choice_" + tname + ".png", draw_noise_choices(target, t_plan, grid, choices));
   }
   bar.finish();
-  doc["rows"] = std::move(rows);
-  doc["interception_choices"] = std::move(choices_json);
-  core::write_json_atomic(stage / "sweep.json", doc);
+  r.rows = std::move(rows);
+  r.interception_choices = std::move(choices_json);
+  r.document = core::result_document("proprio.intercept.sweep", 1, provenance);
+  core::fields_into_json(r, r.document);
+  core::write_json_atomic(stage / "sweep.json", r.document);
   r.files.insert(r.files.begin(), "sweep.json");
   dir.commit();
-  r.document = std::move(doc);
   return r;
 }
 

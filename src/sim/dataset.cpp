@@ -81,7 +81,7 @@ std::vector<DatasetEntry> dataset_design(const SimDatasetOptions& options) {
 std::string SimDatasetResult::brief() const {
   char line[160];
   std::snprintf(line, sizeof line, "episodes: %zu\nframes: %d\nfps: %.2f", design.size(), frames,
-                seconds > 0 ? frames / seconds : 0.0);
+                fps());
   return line;
 }
 
@@ -94,29 +94,21 @@ SimDatasetResult run_sim_dataset(const SimDatasetOptions& options,
   const auto catalogue = ObjectCatalogue::load_default();
   core::StagedDirectory staged(options.out);
   core::ProgressBar bar(r.design.size(), "sim dataset", options.progress);
-  core::Json episodes = core::Json::array();
   for (const auto& [name, o] : r.design) {
     core::Provenance p = provenance;
     p.seed = o.seed;
     const RecordSummary s = record_episode(staged.staging_path() / name, o, p, catalogue);
     r.frames += s.frames;
     r.seconds += s.seconds;
-    episodes.push_back({{"episode", name},
-                        {"scenario", o.scenario},
-                        {"switches", o.switches()},
-                        {"frames", s.frames}});
+    r.episodes.push_back({name, o.scenario, o.switches(), s.frames});
     bar.tick();
   }
   bar.finish();
   staged.commit();
-  core::Json& doc = r.document;
-  doc = core::result_document("proprio.sim.dataset", 1, provenance);
-  doc["preset"] = options.preset;
-  doc["out"] = options.out.string();
-  doc["episodes"] = episodes;
-  doc["frames"] = r.frames;
-  doc["seconds"] = r.seconds;
-  doc["fps"] = r.seconds > 0 ? r.frames / r.seconds : 0.0;
+  r.preset = options.preset;
+  r.out = options.out;
+  r.document = core::result_document("proprio.sim.dataset", 1, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 

@@ -5,12 +5,22 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+
 namespace proprio::episode {
 
 /// One thing wrong with an episode.
 struct Problem {
   std::filesystem::path file;  ///< the file (or directory) at fault
   std::string message;         ///< "FILE:LINE: problem" or "FILE: problem", as proprio::Error
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.file, {"file", "The file (or directory) at fault"});
+    v(self.message, {"message", "The problem"});
+  }
 };
 
 struct CheckOptions {
@@ -27,5 +37,30 @@ struct CheckOptions {
 /// Never throws proprio::Error for bad content.
 std::vector<Problem> check_episode(const std::filesystem::path& dir,
                                    const CheckOptions& options = {});
+
+/// What run_episode_check found.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct CheckResult {
+  std::filesystem::path dir;      ///< the episode directory checked
+  bool decoded_images = true;     ///< whether every image was decoded (CheckOptions)
+  std::vector<Problem> problems;  ///< every problem; empty means valid
+  /// The record (format "proprio.episode.check"): the fields described below.
+  core::Json document;
+
+  [[nodiscard]] bool valid() const { return problems.empty(); }
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.dir, {"dir", "The episode directory"});
+    v(self.decoded_images, {"decoded_images", "Whether every image was decoded"});
+    v(self.valid(), {"valid", "No problem found"});
+    v(self.problems, {"problems", "Every problem found"});
+  }
+};
+
+/// check_episode(dir, options) with its record (`proprio episode check`). Never throws
+/// proprio::Error for bad content.
+CheckResult run_episode_check(const std::filesystem::path& dir, const CheckOptions& options,
+                              const core::Provenance& provenance);
 
 }  // namespace proprio::episode

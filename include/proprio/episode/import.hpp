@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/episode/arm_sample.hpp"
@@ -70,10 +71,38 @@ struct ImportSummary {
   std::optional<int> first_touch_frame;
   int behind_camera_frames = 0;  ///< frames whose end-effector projects behind the camera
   std::string stop_reason;       ///< "end of video", "end of arm log" or "max_frames reached"
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.video_frames_read, {"video_frames_read", "Frames decoded from the video"});
+    v(self.frames_written, {"frames_written", "Frames of the episode"});
+    v(self.dropped_before_log, {"dropped_before_log", "Leading frames before the log's start"});
+    v(self.first_video_frame, {"first_video_frame", "Video index of the episode's frame 0"});
+    v(self.fps, {"fps", "Frame rate, frames per second"});
+    v(std::vector<double>{self.log_start, self.log_end},
+      {"log_span_s", "The log's time span [start, end], s"});
+    v(self.log_samples, {"log_samples", "Samples in the arm log"});
+    v(self.undistorted, {"undistorted", "Lens distortion was removed"});
+    v(self.touching_frames, {"touching_frames", "Frames with the arm touching"});
+    v(self.first_touch_frame ? core::Json(*self.first_touch_frame) : core::Json(nullptr),
+      {"first_touch_frame", "The first touch (null: none)"});
+    v(self.behind_camera_frames, {"behind_camera_frames", "Frames with ee behind the camera"});
+    v(self.stop_reason, {"stop_reason", "Why reading stopped"});
+  }
 };
 
+// NOLINTNEXTLINE(bugprone-exception-escape)
 struct ImportResult {
+  std::filesystem::path episode;  ///< the episode directory written
   ImportSummary summary;
+  /// The record (format "proprio.episode.import"): the episode and the summary's fields.
+  core::Json document;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.episode, {"episode", "The episode directory written"});
+    ImportSummary::describe(self.summary, v);
+  }
 };
 
 /// The summary's fields as JSON (to add to a result document).

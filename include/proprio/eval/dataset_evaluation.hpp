@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/json_members.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/eval/segmentation_eval.hpp"
 
@@ -39,11 +41,28 @@ struct DatasetEvaluationResult {
   /// Per method (in `methods` order): the static, moving and all-episodes summaries.
   std::vector<std::array<GroupSummary, 3>> by_background;
   std::vector<std::string> files;  ///< plots written into `out`
-  /// summary.json as written (format "proprio.evaluate.segmentation").
+  std::filesystem::path dataset;   ///< the dataset directory evaluated
+  core::Json options;              ///< the evaluation options used (options_json)
+  core::Json summary;              ///< dataset_summary_json: its members are the record's
+  core::Json episode_results;      ///< per episode: its facts and each method's outcome
+  /// summary.json as written (format "proprio.evaluate.segmentation"): the fields described
+  /// below.
   core::Json document;
 
   /// Mean Jaccard per method and background with intervals, in a few lines (what the CLI prints).
   [[nodiscard]] std::string brief() const;
+  /// The methods' names, in `methods` order.
+  [[nodiscard]] std::vector<std::string> method_names() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.dataset, {"dataset", "The dataset directory"});
+    v(self.method_names(), {"method_names", "The methods, in order"});
+    v(self.options, {"options", "The evaluation options"});
+    core::describe_json_members(self.summary, v);
+    v(self.episode_results, {"episode_results", "Per episode: facts and outcomes"});
+    v(self.files, {"files", "Plots written"});
+  }
 };
 
 /// Evaluates every episode of the dataset (episode::list_episode_dirs) on `threads` threads and

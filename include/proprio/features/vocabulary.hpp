@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
+#include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 
 namespace proprio::features {
@@ -54,5 +56,31 @@ void write_vocabulary(const std::filesystem::path& path, const Vocabulary& vocab
 Vocabulary read_vocabulary(const std::filesystem::path& path);
 /// The provenance stored in a vocabulary file (same checks as read_vocabulary).
 core::Provenance read_vocabulary_provenance(const std::filesystem::path& path);
+
+/// What a vocabulary file holds (`proprio vocab info`).
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct VocabularyInfo {
+  std::filesystem::path vocabulary;  ///< the file
+  int words = 0;                     ///< K
+  int dimension = 0;                 ///< D, values per word
+  core::Provenance built_by;         ///< the provenance stored in the file
+  /// The record (format "proprio.vocab.info"): the fields described below.
+  core::Json document;
+
+  /// "FILE: K words of D values, written WHEN by proprio VERSION\n  COMMAND LINE".
+  [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.vocabulary, {"vocabulary", "The vocabulary file"});
+    v(self.words, {"words", "Number of words"});
+    v(self.dimension, {"dimension", "Values per word"});
+    v(core::to_json(self.built_by), {"built_by", "The provenance stored in the file"});
+  }
+};
+
+/// Reads `path` (same checks as read_vocabulary) and returns what it holds, with its record.
+VocabularyInfo run_vocabulary_info(const std::filesystem::path& path,
+                                   const core::Provenance& provenance);
 
 }  // namespace proprio::features

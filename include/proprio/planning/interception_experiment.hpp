@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/json_members.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/planning/interception_planner.hpp"
 #include "proprio/planning/interception_trial.hpp"
@@ -75,10 +77,33 @@ struct InterceptionRunOptions {
 struct InterceptionRunResult {
   std::string setup_brief;  ///< InterceptionSetup::brief()
   ExperimentResult experiment;
-  core::Json document;  ///< format "proprio.intercept"
+  double noise_cm = 0;        ///< the options' noise, cm
+  std::string prior;          ///< the planner's prior mode
+  bool replan = false;        ///< whether the trials re-planned
+  std::string transition;     ///< the filter's target model
+  double camera_rate_hz = 0;  ///< Hz
+  int observe_frames = 0;     ///< frames observed before the first plan
+  core::Json grid;            ///< InterceptionSetup::grid_json()
+  core::Json summary;         ///< the experiment's summary: its members are the record's
+  core::Json trial_results;   ///< one object per trial
+  /// Format "proprio.intercept": the fields described below.
+  core::Json document;
 
   /// The setup line, the summary line and one line per trial not executed.
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.noise_cm, {"noise_cm", "Observation noise, cm"});
+    v(self.prior, {"prior", "The planner's prior mode"});
+    v(self.replan, {"replan", "Whether the trials re-planned"});
+    v(self.transition, {"transition", "The filter's target model"});
+    v(self.camera_rate_hz, {"camera_rate_hz", "Camera rate, Hz"});
+    v(self.observe_frames, {"observe_frames", "Frames observed before the first plan"});
+    v(self.grid, {"grid", "The trajectory grid"});
+    core::describe_json_members(self.summary, v);
+    v(self.trial_results, {"trial_results", "One object per trial"});
+  }
 };
 
 /// Sets up the scene and runs the trials.
@@ -107,10 +132,26 @@ struct InterceptionSweepOptions {
 struct InterceptionSweepResult {
   std::string setup_brief;
   std::vector<std::string> files;  ///< sweep.json and the PNGs, in `out`
-  core::Json document;             ///< sweep.json (format "proprio.intercept.sweep")
+  /// sweep.json (format "proprio.intercept.sweep"): the fields described below.
+  core::Json document;
   std::filesystem::path out;
+  int trials = 0;                   ///< trials per row
+  std::vector<double> noise_cm;     ///< the noise levels, cm
+  core::Json grid;                  ///< InterceptionSetup::grid_json()
+  core::Json rows;                  ///< per target model, noise and re-planning: the summary
+  core::Json interception_choices;  ///< the Fig 3-11 choices
 
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.trials, {"trials", "Trials per row"});
+    v(self.noise_cm, {"noise_cm", "The noise levels, cm"});
+    v(std::string("both"), {"prior", "The prior modes compared"});
+    v(self.grid, {"grid", "The trajectory grid"});
+    v(self.rows, {"rows", "Per target model, noise and re-planning: the summary"});
+    v(self.interception_choices, {"interception_choices", "The Fig 3-11 choices"});
+  }
 };
 
 /// The sweep: for each target model, every noise level open loop and re-planning; the Fig 3-10

@@ -55,14 +55,47 @@ struct DatasetEntry {
 /// neighbouring object nudged (k = 2, 5). Cut to options.episodes when that is set.
 std::vector<DatasetEntry> dataset_design(const SimDatasetOptions& options);
 
+/// One recorded episode of a dataset, as its record lists it.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct DatasetEpisode {
+  std::string episode;   ///< directory name
+  std::string scenario;  ///< RecordOptions::scenario
+  core::Json switches;   ///< RecordOptions::switches()
+  int frames = 0;        ///< frames recorded
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.episode, {"episode", "Directory name"});
+    v(self.scenario, {"scenario", "The scenario"});
+    v(self.switches, {"switches", "The recording's switches"});
+    v(self.frames, {"frames", "Frames recorded"});
+  }
+};
+
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct SimDatasetResult {
   std::vector<DatasetEntry> design;
+  std::string preset;                    ///< SimDatasetOptions::preset
+  std::filesystem::path out;             ///< the directory written
+  std::vector<DatasetEpisode> episodes;  ///< in the design's order
   int frames = 0;
   double seconds = 0.0;  ///< recording, wall clock
-  core::Json document;   ///< format "proprio.sim.dataset" (sim_dataset.schema.json)
+  /// Format "proprio.sim.dataset" (sim_dataset.schema.json): the fields described below.
+  core::Json document;
 
   [[nodiscard]] std::string brief() const;
+  /// Frames recorded per second of wall clock (0 when no time was measured).
+  [[nodiscard]] double fps() const { return seconds > 0 ? frames / seconds : 0.0; }
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.preset, {"preset", "The preset"});
+    v(self.out, {"out", "The directory written"});
+    v(self.episodes, {"episodes", "The episodes recorded"});
+    v(self.frames, {"frames", "Frames recorded"});
+    v(self.seconds, {"seconds", "Recording time, wall clock, s"});
+    v(self.fps(), {"fps", "Frames per second of wall clock"});
+  }
 };
 
 /// Records every episode of the design into a staging directory renamed to `out` at the end.
