@@ -2,18 +2,13 @@
 // run as child processes, are killed with SIGKILL at a random moment after a checkpoint was
 // written, are resumed from it, and end with the model of the uninterrupted run, bit for bit.
 // Checkpoints of another corpus or other options are refused with exit 2 naming the file.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
-#include <cstring>
 #include <filesystem>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "../support/named_corpus.hpp"
@@ -30,22 +25,6 @@ namespace fs = std::filesystem;
 using test::line_count;
 using test::run_cli;
 
-// Splits shell-free arguments on spaces (the paths of these tests have none).
-std::vector<std::string> split_args(const std::string& args) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (const char c : args) {
-    if (c == ' ') {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  if (!cur.empty()) out.push_back(cur);
-  return out;
-}
-
 struct Killed {
   bool by_signal = false;  // false: the child had finished before the kill
   int delay_ms = 0;
@@ -54,35 +33,12 @@ struct Killed {
 // Starts `proprio args`, waits until `checkpoint` exists, waits a random 0..max_delay_ms more,
 // then kills the child with SIGKILL and reaps it.
 Killed run_and_kill(const std::string& args, const fs::path& checkpoint, int max_delay_ms) {
-  const std::string cli = test::cli_path();
-  std::vector<std::string> argv_s = split_args(args);
-  argv_s.insert(argv_s.begin(), cli);
-  std::vector<char*> argv;
-  argv.reserve(argv_s.size() + 1);
-  for (auto& a : argv_s) argv.push_back(a.data());
-  argv.push_back(nullptr);
   std::random_device seed;
   Killed k;
   k.delay_ms = static_cast<int>(seed() % static_cast<unsigned>(max_delay_ms + 1));
-  const pid_t child = ::fork();
-  if (child == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);  // NOLINT(cppcoreguidelines-pro-type-vararg)
-    ::dup2(null, 1);
-    ::dup2(null, 2);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  while (!fs::exists(checkpoint)) {
-    if (::waitpid(child, &status, WNOHANG) == child) return k;  // ended without a checkpoint
-    if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(120)) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  std::this_thread::sleep_for(std::chrono::milliseconds(k.delay_ms));
-  ::kill(child, SIGKILL);
-  ::waitpid(child, &status, 0);
-  k.by_signal = WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+  k.by_signal = test::run_cli_and_kill(
+      args, [&] { return fs::exists(checkpoint); }, std::chrono::milliseconds(k.delay_ms),
+      std::chrono::seconds(120));
   return k;
 }
 

@@ -2,29 +2,18 @@
 // name beside --out and swapped in whole, so none of an older run's files stay in the new one, and
 // a run killed half-way (SIGKILL once its staging directory exists) leaves the older run as it
 // was; the next run that writes there removes the killed run's staging directory.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/files.hpp"
-#include "proprio/core/provenance.hpp"
-#include "proprio/features/kmeans.hpp"
-#include "proprio/features/sift.hpp"
-#include "proprio/features/vocabulary.hpp"
-#include "proprio/topics/batch_lda.hpp"
-#include "proprio/topics/corpus.hpp"
-#include "proprio/topics/lda_model_io.hpp"
+#include "tiny_models.hpp"
 
 namespace proprio::app {
 namespace {
@@ -53,48 +42,12 @@ bool staging_started(const fs::path& dir) {
   return false;
 }
 
-std::vector<std::string> split_args(const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : s) {
-    if (c == ' ') {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  if (!cur.empty()) out.push_back(cur);
-  return out;
-}
-
 // Starts `proprio args`, kills it with SIGKILL as soon as a staging directory in `parent` holds
 // something (or after 60 s), reaps it; true when it was killed rather than finished.
 bool run_and_kill_once_staging(const std::string& args, const fs::path& parent) {
-  std::vector<std::string> argv_s = split_args(args);
-  argv_s.insert(argv_s.begin(), test::cli_path());
-  std::vector<char*> argv;
-  argv.reserve(argv_s.size() + 1);
-  for (auto& a : argv_s) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const pid_t child = ::fork();
-  if (child == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);  // NOLINT(cppcoreguidelines-pro-type-vararg)
-    ::dup2(null, 1);
-    ::dup2(null, 2);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  while (!staging_started(parent)) {
-    if (::waitpid(child, &status, WNOHANG) == child) return false;
-    if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(60)) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  ::kill(child, SIGKILL);
-  ::waitpid(child, &status, 0);
-  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+  return test::run_cli_and_kill(
+      args, [&] { return staging_started(parent); }, std::chrono::milliseconds(0),
+      std::chrono::seconds(60));
 }
 
 // An older run at parent/run: its marker file (what the command leaves there) and a file the
@@ -124,26 +77,7 @@ class OverwriteCli : public ::testing::Test {
   static void SetUpTestSuite() {
     fs::remove_all(dir());
     fs::create_directories(dir());
-    const cv::Mat img =
-        cv::imread(std::string(PROPRIO_OPENCV_SAMPLES) + "/fruits.jpg", cv::IMREAD_COLOR);
-    ASSERT_FALSE(img.empty());
-    const features::Features f = features::dense_sift(img);
-    features::KmeansOptions k;
-    k.words = 24;
-    k.threads = 1;
-    const features::Vocabulary v = features::build_vocabulary(f.descriptors, k).vocabulary;
-    features::write_vocabulary(dir() / "v.vocab", v,
-                               core::Provenance::current({"overwrite_cli_test"}, 1));
-    const std::vector<std::int32_t> words = features::bag_of_words(v, f.descriptors);
-    topics::Corpus corpus(v.size());
-    for (std::size_t b = 0; b + 50 <= words.size(); b += 50) {
-      corpus.add_tokens(std::vector<std::int32_t>(words.begin() + static_cast<long>(b),
-                                                  words.begin() + static_cast<long>(b + 50)));
-    }
-    topics::BatchLdaOptions lo;
-    lo.num_topics = 3;
-    lo.max_iterations = 10;
-    topics::save_lda_model(topics::train_batch_lda(corpus, lo).model, dir() / "m.lda");
+    test::write_tiny_vocabulary_and_model(dir(), "overwrite_cli_test");
   }
   static void TearDownTestSuite() { fs::remove_all(dir()); }
   static const fs::path& dir() {

@@ -5,20 +5,14 @@
 
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <string>
 
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
-#include "proprio/core/provenance.hpp"
-#include "proprio/features/kmeans.hpp"
-#include "proprio/features/sift.hpp"
-#include "proprio/features/vocabulary.hpp"
-#include "proprio/topics/batch_lda.hpp"
-#include "proprio/topics/corpus.hpp"
 #include "proprio/topics/lda_model_io.hpp"
+#include "tiny_models.hpp"
 
 namespace proprio::app {
 namespace {
@@ -32,27 +26,7 @@ class SelfSuperviseCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     temp_.emplace("proprio_selfsup_cli");
-    const cv::Mat img =
-        cv::imread(std::string(PROPRIO_OPENCV_SAMPLES) + "/fruits.jpg", cv::IMREAD_COLOR);
-    ASSERT_FALSE(img.empty());
-    const features::Features f = features::dense_sift(img);
-    features::KmeansOptions k;
-    k.words = 24;
-    k.threads = 1;
-    const features::Vocabulary v = features::build_vocabulary(f.descriptors, k).vocabulary;
-    features::write_vocabulary(dir() / "v.vocab", v,
-                               core::Provenance::current({"selfsupervise_cli_test"}, 1));
-    const std::vector<std::int32_t> words = features::bag_of_words(v, f.descriptors);
-    topics::Corpus corpus(v.size());
-    for (std::size_t b = 0; b + 50 <= words.size(); b += 50) {
-      corpus.add_tokens(std::vector<std::int32_t>(words.begin() + static_cast<long>(b),
-                                                  words.begin() + static_cast<long>(b + 50)));
-    }
-    topics::BatchLdaOptions lo;
-    lo.num_topics = 3;
-    lo.max_iterations = 10;
-    topics::LdaModel m = topics::train_batch_lda(corpus, lo).model;
-    topics::save_lda_model(m, dir() / "m.lda");
+    topics::LdaModel m = test::write_tiny_vocabulary_and_model(dir(), "selfsupervise_cli_test");
     m.lambda.conservativeResize(Eigen::NoChange, m.lambda.cols() + 1);
     m.lambda.rightCols(1).setOnes();
     topics::save_lda_model(m, dir() / "other.lda");
