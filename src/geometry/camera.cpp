@@ -1,6 +1,7 @@
 #include "proprio/geometry/camera.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <opencv2/calib3d.hpp>
@@ -151,12 +152,62 @@ Eigen::MatrixXd read_matrix(const cv::FileStorage& fs, const std::string& key,
   return e;
 }
 
+// OpenCV 4.6's YAML parser (FileStorage::Impl, parse()) assumes that whatever follows the first
+// document's top-level collection starts with "---" or "...", skips three bytes blindly and, when
+// the next byte is a '-' that does not start "---", loops for ever (found by fuzz_triangulate:
+// "%YAML:1.0\n---L:1\n--\n-", "---\n- 1\n...\n-", "---\n[1]\n-\n-"). That parser is not ours to
+// fix, so the text is held to the layout OpenCV itself writes before it sees it: directives and
+// one "---" line, then one block map whose keys start at column 0, optionally closed by "..." with
+// nothing after it. A block map at column 0 only ends at "..." or at the end of the text, so
+// parse() never reaches the blind skip with text left.
+void check_calib_layout(std::string_view text, const std::filesystem::path& path) {
+  bool in_map = false;
+  bool closed = false;
+  long line = 0;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    ++line;
+    const std::size_t end = std::min(text.find('\n', pos), text.size());
+    std::string_view l = text.substr(pos, end - pos);
+    pos = end + 1;
+    while (!l.empty() && (l.back() == '\r' || l.back() == ' ' || l.back() == '\t')) {
+      l.remove_suffix(1);
+    }
+    const std::size_t first = l.find_first_not_of(" \t");
+    if (first == std::string_view::npos || l[first] == '#') continue;  // blank or comment
+    if (closed) {
+      throw Error::at_line(path, line, "text after the end of the document ('...')");
+    }
+    if (!in_map) {
+      if (l[0] == '%') continue;  // a directive (%YAML:1.0)
+      if (l == "---") continue;
+      if (l.starts_with("---") || l.starts_with("...")) {
+        throw Error::at_line(path, line,
+                             "not a calibration (its map must begin on the line after '---')");
+      }
+      if (first != 0) {
+        throw Error::at_line(path, line, "not a calibration (its keys must start at column 0)");
+      }
+      if (l[0] == '-' || l[0] == '[' || l[0] == '{') {
+        throw Error::in_file(path, "not a calibration (the top level is not a map)");
+      }
+      in_map = true;
+      continue;
+    }
+    if (l.starts_with("---")) {
+      throw Error::at_line(path, line, "more than one YAML document (a calibration is one map)");
+    }
+    if (l.starts_with("...")) closed = true;
+  }
+}
+
 }  // namespace
 
 Camera read_calib(const std::filesystem::path& path) {
   const std::string text = core::read_file(path);
   // OpenCV's parser recurses on nested values: bound the nesting before it sees the text.
   core::check_yaml_depth(text, path);
+  check_calib_layout(text, path);
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);

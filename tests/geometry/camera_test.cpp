@@ -146,6 +146,39 @@ TEST_F(CalibFileTest, BadFilesNameTheProblem) {
   EXPECT_THROW(read_calib(path_.string() + ".missing"), Error);
 }
 
+// Found by fuzz_triangulate: OpenCV 4.6's YAML parser loops for ever when text follows the
+// top-level collection and starts with a '-' that is not "---". Such layouts are refused before it
+// parses.
+TEST_F(CalibFileTest, LayoutsThatHangOpenCvAreRefused) {
+  const std::string p = path_.string();
+  EXPECT_EQ(error_reading("%YAML:1.\n---L:1\n--\n-"),
+            p + ":2: not a calibration (its map must begin on the line after '---')");
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\na: 1\n...\n-"),
+            p + ":5: text after the end of the document ('...')");
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\n[1]\n-\n-"),
+            p + ": not a calibration (the top level is not a map)");
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\n- 1\n...\n-"),
+            p + ": not a calibration (the top level is not a map)");
+  EXPECT_EQ(error_reading("%YAML:1.0\n  a: 1\n-\n-"),
+            p + ":2: not a calibration (its keys must start at column 0)");
+  EXPECT_EQ(error_reading("%YAML:1.0\n---\na: 1\n---\nb: 2\n"),
+            p + ":4: more than one YAML document (a calibration is one map)");
+  // What OpenCV writes, with comments, CRLF line ends and a closing "..." still reads.
+  const Camera c = example_camera();
+  write_calib(path_, c);
+  std::string text = core::read_file(path_);
+  text += "# a comment\n...\n# after the end\n";
+  std::string crlf;
+  for (const char ch : text) {
+    if (ch == '\n') crlf += '\r';
+    crlf += ch;
+  }
+  for (const std::string& t : {text, crlf}) {
+    core::write_file_atomic(path_, t);
+    EXPECT_TRUE(read_calib(path_).P().isApprox(c.P(), 1e-9));
+  }
+}
+
 // Issue 16: a point CSV cut in the middle of a number ("12.5" becomes "12") was accepted.
 TEST_F(CalibFileTest, APointFileCutShortIsRefused) {
   core::write_file_atomic(path_, "u1,v1,u2,v2\n1,2,3,4\n5,6,7,8.2\n");
