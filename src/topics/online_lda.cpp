@@ -142,6 +142,10 @@ struct OnlineLda::Impl {
   std::vector<int> first_row;
   Eigen::MatrixXd own;
   Eigen::VectorXd own_sum;
+  // The E-step's dealing to ranks: by cost (mpi_lda_balance) with the iterations each document
+  // took in the previous pass, or d mod P.
+  bool balance = mpi_lda_balance();
+  std::vector<std::uint16_t> last_iterations;
   OnlineLda::PhaseTimes times;
 
   Impl(const OnlineLdaOptions& o, LdaModel m)
@@ -447,7 +451,65 @@ void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows
   });
 }
 
+// Documents [begin, end) dealt d mod P, as they are read (no balancing).
+std::vector<int> deal_round_robin(std::size_t begin, std::size_t end, int ranks) {
+  std::vector<int> owner(end - begin);
+  for (std::size_t d = begin; d < end; ++d) {
+    owner[d - begin] = static_cast<int>(d % static_cast<std::size_t>(ranks));
+  }
+  return owner;
+}
+
+// The batch's documents dealt by the expected cost of their E-step: (entries + 2) x the iterations
+// the document took in the previous pass (1 in the first pass); an entry costs one pass over the
+// topics a iteration, the exp(digamma) of gamma about two.
+std::vector<int> deal_by_cost(const detail::BatchDocs& docs, std::size_t begin,
+                              const std::vector<std::uint16_t>& last_iterations, int ranks) {
+  std::vector<std::int64_t> cost(docs.size());
+  for (std::size_t i = 0; i < docs.size(); ++i) {
+    const auto entries = static_cast<std::int64_t>(docs.offsets[i + 1] - docs.offsets[i]);
+    const std::size_t d = begin + i;
+    const std::int64_t it =
+        d < last_iterations.size() ? std::max<std::int64_t>(1, last_iterations[d]) : 1;
+    cost[i] = entries == 0 ? 0 : (entries + 2) * it;
+  }
+  return mpi_deal_by_cost(cost, ranks);
+}
+
+// Keeps the E-step iterations of document d for the next pass's dealing.
+void remember_iterations(std::vector<std::uint16_t>& last, std::size_t d, std::int32_t iterations) {
+  if (d >= last.size()) last.resize(d + 1, 0);
+  last[d] = static_cast<std::uint16_t>(std::clamp<std::int32_t>(iterations, 0, 65535));
+}
+
 }  // namespace
+
+std::vector<int> mpi_deal_by_cost(std::span<const std::int64_t> costs, int ranks) {
+  assert(ranks >= 1);
+  std::vector<std::size_t> order(costs.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return costs[a] > costs[b]; });
+  std::vector<std::int64_t> load(static_cast<std::size_t>(ranks), 0);
+  std::vector<std::size_t> dealt(static_cast<std::size_t>(ranks), 0);
+  std::vector<int> owner(costs.size(), 0);
+  for (const std::size_t i : order) {
+    // The least loaded rank; among equal loads the one with fewest documents, then the lowest.
+    std::size_t best = 0;
+    for (std::size_t q = 1; q < load.size(); ++q) {
+      if (load[q] < load[best] || (load[q] == load[best] && dealt[q] < dealt[best])) best = q;
+    }
+    owner[i] = static_cast<int>(best);
+    load[best] += costs[i];
+    ++dealt[best];
+  }
+  return owner;
+}
+
+bool mpi_lda_balance() {
+  const char* v = std::getenv("PROPRIO_MPI_LDA_BALANCE");  // NOLINT(concurrency-mt-unsafe)
+  return v == nullptr || std::string_view(v) != "0";
+}
 
 MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, std::size_t end,
                                  core::Communicator& comm) {
@@ -485,15 +547,11 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   std::vector<std::size_t> cursor(P, 0);
   for (std::size_t q = 1; q < P; ++q) cursor[q] = cursor[q - 1] + counts[q - 1];
 
-  // 2. The batch in corpus order, as one process builds it; this rank's documents beside it.
+  // 2. The batch in corpus order, as one process builds it (document d came from rank d mod P).
   m.docs.clear();
   m.batch_words.clear();
-  detail::BatchDocs mine;
-  std::vector<std::size_t> owner(end - begin);
-  const auto rank = static_cast<std::size_t>(comm.rank());
   for (std::size_t d = begin; d < end; ++d) {
     const std::size_t q = d % P;
-    owner[d - begin] = q;
     std::size_t& c = cursor[q];
     const auto n = static_cast<std::size_t>(all[c]);
     const std::int32_t* words = all.data() + c + 1;
@@ -508,19 +566,27 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
       m.docs.rows.push_back(r);
       m.docs.counts.push_back(static_cast<float>(cnt[i]));
       stats.tokens += cnt[i];
-      if (q == rank) {
-        mine.rows.push_back(r);
-        mine.counts.push_back(static_cast<float>(cnt[i]));
-      }
     }
     m.docs.offsets.push_back(m.docs.rows.size());
-    const std::uint64_t key =
-        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d);
-    m.docs.keys.push_back(key);
-    if (q == rank) {
-      mine.offsets.push_back(mine.rows.size());
-      mine.keys.push_back(key);
+    m.docs.keys.push_back(
+        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d));
+  }
+  // Which rank runs each document's E-step: dealt by its expected cost (every rank has every
+  // document of the batch now, and computes the same dealing); this rank's documents in corpus
+  // order. A document's E-step does not depend on the rank that runs it.
+  const std::vector<int> owner =
+      m.balance ? deal_by_cost(m.docs, begin, m.last_iterations, static_cast<int>(P))
+                : deal_round_robin(begin, end, static_cast<int>(P));
+  detail::BatchDocs mine;
+  const int rank = comm.rank();
+  for (std::size_t i = 0; i < end - begin; ++i) {
+    if (owner[i] != rank) continue;
+    for (std::size_t e = m.docs.offsets[i]; e < m.docs.offsets[i + 1]; ++e) {
+      mine.rows.push_back(m.docs.rows[e]);
+      mine.counts.push_back(m.docs.counts[e]);
     }
+    mine.offsets.push_back(mine.rows.size());
+    mine.keys.push_back(m.docs.keys[i]);
   }
 
   lap(m.times.communication);
@@ -554,8 +620,10 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     lap(m.times.beta);
   }
   detail::BatchEStep own;
+  const auto estep_t0 = Clock::now();
   detail::run_estep(*m.kern, m.pool, mine, m.beta.data(), K, m.stride, model.alpha, m.options.estep,
                     own);
+  m.times.estep_wall += since(estep_t0);
   lap(m.times.estep);
 
   // 4. What every rank's E-step left, in corpus order: exp E[log theta], the entries' weights,
@@ -575,7 +643,9 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   append(flags.data(), flags.size() * sizeof(std::int32_t));
   std::vector<std::byte> gathered;
   std::vector<std::size_t> sizes;
+  const auto wait_t0 = Clock::now();
   comm.allgather(out, gathered, sizes);
+  m.times.wait_wall += since(wait_t0);
 
   const std::size_t B = end - begin;
   detail::BatchEStep& e = m.estep;
@@ -586,7 +656,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   e.converged.assign(B, 1);
   // Per rank: its documents' positions in the batch, then its three blocks.
   std::vector<std::vector<std::size_t>> docs_of(P);
-  for (std::size_t i = 0; i < B; ++i) docs_of[owner[i]].push_back(i);
+  for (std::size_t i = 0; i < B; ++i) docs_of[static_cast<std::size_t>(owner[i])].push_back(i);
   std::size_t at = 0;
   for (std::size_t q = 0; q < P; ++q) {
     const std::byte* base = gathered.data() + at;
@@ -609,6 +679,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
       std::memcpy(f, f_at + n * 2 * sizeof(std::int32_t), sizeof f);
       e.iterations[i] = f[0];
       e.converged[i] = static_cast<char>(f[1]);
+      remember_iterations(m.last_iterations, begin + i, f[0]);
       k += len;
       ++n;
     }
@@ -646,16 +717,18 @@ namespace {
 constexpr const char* kLdaCheckpointKind = "online_lda";
 
 // With PROPRIO_LDA_PHASE_TIMES set (bench/bench_mpi.py), one JSON line on stderr: this process's
-// processor seconds per phase of its updates (rank 0's under MPI).
-void report_phase_times(const OnlineLda& lda, int ranks) {
+// processor seconds per phase of its updates, and the wall seconds of its E-step and of the wait
+// at the collective after it (every rank under MPI, each its line).
+void report_phase_times(const OnlineLda& lda, int ranks, int rank) {
   if (std::getenv("PROPRIO_LDA_PHASE_TIMES") == nullptr) return;  // NOLINT(concurrency-mt-unsafe)
   const OnlineLda::PhaseTimes t = lda.phase_times();
   std::fprintf(stderr,
                "{\"phase_times\": {\"ranks\": %d, \"updates\": %lld, \"estep\": %.6f, "
                "\"beta\": %.6f, \"statistics\": %.6f, \"mstep\": %.6f, "
-               "\"communication\": %.6f}}\n",
+               "\"communication\": %.6f, \"rank\": %d, \"estep_wall\": %.6f, "
+               "\"wait_wall\": %.6f}}\n",
                ranks, static_cast<long long>(t.updates), t.estep, t.beta, t.statistics, t.mstep,
-               t.communication);
+               t.communication, rank, t.estep_wall, t.wait_wall);
 }
 
 // Where training stands: what a checkpoint holds besides the model.
@@ -839,7 +912,7 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineL
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(progress.iterations) / static_cast<double>(docs_run) : 0.0;
-  report_phase_times(lda, 1);
+  report_phase_times(lda, 1, 0);
   result.model = lda.model();
   return result;
 }
@@ -943,7 +1016,7 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
-  if (comm.rank() == 0) report_phase_times(lda, comm.size());
+  report_phase_times(lda, comm.size(), comm.rank());
   result.model = lda.model();
   return result;
 }

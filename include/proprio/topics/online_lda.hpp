@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -167,10 +168,11 @@ class OnlineLda {
 
   /// The same update as one rank of a data-parallel job (issue 23), collective: the mini-batch is
   /// documents [begin, end) of the whole corpus, of which this rank holds `shard`'s. The ranks
-  /// exchange their documents' word ids, each runs the E-step on its own documents with its
-  /// threads, they exchange what the E-step leaves (exp E[log theta] per document and the weight
-  /// of each entry) and every rank sums the sufficient statistics in document order and applies
-  /// the M-step: every rank's model is the one-process model, bit for bit.
+  /// exchange their documents' word ids, each runs the E-step on its share of the batch (dealt by
+  /// cost, mpi_lda_balance) with its threads, they exchange what the E-step leaves (exp E[log
+  /// theta] per document and the weight of each entry) and every rank sums the sufficient
+  /// statistics in document order and applies the M-step: every rank's model is the one-process
+  /// model, bit for bit.
   ///
   /// After distribute_by_topic(), the update is split by topic instead: rank r owns the
   /// contiguous block of topic rows mpi_topic_rows(K, size, r) of lambda; it computes exp(E[log
@@ -190,8 +192,11 @@ class OnlineLda {
   /// Processor seconds this process spent in each phase of its updates so far: E-step, exp(E[log
   /// beta]), sufficient statistics, M-step (with the topic sums) and communication (with the
   /// batch's assembly), and the number of updates.
+  /// Beside them, wall seconds: the E-step, and the wait in the collective that follows it (the
+  /// other ranks' longer E-steps).
   struct PhaseTimes {
     double estep = 0, beta = 0, statistics = 0, mstep = 0, communication = 0;
+    double estep_wall = 0, wait_wall = 0;
     std::int64_t updates = 0;
   };
   [[nodiscard]] PhaseTimes phase_times() const;
@@ -213,6 +218,16 @@ std::pair<int, int> mpi_topic_rows(int num_topics, int ranks, int rank);
 /// distribute_by_topic) or replicates it: PROPRIO_MPI_LDA_DESIGN=by-topic or =replicated when
 /// set, else by topic whenever there are 2 ranks or more (docs/results/mpi.md: the measurements).
 bool mpi_lda_by_topic(int num_topics, int ranks);
+
+/// Deals documents of the given E-step costs to `ranks` ranks, deterministically (every rank
+/// computes the same): largest cost first, each to the least loaded rank so far (ties: fewer
+/// documents, then the lower rank). Returns each document's rank.
+std::vector<int> mpi_deal_by_cost(std::span<const std::int64_t> costs, int ranks);
+
+/// Whether the data-parallel update deals a mini-batch's E-step by cost (mpi_deal_by_cost of
+/// (distinct words + 2) x the previous pass's iterations) rather than d mod P: yes unless the
+/// environment sets PROPRIO_MPI_LDA_BALANCE=0. The model is the same bits either way.
+bool mpi_lda_balance();
 
 /// Trains on `corpus` in order, `passes` times, mini-batch by mini-batch.
 OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options);
