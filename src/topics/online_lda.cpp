@@ -123,7 +123,9 @@ std::string OnlineLdaSummary::brief() const {
 
 struct OnlineLda::Impl {
   OnlineLdaOptions options;
-  LdaModel model;
+  LdaModel model;  // split by topic: lambda is K x W only after gather_topics on this rank
+  int num_topics;
+  std::int32_t num_words;
   Eigen::VectorXd topic_sum;
   const detail::Kernels* kern;
   int stride;
@@ -148,13 +150,15 @@ struct OnlineLda::Impl {
   std::vector<std::uint16_t> last_iterations;
   OnlineLda::PhaseTimes times;
 
-  Impl(const OnlineLdaOptions& o, LdaModel m)
+  Impl(const OnlineLdaOptions& o, LdaModel m, int K, std::int32_t W)
       : options(o),
         model(std::move(m)),
+        num_topics(K),
+        num_words(W),
         kern(&detail::best_kernels()),
-        stride(detail::padded(model.num_topics(), kern->lanes)),
+        stride(detail::padded(K, kern->lanes)),
         pool(o.threads),
-        row_of_word(static_cast<std::size_t>(model.num_words()), -1) {
+        row_of_word(static_cast<std::size_t>(W), -1) {
     topic_sum = detail::topic_sums(model.lambda, pool);
   }
 };
@@ -177,7 +181,55 @@ OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
     m.lambda = detail::initial_lambda(K, num_words, options.seed, pool);
   }
   m.validate();
-  impl_ = std::make_unique<Impl>(options, std::move(m));
+  impl_ = std::make_unique<Impl>(options, std::move(m), K, num_words);
+}
+
+namespace {
+
+// The rows [k0, k1) of detail::initial_lambda(K, W, seed): the same random stream per word, the
+// other rows drawn and dropped, so that a rank never holds K x W.
+Eigen::MatrixXd initial_lambda_rows(int K, std::int32_t W, std::uint64_t seed, int k0, int k1,
+                                    detail::ThreadPool& pool) {
+  Eigen::MatrixXd rows(k1 - k0, W);
+  if (k1 <= k0) return rows;
+  std::vector<float> tmp(static_cast<std::size_t>(K) * static_cast<std::size_t>(pool.size()));
+  pool.run(static_cast<std::size_t>(W), [&](std::size_t w, int t) {
+    float* g = tmp.data() + static_cast<std::size_t>(t) * static_cast<std::size_t>(K);
+    detail::random_gamma(core::stream_seed(seed, ~0ULL, w), K, g);
+    for (int k = k0; k < k1; ++k) {
+      rows(k - k0, static_cast<Eigen::Index>(w)) = g[static_cast<std::size_t>(k)];
+    }
+  });
+  return rows;
+}
+
+}  // namespace
+
+OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
+                     std::int64_t total_documents, std::vector<std::string> vocabulary,
+                     core::Communicator& comm) {
+  options.validate();
+  if (num_words < 1) throw Error("online LDA: the vocabulary is empty");
+  if (total_documents < 1) throw Error("online LDA: total_documents must be at least 1");
+  LdaModel m;
+  const int K = options.num_topics;
+  m.alpha = options.resolved_alpha();
+  m.eta = options.resolved_eta();
+  m.tau0 = options.tau0;
+  m.kappa = options.kappa;
+  m.total_documents = total_documents;
+  m.vocabulary = std::move(vocabulary);
+  impl_ = std::make_unique<Impl>(options, std::move(m), K, num_words);
+  Impl& s = *impl_;
+  const int P = comm.size();
+  s.first_row.resize(static_cast<std::size_t>(P) + 1);
+  for (int q = 0; q <= P; ++q) {
+    s.first_row[static_cast<std::size_t>(q)] = q < P ? mpi_topic_rows(K, P, q).first : K;
+  }
+  std::tie(s.row0, s.row1) = mpi_topic_rows(K, P, comm.rank());
+  s.own = initial_lambda_rows(K, num_words, options.seed, s.row0, s.row1, s.pool);
+  s.own_sum = detail::topic_sums(s.own, s.pool);
+  s.by_topic = true;
 }
 
 OnlineLda::OnlineLda(LdaModel model, const OnlineLdaOptions& options) {
@@ -189,7 +241,9 @@ OnlineLda::OnlineLda(LdaModel model, const OnlineLdaOptions& options) {
   o.tau0 = model.tau0;
   o.kappa = model.kappa;
   o.validate();
-  impl_ = std::make_unique<Impl>(o, std::move(model));
+  const int K = model.num_topics();
+  const std::int32_t W = model.num_words();
+  impl_ = std::make_unique<Impl>(o, std::move(model), K, W);
 }
 
 OnlineLda::OnlineLda(OnlineLda&&) noexcept = default;
@@ -235,8 +289,9 @@ bool mpi_lda_by_topic(int /*num_topics*/, int ranks) {
 
 void OnlineLda::distribute_by_topic(core::Communicator& comm) {
   Impl& m = *impl_;
-  const int K = m.model.num_topics();
+  const int K = m.num_topics;
   const int P = comm.size();
+  ensure(!m.by_topic, "online LDA: already split by topic");
   m.first_row.resize(static_cast<std::size_t>(P) + 1);
   for (int q = 0; q <= P; ++q) {
     m.first_row[static_cast<std::size_t>(q)] = q < P ? mpi_topic_rows(K, P, q).first : K;
@@ -245,31 +300,84 @@ void OnlineLda::distribute_by_topic(core::Communicator& comm) {
   m.own = m.model.lambda.middleRows(m.row0, m.row1 - m.row0);
   m.own_sum = m.topic_sum.segment(m.row0, m.row1 - m.row0);
   m.by_topic = true;
+  m.model.lambda.resize(0, 0);  // this rank keeps its rows only
+  m.topic_sum.resize(0);
 }
 
-void OnlineLda::gather_topics(core::Communicator& comm) {
+void OnlineLda::gather_topics(core::Communicator& comm, bool whole_here) {
   Impl& m = *impl_;
   if (!m.by_topic) return;
-  const std::vector<double> all = core::allgather_values<double>(
-      comm, std::span<const double>(m.own.data(), static_cast<std::size_t>(m.own.size())));
-  const Eigen::Index W = m.model.lambda.cols();
+  const std::int32_t want[1] = {whole_here ? 1 : 0};
+  const std::vector<std::int32_t> wants =
+      core::allgather_values<std::int32_t>(comm, std::span<const std::int32_t>(want));
   const auto P = m.first_row.size() - 1;
-  std::size_t at = 0;
-  for (std::size_t q = 0; q < P; ++q) {
-    const int r0 = m.first_row[q];
-    const int n = m.first_row[q + 1] - r0;
-    ensure(at + static_cast<std::size_t>(n) * static_cast<std::size_t>(W) <= all.size(),
-           "online LDA: a rank sent wrong topic rows");
-    m.model.lambda.middleRows(r0, n) = Eigen::Map<const Eigen::MatrixXd>(all.data() + at, n, W);
-    at += static_cast<std::size_t>(n) * static_cast<std::size_t>(W);
+  ensure(wants.size() == P, "online LDA: split by topic for another number of ranks");
+  const Eigen::Index W = m.num_words;
+  const auto me = static_cast<std::size_t>(comm.rank());
+  // Point to point, in one order on every rank: for each rank that wants the model, each owner
+  // of rows in rank order sends them, in blocks of columns of at most 64 MB.
+  constexpr std::size_t kBlockBytes = std::size_t{64} << 20;
+  const auto columns_per_block = [&](std::size_t rows) {
+    return static_cast<Eigen::Index>(std::max<std::size_t>(1, kBlockBytes / (rows * 8)));
+  };
+  std::vector<double> buffer;
+  for (std::size_t t = 0; t < P; ++t) {
+    if (wants[t] == 0) continue;
+    if (t == me) {
+      m.model.lambda.resize(m.num_topics, W);
+      for (std::size_t q = 0; q < P; ++q) {
+        const int r0 = m.first_row[q];
+        const int n = m.first_row[q + 1] - r0;
+        if (n == 0) continue;
+        if (q == me) {
+          m.model.lambda.middleRows(r0, n) = m.own;
+          continue;
+        }
+        const Eigen::Index step = columns_per_block(static_cast<std::size_t>(n));
+        for (Eigen::Index c0 = 0; c0 < W; c0 += step) {
+          const Eigen::Index c = std::min(step, W - c0);
+          buffer.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(c));
+          comm.receive(std::as_writable_bytes(std::span<double>(buffer)), static_cast<int>(q));
+          m.model.lambda.block(r0, c0, n, c) =
+              Eigen::Map<const Eigen::MatrixXd>(buffer.data(), n, c);
+        }
+      }
+      m.topic_sum = detail::topic_sums(m.model.lambda, m.pool);
+    } else if (m.own.rows() > 0) {
+      const Eigen::Index step = columns_per_block(static_cast<std::size_t>(m.own.rows()));
+      for (Eigen::Index c0 = 0; c0 < W; c0 += step) {
+        const Eigen::Index c = std::min(step, W - c0);
+        // Column-major: columns [c0, c0 + c) of this rank's rows are contiguous.
+        const double* at = m.own.data() + c0 * m.own.rows();
+        comm.send(std::as_bytes(std::span<const double>(
+                      at, static_cast<std::size_t>(c) * static_cast<std::size_t>(m.own.rows()))),
+                  static_cast<int>(t));
+      }
+    }
   }
-  ensure(at == all.size(), "online LDA: a rank sent wrong topic rows");
-  m.topic_sum = detail::topic_sums(m.model.lambda, m.pool);
+  if (!whole_here) {
+    m.model.lambda.resize(0, 0);
+    m.topic_sum.resize(0);
+  }
+}
+
+LdaModel OnlineLda::release_model() {
+  Impl& m = *impl_;
+  LdaModel out = std::move(m.model);
+  m.model = LdaModel{};
+  m.model.alpha = out.alpha;
+  m.model.eta = out.eta;
+  m.model.tau0 = out.tau0;
+  m.model.kappa = out.kappa;
+  m.model.total_documents = out.total_documents;
+  m.model.updates = out.updates;
+  return out;
 }
 
 MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::size_t end) {
   Impl& m = *impl_;
   LdaModel& model = m.model;
+  ensure(!m.by_topic, "online LDA: a model split by topic updates with its communicator");
   if (corpus.num_words() != model.num_words()) {
     throw Error("online LDA: the corpus has " + std::to_string(corpus.num_words()) +
                 " words, the model " + std::to_string(model.num_words()));
@@ -516,14 +624,14 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   Impl& m = *impl_;
   LdaModel& model = m.model;
   const Corpus& local = shard.documents;
-  if (local.num_words() != model.num_words()) {
+  if (local.num_words() != m.num_words) {
     throw Error("online LDA: the corpus has " + std::to_string(local.num_words()) +
-                " words, the model " + std::to_string(model.num_words()));
+                " words, the model " + std::to_string(m.num_words));
   }
   if (begin >= end || end > static_cast<std::size_t>(shard.total_documents)) {
     throw Error("online LDA: empty or out-of-range mini-batch");
   }
-  const int K = model.num_topics();
+  const int K = m.num_topics;
   const auto S = static_cast<std::size_t>(m.stride);
   const auto P = static_cast<std::size_t>(comm.size());
   ensure(!m.by_topic || m.first_row.size() == P + 1,
@@ -621,9 +729,11 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   }
   detail::BatchEStep own;
   const auto estep_t0 = Clock::now();
+  const double estep_c0 = process_cpu_seconds();
   detail::run_estep(*m.kern, m.pool, mine, m.beta.data(), K, m.stride, model.alpha, m.options.estep,
                     own);
   m.times.estep_wall += since(estep_t0);
+  const double estep_cpu = process_cpu_seconds() - estep_c0;
   lap(m.times.estep);
 
   // 4. What every rank's E-step left, in corpus order: exp E[log theta], the entries' weights,
@@ -641,6 +751,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     flags.push_back(own.converged[j]);
   }
   append(flags.data(), flags.size() * sizeof(std::int32_t));
+  append(&estep_cpu, sizeof estep_cpu);  // for phase_times' imbalance only; not in the model
   std::vector<std::byte> gathered;
   std::vector<std::size_t> sizes;
   const auto wait_t0 = Clock::now();
@@ -655,6 +766,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   e.iterations.assign(B, 0);
   e.converged.assign(B, 1);
   // Per rank: its documents' positions in the batch, then its three blocks.
+  double slowest_cpu = 0;
   std::vector<std::vector<std::size_t>> docs_of(P);
   for (std::size_t i = 0; i < B; ++i) docs_of[static_cast<std::size_t>(owner[i])].push_back(i);
   std::size_t at = 0;
@@ -665,7 +777,11 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     const std::size_t eth_bytes = docs_of[q].size() * S * sizeof(float);
     const std::size_t w_bytes = entries * sizeof(float);
     const std::size_t f_bytes = docs_of[q].size() * 2 * sizeof(std::int32_t);
-    ensure(eth_bytes + w_bytes + f_bytes == sizes[q], "online LDA: a rank sent a wrong E-step");
+    ensure(eth_bytes + w_bytes + f_bytes + sizeof(double) == sizes[q],
+           "online LDA: a rank sent a wrong E-step");
+    double their_cpu = 0;
+    std::memcpy(&their_cpu, base + sizes[q] - sizeof(double), sizeof their_cpu);
+    slowest_cpu = std::max(slowest_cpu, their_cpu);
     const std::byte* w_at = base + eth_bytes;
     const std::byte* f_at = w_at + w_bytes;
     std::size_t n = 0;
@@ -685,6 +801,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     }
     at += sizes[q];
   }
+  m.times.estep_imbalance += slowest_cpu - estep_cpu;
   lap(m.times.communication);
   finish_update(stats);
   return stats;
@@ -726,9 +843,9 @@ void report_phase_times(const OnlineLda& lda, int ranks, int rank) {
                "{\"phase_times\": {\"ranks\": %d, \"updates\": %lld, \"estep\": %.6f, "
                "\"beta\": %.6f, \"statistics\": %.6f, \"mstep\": %.6f, "
                "\"communication\": %.6f, \"rank\": %d, \"estep_wall\": %.6f, "
-               "\"wait_wall\": %.6f}}\n",
+               "\"wait_wall\": %.6f, \"estep_imbalance\": %.6f}}\n",
                ranks, static_cast<long long>(t.updates), t.estep, t.beta, t.statistics, t.mstep,
-               t.communication, rank, t.estep_wall, t.wait_wall);
+               t.communication, rank, t.estep_wall, t.wait_wall, t.estep_imbalance);
 }
 
 // Where training stands: what a checkpoint holds besides the model.
@@ -957,8 +1074,10 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   check_heldout_words(heldout, local.num_words());
   const std::int64_t D =
       options.total_documents > 0 ? options.total_documents : shard.total_documents;
-  OnlineLda lda(options, local.num_words(), D, local.vocabulary());
-  if (mpi_lda_by_topic(options.num_topics, comm.size())) lda.distribute_by_topic(comm);
+  // Split by topic, each rank draws and holds only its rows of lambda.
+  OnlineLda lda = mpi_lda_by_topic(options.num_topics, comm.size())
+                      ? OnlineLda(options, local.num_words(), D, local.vocabulary(), comm)
+                      : OnlineLda(options, local.num_words(), D, local.vocabulary());
   OnlineLdaResult result;
   OnlineLdaSummary& s = result.summary;
   s.threads = options.threads;
@@ -973,7 +1092,7 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   comm.allreduce_max(traced);
   std::int64_t scored_at = -1;
   auto evaluate = [&] {
-    lda.gather_topics(comm);
+    lda.gather_topics(comm, trace || comm.rank() == 0);
     scored_at = lda.model().updates;
     if (trace) heldout_trace.evaluate(lda.model(), s);
   };
@@ -1012,12 +1131,12 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
     ++s.passes;
   }
   if (traced[0] != 0 && scored_at != lda.model().updates) evaluate();
-  if (scored_at != lda.model().updates) lda.gather_topics(comm);
+  if (scored_at != lda.model().updates) lda.gather_topics(comm, comm.rank() == 0);
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
   report_phase_times(lda, comm.size(), comm.rank());
-  result.model = lda.model();
+  result.model = lda.release_model();
   return result;
 }
 

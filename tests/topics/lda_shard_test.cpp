@@ -155,6 +155,42 @@ TEST(DataParallelLda, ByTopicOnOneRankGivesTheOneProcessModelBitForBit) {
   EXPECT_EQ(lda.phase_times().updates, one.model.updates);
 }
 
+// A model split by topic from the start (each rank draws only its rows of the starting lambda and
+// never holds K x W): no lambda until gathered, none after a gather to other ranks, and the
+// one-process model bit for bit when gathered here.
+TEST(DataParallelLda, SplitFromTheStartHoldsNoWholeLambdaUntilGathered) {
+  const test::TempDir dir("proprio_shard_");
+  const Corpus c = small_corpus();
+  write_corpus(c, dir.path(), CorpusFormat::kUci);
+  OnlineLdaOptions o;
+  o.num_topics = 5;
+  o.batch_size = 16;
+  o.passes = 2;
+  o.seed = 3;
+  o.threads = 2;
+  const OnlineLdaResult one = train_online_lda(c, o);
+  core::LocalCommunicator world;
+  const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
+  OnlineLda lda(o, c.num_words(), static_cast<std::int64_t>(c.num_documents()), c.vocabulary(),
+                world);
+  EXPECT_EQ(lda.model().lambda.size(), 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t b = 0; b < c.num_documents(); b += 16) {
+      lda.update(shard, b, std::min(c.num_documents(), b + 16), world);
+    }
+  }
+  lda.gather_topics(world, false);
+  EXPECT_EQ(lda.model().lambda.size(), 0);
+  lda.gather_topics(world);
+  const LdaModel got = lda.release_model();
+  ASSERT_EQ(got.lambda.size(), one.model.lambda.size());
+  EXPECT_EQ(std::memcmp(got.lambda.data(), one.model.lambda.data(),
+                        static_cast<std::size_t>(got.lambda.size()) * sizeof(double)),
+            0);
+  EXPECT_EQ(got.updates, one.model.updates);
+  EXPECT_THROW(lda.update(c, 0, 16), InternalError);  // split by topic: the communicator's update
+}
+
 // The E-step's dealing (issue 23): largest cost first to the least loaded rank, the same on every
 // rank; uneven documents end in near-equal loads where d mod P would not.
 TEST(DataParallelLda, DealingByCostBalancesUnevenDocumentsDeterministically) {
