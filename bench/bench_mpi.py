@@ -12,7 +12,8 @@ and scoring the held-out pages excluded), wall clock of rank 0. The order of the
 rotated per repeat; the machine's load average (/proc/loadavg) is read before and after each run.
 The processor time of rank 0 is recorded beside (cpu_ratio: one process's over rank 0's), and
 its processor seconds per phase of the updates (E-step, exp E[log beta], sufficient statistics,
-M-step, communication: PROPRIO_LDA_PHASE_TIMES). Each repeat runs one process and 2 ranks of each
+M-step, communication: PROPRIO_LDA_PHASE_TIMES; every rank's line is kept in phases_by_rank,
+with its E-step and wait wall seconds and its E-step imbalance). Each repeat runs one process and 2 ranks of each
 design in --designs (PROPRIO_MPI_LDA_DESIGN: by-topic, the default, and replicated).
 """
 import argparse
@@ -38,10 +39,11 @@ def run(cmd, env):
     wall = time.monotonic() - t0
     if p.returncode != 0:
         sys.exit(f"bench_mpi: {' '.join(cmd)} failed ({p.returncode}):\n{p.stderr}")
-    phases = None
+    phases = {}  # by rank (every rank prints its line; "rank" is absent before 2026-12-02)
     for line in p.stderr.splitlines():
         if re.match(r'^\{"phase_times"', line):
-            phases = json.loads(line)["phase_times"]
+            t = json.loads(line)["phase_times"]
+            phases[t.get("rank", 0)] = t
     return before, loadavg(), wall, phases
 
 
@@ -88,7 +90,8 @@ def main():
             runs[name] = {"seconds": doc["seconds"], "cpu_seconds_rank0": doc["cpu_seconds"],
                           "command_wall_seconds": wall, "perplexity": doc["heldout_perplexity"],
                           "load_before": before, "load_after": after,
-                          "phase_cpu_seconds_rank0": phases,
+                          "phase_cpu_seconds_rank0": phases.get(0),
+                          "phases_by_rank": phases,
                           "model_bytes": model.read_bytes()}
         one = runs["1x1"].pop("model_bytes")
         same = all(runs[n].pop("model_bytes") == one for n in names[1:])

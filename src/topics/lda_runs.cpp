@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -233,17 +234,21 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
   }
   LdaTrainingResult r;
   describe_run(options, shard.total_documents, shard.documents.num_words(), r);
-  const OnlineLdaResult t =
-      train_online_lda(shard, heldout ? &*heldout : nullptr, options.online, comm);
+  OnlineLdaResult t = train_online_lda(shard, heldout ? &*heldout : nullptr, options.online, comm);
   r.brief = t.summary.brief();
   r.online = t.summary;
   r.ranks = ranks;
-  r.model = t.model;
+  r.model = std::move(t.model);
   r.document = core::result_document("proprio.lda.train", 1, provenance);
   core::fields_into_json(r, r.document);
-  // The last collective step: every rank holds the same model, or the job stops here.
-  std::vector<std::int64_t> mlo{lambda_checksum(r.model.lambda)};
-  std::vector<std::int64_t> mhi = mlo;
+  // The last collective step: the ranks that hold the whole model (rank 0; every rank when the
+  // M-step is replicated; split by topic the others hold none) hold the same one, or the job
+  // stops here.
+  ensure(rank != 0 || r.model.lambda.size() > 0, "lda train: rank 0 ended without the model");
+  const bool whole = r.model.lambda.size() > 0;
+  const std::int64_t sum = whole ? lambda_checksum(r.model.lambda) : 0;
+  std::vector<std::int64_t> mlo{whole ? sum : std::numeric_limits<std::int64_t>::max()};
+  std::vector<std::int64_t> mhi{whole ? sum : std::numeric_limits<std::int64_t>::min()};
   comm.allreduce_min(mlo);
   comm.allreduce_max(mhi);
   ensure(mlo == mhi, "lda train: the MPI ranks ended with different models");

@@ -123,7 +123,9 @@ std::string OnlineLdaSummary::brief() const {
 
 struct OnlineLda::Impl {
   OnlineLdaOptions options;
-  LdaModel model;
+  LdaModel model;  // split by topic: lambda is K x W only after gather_topics on this rank
+  int num_topics;
+  std::int32_t num_words;
   Eigen::VectorXd topic_sum;
   const detail::Kernels* kern;
   int stride;
@@ -142,15 +144,21 @@ struct OnlineLda::Impl {
   std::vector<int> first_row;
   Eigen::MatrixXd own;
   Eigen::VectorXd own_sum;
+  // The E-step's dealing to ranks: by cost (mpi_lda_balance) with the iterations each document
+  // took in the previous pass, or d mod P.
+  bool balance = mpi_lda_balance();
+  std::vector<std::uint16_t> last_iterations;
   OnlineLda::PhaseTimes times;
 
-  Impl(const OnlineLdaOptions& o, LdaModel m)
+  Impl(const OnlineLdaOptions& o, LdaModel m, int K, std::int32_t W)
       : options(o),
         model(std::move(m)),
+        num_topics(K),
+        num_words(W),
         kern(&detail::best_kernels()),
-        stride(detail::padded(model.num_topics(), kern->lanes)),
+        stride(detail::padded(K, kern->lanes)),
         pool(o.threads),
-        row_of_word(static_cast<std::size_t>(model.num_words()), -1) {
+        row_of_word(static_cast<std::size_t>(W), -1) {
     topic_sum = detail::topic_sums(model.lambda, pool);
   }
 };
@@ -173,7 +181,55 @@ OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
     m.lambda = detail::initial_lambda(K, num_words, options.seed, pool);
   }
   m.validate();
-  impl_ = std::make_unique<Impl>(options, std::move(m));
+  impl_ = std::make_unique<Impl>(options, std::move(m), K, num_words);
+}
+
+namespace {
+
+// The rows [k0, k1) of detail::initial_lambda(K, W, seed): the same random stream per word, the
+// other rows drawn and dropped, so that a rank never holds K x W.
+Eigen::MatrixXd initial_lambda_rows(int K, std::int32_t W, std::uint64_t seed, int k0, int k1,
+                                    detail::ThreadPool& pool) {
+  Eigen::MatrixXd rows(k1 - k0, W);
+  if (k1 <= k0) return rows;
+  std::vector<float> tmp(static_cast<std::size_t>(K) * static_cast<std::size_t>(pool.size()));
+  pool.run(static_cast<std::size_t>(W), [&](std::size_t w, int t) {
+    float* g = tmp.data() + static_cast<std::size_t>(t) * static_cast<std::size_t>(K);
+    detail::random_gamma(core::stream_seed(seed, ~0ULL, w), K, g);
+    for (int k = k0; k < k1; ++k) {
+      rows(k - k0, static_cast<Eigen::Index>(w)) = g[static_cast<std::size_t>(k)];
+    }
+  });
+  return rows;
+}
+
+}  // namespace
+
+OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
+                     std::int64_t total_documents, std::vector<std::string> vocabulary,
+                     core::Communicator& comm) {
+  options.validate();
+  if (num_words < 1) throw Error("online LDA: the vocabulary is empty");
+  if (total_documents < 1) throw Error("online LDA: total_documents must be at least 1");
+  LdaModel m;
+  const int K = options.num_topics;
+  m.alpha = options.resolved_alpha();
+  m.eta = options.resolved_eta();
+  m.tau0 = options.tau0;
+  m.kappa = options.kappa;
+  m.total_documents = total_documents;
+  m.vocabulary = std::move(vocabulary);
+  impl_ = std::make_unique<Impl>(options, std::move(m), K, num_words);
+  Impl& s = *impl_;
+  const int P = comm.size();
+  s.first_row.resize(static_cast<std::size_t>(P) + 1);
+  for (int q = 0; q <= P; ++q) {
+    s.first_row[static_cast<std::size_t>(q)] = q < P ? mpi_topic_rows(K, P, q).first : K;
+  }
+  std::tie(s.row0, s.row1) = mpi_topic_rows(K, P, comm.rank());
+  s.own = initial_lambda_rows(K, num_words, options.seed, s.row0, s.row1, s.pool);
+  s.own_sum = detail::topic_sums(s.own, s.pool);
+  s.by_topic = true;
 }
 
 OnlineLda::OnlineLda(LdaModel model, const OnlineLdaOptions& options) {
@@ -185,7 +241,9 @@ OnlineLda::OnlineLda(LdaModel model, const OnlineLdaOptions& options) {
   o.tau0 = model.tau0;
   o.kappa = model.kappa;
   o.validate();
-  impl_ = std::make_unique<Impl>(o, std::move(model));
+  const int K = model.num_topics();
+  const std::int32_t W = model.num_words();
+  impl_ = std::make_unique<Impl>(o, std::move(model), K, W);
 }
 
 OnlineLda::OnlineLda(OnlineLda&&) noexcept = default;
@@ -231,8 +289,9 @@ bool mpi_lda_by_topic(int /*num_topics*/, int ranks) {
 
 void OnlineLda::distribute_by_topic(core::Communicator& comm) {
   Impl& m = *impl_;
-  const int K = m.model.num_topics();
+  const int K = m.num_topics;
   const int P = comm.size();
+  ensure(!m.by_topic, "online LDA: already split by topic");
   m.first_row.resize(static_cast<std::size_t>(P) + 1);
   for (int q = 0; q <= P; ++q) {
     m.first_row[static_cast<std::size_t>(q)] = q < P ? mpi_topic_rows(K, P, q).first : K;
@@ -241,31 +300,84 @@ void OnlineLda::distribute_by_topic(core::Communicator& comm) {
   m.own = m.model.lambda.middleRows(m.row0, m.row1 - m.row0);
   m.own_sum = m.topic_sum.segment(m.row0, m.row1 - m.row0);
   m.by_topic = true;
+  m.model.lambda.resize(0, 0);  // this rank keeps its rows only
+  m.topic_sum.resize(0);
 }
 
-void OnlineLda::gather_topics(core::Communicator& comm) {
+void OnlineLda::gather_topics(core::Communicator& comm, bool whole_here) {
   Impl& m = *impl_;
   if (!m.by_topic) return;
-  const std::vector<double> all = core::allgather_values<double>(
-      comm, std::span<const double>(m.own.data(), static_cast<std::size_t>(m.own.size())));
-  const Eigen::Index W = m.model.lambda.cols();
+  const std::int32_t want[1] = {whole_here ? 1 : 0};
+  const std::vector<std::int32_t> wants =
+      core::allgather_values<std::int32_t>(comm, std::span<const std::int32_t>(want));
   const auto P = m.first_row.size() - 1;
-  std::size_t at = 0;
-  for (std::size_t q = 0; q < P; ++q) {
-    const int r0 = m.first_row[q];
-    const int n = m.first_row[q + 1] - r0;
-    ensure(at + static_cast<std::size_t>(n) * static_cast<std::size_t>(W) <= all.size(),
-           "online LDA: a rank sent wrong topic rows");
-    m.model.lambda.middleRows(r0, n) = Eigen::Map<const Eigen::MatrixXd>(all.data() + at, n, W);
-    at += static_cast<std::size_t>(n) * static_cast<std::size_t>(W);
+  ensure(wants.size() == P, "online LDA: split by topic for another number of ranks");
+  const Eigen::Index W = m.num_words;
+  const auto me = static_cast<std::size_t>(comm.rank());
+  // Point to point, in one order on every rank: for each rank that wants the model, each owner
+  // of rows in rank order sends them, in blocks of columns of at most 64 MB.
+  constexpr std::size_t kBlockBytes = std::size_t{64} << 20;
+  const auto columns_per_block = [&](std::size_t rows) {
+    return static_cast<Eigen::Index>(std::max<std::size_t>(1, kBlockBytes / (rows * 8)));
+  };
+  std::vector<double> buffer;
+  for (std::size_t t = 0; t < P; ++t) {
+    if (wants[t] == 0) continue;
+    if (t == me) {
+      m.model.lambda.resize(m.num_topics, W);
+      for (std::size_t q = 0; q < P; ++q) {
+        const int r0 = m.first_row[q];
+        const int n = m.first_row[q + 1] - r0;
+        if (n == 0) continue;
+        if (q == me) {
+          m.model.lambda.middleRows(r0, n) = m.own;
+          continue;
+        }
+        const Eigen::Index step = columns_per_block(static_cast<std::size_t>(n));
+        for (Eigen::Index c0 = 0; c0 < W; c0 += step) {
+          const Eigen::Index c = std::min(step, W - c0);
+          buffer.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(c));
+          comm.receive(std::as_writable_bytes(std::span<double>(buffer)), static_cast<int>(q));
+          m.model.lambda.block(r0, c0, n, c) =
+              Eigen::Map<const Eigen::MatrixXd>(buffer.data(), n, c);
+        }
+      }
+      m.topic_sum = detail::topic_sums(m.model.lambda, m.pool);
+    } else if (m.own.rows() > 0) {
+      const Eigen::Index step = columns_per_block(static_cast<std::size_t>(m.own.rows()));
+      for (Eigen::Index c0 = 0; c0 < W; c0 += step) {
+        const Eigen::Index c = std::min(step, W - c0);
+        // Column-major: columns [c0, c0 + c) of this rank's rows are contiguous.
+        const double* at = m.own.data() + c0 * m.own.rows();
+        comm.send(std::as_bytes(std::span<const double>(
+                      at, static_cast<std::size_t>(c) * static_cast<std::size_t>(m.own.rows()))),
+                  static_cast<int>(t));
+      }
+    }
   }
-  ensure(at == all.size(), "online LDA: a rank sent wrong topic rows");
-  m.topic_sum = detail::topic_sums(m.model.lambda, m.pool);
+  if (!whole_here) {
+    m.model.lambda.resize(0, 0);
+    m.topic_sum.resize(0);
+  }
+}
+
+LdaModel OnlineLda::release_model() {
+  Impl& m = *impl_;
+  LdaModel out = std::move(m.model);
+  m.model = LdaModel{};
+  m.model.alpha = out.alpha;
+  m.model.eta = out.eta;
+  m.model.tau0 = out.tau0;
+  m.model.kappa = out.kappa;
+  m.model.total_documents = out.total_documents;
+  m.model.updates = out.updates;
+  return out;
 }
 
 MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::size_t end) {
   Impl& m = *impl_;
   LdaModel& model = m.model;
+  ensure(!m.by_topic, "online LDA: a model split by topic updates with its communicator");
   if (corpus.num_words() != model.num_words()) {
     throw Error("online LDA: the corpus has " + std::to_string(corpus.num_words()) +
                 " words, the model " + std::to_string(model.num_words()));
@@ -447,21 +559,79 @@ void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows
   });
 }
 
+// Documents [begin, end) dealt d mod P, as they are read (no balancing).
+std::vector<int> deal_round_robin(std::size_t begin, std::size_t end, int ranks) {
+  std::vector<int> owner(end - begin);
+  for (std::size_t d = begin; d < end; ++d) {
+    owner[d - begin] = static_cast<int>(d % static_cast<std::size_t>(ranks));
+  }
+  return owner;
+}
+
+// The batch's documents dealt by the expected cost of their E-step: (entries + 2) x the iterations
+// the document took in the previous pass (1 in the first pass); an entry costs one pass over the
+// topics a iteration, the exp(digamma) of gamma about two.
+std::vector<int> deal_by_cost(const detail::BatchDocs& docs, std::size_t begin,
+                              const std::vector<std::uint16_t>& last_iterations, int ranks) {
+  std::vector<std::int64_t> cost(docs.size());
+  for (std::size_t i = 0; i < docs.size(); ++i) {
+    const auto entries = static_cast<std::int64_t>(docs.offsets[i + 1] - docs.offsets[i]);
+    const std::size_t d = begin + i;
+    const std::int64_t it =
+        d < last_iterations.size() ? std::max<std::int64_t>(1, last_iterations[d]) : 1;
+    cost[i] = entries == 0 ? 0 : (entries + 2) * it;
+  }
+  return mpi_deal_by_cost(cost, ranks);
+}
+
+// Keeps the E-step iterations of document d for the next pass's dealing.
+void remember_iterations(std::vector<std::uint16_t>& last, std::size_t d, std::int32_t iterations) {
+  if (d >= last.size()) last.resize(d + 1, 0);
+  last[d] = static_cast<std::uint16_t>(std::clamp<std::int32_t>(iterations, 0, 65535));
+}
+
 }  // namespace
+
+std::vector<int> mpi_deal_by_cost(std::span<const std::int64_t> costs, int ranks) {
+  assert(ranks >= 1);
+  std::vector<std::size_t> order(costs.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return costs[a] > costs[b]; });
+  std::vector<std::int64_t> load(static_cast<std::size_t>(ranks), 0);
+  std::vector<std::size_t> dealt(static_cast<std::size_t>(ranks), 0);
+  std::vector<int> owner(costs.size(), 0);
+  for (const std::size_t i : order) {
+    // The least loaded rank; among equal loads the one with fewest documents, then the lowest.
+    std::size_t best = 0;
+    for (std::size_t q = 1; q < load.size(); ++q) {
+      if (load[q] < load[best] || (load[q] == load[best] && dealt[q] < dealt[best])) best = q;
+    }
+    owner[i] = static_cast<int>(best);
+    load[best] += costs[i];
+    ++dealt[best];
+  }
+  return owner;
+}
+
+bool mpi_lda_balance() {
+  const char* v = std::getenv("PROPRIO_MPI_LDA_BALANCE");  // NOLINT(concurrency-mt-unsafe)
+  return v == nullptr || std::string_view(v) != "0";
+}
 
 MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, std::size_t end,
                                  core::Communicator& comm) {
   Impl& m = *impl_;
   LdaModel& model = m.model;
   const Corpus& local = shard.documents;
-  if (local.num_words() != model.num_words()) {
+  if (local.num_words() != m.num_words) {
     throw Error("online LDA: the corpus has " + std::to_string(local.num_words()) +
-                " words, the model " + std::to_string(model.num_words()));
+                " words, the model " + std::to_string(m.num_words));
   }
   if (begin >= end || end > static_cast<std::size_t>(shard.total_documents)) {
     throw Error("online LDA: empty or out-of-range mini-batch");
   }
-  const int K = model.num_topics();
+  const int K = m.num_topics;
   const auto S = static_cast<std::size_t>(m.stride);
   const auto P = static_cast<std::size_t>(comm.size());
   ensure(!m.by_topic || m.first_row.size() == P + 1,
@@ -485,15 +655,11 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   std::vector<std::size_t> cursor(P, 0);
   for (std::size_t q = 1; q < P; ++q) cursor[q] = cursor[q - 1] + counts[q - 1];
 
-  // 2. The batch in corpus order, as one process builds it; this rank's documents beside it.
+  // 2. The batch in corpus order, as one process builds it (document d came from rank d mod P).
   m.docs.clear();
   m.batch_words.clear();
-  detail::BatchDocs mine;
-  std::vector<std::size_t> owner(end - begin);
-  const auto rank = static_cast<std::size_t>(comm.rank());
   for (std::size_t d = begin; d < end; ++d) {
     const std::size_t q = d % P;
-    owner[d - begin] = q;
     std::size_t& c = cursor[q];
     const auto n = static_cast<std::size_t>(all[c]);
     const std::int32_t* words = all.data() + c + 1;
@@ -508,19 +674,27 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
       m.docs.rows.push_back(r);
       m.docs.counts.push_back(static_cast<float>(cnt[i]));
       stats.tokens += cnt[i];
-      if (q == rank) {
-        mine.rows.push_back(r);
-        mine.counts.push_back(static_cast<float>(cnt[i]));
-      }
     }
     m.docs.offsets.push_back(m.docs.rows.size());
-    const std::uint64_t key =
-        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d);
-    m.docs.keys.push_back(key);
-    if (q == rank) {
-      mine.offsets.push_back(mine.rows.size());
-      mine.keys.push_back(key);
+    m.docs.keys.push_back(
+        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d));
+  }
+  // Which rank runs each document's E-step: dealt by its expected cost (every rank has every
+  // document of the batch now, and computes the same dealing); this rank's documents in corpus
+  // order. A document's E-step does not depend on the rank that runs it.
+  const std::vector<int> owner =
+      m.balance ? deal_by_cost(m.docs, begin, m.last_iterations, static_cast<int>(P))
+                : deal_round_robin(begin, end, static_cast<int>(P));
+  detail::BatchDocs mine;
+  const int rank = comm.rank();
+  for (std::size_t i = 0; i < end - begin; ++i) {
+    if (owner[i] != rank) continue;
+    for (std::size_t e = m.docs.offsets[i]; e < m.docs.offsets[i + 1]; ++e) {
+      mine.rows.push_back(m.docs.rows[e]);
+      mine.counts.push_back(m.docs.counts[e]);
     }
+    mine.offsets.push_back(mine.rows.size());
+    mine.keys.push_back(m.docs.keys[i]);
   }
 
   lap(m.times.communication);
@@ -554,8 +728,12 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     lap(m.times.beta);
   }
   detail::BatchEStep own;
+  const auto estep_t0 = Clock::now();
+  const double estep_c0 = process_cpu_seconds();
   detail::run_estep(*m.kern, m.pool, mine, m.beta.data(), K, m.stride, model.alpha, m.options.estep,
                     own);
+  m.times.estep_wall += since(estep_t0);
+  const double estep_cpu = process_cpu_seconds() - estep_c0;
   lap(m.times.estep);
 
   // 4. What every rank's E-step left, in corpus order: exp E[log theta], the entries' weights,
@@ -573,9 +751,12 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     flags.push_back(own.converged[j]);
   }
   append(flags.data(), flags.size() * sizeof(std::int32_t));
+  append(&estep_cpu, sizeof estep_cpu);  // for phase_times' imbalance only; not in the model
   std::vector<std::byte> gathered;
   std::vector<std::size_t> sizes;
+  const auto wait_t0 = Clock::now();
   comm.allgather(out, gathered, sizes);
+  m.times.wait_wall += since(wait_t0);
 
   const std::size_t B = end - begin;
   detail::BatchEStep& e = m.estep;
@@ -585,8 +766,9 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   e.iterations.assign(B, 0);
   e.converged.assign(B, 1);
   // Per rank: its documents' positions in the batch, then its three blocks.
+  double slowest_cpu = 0;
   std::vector<std::vector<std::size_t>> docs_of(P);
-  for (std::size_t i = 0; i < B; ++i) docs_of[owner[i]].push_back(i);
+  for (std::size_t i = 0; i < B; ++i) docs_of[static_cast<std::size_t>(owner[i])].push_back(i);
   std::size_t at = 0;
   for (std::size_t q = 0; q < P; ++q) {
     const std::byte* base = gathered.data() + at;
@@ -595,7 +777,11 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     const std::size_t eth_bytes = docs_of[q].size() * S * sizeof(float);
     const std::size_t w_bytes = entries * sizeof(float);
     const std::size_t f_bytes = docs_of[q].size() * 2 * sizeof(std::int32_t);
-    ensure(eth_bytes + w_bytes + f_bytes == sizes[q], "online LDA: a rank sent a wrong E-step");
+    ensure(eth_bytes + w_bytes + f_bytes + sizeof(double) == sizes[q],
+           "online LDA: a rank sent a wrong E-step");
+    double their_cpu = 0;
+    std::memcpy(&their_cpu, base + sizes[q] - sizeof(double), sizeof their_cpu);
+    slowest_cpu = std::max(slowest_cpu, their_cpu);
     const std::byte* w_at = base + eth_bytes;
     const std::byte* f_at = w_at + w_bytes;
     std::size_t n = 0;
@@ -609,11 +795,13 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
       std::memcpy(f, f_at + n * 2 * sizeof(std::int32_t), sizeof f);
       e.iterations[i] = f[0];
       e.converged[i] = static_cast<char>(f[1]);
+      remember_iterations(m.last_iterations, begin + i, f[0]);
       k += len;
       ++n;
     }
     at += sizes[q];
   }
+  m.times.estep_imbalance += slowest_cpu - estep_cpu;
   lap(m.times.communication);
   finish_update(stats);
   return stats;
@@ -646,16 +834,18 @@ namespace {
 constexpr const char* kLdaCheckpointKind = "online_lda";
 
 // With PROPRIO_LDA_PHASE_TIMES set (bench/bench_mpi.py), one JSON line on stderr: this process's
-// processor seconds per phase of its updates (rank 0's under MPI).
-void report_phase_times(const OnlineLda& lda, int ranks) {
+// processor seconds per phase of its updates, and the wall seconds of its E-step and of the wait
+// at the collective after it (every rank under MPI, each its line).
+void report_phase_times(const OnlineLda& lda, int ranks, int rank) {
   if (std::getenv("PROPRIO_LDA_PHASE_TIMES") == nullptr) return;  // NOLINT(concurrency-mt-unsafe)
   const OnlineLda::PhaseTimes t = lda.phase_times();
   std::fprintf(stderr,
                "{\"phase_times\": {\"ranks\": %d, \"updates\": %lld, \"estep\": %.6f, "
                "\"beta\": %.6f, \"statistics\": %.6f, \"mstep\": %.6f, "
-               "\"communication\": %.6f}}\n",
+               "\"communication\": %.6f, \"rank\": %d, \"estep_wall\": %.6f, "
+               "\"wait_wall\": %.6f, \"estep_imbalance\": %.6f}}\n",
                ranks, static_cast<long long>(t.updates), t.estep, t.beta, t.statistics, t.mstep,
-               t.communication);
+               t.communication, rank, t.estep_wall, t.wait_wall, t.estep_imbalance);
 }
 
 // Where training stands: what a checkpoint holds besides the model.
@@ -839,7 +1029,7 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineL
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(progress.iterations) / static_cast<double>(docs_run) : 0.0;
-  report_phase_times(lda, 1);
+  report_phase_times(lda, 1, 0);
   result.model = lda.model();
   return result;
 }
@@ -884,8 +1074,10 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   check_heldout_words(heldout, local.num_words());
   const std::int64_t D =
       options.total_documents > 0 ? options.total_documents : shard.total_documents;
-  OnlineLda lda(options, local.num_words(), D, local.vocabulary());
-  if (mpi_lda_by_topic(options.num_topics, comm.size())) lda.distribute_by_topic(comm);
+  // Split by topic, each rank draws and holds only its rows of lambda.
+  OnlineLda lda = mpi_lda_by_topic(options.num_topics, comm.size())
+                      ? OnlineLda(options, local.num_words(), D, local.vocabulary(), comm)
+                      : OnlineLda(options, local.num_words(), D, local.vocabulary());
   OnlineLdaResult result;
   OnlineLdaSummary& s = result.summary;
   s.threads = options.threads;
@@ -900,7 +1092,7 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   comm.allreduce_max(traced);
   std::int64_t scored_at = -1;
   auto evaluate = [&] {
-    lda.gather_topics(comm);
+    lda.gather_topics(comm, trace || comm.rank() == 0);
     scored_at = lda.model().updates;
     if (trace) heldout_trace.evaluate(lda.model(), s);
   };
@@ -939,12 +1131,12 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
     ++s.passes;
   }
   if (traced[0] != 0 && scored_at != lda.model().updates) evaluate();
-  if (scored_at != lda.model().updates) lda.gather_topics(comm);
+  if (scored_at != lda.model().updates) lda.gather_topics(comm, comm.rank() == 0);
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
-  if (comm.rank() == 0) report_phase_times(lda, comm.size());
-  result.model = lda.model();
+  report_phase_times(lda, comm.size(), comm.rank());
+  result.model = lda.release_model();
   return result;
 }
 

@@ -6,6 +6,7 @@
 // build (Open MPI's own allocations would be reported as leaks).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -144,8 +145,65 @@ TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(slurp(path(name)) == slurp(path(one)))
         << c.design << ", K " << c.k << ", " << c.ranks << " ranks: another model";
-    // Rank 0 reports its phases once (the by-topic path times its beta rows and their exchange).
-    EXPECT_EQ(count_of(r.err, "\"phase_times\""), 1) << r.err;
+    // Every rank reports its phases once (its E-step and its wait beside them).
+    EXPECT_EQ(count_of(r.err, "\"phase_times\""), c.ranks) << r.err;
+    EXPECT_EQ(count_of(r.err, "\"wait_wall\""), c.ranks) << r.err;
+  }
+}
+
+// The E-step dealt by cost (the default) on a corpus of very uneven documents (every seventh 40
+// times longer, some empty): the one-process model byte for byte on 2 and 3 ranks, with fewer
+// topics than ranks, and with the old dealing (d mod P, PROPRIO_MPI_LDA_BALANCE=0).
+TEST_F(MpiLda, UnevenDocumentsDealtByCostGiveTheOneProcessModel) {
+  std::vector<std::string> vocab;
+  for (int w = 0; w < 120; ++w) {
+    std::string word = "u";
+    word += std::to_string(w);
+    vocab.push_back(word);
+  }
+  topics::Corpus uneven(120, vocab);
+  for (int d = 0; d < 157; ++d) {
+    const int n = d % 7 == 3 ? 80 : (d % 11 == 5 ? 0 : 2 + d % 3);
+    std::vector<std::int32_t> words;
+    std::vector<std::int32_t> counts;
+    for (int i = 0; i < n; ++i) {
+      words.push_back((d * 13 + i * 7) % 120);
+      counts.push_back(1 + (d + i) % 4);
+    }
+    std::sort(words.begin(), words.end());
+    words.erase(std::unique(words.begin(), words.end()), words.end());
+    counts.resize(words.size());
+    uneven.add_document(words, counts);
+  }
+  topics::write_corpus(uneven, path("uneven"), topics::CorpusFormat::kUci);
+  struct Case {
+    int k;
+    int ranks;
+    bool balance;
+  };
+  for (const Case c : {Case{6, 2, true}, Case{6, 3, true}, Case{2, 3, true}, Case{6, 2, false}}) {
+    std::string args = "--batch 24 --passes 2 --seed 5 -k ";
+    args += std::to_string(c.k);
+    std::string one = "uneven_one_k";
+    one += std::to_string(c.k);
+    one += ".lda";
+    if (!fs::exists(path(one))) {
+      const auto r = test::run_cli("lda train --corpus " + path("uneven") + " " + args +
+                                   " --threads 1 --model " + path(one));
+      ASSERT_EQ(r.code, 0) << r.err;
+    }
+    std::string name = "uneven_k";
+    name += std::to_string(c.k);
+    name += "_";
+    name += std::to_string(c.ranks);
+    name += c.balance ? "_balanced.lda" : "_mod.lda";
+    std::string command = c.balance ? "" : "PROPRIO_MPI_LDA_BALANCE=0 ";
+    command += mpirun(c.ranks) + cli() + " lda train --corpus " + path("uneven") + " " + args +
+               " --threads 1 --model " + path(name);
+    const auto r = run(command);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(slurp(path(name)) == slurp(path(one)))
+        << "K " << c.k << ", " << c.ranks << " ranks, balance " << c.balance << ": another model";
   }
 }
 

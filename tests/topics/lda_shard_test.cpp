@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <utility>
+#include <vector>
 
 #include "../support/named_corpus.hpp"
 #include "../support/temp_dir.hpp"
@@ -150,6 +153,84 @@ TEST(DataParallelLda, ByTopicOnOneRankGivesTheOneProcessModelBitForBit) {
                         static_cast<std::size_t>(got.size()) * sizeof(double)),
             0);
   EXPECT_EQ(lda.phase_times().updates, one.model.updates);
+}
+
+// A model split by topic from the start (each rank draws only its rows of the starting lambda and
+// never holds K x W): no lambda until gathered, none after a gather to other ranks, and the
+// one-process model bit for bit when gathered here.
+TEST(DataParallelLda, SplitFromTheStartHoldsNoWholeLambdaUntilGathered) {
+  const test::TempDir dir("proprio_shard_");
+  const Corpus c = small_corpus();
+  write_corpus(c, dir.path(), CorpusFormat::kUci);
+  OnlineLdaOptions o;
+  o.num_topics = 5;
+  o.batch_size = 16;
+  o.passes = 2;
+  o.seed = 3;
+  o.threads = 2;
+  const OnlineLdaResult one = train_online_lda(c, o);
+  core::LocalCommunicator world;
+  const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
+  OnlineLda lda(o, c.num_words(), static_cast<std::int64_t>(c.num_documents()), c.vocabulary(),
+                world);
+  EXPECT_EQ(lda.model().lambda.size(), 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t b = 0; b < c.num_documents(); b += 16) {
+      lda.update(shard, b, std::min(c.num_documents(), b + 16), world);
+    }
+  }
+  lda.gather_topics(world, false);
+  EXPECT_EQ(lda.model().lambda.size(), 0);
+  lda.gather_topics(world);
+  const LdaModel got = lda.release_model();
+  ASSERT_EQ(got.lambda.size(), one.model.lambda.size());
+  EXPECT_EQ(std::memcmp(got.lambda.data(), one.model.lambda.data(),
+                        static_cast<std::size_t>(got.lambda.size()) * sizeof(double)),
+            0);
+  EXPECT_EQ(got.updates, one.model.updates);
+  EXPECT_THROW(lda.update(c, 0, 16), InternalError);  // split by topic: the communicator's update
+}
+
+// The E-step's dealing (issue 23): largest cost first to the least loaded rank, the same on every
+// rank; uneven documents end in near-equal loads where d mod P would not.
+TEST(DataParallelLda, DealingByCostBalancesUnevenDocumentsDeterministically) {
+  // One long document and ten short ones: d mod 2 gives loads 15 and 5; by cost 10 and 10.
+  const std::vector<std::int64_t> costs{10, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+  const std::vector<int> owner = mpi_deal_by_cost(costs, 2);
+  ASSERT_EQ(owner.size(), costs.size());
+  std::int64_t load[2] = {0, 0};
+  for (std::size_t i = 0; i < costs.size(); ++i) load[owner[i]] += costs[i];
+  EXPECT_EQ(load[0], 10);
+  EXPECT_EQ(load[1], 10);
+  EXPECT_EQ(owner[0], 0);                        // the largest first, to rank 0
+  EXPECT_EQ(mpi_deal_by_cost(costs, 2), owner);  // deterministic
+  // Equal costs: ranks take turns (fewest documents first), as d mod P would.
+  EXPECT_EQ(mpi_deal_by_cost(std::vector<std::int64_t>{3, 3, 3, 3, 3}, 3),
+            (std::vector<int>{0, 1, 2, 0, 1}));
+  // Fewer documents than ranks, and empty documents (cost 0) spread by count.
+  EXPECT_EQ(mpi_deal_by_cost(std::vector<std::int64_t>{5, 7}, 3), (std::vector<int>{1, 0}));
+  EXPECT_EQ(mpi_deal_by_cost(std::vector<std::int64_t>{0, 0, 0, 0}, 2),
+            (std::vector<int>{0, 1, 0, 1}));
+  EXPECT_EQ(mpi_deal_by_cost(std::vector<std::int64_t>{4, 2}, 1), (std::vector<int>{0, 0}));
+  // Random uneven costs: every load within the largest cost of the mean (LPT's bound).
+  std::uint64_t x = 12345;
+  std::vector<std::int64_t> many(257);
+  for (auto& c : many) {
+    x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+    c = static_cast<std::int64_t>((x >> 33) % 1000) * ((x >> 20) % 7 == 0 ? 20 : 1);
+  }
+  for (const int P : {2, 3, 5}) {
+    const std::vector<int> o = mpi_deal_by_cost(many, P);
+    std::vector<std::int64_t> l(static_cast<std::size_t>(P), 0);
+    std::int64_t total = 0;
+    std::int64_t largest = 0;
+    for (std::size_t i = 0; i < many.size(); ++i) {
+      l[static_cast<std::size_t>(o[i])] += many[i];
+      total += many[i];
+      largest = std::max(largest, many[i]);
+    }
+    for (const auto v : l) EXPECT_LE(std::abs(v * P - total), largest * P) << P << " ranks";
+  }
 }
 
 TEST(DataParallelLda, TopicRowsAreContiguousBlocksCoveringEveryTopic) {

@@ -124,8 +124,9 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
 /// the call above). Online only. Every rank reads its shard of the corpus (read_corpus_shard);
 /// the ranks compare the corpus's size and checksum, and every rank throws core::CollectiveError
 /// (one message, the same everywhere) when they differ, when there are more ranks than documents,
-/// or when any rank meets bad input. Every rank ends with the one-process model (checked by a
-/// checksum of lambda across the ranks); rank 0 alone reads the held-out corpus, scores it and
+/// or when any rank meets bad input. Rank 0 ends with the one-process model; split by topic (the
+/// default) the other ranks' `model` has no lambda, replicated they all hold it (checked by a
+/// checksum of lambda across them); rank 0 alone reads the held-out corpus, scores it and
 /// writes the model file, atomically, after the last collective step, so that a job whose rank
 /// dies leaves no model. The record adds "ranks" (with more than one).
 LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,

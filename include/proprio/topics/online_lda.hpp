@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -157,6 +158,12 @@ class OnlineLda {
             std::vector<std::string> vocabulary = {});
   /// Continues training `model` (its priors, tau0, kappa and update count are kept).
   OnlineLda(LdaModel model, const OnlineLdaOptions& options);
+  /// A fresh model split by topic over the ranks of `comm` (issue 23; the updates with `comm` run
+  /// as after distribute_by_topic): this rank draws and holds only its rows mpi_topic_rows(K,
+  /// size, rank) of the starting lambda (the one-process draws, bit for bit), never K x W;
+  /// model() has no lambda until gather_topics().
+  OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words, std::int64_t total_documents,
+            std::vector<std::string> vocabulary, core::Communicator& comm);
   OnlineLda(OnlineLda&&) noexcept;
   OnlineLda& operator=(OnlineLda&&) noexcept;
   ~OnlineLda();
@@ -167,31 +174,40 @@ class OnlineLda {
 
   /// The same update as one rank of a data-parallel job (issue 23), collective: the mini-batch is
   /// documents [begin, end) of the whole corpus, of which this rank holds `shard`'s. The ranks
-  /// exchange their documents' word ids, each runs the E-step on its own documents with its
-  /// threads, they exchange what the E-step leaves (exp E[log theta] per document and the weight
-  /// of each entry) and every rank sums the sufficient statistics in document order and applies
-  /// the M-step: every rank's model is the one-process model, bit for bit.
+  /// exchange their documents' word ids, each runs the E-step on its share of the batch (dealt by
+  /// cost, mpi_lda_balance) with its threads, they exchange what the E-step leaves (exp E[log
+  /// theta] per document and the weight of each entry) and every rank sums the sufficient
+  /// statistics in document order and applies the M-step: every rank's model is the one-process
+  /// model, bit for bit.
   ///
   /// After distribute_by_topic(), the update is split by topic instead: rank r owns the
   /// contiguous block of topic rows mpi_topic_rows(K, size, r) of lambda; it computes exp(E[log
   /// beta]) of the batch's words on its rows, the ranks allgather that V_B x K block for their
   /// E-steps, then (after the same exchange of the E-step's output) each rank sums the sufficient
   /// statistics and applies the M-step (eq B.23-B.24) on its own rows only. Same bits as one
-  /// process; model() is stale until gather_topics().
+  /// process; the E-step needs only the V_B x K block of the batch's words. model() has no lambda
+  /// (0 x 0), or a stale one, until gather_topics().
   MiniBatchStats update(const CorpusShard& shard, std::size_t begin, std::size_t end,
                         core::Communicator& comm);
 
   /// Switches the updates with a communicator to the by-topic split above (collective; keeps
-  /// this rank's rows of the current model).
+  /// this rank's rows of the current model and drops the others).
   void distribute_by_topic(core::Communicator& comm);
-  /// Gathers every rank's topic rows so that model() is whole on every rank (collective; a no-op
-  /// when the updates are not split by topic).
-  void gather_topics(core::Communicator& comm);
+  /// Gathers the ranks' topic rows to the ranks that pass `whole_here` (point to point, blocks of
+  /// at most 64 MB), so that model() is whole there; the others keep their rows only and model()
+  /// has no lambda on them (collective; a no-op when the updates are not split by topic).
+  void gather_topics(core::Communicator& comm, bool whole_here = true);
+  /// Moves the model out (to be called once, after training: the learner keeps no lambda).
+  LdaModel release_model();
   /// Processor seconds this process spent in each phase of its updates so far: E-step, exp(E[log
   /// beta]), sufficient statistics, M-step (with the topic sums) and communication (with the
   /// batch's assembly), and the number of updates.
+  /// Beside them, wall seconds: the E-step, and the wait in the collective that follows it (the
+  /// other ranks' longer E-steps); and the E-step's imbalance: summed over the updates, the
+  /// slowest rank's E-step processor time minus this rank's (the wait an idle machine would see).
   struct PhaseTimes {
     double estep = 0, beta = 0, statistics = 0, mstep = 0, communication = 0;
+    double estep_wall = 0, wait_wall = 0, estep_imbalance = 0;
     std::int64_t updates = 0;
   };
   [[nodiscard]] PhaseTimes phase_times() const;
@@ -213,6 +229,16 @@ std::pair<int, int> mpi_topic_rows(int num_topics, int ranks, int rank);
 /// distribute_by_topic) or replicates it: PROPRIO_MPI_LDA_DESIGN=by-topic or =replicated when
 /// set, else by topic whenever there are 2 ranks or more (docs/results/mpi.md: the measurements).
 bool mpi_lda_by_topic(int num_topics, int ranks);
+
+/// Deals documents of the given E-step costs to `ranks` ranks, deterministically (every rank
+/// computes the same): largest cost first, each to the least loaded rank so far (ties: fewer
+/// documents, then the lower rank). Returns each document's rank.
+std::vector<int> mpi_deal_by_cost(std::span<const std::int64_t> costs, int ranks);
+
+/// Whether the data-parallel update deals a mini-batch's E-step by cost (mpi_deal_by_cost of
+/// (distinct words + 2) x the previous pass's iterations) rather than d mod P: yes unless the
+/// environment sets PROPRIO_MPI_LDA_BALANCE=0. The model is the same bits either way.
+bool mpi_lda_balance();
 
 /// Trains on `corpus` in order, `passes` times, mini-batch by mini-batch.
 OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options);
@@ -237,11 +263,14 @@ std::uint64_t corpus_checksum(const Corpus& corpus);
 
 /// Data-parallel training (issue 23), collective: every rank of `comm` passes its shard of the
 /// same corpus (read_corpus_shard(..., comm.rank(), comm.size())); the mini-batches are the
-/// one-process run's, and every rank returns the model train_online_lda gives on the whole corpus,
-/// bit for bit. `heldout` (may be null, and given on some ranks only) is scored on the ranks that
-/// have it, out of the training time. The summary's documents and tokens count the whole corpus.
-/// Environment PROPRIO_MPI_TEST_FAIL="RANK:UPDATE" (tests only) makes rank RANK abort before
-/// mini-batch UPDATE (from 0), as a crashed process would.
+/// one-process run's, and rank 0 (and every rank given `heldout`) returns the model
+/// train_online_lda gives on the whole corpus, bit for bit. Split by topic (mpi_lda_by_topic, the
+/// default with 2 ranks or more) the other ranks hold only their topic rows while training and
+/// return the model without lambda (0 x 0); replicated, every rank returns the whole model.
+/// `heldout` (may be null, and given on some ranks only) is scored on the ranks that have it, out
+/// of the training time. The summary's documents and tokens count the whole corpus. Environment
+/// PROPRIO_MPI_TEST_FAIL="RANK:UPDATE" (tests only) makes rank RANK abort before mini-batch UPDATE
+/// (from 0), as a crashed process would.
 OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout,
                                  const OnlineLdaOptions& options, core::Communicator& comm);
 
