@@ -235,28 +235,28 @@ class Learner {
     centre_ = robot::pixel_to_table(
         first.camera, Eigen::Vector2d(first.image.cols / 2.0, first.image.rows / 2.0));
     write_png(o_.out / "table.png", first.image);
-    log({{"event", "start"}, {"classes", classes_}, {"work_centre", xy(centre_)}});
+    log({.event = "start", .classes = classes_, .work_centre = xy(centre_)});
     current_ = std::move(first);
     for (int c = 0; c < classes_; ++c) {
       learn_object(c, bar);
     }
     bar.finish();
-    log({{"event", "end"},
-         {"blobs_out_of_reach", dropped_far_},
-         {"pushes", static_cast<int>(pushes_.size())},
-         {"views", static_cast<int>(views_.size())},
-         {"faults", faults_}});
+    log({.event = "end",
+         .views = static_cast<int>(views_.size()),
+         .blobs_out_of_reach = dropped_far_,
+         .pushes = static_cast<int>(pushes_.size()),
+         .faults = faults_});
   }
 
-  void log(const core::Json& j) {
-    log_ << j.dump() << '\n';
+  void log(const LearnDecision& d) {
+    log_ << core::fields_to_json(d).dump() << '\n';
     log_.flush();
   }
 
   void fault(int c, const std::string& what, const std::string& message) {
     ++faults_;
     spdlog::debug("learn, object {}: {}: {}", c + 1, what, message);
-    log({{"event", "fault"}, {"object", c}, {"fault", what}, {"message", message}});
+    log({.event = "fault", .object = c, .fault = what, .message = message});
   }
 
   [[nodiscard]] const std::vector<LearnPush>& pushes() const { return pushes_; }
@@ -286,7 +286,7 @@ class Learner {
     const auto far = [](const planning::PutativeObject& o) {
       return o.centre.norm() > kPushReach || o.centre.x() < kBehindBase;
     };
-    far_ = core::Json::array();
+    far_.clear();
     for (const auto& o : v.objects) {
       if (far(o)) far_.push_back(xy(o.centre));
     }
@@ -316,13 +316,13 @@ class Learner {
     for (int k = 0; k < c; ++k) any = any || models_[static_cast<std::size_t>(k)].learned();
     if (!any) {
       const int k = open[rng_.index(open.size())];
-      log({{"event", "choose"}, {"object", c}, {"blob", k}, {"why", "at random (7.2 a)"}});
+      log({.event = "choose", .object = c, .blob = k, .why = "at random (7.2 a)"});
       return k;
     }
     const LookFeatures lf = timed("recognition", [&] { return features_of(current_.image); });
     // The objects learned so far are known: where the learner left them, and where top-down
     // recognition finds them now; the choice is among the others (while any are left).
-    core::Json known = core::Json::array();
+    std::vector<KnownBlob> known;
     for (int k = 0; k < c; ++k) {
       const auto ku = static_cast<std::size_t>(k);
       std::vector<int> drop;
@@ -343,7 +343,7 @@ class Learner {
         const auto it = std::find(open.begin(), open.end(), b);
         if (it != open.end()) {
           open.erase(it);
-          known.push_back({{"object", k}, {"blob", b}});
+          known.push_back({k, b});
         }
       }
     }
@@ -352,7 +352,7 @@ class Learner {
       fault(c, "only-known-objects", "every blob in view is an object learned already");
       return -1;
     }
-    core::Json scores = core::Json::array();
+    std::vector<BlobMeanLogP> scores;
     int best = open.front();
     double best_s = std::numeric_limits<double>::infinity();
     for (int b : open) {
@@ -375,18 +375,18 @@ class Learner {
         const ObjectModel& om = models_[static_cast<std::size_t>(k)];
         if (om.learned()) s = std::max(s, om.log_p_descriptors(x, wo_).mean());
       }
-      scores.push_back({{"blob", b}, {"best_mean_log_p", s}});
+      scores.push_back({b, s});
       if (s < best_s) {
         best_s = s;
         best = b;
       }
     }
-    log({{"event", "choose"},
-         {"object", c},
-         {"blob", best},
-         {"why", "least likely under the object models so far (7.2 d)"},
-         {"known", known},
-         {"scores", scores}});
+    log({.event = "choose",
+         .object = c,
+         .blob = best,
+         .why = "least likely under the object models so far (7.2 d)",
+         .known = std::move(known),
+         .scores = std::move(scores)});
     return best;
   }
 
@@ -400,15 +400,15 @@ class Learner {
         return recognise_top_down(om, lf.points, lf.unit, current_.image.size(), wo_);
       });
       const int best = td.found ? blob_on(view, td.mask) : -1;
-      log({{"event", "recognise"},
-           {"object", c},
-           {"found", td.found},
-           {"kappa", td.kappa},
-           {"log_density", std::isfinite(td.log_density) ? td.log_density : 0.0},
-           {"features", td.features},
-           {"centre_px", xy(td.centre)},
-           {"blob", best},
-           {"message", td.message}});
+      log({.event = "recognise",
+           .object = c,
+           .blob = best,
+           .found = td.found,
+           .kappa = td.kappa,
+           .log_density = std::isfinite(td.log_density) ? td.log_density : 0.0,
+           .features = td.features,
+           .centre_px = xy(td.centre),
+           .message = td.message});
       if (best >= 0) {
         how = "top-down";
         return best;
@@ -424,10 +424,10 @@ class Learner {
     const int merged = track(view, last, kLandRadius);
     if (merged >= 0) {
       how = "tracked-merged";
-      log({{"event", "refound"},
-           {"object", c},
-           {"blob", merged},
-           {"why", "the nearest blob within the landing radius (merged with a neighbour?)"}});
+      log({.event = "refound",
+           .object = c,
+           .blob = merged,
+           .why = "the nearest blob within the landing radius (merged with a neighbour?)"});
     }
     return merged;
   }
@@ -631,13 +631,13 @@ class Learner {
 
   void learn_object(int c, core::ProgressBar& bar) {
     planning::PlanningView view = plan_view();
-    core::Json centres = core::Json::array();
+    std::vector<std::vector<double>> centres;
     for (const auto& b : view.objects) centres.push_back(xy(b.centre));
-    log({{"event", "look"},
-         {"object", c},
-         {"blobs", static_cast<int>(view.objects.size())},
-         {"centres", centres},
-         {"out_of_reach", far_}});
+    log({.event = "look",
+         .object = c,
+         .blobs = static_cast<int>(view.objects.size()),
+         .centres = std::move(centres),
+         .out_of_reach = far_});
     if (view.objects.empty()) {
       fault(c, "no-blobs", "no putative object in view; object skipped");
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -678,10 +678,10 @@ class Learner {
           fault(c, "no-pushable-object", "every blob in view was tried; moving on");
           break;
         }
-        log({{"event", "rechoose"},
-             {"object", c},
-             {"blob", k},
-             {"why", "three pushes in a row could not be planned or were refused"}});
+        log({.event = "rechoose",
+             .object = c,
+             .blob = k,
+             .why = "three pushes in a row could not be planned or were refused"});
         attendant_.chose(c, view, k);
         last = view.objects[static_cast<std::size_t>(k)].centre;
         failures = 0;
@@ -713,10 +713,10 @@ class Learner {
         });
       }
       if (blocked > 0) {
-        log({{"event", "replan"},
-             {"object", c},
-             {"why", "the pusher would come down on a blob"},
-             {"sides_rejected", blocked}});
+        log({.event = "replan",
+             .object = c,
+             .why = "the pusher would come down on a blob",
+             .sides_rejected = blocked});
       }
       if (p.outcome != planning::PlanOutcome::kPlanned) {
         fault(c, "not-planned", core::cat({"no side could be pushed: ", p.message}));
@@ -751,14 +751,14 @@ class Learner {
         message = e.what();
       }
       attendant_.after_push(in, lp.executed);
-      log({{"event", "push"},
-           {"object", c},
-           {"index", lp.index},
-           {"blob", blob},
-           {"located", how},
-           {"plan", core::fields_to_json(lp.plan)},
-           {"executed", lp.executed},
-           {"message", message}});
+      log({.event = "push",
+           .object = c,
+           .index = lp.index,
+           .blob = blob,
+           .located = how,
+           .plan = lp.plan,
+           .executed = lp.executed,
+           .message = message});
       if (!lp.executed) {
         fault(c, "robot-refused", message);
         ++failures;
@@ -823,12 +823,12 @@ class Learner {
             (void)om.first_push(frames, wo_, rng_);
         }
       });
-      log({{"event", "views"},
-           {"object", c},
-           {"index", lp.index},
-           {"views", lp.views},
-           {"words", om.learned() ? om.num_words() : 0},
-           {"segmentation", seg.message}});
+      log({.event = "views",
+           .object = c,
+           .index = lp.index,
+           .views = lp.views,
+           .words = om.learned() ? om.num_words() : 0,
+           .segmentation = seg.message});
       pushes_.push_back(lp);
       ++done;
       bar.tick();
@@ -836,9 +836,9 @@ class Learner {
     left_at_[static_cast<std::size_t>(c)] = last;
     if (done < o_.pushes) {
       bar.tick(static_cast<std::size_t>(o_.pushes - done));
-      log({{"event", "move-on"},
-           {"object", c},
-           {"why", core::cat({"only ", std::to_string(done), " pushes succeeded"})}});
+      log({.event = "move-on",
+           .object = c,
+           .why = core::cat({"only ", std::to_string(done), " pushes succeeded"})});
     }
   }
 
@@ -864,7 +864,7 @@ class Learner {
   int faults_ = 0;
   int plans_ = 0;
   int dropped_far_ = 0;                   ///< blobs out of the arm's pushing reach, over all looks
-  core::Json far_ = core::Json::array();  ///< the last look's blobs out of reach (centres, m)
+  std::vector<std::vector<double>> far_;  ///< the last look's blobs out of reach (centres, m)
   double extra_approach_ = 0;             ///< m, grown after each refusal of the object's pushes
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for arm_mask
 };
@@ -911,7 +911,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   }
   g.views_per_class.assign(static_cast<std::size_t>(k.classes), 0);
   if (views.empty()) {
-    l.log({{"event", "no-views"}, {"why", "no push gave a view: no model"}});
+    l.log({.event = "no-views", .why = "no push gave a view: no model"});
     return;
   }
   // Vocabulary: given, or k-means over the descriptors of every view.
@@ -982,8 +982,8 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
 }
 
 // The run's record as typed fields (options: the working ones, out the staging directory).
-LearnResult finish(Core& k, const LearnOptions& o,
-                   const std::optional<SelfSupervisionScore>& score, bool complete) {
+LearnResult finish(Core& k, const LearnOptions& o, const std::optional<SelfSupervisionScore>& score,
+                   bool complete) {
   LearnResult r;
   r.score = score;
   r.options = o;
@@ -1014,7 +1014,8 @@ LearnResult finish(Core& k, const LearnOptions& o,
     r.objects.push_back(std::move(obj));
   }
   for (const auto& [stage, sec] : l.seconds()) r.timing.push_back({stage, sec});
-  if (k.vocabulary) r.vocabulary = LearnModelFile{"words", k.vocabulary->size(), "vocabulary.vocab"};
+  if (k.vocabulary)
+    r.vocabulary = LearnModelFile{"words", k.vocabulary->size(), "vocabulary.vocab"};
   if (k.lda) {
     r.topics = LearnModelFile{"count", k.lda->num_topics(), "lda.model"};
   }
@@ -1142,11 +1143,11 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   const std::vector<PushTruth>& truth = attendant.pushes();
   for (std::size_t i = 0; i < r.pushes.size() && i < truth.size(); ++i) {
     const PushTruth& t = truth[i];
-    r.pushes[i].truth = LearnPushTruth{
-        t.intended, t.moved,
-        std::find(t.moved.begin(), t.moved.end(), t.intended) != t.moved.end() &&
-            !t.intended.empty(),
-        t.only_intended};
+    r.pushes[i].truth =
+        LearnPushTruth{t.intended, t.moved,
+                       std::find(t.moved.begin(), t.moved.end(), t.intended) != t.moved.end() &&
+                           !t.intended.empty(),
+                       t.only_intended};
   }
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   r.record_seconds = true;

@@ -175,9 +175,9 @@ struct LearnPushPlan {
 
 /// What a push really moved (ground truth, scoring only), listed in the push's row.
 struct LearnPushTruth {
-  std::string intended;             ///< the object under the pushed blob, or ""
-  std::vector<std::string> moved;   ///< objects whose centre moved
-  bool moved_intended = false;      ///< the intended object is among them
+  std::string intended;              ///< the object under the pushed blob, or ""
+  std::vector<std::string> moved;    ///< objects whose centre moved
+  bool moved_intended = false;       ///< the intended object is among them
   bool moved_only_intended = false;  ///< and nothing else
 
   template <class Self, class Visitor>
@@ -219,11 +219,103 @@ struct LearnPush {
   }
 };
 
+/// An object learned already and the blob it is in now (7.2 d: not chosen again).
+struct KnownBlob {
+  int object = 0;
+  int blob = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.object, {"object", "The object (class) learned already"});
+    v(self.blob, {"blob", "The blob it is in"});
+  }
+};
+
+/// (d)'s score of a blob: its best mean log p of the features under the object models so far.
+struct BlobMeanLogP {
+  int blob = 0;
+  double best_mean_log_p = 0;  ///< -infinity (written null) when no model is learned
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.blob, {"blob", "The blob"});
+    v(self.best_mean_log_p, {"best_mean_log_p", "Its best mean log p under the models so far"});
+  }
+};
+
+/// One line of learn's decision log (decisions.jsonl): an event and the fields it has (the
+/// others are left out). Events: start, look, choose, recognise, refound, rechoose, replan, push,
+/// views, move-on, fault, no-views, end.
+struct LearnDecision {
+  std::string event = {};
+  std::optional<int> object = {};                       ///< the object (class) being learned
+  std::optional<int> index = {};                        ///< push: its number
+  std::optional<int> blob = {};                         ///< the blob chosen, found or pushed
+  std::optional<int> blobs = {};                        ///< look: blobs in reach
+  std::optional<int> classes = {};                      ///< start: C
+  std::optional<std::vector<double>> work_centre = {};  ///< start: table m
+  std::optional<bool> found = {};                       ///< recognise
+  std::optional<double> kappa = {};                     ///< recognise: the threshold chosen
+  std::optional<double> log_density = {};               ///< recognise: 0 when not finite
+  std::optional<int> features = {};                     ///< recognise: in the region
+  std::optional<std::vector<double>> centre_px = {};    ///< recognise: their mean, px
+  std::optional<std::string> located = {};              ///< push: chosen, top-down or tracked
+  std::optional<LearnPushPlan> plan = {};               ///< push
+  std::optional<bool> executed = {};                    ///< push
+  std::optional<int> views = {};                        ///< views; end: all
+  std::optional<int> words = {};                        ///< views: the object's words
+  std::optional<std::string> segmentation = {};         ///< views: the segmentation's message
+  std::optional<std::vector<std::vector<double>>> centres = {};       ///< look: blobs, table m
+  std::optional<std::vector<std::vector<double>>> out_of_reach = {};  ///< look: dropped, m
+  std::optional<std::string> why = {};
+  std::optional<std::vector<KnownBlob>> known = {};      ///< choose (7.2 d)
+  std::optional<std::vector<BlobMeanLogP>> scores = {};  ///< choose (7.2 d)
+  std::optional<int> sides_rejected = {};                ///< replan
+  std::optional<std::string> fault = {};                 ///< fault: its kind
+  std::optional<std::string> message = {};
+  std::optional<int> blobs_out_of_reach = {};  ///< end
+  std::optional<int> pushes = {};              ///< end
+  std::optional<int> faults = {};              ///< end
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.event, {"event", "What happened"});
+    v(self.object, {"object", "The object (class) being learned"});
+    v(self.index, {"index", "The push's number"});
+    v(self.blob, {"blob", "The blob"});
+    v(self.blobs, {"blobs", "Blobs in reach"});
+    v(self.classes, {"classes", "Objects C"});
+    v(self.work_centre, {"work_centre", "Centre of the work area, table m"});
+    v(self.found, {"found", "Top-down recognition found the object"});
+    v(self.kappa, {"kappa", "The threshold chosen"});
+    v(self.log_density, {"log_density", "log Dir of the region's words"});
+    v(self.features, {"features", "Features in the region"});
+    v(self.centre_px, {"centre_px", "Their mean position, px"});
+    v(self.located, {"located", "How the object was found"});
+    v(self.plan, {"plan", "The plan"});
+    v(self.executed, {"executed", "The robot executed the push"});
+    v(self.views, {"views", "Views"});
+    v(self.words, {"words", "The object's words"});
+    v(self.segmentation, {"segmentation", "The segmentation's message"});
+    v(self.centres, {"centres", "The blobs' centres, table m"});
+    v(self.out_of_reach, {"out_of_reach", "Blobs out of reach, table m"});
+    v(self.why, {"why", "Why"});
+    v(self.known, {"known", "Objects learned already"});
+    v(self.scores, {"scores", "Each scored blob"});
+    v(self.sides_rejected, {"sides_rejected", "Sides rejected"});
+    v(self.fault, {"fault", "The fault's kind"});
+    v(self.message, {"message", "What happened, in words"});
+    v(self.blobs_out_of_reach, {"blobs_out_of_reach", "Blobs out of reach over all looks"});
+    v(self.pushes, {"pushes", "Pushes"});
+    v(self.faults, {"faults", "Logged faults"});
+  }
+};
+
 /// A learned object (class) in learn.json.
 struct LearnObjectRecord {
-  std::string name;  ///< the class (object_1, ...)
-  int pushes = 0;    ///< executed pushes of it
-  int views = 0;     ///< its training views
+  std::string name;                  ///< the class (object_1, ...)
+  int pushes = 0;                    ///< executed pushes of it
+  int views = 0;                     ///< its training views
   std::optional<std::string> truth;  ///< simulation: the object it was named after
   std::optional<double> purity;      ///< simulation: its views showing that object
 
@@ -328,7 +420,7 @@ struct LearnResult {
   std::optional<LearnModelFile> topics;      ///< made or given (lda.model)
   std::vector<std::string> model_classes;    ///< the Mixture of Topics' classes (model.mot)
   std::vector<PredictiveLikelihood> dirichlet_likelihoods;
-  bool held_out = false;      ///< the held-out views were asked for (simulation)
+  bool held_out = false;        ///< the held-out views were asked for (simulation)
   bool record_seconds = false;  ///< the record lists summary.seconds (simulation)
   std::optional<SelfSupervisionScore> score;
   core::Json document;  ///< format "proprio.learn" (also DIR/learn.json)
