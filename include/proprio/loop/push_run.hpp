@@ -339,7 +339,7 @@ struct PushEvaluationTable {
   std::uint64_t seed = 0;
   int objects = 0;  ///< objects on the table
   int clutter = 0;
-  std::string object;                              ///< the object pushed
+  std::string object;                                ///< the object pushed
   Eigen::Vector2d target = Eigen::Vector2d::Zero();  ///< table m
   PushOutcome outcome = PushOutcome::kNotPlanned;
   std::string message;

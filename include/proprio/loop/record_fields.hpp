@@ -5,8 +5,8 @@
 // a described struct (core/fields.hpp), so that a record's describe() names its keys once.
 
 #include <Eigen/Core>
-#include <optional>
 #include <opencv2/core/types.hpp>
+#include <optional>
 #include <vector>
 
 #include "proprio/core/fields.hpp"

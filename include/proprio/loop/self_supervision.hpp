@@ -228,17 +228,17 @@ struct SelfSupervisionDecision {
   std::optional<std::string> fault = {};              ///< fault: its kind
   std::optional<double> extra_approach = {};          ///< replan: the approaches' growth, m
   std::optional<std::vector<PutativeObjectRecord>> blobs = {};  ///< look: the putative objects
-  std::optional<std::string> source = {};        ///< views: "motion" or "blob"
+  std::optional<std::string> source = {};                       ///< views: "motion" or "blob"
   std::optional<std::string> segmentation = {};  ///< views (motion): the segmentation's message
   std::optional<int> frames = {};                ///< views (motion): frames of the episode
   std::optional<int> first_touch = {};           ///< views (motion): first frame used
   std::optional<int> views = {};  ///< views (motion): views taken; end: all training views
-  std::optional<int> too_few_features = {};  ///< views (motion): frames left out
-  std::optional<int> push = {};              ///< views: the learn push of the round
-  std::optional<int> taken = {};             ///< views: training views it gave
-  std::optional<int> classes = {};           ///< start: C
-  std::optional<int> topics = {};            ///< start: the LDA model's T
-  std::optional<int> words = {};             ///< start: the vocabulary's size
+  std::optional<int> too_few_features = {};             ///< views (motion): frames left out
+  std::optional<int> push = {};                         ///< views: the learn push of the round
+  std::optional<int> taken = {};                        ///< views: training views it gave
+  std::optional<int> classes = {};                      ///< start: C
+  std::optional<int> topics = {};                       ///< start: the LDA model's T
+  std::optional<int> words = {};                        ///< start: the vocabulary's size
   std::optional<std::vector<double>> work_centre = {};  ///< start: table m
   std::optional<int> pushes_clear = {};                 ///< end
   std::optional<int> pushes_learn = {};                 ///< end
@@ -298,7 +298,7 @@ struct Learning {
   int pushes_clear = 0;          ///< executed pushes in (b)
   int pushes_learn = 0;          ///< executed pushes in (c)
   int faults = 0;                ///< logged faults (not planned, refused, moved nothing, lost)
-  std::vector<std::string> stop_reasons;  ///< per round: why it ended early ("" when it did not)
+  std::vector<std::string> stop_reasons;     ///< per round: why it ended early ("" when it did not)
   std::vector<SelfSupervisionDecision> log;  ///< the decision log (decisions.jsonl's lines)
   double seconds = 0;
 };

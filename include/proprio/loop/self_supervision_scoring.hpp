@@ -124,7 +124,8 @@ struct SelfSupervisionScore {
     v(self.class_gap, {"class_gap", "Each round's least footprint gap after (b), m (-1: lost)"});
     v(self.singulation, {"singulation", "Rounds singulated / rounds"});
     v(self.pushes_per_cleared, {"pushes_per_cleared", "Clear pushes / objects they moved"});
-    v(self.only_intended, {"only_intended", "Executed pushes that moved the intended object alone"});
+    v(self.only_intended,
+      {"only_intended", "Executed pushes that moved the intended object alone"});
     v(self.off_table, {"off_table", "Objects that fell off the table"});
     v(self.purity, {"purity", "Purity of all training views"});
     v(self.mot_accuracy, {"mot_accuracy", "Held-out views classified as their object"});

@@ -139,7 +139,7 @@ struct NoiseChoiceRecord {
   std::string transition;
   std::string prior;
   double noise_cm = 0;
-  int draws = 0;                      ///< draws with a feasible plan
+  int draws = 0;                     ///< draws with a feasible plan
   double mean_intercept_time_s = 0;  ///< interception minus first plan, s
   double std_intercept_time_s = 0;
 
@@ -190,13 +190,13 @@ struct InterceptionRunOptions {
 struct InterceptionRunResult {
   std::string setup_brief;  ///< InterceptionSetup::brief()
   ExperimentResult experiment;
-  double noise_cm = 0;        ///< the options' noise, cm
-  std::string prior;          ///< the planner's prior mode
-  bool replan = false;        ///< whether the trials re-planned
-  std::string transition;     ///< the filter's target model
-  double camera_rate_hz = 0;  ///< Hz
-  int observe_frames = 0;     ///< frames observed before the first plan
-  GridRecord grid;            ///< InterceptionSetup::grid_record()
+  double noise_cm = 0;                  ///< the options' noise, cm
+  std::string prior;                    ///< the planner's prior mode
+  bool replan = false;                  ///< whether the trials re-planned
+  std::string transition;               ///< the filter's target model
+  double camera_rate_hz = 0;            ///< Hz
+  int observe_frames = 0;               ///< frames observed before the first plan
+  GridRecord grid;                      ///< InterceptionSetup::grid_record()
   std::vector<TrialRow> trial_results;  ///< one per trial
   /// Format "proprio.intercept": the fields described below.
   core::Json document;
@@ -247,10 +247,10 @@ struct InterceptionSweepResult {
   /// sweep.json (format "proprio.intercept.sweep"): the fields described below.
   core::Json document;
   std::filesystem::path out;
-  int trials = 0;                   ///< trials per row
-  std::vector<double> noise_cm;     ///< the noise levels, cm
-  GridRecord grid;                                 ///< InterceptionSetup::grid_record()
-  std::vector<SweepRow> rows;                      ///< per target model, noise and re-planning
+  int trials = 0;                                       ///< trials per row
+  std::vector<double> noise_cm;                         ///< the noise levels, cm
+  GridRecord grid;                                      ///< InterceptionSetup::grid_record()
+  std::vector<SweepRow> rows;                           ///< per target model, noise and re-planning
   std::vector<NoiseChoiceRecord> interception_choices;  ///< the Fig 3-11 choices
 
   [[nodiscard]] std::string brief() const;
