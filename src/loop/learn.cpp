@@ -79,8 +79,6 @@ constexpr double kMaxExtraApproach = 0.12;  // at most, m
 
 using Clock = std::chrono::steady_clock;
 
-core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
-
 void write_png(const fs::path& path, const cv::Mat& image) {
   std::vector<uchar> buf;
   if (!cv::imencode(".png", image, buf)) throw Error(path.string() + ": cannot encode the image");
@@ -237,35 +235,37 @@ class Learner {
     centre_ = robot::pixel_to_table(
         first.camera, Eigen::Vector2d(first.image.cols / 2.0, first.image.rows / 2.0));
     write_png(o_.out / "table.png", first.image);
-    log({{"event", "start"}, {"classes", classes_}, {"work_centre", xy(centre_)}});
+    log({.event = "start", .classes = classes_, .work_centre = xy(centre_)});
     current_ = std::move(first);
     for (int c = 0; c < classes_; ++c) {
       learn_object(c, bar);
     }
     bar.finish();
-    log({{"event", "end"},
-         {"blobs_out_of_reach", dropped_far_},
-         {"pushes", static_cast<int>(pushes_.size())},
-         {"views", static_cast<int>(views_.size())},
-         {"faults", faults_}});
+    log({.event = "end",
+         .views = static_cast<int>(views_.size()),
+         .blobs_out_of_reach = dropped_far_,
+         .pushes = static_cast<int>(pushes_.size()),
+         .faults = faults_});
   }
 
-  void log(const core::Json& j) {
-    log_ << j.dump() << '\n';
+  void log(const LearnDecision& d) {
+    log_ << core::fields_to_json(d).dump() << '\n';
     log_.flush();
   }
 
   void fault(int c, const std::string& what, const std::string& message) {
     ++faults_;
     spdlog::debug("learn, object {}: {}: {}", c + 1, what, message);
-    log({{"event", "fault"}, {"object", c}, {"fault", what}, {"message", message}});
+    log({.event = "fault", .object = c, .fault = what, .message = message});
   }
 
   [[nodiscard]] const std::vector<LearnPush>& pushes() const { return pushes_; }
   [[nodiscard]] const std::vector<View>& views() const { return views_; }
   [[nodiscard]] const std::map<std::string, double>& seconds() const { return seconds_; }
   [[nodiscard]] int faults() const { return faults_; }
-  [[nodiscard]] const core::Json& dirichlet_measure() const { return dirichlet_measure_; }
+  [[nodiscard]] const std::vector<PredictiveLikelihood>& dirichlet_measure() const {
+    return dirichlet_measure_;
+  }
   std::map<std::string, double>& mutable_seconds() { return seconds_; }
 
  private:
@@ -286,7 +286,7 @@ class Learner {
     const auto far = [](const planning::PutativeObject& o) {
       return o.centre.norm() > kPushReach || o.centre.x() < kBehindBase;
     };
-    far_ = core::Json::array();
+    far_.clear();
     for (const auto& o : v.objects) {
       if (far(o)) far_.push_back(xy(o.centre));
     }
@@ -316,13 +316,13 @@ class Learner {
     for (int k = 0; k < c; ++k) any = any || models_[static_cast<std::size_t>(k)].learned();
     if (!any) {
       const int k = open[rng_.index(open.size())];
-      log({{"event", "choose"}, {"object", c}, {"blob", k}, {"why", "at random (7.2 a)"}});
+      log({.event = "choose", .object = c, .blob = k, .why = "at random (7.2 a)"});
       return k;
     }
     const LookFeatures lf = timed("recognition", [&] { return features_of(current_.image); });
     // The objects learned so far are known: where the learner left them, and where top-down
     // recognition finds them now; the choice is among the others (while any are left).
-    core::Json known = core::Json::array();
+    std::vector<KnownBlob> known;
     for (int k = 0; k < c; ++k) {
       const auto ku = static_cast<std::size_t>(k);
       std::vector<int> drop;
@@ -343,7 +343,7 @@ class Learner {
         const auto it = std::find(open.begin(), open.end(), b);
         if (it != open.end()) {
           open.erase(it);
-          known.push_back({{"object", k}, {"blob", b}});
+          known.push_back({k, b});
         }
       }
     }
@@ -352,7 +352,7 @@ class Learner {
       fault(c, "only-known-objects", "every blob in view is an object learned already");
       return -1;
     }
-    core::Json scores = core::Json::array();
+    std::vector<BlobMeanLogP> scores;
     int best = open.front();
     double best_s = std::numeric_limits<double>::infinity();
     for (int b : open) {
@@ -375,18 +375,18 @@ class Learner {
         const ObjectModel& om = models_[static_cast<std::size_t>(k)];
         if (om.learned()) s = std::max(s, om.log_p_descriptors(x, wo_).mean());
       }
-      scores.push_back({{"blob", b}, {"best_mean_log_p", s}});
+      scores.push_back({b, s});
       if (s < best_s) {
         best_s = s;
         best = b;
       }
     }
-    log({{"event", "choose"},
-         {"object", c},
-         {"blob", best},
-         {"why", "least likely under the object models so far (7.2 d)"},
-         {"known", known},
-         {"scores", scores}});
+    log({.event = "choose",
+         .object = c,
+         .blob = best,
+         .why = "least likely under the object models so far (7.2 d)",
+         .known = std::move(known),
+         .scores = std::move(scores)});
     return best;
   }
 
@@ -400,15 +400,15 @@ class Learner {
         return recognise_top_down(om, lf.points, lf.unit, current_.image.size(), wo_);
       });
       const int best = td.found ? blob_on(view, td.mask) : -1;
-      log({{"event", "recognise"},
-           {"object", c},
-           {"found", td.found},
-           {"kappa", td.kappa},
-           {"log_density", std::isfinite(td.log_density) ? td.log_density : 0.0},
-           {"features", td.features},
-           {"centre_px", xy(td.centre)},
-           {"blob", best},
-           {"message", td.message}});
+      log({.event = "recognise",
+           .object = c,
+           .blob = best,
+           .found = td.found,
+           .kappa = td.kappa,
+           .log_density = std::isfinite(td.log_density) ? td.log_density : 0.0,
+           .features = td.features,
+           .centre_px = xy(td.centre),
+           .message = td.message});
       if (best >= 0) {
         how = "top-down";
         return best;
@@ -424,10 +424,10 @@ class Learner {
     const int merged = track(view, last, kLandRadius);
     if (merged >= 0) {
       how = "tracked-merged";
-      log({{"event", "refound"},
-           {"object", c},
-           {"blob", merged},
-           {"why", "the nearest blob within the landing radius (merged with a neighbour?)"}});
+      log({.event = "refound",
+           .object = c,
+           .blob = merged,
+           .why = "the nearest blob within the landing radius (merged with a neighbour?)"});
     }
     return merged;
   }
@@ -492,14 +492,13 @@ class Learner {
     return true;
   }
 
-  core::Json plan_json(const planning::PlanningView& view, const planning::PushPlan& p) const {
+  static LearnPushPlan plan_record(const planning::PlanningView& view,
+                                   const planning::PushPlan& p) {
     const Eigen::Vector2d s =
         view.camera.project(Eigen::Vector3d(p.push.start.x(), p.push.start.y(), 0.0));
     const Eigen::Vector2d e =
         view.camera.project(Eigen::Vector3d(p.push.end.x(), p.push.end.y(), 0.0));
-    return {{"start_px", xy(s)},         {"end_px", xy(e)},
-            {"start", xy(p.push.start)}, {"end", xy(p.push.end)},
-            {"target", xy(p.target)},    {"cost", std::isfinite(p.cost) ? p.cost : -1.0}};
+    return {s, e, p.push.start, p.push.end, p.target, std::isfinite(p.cost) ? p.cost : -1.0};
   }
 
   // Segments a push's episode; fills map/mask/frame of the scored frame and the views' masks
@@ -632,13 +631,13 @@ class Learner {
 
   void learn_object(int c, core::ProgressBar& bar) {
     planning::PlanningView view = plan_view();
-    core::Json centres = core::Json::array();
+    std::vector<std::vector<double>> centres;
     for (const auto& b : view.objects) centres.push_back(xy(b.centre));
-    log({{"event", "look"},
-         {"object", c},
-         {"blobs", static_cast<int>(view.objects.size())},
-         {"centres", centres},
-         {"out_of_reach", far_}});
+    log({.event = "look",
+         .object = c,
+         .blobs = static_cast<int>(view.objects.size()),
+         .centres = std::move(centres),
+         .out_of_reach = far_});
     if (view.objects.empty()) {
       fault(c, "no-blobs", "no putative object in view; object skipped");
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -679,10 +678,10 @@ class Learner {
           fault(c, "no-pushable-object", "every blob in view was tried; moving on");
           break;
         }
-        log({{"event", "rechoose"},
-             {"object", c},
-             {"blob", k},
-             {"why", "three pushes in a row could not be planned or were refused"}});
+        log({.event = "rechoose",
+             .object = c,
+             .blob = k,
+             .why = "three pushes in a row could not be planned or were refused"});
         attendant_.chose(c, view, k);
         last = view.objects[static_cast<std::size_t>(k)].centre;
         failures = 0;
@@ -714,10 +713,10 @@ class Learner {
         });
       }
       if (blocked > 0) {
-        log({{"event", "replan"},
-             {"object", c},
-             {"why", "the pusher would come down on a blob"},
-             {"sides_rejected", blocked}});
+        log({.event = "replan",
+             .object = c,
+             .why = "the pusher would come down on a blob",
+             .sides_rejected = blocked});
       }
       if (p.outcome != planning::PlanOutcome::kPlanned) {
         fault(c, "not-planned", core::cat({"no side could be pushed: ", p.message}));
@@ -730,7 +729,7 @@ class Learner {
       lp.index = static_cast<int>(pushes_.size());
       lp.object = c;
       lp.dir = core::printf_string("pushes/push_%03d", lp.index);
-      lp.plan = plan_json(view, p);
+      lp.plan = plan_record(view, p);
       lp.located = how;
       const fs::path dir = o_.out / lp.dir;
       fs::create_directories(dir);
@@ -752,14 +751,14 @@ class Learner {
         message = e.what();
       }
       attendant_.after_push(in, lp.executed);
-      log({{"event", "push"},
-           {"object", c},
-           {"index", lp.index},
-           {"blob", blob},
-           {"located", how},
-           {"plan", lp.plan},
-           {"executed", lp.executed},
-           {"message", message}});
+      log({.event = "push",
+           .object = c,
+           .index = lp.index,
+           .blob = blob,
+           .located = how,
+           .plan = lp.plan,
+           .executed = lp.executed,
+           .message = message});
       if (!lp.executed) {
         fault(c, "robot-refused", message);
         ++failures;
@@ -815,8 +814,7 @@ class Learner {
       ObjectModel& om = models_[static_cast<std::size_t>(c)];
       timed("words", [&] {
         if (const auto ll = om.predictive_log_likelihood(frames, wo_)) {
-          dirichlet_measure_.push_back(
-              {{"object", c}, {"push", done}, {"exact", ll->first}, {"fifty_fifty", ll->second}});
+          dirichlet_measure_.push_back({c, done, ll->first, ll->second});
         }
         if (!frames.empty()) {
           if (om.learned())
@@ -825,12 +823,12 @@ class Learner {
             (void)om.first_push(frames, wo_, rng_);
         }
       });
-      log({{"event", "views"},
-           {"object", c},
-           {"index", lp.index},
-           {"views", lp.views},
-           {"words", om.learned() ? om.num_words() : 0},
-           {"segmentation", seg.message}});
+      log({.event = "views",
+           .object = c,
+           .index = lp.index,
+           .views = lp.views,
+           .words = om.learned() ? om.num_words() : 0,
+           .segmentation = seg.message});
       pushes_.push_back(lp);
       ++done;
       bar.tick();
@@ -838,9 +836,9 @@ class Learner {
     left_at_[static_cast<std::size_t>(c)] = last;
     if (done < o_.pushes) {
       bar.tick(static_cast<std::size_t>(o_.pushes - done));
-      log({{"event", "move-on"},
-           {"object", c},
-           {"why", core::cat({"only ", std::to_string(done), " pushes succeeded"})}});
+      log({.event = "move-on",
+           .object = c,
+           .why = core::cat({"only ", std::to_string(done), " pushes succeeded"})});
     }
   }
 
@@ -862,11 +860,11 @@ class Learner {
   std::vector<View> views_;
   std::vector<cv::Mat> frames_;
   std::map<std::string, double> seconds_;
-  core::Json dirichlet_measure_ = core::Json::array();
+  std::vector<PredictiveLikelihood> dirichlet_measure_;
   int faults_ = 0;
   int plans_ = 0;
   int dropped_far_ = 0;                   ///< blobs out of the arm's pushing reach, over all looks
-  core::Json far_ = core::Json::array();  ///< the last look's blobs out of reach (centres, m)
+  std::vector<std::vector<double>> far_;  ///< the last look's blobs out of reach (centres, m)
   double extra_approach_ = 0;             ///< m, grown after each refusal of the object's pushes
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for arm_mask
 };
@@ -913,7 +911,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   }
   g.views_per_class.assign(static_cast<std::size_t>(k.classes), 0);
   if (views.empty()) {
-    l.log({{"event", "no-views"}, {"why", "no push gave a view: no model"}});
+    l.log({.event = "no-views", .why = "no push gave a view: no model"});
     return;
   }
   // Vocabulary: given, or k-means over the descriptors of every view.
@@ -983,10 +981,13 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   }
 }
 
-LearnResult finish(Core& k, const LearnOptions& o, const core::Provenance& provenance,
-                   const std::optional<SelfSupervisionScore>& score, bool complete) {
+// The run's record as typed fields (options: the working ones, out the staging directory).
+LearnResult finish(Core& k, const LearnOptions& o, const std::optional<SelfSupervisionScore>& score,
+                   bool complete) {
   LearnResult r;
   r.score = score;
+  r.options = o;
+  r.complete = complete;
   const Learner& l = *k.learner;
   const Learning& g = k.learning;
   r.pushes = l.pushes();
@@ -995,70 +996,51 @@ LearnResult finish(Core& k, const LearnOptions& o, const core::Provenance& prove
   s.faults = l.faults();
   s.views = static_cast<int>(l.views().size());
   s.model_classes = g.model.num_classes();
-  for (const auto& p : r.pushes) s.pushes_executed += p.executed ? 1 : 0;
-  core::Json& d = r.document;
-  d = core::result_document(kLearnFormat, kFormatVersion, provenance);
-  d["complete"] = complete;
-  d["options"] = core::fields_to_json(o);
-  d["options"]["segmentation"] =
-      std::string(core::choice_name(o.segmentation, kPushSegmentationNames));
-  d["classes"] = g.class_names;
-  core::Json objs = core::Json::array();
+  for (auto& p : r.pushes) {
+    s.pushes_executed += p.executed ? 1 : 0;
+    p.class_name = g.class_names[static_cast<std::size_t>(p.object)];
+  }
+  r.classes = g.class_names;
   for (int c = 0; c < k.classes; ++c) {
     const auto cu = static_cast<std::size_t>(c);
-    int n = 0;
-    for (const auto& p : r.pushes) n += (p.object == c && p.executed) ? 1 : 0;
-    core::Json j{{"class", g.class_names[cu]},
-                 {"pushes", n},
-                 {"views", cu < g.views_per_class.size() ? g.views_per_class[cu] : 0}};
+    LearnObjectRecord obj;
+    obj.name = g.class_names[cu];
+    for (const auto& p : r.pushes) obj.pushes += (p.object == c && p.executed) ? 1 : 0;
+    obj.views = cu < g.views_per_class.size() ? g.views_per_class[cu] : 0;
     if (r.score) {
-      j["truth"] = r.score->class_object[cu];
-      j["purity"] = r.score->class_purity[cu];
+      obj.truth = r.score->class_object[cu];
+      obj.purity = r.score->class_purity[cu];
     }
-    objs.push_back(j);
+    r.objects.push_back(std::move(obj));
   }
-  d["objects"] = objs;
-  core::Json pushes = core::Json::array();
-  for (const auto& p : r.pushes) {
-    core::Json j{
-        {"index", p.index},       {"class", g.class_names[static_cast<std::size_t>(p.object)]},
-        {"dir", p.dir},           {"plan", p.plan},
-        {"executed", p.executed}, {"frames", p.frames},
-        {"views", p.views},       {"located", p.located},
-        {"outcome", p.outcome}};
-    pushes.push_back(j);
-  }
-  d["pushes"] = pushes;
-  core::Json timing = core::Json::array();
-  for (const auto& [stage, sec] : l.seconds())
-    timing.push_back({{"stage", stage}, {"seconds", sec}});
-  d["timing"] = timing;
-  d["clock"] = "wall";
+  for (const auto& [stage, sec] : l.seconds()) r.timing.push_back({stage, sec});
   if (k.vocabulary)
-    d["vocabulary"] = {{"words", k.vocabulary->size()}, {"file", "vocabulary.vocab"}};
-  if (k.lda) d["topics"] = {{"count", k.lda->num_topics()}, {"file", "lda.model"}};
-  if (g.model.num_classes() > 0) d["model"] = "model.mot";
-  d["model_classes"] = g.model.names();
-  d["faults"] = s.faults;
-  d["dirichlet_update"] = {
-      {"default", std::string(core::choice_name(o.dirichlet_update, kDirichletUpdateNames))},
-      {"predictive_log_likelihood", l.dirichlet_measure()}};
+    r.vocabulary = LearnModelFile{"words", k.vocabulary->size(), "vocabulary.vocab"};
+  if (k.lda) {
+    r.topics = LearnModelFile{"count", k.lda->num_topics(), "lda.model"};
+  }
+  r.model_classes = g.model.names();
+  r.dirichlet_likelihoods = l.dirichlet_measure();
   if (r.score) {
-    d["held_out"] = {{"views_per_object", o.held_out},
-                     {"mot", r.score->mot.to_json()},
-                     {"argmax", r.score->argmax.to_json()}};
-    d["ground_truth"] = r.score->to_json();
     s.mot_accuracy = r.score->mot_accuracy;
     s.argmax_accuracy = r.score->argmax_accuracy;
   }
   return r;
 }
 
+// The record (document) of `r`, naming `out` as the run directory.
+void record(LearnResult& r, const fs::path& out, const core::Provenance& provenance) {
+  r.options.out = out;
+  r.document = core::result_document(kLearnFormat, kFormatVersion, provenance);
+  core::fields_into_json(r, r.document);
+}
+
 // learn.json (naming the final directory) into the staging directory `w.out`, then the commit.
-void write_final(LearnResult& r, const LearnOptions& w, core::StagedDirectory& staged) {
-  r.document["options"]["out"] = staged.final_path().string();
+void write_final(LearnResult& r, const LearnOptions& w, core::StagedDirectory& staged,
+                 const core::Provenance& provenance) {
+  record(r, staged.final_path(), provenance);
   core::write_json_atomic(w.out / "learn.json", r.document);
-  if (r.document.value("complete", false)) fs::remove(w.out / "INCOMPLETE");
+  if (r.complete) fs::remove(w.out / "INCOMPLETE");
   staged.commit();
 }
 
@@ -1093,9 +1075,9 @@ LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAtt
   Core k;
   k.classes = classes;
   learn_core(k, w, robot, attendant, provenance);
-  LearnResult r = finish(k, w, provenance, std::nullopt, true);
+  LearnResult r = finish(k, w, std::nullopt, true);
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  write_final(r, w, *staged);
+  write_final(r, w, *staged, provenance);
   return r;
 }
 
@@ -1132,8 +1114,8 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   learn_core(k, w, *robot, attendant, provenance);
   robot.reset();  // one GL context at a time: the held-out views need their own
   {
-    LearnResult partial = finish(k, w, provenance, std::nullopt, false);
-    partial.document["options"]["out"] = o.out.string();
+    LearnResult partial = finish(k, w, std::nullopt, false);
+    record(partial, o.out, provenance);
     core::write_json_atomic(w.out / "learn.json", partial.document);
   }
   std::optional<SelfSupervisionScore> score;
@@ -1152,30 +1134,24 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
     k.learner->mutable_seconds()["held_out"] =
         std::chrono::duration<double>(Clock::now() - th).count();
   }
-  LearnResult r = finish(k, w, provenance, score, true);
-  if (!score) {
-    // Nothing to score: no views were taken, so no vocabulary, LDA or object model was made.
-    r.document["held_out"] = {
-        {"views_per_object", o.held_out},
-        {"scored", false},
-        {"why", "no model: the robot took no view it could learn from (see decisions.jsonl)"}};
-  }
+  LearnResult r = finish(k, w, score, true);
+  // Nothing to score (no score): no views were taken, so no vocabulary, LDA or object model was
+  // made; the record says so.
+  r.held_out = true;
   // What each push really moved (ground truth, scoring only): the attendant saw every push the
   // learner made, in the same order.
   const std::vector<PushTruth>& truth = attendant.pushes();
-  core::Json& pushes = r.document["pushes"];
-  for (std::size_t i = 0; i < pushes.size() && i < truth.size(); ++i) {
+  for (std::size_t i = 0; i < r.pushes.size() && i < truth.size(); ++i) {
     const PushTruth& t = truth[i];
-    pushes[i]["intended"] = t.intended;
-    pushes[i]["moved"] = t.moved;
-    pushes[i]["moved_intended"] =
-        std::find(t.moved.begin(), t.moved.end(), t.intended) != t.moved.end() &&
-        !t.intended.empty();
-    pushes[i]["moved_only_intended"] = t.only_intended;
+    r.pushes[i].truth =
+        LearnPushTruth{t.intended, t.moved,
+                       std::find(t.moved.begin(), t.moved.end(), t.intended) != t.moved.end() &&
+                           !t.intended.empty(),
+                       t.only_intended};
   }
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  r.document["seconds"] = r.summary.seconds;
-  write_final(r, w, *staged);
+  r.record_seconds = true;
+  write_final(r, w, *staged, provenance);
   LearnReportOptions page;
   page.dir = o.out;
   page.overwrite = true;  // in the run directory this run has just written

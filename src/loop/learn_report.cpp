@@ -1187,18 +1187,8 @@ LearnReportResult write_learn_report(const LearnReportOptions& options,
   summary.page_bytes = page.size();
 
   result.document = core::result_document(kLearnReportFormat, 1, provenance);
-  result.document["options"] = core::fields_to_json(options);
-  result.document["summary"] = {{"page", out.string()},
-                                {"images", images.string()},
-                                {"complete", summary.complete},
-                                {"pushes", summary.pushes},
-                                {"pushes_drawn", summary.pushes_drawn},
-                                {"image_files", summary.image_files},
-                                {"classes", summary.classes},
-                                {"decisions", summary.decisions},
-                                {"mot_accuracy", summary.mot_accuracy},
-                                {"argmax_accuracy", summary.argmax_accuracy},
-                                {"page_bytes", summary.page_bytes}};
+  result.options = options;
+  core::fields_into_json(result, result.document);
   // The images directory's marker (core::kResultMarkers): a later --overwrite may replace it.
   core::write_json_atomic(staged.staging_path() / "summary.json", result.document);
   staged.commit();

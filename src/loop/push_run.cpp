@@ -33,8 +33,6 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
-
 // The planner's table region: the table top; objects near the base axis are the arm.
 planning::TableRegion region_of(const sim::SimulatedRobot& robot) {
   planning::TableRegion r;
@@ -74,45 +72,6 @@ PushScore score(const std::vector<sim::ObjectTruth>& before,
   }
   s.only_intended = s.moved_intended && !s.moved_others;
   return s;
-}
-
-core::Json score_json(const PushScore& s) {
-  core::Json j;
-  j["intended"] = s.intended;
-  j["final_distance"] = s.final_distance >= 0 ? core::Json(s.final_distance) : core::Json();
-  j["centre_error"] = s.centre_error >= 0 ? core::Json(s.centre_error) : core::Json();
-  j["moved_intended"] = s.moved_intended;
-  j["moved_others"] = s.moved_others;
-  j["only_intended"] = s.only_intended;
-  j["touched_other"] = s.touched_other;
-  j["off_table"] = s.off_table;
-  core::Json objects = core::Json::array();
-  for (const ObjectMove& m : s.objects) {
-    objects.push_back({{"name", m.name}, {"moved", m.moved}, {"on_table", m.on_table}});
-  }
-  j["objects"] = objects;
-  return j;
-}
-
-core::Json plan_json(const planning::PushPlan& p) {
-  core::Json j;
-  j["outcome"] = std::string(core::choice_name(p.outcome, planning::kPlanOutcomeNames));
-  j["message"] = p.message;
-  j["object"] = p.object;
-  j["seconds"] = p.seconds;
-  j["sampled"] = p.sampled;
-  j["rejected_region"] = p.rejected_region;
-  j["rejected_reach"] = p.rejected_reach;
-  if (p.outcome == planning::PlanOutcome::kPlanned) {
-    j["centre"] = xy(p.centre);
-    j["target"] = xy(p.target);
-    j["start"] = xy(p.push.start);
-    j["end"] = xy(p.push.end);
-    j["edge_distance"] = p.edge_distance;
-    j["approach"] = p.approach;
-    j["cost"] = p.cost;
-  }
-  return j;
 }
 
 }  // namespace
@@ -204,27 +163,18 @@ std::string episode_name(int k) {
   return s;
 }
 
-core::Json step_json(const PushStep& s) {
-  core::Json j;
-  j["plan"] = plan_json(s.plan);
-  j["message"] = s.message;
-  j["executed"] = s.report.has_value();
-  j["touched"] = s.report ? s.report->touched : false;
-  j["episode"] = s.report ? s.report->episode_dir.string() : std::string();
-  j["seen_centre"] = s.seen_distance >= 0 ? xy(s.seen_centre) : core::Json();
-  j["seen_distance"] = s.seen_distance >= 0 ? core::Json(s.seen_distance) : core::Json();
-  j["true_distance"] = s.true_distance >= 0 ? core::Json(s.true_distance) : core::Json();
-  j["tracked_on_object"] = s.tracked_on_object;
-  j["look_seconds"] = s.look_seconds;
-  return j;
-}
+// Where a run writes its files: options.out itself, or the staging directory that run_push swaps
+// in whole at the end (then the record names options.out from the start).
+struct WorkDirectory {
+  fs::path dir;            ///< empty: no files
+  bool overwrite = false;  ///< episodes may replace what is there
+};
 
-}  // namespace
-
-PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
-                        const core::Provenance& provenance) {
+PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
+                      const WorkDirectory& work, const core::Provenance& provenance) {
   options.validate();
   PushRunResult r;
+  r.options = options;
   const auto t_look = std::chrono::steady_clock::now();
   const robot::Look look = robot.look();
   const planning::TableRegion region = region_of(robot);
@@ -278,13 +228,15 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
         }
         if (step.plan.outcome != planning::PlanOutcome::kPlanned) break;
         robot::PushRecording rec;
-        if (!options.out.empty()) rec.episode_dir = options.out / episode_name(k);
+        if (!work.dir.empty()) rec.episode_dir = work.dir / episode_name(k);
         rec.fps = options.fps;
-        rec.overwrite = options.overwrite;
+        rec.overwrite = work.overwrite;
         rec.run = provenance;
         try {
           step.report = robot.push(step.plan.push, rec);
           step.message = step.report->message;
+          // The record names the episode where it ends up (run_push swaps the staging in).
+          if (!work.dir.empty()) step.report->episode_dir = options.out / episode_name(k);
           break;
         } catch (const Error& e) {
           // The robot refused (nothing moved): another sampled path, when retries are left.
@@ -357,12 +309,12 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
         }
         const bool done = found < 0 || step.seen_distance <= options.tolerance;
         if (found < 0) step.message += "; the pushed object was not found again";
-        if (!options.out.empty()) {  // the look after push k: out/look_2.png, ...
+        if (!work.dir.empty()) {  // the look after push k: out/look_2.png, ...
           std::string name = "look_";
           name += std::to_string(k + 2);
           name += ".png";
           planning::PushPlan none;
-          cv::imwrite((options.out / name).string(),
+          cv::imwrite((work.dir / name).string(),
                       draw_plan(next_look, next_view, none, find_truth(now, intended)));
         }
         r.steps.push_back(std::move(step));
@@ -400,58 +352,28 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
     }
   }
   if (r.outcome != PushOutcome::kPushed) spdlog::warn("push: {}", r.message);
-  if (!options.out.empty()) {
-    cv::imwrite((options.out / "plan.png").string(),
+  if (!work.dir.empty()) {
+    cv::imwrite((work.dir / "plan.png").string(),
                 draw_plan(look, view, r.plan, find_truth(before, intended)));
   }
 
-  core::Json& d = r.document;
-  d = core::result_document(kPushFormat, kFormatVersion, provenance);
-  d["outcome"] = std::string(core::choice_name(r.outcome, kPushOutcomeNames));
-  d["message"] = r.message;
-  d["options"] = core::fields_to_json(options);
-  d["table"] = core::fields_to_json(options.table);
-  d["planner"] = core::fields_to_json(options.plan);
-  core::Json objects = core::Json::array();
-  for (const auto& o : view.objects) {
-    objects.push_back({{"centre", xy(o.centre)},
-                       {"centre_pixel", xy(o.centre_pixel)},
-                       {"features", static_cast<int>(o.pixels.size())},
-                       {"box", core::Json::array({o.box.x, o.box.y, o.box.width, o.box.height})}});
-  }
-  d["putative_objects"] = objects;
-  d["look_seconds"] = r.look_seconds;
-  d["plan"] = plan_json(r.plan);
-  if (r.report) {
-    d["execution"] = {
-        {"frames", r.report->frames},
-        {"touched", r.report->touched},
-        {"first_touch_frame",
-         r.report->first_touch_frame ? core::Json(*r.report->first_touch_frame) : core::Json()},
-        {"seconds", r.report->seconds},
-        {"episode", r.report->episode_dir.string()}};
-    d["ground_truth"] = score_json(r.score);
-  }
-  core::Json steps = core::Json::array();
-  for (const PushStep& s : r.steps) steps.push_back(step_json(s));
-  d["pushes"] = steps;
+  r.putative_objects = putative_object_records(view, true);
+  r.document = core::result_document(kPushFormat, kFormatVersion, provenance);
+  core::fields_into_json(r, r.document);
   return r;
+}
+
+}  // namespace
+
+PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
+                        const core::Provenance& provenance) {
+  return push_in(robot, options, {options.out, options.overwrite}, provenance);
 }
 
 namespace {
 
 // What marks a directory proprio push wrote: a finished run, or one stopped after its first push.
 constexpr std::string_view kPushMarkers[] = {"push.json", "episode/episode.json"};
-
-// The paths the document names inside the staging directory, as they are after the commit.
-void unstage_paths(core::Json& j, const std::string& staging, const std::string& final) {
-  if (j.is_string()) {
-    const std::string& s = j.get_ref<const std::string&>();
-    if (s.compare(0, staging.size(), staging) == 0) j = final + s.substr(staging.size());
-  } else if (j.is_structured()) {
-    for (core::Json& e : j) unstage_paths(e, staging, final);
-  }
-}
 
 }  // namespace
 
@@ -460,27 +382,22 @@ PushRunResult run_push(const PushOptions& options, const core::Provenance& prove
   // Written under a hidden name beside --out and swapped in whole at the end (issue 16): an
   // older push's files this one does not write go, and a failed or killed run leaves the old.
   std::optional<core::StagedDirectory> staged;
-  PushOptions o = options;
+  WorkDirectory work{{}, true};  // the directory was checked here
+  PushOptions named = options;   // as the record names them: out is the final directory
   if (!options.out.empty()) {
     if (fs::exists(options.out) && !options.overwrite) {
       throw Error(options.out.string() + ": already exists (use --overwrite to replace it)");
     }
     staged.emplace(options.out, options.overwrite, kPushMarkers);
-    o.out = staged->staging_path();
+    work.dir = staged->staging_path();
+    named.out = staged->final_path();
   }
-  o.overwrite = true;  // the directory was checked above
   sim::SimulatedRobot robot(options.table, sim::ObjectCatalogue::load_default());
-  if (!o.out.empty()) cv::imwrite((o.out / "before.png").string(), robot.look().image);
-  PushRunResult r = push_once(robot, o, provenance);
+  if (!work.dir.empty()) cv::imwrite((work.dir / "before.png").string(), robot.look().image);
+  PushRunResult r = push_in(robot, named, work, provenance);
   if (staged) {
-    cv::imwrite((o.out / "after.png").string(), robot.look().image);
-    unstage_paths(r.document, o.out.string(), staged->final_path().string());
-    r.document["options"]["overwrite"] = options.overwrite;
-    if (r.report) r.report->episode_dir = staged->final_path() / r.report->episode_dir.filename();
-    for (PushStep& s : r.steps) {
-      if (s.report) s.report->episode_dir = staged->final_path() / s.report->episode_dir.filename();
-    }
-    core::write_json_atomic(o.out / "push.json", r.document);
+    cv::imwrite((work.dir / "after.png").string(), robot.look().image);
+    core::write_json_atomic(work.dir / "push.json", r.document);
     staged->commit();
   }
   return r;
@@ -532,6 +449,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   const auto t0 = std::chrono::steady_clock::now();
   const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
   PushEvaluationResult r;
+  r.options = options;
   std::vector<double> distances;
   std::vector<double> centre_errors;
   std::vector<double> plan_ms;
@@ -542,7 +460,6 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   int pushes_made = 0;
   int looks_after = 0;
   int tracked = 0;
-  core::Json pushes = core::Json::array();
   const sim::ScatterRegion scatter;
   for (int t = 0; t < options.tables; ++t) {
     const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
@@ -620,33 +537,27 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
       }
     }
     look_ms.push_back(p.look_seconds * kMs);
-    core::Json row;
-    row["seed"] = seed;
-    row["objects"] = table.object_count;
-    row["clutter"] = options.clutter;
-    row["object"] = chosen.name;
-    row["target"] = xy(target);
-    row["outcome"] = std::string(core::choice_name(p.outcome, kPushOutcomeNames));
-    row["message"] = p.message;
-    row["final_distance"] = p.report ? core::Json(p.score.final_distance) : core::Json();
-    row["centre_error"] = p.report ? core::Json(p.score.centre_error) : core::Json();
-    row["only_intended"] = p.score.only_intended;
-    row["touched_other"] = p.score.touched_other;
-    row["off_table"] = p.score.off_table;
-    row["plan_ms"] = p.plan.seconds * kMs;
-    row["pushes"] = p.pushes;
-    core::Json steps = core::Json::array();
+    PushEvaluationTable row;
+    row.seed = seed;
+    row.objects = table.object_count;
+    row.clutter = options.clutter;
+    row.object = chosen.name;
+    row.target = target;
+    row.outcome = p.outcome;
+    row.message = p.message;
+    row.executed = p.report.has_value();
+    row.final_distance = p.score.final_distance;
+    row.centre_error = p.score.centre_error;
+    row.only_intended = p.score.only_intended;
+    row.touched_other = p.score.touched_other;
+    row.off_table = p.score.off_table;
+    row.plan_ms = p.plan.seconds * kMs;
+    row.pushes = p.pushes;
     for (const PushStep& s : p.steps) {
-      steps.push_back(
-          {{"true_distance", s.true_distance >= 0 ? core::Json(s.true_distance) : core::Json()},
-           {"seen_distance", s.seen_distance >= 0 ? core::Json(s.seen_distance) : core::Json()},
-           {"tracked_on_object", s.tracked_on_object},
-           {"plan", std::string(core::choice_name(s.plan.outcome, planning::kPlanOutcomeNames))},
-           {"executed", s.report.has_value()},
-           {"message", s.message}});
+      row.steps.push_back({s.true_distance, s.seen_distance, s.tracked_on_object, s.plan.outcome,
+                           s.report.has_value(), s.message});
     }
-    row["steps"] = steps;
-    pushes.push_back(row);
+    r.pushes.push_back(std::move(row));
   }
   r.median_distance = percentile(distances, 0.5);
   r.p90_distance = percentile(distances, 0.9);
@@ -660,31 +571,8 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   r.mean_pushes = r.planned > 0 ? static_cast<double>(pushes_made) / r.planned : 0.0;
   r.tracked_rate = looks_after > 0 ? static_cast<double>(tracked) / looks_after : 0.0;
   r.seconds = seconds_since(t0);
-  core::Json& d = r.document;
-  d = core::result_document(kEvaluationFormat, kFormatVersion, provenance);
-  d["options"] = core::fields_to_json(options);
-  d["planner"] = core::fields_to_json(options.plan);
-  d["tables"] = r.tables;
-  d["planned"] = r.planned;
-  d["not_planned"] = r.not_planned;
-  d["not_seen"] = r.not_seen;
-  d["refused"] = r.refused;
-  d["median_distance"] = r.median_distance >= 0 ? core::Json(r.median_distance) : core::Json();
-  d["p90_distance"] = r.p90_distance >= 0 ? core::Json(r.p90_distance) : core::Json();
-  d["median_centre_error"] =
-      r.median_centre_error >= 0 ? core::Json(r.median_centre_error) : core::Json();
-  d["only_intended_rate"] = r.only_intended_rate;
-  d["touched_other_rate"] = r.touched_other_rate;
-  d["off_table"] = r.off_table;
-  d["median_plan_ms"] = r.median_plan_ms;
-  d["max_plan_ms"] = r.max_plan_ms;
-  d["median_look_ms"] = r.median_look_ms;
-  d["median_first_distance"] =
-      r.median_first_distance >= 0 ? core::Json(r.median_first_distance) : core::Json();
-  d["mean_pushes"] = r.mean_pushes;
-  d["tracked_rate"] = r.tracked_rate;
-  d["seconds"] = r.seconds;
-  d["pushes"] = pushes;
+  r.document = core::result_document(kEvaluationFormat, kFormatVersion, provenance);
+  core::fields_into_json(r, r.document);
   return r;
 }
 

@@ -45,32 +45,6 @@ constexpr double kLandRadius = 0.15;        // a pushed object is looked for thi
 constexpr double kMaxLearnPush = 0.12;      // (c): the object is moved at most this far a push, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 
-core::Json xy(const Eigen::Vector2d& p) { return core::Json::array({p.x(), p.y()}); }
-
-core::Json blobs_json(const planning::PlanningView& view) {
-  core::Json a = core::Json::array();
-  for (const auto& o : view.objects) {
-    a.push_back({{"centre", xy(o.centre)},
-                 {"features", static_cast<int>(o.pixels.size())},
-                 {"box", core::Json::array({o.box.x, o.box.y, o.box.width, o.box.height})}});
-  }
-  return a;
-}
-
-core::Json plan_json(const planning::PushPlan& p) {
-  core::Json j;
-  j["outcome"] = std::string(core::choice_name(p.outcome, planning::kPlanOutcomeNames));
-  j["message"] = p.message;
-  j["blob"] = p.object;
-  if (p.outcome == planning::PlanOutcome::kPlanned) {
-    j["start"] = xy(p.push.start);
-    j["end"] = xy(p.push.end);
-    j["target"] = xy(p.target);
-    j["cost"] = p.cost;
-  }
-  return j;
-}
-
 // The blob of `view` nearest `centre` within kTrackRadius; -1 none.
 int track(const planning::PlanningView& view, const Eigen::Vector2d& centre,
           double radius = kTrackRadius) {
@@ -136,15 +110,15 @@ class Learner {
     plan_options_.blobs.sigma = o_.plan.blobs.sigma * scale;
     centre_ = robot::pixel_to_table(
         first.camera, Eigen::Vector2d(first.image.cols / 2.0, first.image.rows / 2.0));
-    log({{"event", "start"},
-         {"classes", out_.classes},
-         {"topics", model_.num_topics()},
-         {"words", vocabulary_.size()},
-         {"work_centre", xy(centre_)}});
+    log({.event = "start",
+         .classes = out_.classes,
+         .topics = model_.num_topics(),
+         .words = vocabulary_.size(),
+         .work_centre = xy(centre_)});
     for (int r = 0; r < out_.classes; ++r) {
       if (r > 0) {
         try {
-          log({{"event", "rescatter"}, {"round", r}, {"what", attendant_.rescatter(r)}});
+          log({.event = "rescatter", .round = r, .what = attendant_.rescatter(r)});
         } catch (const Error& e) {
           // The world could not put the objects down again: stop with the reason.
           fault(r, "rescatter-failed", e.what());
@@ -161,28 +135,28 @@ class Learner {
     bar.finish();
     fit();
     out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    log({{"event", "end"},
-         {"pushes_clear", out_.pushes_clear},
-         {"pushes_learn", out_.pushes_learn},
-         {"faults", out_.faults},
-         {"views", static_cast<int>(out_.views.labels.size())},
-         {"seconds", out_.seconds}});
+    log({.event = "end",
+         .views = static_cast<int>(out_.views.labels.size()),
+         .pushes_clear = out_.pushes_clear,
+         .pushes_learn = out_.pushes_learn,
+         .faults = out_.faults,
+         .seconds = out_.seconds});
     return std::move(out_);
   }
 
  private:
-  void log(core::Json j) {
+  void log(SelfSupervisionDecision d) {
     if (log_file_.is_open()) {
-      log_file_ << j.dump() << '\n';
+      log_file_ << core::fields_to_json(d).dump() << '\n';
       log_file_.flush();
     }
-    out_.log.push_back(std::move(j));
+    out_.log.push_back(std::move(d));
   }
 
   void fault(int r, const std::string& what, const std::string& message) {
     ++out_.faults;
     spdlog::warn("self-supervision, round {}: {}: {}", r, what, message);
-    log({{"event", "fault"}, {"round", r}, {"fault", what}, {"message", message}});
+    log({.event = "fault", .round = r, .message = message, .fault = what});
   }
 
   planning::PlanningView look() {
@@ -204,7 +178,7 @@ class Learner {
     const int n = static_cast<int>(view.objects.size());
     if (r == 0 || model_so_far_.objects.empty()) {
       const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
-      log({{"event", "choose"}, {"round", r}, {"blob", k}, {"why", "at random (7.2 a)"}});
+      log({.event = "choose", .round = r, .blob = k, .why = "at random (7.2 a)"});
       return k;
     }
     std::vector<std::vector<std::int32_t>> docs;
@@ -219,29 +193,29 @@ class Learner {
     }
     if (docs.empty()) {
       const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
-      log({{"event", "choose"},
-           {"round", r},
-           {"blob", k},
-           {"why", "at random: no blob has enough features to be scored"}});
+      log({.event = "choose",
+           .round = r,
+           .blob = k,
+           .why = "at random: no blob has enough features to be scored"});
       return k;
     }
     const topics::MotClassification cls = topics::classify_mot(model_so_far_, theta_of(docs));
     int best = rows[0];
     double best_score = std::numeric_limits<double>::infinity();
-    core::Json scores = core::Json::array();
+    std::vector<BlobScore> scores;
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const double s = cls.log_score.row(static_cast<Eigen::Index>(i)).maxCoeff();
-      scores.push_back({{"blob", rows[i]}, {"best_log_score", s}});
+      scores.push_back({rows[i], s});
       if (s < best_score) {
         best_score = s;
         best = rows[i];
       }
     }
-    log({{"event", "choose"},
-         {"round", r},
-         {"blob", best},
-         {"why", "least likely under the classes learned so far (7.2 d)"},
-         {"scores", scores}});
+    log({.event = "choose",
+         .round = r,
+         .blob = best,
+         .why = "least likely under the classes learned so far (7.2 d)",
+         .scores = std::move(scores)});
     return best;
   }
 
@@ -264,22 +238,22 @@ class Learner {
       message = e.what();
     }
     attendant_.after_push(intent, ok);
-    log({{"event", "push"},
-         {"round", intent.round},
-         {"phase", intent.phase},
-         {"index", intent.index},
-         {"blob", intent.blob},
-         {"plan", plan_json(*intent.plan)},
-         {"executed", ok},
-         {"message", message},
-         {"episode", episode}});
+    log({.event = "push",
+         .round = intent.round,
+         .phase = intent.phase,
+         .index = intent.index,
+         .blob = intent.blob,
+         .plan = LoggedPlan::of(*intent.plan),
+         .executed = ok,
+         .message = message,
+         .episode = episode});
     if (!ok) {
       fault(intent.round, "robot-refused", message);
       extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
-      log({{"event", "replan"},
-           {"round", intent.round},
-           {"why", "refused: approaches grow"},
-           {"extra_approach", extra_approach_}});
+      log({.event = "replan",
+           .round = intent.round,
+           .why = "refused: approaches grow",
+           .extra_approach = extra_approach_});
     }
     return ok;
   }
@@ -340,14 +314,14 @@ class Learner {
         if (gap < o_.clearance) others.emplace_back(gap, static_cast<int>(k));
       }
       std::sort(others.begin(), others.end());
-      log({{"event", "look"},
-           {"round", r},
-           {"phase", "clear"},
-           {"blobs", blobs_json(view)},
-           {"chosen", c},
-           {"too_near", static_cast<int>(others.size())}});
+      log({.event = "look",
+           .round = r,
+           .phase = "clear",
+           .chosen = c,
+           .too_near = static_cast<int>(others.size()),
+           .blobs = putative_object_records(view, false)});
       if (others.empty()) {
-        log({{"event", "singulated"}, {"round", r}, {"clear_pushes", pushes}});
+        log({.event = "singulated", .round = r, .clear_pushes = pushes});
         attendant_.cleared(r, view, c);
         return chosen;
       }
@@ -372,12 +346,12 @@ class Learner {
           p = plan(view, k, planning::PushGoal::kEdge, {});
         }
         if (p.outcome != planning::PlanOutcome::kPlanned) {
-          log({{"event", "plan"},
-               {"round", r},
-               {"phase", "clear"},
-               {"blob", k},
-               {"gap", gap},
-               {"plan", plan_json(p)}});
+          log({.event = "plan",
+               .round = r,
+               .phase = "clear",
+               .blob = k,
+               .gap = gap,
+               .plan = LoggedPlan::of(p)});
           continue;
         }
         PushIntent in{r, "clear", index++, &view, k, &p};
@@ -400,22 +374,23 @@ class Learner {
   // The training views of one learn push's episode (kMotion) or of the look after it (kBlob).
   std::vector<std::vector<std::int32_t>> views_of(const fs::path& dir,
                                                   const planning::PlanningView& after, int blob,
-                                                  cv::Mat& last_mask, core::Json& what) {
+                                                  cv::Mat& last_mask,
+                                                  SelfSupervisionDecision& what) {
     std::vector<std::vector<std::int32_t>> docs;
     if (o_.views == ViewSource::kBlob) {
       if (blob < 0) return docs;
       last_mask = blob_mask(after.objects[static_cast<std::size_t>(blob)], size_);
       auto d = masked_document(image_, last_mask, vocabulary_, o_.features, o_.dilate);
       if (static_cast<int>(d.size()) >= o_.min_features) docs.push_back(std::move(d));
-      what["source"] = "blob";
+      what.source = "blob";
       return docs;
     }
     const episode::Episode e = episode::read_episode(dir);
     segmentation::MlOptions mo = o_.segmentation;
     mo.keep_frame_maps = true;
     const segmentation::MlResult ml = segmentation::segment_ml(e, mo);
-    what["source"] = "motion";
-    what["segmentation"] = ml.summary.message;
+    what.source = "motion";
+    what.segmentation = ml.summary.message;
     if (ml.scored_frame < 0 || ml.frame_maps.empty()) return docs;
     // The mask's threshold of the scored frame, applied to every frame's painted map.
     double thr = std::numeric_limits<double>::infinity();
@@ -440,10 +415,10 @@ class Learner {
       last_mask = m;
       ++used;
     }
-    what["frames"] = e.frame_count();
-    what["first_touch"] = first;
-    what["views"] = used;
-    what["too_few_features"] = small;
+    what.frames = e.frame_count();
+    what.first_touch = first;
+    what.views = used;
+    what.too_few_features = small;
     return docs;
   }
 
@@ -459,7 +434,7 @@ class Learner {
       if (c < 0 && view.objects.size() == 1) {
         // Singulated: the one blob in view is the object, wherever the push left it.
         c = 0;
-        log({{"event", "refound"}, {"round", r}, {"why", "the only blob in view"}});
+        log({.event = "refound", .round = r, .why = "the only blob in view"});
       }
       if (c < 0) {
         fault(r, "lost", "the chosen object is no longer in view (off the table or out of reach)");
@@ -482,22 +457,18 @@ class Learner {
       const Eigen::Vector2d first = target - chosen;
       const double a0 = std::atan2(first.y(), first.x());
       for (int side = 1; side < kSides && p.outcome != planning::PlanOutcome::kPlanned; ++side) {
-        log({{"event", "plan"},
-             {"round", r},
-             {"phase", "learn"},
-             {"blob", c},
-             {"plan", plan_json(p)},
-             {"then", "another side"}});
+        log({.event = "plan",
+             .round = r,
+             .phase = "learn",
+             .blob = c,
+             .plan = LoggedPlan::of(p),
+             .then = "another side"});
         const double a = a0 + (side * 2 * std::numbers::pi / kSides);
         p = plan(view, c, planning::PushGoal::kTarget,
                  chosen + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
       }
       if (p.outcome != planning::PlanOutcome::kPlanned) {
-        log({{"event", "plan"},
-             {"round", r},
-             {"phase", "learn"},
-             {"blob", c},
-             {"plan", plan_json(p)}});
+        log({.event = "plan", .round = r, .phase = "learn", .blob = c, .plan = LoggedPlan::of(p)});
         fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
         if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
         continue;
@@ -515,7 +486,7 @@ class Learner {
         fault(r, "moved-nothing", "the push left the chosen object where it was");
       }
       cv::Mat last_mask;
-      core::Json what;
+      SelfSupervisionDecision what;
       const auto docs = views_of(episodes_ / name, after, now, last_mask, what);
       attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
       if (!docs.empty()) {
@@ -531,11 +502,11 @@ class Learner {
         }
         out_.views_per_class[static_cast<std::size_t>(r)] += static_cast<int>(docs.size());
       }
-      what["event"] = "views";
-      what["round"] = r;
-      what["push"] = done;
-      what["taken"] = static_cast<int>(docs.size());
-      log(what);
+      what.event = "views";
+      what.round = r;
+      what.push = done;
+      what.taken = static_cast<int>(docs.size());
+      log(std::move(what));
       if (now >= 0) chosen = after.objects[static_cast<std::size_t>(now)].centre;
       ++done;
       bar.tick();
@@ -552,7 +523,10 @@ class Learner {
   void round(int r, core::ProgressBar& bar) {
     extra_approach_ = 0;
     const planning::PlanningView view = look();
-    log({{"event", "look"}, {"round", r}, {"phase", "choose"}, {"blobs", blobs_json(view)}});
+    log({.event = "look",
+         .round = r,
+         .phase = "choose",
+         .blobs = putative_object_records(view, false)});
     if (!episodes_.empty()) {
       cv::Mat img = image_.clone();
       for (const auto& o : view.objects) cv::rectangle(img, o.box, cv::Scalar(255, 255, 0), 1);

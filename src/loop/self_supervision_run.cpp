@@ -58,50 +58,29 @@ struct StagedOut {
     return o;
   }
   core::StagedDirectory dir;
-  SelfSupervisionOptions options;  ///< options with out = the staging directory
+  SelfSupervisionOptions options;  ///< as the record names them: out is the final directory
   explicit StagedOut(const SelfSupervisionOptions& o)
       : dir(checked(o).out, o.overwrite, kSelfSupervisionMarkers), options(o) {
-    options.out = dir.staging_path();
+    options.out = dir.final_path();
   }
-  // The document's paths as they are after the commit.
-  void unstage(SelfSupervisionResult& r) const {
-    const std::string from = options.out.string();
-    for (const char* key : {"model", "decisions"}) {
-      std::string s = r.document[key].get<std::string>();
-      if (s.compare(0, from.size(), from) == 0) {
-        r.document[key] = dir.final_path().string() + s.substr(from.size());
-      }
-    }
-    r.document["options"]["out"] = dir.final_path().string();
-  }
+  /// Where the run writes until commit().
+  [[nodiscard]] const fs::path& work() const { return dir.staging_path(); }
 };
 
-SelfSupervisionResult learn(const SelfSupervisionOptions& options, robot::Robot& robot,
-                            TableAttendant& attendant, const Inputs& in, int classes,
-                            const core::Provenance& provenance) {
+// Writes into `work` (swapped in as options.out at the end); the record names options.out.
+SelfSupervisionResult learn(const SelfSupervisionOptions& options, const fs::path& work,
+                            robot::Robot& robot, TableAttendant& attendant, const Inputs& in,
+                            int classes) {
   SelfSupervisionResult r;
-  r.learning =
-      learn_by_pushing(robot, attendant, classes, in.model, in.vocabulary, options,
-                       options.out / "episodes", options.out / "decisions.jsonl", options.progress);
+  r.options = options;
+  r.learning = learn_by_pushing(robot, attendant, classes, in.model, in.vocabulary, options,
+                                work / "episodes", work / "decisions.jsonl", options.progress);
   if (r.learning.model.num_classes() > 0) {
     const std::uint32_t vc = recognition::vocabulary_checksum(in.vocabulary);
-    topics::save_mot_model(r.learning.model, topics::mot_basis(in.model, &vc),
-                           options.out / "model.mot");
+    topics::save_mot_model(r.learning.model, topics::mot_basis(in.model, &vc), work / "model.mot");
+    r.model_file = options.out / "model.mot";
   }
-  core::Json& d = r.document;
-  d = core::result_document(kSelfSupervisionFormat, kFormatVersion, provenance);
-  d["options"] = core::fields_to_json(options);
-  const Learning& l = r.learning;
-  d["classes"] = l.class_names;
-  d["views_per_class"] = l.views_per_class;
-  d["model_classes"] = l.model.names();
-  d["pushes_clear"] = l.pushes_clear;
-  d["pushes_learn"] = l.pushes_learn;
-  d["faults"] = l.faults;
-  d["stop_reasons"] = l.stop_reasons;
-  d["seconds"] = l.seconds;
-  d["model"] = l.model.num_classes() > 0 ? (options.out / "model.mot").string() : std::string();
-  d["decisions"] = (options.out / "decisions.jsonl").string();
+  r.decisions = options.out / "decisions.jsonl";
   return r;
 }
 
@@ -144,8 +123,9 @@ SelfSupervisionResult run_self_supervision(const SelfSupervisionOptions& options
   const Inputs in = read_inputs(options);
   StagedOut out(options);
   SelfSupervisionResult r =
-      learn(out.options, robot, attendant, in, static_cast<int>(objects.size()), provenance);
-  out.unstage(r);
+      learn(out.options, out.work(), robot, attendant, in, static_cast<int>(objects.size()));
+  r.document = core::result_document(kSelfSupervisionFormat, kFormatVersion, provenance);
+  core::fields_into_json(r, r.document);
   out.dir.commit();
   return r;
 }
@@ -173,13 +153,13 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, options.seed);
   SelfSupervisionResult r =
-      learn(out.options, *robot, attendant, in, static_cast<int>(objects.size()), provenance);
+      learn(out.options, out.work(), *robot, attendant, in, static_cast<int>(objects.size()));
   robot.reset();
   r.score =
       score_self_supervision(r.learning, attendant, objects, in.model, in.vocabulary, options);
-  r.document["ground_truth"] = r.score->to_json();
-  out.unstage(r);
-  core::write_json_atomic(out.options.out / "selfsupervise.json", r.document);
+  r.document = core::result_document(kSelfSupervisionFormat, kFormatVersion, provenance);
+  core::fields_into_json(r, r.document);
+  core::write_json_atomic(out.work() / "selfsupervise.json", r.document);
   out.dir.commit();
   return r;
 }

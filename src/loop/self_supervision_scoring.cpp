@@ -193,36 +193,6 @@ double yaw_coverage_deg(std::vector<double> yaws) {
   return (kTwoPi - largest) * 180.0 / std::numbers::pi;
 }
 
-core::Json SelfSupervisionScore::to_json() const {
-  core::Json j;
-  j["class_object"] = class_object;
-  j["class_purity"] = class_purity;
-  j["class_chosen"] = class_chosen;
-  j["class_gap"] = class_gap;
-  j["singulation"] = singulation;
-  j["pushes_per_cleared"] = pushes_per_cleared;
-  j["only_intended"] = only_intended;
-  j["off_table"] = off_table;
-  j["purity"] = purity;
-  j["mot_accuracy"] = mot_accuracy;
-  j["argmax_accuracy"] = argmax_accuracy;
-  j["mot_confusion"] = mot.to_json();
-  j["argmax_confusion"] = argmax.to_json();
-  core::Json objs = core::Json::array();
-  for (const ObjectScore& o : objects) {
-    objs.push_back({{"name", o.name},
-                    {"classes", o.classes},
-                    {"views", o.views},
-                    {"purity", o.purity},
-                    {"yaw_range_deg", o.yaw_range_deg},
-                    {"held_out", o.held_out},
-                    {"mot_accuracy", o.mot_accuracy},
-                    {"argmax_accuracy", o.argmax_accuracy}});
-  }
-  j["objects"] = objs;
-  return j;
-}
-
 SelfSupervisionScore score_self_supervision(const Learning& learning,
                                             const GroundTruthAttendant& attendant,
                                             const std::vector<std::string>& objects,

@@ -31,16 +31,16 @@ void InterceptionSetupOptions::validate() const {
           "intercept: window must be in [0, 60] s");
 }
 
-core::Json InterceptionSetup::grid_json() const {
+GridRecord InterceptionSetup::grid_record() const {
   const GridCosts& c = model->costs();
-  return {{"scene", scene.string()},
-          {"cache", cache.string()},
-          {"key", c.key},
-          {"source", c.summary.source},
-          {"trajectories", c.points.size()},
-          {"valid", c.summary.valid},
-          {"precision_samples", c.options.precision_samples},
-          {"compute_seconds", c.summary.seconds}};
+  return {scene,
+          cache,
+          c.key,
+          c.summary.source,
+          c.points.size(),
+          c.summary.valid,
+          c.options.precision_samples,
+          c.summary.seconds};
 }
 
 std::string InterceptionSetup::brief() const {
@@ -75,57 +75,8 @@ InterceptionSetup make_interception_setup(const InterceptionSetupOptions& option
   return s;
 }
 
-namespace {
-
-core::Json summary_json(const ExperimentSummary& s) {
-  const double ratio = s.mean_predicted_sigma > 0 ? s.mean_miss / s.mean_predicted_sigma : 0.0;
-  return {{"trials", s.trials},
-          {"executed", s.executed},
-          {"not_executed", s.not_executed},
-          {"not_planned", s.not_planned},
-          {"sigma_px", s.sigma_px},
-          {"mean_miss_mm", s.mean_miss * 1e3},
-          {"median_miss_mm", s.median_miss * 1e3},
-          {"max_miss_mm", s.max_miss * 1e3},
-          {"mean_plane_miss_mm", s.mean_plane_miss * 1e3},
-          {"mean_predicted_sigma_mm", s.mean_predicted_sigma * 1e3},
-          {"mean_first_predicted_sigma_mm", s.mean_first_predicted_sigma * 1e3},
-          {"miss_over_predicted_sigma", ratio},
-          {"mean_intercept_time_s", s.mean_intercept_time},
-          {"mean_plan_ms", s.mean_plan_ms},
-          {"max_plan_ms", s.max_plan_ms},
-          {"mean_reaims", s.mean_reaims},
-          {"mujoco_warning_trials", s.mujoco_warnings}};
-}
-
-// One trial as the record lists it (the last four only when it was executed).
-struct TrialRecord {
-  bool executed = false;
-  std::string why_not;
-  double plan_ms = 0;
-  int plans = 0;
-  int reaims = 0;
-  std::optional<double> miss_mm;
-  std::optional<double> predicted_sigma_mm;
-  std::optional<double> intercept_time_s;
-  std::optional<std::vector<double>> psi;
-
-  template <class Self, class Visitor>
-  static void describe(Self& self, Visitor& v) {
-    v(self.executed, {"executed", "A plan was made and the arm reached the interception time"});
-    v(self.why_not, {"why_not", "Why not, when not executed"});
-    v(self.plan_ms, {"plan_ms", "Wall time of the first plan, ms"});
-    v(self.plans, {"plans", "Full plans"});
-    v(self.reaims, {"reaims", "Corrections during the move"});
-    v(self.miss_mm, {"miss_mm", "Miss at the interception, mm"});
-    v(self.predicted_sigma_mm, {"predicted_sigma_mm", "The filter's std when last aimed, mm"});
-    v(self.intercept_time_s, {"intercept_time_s", "Interception time after the plan, s"});
-    v(self.psi, {"psi", "The final plan's theta, length, gamma"});
-  }
-};
-
-core::Json trial_json(const TrialResult& t) {
-  TrialRecord r{t.executed, t.why_not, t.first_plan_ms, t.plans, t.reaims, {}, {}, {}, {}};
+TrialRow TrialRow::of(const TrialResult& t) {
+  TrialRow r{t.executed, t.why_not, t.first_plan_ms, t.plans, t.reaims, {}, {}, {}, {}};
   if (t.executed) {
     r.miss_mm = t.miss * 1e3;
     r.predicted_sigma_mm = t.predicted_sigma * 1e3;
@@ -133,8 +84,10 @@ core::Json trial_json(const TrialResult& t) {
     r.psi = std::vector<double>{t.final_plan.psi.theta, t.final_plan.psi.length,
                                 t.final_plan.psi.gamma};
   }
-  return core::fields_to_json(r);
+  return r;
 }
+
+namespace {
 
 void require_noise_levels(const std::vector<double>& levels, const char* what) {
   for (double n : levels) {
@@ -173,10 +126,8 @@ InterceptionRunResult run_interception(const InterceptionRunOptions& options,
   r.transition = to_string(options.setup.transition);
   r.camera_rate_hz = eo.trial.camera_rate_hz;
   r.observe_frames = eo.trial.observe_frames;
-  r.grid = s.grid_json();
-  r.summary = summary_json(r.experiment.summary);
-  r.trial_results = core::Json::array();
-  for (const TrialResult& t : r.experiment.trials) r.trial_results.push_back(trial_json(t));
+  r.grid = s.grid_record();
+  for (const TrialResult& t : r.experiment.trials) r.trial_results.push_back(TrialRow::of(t));
   r.document = core::result_document("proprio.intercept", 1, provenance);
   core::fields_into_json(r, r.document);
   return r;
@@ -216,7 +167,7 @@ namespace {
 std::vector<NoiseChoice> noise_choices(const InterceptionSetup& s, const TrialOptions& base,
                                        const InterceptionSweepOptions& options,
                                        const TargetMotion& target, double t_plan,
-                                       core::Json& choices_json) {
+                                       std::vector<NoiseChoiceRecord>& records) {
   core::Rng rng(options.seed);
   std::vector<NoiseChoice> choices;
   for (PriorMode mode : {PriorMode::kBoth, PriorMode::kEnergy, PriorMode::kPrecision}) {
@@ -241,12 +192,8 @@ std::vector<NoiseChoice> noise_choices(const InterceptionSetup& s, const TrialOp
         c.std_time = std::sqrt(std::max(0.0, sum_sq / c.draws - c.mean_time * c.mean_time));
       }
       choices.push_back(c);
-      choices_json.push_back({{"transition", to_string(base.filter.transition)},
-                              {"prior", to_string(mode)},
-                              {"noise_cm", noise},
-                              {"draws", c.draws},
-                              {"mean_intercept_time_s", c.mean_time},
-                              {"std_intercept_time_s", c.std_time}});
+      records.push_back({to_string(base.filter.transition), to_string(mode), noise, c.draws,
+                         c.mean_time, c.std_time});
     }
   }
   return choices;
@@ -274,9 +221,7 @@ InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& o
 
   r.trials = options.trials;
   r.noise_cm = options.noise;
-  r.grid = s.grid_json();
-  core::Json rows = core::Json::array();
-  core::Json choices_json = core::Json::array();
+  r.grid = s.grid_record();
   core::ProgressBar bar(options.transitions.size() * options.noise.size() * 2, "sweep",
                         options.setup.progress);
   for (const TransitionModel transition : options.transitions) {
@@ -292,9 +237,7 @@ InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& o
         eo.trials = options.trials;
         eo.seed = options.seed;
         const ExperimentResult e = run_experiment(*s.simulator, eo, false);
-        core::Json row = {{"transition", tname}, {"noise_cm", noise}, {"replan", replan}};
-        row.update(summary_json(e.summary));
-        rows.push_back(std::move(row));
+        r.rows.push_back({tname, noise, replan, e.summary});
         bar.tick();
       }
     }
@@ -310,12 +253,10 @@ InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& o
     const double t_plan = s.simulator->plan_time(base);
     const TargetMotion target = figure_target(grid, t_plan);
     const std::vector<NoiseChoice> choices =
-        noise_choices(s, base, options, target, t_plan, choices_json);
+        noise_choices(s, base, options, target, t_plan, r.interception_choices);
     save("noise_choice_" + tname + ".png", draw_noise_choices(target, t_plan, grid, choices));
   }
   bar.finish();
-  r.rows = std::move(rows);
-  r.interception_choices = std::move(choices_json);
   r.document = core::result_document("proprio.intercept.sweep", 1, provenance);
   core::fields_into_json(r, r.document);
   core::write_json_atomic(stage / "sweep.json", r.document);

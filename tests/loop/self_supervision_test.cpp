@@ -163,7 +163,7 @@ class CountingAttendant final : public TableAttendant {
 
 bool logged(const Learning& l, const std::string& fault) {
   for (const auto& j : l.log) {
-    if (j.value("fault", std::string()) == fault) return true;
+    if (j.fault == fault) return true;
   }
   return false;
 }
@@ -228,15 +228,16 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   int chooses = 0;
   int pushes = 0;
   for (const auto& j : l.log) {
-    if (j["event"] == "choose") ++chooses;
-    if (j["event"] == "push") {
+    if (j.event == "choose") ++chooses;
+    if (j.event == "push") {
       ++pushes;
-      EXPECT_TRUE(j["plan"].contains("cost"));
+      ASSERT_TRUE(j.plan.has_value());
+      EXPECT_TRUE(core::fields_to_json(j).at("plan").contains("cost"));
     }
   }
   EXPECT_EQ(chooses, 2);
   EXPECT_EQ(pushes, l.pushes_clear + l.pushes_learn + (pushes - l.pushes_clear - l.pushes_learn));
-  EXPECT_EQ(l.log.back()["event"], "end");
+  EXPECT_EQ(l.log.back().event, "end");
 
   const SelfSupervisionScore s =
       score_self_supervision(l, *attendant, {"book", "bottle"}, m.lda, m.vocabulary, o);
@@ -253,7 +254,7 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
     EXPECT_LE(os.mot_accuracy, 1.0);
   }
   EXPECT_EQ(s.mot.total(), s.objects[0].held_out + s.objects[1].held_out);
-  const core::Json j = s.to_json();
+  const core::Json j = core::fields_to_json(s);
   EXPECT_TRUE(j.contains("mot_confusion"));
   EXPECT_NO_THROW((void)j.dump());  // no NaN or Inf
 }

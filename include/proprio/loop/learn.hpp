@@ -35,6 +35,7 @@
 #include "proprio/core/provenance.hpp"
 #include "proprio/features/extraction.hpp"
 #include "proprio/loop/object_words.hpp"
+#include "proprio/loop/record_fields.hpp"
 #include "proprio/loop/self_supervision.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
 #include "proprio/planning/push_planner.hpp"
@@ -152,18 +153,209 @@ struct LearnOptions {
   }
 };
 
+/// A push's plan as learn.json lists it: the pusher's path in the image and on the table.
+struct LearnPushPlan {
+  Eigen::Vector2d start_px = Eigen::Vector2d::Zero();  ///< the path's start in the image, px
+  Eigen::Vector2d end_px = Eigen::Vector2d::Zero();    ///< its end, px
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();     ///< table m
+  Eigen::Vector2d end = Eigen::Vector2d::Zero();       ///< table m
+  Eigen::Vector2d target = Eigen::Vector2d::Zero();    ///< the object's target, table m
+  double cost = -1;  ///< feature density along the path (eq 7.5); -1 when not finite
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(xy(self.start_px), {"start_px", "The path's start in the image, px"});
+    v(xy(self.end_px), {"end_px", "Its end in the image, px"});
+    v(xy(self.start), {"start", "The pusher's start, table m"});
+    v(xy(self.end), {"end", "The pusher's end, table m"});
+    v(xy(self.target), {"target", "The object's target, table m"});
+    v(self.cost, {"cost", "Feature density along the path (eq 7.5); -1: not finite"});
+  }
+};
+
+/// What a push really moved (ground truth, scoring only), listed in the push's row.
+struct LearnPushTruth {
+  std::string intended;              ///< the object under the pushed blob, or ""
+  std::vector<std::string> moved;    ///< objects whose centre moved
+  bool moved_intended = false;       ///< the intended object is among them
+  bool moved_only_intended = false;  ///< and nothing else
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.intended, {"intended", "Ground truth: the object under the pushed blob"});
+    v(self.moved, {"moved", "Ground truth: the objects that moved"});
+    v(self.moved_intended, {"moved_intended", "Ground truth: the intended object moved"});
+    v(self.moved_only_intended,
+      {"moved_only_intended", "Ground truth: the intended object moved and nothing else"});
+  }
+};
+
 /// One push as the learner did it (the "pushes" array of learn.json).
-// NOLINTNEXTLINE(bugprone-exception-escape)
 struct LearnPush {
   int index = 0;
-  int object = 0;   ///< class 0..C-1
-  std::string dir;  ///< "pushes/push_NNN"
-  core::Json plan;  ///< start_px, end_px, start, end, cost
+  int object = 0;          ///< class 0..C-1
+  std::string class_name;  ///< its name (object_1, ...), filled by the record
+  std::string dir;         ///< "pushes/push_NNN"
+  LearnPushPlan plan;
   bool executed = false;
   int frames = 0;
   int views = 0;
   std::string located;  ///< how the object was found: "chosen", "top-down", "tracked"
   std::string outcome;
+  std::optional<LearnPushTruth> truth;  ///< simulation: what it really moved
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.index, {"index", "The push's number"});
+    v(self.class_name, {"class", "The class it pushed"});
+    v(self.dir, {"dir", "Its directory in the run"});
+    v(self.plan, {"plan", "The plan"});
+    v(self.executed, {"executed", "The robot executed it"});
+    v(self.frames, {"frames", "Frames of its episode"});
+    v(self.views, {"views", "Training views it gave"});
+    v(self.located, {"located", "How the object was found: chosen, top-down or tracked"});
+    v(self.outcome, {"outcome", "What came of it"});
+    if (self.truth) LearnPushTruth::describe(*self.truth, v);
+  }
+};
+
+/// An object learned already and the blob it is in now (7.2 d: not chosen again).
+struct KnownBlob {
+  int object = 0;
+  int blob = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.object, {"object", "The object (class) learned already"});
+    v(self.blob, {"blob", "The blob it is in"});
+  }
+};
+
+/// (d)'s score of a blob: its best mean log p of the features under the object models so far.
+struct BlobMeanLogP {
+  int blob = 0;
+  double best_mean_log_p = 0;  ///< -infinity (written null) when no model is learned
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.blob, {"blob", "The blob"});
+    v(self.best_mean_log_p, {"best_mean_log_p", "Its best mean log p under the models so far"});
+  }
+};
+
+/// One line of learn's decision log (decisions.jsonl): an event and the fields it has (the
+/// others are left out). Events: start, look, choose, recognise, refound, rechoose, replan, push,
+/// views, move-on, fault, no-views, end.
+struct LearnDecision {
+  std::string event = {};
+  std::optional<int> object = {};                       ///< the object (class) being learned
+  std::optional<int> index = {};                        ///< push: its number
+  std::optional<int> blob = {};                         ///< the blob chosen, found or pushed
+  std::optional<int> blobs = {};                        ///< look: blobs in reach
+  std::optional<int> classes = {};                      ///< start: C
+  std::optional<std::vector<double>> work_centre = {};  ///< start: table m
+  std::optional<bool> found = {};                       ///< recognise
+  std::optional<double> kappa = {};                     ///< recognise: the threshold chosen
+  std::optional<double> log_density = {};               ///< recognise: 0 when not finite
+  std::optional<int> features = {};                     ///< recognise: in the region
+  std::optional<std::vector<double>> centre_px = {};    ///< recognise: their mean, px
+  std::optional<std::string> located = {};              ///< push: chosen, top-down or tracked
+  std::optional<LearnPushPlan> plan = {};               ///< push
+  std::optional<bool> executed = {};                    ///< push
+  std::optional<int> views = {};                        ///< views; end: all
+  std::optional<int> words = {};                        ///< views: the object's words
+  std::optional<std::string> segmentation = {};         ///< views: the segmentation's message
+  std::optional<std::vector<std::vector<double>>> centres = {};       ///< look: blobs, table m
+  std::optional<std::vector<std::vector<double>>> out_of_reach = {};  ///< look: dropped, m
+  std::optional<std::string> why = {};
+  std::optional<std::vector<KnownBlob>> known = {};      ///< choose (7.2 d)
+  std::optional<std::vector<BlobMeanLogP>> scores = {};  ///< choose (7.2 d)
+  std::optional<int> sides_rejected = {};                ///< replan
+  std::optional<std::string> fault = {};                 ///< fault: its kind
+  std::optional<std::string> message = {};
+  std::optional<int> blobs_out_of_reach = {};  ///< end
+  std::optional<int> pushes = {};              ///< end
+  std::optional<int> faults = {};              ///< end
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.event, {"event", "What happened"});
+    v(self.object, {"object", "The object (class) being learned"});
+    v(self.index, {"index", "The push's number"});
+    v(self.blob, {"blob", "The blob"});
+    v(self.blobs, {"blobs", "Blobs in reach"});
+    v(self.classes, {"classes", "Objects C"});
+    v(self.work_centre, {"work_centre", "Centre of the work area, table m"});
+    v(self.found, {"found", "Top-down recognition found the object"});
+    v(self.kappa, {"kappa", "The threshold chosen"});
+    v(self.log_density, {"log_density", "log Dir of the region's words"});
+    v(self.features, {"features", "Features in the region"});
+    v(self.centre_px, {"centre_px", "Their mean position, px"});
+    v(self.located, {"located", "How the object was found"});
+    v(self.plan, {"plan", "The plan"});
+    v(self.executed, {"executed", "The robot executed the push"});
+    v(self.views, {"views", "Views"});
+    v(self.words, {"words", "The object's words"});
+    v(self.segmentation, {"segmentation", "The segmentation's message"});
+    v(self.centres, {"centres", "The blobs' centres, table m"});
+    v(self.out_of_reach, {"out_of_reach", "Blobs out of reach, table m"});
+    v(self.why, {"why", "Why"});
+    v(self.known, {"known", "Objects learned already"});
+    v(self.scores, {"scores", "Each scored blob"});
+    v(self.sides_rejected, {"sides_rejected", "Sides rejected"});
+    v(self.fault, {"fault", "The fault's kind"});
+    v(self.message, {"message", "What happened, in words"});
+    v(self.blobs_out_of_reach, {"blobs_out_of_reach", "Blobs out of reach over all looks"});
+    v(self.pushes, {"pushes", "Pushes"});
+    v(self.faults, {"faults", "Logged faults"});
+  }
+};
+
+/// A learned object (class) in learn.json.
+struct LearnObjectRecord {
+  std::string name;                  ///< the class (object_1, ...)
+  int pushes = 0;                    ///< executed pushes of it
+  int views = 0;                     ///< its training views
+  std::optional<std::string> truth;  ///< simulation: the object it was named after
+  std::optional<double> purity;      ///< simulation: its views showing that object
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"class", "The class"});
+    v(self.pushes, {"pushes", "Executed pushes of it"});
+    v(self.views, {"views", "Its training views"});
+    v(self.truth, {"truth", "Ground truth: the object it was named after"});
+    v(self.purity, {"purity", "Ground truth: its views showing that object"});
+  }
+};
+
+/// Wall-clock time of one stage of the loop (look, push, segment, words, ...).
+struct StageSeconds {
+  std::string stage;
+  double seconds = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.stage, {"stage", "The stage"});
+    v(self.seconds, {"seconds", "Its wall-clock time, s"});
+  }
+};
+
+/// 8.1.2's comparison of the two Dirichlet updates on a later push of an object: the predictive
+/// log-likelihood of its frames under each.
+struct PredictiveLikelihood {
+  int object = 0;  ///< class
+  int push = 0;    ///< push of the object
+  double exact = 0;
+  double fifty_fifty = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.object, {"object", "The class"});
+    v(self.push, {"push", "Push of the object"});
+    v(self.exact, {"exact", "Predictive log-likelihood under the exact update"});
+    v(self.fifty_fifty, {"fifty_fifty", "Under the 50:50 update"});
+  }
 };
 
 /// What a run did (the learner's side and the ground truth's).
@@ -179,17 +371,99 @@ struct LearnSummary {
   std::optional<double> argmax_accuracy;  ///< held out (simulation)
 };
 
+/// A model file of the run directory and its size (learn.json's "vocabulary" and "topics").
+struct LearnModelFile {
+  const char* size_key = "words";  ///< "words" (vocabulary) or "count" (topics)
+  int size = 0;
+  std::string file;  ///< relative to the run directory
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.size, {self.size_key, "Its size: words or topics"});
+    v(self.file, {"file", "The file in the run directory"});
+  }
+};
+
+/// learn.json's "dirichlet_update": the update used and the two compared.
+struct LearnDirichletUpdate {
+  DirichletUpdate update = DirichletUpdate::kExact;
+  const std::vector<PredictiveLikelihood>* likelihoods = nullptr;  ///< not null
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.update, {"default", "The update used"}, kDirichletUpdateNames);
+    v(*self.likelihoods, {"predictive_log_likelihood", "The two updates compared, per push"});
+  }
+};
+
+struct LearnResult;
+
+/// learn.json's "held_out": the views per object and the held-out confusion matrices, or why
+/// there are none.
+struct LearnHeldOut {
+  const LearnResult* result = nullptr;  ///< not null
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v);
+};
+
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LearnResult {
   LearnSummary summary;
+  /// The options of the run (resolved; out: the directory the record names).
+  LearnOptions options;
+  bool complete = false;  ///< false: learn.json of a run not yet scored (written before it)
+  std::vector<std::string> classes;  ///< object_1 .. object_C
+  std::vector<LearnObjectRecord> objects;
   std::vector<LearnPush> pushes;
+  std::vector<StageSeconds> timing;
+  std::optional<LearnModelFile> vocabulary;  ///< made or given (vocabulary.vocab)
+  std::optional<LearnModelFile> topics;      ///< made or given (lda.model)
+  std::vector<std::string> model_classes;    ///< the Mixture of Topics' classes (model.mot)
+  std::vector<PredictiveLikelihood> dirichlet_likelihoods;
+  bool held_out = false;        ///< the held-out views were asked for (simulation)
+  bool record_seconds = false;  ///< the record lists summary.seconds (simulation)
   std::optional<SelfSupervisionScore> score;
   core::Json document;  ///< format "proprio.learn" (also DIR/learn.json)
   /// The run's HTML page (loop/learn_report.hpp), written last by the simulated run; empty
   /// after the robot-only run (it has no held-out views to show).
   std::filesystem::path report;
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.complete, {"complete", "The run was scored (false: written before the held-out views)"});
+    v(self.options, {"options", "The run's options (resolved)"});
+    v(self.classes, {"classes", "The classes, one an object"});
+    v(self.objects, {"objects", "Per class"});
+    v(self.pushes, {"pushes", "Every push"});
+    v(self.timing, {"timing", "Wall-clock time per stage"});
+    v(std::string("wall"), {"clock", "The clock of the timings"});
+    v(self.vocabulary, {"vocabulary", "The vocabulary"});
+    v(self.topics, {"topics", "The LDA model"});
+    if (!self.model_classes.empty()) v(std::string("model.mot"), {"model", "The object model"});
+    v(self.model_classes, {"model_classes", "The object model's classes"});
+    v(self.summary.faults, {"faults", "Logged faults"});
+    v(LearnDirichletUpdate{self.options.dirichlet_update, &self.dirichlet_likelihoods},
+      {"dirichlet_update", "The object-word Dirichlet update and the two updates compared"});
+    if (self.held_out) v(LearnHeldOut{&self}, {"held_out", "Held-out views"});
+    v(self.score, {"ground_truth", "Scored against the ground truth"});
+    if (self.record_seconds) v(self.summary.seconds, {"seconds", "Wall clock, s"});
+  }
 };
+
+template <class Self, class Visitor>
+void LearnHeldOut::describe(Self& self, Visitor& v) {
+  const LearnResult& r = *self.result;
+  v(r.options.held_out, {"views_per_object", "Held-out views per object"});
+  if (r.score) {
+    v(r.score->mot.to_json(), {"mot", "Held out: true objects x classes, Mixture of Topics"});
+    v(r.score->argmax.to_json(), {"argmax", "The same by argmax theta"});
+  } else {
+    v(false, {"scored", "Whether they were scored"});
+    v(std::string("no model: the robot took no view it could learn from (see decisions.jsonl)"),
+      {"why", "Why not"});
+  }
+}
 
 /// The loop on `robot` with `attendant` told what it does; writes the run directory (but not
 /// the held-out scores: that is the sim wrapper's). `classes` is C. Throws Error for bad options,

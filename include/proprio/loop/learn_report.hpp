@@ -68,15 +68,37 @@ struct LearnReportSummary {
   double mot_accuracy = -1;      ///< held-out MoT accuracy, [0, 1]; -1: not recorded
   double argmax_accuracy = -1;   ///< held-out argmax accuracy; -1: not recorded
   std::size_t page_bytes = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.page, {"page", "The HTML page written"});
+    v(self.images, {"images", "The directory of its images"});
+    v(self.complete, {"complete", "learn.json said the run was complete"});
+    v(self.pushes, {"pushes", "Pushes in learn.json"});
+    v(self.pushes_drawn, {"pushes_drawn", "Executed pushes whose images were drawn"});
+    v(self.image_files, {"image_files", "Images written beside the page"});
+    v(self.classes, {"classes", "Learned classes"});
+    v(self.decisions, {"decisions", "Decision log lines read"});
+    v(self.mot_accuracy, {"mot_accuracy", "Held-out Mixture of Topics accuracy; -1: none"});
+    v(self.argmax_accuracy, {"argmax_accuracy", "Held-out argmax theta accuracy; -1: none"});
+    v(self.page_bytes, {"page_bytes", "Size of the page, bytes"});
+  }
 };
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LearnReportResult {
+  LearnReportOptions options;
   LearnReportSummary summary;
   /// format "proprio.learn_report" (docs/formats/schemas/learn_report.schema.json): provenance,
   /// options and summary; also written as the image directory's summary.json.
   core::Json document;
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.options, {"options", "The report's options"});
+    v(self.summary, {"summary", "What was written"});
+  }
 };
 
 /// Every file and directory of the run directory `dir` the report reads (learn.json,

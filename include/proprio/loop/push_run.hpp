@@ -13,6 +13,7 @@
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
+#include "proprio/loop/record_fields.hpp"
 #include "proprio/planning/push_planner.hpp"
 #include "proprio/sim/simulated_robot.hpp"
 
@@ -82,6 +83,13 @@ struct ObjectMove {
   std::string name;
   double moved = 0;  ///< distance its centre moved, m
   bool on_table = true;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "The object (catalogue name)"});
+    v(self.moved, {"moved", "Distance its centre moved, m"});
+    v(self.on_table, {"on_table", "Still on the table"});
+  }
 };
 
 /// A push scored against the ground truth.
@@ -97,6 +105,47 @@ struct PushScore {
   bool touched_other = false;   ///< the arm touched another object (MuJoCo contacts)
   int off_table = 0;            ///< objects no longer on the table
   std::vector<ObjectMove> objects;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.intended, {"intended", "The object the plan was for, or empty"});
+    v(measured_or_null(self.final_distance),
+      {"final_distance", "Its centre to the target after, m (null: none)"});
+    v(measured_or_null(self.centre_error),
+      {"centre_error", "The planner's p_c to its true centre before, m (null: none)"});
+    v(self.moved_intended, {"moved_intended", "The intended object moved"});
+    v(self.moved_others, {"moved_others", "Another object moved"});
+    v(self.only_intended, {"only_intended", "The intended object moved and no other"});
+    v(self.touched_other, {"touched_other", "The arm touched another object"});
+    v(self.off_table, {"off_table", "Objects no longer on the table"});
+    v(self.objects, {"objects", "What happened to each object"});
+  }
+};
+
+/// A push's plan as push.json lists it (the path and its cost only when it was planned).
+struct PushPlanRecord {
+  const planning::PushPlan* plan = nullptr;  ///< not null
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    const planning::PushPlan& p = *self.plan;
+    v(std::string(core::choice_name(p.outcome, planning::kPlanOutcomeNames)),
+      {"outcome", "How planning ended"});
+    v(p.message, {"message", "What the planner said"});
+    v(p.object, {"object", "The putative object pushed (index into putative_objects)"});
+    v(p.seconds, {"seconds", "Planning time, s"});
+    v(p.sampled, {"sampled", "Candidate paths sampled"});
+    v(p.rejected_region, {"rejected_region", "Of them outside the table region"});
+    v(p.rejected_reach, {"rejected_reach", "Of them out of the arm's reach"});
+    if (p.outcome != planning::PlanOutcome::kPlanned) return;
+    v(xy(p.centre), {"centre", "p_c, table m"});
+    v(xy(p.target), {"target", "p_t, table m"});
+    v(xy(p.push.start), {"start", "The pusher's start p_s, table m"});
+    v(xy(p.push.end), {"end", "The pusher's end, table m"});
+    v(p.edge_distance, {"edge_distance", "p_c to the hull's edge behind it, m"});
+    v(p.approach, {"approach", "Pusher start to that edge, m"});
+    v(p.cost, {"cost", "Feature density along the path (eq 7.5)"});
+  }
 };
 
 /// An object counts as moved when its centre moved more than this, m.
@@ -133,10 +182,29 @@ struct PushStep {
   /// Ground truth: the putative object found after this push lies on the intended object.
   bool tracked_on_object = false;
   double look_seconds = 0;  ///< the look after the push, s
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(PushPlanRecord{&self.plan}, {"plan", "The plan"});
+    v(self.message, {"message", "What happened"});
+    v(self.report.has_value(), {"executed", "The robot executed the push"});
+    v(self.report && self.report->touched, {"touched", "The touch signal was on"});
+    v(self.report ? self.report->episode_dir : std::filesystem::path(),
+      {"episode", "The episode written, or empty"});
+    v(xy_or_null(self.seen_distance >= 0, self.seen_centre),
+      {"seen_centre", "The object's centre seen by the next look, table m (null: none)"});
+    v(measured_or_null(self.seen_distance),
+      {"seen_distance", "That centre to the target, m (null: none)"});
+    v(measured_or_null(self.true_distance),
+      {"true_distance", "Ground truth: the object's centre to the target, m (null: none)"});
+    v(self.tracked_on_object, {"tracked_on_object", "The object found again is the intended one"});
+    v(self.look_seconds, {"look_seconds", "The look after the push, s"});
+  }
 };
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct PushRunResult {
+  PushOptions options;  ///< the options of the run (out: the directory the record names)
   PushOutcome outcome = PushOutcome::kNotPlanned;
   planning::PushPlan plan;                  ///< the first push's plan
   std::optional<robot::PushReport> report;  ///< the first push's execution (out/episode)
@@ -147,9 +215,27 @@ struct PushRunResult {
   /// centre_error of the first look).
   PushScore score;
   double look_seconds = 0;  ///< image to putative objects (features, density, blobs), s
+  std::vector<PutativeObjectRecord> putative_objects;  ///< of the first look
   std::string message;
   core::Json document;  ///< format "proprio.push" (docs/formats/schemas/push.schema.json)
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.outcome, {"outcome", "How the run ended"}, kPushOutcomeNames);
+    v(self.message, {"message", "What happened"});
+    v(self.options, {"options", "The push options"});
+    v(self.options.table, {"table", "The table"});
+    v(self.options.plan, {"planner", "The planner's options"});
+    v(self.putative_objects, {"putative_objects", "The first look's putative objects"});
+    v(self.look_seconds, {"look_seconds", "The first look, s"});
+    v(PushPlanRecord{&self.plan}, {"plan", "The first push's plan"});
+    if (self.report) {
+      v(ExecutionRecord{&*self.report}, {"execution", "The first push's execution"});
+      v(self.score, {"ground_truth", "All pushes scored by the ground truth"});
+    }
+    v(self.steps, {"pushes", "Every push made, the first included"});
+  }
 };
 
 /// The putative object of `view` that lies on object `id` of the ground-truth mask: the one with
@@ -226,8 +312,72 @@ struct PushEvaluationOptions {
   }
 };
 
+/// One push of a table of the evaluation, as its row lists it.
+struct PushEvaluationStep {
+  double true_distance = -1;  ///< m; -1 none
+  double seen_distance = -1;  ///< m; -1 none
+  bool tracked_on_object = false;
+  planning::PlanOutcome plan = planning::PlanOutcome::kNoObjects;
+  bool executed = false;
+  std::string message;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(measured_or_null(self.true_distance),
+      {"true_distance", "Ground truth: the object's centre to the target, m (null: none)"});
+    v(measured_or_null(self.seen_distance),
+      {"seen_distance", "The next look's estimate of that distance, m (null: none)"});
+    v(self.tracked_on_object, {"tracked_on_object", "The object found again is the intended one"});
+    v.choice(self.plan, {"plan", "How planning ended"}, planning::kPlanOutcomeNames);
+    v(self.executed, {"executed", "The robot executed the push"});
+    v(self.message, {"message", "What happened"});
+  }
+};
+
+/// One table of the evaluation.
+struct PushEvaluationTable {
+  std::uint64_t seed = 0;
+  int objects = 0;  ///< objects on the table
+  int clutter = 0;
+  std::string object;                                ///< the object pushed
+  Eigen::Vector2d target = Eigen::Vector2d::Zero();  ///< table m
+  PushOutcome outcome = PushOutcome::kNotPlanned;
+  std::string message;
+  bool executed = false;       ///< a push was executed (the distances are measured)
+  double final_distance = -1;  ///< m
+  double centre_error = -1;    ///< m
+  bool only_intended = false;
+  bool touched_other = false;
+  int off_table = 0;
+  double plan_ms = 0;
+  int pushes = 0;
+  std::vector<PushEvaluationStep> steps;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.seed, {"seed", "The table's seed"});
+    v(self.objects, {"objects", "Objects on the table"});
+    v(self.clutter, {"clutter", "Clutter objects beside them"});
+    v(self.object, {"object", "The object pushed"});
+    v(xy(self.target), {"target", "Its target, table m"});
+    v.choice(self.outcome, {"outcome", "How the run ended"}, kPushOutcomeNames);
+    v(self.message, {"message", "What happened"});
+    v(self.executed ? core::Json(self.final_distance) : core::Json(),
+      {"final_distance", "The object's centre to the target after, m (null: not pushed)"});
+    v(self.executed ? core::Json(self.centre_error) : core::Json(),
+      {"centre_error", "The planner's p_c to the true centre, m (null: not pushed)"});
+    v(self.only_intended, {"only_intended", "Moved the object and no other"});
+    v(self.touched_other, {"touched_other", "The arm touched another object"});
+    v(self.off_table, {"off_table", "Objects pushed off the table"});
+    v(self.plan_ms, {"plan_ms", "Planning time of the first push, ms"});
+    v(self.pushes, {"pushes", "Pushes executed"});
+    v(self.steps, {"steps", "Each push"});
+  }
+};
+
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct PushEvaluationResult {
+  PushEvaluationOptions options;
   int tables = 0;
   int planned = 0;              ///< pushes planned and executed
   int not_planned = 0;          ///< planner gave no path
@@ -248,8 +398,37 @@ struct PushEvaluationResult {
   /// Of the looks after a push, the share whose found object lies on the intended one (truth).
   double tracked_rate = 0;
   double seconds = 0;
-  core::Json document;  ///< format "proprio.push.evaluation"
+  std::vector<PushEvaluationTable> pushes;  ///< one per table
+  core::Json document;                      ///< format "proprio.push.evaluation"
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.options, {"options", "The evaluation options"});
+    v(self.options.plan, {"planner", "The planner's options"});
+    v(self.tables, {"tables", "Tables"});
+    v(self.planned, {"planned", "Pushes planned and executed"});
+    v(self.not_planned, {"not_planned", "The planner gave no path"});
+    v(self.not_seen, {"not_seen", "The chosen object had no putative object"});
+    v(self.refused, {"refused", "The robot refused the plan"});
+    v(measured_or_null(self.median_distance),
+      {"median_distance", "Final distance to the target, median, m (null: none)"});
+    v(measured_or_null(self.p90_distance), {"p90_distance", "Its 90th percentile, m"});
+    v(measured_or_null(self.median_centre_error),
+      {"median_centre_error", "Planner's centre to the true centre, median, m"});
+    v(self.only_intended_rate, {"only_intended_rate", "Pushes that moved the object and no other"});
+    v(self.touched_other_rate, {"touched_other_rate", "Pushes whose arm touched another object"});
+    v(self.off_table, {"off_table", "Objects pushed off the table"});
+    v(self.median_plan_ms, {"median_plan_ms", "Planning time, median, ms"});
+    v(self.max_plan_ms, {"max_plan_ms", "Planning time, most, ms"});
+    v(self.median_look_ms, {"median_look_ms", "Look time, median, ms"});
+    v(measured_or_null(self.median_first_distance),
+      {"median_first_distance", "Distance after the first push alone, median, m"});
+    v(self.mean_pushes, {"mean_pushes", "Pushes per executed table"});
+    v(self.tracked_rate, {"tracked_rate", "Looks after a push that found the right object"});
+    v(self.seconds, {"seconds", "Wall clock, s"});
+    v(self.pushes, {"pushes", "One row per table"});
+  }
 };
 
 /// Over `tables` seeded tables of min..max catalogue objects: a random object on each (by the

@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@
 #include "proprio/core/provenance.hpp"
 #include "proprio/features/extraction.hpp"
 #include "proprio/features/vocabulary.hpp"
+#include "proprio/loop/record_fields.hpp"
 #include "proprio/planning/push_planner.hpp"
 #include "proprio/robot/robot_interface.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
@@ -163,6 +165,127 @@ struct TrainingViews {
   std::vector<int> tokens;  ///< its document's length
 };
 
+/// A plan as the decision log lists it (the path and its cost only when it was planned).
+struct LoggedPlan {
+  planning::PlanOutcome outcome = planning::PlanOutcome::kNoObjects;
+  std::string message;
+  int blob = -1;
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();  ///< table m
+  Eigen::Vector2d end = Eigen::Vector2d::Zero();
+  Eigen::Vector2d target = Eigen::Vector2d::Zero();
+  double cost = 0;
+
+  [[nodiscard]] static LoggedPlan of(const planning::PushPlan& p) {
+    return {p.outcome, p.message, p.object, p.push.start, p.push.end, p.target, p.cost};
+  }
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.outcome, {"outcome", "How planning ended"}, planning::kPlanOutcomeNames);
+    v(self.message, {"message", "What the planner said"});
+    v(self.blob, {"blob", "The blob pushed"});
+    if (self.outcome != planning::PlanOutcome::kPlanned) return;
+    v(xy(self.start), {"start", "The pusher's start, table m"});
+    v(xy(self.end), {"end", "The pusher's end, table m"});
+    v(xy(self.target), {"target", "The object's target, table m"});
+    v(self.cost, {"cost", "Feature density along the path (eq 7.5)"});
+  }
+};
+
+/// (d)'s score of a blob: its best log score under the classes learned so far.
+struct BlobScore {
+  int blob = 0;
+  double best_log_score = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.blob, {"blob", "The blob"});
+    v(self.best_log_score, {"best_log_score", "max over c of log Dir(theta | omega_c) + log p(c)"});
+  }
+};
+
+/// One line of the decision log (decisions.jsonl): an event and the fields it has (the others are
+/// left out). Events: start, rescatter, look, choose, singulated, plan, push, replan, refound,
+/// views, fault, end.
+struct SelfSupervisionDecision {
+  std::string event = {};
+  std::optional<int> round = {};          ///< the round (class) it belongs to
+  std::optional<std::string> phase = {};  ///< "choose", "clear" (7.2 b) or "learn" (7.2 c)
+  std::optional<int> index = {};          ///< push of the round
+  std::optional<int> blob = {};           ///< the blob chosen, planned or pushed
+  std::optional<int> chosen = {};         ///< look: the chosen object's blob
+  std::optional<int> too_near = {};       ///< look: blobs nearer than the clearance
+  std::optional<int> clear_pushes = {};   ///< singulated: pushes it took
+  std::optional<double> gap = {};         ///< plan (clear): the blob's gap to the chosen one, m
+  std::optional<LoggedPlan> plan = {};
+  std::optional<std::string> then = {};  ///< plan (learn): what comes next
+  std::optional<bool> executed = {};     ///< push: the robot executed it
+  std::optional<std::string> message = {};
+  std::optional<std::string> episode = {};  ///< push: its episode (a name under episodes/), or ""
+  std::optional<std::string> why = {};
+  std::optional<std::vector<BlobScore>> scores = {};  ///< choose (7.2 d)
+  std::optional<std::string> what = {};               ///< rescatter: the attendant's line
+  std::optional<std::string> fault = {};              ///< fault: its kind
+  std::optional<double> extra_approach = {};          ///< replan: the approaches' growth, m
+  std::optional<std::vector<PutativeObjectRecord>> blobs = {};  ///< look: the putative objects
+  std::optional<std::string> source = {};                       ///< views: "motion" or "blob"
+  std::optional<std::string> segmentation = {};  ///< views (motion): the segmentation's message
+  std::optional<int> frames = {};                ///< views (motion): frames of the episode
+  std::optional<int> first_touch = {};           ///< views (motion): first frame used
+  std::optional<int> views = {};  ///< views (motion): views taken; end: all training views
+  std::optional<int> too_few_features = {};             ///< views (motion): frames left out
+  std::optional<int> push = {};                         ///< views: the learn push of the round
+  std::optional<int> taken = {};                        ///< views: training views it gave
+  std::optional<int> classes = {};                      ///< start: C
+  std::optional<int> topics = {};                       ///< start: the LDA model's T
+  std::optional<int> words = {};                        ///< start: the vocabulary's size
+  std::optional<std::vector<double>> work_centre = {};  ///< start: table m
+  std::optional<int> pushes_clear = {};                 ///< end
+  std::optional<int> pushes_learn = {};                 ///< end
+  std::optional<int> faults = {};                       ///< end
+  std::optional<double> seconds = {};                   ///< end: wall clock, s
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.event, {"event", "What happened"});
+    v(self.round, {"round", "The round (class)"});
+    v(self.phase, {"phase", "choose, clear or learn"});
+    v(self.index, {"index", "Push of the round"});
+    v(self.blob, {"blob", "The blob"});
+    v(self.chosen, {"chosen", "The chosen object's blob"});
+    v(self.too_near, {"too_near", "Blobs nearer than the clearance"});
+    v(self.clear_pushes, {"clear_pushes", "Pushes the clearing took"});
+    v(self.gap, {"gap", "Gap to the chosen object, m"});
+    v(self.plan, {"plan", "The plan"});
+    v(self.then, {"then", "What comes next"});
+    v(self.executed, {"executed", "The robot executed the push"});
+    v(self.message, {"message", "What happened, in words"});
+    v(self.episode, {"episode", "The push's episode"});
+    v(self.why, {"why", "Why"});
+    v(self.scores, {"scores", "Each scored blob"});
+    v(self.what, {"what", "The re-scatter"});
+    v(self.fault, {"fault", "The fault's kind"});
+    v(self.extra_approach, {"extra_approach", "Growth of the approaches, m"});
+    v(self.blobs, {"blobs", "The putative objects"});
+    v(self.source, {"source", "Where the views came from"});
+    v(self.segmentation, {"segmentation", "The segmentation's message"});
+    v(self.frames, {"frames", "Frames of the episode"});
+    v(self.first_touch, {"first_touch", "First frame used"});
+    v(self.views, {"views", "Views"});
+    v(self.too_few_features, {"too_few_features", "Frames with too few features"});
+    v(self.push, {"push", "The learn push of the round"});
+    v(self.taken, {"taken", "Training views taken"});
+    v(self.classes, {"classes", "Classes C"});
+    v(self.topics, {"topics", "Topics T"});
+    v(self.words, {"words", "Vocabulary size"});
+    v(self.work_centre, {"work_centre", "Centre of the work area, table m"});
+    v(self.pushes_clear, {"pushes_clear", "Executed pushes in (b)"});
+    v(self.pushes_learn, {"pushes_learn", "Executed pushes in (c)"});
+    v(self.faults, {"faults", "Logged faults"});
+    v(self.seconds, {"seconds", "Wall clock, s"});
+  }
+};
+
 /// What the learner did and learned.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct Learning {
@@ -175,8 +298,8 @@ struct Learning {
   int pushes_clear = 0;          ///< executed pushes in (b)
   int pushes_learn = 0;          ///< executed pushes in (c)
   int faults = 0;                ///< logged faults (not planned, refused, moved nothing, lost)
-  std::vector<std::string> stop_reasons;  ///< per round: why it ended early ("" when it did not)
-  std::vector<core::Json> log;            ///< the decision log, one JSON object a line
+  std::vector<std::string> stop_reasons;     ///< per round: why it ended early ("" when it did not)
+  std::vector<SelfSupervisionDecision> log;  ///< the decision log (decisions.jsonl's lines)
   double seconds = 0;
 };
 

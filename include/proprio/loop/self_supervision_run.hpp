@@ -4,6 +4,7 @@
 // Mixture of Topics model, the decision log and the pushes' episodes; on the simulated table
 // also score it against the ground truth and on held-out views (loop/self_supervision_scoring).
 
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -18,10 +19,30 @@ inline constexpr const char* kSelfSupervisionFormat = "proprio.selfsupervise";
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct SelfSupervisionResult {
+  SelfSupervisionOptions options;  ///< the run's options (out: the directory the record names)
   Learning learning;
   std::optional<SelfSupervisionScore> score;  ///< on the simulated table
+  std::filesystem::path model_file;           ///< out/model.mot, or empty when no class was learned
+  std::filesystem::path decisions;            ///< out/decisions.jsonl
   core::Json document;                        ///< format "proprio.selfsupervise"
   [[nodiscard]] std::string brief() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    const Learning& l = self.learning;
+    v(self.options, {"options", "The run's options"});
+    v(l.class_names, {"classes", "The classes learned, one a round"});
+    v(l.views_per_class, {"views_per_class", "Training views of each class"});
+    v(l.model.names(), {"model_classes", "The classes in the Mixture of Topics (>= 2 views)"});
+    v(l.pushes_clear, {"pushes_clear", "Executed pushes in (b)"});
+    v(l.pushes_learn, {"pushes_learn", "Executed pushes in (c)"});
+    v(l.faults, {"faults", "Logged faults"});
+    v(l.stop_reasons, {"stop_reasons", "Per round: why it ended early (empty: it did not)"});
+    v(l.seconds, {"seconds", "Wall clock, s"});
+    v(self.model_file, {"model", "The Mixture of Topics model written, or empty"});
+    v(self.decisions, {"decisions", "The decision log, one JSON object a line"});
+    v(self.score, {"ground_truth", "Scored against the ground truth (simulated table)"});
+  }
 };
 
 /// The learner on `robot` with the objects re-scattered by `attendant` (C = the number of

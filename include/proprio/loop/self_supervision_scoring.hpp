@@ -83,6 +83,18 @@ struct ObjectScore {
   int held_out = 0;            ///< held-out views with features
   double mot_accuracy = 0;     ///< of them, right by the Mixture of Topics
   double argmax_accuracy = 0;  ///< right by argmax theta (merged topics)
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "The object"});
+    v(self.classes, {"classes", "Learned classes named after it"});
+    v(self.views, {"views", "Training views of those classes"});
+    v(self.purity, {"purity", "Of them, the fraction showing this object"});
+    v(self.yaw_range_deg, {"yaw_range_deg", "Yaw range seen in training, degrees"});
+    v(self.held_out, {"held_out", "Held-out views with features"});
+    v(self.mot_accuracy, {"mot_accuracy", "Of them, right by the Mixture of Topics"});
+    v(self.argmax_accuracy, {"argmax_accuracy", "Right by argmax theta"});
+  }
 };
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
@@ -103,7 +115,25 @@ struct SelfSupervisionScore {
   recognition::ConfusionMatrix argmax;  ///< the same by argmax theta
   double mot_accuracy = 0;              ///< held-out views classified as their object
   double argmax_accuracy = 0;
-  core::Json to_json() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.class_object, {"class_object", "Each class named after the object pushed most"});
+    v(self.class_purity, {"class_purity", "Fraction of its views showing that object"});
+    v(self.class_chosen, {"class_chosen", "The object under the blob chosen for each class"});
+    v(self.class_gap, {"class_gap", "Each round's least footprint gap after (b), m (-1: lost)"});
+    v(self.singulation, {"singulation", "Rounds singulated / rounds"});
+    v(self.pushes_per_cleared, {"pushes_per_cleared", "Clear pushes / objects they moved"});
+    v(self.only_intended,
+      {"only_intended", "Executed pushes that moved the intended object alone"});
+    v(self.off_table, {"off_table", "Objects that fell off the table"});
+    v(self.purity, {"purity", "Purity of all training views"});
+    v(self.mot_accuracy, {"mot_accuracy", "Held-out views classified as their object"});
+    v(self.argmax_accuracy, {"argmax_accuracy", "The same by argmax theta"});
+    v(self.mot.to_json(), {"mot_confusion", "Held out: true objects x learned classes"});
+    v(self.argmax.to_json(), {"argmax_confusion", "The same by argmax theta"});
+    v(self.objects, {"objects", "Per object"});
+  }
 };
 
 /// Scores the learning from the attendant's records (its robot is not used: it may be gone),
