@@ -213,6 +213,8 @@ class Learner {
     log_.open(o.out / "decisions.jsonl");
     models_.resize(static_cast<std::size_t>(classes));
     left_at_.resize(static_cast<std::size_t>(classes));
+    region_of_.resize(static_cast<std::size_t>(classes));
+    blob_of_.assign(static_cast<std::size_t>(classes), -1);
   }
 
   template <class F>
@@ -257,6 +259,7 @@ class Learner {
     bar.finish();
     log({{"event", "end"},
          {"blobs_out_of_reach", dropped_far_},
+         {"looks_split", splits_},
          {"pushes", static_cast<int>(pushes_.size())},
          {"views", static_cast<int>(views_.size())},
          {"faults", faults_}});
@@ -295,15 +298,48 @@ class Learner {
   planning::PlanningView plan_view() {
     planning::PlanningView v =
         timed("look", [&] { return planning::look_for_objects(current_, region_, po_); });
+    // 8.1.1: what moved with the arm in an object's last push is that object; a blob holding it
+    // and more is split, the rest a putative object of its own.
+    const std::size_t blobs = v.objects.size();
+    std::vector<cv::Mat> regions = region_of_;
+    for (cv::Mat& r : regions) {
+      if (!r.empty() && (r.size() != v.image_size || r.type() != CV_8U)) r = cv::Mat();
+    }
+    std::vector<int> found =
+        planning::split_putative_objects(v, regions, o_.min_features, region_, po_);
+    const std::size_t split = v.objects.size();
+    // Then the blobs beyond the arm's reach are dropped (kept as obstacles only).
     const auto far = [](const planning::PutativeObject& o) {
       return o.centre.norm() > kPushReach || o.centre.x() < kBehindBase;
     };
     far_ = core::Json::array();
-    for (const auto& o : v.objects) {
-      if (far(o)) far_.push_back(xy(o.centre));
+    obstacles_.clear();
+    std::vector<int> index(v.objects.size(), -1);
+    std::vector<planning::PutativeObject> kept;
+    for (std::size_t b = 0; b < v.objects.size(); ++b) {
+      if (far(v.objects[b])) {
+        far_.push_back(xy(v.objects[b].centre));
+        obstacles_.push_back(std::move(v.objects[b]));
+      } else {
+        index[b] = static_cast<int>(kept.size());
+        kept.push_back(std::move(v.objects[b]));
+      }
     }
-    v.objects.erase(std::remove_if(v.objects.begin(), v.objects.end(), far), v.objects.end());
+    v.objects = std::move(kept);
     dropped_far_ += static_cast<int>(far_.size());
+    for (int& f : found) f = f >= 0 ? index[static_cast<std::size_t>(f)] : -1;
+    blob_of_ = found;
+    if (split > blobs) {
+      ++splits_;
+      core::Json known = core::Json::array();
+      for (std::size_t k = 0; k < blob_of_.size(); ++k) {
+        if (blob_of_[k] >= 0) known.push_back({{"object", k}, {"blob", blob_of_[k]}});
+      }
+      log({{"event", "split"},
+           {"blobs_before", static_cast<int>(blobs)},
+           {"blobs_after", static_cast<int>(split)},
+           {"known", known}});
+    }
     return v;
   }
 
@@ -338,11 +374,14 @@ class Learner {
     for (int k = 0; k < c; ++k) {
       const auto ku = static_cast<std::size_t>(k);
       std::vector<int> drop;
-      if (left_at_[ku]) {
+      if (blob_of_[ku] >= 0) {
+        // Where its last push's motion segmentation put it (split from its neighbours).
+        drop.push_back(blob_of_[ku]);
+      } else if (left_at_[ku]) {
         const int b = track(view, *left_at_[ku], kTrackRadius);
         if (b >= 0) drop.push_back(b);
       }
-      if (models_[ku].learned()) {
+      if (blob_of_[ku] < 0 && models_[ku].learned()) {
         const TopDownResult td = timed("recognition", [&] {
           return recognise_top_down(models_[ku], lf.points, lf.unit, current_.image.size(), wo_);
         });
@@ -406,6 +445,10 @@ class Learner {
   int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
              std::string& how) {
     const ObjectModel& om = models_[static_cast<std::size_t>(c)];
+    if (const int b = blob_of_[static_cast<std::size_t>(c)]; b >= 0) {
+      how = "segmented";  // where its last push's motion segmentation left it
+      return b;
+    }
     if (om.learned()) {
       const TopDownResult td = timed("recognition", [&] {
         const LookFeatures lf = features_of(current_.image);
@@ -453,7 +496,10 @@ class Learner {
     po.max_approach = std::min(0.3, po.max_approach + extra_approach_);
     po.min_approach = std::min(po.max_approach, po.min_approach + extra_approach_);
     po.seed = core::stream_seed(o_.seed, kPlanStream, static_cast<std::uint64_t>(++plans_));
-    return planning::plan_push(view, blob, planning::PushGoal::kTarget, target, region_, arm,
+    // The blobs out of reach are no objects to learn but are there: the arm avoids them too.
+    planning::PlanningView all = view;
+    all.objects.insert(all.objects.end(), obstacles_.begin(), obstacles_.end());
+    return planning::plan_push(all, blob, planning::PushGoal::kTarget, target, region_, arm,
                                robot_.joints(), po);
   }
 
@@ -476,7 +522,12 @@ class Learner {
                          std::max(0.0, kTargetNear - t.norm()) +
                          std::max(0.0, std::abs(t.y() - centre_.y()) - kTargetSide);
       // Ties (nothing near) go to the first direction: the golden-angle turn.
-      const double score = gap - (4 * off) - (1e-3 * i);
+      // After a transit refusal, pushes toward the base are left last: their start lies beyond
+      // the object, and the unfolding arm passes over it (and whatever stands between).
+      const double inward = outward_only_ && at.norm() > 1e-9
+                                ? std::max(0.0, -(t - at).normalized().dot(at.normalized()))
+                                : 0.0;
+      const double score = gap - (4 * off) - inward - (1e-3 * i);
       if (score > best_score) {
         best_score = score;
         best = t;
@@ -493,12 +544,14 @@ class Learner {
           view.camera.project(Eigen::Vector3d(p.push.start.x(), p.push.start.y(), h));
       const cv::Point q(static_cast<int>(std::lround(px.x())),
                         static_cast<int>(std::lround(px.y())));
-      for (const auto& o : view.objects) {
-        const cv::Rect grown(o.box.x - 3, o.box.y - 3, o.box.width + 6, o.box.height + 6);
-        if (!grown.contains(q)) continue;
-        const cv::Point local(std::clamp(q.x - o.box.x, 0, o.box.width - 1),
-                              std::clamp(q.y - o.box.y, 0, o.box.height - 1));
-        if (o.mask(local) != 0) return false;
+      for (const auto* list : {&view.objects, &obstacles_}) {
+        for (const auto& o : *list) {
+          const cv::Rect grown(o.box.x - 3, o.box.y - 3, o.box.width + 6, o.box.height + 6);
+          if (!grown.contains(q)) continue;
+          const cv::Point local(std::clamp(q.x - o.box.x, 0, o.box.width - 1),
+                                std::clamp(q.y - o.box.y, 0, o.box.height - 1));
+          if (o.mask(local) != 0) return false;
+        }
       }
     }
     return true;
@@ -642,6 +695,54 @@ class Learner {
     return s;
   }
 
+  // After a push of object c: c's region becomes what moved with the arm at the push's end (its
+  // last view's mask, grown by dilate); another object's region that the push's motion overlapped
+  // (a quarter of it or more) is forgotten: it may have moved (top-down recognition and its
+  // position find it then). A push that segmented nothing changes nothing.
+  void update_regions(int c, const Segmented& seg, const Eigen::Vector2d& end_px) {
+    if (seg.view_masks.empty()) return;
+    cv::Mat moved =
+        seg.mask.empty() ? cv::Mat(current_.image.size(), CV_8U, cv::Scalar(0)) : seg.mask.clone();
+    for (const auto& [i, m] : seg.view_masks) cv::bitwise_or(moved, m, moved);
+    core::Json forgotten = core::Json::array();
+    for (std::size_t k = 0; k < region_of_.size(); ++k) {
+      cv::Mat& r = region_of_[k];
+      if (static_cast<int>(k) == c || r.empty()) continue;
+      const int area = cv::countNonZero(r);
+      cv::Mat both;
+      cv::bitwise_and(r, moved, both);
+      if (area == 0 || 4 * cv::countNonZero(both) >= area) {
+        r = cv::Mat();
+        forgotten.push_back(static_cast<int>(k));
+      }
+    }
+    // Only the parts of the mask near where the pusher ended (within a quarter of the image's
+    // width): motion elsewhere (the moving backdrop, a distractor) is not the object.
+    cv::Mat1b last = seg.view_masks.back().second.clone();
+    cv::Mat1i labels;
+    const int parts = cv::connectedComponents(last, labels, 8, CV_32S);
+    const double reach = last.cols / 4.0;
+    std::vector<bool> keep(static_cast<std::size_t>(parts), false);
+    for (int y = 0; y < last.rows; ++y) {
+      for (int x = 0; x < last.cols; ++x) {
+        const int l = labels(y, x);
+        if (l > 0 && (Eigen::Vector2d(x, y) - end_px).norm() <= reach)
+          keep[static_cast<std::size_t>(l)] = true;
+      }
+    }
+    for (int y = 0; y < last.rows; ++y) {
+      for (int x = 0; x < last.cols; ++x) {
+        if (!keep[static_cast<std::size_t>(labels(y, x))]) last(y, x) = 0;
+      }
+    }
+    const cv::Mat region = dilated(last, o_.dilate);
+    region_of_[static_cast<std::size_t>(c)] = region;
+    log({{"event", "region"},
+         {"object", c},
+         {"pixels", cv::countNonZero(region)},
+         {"forgotten", forgotten}});
+  }
+
   void learn_object(int c, core::ProgressBar& bar) {
     planning::PlanningView view = plan_view();
     core::Json centres = core::Json::array();
@@ -657,6 +758,7 @@ class Learner {
       return;
     }
     extra_approach_ = 0;
+    outward_only_ = false;
     std::vector<Eigen::Vector2d> tried;
     int k = choose(c, view, tried);
     if (k < 0) {
@@ -721,6 +823,8 @@ class Learner {
       for (int side = 1; side < kSides && !usable(p); ++side) {
         if (p.outcome == planning::PlanOutcome::kPlanned) ++blocked;
         const double a = a0 + (side * 2 * std::numbers::pi / kSides);
+        const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+        if (outward_only_ && last.norm() > 1e-9 && dir.dot(last.normalized()) < -0.2) continue;
         p = timed("plan", [&] {
           return plan(view, blob, last + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
         });
@@ -775,6 +879,7 @@ class Learner {
       if (!lp.executed) {
         fault(c, "robot-refused", message);
         ++failures;
+        if (message.find("transit") != std::string::npos) outward_only_ = true;
         extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
         lp.outcome = "refused: " + message;
         pushes_.push_back(lp);
@@ -814,9 +919,13 @@ class Learner {
         lp.outcome = core::cat({std::to_string(lp.views), " views; ", seg.message});
       }
       attendant_.views_taken(in, lp.views, last_mask);
-      // Did the object move? It is looked for near the plan's target, then where it was.
+      update_regions(c, seg,
+                     view.camera.project(Eigen::Vector3d(p.push.end.x(), p.push.end.y(), 0.0)));
+      // Did the object move? Where its motion segmentation left it, else near the plan's target,
+      // else where it was.
       const planning::PlanningView after = plan_view();
-      int now = track(after, p.target, kLandRadius);
+      int now = blob_of_[static_cast<std::size_t>(c)];
+      if (now < 0) now = track(after, p.target, kLandRadius);
       if (now < 0) now = track(after, last, kTrackRadius);
       if (now >= 0 &&
           (after.objects[static_cast<std::size_t>(now)].centre - last).norm() < kStill) {
@@ -870,6 +979,11 @@ class Learner {
   robot::Look current_;
   std::vector<ObjectModel> models_;
   std::vector<std::optional<Eigen::Vector2d>> left_at_;  ///< where each object was left, m
+  /// Per object, where it lies in the current look (8-bit, the image's size): what moved with
+  /// the arm at the end of its last push; empty when unknown (or moved since by another push).
+  std::vector<cv::Mat> region_of_;
+  std::vector<int> blob_of_;  ///< per object, its putative object in the last plan_view, or -1
+  int splits_ = 0;            ///< looks in which a blob was split by an object's region
   std::vector<LearnPush> pushes_;
   std::vector<View> views_;
   std::vector<cv::Mat> frames_;
@@ -879,7 +993,12 @@ class Learner {
   int plans_ = 0;
   int dropped_far_ = 0;                   ///< blobs out of the arm's pushing reach, over all looks
   core::Json far_ = core::Json::array();  ///< the last look's blobs out of reach (centres, m)
-  double extra_approach_ = 0;             ///< m, grown after each refusal of the object's pushes
+  /// The last look's blobs out of reach: not to learn, but the arm's paths avoid them.
+  std::vector<planning::PutativeObject> obstacles_;
+  double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
+  /// The object's transit was refused: pushes away from the base are preferred (their start lies
+  /// between the base and the object, reached without passing over it).
+  bool outward_only_ = false;
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for arm_mask
 };
 
