@@ -105,6 +105,8 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   const std::string printed = r.out.substr(at + key.size(), r.out.find('%', at) - at - key.size());
   const double acc = j["held_out"]["mot"]["accuracy"].get<double>();
   EXPECT_EQ(printed, core::printf_string("%.1f", 100 * acc));
+  EXPECT_EQ(j["ground_truth"]["mot_confusion"]["accuracy"].get<double>(), acc);
+  EXPECT_EQ(j["ground_truth"]["mot_accuracy"].get<double>(), acc);
   const std::string page = core::read_file(dir() / "moving" / "report.html");
   EXPECT_HAS(page, core::printf_string("Mixture of Topics <b>%.1f%%</b>", 100 * acc));
 }
