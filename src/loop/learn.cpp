@@ -60,6 +60,10 @@ constexpr double kCrowded = 0.15;       // blobs further than this from a target
 constexpr double kTargetReach = 0.36;
 constexpr double kTargetNear = 0.16;
 constexpr double kTargetSide = 0.27;
+// ... and in front of the base (x at least this, m): an object pushed beside or behind the base
+// stands where every transit (raised over the base, turned toward the start) passes; on seed 1
+// pushes to x 0.085-0.1 were followed by refused transits.
+constexpr double kTargetFront = 0.12;
 constexpr double kArmRadius = 0.035;  // the pusher and links' half width, m
 // The links' half width as the arm mask draws them, m: the image of a raised link (nearer the
 // camera, with its shading) is wider than kArmRadius at the table would give.
@@ -544,6 +548,7 @@ class Learner {
       }
       const double off = std::max(0.0, t.norm() - kTargetReach) +
                          std::max(0.0, kTargetNear - t.norm()) +
+                         std::max(0.0, kTargetFront - t.x()) +
                          std::max(0.0, std::abs(t.y() - centre_.y()) - kTargetSide);
       // Ties (nothing near) go to the first direction: the golden-angle turn.
       // After a transit refusal, pushes toward the base are left last: their start lies beyond
@@ -849,6 +854,7 @@ class Learner {
         const double a = a0 + (side * 2 * std::numbers::pi / kSides);
         const Eigen::Vector2d dir(std::cos(a), std::sin(a));
         if (outward_only_ && last.norm() > 1e-9 && dir.dot(last.normalized()) < -0.2) continue;
+        if ((last + kSidePush * dir).x() < kTargetFront) continue;
         p = timed("plan", [&] {
           return plan(view, blob, last + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
         });
