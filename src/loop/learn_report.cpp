@@ -134,6 +134,7 @@ struct Confusion {
   std::vector<std::string> rows;
   std::vector<std::string> columns;
   std::vector<std::vector<long long>> counts;
+  std::vector<long long> unclassified;  ///< per row; empty: not recorded
 };
 
 struct Plan {
@@ -218,6 +219,13 @@ Confusion read_confusion(const Reader& r, const Json& v, const std::string& wher
     std::vector<long long> out;
     for (std::size_t j = 0; j < row.size(); ++j) out.push_back(r.count(row[j], at(w, j)));
     c.counts.push_back(std::move(out));
+  }
+  if (const Json* u = Reader::optional(v, "unclassified")) {
+    r.array(*u, where + "/unclassified");
+    if (u->size() != rows.size())
+      r.fail(where + "/unclassified", "must have one count per \"rows\" entry");
+    for (std::size_t i = 0; i < u->size(); ++i)
+      c.unclassified.push_back(r.count((*u)[i], at(where + "/unclassified", i)));
   }
   return c;
 }
@@ -585,6 +593,57 @@ std::string class_label(const Context& c, const std::string& cls) {
   return core::cat({cls, " (", it->second, ")"});
 }
 
+// The object a confusion column stands for: its class's truth (learn.json "objects"), or, for a
+// column named "object_1 (book)" (as the held-out scoring names them), the name in brackets.
+std::string column_truth(const Context& c, const std::string& col) {
+  if (const auto it = c.truth_of.find(col); it != c.truth_of.end()) return it->second;
+  const auto open = col.rfind(" (");
+  if (open != std::string::npos && col.size() > open + 3 && col.back() == ')') {
+    const std::string cls = col.substr(0, open);
+    if (const auto it = c.truth_of.find(cls); it != c.truth_of.end()) return it->second;
+    return col.substr(open + 2, col.size() - open - 3);
+  }
+  return {};
+}
+
+// Held-out views of row r classified right: a column is right for the object its class was
+// learned from (the rule of `proprio learn`'s printout and LearnSummary); every view of the row
+// counts, unclassified ones too. `mapped`: some column stands for the row's object.
+struct RowScore {
+  long long total = 0;
+  long long correct = 0;
+  bool mapped = false;
+};
+
+RowScore row_score(const Context& c, const Confusion& conf, std::size_t r) {
+  RowScore s;
+  for (std::size_t j = 0; j < conf.columns.size(); ++j) {
+    s.total += conf.counts[r][j];
+    if (conf.columns[j] == conf.rows[r] || column_truth(c, conf.columns[j]) == conf.rows[r]) {
+      s.mapped = true;
+      s.correct += conf.counts[r][j];
+    }
+  }
+  if (r < conf.unclassified.size()) s.total += conf.unclassified[r];
+  return s;
+}
+
+// The held-out accuracy of a confusion, computed from its counts by row_score (never from the
+// diagonal: the columns are the robot's classes, in no row's order); its "accuracy" member only
+// when it has no counts. -1: none.
+double held_out_accuracy(const Context& c, const Confusion& conf) {
+  if (!conf.present) return -1;
+  long long total = 0;
+  long long correct = 0;
+  for (std::size_t r = 0; r < conf.rows.size(); ++r) {
+    const RowScore rs = row_score(c, conf, r);
+    total += rs.total;
+    correct += rs.correct;
+  }
+  if (total > 0) return static_cast<double>(correct) / static_cast<double>(total);
+  return conf.accuracy;
+}
+
 std::string summary_section(const Context& c, const Decisions& dec, bool complete) {
   const Run& run = c.run;
   std::string s = section_start("summary", "Summary", "");
@@ -604,11 +663,10 @@ std::string summary_section(const Context& c, const Decisions& dec, bool complet
   s += core::cat({"<b>", std::to_string(learned), "</b> of ", std::to_string(run.objects.size()),
                   " objects learned from <b>", std::to_string(executed), "</b> executed pushes (",
                   std::to_string(run.pushes.size()), " planned)"});
-  if (run.mot.present && run.mot.accuracy >= 0) {
-    s += core::cat(
-        {"; held-out accuracy: Mixture of Topics <b>", percent(run.mot.accuracy), "</b>"});
-    if (run.argmax.present && run.argmax.accuracy >= 0) {
-      s += core::cat({", argmax of topics <b>", percent(run.argmax.accuracy), "</b>"});
+  if (const double mot = held_out_accuracy(c, run.mot); mot >= 0) {
+    s += core::cat({"; held-out accuracy: Mixture of Topics <b>", percent(mot), "</b>"});
+    if (const double am = held_out_accuracy(c, run.argmax); am >= 0) {
+      s += core::cat({", argmax of topics <b>", percent(am), "</b>"});
     }
   }
   if (run.timing) s += core::cat({"; ", fixed(total, 1), " s in all"});
@@ -960,28 +1018,17 @@ std::string confusion_block(const Context& c, const Confusion& conf, const std::
   std::string s = core::cat({"<h3>", escape(name), "</h3>"});
   if (!conf.present) return s + kNotRecorded;
   long long total = 0;
-  long long correct = 0;
   std::vector<report::Bar> bars;
   std::string table = "<table><tr><th>truth \xE2\x86\x93 / class \xE2\x86\x92</th>";
   for (const std::string& col : conf.columns)
     table += core::cat({"<th>", escape(class_label(c, col)), "</th>"});
   table += "<th>accuracy</th></tr>";
   for (std::size_t r = 0; r < conf.rows.size(); ++r) {
-    long long row_total = 0;
-    long long row_correct = 0;
-    bool mapped = false;
-    for (std::size_t j = 0; j < conf.columns.size(); ++j) {
-      row_total += conf.counts[r][j];
-      const auto it = c.truth_of.find(conf.columns[j]);
-      const bool same =
-          conf.columns[j] == conf.rows[r] || (it != c.truth_of.end() && it->second == conf.rows[r]);
-      if (same) {
-        mapped = true;
-        row_correct += conf.counts[r][j];
-      }
-    }
+    const RowScore rs = row_score(c, conf, r);
+    const long long row_total = rs.total;
+    const long long row_correct = rs.correct;
+    const bool mapped = rs.mapped;
     total += row_total;
-    correct += row_correct;
     table += core::cat({"<tr><th>", escape(conf.rows[r]), "</th>"});
     for (std::size_t j = 0; j < conf.columns.size(); ++j) {
       const double f = row_total > 0 ? static_cast<double>(conf.counts[r][j]) / row_total : 0;
@@ -1002,8 +1049,7 @@ std::string confusion_block(const Context& c, const Confusion& conf, const std::
     }
   }
   table += "</table>";
-  const double acc =
-      conf.accuracy >= 0 ? conf.accuracy : (total > 0 ? static_cast<double>(correct) / total : -1);
+  const double acc = held_out_accuracy(c, conf);
   accuracy_out = acc;
   s += core::cat({"<p class=\"headline\">accuracy <b>", acc >= 0 ? percent(acc) : "\xE2\x80\x93",
                   "</b> of ", std::to_string(total), " held-out views</p>", table,

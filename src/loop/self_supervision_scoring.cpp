@@ -20,6 +20,13 @@
 
 namespace proprio::loop {
 
+core::Json held_out_confusion_json(const recognition::ConfusionMatrix& m, double accuracy) {
+  core::Json j = m.to_json();
+  j["accuracy"] = accuracy;
+  j.erase("mean_class_accuracy");
+  return j;
+}
+
 namespace {
 
 // The table point the held-out views put an object at: the middle of the scatter region.

@@ -205,6 +205,116 @@ PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
   return view;
 }
 
+std::vector<int> split_putative_objects(PlanningView& view, const std::vector<cv::Mat>& regions,
+                                        int min_features, const TableRegion& region,
+                                        const PushPlanOptions& options) {
+  require(min_features >= 1, "split_putative_objects: min_features must be at least 1");
+  for (const cv::Mat& r : regions) {
+    require(r.empty() || (r.type() == CV_8U && r.size() == view.image_size),
+            "split_putative_objects: a region must be an 8-bit mask of the view's image size");
+  }
+  const auto nr = static_cast<int>(regions.size());
+  const auto in_region = [&](const cv::Point& q) {
+    for (int r = 0; r < nr; ++r) {
+      const cv::Mat& m = regions[static_cast<std::size_t>(r)];
+      if (!m.empty() && m.at<uchar>(q) != 0) return r;
+    }
+    return -1;
+  };
+  const cv::Rect image(cv::Point(0, 0), view.image_size);
+  const std::size_t n_objects = view.objects.size();
+  for (std::size_t b = 0; b < n_objects; ++b) {
+    const PutativeObject& o = view.objects[b];
+    // The blob's features (indices into view.features) and the region each lies in.
+    std::vector<int> members;
+    std::vector<int> owner;
+    for (std::size_t k = 0; k < view.features.size(); ++k) {
+      const cv::Point q(static_cast<int>(std::lround(view.features[k].pt.x)),
+                        static_cast<int>(std::lround(view.features[k].pt.y)));
+      if (!o.box.contains(q) || !image.contains(q) || o.mask(q - o.box.tl()) == 0) continue;
+      members.push_back(static_cast<int>(k));
+      owner.push_back(in_region(q));
+    }
+    // The rest: the blob's mask outside every region, in connected parts.
+    cv::Mat1b rest = o.mask.clone();
+    for (const cv::Mat& m : regions) {
+      if (!m.empty()) rest.setTo(0, m(o.box));
+    }
+    cv::Mat1i labels;
+    const int n_parts = cv::connectedComponents(rest, labels, 8, CV_32S);
+    // Parts: regions 0..nr-1, then rest components 1..n_parts-1 as nr + label - 1.
+    const int total = nr + std::max(0, n_parts - 1);
+    std::vector<int> part_of(members.size(), -1);
+    std::vector<int> count(static_cast<std::size_t>(total), 0);
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      int part = owner[i];
+      if (part < 0) {
+        const cv::KeyPoint& k = view.features[static_cast<std::size_t>(members[i])];
+        const cv::Point q(static_cast<int>(std::lround(k.pt.x)) - o.box.x,
+                          static_cast<int>(std::lround(k.pt.y)) - o.box.y);
+        const int l = labels(q);
+        if (l > 0) part = nr + l - 1;
+      }
+      part_of[i] = part;
+      if (part >= 0) ++count[static_cast<std::size_t>(part)];
+    }
+    std::vector<int> big;
+    for (int p = 0; p < total; ++p) {
+      if (count[static_cast<std::size_t>(p)] >= min_features) big.push_back(p);
+    }
+    if (big.size() < 2) continue;
+    std::sort(big.begin(), big.end(), [&](int x, int y) {
+      return count[static_cast<std::size_t>(x)] > count[static_cast<std::size_t>(y)];
+    });
+    std::vector<PutativeObject> made;
+    for (const int p : big) {
+      features::Blob part;
+      cv::Mat1b mask(o.box.size(), 0);
+      if (p < nr) {
+        o.mask.copyTo(mask, regions[static_cast<std::size_t>(p)](o.box));
+      } else {
+        mask.setTo(255, labels == (p - nr + 1));
+      }
+      for (std::size_t i = 0; i < members.size(); ++i) {
+        // Points of the small parts go with the largest.
+        const bool small =
+            part_of[i] < 0 || std::find(big.begin(), big.end(), part_of[i]) == big.end();
+        if (part_of[i] == p || (small && p == big.front())) part.features.push_back(members[i]);
+      }
+      const cv::Rect inner = cv::boundingRect(mask);
+      if (inner.area() == 0) continue;
+      part.box = inner + o.box.tl();
+      part.mask = mask(inner).clone();
+      if (auto po = putative_object(part, view.features, view.camera, region, options)) {
+        made.push_back(std::move(*po));
+      }
+    }
+    if (made.size() < 2) continue;
+    view.objects[b] = std::move(made.front());
+    for (std::size_t i = 1; i < made.size(); ++i) view.objects.push_back(std::move(made[i]));
+  }
+  // Per region, the putative object holding most of its points.
+  std::vector<int> found(regions.size(), -1);
+  for (int r = 0; r < nr; ++r) {
+    const cv::Mat& m = regions[static_cast<std::size_t>(r)];
+    if (m.empty()) continue;
+    int best = min_features - 1;
+    for (std::size_t b = 0; b < view.objects.size(); ++b) {
+      int n = 0;
+      for (const auto& px : view.objects[b].pixels) {
+        const cv::Point q(static_cast<int>(std::lround(px.x())),
+                          static_cast<int>(std::lround(px.y())));
+        if (image.contains(q) && m.at<uchar>(q) != 0) ++n;
+      }
+      if (n > best) {
+        best = n;
+        found[static_cast<std::size_t>(r)] = static_cast<int>(b);
+      }
+    }
+  }
+  return found;
+}
+
 PlanningView look_for_objects(const robot::Look& look, const TableRegion& region,
                               const PushPlanOptions& options) {
   return make_planning_view(textured_points(look.image, options, look.arm_mask), look.camera,

@@ -11,7 +11,9 @@
 
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/text.hpp"
 
 namespace proprio::app {
 namespace {
@@ -96,6 +98,17 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   EXPECT_EQ(j["options"]["background"], "moving");
   EXPECT_TRUE(fs::exists(dir() / "moving" / "report.html"));  // written as the run's last step
   EXPECT_HAS(r.out, "report: ");
+  // One held-out figure everywhere: the printout, learn.json and the page's summary.
+  const std::string key = "held-out accuracy: Mixture of Topics ";
+  const auto at = r.out.find(key);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string printed = r.out.substr(at + key.size(), r.out.find('%', at) - at - key.size());
+  const double acc = j["held_out"]["mot"]["accuracy"].get<double>();
+  EXPECT_EQ(printed, core::printf_string("%.1f", 100 * acc));
+  EXPECT_EQ(j["ground_truth"]["mot_confusion"]["accuracy"].get<double>(), acc);
+  EXPECT_EQ(j["ground_truth"]["mot_accuracy"].get<double>(), acc);
+  const std::string page = core::read_file(dir() / "moving" / "report.html");
+  EXPECT_HAS(page, core::printf_string("Mixture of Topics <b>%.1f%%</b>", 100 * acc));
 }
 
 TEST_F(LearnCli, BadInputIsOneLineAndExit2) {

@@ -92,6 +92,36 @@ TEST(LearnReport, WritesEverySectionAndEveryImageItReferences) {
   EXPECT_NE(page.find("90.0% [69.9%, 97.2%]"), std::string::npos);
 }
 
+TEST(LearnReport, HeldOutAccuracyComesFromTheClassesTruthsNotTheDiagonal) {
+  // The columns are the robot's classes, in no row's order, named as the held-out scoring names
+  // them ("object_2 (bottle)"): the diagonal (2 + 4 of 40) is not the accuracy; the views given
+  // a class learned from their own object are (18 + 16 of 40), whatever "accuracy" says.
+  test::TempDir tmp("proprio_learn_report_");
+  test::LearnRunFixture f;
+  test::write_learn_run_fixture(tmp.path(), f);
+  edit_learn_json(tmp.path(), [&](core::Json& j) {
+    core::Json& mot = j["held_out"]["mot"];
+    mot["columns"] = {"object_2 (" + f.hostile_truth + ")", "object_1 (box)"};
+    mot["counts"] = {{2, 18}, {16, 4}};
+    mot["accuracy"] = 0.15;
+    mot["unclassified"] = {0, 0};
+  });
+  const LearnReportResult r = report_of(tmp.path());
+  EXPECT_DOUBLE_EQ(r.summary.mot_accuracy, 0.85);
+  const std::string page = core::read_file(r.summary.page);
+  EXPECT_NE(page.find("Mixture of Topics <b>85.0%</b>"), std::string::npos);
+  EXPECT_EQ(page.find("15.0%"), std::string::npos);
+  EXPECT_NE(page.find("90.0% [69.9%, 97.2%]"), std::string::npos);  // box: 18 of 20
+  // Unclassified views count against their object.
+  edit_learn_json(tmp.path(), [](core::Json& j) {
+    j["held_out"]["mot"]["unclassified"] = {10, 0};
+  });
+  LearnReportOptions again;
+  again.dir = tmp.path();
+  again.overwrite = true;
+  EXPECT_DOUBLE_EQ(write_learn_report(again).summary.mot_accuracy, 34.0 / 50.0);
+}
+
 TEST(LearnReport, ShowsBytesThatAreNotUtf8AsReplacementCharacters) {
   test::TempDir tmp("proprio_learn_report_");
   test::LearnRunFixture f;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "../support/paths.hpp"
 #include "../support/table_views.hpp"
@@ -166,6 +167,85 @@ TEST(PushTracking, FindsThePushedObjectWhereItNowTouchesAStillOne) {
   ASSERT_GE(s, 0);
   EXPECT_NEAR(same.objects[static_cast<std::size_t>(s)].centre.y(), pushed.centre.y(), 1e-9);
   EXPECT_EQ(moved_share(before, before, pushed), 0.0);
+}
+
+// A mask of the view's size over the table square of half side h at c (the region a push's
+// motion segmentation gave one object), grown by `grow` px.
+cv::Mat square_region(const geometry::Camera& cam, const Eigen::Vector2d& c, double h, int grow) {
+  cv::Mat m(cam.height, cam.width, CV_8U, cv::Scalar(0));
+  draw_checkered_square(m, cam, c, h);
+  m = m > 0;
+  if (grow > 0) {
+    cv::dilate(m, m,
+               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * grow + 1, 2 * grow + 1)));
+  }
+  return m;
+}
+
+TEST(PushSplit, AMergedBlobIsSplitByTheRegionThatMovedWithTheArm) {
+  const geometry::Camera cam = down_camera();
+  const PushPlanOptions o = flat_options();
+  const TableRegion region;
+  cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
+  draw_checkered_square(img, cam, {0.20, 0.0}, 0.03);     // the object pushed last
+  draw_checkered_square(img, cam, {0.20, -0.065}, 0.03);  // another, 5 mm from it
+  draw_checkered_square(img, cam, {0.32, 0.12}, 0.03);    // a third, apart
+  PlanningView view = make_planning_view(textured_points(img, o), cam, region, o);
+  ASSERT_EQ(view.objects.size(), 2U);  // the two touching squares are one blob
+  const std::vector<cv::Mat> regions{square_region(cam, {0.20, 0.0}, 0.03, 2)};
+  const std::vector<int> found = split_putative_objects(view, regions, 10, region, o);
+  ASSERT_EQ(view.objects.size(), 3U);
+  ASSERT_EQ(found.size(), 1U);
+  ASSERT_GE(found[0], 0);
+  const PutativeObject& known = view.objects[static_cast<std::size_t>(found[0])];
+  EXPECT_NEAR(known.centre.x(), 0.20, 0.01);
+  EXPECT_NEAR(known.centre.y(), 0.0, 0.01);
+  // The rest of the blob is a putative object of its own, where the other square lies.
+  int other = -1;
+  for (std::size_t b = 0; b < view.objects.size(); ++b) {
+    if ((view.objects[b].centre - Eigen::Vector2d(0.20, -0.065)).norm() < 0.012) {
+      other = static_cast<int>(b);
+    }
+  }
+  ASSERT_GE(other, 0);
+  EXPECT_NE(other, found[0]);
+  // Every feature point of the merged blob is in exactly one of the two parts.
+  const std::size_t before = view.objects[static_cast<std::size_t>(found[0])].pixels.size() +
+                             view.objects[static_cast<std::size_t>(other)].pixels.size();
+  const PlanningView again = make_planning_view(textured_points(img, o), cam, region, o);
+  const std::size_t merged = again.objects[0].pixels.size() > again.objects[1].pixels.size()
+                                 ? again.objects[0].pixels.size()
+                                 : again.objects[1].pixels.size();
+  EXPECT_EQ(before, merged);
+}
+
+TEST(PushSplit, ABlobIsLeftWholeWhenTheRegionHoldsAllOrNoneOfIt) {
+  const geometry::Camera cam = down_camera();
+  const PushPlanOptions o = flat_options();
+  const TableRegion region;
+  cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
+  draw_checkered_square(img, cam, {0.20, 0.0}, 0.03);
+  draw_checkered_square(img, cam, {0.32, 0.12}, 0.03);
+  const PlanningView view0 = make_planning_view(textured_points(img, o), cam, region, o);
+  ASSERT_EQ(view0.objects.size(), 2U);
+  // The region covers one object whole (and a little table): nothing to split; found.
+  PlanningView view = view0;
+  std::vector<int> found =
+      split_putative_objects(view, {square_region(cam, {0.20, 0.0}, 0.03, 6)}, 10, region, o);
+  EXPECT_EQ(view.objects.size(), 2U);
+  ASSERT_GE(found[0], 0);
+  EXPECT_NEAR(view.objects[static_cast<std::size_t>(found[0])].centre.y(), 0.0, 0.01);
+  // A region on the empty table, an unknown (empty) region: nothing found, nothing split.
+  view = view0;
+  found = split_putative_objects(view, {square_region(cam, {0.30, -0.15}, 0.02, 0), cv::Mat()}, 10,
+                                 region, o);
+  EXPECT_EQ(view.objects.size(), 2U);
+  EXPECT_EQ(found, (std::vector<int>{-1, -1}));
+  // A region over a sliver of a blob (fewer than min_features points): left whole.
+  view = view0;
+  found = split_putative_objects(view, {square_region(cam, {0.20, 0.03}, 0.004, 0)}, 10, region, o);
+  EXPECT_EQ(view.objects.size(), 2U);
+  EXPECT_THROW((void)split_putative_objects(view, {cv::Mat(10, 10, CV_8U)}, 10, region, o), Error);
 }
 
 }  // namespace

@@ -244,8 +244,8 @@ struct BlobMeanLogP {
 };
 
 /// One line of learn's decision log (decisions.jsonl): an event and the fields it has (the
-/// others are left out). Events: start, look, choose, recognise, refound, rechoose, replan, push,
-/// views, move-on, fault, no-views, end.
+/// others are left out). Events: start, look, split, region, choose, recognise, refound, rechoose,
+/// replan, push, views, move-on, fault, no-views, end.
 struct LearnDecision {
   std::string event = {};
   std::optional<int> object = {};                       ///< the object (class) being learned
@@ -273,9 +273,15 @@ struct LearnDecision {
   std::optional<int> sides_rejected = {};                ///< replan
   std::optional<std::string> fault = {};                 ///< fault: its kind
   std::optional<std::string> message = {};
-  std::optional<int> blobs_out_of_reach = {};  ///< end
-  std::optional<int> pushes = {};              ///< end
-  std::optional<int> faults = {};              ///< end
+  std::optional<int> blobs_before = {};            ///< split
+  std::optional<int> blobs_after = {};             ///< split
+  std::optional<std::string> by = {};              ///< split: what split it (top-down)
+  std::optional<int> pixels = {};                  ///< region: its size, px
+  std::optional<std::vector<int>> forgotten = {};  ///< region: objects whose region was forgotten
+  std::optional<int> blobs_out_of_reach = {};      ///< end
+  std::optional<int> looks_split = {};             ///< end: looks whose blobs were split
+  std::optional<int> pushes = {};                  ///< end
+  std::optional<int> faults = {};                  ///< end
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -305,7 +311,13 @@ struct LearnDecision {
     v(self.sides_rejected, {"sides_rejected", "Sides rejected"});
     v(self.fault, {"fault", "The fault's kind"});
     v(self.message, {"message", "What happened, in words"});
+    v(self.blobs_before, {"blobs_before", "Blobs before the split"});
+    v(self.blobs_after, {"blobs_after", "Blobs after the split"});
+    v(self.by, {"by", "What split the blob"});
+    v(self.pixels, {"pixels", "The region's size, px"});
+    v(self.forgotten, {"forgotten", "Objects whose region was forgotten"});
     v(self.blobs_out_of_reach, {"blobs_out_of_reach", "Blobs out of reach over all looks"});
+    v(self.looks_split, {"looks_split", "Looks whose blobs were split"});
     v(self.pushes, {"pushes", "Pushes"});
     v(self.faults, {"faults", "Logged faults"});
   }
@@ -456,8 +468,10 @@ void LearnHeldOut::describe(Self& self, Visitor& v) {
   const LearnResult& r = *self.result;
   v(r.options.held_out, {"views_per_object", "Held-out views per object"});
   if (r.score) {
-    v(r.score->mot.to_json(), {"mot", "Held out: true objects x classes, Mixture of Topics"});
-    v(r.score->argmax.to_json(), {"argmax", "The same by argmax theta"});
+    v(held_out_confusion_json(r.score->mot, r.score->mot_accuracy),
+      {"mot", "Held out: true objects x classes, Mixture of Topics"});
+    v(held_out_confusion_json(r.score->argmax, r.score->argmax_accuracy),
+      {"argmax", "The same by argmax theta"});
   } else {
     v(false, {"scored", "Whether they were scored"});
     v(std::string("no model: the robot took no view it could learn from (see decisions.jsonl)"),

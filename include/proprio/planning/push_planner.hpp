@@ -189,6 +189,22 @@ int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
                        const Eigen::Vector2d& expected, double radius, const TableRegion& region,
                        const PushPlanOptions& options);
 
+/// Splits the putative objects of `view` by the image regions of objects the robot knows
+/// (thesis 8.1.1: what moved with the arm in a push is one object; the rest of a blob that held
+/// it is another putative object). `regions`: 8-bit masks of the view's image size, non-zero
+/// where known object r lies (e.g. its push's motion segmentation carried to this look), or
+/// empty (unknown). Each feature point of a blob goes to the first region holding it, else to
+/// the rest. A blob is split when at least two parts would hold `min_features` points each: the
+/// part of each such region (the blob's mask within the region) and each connected part of the
+/// rest (the blob's mask outside every region); points of smaller parts stay with the largest
+/// part. The first part keeps the blob's place in view.objects, the others are appended; each
+/// part's centre and hull are made as make_planning_view makes a blob's. Returns, per region,
+/// the index of the putative object holding most of its points (at least min_features), -1 when
+/// none does.
+std::vector<int> split_putative_objects(PlanningView& view, const std::vector<cv::Mat>& regions,
+                                        int min_features, const TableRegion& region,
+                                        const PushPlanOptions& options);
+
 /// How planning ended.
 enum class PlanOutcome {
   kPlanned,         ///< a path was found
