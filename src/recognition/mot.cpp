@@ -548,9 +548,9 @@ std::vector<MotObjectRecord> MotObjectRecord::of(
     r.precision = o.dirichlet.precision();
     if (!o.mixture.components.empty()) {
       auto& cs = r.components.emplace();
-      for (const auto& c : o.mixture.components) {
-        const Eigen::VectorXd& ca = c.dirichlet.alpha();
-        cs.push_back({c.weight, {ca.data(), ca.data() + ca.size()}, c.dirichlet.precision()});
+      for (const auto& comp : o.mixture.components) {
+        const Eigen::VectorXd& ca = comp.dirichlet.alpha();
+        cs.push_back({comp.weight, {ca.data(), ca.data() + ca.size()}, comp.dirichlet.precision()});
       }
     }
     if (fits != nullptr) {
