@@ -3,7 +3,10 @@
 usage: python3 scripts/mot_scatter_table.py OUT_DIR TUNE_SEED SEED...
 Methods: argmax theta with merged topics; the supervised MoT on the E-step's theta (the thesis's;
 smoothing 0, prior from the views); the supervised MoT on the word-posterior theta
-(recognition::ThetaSource::kWordPosterior, same smoothing and prior); the unsupervised MoT.
+(recognition::ThetaSource::kWordPosterior, same smoothing and prior); each object a mixture of
+Dirichlets (MotOptions::components = 10, chosen by BIC) and one precision shared by the objects
+(MotOptions::shared_precision), on either theta (from the grid's "model" key, absent before
+2026-12-02); the unsupervised MoT.
 TUNE_SEED's runs chose among the grid (printed, not counted); the other seeds are the report.
 Figures: mean class accuracy; per object: recall; intervals: mean +- t(0.975, n-1) sd / sqrt(n).
 """
@@ -16,17 +19,28 @@ out, tune, seeds = sys.argv[1], sys.argv[2], sys.argv[3:]
 T975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26}
 
 
-def grid(run, theta, s=0.0, prior="views"):
+def grid(run, theta, s=0.0, prior="views", model="dirichlet"):
     for g in run["mot_grid"]:
-        if g["theta"] == theta and g["smoothing"] == s and g["prior"] == prior:
+        if (g["theta"] == theta and g["smoothing"] == s and g["prior"] == prior
+                and g.get("model", "dirichlet") == model):
             return g
-    raise KeyError((theta, s, prior))
+    raise KeyError((theta, s, prior, model))
+
+
+MOT = ["MoT, E-step theta", "MoT, word-posterior theta", "MoT mixture, E-step theta",
+       "MoT mixture, word-posterior theta", "MoT shared precision, E-step theta",
+       "MoT shared precision, word-posterior theta"]
 
 
 def methods(run):
-    return {"argmax theta, merged": run["classes"], "MoT, E-step theta": run["mot"],
-            "MoT, word-posterior theta": grid(run, "word-posterior"),
-            "MoT, unsupervised (C given)": run["mot_unsupervised"]}
+    out = {"argmax theta, merged": run["classes"], "MoT, E-step theta": run["mot"],
+           "MoT, word-posterior theta": grid(run, "word-posterior")}
+    if any("model" in g for g in run["mot_grid"]):
+        for label, model in (("mixture", "mixture"), ("shared precision", "shared-precision")):
+            out[f"MoT {label}, E-step theta"] = grid(run, "estep", model=model)
+            out[f"MoT {label}, word-posterior theta"] = grid(run, "word-posterior", model=model)
+    out["MoT, unsupervised (C given)"] = run["mot_unsupervised"]
+    return out
 
 
 def recalls(c):
@@ -47,7 +61,7 @@ for n in (3, 4):
     print(f"tuning seed {tune}: grid (mean class accuracy %):")
     for g in r["mot_grid"]:
         print(f"  {g['theta']:>14} s={g['smoothing']:<5} prior {g['prior']:<8} "
-              f"{100 * g['mean_class_accuracy']:.1f}")
+              f"{g.get('model', 'dirichlet'):<16} {100 * g['mean_class_accuracy']:.1f}")
     table, per_object, bic, summed = {}, {}, [], {}
     names = None
     for s in seeds:
@@ -72,7 +86,7 @@ for n in (3, 4):
         print(f"| {k} | " + " | ".join(f"{x:.1f}" for x in vals) + f" | {interval(vals)} |")
     a = table["argmax theta, merged"]
     print()
-    for k in ("MoT, E-step theta", "MoT, word-posterior theta"):
+    for k in (m for m in MOT if m in table):
         wins = sum(table[k][s] > a[s] for s in done)
         print(f"{k} above argmax on {wins} of {len(done)} seeds")
     print("\nper object, recall % (mean over the seeds, min-max):\n")
@@ -83,7 +97,10 @@ for n in (3, 4):
         print(f"| {k} | " + " | ".join(
             f"{statistics.mean(c):.1f} ({min(c):.0f}-{max(c):.0f})" for c in cols) + " |")
     print("\nconfusion matrices summed over the report seeds (rows: true object):")
-    for k in ("argmax theta, merged", "MoT, word-posterior theta"):
+    for k in ("argmax theta, merged", "MoT, word-posterior theta",
+              "MoT mixture, word-posterior theta", "MoT shared precision, word-posterior theta"):
+        if k not in summed:
+            continue
         print(f"{k}:\n" + " " * 12 + "".join(f"{x[:10]:>11}" for x in names))
         for label, row in zip(names, summed[k]):
             print(f"{label[:10]:>10}  " + "".join(f"{x:11d}" for x in row))

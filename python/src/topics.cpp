@@ -172,6 +172,11 @@ py::dict mot_fit_summary(const topics::MotFitSummary& s) {
   py::list fits;
   for (const auto& f : s.fits) fits.append(fit_summary_dict(f));
   d["fits"] = fits;
+  // MotOptions::components > 1: the Dirichlets chosen per object; shared_precision: the shared s.
+  std::vector<int> components;
+  for (const auto& m : s.mixtures) components.push_back(m.components);
+  d["components"] = components;
+  if (s.shared) d["shared_precision"] = s.shared->precision;
   d["brief"] = s.brief();
   return d;
 }

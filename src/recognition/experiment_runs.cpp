@@ -176,7 +176,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
       std::vector<ScatterGridRecord>& grid = j.mot_grid.emplace();
       for (const MotGridPoint& g : run.mot_grid) {
         grid.push_back({g.classes.to_json(), g.source, g.smoothing,
-                        g.prior == topics::MotPrior::kUniform ? "uniform" : "views"});
+                        g.prior == topics::MotPrior::kUniform ? "uniform" : "views", g.model});
       }
     }
   }

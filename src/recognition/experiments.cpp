@@ -319,12 +319,16 @@ std::vector<ScatterExperimentResult> run_scatter(const std::vector<episode::Epis
         for (const auto source : {ThetaSource::kEStep, ThetaSource::kWordPosterior}) {
           for (const double s : o.mot_smoothing_grid) {
             for (const auto prior : {topics::MotPrior::kViews, topics::MotPrior::kUniform}) {
-              topics::MotOptions g = o.mot_options;
-              g.smoothing = s;
-              g.prior = prior;
-              r.mot_grid.push_back(
-                  {source, s, prior,
-                   evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source).classes});
+              for (const std::string model : {"dirichlet", "shared-precision", "mixture"}) {
+                topics::MotOptions g = o.mot_options;
+                g.smoothing = s;
+                g.prior = prior;
+                g.shared_precision = model == "shared-precision";
+                g.components = model == "mixture" ? 10 : 1;
+                r.mot_grid.push_back(
+                    {source, s, prior, model,
+                     evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source).classes});
+              }
             }
           }
         }

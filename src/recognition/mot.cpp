@@ -506,6 +506,14 @@ MotInfo run_mot_info(const fs::path& model, const core::Provenance& provenance) 
     s << o.name << ": " << o.views << " views, precision " << o.dirichlet.precision()
       << ", mean theta";
     for (Eigen::Index k = 0; k < o.dirichlet.dim(); ++k) s << ' ' << o.dirichlet.mean()(k);
+    if (!o.mixture.components.empty()) {
+      s << "; density a mixture of " << o.mixture.num_components()
+        << " Dirichlets (weight/precision";
+      for (const auto& c : o.mixture.components) {
+        s << ' ' << c.weight << '/' << c.dirichlet.precision();
+      }
+      s << ')';
+    }
     out.lines.push_back(s.str());
   }
   out.model_file = model;
@@ -538,6 +546,13 @@ std::vector<MotObjectRecord> MotObjectRecord::of(
     const Eigen::VectorXd m = o.dirichlet.mean();
     r.mean.emplace(m.data(), m.data() + m.size());
     r.precision = o.dirichlet.precision();
+    if (!o.mixture.components.empty()) {
+      auto& cs = r.components.emplace();
+      for (const auto& comp : o.mixture.components) {
+        const Eigen::VectorXd& ca = comp.dirichlet.alpha();
+        cs.push_back({comp.weight, {ca.data(), ca.data() + ca.size()}, comp.dirichlet.precision()});
+      }
+    }
     if (fits != nullptr) {
       const topics::DirichletFitSummary& s = (*fits)[c];
       r.fit =

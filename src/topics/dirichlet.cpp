@@ -27,8 +27,8 @@ double log_gamma_variate(core::Rng& rng, double shape) {
 }  // namespace
 
 Dirichlet::Dirichlet(Eigen::VectorXd alpha) : alpha_(std::move(alpha)) {
-  require(alpha_.size() >= 2,
-          "Dirichlet: alpha needs at least 2 entries, got " + std::to_string(alpha_.size()));
+  if (!(alpha_.size() >= 2))
+    throw Error("Dirichlet: alpha needs at least 2 entries, got " + std::to_string(alpha_.size()));
   for (Eigen::Index k = 0; k < alpha_.size(); ++k) {
     if (!(std::isfinite(alpha_(k)) && alpha_(k) > 0.0)) {
       std::ostringstream m;
@@ -51,9 +51,9 @@ Eigen::VectorXd Dirichlet::mean_log() const {
 }
 
 double Dirichlet::log_density(const Eigen::Ref<const Eigen::VectorXd>& p) const {
-  require(p.size() == alpha_.size(), "Dirichlet::log_density: a point of size " +
-                                         std::to_string(p.size()) + " for a Dirichlet of size " +
-                                         std::to_string(alpha_.size()));
+  if (!(p.size() == alpha_.size()))
+    throw Error("Dirichlet::log_density: a point of size " + std::to_string(p.size()) +
+                " for a Dirichlet of size " + std::to_string(alpha_.size()));
   double r = log_normalizer_;
   for (Eigen::Index k = 0; k < alpha_.size(); ++k) {
     if (alpha_(k) != 1.0) r += (alpha_(k) - 1.0) * std::log(p(k));
@@ -62,17 +62,17 @@ double Dirichlet::log_density(const Eigen::Ref<const Eigen::VectorXd>& p) const 
 }
 
 double Dirichlet::log_density_of_log(const Eigen::Ref<const Eigen::VectorXd>& log_p) const {
-  require(log_p.size() == alpha_.size(),
-          "Dirichlet::log_density_of_log: a point of size " + std::to_string(log_p.size()) +
-              " for a Dirichlet of size " + std::to_string(alpha_.size()));
+  if (!(log_p.size() == alpha_.size()))
+    throw Error("Dirichlet::log_density_of_log: a point of size " + std::to_string(log_p.size()) +
+                " for a Dirichlet of size " + std::to_string(alpha_.size()));
   return log_normalizer_ + (alpha_.array() - 1.0).matrix().dot(log_p);
 }
 
 double Dirichlet::log_likelihood(const DirichletStats& stats) const {
   if (stats.count() == 0.0) return 0.0;
-  require(stats.dim() == dim(), "Dirichlet::log_likelihood: statistics of dimension " +
-                                    std::to_string(stats.dim()) + " for a Dirichlet of size " +
-                                    std::to_string(dim()));
+  if (!(stats.dim() == dim()))
+    throw Error("Dirichlet::log_likelihood: statistics of dimension " +
+                std::to_string(stats.dim()) + " for a Dirichlet of size " + std::to_string(dim()));
   return stats.count() * (log_normalizer_ + (alpha_.array() - 1.0).matrix().dot(stats.mean_log()));
 }
 

@@ -115,13 +115,17 @@ std::string DirichletFitSummary::brief() const {
 DirichletFit fit_dirichlet(const DirichletStats& stats, const DirichletFitOptions& options) {
   options.validate();
   require(stats.count() > 0.0, "Dirichlet fit: no samples");
-  require(stats.dim() >= 2, "Dirichlet fit: at least 2 proportions per sample are needed, not " +
-                                std::to_string(stats.dim()));
+  // Messages built only on failure: fits run in EM's inner loop (dirichlet_mixture).
+  if (stats.dim() < 2) {
+    throw Error("Dirichlet fit: at least 2 proportions per sample are needed, not " +
+                std::to_string(stats.dim()));
+  }
   const Eigen::VectorXd& m = stats.mean_log();
   for (Eigen::Index k = 0; k < m.size(); ++k) {
-    require(std::isfinite(m(k)) && m(k) >= kMinMeanLog,
-            "Dirichlet fit: the mean log-proportion " + std::to_string(k) + " is " + number(m(k)) +
-                ", not finite or below -1e100");
+    if (!(std::isfinite(m(k)) && m(k) >= kMinMeanLog)) {
+      throw Error("Dirichlet fit: the mean log-proportion " + std::to_string(k) + " is " +
+                  number(m(k)) + ", not finite or below -1e100");
+    }
   }
   const Eigen::Index T = m.size();
   const double n = stats.count();

@@ -38,7 +38,8 @@ void ProportionOptions::validate() const {
 }
 
 DirichletStats::DirichletStats(int dim) {
-  require(dim >= 1, "DirichletStats: the dimension must be at least 1, not " + std::to_string(dim));
+  if (!(dim >= 1))
+    throw Error("DirichletStats: the dimension must be at least 1, not " + std::to_string(dim));
   mean_log_ = Eigen::VectorXd::Zero(dim);
 }
 
@@ -127,16 +128,16 @@ DirichletStats DirichletStats::of_log_proportions(
 }
 
 void DirichletStats::add_log(const Eigen::Ref<const Eigen::VectorXd>& log_p, double weight) {
-  require(std::isfinite(weight) && weight > 0.0,
-          "DirichletStats::add_log: the weight must be positive and finite, not " +
-              std::to_string(weight));
+  if (!(std::isfinite(weight) && weight > 0.0))
+    throw Error("DirichletStats::add_log: the weight must be positive and finite, not " +
+                std::to_string(weight));
   if (dim() == 0) mean_log_ = Eigen::VectorXd::Zero(log_p.size());
-  require(log_p.size() == mean_log_.size() && log_p.size() >= 1,
-          "DirichletStats::add_log: a sample of size " + std::to_string(log_p.size()) +
-              " for statistics of dimension " + std::to_string(mean_log_.size()));
+  if (!(log_p.size() == mean_log_.size() && log_p.size() >= 1))
+    throw Error("DirichletStats::add_log: a sample of size " + std::to_string(log_p.size()) +
+                " for statistics of dimension " + std::to_string(mean_log_.size()));
   for (Eigen::Index k = 0; k < log_p.size(); ++k) {
-    require(std::isfinite(log_p(k)),
-            "DirichletStats::add_log: " + entry(k, log_p(k)) + ", not finite");
+    if (!(std::isfinite(log_p(k))))
+      throw Error("DirichletStats::add_log: " + entry(k, log_p(k)) + ", not finite");
   }
   count_ += weight;
   mean_log_ += (weight / count_) * (log_p - mean_log_);
@@ -149,16 +150,17 @@ void DirichletStats::merge(const DirichletStats& other) {
     return;
   }
   if (count_ == 0.0) {
-    require(dim() == 0 || dim() == other.dim(), "DirichletStats::merge: dimensions " +
-                                                    std::to_string(dim()) + " and " +
-                                                    std::to_string(other.dim()));
+    if (!(dim() == 0 || dim() == other.dim()))
+      throw Error("DirichletStats::merge: dimensions " + std::to_string(dim()) + " and " +
+                  std::to_string(other.dim()));
     const std::int64_t c = clamped_;
     *this = other;
     clamped_ += c;
     return;
   }
-  require(dim() == other.dim(), "DirichletStats::merge: dimensions " + std::to_string(dim()) +
-                                    " and " + std::to_string(other.dim()));
+  if (!(dim() == other.dim()))
+    throw Error("DirichletStats::merge: dimensions " + std::to_string(dim()) + " and " +
+                std::to_string(other.dim()));
   const double total = count_ + other.count_;
   mean_log_ = (count_ / total) * mean_log_ + (other.count_ / total) * other.mean_log_;
   count_ = total;
@@ -166,8 +168,9 @@ void DirichletStats::merge(const DirichletStats& other) {
 }
 
 void DirichletStats::scale(double factor) {
-  require(factor > 0.0 && factor <= 1.0,
-          "DirichletStats::scale: the factor must be in (0, 1], not " + std::to_string(factor));
+  if (!(factor > 0.0 && factor <= 1.0))
+    throw Error("DirichletStats::scale: the factor must be in (0, 1], not " +
+                std::to_string(factor));
   count_ *= factor;
 }
 

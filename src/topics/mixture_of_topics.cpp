@@ -37,9 +37,58 @@ DirichletStats stats_of(const Eigen::MatrixXd& log_theta, std::span<const int> l
   return s;
 }
 
+/// The mixture options of MotOptions.
+DirichletMixtureOptions mixture_options(const MotOptions& o, std::uint64_t object) {
+  DirichletMixtureOptions m;
+  m.max_components = o.components;
+  m.restarts = o.component_restarts;
+  m.max_iterations = o.component_iterations;
+  m.min_component_count = o.component_min_views;
+  m.seed = core::stream_seed(o.seed, 0x4d495854ULL, object);  // "MIXT", the object's index
+  m.fit = o.fit;
+  return m;
+}
+
+/// Every object's Dirichlet refitted with one shared precision (MotOptions::shared_precision).
+SharedPrecisionSummary share_precision(MotModel& model, const MotOptions& options) {
+  std::vector<DirichletStats> stats;
+  stats.reserve(model.objects.size());
+  for (const auto& o : model.objects) stats.push_back(o.stats);
+  SharedPrecisionFit f = fit_dirichlets_shared_precision(stats, options.fit);
+  for (std::size_t c = 0; c < model.objects.size(); ++c) {
+    model.objects[c].dirichlet = std::move(f.dirichlets[c]);
+  }
+  return f.summary;
+}
+
+/// The mixture of an object's views (log theta rows), kept only when BIC chose more than one
+/// component (an empty mixture otherwise: `dirichlet` is the same fit).
+DirichletMixture object_mixture(const Eigen::MatrixXd& rows, const MotOptions& options,
+                                std::uint64_t object, DirichletMixtureSummary& summary) {
+  DirichletMixtureFit f = fit_dirichlet_mixture(rows, mixture_options(options, object));
+  summary = f.summary;
+  if (f.mixture.num_components() < 2) return {};
+  return std::move(f.mixture);
+}
+
+/// The rows of log_theta whose label is c.
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& log_theta, std::span<const int> labels, int c) {
+  std::vector<Eigen::Index> idx;
+  for (Eigen::Index d = 0; d < log_theta.rows(); ++d) {
+    if (labels[static_cast<std::size_t>(d)] == c) idx.push_back(d);
+  }
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(idx.size()), log_theta.cols());
+  for (std::size_t i = 0; i < idx.size(); ++i) {
+    out.row(static_cast<Eigen::Index>(i)) = log_theta.row(idx[i]);
+  }
+  return out;
+}
+
 /// The model fitted to log_theta by labels in [0, C) (-1 ignored); every class has >= 2 views.
+/// `supervised`: MotOptions::components and shared_precision apply.
 MotFit fit_labelled(const Eigen::MatrixXd& log_theta, std::span<const int> labels,
-                    const std::vector<std::string>& classes, const MotOptions& options) {
+                    const std::vector<std::string>& classes, const MotOptions& options,
+                    bool supervised = false) {
   MotFit out;
   out.model.prior = options.prior;
   out.model.smoothing = options.smoothing;
@@ -53,6 +102,17 @@ MotFit fit_labelled(const Eigen::MatrixXd& log_theta, std::span<const int> label
     out.model.objects.push_back(MotObject{classes[static_cast<std::size_t>(c)], std::move(s),
                                           std::move(f.dirichlet), views});
   }
+  if (supervised && options.shared_precision) {
+    out.summary.shared = share_precision(out.model, options);
+  }
+  if (supervised && options.components > 1) {
+    for (int c = 0; c < static_cast<int>(classes.size()); ++c) {
+      DirichletMixtureSummary m;
+      out.model.objects[static_cast<std::size_t>(c)].mixture =
+          object_mixture(rows_of(log_theta, labels, c), options, static_cast<std::uint64_t>(c), m);
+      out.summary.mixtures.push_back(std::move(m));
+    }
+  }
   out.assignment.assign(labels.begin(), labels.end());
   for (const int l : labels) out.summary.views += l >= 0 ? 1 : 0;
   return out;
@@ -64,7 +124,7 @@ Eigen::MatrixXd log_scores(const MotModel& model, const Eigen::MatrixXd& log_the
   Eigen::MatrixXd out(log_theta.rows(), model.num_classes());
   for (Eigen::Index d = 0; d < log_theta.rows(); ++d) {
     for (int c = 0; c < model.num_classes(); ++c) {
-      out(d, c) = model.objects[static_cast<std::size_t>(c)].dirichlet.log_density_of_log(
+      out(d, c) = model.objects[static_cast<std::size_t>(c)].log_density_of_log(
                       log_theta.row(d).transpose()) +
                   prior(c);
     }
@@ -204,11 +264,61 @@ MotFit fit_clusters(const Eigen::MatrixXd& theta, const Eigen::MatrixXd& log_the
   return fit;
 }
 
+/// The exact rule for an object with a mixture: each new view (rows idx of log_theta) is merged
+/// into every component's statistics with its responsibility under the old mixture (after the old
+/// counts are multiplied by options.forgetting), each component is refitted and the weights are
+/// the merged counts' shares: one step of online EM.
+DirichletMixtureSummary update_mixture_exact(DirichletMixture& mixture,
+                                             const Eigen::MatrixXd& log_theta,
+                                             const std::vector<Eigen::Index>& idx,
+                                             const MotOptions& options) {
+  const int k = mixture.num_components();
+  std::vector<DirichletStats> fresh(static_cast<std::size_t>(k),
+                                    DirichletStats(static_cast<int>(log_theta.cols())));
+  Eigen::VectorXd l(k);
+  for (const Eigen::Index d : idx) {
+    for (int j = 0; j < k; ++j) {
+      const auto& c = mixture.components[static_cast<std::size_t>(j)];
+      l(j) = std::log(c.weight) + c.dirichlet.log_density_of_log(log_theta.row(d).transpose());
+    }
+    const double z = log_sum_exp(l);
+    for (int j = 0; j < k; ++j) {
+      const double r = std::exp(l(j) - z);
+      if (r > 0.0) fresh[static_cast<std::size_t>(j)].add_log(log_theta.row(d).transpose(), r);
+    }
+  }
+  DirichletMixtureSummary summary;
+  summary.samples = static_cast<int>(idx.size());
+  summary.components = k;
+  summary.iterations = 1;
+  summary.stop = MixtureStop::kMaxIterations;
+  double total = 0;
+  for (int j = 0; j < k; ++j) {
+    auto& c = mixture.components[static_cast<std::size_t>(j)];
+    if (options.forgetting < 1.0) c.stats.scale(options.forgetting);
+    c.stats.merge(fresh[static_cast<std::size_t>(j)]);
+    DirichletFit f = fit_dirichlet(c.stats, options.fit);
+    c.dirichlet = std::move(f.dirichlet);
+    summary.log_likelihood += f.summary.log_likelihood;
+    total += c.stats.count();
+  }
+  for (auto& c : mixture.components) c.weight = c.stats.count() / total;
+  return summary;
+}
+
 }  // namespace
 
 void MotOptions::validate() const {
   core::check_field_bounds(*this, "Mixture of Topics");
+  require(!(shared_precision && components > 1),
+          "Mixture of Topics: shared_precision is for one Dirichlet per object, not with "
+          "components > 1");
   fit.validate();
+}
+
+double MotObject::log_density_of_log(const Eigen::Ref<const Eigen::VectorXd>& log_theta) const {
+  if (!mixture.components.empty()) return mixture.log_density_of_log(log_theta);
+  return dirichlet.log_density_of_log(log_theta);
 }
 
 Eigen::VectorXd MotModel::log_prior() const {
@@ -240,6 +350,12 @@ void MotModel::validate() const {
             "Mixture of Topics model: object '" + o.name + "' has another number of topics");
     require(std::isfinite(o.views) && o.views > 0,
             "Mixture of Topics model: object '" + o.name + "' has no views");
+    if (!o.mixture.components.empty()) {
+      o.mixture.validate();
+      require(o.mixture.components[0].dirichlet.dim() == t,
+              "Mixture of Topics model: object '" + o.name +
+                  "' has mixture components of another number of topics");
+    }
   }
 }
 
@@ -288,6 +404,11 @@ std::string MotFitSummary::brief() const {
   int converged = 0;
   for (const auto& f : fits) converged += f.converged ? 1 : 0;
   s << "; " << converged << " of " << fits.size() << " Dirichlet fits converged";
+  if (!mixtures.empty()) {
+    s << "; Dirichlet components per object:";
+    for (const auto& m : mixtures) s << " " << m.components;
+  }
+  if (shared) s << "; " << shared->brief();
   if (refine_rounds > 0) s << "; " << refine_rounds << " hard-EM rounds";
   if (!bic.empty()) s << "; C chosen by BIC among 1.." << bic.size();
   s.precision(8);
@@ -320,7 +441,7 @@ MotFit fit_mot(const Eigen::Ref<const Eigen::MatrixXd>& theta, std::span<const i
                   " view(s); its Dirichlet needs at least 2 (one view does not fix its precision)");
     }
   }
-  MotFit fit = fit_labelled(log_theta, labels, classes, options);
+  MotFit fit = fit_labelled(log_theta, labels, classes, options, true);
   Eigen::MatrixXd labelled(fit.summary.views, log_theta.cols());
   Eigen::Index r = 0;
   for (std::size_t d = 0; d < labels.size(); ++d) {
@@ -433,28 +554,64 @@ MotUpdateSummary update_mot(MotModel& model, const Eigen::Ref<const Eigen::Matri
       summary.fits.push_back(f.summary);
       next.objects.push_back(
           MotObject{name, fresh, std::move(f.dirichlet), static_cast<double>(n)});
+      if (options.components > 1) {
+        Eigen::MatrixXd rows_new(n, log_theta.cols());
+        for (int i = 0; i < n; ++i)
+          rows_new.row(i) = log_theta.row(idx[static_cast<std::size_t>(i)]);
+        DirichletMixtureSummary m;
+        next.objects.back().mixture = object_mixture(rows_new, options, next.objects.size() - 1, m);
+        summary.mixtures.push_back(std::move(m));
+      }
       ++summary.new_objects;
       continue;
     }
+    const auto object = static_cast<std::uint64_t>(it - next.objects.begin());
     DirichletStats stats = it->stats;
     if (options.update == MotUpdateRule::kExact) {
       if (options.forgetting < 1.0) stats.scale(options.forgetting);
       stats.merge(fresh);
       it->views = it->views * options.forgetting + n;
+      if (!it->mixture.components.empty()) {
+        summary.mixtures.push_back(update_mixture_exact(it->mixture, log_theta, idx, options));
+      }
     } else {
-      // Thesis 8.1.2: as many samples of the old Dirichlet as new views, appended, refitted.
+      // Thesis 8.1.2: as many samples of the old Dirichlet (or mixture) as new views, appended,
+      // refitted.
       stats = DirichletStats(model.num_topics());
-      const Eigen::MatrixXd old = it->dirichlet.sample_log(rng, n);
-      for (Eigen::Index i = 0; i < old.rows(); ++i) stats.add_log(old.row(i).transpose());
+      const bool mixed = !it->mixture.components.empty();
+      Eigen::MatrixXd rows_all(2 * n, log_theta.cols());
+      for (int i = 0; i < n; ++i) {
+        const Dirichlet* from = &it->dirichlet;
+        if (mixed) {
+          double u = rng.uniform();
+          for (const auto& c : it->mixture.components) {
+            from = &c.dirichlet;
+            u -= c.weight;
+            if (u < 0) break;
+          }
+        }
+        rows_all.row(i) = from->sample_log(rng).transpose();
+        stats.add_log(rows_all.row(i).transpose());
+      }
+      for (int i = 0; i < n; ++i)
+        rows_all.row(n + i) = log_theta.row(idx[static_cast<std::size_t>(i)]);
       stats.merge(fresh);
       summary.resampled += n;
       it->views += n;
+      if (mixed) {
+        MotOptions o = options;
+        o.components = std::max(options.components, it->mixture.num_components());
+        DirichletMixtureSummary m;
+        it->mixture = object_mixture(rows_all, o, object, m);
+        summary.mixtures.push_back(std::move(m));
+      }
     }
     DirichletFit f = fit_dirichlet(stats, options.fit);
     summary.fits.push_back(f.summary);
     it->stats = std::move(stats);
     it->dirichlet = std::move(f.dirichlet);
   }
+  if (options.shared_precision) (void)share_precision(next, options);
   model = std::move(next);
   return summary;
 }

@@ -19,6 +19,8 @@ namespace {
 constexpr core::BinaryFormat kFormat{"PRMOTMDL", kMotModelFormatVersion, "Mixture of Topics model"};
 /// Version 1: as version 2 without the trailing theta smoothing.
 constexpr core::BinaryFormat kFormatV1{"PRMOTMDL", 1, "Mixture of Topics model"};
+/// Version 2: as version 3 without the mixture components after each object.
+constexpr core::BinaryFormat kFormatV2{"PRMOTMDL", 2, "Mixture of Topics model"};
 
 /// The format version in a file's header, when the header is there and its magic is ours.
 std::uint32_t header_version(std::string_view bytes) {
@@ -29,8 +31,12 @@ std::uint32_t header_version(std::string_view bytes) {
 }
 
 /// Bytes of one object's record besides its name: name length, views, count, T mean logs, T
-/// alphas.
-std::uint64_t object_bytes(std::uint64_t topics) { return 4 + 8 + 8 + 16 * topics; }
+/// alphas (and from version 3 the number of mixture components).
+std::uint64_t object_bytes(std::uint64_t topics, bool components) {
+  return 4 + 8 + 8 + 16 * topics + (components ? 4 : 0);
+}
+/// Bytes of one mixture component: weight, count, T mean logs, T alphas.
+std::uint64_t component_bytes(std::uint64_t topics) { return 8 + 8 + 16 * topics; }
 
 std::string hex(std::uint32_t v) {
   std::ostringstream s;
@@ -111,6 +117,18 @@ std::string serialize_mot_model(const MotModel& model, const MotBasis& basis) {
     put_binary(payload, o.stats.count());
     for (int k = 0; k < t; ++k) put_binary(payload, o.stats.mean_log()(k));
     for (int k = 0; k < t; ++k) put_binary(payload, o.dirichlet.alpha()(k));
+    require(
+        o.mixture.num_components() <= static_cast<int>(kMotMaxComponents),
+        "Mixture of Topics model: more than " + std::to_string(kMotMaxComponents) + " components");
+    put_binary(payload, static_cast<std::uint32_t>(o.mixture.num_components()));
+    for (const auto& c : o.mixture.components) {
+      require(c.stats.dim() == t && c.stats.count() > 0,
+              "Mixture of Topics model: a component of '" + o.name + "' has no statistics");
+      put_binary(payload, c.weight);
+      put_binary(payload, c.stats.count());
+      for (int k = 0; k < t; ++k) put_binary(payload, c.stats.mean_log()(k));
+      for (int k = 0; k < t; ++k) put_binary(payload, c.dirichlet.alpha()(k));
+    }
   }
   require(model.smoothing >= 0.0 && model.smoothing <= 0.5,
           "Mixture of Topics model: smoothing outside [0, 0.5]");
@@ -119,9 +137,11 @@ std::string serialize_mot_model(const MotModel& model, const MotBasis& basis) {
 }
 
 MotModelFile parse_mot_model(std::string_view bytes, const fs::path& source) {
-  const bool v1 = header_version(bytes) == 1;
-  core::BinaryReader r(core::unframe_binary(bytes, v1 ? kFormatV1 : kFormat, source), source,
-                       kFormat.kind);
+  const std::uint32_t version = header_version(bytes);
+  const bool v1 = version == 1;
+  const bool has_components = version != 1 && version != 2;
+  const core::BinaryFormat& format = v1 ? kFormatV1 : version == 2 ? kFormatV2 : kFormat;
+  core::BinaryReader r(core::unframe_binary(bytes, format, source), source, kFormat.kind);
   const std::uint64_t trailer = v1 ? 0 : 8;  // the smoothing after the objects
   const auto t = r.get<std::uint32_t>("T");
   const auto c = r.get<std::uint32_t>("C");
@@ -135,7 +155,7 @@ MotModelFile parse_mot_model(std::string_view bytes, const fs::path& source) {
     return Error::in_file(source, "corrupt Mixture of Topics model file: " + what);
   };
   if (t < 2 || t > kMotMaxTopics || c < 1 || c > kMotMaxClasses ||
-      static_cast<std::uint64_t>(c) * object_bytes(t) + trailer > r.left()) {
+      static_cast<std::uint64_t>(c) * object_bytes(t, has_components) + trailer > r.left()) {
     throw corrupt("sizes T = " + std::to_string(t) + ", C = " + std::to_string(c) + " for " +
                   std::to_string(r.left()) + " bytes");
   }
@@ -170,6 +190,42 @@ MotModelFile parse_mot_model(std::string_view bytes, const fs::path& source) {
       out.model.objects.push_back({std::move(name), std::move(stats), Dirichlet(alpha), views});
     } catch (const Error& e) {
       throw corrupt(e.what());
+    }
+    if (!has_components) continue;
+    MotObject& o = out.model.objects.back();
+    const auto m = r.get<std::uint32_t>("the number of components");
+    if (m > kMotMaxComponents ||
+        static_cast<std::uint64_t>(m) * component_bytes(t) +
+                static_cast<std::uint64_t>(c - 1 - i) * object_bytes(t, true) + trailer >
+            r.left()) {
+      throw corrupt("object '" + o.name + "' claims " + std::to_string(m) + " components for " +
+                    std::to_string(r.left()) + " bytes");
+    }
+    for (std::uint32_t j = 0; j < m; ++j) {
+      const auto weight = r.get<double>("a component weight");
+      const auto cn = r.get<double>("a component count");
+      for (std::uint32_t k = 0; k < t; ++k) mean_log(k) = r.get<double>("a mean log");
+      for (std::uint32_t k = 0; k < t; ++k) alpha(k) = r.get<double>("an alpha");
+      if (!(std::isfinite(weight) && weight > 0 && std::isfinite(cn) && cn > 0) ||
+          !mean_log.allFinite()) {
+        throw corrupt("object '" + o.name + "', component " + std::to_string(j) + ": weight " +
+                      std::to_string(weight) + ", count " + std::to_string(cn) +
+                      " or a mean log not finite");
+      }
+      try {
+        DirichletStats cs;
+        cs.add_log(mean_log, cn);
+        o.mixture.components.push_back({weight, std::move(cs), Dirichlet(alpha)});
+      } catch (const Error& e) {
+        throw corrupt(e.what());
+      }
+    }
+    if (m > 0) {
+      try {
+        o.mixture.validate();
+      } catch (const Error& e) {
+        throw corrupt("object '" + o.name + "': " + e.what());
+      }
     }
   }
   if (!v1) {

@@ -268,6 +268,116 @@ TEST(MixtureOfTopics, BicChoosesTheNumberOfObjects) {
   EXPECT_EQ(fit_mot_unsupervised(one.theta, o).model.num_classes(), 1);
 }
 
+/// Two objects: "two-faced" seen in two poses (its views at topic 0 or topic 1), "between" whose
+/// views mix topics 0 and 1. One Dirichlet for two-faced has alpha < 1 on both topics and is
+/// high between them too; a mixture of two Dirichlets is not.
+struct TwoFaced {
+  Eigen::MatrixXd theta;
+  std::vector<int> labels;
+};
+
+TwoFaced draw_two_faced(int per_object, std::uint64_t seed) {
+  core::Rng rng(seed);
+  Eigen::VectorXd a(4), b(4), c(4);
+  a << 12.0, 1.0, 0.5, 0.5;
+  b << 1.0, 12.0, 0.5, 0.5;
+  c << 4.0, 4.0, 0.7, 0.7;
+  TwoFaced v;
+  v.theta.resize(2 * per_object, 4);
+  for (int i = 0; i < 2 * per_object; ++i) {
+    const bool first = i < per_object;
+    const Eigen::VectorXd& alpha = first ? (rng.uniform() < 0.5 ? a : b) : c;
+    v.theta.row(i) = Dirichlet(alpha).sample(rng).transpose();
+    v.labels.push_back(first ? 0 : 1);
+  }
+  return v;
+}
+
+TEST(MixtureOfTopics, MixturesOfDirichletsFitObjectsSeenInSeveralPoses) {
+  const TwoFaced train = draw_two_faced(400, 31);
+  const TwoFaced test = draw_two_faced(400, 32);
+  const std::vector<std::string> names{"two-faced", "between"};
+  const MotFit one = fit_mot(train.theta, train.labels, names);
+  MotOptions o;
+  o.components = 5;
+  const MotFit mixed = fit_mot(train.theta, train.labels, names, o);
+  ASSERT_EQ(mixed.summary.mixtures.size(), 2U);
+  EXPECT_EQ(mixed.summary.mixtures[0].components, 2) << mixed.summary.mixtures[0].brief();
+  EXPECT_EQ(mixed.model.objects[0].mixture.num_components(), 2);
+  // "between" is one Dirichlet: no mixture kept, its density is the plain fit's.
+  EXPECT_EQ(mixed.summary.mixtures[1].components, 1) << mixed.summary.mixtures[1].brief();
+  EXPECT_EQ(mixed.model.objects[1].mixture.num_components(), 0);
+  EXPECT_EQ(mixed.model.objects[1].dirichlet.alpha(), one.model.objects[1].dirichlet.alpha());
+  EXPECT_NE(mixed.summary.brief().find("components per object: 2 1"), std::string::npos)
+      << mixed.summary.brief();
+  const double acc_one = accuracy(classify_mot(one.model, test.theta).predicted, test.labels);
+  const double acc_mixed = accuracy(classify_mot(mixed.model, test.theta).predicted, test.labels);
+  std::cout << "one Dirichlet per object " << acc_one << ", mixtures " << acc_mixed << '\n';
+  EXPECT_GT(acc_mixed, 0.93);  // the true model's Bayes accuracy is about 0.94 here
+  EXPECT_GT(acc_mixed, acc_one + 0.03);
+  EXPECT_GT(mixed.summary.log_likelihood, one.summary.log_likelihood);
+  // components = 1 is the model of before, exactly.
+  MotOptions plain;
+  plain.components = 1;
+  const MotFit again = fit_mot(train.theta, train.labels, names, plain);
+  EXPECT_EQ(again.summary.log_likelihood, one.summary.log_likelihood);
+  EXPECT_TRUE(again.summary.mixtures.empty());
+}
+
+TEST(MixtureOfTopics, MixtureObjectsUpdateOnline) {
+  const TwoFaced first = draw_two_faced(300, 41);
+  const TwoFaced second = draw_two_faced(300, 42);
+  const TwoFaced test = draw_two_faced(400, 43);
+  const std::vector<std::string> names{"two-faced", "between"};
+  MotOptions o;
+  o.components = 4;
+  std::vector<std::string> labels;
+  for (const int l : second.labels) labels.push_back(names[static_cast<std::size_t>(l)]);
+  for (const auto rule : {MotUpdateRule::kExact, MotUpdateRule::kResample}) {
+    MotFit fit = fit_mot(first.theta, first.labels, names, o);
+    ASSERT_EQ(fit.model.objects[0].mixture.num_components(), 2);
+    o.update = rule;
+    const MotUpdateSummary s = update_mot(fit.model, second.theta, labels, o);
+    EXPECT_EQ(s.mixtures.size(), 1U);  // only two-faced has a mixture
+    const auto& m = fit.model.objects[0].mixture;
+    ASSERT_GE(m.num_components(), 2);
+    EXPECT_NO_THROW(m.validate());
+    EXPECT_DOUBLE_EQ(fit.model.objects[0].views, 600.0);
+    if (rule == MotUpdateRule::kExact) {
+      double count = 0;
+      for (const auto& c : m.components) count += c.stats.count();
+      EXPECT_NEAR(count, 600.0, 1e-9);  // every new view merged with responsibilities summing to 1
+    }
+    EXPECT_GT(accuracy(classify_mot(fit.model, test.theta).predicted, test.labels), 0.92);
+  }
+}
+
+TEST(MixtureOfTopics, SharedPrecisionGivesEveryObjectOnePrecision) {
+  const auto alphas = three_objects();
+  const Views train = draw(alphas, 300, 51);
+  const Views test = draw(alphas, 300, 52);
+  MotOptions o;
+  o.shared_precision = true;
+  const MotFit fit = fit_mot(train.theta, train.labels, kNames, o);
+  ASSERT_TRUE(fit.summary.shared.has_value());
+  EXPECT_TRUE(fit.summary.shared->converged) << fit.summary.shared->brief();
+  const double s = fit.summary.shared->precision;
+  for (const auto& obj : fit.model.objects) EXPECT_NEAR(obj.dirichlet.precision(), s, 1e-9 * s);
+  // The objects' own precisions are 6.1, 7.2 and 8.4: the shared one lies among them.
+  EXPECT_GT(s, 5.5);
+  EXPECT_LT(s, 9.0);
+  EXPECT_GT(accuracy(classify_mot(fit.model, test.theta).predicted, test.labels), 0.85);
+  // The statistics stay each object's own, so an exact update refits jointly again.
+  std::vector<std::string> names;
+  for (const int l : test.labels) names.push_back(kNames[static_cast<std::size_t>(l)]);
+  MotModel m = fit.model;
+  (void)update_mot(m, test.theta, names, o);
+  const double s2 = m.objects[0].dirichlet.precision();
+  for (const auto& obj : m.objects) EXPECT_NEAR(obj.dirichlet.precision(), s2, 1e-9 * s2);
+  o.components = 3;
+  EXPECT_TRUE(has(error_of([&] { o.validate(); }), "shared_precision"));
+}
+
 TEST(MixtureOfTopics, ExactUpdateWithoutForgettingEqualsOneFitOfAllViews) {
   const auto alphas = three_objects();
   const Views first = draw(alphas, 40, 11);

@@ -131,6 +131,7 @@ struct ScatterGridRecord {
   ThetaSource theta = ThetaSource::kEStep;
   double smoothing = 0;
   std::string prior;
+  std::string model = "dirichlet";
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -138,6 +139,7 @@ struct ScatterGridRecord {
     v.choice(self.theta, {"theta", "Where theta comes from"}, kThetaSourceNames);
     v(self.smoothing, {"smoothing", "The theta smoothing"});
     v(self.prior, {"prior", "uniform or views"});
+    v(self.model, {"model", "The object model: dirichlet, shared-precision or mixture"});
   }
 };
 

@@ -123,8 +123,9 @@ struct ScatterExperimentOptions {
   bool mot = false;
   topics::MotOptions mot_options;
   /// With mot: also evaluate the supervised MoT at each of these theta smoothings
-  /// (MotOptions::smoothing), with either prior (ScatterRunResult::mot_grid): the tuning grid of
-  /// docs/results/mot.md. Empty: none.
+  /// (MotOptions::smoothing), with either prior and each object model (one Dirichlet, a shared
+  /// precision, a mixture of at most 10 Dirichlets per object; ScatterRunResult::mot_grid): the
+  /// tuning grid of docs/results/mot.md. Empty: none.
   std::vector<double> mot_smoothing_grid;
   std::uint64_t seed = 1;
   void validate() const;
@@ -135,6 +136,9 @@ struct MotGridPoint {
   ThetaSource source = ThetaSource::kEStep;
   double smoothing = 0;
   topics::MotPrior prior = topics::MotPrior::kViews;
+  /// The object model: "dirichlet" (one per object), "shared-precision" (one precision shared
+  /// by the objects) or "mixture" (MotOptions::components = 10).
+  std::string model = "dirichlet";
   ConfusionMatrix classes;
 };
 

@@ -189,6 +189,19 @@ struct MotFitRecord {
 };
 
 /// One object of a MoT model (its Dirichlet) as records list it.
+/// One Dirichlet of an object's mixture (MotOptions::components).
+struct MotComponentRecord {
+  double weight = 0;
+  std::vector<double> alpha;
+  double precision = 0;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.weight, {"weight", "The component's weight w_j"});
+    v(self.alpha, {"alpha", "Its Dirichlet's parameters"});
+    v(self.precision, {"precision", "Its precision, sum of alpha"});
+  }
+};
+
 struct MotObjectRecord {
   std::string name;
   double views = 0;
@@ -196,6 +209,9 @@ struct MotObjectRecord {
   std::optional<std::vector<double>> mean;  ///< in MoT model records
   double precision = 0.0;
   std::optional<MotFitRecord> fit;  ///< with `mot train`
+  /// When the object is a mixture of Dirichlets (its density; alpha above is the one-Dirichlet
+  /// fit of the same views).
+  std::optional<std::vector<MotComponentRecord>> components;
 
   /// The objects of `model`, with their fits when `fits` (one per object) is given.
   [[nodiscard]] static std::vector<MotObjectRecord> of(
@@ -209,6 +225,7 @@ struct MotObjectRecord {
     v(self.mean, {"mean", "Its Dirichlet's mean theta"});
     v(self.precision, {"precision", "Its Dirichlet's precision, sum of alpha"});
     v(self.fit, {"fit", "How its fit ended"});
+    v(self.components, {"components", "Its mixture of Dirichlets, when it has one"});
   }
 };
 

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "proprio/core/fields.hpp"
 #include "proprio/topics/dirichlet.hpp"
 #include "proprio/topics/dirichlet_fit.hpp"
+#include "proprio/topics/dirichlet_mixture.hpp"
 #include "proprio/topics/dirichlet_stats.hpp"
 
 namespace proprio::topics {
@@ -69,6 +71,20 @@ struct MotOptions {
   /// density when omega_ck < 1, varies with the number of words of the view rather than with the
   /// object; s bounds that tail at s / T. 0 keeps theta as it is. docs/results/mot.md measures it.
   double smoothing = 0.0;
+  /// Supervised fits and updates: each object a mixture of Dirichlets (proprio/topics/
+  /// dirichlet_mixture.hpp) with at most this many components, their number chosen per object
+  /// by BIC over its views (EM, the Minka fit as M-step). 1 (the default, the thesis's): one
+  /// Dirichlet per object. The unsupervised fit keeps one Dirichlet per object.
+  int components = 1;
+  /// With components > 1: EM starts per number of components, EM iterations per start at most,
+  /// the smallest effective number of views a component may have (see DirichletMixtureOptions).
+  int component_restarts = 3;
+  int component_iterations = 100;
+  double component_min_views = 5;
+  /// Supervised fits and updates: one precision s shared by every object's Dirichlet, a mean per
+  /// object (fit_dirichlets_shared_precision): a cheaper regulariser than the mixture. Not with
+  /// components > 1.
+  bool shared_precision = false;
   /// The Dirichlet fits (tolerance, iterations, precision bound) and the theta checks (floor,
   /// row-sum tolerance).
   DirichletFitOptions fit;
@@ -96,6 +112,17 @@ struct MotOptions {
     v(self.seed, {"seed", "Seed of k-means and of the resample rule"});
     v(self.smoothing, {"smoothing", "Theta smoothing s: (1 - s) theta + s / T before the log",
                        core::Bounds{0, 0.5, false}});
+    v(self.components,
+      {"components", "Supervised: most Dirichlet components per object (chosen by BIC; 1: one)",
+       core::between(1, 1000)});
+    v(self.component_restarts,
+      {"component_restarts", "EM starts per number of components", core::between(1, 1000)});
+    v(self.component_iterations,
+      {"component_iterations", "EM iterations per start", core::between(1, 100000)});
+    v(self.component_min_views,
+      {"component_min_views", "Fewest effective views of a component", core::Bounds{2, 1e9}});
+    v(self.shared_precision,
+      {"shared_precision", "Supervised: one precision shared by every object's Dirichlet"});
   }
 };
 
@@ -103,8 +130,15 @@ struct MotOptions {
 struct MotObject {
   std::string name;
   DirichletStats stats;  ///< the views it was fitted on (count, mean log theta)
-  Dirichlet dirichlet;   ///< omega_c
+  Dirichlet dirichlet;   ///< omega_c (the object's density unless `mixture` has components)
   double views = 0;      ///< views learned from (the weight behind p(c) for MotPrior::kViews)
+  /// MotOptions::components > 1 and BIC chose more than one: the object's density is this
+  /// mixture of Dirichlets (`dirichlet` stays the one-Dirichlet fit of the same views). Empty:
+  /// `dirichlet` alone.
+  DirichletMixture mixture{};
+
+  /// log p(theta | c) from log theta: the mixture's when it has components, else `dirichlet`'s.
+  [[nodiscard]] double log_density_of_log(const Eigen::Ref<const Eigen::VectorXd>& log_theta) const;
 };
 
 /// A Mixture of Topics over T topics.
@@ -140,6 +174,10 @@ struct MotFitSummary {
   int classes = 0;
   int topics = 0;
   std::vector<DirichletFitSummary> fits;  ///< one per object
+  /// MotOptions::components > 1: one per object (components, EM iterations, why it stopped).
+  std::vector<DirichletMixtureSummary> mixtures;
+  /// MotOptions::shared_precision: the joint fit.
+  std::optional<SharedPrecisionSummary> shared;
   /// Unsupervised: the k-means within-cluster sum of squares of the chosen start, the hard-EM
   /// rounds run, the BIC of each C tried (index C - 1; empty when C was given).
   double kmeans_sse = 0;
@@ -198,11 +236,18 @@ struct MotUpdateSummary {
   int new_objects = 0;                    ///< labels not in the model before
   int resampled = 0;                      ///< samples drawn from old Dirichlets (kResample)
   std::vector<DirichletFitSummary> fits;  ///< the refits, in order of the objects updated
+  /// Objects with a mixture: the refit of each (in the same order as their objects in `fits`).
+  std::vector<DirichletMixtureSummary> mixtures;
 };
 
 /// Online update (thesis 8.1.2) with new labelled views: theta D x T, labels[d] naming an object
 /// (an existing name updates it, a new name adds an object, which needs >= 2 views; an empty
 /// name is skipped). options.update picks the rule, options.forgetting and options.seed apply.
+/// An object with a mixture: the exact rule merges each new view into every component with its
+/// responsibility under the old mixture (weights from the merged counts) and refits each
+/// component (one online EM step); the resample rule draws its samples from the mixture and
+/// refits the mixture by EM (options.components bounds it). A new object gets a mixture when
+/// options.components > 1. options.shared_precision refits every object's Dirichlet jointly.
 /// Throws Error on bad theta or a new object with fewer than 2 views; the model is unchanged then.
 MotUpdateSummary update_mot(MotModel& model, const Eigen::Ref<const Eigen::MatrixXd>& theta,
                             const std::vector<std::string>& labels, const MotOptions& options = {});

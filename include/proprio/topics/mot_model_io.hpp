@@ -16,14 +16,16 @@
 
 namespace proprio::topics {
 
-/// The version of the binary MoT model format this build writes. It reads this one and version 1
-/// (which has no theta smoothing: read as MotModel::smoothing = 0).
-inline constexpr std::uint32_t kMotModelFormatVersion = 2;
+/// The version of the binary MoT model format this build writes. It reads this one, version 2
+/// (no mixture components: every object one Dirichlet) and version 1 (neither components nor
+/// theta smoothing: read as MotModel::smoothing = 0); other versions are refused.
+inline constexpr std::uint32_t kMotModelFormatVersion = 3;
 
 /// Bounds a reader enforces before allocating (hostile files are normal input).
 inline constexpr std::uint32_t kMotMaxTopics = 100000;
 inline constexpr std::uint32_t kMotMaxClasses = 100000;
 inline constexpr std::uint32_t kMotMaxNameBytes = 1024;
+inline constexpr std::uint32_t kMotMaxComponents = 1000;  ///< per object
 
 /// What a MoT model was built on.
 struct MotBasis {
