@@ -216,6 +216,9 @@ struct MlSegmenter::Impl {
   cv::Mat1b prev_gray;
   std::vector<cv::Mat1i> labels;  // per frame (or only the first touch's)
   cv::Mat1i touch_labels;
+  // Depth variant with depth_smoothing: the depth of every frame whose labels are kept.
+  std::vector<cv::Mat1f> depths;
+  cv::Mat1f touch_depth;
   // Tracks by id: the live ones and the ended ones a kept label image still needs (their
   // evidence; release_ended frees the others).
   std::unordered_map<int, Track> tracks;
@@ -638,7 +641,8 @@ struct MlSegmenter::Impl {
     return touch_ee;
   }
 
-  [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame) const {
+  // `depth`: the frame's depth (processing size) for depth_smoothing; empty: none.
+  [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame, const cv::Mat1f& depth) const {
     // Before the first touch no track has post-touch evidence (every score is 0), and no prior
     // can raise a 0: the map is all 0 without painting it.
     if (!first_touch) return cv::Mat1f::zeros(size);
@@ -692,7 +696,10 @@ struct MlSegmenter::Impl {
       RegionSmoothingOptions so;
       so.data_weight = opt.smoothing_weight;
       so.colour_sigma = opt.smoothing_colour_sigma;
-      (void)smooth_region_scores(compact, evidence, colour, so, score);
+      const bool by_depth = opt.use_depth && opt.depth_smoothing && opt.depth_edge > 0;
+      so.depth_step = by_depth ? opt.depth_edge : 0.0;
+      (void)smooth_region_scores(compact, evidence, colour, so, score,
+                                 by_depth ? depth : cv::Mat1f());
     }
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {
@@ -919,9 +926,14 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
         (m.supported_last_motion(a) - m.supported_last_motion(b)).norm() <= m.opt.handover_motion)
       a.successor = next;
   }
-  if (m.opt.keep_frame_labels) m.labels.push_back(lab);
+  const bool keep_depth = m.opt.use_depth && m.opt.depth_smoothing;
+  if (m.opt.keep_frame_labels) {
+    m.labels.push_back(lab);
+    if (keep_depth) m.depths.push_back(m.depth_now);
+  }
   if (first_touch_now) {
     m.touch_labels = lab;
+    if (keep_depth) m.touch_depth = m.depth_now;
     for (int t : m.tracker.live()) {
       Track& r = m.tracks.at(t);
       r.root = true;
@@ -940,7 +952,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   m.sum_regions += out.ms_regions;
   m.sum_model += out.ms_model;
   m.sum_total += out.ms_total;
-  if (m.opt.stream_maps) out.map = m.paint(lab, out.frame);
+  if (m.opt.stream_maps) out.map = m.paint(lab, out.frame, m.depth_now);
   return out;
 }
 
@@ -952,10 +964,11 @@ cv::Mat1f MlSegmenter::map_for_frame(int i) const {
   const Impl& m = *impl_;
   require(i >= 0 && i < m.frames, core::cat({"map_for_frame: frame ", std::to_string(i),
                                              " out of range [0, ", std::to_string(m.frames), ")"}));
-  if (m.opt.keep_frame_labels) return m.paint(m.labels[i], i);
+  if (m.opt.keep_frame_labels)
+    return m.paint(m.labels[i], i, m.depths.empty() ? cv::Mat1f() : m.depths[i]);
   require(m.first_touch && *m.first_touch == i,
           "map_for_frame: only the first-touch frame's labels were kept (keep_frame_labels)");
-  return m.paint(m.touch_labels, i);
+  return m.paint(m.touch_labels, i, m.touch_depth);
 }
 
 MlSummary MlSegmenter::summary() const {

@@ -208,6 +208,10 @@ struct MlOptions {
   double depth_bandwidth = 10.0;
   /// Depth step between neighbouring pixels that cuts a superpixel, mm; 0 = no cut.
   double depth_edge = 20.0;
+  /// Depth variant: the region smoothing (region_smoothing) does not join two regions across
+  /// their boundary's pixel pairs with a depth step above depth_edge: the object's pieces cut
+  /// at its outline keep their own evidence instead of taking the background's behind them.
+  bool depth_smoothing = false;
   int min_depth_samples = 6;
   /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
   cv::Mat1f prior;
@@ -267,6 +271,7 @@ struct MlOptions {
     v(self.depth_with_2d, {"depth_with_2d", "3-D likelihood times the 2-D one"});
     v(self.depth_bandwidth, {"depth_bandwidth", "Robust 3-D mean bandwidth, mm"});
     v(self.depth_edge, {"depth_edge", "Depth step that cuts a region, mm (0 = none)"});
+    v(self.depth_smoothing, {"depth_smoothing", "No smoothing across depth steps"});
     v(self.min_depth_samples, {"min_depth_samples", "Least depth samples of a 3-D motion"});
   }
 };
