@@ -94,6 +94,10 @@ void MlOptions::validate() const {
   require_positive(lambda, "lambda");
   require(std::isfinite(mask_fraction) && mask_fraction > 0 && mask_fraction <= 1,
           core::cat({"MlOptions.mask_fraction must be in (0, 1], got ", core::num(mask_fraction)}));
+  require(
+      std::isfinite(depth_mask_fraction) && depth_mask_fraction >= 0 && depth_mask_fraction <= 1,
+      core::cat({"MlOptions.depth_mask_fraction must be in [0, 1], got ",
+                 core::num(depth_mask_fraction)}));
   require(std::isfinite(kappa) && kappa >= 1,
           core::cat({"MlOptions.kappa must be >= 1 (p stays in [0, 1]), got ", core::num(kappa)}));
   require_positive(robust_bandwidth, "robust_bandwidth");
@@ -730,7 +734,8 @@ struct MlSegmenter::Impl {
     }
     clip_to_peak(m);
     if (opt.contact_prior && ee) {
-      (void)apply_contact_prior(m, *ee, opt.mask_fraction, opt.contact_radius, opt.contact_gap);
+      (void)apply_contact_prior(m, *ee, opt.effective_mask_fraction(), opt.contact_radius,
+                                opt.contact_gap);
     }
     return m;
   }
@@ -1051,7 +1056,7 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
   r.summary = seg.summary();
   r.scored_frame = *r.first_touch_frame;
   r.map = seg.map_for_frame(r.scored_frame);
-  r.mask = threshold_map(r.map, options.mask_fraction);
+  r.mask = threshold_map(r.map, options.effective_mask_fraction());
   if (options.keep_frame_maps) {
     r.frame_maps.reserve(episode.frame_count());
     for (int i = 0; i < episode.frame_count(); ++i) r.frame_maps.push_back(seg.map_for_frame(i));
