@@ -214,7 +214,10 @@ EpisodeEvaluation evaluate_episode(const episode::Episode& ep, const std::vector
       if (m == Method::kMl || m == Method::kMlHomography || m == Method::kMlSparse ||
           m == Method::kMlDepth) {
         seg::MlResult r;
-        double fraction = options.ml.mask_fraction;
+        double fraction = m == Method::kMlDepth ? options.ml.depth_mask_fraction > 0
+                                                      ? options.ml.depth_mask_fraction
+                                                      : options.ml.mask_fraction
+                                                : options.ml.mask_fraction;
         if (m == Method::kMlSparse) {
           r = seg::segment_ml_sparse(ep, options.sparse);
           fraction = options.sparse.mask_fraction;

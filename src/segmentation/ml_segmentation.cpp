@@ -94,6 +94,10 @@ void MlOptions::validate() const {
   require_positive(lambda, "lambda");
   require(std::isfinite(mask_fraction) && mask_fraction > 0 && mask_fraction <= 1,
           core::cat({"MlOptions.mask_fraction must be in (0, 1], got ", core::num(mask_fraction)}));
+  require(
+      std::isfinite(depth_mask_fraction) && depth_mask_fraction >= 0 && depth_mask_fraction <= 1,
+      core::cat({"MlOptions.depth_mask_fraction must be in [0, 1], got ",
+                 core::num(depth_mask_fraction)}));
   require(std::isfinite(kappa) && kappa >= 1,
           core::cat({"MlOptions.kappa must be >= 1 (p stays in [0, 1]), got ", core::num(kappa)}));
   require_positive(robust_bandwidth, "robust_bandwidth");
@@ -216,6 +220,9 @@ struct MlSegmenter::Impl {
   cv::Mat1b prev_gray;
   std::vector<cv::Mat1i> labels;  // per frame (or only the first touch's)
   cv::Mat1i touch_labels;
+  // Depth variant with depth_smoothing: the depth of every frame whose labels are kept.
+  std::vector<cv::Mat1f> depths;
+  cv::Mat1f touch_depth;
   // Tracks by id: the live ones and the ended ones a kept label image still needs (their
   // evidence; release_ended frees the others).
   std::unordered_map<int, Track> tracks;
@@ -638,7 +645,8 @@ struct MlSegmenter::Impl {
     return touch_ee;
   }
 
-  [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame) const {
+  // `depth`: the frame's depth (processing size) for depth_smoothing; empty: none.
+  [[nodiscard]] cv::Mat1f paint(const cv::Mat1i& lab, int frame, const cv::Mat1f& depth) const {
     // Before the first touch no track has post-touch evidence (every score is 0), and no prior
     // can raise a 0: the map is all 0 without painting it.
     if (!first_touch) return cv::Mat1f::zeros(size);
@@ -692,7 +700,10 @@ struct MlSegmenter::Impl {
       RegionSmoothingOptions so;
       so.data_weight = opt.smoothing_weight;
       so.colour_sigma = opt.smoothing_colour_sigma;
-      (void)smooth_region_scores(compact, evidence, colour, so, score);
+      const bool by_depth = opt.use_depth && opt.depth_smoothing && opt.depth_edge > 0;
+      so.depth_step = by_depth ? opt.depth_edge : 0.0;
+      (void)smooth_region_scores(compact, evidence, colour, so, score,
+                                 by_depth ? depth : cv::Mat1f());
     }
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {
@@ -723,7 +734,8 @@ struct MlSegmenter::Impl {
     }
     clip_to_peak(m);
     if (opt.contact_prior && ee) {
-      (void)apply_contact_prior(m, *ee, opt.mask_fraction, opt.contact_radius, opt.contact_gap);
+      (void)apply_contact_prior(m, *ee, opt.effective_mask_fraction(), opt.contact_radius,
+                                opt.contact_gap);
     }
     return m;
   }
@@ -919,9 +931,14 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
         (m.supported_last_motion(a) - m.supported_last_motion(b)).norm() <= m.opt.handover_motion)
       a.successor = next;
   }
-  if (m.opt.keep_frame_labels) m.labels.push_back(lab);
+  const bool keep_depth = m.opt.use_depth && m.opt.depth_smoothing;
+  if (m.opt.keep_frame_labels) {
+    m.labels.push_back(lab);
+    if (keep_depth) m.depths.push_back(m.depth_now);
+  }
   if (first_touch_now) {
     m.touch_labels = lab;
+    if (keep_depth) m.touch_depth = m.depth_now;
     for (int t : m.tracker.live()) {
       Track& r = m.tracks.at(t);
       r.root = true;
@@ -940,7 +957,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   m.sum_regions += out.ms_regions;
   m.sum_model += out.ms_model;
   m.sum_total += out.ms_total;
-  if (m.opt.stream_maps) out.map = m.paint(lab, out.frame);
+  if (m.opt.stream_maps) out.map = m.paint(lab, out.frame, m.depth_now);
   return out;
 }
 
@@ -952,10 +969,11 @@ cv::Mat1f MlSegmenter::map_for_frame(int i) const {
   const Impl& m = *impl_;
   require(i >= 0 && i < m.frames, core::cat({"map_for_frame: frame ", std::to_string(i),
                                              " out of range [0, ", std::to_string(m.frames), ")"}));
-  if (m.opt.keep_frame_labels) return m.paint(m.labels[i], i);
+  if (m.opt.keep_frame_labels)
+    return m.paint(m.labels[i], i, m.depths.empty() ? cv::Mat1f() : m.depths[i]);
   require(m.first_touch && *m.first_touch == i,
           "map_for_frame: only the first-touch frame's labels were kept (keep_frame_labels)");
-  return m.paint(m.touch_labels, i);
+  return m.paint(m.touch_labels, i, m.touch_depth);
 }
 
 MlSummary MlSegmenter::summary() const {
@@ -1038,7 +1056,7 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
   r.summary = seg.summary();
   r.scored_frame = *r.first_touch_frame;
   r.map = seg.map_for_frame(r.scored_frame);
-  r.mask = threshold_map(r.map, options.mask_fraction);
+  r.mask = threshold_map(r.map, options.effective_mask_fraction());
   if (options.keep_frame_maps) {
     r.frame_maps.reserve(episode.frame_count());
     for (int i = 0; i < episode.frame_count(); ++i) r.frame_maps.push_back(seg.map_for_frame(i));

@@ -19,6 +19,9 @@ void RegionSmoothingOptions::validate() const {
   require(std::isfinite(colour_sigma) && colour_sigma > 0,
           core::cat(
               {"RegionSmoothingOptions.colour_sigma must be > 0, got ", core::num(colour_sigma)}));
+  require(
+      std::isfinite(depth_step) && depth_step >= 0,
+      core::cat({"RegionSmoothingOptions.depth_step must be >= 0, got ", core::num(depth_step)}));
   require(max_sweeps >= 1, "RegionSmoothingOptions.max_sweeps must be >= 1");
   require(std::isfinite(tolerance) && tolerance > 0,
           "RegionSmoothingOptions.tolerance must be > 0");
@@ -29,9 +32,12 @@ void RegionSmoothingOptions::validate() const {
 RegionSmoothingSummary smooth_region_scores(const cv::Mat1i& lab, const std::vector<int>& evidence,
                                             const std::vector<Eigen::Vector3f>& colour,
                                             const RegionSmoothingOptions& options,
-                                            std::vector<float>& score) {
+                                            std::vector<float>& score, const cv::Mat1f& depth) {
   options.validate();
   assert(evidence.size() == colour.size() && evidence.size() == score.size());
+  const bool cut = options.depth_step > 0 && !depth.empty();
+  assert(!cut || depth.size() == lab.size());
+  const auto step = static_cast<float>(options.depth_step);
   RegionSmoothingSummary summary;
   std::vector<int> local(evidence.size(), -1);
   std::vector<int> ids;  // local index -> label
@@ -43,18 +49,25 @@ RegionSmoothingSummary smooth_region_scores(const cv::Mat1i& lab, const std::vec
     }
     return local[t];
   };
-  std::unordered_map<std::uint64_t, int> boundary;  // (i << 32 | j), i < j local -> length
-  const auto touch = [&](int a, int b) {
+  // (i << 32 | j), i < j local -> (length, length without a depth step)
+  std::unordered_map<std::uint64_t, std::pair<int, int>> boundary;
+  const auto touch = [&](int a, int b, float za, float zb) {
     const auto i = static_cast<std::uint64_t>(index(a));
     const auto j = static_cast<std::uint64_t>(index(b));
-    if (i != j) ++boundary[(std::min(i, j) << 32) | std::max(i, j)];
+    if (i == j) return;
+    auto& [length, joined] = boundary[(std::min(i, j) << 32) | std::max(i, j)];
+    ++length;
+    if (!(za > 0 && zb > 0 && std::abs(za - zb) > step)) ++joined;
   };
   for (int y = 0; y < lab.rows; ++y) {
     const int* row = lab[y];
     const int* below = y + 1 < lab.rows ? lab[y + 1] : nullptr;
+    const float* z = cut ? depth[y] : nullptr;
+    const float* zb = cut && below ? depth[y + 1] : nullptr;
     for (int x = 0; x < lab.cols; ++x) {
-      if (x + 1 < lab.cols) touch(row[x], row[x + 1]);
-      if (below) touch(row[x], below[x]);
+      const float z0 = z ? z[x] : 0.0F;
+      if (x + 1 < lab.cols) touch(row[x], row[x + 1], z0, z ? z[x + 1] : 0.0F);
+      if (below) touch(row[x], below[x], z0, zb ? zb[x] : 0.0F);
     }
   }
   const int n = static_cast<int>(ids.size());
@@ -62,12 +75,15 @@ RegionSmoothingSummary smooth_region_scores(const cv::Mat1i& lab, const std::vec
   std::vector<std::vector<std::pair<int, double>>> neighbours(n);
   std::vector<double> perimeter(n, 0.0);
   const double k = 1.0 / (2.0 * options.colour_sigma * options.colour_sigma);
-  for (const auto& [key, length] : boundary) {
+  for (const auto& [key, lengths] : boundary) {
     const auto i = static_cast<int>(key >> 32);
     const auto j = static_cast<int>(key & 0xffffffffU);
-    const double w = length * std::exp(-k * (colour[ids[i]] - colour[ids[j]]).squaredNorm());
-    neighbours[i].emplace_back(j, w);
-    neighbours[j].emplace_back(i, w);
+    const auto [length, joined] = lengths;
+    if (joined > 0) {
+      const double w = joined * std::exp(-k * (colour[ids[i]] - colour[ids[j]]).squaredNorm());
+      neighbours[i].emplace_back(j, w);
+      neighbours[j].emplace_back(i, w);
+    }
     perimeter[i] += length;
     perimeter[j] += length;
   }

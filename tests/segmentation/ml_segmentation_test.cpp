@@ -311,7 +311,7 @@ double depth_variant_jaccard(const PushSpec& spec, bool holes) {
   if (t < 0) return 0;
   const cv::Mat1f map = seg.map_for_frame(t);
   expect_valid_map(map);
-  return jaccard(threshold_map(map, o.mask_fraction), touch.mask == 1);
+  return jaccard(threshold_map(map, o.effective_mask_fraction()), touch.mask == 1);
 }
 
 TEST(MlDepth, SegmentsTheSquareAndTakesHolesAsUnknown) {
@@ -656,6 +656,17 @@ TEST(MlOptions, ValidateNamesTheBadField) {
   o = MlOptions{};
   o.prior = cv::Mat1f(4, 4, 0.5f);
   EXPECT_NE(error_of([&] { MlSegmenter s(o, cv::Size(8, 8)); }).find("prior"), std::string::npos);
+  o = MlOptions{};
+  o.depth_mask_fraction = 1.5;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("depth_mask_fraction"), std::string::npos);
+  // The depth variant's mask fraction replaces mask_fraction only with use_depth, and 0 = none.
+  o = MlOptions{};
+  o.depth_mask_fraction = 0.5;
+  EXPECT_EQ(o.effective_mask_fraction(), o.mask_fraction);
+  o.use_depth = true;
+  EXPECT_EQ(o.effective_mask_fraction(), 0.5);
+  o.depth_mask_fraction = 0;
+  EXPECT_EQ(o.effective_mask_fraction(), o.mask_fraction);
   o = MlOptions{};
   o.depth_relative = -0.5;
   EXPECT_NE(error_of([&] { o.validate(); }).find("depth_relative"), std::string::npos);

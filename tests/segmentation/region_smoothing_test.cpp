@@ -52,6 +52,35 @@ TEST(RegionSmoothing, RegionWithoutEvidenceTakesTheBoundaryWeightedMeanOfItsNeig
   EXPECT_TRUE(s.converged);
 }
 
+TEST(RegionSmoothing, DepthStepsKeepRegionsApart) {
+  // As above, but region 0 lies 100 mm nearer than the others (a step at its boundary with 1):
+  // with depth_step 20 region 1 joins only 2 (score 0) and 3 (0.4) along 6 pixels each: 0.2.
+  // Without the depth image, or with a step threshold above 100 mm, 0.6 again.
+  const cv::Mat1i lab = stripes({{0, 0}, {1, 1}, {2, 3}});
+  cv::Mat1f depth(lab.size(), 700.0f);
+  depth(cv::Rect(0, 0, 4, 12)).setTo(600.0f);
+  RegionSmoothingOptions o = fill_only();
+  o.depth_step = 20.0;
+  std::vector<float> score = {1.0f, 0.0f, 0.0f, 0.4f};
+  (void)smooth_region_scores(lab, {5, 0, 5, 5}, grey(4), o, score, depth);
+  EXPECT_NEAR(score[1], 0.2f, 1e-5);
+  score = {1.0f, 0.0f, 0.0f, 0.4f};
+  (void)smooth_region_scores(lab, {5, 0, 5, 5}, grey(4), o, score);
+  EXPECT_NEAR(score[1], 0.6f, 1e-5);
+  o.depth_step = 150.0;
+  score = {1.0f, 0.0f, 0.0f, 0.4f};
+  (void)smooth_region_scores(lab, {5, 0, 5, 5}, grey(4), o, score, depth);
+  EXPECT_NEAR(score[1], 0.6f, 1e-5);
+  // Unknown depth (0) on one side of the step joins as before.
+  o.depth_step = 20.0;
+  depth(cv::Rect(3, 0, 1, 12)).setTo(0.0f);
+  score = {1.0f, 0.0f, 0.0f, 0.4f};
+  (void)smooth_region_scores(lab, {5, 0, 5, 5}, grey(4), o, score, depth);
+  EXPECT_NEAR(score[1], 0.6f, 1e-5);
+  o.depth_step = -1.0;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 TEST(RegionSmoothing, ColourDecidesWhichNeighbourCounts) {
   const cv::Mat1i lab = stripes({{0, 0}, {1, 1}, {2, 2}});
   const std::vector<Eigen::Vector3f> colour = {

@@ -63,6 +63,15 @@ struct MlOptions {
   double lambda = 25.0;
   /// Mask = map >= mask_fraction * max(map) (5.1.1's optimum, 0.75).
   double mask_fraction = 0.75;
+  /// The depth variant's (use_depth) mask fraction instead of mask_fraction; 0 = mask_fraction.
+  /// With the outline cut at depth steps the background's map is near 0, while the pushed object
+  /// turns and its parts far from the contact score lower than the part at it: a lower
+  /// fraction takes them in (tuning recording, docs/results/segmentation-eval.md, session 12).
+  double depth_mask_fraction = 0.5;
+  /// The fraction this configuration's mask uses (depth_mask_fraction or mask_fraction).
+  [[nodiscard]] double effective_mask_fraction() const {
+    return use_depth && depth_mask_fraction > 0 ? depth_mask_fraction : mask_fraction;
+  }
   /// The map is clipped at the value that this fraction of its pixels reach (its robust peak),
   /// so that a sliver brighter than the object does not set the mask's threshold. 0 = off.
   double peak_area = 0.01;
@@ -208,6 +217,10 @@ struct MlOptions {
   double depth_bandwidth = 10.0;
   /// Depth step between neighbouring pixels that cuts a superpixel, mm; 0 = no cut.
   double depth_edge = 20.0;
+  /// Depth variant: the region smoothing (region_smoothing) does not join two regions across
+  /// their boundary's pixel pairs with a depth step above depth_edge: the object's pieces cut
+  /// at its outline keep their own evidence instead of taking the background's behind them.
+  bool depth_smoothing = true;
   int min_depth_samples = 6;
   /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
   cv::Mat1f prior;
@@ -235,6 +248,7 @@ struct MlOptions {
     v(self.region_iterations, {"region_iterations", "Over-segmentation iterations"});
     v(self.lambda, {"lambda", "Sigma = lambda I of the error density, px^2 (4.4.2)"});
     v(self.mask_fraction, {"mask_fraction", "Mask = map >= fraction x max (5.1.1)"});
+    v(self.depth_mask_fraction, {"depth_mask_fraction", "The depth variant's mask fraction"});
     v(self.peak_area, {"peak_area", "Fraction of the frame that defines the map's peak"});
     v(self.kappa, {"kappa", "Prior ratio of the object and background hypotheses"});
     v(self.robust_bandwidth, {"robust_bandwidth", "Robust motion fit bandwidth, px"});
@@ -267,6 +281,7 @@ struct MlOptions {
     v(self.depth_with_2d, {"depth_with_2d", "3-D likelihood times the 2-D one"});
     v(self.depth_bandwidth, {"depth_bandwidth", "Robust 3-D mean bandwidth, mm"});
     v(self.depth_edge, {"depth_edge", "Depth step that cuts a region, mm (0 = none)"});
+    v(self.depth_smoothing, {"depth_smoothing", "No smoothing across depth steps"});
     v(self.min_depth_samples, {"min_depth_samples", "Least depth samples of a 3-D motion"});
   }
 };

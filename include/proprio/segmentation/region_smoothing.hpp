@@ -14,6 +14,11 @@ struct RegionSmoothingOptions {
   double data_weight = 0.01;
   /// Colour kernel sigma, in the units of the colours given (BGR grey levels for M-L).
   double colour_sigma = 25.0;
+  /// Depth steps, mm (with a depth image; 0 = off): a boundary pixel pair whose depths (both
+  /// known) differ by more than this does not join its two regions (w_ij counts only the pairs
+  /// without a step; L_i counts all). The object's outline against what lies behind it is a
+  /// depth step: its scores must not bleed into the background's, or the background's into it.
+  double depth_step = 0.0;
   int max_sweeps = 200;
   double tolerance = 1e-4;  ///< stop when no score changes by this much in a sweep
   /// Throws Error naming the bad field.
@@ -38,10 +43,13 @@ struct RegionSmoothingSummary {
 /// group of regions none of which has evidence keeps its scores. Solved by Gauss-Seidel sweeps
 /// in id order (deterministic); E is convex, so they converge to its unique minimum. Every new
 /// score is a weighted mean of the old ones: the scores stay within their range.
+/// `depth` (optional: CV_32F millimetres of labels' size, 0 = unknown) with
+/// options.depth_step > 0: l_ij counts only boundary pixel pairs without a depth step.
 RegionSmoothingSummary smooth_region_scores(const cv::Mat1i& labels,
                                             const std::vector<int>& evidence,
                                             const std::vector<Eigen::Vector3f>& colour,
                                             const RegionSmoothingOptions& options,
-                                            std::vector<float>& score);
+                                            std::vector<float>& score,
+                                            const cv::Mat1f& depth = cv::Mat1f());
 
 }  // namespace proprio::segmentation
