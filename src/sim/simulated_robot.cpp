@@ -567,13 +567,29 @@ struct SimulatedRobot::State {
   // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
   // would touch an object (`met`: the first one's name and the sample's share of the path); the
   // arm is back at `current` after.
+  // With `leaving`, the objects the arm touches at path[0] do not count while the arm is still
+  // touching only them (moving away from an object it rests against); once it is clear of them,
+  // any contact counts.
   bool path_meets_object(const std::vector<robot::JointVector>& path,
-                         const robot::JointVector& current, std::string* met = nullptr) {
+                         const robot::JointVector& current, std::string* met = nullptr,
+                         bool leaving = false) {
     bool meets = false;
+    std::vector<ObjectId> resting;
+    if (leaving && !path.empty()) {
+      world.set_arm_configuration(path.front());
+      resting = world.objects_touched_by_arm();
+    }
     for (std::size_t k = 0; k < path.size() && !meets; ++k) {
       if (k % kTransitCheckEvery != 0 && k + 1 != path.size()) continue;
       world.set_arm_configuration(path[k]);
       const std::vector<ObjectId> touched = world.objects_touched_by_arm();
+      if (!resting.empty()) {
+        const bool only_resting = std::all_of(touched.begin(), touched.end(), [&](ObjectId id) {
+          return std::find(resting.begin(), resting.end(), id) != resting.end();
+        });
+        if (only_resting && !touched.empty()) continue;
+        if (touched.empty()) resting.clear();  // clear of them: from here on everything counts
+      }
       meets = !touched.empty();
       if (meets && met != nullptr) {
         *met = world.object(touched.front()).name + " at " +
@@ -666,10 +682,16 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   const robot::PushMotion motion = robot::plan_push_motion(s_->ik_state, push, q_now, mopt);
   const std::vector<robot::JointVector> out_path =
       s_->transit(q_now, motion.q_above_start, push.start, true);
-  if (s_->path_meets_object(out_path, q_now)) {
-    throw Error("push: the arm's transit to above the start (" + std::to_string(push.start.x()) +
-                ", " + std::to_string(push.start.y()) +
-                ") m would meet an object (a tall one under the hand); nothing moved");
+  std::string met_out;
+  if (s_->path_meets_object(out_path, q_now, &met_out, /*leaving=*/true)) {
+    std::string m = "push: the arm's transit to above the start (";
+    m += std::to_string(push.start.x());
+    m += ", ";
+    m += std::to_string(push.start.y());
+    m += ") m would meet an object (";
+    m += met_out;
+    m += "); nothing moved";
+    throw Error(m);
   }
   const geometry::Camera cam = camera();
   std::optional<episode::EpisodeWriter> writer = open_writer(recording, cam, s_->options.seed);
