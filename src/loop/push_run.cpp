@@ -278,12 +278,22 @@ PushRunResult push_once(sim::SimulatedRobot& robot, const PushOptions& options,
         // each retry starts farther behind the object.
         popt.min_approach = std::min(kMostApproach, popt.min_approach + attempt * kRetryApproach);
         popt.max_approach = std::min(kMostApproach, popt.max_approach + attempt * kRetryApproach);
-        step.plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
-                                        robot.joints(), popt);
-        if (step.plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
-          step.plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
-                                          robot.joints(), popt);
+        planning::PushPlan plan = planning::plan_push(cur_view, cur_object, options.goal, aim,
+                                                      region, arm, robot.joints(), popt);
+        if (plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
+          plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
+                                     robot.joints(), popt);
         }
+        if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) {
+          // The longer approach out of reach: another path of the usual approach, as before.
+          popt.min_approach = options.plan.min_approach;
+          popt.max_approach = options.plan.max_approach;
+          plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
+                                     robot.joints(), popt);
+        }
+        // A retry that cannot be planned leaves the refusal as the step's outcome.
+        if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) break;
+        step.plan = std::move(plan);
         if (step.plan.outcome != planning::PlanOutcome::kPlanned) break;
         robot::PushRecording rec;
         if (!options.out.empty()) rec.episode_dir = options.out / episode_name(k);
