@@ -28,6 +28,10 @@ constexpr int kFormatVersion = 1;
 constexpr double kMs = 1000.0;
 // core::stream_seed key of each table's choices (object, target), apart from its scene's stream.
 constexpr std::uint64_t kTableStream = 0x7461626c65ULL;
+// How much farther behind the object each retry after a refusal starts the push, and the most
+// (PushPlanOptions' bound on approaches), m.
+constexpr double kRetryApproach = 0.03;
+constexpr double kMostApproach = 0.3;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -220,12 +224,26 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         planning::PushPlanOptions popt = options.plan;
         popt.seed = core::stream_seed(options.plan.seed, static_cast<std::uint64_t>(k),
                                       static_cast<std::uint64_t>(attempt));
-        step.plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
-                                        robot.joints(), popt);
-        if (step.plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
-          step.plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
-                                          robot.joints(), popt);
+        // A refusal is a hand that would come down on or beside a tall object near the start:
+        // each retry starts farther behind the object.
+        popt.min_approach = std::min(kMostApproach, popt.min_approach + attempt * kRetryApproach);
+        popt.max_approach = std::min(kMostApproach, popt.max_approach + attempt * kRetryApproach);
+        planning::PushPlan plan = planning::plan_push(cur_view, cur_object, options.goal, aim,
+                                                      region, arm, robot.joints(), popt);
+        if (plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
+          plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
+                                     robot.joints(), popt);
         }
+        if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) {
+          // The longer approach out of reach: another path of the usual approach, as before.
+          popt.min_approach = options.plan.min_approach;
+          popt.max_approach = options.plan.max_approach;
+          plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
+                                     robot.joints(), popt);
+        }
+        // A retry that cannot be planned leaves the refusal as the step's outcome.
+        if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) break;
+        step.plan = std::move(plan);
         if (step.plan.outcome != planning::PlanOutcome::kPlanned) break;
         robot::PushRecording rec;
         if (!work.dir.empty()) rec.episode_dir = work.dir / episode_name(k);

@@ -60,6 +60,9 @@ constexpr double kLowerTransit = 0.22;
 constexpr double kLowestTransit = 0.18;
 // Poses of the transit checked for contact before the arm moves: every this many samples.
 constexpr int kTransitCheckEvery = 5;
+// How far the lifted hand backs away along the push before going back, when it still touches
+// the pushed object (one taller than the lift), m: the first that frees it.
+constexpr std::array<double, 3> kRetreatSteps{0.02, 0.04, 0.07};
 
 // The backdrop of the robot's table: a wall behind the scatter region (ScatterRegion: y <= 0.30)
 // seen at the top of the camera's view (the camera looks down steeply: the table's far edge,
@@ -530,18 +533,63 @@ struct SimulatedRobot::State {
     return out;
   }
 
-  // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
-  // would touch an object; the arm is back at `current` after.
+  // The way back from `lifted` (the hand lifted after a push that still touches an object) that
+  // first backs the pusher away along `away` (table x y, any length) at its height, by the
+  // first of kRetreatSteps whose pose and onward transit meet no object; none when every one
+  // does or cannot be reached.
+  std::optional<std::vector<robot::JointVector>> retreat(const robot::JointVector& lifted,
+                                                         const Eigen::Vector2d& away) {
+    if (away.norm() < 1e-9) return std::nullopt;
+    const Eigen::Vector3d tip = ik_state.ee_position(lifted);
+    const Eigen::Vector2d u = away.normalized();
+    for (const double d : kRetreatSteps) {
+      const Eigen::Vector3d p(tip.x() + d * u.x(), tip.y() + d * u.y(), tip.z());
+      robot::JointVector q;
+      try {
+        q = robot::solve_ik(ik_state, p, lifted).q;
+      } catch (const Error&) {
+        continue;
+      }
+      std::vector<robot::JointVector> way;
+      try {
+        way = transit(q, q, p.head<2>(), false);
+      } catch (const Error&) {
+        continue;
+      }
+      if (path_meets_object({q}, lifted) || path_meets_object(way, lifted)) continue;
+      std::vector<robot::JointVector> out = vertical(lifted, q, world.timestep());
+      out.insert(out.end(), way.begin(), way.end());
+      return out;
+    }
+    return std::nullopt;
+  }
+
   // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
   // would touch an object (`met`: the first one's name and the sample's share of the path); the
   // arm is back at `current` after.
+  // With `leaving`, the objects the arm touches at path[0] do not count while the arm is still
+  // touching only them (moving away from an object it rests against); once it is clear of them,
+  // any contact counts.
   bool path_meets_object(const std::vector<robot::JointVector>& path,
-                         const robot::JointVector& current, std::string* met = nullptr) {
+                         const robot::JointVector& current, std::string* met = nullptr,
+                         bool leaving = false) {
     bool meets = false;
+    std::vector<ObjectId> resting;
+    if (leaving && !path.empty()) {
+      world.set_arm_configuration(path.front());
+      resting = world.objects_touched_by_arm();
+    }
     for (std::size_t k = 0; k < path.size() && !meets; ++k) {
       if (k % kTransitCheckEvery != 0 && k + 1 != path.size()) continue;
       world.set_arm_configuration(path[k]);
       const std::vector<ObjectId> touched = world.objects_touched_by_arm();
+      if (!resting.empty()) {
+        const bool only_resting = std::all_of(touched.begin(), touched.end(), [&](ObjectId id) {
+          return std::find(resting.begin(), resting.end(), id) != resting.end();
+        });
+        if (only_resting && !touched.empty()) continue;
+        if (touched.empty()) resting.clear();  // clear of them: from here on everything counts
+      }
       meets = !touched.empty();
       if (meets && met != nullptr) {
         *met = world.object(touched.front()).name + " at " +
@@ -634,10 +682,16 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   const robot::PushMotion motion = robot::plan_push_motion(s_->ik_state, push, q_now, mopt);
   const std::vector<robot::JointVector> out_path =
       s_->transit(q_now, motion.q_above_start, push.start, true);
-  if (s_->path_meets_object(out_path, q_now)) {
-    throw Error("push: the arm's transit to above the start (" + std::to_string(push.start.x()) +
-                ", " + std::to_string(push.start.y()) +
-                ") m would meet an object (a tall one under the hand); nothing moved");
+  std::string met_out;
+  if (s_->path_meets_object(out_path, q_now, &met_out, /*leaving=*/true)) {
+    std::string m = "push: the arm's transit to above the start (";
+    m += std::to_string(push.start.x());
+    m += ", ";
+    m += std::to_string(push.start.y());
+    m += ") m would meet an object (";
+    m += met_out;
+    m += "); nothing moved";
+    throw Error(m);
   }
   const geometry::Camera cam = camera();
   std::optional<episode::EpisodeWriter> writer = open_writer(recording, cam, s_->options.seed);
@@ -695,12 +749,24 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
     writer->finish();
     report.episode_dir = recording.episode_dir;
   }
-  // Back to the park (not recorded); where that way would meet an object (one the push left
+  // Back to the park (not recorded). When the lifted hand still touches the pushed object (one
+  // taller than the lift, pressed against the hand), it first backs away along the push, at
+  // its height, by kRetreatSteps; where the way back still meets an object (one the push left
   // near the arm's base), the arm is put at the park at once, logged.
   const robot::JointVector q_lifted = world.arm_joints();
-  const std::vector<robot::JointVector> back = s_->transit(q_lifted, q_lifted, push.end, false);
+  std::vector<robot::JointVector> back = s_->transit(q_lifted, q_lifted, push.end, false);
   std::string met;
   if (s_->path_meets_object(back, q_lifted, &met)) {
+    std::optional<std::vector<robot::JointVector>> retreat =
+        s_->retreat(q_lifted, push.start - push.end);
+    if (retreat) {
+      back = std::move(*retreat);
+      met.clear();
+      report.backed_away = true;
+    }
+  }
+  if (!met.empty()) {
+    report.parked_at_once = true;
     spdlog::warn("push: the arm's way back to the park would meet an object ({}); it is put there",
                  met);
     for (int k = 0; k < hold; ++k) advance(motion.joints.q.back(), false);

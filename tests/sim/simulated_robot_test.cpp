@@ -155,6 +155,27 @@ TEST(SimulatedRobot, LooksPushesAndKeepsTheScene) {
   fs::remove_all(dir);
 }
 
+TEST(SimulatedRobot, BacksAwayFromATallObjectBeforeGoingBack) {
+  // The mug is 10 cm tall: pushed until the pusher stops against it, the lifted hand (6 cm up)
+  // still touches it; the hand backs away along the push and goes back to the park by its
+  // transit, not put there at once.
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  SimulatedRobot robot(small_table(), cat);
+  const ObjectTruth mug = truth_of(robot.ground_truth(), "mug");
+  const Eigen::Vector2d c = mug.centre.head<2>();
+  const Eigen::Vector2d n = c.normalized();
+  robot::TablePush push;
+  push.start = c - n * (mug.footprint_radius + 0.03);
+  push.end = c + n * 0.02;
+  const robot::PushReport r = robot.push(push, {});
+  EXPECT_TRUE(r.touched);
+  EXPECT_TRUE(r.backed_away);
+  EXPECT_FALSE(r.parked_at_once);
+  const ObjectTruth after = truth_of(robot.ground_truth(), "mug");
+  EXPECT_TRUE(after.upright);
+  EXPECT_GT((after.centre - mug.centre).head<2>().dot(n), 0.01);
+}
+
 TEST(SimulatedRobot, RejectsUnreachableAndBadPushesWithoutMoving) {
   const ObjectCatalogue cat = ObjectCatalogue::load_default();
   SimulatedRobot robot(small_table(), cat);

@@ -70,6 +70,13 @@ for path in sys.argv[1:]:
     print(f"only intended {only}/{len(pushed)} = {100 * only / max(1, len(pushed)):.0f}% "
           f"[{100 * w[0]:.0f}, {100 * w[1]:.0f}]; off table {sum(r['off_table'] for r in rows)}; "
           f"pushes per executed table {sum(r.get('pushes', 1) for r in pushed) / max(1, len(pushed)):.2f}")
+    touched = sum(r['touched_other'] for r in pushed)
+    tw = wilson(touched, len(pushed))
+    plan = [r['plan_ms'] for r in pushed]
+    print(f"touched another object {touched}/{len(pushed)} = {100 * touched / max(1, len(pushed)):.0f}% "
+          f"[{100 * tw[0]:.0f}, {100 * tw[1]:.0f}]; plan time median {median(plan):.0f} ms, "
+          f"max {max(plan, default=0):.0f} ms (wall); refused {sum(r['outcome'] == 'robot-refused' for r in rows)}, "
+          f"not planned {sum(r['outcome'] == 'not-planned' for r in rows)}")
     by = defaultdict(list)
     for r in rows:
         by[r['object']].append(r)

@@ -129,6 +129,12 @@ struct PushReport {
   bool touched = false;               ///< the touch signal was on in some frame
   std::optional<int> first_touch_frame;
   double seconds = 0;  ///< the robot's time the push took, s
+  /// The hand, lifted after the push, still touched the pushed object (one taller than the lift)
+  /// and first backed away along the push before going back.
+  bool backed_away = false;
+  /// No way back met no object: the arm was put at its rest pose at once (a simulator's
+  /// fallback; a real arm would stop and ask for help).
+  bool parked_at_once = false;
   std::string message;
 };
 
