@@ -9,6 +9,8 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 
+#include "kmeans_seeding.hpp"
+
 namespace proprio::topics {
 namespace {
 
@@ -162,24 +164,7 @@ struct Clustering {
 /// One k-means++ start followed by Lloyd iterations over the rows of x.
 Clustering kmeans_once(const Eigen::MatrixXd& x, int k, int iterations, core::Rng& rng) {
   const Eigen::Index n = x.rows();
-  Eigen::MatrixXd centres(k, x.cols());
-  centres.row(0) = x.row(static_cast<Eigen::Index>(rng.index(static_cast<std::uint64_t>(n))));
-  Eigen::VectorXd d2 = (x.rowwise() - centres.row(0)).rowwise().squaredNorm();
-  for (int j = 1; j < k; ++j) {
-    const double total = d2.sum();
-    Eigen::Index pick = 0;
-    if (total > 0) {
-      double u = rng.uniform() * total;
-      for (pick = 0; pick < n - 1; ++pick) {
-        u -= d2(pick);
-        if (u < 0) break;
-      }
-    } else {
-      pick = static_cast<Eigen::Index>(rng.index(static_cast<std::uint64_t>(n)));
-    }
-    centres.row(j) = x.row(pick);
-    d2 = d2.cwiseMin((x.rowwise() - centres.row(j)).rowwise().squaredNorm());
-  }
+  Eigen::MatrixXd centres = detail::kmeans_pp_seeds(x, k, rng);
   Clustering out;
   out.assignment.assign(static_cast<std::size_t>(n), -1);
   for (int it = 0; it < iterations; ++it) {

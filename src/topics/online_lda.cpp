@@ -163,19 +163,30 @@ struct OnlineLda::Impl {
   }
 };
 
-OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
-                     std::int64_t total_documents, std::vector<std::string> vocabulary) {
+namespace {
+
+// The checked options and the model's scalars, for both constructors; lambda is theirs to draw.
+LdaModel model_without_topics(const OnlineLdaOptions& options, std::int32_t num_words,
+                              std::int64_t total_documents, std::vector<std::string> vocabulary) {
   options.validate();
   if (num_words < 1) throw Error("online LDA: the vocabulary is empty");
   if (total_documents < 1) throw Error("online LDA: total_documents must be at least 1");
   LdaModel m;
-  const int K = options.num_topics;
   m.alpha = options.resolved_alpha();
   m.eta = options.resolved_eta();
   m.tau0 = options.tau0;
   m.kappa = options.kappa;
   m.total_documents = total_documents;
   m.vocabulary = std::move(vocabulary);
+  return m;
+}
+
+}  // namespace
+
+OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
+                     std::int64_t total_documents, std::vector<std::string> vocabulary) {
+  LdaModel m = model_without_topics(options, num_words, total_documents, std::move(vocabulary));
+  const int K = options.num_topics;
   {
     detail::ThreadPool pool(options.threads);
     m.lambda = detail::initial_lambda(K, num_words, options.seed, pool);
@@ -208,17 +219,8 @@ Eigen::MatrixXd initial_lambda_rows(int K, std::int32_t W, std::uint64_t seed, i
 OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
                      std::int64_t total_documents, std::vector<std::string> vocabulary,
                      core::Communicator& comm) {
-  options.validate();
-  if (num_words < 1) throw Error("online LDA: the vocabulary is empty");
-  if (total_documents < 1) throw Error("online LDA: total_documents must be at least 1");
-  LdaModel m;
+  LdaModel m = model_without_topics(options, num_words, total_documents, std::move(vocabulary));
   const int K = options.num_topics;
-  m.alpha = options.resolved_alpha();
-  m.eta = options.resolved_eta();
-  m.tau0 = options.tau0;
-  m.kappa = options.kappa;
-  m.total_documents = total_documents;
-  m.vocabulary = std::move(vocabulary);
   impl_ = std::make_unique<Impl>(options, std::move(m), K, num_words);
   Impl& s = *impl_;
   const int P = comm.size();
