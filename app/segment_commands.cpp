@@ -14,6 +14,7 @@ namespace {
 // The methods' options that both commands take.
 struct MethodArgs {
   double fraction = 0.75;
+  double depth_fraction = segmentation::MlOptions{}.depth_mask_fraction;
   double threshold = 5.0;
   std::string touch = "robot";
 };
@@ -21,6 +22,11 @@ struct MethodArgs {
 void add_method_options(CLI::App* cmd, MethodArgs& a) {
   cmd->add_option("--fraction", a.fraction,
                   "M-L mask = map >= fraction * max (thesis 5.1.1: 0.75); also ml-graphcut's")
+      ->check(CLI::Range(0.01, 1.0));
+  cmd->add_option("--depth-fraction", a.depth_fraction,
+                  "ml-depth's mask = map >= depth-fraction * max (tuned on the tuning recording; "
+                  "docs/results/segmentation-eval.md)")
+      ->capture_default_str()
       ->check(CLI::Range(0.01, 1.0));
   cmd->add_option("--threshold", a.threshold,
                   "Baseline's frame-difference threshold, 0-255 (thesis 5.1.1: 5)")
@@ -33,6 +39,7 @@ void add_method_options(CLI::App* cmd, MethodArgs& a) {
 eval::EvalOptions eval_options(const MethodArgs& a) {
   eval::EvalOptions o;
   o.ml.mask_fraction = a.fraction;
+  o.ml.depth_mask_fraction = a.depth_fraction;
   o.sparse.mask_fraction = a.fraction;
   o.ml_graph_cut.mask_fraction = a.fraction;
   o.fm.difference_threshold = a.threshold;

@@ -454,6 +454,7 @@ core::Json dataset_summary_json(const std::vector<EpisodeEvaluation>& episodes,
 
 core::Json options_json(const EvalOptions& o) {
   return {{"mask_fraction", o.ml.mask_fraction},
+          {"depth_mask_fraction", o.ml.depth_mask_fraction},
           {"difference_threshold", o.fm.difference_threshold},
           {"fm_touch", segmentation::to_string(o.fm.touch)},
           {"ml_graphcut_unary_weight", o.ml_graph_cut.unary_weight},

@@ -10,6 +10,7 @@
 #include "../support/schema_check.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/segmentation/ml_segmentation.hpp"
 
 namespace proprio::app {
 namespace {
@@ -52,6 +53,31 @@ TEST(SegmentCli, EveryMethodWritesMapsMasksAndMetrics) {
     }
     expect_schema_valid("segment.schema.json", json);
   }
+}
+
+// The depth variant's mask has its own fraction (tuned apart from M-L's): its flag reaches the
+// options and is recorded; --fraction leaves it alone.
+TEST(SegmentCli, DepthFractionIsItsOwnOption) {
+  ScratchDir tmp;
+  const auto ep = write_push_episode(tmp.path() / "ep", PushSpec{});
+  const auto json = tmp.path() / "r.json";
+  auto r = run_cli("segment " + ep.string() + " --method ml --fraction 0.6 --depth-fraction 0.3 " +
+                   "--out " + (tmp.path() / "out").string() + " --json " + json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  core::Json j = core::read_json(json);
+  EXPECT_EQ(j["options"]["mask_fraction"].get<double>(), 0.6);
+  EXPECT_EQ(j["options"]["depth_mask_fraction"].get<double>(), 0.3);
+  expect_schema_valid("segment.schema.json", json);
+  r = run_cli("segment " + ep.string() + " --method ml --fraction 0.6 --out " +
+              (tmp.path() / "out2").string() + " --json " + json.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = core::read_json(json);
+  EXPECT_EQ(j["options"]["depth_mask_fraction"].get<double>(),
+            segmentation::MlOptions{}.depth_mask_fraction);
+  EXPECT_EQ(run_cli("segment " + ep.string() + " --method ml --depth-fraction 0 --out " +
+                    (tmp.path() / "out3").string())
+                .code,
+            2);
 }
 
 TEST(SegmentCli, NoTouchIsAResult) {
