@@ -62,7 +62,9 @@ Camera decompose_projection(const Matrix34d& P);
 /// its size, is finite, that R is a rotation, that P agrees with K [R | t], that the format
 /// version is not newer than kCalibFormatVersion, that image_width and image_height are integers,
 /// and that the sizes are within the caps below; throws Error naming the file and the problem.
-/// The nesting of the YAML is bounded (core::check_yaml_depth) before OpenCV parses it.
+/// The nesting of the YAML is bounded (core::check_yaml_depth) and its layout held to what OpenCV
+/// writes (directives, one "---" line, one block map with its keys at column 0, nothing after
+/// "...") before OpenCV parses it: OpenCV 4.6's parser loops for ever on some other layouts.
 Camera read_calib(const std::filesystem::path& path);
 
 /// Caps of read_calib: a camera translated by more than 10^6 units (1000 km in metres), a K with
