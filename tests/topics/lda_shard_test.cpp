@@ -21,6 +21,17 @@
 namespace proprio::topics {
 namespace {
 
+// The options of the single-rank comparisons: K topics, mini-batches of 16, seed 3, 2 threads.
+OnlineLdaOptions one_rank_options(int K, int passes) {
+  OnlineLdaOptions o;
+  o.num_topics = K;
+  o.batch_size = 16;
+  o.passes = passes;
+  o.seed = 3;
+  o.threads = 2;
+  return o;
+}
+
 Corpus small_corpus() {
   SyntheticCorpusOptions o;
   o.num_topics = 4;
@@ -98,12 +109,7 @@ TEST(DataParallelLda, OneRankGivesTheOneProcessModelBitForBit) {
   const test::TempDir dir("proprio_shard_");
   const Corpus c = small_corpus();
   write_corpus(c, dir.path(), CorpusFormat::kUci);
-  OnlineLdaOptions o;
-  o.num_topics = 5;
-  o.batch_size = 16;
-  o.passes = 2;
-  o.seed = 3;
-  o.threads = 2;
+  const OnlineLdaOptions o = one_rank_options(5, 2);
   const OnlineLdaResult one = train_online_lda(c, o);
   core::LocalCommunicator world;
   const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
@@ -132,12 +138,7 @@ TEST(DataParallelLda, ByTopicOnOneRankGivesTheOneProcessModelBitForBit) {
   co.seed = 9;
   const Corpus c = test::named_synthetic_corpus(co);
   write_corpus(c, dir.path(), CorpusFormat::kUci);
-  OnlineLdaOptions o;
-  o.num_topics = 7;
-  o.batch_size = 16;
-  o.passes = 1;
-  o.seed = 3;
-  o.threads = 2;
+  const OnlineLdaOptions o = one_rank_options(7, 1);
   const OnlineLdaResult one = train_online_lda(c, o);
   core::LocalCommunicator world;
   const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
@@ -162,12 +163,7 @@ TEST(DataParallelLda, SplitFromTheStartHoldsNoWholeLambdaUntilGathered) {
   const test::TempDir dir("proprio_shard_");
   const Corpus c = small_corpus();
   write_corpus(c, dir.path(), CorpusFormat::kUci);
-  OnlineLdaOptions o;
-  o.num_topics = 5;
-  o.batch_size = 16;
-  o.passes = 2;
-  o.seed = 3;
-  o.threads = 2;
+  const OnlineLdaOptions o = one_rank_options(5, 2);
   const OnlineLdaResult one = train_online_lda(c, o);
   core::LocalCommunicator world;
   const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
