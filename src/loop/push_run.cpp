@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
@@ -76,6 +77,37 @@ PushScore score(const std::vector<sim::ObjectTruth>& before,
   }
   s.only_intended = s.moved_intended && !s.moved_others;
   return s;
+}
+
+// Ground truth of one push: the other objects (not the intended one, not the distractors) it
+// moved or the arm touched, with when the arm first touched each.
+std::vector<OtherMove> others_of(const std::vector<sim::ObjectTruth>& before,
+                                 const std::vector<sim::ObjectTruth>& after,
+                                 const std::string& intended,
+                                 const std::vector<sim::ArmContact>& contacts) {
+  std::vector<OtherMove> out;
+  for (std::size_t i = 0; i < before.size() && i < after.size(); ++i) {
+    if (before[i].role == sim::TableRole::kDistractor || before[i].name == intended) continue;
+    OtherMove m;
+    m.name = before[i].name;
+    m.moved = (after[i].centre - before[i].centre).head<2>().norm();
+    for (const sim::ArmContact& c : contacts) {
+      if (c.id == before[i].id) m.touch = core::choice_name(c.phase, sim::kContactPhaseNames);
+    }
+    if (m.moved > kMovedThreshold || !m.touch.empty()) out.push_back(m);
+  }
+  return out;
+}
+
+// Ground truth: `p` to the nearest footprint circle of an object other than `intended`, m.
+double clearance_to_others(const std::vector<sim::ObjectTruth>& truth, const std::string& intended,
+                           const Eigen::Vector2d& p) {
+  double least = std::numeric_limits<double>::infinity();
+  for (const sim::ObjectTruth& o : truth) {
+    if (o.role == sim::TableRole::kDistractor || o.name == intended) continue;
+    least = std::min(least, (o.centre.head<2>() - p).norm() - o.footprint_radius);
+  }
+  return std::isfinite(least) ? least : 0.0;
 }
 
 }  // namespace
@@ -228,6 +260,8 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         // each retry starts farther behind the object.
         popt.min_approach = std::min(kMostApproach, popt.min_approach + attempt * kRetryApproach);
         popt.max_approach = std::min(kMostApproach, popt.max_approach + attempt * kRetryApproach);
+        // A push round a blocked line needs a push after it to reach the target.
+        if (k + 1 >= budget) popt.via_points = 0;
         planning::PushPlan plan = planning::plan_push(cur_view, cur_object, options.goal, aim,
                                                       region, arm, robot.joints(), popt);
         if (plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
@@ -251,7 +285,11 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         rec.overwrite = work.overwrite;
         rec.run = provenance;
         try {
+          const std::vector<sim::ObjectTruth> truth_before = robot.ground_truth();
+          step.start_clearance = clearance_to_others(truth_before, intended, step.plan.push.start);
           step.report = robot.push(step.plan.push, rec);
+          step.others = others_of(truth_before, robot.ground_truth(), intended,
+                                  robot.last_push_contact_phases());
           step.message = step.report->message;
           // The record names the episode where it ends up (run_push swaps the staging in).
           if (!work.dir.empty()) step.report->episode_dir = options.out / episode_name(k);
@@ -572,8 +610,20 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     row.plan_ms = p.plan.seconds * kMs;
     row.pushes = p.pushes;
     for (const PushStep& s : p.steps) {
-      row.steps.push_back({s.true_distance, s.seen_distance, s.tracked_on_object, s.plan.outcome,
-                           s.report.has_value(), s.message});
+      PushEvaluationStep e;
+      e.true_distance = s.true_distance;
+      e.seen_distance = s.seen_distance;
+      e.tracked_on_object = s.tracked_on_object;
+      e.plan = s.plan.outcome;
+      e.executed = s.report.has_value();
+      e.message = s.message;
+      e.others = s.others;
+      e.start_clearance = s.start_clearance;
+      e.start = s.plan.push.start;
+      e.end = s.plan.push.end;
+      e.blocked = s.plan.blocked;
+      e.via = s.plan.via;
+      row.steps.push_back(std::move(e));
     }
     r.pushes.push_back(std::move(row));
   }

@@ -1,5 +1,6 @@
 #include "proprio/planning/push_planner.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +22,17 @@ constexpr double kMetresToMm = 1000.0;      // hull computation in integer-free 
 // Rate at which the chosen path's whole motion is checked, Hz: the simulated controller's,
 // so that a joint jump (an IK branch change) on the way is caught as it would be there.
 constexpr double kMotionCheckRate = 500.0;
+// A path's lack of clearance (m) against its feature-density cost (features x m, 0.1-2 for most
+// paths): a millimetre of it outweighs the density of a crowded path.
+constexpr double kBlockedWeight = 1000.0;
+// A push through a waypoint is taken only when it is clearer than the direct one by this much
+// (as cost: 3 mm of clearance): it spends a push of the loop.
+constexpr double kViaCost = 3.0;
+// Waypoints: turned this far off the direct line either way, rad, and this far from p_c, m.
+constexpr double kViaLeast = 20.0 * std::numbers::pi / 180.0;
+constexpr double kViaMost = 100.0 * std::numbers::pi / 180.0;
+constexpr double kViaNear = 0.04;
+constexpr double kViaFar = 0.10;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -382,7 +394,99 @@ double distance_to_polygon(const std::vector<Eigen::Vector2d>& hull, const Eigen
   return positive > 0 && negative > 0 ? best : 0.0;
 }
 
+// Distance of p to the segment a-b.
+double point_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d e = b - a;
+  const double t = std::clamp((p - a).dot(e) / std::max(e.squaredNorm(), 1e-18), 0.0, 1.0);
+  return (a + t * e - p).norm();
+}
+
+// Distance between the segments a0-a1 and b0-b1: 0 when they cross.
+double segment_distance(const Eigen::Vector2d& a0, const Eigen::Vector2d& a1,
+                        const Eigen::Vector2d& b0, const Eigen::Vector2d& b1) {
+  const double d1 = cross(a1 - a0, b0 - a0);
+  const double d2 = cross(a1 - a0, b1 - a0);
+  const double d3 = cross(b1 - b0, a0 - b0);
+  const double d4 = cross(b1 - b0, a1 - b0);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
+    return 0.0;
+  }
+  return std::min({point_segment(a0, b0, b1), point_segment(a1, b0, b1), point_segment(b0, a0, a1),
+                   point_segment(b1, a0, a1)});
+}
+
 }  // namespace
+
+double polygon_distance(const std::vector<Eigen::Vector2d>& a,
+                        const std::vector<Eigen::Vector2d>& b) {
+  if (a.empty() || b.empty()) return std::numeric_limits<double>::infinity();
+  if (a.size() >= 3) {
+    for (const auto& p : b) {
+      if (distance_to_polygon(a, p) == 0.0) return 0.0;
+    }
+  }
+  if (b.size() >= 3) {
+    for (const auto& p : a) {
+      if (distance_to_polygon(b, p) == 0.0) return 0.0;
+    }
+  }
+  // Edges (a point is a segment of no length; two points one segment).
+  const auto edges = [](const std::vector<Eigen::Vector2d>& v) {
+    return v.size() <= 2 ? std::size_t{1} : v.size();
+  };
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < edges(a); ++i) {
+    const Eigen::Vector2d& a0 = a[i];
+    const Eigen::Vector2d& a1 = a[(i + 1) % a.size()];
+    for (std::size_t j = 0; j < edges(b); ++j) {
+      best = std::min(best, segment_distance(a0, a1, b[j], b[(j + 1) % b.size()]));
+    }
+  }
+  return best;
+}
+
+double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
+                      const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
+                      const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance,
+                      double hand_clearance) {
+  if (others.empty() || (clearance <= 0 && hand_clearance <= 0)) return 0.0;
+  // The corridor: the hull at the start and carried to the target, and all between (convex).
+  std::vector<Eigen::Vector2d> both = hull;
+  for (const auto& h : hull) both.push_back(h + (target - centre));
+  const std::vector<Eigen::Vector2d> corridor = convex_hull(both, kMetresToMm);
+  const std::vector<Eigen::Vector2d> hand{push.start, push.end};
+  // Bounding circles first: most other objects are far from the path (the plan's time).
+  const auto circle = [](const std::vector<Eigen::Vector2d>& v, Eigen::Vector2d& c) {
+    c = Eigen::Vector2d::Zero();
+    for (const auto& p : v) c += p;
+    c /= static_cast<double>(v.size());
+    double r = 0;
+    for (const auto& p : v) r = std::max(r, (p - c).norm());
+    return r;
+  };
+  Eigen::Vector2d cc;
+  Eigen::Vector2d hc;
+  const double cr = circle(corridor, cc);
+  const double hr = circle(hand, hc);
+  double lack = 0;
+  for (const auto& o : others) {
+    Eigen::Vector2d oc;
+    const double orad = circle(o, oc);
+    if (clearance > 0 && (oc - cc).norm() - orad - cr < clearance) {
+      // A neighbour nearer than `clearance` before the push (tables are crowded) is not held
+      // against every path: only coming nearer to it than it already is counts, and running
+      // into it at least `clearance`.
+      const double before = std::min(clearance, polygon_distance(hull, o));
+      const double swept = polygon_distance(corridor, o);
+      lack += std::max(0.0, before - swept);
+      if (swept == 0.0 && before > 0.0) lack += clearance - before;
+    }
+    if (hand_clearance > 0 && (oc - hc).norm() - orad - hr < hand_clearance) {
+      lack += std::max(0.0, hand_clearance - polygon_distance(hand, o));
+    }
+  }
+  return lack;
+}
 
 int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
                        PlanningView& after_view, const PutativeObject& previous,
@@ -645,19 +749,39 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     }
   }
   const cv::Mat1f others = others_density(view, o);
+  // The other objects' hulls the path keeps clear of; a blob holding p_c (the pushed object
+  // merged with a neighbour, or found again as a part of one) cannot be kept clear of.
+  std::vector<std::vector<Eigen::Vector2d>> obstacles;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    const PutativeObject& other = view.objects[k];
+    if (static_cast<int>(k) == object || other.hull.size() < 3) continue;
+    if (distance_to_polygon(other.hull, o.centre) == 0.0) continue;
+    obstacles.push_back(other.hull);
+  }
   core::Rng rng(options.seed);
   const robot::IkOptions ik;
   struct Candidate {
+    double score;  // kBlockedWeight * blocked + cost (+ kViaCost)
     double cost;
+    double blocked;
+    bool via;
     Eigen::Vector2d target;
     double approach;
     robot::TablePush push;
   };
   std::vector<Candidate> feasible;
-  for (int i = 0; i < options.candidates; ++i) {
+  const int via_points = goal == PushGoal::kTarget ? options.via_points : 0;
+  const Eigen::Vector2d line = (target - o.centre).normalized();
+  for (int i = 0; i < options.candidates + via_points; ++i) {
     ++plan.sampled;
+    const bool via = i >= options.candidates;
     Eigen::Vector2d t = target;
-    if (goal == PushGoal::kTarget) {
+    if (via) {
+      // A waypoint beside the line: turned 20-100 degrees off it either way, 4-10 cm away.
+      const double a = (rng.uniform() < 0.5 ? -1.0 : 1.0) * rng.uniform(kViaLeast, kViaMost);
+      const double r = rng.uniform(kViaNear, kViaFar);
+      t = o.centre + r * (Eigen::Rotation2Dd(a) * line);
+    } else if (goal == PushGoal::kTarget) {
       if (i > 0 && options.target_spread > 0) {
         const double r = options.target_spread * std::sqrt(rng.uniform());
         const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
@@ -690,10 +814,31 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
                             options.path_step);
     if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
-    feasible.push_back({cost, t, approach, push});
+    double blocked = path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,
+                                    options.hand_clearance);
+    if (via) {
+      // The second leg, from the waypoint on to the target, as the next plan would make it.
+      std::vector<Eigen::Vector2d> moved = o.hull;
+      for (auto& h : moved) h += t - o.centre;
+      if ((target - t).norm() < kAtTargetDistance) continue;
+      const robot::TablePush next = push_through_centre(moved, t, target, options.min_approach,
+                                                        options.tip_height, options.push_speed);
+      if (!inside_region(next.start, region, options.table_margin) ||
+          !robot::reachable(arm, next.start, next.height, q_rest, ik) ||
+          !robot::reachable(arm, next.end, next.height, q_rest, ik)) {
+        ++plan.rejected_reach;
+        continue;
+      }
+      cost += path_cost(others, view.camera, next, moved, t, target, options.centre_height,
+                        options.path_step);
+      blocked += path_clearance(next, moved, t, target, obstacles, options.clearance,
+                                options.hand_clearance);
+    }
+    const double score = kBlockedWeight * blocked + cost + (via ? kViaCost : 0.0);
+    feasible.push_back({score, cost, blocked, via, t, approach, push});
   }
   std::stable_sort(feasible.begin(), feasible.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+                   [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
   double best = std::numeric_limits<double>::infinity();
   robot::PushMotionOptions motion;
   motion.rate_hz = kMotionCheckRate;
@@ -709,6 +854,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     plan.push = c.push;
     plan.approach = c.approach;
     plan.cost = c.cost;
+    plan.blocked = c.blocked;
+    plan.via = c.via;
     plan.direction = (c.target - o.centre).normalized();
     plan.edge_distance = distance_to_hull_edge(o.hull, o.centre, -plan.direction);
     break;
@@ -719,9 +866,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
                       std::to_string(plan.rejected_region) + " left the table or view and " +
                       std::to_string(plan.rejected_reach) + " were out of the arm's reach");
   }
-  return finish(PlanOutcome::kPlanned,
-                "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
-                    " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target));
+  std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
+                     " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target);
+  if (plan.via) said += " (a waypoint round a blocked line)";
+  return finish(PlanOutcome::kPlanned, said);
 }
 
 }  // namespace proprio::planning

@@ -564,6 +564,39 @@ struct SimulatedRobot::State {
     return std::nullopt;
   }
 
+  // The objects the arm's moving links touch now. An object resting against the arm's base or
+  // its first link (a cylinder turning on its own axis) is in the same contact at every pose:
+  // no path can keep clear of it, and no transit sweeps it, so it does not count.
+  std::vector<ObjectId> objects_met_by_moving_arm(std::string* part = nullptr) const {
+    const mjModel& m = world.model();
+    const mjData& d = world.data();
+    const robot::Arm& a = world.arm();
+    const int base = a.base_body();
+    const int first = m.jnt_bodyid[a.joint_id(0)];
+    std::vector<ObjectId> out;
+    for (int i = 0; i < d.ncon; ++i) {
+      const mjContact& c = d.contact[i];
+      const std::array<int, 2> g{c.geom1, c.geom2};
+      for (int k = 0; k < 2; ++k) {
+        const int arm_geom = g[static_cast<std::size_t>(k)];
+        const int other = g[static_cast<std::size_t>(1 - k)];
+        if (world.geom_object_id(arm_geom) != kArmId) continue;
+        const ObjectId id = world.geom_object_id(other);
+        if (id == kArmId || id == kBackgroundId) continue;
+        const int body = m.geom_bodyid[arm_geom];
+        if (body == base || body == first) continue;
+        if (part != nullptr && out.empty()) {
+          const char* name = mj_id2name(&m, mjOBJ_GEOM, arm_geom);
+          *part = name != nullptr ? name : "the arm";
+        }
+        out.push_back(id);
+      }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
   // Whether the arm put at any sample of `path` (every kTransitCheckEvery-th and the last)
   // would touch an object (`met`: the first one's name and the sample's share of the path); the
   // arm is back at `current` after.
@@ -577,12 +610,13 @@ struct SimulatedRobot::State {
     std::vector<ObjectId> resting;
     if (leaving && !path.empty()) {
       world.set_arm_configuration(path.front());
-      resting = world.objects_touched_by_arm();
+      resting = objects_met_by_moving_arm();
     }
     for (std::size_t k = 0; k < path.size() && !meets; ++k) {
       if (k % kTransitCheckEvery != 0 && k + 1 != path.size()) continue;
       world.set_arm_configuration(path[k]);
-      const std::vector<ObjectId> touched = world.objects_touched_by_arm();
+      std::string part;
+      const std::vector<ObjectId> touched = objects_met_by_moving_arm(&part);
       if (!resting.empty()) {
         const bool only_resting = std::all_of(touched.begin(), touched.end(), [&](ObjectId id) {
           return std::find(resting.begin(), resting.end(), id) != resting.end();
@@ -592,7 +626,7 @@ struct SimulatedRobot::State {
       }
       meets = !touched.empty();
       if (meets && met != nullptr) {
-        *met = world.object(touched.front()).name + " at " +
+        *met = world.object(touched.front()).name + " (by " + part + ") at " +
                std::to_string(static_cast<int>(100.0 * static_cast<double>(k) /
                                                static_cast<double>(path.size()))) +
                "% of the way";
@@ -614,6 +648,7 @@ struct SimulatedRobot::State {
   DistractorMover distractors;
   int since_distractors = 0;
   std::vector<ObjectId> contacts;
+  std::vector<ArmContact> contact_phases;
 };
 
 SimulatedRobot::SimulatedRobot(const TableOptions& options, const ObjectCatalogue& catalogue) {
@@ -701,6 +736,8 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   robot::PushReport report;
   report.push = push;
   s_->contacts.clear();
+  s_->contact_phases.clear();
+  ContactPhase phase = ContactPhase::kTransit;
   const double t0 = world.time();
   double t_record = t0;
   bool touched_since_frame = false;
@@ -713,6 +750,7 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
       touched_since_frame = touched_since_frame || recorded;
       if (std::find(s_->contacts.begin(), s_->contacts.end(), id) == s_->contacts.end()) {
         s_->contacts.push_back(id);
+        s_->contact_phases.push_back({id, phase});
       }
     }
     if (!recorded) return;
@@ -739,6 +777,7 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   const int hold = static_cast<int>(std::lround(kTransitHold / world.timestep()));
   for (int k = 0; k < hold; ++k) advance(motion.q_above_start, s_->options.record_transit);
   // Lower, push, lift, and the objects come to rest (recorded).
+  phase = ContactPhase::kPush;
   const int n = static_cast<int>(motion.joints.size()) + kSettleSteps;
   for (int k = 0; k < n; ++k) {
     const auto i =
@@ -753,6 +792,7 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   // taller than the lift, pressed against the hand), it first backs away along the push, at
   // its height, by kRetreatSteps; where the way back still meets an object (one the push left
   // near the arm's base), the arm is put at the park at once, logged.
+  phase = ContactPhase::kReturn;
   const robot::JointVector q_lifted = world.arm_joints();
   std::vector<robot::JointVector> back = s_->transit(q_lifted, q_lifted, push.end, false);
   std::string met;
@@ -816,6 +856,9 @@ cv::Mat SimulatedRobot::ground_truth_mask() {
 }
 
 const std::vector<ObjectId>& SimulatedRobot::last_push_contacts() const { return s_->contacts; }
+const std::vector<ArmContact>& SimulatedRobot::last_push_contact_phases() const {
+  return s_->contact_phases;
+}
 
 std::vector<Placement> SimulatedRobot::scatter(std::uint64_t seed) {
   std::vector<Placement> places = scatter_placements(s_->types, {}, seed);

@@ -139,6 +139,76 @@ TEST(PushPlanner, PlansAroundAnObstacleAndRejectsWhatItCannotDo) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
+TEST(PushGeometry, PolygonDistanceAndPathClearance) {
+  const std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const std::vector<Eigen::Vector2d> b{{2, 0}, {3, 0}, {3, 1}, {2, 1}};
+  EXPECT_NEAR(polygon_distance(a, b), 1.0, 1e-12);
+  EXPECT_EQ(polygon_distance(a, {{0.5, 0.5}}), 0.0);                   // a point inside
+  EXPECT_NEAR(polygon_distance(a, {{0.5, 3}, {0.5, 2}}), 1.0, 1e-12);  // a segment above
+  EXPECT_EQ(polygon_distance(a, {{-1, 0.5}, {2, 0.5}}), 0.0);          // a segment across
+  // A square pushed along +x toward another: the corridor meets it; pushed along +y it does not.
+  const std::vector<Eigen::Vector2d> sq{{-0.02, -0.02}, {0.02, -0.02}, {0.02, 0.02}, {-0.02, 0.02}};
+  const std::vector<std::vector<Eigen::Vector2d>> others{
+      {{0.08, -0.02}, {0.12, -0.02}, {0.12, 0.02}, {0.08, 0.02}}};
+  const Eigen::Vector2d c(0, 0);
+  const auto into = push_through_centre(sq, c, {0.10, 0}, 0.03, 0.008, 0.05);
+  const auto aside = push_through_centre(sq, c, {0, 0.10}, 0.03, 0.008, 0.05);
+  EXPECT_GT(path_clearance(into, sq, c, {0.10, 0}, others, 0.01, 0.02), 0.02);
+  EXPECT_EQ(path_clearance(aside, sq, c, {0, 0.10}, others, 0.01, 0.02), 0.0);
+  EXPECT_EQ(path_clearance(into, sq, c, {0.10, 0}, others, 0.0, 0.0), 0.0);  // not checked
+}
+
+TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
+  // The object at (0.20, 0), its target 16 cm along +y, a neighbour on the line between: the
+  // direct push would shove the neighbour along. With waypoints the planner pushes the object
+  // beside the line first (its corridor clear of the neighbour), and from there the next push
+  // reaches the target clear of it too.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.20, 0.0}, 0.02);
+  add_feature_square(f, cam, {0.20, 0.07}, 0.015);
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 2U);
+  const int a = view.objects[0].centre.y() < 0.035 ? 0 : 1;
+  const auto& obj = view.objects[static_cast<std::size_t>(a)];
+  const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target(0.20, 0.16);
+  PushPlanOptions o = flat_options();
+  o.via_points = 24;
+  const PushPlan p = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
+  EXPECT_TRUE(p.via);
+  EXPECT_EQ(p.blocked, 0.0);
+  // The corridor the object sweeps to the waypoint, and on from there, keeps clear of the
+  // neighbour's hull.
+  std::vector<Eigen::Vector2d> swept = obj.hull;
+  for (const auto& h : obj.hull) swept.push_back(h + (p.target - obj.centre));
+  std::vector<Eigen::Vector2d> on;
+  for (const auto& h : obj.hull) on.push_back(h + (p.target - obj.centre));
+  for (const auto& h : obj.hull) on.push_back(h + (target - obj.centre));
+  // (the convex hulls of these point sets: polygon_distance wants convex polygons)
+  const auto hull_of = [](const std::vector<Eigen::Vector2d>& pts) {
+    std::vector<cv::Point2f> q;
+    for (const auto& x : pts) q.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()));
+    std::vector<cv::Point2f> h;
+    cv::convexHull(q, h);
+    std::vector<Eigen::Vector2d> out;
+    for (const auto& x : h) out.emplace_back(x.x, x.y);
+    return out;
+  };
+  EXPECT_GT(polygon_distance(hull_of(swept), other.hull), 0.005);
+  EXPECT_GT(polygon_distance(hull_of(on), other.hull), 0.005);
+  // Without waypoints (a single push must end at the target) the plan goes straight, blocked.
+  o.via_points = 0;
+  const PushPlan direct = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
+  EXPECT_FALSE(direct.via);
+  EXPECT_GT(direct.blocked, 0.0);
+  EXPECT_LT((direct.target - target).norm(), o.target_spread + 1e-9);
+}
+
 TEST(PushTracking, FindsThePushedObjectWhereItNowTouchesAStillOne) {
   const geometry::Camera cam = down_camera();
   const PushPlanOptions o = flat_options();

@@ -19,9 +19,20 @@
 
 namespace proprio::loop {
 
+/// Waypoint paths the closed loop's planner samples (PushPlanOptions::via_points) for every
+/// push but the last: a push round a neighbour in the direct line, then on to the target.
+inline constexpr int kViaPoints = 24;
+
+/// The planner's options of the closed loop: PushPlanOptions with via_points = kViaPoints.
+inline planning::PushPlanOptions loop_plan_options() {
+  planning::PushPlanOptions o;
+  o.via_points = kViaPoints;
+  return o;
+}
+
 struct PushOptions {
   sim::TableOptions table;
-  planning::PushPlanOptions plan;
+  planning::PushPlanOptions plan = loop_plan_options();
   planning::PushGoal goal = planning::PushGoal::kTarget;
   /// The object to push, a catalogue name on the table (found in the view through the ground
   /// truth); empty: putative object `blob`.
@@ -145,6 +156,8 @@ struct PushPlanRecord {
     v(p.edge_distance, {"edge_distance", "p_c to the hull's edge behind it, m"});
     v(p.approach, {"approach", "Pusher start to that edge, m"});
     v(p.cost, {"cost", "Feature density along the path (eq 7.5)"});
+    v(p.blocked, {"blocked", "The path's lack of clearance from other objects, m (0: clear)"});
+    v(p.via, {"via", "A push to a waypoint round a blocked line"});
   }
 };
 
@@ -168,6 +181,20 @@ inline constexpr core::ChoiceNames<PushOutcome, 6> kPushOutcomeNames{
      {"moved-nothing", PushOutcome::kMovedNothing},
      {"moved-wrong", PushOutcome::kMovedWrong}}};
 
+/// Ground truth of one push (scoring and diagnosis only): another object it moved or touched.
+struct OtherMove {
+  std::string name;
+  double moved = 0;   ///< distance its centre moved in this push, m
+  std::string touch;  ///< when the arm first touched it: transit, push, return; empty: never
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "The object (catalogue name)"});
+    v(self.moved, {"moved", "Distance its centre moved in this push, m"});
+    v(self.touch, {"touch", "When the arm first touched it (transit, push, return; empty: never)"});
+  }
+};
+
 /// One push of a closed-loop run: its plan, what the robot did, what the look after it saw and
 /// (for scoring only) where the ground truth says the object went.
 struct PushStep {
@@ -182,6 +209,12 @@ struct PushStep {
   /// Ground truth: the putative object found after this push lies on the intended object.
   bool tracked_on_object = false;
   double look_seconds = 0;  ///< the look after the push, s
+  /// Ground truth: the other objects this push moved more than kMovedThreshold or the arm
+  /// touched.
+  std::vector<OtherMove> others;
+  /// Ground truth: the push's start to the nearest other object's footprint circle, m
+  /// (negative: the pusher came down inside it); 0 when not executed.
+  double start_clearance = 0;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -199,6 +232,9 @@ struct PushStep {
       {"true_distance", "Ground truth: the object's centre to the target, m (null: none)"});
     v(self.tracked_on_object, {"tracked_on_object", "The object found again is the intended one"});
     v(self.look_seconds, {"look_seconds", "The look after the push, s"});
+    v(self.others, {"others", "Ground truth: other objects this push moved or touched"});
+    v(self.start_clearance,
+      {"start_clearance", "Ground truth: the start to the nearest other footprint circle, m"});
   }
 };
 
@@ -275,7 +311,7 @@ struct PushEvaluationOptions {
   sim::Background background = sim::Background::kPlain;
   int distractors = -1;
   int clutter = 0;
-  planning::PushPlanOptions plan;
+  planning::PushPlanOptions plan = loop_plan_options();
 
   void validate() const;
 
@@ -320,6 +356,12 @@ struct PushEvaluationStep {
   planning::PlanOutcome plan = planning::PlanOutcome::kNoObjects;
   bool executed = false;
   std::string message;
+  std::vector<OtherMove> others;                    ///< PushStep::others
+  double start_clearance = 0;                       ///< PushStep::start_clearance, m
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();  ///< the push's start, table m
+  Eigen::Vector2d end = Eigen::Vector2d::Zero();    ///< its end, table m
+  double blocked = 0;                               ///< PushPlan::blocked, m
+  bool via = false;                                 ///< PushPlan::via
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -331,6 +373,13 @@ struct PushEvaluationStep {
     v.choice(self.plan, {"plan", "How planning ended"}, planning::kPlanOutcomeNames);
     v(self.executed, {"executed", "The robot executed the push"});
     v(self.message, {"message", "What happened"});
+    v(self.others, {"others", "Ground truth: other objects this push moved or touched"});
+    v(self.start_clearance,
+      {"start_clearance", "Ground truth: the start to the nearest other footprint circle, m"});
+    v(xy(self.start), {"start", "The push's start, table m"});
+    v(xy(self.end), {"end", "The push's end, table m"});
+    v(self.blocked, {"blocked", "The plan's lack of clearance from other objects, m"});
+    v(self.via, {"via", "A push to a waypoint round a blocked line"});
   }
 };
 

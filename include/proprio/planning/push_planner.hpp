@@ -82,6 +82,20 @@ struct PushPlanOptions {
   double table_margin = 0.03;   ///< paths and pushed objects keep this far inside the region, m
   double tip_height = 0.008;    ///< pusher tip above the table while pushing, m
   double push_speed = 0.05;     ///< m/s
+  /// Least gap kept between the corridor the pushed object sweeps (its hull carried from p_c to
+  /// p_t) and every other putative object's hull, m; a path that keeps less is blocked by the
+  /// shortfall (path_clearance), which outweighs the feature-density cost. 0: not checked.
+  double clearance = 0.01;
+  /// Least gap kept between the pusher's own path (p_s to its end) and every other hull, m: the
+  /// hand's half width (its fingers reach 3 cm to either side of the pusher, 3-10 cm above its
+  /// tip). 0: not checked.
+  double hand_clearance = 0.03;
+  /// kTarget: paths sampled besides the direct ones that go round a blocked line through a
+  /// waypoint (the push moves the object to the waypoint; the next push, re-planned, goes on to
+  /// the target); taken only when they are clearer by more than a few millimetres. 0 (the
+  /// default: a single push must end at its target): none; loop::push_once samples
+  /// loop::kViaPoints for every push of its closed loop but the last.
+  int via_points = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -120,6 +134,15 @@ struct PushPlanOptions {
     v(self.tip_height,
       {"tip_height", "Pusher tip height above the table, m", core::between(0.002, 0.05)});
     v(self.push_speed, {"push_speed", "Push speed, m/s", core::positive_at_most(0.5)});
+    v(self.clearance,
+      {"clearance", "Least gap between the pushed object's corridor and other objects, m",
+       core::between(0, 0.1)});
+    v(self.hand_clearance,
+      {"hand_clearance", "Least gap between the pusher's path and other objects, m",
+       core::between(0, 0.1)});
+    v(self.via_points,
+      {"via_points", "Target goal: paths sampled through a waypoint round a blocked line",
+       core::between(0, 1000)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -235,10 +258,16 @@ struct PushPlan {
   double edge_distance = 0;  ///< d: p_c to the hull's edge behind it, along -n, m (Algorithm 4)
   double approach = 0;       ///< pusher start to that edge, m
   double cost = 0;           ///< feature density of the other objects along the path (eq 7.5)
-  int sampled = 0;           ///< candidate paths sampled
-  int rejected_region = 0;   ///< of them outside the table region
-  int rejected_reach = 0;    ///< of them out of the arm's reach
-  double seconds = 0;        ///< wall-clock planning time
+  /// How much the path (both legs through a waypoint) lacks of the clearances, summed over the
+  /// other objects, m (path_clearance); 0: clear.
+  double blocked = 0;
+  /// kTarget: the push goes to a waypoint round a blocked line (target is that waypoint), not to
+  /// the given target; the next push, re-planned, goes on.
+  bool via = false;
+  int sampled = 0;          ///< candidate paths sampled
+  int rejected_region = 0;  ///< of them outside the table region
+  int rejected_reach = 0;   ///< of them out of the arm's reach
+  double seconds = 0;       ///< wall-clock planning time
 };
 
 /// Distance from `p` (inside the convex polygon `hull`, CCW) to its boundary along direction
@@ -265,14 +294,32 @@ double path_cost(const cv::Mat1f& density, const geometry::Camera& camera,
                  const Eigen::Vector2d& centre, const Eigen::Vector2d& target, double height,
                  double step);
 
+/// Distance between two convex polygons (either orientation; 1 or 2 points are a point or a
+/// segment), any units; 0 when they overlap.
+double polygon_distance(const std::vector<Eigen::Vector2d>& a,
+                        const std::vector<Eigen::Vector2d>& b);
+
+/// How much a push lacks of the clearances (m, summed over `others`, the other objects' hulls):
+/// the corridor the pushed object sweeps (`hull`, around `centre`, carried to `target`) comes
+/// nearer than `clearance` to an other hull (nearer than it was before the push, when it was
+/// nearer already; running into one counts at least `clearance`), or the pusher's path
+/// (push.start to push.end) keeps less than `hand_clearance` from one. 0: clear.
+double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
+                      const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
+                      const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance,
+                      double hand_clearance);
+
 /// The density of every putative object but view.objects[object]: its blob and its convex hull
 /// zeroed (eq 7.5's "own hull zeroed").
 cv::Mat1f density_of_others(const PlanningView& view, int object);
 
 /// Plans a push of view.objects[object] toward `target` (kTarget, table m) or toward the edge of
-/// the view (kEdge; `target` ignored): samples options.candidates targets and approaches, rejects
+/// the view (kEdge; `target` ignored): samples options.candidates targets and approaches (and,
+/// for kTarget, options.via_points pushes to a waypoint beside the line), rejects
 /// those that leave the region or that the arm cannot reach from `q_rest` (robot::reachable at the
-/// start, above it and at the end), and keeps the least-cost one whose whole motion
+/// start, above it and at the end), and keeps the one of least blocking (path_clearance against
+/// the other putative objects' hulls, those holding p_c left out), then least cost, whose whole
+/// motion
 /// (robot::plan_push_motion: lowering, push, lifting) tracks without a joint jump. Bad outside
 /// input (a non-finite target, bad options) throws Error; every planning failure is an outcome with
 /// a message.

@@ -115,6 +115,23 @@ struct ObjectTruth {
   TableRole role = TableRole::kObject;
 };
 
+/// When in a push the arm first touched an object (SimulatedRobot::last_push_contact_phases).
+enum class ContactPhase {
+  kTransit,  ///< on the way to above the push's start (before lowering)
+  kPush,     ///< lowering, the push itself, lifting
+  kReturn,   ///< on the way back to the park
+};
+inline constexpr core::ChoiceNames<ContactPhase, 3> kContactPhaseNames{
+    {{"transit", ContactPhase::kTransit},
+     {"push", ContactPhase::kPush},
+     {"return", ContactPhase::kReturn}}};
+
+/// An object the arm touched during a push and when it first did.
+struct ArmContact {
+  ObjectId id = 0;
+  ContactPhase phase = ContactPhase::kPush;
+};
+
 /// Where a scatter put one object.
 struct Placement {
   std::string name;
@@ -163,7 +180,9 @@ class SimulatedRobot final : public robot::Robot {
   /// way while the objects come to rest; every part takes time on the robot's clock. The touch
   /// flag is MuJoCo's contact of the arm with any object. Throws Error, with nothing moved, when
   /// the transit would meet an object (checked pose by pose before moving: a tall object under
-  /// the hand above the start) or the push is out of reach.
+  /// the hand above the start; an object resting against the arm's base or its first link, a
+  /// cylinder turning on its axis, is in that contact at every pose and does not count) or the
+  /// push is out of reach.
   robot::PushReport push(const robot::TablePush& push,
                          const robot::PushRecording& recording) override;
 
@@ -174,6 +193,9 @@ class SimulatedRobot final : public robot::Robot {
   cv::Mat ground_truth_mask();
   /// Ids of the objects the arm touched during the last push (ascending).
   [[nodiscard]] const std::vector<ObjectId>& last_push_contacts() const;
+  /// The same, each with the part of the push in which the arm first touched it (in the order
+  /// of first touch).
+  [[nodiscard]] const std::vector<ArmContact>& last_push_contact_phases() const;
   /// Puts every object and the clutter (not the distractors) at a random non-overlapping place
   /// (scatter_placements from `seed`) and lets them settle; logged. Returns the placements.
   std::vector<Placement> scatter(std::uint64_t seed);
