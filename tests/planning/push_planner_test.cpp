@@ -176,6 +176,8 @@ TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   const robot::JointVector q0 = robot::JointVector::Zero();
   const Eigen::Vector2d target(0.20, 0.16);
   PushPlanOptions o = flat_options();
+  o.clearance = 0.01;
+  o.hand_clearance = 0.03;
   o.via_points = 24;
   const PushPlan p = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
   ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;

@@ -20,8 +20,10 @@
 namespace proprio::loop {
 
 /// Waypoint paths the closed loop's planner samples (PushPlanOptions::via_points) for every
-/// push but the last: a push round a neighbour in the direct line, then on to the target.
-inline constexpr int kViaPoints = 24;
+/// push but the last: a push round a neighbour in the direct line, then on to the target. 0:
+/// 24 (with --clearance 0.01 --hand-clearance 0.03) moved the intended object alone no more
+/// often on tables 1-100 (67% against 71%, docs/results/push.md); --via-points 24 turns it on.
+inline constexpr int kViaPoints = 0;
 
 /// The planner's options of the closed loop: PushPlanOptions with via_points = kViaPoints.
 inline planning::PushPlanOptions loop_plan_options() {

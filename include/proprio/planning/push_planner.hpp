@@ -84,17 +84,19 @@ struct PushPlanOptions {
   double push_speed = 0.05;     ///< m/s
   /// Least gap kept between the corridor the pushed object sweeps (its hull carried from p_c to
   /// p_t) and every other putative object's hull, m; a path that keeps less is blocked by the
-  /// shortfall (path_clearance), which outweighs the feature-density cost. 0: not checked.
-  double clearance = 0.01;
+  /// shortfall (path_clearance), which outweighs the feature-density cost. 0 (the default: 1 cm
+  /// with hand_clearance 3 cm and waypoints gave no better figures on tables 1-100,
+  /// docs/results/push.md): not checked.
+  double clearance = 0;
   /// Least gap kept between the pusher's own path (p_s to its end) and every other hull, m: the
   /// hand's half width (its fingers reach 3 cm to either side of the pusher, 3-10 cm above its
-  /// tip). 0: not checked.
-  double hand_clearance = 0.03;
+  /// tip; 0.03 was tried). 0 (the default, see clearance): not checked.
+  double hand_clearance = 0;
   /// kTarget: paths sampled besides the direct ones that go round a blocked line through a
   /// waypoint (the push moves the object to the waypoint; the next push, re-planned, goes on to
   /// the target); taken only when they are clearer by more than a few millimetres. 0 (the
-  /// default: a single push must end at its target): none; loop::push_once samples
-  /// loop::kViaPoints for every push of its closed loop but the last.
+  /// default: a single push must end at its target): none; loop::push_once uses it for every
+  /// push of its closed loop but the last (loop::kViaPoints: 0, 24 was tried).
   int via_points = 0;
   std::uint64_t seed = 1;
 
