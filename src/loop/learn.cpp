@@ -929,6 +929,8 @@ class Learner {
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
             views_.push_back({c, done, f.descriptors.clone()});
+            attendant_.view_taken(in, dir / "episode", seg.view_masks[v].first,
+                                  seg.view_masks[v].second);
             frames.push_back(unit_descriptors(f.descriptors));
             last_mask = seg.view_masks[v].second;
             ++lp.views;
@@ -1255,6 +1257,7 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   table.seed = o.seed;
   table.width = o.width;
   table.height = o.height;
+  table.record_masks = o.oracle_ladder;  // the ladder's ground truth (scoring only)
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, o.seed);
   Core k;
@@ -1280,6 +1283,8 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
     so.features = o.features;
     so.dilate = o.dilate;
     so.min_features = o.min_features;
+    so.mot = o.mot;
+    so.oracle_ladder = o.oracle_ladder;
     score = score_self_supervision(k.learning, attendant, objects, *k.lda, *k.vocabulary, so);
     k.learner->mutable_seconds()["held_out"] =
         std::chrono::duration<double>(Clock::now() - th).count();

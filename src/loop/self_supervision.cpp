@@ -372,7 +372,7 @@ class Learner {
   }
 
   // The training views of one learn push's episode (kMotion) or of the look after it (kBlob).
-  std::vector<std::vector<std::int32_t>> views_of(const fs::path& dir,
+  std::vector<std::vector<std::int32_t>> views_of(const PushIntent& intent, const fs::path& dir,
                                                   const planning::PlanningView& after, int blob,
                                                   cv::Mat& last_mask,
                                                   SelfSupervisionDecision& what) {
@@ -381,7 +381,10 @@ class Learner {
       if (blob < 0) return docs;
       last_mask = blob_mask(after.objects[static_cast<std::size_t>(blob)], size_);
       auto d = masked_document(image_, last_mask, vocabulary_, o_.features, o_.dilate);
-      if (static_cast<int>(d.size()) >= o_.min_features) docs.push_back(std::move(d));
+      if (static_cast<int>(d.size()) >= o_.min_features) {
+        docs.push_back(std::move(d));
+        attendant_.view_taken(intent, {}, -1, last_mask);
+      }
       what.source = "blob";
       return docs;
     }
@@ -412,6 +415,7 @@ class Learner {
         continue;
       }
       docs.push_back(std::move(d));
+      attendant_.view_taken(intent, dir, i, m);
       last_mask = m;
       ++used;
     }
@@ -487,7 +491,7 @@ class Learner {
       }
       cv::Mat last_mask;
       SelfSupervisionDecision what;
-      const auto docs = views_of(episodes_ / name, after, now, last_mask, what);
+      const auto docs = views_of(in, episodes_ / name, after, now, last_mask, what);
       attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
       if (!docs.empty()) {
         const Eigen::MatrixXd th = theta_of(docs);
