@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "arm_image.hpp"
 #include "blob_tracking.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/progress.hpp"
@@ -408,6 +409,10 @@ class Learner {
     int small = 0;
     for (int i = first; i < static_cast<int>(ml.frame_maps.size()); i += o_.view_step) {
       cv::Mat m = ml.frame_maps[static_cast<std::size_t>(i)] >= thr;
+      // The arm moves with the arm: its own image (its kinematics at the frame's joints) is cut
+      // out, as proprio learn does. Without this a view's mask lay a third on the arm (oracle
+      // ladder, docs/results/selfsupervision.md).
+      if (o_.cut_arm) m.setTo(0, detail::arm_image_mask(e, i, m.size(), robot_.arm(), arm_state_));
       if (cv::countNonZero(m) == 0) continue;
       auto d = masked_document(e.frame(i), m, vocabulary_, o_.features, o_.dilate);
       if (static_cast<int>(d.size()) < o_.min_features) {
@@ -613,7 +618,8 @@ class Learner {
   topics::MotModel model_so_far_;
   std::vector<int> model_class_;
   int plans_ = 0;
-  double extra_approach_ = 0;  ///< m, grown after each refusal of the round
+  double extra_approach_ = 0;                 ///< m, grown after each refusal of the round
+  std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for the arm's image
 };
 
 }  // namespace

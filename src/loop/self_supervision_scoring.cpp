@@ -349,8 +349,11 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
   const std::vector<ViewTruth>& views = attendant.views();
   topics::Corpus a_corpus(vocabulary.size());
   std::vector<std::string> a_labels;
+  topics::Corpus last_corpus(vocabulary.size());  // (a_last): each push's last view only
+  std::vector<std::string> last_labels;
   std::optional<episode::Episode> e;
-  for (const ViewTruth& v : views) {
+  for (std::size_t vi = 0; vi < views.size(); ++vi) {
+    const ViewTruth& v = views[vi];
     if (v.episode.empty() || v.intended.empty() || v.frame < 0) continue;
     if (!e || e->dir() != v.episode) e.emplace(episode::read_episode(v.episode));
     if (!e->info().has_masks) continue;
@@ -365,9 +368,15 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
     if (static_cast<int>(doc.size()) < options.min_features) continue;
     a_corpus.add_tokens(doc);
     a_labels.push_back(v.intended);
+    if (vi + 1 == views.size() || views[vi + 1].episode != v.episode) {
+      last_corpus.add_tokens(doc);
+      last_labels.push_back(v.intended);
+    }
   }
   l.rungs.push_back(rung("a", "the pushed object's true mask in the push frames; true labels",
                          theta_of(a_corpus), a_labels));
+  l.rungs.push_back(rung("a_last", "(a), each push's last view only (the arm lifted)",
+                         theta_of(last_corpus), last_labels));
   // (b), (c): the robot's own views (its masks), labelled by the truth or by the robot.
   const Eigen::MatrixXd& theta = learning.views.theta;
   const bool aligned = static_cast<Eigen::Index>(views.size()) == theta.rows();

@@ -282,12 +282,17 @@ TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
   }
   ASSERT_GT(l.views.labels.size(), 0U);
   ASSERT_EQ(attendant->views().size(), l.views.labels.size());
+  double arm = 0;
   for (const ViewTruth& v : attendant->views()) {
     EXPECT_TRUE(v.known);
     EXPECT_GE(v.frame, 0);
     EXPECT_FALSE(v.episode.empty());
     EXPECT_LE(v.share_object + v.share_arm + v.share_background, 1.0 + 1e-9);
+    arm += v.share_arm;
   }
+  // The arm's own image is cut out of the motion views (cut_arm): before, a third of the
+  // views' masks lay on the arm (seed 2 of the report, docs/results/selfsupervision.md).
+  EXPECT_LT(arm / static_cast<double>(attendant->views().size()), 0.05);
   const SelfSupervisionScore s =
       score_self_supervision(l, *attendant, {"book", "bottle"}, tiny->lda, tiny->vocabulary, o);
   ASSERT_TRUE(s.ladder.has_value());
@@ -298,14 +303,14 @@ TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
     EXPECT_GE(r.accuracy, 0.0) << r.name;
     EXPECT_LE(r.accuracy, 1.0) << r.name;
   }
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"a0", "a0_table", "a", "b", "b_pure", "c_named", "c"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"a0", "a0_table", "a", "a_last", "b", "b_pure",
+                                             "c_named", "c"}));
   // (a0): both objects rendered kLadderRenders (24) times each at the centre.
   EXPECT_EQ(s.ladder->rungs[0].training_views, 48);
   EXPECT_EQ(s.ladder->rungs[0].classes, 2);
   EXPECT_GT(s.ladder->rungs[2].training_views, 0);  // (a): true masks of the pushed objects
-  EXPECT_GT(s.ladder->rungs[3].training_views, 0);  // (b): the robot's views, true labels
-  EXPECT_LE(s.ladder->rungs[3].training_views, static_cast<int>(l.views.labels.size()));
+  EXPECT_GT(s.ladder->rungs[4].training_views, 0);  // (b): the robot's views, true labels
+  EXPECT_LE(s.ladder->rungs[4].training_views, static_cast<int>(l.views.labels.size()));
   EXPECT_DOUBLE_EQ(s.ladder->rungs.back().accuracy, s.mot_accuracy);
   EXPECT_NO_THROW((void)core::fields_to_json(s).dump());
 }

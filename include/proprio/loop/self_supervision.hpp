@@ -68,7 +68,9 @@ struct SelfSupervisionOptions {
   /// centre, m, stepped by the golden angle, so the object is pushed from ever other sides.
   double circle_radius = 0.07;
   ViewSource views = ViewSource::kMotion;
-  int view_step = 2;       ///< kMotion: every n-th frame from the first touch
+  int view_step = 2;  ///< kMotion: every n-th frame from the first touch
+  /// kMotion: cut the arm's own image (its kinematics at each frame's joints) out of the views.
+  bool cut_arm = true;
   int min_features = 15;   ///< a view needs this many features (else left out, logged)
   int dilate = 4;          ///< masks grown by this many pixels (features on the outline count)
   double fps = 15;         ///< frame rate of the pushes' episodes
@@ -109,6 +111,7 @@ struct SelfSupervisionOptions {
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
              kViewSourceNames);
     v(self.view_step, {"view_step", "Motion views: every n-th frame", core::between(1, 1000)});
+    v(self.cut_arm, {"cut_arm", "Motion views: cut the arm's own image out"});
     v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
     v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
     v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});

@@ -132,7 +132,7 @@ struct ObjectScore {
 /// One rung of the oracle ladder: a supervised Mixture of Topics (ground-truth object names as
 /// classes, every object with >= 2 views) trained on some views, scored on the held-out views.
 struct LadderRung {
-  std::string name;  ///< a0, a0_table, a, b, b_pure, c
+  std::string name;  ///< a0, a0_table, a, a_last, b, b_pure, c_named, c
   std::string what;  ///< what it was trained on
   int training_views = 0;
   int classes = 0;                 ///< objects with a class
@@ -165,7 +165,7 @@ struct OracleLadder {
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    v(self.rungs, {"rungs", "a0, a0_table, a, b, b_pure, c"});
+    v(self.rungs, {"rungs", "a0, a0_table, a, a_last, b, b_pure, c_named, c"});
     v(self.share_object, {"share_object", "Robot's view masks: fraction on the object in view"});
     v(self.share_arm, {"share_arm", "Fraction on the arm"});
     v(self.share_background, {"share_background", "Fraction on the background"});
