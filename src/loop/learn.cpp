@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string_view>
 
+#include "arm_image.hpp"
 #include "blob_tracking.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -64,11 +65,6 @@ constexpr double kTargetSide = 0.27;
 // stands where every transit (raised over the base, turned toward the start) passes; on seed 1
 // pushes to x 0.085-0.1 were followed by refused transits.
 constexpr double kTargetFront = 0.12;
-constexpr double kArmRadius = 0.035;  // the pusher and links' half width, m
-// The links' half width as the arm mask draws them, m: the image of a raised link (nearer the
-// camera, with its shading) is wider than kArmRadius at the table would give.
-constexpr double kLinkRadius = 0.06;
-constexpr double kArmBaseHeight = 0.1;              // a point of the arm's base above the table, m
 constexpr int kSides = 8;                           // sides tried when a push is out of reach
 constexpr double kSidePush = 0.08;                  // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
@@ -594,79 +590,9 @@ class Learner {
     std::string message;
   };
 
-  // The arm's own image in a frame whose end effector is at `ee` (px): a band kArmRadius wide
-  // (on the table) from the end effector toward the arm's base (the robot frame's origin), where
-  // the links are. Features there move with the arm and are no object's.
-  cv::Mat1b arm_region(const std::optional<Eigen::Vector2d>& ee, cv::Size size) const {
-    cv::Mat1b m(size, 0);
-    if (!ee) return m;
-    const geometry::Camera& cam = current_.camera;
-    const Eigen::Vector2d base = cam.project(Eigen::Vector3d(0, 0, kArmBaseHeight));
-    const Eigen::Vector3d at = robot::pixel_to_table(cam, *ee).homogeneous();
-    const Eigen::Vector3d tip(at.x(), at.y(), 0.0);
-    const double r =
-        (cam.project(tip + Eigen::Vector3d(kArmRadius, 0, 0)) - cam.project(tip)).norm();
-    const int t = std::max(2, static_cast<int>(std::lround(2 * r)));
-    const Eigen::Vector2d toward = base - *ee;
-    const Eigen::Vector2d far = *ee + (toward.norm() > 0 ? 4.0 * toward : toward);
-    cv::line(m, cv::Point(static_cast<int>(ee->x()), static_cast<int>(ee->y())),
-             cv::Point(static_cast<int>(far.x()), static_cast<int>(far.y())), 255, t);
-    cv::circle(m, cv::Point(static_cast<int>(ee->x()), static_cast<int>(ee->y())), t / 2, 255, -1);
-    return m;
-  }
-
-  // The arm's own image in frame `i` of a push's episode: every link of its kinematic chain
-  // (base body to the end effector, placed by the frame's joint angles with the robot's own
-  // kinematics) drawn as a band kLinkRadius wide, plus the pusher. The old band from the end
-  // effector toward the base's foot missed the raised forearm and cut the table in front of it.
-  // Without joint angles, arm_region.
+  // The arm's own image in frame `i` of a push's episode (loop/arm_image.hpp).
   cv::Mat1b arm_mask(const episode::Episode& e, int i, cv::Size size) {
-    const auto iu = static_cast<std::size_t>(i);
-    if (iu >= e.arm().size() || e.arm()[iu].q.size() < robot::kArmJoints) {
-      return arm_region(e.ee_image(i), size);
-    }
-    if (!arm_state_) arm_state_.emplace(robot_.arm());
-    const robot::JointVector q = e.arm()[iu].q.head<robot::kArmJoints>();
-    arm_state_->set_joints(q);
-    const mjModel& m = arm_state_->arm().model();
-    const mjData& d = arm_state_->data();
-    const int base = arm_state_->arm().base_body();
-    const auto in_chain = [&](int b) {
-      for (int a = b; a > 0; a = m.body_parentid[a]) {
-        if (a == base) return true;
-      }
-      return false;
-    };
-    const geometry::Camera& cam = current_.camera;
-    cv::Mat1b out(size, 0);
-    const auto pos = [&](const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
-    const auto band = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-      const Eigen::Vector3d mid = 0.5 * (a + b);
-      const Eigen::Vector2d pm = cam.project(mid);
-      const double r =
-          std::max((cam.project(mid + Eigen::Vector3d(kLinkRadius, 0, 0)) - pm).norm(),
-                   (cam.project(mid + Eigen::Vector3d(0, kLinkRadius, 0)) - pm).norm());
-      const int t = std::max(2, static_cast<int>(std::lround(2 * r)));
-      const Eigen::Vector2d pa = cam.project(a);
-      const Eigen::Vector2d pb = cam.project(b);
-      const cv::Point qa(static_cast<int>(std::lround(pa.x())),
-                         static_cast<int>(std::lround(pa.y())));
-      const cv::Point qb(static_cast<int>(std::lround(pb.x())),
-                         static_cast<int>(std::lround(pb.y())));
-      cv::line(out, qa, qb, 255, t);
-      cv::circle(out, qa, t / 2, 255, -1);
-      cv::circle(out, qb, t / 2, 255, -1);
-    };
-    for (int b = 1; b < m.nbody; ++b) {
-      if (!in_chain(b) || b == base) continue;
-      band(pos(d.xpos + (3 * m.body_parentid[b])), pos(d.xpos + (3 * b)));
-    }
-    const int site = arm_state_->arm().ee_site();
-    if (site >= 0) band(pos(d.xpos + (3 * m.site_bodyid[site])), pos(d.site_xpos + (3 * site)));
-    // The base's column, from the table up to its body.
-    const Eigen::Vector3d b0 = pos(d.xpos + (3 * base));
-    band(Eigen::Vector3d(b0.x(), b0.y(), 0.0), b0);
-    return out;
+    return detail::arm_image_mask(e, i, size, robot_.arm(), arm_state_);
   }
 
   Segmented segment(const fs::path& dir) {
@@ -929,6 +855,8 @@ class Learner {
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
             views_.push_back({c, done, f.descriptors.clone()});
+            attendant_.view_taken(in, dir / "episode", seg.view_masks[v].first,
+                                  seg.view_masks[v].second);
             frames.push_back(unit_descriptors(f.descriptors));
             last_mask = seg.view_masks[v].second;
             ++lp.views;
@@ -1255,6 +1183,7 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   table.seed = o.seed;
   table.width = o.width;
   table.height = o.height;
+  table.record_masks = o.oracle_ladder;  // the ladder's ground truth (scoring only)
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, o.seed);
   Core k;
@@ -1280,6 +1209,8 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
     so.features = o.features;
     so.dilate = o.dilate;
     so.min_features = o.min_features;
+    so.mot = o.mot;
+    so.oracle_ladder = o.oracle_ladder;
     score = score_self_supervision(k.learning, attendant, objects, *k.lda, *k.vocabulary, so);
     k.learner->mutable_seconds()["held_out"] =
         std::chrono::duration<double>(Clock::now() - th).count();

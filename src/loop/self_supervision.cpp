@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "arm_image.hpp"
 #include "blob_tracking.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/progress.hpp"
@@ -372,7 +373,7 @@ class Learner {
   }
 
   // The training views of one learn push's episode (kMotion) or of the look after it (kBlob).
-  std::vector<std::vector<std::int32_t>> views_of(const fs::path& dir,
+  std::vector<std::vector<std::int32_t>> views_of(const PushIntent& intent, const fs::path& dir,
                                                   const planning::PlanningView& after, int blob,
                                                   cv::Mat& last_mask,
                                                   SelfSupervisionDecision& what) {
@@ -381,7 +382,10 @@ class Learner {
       if (blob < 0) return docs;
       last_mask = blob_mask(after.objects[static_cast<std::size_t>(blob)], size_);
       auto d = masked_document(image_, last_mask, vocabulary_, o_.features, o_.dilate);
-      if (static_cast<int>(d.size()) >= o_.min_features) docs.push_back(std::move(d));
+      if (static_cast<int>(d.size()) >= o_.min_features) {
+        docs.push_back(std::move(d));
+        attendant_.view_taken(intent, {}, -1, last_mask);
+      }
       what.source = "blob";
       return docs;
     }
@@ -405,6 +409,10 @@ class Learner {
     int small = 0;
     for (int i = first; i < static_cast<int>(ml.frame_maps.size()); i += o_.view_step) {
       cv::Mat m = ml.frame_maps[static_cast<std::size_t>(i)] >= thr;
+      // The arm moves with the arm: its own image (its kinematics at the frame's joints) is cut
+      // out, as proprio learn does. Without this a view's mask lay a third on the arm (oracle
+      // ladder, docs/results/selfsupervision.md).
+      if (o_.cut_arm) m.setTo(0, detail::arm_image_mask(e, i, m.size(), robot_.arm(), arm_state_));
       if (cv::countNonZero(m) == 0) continue;
       auto d = masked_document(e.frame(i), m, vocabulary_, o_.features, o_.dilate);
       if (static_cast<int>(d.size()) < o_.min_features) {
@@ -412,6 +420,7 @@ class Learner {
         continue;
       }
       docs.push_back(std::move(d));
+      attendant_.view_taken(intent, dir, i, m);
       last_mask = m;
       ++used;
     }
@@ -487,7 +496,7 @@ class Learner {
       }
       cv::Mat last_mask;
       SelfSupervisionDecision what;
-      const auto docs = views_of(episodes_ / name, after, now, last_mask, what);
+      const auto docs = views_of(in, episodes_ / name, after, now, last_mask, what);
       attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
       if (!docs.empty()) {
         const Eigen::MatrixXd th = theta_of(docs);
@@ -609,7 +618,8 @@ class Learner {
   topics::MotModel model_so_far_;
   std::vector<int> model_class_;
   int plans_ = 0;
-  double extra_approach_ = 0;  ///< m, grown after each refusal of the round
+  double extra_approach_ = 0;                 ///< m, grown after each refusal of the round
+  std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for the arm's image
 };
 
 }  // namespace

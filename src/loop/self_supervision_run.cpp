@@ -148,6 +148,7 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
   table.seed = options.seed;
   table.width = options.width;
   table.height = options.height;
+  table.record_masks = options.oracle_ladder;  // the ladder's ground truth (scoring only)
   // One GL context at a time: the table's robot goes before the held-out views are rendered
   // (the attendant keeps its records, not the robot).
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);

@@ -12,6 +12,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
+#include "proprio/episode/episode.hpp"
 #include "proprio/loop/push_run.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/recognition/topic_mapping.hpp"
@@ -35,6 +36,64 @@ constexpr int kScatterAttempts = 10;
 constexpr std::uint64_t kRescatterStream = 0x73636174746572ULL;  // core::stream_seed key
 
 double fraction(int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; }
+
+constexpr std::uint64_t kLadderStream = 0x6c6164646572ULL;  // core::stream_seed key: a0_table
+constexpr int kLadderRenders = 24;                          // a0, a0_table: views per object
+
+// A rung of the oracle ladder: a supervised Mixture of Topics over the classes named in `labels`
+// ("" rows left out; a name with < 2 views has no class), scored on `held` (per object of
+// `objects`: its held-out views' theta) by the rule of the printouts: right when the class
+// given is the view's own object.
+LadderRung ladder_rung(std::string name, std::string what, const Eigen::MatrixXd& theta,
+                       const std::vector<std::string>& labels,
+                       const std::vector<std::string>& objects,
+                       const std::vector<Eigen::MatrixXd>& held, const topics::MotOptions& mot) {
+  LadderRung r;
+  r.name = std::move(name);
+  r.what = std::move(what);
+  r.per_object.assign(objects.size(), 0.0);
+  std::map<std::string, int> count;
+  for (const auto& l : labels) {
+    if (!l.empty()) ++count[l];
+  }
+  std::vector<std::string> classes;
+  for (const auto& [l, n] : count) {
+    if (n >= 2) classes.push_back(l);
+  }
+  std::vector<int> ids(labels.size(), -1);
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const auto it = std::find(classes.begin(), classes.end(), labels[i]);
+    if (it != classes.end()) {
+      ids[i] = static_cast<int>(it - classes.begin());
+      ++r.training_views;
+    }
+  }
+  r.classes = static_cast<int>(classes.size());
+  if (classes.empty()) return r;
+  topics::MotModel model;
+  try {
+    model = topics::fit_mot(theta, ids, classes, mot).model;
+  } catch (const Error& e) {
+    r.what += core::cat({" (fit failed: ", e.what(), ")"});
+    r.accuracy = -1;
+    return r;
+  }
+  int right = 0;
+  int n = 0;
+  for (std::size_t oi = 0; oi < objects.size() && oi < held.size(); ++oi) {
+    if (held[oi].rows() == 0) continue;
+    const topics::MotClassification cls = topics::classify_mot(model, held[oi]);
+    int ok = 0;
+    for (const int c : cls.predicted) {
+      if (c >= 0 && classes[static_cast<std::size_t>(c)] == objects[oi]) ++ok;
+    }
+    r.per_object[oi] = fraction(ok, static_cast<int>(held[oi].rows()));
+    right += ok;
+    n += static_cast<int>(held[oi].rows());
+  }
+  r.accuracy = fraction(right, n);
+  return r;
+}
 
 }  // namespace
 
@@ -185,6 +244,67 @@ void GroundTruthAttendant::views_taken(const PushIntent& /*intent*/, int views,
   }
 }
 
+void GroundTruthAttendant::view_taken(const PushIntent& intent,
+                                      const std::filesystem::path& episode, int frame,
+                                      const cv::Mat& mask) {
+  ViewTruth t;
+  t.round = intent.round;
+  t.episode = episode;
+  t.frame = frame;
+  t.intended = pushes_.empty() ? std::string() : pushes_.back().intended;
+  // The ground-truth ids of the view: the episode's mask of that frame (recorded only with
+  // TableOptions::record_masks), or the table now (the look after the push).
+  cv::Mat ids;
+  std::map<int, std::string> names;
+  if (episode.empty()) {
+    ids = robot_.ground_truth_mask();
+    for (const auto& o : robot_.ground_truth()) names[o.id] = o.name;
+  } else {
+    if (!episode_ || episode_->dir() != episode) {
+      episode_.reset();
+      episode_.emplace(episode::read_episode(episode));
+    }
+    if (episode_->info().has_masks && frame >= 0 && frame < episode_->frame_count()) {
+      ids = episode_->mask(frame);
+      for (const auto& o : episode_->objects()) names[o.id] = o.name;
+    }
+  }
+  if (!ids.empty() && ids.size() == mask.size()) {
+    t.known = true;
+    std::map<int, int> votes;
+    int all = 0;
+    int arm = 0;
+    int background = 0;
+    for (int v = 0; v < ids.rows; ++v) {
+      for (int u = 0; u < ids.cols; ++u) {
+        if (mask.at<std::uint8_t>(v, u) == 0) continue;
+        ++all;
+        const int id = ids.at<std::uint16_t>(v, u);
+        if (id == 0) {
+          ++background;
+        } else if (id == sim::kArmId) {
+          ++arm;
+        } else {
+          ++votes[id];
+        }
+      }
+    }
+    int best = 0;
+    int best_n = 0;
+    for (const auto& [id, n] : votes) {
+      if (n > best_n) {
+        best = id;
+        best_n = n;
+      }
+    }
+    if (best != 0) t.object = names[best];
+    t.share_object = fraction(best_n, all);
+    t.share_arm = fraction(arm, all);
+    t.share_background = fraction(background, all);
+  }
+  views_.push_back(std::move(t));
+}
+
 double footprint_gap(const sim::ObjectTruth& a, const sim::ObjectTruth& b) {
   const double d = (a.centre - b.centre).head<2>().norm() - a.footprint_radius - b.footprint_radius;
   return std::max(0.0, d);
@@ -199,6 +319,120 @@ double yaw_coverage_deg(std::vector<double> yaws) {
   for (std::size_t i = 1; i < yaws.size(); ++i) largest = std::max(largest, yaws[i] - yaws[i - 1]);
   return (kTwoPi - largest) * 180.0 / std::numbers::pi;
 }
+
+namespace {
+
+// The rungs (a0, a0_table, a, b, b_pure, c_named, c); see OracleLadder.
+OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant& attendant,
+                           const SelfSupervisionScore& s, const std::vector<std::string>& objects,
+                           const std::vector<Eigen::MatrixXd>& held, const topics::Corpus& a0,
+                           const std::vector<std::string>& a0_labels,
+                           const topics::Corpus& a0_table,
+                           const std::vector<std::string>& a0_table_labels,
+                           const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+                           const SelfSupervisionOptions& options) {
+  OracleLadder l;
+  const auto theta_of = [&](const topics::Corpus& c) {
+    return c.num_documents() > 0 ? recognition::document_theta(model, c).theta
+                                 : Eigen::MatrixXd(0, model.num_topics());
+  };
+  const auto rung = [&](std::string name, std::string what, const Eigen::MatrixXd& theta,
+                        const std::vector<std::string>& labels) {
+    return ladder_rung(std::move(name), std::move(what), theta, labels, objects, held, options.mot);
+  };
+  l.rungs.push_back(
+      rung("a0", "renders alone at the centre, other yaws; true labels", theta_of(a0), a0_labels));
+  l.rungs.push_back(rung("a0_table",
+                         "renders alone at random places and yaws of the table; true labels",
+                         theta_of(a0_table), a0_table_labels));
+  // (a): the pushed object's ground-truth mask in the frames the learner took its views from.
+  const std::vector<ViewTruth>& views = attendant.views();
+  topics::Corpus a_corpus(vocabulary.size());
+  std::vector<std::string> a_labels;
+  topics::Corpus last_corpus(vocabulary.size());  // (a_last): each push's last view only
+  std::vector<std::string> last_labels;
+  std::optional<episode::Episode> e;
+  for (std::size_t vi = 0; vi < views.size(); ++vi) {
+    const ViewTruth& v = views[vi];
+    if (v.episode.empty() || v.intended.empty() || v.frame < 0) continue;
+    if (!e || e->dir() != v.episode) e.emplace(episode::read_episode(v.episode));
+    if (!e->info().has_masks) continue;
+    int id = -1;
+    for (const auto& o : e->objects()) {
+      if (o.name == v.intended) id = o.id;
+    }
+    if (id < 0) continue;
+    const cv::Mat mask = e->mask(v.frame) == id;
+    const auto doc =
+        masked_document(e->frame(v.frame), mask, vocabulary, options.features, options.dilate);
+    if (static_cast<int>(doc.size()) < options.min_features) continue;
+    a_corpus.add_tokens(doc);
+    a_labels.push_back(v.intended);
+    if (vi + 1 == views.size() || views[vi + 1].episode != v.episode) {
+      last_corpus.add_tokens(doc);
+      last_labels.push_back(v.intended);
+    }
+  }
+  l.rungs.push_back(rung("a", "the pushed object's true mask in the push frames; true labels",
+                         theta_of(a_corpus), a_labels));
+  l.rungs.push_back(rung("a_last", "(a), each push's last view only (the arm lifted)",
+                         theta_of(last_corpus), last_labels));
+  // (b), (c): the robot's own views (its masks), labelled by the truth or by the robot.
+  const Eigen::MatrixXd& theta = learning.views.theta;
+  const bool aligned = static_cast<Eigen::Index>(views.size()) == theta.rows();
+  if (!aligned) {
+    spdlog::warn("oracle ladder: {} view records for {} training views; (b) left out", views.size(),
+                 theta.rows());
+  }
+  std::vector<std::string> b_labels(static_cast<std::size_t>(theta.rows()));
+  std::vector<std::string> pure_labels(b_labels.size());
+  std::vector<std::string> named(b_labels.size());
+  int known = 0;
+  int agree = 0;
+  for (std::size_t i = 0; i < b_labels.size(); ++i) {
+    const int c = learning.views.labels[i];
+    named[i] = s.class_object[static_cast<std::size_t>(c)];
+    if (!aligned || !views[i].known) continue;
+    const ViewTruth& v = views[i];
+    b_labels[i] = v.object;
+    if (v.share_object >= 0.5) pure_labels[i] = v.object;
+    ++known;
+    if (!v.object.empty() && v.object == named[i]) ++agree;
+    l.share_object += v.share_object;
+    l.share_arm += v.share_arm;
+    l.share_background += v.share_background;
+    l.share_other += 1 - v.share_object - v.share_arm - v.share_background;
+  }
+  if (known > 0) {
+    l.share_object /= known;
+    l.share_arm /= known;
+    l.share_background /= known;
+    l.share_other /= known;
+  }
+  LadderRung b = rung("b", "the robot's views (its masks); true labels (object mostly in view)",
+                      theta, b_labels);
+  b.label_purity = 1;
+  l.rungs.push_back(b);
+  l.rungs.push_back(rung("b_pure", "(b), only views whose mask is at least half on the object",
+                         theta, pure_labels));
+  LadderRung cn =
+      rung("c_named", "the robot's views and labels, classes named after one object merged", theta,
+           named);
+  cn.label_purity = known > 0 ? static_cast<double>(agree) / known : -1;
+  l.rungs.push_back(cn);
+  LadderRung c;
+  c.name = "c";
+  c.what = "the robot's views and labels (today's figure)";
+  c.training_views = static_cast<int>(theta.rows());
+  c.classes = learning.model.num_classes();
+  c.accuracy = s.mot_accuracy;
+  c.label_purity = cn.label_purity;
+  for (const ObjectScore& o : s.objects) c.per_object.push_back(o.mot_accuracy);
+  l.rungs.push_back(c);
+  return l;
+}
+
+}  // namespace
 
 SelfSupervisionScore score_self_supervision(const Learning& learning,
                                             const GroundTruthAttendant& attendant,
@@ -302,6 +536,14 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   std::vector<int> truth_rows;
   std::vector<int> mot_pred;
   std::vector<int> argmax_pred;
+  const bool ladder = options.oracle_ladder;
+  std::vector<Eigen::MatrixXd> held(objects.size());
+  // (a0): held-out-like renders (alone at the centre, yaws between the held-out ones) and the
+  // same alone at random places and yaws of the scatter region; their labels.
+  topics::Corpus a0_corpus(vocabulary.size());
+  topics::Corpus a0_table_corpus(vocabulary.size());
+  std::vector<std::string> a0_labels;
+  std::vector<std::string> a0_table_labels;
   for (std::size_t oi = 0; oi < objects.size(); ++oi) {
     ObjectScore os;
     os.name = objects[oi];
@@ -316,7 +558,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
       if (r.chosen == os.name) yaws.insert(yaws.end(), r.yaws.begin(), r.yaws.end());
     }
     os.yaw_range_deg = yaw_coverage_deg(yaws);
-    if (mot.num_classes() == 0) {
+    if (mot.num_classes() == 0 && !ladder) {
       s.objects.push_back(os);
       continue;
     }
@@ -338,9 +580,37 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
       if (static_cast<int>(doc.size()) < options.min_features) continue;
       corpus.add_tokens(doc);
     }
+    if (ladder) {
+      const sim::ObjectType* type = &catalogue.get(os.name);
+      for (int v = 0; v < kLadderRenders; ++v) {
+        const double yaw = 2 * std::numbers::pi * (v + 0.5) / kLadderRenders;
+        for (int where = 0; where < 2; ++where) {
+          sim::Placement place{os.name, kHeldOutCentre, yaw};
+          if (where == 1) {
+            const auto places = sim::scatter_placements(
+                {type}, sim::ScatterRegion{},
+                core::stream_seed(options.seed, kLadderStream, oi, static_cast<std::uint64_t>(v)));
+            if (places.empty()) continue;
+            place = places.front();
+          }
+          alone.place({place});
+          const robot::Look look = alone.look();
+          const cv::Mat mask = alone.ground_truth_mask() == id;
+          const auto doc =
+              masked_document(look.image, mask, vocabulary, options.features, options.dilate);
+          if (static_cast<int>(doc.size()) < options.min_features) continue;
+          (where == 0 ? a0_corpus : a0_table_corpus).add_tokens(doc);
+          (where == 0 ? a0_labels : a0_table_labels).push_back(os.name);
+        }
+      }
+    }
     os.held_out = static_cast<int>(corpus.num_documents());
     if (os.held_out > 0) {
       const Eigen::MatrixXd theta = recognition::document_theta(model, corpus).theta;
+      held[oi] = theta;
+    }
+    if (os.held_out > 0 && mot.num_classes() > 0) {
+      const Eigen::MatrixXd& theta = held[oi];
       const topics::MotClassification cls = topics::classify_mot(mot, theta);
       std::vector<int> topic(static_cast<std::size_t>(theta.rows()));
       for (Eigen::Index d = 0; d < theta.rows(); ++d) {
@@ -380,6 +650,10 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   }
   s.mot_accuracy = fraction(right_mot, n);
   s.argmax_accuracy = fraction(right_argmax, n);
+  if (ladder) {
+    s.ladder = oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels,
+                             a0_table_corpus, a0_table_labels, model, vocabulary, options);
+  }
   return s;
 }
 

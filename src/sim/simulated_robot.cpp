@@ -680,7 +680,8 @@ robot::JointVector SimulatedRobot::joints() const { return s_->world.arm_joints(
 namespace {
 
 std::optional<episode::EpisodeWriter> open_writer(const robot::PushRecording& rec,
-                                                  const geometry::Camera& cam, std::uint64_t seed) {
+                                                  const geometry::Camera& cam, std::uint64_t seed,
+                                                  const std::vector<episode::ObjectInfo>& masks) {
   if (rec.episode_dir.empty()) return std::nullopt;
   if (fs::exists(rec.episode_dir) && !rec.overwrite) {
     throw Error(rec.episode_dir.string() + ": already exists (use --overwrite to replace it)");
@@ -691,16 +692,15 @@ std::optional<episode::EpisodeWriter> open_writer(const robot::PushRecording& re
   info.height = cam.height;
   info.arm_name = "proprio-sim-arm";
   info.joint_count = robot::kArmJoints;
-  info.has_masks = false;
+  info.has_masks = !masks.empty();
   info.provenance.run = rec.run;
   if (!info.provenance.run.seed) info.provenance.run.seed = seed;
   info.provenance.source = episode::Source::kSimulated;
   info.provenance.scenario = "robot-push";
   episode::EpisodeWriterOptions wopt;
   wopt.overwrite = rec.overwrite;
-  return std::optional<episode::EpisodeWriter>(std::in_place, rec.episode_dir, info, cam,
-                                               std::vector<episode::ObjectInfo>{}, std::nullopt,
-                                               wopt);
+  return std::optional<episode::EpisodeWriter>(std::in_place, rec.episode_dir, info, cam, masks,
+                                               std::nullopt, wopt);
 }
 
 }  // namespace
@@ -729,7 +729,18 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
     throw Error(m);
   }
   const geometry::Camera cam = camera();
-  std::optional<episode::EpisodeWriter> writer = open_writer(recording, cam, s_->options.seed);
+  // Ground-truth masks only when asked for (TableOptions::record_masks: scoring oracles).
+  std::vector<episode::ObjectInfo> mask_objects;
+  if (s_->options.record_masks) {
+    for (const ObjectTruth& o : ground_truth()) {
+      mask_objects.push_back({o.id, o.name,
+                              o.role == TableRole::kDistractor ? episode::ObjectRole::kDistractor
+                                                               : episode::ObjectRole::kObject});
+    }
+    mask_objects.push_back({kArmId, "arm", episode::ObjectRole::kArm});
+  }
+  std::optional<episode::EpisodeWriter> writer =
+      open_writer(recording, cam, s_->options.seed, mask_objects);
   const int steps_per_frame =
       std::max(1, static_cast<int>(std::lround(1.0 / (recording.fps * world.timestep()))));
 
@@ -764,7 +775,9 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
       a.ee = world.ee_position();
       a.ee_image = cam.project(a.ee);
       a.touching = touched_since_frame;
-      writer->add_frame(s_->renderer.rgb(world, s_->camera_name), a);
+      episode::FrameExtras extras;
+      if (!mask_objects.empty()) extras.mask = s_->renderer.mask(world, s_->camera_name);
+      writer->add_frame(s_->renderer.rgb(world, s_->camera_name), a, extras);
     }
     if (touched_since_frame && !report.first_touch_frame) report.first_touch_frame = report.frames;
     report.touched = report.touched || touched_since_frame;

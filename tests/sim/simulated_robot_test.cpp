@@ -156,6 +156,40 @@ TEST(SimulatedRobot, LooksPushesAndKeepsTheScene) {
   fs::remove_all(dir);
 }
 
+TEST(SimulatedRobot, RecordsGroundTruthMasksOnlyWhenAskedForScoring) {
+  // TableOptions::record_masks (the oracle ladder's ground truth): each frame's object ids, with
+  // objects.json naming every object and the arm; the learner's episodes stay without it.
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  TableOptions t = small_table();
+  t.record_masks = true;
+  SimulatedRobot robot(t, cat);
+  const ObjectTruth mug = truth_of(robot.ground_truth(), "mug");
+  const Eigen::Vector2d c = mug.centre.head<2>();
+  const Eigen::Vector2d n = c.normalized();
+  robot::TablePush push;
+  push.start = c - n * (mug.footprint_radius + 0.03);
+  push.end = c - n * 0.02 + n * 0.06;
+  const fs::path dir = test::temp_dir() / "robot_push_masks";
+  fs::remove_all(dir);
+  robot::PushRecording rec;
+  rec.episode_dir = dir;
+  rec.fps = 10;
+  const robot::PushReport r = robot.push(push, rec);
+  ASSERT_TRUE(r.first_touch_frame.has_value());
+  const episode::Episode e = episode::read_episode(dir);
+  ASSERT_TRUE(e.info().has_masks);
+  ASSERT_EQ(e.objects().size(), 4U);  // book, mug, calculator, the arm
+  const episode::ObjectInfo* arm = e.object(kArmId);
+  ASSERT_NE(arm, nullptr);
+  EXPECT_EQ(arm->role, episode::ObjectRole::kArm);
+  const cv::Mat touch = e.mask(*r.first_touch_frame);
+  EXPECT_GT(cv::countNonZero(touch == kArmId), 20);
+  EXPECT_GT(cv::countNonZero(touch == mug.id), 20);
+  const cv::Mat last = e.mask(e.frame_count() - 1);
+  EXPECT_GT(cv::countNonZero(last == truth_of(robot.ground_truth(), "book").id), 50);
+  fs::remove_all(dir);
+}
+
 TEST(SimulatedRobot, BacksAwayFromATallObjectBeforeGoingBack) {
   // The mug is 10 cm tall: pushed until the pusher stops against it, the lifted hand (6 cm up)
   // still touches it; the hand backs away along the push and goes back to the park by its

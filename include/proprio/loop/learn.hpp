@@ -96,7 +96,9 @@ struct LearnOptions {
   double fps = 15;        ///< frame rate of the pushes' episodes
   int width = 320;        ///< image size of the camera, px
   int height = 240;
-  int held_out = 20;                 ///< held-out ground-truth views per object (scoring)
+  int held_out = 20;  ///< held-out ground-truth views per object (scoring)
+  /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
+  bool oracle_ladder = false;
   std::filesystem::path vocabulary;  ///< given vocabulary (else built from the robot's views)
   std::filesystem::path lda_model;   ///< given LDA model (else trained on the robot's views)
   std::filesystem::path out;         ///< the run directory (required)
@@ -146,6 +148,8 @@ struct LearnOptions {
     v(self.width, {"width", "Image width, px", core::between(64, 4096)});
     v(self.height, {"height", "Image height, px", core::between(48, 4096)});
     v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
+    v(self.oracle_ladder,
+      {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
     v(self.vocabulary, {"vocabulary", "Visual vocabulary file (default: built from the views)"});
     v(self.lda_model, {"model", "LDA model file (default: trained on the views)"});
     v(self.out, {"out", "Run directory"});

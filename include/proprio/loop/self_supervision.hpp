@@ -68,14 +68,21 @@ struct SelfSupervisionOptions {
   /// centre, m, stepped by the golden angle, so the object is pushed from ever other sides.
   double circle_radius = 0.07;
   ViewSource views = ViewSource::kMotion;
-  int view_step = 2;       ///< kMotion: every n-th frame from the first touch
+  int view_step = 2;  ///< kMotion: every n-th frame from the first touch
+  /// kMotion: cut the arm's own image (its kinematics at each frame's joints) out of the views.
+  bool cut_arm = true;
   int min_features = 15;   ///< a view needs this many features (else left out, logged)
   int dilate = 4;          ///< masks grown by this many pixels (features on the outline count)
   double fps = 15;         ///< frame rate of the pushes' episodes
   std::uint64_t seed = 1;  ///< (a)'s choice, the planner's paths, the re-scatters
   int width = 320;         ///< image size of the simulated camera, px
   int height = 240;
-  int held_out = 100;         ///< held-out views per object (yaw stepped through 360 degrees)
+  int held_out = 100;  ///< held-out views per object (yaw stepped through 360 degrees)
+  /// Scoring (simulated table): also the oracle ladder (SelfSupervisionScore::ladder): the
+  /// Mixture of Topics trained on held-out-like renders, on ground-truth masks of the pushed
+  /// objects in the push frames, on the robot's views with ground-truth labels. The pushes'
+  /// episodes then carry ground-truth masks (never read by the learner).
+  bool oracle_ladder = false;
   std::filesystem::path out;  ///< output directory (required by run_self_supervision)
   bool overwrite = false;
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
@@ -104,6 +111,7 @@ struct SelfSupervisionOptions {
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
              kViewSourceNames);
     v(self.view_step, {"view_step", "Motion views: every n-th frame", core::between(1, 1000)});
+    v(self.cut_arm, {"cut_arm", "Motion views: cut the arm's own image out"});
     v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
     v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
     v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
@@ -111,6 +119,8 @@ struct SelfSupervisionOptions {
     v(self.width, {"width", "Image width, px", core::between(64, 4096)});
     v(self.height, {"height", "Image height, px", core::between(48, 4096)});
     v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
+    v(self.oracle_ladder,
+      {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
     v(self.out, {"out", "Output directory: episodes, decision log, model, results"});
     v(self.overwrite, {"overwrite", "Replace an existing output directory"});
   }
@@ -155,6 +165,12 @@ class TableAttendant {
   /// size) is the learner's mask of the object in the push's last view frame (empty: none).
   virtual void views_taken(const PushIntent& /*intent*/, int /*views*/,
                            const cv::Mat& /*last_mask*/) {}
+  /// One training view of the push `intent` (called before views_taken, once per view, in the
+  /// order the views enter TrainingViews): frame `frame` of the push's episode `episode`, or
+  /// (empty episode, frame -1) the look after the push; `mask` (CV_8U, image size, not grown)
+  /// is the learner's mask of the object in it. For scoring (the oracle ladder) only.
+  virtual void view_taken(const PushIntent& /*intent*/, const std::filesystem::path& /*episode*/,
+                          int /*frame*/, const cv::Mat& /*mask*/) {}
 };
 
 /// One training view: its document's theta and its class (the round that took it).

@@ -8,10 +8,13 @@
 // (same LDA model, topics merged by the learner's own labels).
 
 #include <cstdint>
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "proprio/core/json_io.hpp"
+#include "proprio/episode/episode.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/self_supervision.hpp"
 #include "proprio/recognition/confusion.hpp"
@@ -33,6 +36,21 @@ struct PushTruth {
   std::string view_truth;  ///< learn pushes: the object under most of the learner's last mask
 };
 
+/// One training view as the ground truth saw it (the oracle ladder's (a) and (b)).
+struct ViewTruth {
+  int round = 0;
+  std::filesystem::path episode;  ///< its push's episode, or empty (the look after the push)
+  int frame = -1;                 ///< its frame in the episode (-1: the look)
+  std::string intended;           ///< the object the push was aimed at (PushTruth::intended)
+  /// The object under most of the learner's mask (arm and background left out), "" none or
+  /// unknown (an episode without ground-truth masks).
+  std::string object;
+  double share_object = 0;      ///< fraction of the mask's pixels on `object`
+  double share_arm = 0;         ///< on the arm
+  double share_background = 0;  ///< on the table or the backdrop
+  bool known = false;           ///< ground truth was available for it
+};
+
 /// A round as the ground truth saw it.
 struct RoundTruth {
   std::string chosen;        ///< the object under the chosen blob at (a)/(d), or ""
@@ -51,9 +69,13 @@ class GroundTruthAttendant final : public TableAttendant {
   void after_push(const PushIntent& intent, bool executed) override;
   void cleared(int round, const planning::PlanningView& view, int blob) override;
   void views_taken(const PushIntent& intent, int views, const cv::Mat& last_mask) override;
+  void view_taken(const PushIntent& intent, const std::filesystem::path& episode, int frame,
+                  const cv::Mat& mask) override;
 
   [[nodiscard]] const std::vector<RoundTruth>& rounds() const { return rounds_; }
   [[nodiscard]] const std::vector<PushTruth>& pushes() const { return pushes_; }
+  /// Every training view, in the order of Learning::views (view_taken's calls).
+  [[nodiscard]] const std::vector<ViewTruth>& views() const { return views_; }
 
  private:
   RoundTruth& round(int r);
@@ -62,6 +84,8 @@ class GroundTruthAttendant final : public TableAttendant {
   std::uint64_t seed_;
   std::vector<RoundTruth> rounds_;
   std::vector<PushTruth> pushes_;
+  std::vector<ViewTruth> views_;
+  std::optional<episode::Episode> episode_;  ///< the last episode view_taken read
   std::vector<sim::ObjectTruth> before_;
 };
 
@@ -105,6 +129,50 @@ struct ObjectScore {
 [[nodiscard]] core::Json held_out_confusion_json(const recognition::ConfusionMatrix& m,
                                                  double accuracy);
 
+/// One rung of the oracle ladder: a supervised Mixture of Topics (ground-truth object names as
+/// classes, every object with >= 2 views) trained on some views, scored on the held-out views.
+struct LadderRung {
+  std::string name;  ///< a0, a0_table, a, a_last, b, b_pure, c_named, c
+  std::string what;  ///< what it was trained on
+  int training_views = 0;
+  int classes = 0;                 ///< objects with a class
+  double accuracy = 0;             ///< held-out views given their own object's class
+  std::vector<double> per_object;  ///< the same per held-out object (SelfSupervisionScore order)
+  double label_purity = -1;        ///< b, c: views whose label is the object mostly in view
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "The rung"});
+    v(self.what, {"what", "What its Mixture of Topics was trained on"});
+    v(self.training_views, {"training_views", "Its training views"});
+    v(self.classes, {"classes", "Objects with a class (>= 2 views)"});
+    v(self.accuracy, {"accuracy", "Held-out views given their own object's class"});
+    v(self.per_object, {"per_object", "The same per held-out object"});
+    v(self.label_purity, {"label_purity", "Views labelled with the object mostly in view (-1)"});
+  }
+};
+
+/// The oracle ladder (docs/results/selfsupervision.md): how much of the held-out accuracy each
+/// step from ideal training views to the robot's own costs, on the same run.
+struct OracleLadder {
+  std::vector<LadderRung> rungs;
+  /// The robot's views (b): mean fractions of their masks on the object mostly in view, on the
+  /// arm, on the background, on other objects.
+  double share_object = 0;
+  double share_arm = 0;
+  double share_background = 0;
+  double share_other = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.rungs, {"rungs", "a0, a0_table, a, a_last, b, b_pure, c_named, c"});
+    v(self.share_object, {"share_object", "Robot's view masks: fraction on the object in view"});
+    v(self.share_arm, {"share_arm", "Fraction on the arm"});
+    v(self.share_background, {"share_background", "Fraction on the background"});
+    v(self.share_other, {"share_other", "Fraction on other objects"});
+  }
+};
+
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct SelfSupervisionScore {
   std::vector<std::string> class_object;  ///< each class named after the object pushed most
@@ -123,6 +191,7 @@ struct SelfSupervisionScore {
   recognition::ConfusionMatrix argmax;  ///< the same by argmax theta
   double mot_accuracy = 0;              ///< held-out views classified as their object
   double argmax_accuracy = 0;
+  std::optional<OracleLadder> ladder;  ///< SelfSupervisionOptions::oracle_ladder
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -143,6 +212,7 @@ struct SelfSupervisionScore {
     v(held_out_confusion_json(self.argmax, self.argmax_accuracy),
       {"argmax_confusion", "The same by argmax theta"});
     v(self.objects, {"objects", "Per object"});
+    v(self.ladder, {"oracle_ladder", "Held-out accuracy by training views (ground truth)"});
   }
 };
 

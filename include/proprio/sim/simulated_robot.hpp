@@ -53,6 +53,10 @@ struct TableOptions {
   /// Record the transit to the push's start in the push's episode too (else only the lowering,
   /// push and lift are recorded; the transit's time counts on the robot's clock either way).
   bool record_transit = false;
+  /// Write each push episode's ground-truth masks too (masks/, objects.json with the arm): for
+  /// scoring oracles only (loop/self_supervision_scoring.hpp's oracle ladder); the learner never
+  /// reads them. Not a command option: the oracle ladder's callers set it.
+  bool record_masks = false;
 
   /// Throws Error naming the first bad option (the clutter's names are checked against the
   /// catalogue when the robot is built).
