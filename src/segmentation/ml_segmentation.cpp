@@ -532,8 +532,9 @@ struct MlSegmenter::Impl {
         if (!unsupported && tr.shift.norm() >= opt.min_region_motion) {
           tr.pre_sum += (1.0 - p) / opt.kappa;
           ++tr.pre_n;
-        } else {
-          ++tr.pre_still;
+        } else if (tr.shift.norm() < opt.min_region_motion) {
+          ++tr.pre_still;  // its flow says still (an unsupported flow of the arm's plain links
+                           // that follows the arm is no evidence either way)
         }
       } else {
         tr.post_sum += p;
