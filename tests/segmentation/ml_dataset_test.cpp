@@ -174,7 +174,10 @@ TEST(MlDataset, JaccardAtFirstTouch) {
       }
     }
     by_group[group].add(j);
-    by_group[group + "/" + object].add(j);
+    std::string by_object = group;
+    by_object += "/";
+    by_object += object;
+    by_group[by_object].add(j);
     by_group["all"].add(j);
     ms += r.summary.mean_ms_total;
     ++timed;
