@@ -45,7 +45,8 @@ struct Track {
   int post_n = 0;
   double pre_sum = 0.0;  // sum of (1 - p) / kappa over pre-touch intervals where it moved
   int pre_n = 0;
-  int interval = -1;                                      // interval its accumulator belongs to
+  int pre_still = 0;  // pre-touch intervals judged in which it did not move (arm_removal_seen)
+  int interval = -1;  // interval its accumulator belongs to
   Eigen::Vector2d start_ee = Eigen::Vector2d::Zero();     // arm position when it joined it
   int start_frame = -1;                                   // frame it joined the interval at
   Eigen::Vector2d at = Eigen::Vector2d::Zero();           // mean sampled position, last frame
@@ -77,10 +78,13 @@ struct Track {
   // eq 4.21's mean over the window; a track seen in fewer than min_count of the window's
   // intervals is averaged over min_count (unseen intervals count as 0), so that a region
   // with one lucky interval does not score as high as one matched all along.
-  [[nodiscard]] double score(double min_count) const {
+  // With `seen` (MlOptions::arm_removal_seen) the arm-removal term is averaged over every
+  // pre-touch interval the track was judged in, a still one counting 1 (no arm evidence).
+  [[nodiscard]] double score(double min_count, bool seen) const {
     const double n = std::max<double>(post_n, min_count);
     const double post = n > 0 ? post_sum / n : 0.0;
-    const double pre = pre_n > 0 ? pre_sum / pre_n : 1.0;
+    const int pre_count = seen ? pre_n + pre_still : pre_n;
+    const double pre = pre_count > 0 ? (pre_sum + (seen ? pre_still : 0)) / pre_count : 1.0;
     return std::clamp(post * pre, 0.0, 1.0);
   }
 };
@@ -528,6 +532,9 @@ struct MlSegmenter::Impl {
         if (!unsupported && tr.shift.norm() >= opt.min_region_motion) {
           tr.pre_sum += (1.0 - p) / opt.kappa;
           ++tr.pre_n;
+        } else if (tr.shift.norm() < opt.min_region_motion) {
+          ++tr.pre_still;  // its flow says still (an unsupported flow of the arm's plain links
+                           // that follows the arm is no evidence either way)
         }
       } else {
         tr.post_sum += p;
@@ -618,13 +625,14 @@ struct MlSegmenter::Impl {
         out.post_n = acc.post_n;
         out.pre_sum = own.pre_sum;
         out.pre_n = own.pre_n;
+        out.pre_still = own.pre_still;
       }
     }
     std::unordered_map<int, Scored> score;
     score.reserve(total.size());
     const double min_count = opt.min_evidence_fraction * post_intervals;
     for (const auto& [id, tr] : total)
-      score[id] = {static_cast<float>(tr.score(min_count)), tr.post_n};
+      score[id] = {static_cast<float>(tr.score(min_count, opt.arm_removal_seen)), tr.post_n};
     return score;
   }
 
@@ -882,6 +890,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
     if (p != m.tracks.end()) {
       fresh.pre_sum = p->second.pre_sum;
       fresh.pre_n = p->second.pre_n;
+      fresh.pre_still = p->second.pre_still;
     }
   }
   const auto t2 = Clock::now();

@@ -12,12 +12,17 @@
 //   PROPRIO_SEG_DUMP  directory for PNGs (frame, map, mask vs truth) per episode
 //   PROPRIO_SEG_CSV   per-episode CSV output
 //   PROPRIO_SEG_CHECK_TARGETS  1: assert issue 4's targets (static >= 0.80, moving >= 0.75)
+//   PROPRIO_SEG_TRACE  directory: MlDataset.TraceObjectMotion traces how the target's own pixels
+//                     move against the arm over the post-touch evidence intervals (the truth's
+//                     pixels carried along the flow) and where M-L's mask misses them
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <numbers>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -27,6 +32,9 @@
 #include "proprio/core/fields.hpp"
 #include "proprio/episode/discovery.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
+#include "proprio/segmentation/motion_models.hpp"
+#include "proprio/segmentation/optical_flow.hpp"
+#include "proprio/segmentation/region_tracker.hpp"
 
 namespace proprio::segmentation {
 namespace {
@@ -166,7 +174,10 @@ TEST(MlDataset, JaccardAtFirstTouch) {
       }
     }
     by_group[group].add(j);
-    by_group[group + "/" + object].add(j);
+    std::string by_object = group;
+    by_object += "/";
+    by_object += object;
+    by_group[by_object].add(j);
     by_group["all"].add(j);
     ms += r.summary.mean_ms_total;
     ++timed;
@@ -185,6 +196,171 @@ TEST(MlDataset, JaccardAtFirstTouch) {
   if (env("PROPRIO_SEG_CHECK_TARGETS") == "1") {
     EXPECT_GE(by_group["static"].mean(), 0.80);
     EXPECT_GE(by_group["moving"].mean(), 0.75);
+  }
+}
+
+// Traces, per episode, how the target's pixels at the first touch move over the post-touch
+// evidence intervals (arm moves evidence_step pixels): each truth pixel (every 2nd each way) is
+// carried along the backward flow as M-L's tracks are, and its displacement u over an interval is
+// compared with the arm's d: e = u - d, p = exp(-|e|^2 / (2 lambda)), the likelihood a region of
+// that pixel alone would get. Also a similarity (rotation + translation) fitted to the object's
+// points per interval: its angle, and the error left when the region's motion is taken as the
+// arm's translation plus that rotation about the contact. Writes DIR/NAME_trace.png (touch frame;
+// the pixels' mean p; M-L's mask against the truth) and prints a line per interval.
+TEST(MlDataset, TraceObjectMotion) {
+  const fs::path root = env("PROPRIO_CH5");
+  const std::string out = env("PROPRIO_SEG_TRACE");
+  if (root.empty() || out.empty()) GTEST_SKIP() << "PROPRIO_CH5 and PROPRIO_SEG_TRACE not set";
+  fs::create_directories(out);
+  MlOptions o;
+  SparseOptions so;
+  apply_overrides(env("PROPRIO_SEG_OPT"), o, so);
+  for (const auto& dir : episode::list_episode_dirs(root, env("PROPRIO_SEG_FILTER"))) {
+    const std::string name = dir.filename().string();
+    const auto ep = episode::read_episode(dir);
+    const auto t0 = ep.first_touch_frame();
+    if (!t0) continue;
+    const MlResult r = segment_ml(ep, o);
+    const cv::Mat1b truth = ep.mask(*t0) == *ep.info().target;
+    std::vector<Eigen::Vector2f> pts, start;
+    for (int y = 0; y < truth.rows; y += 2)
+      for (int x = 0; x < truth.cols; x += 2)
+        if (truth(y, x)) pts.emplace_back(static_cast<float>(x), static_cast<float>(y));
+    const std::vector<Eigen::Vector2f> at_touch = pts;
+    std::vector<double> p_sum(pts.size(), 0.0);
+    int intervals = 0;
+    DenseFlow flow(o.flow);
+    cv::Mat1b prev;
+    cv::cvtColor(ep.frame(*t0), prev, cv::COLOR_BGR2GRAY);
+    auto ee_a = ep.ee_image(*t0);
+    start = pts;
+    int frame_a = *t0;
+    double sum_rot = 0, sum_fit = 0, sum_trans = 0, sum_rot_contact = 0;
+    std::printf("%s touch %d  J %.3f\n", name.c_str(), *t0, testing::jaccard(r.mask, truth));
+    for (int i = *t0 + 1; i < ep.frame_count() && ee_a; ++i) {
+      cv::Mat1b gray;
+      cv::cvtColor(ep.frame(i), gray, cv::COLOR_BGR2GRAY);
+      carry_points(pts, flow.compute(gray, prev), 1.0);
+      prev = gray;
+      const auto ee_b = ep.ee_image(i);
+      if (!ee_b || (*ee_b - *ee_a).norm() < o.evidence_step) continue;
+      const Eigen::Vector2d d = *ee_b - *ee_a;
+      std::vector<cv::Point2f> from, to;
+      for (size_t k = 0; k < pts.size(); ++k) {
+        from.emplace_back(start[k].x(), start[k].y());
+        to.emplace_back(pts[k].x(), pts[k].y());
+      }
+      cv::Mat1b inl;
+      const cv::Mat a = cv::estimateAffinePartial2D(from, to, inl, cv::RANSAC, 2.0);
+      double angle = 0;
+      if (!a.empty()) angle = std::atan2(a.at<double>(1, 0), a.at<double>(0, 0));
+      const Eigen::Matrix2d rot =
+          (Eigen::Matrix2d() << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle))
+              .finished();
+      double e_trans = 0, e_fit = 0, e_contact = 0, p_mean = 0;
+      for (size_t k = 0; k < pts.size(); ++k) {
+        const Eigen::Vector2d x0 = start[k].cast<double>(), x1 = pts[k].cast<double>();
+        const Eigen::Vector2d e = x1 - x0 - d;
+        const double p = motion_likelihood(e, o.lambda);
+        p_sum[k] += p;
+        p_mean += p;
+        e_trans += e.norm();
+        // The arm's translation plus the fitted rotation about the contact (ee at the start).
+        const Eigen::Vector2d c = *ee_a;
+        e_contact += (x1 - (c + d + rot * (x0 - c))).norm();
+        if (!a.empty()) {
+          const Eigen::Vector2d f(
+              a.at<double>(0, 0) * x0.x() + a.at<double>(0, 1) * x0.y() + a.at<double>(0, 2),
+              a.at<double>(1, 0) * x0.x() + a.at<double>(1, 1) * x0.y() + a.at<double>(1, 2));
+          e_fit += (x1 - f).norm();
+        }
+      }
+      const double n = std::max<double>(1, pts.size());
+      std::printf(
+          "  interval %2d frames %3d-%3d |d| %5.1f  rot %+6.2f deg  mean p %.2f  |e| trans "
+          "%5.2f  similarity %5.2f  arm+rot about contact %5.2f px\n",
+          intervals, frame_a, i, d.norm(), angle * 180 / std::numbers::pi, p_mean / n, e_trans / n,
+          e_fit / n, e_contact / n);
+      sum_rot += std::abs(angle) * 180 / std::numbers::pi;
+      sum_trans += e_trans / n;
+      sum_fit += e_fit / n;
+      sum_rot_contact += e_contact / n;
+      ++intervals;
+      ee_a = ee_b;
+      frame_a = i;
+      start = pts;
+    }
+    if (intervals == 0) continue;
+    std::printf(
+        "  mean over %d intervals: |rot| %.2f deg, |e| trans %.2f, similarity %.2f, arm + "
+        "rot about contact %.2f px\n",
+        intervals, sum_rot / intervals, sum_trans / intervals, sum_fit / intervals,
+        sum_rot_contact / intervals);
+    // The pixels' mean p at the touch frame; M-L's recall where a pixel alone would score >= 0.5
+    // and where it would not.
+    cv::Mat1f pmap(truth.size(), 0.0F);
+    int hi = 0, hi_hit = 0, lo = 0, lo_hit = 0;
+    for (size_t k = 0; k < at_touch.size(); ++k) {
+      const int x = static_cast<int>(at_touch[k].x()), y = static_cast<int>(at_touch[k].y());
+      const double p = p_sum[k] / intervals;
+      cv::rectangle(pmap, cv::Rect(x, y, 2, 2), cv::Scalar(p), -1);
+      const bool hit = r.mask(y, x) != 0;
+      (p >= 0.5 ? hi : lo) += 1;
+      (p >= 0.5 ? hi_hit : lo_hit) += hit ? 1 : 0;
+    }
+    // Superpixels of the touch frame (fresh, as the over-segmentation cuts it) straddling the
+    // outline: object pixels in superpixels that are 20-80% object.
+    OverSegmenter seg(o.regions, o.region_count, o.region_iterations, truth.size());
+    int count = 0;
+    const cv::Mat1i sp = seg.segment(ep.frame(*t0), count);
+    std::vector<int> obj(count, 0), all(count, 0);
+    for (int y = 0; y < sp.rows; ++y)
+      for (int x = 0; x < sp.cols; ++x) {
+        ++all[sp(y, x)];
+        obj[sp(y, x)] += truth(y, x) ? 1 : 0;
+      }
+    int straddle = 0, straddle_hit = 0, pure = 0, pure_hit = 0;
+    for (int y = 0; y < sp.rows; ++y)
+      for (int x = 0; x < sp.cols; ++x) {
+        if (!truth(y, x)) continue;
+        const double f = double(obj[sp(y, x)]) / all[sp(y, x)];
+        const bool hit = r.mask(y, x) != 0;
+        if (f < 0.8) {
+          ++straddle;
+          straddle_hit += hit ? 1 : 0;
+        } else {
+          ++pure;
+          pure_hit += hit ? 1 : 0;
+        }
+      }
+    std::printf(
+        "  object pixels (every 2nd) alone p >= 0.5: %d, M-L recall there %.2f; p < 0.5: %d, "
+        "recall %.2f | object pixels in superpixels < 80%% object: %.2f of them, recall "
+        "%.2f; in the others %.2f\n",
+        hi, hi ? double(hi_hit) / hi : 0.0, lo, lo ? double(lo_hit) / lo : 0.0,
+        double(straddle) / std::max(1, straddle + pure),
+        straddle ? double(straddle_hit) / straddle : 0.0, pure ? double(pure_hit) / pure : 0.0);
+    std::fflush(stdout);
+    cv::Mat frame = ep.frame(*t0).clone();
+    if (const auto ee = ep.ee_image(*t0))
+      cv::circle(frame, cv::Point(int(ee->x()), int(ee->y())), 4, {0, 0, 255}, -1);
+    cv::Mat p8, pc;
+    pmap.convertTo(p8, CV_8U, 255.0);
+    cv::applyColorMap(p8, pc, cv::COLORMAP_JET);
+    pc.setTo(cv::Scalar(0, 0, 0), ~truth);
+    cv::Mat3b cmp(truth.size(), cv::Vec3b(0, 0, 0));
+    cmp.setTo(cv::Vec3b(0, 255, 0), r.mask & truth);
+    cmp.setTo(cv::Vec3b(0, 0, 255), r.mask & ~truth);
+    cmp.setTo(cv::Vec3b(255, 0, 0), ~r.mask & truth);
+    cv::Mat m8, mc;
+    r.map.convertTo(m8, CV_8U, 255.0);
+    cv::cvtColor(m8, mc, cv::COLOR_GRAY2BGR);
+    cv::Rect roi = cv::boundingRect(truth);
+    roi = cv::Rect(roi.x - 60, roi.y - 60, roi.width + 120, roi.height + 120) &
+          cv::Rect(0, 0, truth.cols, truth.rows);
+    cv::Mat row;
+    cv::hconcat(std::vector<cv::Mat>{frame(roi), pc(roi), mc(roi), cmp(roi)}, row);
+    cv::imwrite((fs::path(out) / (name + "_trace.png")).string(), row);
   }
 }
 

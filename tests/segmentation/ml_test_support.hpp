@@ -45,6 +45,10 @@ struct PushSpec {
   /// it, that stays still until the touch and then moves exactly as the pushed square does
   /// (mask 3).
   bool echo = false;
+  /// From frame jolt_frame on, the square stands `jolt` pixels further right (the table bumped
+  /// before the touch: the still object moves once, along the arm's approach).
+  int jolt_frame = -1;
+  int jolt = 0;
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
@@ -87,7 +91,8 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
   f.image = s.plain_background ? cv::Mat3b(s.height, s.width, cv::Vec3b(150, 170, 190))
                                : bg_tex(cv::Rect(100 + dx, 100 + dy, s.width, s.height)).clone();
   f.mask = cv::Mat1w(s.height, s.width, ushort{0});
-  const cv::Rect sq(static_cast<int>(std::lround(sq_left)),
+  const int jolted = s.jolt_frame >= 0 && i >= s.jolt_frame ? s.jolt : 0;
+  const cv::Rect sq(static_cast<int>(std::lround(sq_left)) + jolted,
                     static_cast<int>(std::lround(y_mid - s.square / 2.0)), s.square, s.square);
   sq_tex(cv::Rect(0, 0, s.square, s.square)).copyTo(f.image(sq));
   f.mask(sq).setTo(1);
