@@ -337,10 +337,9 @@ std::vector<ScatterExperimentResult> run_scatter(const std::vector<episode::Epis
                   std::vector<int> predicted = w.predicted;
                   for (std::size_t d = 0; d < predicted.size(); ++d)
                     if (test_docs.corpus.document(d).empty()) predicted[d] = -1;
-                  r.mot_grid.push_back(
-                      {source, 0, prior, model + "-words",
-                       confusion_matrix(test_docs.labels, predicted, test_docs.classes,
-                                        test_docs.classes)});
+                  r.mot_grid.push_back({source, 0, prior, model + "-words",
+                                        confusion_matrix(test_docs.labels, predicted,
+                                                         test_docs.classes, test_docs.classes)});
                 }
               }
             }

@@ -285,8 +285,8 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
   return e;
 }
 
-std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> labels,
-                             int classes, const Eigen::MatrixXd& test, int k) {
+std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> labels, int classes,
+                             const Eigen::MatrixXd& test, int k) {
   require(static_cast<std::size_t>(train.rows()) == labels.size() && train.cols() == test.cols() &&
               k >= 1 && classes >= 1,
           "knn_predict: bad shapes");
@@ -333,9 +333,8 @@ std::vector<int> logistic_predict(const Eigen::MatrixXd& train, std::span<const 
   Eigen::MatrixXd x(n, f);
   for (Eigen::Index i = 0; i < n; ++i) x.row(i) = train.row(known[static_cast<std::size_t>(i)]);
   const Eigen::RowVectorXd mean = x.colwise().mean();
-  Eigen::RowVectorXd sd = ((x.rowwise() - mean).array().square().colwise().sum() /
-                           static_cast<double>(n))
-                              .sqrt();
+  Eigen::RowVectorXd sd =
+      ((x.rowwise() - mean).array().square().colwise().sum() / static_cast<double>(n)).sqrt();
   for (Eigen::Index j = 0; j < f; ++j)
     if (!(sd(j) > 1e-12)) sd(j) = 1;
   auto design = [&](const Eigen::MatrixXd& m) {
@@ -407,8 +406,8 @@ namespace {
 // Word proportions of each document, square-rooted (Euclidean distance between rows = the
 // Hellinger distance up to a factor); empty documents are zero rows.
 Eigen::MatrixXd sqrt_word_proportions(const topics::Corpus& corpus) {
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(corpus.num_documents()),
-                                              corpus.num_words());
+  Eigen::MatrixXd out =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(corpus.num_documents()), corpus.num_words());
   for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
     const topics::DocumentView doc = corpus.document(d);
     double n = 0;
@@ -421,10 +420,9 @@ Eigen::MatrixXd sqrt_word_proportions(const topics::Corpus& corpus) {
 
 }  // namespace
 
-std::vector<RepresentationCeiling> representation_ceilings(const topics::LdaModel& model,
-                                                           const LabelledCorpus& train,
-                                                           const LabelledCorpus& test,
-                                                           const topics::InferenceOptions& inference) {
+std::vector<RepresentationCeiling> representation_ceilings(
+    const topics::LdaModel& model, const LabelledCorpus& train, const LabelledCorpus& test,
+    const topics::InferenceOptions& inference) {
   require(train.classes == test.classes, "representation_ceilings: classes differ");
   const int classes = static_cast<int>(train.classes.size());
   std::vector<RepresentationCeiling> out;

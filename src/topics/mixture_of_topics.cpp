@@ -537,8 +537,7 @@ double words_bound(const Eigen::VectorXd& alpha, const Eigen::MatrixXd& log_beta
   expectations();
   double bound = std::lgamma(alpha.sum()) - std::lgamma(gamma.sum());
   for (Eigen::Index j = 0; j < k; ++j) {
-    bound += std::lgamma(gamma(j)) - std::lgamma(alpha(j)) +
-             (alpha(j) - gamma(j)) * e_log_theta(j);
+    bound += std::lgamma(gamma(j)) - std::lgamma(alpha(j)) + (alpha(j) - gamma(j)) * e_log_theta(j);
   }
   for (std::size_t i = 0; i < words.size(); ++i) {
     phi = e_log_theta + log_beta.col(words[i]);

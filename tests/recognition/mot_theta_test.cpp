@@ -37,7 +37,6 @@ TEST(MotTheta, WordPosteriorIsTheMeanOfEachWordsTopicPosterior) {
   EXPECT_THROW((void)word_posterior_theta(two_topics(), topics::Corpus(4)), Error);
 }
 
-
 TEST(MotCeilings, NearestNeighboursVoteAndSkipUnlabelledRows) {
   Eigen::MatrixXd train(5, 1), test(3, 1);
   train << 0.0, 0.1, 0.2, 1.0, 0.15;

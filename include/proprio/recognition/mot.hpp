@@ -128,8 +128,8 @@ std::vector<RepresentationCeiling> representation_ceilings(
 
 /// Each test row's class by majority vote of its k nearest training rows (Euclidean distance;
 /// ties go to the class of the nearest among the tied). Rows with label < 0 are not neighbours.
-std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> labels,
-                             int classes, const Eigen::MatrixXd& test, int k);
+std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> labels, int classes,
+                             const Eigen::MatrixXd& test, int k);
 
 /// Multinomial logistic regression (softmax, L2 penalty `l2` on the weights, features
 /// standardised on `train`, full-batch gradient descent for `iterations` steps): each test row's

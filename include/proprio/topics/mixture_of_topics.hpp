@@ -19,11 +19,11 @@
 #include <vector>
 
 #include "proprio/core/fields.hpp"
+#include "proprio/topics/corpus.hpp"
 #include "proprio/topics/dirichlet.hpp"
 #include "proprio/topics/dirichlet_fit.hpp"
 #include "proprio/topics/dirichlet_mixture.hpp"
 #include "proprio/topics/dirichlet_stats.hpp"
-#include "proprio/topics/corpus.hpp"
 #include "proprio/topics/estep_options.hpp"
 #include "proprio/topics/lda_model.hpp"
 
