@@ -77,7 +77,10 @@ struct MotOptions {
   /// Supervised fits and updates: each object a mixture of Dirichlets (proprio/topics/
   /// dirichlet_mixture.hpp) with at most this many components, their number chosen per object
   /// by BIC over its views (EM, the Minka fit as M-step). 1 (the default, the thesis's): one
-  /// Dirichlet per object. The unsupervised fit keeps one Dirichlet per object.
+  /// Dirichlet per object; kept as the default because on the scatter report (docs/results/
+  /// mot.md, fourth round) the mixture, though best on 4 objects (88.2% against 81.8%), fell
+  /// below one Dirichlet on two of five 3-object seeds. The unsupervised fit keeps one Dirichlet
+  /// per object.
   int components = 1;
   /// With components > 1: EM starts per number of components, EM iterations per start at most,
   /// the smallest effective number of views a component may have (see DirichletMixtureOptions).
