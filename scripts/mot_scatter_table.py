@@ -39,7 +39,19 @@ def methods(run):
         for label, model in (("mixture", "mixture"), ("shared precision", "shared-precision")):
             out[f"MoT {label}, E-step theta"] = grid(run, "estep", model=model)
             out[f"MoT {label}, word-posterior theta"] = grid(run, "word-posterior", model=model)
-    out["MoT, unsupervised (C given)"] = run["mot_unsupervised"]
+    # Since the fifth round: the same fits classifying by the views' words
+    # (topics::classify_mot_words), and the ceilings of the representation.
+    for label, model in (("one Dirichlet", "dirichlet-words"), ("mixture", "mixture-words"),
+                         ("shared precision", "shared-precision-words")):
+        for theta, name in (("estep", "E-step"), ("word-posterior", "word-posterior")):
+            try:
+                out[f"MoT {label}, by words ({name} fit)"] = grid(run, theta, model=model)
+            except KeyError:
+                pass
+    for c in run.get("ceilings", []):
+        out[f"ceiling: {c['name']}"] = c
+    if "mot_unsupervised" in run:
+        out["MoT, unsupervised (C given)"] = run["mot_unsupervised"]
     return out
 
 
@@ -57,11 +69,16 @@ def interval(v):
 
 for n in (3, 4):
     print(f"## {n} objects, T = 8")
-    r = json.load(open(f"{out}/mot{n}-s{tune}.json"))["runs"][0]
+    try:
+        r = json.load(open(f"{out}/mot{n}-s{tune}.json"))["runs"][0]
+    except FileNotFoundError:
+        continue
     print(f"tuning seed {tune}: grid (mean class accuracy %):")
     for g in r["mot_grid"]:
         print(f"  {g['theta']:>14} s={g['smoothing']:<5} prior {g['prior']:<8} "
               f"{g.get('model', 'dirichlet'):<16} {100 * g['mean_class_accuracy']:.1f}")
+    for c in r.get("ceilings", []):
+        print(f"  ceiling {c['name']:<24} {100 * c['mean_class_accuracy']:.1f}")
     table, per_object, bic, summed = {}, {}, [], {}
     names = None
     for s in seeds:
@@ -76,8 +93,9 @@ for n in (3, 4):
             prev = summed.get(k)
             summed[k] = c["counts"] if prev is None else [
                 [a + b for a, b in zip(ra, rb)] for ra, rb in zip(prev, c["counts"])]
-        u = run["mot_unsupervised"]
-        bic.append((s, u["chosen_classes"], u.get("chosen_classes_per_object")))
+        u = run.get("mot_unsupervised")
+        if u is not None:
+            bic.append((s, u["chosen_classes"], u.get("chosen_classes_per_object")))
     done = sorted(next(iter(table.values())).keys(), key=int)
     print("\n| method | " + " | ".join(f"seed {s}" for s in done) + " | mean +- 95% CI |")
     print("|---|" + "---|" * (len(done) + 1))
@@ -86,7 +104,7 @@ for n in (3, 4):
         print(f"| {k} | " + " | ".join(f"{x:.1f}" for x in vals) + f" | {interval(vals)} |")
     a = table["argmax theta, merged"]
     print()
-    for k in (m for m in MOT if m in table):
+    for k in (m for m in table if m.startswith("MoT") and "unsupervised" not in m):
         wins = sum(table[k][s] > a[s] for s in done)
         print(f"{k} above argmax on {wins} of {len(done)} seeds")
     print("\nper object, recall % (mean over the seeds, min-max):\n")

@@ -325,13 +325,28 @@ std::vector<ScatterExperimentResult> run_scatter(const std::vector<episode::Epis
                 g.prior = prior;
                 g.shared_precision = model == "shared-precision";
                 g.components = model == "mixture" ? 10 : 1;
-                r.mot_grid.push_back(
-                    {source, s, prior, model,
-                     evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source).classes});
+                const MotEvaluation e =
+                    evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source);
+                r.mot_grid.push_back({source, s, prior, model, e.classes});
+                // The same objects' Dirichlets classifying the test views by their words
+                // (topics::classify_mot_words): smoothing does not enter, so once per source
+                // and object model, with the prior from the views.
+                if (s == o.mot_smoothing_grid.front() && prior == topics::MotPrior::kViews) {
+                  const topics::MotClassification w =
+                      topics::classify_mot_words(e.fit.model, trained.model, test_docs.corpus);
+                  std::vector<int> predicted = w.predicted;
+                  for (std::size_t d = 0; d < predicted.size(); ++d)
+                    if (test_docs.corpus.document(d).empty()) predicted[d] = -1;
+                  r.mot_grid.push_back({source, 0, prior, model + "-words",
+                                        confusion_matrix(test_docs.labels, predicted,
+                                                         test_docs.classes, test_docs.classes)});
+                }
               }
             }
           }
         }
+        if (!o.mot_smoothing_grid.empty())
+          r.ceilings = representation_ceilings(trained.model, mapping_docs, test_docs);
       }
       result.runs.push_back(std::move(r));
     }

@@ -1,6 +1,7 @@
 #include "proprio/recognition/mot.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <numeric>
 #include <set>
@@ -282,6 +283,180 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
       predictions(test_rows, t.empty.size(), c.predicted, e.object_class);
   e.classes = confusion_matrix(test.labels, predicted, test.classes, test.classes);
   return e;
+}
+
+std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> labels, int classes,
+                             const Eigen::MatrixXd& test, int k) {
+  require(static_cast<std::size_t>(train.rows()) == labels.size() && train.cols() == test.cols() &&
+              k >= 1 && classes >= 1,
+          "knn_predict: bad shapes");
+  std::vector<Eigen::Index> known;
+  for (Eigen::Index i = 0; i < train.rows(); ++i)
+    if (labels[static_cast<std::size_t>(i)] >= 0) known.push_back(i);
+  std::vector<int> out(static_cast<std::size_t>(test.rows()), -1);
+  if (known.empty()) return out;
+  const auto kk = std::min(static_cast<std::size_t>(k), known.size());
+  std::vector<std::pair<double, int>> d(known.size());
+  for (Eigen::Index t = 0; t < test.rows(); ++t) {
+    for (std::size_t i = 0; i < known.size(); ++i)
+      d[i] = {(train.row(known[i]) - test.row(t)).squaredNorm(),
+              labels[static_cast<std::size_t>(known[i])]};
+    std::partial_sort(d.begin(), d.begin() + static_cast<long>(kk), d.end());
+    std::vector<int> votes(static_cast<std::size_t>(classes), 0);
+    for (std::size_t i = 0; i < kk; ++i) ++votes[static_cast<std::size_t>(d[i].second)];
+    const int most = *std::max_element(votes.begin(), votes.end());
+    // Ties: the class of the nearest neighbour among the tied classes.
+    for (std::size_t i = 0; i < kk; ++i) {
+      if (votes[static_cast<std::size_t>(d[i].second)] == most) {
+        out[static_cast<std::size_t>(t)] = d[i].second;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<int> logistic_predict(const Eigen::MatrixXd& train, std::span<const int> labels,
+                                  int classes, const Eigen::MatrixXd& test, double l2,
+                                  int iterations) {
+  require(static_cast<std::size_t>(train.rows()) == labels.size() && train.cols() == test.cols() &&
+              classes >= 1 && iterations >= 1 && l2 >= 0,
+          "logistic_predict: bad shapes or options");
+  std::vector<Eigen::Index> known;
+  for (Eigen::Index i = 0; i < train.rows(); ++i)
+    if (labels[static_cast<std::size_t>(i)] >= 0) known.push_back(i);
+  std::vector<int> out(static_cast<std::size_t>(test.rows()), -1);
+  if (known.empty()) return out;
+  const Eigen::Index n = static_cast<Eigen::Index>(known.size());
+  const Eigen::Index f = train.cols();
+  // Standardised features with a constant column for the bias.
+  Eigen::MatrixXd x(n, f);
+  for (Eigen::Index i = 0; i < n; ++i) x.row(i) = train.row(known[static_cast<std::size_t>(i)]);
+  const Eigen::RowVectorXd mean = x.colwise().mean();
+  Eigen::RowVectorXd sd =
+      ((x.rowwise() - mean).array().square().colwise().sum() / static_cast<double>(n)).sqrt();
+  for (Eigen::Index j = 0; j < f; ++j)
+    if (!(sd(j) > 1e-12)) sd(j) = 1;
+  auto design = [&](const Eigen::MatrixXd& m) {
+    Eigen::MatrixXd z(m.rows(), f + 1);
+    z.leftCols(f) = (m.rowwise() - mean).array().rowwise() / sd.array();
+    z.col(f).setOnes();
+    return z;
+  };
+  const Eigen::MatrixXd z = design(x);
+  Eigen::MatrixXd y = Eigen::MatrixXd::Zero(n, classes);
+  for (Eigen::Index i = 0; i < n; ++i) y(i, labels[static_cast<std::size_t>(known[i])]) = 1;
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(f + 1, classes);
+  auto softmax = [](Eigen::MatrixXd s) {
+    for (Eigen::Index i = 0; i < s.rows(); ++i) {
+      s.row(i).array() -= s.row(i).maxCoeff();
+      s.row(i) = s.row(i).array().exp().matrix();
+      s.row(i) /= s.row(i).sum();
+    }
+    return s;
+  };
+  // The loss is convex with a gradient whose Lipschitz constant is at most the mean squared norm
+  // of a standardised row (about f + 1) / 2: a step of 1 / (f + 1) is safe.
+  const double step = 1.0 / static_cast<double>(f + 1);
+  for (int it = 0; it < iterations; ++it) {
+    const Eigen::MatrixXd p = softmax(z * w);
+    Eigen::MatrixXd g = z.transpose() * (p - y) / static_cast<double>(n);
+    g.topRows(f) += l2 * w.topRows(f);
+    w -= step * g;
+  }
+  const Eigen::MatrixXd s = design(test) * w;
+  for (Eigen::Index t = 0; t < s.rows(); ++t) {
+    Eigen::Index best = 0;
+    s.row(t).maxCoeff(&best);
+    out[static_cast<std::size_t>(t)] = static_cast<int>(best);
+  }
+  return out;
+}
+
+std::vector<int> naive_bayes_predict(const LabelledCorpus& train, const topics::Corpus& test) {
+  require(train.corpus.num_words() == test.num_words(), "naive_bayes_predict: vocabularies differ");
+  const auto classes = static_cast<Eigen::Index>(train.classes.size());
+  const Eigen::Index words = train.corpus.num_words();
+  Eigen::MatrixXd counts = Eigen::MatrixXd::Ones(classes, words);
+  for (std::size_t d = 0; d < train.corpus.num_documents(); ++d) {
+    const int c = train.labels[d];
+    if (c < 0) continue;
+    const topics::DocumentView doc = train.corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) counts(c, doc.words[i]) += doc.counts[i];
+  }
+  Eigen::MatrixXd log_p = counts;
+  for (Eigen::Index c = 0; c < classes; ++c)
+    log_p.row(c) = (counts.row(c) / counts.row(c).sum()).array().log().matrix();
+  std::vector<int> out(test.num_documents(), -1);
+  for (std::size_t d = 0; d < test.num_documents(); ++d) {
+    const topics::DocumentView doc = test.document(d);
+    if (doc.size() == 0) continue;
+    Eigen::VectorXd score = Eigen::VectorXd::Zero(classes);
+    for (std::size_t i = 0; i < doc.size(); ++i)
+      score += static_cast<double>(doc.counts[i]) * log_p.col(doc.words[i]);
+    Eigen::Index best = 0;
+    score.maxCoeff(&best);
+    out[d] = static_cast<int>(best);
+  }
+  return out;
+}
+
+namespace {
+
+// Word proportions of each document, square-rooted (Euclidean distance between rows = the
+// Hellinger distance up to a factor); empty documents are zero rows.
+Eigen::MatrixXd sqrt_word_proportions(const topics::Corpus& corpus) {
+  Eigen::MatrixXd out =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(corpus.num_documents()), corpus.num_words());
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const topics::DocumentView doc = corpus.document(d);
+    double n = 0;
+    for (std::size_t i = 0; i < doc.size(); ++i) n += doc.counts[i];
+    for (std::size_t i = 0; i < doc.size(); ++i)
+      out(static_cast<Eigen::Index>(d), doc.words[i]) = std::sqrt(doc.counts[i] / n);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<RepresentationCeiling> representation_ceilings(
+    const topics::LdaModel& model, const LabelledCorpus& train, const LabelledCorpus& test,
+    const topics::InferenceOptions& inference) {
+  require(train.classes == test.classes, "representation_ceilings: classes differ");
+  const int classes = static_cast<int>(train.classes.size());
+  std::vector<RepresentationCeiling> out;
+  auto add = [&](const char* name, std::vector<int> predicted, const std::vector<bool>& empty) {
+    for (std::size_t d = 0; d < predicted.size(); ++d)
+      if (empty[d]) predicted[d] = -1;
+    out.push_back({name, confusion_matrix(test.labels, predicted, test.classes, test.classes)});
+  };
+  for (const auto source : {ThetaSource::kEStep, ThetaSource::kWordPosterior}) {
+    const DocumentTheta a = view_theta(model, train.corpus, source, inference);
+    const DocumentTheta b = view_theta(model, test.corpus, source, inference);
+    std::vector<int> labels = train.labels;
+    for (std::size_t d = 0; d < labels.size(); ++d)
+      if (a.empty[d]) labels[d] = -1;
+    const bool estep = source == ThetaSource::kEStep;
+    add(estep ? "knn-estep" : "knn-word-posterior",
+        knn_predict(a.theta.array().sqrt().matrix(), labels, classes,
+                    b.theta.array().sqrt().matrix(), 5),
+        b.empty);
+    const double s = 0.01;
+    const double u = s / static_cast<double>(a.theta.cols());
+    add(estep ? "logistic-estep" : "logistic-word-posterior",
+        logistic_predict(((1 - s) * a.theta.array() + u).log().matrix(), labels, classes,
+                         ((1 - s) * b.theta.array() + u).log().matrix()),
+        b.empty);
+  }
+  std::vector<bool> empty(test.corpus.num_documents());
+  for (std::size_t d = 0; d < empty.size(); ++d) empty[d] = test.corpus.document(d).size() == 0;
+  add("knn-words",
+      knn_predict(sqrt_word_proportions(train.corpus), train.labels, classes,
+                  sqrt_word_proportions(test.corpus), 5),
+      empty);
+  add("naive-bayes-words", naive_bayes_predict(train, test.corpus), empty);
+  return out;
 }
 
 std::uint32_t vocabulary_checksum(const features::Vocabulary& vocabulary) {

@@ -10,6 +10,7 @@
 #include "proprio/core/random.hpp"
 
 #include "kmeans_seeding.hpp"
+#include "special_functions.hpp"
 
 namespace proprio::topics {
 namespace {
@@ -493,6 +494,102 @@ MotClassification classify_mot(const MotModel& model,
   out.log_score = log_scores(model, log_theta);
   out.posterior.resize(out.log_score.rows(), out.log_score.cols());
   for (Eigen::Index d = 0; d < out.log_score.rows(); ++d) {
+    const double z = log_sum_exp(out.log_score.row(d).transpose());
+    out.posterior.row(d) = (out.log_score.row(d).array() - z).exp();
+  }
+  out.predicted = argmax_rows(out.log_score);
+  return out;
+}
+
+namespace {
+
+// The E-step's bound on log p(words | alpha) for one document (unique words `words`, counts
+// `counts`) under topics with log word probabilities log_beta (K x W), the prior alpha.
+// At the optimal phi, sum_k phi_wk (E log theta_k + log beta_kw - log phi_wk) is
+// log sum_k exp(E log theta_k + log beta_kw), which the bound uses.
+double words_bound(const Eigen::VectorXd& alpha, const Eigen::MatrixXd& log_beta,
+                   std::span<const std::int32_t> words, std::span<const std::int32_t> counts,
+                   const EStepOptions& estep) {
+  const Eigen::Index k = alpha.size();
+  double n = 0;
+  for (const auto c : counts) n += c;
+  Eigen::VectorXd gamma = alpha.array() + n / static_cast<double>(k);
+  Eigen::VectorXd e_log_theta(k);
+  Eigen::VectorXd next(k);
+  Eigen::VectorXd phi(k);
+  auto expectations = [&] {
+    const double dsum = detail::digamma(gamma.sum());
+    for (Eigen::Index j = 0; j < k; ++j) e_log_theta(j) = detail::digamma(gamma(j)) - dsum;
+  };
+  for (int it = 0; it < estep.max_iterations; ++it) {
+    expectations();
+    next = alpha;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+      phi = e_log_theta + log_beta.col(words[i]);
+      const double m = phi.maxCoeff();
+      phi = (phi.array() - m).exp();
+      next += (static_cast<double>(counts[i]) / phi.sum()) * phi;
+    }
+    const double change = (next - gamma).cwiseAbs().mean();
+    gamma = next;
+    if (change < estep.tolerance) break;
+  }
+  expectations();
+  double bound = std::lgamma(alpha.sum()) - std::lgamma(gamma.sum());
+  for (Eigen::Index j = 0; j < k; ++j) {
+    bound += std::lgamma(gamma(j)) - std::lgamma(alpha(j)) + (alpha(j) - gamma(j)) * e_log_theta(j);
+  }
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    phi = e_log_theta + log_beta.col(words[i]);
+    const double m = phi.maxCoeff();
+    bound += static_cast<double>(counts[i]) * (m + std::log((phi.array() - m).exp().sum()));
+  }
+  return bound;
+}
+
+}  // namespace
+
+MotClassification classify_mot_words(const MotModel& model, const LdaModel& lda,
+                                     const Corpus& corpus, const EStepOptions& estep) {
+  model.validate();
+  estep.validate();
+  if (lda.num_topics() != model.num_topics()) {
+    throw Error("Mixture of Topics: the model has " + std::to_string(model.num_topics()) +
+                " topics, the LDA model " + std::to_string(lda.num_topics()));
+  }
+  if (corpus.num_words() != lda.num_words()) {
+    throw Error("Mixture of Topics: the corpus has " + std::to_string(corpus.num_words()) +
+                " words, the LDA model " + std::to_string(lda.num_words()));
+  }
+  const Eigen::MatrixXd log_beta = lda.topic_word().array().log().matrix();
+  const Eigen::VectorXd log_p = model.log_prior();
+  const auto docs = static_cast<Eigen::Index>(corpus.num_documents());
+  MotClassification out;
+  out.log_score.resize(docs, model.num_classes());
+  for (Eigen::Index d = 0; d < docs; ++d) {
+    const DocumentView doc = corpus.document(static_cast<std::size_t>(d));
+    for (int c = 0; c < model.num_classes(); ++c) {
+      const MotObject& o = model.objects[static_cast<std::size_t>(c)];
+      double score = 0;
+      if (doc.size() > 0) {
+        if (o.mixture.components.empty()) {
+          score = words_bound(o.dirichlet.alpha(), log_beta, doc.words, doc.counts, estep);
+        } else {
+          Eigen::VectorXd parts(static_cast<Eigen::Index>(o.mixture.components.size()));
+          for (std::size_t j = 0; j < o.mixture.components.size(); ++j) {
+            const DirichletComponent& comp = o.mixture.components[j];
+            parts(static_cast<Eigen::Index>(j)) =
+                std::log(comp.weight) +
+                words_bound(comp.dirichlet.alpha(), log_beta, doc.words, doc.counts, estep);
+          }
+          score = log_sum_exp(parts);
+        }
+      }
+      out.log_score(d, c) = score + log_p(c);
+    }
+  }
+  out.posterior.resize(out.log_score.rows(), out.log_score.cols());
+  for (Eigen::Index d = 0; d < docs; ++d) {
     const double z = log_sum_exp(out.log_score.row(d).transpose());
     out.posterior.row(d) = (out.log_score.row(d).array() - z).exp();
   }

@@ -143,6 +143,19 @@ struct ScatterGridRecord {
   }
 };
 
+/// A classifier that bounds what a representation allows (RepresentationCeiling).
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ScatterCeilingRecord {
+  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  std::string name;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    core::describe_json_members(self.classes, v);
+    v(self.name, {"name", "The classifier and representation"});
+  }
+};
+
 /// One K of the scatter experiment.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ScatterRunRecord {
@@ -153,6 +166,7 @@ struct ScatterRunRecord {
   std::optional<ScatterMotRecord> mot;
   std::optional<ScatterUnsupervisedRecord> mot_unsupervised;
   std::optional<std::vector<ScatterGridRecord>> mot_grid;
+  std::optional<std::vector<ScatterCeilingRecord>> ceilings;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -163,6 +177,7 @@ struct ScatterRunRecord {
     v(self.mot, {"mot", "The supervised Mixture of Topics"});
     v(self.mot_unsupervised, {"mot_unsupervised", "The unsupervised Mixture of Topics"});
     v(self.mot_grid, {"mot_grid", "The smoothing grid"});
+    v(self.ceilings, {"ceilings", "What the views' theta and words allow"});
   }
 };
 

@@ -137,7 +137,8 @@ struct MotGridPoint {
   double smoothing = 0;
   topics::MotPrior prior = topics::MotPrior::kViews;
   /// The object model: "dirichlet" (one per object), "shared-precision" (one precision shared
-  /// by the objects) or "mixture" (MotOptions::components = 10).
+  /// by the objects) or "mixture" (MotOptions::components = 10); with "-words" appended, the same
+  /// fit classifying the test views by their words (topics::classify_mot_words; smoothing 0).
   std::string model = "dirichlet";
   ConfusionMatrix classes;
 };
@@ -151,6 +152,9 @@ struct ScatterRunResult {
   /// name its objects).
   std::optional<MotUnsupervisedEvaluation> mot_unsupervised;
   std::vector<MotGridPoint> mot_grid;  ///< with ScatterExperimentOptions::mot_smoothing_grid
+  /// With ScatterExperimentOptions::mot_smoothing_grid: what the views' theta and words allow
+  /// (representation_ceilings) on the same LDA model and views.
+  std::vector<RepresentationCeiling> ceilings;
 };
 
 struct ScatterExperimentResult {

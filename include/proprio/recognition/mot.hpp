@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,43 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
                                                     const LabelledCorpus& test,
                                                     const topics::MotOptions& options = {},
                                                     const topics::InferenceOptions& inference = {});
+
+/// What a representation of the views allows, by classifiers that assume no Dirichlet: the
+/// ceiling of any model of theta, and of the documents themselves (docs/results/mot.md, fifth
+/// round). If the ceilings on theta are far below those on the words, the loss is in LDA's
+/// topics, not in the Mixture of Topics.
+struct RepresentationCeiling {
+  /// knn-estep, knn-word-posterior (5 nearest labelled views by the Hellinger distance of their
+  /// theta); logistic-estep, logistic-word-posterior (multinomial logistic regression on
+  /// log theta smoothed by 0.01: the linear family one Dirichlet per object belongs to, since
+  /// log Dir(theta | omega_c) is linear in log theta); knn-words (Hellinger distance of the
+  /// views' word proportions); naive-bayes-words (multinomial naive Bayes over the words, each
+  /// object's pooled counts with add-one smoothing).
+  std::string name;
+  ConfusionMatrix classes;
+};
+
+/// The ceilings of RepresentationCeiling for LDA `model`, labelled views `train` and test views
+/// `test` (same classes; empty documents unclassified).
+std::vector<RepresentationCeiling> representation_ceilings(
+    const topics::LdaModel& model, const LabelledCorpus& train, const LabelledCorpus& test,
+    const topics::InferenceOptions& inference = {});
+
+/// Each test row's class by majority vote of its k nearest training rows (Euclidean distance;
+/// ties go to the class of the nearest among the tied). Rows with label < 0 are not neighbours.
+std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> labels, int classes,
+                             const Eigen::MatrixXd& test, int k);
+
+/// Multinomial logistic regression (softmax, L2 penalty `l2` on the weights, features
+/// standardised on `train`, full-batch gradient descent for `iterations` steps): each test row's
+/// most probable class. Rows with label < 0 are left out.
+std::vector<int> logistic_predict(const Eigen::MatrixXd& train, std::span<const int> labels,
+                                  int classes, const Eigen::MatrixXd& test, double l2 = 1e-3,
+                                  int iterations = 500);
+
+/// Multinomial naive Bayes over words: p(w | c) from class c's pooled counts in `train` plus one,
+/// uniform class prior; each test document's class (-1 for an empty one).
+std::vector<int> naive_bayes_predict(const LabelledCorpus& train, const topics::Corpus& test);
 
 /// The identity of a visual vocabulary: CRC-32 of its word count, dimension and float32 words.
 std::uint32_t vocabulary_checksum(const features::Vocabulary& vocabulary);

@@ -19,10 +19,13 @@
 #include <vector>
 
 #include "proprio/core/fields.hpp"
+#include "proprio/topics/corpus.hpp"
 #include "proprio/topics/dirichlet.hpp"
 #include "proprio/topics/dirichlet_fit.hpp"
 #include "proprio/topics/dirichlet_mixture.hpp"
 #include "proprio/topics/dirichlet_stats.hpp"
+#include "proprio/topics/estep_options.hpp"
+#include "proprio/topics/lda_model.hpp"
 
 namespace proprio::topics {
 
@@ -74,7 +77,10 @@ struct MotOptions {
   /// Supervised fits and updates: each object a mixture of Dirichlets (proprio/topics/
   /// dirichlet_mixture.hpp) with at most this many components, their number chosen per object
   /// by BIC over its views (EM, the Minka fit as M-step). 1 (the default, the thesis's): one
-  /// Dirichlet per object. The unsupervised fit keeps one Dirichlet per object.
+  /// Dirichlet per object; kept as the default because on the scatter report (docs/results/
+  /// mot.md, fourth round) the mixture, though best on 4 objects (88.2% against 81.8%), fell
+  /// below one Dirichlet on two of five 3-object seeds. The unsupervised fit keeps one Dirichlet
+  /// per object.
   int components = 1;
   /// With components > 1: EM starts per number of components, EM iterations per start at most,
   /// the smallest effective number of views a component may have (see DirichletMixtureOptions).
@@ -230,6 +236,19 @@ struct MotClassification {
 MotClassification classify_mot(const MotModel& model,
                                const Eigen::Ref<const Eigen::MatrixXd>& theta,
                                const ProportionOptions& options = {});
+
+/// Classifies documents by their words instead of a point theta: each object's marginal
+/// likelihood of the document under LDA with the object's Dirichlet as the prior of theta,
+///   log p(w_d | c) = log int prod_n sum_k theta_k beta_k,w_dn Dir(theta | omega_c) dtheta,
+/// bounded below by the variational E-step run with alpha = omega_c (eq B.16-B.18 with an
+/// asymmetric prior; beta the topics' posterior mean LdaModel::topic_word()), whose bound (the
+/// ELBO) stands for it; an object with a mixture sums its components, log sum_j w_j exp(ELBO_j).
+/// log_score = that + log p(c). The object's Dirichlet models the whole view rather than one
+/// theta, so a view whose words spread over several topics is not forced into one corner. The
+/// model's smoothing is not used. An empty document scores log p(c). Throws Error when the
+/// corpus, LDA model and Mixture of Topics disagree on W or T.
+MotClassification classify_mot_words(const MotModel& model, const LdaModel& lda,
+                                     const Corpus& corpus, const EStepOptions& estep = {});
 
 struct MotUpdateSummary {
   int views = 0;                          ///< new views
