@@ -64,32 +64,33 @@ Eigen::Vector2d parse_range(const std::string& text, const std::string& what) {
   return {v[0], v[1]};
 }
 
-void print(const geometry::CalibRun& r, const std::string& json) {
+void print(const geometry::CalibRun& r, const JsonFlag& json) {
   std::fputs(r.report.c_str(), stdout);
   for (const auto& w : r.warnings) std::fprintf(stderr, "proprio: warning: %s\n", w.c_str());
-  write_json_result(json, r.document);
+  json.write(r.document);
 }
 
 struct DltArgs {
   geometry::CalibDltOptions options;
-  std::string json;
+  JsonFlag json;
 };
 
 struct TriangulateArgs {
   geometry::CalibTriangulateOptions options;
-  std::string json;
+  JsonFlag json;
 };
 
 struct BackprojectArgs {
   geometry::CalibBackprojectOptions options;
-  std::string plane, json;
+  std::string plane;
+  JsonFlag json;
 };
 
 struct UncertaintyArgs {
   geometry::CalibUncertaintyOptions options;
   std::optional<double> x, y, z;
   std::string x_range, y_range, z_range;
-  std::string json;
+  JsonFlag json;
 };
 
 // The slice and its ranges from --x/--y/--z and --x-range/--y-range/--z-range.
@@ -115,7 +116,8 @@ void set_slice(UncertaintyArgs& a) {
 
 struct StereoArgs {
   geometry::CalibStereoOptions options;
-  std::string images, board = "9x6", json;
+  std::string images, board = "9x6";
+  JsonFlag json;
 };
 
 }  // namespace
@@ -123,7 +125,6 @@ struct StereoArgs {
 void register_calib_commands(CLI::App& root, const Invocation& inv) {
   auto* calib = root.add_subcommand("calib", "Camera calibration and geometry (thesis 3.2-3.4)");
   calib->require_subcommand(1);
-  constexpr const char* kJson = "Also write the figures as JSON to this file";
 
   auto dlt_args = std::make_shared<DltArgs>();
   auto* dlt = calib->add_subcommand(
@@ -137,10 +138,10 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
   dlt->add_option("--height", dlt_args->options.height,
                   "Image height to record in calib.yml, pixels")
       ->check(CLI::PositiveNumber);
-  dlt->add_option("--json", dlt_args->json, kJson);
+  dlt_args->json.add_to(dlt, "the figures");
   dlt->callback([dlt_args, &inv] {
     const auto& o = dlt_args->options;
-    core::require_output_not_input(dlt_args->json, {o.out, o.points}, "--json");
+    dlt_args->json.refuse({o.out, o.points});
     print(geometry::run_calib_dlt(dlt_args->options, inv.provenance()), dlt_args->json);
   });
 
@@ -159,10 +160,10 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
                 "Refine each point by Levenberg-Marquardt on the reprojection errors");
   tri->add_flag("--distorted", tri_args->options.distorted,
                 "The pixels are as measured: remove the lens distortion of the calibrations first");
-  tri->add_option("--json", tri_args->json, kJson);
+  tri_args->json.add_to(tri, "the figures");
   tri->callback([tri_args, &inv] {
     const auto& o = tri_args->options;
-    core::require_output_not_input(tri_args->json, {o.out, o.calib1, o.calib2, o.points}, "--json");
+    tri_args->json.refuse({o.out, o.calib1, o.calib2, o.points});
     print(geometry::run_calib_triangulate(tri_args->options, inv.provenance()), tri_args->json);
   });
 
@@ -179,10 +180,10 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
   bp->add_option("--out", bp_args->options.out, "CSV to write, header X,Y,Z")->required();
   bp->add_flag("--distorted", bp_args->options.distorted,
                "The pixels are as measured: remove the lens distortion first");
-  bp->add_option("--json", bp_args->json, kJson);
+  bp_args->json.add_to(bp, "the figures");
   bp->callback([bp_args, &inv] {
     const auto& o = bp_args->options;
-    core::require_output_not_input(bp_args->json, {o.out, o.calib, o.points}, "--json");
+    bp_args->json.refuse({o.out, o.calib, o.points});
     const auto v = parse_numbers(bp_args->plane, 4, "--plane", "nx,ny,nz,kappa");
     bp_args->options.plane = geometry::Plane{{v[0], v[1], v[2]}, v[3]};
     print(geometry::run_calib_backproject(bp_args->options, inv.provenance()), bp_args->json);
@@ -216,10 +217,10 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
       ->capture_default_str();
   un->add_option("--world-unit", un_args->options.render.world_unit, "Unit of the axes")
       ->capture_default_str();
-  un->add_option("--json", un_args->json, kJson);
+  un_args->json.add_to(un, "the figures");
   un->callback([un_args, &inv] {
     const auto& o = un_args->options;
-    core::require_output_not_input(un_args->json, {o.out, o.calib1, o.calib2}, "--json");
+    un_args->json.refuse({o.out, o.calib1, o.calib2});
     set_slice(*un_args);
     un_args->options.map.cells_b = un_args->options.map.cells_a;
     print(geometry::run_calib_uncertainty(un_args->options, inv.provenance()), un_args->json);
@@ -241,12 +242,12 @@ void register_calib_commands(CLI::App& root, const Invocation& inv) {
   st->add_option("--out", st_args->options.out,
                  "Folder to write left.yml, right.yml, corners.csv into")
       ->required();
-  st->add_option("--json", st_args->json, kJson);
+  st_args->json.add_to(st, "the figures");
   st->callback([st_args, &inv] {
     geometry::CalibStereoOptions& o = st_args->options;
     o.check.images_dir = st_args->images;
     o.check.board = parse_board(st_args->board);
-    core::require_output_not_input(st_args->json, {o.out, o.check.images_dir}, "--json");
+    st_args->json.refuse({o.out, o.check.images_dir});
     print(geometry::run_calib_stereo(o, inv.provenance()), st_args->json);
   });
 }

@@ -3,8 +3,10 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "proprio/core/json_io.hpp"
@@ -20,9 +22,31 @@ struct Invocation {
   [[nodiscard]] core::Provenance provenance(std::optional<std::uint64_t> seed = {}) const;
 };
 
-/// Writes a result document ({"format", "format_version", "provenance", ...figures}) to `path`
-/// atomically, unless `path` is empty.
-void write_json_result(const std::string& path, const core::Json& document);
+/// The `--json FILE` option every command takes: the call's record (its `document`: "format",
+/// "format_version", "provenance", then the Result's described fields) written atomically after
+/// the call. One flag name and help form, one refusal of a FILE that is one of the command's
+/// inputs or other outputs (made before the call, so that a run never replaces what it reads),
+/// one atomic write. A command whose outputs depend on the run (`experiment scatter --seeds`)
+/// makes one JsonFlag per output with its path.
+class JsonFlag {
+ public:
+  JsonFlag() = default;
+  explicit JsonFlag(std::string path) : path_(std::move(path)) {}
+
+  /// Adds `--json FILE` to `cmd`: "Also write WHAT as JSON to this file (atomically; ...)".
+  void add_to(CLI::App* cmd, const std::string& what);
+  /// Throws Error when FILE is one of `others` (the command's inputs and its other outputs; a
+  /// directory holding one counts too); nothing when --json was not given.
+  void refuse(const std::vector<std::filesystem::path>& others) const;
+  /// Writes `document` to FILE atomically; nothing when --json was not given.
+  void write(const core::Json& document) const;
+
+  [[nodiscard]] const std::string& path() const { return path_; }
+  [[nodiscard]] bool given() const { return !path_.empty(); }
+
+ private:
+  std::string path_;
+};
 
 /// Registers the verb groups (one file each).
 void register_calib_commands(CLI::App& root, const Invocation& inv);

@@ -14,12 +14,12 @@ namespace {
 
 struct InfoArgs {
   std::string dir;
-  std::string json;
+  JsonFlag json;
 };
 
 struct CheckArgs {
   std::string dir;
-  std::string json;
+  JsonFlag json;
   bool quick = false;
 };
 
@@ -28,7 +28,7 @@ struct ImportArgs {
   std::string arm_log;
   std::string calib;
   std::string out;
-  std::string json;
+  JsonFlag json;
   std::string frames = "png";
   std::optional<double> fps;
   std::optional<int> max_frames;
@@ -38,21 +38,20 @@ struct ImportArgs {
 };
 
 void run_info(const InfoArgs& a, const Invocation& inv) {
-  const episode::Episode ep = episode::read_episode(a.dir);
-  const episode::EpisodeSummary s = episode::summarize(ep);
-  std::fputs(episode::format_summary(s).c_str(), stdout);
-  core::Json doc = core::result_document("proprio.episode.info", 1, inv.provenance());
-  doc.update(episode::to_json(s));
-  write_json_result(a.json, doc);
+  a.json.refuse({a.dir});
+  const episode::EpisodeInfoResult r = episode::run_episode_info(a.dir, inv.provenance());
+  std::fputs(r.brief().c_str(), stdout);
+  a.json.write(r.document);
 }
 
 void run_check(const CheckArgs& a, const Invocation& inv) {
   episode::CheckOptions options;
   options.decode_images = !a.quick;
+  a.json.refuse({a.dir});
   const auto r = episode::run_episode_check(a.dir, options, inv.provenance());
   const auto& problems = r.problems;
   for (const auto& p : problems) std::printf("%s\n", p.message.c_str());
-  write_json_result(a.json, r.document);
+  a.json.write(r.document);
   if (!problems.empty()) {
     std::string m = a.dir;
     m += ": not a valid episode (";
@@ -70,12 +69,13 @@ void run_import(ImportArgs a, const Invocation& inv) {
   a.options.storage =
       a.frames == "video" ? episode::FrameStorage::kVideo : episode::FrameStorage::kPng;
   a.options.progress = !a.quiet;
+  a.json.refuse({a.video, a.arm_log, a.calib, a.out});
   const core::Provenance provenance = inv.provenance();
   const auto result =
       episode::import_recording(a.video, a.arm_log, a.calib, a.out, a.options, provenance);
   std::printf("episode: %s\n", a.out.c_str());
   std::fputs(episode::format_import_summary(result.summary).c_str(), stdout);
-  write_json_result(a.json, result.document);
+  a.json.write(result.document);
 }
 
 }  // namespace
@@ -88,7 +88,7 @@ void register_episode_commands(CLI::App& root, const Invocation& inv) {
   auto* info =
       episode->add_subcommand("info", "Summarise an episode (reads it with every cheap check)");
   info->add_option("DIR", info_args->dir, "Episode directory")->required();
-  info->add_option("--json", info_args->json, "Also write the summary as JSON to this file");
+  info_args->json.add_to(info, "the summary");
   info->callback([info_args, &inv] { run_info(*info_args, inv); });
 
   auto check_args = std::make_shared<CheckArgs>();
@@ -97,7 +97,7 @@ void register_episode_commands(CLI::App& root, const Invocation& inv) {
   check->add_option("DIR", check_args->dir, "Episode directory")->required();
   check->add_flag("--quick", check_args->quick,
                   "Skip decoding the images (headers, sizes and files only)");
-  check->add_option("--json", check_args->json, "Also write the problems as JSON to this file");
+  check_args->json.add_to(check, "the problems");
   check->callback([check_args, &inv] { run_check(*check_args, inv); });
 
   auto import_args = std::make_shared<ImportArgs>();
@@ -123,8 +123,7 @@ void register_episode_commands(CLI::App& root, const Invocation& inv) {
   imp->add_flag("--overwrite,--force", import_args->options.overwrite,
                 "Replace an existing episode at --out (--force: the older name)");
   imp->add_flag("-q,--quiet", import_args->quiet, "No progress bar");
-  imp->add_option("--json", import_args->json,
-                  "Also write the import summary as JSON to this file");
+  import_args->json.add_to(imp, "the import summary");
   imp->callback([import_args, &inv] { run_import(*import_args, inv); });
 }
 

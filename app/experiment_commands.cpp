@@ -54,14 +54,14 @@ struct SetArgs {
   int lda_iterations = 100;
   int online_passes = 10;
   int online_batch = 50;
-  std::string json;
+  JsonFlag json;
   bool quiet = false;
 };
 
 struct ScatterArgs {
   ScatterExperimentRunOptions options;
   std::string k = "objects,8";
-  std::string json;
+  JsonFlag json;
   bool quiet = false;
 };
 
@@ -72,10 +72,10 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
   o.batch.max_iterations = a.lda_iterations;
   o.online.passes = a.online_passes;
   o.online.batch_size = a.online_batch;
-  core::require_output_not_input(a.json, {a.options.images}, "--json");
+  a.json.refuse({a.options.images});
   const ExperimentRun r = run_set_experiment_files(a.options, inv.provenance(o.seed));
   std::fputs(r.report.c_str(), stdout);
-  write_json_result(a.json, r.document);
+  a.json.write(r.document);
 }
 
 void run_scatter(ScatterArgs& a, const Invocation& inv) {
@@ -88,26 +88,25 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   // Several seeds: one JSON each, "{seed}" in --json standing for the seed.
   const std::string placeholder = "{seed}";
   const bool several = a.options.seeds.size() > 1;
-  if (several && !a.json.empty() && a.json.find(placeholder) == std::string::npos) {
+  if (several && a.json.given() && a.json.path().find(placeholder) == std::string::npos) {
     throw Error("with several --seeds, --json needs {seed} in its name (one file per seed)");
   }
   auto json_of = [&](std::uint64_t seed) {
-    std::string path = a.json;
+    std::string path = a.json.path();
     const auto at = path.find(placeholder);
     if (at != std::string::npos) path.replace(at, placeholder.size(), std::to_string(seed));
-    return path;
+    return JsonFlag(path);
   };
   const std::vector<std::uint64_t> seeds = a.options.seeds.empty()
                                                ? std::vector<std::uint64_t>{a.options.options.seed}
                                                : a.options.seeds;
-  for (const std::uint64_t seed : seeds)
-    core::require_output_not_input(json_of(seed), paths, "--json");
+  for (const std::uint64_t seed : seeds) json_of(seed).refuse(paths);
   const std::vector<ExperimentRun> runs =
       run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed));
   for (std::size_t i = 0; i < runs.size(); ++i) {
     if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
     std::fputs(runs[i].report.c_str(), stdout);
-    write_json_result(json_of(seeds[i]), runs[i].document);
+    json_of(seeds[i]).write(runs[i].document);
   }
 }
 
@@ -141,7 +140,7 @@ void add_set_options(CLI::App* cmd, SetArgs& a) {
       ->capture_default_str();
   bind_options(cmd, a.options.options.features);
   cmd->add_flag("-q,--quiet", a.quiet, "No progress bar");
-  cmd->add_option("--json", a.json, "Also write the confusion matrices as JSON");
+  a.json.add_to(cmd, "the confusion matrices");
 }
 
 }  // namespace
@@ -233,7 +232,7 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
       ->delimiter(',');
   bind_options(sc, s->options.options.frames.features);
   sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
-  sc->add_option("--json", s->json, "Also write the confusion matrices as JSON");
+  s->json.add_to(sc, "the confusion matrices");
   sc->callback([s, &inv] { run_scatter(*s, inv); });
 }
 

@@ -55,7 +55,7 @@ struct RunArgs {
   SetupArgs setup;
   InterceptionRunOptions options;
   std::string prior = "both";
-  std::string json;
+  JsonFlag json;
 };
 
 struct SweepArgs {
@@ -67,9 +67,11 @@ struct SweepArgs {
 void run_intercept(RunArgs& a, const Invocation& inv) {
   a.options.setup = setup_options(a.setup);
   a.options.prior = prior_mode_from_string(a.prior);
+  const InterceptionSetupOptions& s = a.options.setup;
+  a.json.refuse({s.scene, s.cache, s.calib_left, s.calib_right});
   const InterceptionRunResult r = run_interception(a.options, inv.provenance(a.options.seed));
   std::fputs(r.brief().c_str(), stdout);
-  write_json_result(a.json, r.document);
+  a.json.write(r.document);
 }
 
 void run_sweep(SweepArgs& a, const Invocation& inv) {
@@ -103,7 +105,7 @@ void register_intercept_commands(CLI::App& root, const Invocation& inv) {
   cmd->add_flag("--replan", run->options.replan,
                 "Re-plan with visual feedback as measurements arrive (3.8)");
   cmd->add_option("--seed", run->options.seed, "Seed of the targets and the noise");
-  cmd->add_option("--json", run->json, "Also write the figures as JSON to this file");
+  run->json.add_to(cmd, "the figures");
 
   auto sweep = std::make_shared<SweepArgs>();
   auto* sw = cmd->add_subcommand(

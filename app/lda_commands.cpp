@@ -24,21 +24,21 @@ void add_corpus_options(CLI::App* cmd, std::filesystem::path& corpus, CorpusForm
 
 struct TrainArgs {
   LdaTrainingOptions options;
-  std::string json;
+  JsonFlag json;
 };
 struct InferArgs {
   LdaInferenceOptions options;
-  std::string json;
+  JsonFlag json;
 };
 struct PerplexityArgs {
   LdaPerplexityOptions options;
   std::string method = "completion";
-  std::string json;
+  JsonFlag json;
 };
 struct TopicsArgs {
   std::string model;
   int top = 10;
-  std::string json;
+  JsonFlag json;
 };
 struct ExportArgs {
   std::string model;
@@ -55,8 +55,7 @@ void register_train(CLI::App* lda, const Invocation& inv) {
   bind_options(cmd, t->options.online);
   cmd->add_option("--heldout", t->options.heldout,
                   "Held-out corpus (same format): trace its perplexity (document completion)");
-  cmd->add_option("--json", t->json,
-                  "Also write seconds, docs_per_s, tokens_per_s and the trace as JSON");
+  t->json.add_to(cmd, "seconds, docs_per_s, tokens_per_s and the trace");
   cmd->add_option("--checkpoint", t->options.checkpointing.checkpoint,
                   "Online: write a checkpoint here (atomically) every --checkpoint-every "
                   "mini-batches");
@@ -69,17 +68,15 @@ void register_train(CLI::App* lda, const Invocation& inv) {
     run_on_world([&](core::Communicator& comm) {
       core::agree(comm, [&] {
         const CorpusFiles files = find_corpus_files(t->options.corpus, t->options.format);
-        core::require_output_not_input(
-            t->json,
-            {t->options.model, t->options.corpus, files.file, files.vocabulary, t->options.heldout,
-             t->options.checkpointing.checkpoint, t->options.checkpointing.resume},
-            "--json");
+        t->json.refuse({t->options.model, t->options.corpus, files.file, files.vocabulary,
+                        t->options.heldout, t->options.checkpointing.checkpoint,
+                        t->options.checkpointing.resume});
       });
       const LdaTrainingResult r =
           run_lda_training(t->options, inv.provenance(t->options.online.seed), comm);
       if (comm.rank() != 0) return;
-      std::printf("%s\n", r.brief.c_str());
-      write_json_result(t->json, r.document);
+      std::printf("%s\n", r.brief().c_str());
+      t->json.write(r.document);
     });
   });
 }
@@ -93,13 +90,12 @@ void register_infer(CLI::App* lda, const Invocation& inv) {
   cmd->add_option("--out", i->options.out, "CSV to write: document, class, theta_0..theta_{K-1}")
       ->required();
   cmd->add_option("--threads", i->options.inference.threads, "Threads")->capture_default_str();
-  cmd->add_option("--json", i->json, "Also write a summary as JSON");
+  i->json.add_to(cmd, "a summary");
   cmd->callback([i, &inv] {
-    core::require_output_not_input(i->json, {i->options.out, i->options.model, i->options.corpus},
-                                   "--json");
+    i->json.refuse({i->options.out, i->options.model, i->options.corpus});
     const LdaInferenceResult r = run_lda_inference(i->options, inv.provenance());
     std::printf("%s\n", r.summary.brief().c_str());
-    write_json_result(i->json, r.document);
+    i->json.write(r.document);
   });
 }
 
@@ -120,14 +116,15 @@ void register_perplexity(CLI::App* lda, const Invocation& inv) {
   cmd->add_option("--split-seed", o.perplexity.split_seed, "Seed of the token split")
       ->capture_default_str();
   cmd->add_option("--threads", o.perplexity.threads, "Threads")->capture_default_str();
-  cmd->add_option("--json", p->json, "Also write the perplexity as JSON");
+  p->json.add_to(cmd, "the perplexity");
   cmd->callback([p, &inv] {
     p->options.perplexity.method = p->method == "bound" ? PerplexityMethod::kVariationalBound
                                                         : PerplexityMethod::kDocumentCompletion;
+    p->json.refuse({p->options.corpus, p->options.model, p->options.lambda});
     const LdaPerplexityResult r =
         run_lda_perplexity(p->options, inv.provenance(p->options.perplexity.split_seed));
     std::printf("%s\n", r.brief().c_str());
-    write_json_result(p->json, r.document);
+    p->json.write(r.document);
   });
 }
 
@@ -146,11 +143,12 @@ void register_lda_commands(CLI::App& root, const Invocation& inv) {
   top->add_option("--top", tp->top, "Words per topic")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
-  top->add_option("--json", tp->json, "Also write the words and probabilities as JSON");
+  tp->json.add_to(top, "the words and probabilities");
   top->callback([tp, &inv] {
+    tp->json.refuse({tp->model});
     const LdaTopWords r = run_lda_top_words(tp->model, tp->top, inv.provenance());
     for (const auto& line : r.lines) std::printf("%s\n", line.c_str());
-    write_json_result(tp->json, r.document);
+    tp->json.write(r.document);
   });
 
   auto e = std::make_shared<ExportArgs>();

@@ -15,7 +15,7 @@ namespace {
 struct LearnArgs {
   loop::LearnOptions options;
   bool quiet = false;
-  std::string json;
+  JsonFlag json;
 };
 
 }  // namespace
@@ -32,12 +32,13 @@ void register_learn_commands(CLI::App& root, const Invocation& inv) {
   bind_options(cmd, a->options);
   bind_options(cmd, a->options.features);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
-  cmd->add_option("--json", a->json, "Also write the result document (learn.json) here");
+  a->json.add_to(cmd, "the result document (learn.json)");
   cmd->callback([a, &inv] {
     a->options.progress = !a->quiet;
+    a->json.refuse({a->options.out, a->options.vocabulary, a->options.lda_model});
     const loop::LearnResult r = loop::run_learn(a->options, inv.provenance(a->options.seed));
     std::printf("%s\n", r.brief().c_str());
-    write_json_result(a->json, r.document);
+    a->json.write(r.document);
   });
 }
 

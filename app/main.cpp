@@ -7,6 +7,7 @@
 
 #include "cli.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/files.hpp"
 #include "proprio/core/logging.hpp"
 #include "proprio/core/version.hpp"
 #include "proprio/geometry/opencv_runtime.hpp"
@@ -14,8 +15,19 @@
 
 namespace proprio::app {
 
-void write_json_result(const std::string& path, const core::Json& document) {
-  if (!path.empty()) core::write_json_atomic(path, document);
+void JsonFlag::add_to(CLI::App* cmd, const std::string& what) {
+  cmd->add_option("--json", path_,
+                  "Also write " + what +
+                      " as JSON to this file (atomically; never one of the command's inputs or "
+                      "outputs)");
+}
+
+void JsonFlag::refuse(const std::vector<std::filesystem::path>& others) const {
+  if (given()) core::require_output_not_input(path_, others, "--json");
+}
+
+void JsonFlag::write(const core::Json& document) const {
+  if (given()) core::write_json_atomic(path_, document);
 }
 
 core::Provenance Invocation::provenance(std::optional<std::uint64_t> seed) const {

@@ -55,22 +55,22 @@ void require_outputs_distinct(
 
 struct TrainArgs {
   MotTrainOptions options;
-  std::string json;
+  JsonFlag json;
 };
 struct ClassifyArgs {
   MotClassifyOptions options;
-  std::string json;
+  JsonFlag json;
 };
 struct UpdateArgs {
   MotUpdateOptions options;
-  std::string json;
+  JsonFlag json;
 };
 struct MapsArgs {
   TopicMapRun run;
 };
 struct InfoArgs {
   std::string model;
-  std::string json;
+  JsonFlag json;
 };
 
 }  // namespace
@@ -88,13 +88,13 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
   bind_options(train, t->options);
   // The online rule and its forgetting belong to updates, which train does not make.
   bind_options(train, t->options.mot, FieldFilter{{}, {"update", "forgetting"}});
-  train->add_option("--json", t->json, "Also write each object's Dirichlet and the fit as JSON");
+  t->json.add_to(train, "each object's Dirichlet and the fit");
   train->callback([t, &inv] {
-    require_outputs_distinct({{t->options.model, "--model"}, {t->json, "--json"}},
+    require_outputs_distinct({{t->options.model, "--model"}, {t->json.path(), "--json"}},
                              source_inputs(t->options.source));
     const MotTrainResult r = run_mot_train(t->options, inv.provenance(t->options.mot.seed));
     std::printf("%s\nmodel: %s\n", r.brief().c_str(), t->options.model.c_str());
-    write_json_result(t->json, r.document);
+    t->json.write(r.document);
   });
 
   auto c = std::make_shared<ClassifyArgs>();
@@ -106,15 +106,15 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
       ->add_option("--out", c->options.out,
                    "CSV to write: document, source, frame, truth, class, p_<object>...")
       ->required();
-  classify->add_option("--json", c->json, "Also write the confusion matrix as JSON");
+  c->json.add_to(classify, "the confusion matrix");
   classify->callback([c, &inv] {
     auto inputs = source_inputs(c->options.source);
     inputs.push_back(c->options.model);
-    require_outputs_distinct({{c->options.out, "--out"}, {c->json, "--json"}}, inputs);
+    require_outputs_distinct({{c->options.out, "--out"}, {c->json.path(), "--json"}}, inputs);
     const MotClassifyResult r = run_mot_classify(c->options, inv.provenance());
     std::printf("rows: true object; columns: the Mixture of Topics' object\n%s%s\n",
                 r.confusion.format().c_str(), r.brief().c_str());
-    write_json_result(c->json, r.document);
+    c->json.write(r.document);
   });
 
   auto u = std::make_shared<UpdateArgs>();
@@ -128,15 +128,15 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
       ->required();
   // Only the online rule's options: the model keeps its prior and smoothing.
   bind_options(update, u->options.mot, FieldFilter{{"update", "forgetting", "seed"}, {}});
-  update->add_option("--json", u->json, "Also write the updated objects as JSON");
+  u->json.add_to(update, "the updated objects");
   update->callback([u, &inv] {
     // --out may be --model (the model is read whole before it is replaced), no other input.
-    require_outputs_distinct({{u->options.out, "--out"}, {u->json, "--json"}},
+    require_outputs_distinct({{u->options.out, "--out"}, {u->json.path(), "--json"}},
                              source_inputs(u->options.source));
-    core::require_output_not_input(u->json, {u->options.model}, "--json");
+    u->json.refuse({u->options.model});
     const MotUpdateResult r = run_mot_update(u->options, inv.provenance(u->options.mot.seed));
     std::printf("%s\nmodel: %s\n", r.brief().c_str(), u->options.out.c_str());
-    write_json_result(u->json, r.document);
+    u->json.write(r.document);
   });
 
   auto m = std::make_shared<MapsArgs>();
@@ -157,12 +157,12 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
   auto i = std::make_shared<InfoArgs>();
   auto* info = mot->add_subcommand("info", "What a Mixture of Topics model file holds");
   info->add_option("--model", i->model, "Mixture of Topics model file")->required();
-  info->add_option("--json", i->json, "Also write it as JSON");
+  i->json.add_to(info, "it");
   info->callback([i, &inv] {
-    core::require_output_not_input(i->json, {i->model}, "--json");
+    i->json.refuse({i->model});
     const MotInfo r = run_mot_info(i->model, inv.provenance());
     for (const auto& line : r.lines) std::printf("%s\n", line.c_str());
-    write_json_result(i->json, r.document);
+    i->json.write(r.document);
   });
 }
 

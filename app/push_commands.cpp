@@ -17,20 +17,20 @@ namespace {
 
 struct PushArgs {
   loop::PushOptions options;
-  std::string json;
+  JsonFlag json;
 };
 
 struct EvaluateArgs {
   loop::PushEvaluationOptions options;
-  std::string json;
+  JsonFlag json;
 };
 
 // `--overwrite` replaces only a directory proprio push wrote (issue 16): one holding push.json (a
 // finished run) or episode/episode.json (a run stopped after its first push), or an empty one.
 // loop::run_push writes into the directory it is given; a directory of anything else is refused
 // before any work.
-void require_push_output(const loop::PushOptions& o, const std::string& json) {
-  core::require_output_not_input(json, {o.out}, "--json");
+void require_push_output(const loop::PushOptions& o, const JsonFlag& json) {
+  json.refuse({o.out});
   namespace fs = std::filesystem;
   std::error_code ec;
   if (o.out.empty() || !o.overwrite || !fs::exists(o.out, ec)) return;
@@ -61,12 +61,12 @@ void register_push_commands(CLI::App& root, const Invocation& inv) {
   bind_options(cmd, p->options);
   bind_options(cmd, p->options.table);
   bind_options(cmd, p->options.plan);
-  cmd->add_option("--json", p->json, "Also write what happened as JSON (push.schema.json)");
+  p->json.add_to(cmd, "what happened");
   cmd->callback([p, &inv] {
     require_push_output(p->options, p->json);
     const loop::PushRunResult r = loop::run_push(p->options, inv.provenance(p->options.table.seed));
     std::printf("%s\n", r.brief().c_str());
-    write_json_result(p->json, r.document);
+    p->json.write(r.document);
   });
 
   auto e = std::make_shared<EvaluateArgs>();
@@ -77,12 +77,12 @@ void register_push_commands(CLI::App& root, const Invocation& inv) {
       "intended object moved alone, paths touching others, objects off the table, plan time");
   bind_options(ep, e->options);
   bind_options(ep, e->options.plan, {{}, {"plan_seed"}});
-  ep->add_option("--json", e->json, "Also write the figures and every push as JSON");
+  e->json.add_to(ep, "the figures and every push");
   ep->callback([e, &inv] {
     const loop::PushEvaluationResult r =
         loop::run_push_evaluation(e->options, inv.provenance(e->options.seed));
     std::printf("%s\n", r.brief().c_str());
-    write_json_result(e->json, r.document);
+    e->json.write(r.document);
   });
 }
 

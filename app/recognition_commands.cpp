@@ -19,13 +19,13 @@ using namespace recognition;
 
 struct TrainArgs {
   RecognizeTrainOptions options;
-  std::string json;
+  JsonFlag json;
   bool quiet = false;
 };
 
 struct ClassifyArgs {
   RecognizeClassifyOptions options;
-  std::string json;
+  JsonFlag json;
   bool quiet = false;
 };
 
@@ -61,17 +61,17 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
   t->options.online.batch_size = 50;
   bind_options(train, t->options.online, {{"topics", "batch", "passes", "seed"}, {}});
   train->add_flag("-q,--quiet", t->quiet, "No progress bar");
-  train->add_option("--json", t->json, "Also write a summary as JSON");
+  t->json.add_to(train, "a summary");
   train->callback([t, &inv] {
     t->options.progress = !t->quiet;
     const auto& o = t->options;
     std::vector<std::filesystem::path> paths = o.source.episodes;
     for (const auto& q : {o.model, o.vocabulary, o.source.images}) paths.push_back(q);
-    core::require_output_not_input(t->json, paths, "--json");
+    t->json.refuse(paths);
     const RecognizeTrainResult r =
         run_recognize_train(t->options, inv.provenance(t->options.online.seed));
     std::fputs(r.report.c_str(), stdout);
-    write_json_result(t->json, r.document);
+    t->json.write(r.document);
   });
 
   auto c = std::make_shared<ClassifyArgs>();
@@ -88,17 +88,17 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
                   "CSV: image, truth, topic, class, theta_0..theta_{K-1} (episodes: episode, "
                   "frame, document, truth, topic, class, theta_k)");
   cls->add_flag("-q,--quiet", c->quiet, "No progress bar");
-  cls->add_option("--json", c->json, "Also write the confusion matrices as JSON");
+  c->json.add_to(cls, "the confusion matrices");
   cls->callback([c, &inv] {
     c->options.progress = !c->quiet;
     const auto& o = c->options;
     std::vector<std::filesystem::path> paths = o.source.episodes;
     for (const auto& q : {o.out, o.model, o.vocabulary, o.map_with, o.source.images})
       paths.push_back(q);
-    core::require_output_not_input(c->json, paths, "--json");
+    c->json.refuse(paths);
     const RecognizeClassifyResult r = run_recognize_classify(c->options, inv.provenance());
     std::fputs(r.report.c_str(), stdout);
-    write_json_result(c->json, r.document);
+    c->json.write(r.document);
   });
 }
 

@@ -17,7 +17,7 @@ namespace {
 
 struct ReportArgs {
   loop::LearnReportOptions options;
-  std::string json;
+  JsonFlag json;
 };
 
 }  // namespace
@@ -31,17 +31,17 @@ void register_report_commands(CLI::App& root, const Invocation& inv) {
       "confusion matrices and where the time went");
   cmd->add_option("dir", a->options.dir, "The run directory of proprio learn")->required();
   bind_options(cmd, a->options, {{}, {"dir"}});
-  cmd->add_option("--json", a->json, "Also write what was written as JSON");
+  a->json.add_to(cmd, "what was written");
   cmd->callback([a, &inv] {
-    if (!a->json.empty()) {
+    if (a->json.given()) {
       std::vector<std::filesystem::path> inputs = loop::learn_report_inputs(a->options.dir);
       inputs.push_back(loop::learn_report_page(a->options));
       inputs.push_back(loop::learn_report_images(a->options));
-      core::require_output_not_input(a->json, inputs, "--json");
+      a->json.refuse(inputs);
     }
     const loop::LearnReportResult r = loop::write_learn_report(a->options, inv.provenance());
     std::printf("%s\n", r.brief().c_str());
-    write_json_result(a->json, r.document);
+    a->json.write(r.document);
   });
 }
 

@@ -18,16 +18,16 @@ namespace {
 struct SelfSuperviseArgs {
   loop::SelfSupervisionOptions options;
   bool quiet = false;
-  std::string json;
+  JsonFlag json;
 };
 
 // The output directory may be no input, nor hold one; `--overwrite` replaces only a directory
 // proprio selfsupervise wrote (issue 16): one holding selfsupervise.json (a finished run) or
 // decisions.jsonl (a run stopped on the way), or an empty one. loop::run_self_supervision_sim
 // deletes the directory it is told to overwrite: anything else is refused before it is called.
-void require_selfsupervise_output(const loop::SelfSupervisionOptions& o, const std::string& json) {
+void require_selfsupervise_output(const loop::SelfSupervisionOptions& o, const JsonFlag& json) {
   core::require_output_not_input(o.out, {o.lda_model, o.vocabulary}, "--out");
-  core::require_output_not_input(json, {o.out, o.lda_model, o.vocabulary}, "--json");
+  json.refuse({o.out, o.lda_model, o.vocabulary});
   namespace fs = std::filesystem;
   std::error_code ec;
   if (o.out.empty() || !o.overwrite || !fs::exists(o.out, ec)) return;
@@ -59,14 +59,14 @@ void register_selfsupervise_commands(CLI::App& root, const Invocation& inv) {
   bind_options(cmd, a->options);
   bind_options(cmd, a->options.features);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
-  cmd->add_option("--json", a->json, "Also write what happened and the scores as JSON");
+  a->json.add_to(cmd, "what happened and the scores");
   cmd->callback([a, &inv] {
     a->options.progress = !a->quiet;
     require_selfsupervise_output(a->options, a->json);
     const loop::SelfSupervisionResult r =
         loop::run_self_supervision_sim(a->options, inv.provenance(a->options.seed));
     std::printf("%s\n", r.brief().c_str());
-    write_json_result(a->json, r.document);
+    a->json.write(r.document);
   });
 }
 

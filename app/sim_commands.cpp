@@ -25,7 +25,7 @@ struct RecordArgs {
   std::string background = "static";
   int distractors = -1;
   std::string out;
-  std::string json;
+  JsonFlag json;
 };
 
 void add_scene_options(CLI::App* cmd, RecordArgs& a) {
@@ -69,23 +69,23 @@ sim::RecordOptions resolved(const RecordArgs& a) {
 
 void run_record(RecordArgs& a, const Invocation& inv) {
   a.options = resolved(a);
-  core::require_output_not_input(a.json, {a.out, a.options.background_video}, "--json");
+  a.json.refuse({a.out, a.options.background_video});
   const sim::SimRun r = sim::run_sim_record(a.options, a.out, inv.provenance(a.options.seed));
   std::fputs(r.report.c_str(), stdout);
-  write_json_result(a.json, r.document);
+  a.json.write(r.document);
 }
 
 struct CalibrateArgs {
   sim::SimCalibrationOptions options;
   std::string out;
-  std::string json;
+  JsonFlag json;
 };
 
 void run_calibrate(const CalibrateArgs& a, const Invocation& inv) {
-  core::require_output_not_input(a.json, {a.out}, "--json");
+  a.json.refuse({a.out});
   const sim::SimRun r = sim::run_sim_calibrate(a.options, a.out, inv.provenance());
   std::fputs(r.report.c_str(), stdout);
-  write_json_result(a.json, r.document);
+  a.json.write(r.document);
 }
 
 void run_view(const RecordArgs& a) {
@@ -102,14 +102,14 @@ void run_view(const RecordArgs& a) {
 struct DatasetArgs {
   sim::SimDatasetOptions options;
   bool quiet = false;
-  std::string json;
+  JsonFlag json;
 };
 
 struct ViewsArgs {
   sim::ViewsOptions options;
   std::string objects = "book,mug";
   std::string out;
-  std::string json;
+  JsonFlag json;
 };
 
 void run_views(ViewsArgs& a, const Invocation& inv) {
@@ -122,10 +122,10 @@ void run_views(ViewsArgs& a, const Invocation& inv) {
   }
   std::vector<std::filesystem::path> paths = a.options.backgrounds;
   paths.emplace_back(a.out);
-  core::require_output_not_input(a.json, paths, "--json");
+  a.json.refuse(paths);
   const sim::SimRun r = sim::run_sim_views(a.options, a.out, inv.provenance(a.options.seed));
   std::fputs(r.report.c_str(), stdout);
-  write_json_result(a.json, r.document);
+  a.json.write(r.document);
 }
 
 }  // namespace
@@ -148,7 +148,7 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
   record->add_flag("--motion-blur", rec->options.motion_blur,
                    "Average 4 renders over each frame's interval");
   record->add_flag("--depth", rec->options.depth, "Also depth images (16-bit mm)");
-  record->add_option("--json", rec->json, "Also write frames, seconds, fps as JSON to this file");
+  rec->json.add_to(record, "frames, seconds, fps");
   record->callback([rec, &inv] { run_record(*rec, inv); });
 
   auto cal = std::make_shared<CalibrateArgs>();
@@ -156,7 +156,7 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
       "calibrate", "Robot-camera calibration in simulation (thesis 3.2.3): marker grid + DLT");
   calibrate->add_option("--out", cal->out, "calib.yml to write")->required();
   calibrate->add_option("--grid", cal->options.grid, "Grid points per axis")->capture_default_str();
-  calibrate->add_option("--json", cal->json, "Also write rms_px, true_error_px as JSON");
+  cal->json.add_to(calibrate, "rms_px, true_error_px");
   calibrate->callback([cal, &inv] { run_calibrate(*cal, inv); });
 
   auto ds = std::make_shared<DatasetArgs>();
@@ -167,14 +167,14 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
   dataset->add_option("--out", ds->options.out, "Directory to create")->required();
   bind_options(dataset, ds->options);
   dataset->add_flag("-q,--quiet", ds->quiet, "No progress bar");
-  dataset->add_option("--json", ds->json, "Also write the episode list as JSON");
+  ds->json.add_to(dataset, "the episode list");
   dataset->callback([ds, &inv] {
     ds->options.progress = !ds->quiet;
-    core::require_output_not_input(ds->json, {ds->options.out}, "--json");
+    ds->json.refuse({ds->options.out});
     const sim::SimDatasetResult r =
         sim::run_sim_dataset(ds->options, inv.provenance(ds->options.seed));
     std::printf("dataset: %s\n%s\n", ds->options.out.c_str(), r.brief().c_str());
-    write_json_result(ds->json, r.document);
+    ds->json.write(r.document);
   });
 
   auto vs = std::make_shared<ViewsArgs>();
@@ -188,7 +188,7 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
   views->add_option("--height", vs->options.height, "Image height")->capture_default_str();
   views->add_option("--seed", vs->options.seed, "Seed")->capture_default_str();
   views->add_option("--out", vs->out, "Directory to create")->required();
-  views->add_option("--json", vs->json, "Also write a summary as JSON");
+  vs->json.add_to(views, "a summary");
   views->callback([vs, &inv] { run_views(*vs, inv); });
 
   auto vw = std::make_shared<RecordArgs>();

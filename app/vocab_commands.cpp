@@ -26,18 +26,19 @@ void add_feature_options(CLI::App* cmd, features::ExtractOptions& o) {
 
 struct BuildArgs {
   features::VocabularyBuildOptions options;
-  std::string json;
+  JsonFlag json;
 };
 
 struct QuantizeArgs {
   recognition::QuantizeImagesOptions options;
-  std::string json;
+  JsonFlag json;
 };
 
-void run_info(const std::string& vocab, const std::string& json, const Invocation& inv) {
+void run_info(const std::string& vocab, const JsonFlag& json, const Invocation& inv) {
+  json.refuse({vocab});
   const features::VocabularyInfo r = features::run_vocabulary_info(vocab, inv.provenance());
   std::printf("%s\n", r.brief().c_str());
-  write_json_result(json, r.document);
+  json.write(r.document);
 }
 
 }  // namespace
@@ -58,8 +59,7 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
   bind_options(build, b->options);
   bind_options(build, b->options.kmeans);
   build->add_option("--out", b->options.out, "Vocabulary file to write")->required();
-  build->add_option("--json", b->json,
-                    "Also write descriptors, extract_seconds, kmeans_seconds, iterations, cost");
+  b->json.add_to(build, "descriptors, extract_seconds, kmeans_seconds, iterations, cost");
   build->add_flag("!--no-progress", b->options.progress, "No progress bar");
   build->add_option("--checkpoint", b->options.checkpointing.checkpoint,
                     "Write a k-means checkpoint here (atomically) every --checkpoint-every "
@@ -70,17 +70,14 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
                     "otherwise)");
   // Under mpirun, data-parallel over the ranks (features/vocabulary_build.hpp); rank 0 prints.
   build->callback([b, &inv] {
-    core::require_output_not_input(
-        b->json,
-        {b->options.out, b->options.images, b->options.checkpointing.checkpoint,
-         b->options.checkpointing.resume},
-        "--json");
+    b->json.refuse({b->options.out, b->options.images, b->options.checkpointing.checkpoint,
+                    b->options.checkpointing.resume});
     run_on_world([&](core::Communicator& comm) {
       const auto r =
           features::run_vocabulary_build(b->options, inv.provenance(b->options.kmeans.seed), comm);
       if (comm.rank() != 0) return;
       std::printf("%s\n", r.brief().c_str());
-      write_json_result(b->json, r.document);
+      b->json.write(r.document);
     });
   });
 
@@ -95,20 +92,20 @@ void register_vocab_commands(CLI::App& root, const Invocation& inv) {
       ->add_option("--corpus", q->options.corpus,
                    "Directory to write: docword.txt, vocab.txt, labels.csv, classes.txt")
       ->required();
-  quantize->add_option("--json", q->json, "Also write a summary as JSON");
+  q->json.add_to(quantize, "a summary");
   quantize->add_flag("!--no-progress", q->options.progress, "No progress bar");
   quantize->callback([q, &inv] {
     const auto& o = q->options;
-    core::require_output_not_input(q->json, {o.corpus, o.vocabulary, o.images}, "--json");
+    q->json.refuse({o.corpus, o.vocabulary, o.images});
     const auto r = recognition::run_quantize_images(q->options, inv.provenance());
     std::printf("%s -> %s\n", r.brief().c_str(), q->options.corpus.c_str());
-    write_json_result(q->json, r.document);
+    q->json.write(r.document);
   });
 
-  auto i = std::make_shared<std::pair<std::string, std::string>>();
+  auto i = std::make_shared<std::pair<std::string, JsonFlag>>();
   auto* info = vocab->add_subcommand("info", "Words, dimension and provenance of a vocabulary");
   info->add_option("--vocab", i->first, "Vocabulary file")->required();
-  info->add_option("--json", i->second, "Also write them as JSON");
+  i->second.add_to(info, "them");
   info->callback([i, &inv] { run_info(i->first, i->second, inv); });
 }
 

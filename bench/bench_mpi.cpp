@@ -46,7 +46,7 @@ double best_of(int repeats, F&& f) {
 
 core::Json measure(const Corpus& corpus, int K, int batch) {
   const detail::Kernels& kern = detail::best_kernels();
-  detail::ThreadPool pool(1);
+  core::ThreadPool pool(1);
   const int stride = detail::padded(K, kern.lanes);
   // A model trained on the first `trained` documents (one pass), so that the E-step runs as it
   // does in the middle of training, not on the random start (where it hits its iteration cap).

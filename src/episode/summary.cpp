@@ -35,32 +35,25 @@ EpisodeSummary summarize(const Episode& e) {
   return s;
 }
 
-core::Json to_json(const EpisodeSummary& s) {
-  core::Json objects = core::Json::array();
-  for (const auto& o : s.objects) {
-    objects.push_back({{"id", o.id}, {"name", o.name}, {"role", to_string(o.role)}});
-  }
-  const auto opt = [](const auto& v) { return v ? core::Json(*v) : core::Json(nullptr); };
-  return {{"dir", s.dir},
-          {"frames", s.frames},
-          {"fps", s.fps},
-          {"duration_s", s.duration},
-          {"time_span_s", {s.first_time, s.last_time}},
-          {"image", {{"width", s.width}, {"height", s.height}}},
-          {"arm", {{"name", s.arm}, {"joints", s.joints}}},
-          {"source", to_string(s.source)},
-          {"seed", opt(s.seed)},
-          {"scenario", opt(s.scenario)},
-          {"switches", s.switches},
-          {"target", opt(s.target)},
-          {"target_name", opt(s.target_name)},
-          {"objects", objects},
-          {"first_touch_frame", opt(s.first_touch_frame)},
-          {"touching_frames", s.touching_frames},
-          {"storage", to_string(s.storage)},
-          {"masks", s.masks},
-          {"depth", s.depth},
-          {"stereo", s.stereo}};
+std::vector<EpisodeObjectRecord> EpisodeSummary::object_records(
+    const std::vector<ObjectInfo>& objects) {
+  std::vector<EpisodeObjectRecord> out;
+  out.reserve(objects.size());
+  for (const auto& o : objects) out.push_back({o.id, o.name, to_string(o.role)});
+  return out;
+}
+
+std::string EpisodeInfoResult::brief() const { return format_summary(summary); }
+
+EpisodeInfoResult run_episode_info(const std::filesystem::path& dir,
+                                   const core::Provenance& provenance) {
+  EpisodeInfoResult r;
+  r.summary = summarize(read_episode(dir));
+  r.message = r.summary.dir + ": " + std::to_string(r.summary.frames) + " frames, " +
+              r.summary.scenario.value_or("no scenario");
+  r.document = core::result_document("proprio.episode.info", 1, provenance);
+  core::fields_into_json(r.summary, r.document);
+  return r;
 }
 
 std::string format_summary(const EpisodeSummary& s) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <map>
 #include <mutex>
 
 #include "proprio/core/error.hpp"
@@ -39,25 +40,6 @@ EpisodeEvaluation unreadable(const fs::path& dir, const std::vector<Method>& met
     e.outcomes.push_back(oc);
   }
   return e;
-}
-
-core::Json episode_results_json(const std::vector<EpisodeEvaluation>& episodes) {
-  core::Json per = core::Json::array();
-  for (const auto& e : episodes) {
-    core::Json j = {{"episode", e.name},
-                    {"background", e.background},
-                    {"object", e.object},
-                    {"scenario", e.scenario}};
-    for (const auto& oc : e.outcomes) {
-      j.emplace(to_string(oc.method),
-                core::Json{{"status", oc.status},
-                           {"scored_frame", oc.scored_frame},
-                           {"jaccard", oc.status == "ok" ? core::Json(oc.metrics.jaccard)
-                                                         : core::Json(nullptr)}});
-    }
-    per.push_back(std::move(j));
-  }
-  return per;
 }
 
 }  // namespace
@@ -99,14 +81,26 @@ DatasetEvaluationResult run_dataset_evaluation(const DatasetEvaluationOptions& o
   core::write_file_atomic(stage / "episodes.csv", episodes_csv(r.episodes));
   r.files = write_plots(stage, r.episodes, r.methods, options.eval);
   r.dataset = options.dataset;
-  r.options = options_json(options.eval);
-  r.summary = dataset_summary_json(r.episodes, r.methods, options.eval);
-  r.episode_results = episode_results_json(r.episodes);
+  r.options = options.eval;
+  r.summary = dataset_summary(r.episodes, r.methods, options.eval);
   r.document = core::result_document("proprio.evaluate.segmentation", 1, provenance);
   core::fields_into_json(r, r.document);
   core::write_json_atomic(stage / "summary.json", r.document);
   dir.commit();
+  r.message = core::first_line(r.brief());
   return r;
+}
+
+const std::string& DatasetEvaluationResult::method_key(Method m) {
+  // One string per method for the program's life: a description's field names are C strings.
+  static const std::map<Method, std::string> names = [] {
+    std::map<Method, std::string> n;
+    for (Method k : {Method::kMl, Method::kMlHomography, Method::kMlSparse, Method::kFm,
+                     Method::kMlGraphCut, Method::kMlDepth})
+      n.emplace(k, to_string(k));
+    return n;
+  }();
+  return names.at(m);
 }
 
 std::vector<std::string> DatasetEvaluationResult::method_names() const {

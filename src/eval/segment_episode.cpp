@@ -84,11 +84,12 @@ SegmentEpisodeResult run_segment_episode(const SegmentEpisodeOptions& options,
   }
   r.episode = options.episode;
   r.method = to_string(options.method);
-  r.options = options_json(o);
+  r.options = o;
   r.document = core::result_document("proprio.segment", 1, provenance);
   core::fields_into_json(r, r.document);
   core::write_json_atomic(stage / "segment.json", r.document);
   dir.commit();
+  r.message = core::first_line(r.brief());
   return r;
 }
 

@@ -64,46 +64,6 @@ std::string switch_string(const core::Json& switches, const char* key) {
   return {};
 }
 
-core::Json interval_json(const Interval& i) { return core::Json::array({i.lower, i.upper}); }
-
-core::Json group_json(const GroupSummary& g) {
-  core::Json j = {{"episodes", g.episodes},
-                  {"no_touch", g.no_touch},
-                  {"no_ground_truth", g.no_ground_truth},
-                  {"failed", g.failed},
-                  {"mean_jaccard", g.mean_jaccard},
-                  {"std_jaccard", g.std_jaccard},
-                  {"mean_jaccard_ci95", interval_json(g.jaccard_ci95)},
-                  {"mean_tanimoto", g.mean_tanimoto},
-                  {"mean_precision", g.mean_precision},
-                  {"mean_recall", g.mean_recall},
-                  {"mean_l2", g.mean_l2},
-                  {"std_l2", g.std_l2},
-                  {"mean_seconds", g.mean_seconds}};
-  j["mean_jaccard_all_frames"] =
-      g.mean_jaccard_all_frames ? core::Json(*g.mean_jaccard_all_frames) : core::Json(nullptr);
-  j["all_frames_episodes"] = g.all_frames_episodes;
-  core::Json pr = {
-      {"values", g.sweep_values}, {"precision", g.pr_precision}, {"recall", g.pr_recall}};
-  if (g.pr_best >= 0) {
-    const auto b = static_cast<std::size_t>(g.pr_best);
-    pr["best"] = {
-        {"value", g.sweep_values[b]}, {"precision", g.pr_precision[b]}, {"recall", g.pr_recall[b]}};
-  } else {
-    pr["best"] = nullptr;
-  }
-  j["pr"] = std::move(pr);
-  return j;
-}
-
-core::Json ks_json(const KsResult& k) {
-  return {{"statistic", k.statistic},
-          {"p_value", k.p_value},
-          {"exact", k.exact},
-          {"n1", k.n1},
-          {"n2", k.n2}};
-}
-
 // join_csv_line does not quote: keep commas and line breaks out of free text.
 std::string csv_text(std::string s) {
   for (char& c : s) {
@@ -398,81 +358,46 @@ GroupSummary summarise(const std::vector<EpisodeEvaluation>& episodes, std::size
   return g;
 }
 
-core::Json dataset_summary_json(const std::vector<EpisodeEvaluation>& episodes,
-                                const std::vector<Method>& methods, const EvalOptions& options) {
+DatasetSummary dataset_summary(const std::vector<EpisodeEvaluation>& episodes,
+                               const std::vector<Method>& methods, const EvalOptions& options) {
   std::set<std::string> objects, scenarios;
   for (const auto& e : episodes) {
     objects.insert(e.object);
     scenarios.insert(e.scenario);
   }
-  core::Json out;
-  core::Json mj = core::Json::object();
-  std::vector<std::array<GroupSummary, 3>> groups;
+  DatasetSummary out;
+  std::vector<const MethodSummary*> summaries;
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const auto& sweep =
         methods[k] == Method::kFm ? options.threshold_sweep : options.fraction_sweep;
-    std::array<GroupSummary, 3> g = {summarise(episodes, k, sweep, options, "static"),
-                                     summarise(episodes, k, sweep, options, "moving"),
-                                     summarise(episodes, k, sweep, options)};
-    core::Json j = {{"parameter", free_parameter(methods[k])},
-                    {"static", group_json(g[0])},
-                    {"moving", group_json(g[1])},
-                    {"all", group_json(g[2])}};
-    core::Json by_object = core::Json::object(), by_scenario = core::Json::object();
+    MethodSummary m;
+    m.parameter = free_parameter(methods[k]);
+    m.static_background = summarise(episodes, k, sweep, options, "static");
+    m.moving_background = summarise(episodes, k, sweep, options, "moving");
+    m.all = summarise(episodes, k, sweep, options);
     for (const auto& o : objects) {
-      by_object[o.empty() ? "(none)" : o] =
-          group_json(summarise(episodes, k, sweep, options, kAnyGroup, o));
+      m.by_object[o.empty() ? "(none)" : o] = summarise(episodes, k, sweep, options, kAnyGroup, o);
     }
-    for (const auto& s : scenarios) {
-      by_scenario[s.empty() ? "(none)" : s] =
-          group_json(summarise(episodes, k, sweep, options, kAnyGroup, kAnyGroup, s));
+    for (const auto& sc : scenarios) {
+      m.by_scenario[sc.empty() ? "(none)" : sc] =
+          summarise(episodes, k, sweep, options, kAnyGroup, kAnyGroup, sc);
     }
-    j["by_object"] = std::move(by_object);
-    j["by_scenario"] = std::move(by_scenario);
-    mj[to_string(methods[k])] = std::move(j);
-    groups.push_back(std::move(g));
+    summaries.push_back(&(out.methods[to_string(methods[k])] = std::move(m)));
   }
-  out["methods"] = std::move(mj);
-  core::Json ks = core::Json::object();
   for (std::size_t a = 0; a < methods.size(); ++a) {
     for (std::size_t b = a + 1; b < methods.size(); ++b) {
-      std::string key = to_string(methods[a]);
-      key += "_vs_";
-      key += to_string(methods[b]);
-      const KsResult all = ks_two_sample(groups[a][2].jaccards, groups[b][2].jaccards);
-      core::Json j = ks_json(all);
-      j["metric"] = "jaccard";
-      j["static"] = ks_json(ks_two_sample(groups[a][0].jaccards, groups[b][0].jaccards));
-      j["moving"] = ks_json(ks_two_sample(groups[a][1].jaccards, groups[b][1].jaccards));
-      ks[key] = std::move(j);
+      const MethodSummary& ma = *summaries[a];
+      const MethodSummary& mb = *summaries[b];
+      KsComparison& ks = out.ks[to_string(methods[a]) + "_vs_" + to_string(methods[b])];
+      ks.all = ks_two_sample(ma.all.jaccards, mb.all.jaccards);
+      ks.static_background =
+          ks_two_sample(ma.static_background.jaccards, mb.static_background.jaccards);
+      ks.moving_background =
+          ks_two_sample(ma.moving_background.jaccards, mb.moving_background.jaccards);
     }
   }
-  out["ks"] = std::move(ks);
-  out["episodes"] = episodes.size();
+  out.episodes = episodes.size();
   return out;
-}
-
-core::Json options_json(const EvalOptions& o) {
-  return {{"mask_fraction", o.ml.mask_fraction},
-          {"depth_mask_fraction", o.ml.depth_mask_fraction},
-          {"difference_threshold", o.fm.difference_threshold},
-          {"fm_touch", segmentation::to_string(o.fm.touch)},
-          {"ml_graphcut_unary_weight", o.ml_graph_cut.unary_weight},
-          {"graph_cut_smoothness", o.ml_graph_cut.graph_cut.smoothness},
-          {"graph_cut_max_side", o.ml_graph_cut.graph_cut.max_side},
-          {"fraction_sweep", o.fraction_sweep},
-          {"threshold_sweep", o.threshold_sweep}};
-}
-
-core::Json metrics_json(const MaskMetrics& m) {
-  return {{"precision", m.precision},
-          {"recall", m.recall},
-          {"jaccard", m.jaccard},
-          {"tanimoto", m.tanimoto()},
-          {"l2", m.l2},
-          {"true_positives", m.true_positives},
-          {"false_positives", m.false_positives},
-          {"false_negatives", m.false_negatives}};
 }
 
 std::string episodes_csv(const std::vector<EpisodeEvaluation>& episodes) {

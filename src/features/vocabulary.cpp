@@ -162,6 +162,7 @@ VocabularyInfo run_vocabulary_info(const fs::path& path, const core::Provenance&
   r.built_by = std::move(parsed.provenance);
   r.document = core::result_document("proprio.vocab.info", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 

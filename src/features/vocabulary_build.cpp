@@ -117,9 +117,11 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
                           extract_seconds,
                           {},
                           {},
-                          core::Json()};
+                          core::Json(),
+                          {}};
   if (!options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
   fill_document(options, provenance, r);
+  r.message = core::first_line(r.brief());
   return r;
 }
 
@@ -266,12 +268,14 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
                           extract_seconds,
                           {},
                           {},
-                          core::Json()};
+                          core::Json(),
+                          {}};
   core::agree(comm, [&] {
     if (rank == 0 && !options.out.empty()) write_vocabulary(options.out, r.vocabulary, provenance);
   });
   r.ranks = ranks;
   fill_document(options, provenance, r);
+  r.message = core::first_line(r.brief());
   return r;
 }
 

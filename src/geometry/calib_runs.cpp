@@ -7,7 +7,6 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/text.hpp"
-#include "proprio/geometry/json.hpp"
 #include "proprio/geometry/point_files.hpp"
 #include "proprio/geometry/triangulation.hpp"
 
@@ -72,7 +71,7 @@ CalibRun run_calib_dlt(const CalibDltOptions& o, const core::Provenance& provena
                                                o.points.c_str(), r.summary.points_behind));
   }
   run.document = core::result_document("proprio.calib.dlt", 1, provenance);
-  core::fields_into_json(CalibDltRecord{o.points, o.out, to_json(r), to_json(cam)}, run.document);
+  core::fields_into_json(CalibDltRecord{o.points, o.out, r, cam}, run.document);
   return run;
 }
 
@@ -119,7 +118,7 @@ CalibRun run_calib_triangulate(const CalibTriangulateOptions& o,
   CalibRun run;
   run.report = core::printf_string("%s\nwrote %s\n", all.summary.brief().c_str(), o.out.c_str());
   run.document = core::result_document("proprio.calib.triangulate", 1, provenance);
-  core::fields_into_json(CalibTriangulateRecord{o.points, o.out, o.distorted, to_json(all.summary)},
+  core::fields_into_json(CalibTriangulateRecord{o.points, o.out, o.distorted, all.summary},
                          run.document);
   return run;
 }
@@ -198,8 +197,7 @@ CalibRun run_calib_uncertainty(const CalibUncertaintyOptions& o,
       o.out.c_str());
   run.document = core::result_document("proprio.calib.uncertainty", 1, provenance);
   core::fields_into_json(
-      CalibUncertaintyRecord{o.calib1, o.calib2, o.out, to_json(map, f, o.render.unit)},
-      run.document);
+      CalibUncertaintyRecord{o.calib1, o.calib2, o.out, {&map, f, o.render.unit}}, run.document);
   return run;
 }
 
@@ -239,7 +237,7 @@ CalibRun run_calib_stereo(const CalibStereoOptions& o, const core::Provenance& p
                                            check.square_size,
                                            check.refine_triangulation,
                                            o.out,
-                                           to_json(r)},
+                                           r},
                          run.document);
   return run;
 }

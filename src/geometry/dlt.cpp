@@ -125,6 +125,7 @@ DltResult calibrate_dlt(const std::vector<Eigen::Vector3d>& world,
     result.summary.max_residual_px = std::max(result.summary.max_residual_px, r);
   }
   result.rms_px = std::sqrt(sum_sq / n);
+  result.summary.message = core::first_line(result.summary.brief());
   return result;
 }
 

@@ -252,6 +252,7 @@ StereoCheckResult run_stereo_check(const StereoCheckOptions& options) {
   s.planarity_rms = std::sqrt(sq_planarity / s.corners);
   s.neighbour_mean = sum_neighbour / static_cast<double>(neighbours) / options.square_size;
   s.neighbour_error = std::abs(s.neighbour_mean - 1.0);
+  result.summary.message = core::first_line(result.summary.brief());
   return result;
 }
 

@@ -161,6 +161,7 @@ BatchTriangulation triangulate(const Matrix34d& P1, const Matrix34d& P2,
     s.linear_rms_px = std::sqrt(linear_sq / static_cast<double>(x1.size()));
     s.final_rms_px = std::sqrt(final_sq / static_cast<double>(x1.size()));
   }
+  out.summary.message = core::first_line(out.summary.brief());
   return out;
 }
 

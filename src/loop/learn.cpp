@@ -1103,6 +1103,7 @@ LearnResult finish(Core& k, const LearnOptions& o, const std::optional<SelfSuper
     s.mot_accuracy = r.score->mot_accuracy;
     s.argmax_accuracy = r.score->argmax_accuracy;
   }
+  r.message = core::first_line(r.brief());
   return r;
 }
 

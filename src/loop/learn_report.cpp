@@ -1239,6 +1239,7 @@ LearnReportResult write_learn_report(const LearnReportOptions& options,
   core::write_json_atomic(staged.staging_path() / "summary.json", result.document);
   staged.commit();
   core::write_file_atomic(out, page);
+  result.message = core::first_line(result.brief());
   return result;
 }
 

@@ -641,6 +641,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   r.seconds = seconds_since(t0);
   r.document = core::result_document(kEvaluationFormat, kFormatVersion, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 

@@ -81,6 +81,7 @@ SelfSupervisionResult learn(const SelfSupervisionOptions& options, const fs::pat
     r.model_file = options.out / "model.mot";
   }
   r.decisions = options.out / "decisions.jsonl";
+  r.message = core::first_line(r.brief());
   return r;
 }
 

@@ -130,6 +130,7 @@ InterceptionRunResult run_interception(const InterceptionRunOptions& options,
   for (const TrialResult& t : r.experiment.trials) r.trial_results.push_back(TrialRow::of(t));
   r.document = core::result_document("proprio.intercept", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 
@@ -262,6 +263,7 @@ InterceptionSweepResult run_interception_sweep(const InterceptionSweepOptions& o
   core::write_json_atomic(stage / "sweep.json", r.document);
   r.files.insert(r.files.begin(), "sweep.json");
   dir.commit();
+  r.message = core::first_line(r.brief());
   return r;
 }
 

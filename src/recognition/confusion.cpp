@@ -76,17 +76,6 @@ std::string ConfusionMatrix::format(bool percent) const {
   return out;
 }
 
-core::Json ConfusionMatrix::to_json() const {
-  core::Json j;
-  j["rows"] = rows;
-  j["columns"] = columns;
-  j["counts"] = counts;
-  j["unclassified"] = unclassified;
-  j["accuracy"] = accuracy();
-  j["mean_class_accuracy"] = mean_class_accuracy();
-  return j;
-}
-
 ConfusionMatrix confusion_matrix(std::span<const int> truth, std::span<const int> predicted,
                                  std::vector<std::string> rows, std::vector<std::string> columns) {
   assert(truth.size() == predicted.size());

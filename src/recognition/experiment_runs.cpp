@@ -77,10 +77,9 @@ ExperimentRun run_set_experiment_files(const SetExperimentRunOptions& options,
     const std::string title = run.run.name + " (set " + run.run.set + ", " + run.run.dictionary +
                               " dictionary, " + to_string(run.run.method) + " LDA)";
     out.report += evaluation_report(title, run.evaluation);
-    rec.runs.push_back({evaluation_to_json(run.evaluation), run.run.name, run.run.set,
-                        run.run.dictionary, std::string(to_string(run.run.method)),
-                        run.train_documents, run.test_documents, run.train_seconds,
-                        run.lda_summary});
+    rec.runs.push_back({run.evaluation, run.run.name, run.run.set, run.run.dictionary,
+                        std::string(to_string(run.run.method)), run.train_documents,
+                        run.test_documents, run.train_seconds, run.lda_summary});
   }
   out.report += core::printf_string("seconds: %.1f\n", r.seconds);
   rec.seconds = r.seconds;
@@ -142,7 +141,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     const std::string title = "K = " + std::to_string(run.topics);
     out.report += evaluation_report(title, run.evaluation);
     ScatterRunRecord& j = rec.runs.emplace_back();
-    j.evaluation = evaluation_to_json(run.evaluation);
+    j.evaluation = run.evaluation;
     j.topics_k = run.topics;
     j.updates = run.summary.updates;
     j.train_seconds = run.summary.seconds;
@@ -154,7 +153,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
           "%s: Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n", title.c_str(),
           100 * run.mot->classes.accuracy(), 100 * run.mot->classes.mean_class_accuracy());
       ScatterMotRecord& m = j.mot.emplace();
-      m.classes = run.mot->classes.to_json();
+      m.classes = run.mot->classes;
       m.summary = run.mot->fit.summary.brief();
       m.smoothing = run.mot->fit.model.smoothing;
       m.objects = MotObjectRecord::of(run.mot->fit.model);
@@ -169,13 +168,13 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
       out.report += core::printf_string(
           "%s: unsupervised Mixture of Topics accuracy %.1f%%, mean class accuracy %.1f%%\n\n",
           title.c_str(), 100 * u.classes.accuracy(), 100 * u.classes.mean_class_accuracy());
-      j.mot_unsupervised = ScatterUnsupervisedRecord{u.classes.to_json(), u.chosen_classes,
-                                                     u.object_class, u.chosen_per_class};
+      j.mot_unsupervised = ScatterUnsupervisedRecord{u.classes, u.chosen_classes, u.object_class,
+                                                     u.chosen_per_class};
     }
     if (!run.mot_grid.empty()) {
       std::vector<ScatterGridRecord>& grid = j.mot_grid.emplace();
       for (const MotGridPoint& g : run.mot_grid) {
-        grid.push_back({g.classes.to_json(), g.source, g.smoothing,
+        grid.push_back({g.classes, g.source, g.smoothing,
                         g.prior == topics::MotPrior::kUniform ? "uniform" : "views", g.model});
       }
     }

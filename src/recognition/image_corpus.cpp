@@ -159,20 +159,4 @@ Evaluation evaluate_model(const topics::LdaModel& model, const LabelledCorpus& m
   return e;
 }
 
-core::Json evaluation_to_json(const Evaluation& e) {
-  core::Json j;
-  j["mapping"]["topic_class"] = e.mapping.topic_class;
-  std::vector<std::vector<double>> mean;
-  for (Eigen::Index c = 0; c < e.mapping.mean_theta.rows(); ++c) {
-    std::vector<double> row;
-    for (Eigen::Index k = 0; k < e.mapping.mean_theta.cols(); ++k)
-      row.push_back(e.mapping.mean_theta(c, k));
-    mean.push_back(std::move(row));
-  }
-  j["mapping"]["mean_theta"] = mean;
-  j["topics"] = e.topics.to_json();
-  j["classes"] = e.classes.to_json();
-  return j;
-}
-
 }  // namespace proprio::recognition

@@ -52,7 +52,7 @@ QuantizeImagesResult run_quantize_images(const QuantizeImagesOptions& options,
     name.assign(1, 'v');  // not `= "v"`: GCC 12's false -Wrestrict
     name += std::to_string(k);
   }
-  QuantizeImagesResult r{topics::Corpus(v.size(), names), set.classes, 0, 0, {}, core::Json()};
+  QuantizeImagesResult r{topics::Corpus(v.size(), names), set.classes, 0, 0, {}, core::Json(), {}};
   std::vector<std::vector<std::optional<double>>> rows;
   {
     core::ProgressBar bar(set.images.size(), "images", options.progress);
@@ -86,6 +86,7 @@ QuantizeImagesResult run_quantize_images(const QuantizeImagesOptions& options,
   r.options = options;
   r.document = core::result_document("proprio.vocab.quantize", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 

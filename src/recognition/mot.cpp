@@ -520,6 +520,7 @@ MotTrainResult run_mot_train(const MotTrainOptions& options, const core::Provena
   r.options = options.mot;
   r.document = core::result_document("proprio.mot.train", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 
@@ -612,6 +613,7 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
   r.out = options.out;
   r.document = core::result_document("proprio.mot.classify", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 
@@ -660,6 +662,7 @@ MotUpdateResult run_mot_update(const MotUpdateOptions& options,
   r.forgetting = options.mot.forgetting;
   r.document = core::result_document("proprio.mot.update", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 

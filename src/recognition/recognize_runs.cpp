@@ -71,7 +71,7 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
   if (r.by_topic) {
     text += "topics (argmax theta; rows: true object by the ground-truth masks)\n" +
             r.by_topic->format();
-    out.topics = r.by_topic->to_json();
+    out.topics = *r.by_topic;
   }
   std::vector<std::string> mapping_classes;
   if (!o.map_with.empty()) {
@@ -89,12 +89,12 @@ void classify_episodes_into(const RecognizeClassifyOptions& o, const topics::Lda
           " z_%zu->%s", k + 1,
           mapping_classes[static_cast<std::size_t>(e.mapping.topic_class[k])].c_str());
     text += "\n";
-    out.mapping = evaluation_to_json(e)["mapping"];
+    out.mapping = e.mapping;
     if (!r.classes.empty()) {
       text += "classes (topics merged)\n" + classes.format();
       text += core::printf_string("accuracy %.1f%%, mean class accuracy %.1f%%\n",
                                   100 * classes.accuracy(), 100 * classes.mean_class_accuracy());
-      out.classes = classes.to_json();
+      out.classes = classes;
     }
   }
   if (o.out.empty()) return;
@@ -132,7 +132,7 @@ void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaMo
   out.images = o.source.images;
   out.documents = static_cast<std::int64_t>(test.corpus.num_documents());
   out.empty_documents = r.summary.empty_documents;
-  out.topics = by_topic.to_json();
+  out.topics = by_topic;
   std::vector<int> mapped;
   if (!o.map_with.empty()) {
     const features::ImageSet known = features::read_image_set(o.map_with);
@@ -144,7 +144,7 @@ void classify_images_into(const RecognizeClassifyOptions& o, const topics::LdaMo
     const Evaluation e = evaluate_model(model, labelled, test);
     out.report += evaluation_report("classification", e);
     mapped = mapped_classes(topic, e.mapping);
-    out.mapped = evaluation_to_json(e);
+    out.mapped = e;
   }
   if (o.out.empty()) return;
   std::string csv =

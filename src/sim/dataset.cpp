@@ -109,6 +109,7 @@ SimDatasetResult run_sim_dataset(const SimDatasetOptions& options,
   r.out = options.out;
   r.document = core::result_document("proprio.sim.dataset", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 

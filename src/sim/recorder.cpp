@@ -221,32 +221,32 @@ int RecordOptions::distractor_count() const {
   return distractors.value_or(moving_background ? 2 : 0);
 }
 
-core::Json RecordOptions::switches() const {
-  core::Json j = core::Json::object();
-  j["object"] = is_scenario_file(scenario) ? std::string("(scene file)") : object;
-  j["background"] = moving_background ? "moving" : "static";
-  j["distractors"] = distractor_count();
-  j["clutter"] = clutter;
+RecordSwitches RecordOptions::switches() const {
+  RecordSwitches s;
+  s.object = is_scenario_file(scenario) ? std::string("(scene file)") : object;
+  s.background = moving_background ? "moving" : "static";
+  s.distractors = distractor_count();
+  s.clutter = clutter;
   if (!scatter_objects.empty()) {
-    j["scatter_objects"] = scatter_objects;
-    j["scatter_in_view"] = scatter_in_view;
+    s.scatter_objects = scatter_objects;
+    s.scatter_in_view = scatter_in_view;
   }
-  j["push_speed"] = push_speed;
-  j["approach"] = approach;
-  j["width"] = width;
-  j["height"] = height;
-  j["fps"] = fps;
-  j["shadows"] = shadows;
-  j["reflections"] = reflections;
-  j["camera_shake"] = camera_shake;
-  j["lighting_change"] = lighting_change;
-  j["nudge_neighbour"] = nudge_neighbour;
-  j["noise"] = noise;
-  j["motion_blur"] = motion_blur;
-  j["stereo"] = stereo;
-  j["stereo_baseline"] = stereo ? core::Json(stereo_baseline) : core::Json();
-  j["depth"] = depth;
-  return j;
+  s.push_speed = push_speed;
+  s.approach = approach;
+  s.width = width;
+  s.height = height;
+  s.fps = fps;
+  s.shadows = shadows;
+  s.reflections = reflections;
+  s.camera_shake = camera_shake;
+  s.lighting_change = lighting_change;
+  s.nudge_neighbour = nudge_neighbour;
+  s.noise = noise;
+  s.motion_blur = motion_blur;
+  s.stereo = stereo;
+  if (stereo) s.stereo_baseline = stereo_baseline;
+  s.depth = depth;
+  return s;
 }
 
 namespace {
@@ -655,7 +655,7 @@ episode::EpisodeInfo EpisodeRecording::info(const core::Provenance& run) const {
   info.provenance.run = run;
   info.provenance.source = episode::Source::kSimulated;
   info.provenance.scenario = options_.scenario;
-  info.provenance.switches = options_.switches();
+  info.provenance.switches = core::fields_to_json(options_.switches());
   info.has_depth = options_.depth;
   info.stereo = options_.stereo;
   return info;

@@ -1,5 +1,7 @@
 #include "proprio/topics/batch_lda.hpp"
 
+#include "proprio/core/fields.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -40,7 +42,7 @@ BatchLdaResult train_batch_lda(const Corpus& corpus, const BatchLdaOptions& opti
   const int W = corpus.num_words();
   const int stride = detail::padded(K, kern.lanes);
   const auto S = static_cast<std::size_t>(stride);
-  detail::ThreadPool pool(options.threads);
+  core::ThreadPool pool(options.threads);
 
   BatchLdaResult result;
   LdaModel& model = result.model;
@@ -91,6 +93,7 @@ BatchLdaResult train_batch_lda(const Corpus& corpus, const BatchLdaOptions& opti
     }
   }
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  result.summary.message = core::first_line(result.summary.brief());
   return result;
 }
 

@@ -1,5 +1,7 @@
 #include "proprio/topics/dirichlet_mixture.hpp"
 
+#include "proprio/core/fields.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -189,6 +191,7 @@ DirichletMixtureFit fit_dirichlet_mixture_k(const Eigen::Ref<const Eigen::Matrix
     out.summary.components = 1;
     out.summary.stop = MixtureStop::kOneComponent;
     out.summary.bic = {dirichlet_mixture_bic(out.summary.log_likelihood, 1, t, n)};
+    out.summary.message = core::first_line(out.summary.brief());
     return out;
   }
   const Eigen::MatrixXd p = lp.array().exp().matrix();
@@ -231,6 +234,7 @@ DirichletMixtureFit fit_dirichlet_mixture_k(const Eigen::Ref<const Eigen::Matrix
   }
   out.summary.components = k;
   out.summary.bic = {dirichlet_mixture_bic(out.summary.log_likelihood, k, t, n)};
+  out.summary.message = core::first_line(out.summary.brief());
   return out;
 }
 
@@ -269,6 +273,7 @@ DirichletMixtureFit fit_dirichlet_mixture(const Eigen::Ref<const Eigen::MatrixXd
   best.summary.bic = std::move(bic);
   best.summary.starts = starts;
   best.summary.degenerate = degenerate;
+  best.summary.message = core::first_line(best.summary.brief());
   return best;
 }
 
@@ -355,6 +360,7 @@ SharedPrecisionFit fit_dirichlets_shared_precision(const std::vector<DirichletSt
     out.summary.log_likelihood += d.log_likelihood(classes[c]);
     out.dirichlets.push_back(std::move(d));
   }
+  out.summary.message = core::first_line(out.summary.brief());
   return out;
 }
 

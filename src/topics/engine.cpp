@@ -12,7 +12,7 @@ namespace {
 constexpr Eigen::Index kWordBlock = 512;
 }
 
-Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, ThreadPool& pool) {
+Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, core::ThreadPool& pool) {
   const Eigen::Index K = lambda.rows();
   const Eigen::Index W = lambda.cols();
   const auto blocks = static_cast<std::size_t>((W + kWordBlock - 1) / kWordBlock);
@@ -22,7 +22,7 @@ Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, ThreadPool& pool) {
   // column, then groups of four columns added pairwise, then the rest one by one. This is the
   // order of Eigen 3.4's vectorised rowwise().sum(), used here before, so that models with an
   // even K are unchanged (with an odd K, Eigen summed its last row in another order).
-  pool.run(blocks, [&](std::size_t b, int) {
+  core::parallel_for(pool, blocks, [&](std::size_t b, int) {
     const Eigen::Index w0 = static_cast<Eigen::Index>(b) * kWordBlock;
     const Eigen::Index n = std::min(kWordBlock, W - w0);
     double* p = partial.col(static_cast<Eigen::Index>(b)).data();
@@ -50,7 +50,7 @@ Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, ThreadPool& pool) {
 
 void exp_elog_beta(const Kernels& kern, const Eigen::MatrixXd& lambda,
                    const Eigen::VectorXd& topic_sum, std::span<const std::int32_t> words,
-                   int stride, ThreadPool& pool, FloatBuffer& out) {
+                   int stride, core::ThreadPool& pool, FloatBuffer& out) {
   const int K = static_cast<int>(lambda.rows());
   out.resize(words.size() * static_cast<std::size_t>(stride));
   FloatBuffer sub(static_cast<std::size_t>(stride), 0.0f);
@@ -60,7 +60,7 @@ void exp_elog_beta(const Kernels& kern, const Eigen::MatrixXd& lambda,
                                FloatBuffer(static_cast<std::size_t>(stride), 1.0f));
   constexpr std::size_t kBlock = 64;
   const std::size_t blocks = (words.size() + kBlock - 1) / kBlock;
-  pool.run(blocks, [&](std::size_t b, int t) {
+  core::parallel_for(pool, blocks, [&](std::size_t b, int t) {
     float* x = tmp[static_cast<std::size_t>(t)].data();
     const std::size_t end = std::min(words.size(), (b + 1) * kBlock);
     for (std::size_t i = b * kBlock; i < end; ++i) {
@@ -125,11 +125,11 @@ void random_gamma(std::uint64_t key, int n, float* out) {
 }
 
 Eigen::MatrixXd initial_lambda(int num_topics, int num_words, std::uint64_t seed,
-                               ThreadPool& pool) {
+                               core::ThreadPool& pool) {
   const auto K = static_cast<std::size_t>(num_topics);
   Eigen::MatrixXd lambda(num_topics, num_words);
   std::vector<float> tmp(K * static_cast<std::size_t>(pool.size()));
-  pool.run(static_cast<std::size_t>(num_words), [&](std::size_t w, int t) {
+  core::parallel_for(pool, static_cast<std::size_t>(num_words), [&](std::size_t w, int t) {
     float* g = tmp.data() + static_cast<std::size_t>(t) * K;
     random_gamma(core::stream_seed(seed, ~0ULL, w), num_topics, g);
     for (std::size_t k = 0; k < K; ++k) {
@@ -152,9 +152,9 @@ void corpus_docs(const Corpus& corpus, std::uint64_t seed, std::uint64_t update,
   }
 }
 
-void run_estep(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs, const float* beta,
-               int num_topics, int stride, double alpha, const EStepOptions& options,
-               BatchEStep& out) {
+void run_estep(const Kernels& kern, core::ThreadPool& pool, const BatchDocs& docs,
+               const float* beta, int num_topics, int stride, double alpha,
+               const EStepOptions& options, BatchEStep& out) {
   const std::size_t D = docs.size();
   const auto S = static_cast<std::size_t>(stride);
   out.stride = stride;
@@ -175,7 +175,7 @@ void run_estep(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs, con
       return docs.offsets[a + 1] - docs.offsets[a] > docs.offsets[b + 1] - docs.offsets[b];
     });
   }
-  pool.run(D, [&](std::size_t task, int t) {
+  core::parallel_for(pool, D, [&](std::size_t task, int t) {
     const std::size_t d = order[task];
     float* gamma = out.gamma.data() + d * S;
     float* eth = out.exp_elog_theta.data() + d * S;
@@ -213,7 +213,7 @@ void run_estep(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs, con
   });
 }
 
-CorpusEStep corpus_estep(const Kernels& kern, ThreadPool& pool, const LdaModel& model,
+CorpusEStep corpus_estep(const Kernels& kern, core::ThreadPool& pool, const LdaModel& model,
                          const Corpus& corpus, const EStepOptions& options, std::uint64_t seed) {
   CorpusEStep r;
   const int K = model.num_topics();
@@ -228,7 +228,7 @@ CorpusEStep corpus_estep(const Kernels& kern, ThreadPool& pool, const LdaModel& 
   return r;
 }
 
-void sufficient_statistics(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs,
+void sufficient_statistics(const Kernels& kern, core::ThreadPool& pool, const BatchDocs& docs,
                            const BatchEStep& estep, std::size_t rows, FloatBuffer& sstats) {
   const int stride = estep.stride;
   const auto S = static_cast<std::size_t>(stride);
@@ -237,7 +237,7 @@ void sufficient_statistics(const Kernels& kern, ThreadPool& pool, const BatchDoc
   // summed in document order whatever the number of threads.
   const int vectors = stride / kern.lanes;
   const int parts = std::min(pool.size(), vectors);
-  pool.run(static_cast<std::size_t>(parts), [&](std::size_t p, int) {
+  core::parallel_for(pool, static_cast<std::size_t>(parts), [&](std::size_t p, int) {
     const int v0 = static_cast<int>(p) * vectors / parts;
     const int v1 = (static_cast<int>(p) + 1) * vectors / parts;
     const int k0 = v0 * kern.lanes;

@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "kernels.hpp"
+#include "proprio/core/parallel.hpp"
+#include "proprio/core/thread_pool.hpp"
 #include "proprio/topics/corpus.hpp"
 #include "proprio/topics/estep_options.hpp"
 #include "proprio/topics/lda_model.hpp"
 #include "special_functions.hpp"
-#include "thread_pool.hpp"
 
 namespace proprio::topics::detail {
 
@@ -35,12 +36,12 @@ struct AlignedAllocator {
 using FloatBuffer = std::vector<float, AlignedAllocator<float>>;
 
 /// Row sums of lambda (sum over words for each topic), summed in fixed blocks of words.
-Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, ThreadPool& pool);
+Eigen::VectorXd topic_sums(const Eigen::MatrixXd& lambda, core::ThreadPool& pool);
 
 /// exp(E[log beta_kw]) (eq B.19) for the listed words, one row of `stride` floats per word.
 void exp_elog_beta(const Kernels& kern, const Eigen::MatrixXd& lambda,
                    const Eigen::VectorXd& topic_sum, std::span<const std::int32_t> words,
-                   int stride, ThreadPool& pool, FloatBuffer& out);
+                   int stride, core::ThreadPool& pool, FloatBuffer& out);
 
 /// The E-step's view of a set of documents: for each document its rows into the beta cache and
 /// its counts, concatenated.
@@ -75,9 +76,9 @@ struct BatchEStep {
 };
 
 /// Runs the E-step (eq B.16-B.18) on every document of `docs` against the beta cache.
-void run_estep(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs, const float* beta,
-               int num_topics, int stride, double alpha, const EStepOptions& options,
-               BatchEStep& out);
+void run_estep(const Kernels& kern, core::ThreadPool& pool, const BatchDocs& docs,
+               const float* beta, int num_topics, int stride, double alpha,
+               const EStepOptions& options, BatchEStep& out);
 
 /// The E-step of a fixed model over a whole corpus (inference and the variational bound): the
 /// model's topic sums, the beta cache of every word, the documents and what the E-step left.
@@ -89,12 +90,12 @@ struct CorpusEStep {
 };
 
 /// Runs the E-step of `model` on every document of `corpus` (random-gamma keys from `seed`).
-CorpusEStep corpus_estep(const Kernels& kern, ThreadPool& pool, const LdaModel& model,
+CorpusEStep corpus_estep(const Kernels& kern, core::ThreadPool& pool, const LdaModel& model,
                          const Corpus& corpus, const EStepOptions& options, std::uint64_t seed);
 
 /// sstats[r] = sum over documents and their entries on row r of weight * exp(E[log theta]),
 /// in document order; `rows` rows of `stride` floats.
-void sufficient_statistics(const Kernels& kern, ThreadPool& pool, const BatchDocs& docs,
+void sufficient_statistics(const Kernels& kern, core::ThreadPool& pool, const BatchDocs& docs,
                            const BatchEStep& estep, std::size_t rows, FloatBuffer& sstats);
 
 /// The document part of the variational bound (Hoffman et al. 2010, eq 3 with the terms of
@@ -112,7 +113,8 @@ void random_gamma(std::uint64_t key, int n, float* out);
 
 /// K x W lambda drawn from Gamma(100, 1/100), the start of Hoffman's code, scikit-learn and
 /// gensim; one seeded stream per word, so it does not depend on the thread count.
-Eigen::MatrixXd initial_lambda(int num_topics, int num_words, std::uint64_t seed, ThreadPool& pool);
+Eigen::MatrixXd initial_lambda(int num_topics, int num_words, std::uint64_t seed,
+                               core::ThreadPool& pool);
 
 /// Rounds K up to a multiple of the kernel's lanes.
 inline int padded(int num_topics, int lanes) { return (num_topics + lanes - 1) / lanes * lanes; }

@@ -1,5 +1,7 @@
 #include "proprio/topics/inference.hpp"
 
+#include "proprio/core/fields.hpp"
+
 #include <chrono>
 #include <sstream>
 
@@ -47,7 +49,7 @@ InferenceResult infer_topics(const LdaModel& model, const Corpus& corpus,
   const auto t0 = std::chrono::steady_clock::now();
   const auto& kern = detail::best_kernels();
   const int K = model.num_topics();
-  detail::ThreadPool pool(options.threads);
+  core::ThreadPool pool(options.threads);
   const detail::CorpusEStep run =
       detail::corpus_estep(kern, pool, model, corpus, options.estep, options.seed);
   const detail::BatchEStep& estep = run.estep;
@@ -74,6 +76,7 @@ InferenceResult infer_topics(const LdaModel& model, const Corpus& corpus,
   const std::int64_t nonempty = D - r.summary.empty_documents;
   r.summary.mean_iterations = nonempty > 0 ? static_cast<double>(iterations) / nonempty : 0.0;
   r.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.summary.message = core::first_line(r.summary.brief());
   return r;
 }
 

@@ -68,7 +68,7 @@ void train_online(const LdaTrainingOptions& o, const Corpus& corpus, const Corpu
                   LdaTrainingResult& r) {
   const OnlineLdaResult t = train_online_lda(corpus, heldout, o.online, o.checkpointing);
   const OnlineLdaSummary& s = t.summary;
-  r.brief = s.brief();
+  r.text = s.brief();
   r.online = s;
   r.model = t.model;
 }
@@ -86,7 +86,7 @@ void train_batch(const LdaTrainingOptions& o, const Corpus& corpus, const Corpus
   b.estep = o.online.estep;
   const BatchLdaResult t = train_batch_lda(corpus, b);
   const BatchLdaSummary& s = t.summary;
-  r.brief = s.brief();
+  r.text = s.brief();
   LdaBatchRecord& rec = r.batch.emplace();
   rec.summary = s;
   const double docs = static_cast<double>(corpus.num_documents()) * s.iterations;
@@ -100,7 +100,7 @@ void train_batch(const LdaTrainingOptions& o, const Corpus& corpus, const Corpus
     const double p = perplexity(r.model, *heldout, po).perplexity;
     char line[64];
     std::snprintf(line, sizeof line, "\nheld-out perplexity %g", p);
-    r.brief += line;
+    r.text += line;
     rec.heldout_perplexity = p;
   }
 }
@@ -166,6 +166,7 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
     train_batch(options, corpus, held, r);
   }
   r.document = core::result_document("proprio.lda.train", 1, provenance);
+  r.message = core::first_line(r.text);
   core::fields_into_json(r, r.document);
   if (!options.model.empty()) save_lda_model(r.model, options.model);
   return r;
@@ -235,11 +236,12 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
   LdaTrainingResult r;
   describe_run(options, shard.total_documents, shard.documents.num_words(), r);
   OnlineLdaResult t = train_online_lda(shard, heldout ? &*heldout : nullptr, options.online, comm);
-  r.brief = t.summary.brief();
+  r.text = t.summary.brief();
   r.online = t.summary;
   r.ranks = ranks;
   r.model = std::move(t.model);
   r.document = core::result_document("proprio.lda.train", 1, provenance);
+  r.message = core::first_line(r.text);
   core::fields_into_json(r, r.document);
   // The last collective step: the ranks that hold the whole model (rank 0; every rank when the
   // M-step is replicated; split by topic the others hold none) hold the same one, or the job
@@ -336,6 +338,7 @@ LdaPerplexityResult run_lda_perplexity(const LdaPerplexityOptions& options,
   out.alpha = model.alpha;
   out.document = core::result_document("proprio.lda.perplexity", 1, provenance);
   core::fields_into_json(out, out.document);
+  out.message = core::first_line(out.brief());
   return out;
 }
 

@@ -247,6 +247,7 @@ MotFit fit_clusters(const Eigen::MatrixXd& theta, const Eigen::MatrixXd& log_the
     fit = std::move(refit);
   }
   fit.summary.log_likelihood = mixture_log_likelihood(log_scores(fit.model, log_theta));
+  fit.summary.message = core::first_line(fit.summary.brief());
   return fit;
 }
 
@@ -289,6 +290,7 @@ DirichletMixtureSummary update_mixture_exact(DirichletMixture& mixture,
     total += c.stats.count();
   }
   for (auto& c : mixture.components) c.weight = c.stats.count() / total;
+  summary.message = core::first_line(summary.brief());
   return summary;
 }
 
@@ -434,6 +436,7 @@ MotFit fit_mot(const Eigen::Ref<const Eigen::MatrixXd>& theta, std::span<const i
     if (labels[d] >= 0) labelled.row(r++) = log_theta.row(static_cast<Eigen::Index>(d));
   }
   fit.summary.log_likelihood = mixture_log_likelihood(log_scores(fit.model, labelled));
+  fit.summary.message = core::first_line(fit.summary.brief());
   return fit;
 }
 
@@ -481,6 +484,7 @@ MotFit fit_mot_unsupervised(const Eigen::Ref<const Eigen::MatrixXd>& theta,
   }
   ensure(!best.model.objects.empty(), "Mixture of Topics: one object always fits");
   best.summary.bic = std::move(bic);
+  best.summary.message = core::first_line(best.summary.brief());
   return best;
 }
 

@@ -129,7 +129,7 @@ struct OnlineLda::Impl {
   Eigen::VectorXd topic_sum;
   const detail::Kernels* kern;
   int stride;
-  detail::ThreadPool pool;
+  core::ThreadPool pool;
   std::vector<std::int32_t> row_of_word;
   std::vector<std::int32_t> batch_words;
   detail::BatchDocs docs;
@@ -188,7 +188,7 @@ OnlineLda::OnlineLda(const OnlineLdaOptions& options, std::int32_t num_words,
   LdaModel m = model_without_topics(options, num_words, total_documents, std::move(vocabulary));
   const int K = options.num_topics;
   {
-    detail::ThreadPool pool(options.threads);
+    core::ThreadPool pool(options.threads);
     m.lambda = detail::initial_lambda(K, num_words, options.seed, pool);
   }
   m.validate();
@@ -200,11 +200,11 @@ namespace {
 // The rows [k0, k1) of detail::initial_lambda(K, W, seed): the same random stream per word, the
 // other rows drawn and dropped, so that a rank never holds K x W.
 Eigen::MatrixXd initial_lambda_rows(int K, std::int32_t W, std::uint64_t seed, int k0, int k1,
-                                    detail::ThreadPool& pool) {
+                                    core::ThreadPool& pool) {
   Eigen::MatrixXd rows(k1 - k0, W);
   if (k1 <= k0) return rows;
   std::vector<float> tmp(static_cast<std::size_t>(K) * static_cast<std::size_t>(pool.size()));
-  pool.run(static_cast<std::size_t>(W), [&](std::size_t w, int t) {
+  core::parallel_for(pool, static_cast<std::size_t>(W), [&](std::size_t w, int t) {
     float* g = tmp.data() + static_cast<std::size_t>(t) * static_cast<std::size_t>(K);
     detail::random_gamma(core::stream_seed(seed, ~0ULL, w), K, g);
     for (int k = k0; k < k1; ++k) {
@@ -428,7 +428,7 @@ namespace {
 
 // sufficient_statistics (engine.hpp) on the topics [k0, k1) only: the whole vectors of lanes that
 // hold them, each entry summed in document order, as there.
-void statistics_of_rows(const detail::Kernels& kern, detail::ThreadPool& pool,
+void statistics_of_rows(const detail::Kernels& kern, core::ThreadPool& pool,
                         const detail::BatchDocs& docs, const detail::BatchEStep& estep,
                         std::size_t rows, int k0, int k1, detail::FloatBuffer& sstats) {
   const auto S = static_cast<std::size_t>(estep.stride);
@@ -437,7 +437,7 @@ void statistics_of_rows(const detail::Kernels& kern, detail::ThreadPool& pool,
   const int first = k0 / kern.lanes;
   const int vectors = (k1 + kern.lanes - 1) / kern.lanes - first;
   const int parts = std::min(pool.size(), vectors);
-  pool.run(static_cast<std::size_t>(parts), [&](std::size_t p, int) {
+  core::parallel_for(pool, static_cast<std::size_t>(parts), [&](std::size_t p, int) {
     const int v0 = first + static_cast<int>(p) * vectors / parts;
     const int v1 = first + (static_cast<int>(p) + 1) * vectors / parts;
     const int a = v0 * kern.lanes;
@@ -457,14 +457,14 @@ void statistics_of_rows(const detail::Kernels& kern, detail::ThreadPool& pool,
 // words, the decay alone on the others.
 void mstep_rows(Eigen::MatrixXd& rows, int k0, const std::vector<std::int32_t>& row_of_word,
                 const float* sstats, const float* beta, std::size_t S, double rho, double scale,
-                double eta, detail::ThreadPool& pool) {
+                double eta, core::ThreadPool& pool) {
   const double keep = 1.0 - rho;
   const double prior = rho * eta;
   const auto W = static_cast<std::size_t>(rows.cols());
   const auto n = static_cast<int>(rows.rows());
   if (n == 0) return;
   constexpr std::size_t kBlock = 256;
-  pool.run((W + kBlock - 1) / kBlock, [&](std::size_t b, int) {
+  core::parallel_for(pool, (W + kBlock - 1) / kBlock, [&](std::size_t b, int) {
     const std::size_t w1 = std::min(W, (b + 1) * kBlock);
     for (std::size_t w = b * kBlock; w < w1; ++w) {
       double* col = rows.col(static_cast<Eigen::Index>(w)).data();
@@ -530,7 +530,7 @@ namespace {
 // value has the bits exp_elog_beta gives it.
 void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows, int k0,
                         const Eigen::VectorXd& row_sum, std::span<const std::int32_t> words,
-                        detail::ThreadPool& pool, detail::FloatBuffer& out) {
+                        core::ThreadPool& pool, detail::FloatBuffer& out) {
   const auto n = static_cast<int>(rows.rows());
   out.resize(words.size() * static_cast<std::size_t>(n));
   if (n == 0) return;
@@ -546,7 +546,7 @@ void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows
   std::vector<detail::FloatBuffer> y(T, detail::FloatBuffer(static_cast<std::size_t>(len)));
   constexpr std::size_t kBlock = 64;
   const std::size_t blocks = (words.size() + kBlock - 1) / kBlock;
-  pool.run(blocks, [&](std::size_t b, int t) {
+  core::parallel_for(pool, blocks, [&](std::size_t b, int t) {
     float* xt = x[static_cast<std::size_t>(t)].data();
     float* yt = y[static_cast<std::size_t>(t)].data();
     const std::size_t end = std::min(words.size(), (b + 1) * kBlock);
@@ -1033,6 +1033,7 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineL
       docs_run > 0 ? static_cast<double>(progress.iterations) / static_cast<double>(docs_run) : 0.0;
   report_phase_times(lda, 1, 0);
   result.model = lda.model();
+  result.summary.message = core::first_line(result.summary.brief());
   return result;
 }
 
@@ -1139,6 +1140,7 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
       docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
   report_phase_times(lda, comm.size(), comm.rank());
   result.model = lda.release_model();
+  result.summary.message = core::first_line(result.summary.brief());
   return result;
 }
 

@@ -98,7 +98,7 @@ PerplexityResult perplexity(const LdaModel& model, const Corpus& heldout,
   const auto t0 = std::chrono::steady_clock::now();
   const auto& kern = detail::best_kernels();
   const int K = model.num_topics();
-  detail::ThreadPool pool(options.threads);
+  core::ThreadPool pool(options.threads);
   const detail::CorpusEStep run =
       detail::corpus_estep(kern, pool, model, heldout, options.estep, options.split_seed);
   PerplexityResult r;

@@ -149,5 +149,42 @@ TEST_F(OutputsCli, MotPushAndSelfsuperviseRefuseInputsAsOutputsAndForeignDirecto
   EXPECT_FALSE(fs::exists(dir.path() / "n.mot"));
 }
 
+// Every command takes --json from one helper (app/cli.hpp's JsonFlag): the same help, and a --json
+// that names one of the command's inputs is refused before any work, also by the commands that
+// did not check it before the helper (lda perplexity and topics, episode info and check,
+// segment, evaluate segmentation, learn, report).
+TEST_F(OutputsCli, EveryJsonFlagIsTheSharedOneAndRefusesAnInput) {
+  const std::string model = file("m.lda");
+  const std::string corpus = file("c.txt");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"lda topics --model " + model + " --json " + model, "--json is the same file as"},
+      {"lda perplexity --corpus " + corpus + " --model " + model + " --json " + corpus,
+       "--json is the same file as"},
+      {"episode info " + images + " --json " + images, "--json is the same file as"},
+      {"episode check " + images + " --json " + images, "--json is the same file as"},
+      {"segment " + images + " --out " + (dir.path() / "o").string() + " --json " + images,
+       "--json is the same file as"},
+      {"evaluate segmentation " + images + " --out " + (dir.path() / "e").string() + " --json " +
+           images,
+       "--json is the same file as"},
+      {"learn --out " + (dir.path() / "l").string() + " --json " + (dir.path() / "l").string(),
+       "--json is the same file as"},
+  };
+  expect_refused(cases);
+  EXPECT_EQ(core::read_file(dir.path() / "m.lda"), "input m.lda\n");
+  EXPECT_EQ(core::read_file(dir.path() / "c.txt"), "input c.txt\n");
+  for (const char* command :
+       {"calib dlt", "episode info", "lda train", "lda topics", "mot info", "push", "segment",
+        "evaluate segmentation", "sim dataset", "vocab build", "recognize classify",
+        "experiment scatter", "learn", "report", "intercept", "selfsupervise"}) {
+    const auto r = run_cli(std::string(command) + " --help");
+    EXPECT_EQ(r.code, 0) << command;
+    EXPECT_NE(r.out.find("as JSON to this file (atomically; never one of the command's inputs"),
+              std::string::npos)
+        << command << "\n"
+        << r.out;
+  }
+}
+
 }  // namespace
 }  // namespace proprio

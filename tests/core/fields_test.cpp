@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -206,6 +207,39 @@ TEST(Fields, ResultJsonNestsObjectsArraysAndOptionals) {
   EXPECT_EQ(full["final"], 0.125);
   EXPECT_EQ(full["counts"], Json::array({3, 4}));
   EXPECT_EQ(field_names<Record>().size(), 7U);
+}
+
+// Maps are objects keyed by the map's keys; or_null keeps an empty optional's key (as null);
+// matrix_rows and vector_values turn anything with rows()/cols() or data()/size() into arrays.
+struct Table {
+  std::map<std::string, Point> by_name;
+  std::optional<int> maybe;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.by_name, {"by_name", "Points by name"});
+    v(or_null(self.maybe), {"maybe", "An optional always listed"});
+    v(self.maybe, {"maybe_left_out", "An optional left out when empty"});
+  }
+};
+
+struct TwoByTwo {
+  [[nodiscard]] int rows() const { return 2; }
+  [[nodiscard]] int cols() const { return 2; }
+  double operator()(int r, int c) const { return 10.0 * r + c; }
+};
+
+TEST(Fields, MapsOptionalsAsNullAndMatrices) {
+  Table t;
+  t.by_name["b"] = {2, 0.5};
+  t.by_name["a"] = {1, 0.25};
+  EXPECT_EQ(fields_to_json(t).dump(),
+            R"({"by_name":{"a":{"step":1,"value":0.25},"b":{"step":2,"value":0.5}},"maybe":null})");
+  t.maybe = 3;
+  EXPECT_EQ(fields_to_json(t)["maybe"], 3);
+  EXPECT_EQ(fields_to_json(t)["maybe_left_out"], 3);
+  EXPECT_EQ(Json(matrix_rows(TwoByTwo{})).dump(), "[[0.0,1.0],[10.0,11.0]]");
+  const std::vector<float> v{1.5F, 2.5F};
+  EXPECT_EQ(vector_values(v), (std::vector<double>{1.5, 2.5}));
 }
 
 }  // namespace

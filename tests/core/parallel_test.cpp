@@ -1,9 +1,13 @@
 #include "proprio/core/parallel.hpp"
 
+#include "proprio/core/thread_pool.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cmath>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -74,6 +78,48 @@ TEST(Parallel, TheLowestFailingTasksExceptionIsRethrownAfterTheOthersStop) {
       // before 11) always runs, and the lowest is reported.
       EXPECT_EQ(std::string(e.what()), "10") << threads << " threads";
     }
+  }
+}
+
+TEST(ThreadPool, RunsEveryTaskOnce) {
+  for (int threads : {1, 2, 4}) {
+    ThreadPool pool(threads);
+    for (std::size_t n : {0u, 1u, 7u, 1000u}) {
+      std::vector<std::atomic<int>> hits(n);
+      std::set<int> seen_threads;
+      std::mutex m;
+      pool.run(n, [&](std::size_t i, int t) {
+        hits[i].fetch_add(1);
+        std::lock_guard lock(m);
+        seen_threads.insert(t);
+      });
+      for (auto& h : hits) EXPECT_EQ(h.load(), 1);
+      for (int t : seen_threads) EXPECT_LT(t, threads);
+    }
+  }
+}
+
+// A pool kept across rounds (the LDA engine's use): each round runs every task once, and a
+// failing round leaves the pool usable for the next.
+TEST(ThreadPool, AKeptPoolRunsRoundAfterRoundAndSurvivesAFailure) {
+  ThreadPool pool(3);
+  for (int round = 0; round < 50; ++round) {
+    std::vector<std::atomic<int>> hits(37);
+    if (round % 10 == 5) {
+      EXPECT_THROW(parallel_for(pool, hits.size(),
+                                [&](std::size_t i, int) {
+                                  if (i == 3) throw std::runtime_error("3");
+                                  hits[i].fetch_add(1);
+                                }),
+                   std::runtime_error);
+      for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(hits[i].load(), 1) << "below the failure";
+      continue;
+    }
+    parallel_for(pool, hits.size(), [&](std::size_t i, int t) {
+      EXPECT_LT(t, pool.size());
+      hits[i].fetch_add(1);
+    });
+    for (auto& h : hits) EXPECT_EQ(h.load(), 1) << "round " << round;
   }
 }
 

@@ -9,7 +9,7 @@
 #include "engine.hpp"
 #include "kernels.hpp"
 #include "proprio/core/random.hpp"
-#include "thread_pool.hpp"
+#include "proprio/core/thread_pool.hpp"
 
 namespace proprio::topics::detail {
 namespace {
@@ -145,24 +145,6 @@ TEST(Kernels, DocumentEStepMatchesTheDoublePrecisionReference) {
       EXPECT_NEAR(total, K * alpha + std::accumulate(counts.begin(), counts.end(), 0.0), 1e-2)
           << name;
       for (int t = K; t < stride; ++t) EXPECT_EQ(eth[static_cast<std::size_t>(t)], 0.0f) << name;
-    }
-  }
-}
-
-TEST(ThreadPool, RunsEveryTaskOnce) {
-  for (int threads : {1, 2, 4}) {
-    ThreadPool pool(threads);
-    for (std::size_t n : {0u, 1u, 7u, 1000u}) {
-      std::vector<std::atomic<int>> hits(n);
-      std::set<int> seen_threads;
-      std::mutex m;
-      pool.run(n, [&](std::size_t i, int t) {
-        hits[i].fetch_add(1);
-        std::lock_guard lock(m);
-        seen_threads.insert(t);
-      });
-      for (auto& h : hits) EXPECT_EQ(h.load(), 1);
-      for (int t : seen_threads) EXPECT_LT(t, threads);
     }
   }
 }

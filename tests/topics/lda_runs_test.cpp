@@ -87,7 +87,7 @@ TEST(LdaRuns, BatchTrainingScoresTheHeldOutCorpusOnce) {
   EXPECT_EQ(r.document.at("iterations"), r.document.at("bound").size());
   EXPECT_TRUE(r.document.at("perplexity_trace").empty());
   EXPECT_GT(r.document.at("heldout_perplexity").get<double>(), 1.0);
-  EXPECT_NE(r.brief.find("held-out perplexity"), std::string::npos) << r.brief;
+  EXPECT_NE(r.brief().find("held-out perplexity"), std::string::npos) << r.brief();
   EXPECT_FALSE(fs::exists(f.dir.path() / "m.lda"));
 }
 

@@ -8,7 +8,8 @@
 // the same names. Output descriptions take three more kinds of field:
 //   - a struct with its own describe(): a nested JSON object;
 //   - std::vector<T> of any field type: a JSON array;
-//   - std::optional<T>: the key is left out when it is empty;
+//   - std::map<std::string, T>: a JSON object keyed by the map's keys;
+//   - std::optional<T>: the key is left out when it is empty (or_null(x) writes null instead);
 // and core::Json, copied as it is. A derived value may be described as an expression
 // (`v(self.documents_per_second(), {...})`): such a description is for output only.
 //
@@ -35,6 +36,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -119,6 +121,10 @@ constexpr bool kVector = false;
 template <class T, class A>
 constexpr bool kVector<std::vector<T, A>> = true;
 template <class T>
+constexpr bool kMap = false;
+template <class T, class C, class A>
+constexpr bool kMap<std::map<std::string, T, C, A>> = true;
+template <class T>
 constexpr bool kOptional = false;
 template <class T>
 constexpr bool kOptional<std::optional<T>> = true;
@@ -165,6 +171,12 @@ Json value_to_json(const T& value) {
     Json out = Json::array();
     for (const auto& e : value) out.push_back(value_to_json(e));
     return out;
+  } else if constexpr (kMap<T>) {
+    Json out = Json::object();
+    for (const auto& [key, e] : value) out[key] = value_to_json(e);
+    return out;
+  } else if constexpr (kOptional<T>) {
+    return value ? value_to_json(*value) : Json();
   } else {
     return Json(value);
   }
@@ -295,6 +307,34 @@ struct Names {
 
 }  // namespace detail
 
+/// An optional field whose key a record always holds: its value, or null when it is empty (a
+/// plain std::optional field leaves the key out).
+template <class T>
+Json or_null(const std::optional<T>& x) {
+  return x ? detail::value_to_json(*x) : Json();
+}
+
+/// A matrix (anything with rows(), cols() and (r, c), e.g. Eigen's) as its rows, for a
+/// description to list as a derived field.
+template <class M>
+std::vector<std::vector<double>> matrix_rows(const M& m) {
+  std::vector<std::vector<double>> rows;
+  rows.reserve(static_cast<std::size_t>(m.rows()));
+  for (decltype(m.rows()) r = 0; r < m.rows(); ++r) {
+    std::vector<double> row;
+    row.reserve(static_cast<std::size_t>(m.cols()));
+    for (decltype(m.cols()) c = 0; c < m.cols(); ++c) row.push_back(static_cast<double>(m(r, c)));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// A vector (anything with size() and data(), e.g. an Eigen vector) as a std::vector<double>.
+template <class V>
+std::vector<double> vector_values(const V& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
 /// The fields of `s` as a JSON object (keys sorted, as in every proprio JSON; enums by name,
 /// paths as strings).
 template <class S>
@@ -348,6 +388,21 @@ void fields_from_json(const Json& json, S& s, std::string_view where) {
       }
     }
   }
+}
+
+/// The Summary convention of every Result and Summary: a one-line `message` (what happened, or
+/// why it stopped) and `brief()`, the few lines a person reads (the CLI prints it). A message is
+/// for people and logs; a record's JSON comes from the description.
+template <class S>
+concept Summary = requires(const S& s) {
+  { s.message } -> std::convertible_to<std::string>;
+  { s.brief() } -> std::convertible_to<std::string>;
+};
+
+/// The first line of `text` (all of it when it has one): the headline of a brief(), which a
+/// Summary whose brief() opens with what happened keeps as its message.
+inline std::string first_line(std::string_view text) {
+  return std::string(text.substr(0, text.find('\n')));
 }
 
 }  // namespace proprio::core

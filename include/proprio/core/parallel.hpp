@@ -1,10 +1,9 @@
 #pragma once
 // The one data-parallel loop of proprio: tasks handed out to a few threads (the caller's among
 // them), results kept by task index, and reductions combined in a fixed order, so that a result
-// never depends on the thread count. Standard threads only (no OpenCV, no OpenMP), so that every
-// module can use it. The LDA engine keeps its own persistent pool (topics/thread_pool.hpp): it
-// runs thousands of tiny rounds per second, where starting threads per call would cost more than
-// the work.
+// never depends on the thread count. It runs on core::ThreadPool (thread_pool.hpp), the one pool
+// type: one pool per call here; the LDA engine keeps one across its many short rounds. Standard
+// threads only (no OpenCV, no OpenMP), so that every module can use it.
 
 #include <algorithm>
 #include <atomic>
@@ -14,6 +13,8 @@
 #include <thread>
 #include <utility>
 #include <vector>
+
+#include "proprio/core/thread_pool.hpp"
 
 namespace proprio::core {
 
@@ -33,45 +34,39 @@ inline std::pair<std::size_t, std::size_t> chunk_range(std::size_t c, std::size_
   return {c * n / chunks, (c + 1) * n / chunks};
 }
 
-/// Calls fn(task, thread) for every task in [0, tasks) on thread_count(threads, tasks) threads,
-/// tasks handed out one at a time in increasing order; `thread` in [0, threads) lets a caller
-/// keep one workspace per thread. fn must write only what belongs to its task (or its thread's
-/// workspace). If fn throws, no further task is claimed, the claimed ones finish, the threads
-/// are joined, and the exception of the lowest-numbered failing task is rethrown.
+/// Calls fn(task, thread) for every task in [0, tasks) on the threads of `pool` (a pool the
+/// caller keeps across many short rounds), tasks handed out one at a time in increasing order;
+/// `thread` in [0, pool.size()) lets a caller keep one workspace per thread. fn must write only
+/// what belongs to its task (or its thread's workspace). If fn throws, the tasks below the
+/// failing one still run, the tasks above the lowest failure are skipped, and the exception of
+/// the lowest-numbered failing task is rethrown once every thread is done.
 template <typename Fn>
-void parallel_for(std::size_t tasks, int threads, Fn&& fn) {
-  threads = thread_count(threads, tasks);
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
+void parallel_for(ThreadPool& pool, std::size_t tasks, Fn&& fn) {
+  // Tasks are claimed in increasing order, so when task f fails every task below f has been
+  // claimed already and runs.
+  std::atomic<std::size_t> lowest_failure{tasks};
   std::mutex error_mutex;
   std::exception_ptr error;
-  std::size_t error_task = tasks;
-  auto work = [&](int thread) {
-    // A task once claimed always runs: the failure of a later task cannot hide an earlier one.
-    while (!failed.load(std::memory_order_relaxed)) {
-      const std::size_t t = next++;
-      if (t >= tasks) break;
-      try {
-        fn(t, thread);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (t < error_task) {
-          error_task = t;
-          error = std::current_exception();
-        }
-        failed = true;
+  pool.run(tasks, [&](std::size_t t, int thread) {
+    if (t > lowest_failure.load(std::memory_order_relaxed)) return;
+    try {
+      fn(t, thread);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(error_mutex);
+      if (t < lowest_failure.load(std::memory_order_relaxed)) {
+        lowest_failure.store(t, std::memory_order_relaxed);
+        error = std::current_exception();
       }
     }
-  };
-  if (threads == 1) {
-    work(0);
-  } else {
-    std::vector<std::jthread> pool;
-    pool.reserve(static_cast<std::size_t>(threads - 1));
-    for (int i = 1; i < threads; ++i) pool.emplace_back(work, i);
-    work(0);
-  }  // the jthreads join here
+  });
   if (error) std::rethrow_exception(error);
+}
+
+/// parallel_for on thread_count(threads, tasks) threads (a pool for this call only).
+template <typename Fn>
+void parallel_for(std::size_t tasks, int threads, Fn&& fn) {
+  ThreadPool pool(thread_count(threads, tasks));
+  parallel_for(pool, tasks, std::forward<Fn>(fn));
 }
 
 /// partial(c) for every chunk c in [0, chunks) in parallel, then combine(accumulator, partial)

@@ -10,7 +10,6 @@
 
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
-#include "proprio/core/json_members.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/eval/segmentation_eval.hpp"
 
@@ -42,14 +41,51 @@ struct DatasetEvaluationResult {
   std::vector<std::array<GroupSummary, 3>> by_background;
   std::vector<std::string> files;  ///< plots written into `out`
   std::filesystem::path dataset;   ///< the dataset directory evaluated
-  core::Json options;              ///< the evaluation options used (options_json)
-  core::Json summary;              ///< dataset_summary_json: its members are the record's
-  core::Json episode_results;      ///< per episode: its facts and each method's outcome
+  EvalOptions options;             ///< the evaluation options used
+  DatasetSummary summary;          ///< its members are the record's
+
+  /// One method's outcome on one episode, as summary.json lists it.
+  struct OutcomeRecord {
+    const MethodOutcome* outcome;
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      const MethodOutcome& oc = *self.outcome;
+      v(oc.status, {"status", "ok, no touch, no ground truth or failed"});
+      v(oc.scored_frame, {"scored_frame", "The frame scored (-1: none)"});
+      v(core::or_null(oc.status == "ok" ? std::optional<double>(oc.metrics.jaccard) : std::nullopt),
+        {"jaccard", "Jaccard at the scored frame (null unless ok)"});
+    }
+  };
+  /// An episode's facts and each method's outcome (keyed by the method's name).
+  struct EpisodeRecord {
+    const EpisodeEvaluation* episode;
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      const EpisodeEvaluation& e = *self.episode;
+      v(e.name, {"episode", "The episode directory's name"});
+      v(e.background, {"background", "static, moving or unknown"});
+      v(e.object, {"object", "The target's name"});
+      v(e.scenario, {"scenario", "The scenario"});
+      for (const MethodOutcome& oc : e.outcomes) {
+        const std::string& name = method_key(oc.method);
+        v(OutcomeRecord{&oc}, {name.c_str(), "The method's outcome"});
+      }
+    }
+  };
+  [[nodiscard]] std::vector<EpisodeRecord> episode_results() const {
+    std::vector<EpisodeRecord> out;
+    out.reserve(episodes.size());
+    for (const EpisodeEvaluation& e : episodes) out.push_back({&e});
+    return out;
+  }
+  /// The method's name, as a record's key (a name that outlives the description's visit).
+  static const std::string& method_key(Method m);
   /// summary.json as written (format "proprio.evaluate.segmentation"): the fields described
   /// below.
   core::Json document;
 
   /// Mean Jaccard per method and background with intervals, in a few lines (what the CLI prints).
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
   /// The methods' names, in `methods` order.
   [[nodiscard]] std::vector<std::string> method_names() const;
@@ -59,8 +95,8 @@ struct DatasetEvaluationResult {
     v(self.dataset, {"dataset", "The dataset directory"});
     v(self.method_names(), {"method_names", "The methods, in order"});
     v(self.options, {"options", "The evaluation options"});
-    core::describe_json_members(self.summary, v);
-    v(self.episode_results, {"episode_results", "Per episode: facts and outcomes"});
+    DatasetSummary::describe(self.summary, v);
+    v(self.episode_results(), {"episode_results", "Per episode: facts and outcomes"});
     v(self.files, {"files", "Plots written"});
   }
 };

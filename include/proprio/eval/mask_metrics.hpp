@@ -21,6 +21,19 @@ struct MaskMetrics {
   /// its extra division by sqrt(N K), which makes it unreadably small.
   double l2 = 0.0;
   [[nodiscard]] double tanimoto() const { return 1.0 - jaccard; }
+
+  /// Output only: a mask's scores as segment.json records them ("metrics").
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.precision, {"precision", "tp / (tp + fp) (eq 5.1)"});
+    v(self.recall, {"recall", "tp / (tp + fn) (eq 5.2)"});
+    v(self.jaccard, {"jaccard", "|A and B| / |A or B| (eq 5.4)"});
+    v(self.tanimoto(), {"tanimoto", "1 - jaccard"});
+    v(self.l2, {"l2", "RMS difference of the binary images (eq 5.3)"});
+    v(self.true_positives, {"true_positives", "Pixels"});
+    v(self.false_positives, {"false_positives", "Pixels"});
+    v(self.false_negatives, {"false_negatives", "Pixels"});
+  }
 };
 
 /// Compares `result` with `truth` (same size, 8-bit single channel, nonzero = object). Sizes

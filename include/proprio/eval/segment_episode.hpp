@@ -35,7 +35,7 @@ struct SegmentEpisodeResult {
   EpisodeEvaluation evaluation;
   std::filesystem::path episode;
   std::string method;              ///< the method's name
-  core::Json options;              ///< the evaluation options used (options_json)
+  EvalOptions options;             ///< the evaluation options used
   std::vector<std::string> files;  ///< images written into `out`, in the order written
   /// segment.json as written (format "proprio.segment", docs/formats/schemas/segment.schema.json):
   /// the fields described below.
@@ -43,6 +43,7 @@ struct SegmentEpisodeResult {
 
   [[nodiscard]] const MethodOutcome& outcome() const { return evaluation.outcomes.front(); }
   /// What happened, in a few lines for a person (what the CLI prints).
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>
@@ -54,13 +55,12 @@ struct SegmentEpisodeResult {
     v(oc.status, {"status", "ok, no touch, no ground truth or failed"});
     v(oc.message, {"message", "Why, when not ok"});
     v(oc.scored_frame, {"scored_frame", "The frame scored (-1: none)"});
-    v(e.first_touch_frame ? core::Json(*e.first_touch_frame) : core::Json(nullptr),
-      {"first_touch_frame", "The first touch (null: none)"});
+    v(core::or_null(e.first_touch_frame), {"first_touch_frame", "The first touch (null: none)"});
     v(e.background, {"background", "static, moving or unknown"});
     v(e.object, {"object", "The target's name"});
     v(oc.seconds, {"seconds", "The method's time"});
     v(self.options, {"options", "The evaluation options"});
-    v(oc.status == "ok" ? metrics_json(oc.metrics) : core::Json(nullptr),
+    v(core::or_null(oc.status == "ok" ? std::optional<MaskMetrics>(oc.metrics) : std::nullopt),
       {"metrics", "The mask's scores at the scored frame (null unless ok)"});
     v(self.files, {"files", "Images written"});
   }

@@ -7,10 +7,12 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/eval/mask_metrics.hpp"
@@ -48,6 +50,22 @@ struct EvalOptions {
   int bootstrap_resamples = 2000;
   std::uint64_t seed = 1;  ///< of the bootstrap
   void validate() const;   ///< throws Error naming the bad field
+
+  /// The options as segment.json and summary.json record them ("options"). Output only: the
+  /// commands bind the methods' options from their own descriptions (MlOptions, FmOptions).
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.ml.mask_fraction, {"mask_fraction", "M-L mask fraction"});
+    v(self.ml.depth_mask_fraction, {"depth_mask_fraction", "ml-depth's mask fraction"});
+    v(self.fm.difference_threshold, {"difference_threshold", "Baseline's threshold"});
+    v.choice(self.fm.touch, {"fm_touch", "Baseline's touch frame"},
+             segmentation::kTouchSourceNames);
+    v(self.ml_graph_cut.unary_weight, {"ml_graphcut_unary_weight", "ml-graphcut's unary weight"});
+    v(self.ml_graph_cut.graph_cut.smoothness, {"graph_cut_smoothness", "Graph cut smoothness"});
+    v(self.ml_graph_cut.graph_cut.max_side, {"graph_cut_max_side", "Graph cut's largest side"});
+    v(self.fraction_sweep, {"fraction_sweep", "Mask fractions of the P-R curves"});
+    v(self.threshold_sweep, {"threshold_sweep", "Thresholds of the baseline's P-R curve"});
+  }
 };
 
 /// One method on one episode.
@@ -106,6 +124,55 @@ struct GroupSummary {
   int pr_best = -1;
   double mean_seconds = 0.0;
   std::vector<double> jaccards;  ///< per scored episode (for KS)
+
+  /// A point of the P-R curve.
+  struct PrPoint {
+    double value = 0, precision = 0, recall = 0;
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      v(self.value, {"value", "The free parameter"});
+      v(self.precision, {"precision", "Mean precision"});
+      v(self.recall, {"recall", "Mean recall"});
+    }
+  };
+  /// The P-R curve as records write it: values, precision, recall, best (null: none).
+  struct PrCurve {
+    const GroupSummary* g;
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      v(self.g->sweep_values, {"values", "The free parameter's values"});
+      v(self.g->pr_precision, {"precision", "Mean precision at each"});
+      v(self.g->pr_recall, {"recall", "Mean recall at each"});
+      v(core::or_null(self.g->best_point()), {"best", "The point nearest (1, 1) (null: none)"});
+    }
+  };
+  [[nodiscard]] std::optional<PrPoint> best_point() const {
+    if (pr_best < 0) return std::nullopt;
+    const auto b = static_cast<std::size_t>(pr_best);
+    return PrPoint{sweep_values[b], pr_precision[b], pr_recall[b]};
+  }
+
+  /// Output only: summary.json's record of a group.
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.episodes, {"episodes", "Episodes scored"});
+    v(self.no_touch, {"no_touch", "Episodes without a touch"});
+    v(self.no_ground_truth, {"no_ground_truth", "Episodes without ground truth"});
+    v(self.failed, {"failed", "Episodes the method failed on"});
+    v(self.mean_jaccard, {"mean_jaccard", "Mean Jaccard"});
+    v(self.std_jaccard, {"std_jaccard", "Its standard deviation"});
+    v(self.jaccard_ci95.bounds(), {"mean_jaccard_ci95", "95% bootstrap interval of the mean"});
+    v(self.mean_tanimoto, {"mean_tanimoto", "Mean Tanimoto distance"});
+    v(self.mean_precision, {"mean_precision", "Mean precision"});
+    v(self.mean_recall, {"mean_recall", "Mean recall"});
+    v(self.mean_l2, {"mean_l2", "Mean L2"});
+    v(self.std_l2, {"std_l2", "Its standard deviation"});
+    v(self.mean_seconds, {"mean_seconds", "Mean time"});
+    v(core::or_null(self.mean_jaccard_all_frames),
+      {"mean_jaccard_all_frames", "Mean Jaccard over every frame from the touch (null: none)"});
+    v(self.all_frames_episodes, {"all_frames_episodes", "Episodes in that mean"});
+    v(PrCurve{&self}, {"pr", "The P-R curve"});
+  }
 };
 
 /// Matches every episode in summarise's filters.
@@ -119,17 +186,58 @@ GroupSummary summarise(const std::vector<EpisodeEvaluation>& episodes, std::size
                        const std::string& object = kAnyGroup,
                        const std::string& scenario = kAnyGroup);
 
-/// The dataset's JSON summary (without the result-document header):
-/// {"methods": {"ml": {"static": {...}, "moving": {...}, "all": {...}, "by_object": {...},
-/// "by_scenario": {...}}, ...}, "ks": {"ml_vs_fm": {"statistic", "p_value", "static": {...},
-/// "moving": {...}}, ...}, "episodes": N}. KS on the per-episode Jaccard indices.
-core::Json dataset_summary_json(const std::vector<EpisodeEvaluation>& episodes,
-                                const std::vector<Method>& methods, const EvalOptions& options);
+/// One method's summaries: by background, over all episodes, by object and by scenario.
+struct MethodSummary {
+  std::string parameter;  ///< free_parameter(method)
+  GroupSummary static_background, moving_background, all;
+  std::map<std::string, GroupSummary> by_object, by_scenario;  ///< "(none)" for none
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.parameter, {"parameter", "The free parameter of the P-R curve"});
+    v(self.static_background, {"static", "Episodes with a static background"});
+    v(self.moving_background, {"moving", "Episodes with a moving background"});
+    v(self.all, {"all", "Every episode"});
+    v(self.by_object, {"by_object", "By target object"});
+    v(self.by_scenario, {"by_scenario", "By scenario"});
+  }
+};
 
-/// The options as segment.json and summary.json record them ("options").
-core::Json options_json(const EvalOptions& options);
-/// A mask's scores as segment.json records them ("metrics"), the Tanimoto distance included.
-core::Json metrics_json(const MaskMetrics& metrics);
+/// KS between two methods' per-episode Jaccard indices: over all episodes (flat), and by
+/// background.
+struct KsComparison {
+  KsResult all, static_background, moving_background;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    KsResult::describe(self.all, v);
+    v(std::string("jaccard"), {"metric", "The metric compared"});
+    v(self.static_background, {"static", "Static backgrounds"});
+    v(self.moving_background, {"moving", "Moving backgrounds"});
+  }
+};
+
+/// The dataset's summary (summary.json's members after the header): {"methods": {"ml":
+/// {"static", "moving", "all", "by_object", "by_scenario"}, ...}, "ks": {"ml_vs_fm": {...}, ...},
+/// "episodes": N}. KS on the per-episode Jaccard indices.
+struct DatasetSummary {
+  std::map<std::string, MethodSummary> methods;  ///< by method name
+  std::map<std::string, KsComparison> ks;        ///< "a_vs_b" for each pair in order
+  std::size_t episodes = 0;
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.methods, {"methods", "Each method's summaries"});
+    v(self.ks, {"ks", "KS tests between the methods"});
+    v(self.episodes, {"episodes", "Episodes in the dataset"});
+  }
+};
+
+DatasetSummary dataset_summary(const std::vector<EpisodeEvaluation>& episodes,
+                               const std::vector<Method>& methods, const EvalOptions& options);
+/// dataset_summary as JSON (its description's).
+inline core::Json dataset_summary_json(const std::vector<EpisodeEvaluation>& episodes,
+                                       const std::vector<Method>& methods,
+                                       const EvalOptions& options) {
+  return core::fields_to_json(dataset_summary(episodes, methods, options));
+}
 
 /// One CSV row per episode and method.
 std::string episodes_csv(const std::vector<EpisodeEvaluation>& episodes);

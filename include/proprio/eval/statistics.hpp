@@ -16,6 +16,15 @@ struct KsResult {
   double p_value = 1.0;    ///< two-sided
   bool exact = false;      ///< exact (lattice paths) or asymptotic (Kolmogorov distribution)
   int n1 = 0, n2 = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.statistic, {"statistic", "D = sup |F1 - F2|"});
+    v(self.p_value, {"p_value", "Two-sided"});
+    v(self.exact, {"exact", "Exact or asymptotic p-value"});
+    v(self.n1, {"n1", "First sample's size"});
+    v(self.n2, {"n2", "Second sample's size"});
+  }
 };
 
 /// Two-sided two-sample KS test, as scipy.stats.ks_2samp(method="auto"): the exact p-value by
@@ -30,6 +39,8 @@ double kolmogorov_sf(double x);
 
 struct Interval {
   double lower = 0.0, upper = 0.0;
+  /// [lower, upper], as records write an interval.
+  [[nodiscard]] std::vector<double> bounds() const { return {lower, upper}; }
 };
 
 /// Percentile bootstrap interval of the mean of `values` at `level` (e.g. 0.95), from

@@ -67,6 +67,7 @@ struct VocabularyInfo {
   /// The record (format "proprio.vocab.info"): the fields described below.
   core::Json document;
 
+  std::string message;  ///< one line: what happened (brief()'s first line)
   /// "FILE: K words of D values, written WHEN by proprio VERSION\n  COMMAND LINE".
   [[nodiscard]] std::string brief() const;
 

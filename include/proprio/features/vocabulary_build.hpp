@@ -63,6 +63,7 @@ struct VocabularyBuildResult {
   /// the fields described below.
   core::Json document;
 
+  std::string message;  ///< one line: what happened (brief()'s first line)
   /// One line for a person (what the CLI prints).
   [[nodiscard]] std::string brief() const;
 

@@ -8,13 +8,14 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
-#include "proprio/core/json_members.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/geometry/backprojection.hpp"
 #include "proprio/geometry/camera.hpp"
 #include "proprio/geometry/dlt.hpp"
 #include "proprio/geometry/stereo_check.hpp"
+#include "proprio/geometry/triangulation.hpp"
 #include "proprio/geometry/uncertainty_map.hpp"
 
 namespace proprio::geometry {
@@ -23,35 +24,82 @@ namespace proprio::geometry {
 std::string describe_camera(const std::string& name, const Camera& camera);
 
 /// The records of the calib commands (their `document`, after the provenance). A record that
-/// carries a library type's JSON (to_json of a DLT fit, a triangulation summary, an uncertainty
-/// map, a stereo check) takes over its keys.
-// NOLINTNEXTLINE(bugprone-exception-escape)
+/// carries a library type (a DLT fit, a triangulation summary, an uncertainty map, a stereo
+/// check) lists that type's described fields flat among its own.
 struct CalibDltRecord {
   std::filesystem::path points_file;
   std::filesystem::path calib;  ///< the calibration written
-  core::Json fit;               ///< to_json(DltResult)
-  core::Json camera;            ///< to_json(Camera)
+  DltResult fit;
+  Camera camera;  ///< as written (with the image size given)
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.points_file, {"points_file", "The correspondences"});
     v(self.calib, {"calib", "The calibration written"});
-    core::describe_json_members(self.fit, v);
+    DltResult::describe(self.fit, v);
     v(self.camera, {"camera", "The camera"});
   }
 };
 
-// NOLINTNEXTLINE(bugprone-exception-escape)
 struct CalibTriangulateRecord {
   std::filesystem::path points_file;
   std::filesystem::path out;
   bool distorted_input = false;
-  core::Json summary;  ///< to_json(TriangulationSummary)
+  BatchTriangulationSummary summary;
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.points_file, {"points_file", "The pixel pairs"});
     v(self.out, {"out", "The points written"});
     v(self.distorted_input, {"distorted_input", "Whether the pixels were undistorted first"});
-    core::describe_json_members(self.summary, v);
+    BatchTriangulationSummary::describe(self.summary, v);
+  }
+};
+
+/// An uncertainty map as `calib uncertainty` records it: the slice, ranges, grid and noise, and
+/// the summary with its sigmas in the legend's unit (multiplied by `unit_scale`).
+struct UncertaintyMapRecord {
+  const UncertaintyMap* map = nullptr;
+  double unit_scale = 1.0;
+  std::string unit;
+
+  struct Slice {
+    std::string axis;
+    double at = 0;
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      v(self.axis, {"axis", "x, y or z: the axis normal to the slice"});
+      v(self.at, {"at", "Its value there"});
+    }
+  };
+  struct Summary {
+    const UncertaintyMapSummary* s;
+    double f;
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      const UncertaintyMapSummary& s = *self.s;
+      v(s.cells, {"cells", "Grid cells"});
+      v(s.valid_cells, {"valid_cells", "Cells seen by both cameras"});
+      v(s.behind_camera, {"behind_camera", "Cells behind either camera"});
+      v(s.outside_image, {"outside_image", "Cells outside an image"});
+      v(s.unobservable, {"unobservable", "Cells on the baseline"});
+      v(s.min_sigma * self.f, {"min_sigma", "Least sigma, legend unit"});
+      v(s.median_sigma * self.f, {"median_sigma", "Median sigma, legend unit"});
+      v(s.max_sigma * self.f, {"max_sigma", "Largest sigma, legend unit"});
+      v(core::vector_values(s.best_point), {"best_point", "The cell centre with min_sigma"});
+    }
+  };
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    static const char* const kAxes[3] = {"x", "y", "z"};
+    const UncertaintyMapOptions& o = self.map->options;
+    v(Slice{kAxes[o.slice_axis], o.slice_at}, {"slice", "The slice"});
+    v(std::vector<double>{o.range_a(0), o.range_a(1)}, {"range_a", "First in-slice axis"});
+    v(std::vector<double>{o.range_b(0), o.range_b(1)}, {"range_b", "Second in-slice axis"});
+    v(std::vector<int>{o.cells_a, o.cells_b}, {"cells", "Grid cells per axis"});
+    v(o.sigma_px, {"sigma_px", "Pixel noise std, px"});
+    v(self.unit, {"unit", "The legend's unit"});
+    v(self.unit_scale, {"unit_scale", "Legend units per world unit"});
+    v(Summary{&self.map->summary, self.unit_scale}, {"summary", "The map's summary"});
   }
 };
 
@@ -84,29 +132,27 @@ struct CalibBackprojectRecord {
   }
 };
 
-// NOLINTNEXTLINE(bugprone-exception-escape)
 struct CalibUncertaintyRecord {
   std::filesystem::path calib1;
   std::filesystem::path calib2;
   std::filesystem::path out;
-  core::Json map;  ///< to_json(UncertaintyMap, ...)
+  UncertaintyMapRecord map;
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.calib1, {"calib1", "The first camera"});
     v(self.calib2, {"calib2", "The second camera"});
     v(self.out, {"out", "The image written"});
-    core::describe_json_members(self.map, v);
+    UncertaintyMapRecord::describe(self.map, v);
   }
 };
 
-// NOLINTNEXTLINE(bugprone-exception-escape)
 struct CalibStereoRecord {
   std::filesystem::path images;
   std::vector<int> board;  ///< inner corners: width, height
   double square_size = 1.0;
   bool refined = false;
   std::filesystem::path out;
-  core::Json check;  ///< to_json(StereoCheckResult)
+  StereoCheckResult check;
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.images, {"images", "The stereo sequence"});
@@ -114,7 +160,7 @@ struct CalibStereoRecord {
     v(self.square_size, {"square_size", "Side of a square"});
     v(self.refined, {"refined", "Whether triangulation was refined"});
     v(self.out, {"out", "The directory written"});
-    core::describe_json_members(self.check, v);
+    StereoCheckResult::describe(self.check, v);
   }
 };
 

@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/provenance.hpp"
 
 namespace proprio::geometry {
@@ -35,6 +36,20 @@ struct Camera {
   /// Depth of world point X along the optical axis (metres; negative behind the camera).
   [[nodiscard]] double depth(const Eigen::Vector3d& X) const;
   [[nodiscard]] bool has_distortion() const;
+
+  /// Output only: K, dist, R, t, P, centre and the image size (matrices as arrays of rows;
+  /// docs/formats/schemas/calib_*.schema.json).
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(core::matrix_rows(self.K), {"K", "Intrinsics, pixels"});
+    v(self.dist, {"dist", "Lens distortion, OpenCV's order"});
+    v(core::matrix_rows(self.R), {"R", "Rotation, world to camera"});
+    v(core::vector_values(self.t), {"t", "Translation, world to camera"});
+    v(core::matrix_rows(self.P()), {"P", "K [R | t] (eq 3.7)"});
+    v(core::vector_values(self.center()), {"centre", "Camera centre, world frame"});
+    v(self.width, {"image_width", "Image width, px (0: unknown)"});
+    v(self.height, {"image_height", "Image height, px (0: unknown)"});
+  }
 };
 
 /// Pixel of homogeneous projection P X (pi_3 of eq 3.21).

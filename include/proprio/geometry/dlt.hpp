@@ -41,6 +41,7 @@ struct DltSummary {
   /// outliers or mismatched pairs).
   int points_behind = 0;
   double max_residual_px = 0.0;
+  std::string message;                      ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;  ///< one line for logs
 };
 
@@ -53,6 +54,30 @@ struct DltResult {
   double rms_px = 0.0;
   std::vector<double> residuals_px;  ///< |x_i - pi(P X_i)| per point, pixels
   DltSummary summary;
+
+  /// How well conditioned the fit was (the record's "summary").
+  struct Conditioning {
+    const DltSummary* s;
+    template <class Self, class Visitor>
+    static void describe(Self& self, Visitor& v) {
+      v(self.s->normalized, {"normalized", "Hartley normalisation used"});
+      v(self.s->sigma11_ratio, {"sigma11_ratio", "11th singular value / the 1st"});
+      v(self.s->sigma12_ratio, {"sigma12_ratio", "12th singular value / the 1st"});
+      v(self.s->points_behind, {"points_behind", "World points behind the camera"});
+    }
+  };
+
+  /// Output only: rms_px, points, max_residual_px, residuals_px, P, camera, summary.
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.rms_px, {"rms_px", "Reprojection RMS, px"});
+    v(self.summary.num_points, {"points", "Correspondences"});
+    v(self.summary.max_residual_px, {"max_residual_px", "Largest residual, px"});
+    v(self.residuals_px, {"residuals_px", "Residual per point, px"});
+    v(core::matrix_rows(self.P), {"P", "The projection matrix"});
+    v(self.camera, {"camera", "P decomposed into K [R | t]"});
+    v(Conditioning{&self.summary}, {"summary", "The fit's conditioning"});
+  }
 };
 
 /// Estimates P from world points X_i (any consistent unit) and their ideal (undistorted) pixels

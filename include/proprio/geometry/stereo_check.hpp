@@ -40,6 +40,18 @@ struct StereoPairReport {
   double planarity_rms = 0.0;
   /// Mean distance between neighbouring corners (rows and columns), in squares (ideal 1).
   double neighbour_mean = 0.0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.id, {"id", "The NN of the file names"});
+    v(self.left, {"left", "The left image"});
+    v(self.right, {"right", "The right image"});
+    v(self.found_left, {"found_left", "Board found in the left image"});
+    v(self.found_right, {"found_right", "Board found in the right image"});
+    v(self.corners, {"corners", "Corners triangulated"});
+    v(self.planarity_rms, {"planarity_rms", "RMS distance to the board's plane, squares"});
+    v(self.neighbour_mean, {"neighbour_mean", "Mean neighbouring-corner distance, squares"});
+  }
 };
 
 /// One triangulated corner.
@@ -71,7 +83,28 @@ struct StereoCheckSummary {
   /// Mean neighbouring-corner distance over all boards, in squares, and |that - 1|.
   double neighbour_mean = 0.0;
   double neighbour_error = 0.0;
+  std::string message;                      ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;  ///< a few lines for the CLI
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.pairs_found, {"pairs_found", "Image pairs in the folder"});
+    v(self.pairs_used, {"pairs_used", "Pairs with the board in both images"});
+    v(self.corners, {"corners", "Corners triangulated"});
+    v(std::vector<int>{self.image_size.width, self.image_size.height},
+      {"image_size", "Width, height, px"});
+    v(self.rms_left_px, {"rms_left_px", "calibrateCamera's RMS, left, px"});
+    v(self.rms_right_px, {"rms_right_px", "calibrateCamera's RMS, right, px"});
+    v(self.stereo_rms_px, {"stereo_rms_px", "stereoCalibrate's RMS, px"});
+    v(self.baseline, {"baseline", "|t| of the right camera"});
+    v(self.triangulation_rms_px, {"triangulation_rms_px", "Our corners' reprojection RMS, px"});
+    v(self.max_diff_opencv, {"max_diff_opencv", "Largest difference from OpenCV's points"});
+    v(self.mean_diff_opencv, {"mean_diff_opencv", "Mean difference from OpenCV's points"});
+    v(self.planarity_rms, {"planarity_rms", "RMS distance to the boards' planes, squares"});
+    v(self.planarity_worst, {"planarity_worst", "The worst board's, squares"});
+    v(self.neighbour_mean, {"neighbour_mean", "Mean neighbouring-corner distance, squares"});
+    v(self.neighbour_error, {"neighbour_error", "|neighbour_mean - 1|"});
+  }
 };
 
 struct StereoCheckResult {
@@ -80,6 +113,15 @@ struct StereoCheckResult {
   std::vector<StereoPairReport> pairs;
   std::vector<StereoCorner> corners;
   StereoCheckSummary summary;
+
+  /// Output only: the summary's figures (flat), the cameras and the pairs (not the corners).
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    StereoCheckSummary::describe(self.summary, v);
+    v(self.left, {"left", "The left camera"});
+    v(self.right, {"right", "The right camera, relative to the left"});
+    v(self.pairs, {"per_pair", "Each pair"});
+  }
 };
 
 /// Where opencv-doc's sample images are (PROPRIO_OPENCV_SAMPLES at build time), the default

@@ -75,7 +75,19 @@ struct BatchTriangulationSummary {
   double linear_rms_px = 0.0;  ///< RMS over all points and both views, linear solutions
   double final_rms_px = 0.0;   ///< the same for the returned points
   double max_rms_px = 0.0;     ///< worst point's rms_px
+  std::string message;         ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;  ///< one line for logs
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.num_points, {"points", "Points triangulated"});
+    v(self.refined, {"refined", "Refined by Levenberg-Marquardt"});
+    v(self.total_iterations, {"iterations", "Refinement iterations, summed"});
+    v(self.not_converged, {"not_converged", "Points whose refinement did not converge"});
+    v(self.linear_rms_px, {"linear_rms_px", "RMS of the linear solutions, px"});
+    v(self.final_rms_px, {"rms_px", "RMS of the points returned, px"});
+    v(self.max_rms_px, {"max_rms_px", "Worst point's RMS, px"});
+  }
 };
 
 struct BatchTriangulation {

@@ -443,6 +443,7 @@ struct LearnResult {
   /// The run's HTML page (loop/learn_report.hpp), written last by the simulated run; empty
   /// after the robot-only run (it has no held-out views to show).
   std::filesystem::path report;
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

@@ -92,6 +92,7 @@ struct LearnReportResult {
   /// format "proprio.learn_report" (docs/formats/schemas/learn_report.schema.json): provenance,
   /// options and summary; also written as the image directory's summary.json.
   core::Json document;
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

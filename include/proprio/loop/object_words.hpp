@@ -79,6 +79,8 @@ struct TopDownResult {
   int features = 0;        ///< descriptors in the region
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< their mean position, px
   std::string message;
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 /// One object's words, their counts N, and the Dirichlet of its frames' word distributions.

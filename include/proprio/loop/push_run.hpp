@@ -451,6 +451,7 @@ struct PushEvaluationResult {
   double seconds = 0;
   std::vector<PushEvaluationTable> pushes;  ///< one per table
   core::Json document;                      ///< format "proprio.push.evaluation"
+  std::string message;                      ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

@@ -25,6 +25,7 @@ struct SelfSupervisionResult {
   std::filesystem::path model_file;           ///< out/model.mot, or empty when no class was learned
   std::filesystem::path decisions;            ///< out/decisions.jsonl
   core::Json document;                        ///< format "proprio.selfsupervise"
+  std::string message;                        ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

@@ -201,6 +201,7 @@ struct InterceptionRunResult {
   /// Format "proprio.intercept": the fields described below.
   core::Json document;
 
+  std::string message;  ///< one line: what happened (brief()'s first line)
   /// The setup line, the summary line and one line per trial not executed.
   [[nodiscard]] std::string brief() const;
 
@@ -253,6 +254,7 @@ struct InterceptionSweepResult {
   std::vector<SweepRow> rows;                           ///< per target model, noise and re-planning
   std::vector<NoiseChoiceRecord> interception_choices;  ///< the Fig 3-11 choices
 
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

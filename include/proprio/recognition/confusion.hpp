@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 
 namespace proprio::recognition {
@@ -28,8 +29,23 @@ struct ConfusionMatrix {
   [[nodiscard]] double mean_class_accuracy() const;
   /// A text table (counts; with `percent`, each row in percent of its class, as Tables 6.4-7.2).
   [[nodiscard]] std::string format(bool percent = false) const;
-  /// {"rows", "columns", "counts", "unclassified", "accuracy", "mean_class_accuracy"}.
-  [[nodiscard]] core::Json to_json() const;
+  /// {"rows", "columns", "counts", "unclassified", "accuracy", "mean_class_accuracy"}: its
+  /// description's JSON.
+  [[nodiscard]] core::Json to_json() const { return core::fields_to_json(*this); }
+
+  /// Output only (accuracy and mean_class_accuracy are derived). A record that holds a matrix
+  /// lists these fields flat (`ConfusionMatrix::describe(self.classes, v)`) or as a member.
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.rows, {"rows", "True classes"});
+    v(self.columns, {"columns", "Predicted labels (classes, or topics z_1..z_K)"});
+    v(self.counts, {"counts", "counts[r][c]: documents of class r predicted as c"});
+    v(self.unclassified, {"unclassified", "Documents of each class with no prediction"});
+    v(self.accuracy(), {"accuracy", "The diagonal's share of every document"});
+    v(self.mean_class_accuracy(), {"mean_class_accuracy",
+                                   "Mean over the classes of each's "
+                                   "share classified right"});
+  }
 };
 
 /// Counts (truth[i], predicted[i]) pairs. truth in [0, rows); predicted in [0, columns) or -1

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "proprio/core/json_io.hpp"
-#include "proprio/core/json_members.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/recognition/experiments.hpp"
 
@@ -38,7 +37,7 @@ struct KmeansRecord {
 /// One run of the dictionary / batch-online experiment: its evaluation's record and its set-up.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct SetRunRecord {
-  core::Json evaluation;  ///< evaluation_to_json: its keys are the run's
+  Evaluation evaluation;  ///< its fields are the run's
   std::string name;
   std::string set;
   std::string dictionary;
@@ -50,7 +49,7 @@ struct SetRunRecord {
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    core::describe_json_members(self.evaluation, v);
+    Evaluation::describe(self.evaluation, v);
     v(self.name, {"name", "The run (thesis's name)"});
     v(self.set, {"set", "The image set, A or B"});
     v(self.dictionary, {"dictionary", "specific or wide"});
@@ -93,14 +92,14 @@ struct SetExperimentRecord {
 /// A scatter run's supervised Mixture of Topics: its confusion matrix's record and its fit.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ScatterMotRecord {
-  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  ConfusionMatrix classes;  ///< its fields are this record's
   std::string summary;
   double smoothing = 0;
   std::vector<MotObjectRecord> objects;  ///< without their mean theta
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    core::describe_json_members(self.classes, v);
+    ConfusionMatrix::describe(self.classes, v);
     v(self.summary, {"summary", "The fit's summary"});
     v(self.smoothing, {"smoothing", "The theta smoothing"});
     v(self.objects, {"objects", "The objects"});
@@ -110,14 +109,14 @@ struct ScatterMotRecord {
 /// A scatter run's unsupervised Mixture of Topics.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ScatterUnsupervisedRecord {
-  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  ConfusionMatrix classes;  ///< its fields are this record's
   int chosen_classes = 0;
   std::vector<int> object_class;
   std::vector<int> chosen_classes_per_object;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    core::describe_json_members(self.classes, v);
+    ConfusionMatrix::describe(self.classes, v);
     v(self.chosen_classes, {"chosen_classes", "The number of objects BIC would choose"});
     v(self.object_class, {"object_class", "The class each learned object is named after"});
     v(self.chosen_classes_per_object, {"chosen_classes_per_object", "BIC's choice per object"});
@@ -127,7 +126,7 @@ struct ScatterUnsupervisedRecord {
 /// A point of a scatter run's smoothing grid.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ScatterGridRecord {
-  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  ConfusionMatrix classes;  ///< its fields are this record's
   ThetaSource theta = ThetaSource::kEStep;
   double smoothing = 0;
   std::string prior;
@@ -135,7 +134,7 @@ struct ScatterGridRecord {
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    core::describe_json_members(self.classes, v);
+    ConfusionMatrix::describe(self.classes, v);
     v.choice(self.theta, {"theta", "Where theta comes from"}, kThetaSourceNames);
     v(self.smoothing, {"smoothing", "The theta smoothing"});
     v(self.prior, {"prior", "uniform or views"});
@@ -159,7 +158,7 @@ struct ScatterCeilingRecord {
 /// One K of the scatter experiment.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ScatterRunRecord {
-  core::Json evaluation;  ///< evaluation_to_json: its keys are the run's
+  Evaluation evaluation;  ///< its fields are the run's
   int topics_k = 0;
   std::int64_t updates = 0;
   double train_seconds = 0;
@@ -170,7 +169,7 @@ struct ScatterRunRecord {
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    core::describe_json_members(self.evaluation, v);
+    Evaluation::describe(self.evaluation, v);
     v(self.topics_k, {"topics_k", "Topics K"});
     v(self.updates, {"updates", "Online LDA's mini-batch updates"});
     v(self.train_seconds, {"train_seconds", "LDA training time"});

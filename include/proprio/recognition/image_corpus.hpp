@@ -64,6 +64,14 @@ struct Evaluation {
   TopicMapping mapping;     ///< from the labelled mapping documents only
   ConfusionMatrix topics;   ///< classes x topics z_1..z_K (argmax theta)
   ConfusionMatrix classes;  ///< classes x classes, topics merged by the mapping (7.3.1)
+
+  /// Output only: {"mapping": {"topic_class", "mean_theta"}, "topics", "classes"}.
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.mapping, {"mapping", "Topics named after classes by the labelled views"});
+    v(self.topics, {"topics", "Classes x topics (argmax theta)"});
+    v(self.classes, {"classes", "Classes x classes, topics merged by the mapping"});
+  }
 };
 
 /// Infers theta of the mapping documents (labelled: training views) and maps the topics to their
@@ -72,7 +80,8 @@ struct Evaluation {
 Evaluation evaluate_model(const topics::LdaModel& model, const LabelledCorpus& mapping_documents,
                           const LabelledCorpus& test, const topics::InferenceOptions& options = {});
 
-/// Evaluation as JSON: {"mapping": {"topic_class", "mean_theta"}, "topics", "classes"}.
-core::Json evaluation_to_json(const Evaluation& e);
+/// Evaluation as JSON (its description's): {"mapping": {"topic_class", "mean_theta"}, "topics",
+/// "classes"}.
+inline core::Json evaluation_to_json(const Evaluation& e) { return core::fields_to_json(e); }
 
 }  // namespace proprio::recognition

@@ -297,6 +297,7 @@ struct MotTrainResult {
   int documents = 0;        ///< views made
   int empty_documents = 0;  ///< of which without features (left out)
   core::Json document;      ///< format "proprio.mot.train" (mot_train.schema.json): describe()
+  std::string message;      ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>
@@ -341,6 +342,7 @@ struct MotClassifyResult {
   int documents = 0;
   int empty_documents = 0;
   core::Json document;  ///< format "proprio.mot.classify" (mot_classify.schema.json): describe()
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>
@@ -350,7 +352,7 @@ struct MotClassifyResult {
     v(self.out, {"out", "The CSV written"});
     v(self.documents, {"documents", "Views made"});
     v(self.empty_documents, {"empty_documents", "Views without features, unclassified"});
-    v(self.confusion.to_json(), {"confusion", "Truth classes x the model's objects"});
+    v(self.confusion, {"confusion", "Truth classes x the model's objects"});
   }
 };
 
@@ -384,6 +386,7 @@ struct MotUpdateResult {
   int documents = 0;        ///< new views made
   int empty_documents = 0;  ///< of which without features (skipped)
   core::Json document;      ///< format "proprio.mot.update" (mot_update.schema.json): describe()
+  std::string message;      ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

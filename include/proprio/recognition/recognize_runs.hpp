@@ -132,10 +132,10 @@ struct RecognizeClassifyResult {
   std::optional<std::filesystem::path> images;
   std::int64_t documents = 0;
   std::int64_t empty_documents = 0;
-  std::optional<core::Json> topics;   ///< ConfusionMatrix::to_json by topic
-  std::optional<core::Json> mapping;  ///< episodes with map_with: the topic -> class mapping
-  std::optional<core::Json> classes;  ///< episodes with map_with: topics merged into classes
-  std::optional<core::Json> mapped;   ///< images with map_with: evaluation_to_json
+  std::optional<ConfusionMatrix> topics;   ///< by topic
+  std::optional<TopicMapping> mapping;     ///< episodes with map_with: the topic -> class mapping
+  std::optional<ConfusionMatrix> classes;  ///< episodes with map_with: topics merged into classes
+  std::optional<Evaluation> mapped;        ///< images with map_with
   std::optional<std::filesystem::path> out;
   core::Json document;  ///< format "proprio.recognize.classify": the fields described below
 

@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
+
 namespace proprio::recognition {
 
 struct TopicMapping {
@@ -17,6 +19,13 @@ struct TopicMapping {
   std::vector<int> topic_class;
   /// Classes that no topic went to (they can never be predicted).
   std::vector<int> orphan_classes;
+
+  /// Output only: what an evaluation records of its mapping.
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.topic_class, {"topic_class", "The class of each topic"});
+    v(core::matrix_rows(self.mean_theta), {"mean_theta", "Classes x K: mean E[theta]"});
+  }
 };
 
 /// Maps the K topics to `num_classes` classes from the theta (D x K, rows E[theta_d]) of labelled

@@ -60,6 +60,8 @@ struct IkSummary {
   bool elbow_up = true;                   ///< which elbow the answer uses (analytic)
   bool pitch_met = false;                 ///< the answer has the requested pitch (to 1e-9 rad)
   std::string message;                    ///< how it stopped, in words
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 struct IkResult {

@@ -53,6 +53,8 @@ struct TrackSummary {
   double pitch_last = 0;       ///< and at the end
   int pitch_unmet = 0;         ///< samples where the requested pitch was not reachable
   std::string message;
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 struct TrackResult {

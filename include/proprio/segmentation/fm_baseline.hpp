@@ -22,6 +22,8 @@
 #include <optional>
 #include <string>
 
+#include "proprio/core/fields.hpp"
+
 #include "proprio/episode/episode.hpp"
 #include "proprio/segmentation/graph_cut.hpp"
 
@@ -30,6 +32,8 @@ namespace proprio::segmentation {
 /// Where the touch frame comes from.
 enum class TouchSource { kRobot, kDifferencing };
 [[nodiscard]] std::string to_string(TouchSource s);  ///< "robot" / "differencing"
+inline constexpr core::ChoiceNames<TouchSource, 2> kTouchSourceNames = {
+    {{"robot", TouchSource::kRobot}, {"differencing", TouchSource::kDifferencing}}};
 
 struct FmOptions {
   /// Difference threshold on 0-255 colour levels (thesis 5.1.1: 5). The free parameter of the
@@ -52,6 +56,17 @@ struct FmOptions {
   int touch_min_pixels = 40;
   /// Throws Error naming the bad field.
   void validate() const;
+
+  /// The options a command binds (`segment`, `evaluate segmentation`: --threshold, --touch).
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.difference_threshold,
+      {"difference_threshold", "Baseline's frame-difference threshold, 0-255 (thesis 5.1.1: 5)",
+       core::between(0.0, 254.0), nullptr, "threshold"});
+    v.choice(self.touch,
+             {"touch", "Baseline's touch frame: robot (its touching flag, as M-L) or differencing"},
+             kTouchSourceNames);
+  }
 };
 
 struct FmSummary {
@@ -67,6 +82,8 @@ struct FmSummary {
   GraphCutSummary cut;
   double seconds = 0.0;  ///< wall clock, frame decoding included
   std::string message;   ///< one line: what happened
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 struct FmResult {

@@ -60,6 +60,8 @@ struct GraphCutSummary {
   double seconds_build = 0.0;
   double seconds_flow = 0.0;
   std::string message;
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 struct GraphCutResult {

@@ -246,7 +246,7 @@ struct MlOptions {
   void validate() const;
 
   /// The options a tuning run may set, by name (the tuning tool reads "key=value" with these
-  /// names). Bounds are validate()'s.
+  /// names). Bounds are validate()'s (given here only where a command binds the field).
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v.choice(self.model, {"model", "Motion model of the regions (4.3)"}, kMotionModelNames);
@@ -255,8 +255,16 @@ struct MlOptions {
     v(self.region_count, {"region_count", "Superpixels per frame (SEEDS/SLIC)"});
     v(self.region_iterations, {"region_iterations", "Over-segmentation iterations"});
     v(self.lambda, {"lambda", "Sigma = lambda I of the error density, px^2 (4.4.2)"});
-    v(self.mask_fraction, {"mask_fraction", "Mask = map >= fraction x max (5.1.1)"});
-    v(self.depth_mask_fraction, {"depth_mask_fraction", "The depth variant's mask fraction"});
+    // Flags of `segment` and `evaluate segmentation`: --fraction, --depth-fraction.
+    v(self.mask_fraction, {"mask_fraction",
+                           "M-L mask = map >= fraction * max (thesis 5.1.1: 0.75); also "
+                           "ml-sparse's and ml-graphcut's",
+                           core::positive_at_most(1.0), nullptr, "fraction"});
+    v(self.depth_mask_fraction,
+      {"depth_mask_fraction",
+       "ml-depth's mask = map >= depth-fraction * max (0 = --fraction's; tuned on the tuning "
+       "recording, docs/results/segmentation-eval.md)",
+       core::between(0.0, 1.0), nullptr, "depth_fraction"});
     v(self.peak_area, {"peak_area", "Fraction of the frame that defines the map's peak"});
     v(self.kappa, {"kappa", "Prior ratio of the object and background hypotheses"});
     v(self.robust_bandwidth, {"robust_bandwidth", "Robust motion fit bandwidth, px"});
@@ -309,10 +317,12 @@ struct MlSummary {
   int camera_failures = 0;  ///< evidence intervals with no camera motion fit (not compensated)
   double mean_camera_motion = 0.0;  ///< mean camera motion over an interval, image centre, pixels
   std::string message;              ///< one line: what happened
-  double mean_ms_regions = 0.0;     ///< over-segmentation + tracking, per frame
-  double mean_ms_flow = 0.0;        ///< optical flow, per frame
-  double mean_ms_model = 0.0;       ///< motion model + likelihood + integration, per frame
-  double mean_ms_total = 0.0;       ///< all of it (disk I/O excluded), per frame
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
+  double mean_ms_regions = 0.0;  ///< over-segmentation + tracking, per frame
+  double mean_ms_flow = 0.0;     ///< optical flow, per frame
+  double mean_ms_model = 0.0;    ///< motion model + likelihood + integration, per frame
+  double mean_ms_total = 0.0;    ///< all of it (disk I/O excluded), per frame
 };
 
 struct MlResult {

@@ -34,6 +34,8 @@ struct SimCalibrationSummary {
   int not_detected = 0;  ///< skipped: marker not seen (hidden or outside the image)
   int used = 0;          ///< pairs given to the DLT
   std::string message;
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 struct SimCalibrationResult {

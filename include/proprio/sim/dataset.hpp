@@ -60,8 +60,8 @@ std::vector<DatasetEntry> dataset_design(const SimDatasetOptions& options);
 struct DatasetEpisode {
   std::string episode;   ///< directory name
   std::string scenario;  ///< RecordOptions::scenario
-  core::Json switches;   ///< RecordOptions::switches()
-  int frames = 0;        ///< frames recorded
+  RecordSwitches switches;
+  int frames = 0;  ///< frames recorded
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -83,6 +83,7 @@ struct SimDatasetResult {
   /// Format "proprio.sim.dataset" (sim_dataset.schema.json): the fields described below.
   core::Json document;
 
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
   /// Frames recorded per second of wall clock (0 when no time was measured).
   [[nodiscard]] double fps() const { return seconds > 0 ? frames / seconds : 0.0; }

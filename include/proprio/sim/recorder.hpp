@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/sim/object_catalogue.hpp"
@@ -29,6 +30,57 @@ namespace proprio::sim {
 /// equality constraint between the arm's last link and the object, switched on at the start,
 /// stands in for the grip, so the physics carries it; every frame counts as touching).
 std::vector<std::string> known_scenarios();
+
+/// What a recording records of its options (episode.json's provenance.switches, the records of
+/// `sim record` and `sim dataset`): the scene and the disturbances switched on.
+struct RecordSwitches {
+  std::string object;      ///< the target, or "(scene file)"
+  std::string background;  ///< "static" or "moving"
+  int distractors = 0;
+  int clutter = 0;
+  std::optional<std::vector<std::string>> scatter_objects;  ///< when given
+  std::optional<bool> scatter_in_view;                      ///< with scatter_objects
+  double push_speed = 0;
+  double approach = 0;
+  int width = 0;
+  int height = 0;
+  double fps = 0;
+  bool shadows = false;
+  bool reflections = false;
+  bool camera_shake = false;
+  bool lighting_change = false;
+  bool nudge_neighbour = false;
+  double noise = 0;
+  bool motion_blur = false;
+  bool stereo = false;
+  std::optional<double> stereo_baseline;  ///< with stereo (null without)
+  bool depth = false;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.object, {"object", "The target (catalogue name), or (scene file)"});
+    v(self.background, {"background", "static or moving"});
+    v(self.distractors, {"distractors", "Distractors sliding behind the target"});
+    v(self.clutter, {"clutter", "Other objects placed at random"});
+    v(self.scatter_objects, {"scatter_objects", "scatter: the scene's objects"});
+    v(self.scatter_in_view, {"scatter_in_view", "scatter: the walkers keep in view"});
+    v(self.push_speed, {"push_speed", "Mean speed of the push, m/s"});
+    v(self.approach, {"approach", "Pusher tip to the target's back face at the start, m"});
+    v(self.width, {"width", "Image width, px"});
+    v(self.height, {"height", "Image height, px"});
+    v(self.fps, {"fps", "Frame rate"});
+    v(self.shadows, {"shadows", "Shadows rendered"});
+    v(self.reflections, {"reflections", "Reflections rendered"});
+    v(self.camera_shake, {"camera_shake", "The camera trembles"});
+    v(self.lighting_change, {"lighting_change", "The main light jumps half-way"});
+    v(self.nudge_neighbour, {"nudge_neighbour", "A neighbour is shoved during the push"});
+    v(self.noise, {"noise", "Image noise std, grey levels"});
+    v(self.motion_blur, {"motion_blur", "Frames average 4 instants"});
+    v(self.stereo, {"stereo", "A stereo pair"});
+    v(core::or_null(self.stereo_baseline), {"stereo_baseline", "Camera centres apart, m"});
+    v(self.depth, {"depth", "Depth images"});
+  }
+};
 
 struct RecordOptions {
   std::string scenario = "push";
@@ -89,8 +141,8 @@ struct RecordOptions {
   void validate() const;
   /// The number of distractors in effect (see `distractors`).
   [[nodiscard]] int distractor_count() const;
-  /// The switches as a JSON object (episode.json's provenance.switches).
-  [[nodiscard]] core::Json switches() const;
+  /// The switches (episode.json's provenance.switches: core::fields_to_json of them).
+  [[nodiscard]] RecordSwitches switches() const;
 };
 
 /// The scene and the push that record_episode plays, computed from the options alone
@@ -165,6 +217,8 @@ struct RecordSummary {
     double finish = 0.0;       ///< episode.json, calib.yml, read-back check, rename
   } timing;
   std::string message;
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 /// Records one episode into `out` (atomically: nothing appears there unless the whole episode

@@ -21,7 +21,7 @@ namespace proprio::sim {
 struct SimRecordRecord {
   std::filesystem::path episode;
   std::string scenario;
-  core::Json switches;  ///< RecordOptions::switches()
+  RecordSwitches switches;
   RecordSummary summary;
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -31,7 +31,7 @@ struct SimRecordRecord {
     v(self.summary.frames, {"frames", "Frames recorded"});
     v(self.summary.seconds, {"seconds", "Wall clock"});
     v(self.summary.fps, {"fps", "Frames per second recorded"});
-    v(self.summary.first_touch_frame ? core::Json(*self.summary.first_touch_frame) : core::Json(),
+    v(core::or_null(self.summary.first_touch_frame),
       {"first_touch_frame", "The first frame the hand touches the target (null: none)"});
     v(self.summary.target_moved, {"target_moved_m", "How far the target moved, m"});
   }

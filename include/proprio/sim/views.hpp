@@ -32,6 +32,8 @@ struct ViewsOptions {
 struct ViewsSummary {
   int images = 0;
   std::string message;
+  /// What a person reads: the message.
+  [[nodiscard]] std::string brief() const { return message; }
 };
 
 /// Writes out/<object>/000000.png ... for every object (atomically: out appears only when

@@ -36,6 +36,7 @@ struct BatchLdaSummary {
   std::vector<double> bound;  ///< the variational bound after each iteration's E-step, nats
   double seconds = 0.0;
 
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

@@ -87,6 +87,7 @@ struct DirichletMixtureSummary {
   /// BIC = -2 L + p ln n, p = K T + K - 1, of each K tried (index K - 1; +inf when every start
   /// with K components was degenerate). One entry when the number was fixed.
   std::vector<double> bic;
+  std::string message;  ///< one line: what happened (brief()'s first line)
   /// "4 components (BIC among 1..10), EM converged after 23 iterations; 30 starts, 3 degenerate;
   /// log-likelihood ...".
   [[nodiscard]] std::string brief() const;
@@ -119,6 +120,7 @@ struct SharedPrecisionSummary {
   bool converged = false;
   double precision = 0;       ///< the shared s
   double log_likelihood = 0;  ///< summed over every class's samples, nats
+  std::string message;        ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 };
 

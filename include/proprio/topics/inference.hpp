@@ -28,6 +28,7 @@ struct InferenceSummary {
   std::int64_t capped = 0;           ///< documents that reached max_iterations before converging
   double seconds = 0.0;
 
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

@@ -88,7 +88,10 @@ struct LdaBatchRecord {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LdaTrainingResult {
   LdaModel model;
-  std::string brief;  ///< the training summary's line (and the held-out perplexity of batch)
+  /// The training summary's line (and the held-out perplexity of batch): what brief() returns.
+  std::string text;
+  std::string message;  ///< one line: what happened (the text's first line)
+  [[nodiscard]] std::string brief() const { return text; }
   std::filesystem::path corpus;
   LdaMethod method = LdaMethod::kOnline;
   std::filesystem::path model_file;  ///< where the model was written ("" when not)
@@ -184,6 +187,7 @@ struct LdaPerplexityResult {
   std::filesystem::path corpus;
   double alpha = 0.0;   ///< the model's prior on topic proportions
   core::Json document;  ///< format "proprio.lda.perplexity": the fields described below
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>

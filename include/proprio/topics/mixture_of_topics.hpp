@@ -192,6 +192,7 @@ struct MotFitSummary {
   /// The mixture's log-likelihood of the training views, sum_d log sum_c p(c) Dir(theta_d |
   /// omega_c), nats.
   double log_likelihood = 0;
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 };
 

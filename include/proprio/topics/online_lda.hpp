@@ -121,6 +121,7 @@ struct OnlineLdaSummary {
     if (trace.empty()) return std::nullopt;
     return trace.back().perplexity;
   }
+  std::string message;  ///< one line: what happened (brief()'s first line)
   [[nodiscard]] std::string brief() const;
 
   /// Output only: speeds and the held-out perplexity are derived.

@@ -1,8 +1,8 @@
-#include "thread_pool.hpp"
+#include "proprio/core/thread_pool.hpp"
 
 #include <cassert>
 
-namespace proprio::topics::detail {
+namespace proprio::core {
 
 ThreadPool::ThreadPool(int threads) {
   assert(threads >= 1);
@@ -67,4 +67,4 @@ void ThreadPool::run(std::size_t n, const std::function<void(std::size_t, int)>&
   fn_ = nullptr;
 }
 
-}  // namespace proprio::topics::detail
+}  // namespace proprio::core
