@@ -181,7 +181,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     if (!run.ceilings.empty()) {
       std::vector<ScatterCeilingRecord>& c = j.ceilings.emplace();
       for (const RepresentationCeiling& x : run.ceilings) {
-        c.push_back({x.classes.to_json(), x.name});
+        c.push_back({x.classes, x.name});
         out.report +=
             core::printf_string("%s: ceiling %s: mean class accuracy %.1f%%\n", title.c_str(),
                                 x.name.c_str(), 100 * x.classes.mean_class_accuracy());

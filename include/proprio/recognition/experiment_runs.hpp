@@ -145,12 +145,12 @@ struct ScatterGridRecord {
 /// A classifier that bounds what a representation allows (RepresentationCeiling).
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ScatterCeilingRecord {
-  core::Json classes;  ///< ConfusionMatrix::to_json: its keys are this record's
+  ConfusionMatrix classes;  ///< its fields are this record's
   std::string name;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    core::describe_json_members(self.classes, v);
+    ConfusionMatrix::describe(self.classes, v);
     v(self.name, {"name", "The classifier and representation"});
   }
 };
