@@ -8,6 +8,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <utility>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
@@ -36,6 +37,20 @@ constexpr int kScatterAttempts = 10;
 constexpr std::uint64_t kRescatterStream = 0x73636174746572ULL;  // core::stream_seed key
 
 double fraction(int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; }
+
+// The id with the most votes (the lowest among ties, as the map is ordered) and its votes;
+// {0, 0} when none.
+std::pair<int, int> most_voted(const std::map<int, int>& votes) {
+  int best = 0;
+  int best_n = 0;
+  for (const auto& [id, n] : votes) {
+    if (n > best_n) {
+      best = id;
+      best_n = n;
+    }
+  }
+  return {best, best_n};
+}
 
 constexpr std::uint64_t kLadderStream = 0x6c6164646572ULL;  // core::stream_seed key: a0_table
 constexpr int kLadderRenders = 24;                          // a0, a0_table: views per object
@@ -148,14 +163,7 @@ std::string GroundTruthAttendant::object_under(const planning::PutativeObject& b
     const int id = mask.at<std::uint16_t>(v, u);
     if (id != 0) ++votes[id];
   }
-  int best = 0;
-  int best_n = 0;
-  for (const auto& [id, n] : votes) {
-    if (n > best_n) {
-      best = id;
-      best_n = n;
-    }
-  }
+  const int best = most_voted(votes).first;
   for (const auto& o : robot_.ground_truth()) {
     if (o.id == best) return o.name;
   }
@@ -231,14 +239,7 @@ void GroundTruthAttendant::views_taken(const PushIntent& /*intent*/, int views,
       if (id != 0 && id != sim::kArmId) ++votes[id];
     }
   }
-  int best = 0;
-  int best_n = 0;
-  for (const auto& [id, n] : votes) {
-    if (n > best_n) {
-      best = id;
-      best_n = n;
-    }
-  }
+  const int best = most_voted(votes).first;
   for (const auto& o : robot_.ground_truth()) {
     if (o.id == best) t.view_truth = o.name;
   }
@@ -289,14 +290,7 @@ void GroundTruthAttendant::view_taken(const PushIntent& intent,
         }
       }
     }
-    int best = 0;
-    int best_n = 0;
-    for (const auto& [id, n] : votes) {
-      if (n > best_n) {
-        best = id;
-        best_n = n;
-      }
-    }
+    const auto [best, best_n] = most_voted(votes);
     if (best != 0) t.object = names[best];
     t.share_object = fraction(best_n, all);
     t.share_arm = fraction(arm, all);

@@ -33,6 +33,25 @@ const ObjectTruth& truth_of(const std::vector<ObjectTruth>& t, const std::string
   throw Error("no object " + name);
 }
 
+// A 6 cm push of `o` outward along its line from the arm's base, starting 3 cm behind its edge.
+robot::TablePush outward_push(const ObjectTruth& o) {
+  const Eigen::Vector2d c = o.centre.head<2>();
+  const Eigen::Vector2d n = c.normalized();
+  robot::TablePush push;
+  push.start = c - n * (o.footprint_radius + 0.03);
+  push.end = c - n * 0.02 + n * 0.06;
+  return push;
+}
+
+// A recording at 10 frames/s into a fresh `dir`.
+robot::PushRecording recording_into(const fs::path& dir) {
+  fs::remove_all(dir);
+  robot::PushRecording rec;
+  rec.episode_dir = dir;
+  rec.fps = 10;
+  return rec;
+}
+
 TEST(ScatterPlacements, AreSeededAndDoNotOverlap) {
   const ObjectCatalogue cat = ObjectCatalogue::load_default();
   std::vector<const ObjectType*> types;
@@ -120,16 +139,10 @@ TEST(SimulatedRobot, LooksPushesAndKeepsTheScene) {
 
   // Push the mug 6 cm along its line from the base, starting 4 cm behind it.
   const ObjectTruth mug = truth_of(robot.ground_truth(), "mug");
-  const Eigen::Vector2d c = mug.centre.head<2>();
-  const Eigen::Vector2d n = c.normalized();
-  robot::TablePush push;
-  push.start = c - n * (mug.footprint_radius + 0.03);
-  push.end = c - n * 0.02 + n * 0.06;
+  const Eigen::Vector2d n = mug.centre.head<2>().normalized();
+  const robot::TablePush push = outward_push(mug);
   const fs::path dir = test::temp_dir() / "robot_push";
-  fs::remove_all(dir);
-  robot::PushRecording rec;
-  rec.episode_dir = dir;
-  rec.fps = 10;
+  robot::PushRecording rec = recording_into(dir);
   rec.run.seed = 3;
   const robot::PushReport r = robot.push(push, rec);
   EXPECT_TRUE(r.touched);
@@ -164,16 +177,9 @@ TEST(SimulatedRobot, RecordsGroundTruthMasksOnlyWhenAskedForScoring) {
   t.record_masks = true;
   SimulatedRobot robot(t, cat);
   const ObjectTruth mug = truth_of(robot.ground_truth(), "mug");
-  const Eigen::Vector2d c = mug.centre.head<2>();
-  const Eigen::Vector2d n = c.normalized();
-  robot::TablePush push;
-  push.start = c - n * (mug.footprint_radius + 0.03);
-  push.end = c - n * 0.02 + n * 0.06;
+  const robot::TablePush push = outward_push(mug);
   const fs::path dir = test::temp_dir() / "robot_push_masks";
-  fs::remove_all(dir);
-  robot::PushRecording rec;
-  rec.episode_dir = dir;
-  rec.fps = 10;
+  const robot::PushRecording rec = recording_into(dir);
   const robot::PushReport r = robot.push(push, rec);
   ASSERT_TRUE(r.first_touch_frame.has_value());
   const episode::Episode e = episode::read_episode(dir);
