@@ -93,14 +93,14 @@ DatasetEvaluationResult run_dataset_evaluation(const DatasetEvaluationOptions& o
 
 const std::string& DatasetEvaluationResult::method_key(Method m) {
   // One string per method for the program's life: a description's field names are C strings.
-  static const std::map<Method, std::string> names = [] {
+  static const std::map<Method, std::string> kNames = [] {
     std::map<Method, std::string> n;
     for (Method k : {Method::kMl, Method::kMlHomography, Method::kMlSparse, Method::kFm,
                      Method::kMlGraphCut, Method::kMlDepth})
       n.emplace(k, to_string(k));
     return n;
   }();
-  return names.at(m);
+  return kNames.at(m);
 }
 
 std::vector<std::string> DatasetEvaluationResult::method_names() const {
