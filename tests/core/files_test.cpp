@@ -255,15 +255,33 @@ TEST_F(FilesTest, ADirectoryReplacedInALoopAndKilledAtRandomIsAlwaysWhole) {
   int killed_with_leftovers = 0;
   std::set<std::string> generations;
   for (int i = 0; i < kKills; ++i) {
+    // The child says when its first generation is whole, and the random delay runs from there:
+    // on a loaded machine (CI under ASan) a delay from the fork alone may end before any write.
+    std::array<int, 2> ready{};
+    ASSERT_EQ(::pipe(ready.data()), 0);
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
+      ::close(ready[0]);
       try {
-        for (long g = 1 + (1000000L * i);; ++g) write_generation(g);
+        for (long g = 1 + (1000000L * i);; ++g) {
+          write_generation(g);
+          if (ready[1] >= 0) {
+            const char one = 1;
+            if (::write(ready[1], &one, 1) != 1) ::_exit(4);
+            ::close(ready[1]);
+            ready[1] = -1;
+          }
+        }
       } catch (...) {
         ::_exit(3);
       }
     }
+    ::close(ready[1]);
+    char got = 0;
+    const auto n = ::read(ready[0], &got, 1);  // 0 only if the child ended: checked below
+    ::close(ready[0]);
+    (void)n;
     std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));
     ::kill(child, SIGKILL);
     int status = 0;
@@ -284,7 +302,7 @@ TEST_F(FilesTest, ADirectoryReplacedInALoopAndKilledAtRandomIsAlwaysWhole) {
   EXPECT_EQ(hidden(), 0);
   EXPECT_EQ(read_file(out / "a.txt"), "-1");
   // The kills fell at different moments: the path was replaced between kills (each write syncs
-  // five files, so under load a child may finish none before its kill), and some kills left a
+  // five files; each child finished one before its delay began), and some kills left a
   // staging directory behind (a kill in the middle of a replacement).
   EXPECT_GE(generations.size(), 5U);
   EXPECT_GT(killed_with_leftovers, 0);
