@@ -698,6 +698,7 @@ MotInfo run_mot_info(const fs::path& model, const core::Provenance& provenance) 
   out.file = f;
   out.document = core::result_document("proprio.mot.info", 1, provenance);
   core::fields_into_json(out, out.document);
+  out.message = core::first_line(out.brief());
   return out;
 }
 
