@@ -65,7 +65,7 @@ Eigen::Vector2d parse_range(const std::string& text, const std::string& what) {
 }
 
 void print(const geometry::CalibRun& r, const JsonFlag& json) {
-  std::fputs(r.report.c_str(), stdout);
+  std::fputs(r.brief().c_str(), stdout);
   for (const auto& w : r.warnings) std::fprintf(stderr, "proprio: warning: %s\n", w.c_str());
   json.write(r.document);
 }

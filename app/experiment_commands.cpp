@@ -74,7 +74,7 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
   o.online.batch_size = a.online_batch;
   a.json.refuse({a.options.images});
   const ExperimentRun r = run_set_experiment_files(a.options, inv.provenance(o.seed));
-  std::fputs(r.report.c_str(), stdout);
+  std::fputs(r.brief().c_str(), stdout);
   a.json.write(r.document);
 }
 
@@ -105,7 +105,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
       run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed));
   for (std::size_t i = 0; i < runs.size(); ++i) {
     if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
-    std::fputs(runs[i].report.c_str(), stdout);
+    std::fputs(runs[i].brief().c_str(), stdout);
     json_of(seeds[i]).write(runs[i].document);
   }
 }

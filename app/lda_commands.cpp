@@ -147,7 +147,7 @@ void register_lda_commands(CLI::App& root, const Invocation& inv) {
   top->callback([tp, &inv] {
     tp->json.refuse({tp->model});
     const LdaTopWords r = run_lda_top_words(tp->model, tp->top, inv.provenance());
-    for (const auto& line : r.lines) std::printf("%s\n", line.c_str());
+    std::fputs(r.brief().c_str(), stdout);
     tp->json.write(r.document);
   });
 

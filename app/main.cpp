@@ -2,10 +2,9 @@
 // Internal failure: one line on stderr, exit 1.
 
 #include <cstdio>
-#include <exception>
-#include <opencv2/core.hpp>
 
 #include "cli.hpp"
+#include "exit_status.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/logging.hpp"
@@ -85,19 +84,5 @@ int run(int argc, char** argv) {
 }  // namespace proprio::app
 
 int main(int argc, char** argv) {
-  try {
-    return proprio::app::run(argc, argv);
-  } catch (const proprio::Error& e) {
-    std::fprintf(stderr, "proprio: %s\n", e.what());
-    return 2;
-  } catch (const proprio::InternalError& e) {
-    std::fprintf(stderr, "proprio: internal error: %s\n", e.what());
-    return 1;
-  } catch (const cv::Exception& e) {
-    std::fprintf(stderr, "proprio: internal error in OpenCV: %s\n", e.err.c_str());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "proprio: internal error: %s\n", e.what());
-    return 1;
-  }
+  return proprio::app::run_with_exit_status([&] { return proprio::app::run(argc, argv); });
 }

@@ -161,7 +161,7 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
   info->callback([i, &inv] {
     i->json.refuse({i->model});
     const MotInfo r = run_mot_info(i->model, inv.provenance());
-    for (const auto& line : r.lines) std::printf("%s\n", line.c_str());
+    std::fputs(r.brief().c_str(), stdout);
     i->json.write(r.document);
   });
 }

@@ -70,7 +70,7 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
     t->json.refuse(paths);
     const RecognizeTrainResult r =
         run_recognize_train(t->options, inv.provenance(t->options.online.seed));
-    std::fputs(r.report.c_str(), stdout);
+    std::fputs(r.brief().c_str(), stdout);
     t->json.write(r.document);
   });
 
@@ -97,7 +97,7 @@ void register_recognition_commands(CLI::App& root, const Invocation& inv) {
       paths.push_back(q);
     c->json.refuse(paths);
     const RecognizeClassifyResult r = run_recognize_classify(c->options, inv.provenance());
-    std::fputs(r.report.c_str(), stdout);
+    std::fputs(r.brief().c_str(), stdout);
     c->json.write(r.document);
   });
 }

@@ -71,7 +71,7 @@ void run_record(RecordArgs& a, const Invocation& inv) {
   a.options = resolved(a);
   a.json.refuse({a.out, a.options.background_video});
   const sim::SimRun r = sim::run_sim_record(a.options, a.out, inv.provenance(a.options.seed));
-  std::fputs(r.report.c_str(), stdout);
+  std::fputs(r.brief().c_str(), stdout);
   a.json.write(r.document);
 }
 
@@ -84,7 +84,7 @@ struct CalibrateArgs {
 void run_calibrate(const CalibrateArgs& a, const Invocation& inv) {
   a.json.refuse({a.out});
   const sim::SimRun r = sim::run_sim_calibrate(a.options, a.out, inv.provenance());
-  std::fputs(r.report.c_str(), stdout);
+  std::fputs(r.brief().c_str(), stdout);
   a.json.write(r.document);
 }
 
@@ -124,7 +124,7 @@ void run_views(ViewsArgs& a, const Invocation& inv) {
   paths.emplace_back(a.out);
   a.json.refuse(paths);
   const sim::SimRun r = sim::run_sim_views(a.options, a.out, inv.provenance(a.options.seed));
-  std::fputs(r.report.c_str(), stdout);
+  std::fputs(r.brief().c_str(), stdout);
   a.json.write(r.document);
 }
 

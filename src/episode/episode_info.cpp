@@ -35,7 +35,8 @@ core::Json to_json(const EpisodeInfo& info) {
 EpisodeInfo episode_info_from_json(const core::Json& j, const std::filesystem::path& file) {
   detail::ProblemSink sink(true, 1);
   auto info = detail::parse_episode_info(j, file, sink);
-  if (!info) throw Error::in_file(file, "invalid episode.json");  // unreachable: sink throws
+  // The sink throws on the first problem, so a parse without a result is a bug here.
+  ensure(info.has_value(), file.string() + ": episode.json parsed to nothing without a problem");
   return *info;
 }
 

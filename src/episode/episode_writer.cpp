@@ -253,9 +253,9 @@ void EpisodeWriter::finish() {
   core::write_json_atomic(stage / detail::kEpisodeJson, to_json(info_));
   // Read it back: a writer never commits what the reader would refuse.
   const auto problems = check_episode(stage, {.decode_images = false, .max_problems_per_file = 1});
-  if (!problems.empty()) {
-    throw Error("episode writer produced an invalid episode: " + problems.front().message);
-  }
+  // Every input was checked on the way in: a refusal here is the writer's bug, not bad input.
+  const std::string first = problems.empty() ? std::string() : problems.front().message;
+  ensure(problems.empty(), "episode writer produced an invalid episode: " + first);
   staged_.commit();
   finished_ = true;
 }

@@ -39,7 +39,8 @@ core::Json objects_to_json(const std::vector<ObjectInfo>& objects) {
 std::vector<ObjectInfo> objects_from_json(const core::Json& j, const std::filesystem::path& file) {
   detail::ProblemSink sink(true, 1);
   auto objects = detail::parse_objects(j, file, sink);
-  if (!objects) throw Error::in_file(file, "invalid objects.json");  // unreachable: sink throws
+  // The sink throws on the first problem, so a parse without a result is a bug here.
+  ensure(objects.has_value(), file.string() + ": objects.json parsed to nothing without a problem");
   return *objects;
 }
 

@@ -72,6 +72,7 @@ CalibRun run_calib_dlt(const CalibDltOptions& o, const core::Provenance& provena
   }
   run.document = core::result_document("proprio.calib.dlt", 1, provenance);
   core::fields_into_json(CalibDltRecord{o.points, o.out, r, cam}, run.document);
+  run.message = core::first_line(run.brief());
   return run;
 }
 
@@ -120,6 +121,7 @@ CalibRun run_calib_triangulate(const CalibTriangulateOptions& o,
   run.document = core::result_document("proprio.calib.triangulate", 1, provenance);
   core::fields_into_json(CalibTriangulateRecord{o.points, o.out, o.distorted, all.summary},
                          run.document);
+  run.message = core::first_line(run.brief());
   return run;
 }
 
@@ -166,6 +168,7 @@ CalibRun run_calib_backproject(const CalibBackprojectOptions& o,
                                                 o.distorted,
                                                 min_cos},
                          run.document);
+  run.message = core::first_line(run.brief());
   return run;
 }
 
@@ -198,6 +201,7 @@ CalibRun run_calib_uncertainty(const CalibUncertaintyOptions& o,
   run.document = core::result_document("proprio.calib.uncertainty", 1, provenance);
   core::fields_into_json(
       CalibUncertaintyRecord{o.calib1, o.calib2, o.out, {&map, f, o.render.unit}}, run.document);
+  run.message = core::first_line(run.brief());
   return run;
 }
 
@@ -239,6 +243,7 @@ CalibRun run_calib_stereo(const CalibStereoOptions& o, const core::Provenance& p
                                            o.out,
                                            r},
                          run.document);
+  run.message = core::first_line(run.brief());
   return run;
 }
 

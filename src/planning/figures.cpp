@@ -182,8 +182,8 @@ cv::Mat draw_energy_grid(const GridCosts& costs) {
 
 cv::Mat draw_interception(const TrialResult& trial, const GridSpec& grid) {
   const TrialRecord& rec = trial.record;
-  require(!rec.measurements.empty() && !rec.executed.empty(),
-          "interception plot: the trial was not recorded");
+  ensure(!rec.measurements.empty() && !rec.executed.empty(),
+         "interception plot: the trial was not recorded");
   cv::Mat img(760, 1000, CV_8UC3, kWhite);
   Axes a;
   a.area = {90, 90, 640, 600};
@@ -250,7 +250,7 @@ cv::Mat draw_interception(const TrialResult& trial, const GridSpec& grid) {
 
 cv::Mat draw_noise_choices(const TargetMotion& target, double t_plan, const GridSpec& grid,
                            const std::vector<NoiseChoice>& choices) {
-  require(!choices.empty(), "noise plot: no choices to draw");
+  ensure(!choices.empty(), "noise plot: no choices to draw");
   cv::Mat img(700, 1400, CV_8UC3, kWhite);
   auto colour = [](PriorMode m) {
     return m == PriorMode::kBoth ? kBlue : m == PriorMode::kEnergy ? kBlack : kRed;

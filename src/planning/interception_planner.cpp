@@ -255,13 +255,13 @@ InterceptionPlan plan_interception(const TargetFilter& filter, const GridCostMod
                                    double t_now, const PlannerOptions& options, double t_latest) {
   options.validate();
   const auto clock0 = std::chrono::steady_clock::now();
-  require(std::isfinite(t_now) && t_now >= filter.estimate().t - 1e-9,
-          "plan time must not be before the filter's latest measurement");
+  ensure(std::isfinite(t_now) && t_now >= filter.estimate().t - 1e-9,
+         "plan time must not be before the filter's latest measurement");
   const GridSpec& g = model.grid();
   double t_lo = t_now + g.duration;
   if (options.time_quantum > 0)
     t_lo = std::ceil(t_lo / options.time_quantum - 1e-9) * options.time_quantum;
-  require(!std::isnan(t_latest), "the latest interception time must not be NaN");
+  ensure(!std::isnan(t_latest), "the latest interception time must not be NaN");
   const double t_hi = std::min(t_lo + options.window, t_latest);
   InterceptionPlan plan;
   if (t_hi < t_lo) {

@@ -708,8 +708,8 @@ std::string metres(const Eigen::Vector2d& p) {
 }  // namespace
 
 cv::Mat1f density_of_others(const PlanningView& view, int object) {
-  require(object >= 0 && object < static_cast<int>(view.objects.size()),
-          "density of others: no putative object " + std::to_string(object));
+  ensure(object >= 0 && object < static_cast<int>(view.objects.size()),
+         "density of others: no putative object " + std::to_string(object));
   return others_density(view, view.objects[static_cast<std::size_t>(object)]);
 }
 

@@ -87,6 +87,7 @@ ExperimentRun run_set_experiment_files(const SetExperimentRunOptions& options,
       options.dictionary ? "proprio.experiment.dictionary" : "proprio.experiment.batch_online", 1,
       provenance);
   core::fields_into_json(rec, out.document);
+  out.message = core::first_line(out.brief());
   return out;
 }
 
@@ -192,6 +193,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
   rec.seconds = r.seconds;
   out.document = core::result_document("proprio.experiment.scatter", 1, provenance);
   core::fields_into_json(rec, out.document);
+  out.message = core::first_line(out.brief());
   return out;
 }
 

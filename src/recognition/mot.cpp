@@ -287,9 +287,9 @@ MotUnsupervisedEvaluation evaluate_mot_unsupervised(const topics::LdaModel& mode
 
 std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> labels, int classes,
                              const Eigen::MatrixXd& test, int k) {
-  require(static_cast<std::size_t>(train.rows()) == labels.size() && train.cols() == test.cols() &&
-              k >= 1 && classes >= 1,
-          "knn_predict: bad shapes");
+  ensure(static_cast<std::size_t>(train.rows()) == labels.size() && train.cols() == test.cols() &&
+             k >= 1 && classes >= 1,
+         "knn_predict: bad shapes");
   std::vector<Eigen::Index> known;
   for (Eigen::Index i = 0; i < train.rows(); ++i)
     if (labels[static_cast<std::size_t>(i)] >= 0) known.push_back(i);
@@ -319,9 +319,9 @@ std::vector<int> knn_predict(const Eigen::MatrixXd& train, std::span<const int> 
 std::vector<int> logistic_predict(const Eigen::MatrixXd& train, std::span<const int> labels,
                                   int classes, const Eigen::MatrixXd& test, double l2,
                                   int iterations) {
-  require(static_cast<std::size_t>(train.rows()) == labels.size() && train.cols() == test.cols() &&
-              classes >= 1 && iterations >= 1 && l2 >= 0,
-          "logistic_predict: bad shapes or options");
+  ensure(static_cast<std::size_t>(train.rows()) == labels.size() && train.cols() == test.cols() &&
+             classes >= 1 && iterations >= 1 && l2 >= 0,
+         "logistic_predict: bad shapes or options");
   std::vector<Eigen::Index> known;
   for (Eigen::Index i = 0; i < train.rows(); ++i)
     if (labels[static_cast<std::size_t>(i)] >= 0) known.push_back(i);
@@ -698,6 +698,7 @@ MotInfo run_mot_info(const fs::path& model, const core::Provenance& provenance) 
   out.file = f;
   out.document = core::result_document("proprio.mot.info", 1, provenance);
   core::fields_into_json(out, out.document);
+  out.message = core::first_line(out.brief());
   return out;
 }
 

@@ -251,6 +251,7 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   r.method = options.method;
   r.document = core::result_document("proprio.recognize.train", 1, provenance);
   core::fields_into_json(r, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 
@@ -280,6 +281,7 @@ RecognizeClassifyResult run_recognize_classify(const RecognizeClassifyOptions& o
   }
   out.document = core::result_document("proprio.recognize.classify", 1, provenance);
   core::fields_into_json(out, out.document);
+  out.message = core::first_line(out.brief());
   return out;
 }
 

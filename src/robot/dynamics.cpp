@@ -29,7 +29,7 @@ JointVector inverse_dynamics(ArmState& state, const JointVector& q, const JointV
 }
 
 std::vector<JointVector> inverse_dynamics(ArmState& state, const JointTrajectory& trajectory) {
-  require(
+  ensure(
       trajectory.qdot.size() == trajectory.size() && trajectory.qddot.size() == trajectory.size(),
       "joint trajectory: q, qdot and qddot differ in length");
   std::vector<JointVector> tau;
@@ -69,8 +69,8 @@ Energy energy(const std::vector<JointVector>& torques, double dt) {
 
 std::vector<JointVector> servo_commands(const Arm& arm, const JointTrajectory& trajectory,
                                         const std::vector<JointVector>& torques) {
-  require(torques.size() == trajectory.size() && trajectory.qdot.size() == trajectory.size(),
-          "servo commands: torques and trajectory differ in length");
+  ensure(torques.size() == trajectory.size() && trajectory.qdot.size() == trajectory.size(),
+         "servo commands: torques and trajectory differ in length");
   const mjModel& m = arm.model();
   for (int k = 0; k < kArmJoints; ++k) {
     const int a = arm.actuator_id(k);

@@ -21,6 +21,7 @@ SimRun run_sim_record(const RecordOptions& options, const std::filesystem::path&
       s.first_touch_frame ? std::to_string(*s.first_touch_frame).c_str() : "none");
   r.document = core::result_document("proprio.sim.record", 1, provenance);
   core::fields_into_json(SimRecordRecord{out, options.scenario, options.switches(), s}, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 
@@ -40,6 +41,7 @@ SimRun run_sim_calibrate(const SimCalibrationOptions& options, const std::filesy
   r.document = core::result_document("proprio.sim.calibrate", 1, provenance);
   core::fields_into_json(
       SimCalibrateRecord{out, options.grid, c.summary, c.dlt.rms_px, c.true_error_px}, r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 
@@ -52,6 +54,7 @@ SimRun run_sim_views(const ViewsOptions& options, const std::filesystem::path& o
   r.document = core::result_document("proprio.sim.views", 1, provenance);
   core::fields_into_json(SimViewsRecord{out, options.objects, options.per_object, s.images},
                          r.document);
+  r.message = core::first_line(r.brief());
   return r;
 }
 

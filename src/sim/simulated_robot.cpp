@@ -900,8 +900,8 @@ Eigen::Vector2d SimulatedRobot::table_max() const {
 // --- added for self-supervision's held-out views ---------------------------------------------
 
 void SimulatedRobot::place(const std::vector<Placement>& places) {
-  require(places.size() == s_->types.size() || places.size() == s_->world.objects().size(),
-          "place: one place per object (and clutter) is needed");
+  ensure(places.size() == s_->types.size() || places.size() == s_->world.objects().size(),
+         "place: one place per object (and clutter) is needed");
   World& world = s_->world;
   for (std::size_t i = 0; i < s_->types.size(); ++i) {
     world.set_object_pose(world.objects().at(i).id, resting_pose(*s_->types[i], places[i]));

@@ -365,6 +365,7 @@ LdaTopWords run_lda_top_words(const std::filesystem::path& model_file, int top,
   }
   out.document = core::result_document("proprio.lda.topics", 1, provenance);
   core::fields_into_json(out, out.document);
+  out.message = core::first_line(out.brief());
   return out;
 }
 

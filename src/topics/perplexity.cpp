@@ -59,9 +59,8 @@ PerplexityResult completion_perplexity(const LdaModel& model, const CompletionSp
   options.validate();
   check_corpus(model, split.observed);
   check_corpus(model, split.scored);
-  if (split.observed.num_documents() != split.scored.num_documents()) {
-    throw Error("perplexity: the two halves have different numbers of documents");
-  }
+  ensure(split.observed.num_documents() == split.scored.num_documents(),
+         "perplexity: the two halves have different numbers of documents");
   if (split.scored.num_tokens() == 0) throw Error("perplexity: no tokens to score");
   const auto t0 = std::chrono::steady_clock::now();
   InferenceOptions io;

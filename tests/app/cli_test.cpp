@@ -1,4 +1,5 @@
-// The CLI's contract: --help at every level, --version, exit 2 with one line on bad usage.
+// The CLI's contract: --help at every level, --version, exit 2 with one line on bad usage and on
+// bad input (a broken invariant is exit 1: tests/app/exit_status_test.cpp).
 #include <gtest/gtest.h>
 
 #include "cli_run.hpp"
@@ -30,6 +31,24 @@ TEST(Cli, BadUsageIsOneLineAndExitTwo) {
     EXPECT_EQ(r.code, 2) << "'" << args << "'";
     EXPECT_EQ(line_count(r.err), 1) << "'" << args << "': " << r.err;
     EXPECT_EQ(r.err.rfind("proprio: ", 0), 0u) << r.err;
+  }
+}
+
+// Bad input (a missing or corrupt file) is proprio::Error: one line naming the file, exit 2, and
+// never reported as an internal error (issue 14's require() audit kept these as input checks).
+TEST(Cli, BadInputIsOneLineNamingTheFileAndExitTwo) {
+  const std::string not_a_model = (test::source_dir() / "README.md").string();
+  for (const std::string& args :
+       {std::string("episode info no/such/episode"), std::string("lda topics --model no/such.lda"),
+        "lda topics --model " + not_a_model}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("proprio: ", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.err.find("no/such") != std::string::npos ||
+                r.err.find("README.md") != std::string::npos)
+        << r.err;
   }
 }
 

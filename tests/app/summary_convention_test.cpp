@@ -14,6 +14,7 @@
 #include "proprio/eval/segment_episode.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/features/vocabulary_build.hpp"
+#include "proprio/geometry/calib_runs.hpp"
 #include "proprio/geometry/dlt.hpp"
 #include "proprio/geometry/stereo_check.hpp"
 #include "proprio/geometry/triangulation.hpp"
@@ -23,8 +24,10 @@
 #include "proprio/loop/push_run.hpp"
 #include "proprio/loop/self_supervision_run.hpp"
 #include "proprio/planning/interception_experiment.hpp"
+#include "proprio/recognition/experiment_runs.hpp"
 #include "proprio/recognition/image_quantize.hpp"
 #include "proprio/recognition/mot.hpp"
+#include "proprio/recognition/recognize_runs.hpp"
 #include "proprio/robot/inverse_kinematics.hpp"
 #include "proprio/robot/joint_tracking.hpp"
 #include "proprio/segmentation/fm_baseline.hpp"
@@ -33,6 +36,7 @@
 #include "proprio/sim/calibration.hpp"
 #include "proprio/sim/dataset.hpp"
 #include "proprio/sim/recorder.hpp"
+#include "proprio/sim/sim_runs.hpp"
 #include "proprio/sim/views.hpp"
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/dirichlet_fit.hpp"
@@ -58,6 +62,12 @@ static_assert(
                   recognition::QuantizeImagesResult, recognition::MotTrainResult,
                   recognition::MotClassifyResult, recognition::MotUpdateResult,
                   sim::SimDatasetResult, topics::LdaTrainingResult, topics::LdaPerplexityResult>);
+
+// The Results whose brief() is a report or listing made by the call (issue 14: they held only
+// `report` or `lines`; the CLI now prints their brief()).
+static_assert(kAllSummaries<geometry::CalibRun, sim::SimRun, recognition::ExperimentRun,
+                            recognition::MotInfo, recognition::RecognizeTrainResult,
+                            recognition::RecognizeClassifyResult, topics::LdaTopWords>);
 
 // The Summaries of the algorithms those calls run.
 static_assert(

@@ -9,7 +9,7 @@
 
 namespace proprio::planning {
 namespace {
-using testing::error_of;
+using testing::internal_error_of;
 using testing::simulator;
 
 // Fraction of pixels that are not white.
@@ -45,10 +45,11 @@ TEST(Figures, InterceptionAndNoiseChoiceDraw) {
   EXPECT_GT(ink(b), 0.02);
   TrialResult unrecorded = t;
   unrecorded.record = {};
-  EXPECT_NE(error_of([&] { draw_interception(unrecorded, g); }).find("not recorded"),
+  EXPECT_NE(internal_error_of([&] { draw_interception(unrecorded, g); }).find("not recorded"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { draw_noise_choices(target, t_plan, g, {}); }).find("no choices"),
-            std::string::npos);
+  EXPECT_NE(
+      internal_error_of([&] { draw_noise_choices(target, t_plan, g, {}); }).find("no choices"),
+      std::string::npos);
 }
 
 }  // namespace

@@ -46,6 +46,7 @@ inline const InterceptionSimulator& simulator() {
 }
 
 using test::error_of;  // tests/support/error_of.hpp
+using test::internal_error_of;
 
 /// Noise-free measurements of a target at frames 0..n-1, `dt` apart.
 inline std::vector<PositionMeasurement> exact_measurements(const TargetMotion& target, int n,

@@ -177,7 +177,7 @@ TEST(ServoCommands, StaticHoldIsTheSetpointPlusTorqueOverGain) {
     const double kp = arm.model().actuator_gainprm[arm.actuator_id(k) * mjNGAIN];
     EXPECT_NEAR(ctrl[1][k], rest_pose()[k] + tau[1][k] / kp, 1e-12);
   }
-  EXPECT_THROW(servo_commands(arm, still, {}), Error);
+  EXPECT_THROW(servo_commands(arm, still, {}), InternalError);  // a caller's bug, not bad input
 }
 
 }  // namespace

@@ -149,6 +149,9 @@ TEST(LdaRuns, TopWordsNameTheModelsWords) {
   ASSERT_EQ(w.lines.size(), 3U);
   EXPECT_EQ(w.lines[0].rfind("topic 0: word", 0), 0U) << w.lines[0];
   EXPECT_EQ(w.document.at("topics").at(2).at("words").size(), 2U);
+  // The Summary convention: brief() is the listing the CLI prints, message its first line.
+  EXPECT_EQ(w.brief(), w.lines[0] + '\n' + w.lines[1] + '\n' + w.lines[2] + '\n');
+  EXPECT_EQ(w.message, w.lines[0]);
   EXPECT_EQ(test::error_of([&] { (void)run_lda_top_words(t.model, 0, {}); }),
             "lda topics: --top must be >= 1");
 }

@@ -164,11 +164,15 @@ struct CalibStereoRecord {
   }
 };
 
+/// What a calib command did, under the Summary convention (core::Summary): brief() is what the
+/// CLI prints on stdout, `message` its first line.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct CalibRun {
-  std::string report;                 ///< what the CLI prints on stdout
+  std::string report;                 ///< brief()'s text: lines, each ending in '\n'
   std::vector<std::string> warnings;  ///< what it prints on stderr (the run still succeeded)
   core::Json document;                ///< the --json record
+  std::string message;                ///< one line: brief()'s first
+  [[nodiscard]] std::string brief() const { return report; }
 };
 
 struct CalibDltOptions {

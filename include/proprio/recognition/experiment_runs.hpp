@@ -232,13 +232,17 @@ struct ScatterExperimentRecord {
   }
 };
 
-/// What an experiment command prints and records (`document`, from the set or scatter record).
+/// What an experiment command prints and records (`document`, from the set or scatter record),
+/// under the Summary convention (core::Summary): brief() is what the CLI prints, `message` its
+/// first line.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ExperimentRun {
-  std::string report;
+  std::string report;  ///< brief()'s text: lines, each ending in '\n'
   std::optional<SetExperimentRecord> set;
   std::optional<ScatterExperimentRecord> scatter;
   core::Json document;
+  std::string message;  ///< one line: brief()'s first
+  [[nodiscard]] std::string brief() const { return report; }
 };
 
 struct SetExperimentRunOptions {

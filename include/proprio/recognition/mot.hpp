@@ -413,9 +413,17 @@ struct MotUpdateResult {
 /// forgetting the result equals training on the old and new views at once.
 MotUpdateResult run_mot_update(const MotUpdateOptions& options, const core::Provenance& provenance);
 
+/// What a MoT model file holds, under the Summary convention (core::Summary): brief() is what the
+/// CLI prints (`lines`, each ended by '\n'), `message` its first line.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct MotInfo {
   std::vector<std::string> lines;  ///< for a person
+  std::string message;             ///< one line: brief()'s first
+  [[nodiscard]] std::string brief() const {
+    std::string text;
+    for (const std::string& line : lines) text += line + '\n';
+    return text;
+  }
   std::filesystem::path model_file;
   topics::MotModelFile file;
   core::Json document;  ///< format "proprio.mot.info" (mot_info.schema.json): describe()

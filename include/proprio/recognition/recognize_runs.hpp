@@ -81,8 +81,10 @@ struct RecognizeTrainResult {
   long long tokens = 0;
   int frames = 0;       ///< frames read (episodes)
   std::string summary;  ///< the training summary's line
-  std::string report;   ///< what the CLI prints, lines ending in '\n'
+  std::string report;   ///< brief()'s text: what the CLI prints, lines ending in '\n'
   core::Json document;  ///< format "proprio.recognize.train": the fields described below
+  std::string message;  ///< one line: brief()'s first (the Summary convention, core::Summary)
+  [[nodiscard]] std::string brief() const { return report; }
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -121,7 +123,7 @@ struct RecognizeClassifyOptions {
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct RecognizeClassifyResult {
-  std::string report;  ///< the confusion matrices and accuracies, as the CLI prints them
+  std::string report;  ///< brief()'s text: the confusion matrices and accuracies, as printed
   std::filesystem::path model;
   // Episodes: the episodes, their region, frame step and frames.
   std::optional<std::vector<std::string>> episodes;
@@ -138,6 +140,8 @@ struct RecognizeClassifyResult {
   std::optional<Evaluation> mapped;        ///< images with map_with
   std::optional<std::filesystem::path> out;
   core::Json document;  ///< format "proprio.recognize.classify": the fields described below
+  std::string message;  ///< one line: brief()'s first (the Summary convention, core::Summary)
+  [[nodiscard]] std::string brief() const { return report; }
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {

@@ -72,10 +72,14 @@ struct SimViewsRecord {
   }
 };
 
+/// What a sim command did, under the Summary convention (core::Summary): brief() is what the CLI
+/// prints, `message` its first line.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct SimRun {
-  std::string report;   ///< what the CLI prints, lines ending in '\n'
+  std::string report;   ///< brief()'s text: lines, each ending in '\n'
   core::Json document;  ///< the --json record
+  std::string message;  ///< one line: brief()'s first
+  [[nodiscard]] std::string brief() const { return report; }
 };
 
 /// Records one episode into `out` (record_episode with the default catalogue).

@@ -203,7 +203,8 @@ LdaPerplexityResult run_lda_perplexity(const LdaPerplexityOptions& options,
                                        const core::Provenance& provenance);
 
 /// The `top` most probable words of each topic: the listing's lines ("topic k: w w ...") and the
-/// record (format "proprio.lda.topics").
+/// record (format "proprio.lda.topics"), under the Summary convention (core::Summary): brief() is
+/// what the CLI prints (`lines`, each ended by '\n'), `message` its first line.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LdaTopWords {
   struct Word {
@@ -230,6 +231,12 @@ struct LdaTopWords {
   std::filesystem::path model;
   std::vector<Topic> topics;
   core::Json document;  ///< format "proprio.lda.topics": the fields described below
+  std::string message;  ///< one line: brief()'s first
+  [[nodiscard]] std::string brief() const {
+    std::string text;
+    for (const std::string& line : lines) text += line + '\n';
+    return text;
+  }
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
