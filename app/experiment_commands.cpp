@@ -101,13 +101,15 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
                                                ? std::vector<std::uint64_t>{a.options.options.seed}
                                                : a.options.seeds;
   for (const std::uint64_t seed : seeds) json_of(seed).refuse(paths);
-  const std::vector<ExperimentRun> runs =
-      run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed));
-  for (std::size_t i = 0; i < runs.size(); ++i) {
-    if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
-    std::fputs(runs[i].report.c_str(), stdout);
-    json_of(seeds[i]).write(runs[i].document);
-  }
+  // Each seed printed and written as soon as it is done: a long run stopped part-way keeps them.
+  (void)run_scatter_experiments_files(
+      a.options, inv.provenance(a.options.options.seed),
+      [&](std::size_t i, const ExperimentRun& run) {
+        if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
+        std::fputs(run.report.c_str(), stdout);
+        std::fflush(stdout);
+        json_of(seeds[i]).write(run.document);
+      });
 }
 
 void add_set_options(CLI::App* cmd, SetArgs& a) {
