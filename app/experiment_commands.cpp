@@ -102,14 +102,13 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
                                                : a.options.seeds;
   for (const std::uint64_t seed : seeds) json_of(seed).refuse(paths);
   // Each seed printed and written as soon as it is done: a long run stopped part-way keeps them.
-  (void)run_scatter_experiments_files(
-      a.options, inv.provenance(a.options.options.seed),
-      [&](std::size_t i, const ExperimentRun& run) {
-        if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
-        std::fputs(run.report.c_str(), stdout);
-        std::fflush(stdout);
-        json_of(seeds[i]).write(run.document);
-      });
+  auto write = [&](std::size_t i, const ExperimentRun& run) {
+    if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
+    std::fputs(run.report.c_str(), stdout);
+    std::fflush(stdout);
+    json_of(seeds[i]).write(run.document);
+  };
+  (void)run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed), write);
 }
 
 void add_set_options(CLI::App* cmd, SetArgs& a) {

@@ -229,8 +229,7 @@ std::vector<ExperimentRun> run_scatter_experiments_files(const ScatterExperiment
     // Segmented views: the features inside each object's mask; no centre crop.
     o.view_features.center_crop = 1.0;
     (void)run_scatter_experiments(episodes, read_episodes(options.view_episodes), options.objects,
-                                  o, seeds, v, progress_bar(bar, "frames", options.progress),
-                                  done);
+                                  o, seeds, v, progress_bar(bar, "frames", options.progress), done);
   } else {
     const features::ImageSet views = features::read_image_set(options.views);
     o.seed = seeds.front();

@@ -204,14 +204,11 @@ using ViewCorpora = std::function<std::pair<LabelledCorpus, LabelledCorpus>(
 
 // One result per seed: the frames' features are extracted once; each seed then builds its
 // dictionary, documents and models exactly as a run with that seed alone.
-std::vector<ScatterExperimentResult> run_scatter(const std::vector<episode::Episode>& episodes,
-                                                 const std::vector<std::string>& objects,
-                                                 const ScatterExperimentOptions& options,
-                                                 const std::vector<std::uint64_t>& seeds,
-                                                 const features::Vocabulary* vocabulary,
-                                                 const ProgressFn& progress,
-                                                 const ViewCorpora& make_views,
-                                                 const ScatterSeedDoneFn& seed_done = {}) {
+std::vector<ScatterExperimentResult> run_scatter(
+    const std::vector<episode::Episode>& episodes, const std::vector<std::string>& objects,
+    const ScatterExperimentOptions& options, const std::vector<std::uint64_t>& seeds,
+    const features::Vocabulary* vocabulary, const ProgressFn& progress,
+    const ViewCorpora& make_views, const ScatterSeedDoneFn& seed_done = {}) {
   options.validate();
   if (episodes.empty()) throw Error("no episodes given");
   if (seeds.empty()) throw Error("no seeds given");

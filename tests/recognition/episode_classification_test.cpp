@@ -268,12 +268,12 @@ TEST(ScatterExperiment, EachSeedIsHandedOutWhenDone) {
   const std::vector<std::uint64_t> seeds = {3, 4, 5};
   std::vector<std::size_t> indices;
   std::vector<ScatterExperimentResult> handed;
-  const std::vector<ScatterExperimentResult> all = run_scatter_experiments(
-      f.episodes, f.episodes, objects, o, seeds, nullptr, {},
-      [&](std::size_t i, const ScatterExperimentResult& r) {
-        indices.push_back(i);
-        handed.push_back(r);
-      });
+  const std::vector<ScatterExperimentResult> all =
+      run_scatter_experiments(f.episodes, f.episodes, objects, o, seeds, nullptr, {},
+                              [&](std::size_t i, const ScatterExperimentResult& r) {
+                                indices.push_back(i);
+                                handed.push_back(r);
+                              });
   EXPECT_EQ(indices, (std::vector<std::size_t>{0, 1, 2}));
   ASSERT_EQ(handed.size(), all.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -283,8 +283,7 @@ TEST(ScatterExperiment, EachSeedIsHandedOutWhenDone) {
   }
   // Stopped after the first seed (the callback throws): the second seed is never started.
   int calls = 0;
-  EXPECT_THROW((void)run_scatter_experiments(f.episodes, f.episodes, objects, o, seeds, nullptr,
-                                             {},
+  EXPECT_THROW((void)run_scatter_experiments(f.episodes, f.episodes, objects, o, seeds, nullptr, {},
                                              [&](std::size_t, const ScatterExperimentResult&) {
                                                ++calls;
                                                throw Error("stopped");
