@@ -1,6 +1,7 @@
 // proprio experiment ...: the object-modelling experiments of thesis 6.3 (specific vs wide
 // dictionary, batch vs online LDA, videos of objects moved about; 7.3.1 with --mot).
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
