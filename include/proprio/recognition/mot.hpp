@@ -338,6 +338,11 @@ struct MotClassifyOptions {
   MotSourceOptions source;
   std::filesystem::path model;  ///< MoT model file (required)
   /// theta (eq 7.3 on the E-step's theta, the thesis's) or words (topics::classify_mot_words).
+  /// theta stays the default: on the scatter report (docs/results/mot.md, sixth round) words
+  /// wins clearly only with a mixture per object (`mot train --components 10`; 3 objects 88.2%
+  /// against 83.8%, better on 5 of 5 seeds), which is not the default model; with one Dirichlet
+  /// it gains 2.7 points (3 objects, 4 of 5 seeds) and 0.5 (4 objects), and it costs an E-step
+  /// per object (and component) per view.
   MotClassifyBy by = MotClassifyBy::kTheta;
   /// CSV to write (required): document, source (image file or episode directory), frame (-1 for
   /// images), truth (the folder's or mask's object), class (the MoT's, empty for a view without
