@@ -103,7 +103,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
                                                : a.options.seeds;
   for (const std::uint64_t seed : seeds) json_of(seed).refuse(paths);
   // Each seed printed and written as soon as it is done: a long run stopped part-way keeps them.
-  auto write = [&](std::size_t i, const ExperimentRun& run) {
+  const ScatterRunDoneFn write = [&](std::size_t i, const ExperimentRun& run) {
     if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
     std::fputs(run.report.c_str(), stdout);
     std::fflush(stdout);
