@@ -1,6 +1,7 @@
 // proprio experiment ...: the object-modelling experiments of thesis 6.3 (specific vs wide
 // dictionary, batch vs online LDA, videos of objects moved about; 7.3.1 with --mot).
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -101,13 +102,14 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
                                                ? std::vector<std::uint64_t>{a.options.options.seed}
                                                : a.options.seeds;
   for (const std::uint64_t seed : seeds) json_of(seed).refuse(paths);
-  const std::vector<ExperimentRun> runs =
-      run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed));
-  for (std::size_t i = 0; i < runs.size(); ++i) {
+  // Each seed printed and written as soon as it is done: a long run stopped part-way keeps them.
+  const ScatterRunDoneFn write = [&](std::size_t i, const ExperimentRun& run) {
     if (several) std::printf("== seed %llu\n", static_cast<unsigned long long>(seeds[i]));
-    std::fputs(runs[i].brief().c_str(), stdout);
-    json_of(seeds[i]).write(runs[i].document);
-  }
+    std::fputs(run.brief().c_str(), stdout);
+    std::fflush(stdout);
+    json_of(seeds[i]).write(run.document);
+  };
+  (void)run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed), write);
 }
 
 void add_set_options(CLI::App* cmd, SetArgs& a) {

@@ -99,13 +99,15 @@ void register_mot_commands(CLI::App& root, const Invocation& inv) {
 
   auto c = std::make_shared<ClassifyArgs>();
   auto* classify = mot->add_subcommand(
-      "classify", "Classify views by Bayes over the objects' Dirichlets (eq 7.3)");
+      "classify",
+      "Classify views by Bayes over the objects' Dirichlets (eq 7.3, or by their words: --by)");
   add_source_options(classify, c->options.source);
   classify->add_option("--model", c->options.model, "Mixture of Topics model file")->required();
   classify
       ->add_option("--out", c->options.out,
                    "CSV to write: document, source, frame, truth, class, p_<object>...")
       ->required();
+  bind_options(classify, c->options);
   c->json.add_to(classify, "the confusion matrix");
   classify->callback([c, &inv] {
     auto inputs = source_inputs(c->options.source);

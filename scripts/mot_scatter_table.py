@@ -116,7 +116,8 @@ for n in (3, 4):
             f"{statistics.mean(c):.1f} ({min(c):.0f}-{max(c):.0f})" for c in cols) + " |")
     print("\nconfusion matrices summed over the report seeds (rows: true object):")
     for k in ("argmax theta, merged", "MoT, word-posterior theta",
-              "MoT mixture, word-posterior theta", "MoT shared precision, word-posterior theta"):
+              "MoT mixture, word-posterior theta", "MoT shared precision, word-posterior theta",
+              "MoT mixture, by words (E-step fit)"):
         if k not in summed:
             continue
         print(f"{k}:\n" + " " * 12 + "".join(f"{x[:10]:>11}" for x in names))

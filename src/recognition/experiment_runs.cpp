@@ -200,7 +200,8 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
 }  // namespace
 
 std::vector<ExperimentRun> run_scatter_experiments_files(const ScatterExperimentRunOptions& options,
-                                                         const core::Provenance& provenance) {
+                                                         const core::Provenance& provenance,
+                                                         const ScatterRunDoneFn& run_done) {
   options.validate();
   ScatterExperimentOptions o = options.options;
   o.view_features = o.frames.features;
@@ -216,27 +217,27 @@ std::vector<ExperimentRun> run_scatter_experiments_files(const ScatterExperiment
   if (!options.vocabulary.empty()) vocabulary = features::read_vocabulary(options.vocabulary);
   const features::Vocabulary* v = vocabulary ? &*vocabulary : nullptr;
   std::shared_ptr<core::ProgressBar> bar;
-  std::vector<ScatterExperimentResult> results;
-  if (options.views.empty()) {
-    // Segmented views: the features inside each object's mask; no centre crop.
-    o.view_features.center_crop = 1.0;
-    results =
-        run_scatter_experiments(episodes, read_episodes(options.view_episodes), options.objects, o,
-                                seeds, v, progress_bar(bar, "frames", options.progress));
-  } else {
-    const features::ImageSet views = features::read_image_set(options.views);
-    o.seed = seeds.front();
-    o.kmeans.seed = o.seed;
-    results.push_back(run_scatter_experiment(episodes, views, o, v,
-                                             progress_bar(bar, "frames", options.progress)));
-  }
+  // Each seed's run is made (and handed to run_done) as soon as that seed is finished.
   std::vector<ExperimentRun> out;
-  for (std::size_t i = 0; i < results.size(); ++i) {
+  auto done = [&](std::size_t i, const ScatterExperimentResult& result) {
     core::Provenance p = provenance;
     p.seed = seeds[i];
     ScatterExperimentOptions oi = o;
     oi.seed = seeds[i];
-    out.push_back(scatter_run(options, oi, episodes.size(), results[i], p));
+    out.push_back(scatter_run(options, oi, episodes.size(), result, p));
+    if (run_done) run_done(i, out.back());
+  };
+  if (options.views.empty()) {
+    // Segmented views: the features inside each object's mask; no centre crop.
+    o.view_features.center_crop = 1.0;
+    (void)run_scatter_experiments(episodes, read_episodes(options.view_episodes), options.objects,
+                                  o, seeds, v, progress_bar(bar, "frames", options.progress), done);
+  } else {
+    const features::ImageSet views = features::read_image_set(options.views);
+    o.seed = seeds.front();
+    o.kmeans.seed = o.seed;
+    done(0, run_scatter_experiment(episodes, views, o, v,
+                                   progress_bar(bar, "frames", options.progress)));
   }
   return out;
 }

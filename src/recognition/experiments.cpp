@@ -204,13 +204,11 @@ using ViewCorpora = std::function<std::pair<LabelledCorpus, LabelledCorpus>(
 
 // One result per seed: the frames' features are extracted once; each seed then builds its
 // dictionary, documents and models exactly as a run with that seed alone.
-std::vector<ScatterExperimentResult> run_scatter(const std::vector<episode::Episode>& episodes,
-                                                 const std::vector<std::string>& objects,
-                                                 const ScatterExperimentOptions& options,
-                                                 const std::vector<std::uint64_t>& seeds,
-                                                 const features::Vocabulary* vocabulary,
-                                                 const ProgressFn& progress,
-                                                 const ViewCorpora& make_views) {
+std::vector<ScatterExperimentResult> run_scatter(
+    const std::vector<episode::Episode>& episodes, const std::vector<std::string>& objects,
+    const ScatterExperimentOptions& options, const std::vector<std::uint64_t>& seeds,
+    const features::Vocabulary* vocabulary, const ProgressFn& progress,
+    const ViewCorpora& make_views, const ScatterSeedDoneFn& seed_done = {}) {
   options.validate();
   if (episodes.empty()) throw Error("no episodes given");
   if (seeds.empty()) throw Error("no seeds given");
@@ -353,6 +351,7 @@ std::vector<ScatterExperimentResult> run_scatter(const std::vector<episode::Epis
     // The frames' feature extraction (shared by the seeds) and this seed's own work.
     result.seconds = extraction_seconds + seconds_since(t1);
     results.push_back(std::move(result));
+    if (seed_done) seed_done(results.size() - 1, results.back());
   }
   return results;
 }
@@ -408,7 +407,8 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
     const std::vector<episode::Episode>& episodes,
     const std::vector<episode::Episode>& view_episodes, const std::vector<std::string>& objects,
     const ScatterExperimentOptions& options, const std::vector<std::uint64_t>& seeds,
-    const features::Vocabulary* vocabulary, const ProgressFn& progress) {
+    const features::Vocabulary* vocabulary, const ProgressFn& progress,
+    const ScatterSeedDoneFn& seed_done) {
   if (view_episodes.empty()) throw Error("no view episodes given");
   if (objects.empty()) throw Error("no objects named for the views");
   if (options.view_step < 1 || options.view_min_features < 1 || options.view_block < 1) {
@@ -467,7 +467,8 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
     result.test_views = static_cast<int>(test_docs.labels.size());
     return std::pair(std::move(mapping_docs), std::move(test_docs));
   };
-  return run_scatter(episodes, objects, options, seeds, vocabulary, progress, make_views);
+  return run_scatter(episodes, objects, options, seeds, vocabulary, progress, make_views,
+                     seed_done);
 }
 
 ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episode>& episodes,

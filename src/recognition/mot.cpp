@@ -553,7 +553,18 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
   const NonEmpty known = non_empty(dt);
   const std::vector<int>& rows = known.rows;
   r.empty_documents = r.documents - static_cast<int>(rows.size());
-  const topics::MotClassification c = topics::classify_mot(file.model, known.theta);
+  topics::MotClassification c;
+  if (options.by == MotClassifyBy::kWords) {
+    // The same views (those with features), scored by their words.
+    topics::Corpus words(in.lda.num_words());
+    for (const int d : rows) {
+      const topics::DocumentView doc = views.docs.corpus.document(static_cast<std::size_t>(d));
+      words.add_document(doc.words, doc.counts);
+    }
+    c = topics::classify_mot_words(file.model, in.lda, words);
+  } else {
+    c = topics::classify_mot(file.model, known.theta);
+  }
 
   // Rows of the confusion matrix: the model's objects, then any true class it does not know, so
   // that the diagonal counts the views given their own object.
@@ -611,6 +622,7 @@ MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
   r.model_file = options.model;
   r.source = MotSourceRecord::of(options.source);
   r.out = options.out;
+  r.by = options.by;
   r.document = core::result_document("proprio.mot.classify", 1, provenance);
   core::fields_into_json(r, r.document);
   r.message = core::first_line(r.brief());

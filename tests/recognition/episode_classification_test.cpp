@@ -250,5 +250,47 @@ TEST(ScatterExperiment, SeveralSeedsEqualOneRunPerSeed) {
   EXPECT_THROW((void)run_scatter_experiments(f.episodes, f.episodes, objects, o, {}), Error);
 }
 
+// Each seed is handed out as soon as it is done, before the next starts (so a long run that is
+// stopped keeps the seeds it finished), equal to what the run returns.
+TEST(ScatterExperiment, EachSeedIsHandedOutWhenDone) {
+  const Fixture& f = fixture();
+  ScatterExperimentOptions o;
+  o.topics = {2};
+  o.kmeans.words = 8;
+  o.dictionary_frames = 10;
+  o.descriptors_per_frame = 30;
+  o.online.batch_size = 5;
+  o.online.passes = 3;
+  o.view_step = 1;
+  o.view_block = 2;
+  o.view_min_features = 5;
+  const std::vector<std::string> objects = {"box", "mug"};
+  const std::vector<std::uint64_t> seeds = {3, 4, 5};
+  std::vector<std::size_t> indices;
+  std::vector<ScatterExperimentResult> handed;
+  const std::vector<ScatterExperimentResult> all =
+      run_scatter_experiments(f.episodes, f.episodes, objects, o, seeds, nullptr, {},
+                              [&](std::size_t i, const ScatterExperimentResult& r) {
+                                indices.push_back(i);
+                                handed.push_back(r);
+                              });
+  EXPECT_EQ(indices, (std::vector<std::size_t>{0, 1, 2}));
+  ASSERT_EQ(handed.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(handed[i].kmeans->cost, all[i].kmeans->cost);
+    EXPECT_EQ(handed[i].runs.at(0).evaluation.classes.counts,
+              all[i].runs.at(0).evaluation.classes.counts);
+  }
+  // Stopped after the first seed (the callback throws): the second seed is never started.
+  int calls = 0;
+  EXPECT_THROW((void)run_scatter_experiments(f.episodes, f.episodes, objects, o, seeds, nullptr, {},
+                                             [&](std::size_t, const ScatterExperimentResult&) {
+                                               ++calls;
+                                               throw Error("stopped");
+                                             }),
+               Error);
+  EXPECT_EQ(calls, 1);
+}
+
 }  // namespace
 }  // namespace proprio::recognition

@@ -3,8 +3,10 @@
 // 6.3.1-6.3.3, 7.3.1): the experiments of experiments.hpp from files, with the text the CLI
 // prints and the record it writes for --json (experiment_sets / experiment_scatter schemas).
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -279,10 +281,16 @@ struct ScatterExperimentRunOptions {
 ExperimentRun run_scatter_experiment_files(const ScatterExperimentRunOptions& options,
                                            const core::Provenance& provenance);
 
+/// Called with a seed's index in ScatterExperimentRunOptions::seeds and its run as soon as that
+/// seed is done (before the next seed starts): a caller writes each seed's JSON there, so a run
+/// stopped part-way keeps the seeds it finished.
+using ScatterRunDoneFn = std::function<void(std::size_t index, const ExperimentRun& run)>;
+
 /// One run per seed of options.seeds (or options.seed alone), in that order; each run's
-/// provenance records its seed. Throws Error for several seeds with views (only view episodes
-/// share their features between seeds).
+/// provenance records its seed; `run_done` gets each run as it is finished. Throws Error for
+/// several seeds with views (only view episodes share their features between seeds).
 std::vector<ExperimentRun> run_scatter_experiments_files(const ScatterExperimentRunOptions& options,
-                                                         const core::Provenance& provenance);
+                                                         const core::Provenance& provenance,
+                                                         const ScatterRunDoneFn& run_done = {});
 
 }  // namespace proprio::recognition

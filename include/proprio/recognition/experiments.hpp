@@ -9,7 +9,9 @@
 //    mini-batches of 50 frames on videos of objects moved about, classification of held-out views
 //    of each object, with K = number of objects and with more topics, merged.
 // In every case topics are named after classes from labelled training images only.
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -197,10 +199,16 @@ ScatterExperimentResult run_scatter_experiment(const std::vector<episode::Episod
 /// options.seed = that seed alone (dictionary, documents, LDA and MoT all follow the seed), but
 /// the frames' and the views' features are extracted only once (they do not depend on the seed),
 /// which is most of a run's time. Throws Error without seeds.
+/// `seed_done`, when given, is called with each seed's index in `seeds` and its finished result
+/// before the next seed starts, so that a caller can keep (write out) the seeds already done
+/// if a long run is stopped; an exception from it stops the run.
+using ScatterSeedDoneFn =
+    std::function<void(std::size_t index, const ScatterExperimentResult& result)>;
 std::vector<ScatterExperimentResult> run_scatter_experiments(
     const std::vector<episode::Episode>& episodes,
     const std::vector<episode::Episode>& view_episodes, const std::vector<std::string>& objects,
     const ScatterExperimentOptions& options, const std::vector<std::uint64_t>& seeds,
-    const features::Vocabulary* vocabulary = nullptr, const ProgressFn& progress = {});
+    const features::Vocabulary* vocabulary = nullptr, const ProgressFn& progress = {},
+    const ScatterSeedDoneFn& seed_done = {});
 
 }  // namespace proprio::recognition

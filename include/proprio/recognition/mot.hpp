@@ -322,20 +322,49 @@ struct MotTrainResult {
 /// number of words, an object has fewer than 2 views with features, or as fit_mot.
 MotTrainResult run_mot_train(const MotTrainOptions& options, const core::Provenance& provenance);
 
+/// How `mot classify` scores a view against each object.
+enum class MotClassifyBy {
+  /// Eq 7.3 on the view's E-step theta: log Dir(theta | omega_c) + log p(c) (topics::classify_mot).
+  kTheta,
+  /// The view's words' marginal likelihood with the object's Dirichlet (or mixture) as LDA's
+  /// prior of theta, + log p(c) (topics::classify_mot_words): the view taken whole rather than
+  /// reduced to one point theta.
+  kWords,
+};
+inline constexpr core::ChoiceNames<MotClassifyBy, 2> kMotClassifyByNames{
+    {{"theta", MotClassifyBy::kTheta}, {"words", MotClassifyBy::kWords}}};
+
 struct MotClassifyOptions {
   MotSourceOptions source;
   std::filesystem::path model;  ///< MoT model file (required)
+  /// theta (eq 7.3 on the E-step's theta, the thesis's) or words (topics::classify_mot_words).
+  /// theta stays the default: on the scatter report (docs/results/mot.md, sixth round) words
+  /// wins clearly only with a mixture per object (`mot train --components 10`; 3 objects 88.2%
+  /// against 83.8%, better on 5 of 5 seeds), which is not the default model; with one Dirichlet
+  /// it gains 2.7 points (3 objects, 4 of 5 seeds) and 0.5 (4 objects), and it costs an E-step
+  /// per object (and component) per view.
+  MotClassifyBy by = MotClassifyBy::kTheta;
   /// CSV to write (required): document, source (image file or episode directory), frame (-1 for
   /// images), truth (the folder's or mask's object), class (the MoT's, empty for a view without
   /// features), then p_<object> for each of the model's objects (eq 7.3).
   std::filesystem::path out;
 
   void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.by,
+             {"by",
+              "Score a view by its theta (eq 7.3) or by its words' likelihood under each object's "
+              "Dirichlet as LDA's prior"},
+             kMotClassifyByNames);
+  }
 };
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct MotClassifyResult {
-  ConfusionMatrix confusion;  ///< truth classes x the model's objects
+  ConfusionMatrix confusion;                 ///< truth classes x the model's objects
+  MotClassifyBy by = MotClassifyBy::kTheta;  ///< how the views were scored
   std::filesystem::path model_file;
   MotSourceRecord source;
   std::filesystem::path out;  ///< the CSV written
@@ -350,6 +379,7 @@ struct MotClassifyResult {
     v(self.model_file, {"model", "The MoT model file"});
     MotSourceRecord::describe(self.source, v);
     v(self.out, {"out", "The CSV written"});
+    v.choice(self.by, {"by", "How the views were scored: theta or words"}, kMotClassifyByNames);
     v(self.documents, {"documents", "Views made"});
     v(self.empty_documents, {"empty_documents", "Views without features, unclassified"});
     v(self.confusion, {"confusion", "Truth classes x the model's objects"});
@@ -357,7 +387,8 @@ struct MotClassifyResult {
 };
 
 /// Reads the MoT model and checks that the LDA model and vocabulary are the ones it was built on
-/// (Error otherwise: the CLI exits 2), then classifies every view and writes the CSV.
+/// (Error otherwise: the CLI exits 2), then classifies every view (by options.by) and writes the
+/// CSV.
 MotClassifyResult run_mot_classify(const MotClassifyOptions& options,
                                    const core::Provenance& provenance);
 
