@@ -83,6 +83,10 @@ struct SelfSupervisionOptions {
   /// objects in the push frames, on the robot's views with ground-truth labels. The pushes'
   /// episodes then carry ground-truth masks (never read by the learner).
   bool oracle_ladder = false;
+  /// Scoring only: skip the robot and score the ladder's render rungs (a0, a0_table) alone, the
+  /// ceiling the vocabulary and LDA model set, in seconds instead of a run's minutes (to tune
+  /// them without a robot run; the other rungs are then empty, the run learns nothing).
+  bool ceiling_only = false;
   std::filesystem::path out;  ///< output directory (required by run_self_supervision)
   bool overwrite = false;
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
@@ -121,6 +125,13 @@ struct SelfSupervisionOptions {
     v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
+    v(self.ceiling_only,
+      {"ceiling_only", "No robot run: score only the ladder's renders (a0, a0_table)"});
+    v(self.mot.components,
+      {"mot_components", "Mixture of Topics: Dirichlets per object at most (1: the thesis's)",
+       core::between(1, 10)});
+    v(self.mot.shared_precision,
+      {"mot_shared_precision", "Mixture of Topics: one precision shared by every object"});
     v(self.out, {"out", "Output directory: episodes, decision log, model, results"});
     v(self.overwrite, {"overwrite", "Replace an existing output directory"});
   }
