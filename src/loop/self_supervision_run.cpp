@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -113,6 +114,14 @@ std::string SelfSupervisionResult::brief() const {
   }
   s += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
                            100 * g.mot_accuracy, 100 * g.argmax_accuracy);
+  for (const LadderRung& rung : g.ladder ? g.ladder->rungs : std::vector<LadderRung>{}) {
+    if (rung.classes == 0) continue;  // nothing trained (ceiling only: all but a0, a0_table)
+    s += core::printf_string("\n  ladder %-8s %5.1f%% (%d views):", rung.name.c_str(),
+                             100 * rung.accuracy, rung.training_views);
+    for (std::size_t o = 0; o < rung.per_object.size() && o < g.objects.size(); ++o) {
+      s += core::printf_string(" %s %.0f%%", g.objects[o].name.c_str(), 100 * rung.per_object[o]);
+    }
+  }
   return s;
 }
 
@@ -154,11 +163,19 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
   // (the attendant keeps its records, not the robot).
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, options.seed);
-  SelfSupervisionResult r =
-      learn(out.options, out.work(), *robot, attendant, in, static_cast<int>(objects.size()));
+  SelfSupervisionResult r;
+  SelfSupervisionOptions scoring = options;
+  if (options.ceiling_only) {
+    // No pushes: an empty learning (no classes), scored with the ladder's render rungs only.
+    r.options = out.options;
+    r.message = "ceiling only: no robot run";
+    scoring.oracle_ladder = true;
+  } else {
+    r = learn(out.options, out.work(), *robot, attendant, in, static_cast<int>(objects.size()));
+  }
   robot.reset();
   r.score =
-      score_self_supervision(r.learning, attendant, objects, in.model, in.vocabulary, options);
+      score_self_supervision(r.learning, attendant, objects, in.model, in.vocabulary, scoring);
   r.document = core::result_document(kSelfSupervisionFormat, kFormatVersion, provenance);
   core::fields_into_json(r, r.document);
   core::write_json_atomic(out.work() / "selfsupervise.json", r.document);

@@ -253,6 +253,12 @@ void GroundTruthAttendant::view_taken(const PushIntent& intent,
   t.episode = episode;
   t.frame = frame;
   t.intended = pushes_.empty() ? std::string() : pushes_.back().intended;
+  for (const auto& o : robot_.ground_truth()) {
+    if (o.name != t.intended || !o.on_table) continue;
+    t.posed = true;
+    t.position = o.position.head<2>();
+    t.yaw = o.yaw;
+  }
   // The ground-truth ids of the view: the episode's mask of that frame (recorded only with
   // TableOptions::record_masks), or the table now (the look after the push).
   cv::Mat ids;
@@ -323,6 +329,8 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
                            const std::vector<std::string>& a0_labels,
                            const topics::Corpus& a0_table,
                            const std::vector<std::string>& a0_table_labels,
+                           const topics::Corpus& alone,
+                           const std::vector<std::string>& alone_labels,
                            const topics::LdaModel& model, const features::Vocabulary& vocabulary,
                            const SelfSupervisionOptions& options) {
   OracleLadder l;
@@ -371,6 +379,9 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
                          theta_of(a_corpus), a_labels));
   l.rungs.push_back(rung("a_last", "(a), each push's last view only (the arm lifted)",
                          theta_of(last_corpus), last_labels));
+  l.rungs.push_back(rung("a_alone",
+                         "renders of the object alone in the pose of each push's last view",
+                         theta_of(alone), alone_labels));
   // (b), (c): the robot's own views (its masks), labelled by the truth or by the robot.
   const Eigen::MatrixXd& theta = learning.views.theta;
   const bool aligned = static_cast<Eigen::Index>(views.size()) == theta.rows();
@@ -538,6 +549,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   topics::Corpus a0_table_corpus(vocabulary.size());
   std::vector<std::string> a0_labels;
   std::vector<std::string> a0_table_labels;
+  topics::Corpus alone_corpus(vocabulary.size());
+  std::vector<std::string> alone_labels;
   for (std::size_t oi = 0; oi < objects.size(); ++oi) {
     ObjectScore os;
     os.name = objects[oi];
@@ -597,6 +610,22 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
           (where == 0 ? a0_labels : a0_table_labels).push_back(os.name);
         }
       }
+      // (a_alone): the object alone where and as each of its pushes left it (the pose of the
+      // push's last view): a_last without the arm, the other objects and the push's motion.
+      const std::vector<ViewTruth>& views = attendant.views();
+      for (std::size_t vi = 0; vi < views.size(); ++vi) {
+        const ViewTruth& v = views[vi];
+        const bool last = vi + 1 == views.size() || views[vi + 1].episode != v.episode;
+        if (!last || !v.posed || v.intended != os.name) continue;
+        alone.place({{os.name, v.position, v.yaw}});
+        const robot::Look look = alone.look();
+        const cv::Mat mask = alone.ground_truth_mask() == id;
+        const auto doc =
+            masked_document(look.image, mask, vocabulary, options.features, options.dilate);
+        if (static_cast<int>(doc.size()) < options.min_features) continue;
+        alone_corpus.add_tokens(doc);
+        alone_labels.push_back(os.name);
+      }
     }
     os.held_out = static_cast<int>(corpus.num_documents());
     if (os.held_out > 0) {
@@ -645,8 +674,9 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   s.mot_accuracy = fraction(right_mot, n);
   s.argmax_accuracy = fraction(right_argmax, n);
   if (ladder) {
-    s.ladder = oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels,
-                             a0_table_corpus, a0_table_labels, model, vocabulary, options);
+    s.ladder =
+        oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels, a0_table_corpus,
+                      a0_table_labels, alone_corpus, alone_labels, model, vocabulary, options);
   }
   return s;
 }

@@ -68,6 +68,26 @@ TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   EXPECT_HAS(again.err, "already exists");
 }
 
+TEST_F(SelfSuperviseCli, CeilingOnlyScoresTheRendersWithoutARobotRun) {
+  // --ceiling-only: no push (no decision log, nothing learned), only the ladder's render rungs
+  // (a0, a0_table) trained and scored, printed in the brief.
+  const auto r = run_cli(
+      "selfsupervise --objects book,bottle --ceiling-only --held-out 3 --width 160 --height 120 "
+      "--step 4 --min-features 3 --seed 3 -q" +
+      inputs() + " --out " + file("ceiling") + " --json " + file("ceiling.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "learned 0 of 0 classes from 0 views");
+  EXPECT_HAS(r.out, "ladder a0 ");
+  EXPECT_FALSE(fs::exists(dir() / "ceiling" / "decisions.jsonl"));
+  const core::Json j = core::read_json(dir() / "ceiling.json");
+  const core::Json& rungs = j["ground_truth"]["oracle_ladder"]["rungs"];
+  ASSERT_GE(rungs.size(), 2U);
+  EXPECT_EQ(rungs[0]["name"], "a0");
+  EXPECT_EQ(rungs[0]["classes"], 2);
+  EXPECT_EQ(rungs[0]["training_views"], 48);  // kLadderRenders per object
+  EXPECT_EQ(rungs[2]["classes"], 0);          // (a): no pushes, nothing trained
+}
+
 TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
   const std::string out = " --out " + file("bad");
   const struct {

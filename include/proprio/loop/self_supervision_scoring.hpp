@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "proprio/core/json_io.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/vocabulary.hpp"
@@ -49,6 +51,11 @@ struct ViewTruth {
   double share_arm = 0;         ///< on the arm
   double share_background = 0;  ///< on the table or the backdrop
   bool known = false;           ///< ground truth was available for it
+  /// The intended object's pose on the table when the view was taken (after its push): world
+  /// x y of its origin (m) and yaw (rad); posed false when it was not on the table (or none).
+  bool posed = false;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  double yaw = 0;
 };
 
 /// A round as the ground truth saw it.
@@ -132,7 +139,7 @@ struct ObjectScore {
 /// One rung of the oracle ladder: a supervised Mixture of Topics (ground-truth object names as
 /// classes, every object with >= 2 views) trained on some views, scored on the held-out views.
 struct LadderRung {
-  std::string name;  ///< a0, a0_table, a, a_last, b, b_pure, c_named, c
+  std::string name;  ///< a0, a0_table, a, a_last, a_alone, b, b_pure, c_named, c
   std::string what;  ///< what it was trained on
   int training_views = 0;
   int classes = 0;                 ///< objects with a class
@@ -165,7 +172,7 @@ struct OracleLadder {
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
-    v(self.rungs, {"rungs", "a0, a0_table, a, a_last, b, b_pure, c_named, c"});
+    v(self.rungs, {"rungs", "a0, a0_table, a, a_last, a_alone, b, b_pure, c_named, c"});
     v(self.share_object, {"share_object", "Robot's view masks: fraction on the object in view"});
     v(self.share_arm, {"share_arm", "Fraction on the arm"});
     v(self.share_background, {"share_background", "Fraction on the background"});
