@@ -414,6 +414,20 @@ TEST(MlDepth, DepthStepsCutRegions) {
   EXPECT_EQ(n, 1);
 }
 
+TEST(MlDepth, DefaultDepthEdgeCutsAHandleHeightStep) {
+  // The table seen through a mug's handle lies 10-20 mm behind the handle: the default cut
+  // (depth_edge) must part them, and a 5 mm ripple must not be cut.
+  const cv::Mat1i one(6, 10, 0);
+  cv::Mat1f z(6, 10, 1000.0F);
+  z(cv::Rect(5, 0, 5, 6)).setTo(985.0F);
+  int n = 0;
+  (void)split_at_depth_steps(one, z, MlOptions{}.depth_edge, n);
+  EXPECT_EQ(n, 2);
+  z(cv::Rect(5, 0, 5, 6)).setTo(995.0F);
+  (void)split_at_depth_steps(one, z, MlOptions{}.depth_edge, n);
+  EXPECT_EQ(n, 1);
+}
+
 TEST(MlSegmentation, PriorMultipliesIn) {
   TempDir tmp("prior");
   PushSpec spec;

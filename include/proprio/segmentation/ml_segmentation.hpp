@@ -223,8 +223,11 @@ struct MlOptions {
   bool depth_with_2d = true;
   /// Robust 3-D mean bandwidth, mm.
   double depth_bandwidth = 10.0;
-  /// Depth step between neighbouring pixels that cuts a superpixel, mm; 0 = no cut.
-  double depth_edge = 20.0;
+  /// Depth step between neighbouring pixels that cuts a superpixel, mm; 0 = no cut. 10 rather
+  /// than 20 on the tuning recording (docs/results/segmentation-eval.md, session 14): a mug's
+  /// handle stands only a centimetre or two above the table seen through it, and the bottle's
+  /// and mug's outlines against the table behind them at the foot are shallow steps too.
+  double depth_edge = 10.0;
   /// Depth variant: the region smoothing (region_smoothing) does not join two regions across
   /// their boundary's pixel pairs with a depth step above depth_edge: the object's pieces cut
   /// at its outline keep their own evidence instead of taking the background's behind them.
