@@ -53,9 +53,19 @@ enum class CentreMethod {
   /// foot (on the table); its lateral width (across the line of sight, where parallax does not
   /// stretch it) is taken as its depth too, and p_c is the middle of that footprint.
   kFootprint,
+  /// Parallax corrected from the base contour: the lowest feature of each image column of the
+  /// blob (its lower envelope, the object's foot on the side facing the camera) back-projected
+  /// onto the table top (z = 0); the blob's leftmost and rightmost columns are the silhouette's
+  /// vertical edges, whose feet are the footprint's support points across the line of sight,
+  /// and for a footprint symmetric about its centre (a box, a cylinder, most catalogue objects)
+  /// p_c is their midpoint, whatever the object's height and its depth along the line of sight.
+  /// The footprint (the hull) is the lower envelope and its reflection through p_c.
+  kBase,
 };
-inline constexpr core::ChoiceNames<CentreMethod, 2> kCentreMethodNames{
-    {{"features", CentreMethod::kFeatures}, {"footprint", CentreMethod::kFootprint}}};
+inline constexpr core::ChoiceNames<CentreMethod, 3> kCentreMethodNames{
+    {{"features", CentreMethod::kFeatures},
+     {"footprint", CentreMethod::kFootprint},
+     {"base", CentreMethod::kBase}}};
 
 struct PushPlanOptions {
   // Putative objects (6.2).
@@ -116,7 +126,8 @@ struct PushPlanOptions {
     v(self.centre_height,
       {"centre_height", "Height features are back-projected at, m", core::between(0, 0.2)});
     v.choice(self.centre,
-             {"centre", "Object centre: features (mean, thesis) or footprint (parallax corrected)"},
+             {"centre",
+              "Object centre: features (mean, thesis), footprint or base (parallax corrected)"},
              kCentreMethodNames);
     v(self.candidates,
       {"candidates", "Paths sampled; the least-cost one is kept", core::between(1, 10000)});
@@ -157,7 +168,11 @@ struct PutativeObject {
   Eigen::Vector2d centre_pixel;         ///< mean feature position, px
   Eigen::Vector2d centre;               ///< p_c on the table, m (PushPlanOptions::centre says how)
   std::vector<Eigen::Vector2d> hull_pixels;  ///< convex hull of the features, px
-  std::vector<Eigen::Vector2d> hull;         ///< the hull back-projected to the table, m (CCW)
+  std::vector<Eigen::Vector2d> hull;         ///< its footprint on the table, m (CCW; see centre)
+  /// The features' hull back-projected at PushPlanOptions::centre_height, m (CCW): where the
+  /// image of the object lies on the table (the hull itself with CentreMethod::kFeatures), what
+  /// find_pushed_object carries to find the object's features again.
+  std::vector<Eigen::Vector2d> extent;
 };
 
 /// What the planner knows of the view: the features, their density (eq 6.3) and the putative
