@@ -195,10 +195,12 @@ TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   // (the convex hulls of these point sets: polygon_distance wants convex polygons)
   const auto hull_of = [](const std::vector<Eigen::Vector2d>& pts) {
     std::vector<cv::Point2f> q;
+    q.reserve(pts.size());
     for (const auto& x : pts) q.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()));
     std::vector<cv::Point2f> h;
     cv::convexHull(q, h);
     std::vector<Eigen::Vector2d> out;
+    out.reserve(h.size());
     for (const auto& x : h) out.emplace_back(x.x, x.y);
     return out;
   };
