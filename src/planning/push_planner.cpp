@@ -144,6 +144,74 @@ std::vector<Eigen::Vector2d> footprint(const std::vector<Eigen::Vector2d>& table
   return cut;
 }
 
+// The footprint of a blob from its base contour (CentreMethod::kBase). Back-projected onto the
+// table top, every point of a vertical edge lies on one ray from the camera's foot `eye` (the
+// point under the camera), so the features' bearings around `eye` span the footprint's bearings
+// whatever their height; the nearest feature of a bearing (the lowest in the image) is the
+// object's foot there. The two outermost bearings' feet are the footprint's tangent points seen
+// from `eye`; for a footprint symmetric about its centre (a box, a cylinder) p_c is their
+// midpoint moved away from the eye by r^2 / D (a circle of radius r seen from distance D: the
+// chord of its tangent points lies r^2 / D nearer). The footprint is the feet (one per bearing
+// bin of `bin` rad, the angle of one feature-grid step) and their reflection through p_c.
+// Throws Error above the horizon.
+std::vector<Eigen::Vector2d> base_footprint(const std::vector<Eigen::Vector2d>& pixels,
+                                            const geometry::Camera& camera,
+                                            const Eigen::Vector2d& eye, double grid_step,
+                                            Eigen::Vector2d& centre) {
+  struct Foot {
+    double bearing;
+    double range;
+    Eigen::Vector2d p;
+  };
+  std::vector<Foot> feet;
+  feet.reserve(pixels.size());
+  Eigen::Vector2d mean_pixel = Eigen::Vector2d::Zero();
+  for (const auto& px : pixels) {
+    const Eigen::Vector2d p = robot::pixel_to_table(camera, px, 0.0);
+    const Eigen::Vector2d d = p - eye;
+    feet.push_back({std::atan2(d.y(), d.x()), d.norm(), p});
+    mean_pixel += px;
+  }
+  mean_pixel /= static_cast<double>(pixels.size());
+  // A grid step's angle at the blob: the bins and the outermost bearings' tolerance.
+  const Eigen::Vector2d a = robot::pixel_to_table(camera, mean_pixel, 0.0) - eye;
+  const Eigen::Vector2d b =
+      robot::pixel_to_table(camera, mean_pixel + Eigen::Vector2d(grid_step, 0.0), 0.0) - eye;
+  const double bin = std::max(1e-4, std::abs(std::atan2(cross(a, b), a.dot(b))));
+  std::sort(feet.begin(), feet.end(),
+            [](const Foot& x, const Foot& y) { return x.bearing < y.bearing; });
+  const auto nearest = [&](double from, double to) {
+    const Foot* best = nullptr;
+    for (const Foot& f : feet) {
+      if (f.bearing >= from && f.bearing <= to && (best == nullptr || f.range < best->range)) {
+        best = &f;
+      }
+    }
+    return best;
+  };
+  const double lo = feet.front().bearing;
+  const double hi = feet.back().bearing;
+  const Eigen::Vector2d left = nearest(lo, lo + bin)->p;
+  const Eigen::Vector2d right = nearest(hi - bin, hi)->p;
+  const Eigen::Vector2d mid = 0.5 * (left + right);
+  const double r = 0.5 * (right - left).norm();
+  const double dist = (mid - eye).norm();
+  // The r^2 / D term is wrong for a long object near the camera (its tangent points are its
+  // ends) but right on average: without it the centres of tables 1-30 were 34.9 mm off, with it
+  // 18.7 mm (median).
+  centre = mid;
+  if (dist > r) centre += (r * r / dist) * (mid - eye) / dist;
+  std::vector<Eigen::Vector2d> out;
+  for (double from = lo; from <= hi; from += bin) {
+    if (const Foot* f = nearest(from, from + bin)) out.push_back(f->p);
+  }
+  out.push_back(left);
+  out.push_back(right);
+  const std::size_t n = out.size();
+  for (std::size_t i = 0; i < n; ++i) out.push_back(2.0 * centre - out[i]);
+  return out;
+}
+
 // The putative object of one blob, or none when it does not map onto the table.
 std::optional<PutativeObject> putative_object(const features::Blob& blob,
                                               const std::vector<cv::KeyPoint>& features,
@@ -164,11 +232,17 @@ std::optional<PutativeObject> putative_object(const features::Blob& blob,
   o.hull_pixels = convex_hull(o.pixels, 1.0);
   std::vector<Eigen::Vector2d> table;
   try {
+    std::vector<Eigen::Vector2d> extent;
+    for (const auto& h : o.hull_pixels) {
+      extent.push_back(robot::pixel_to_table(camera, h, options.centre_height));
+    }
+    o.extent = convex_hull(extent, kMetresToMm);
     if (options.centre == CentreMethod::kFeatures) {
       o.centre = robot::pixel_to_table(camera, o.centre_pixel, options.centre_height);
-      for (const auto& h : o.hull_pixels) {
-        table.push_back(robot::pixel_to_table(camera, h, options.centre_height));
-      }
+      table = extent;
+    } else if (options.centre == CentreMethod::kBase) {
+      table = base_footprint(o.pixels, camera, camera.center().head<2>(),
+                             static_cast<double>(options.grid_step), o.centre);
     } else {
       for (const auto& h : o.hull_pixels) table.push_back(robot::pixel_to_table(camera, h, 0.0));
       table = footprint(table, camera.center().head<2>(), o.centre);
@@ -180,7 +254,7 @@ std::optional<PutativeObject> putative_object(const features::Blob& blob,
     return std::nullopt;
   }
   o.hull = convex_hull(table, kMetresToMm);
-  if (o.hull.size() < 3) return std::nullopt;
+  if (o.hull.size() < 3 || o.extent.size() < 3) return std::nullopt;
   return o;
 }
 
@@ -495,7 +569,9 @@ int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
   options.validate();
   const cv::Mat1f motion = motion_image(before_image, after_image);
   std::vector<Eigen::Vector2d> carried;
-  for (const auto& h : previous.hull) carried.push_back(h + (expected - previous.centre));
+  // Its features' extent (back-projected at centre_height as the features below are), not its
+  // footprint: a tall object's features lie beyond its footprint.
+  for (const auto& h : previous.extent) carried.push_back(h + (expected - previous.centre));
   const double margin = 0.25 * radius;
   std::vector<cv::KeyPoint> moving;
   for (const cv::KeyPoint& k : after_view.features) {

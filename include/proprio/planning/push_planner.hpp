@@ -53,9 +53,23 @@ enum class CentreMethod {
   /// foot (on the table); its lateral width (across the line of sight, where parallax does not
   /// stretch it) is taken as its depth too, and p_c is the middle of that footprint.
   kFootprint,
+  /// Parallax corrected from the base contour: features back-projected onto the table top
+  /// (z = 0) lie, for every point of a vertical edge, on one ray from the camera's foot, so their
+  /// bearings around it span the footprint's whatever their height; the nearest feature at the
+  /// two outermost bearings (the silhouette's outermost vertical edges' feet) are the
+  /// footprint's tangent points, and p_c is their midpoint moved away from the camera by r^2 / D
+  /// (exact for a circle of radius r at distance D). The footprint (the hull) is the nearest
+  /// feature per bearing and its reflection through p_c. Right for tall boxes and cylinders
+  /// (a 15 cm box within 7 mm, where kFeatures is 30 mm off), but the depth along the line of
+  /// sight is a guess for other shapes: on tables 1-30 the centre was 18.7 mm off (median)
+  /// against 10.9 mm for kFeatures (a spirit level 96 mm, a box 35 mm; the bottle 37 -> 11 mm),
+  /// without the r^2 / D term 34.9 mm; not the default (docs/results/push.md).
+  kBase,
 };
-inline constexpr core::ChoiceNames<CentreMethod, 2> kCentreMethodNames{
-    {{"features", CentreMethod::kFeatures}, {"footprint", CentreMethod::kFootprint}}};
+inline constexpr core::ChoiceNames<CentreMethod, 3> kCentreMethodNames{
+    {{"features", CentreMethod::kFeatures},
+     {"footprint", CentreMethod::kFootprint},
+     {"base", CentreMethod::kBase}}};
 
 struct PushPlanOptions {
   // Putative objects (6.2).
@@ -70,6 +84,8 @@ struct PushPlanOptions {
   /// tables 1-100 the closed loop's median final distance was 19.9 mm against 23.4 mm at 2 cm and
   /// 24.7 mm at 5 cm (docs/results/push.md).
   double centre_height = 0.035;
+  /// kFeatures: on tables 1-30 the closed loop's median final distance was 25 mm against 37 mm
+  /// for kBase and the centre 10.9 mm off against 18.7 mm (docs/results/push.md).
   CentreMethod centre = CentreMethod::kFeatures;
   // Sampling (7.2.1): random approach lengths and targets, the least-cost path kept.
   int candidates = 48;          ///< paths sampled
@@ -116,7 +132,8 @@ struct PushPlanOptions {
     v(self.centre_height,
       {"centre_height", "Height features are back-projected at, m", core::between(0, 0.2)});
     v.choice(self.centre,
-             {"centre", "Object centre: features (mean, thesis) or footprint (parallax corrected)"},
+             {"centre",
+              "Object centre: features (mean, thesis), footprint or base (parallax corrected)"},
              kCentreMethodNames);
     v(self.candidates,
       {"candidates", "Paths sampled; the least-cost one is kept", core::between(1, 10000)});
@@ -157,7 +174,11 @@ struct PutativeObject {
   Eigen::Vector2d centre_pixel;         ///< mean feature position, px
   Eigen::Vector2d centre;               ///< p_c on the table, m (PushPlanOptions::centre says how)
   std::vector<Eigen::Vector2d> hull_pixels;  ///< convex hull of the features, px
-  std::vector<Eigen::Vector2d> hull;         ///< the hull back-projected to the table, m (CCW)
+  std::vector<Eigen::Vector2d> hull;         ///< its footprint on the table, m (CCW; see centre)
+  /// The features' hull back-projected at PushPlanOptions::centre_height, m (CCW): where the
+  /// image of the object lies on the table (the hull itself with CentreMethod::kFeatures), what
+  /// find_pushed_object carries to find the object's features again.
+  std::vector<Eigen::Vector2d> extent;
 };
 
 /// What the planner knows of the view: the features, their density (eq 6.3) and the putative
