@@ -28,7 +28,9 @@ namespace fs = std::filesystem;
 using namespace proprio;
 using test::run_cli;
 
+// NOLINTNEXTLINE(readability-identifier-naming)
 const char* kPhotos[] = {"baboon.jpg", "fruits.jpg", "building.jpg"};
+// NOLINTNEXTLINE(readability-identifier-naming)
 const char* kClasses[] = {"baboon", "fruits", "building"};
 
 class MotCli : public ::testing::Test {
@@ -71,7 +73,9 @@ class MotCli : public ::testing::Test {
     return " --lda-model " + file(lda) + " --vocabulary " + file("v.vocab") + " --images " +
            file("images");
   }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static fs::path dir_;
 };
 std::optional<test::TempDir> MotCli::temp_;

@@ -37,6 +37,7 @@ class SelfSuperviseCli : public ::testing::Test {
     return " --model " + file(lda) + " --vocabulary " + file("v.vocab");
   }
   static const fs::path& dir() { return temp_->path(); }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
 };
 std::optional<test::TempDir> SelfSuperviseCli::temp_;

@@ -59,7 +59,7 @@ struct Fixture {
 
 // The episode, a 16-word vocabulary from its frames and a K = 2 model learned from them.
 const Fixture& fixture() {
-  static const Fixture f = [] {
+  static const Fixture kFixture = [] {
     Fixture x;
     // One directory per process: ctest runs this file's tests in parallel processes.
     x.dir = fs::temp_directory_path() /
@@ -86,7 +86,7 @@ const Fixture& fixture() {
     x.model = topics::train_online_lda(corpus, on).model;
     return x;
   }();
-  return f;
+  return kFixture;
 }
 
 TEST(EpisodeClassification, TruthFromMasksAndOneTopicPerObject) {

@@ -121,8 +121,8 @@ TEST(InverseDynamics, AccelerationTermIsTheMassMatrix) {
   JointVector Mq = JointVector::Zero();
   for (int r = 0; r < kArmJoints; ++r) {
     for (int c = 0; c < kArmJoints; ++c) {
-      Mq[r] += M[static_cast<std::size_t>(state.arm().dof_adr(r) * m.nv + state.arm().dof_adr(c))] *
-               qddot[c];
+      const int at = (state.arm().dof_adr(r) * m.nv) + state.arm().dof_adr(c);
+      Mq[r] += M[static_cast<std::size_t>(at)] * qddot[c];
     }
   }
   EXPECT_LT((tau - g - Mq).norm(), 1e-9);

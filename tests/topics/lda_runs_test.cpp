@@ -177,6 +177,7 @@ TEST(LdaRuns, InputsThatDoNotBelongTogetherAreErrors) {
   const LdaModel m = load_lda_model(t.model);
   Corpus renamed(40, [] {
     std::vector<std::string> v;
+    v.reserve(40);
     for (int w = 0; w < 40; ++w) v.push_back(w == 7 ? "zebra" : "word" + std::to_string(w));
     return v;
   }());
