@@ -208,10 +208,8 @@ TEST(EpisodeClassification, BadInputIsAnError) {
       Error);
 }
 
-// Several seeds over one feature extraction give, seed by seed, what a run with that seed alone
-// gives: the dictionary, the documents, the views and the confusion matrices.
-TEST(ScatterExperiment, SeveralSeedsEqualOneRunPerSeed) {
-  const Fixture& f = fixture();
+// A scatter run small enough for a test: one T, 8 words, a few views per block.
+ScatterExperimentOptions small_scatter_options() {
   ScatterExperimentOptions o;
   o.topics = {2};
   o.kmeans.words = 8;
@@ -222,6 +220,14 @@ TEST(ScatterExperiment, SeveralSeedsEqualOneRunPerSeed) {
   o.view_step = 1;
   o.view_block = 2;
   o.view_min_features = 5;
+  return o;
+}
+
+// Several seeds over one feature extraction give, seed by seed, what a run with that seed alone
+// gives: the dictionary, the documents, the views and the confusion matrices.
+TEST(ScatterExperiment, SeveralSeedsEqualOneRunPerSeed) {
+  const Fixture& f = fixture();
+  const ScatterExperimentOptions o = small_scatter_options();
   const std::vector<std::string> objects = {"box", "mug"};
   const std::vector<std::uint64_t> seeds = {3, 4};
   const std::vector<ScatterExperimentResult> many =
@@ -254,16 +260,7 @@ TEST(ScatterExperiment, SeveralSeedsEqualOneRunPerSeed) {
 // stopped keeps the seeds it finished), equal to what the run returns.
 TEST(ScatterExperiment, EachSeedIsHandedOutWhenDone) {
   const Fixture& f = fixture();
-  ScatterExperimentOptions o;
-  o.topics = {2};
-  o.kmeans.words = 8;
-  o.dictionary_frames = 10;
-  o.descriptors_per_frame = 30;
-  o.online.batch_size = 5;
-  o.online.passes = 3;
-  o.view_step = 1;
-  o.view_block = 2;
-  o.view_min_features = 5;
+  const ScatterExperimentOptions o = small_scatter_options();
   const std::vector<std::string> objects = {"box", "mug"};
   const std::vector<std::uint64_t> seeds = {3, 4, 5};
   std::vector<std::size_t> indices;
