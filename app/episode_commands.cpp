@@ -49,17 +49,9 @@ void run_check(const CheckArgs& a, const Invocation& inv) {
   options.decode_images = !a.quick;
   a.json.refuse({a.dir});
   const auto r = episode::run_episode_check(a.dir, options, inv.provenance());
-  const auto& problems = r.problems;
-  for (const auto& p : problems) std::printf("%s\n", p.message.c_str());
+  std::fputs(r.brief().c_str(), stdout);
   a.json.write(r.document);
-  if (!problems.empty()) {
-    std::string m = a.dir;
-    m += ": not a valid episode (";
-    m += std::to_string(problems.size());
-    m += problems.size() == 1 ? " problem)" : " problems)";
-    throw Error(m);
-  }
-  std::printf("%s: valid episode\n", a.dir.c_str());
+  if (!r.valid()) throw Error(r.message);
 }
 
 void run_import(ImportArgs a, const Invocation& inv) {
@@ -73,8 +65,7 @@ void run_import(ImportArgs a, const Invocation& inv) {
   const core::Provenance provenance = inv.provenance();
   const auto result =
       episode::import_recording(a.video, a.arm_log, a.calib, a.out, a.options, provenance);
-  std::printf("episode: %s\n", a.out.c_str());
-  std::fputs(episode::format_import_summary(result.summary).c_str(), stdout);
+  std::fputs(result.brief().c_str(), stdout);
   a.json.write(result.document);
 }
 

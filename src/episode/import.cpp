@@ -220,9 +220,14 @@ ImportResult import_recording(const fs::path& video, const fs::path& arm_log, co
   }
   progress.finish();
   writer.finish();
-  ImportResult r{out, sum, core::result_document("proprio.episode.import", 1, provenance)};
+  ImportResult r{out, sum, core::result_document("proprio.episode.import", 1, provenance), {}};
   core::fields_into_json(r, r.document);
+  r.message = out.string() + ": " + std::to_string(sum.frames_written) + " frames imported";
   return r;
+}
+
+std::string ImportResult::brief() const {
+  return "episode: " + episode.string() + "\n" + format_import_summary(summary);
 }
 
 core::Json to_json(const ImportSummary& s) { return core::fields_to_json(s); }

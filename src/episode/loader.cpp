@@ -349,12 +349,26 @@ std::vector<Problem> check_episode(const std::filesystem::path& dir, const Check
   return sink.take();
 }
 
+std::string CheckResult::brief() const {
+  if (problems.empty()) return message + "\n";
+  std::string out;
+  for (const auto& p : problems) out += p.message + "\n";
+  return out;
+}
+
 CheckResult run_episode_check(const std::filesystem::path& dir, const CheckOptions& options,
                               const core::Provenance& provenance) {
   CheckResult r;
   r.dir = dir;
   r.decoded_images = options.decode_images;
   r.problems = check_episode(dir, options);
+  r.message = dir.string();
+  if (r.problems.empty()) {
+    r.message += ": valid episode";
+  } else {
+    r.message += ": not a valid episode (" + std::to_string(r.problems.size()) +
+                 (r.problems.size() == 1 ? " problem)" : " problems)");
+  }
   r.document = core::result_document("proprio.episode.check", 1, provenance);
   core::fields_into_json(r, r.document);
   return r;

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "proprio/core/fields.hpp"
+#include "proprio/episode/check.hpp"
+#include "proprio/episode/import.hpp"
 #include "proprio/episode/summary.hpp"
 #include "proprio/eval/dataset_evaluation.hpp"
 #include "proprio/eval/segment_episode.hpp"
@@ -53,15 +55,15 @@ template <class... S>
 constexpr bool kAllSummaries = (core::Summary<S> && ...);
 
 // The Results of the commands' library calls (docs/architecture.md's table).
-static_assert(
-    kAllSummaries<episode::EpisodeInfoResult, eval::SegmentEpisodeResult,
-                  eval::DatasetEvaluationResult, features::VocabularyInfo,
-                  features::VocabularyBuildResult, loop::LearnResult, loop::LearnReportResult,
-                  loop::PushRunResult, loop::PushEvaluationResult, loop::SelfSupervisionResult,
-                  planning::InterceptionRunResult, planning::InterceptionSweepResult,
-                  recognition::QuantizeImagesResult, recognition::MotTrainResult,
-                  recognition::MotClassifyResult, recognition::MotUpdateResult,
-                  sim::SimDatasetResult, topics::LdaTrainingResult, topics::LdaPerplexityResult>);
+static_assert(kAllSummaries<
+              episode::EpisodeInfoResult, episode::CheckResult, episode::ImportResult,
+              eval::SegmentEpisodeResult, eval::DatasetEvaluationResult, features::VocabularyInfo,
+              features::VocabularyBuildResult, loop::LearnResult, loop::LearnReportResult,
+              loop::PushRunResult, loop::PushEvaluationResult, loop::SelfSupervisionResult,
+              planning::InterceptionRunResult, planning::InterceptionSweepResult,
+              recognition::QuantizeImagesResult, recognition::MotTrainResult,
+              recognition::MotClassifyResult, recognition::MotUpdateResult, sim::SimDatasetResult,
+              topics::LdaTrainingResult, topics::LdaPerplexityResult>);
 
 // The Results whose brief() is a report or listing made by the call (issue 14: they held only
 // `report` or `lines`; the CLI now prints their brief()).

@@ -70,6 +70,25 @@ TEST_F(CheckTest, ValidEpisodeHasNoProblems) {
   EXPECT_EQ(read_error(), "no error");
 }
 
+TEST_F(CheckTest, RunCheckGivesTheVerdictAsMessageAndTheProblemsAsBrief) {
+  const core::Provenance provenance = core::Provenance::current({"check_test"});
+  const CheckResult valid = run_episode_check(dir_, {}, provenance);
+  EXPECT_TRUE(valid.valid());
+  EXPECT_EQ(valid.message, dir_.string() + ": valid episode");
+  EXPECT_EQ(valid.brief(), valid.message + "\n");
+
+  fs::remove(dir_ / "calib.yml");
+  const CheckResult one = run_episode_check(dir_, {}, provenance);
+  EXPECT_EQ(one.message, dir_.string() + ": not a valid episode (1 problem)");
+  EXPECT_EQ(one.brief(), one.problems.at(0).message + "\n");
+
+  fs::remove(image_path(dir_, "masks", 4));
+  const CheckResult two = run_episode_check(dir_, {}, provenance);
+  EXPECT_EQ(two.message, dir_.string() + ": not a valid episode (2 problems)");
+  EXPECT_EQ(two.brief(), two.problems.at(0).message + "\n" + two.problems.at(1).message + "\n");
+  EXPECT_EQ(two.document["valid"], false);
+}
+
 TEST_F(CheckTest, TruncatedPng) {
   const fs::path f = image_path(dir_, "frames", 2);
   fs::resize_file(f, fs::file_size(f) / 2);
@@ -87,7 +106,8 @@ TEST_F(CheckTest, PngCutInsideItsHeader) {
 
 TEST_F(CheckTest, NotAPng) {
   core::write_file_atomic(image_path(dir_, "frames", 1), "GIF89a, not a PNG at all");
-  EXPECT_EQ(read_error(), image_path(dir_, "frames", 1).string() + ": not an image proprio reads (PNG, JPEG, BMP or PNM)");
+  EXPECT_EQ(read_error(), image_path(dir_, "frames", 1).string() +
+                              ": not an image proprio reads (PNG, JPEG, BMP or PNM)");
 }
 
 TEST_F(CheckTest, CorruptPngDataIsFoundByDecoding) {

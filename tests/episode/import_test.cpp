@@ -122,7 +122,11 @@ class ImportTest : public ::testing::Test {
 };
 
 TEST_F(ImportTest, RealVideoBecomesAValidEpisode) {
-  const ImportSummary s = run().summary;
+  const ImportResult r = run();
+  EXPECT_EQ(r.message, out_.string() + ": 20 frames imported");
+  EXPECT_EQ(r.brief(), "episode: " + out_.string() + "\n" + format_import_summary(r.summary));
+  EXPECT_EQ(r.brief().substr(0, r.brief().find('\n')), "episode: " + out_.string());
+  const ImportSummary s = r.summary;
   // Frames at i / 10 s; the log starts at 0.25 s: frames 0-2 are dropped, frame 3 is the first.
   EXPECT_EQ(s.dropped_before_log, 3);
   EXPECT_EQ(s.first_video_frame, 3);

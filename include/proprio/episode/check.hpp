@@ -46,8 +46,13 @@ struct CheckResult {
   std::vector<Problem> problems;  ///< every problem; empty means valid
   /// The record (format "proprio.episode.check"): the fields described below.
   core::Json document;
+  /// One line, the verdict: "DIR: valid episode" or "DIR: not a valid episode (N problems)".
+  std::string message;
 
   [[nodiscard]] bool valid() const { return problems.empty(); }
+  /// Every problem, one a line; when there is none, the verdict (`message`). An invalid
+  /// episode's verdict is not repeated here: `proprio episode check` reports it as its error.
+  [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {

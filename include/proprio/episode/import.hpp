@@ -97,6 +97,11 @@ struct ImportResult {
   ImportSummary summary;
   /// The record (format "proprio.episode.import"): the episode and the summary's fields.
   core::Json document;
+  /// One line: "DIR: N frames imported".
+  std::string message;
+
+  /// "episode: DIR", then the summary's lines (format_import_summary).
+  [[nodiscard]] std::string brief() const;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
