@@ -66,12 +66,15 @@ struct Track {
   bool root = false;
   bool needed = false;
   std::vector<int> preds;
-  bool untrusted = false;     // too little texture in a frame of the open interval
-  double photo_gain = 0.0;    // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
-  double photo_expect = 0.0;  // sum over the interval of |I_t-1(x) - I_t-1(x - m)|
-  int photo_n = 0;            // pixels in photo_gain
-  double last_gain = 0.0;     // mean photometric gain of the last frame pair
-  double last_expect = 0.0;   // mean gain its contrast predicts for the last frame pair's motion
+  bool untrusted = false;        // too little texture in a frame of the open interval
+  double photo_gain = 0.0;       // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
+  double photo_expect = 0.0;     // sum over the interval of |I_t-1(x) - I_t-1(x - m)|
+  int photo_n = 0;               // pixels in photo_gain
+  int photo_contrasted = 0;      // of them, those whose own term of photo_expect is at least
+                                 // min_photometric_contrast
+  double last_gain = 0.0;        // mean photometric gain of the last frame pair
+  double last_expect = 0.0;      // mean gain its contrast predicts for the last frame pair's motion
+  double last_contrasted = 0.0;  // fraction of its pixels contrasted (photo_contrasted)
   Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // mean BGR where last seen (smoothing)
   // Homography model: some of the region's points where it joined the interval, and the same
   // points carried along the flow to the last frame (full-size pixels).
@@ -334,6 +337,7 @@ struct MlSegmenter::Impl {
             tr.photo_gain = 0.0;
             tr.photo_expect = 0.0;
             tr.photo_n = 0;
+            tr.photo_contrasted = 0;
             tr.shift3.setZero();
             tr.start_ee3 = prev_ee3;
             tr.depth_ok = true;
@@ -382,6 +386,7 @@ struct MlSegmenter::Impl {
       } else {
         tr.last_gain = std::numeric_limits<double>::infinity();  // not judged: the flow stands
         tr.last_expect = 0.0;
+        tr.last_contrasted = 0.0;
       }
       if (homography) {
         std::vector<Eigen::Vector2f> from(at[l].size());
@@ -465,7 +470,7 @@ struct MlSegmenter::Impl {
     const double mx = m.x() / inv_scale, my = m.y() / inv_scale;
     const int w = prev_gray.cols, h = prev_gray.rows;
     double gain = 0.0, expect = 0.0;
-    int n = 0;
+    int n = 0, contrasted = 0;
     for (const cv::Point& p : px) {
       const double sx = p.x - mx, sy = p.y - my;
       if (sx < 0 || sy < 0 || sx > w - 1.001 || sy > h - 1.001) continue;
@@ -478,23 +483,30 @@ struct MlSegmenter::Impl {
       const double now = gray(p);
       const double before = prev_gray(p);
       gain += std::abs(now - before) - std::abs(now - moved);
-      expect += std::abs(before - moved);
+      const double predicted = std::abs(before - moved);
+      expect += predicted;
+      contrasted += predicted >= opt.min_photometric_contrast ? 1 : 0;
       ++n;
     }
     tr.photo_gain += gain;
     tr.photo_expect += expect;
     tr.photo_n += n;
+    tr.photo_contrasted += contrasted;
     tr.last_gain = n > 0 ? gain / n : 0.0;
     tr.last_expect = n > 0 ? expect / n : 0.0;
+    tr.last_contrasted = n > 0 ? static_cast<double>(contrasted) / n : 0.0;
   }
 
   // Whether the image supports a motion whose mean photometric gain per pixel and frame is
-  // `gain` where the region's contrast predicts `expect` for it (MlOptions::min_photometric_gain,
-  // photometric_relative, min_photometric_contrast). True when the check is off.
-  [[nodiscard]] bool photometric_support(double gain, double expect) const {
+  // `gain` where the region's contrast predicts `expect` for it, and a fraction `contrasted` of
+  // its pixels predict at least min_photometric_contrast (MlOptions::min_photometric_gain,
+  // photometric_relative). True when the check is off. The relative floor needs most pixels
+  // contrasted: a region straddling a plain table and the pushed object's edge has the edge's
+  // gain and prediction alike, and is left to the absolute floor, which its plain part dilutes.
+  [[nodiscard]] bool photometric_support(double gain, double expect, double contrasted) const {
     if (opt.min_photometric_gain <= 0) return true;
     double floor = opt.min_photometric_gain;
-    if (opt.photometric_relative > 0 && expect >= opt.min_photometric_contrast)
+    if (opt.photometric_relative > 0 && contrasted >= 0.5)
       floor = std::min(floor, opt.photometric_relative * expect);
     return gain >= floor;
   }
@@ -502,7 +514,8 @@ struct MlSegmenter::Impl {
   // The motion of the last frame pair as the image supports it: none when the photometric
   // check is on and the image does not support it.
   [[nodiscard]] Eigen::Vector2d supported_last_motion(const Track& tr) const {
-    if (!photometric_support(tr.last_gain, tr.last_expect)) return Eigen::Vector2d::Zero();
+    if (!photometric_support(tr.last_gain, tr.last_expect, tr.last_contrasted))
+      return Eigen::Vector2d::Zero();
     return tr.last_motion;
   }
 
@@ -532,7 +545,8 @@ struct MlSegmenter::Impl {
       // An interval whose frame pairs were all left out (global_change) is not judged.
       const bool unsupported =
           (!pre_touch || opt.photometric_pre_touch) && tr.photo_n > 0 &&
-          !photometric_support(tr.photo_gain / tr.photo_n, tr.photo_expect / tr.photo_n);
+          !photometric_support(tr.photo_gain / tr.photo_n, tr.photo_expect / tr.photo_n,
+                               static_cast<double>(tr.photo_contrasted) / tr.photo_n);
       // In the interval's first frame's camera (tracks that joined later: as seen).
       const bool compensate = camera && tr.start_frame == interval_start;
       const std::optional<Eigen::Matrix3d> h = opt.model == MotionModel::kHomography && !unsupported

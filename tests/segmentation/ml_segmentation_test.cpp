@@ -532,11 +532,10 @@ TEST(MlSegmentation, RelativePhotometricCheckKeepsALowContrastObjectMoving) {
 TEST(MlSegmentation, RelativePhotometricCheckKeepsStillTableStill) {
   // The still table ahead of the pushed square, of low-contrast texture or plain: dense flow
   // fills it with the square's motion. Textured, the still image matches it undisplaced better
-  // than displaced (a negative gain, whatever its contrast predicts): still, as with the
-  // absolute floor. Plain, it predicts no gain and min_photometric_contrast leaves it to the
-  // absolute floor; what the relative check lets in there are the regions straddling the
-  // square's front edge, whose edge pixels support the motion (measured precision 0.75 against
-  // 0.85 with the absolute floor alone and 0.23 with no check).
+  // than displaced (a negative gain, whatever its contrast predicts). Plain, most of its pixels
+  // predict no gain (min_photometric_contrast), so the absolute floor judges it: this includes
+  // the regions straddling the square's front edge, whose edge pixels alone support the motion
+  // (gated on the mean prediction instead of the median, they passed: precision 0.75).
   for (const bool plain : {false, true}) {
     TempDir tmp(plain ? "still-plain" : "still-low-contrast");
     PushSpec spec;
@@ -550,12 +549,8 @@ TEST(MlSegmentation, RelativePhotometricCheckKeepsStillTableStill) {
     const char* table = plain ? "plain" : "low-contrast";
     std::printf("%s table: precision %.3f (absolute), %.3f (relative), %.3f (no check)\n", table,
                 absolute, relative, without);
-    if (plain) {
-      EXPECT_GT(relative, 0.7) << table;
-    } else {
-      EXPECT_GT(relative, 0.85) << table;
-      EXPECT_GE(relative, absolute) << table;
-    }
+    EXPECT_GT(relative, 0.8) << table;  // measured 0.845 both (0.529 and 0.231 with no check)
+    EXPECT_GE(relative, absolute) << table;
     EXPECT_GT(relative, without + 0.3) << table;
   }
 }

@@ -152,10 +152,12 @@ struct MlOptions {
   /// a gain near 0, and is held by min_photometric_contrast. 0 = off: the absolute floor alone
   /// (docs/results/segmentation-eval.md, session 15).
   double photometric_relative = 0.0;
-  /// ... and the relative floor applies only where the predicted gain is at least this, grey
-  /// levels a pixel a frame: below it the region is too plain for its gain to be told from the
-  /// 8-bit rounding, and min_photometric_gain applies.
-  double min_photometric_contrast = 1.0;
+  /// ... and the relative floor applies only where at least half the region's pixels (the
+  /// median) predict a gain of at least this, grey levels a pixel a frame: a plainer region's
+  /// gain is not told from the 8-bit rounding, and a region straddling a plain table and the
+  /// pushed object's edge has the edge's gain and prediction alike (its mean ratio near 1);
+  /// both are left to min_photometric_gain.
+  double min_photometric_contrast = 0.5;
   /// The same check before the touch: an unsupported motion does not make a region arm.
   bool photometric_pre_touch = true;
   /// A region track that the over-segmentation ends hands its evidence on to the track that
