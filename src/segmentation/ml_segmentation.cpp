@@ -66,10 +66,15 @@ struct Track {
   bool root = false;
   bool needed = false;
   std::vector<int> preds;
-  bool untrusted = false;   // too little texture in a frame of the open interval
-  double photo_gain = 0.0;  // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
-  int photo_n = 0;          // pixels in photo_gain
-  double last_gain = 0.0;   // mean photometric gain of the last frame pair
+  bool untrusted = false;        // too little texture in a frame of the open interval
+  double photo_gain = 0.0;       // sum over the interval of |I_t - I_t-1(x)| - |I_t - I_t-1(x - m)|
+  double photo_expect = 0.0;     // sum over the interval of |I_t-1(x) - I_t-1(x - m)|
+  int photo_n = 0;               // pixels in photo_gain
+  int photo_contrasted = 0;      // of them, those whose own term of photo_expect is at least
+                                 // min_photometric_contrast
+  double last_gain = 0.0;        // mean photometric gain of the last frame pair
+  double last_expect = 0.0;      // mean gain its contrast predicts for the last frame pair's motion
+  double last_contrasted = 0.0;  // fraction of its pixels contrasted (photo_contrasted)
   Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // mean BGR where last seen (smoothing)
   // Homography model: some of the region's points where it joined the interval, and the same
   // points carried along the flow to the last frame (full-size pixels).
@@ -138,6 +143,13 @@ void MlOptions::validate() const {
           core::cat({"MlOptions.peak_area must be in [0, 1), got ", core::num(peak_area)}));
   require(std::isfinite(min_photometric_gain) && min_photometric_gain >= 0,
           "MlOptions.min_photometric_gain must be >= 0");
+  require(
+      std::isfinite(photometric_relative) && photometric_relative >= 0 && photometric_relative <= 1,
+      core::cat({"MlOptions.photometric_relative must be in [0, 1], got ",
+                 core::num(photometric_relative)}));
+  require(std::isfinite(min_photometric_contrast) && min_photometric_contrast >= 0,
+          core::cat({"MlOptions.min_photometric_contrast must be >= 0, got ",
+                     core::num(min_photometric_contrast)}));
   require(std::isfinite(handover_evidence) && handover_evidence >= 0 && handover_evidence <= 1,
           core::cat({"MlOptions.handover_evidence must be in [0, 1], got ",
                      core::num(handover_evidence)}));
@@ -323,7 +335,9 @@ struct MlSegmenter::Impl {
             tr.start_frame = frames - 1;
             tr.untrusted = false;
             tr.photo_gain = 0.0;
+            tr.photo_expect = 0.0;
             tr.photo_n = 0;
+            tr.photo_contrasted = 0;
             tr.shift3.setZero();
             tr.start_ee3 = prev_ee3;
             tr.depth_ok = true;
@@ -371,6 +385,8 @@ struct MlSegmenter::Impl {
         add_photometric_gain(tr, gray, region_pixels[l], m.mean);
       } else {
         tr.last_gain = std::numeric_limits<double>::infinity();  // not judged: the flow stands
+        tr.last_expect = 0.0;
+        tr.last_contrasted = 0.0;
       }
       if (homography) {
         std::vector<Eigen::Vector2f> from(at[l].size());
@@ -445,13 +461,16 @@ struct MlSegmenter::Impl {
   // How much better the region's pixels match the previous frame displaced by its motion m
   // (full-size pixels) than undisplaced: the image's own support for the flow. Dense flow fills
   // texture-less areas (a plain table beside the pushed object) from their neighbours; there
-  // both hypotheses match equally and the gain stays near 0.
+  // both hypotheses match equally and the gain stays near 0. Also the gain the region's own
+  // contrast predicts for m, |I_t-1(x) - I_t-1(x - m)|: what the gain is when the region did
+  // move by m (then I_t(x) = I_t-1(x - m)); it bounds the gain (triangle inequality), which is
+  // its negative when the region stood still.
   void add_photometric_gain(Track& tr, const cv::Mat1b& gray, const std::vector<cv::Point>& px,
                             const Eigen::Vector2d& m) const {
     const double mx = m.x() / inv_scale, my = m.y() / inv_scale;
     const int w = prev_gray.cols, h = prev_gray.rows;
-    double gain = 0.0;
-    int n = 0;
+    double gain = 0.0, expect = 0.0;
+    int n = 0, contrasted = 0;
     for (const cv::Point& p : px) {
       const double sx = p.x - mx, sy = p.y - my;
       if (sx < 0 || sy < 0 || sx > w - 1.001 || sy > h - 1.001) continue;
@@ -462,18 +481,40 @@ struct MlSegmenter::Impl {
       const double moved = (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
                            fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
       const double now = gray(p);
-      gain += std::abs(now - prev_gray(p)) - std::abs(now - moved);
+      const double before = prev_gray(p);
+      gain += std::abs(now - before) - std::abs(now - moved);
+      const double predicted = std::abs(before - moved);
+      expect += predicted;
+      contrasted += predicted >= opt.min_photometric_contrast ? 1 : 0;
       ++n;
     }
     tr.photo_gain += gain;
+    tr.photo_expect += expect;
     tr.photo_n += n;
+    tr.photo_contrasted += contrasted;
     tr.last_gain = n > 0 ? gain / n : 0.0;
+    tr.last_expect = n > 0 ? expect / n : 0.0;
+    tr.last_contrasted = n > 0 ? static_cast<double>(contrasted) / n : 0.0;
+  }
+
+  // Whether the image supports a motion whose mean photometric gain per pixel and frame is
+  // `gain` where the region's contrast predicts `expect` for it, and a fraction `contrasted` of
+  // its pixels predict at least min_photometric_contrast (MlOptions::min_photometric_gain,
+  // photometric_relative). True when the check is off. The relative floor needs most pixels
+  // contrasted: a region straddling a plain table and the pushed object's edge has the edge's
+  // gain and prediction alike, and is left to the absolute floor, which its plain part dilutes.
+  [[nodiscard]] bool photometric_support(double gain, double expect, double contrasted) const {
+    if (opt.min_photometric_gain <= 0) return true;
+    double floor = opt.min_photometric_gain;
+    if (opt.photometric_relative > 0 && contrasted >= 0.5)
+      floor = std::min(floor, opt.photometric_relative * expect);
+    return gain >= floor;
   }
 
   // The motion of the last frame pair as the image supports it: none when the photometric
   // check is on and the image does not support it.
   [[nodiscard]] Eigen::Vector2d supported_last_motion(const Track& tr) const {
-    if (opt.min_photometric_gain > 0 && tr.last_gain < opt.min_photometric_gain)
+    if (!photometric_support(tr.last_gain, tr.last_expect, tr.last_contrasted))
       return Eigen::Vector2d::Zero();
     return tr.last_motion;
   }
@@ -502,9 +543,10 @@ struct MlSegmenter::Impl {
       // image does not support (photometric gain below the threshold; before the touch only
       // with photometric_pre_touch) is taken as no motion at all.
       // An interval whose frame pairs were all left out (global_change) is not judged.
-      const bool unsupported = (!pre_touch || opt.photometric_pre_touch) &&
-                               opt.min_photometric_gain > 0 && tr.photo_n > 0 &&
-                               tr.photo_gain / tr.photo_n < opt.min_photometric_gain;
+      const bool unsupported =
+          (!pre_touch || opt.photometric_pre_touch) && tr.photo_n > 0 &&
+          !photometric_support(tr.photo_gain / tr.photo_n, tr.photo_expect / tr.photo_n,
+                               static_cast<double>(tr.photo_contrasted) / tr.photo_n);
       // In the interval's first frame's camera (tracks that joined later: as seen).
       const bool compensate = camera && tr.start_frame == interval_start;
       const std::optional<Eigen::Matrix3d> h = opt.model == MotionModel::kHomography && !unsupported

@@ -49,6 +49,13 @@ struct PushSpec {
   /// before the touch: the still object moves once, along the arm's approach).
   int jolt_frame = -1;
   int jolt = 0;
+  /// The square's texture contrast: 1 = full; below, its grey levels are pulled towards their
+  /// mean by this factor (a dark, low-contrast object such as the simulated bottle).
+  double square_contrast = 1.0;
+  /// Brightness of the square's texture, times its default tint (a darker object below 1).
+  double square_brightness = 1.0;
+  /// The same for the (textured) table: its grey levels pulled towards their mean.
+  double background_contrast = 1.0;
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
@@ -90,11 +97,28 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
   const int dx = s.moving_background ? i : 0;
   f.image = s.plain_background ? cv::Mat3b(s.height, s.width, cv::Vec3b(150, 170, 190))
                                : bg_tex(cv::Rect(100 + dx, 100 + dy, s.width, s.height)).clone();
+  if (!s.plain_background && s.background_contrast != 1.0) {
+    const cv::Scalar mean = cv::mean(f.image);
+    cv::Mat3f flat;
+    f.image.convertTo(flat, CV_32F);
+    flat = (flat - mean) * s.background_contrast + mean;
+    flat.convertTo(f.image, CV_8U);
+  }
   f.mask = cv::Mat1w(s.height, s.width, ushort{0});
   const int jolted = s.jolt_frame >= 0 && i >= s.jolt_frame ? s.jolt : 0;
   const cv::Rect sq(static_cast<int>(std::lround(sq_left)) + jolted,
                     static_cast<int>(std::lround(y_mid - s.square / 2.0)), s.square, s.square);
-  sq_tex(cv::Rect(0, 0, s.square, s.square)).copyTo(f.image(sq));
+  if (s.square_contrast == 1.0 && s.square_brightness == 1.0) {
+    sq_tex(cv::Rect(0, 0, s.square, s.square)).copyTo(f.image(sq));
+  } else {
+    const cv::Mat3b patch = sq_tex(cv::Rect(0, 0, s.square, s.square));
+    const cv::Scalar mean = cv::mean(patch);
+    cv::Mat3f flat;
+    patch.convertTo(flat, CV_32F);
+    flat = (flat - mean) * s.square_contrast + mean;
+    cv::Mat3b roi = f.image(sq);
+    flat.convertTo(roi, CV_8U, s.square_brightness);
+  }
   f.mask(sq).setTo(1);
   if (s.echo) {
     static const cv::Mat3b echo_tex = texture({64, 64}, 44, {60, 230, 90});

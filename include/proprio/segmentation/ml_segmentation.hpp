@@ -141,6 +141,25 @@ struct MlOptions {
   /// the image there fits both equally. Frame pairs where most of the image changed (the light
   /// moved) are left out. 0 = off.
   double min_photometric_gain = 3.0;
+  /// Relative photometric check (photometric_relative > 0): the least gain is this fraction of
+  /// the gain the region's own contrast predicts for its motion m, mean |I_t-1(x) - I_t-1(x - m)|
+  /// over its pixels (grey levels; the gain a region that did move by m shows, since then
+  /// I_t(x) = I_t-1(x - m); a still one shows its negative), when that is lower than
+  /// min_photometric_gain, which stays the cap and the switch (0 = no check at all). A region
+  /// of dark, low-contrast texture moving 2-3 px a frame (the simulated bottle) gains less
+  /// than 3 grey levels over "still" and fails the absolute floor, though the image supports
+  /// its motion as well as it can; a plain area (the table ahead of the pushed object) predicts
+  /// a gain near 0, and is held by min_photometric_contrast. 0 = off: the absolute floor alone.
+  /// Off by default: on the tuning recording 0.15 changed only three static bottles (two up,
+  /// one down; mean of 18 episodes 0.765 -> 0.768), within the per-episode noise
+  /// (docs/results/segmentation-eval.md, session 15).
+  double photometric_relative = 0.0;
+  /// ... and the relative floor applies only where at least half the region's pixels (the
+  /// median) predict a gain of at least this, grey levels a pixel a frame: a plainer region's
+  /// gain is not told from the 8-bit rounding, and a region straddling a plain table and the
+  /// pushed object's edge has the edge's gain and prediction alike (its mean ratio near 1);
+  /// both are left to min_photometric_gain.
+  double min_photometric_contrast = 0.5;
   /// The same check before the touch: an unsupported motion does not make a region arm.
   bool photometric_pre_touch = true;
   /// A region track that the over-segmentation ends hands its evidence on to the track that
@@ -282,6 +301,10 @@ struct MlOptions {
     v(self.min_evidence_fraction, {"min_evidence_fraction", "Least evidenced fraction"});
     v(self.min_gradient, {"min_gradient", "Least image gradient of a flow sample"});
     v(self.min_photometric_gain, {"min_photometric_gain", "Photometric check's least gain"});
+    v(self.photometric_relative,
+      {"photometric_relative", "Relative photometric check: least gain per predicted gain"});
+    v(self.min_photometric_contrast,
+      {"min_photometric_contrast", "Least predicted gain of the relative check, grey levels"});
     v(self.photometric_pre_touch, {"photometric_pre_touch", "Photometric check before touch"});
     v(self.handover_motion, {"handover_motion", "Largest hand-over motion difference, px"});
     v(self.handover_evidence, {"handover_evidence", "Evidence carried over a hand-over"});
