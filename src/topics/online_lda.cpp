@@ -161,9 +161,9 @@ struct OnlineLda::Impl {
     std::size_t begin = 0;
     std::size_t end = 0;
     bool valid = false;
-    void set(const std::vector<std::byte>& gathered, const std::vector<std::size_t>& sizes) {
-      words.resize(gathered.size() / sizeof(std::int32_t));
-      if (!gathered.empty()) std::memcpy(words.data(), gathered.data(), gathered.size());
+    void set(const std::vector<std::byte>& bytes, const std::vector<std::size_t>& sizes) {
+      words.resize(bytes.size() / sizeof(std::int32_t));
+      if (!bytes.empty()) std::memcpy(words.data(), bytes.data(), bytes.size());
       starts.assign(1, 0);
       for (const auto s : sizes) starts.push_back(starts.back() + s / sizeof(std::int32_t));
     }
