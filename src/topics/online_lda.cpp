@@ -715,9 +715,12 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   stats.documents = static_cast<std::int64_t>(B);
   m.widest = std::max(m.widest, B);
   double collective_wall = 0;
+  double collective_cpu = 0;
   const auto collective = [&](const auto& call) {
     const auto t0 = Clock::now();
+    const double c0 = process_cpu_seconds();
     call();
+    collective_cpu += process_cpu_seconds() - c0;
     collective_wall += since(t0);
   };
 
@@ -822,18 +825,23 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
       m.beta_rows.resize(gathered.size() / sizeof(float));
       if (!gathered.empty()) std::memcpy(m.beta_rows.data(), gathered.data(), gathered.size());
     }
-    m.beta.assign(V * S, 0.0f);
+    // Word by word, in one pass over the cache: each rank's rows of the word (rank q's block of
+    // V x n_q floats starts at from[q]), then zeros in the padding lanes [K, S).
+    m.beta.resize(V * S);
+    std::vector<const float*> from(P);
     std::size_t at = 0;
     for (std::size_t q = 0; q < P; ++q) {
-      const auto r0 = static_cast<std::size_t>(m.first_row[q]);
-      const auto n = static_cast<std::size_t>(m.first_row[q + 1]) - r0;
-      if (n > 0) {
-        for (std::size_t i = 0; i < V; ++i) {
-          std::memcpy(m.beta.data() + i * S + r0, m.beta_rows.data() + at + i * n,
-                      n * sizeof(float));
-        }
+      from[q] = m.beta_rows.data() + at;
+      at += V * static_cast<std::size_t>(m.first_row[q + 1] - m.first_row[q]);
+    }
+    for (std::size_t i = 0; i < V; ++i) {
+      float* row = m.beta.data() + i * S;
+      for (std::size_t q = 0; q < P; ++q) {
+        const auto r0 = static_cast<std::size_t>(m.first_row[q]);
+        const auto n = static_cast<std::size_t>(m.first_row[q + 1]) - r0;
+        if (n > 0) std::memcpy(row + r0, from[q] + i * n, n * sizeof(float));
       }
-      at += V * n;
+      std::fill(row + K, row + S, 0.0f);
     }
     lap(m.times.communication);
   } else {
@@ -980,6 +988,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   }
   m.times.estep_imbalance += slowest_cpu - estep_cpu;
   m.times.collective_wall += collective_wall;
+  m.times.collective_cpu += collective_cpu;
   lap(m.times.communication);
   finish_update(stats);
   return stats;
@@ -1022,10 +1031,10 @@ void report_phase_times(const OnlineLda& lda, int ranks, int rank) {
                "\"beta\": %.6f, \"statistics\": %.6f, \"mstep\": %.6f, "
                "\"communication\": %.6f, \"rank\": %d, \"estep_wall\": %.6f, "
                "\"wait_wall\": %.6f, \"estep_imbalance\": %.6f, \"collective_wall\": %.6f, "
-               "\"collectives\": %lld}}\n",
+               "\"collective_cpu\": %.6f, \"collectives\": %lld}}\n",
                ranks, static_cast<long long>(t.updates), t.estep, t.beta, t.statistics, t.mstep,
                t.communication, rank, t.estep_wall, t.wait_wall, t.estep_imbalance,
-               t.collective_wall, static_cast<long long>(t.collectives));
+               t.collective_wall, t.collective_cpu, static_cast<long long>(t.collectives));
 }
 
 // Where training stands: what a checkpoint holds besides the model.

@@ -212,9 +212,12 @@ class OnlineLda {
   struct PhaseTimes {
     double estep = 0, beta = 0, statistics = 0, mstep = 0, communication = 0;
     double estep_wall = 0, wait_wall = 0, estep_imbalance = 0;
-    /// Wall seconds in the data-parallel update's collectives (all of them, waiting included),
-    /// and the number of MPI collective calls they made (an allgather of unknown sizes is two).
+    /// Wall and processor seconds in the data-parallel update's collectives (all of them,
+    /// waiting included: `communication` minus collective_cpu is the batch's assembly, packing
+    /// and unpacking alone), and the number of MPI collective calls they made (an allgather of
+    /// unknown sizes is two).
     double collective_wall = 0;
+    double collective_cpu = 0;
     std::int64_t collectives = 0;
     std::int64_t updates = 0;
   };
