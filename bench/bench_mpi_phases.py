@@ -5,7 +5,7 @@ inside the MPI calls, waiting included: on a loaded machine mostly the scheduler
 (the batch's assembly, packing and unpacking: the program's own work, little affected by load),
 with the MPI calls a batch; medians over the repeats.
 
-usage: mpi_phase_table.py RESULT.json [RESULT.json ...]
+usage: bench_mpi_phases.py RESULT.json [RESULT.json ...]
 """
 import json
 import statistics
