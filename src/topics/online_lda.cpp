@@ -559,11 +559,13 @@ void OnlineLda::finish_update(MiniBatchStats& stats) {
 namespace {
 
 // exp(E[log beta]) (eq B.19) of the listed words on the rows [k0, k0 + n) held in `rows`, packed:
-// n floats a word. The kernel runs on the whole vectors of lanes that hold those rows, so each
-// value has the bits exp_elog_beta gives it.
+// n floats a word; also written into lanes [k0, k0 + n) of word i's row of `cache` (rows of
+// `stride` floats) when `cache` is given. The kernel runs on the whole vectors of lanes that hold
+// those rows, so each value has the bits exp_elog_beta gives it.
 void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows, int k0,
                         const Eigen::VectorXd& row_sum, std::span<const std::int32_t> words,
-                        core::ThreadPool& pool, detail::FloatBuffer& out) {
+                        core::ThreadPool& pool, detail::FloatBuffer& out, float* cache = nullptr,
+                        std::size_t stride = 0) {
   const auto n = static_cast<int>(rows.rows());
   out.resize(words.size() * static_cast<std::size_t>(n));
   if (n == 0) return;
@@ -590,6 +592,10 @@ void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows
       kern.exp_digamma_minus(xt, sub.data(), yt, len);
       std::memcpy(out.data() + i * static_cast<std::size_t>(n), yt + off,
                   static_cast<std::size_t>(n) * sizeof(float));
+      if (cache != nullptr) {
+        std::memcpy(cache + i * stride + static_cast<std::size_t>(k0), yt + off,
+                    static_cast<std::size_t>(n) * sizeof(float));
+      }
     }
   });
 }
@@ -801,7 +807,11 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   const std::size_t V = m.batch_words.size();
   if (m.by_topic) {
     detail::FloatBuffer& part = m.beta_part;
-    exp_elog_beta_rows(*m.kern, m.own, m.row0, m.own_sum, m.batch_words, m.pool, part);
+    // This rank's rows go straight into the cache too (the others' are placed after the
+    // allgather).
+    m.beta.resize(m.batch_words.size() * S);
+    exp_elog_beta_rows(*m.kern, m.own, m.row0, m.own_sum, m.batch_words, m.pool, part,
+                       m.beta.data(), S);
     lap(m.times.beta);
     std::vector<std::size_t> part_sizes(P);
     for (std::size_t q = 0; q < P; ++q) {
@@ -825,9 +835,9 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
       m.beta_rows.resize(gathered.size() / sizeof(float));
       if (!gathered.empty()) std::memcpy(m.beta_rows.data(), gathered.data(), gathered.size());
     }
-    // Word by word, in one pass over the cache: each rank's rows of the word (rank q's block of
-    // V x n_q floats starts at from[q]), then zeros in the padding lanes [K, S).
-    m.beta.resize(V * S);
+    // Word by word, in one pass over the cache: each other rank's rows of the word (rank q's
+    // block of V x n_q floats starts at from[q]), then zeros in the padding lanes [K, S).
+    const auto me = static_cast<std::size_t>(comm.rank());
     std::vector<const float*> from(P);
     std::size_t at = 0;
     for (std::size_t q = 0; q < P; ++q) {
@@ -839,7 +849,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
       for (std::size_t q = 0; q < P; ++q) {
         const auto r0 = static_cast<std::size_t>(m.first_row[q]);
         const auto n = static_cast<std::size_t>(m.first_row[q + 1]) - r0;
-        if (n > 0) std::memcpy(row + r0, from[q] + i * n, n * sizeof(float));
+        if (n > 0 && q != me) std::memcpy(row + r0, from[q] + i * n, n * sizeof(float));
       }
       std::fill(row + K, row + S, 0.0f);
     }
