@@ -14,7 +14,11 @@ The processor time of rank 0 is recorded beside (cpu_ratio: one process's over r
 its processor seconds per phase of the updates (E-step, exp E[log beta], sufficient statistics,
 M-step, communication: PROPRIO_LDA_PHASE_TIMES; every rank's line is kept in phases_by_rank,
 with its E-step and wait wall seconds and its E-step imbalance). Each repeat runs one process and 2 ranks of each
-design in --designs (PROPRIO_MPI_LDA_DESIGN: by-topic, the default, and replicated).
+design in --designs (PROPRIO_MPI_LDA_DESIGN: by-topic, the default, and replicated); a design
+written DESIGN/three runs with the earlier exchange of three allgathers a batch
+(PROPRIO_MPI_LDA_EXCHANGE=three) instead of the lean one (2026-12-03), e.g. --designs
+by-topic,by-topic/three. Each line also gives rank 0's processor milliseconds a batch in the
+communication phase (the batch's assembly, the collectives with their waiting, the unpacking).
 """
 import argparse
 import json
@@ -47,6 +51,12 @@ def run(cmd, env):
     return before, loadavg(), wall, phases
 
 
+def comm_ms(run_record):
+    """Rank 0's processor milliseconds a batch in the communication phase (nan without it)."""
+    t = run_record.get("phase_cpu_seconds_rank0") or {}
+    return 1000 * t["communication"] / t["updates"] if t.get("updates") else float("nan")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--proprio", required=True)
@@ -71,7 +81,7 @@ def main():
     results = []
     for r in range(1, a.repeats + 1):
         runs = {}
-        names = ["1x1"] + [f"2x1-{d}" for d in designs]
+        names = ["1x1"] + [f"2x1-{d.replace('/', '-')}" for d in designs]
         order = names if r % 2 else names[::-1]
         for name in order:
             model = tmp / f"{name}.lda"
@@ -84,7 +94,10 @@ def main():
                 [a.mpirun] + a.mpirun_options.split() + ["-np", "2"] + train
             run_env = dict(env, PROPRIO_LDA_PHASE_TIMES="1")
             if name != "1x1":
-                run_env["PROPRIO_MPI_LDA_DESIGN"] = name.split("-", 1)[1]
+                design = designs[names.index(name) - 1]
+                run_env["PROPRIO_MPI_LDA_DESIGN"] = design.split("/")[0]
+                if design.endswith("/three"):
+                    run_env["PROPRIO_MPI_LDA_EXCHANGE"] = "three"
             before, after, wall, phases = run(cmd, run_env)
             doc = json.loads(js.read_text())
             runs[name] = {"seconds": doc["seconds"], "cpu_seconds_rank0": doc["cpu_seconds"],
@@ -106,7 +119,8 @@ def main():
             # machine would give if no rank ever waited.
             entry["cpu_ratio"][n] = runs["1x1"]["cpu_seconds_rank0"] / runs[n]["cpu_seconds_rank0"]
             line += (f"; {n} {runs[n]['seconds']:.2f} s, speed-up {entry['speedup'][n]:.2f}x, "
-                     f"processor time {entry['cpu_ratio'][n]:.2f}x "
+                     f"processor time {entry['cpu_ratio'][n]:.2f}x, "
+                     f"communication {comm_ms(runs[n]):.2f} ms a batch "
                      f"(load {runs[n]['load_before'][0]:.1f})")
         results.append(entry)
         print(line + f", perplexity {runs['1x1']['perplexity']:.1f} (all)", flush=True)
@@ -116,10 +130,13 @@ def main():
                                   for n in names[1:]},
                "median_cpu_ratio": {n: statistics.median(x["cpu_ratio"][n] for x in results)
                                     for n in names[1:]},
+               "median_communication_ms_rank0": {
+                   n: statistics.median(comm_ms(x["runs"][n]) for x in results) for n in names[1:]},
                "mpirun_options": a.mpirun_options, "repeats": results}
     for n in names[1:]:
         print(f"{n}: median speed-up {summary['median_speedup'][n]:.2f}x, processor-time ratio "
-              f"{summary['median_cpu_ratio'][n]:.2f}x")
+              f"{summary['median_cpu_ratio'][n]:.2f}x, communication "
+              f"{summary['median_communication_ms_rank0'][n]:.2f} ms a batch (rank 0, processor)")
     if a.out:
         pathlib.Path(a.out).write_text(json.dumps(summary, indent=2) + "\n")
 

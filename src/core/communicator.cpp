@@ -13,6 +13,40 @@ void LocalCommunicator::allgather(std::span<const std::byte> mine, std::vector<s
   sizes.assign(1, mine.size());
 }
 
+namespace {
+
+// Throws InternalError unless `sizes` has one entry a rank, this rank's is mine.size() and their
+// sum is all.size().
+void check_sizes(const Communicator& comm, std::size_t mine, std::size_t all,
+                 std::span<const std::size_t> sizes) {
+  std::size_t total = 0;
+  for (const auto s : sizes) total += s;
+  const auto me = static_cast<std::size_t>(comm.rank());
+  if (sizes.size() != static_cast<std::size_t>(comm.size()) || sizes[me] != mine || total != all) {
+    throw InternalError("allgather_sized: the sizes do not match the buffers");
+  }
+}
+
+}  // namespace
+
+void Communicator::allgather_sized(std::span<const std::byte> mine, std::span<std::byte> all,
+                                   std::span<const std::size_t> sizes) {
+  check_sizes(*this, mine.size(), all.size(), sizes);
+  std::vector<std::byte> got;
+  std::vector<std::size_t> got_sizes;
+  allgather(mine, got, got_sizes);
+  if (!std::equal(got_sizes.begin(), got_sizes.end(), sizes.begin(), sizes.end())) {
+    throw InternalError("allgather_sized: a rank sent another size than announced");
+  }
+  std::copy(got.begin(), got.end(), all.begin());
+}
+
+void LocalCommunicator::allgather_sized(std::span<const std::byte> mine, std::span<std::byte> all,
+                                        std::span<const std::size_t> sizes) {
+  check_sizes(*this, mine.size(), all.size(), sizes);
+  std::copy(mine.begin(), mine.end(), all.begin());
+}
+
 void LocalCommunicator::send(std::span<const std::byte>, int) {
   throw InternalError("LocalCommunicator: send in a world of one");
 }

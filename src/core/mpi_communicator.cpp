@@ -6,6 +6,7 @@
 #include <climits>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/mpi_communicator.hpp"
@@ -84,6 +85,28 @@ class MpiCommunicator final : public Communicator {
           "allgather");
   }
 
+  void allgather_sized(std::span<const std::byte> mine, std::span<std::byte> all,
+                       std::span<const std::size_t> sizes) override {
+    const auto n = static_cast<std::size_t>(size_);
+    std::size_t total = 0;
+    for (const auto s : sizes) total += s;
+    if (sizes.size() != n || sizes[static_cast<std::size_t>(rank_)] != mine.size() ||
+        total != all.size()) {
+      throw InternalError("allgather_sized: the sizes do not match the buffers");
+    }
+    counts_.resize(n);
+    displs_.resize(n);
+    std::size_t at = 0;
+    for (std::size_t r = 0; r < n; ++r) {
+      counts_[r] = count_of(sizes[r]);
+      displs_[r] = count_of(at);
+      at += sizes[r];
+    }
+    check(MPI_Allgatherv(mine.data(), count_of(mine.size()), MPI_BYTE, all.data(), counts_.data(),
+                         displs_.data(), MPI_BYTE, MPI_COMM_WORLD),
+          "allgather");
+  }
+
   void send(std::span<const std::byte> data, int to) override {
     check(MPI_Send(data.data(), count_of(data.size()), MPI_BYTE, to, 0, MPI_COMM_WORLD), "send");
   }
@@ -102,6 +125,8 @@ class MpiCommunicator final : public Communicator {
 
   int rank_ = 0;
   int size_ = 1;
+  std::vector<int> counts_;  // allgather_sized's, kept between calls
+  std::vector<int> displs_;
 };
 
 }  // namespace

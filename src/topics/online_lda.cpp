@@ -149,6 +149,39 @@ struct OnlineLda::Impl {
   bool balance = mpi_lda_balance();
   std::vector<std::uint16_t> last_iterations;
   OnlineLda::PhaseTimes times;
+  // The data-parallel update's exchange (mpi_lda_lean_exchange) and its buffers, kept between
+  // updates. `ahead`: a batch's documents from every rank (32-bit: per document its size, word ids
+  // and counts), rank q's from starts[q] to starts[q + 1]; with the lean exchange they come with
+  // the previous update's E-step output, for the range [begin, end) it predicted.
+  bool lean = mpi_lda_lean_exchange();
+  std::size_t widest = 0;  // the largest batch so far: the predicted next batch's size
+  struct Ahead {
+    std::vector<std::int32_t> words;
+    std::vector<std::size_t> starts{0};
+    std::size_t begin = 0;
+    std::size_t end = 0;
+    bool valid = false;
+    void set(const std::vector<std::byte>& bytes, const std::vector<std::size_t>& sizes) {
+      words.resize(bytes.size() / sizeof(std::int32_t));
+      if (!bytes.empty()) std::memcpy(words.data(), bytes.data(), bytes.size());
+      starts.assign(1, 0);
+      for (const auto s : sizes) starts.push_back(starts.back() + s / sizeof(std::int32_t));
+    }
+  } ahead;
+  // The byte counts every rank announced of its documents of the batch [begin, end) (lean).
+  struct Announced {
+    std::vector<std::size_t> bytes;
+    std::size_t begin = 0;
+    std::size_t end = 0;
+    bool valid = false;
+  } announced;
+  std::vector<std::size_t> doc_at;  // each batch document's start in ahead.words
+  detail::BatchDocs mine;           // this rank's documents of the batch
+  detail::BatchEStep own_estep;     // their E-step
+  detail::FloatBuffer beta_part;    // exp E[log beta] of the batch's words on this rank's rows
+  std::vector<float> beta_rows;     // every rank's, gathered
+  std::vector<std::byte> out;       // this rank's E-step output (and next documents)
+  std::vector<std::byte> gathered;  // every rank's
 
   Impl(const OnlineLdaOptions& o, LdaModel m, int K, std::int32_t W)
       : options(o),
@@ -526,11 +559,13 @@ void OnlineLda::finish_update(MiniBatchStats& stats) {
 namespace {
 
 // exp(E[log beta]) (eq B.19) of the listed words on the rows [k0, k0 + n) held in `rows`, packed:
-// n floats a word. The kernel runs on the whole vectors of lanes that hold those rows, so each
-// value has the bits exp_elog_beta gives it.
+// n floats a word; also written into lanes [k0, k0 + n) of word i's row of `cache` (rows of
+// `stride` floats) when `cache` is given. The kernel runs on the whole vectors of lanes that hold
+// those rows, so each value has the bits exp_elog_beta gives it.
 void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows, int k0,
                         const Eigen::VectorXd& row_sum, std::span<const std::int32_t> words,
-                        core::ThreadPool& pool, detail::FloatBuffer& out) {
+                        core::ThreadPool& pool, detail::FloatBuffer& out, float* cache = nullptr,
+                        std::size_t stride = 0) {
   const auto n = static_cast<int>(rows.rows());
   out.resize(words.size() * static_cast<std::size_t>(n));
   if (n == 0) return;
@@ -557,6 +592,10 @@ void exp_elog_beta_rows(const detail::Kernels& kern, const Eigen::MatrixXd& rows
       kern.exp_digamma_minus(xt, sub.data(), yt, len);
       std::memcpy(out.data() + i * static_cast<std::size_t>(n), yt + off,
                   static_cast<std::size_t>(n) * sizeof(float));
+      if (cache != nullptr) {
+        std::memcpy(cache + i * stride + static_cast<std::size_t>(k0), yt + off,
+                    static_cast<std::size_t>(n) * sizeof(float));
+      }
     }
   });
 }
@@ -621,6 +660,45 @@ bool mpi_lda_balance() {
   return v == nullptr || std::string_view(v) != "0";
 }
 
+namespace {
+
+// Appends this rank's documents of [begin, end) to `out`: per document its size n, its n word ids
+// and its n counts (32-bit integers).
+void pack_documents(const CorpusShard& shard, std::size_t begin, std::size_t end,
+                    std::vector<std::byte>& out) {
+  const Corpus& local = shard.documents;
+  const std::size_t l0 = shard.first_local_at(begin);
+  const std::size_t l1 = std::min(shard.first_local_at(end), local.num_documents());
+  const auto append = [&out](const void* p, std::size_t bytes) {
+    const auto* b = static_cast<const std::byte*>(p);
+    out.insert(out.end(), b, b + bytes);
+  };
+  for (std::size_t j = l0; j < l1; ++j) {
+    const auto doc = local.document(j);
+    const auto n = static_cast<std::int32_t>(doc.size());
+    append(&n, sizeof n);
+    append(doc.words.data(), doc.words.size_bytes());
+    append(doc.counts.data(), doc.counts.size_bytes());
+  }
+}
+
+// The bytes pack_documents appends for [begin, end).
+std::size_t packed_bytes(const CorpusShard& shard, std::size_t begin, std::size_t end) {
+  const Corpus& local = shard.documents;
+  const std::size_t l0 = shard.first_local_at(begin);
+  const std::size_t l1 = std::min(shard.first_local_at(end), local.num_documents());
+  std::size_t n = 0;
+  for (std::size_t j = l0; j < l1; ++j) n += 1 + 2 * local.document(j).size();
+  return n * sizeof(std::int32_t);
+}
+
+}  // namespace
+
+bool mpi_lda_lean_exchange() {
+  const char* v = std::getenv("PROPRIO_MPI_LDA_EXCHANGE");  // NOLINT(concurrency-mt-unsafe)
+  return v == nullptr || std::string_view(v) != "three";
+}
+
 MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, std::size_t end,
                                  core::Communicator& comm) {
   Impl& m = *impl_;
@@ -630,9 +708,8 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     throw Error("online LDA: the corpus has " + std::to_string(local.num_words()) +
                 " words, the model " + std::to_string(m.num_words));
   }
-  if (begin >= end || end > static_cast<std::size_t>(shard.total_documents)) {
-    throw Error("online LDA: empty or out-of-range mini-batch");
-  }
+  const auto total = static_cast<std::size_t>(shard.total_documents);
+  if (begin >= end || end > total) throw Error("online LDA: empty or out-of-range mini-batch");
   const int K = m.num_topics;
   const auto S = static_cast<std::size_t>(m.stride);
   const auto P = static_cast<std::size_t>(comm.size());
@@ -640,33 +717,51 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
          "online LDA: split by topic for another number of ranks");
   Lap lap;
   MiniBatchStats stats;
-  stats.documents = static_cast<std::int64_t>(end - begin);
+  const std::size_t B = end - begin;
+  stats.documents = static_cast<std::int64_t>(B);
+  m.widest = std::max(m.widest, B);
+  double collective_wall = 0;
+  double collective_cpu = 0;
+  const auto collective = [&](const auto& call) {
+    const auto t0 = Clock::now();
+    const double c0 = process_cpu_seconds();
+    call();
+    collective_cpu += process_cpu_seconds() - c0;
+    collective_wall += since(t0);
+  };
 
-  // 1. Every rank's documents of the batch: per document its size, word ids and counts.
-  const std::size_t l0 = shard.first_local_at(begin);
-  const std::size_t l1 = std::min(shard.first_local_at(end), local.num_documents());
-  std::vector<std::int32_t> pack;
-  for (std::size_t j = l0; j < l1; ++j) {
-    const auto doc = local.document(j);
-    pack.push_back(static_cast<std::int32_t>(doc.size()));
-    pack.insert(pack.end(), doc.words.begin(), doc.words.end());
-    pack.insert(pack.end(), doc.counts.begin(), doc.counts.end());
+  // 1. Every rank's documents of the batch: per document its size, word ids and counts. The lean
+  // exchange sent them with the previous batch's E-step output when that batch's prediction of
+  // the next range was right; else they are gathered now (two collectives: sizes, then bytes).
+  Impl::Ahead& docs_in = m.ahead;
+  if (!(docs_in.valid && docs_in.begin == begin && docs_in.end == end)) {
+    std::vector<std::byte> pack;
+    pack_documents(shard, begin, end, pack);
+    std::vector<std::byte> gathered;
+    std::vector<std::size_t> sizes;
+    collective([&] { comm.allgather(pack, gathered, sizes); });
+    m.times.collectives += 2;
+    docs_in.set(gathered, sizes);
   }
-  std::vector<std::size_t> counts;
-  const std::vector<std::int32_t> all = core::allgather_values<std::int32_t>(comm, pack, &counts);
-  std::vector<std::size_t> cursor(P, 0);
-  for (std::size_t q = 1; q < P; ++q) cursor[q] = cursor[q - 1] + counts[q - 1];
+  docs_in.valid = false;
+  const std::vector<std::int32_t>& all = docs_in.words;
+  std::vector<std::size_t> cursor(docs_in.starts.begin(), docs_in.starts.end() - 1);
 
-  // 2. The batch in corpus order, as one process builds it (document d came from rank d mod P).
+  // 2. The batch in corpus order, as one process builds it (document d came from rank d mod P):
+  // the entries' rows in the beta cache for every document (the statistics sum over all of
+  // them), counts and random keys for this rank's documents only (below).
   m.docs.clear();
   m.batch_words.clear();
+  m.doc_at.resize(B);
   for (std::size_t d = begin; d < end; ++d) {
-    const std::size_t q = d % P;
-    std::size_t& c = cursor[q];
+    std::size_t& c = cursor[d % P];
+    ensure(c < docs_in.starts[d % P + 1], "online LDA: a rank sent too few documents");
     const auto n = static_cast<std::size_t>(all[c]);
+    m.doc_at[d - begin] = c;
     const std::int32_t* words = all.data() + c + 1;
     const std::int32_t* cnt = words + n;
     c += 1 + 2 * n;
+    ensure(c <= docs_in.starts[d % P + 1], "online LDA: a rank sent a truncated document");
     for (std::size_t i = 0; i < n; ++i) {
       std::int32_t& r = m.row_of_word[static_cast<std::size_t>(words[i])];
       if (r < 0) {
@@ -674,12 +769,12 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
         m.batch_words.push_back(words[i]);
       }
       m.docs.rows.push_back(r);
-      m.docs.counts.push_back(static_cast<float>(cnt[i]));
       stats.tokens += cnt[i];
     }
     m.docs.offsets.push_back(m.docs.rows.size());
-    m.docs.keys.push_back(
-        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), d));
+  }
+  for (std::size_t q = 0; q < P; ++q) {
+    ensure(cursor[q] == docs_in.starts[q + 1], "online LDA: a rank sent other documents");
   }
   // Which rank runs each document's E-step: dealt by its expected cost (every rank has every
   // document of the batch now, and computes the same dealing); this rank's documents in corpus
@@ -687,41 +782,76 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   const std::vector<int> owner =
       m.balance ? deal_by_cost(m.docs, begin, m.last_iterations, static_cast<int>(P))
                 : deal_round_robin(begin, end, static_cast<int>(P));
-  detail::BatchDocs mine;
+  detail::BatchDocs& mine = m.mine;
+  mine.clear();
   const int rank = comm.rank();
-  for (std::size_t i = 0; i < end - begin; ++i) {
+  for (std::size_t i = 0; i < B; ++i) {
     if (owner[i] != rank) continue;
-    for (std::size_t e = m.docs.offsets[i]; e < m.docs.offsets[i + 1]; ++e) {
+    const std::size_t e0 = m.docs.offsets[i];
+    const std::size_t e1 = m.docs.offsets[i + 1];
+    const std::int32_t* cnt = all.data() + m.doc_at[i] + 1 + (e1 - e0);
+    for (std::size_t e = e0; e < e1; ++e) {
       mine.rows.push_back(m.docs.rows[e]);
-      mine.counts.push_back(m.docs.counts[e]);
+      mine.counts.push_back(static_cast<float>(cnt[e - e0]));
     }
     mine.offsets.push_back(mine.rows.size());
-    mine.keys.push_back(m.docs.keys[i]);
+    mine.keys.push_back(
+        core::stream_seed(m.options.seed, static_cast<std::uint64_t>(model.updates), begin + i));
   }
 
   lap(m.times.communication);
 
   // 3. exp(E[log beta]) of the batch's words: whole, or on this rank's topic rows and then
-  // gathered; the E-step of this rank's documents.
+  // gathered (every rank knows every rank's V_B x rows floats: one collective); the E-step of
+  // this rank's documents.
+  const std::size_t V = m.batch_words.size();
   if (m.by_topic) {
-    detail::FloatBuffer part;
-    exp_elog_beta_rows(*m.kern, m.own, m.row0, m.own_sum, m.batch_words, m.pool, part);
+    detail::FloatBuffer& part = m.beta_part;
+    // This rank's rows go straight into the cache too (the others' are placed after the
+    // allgather).
+    m.beta.resize(m.batch_words.size() * S);
+    exp_elog_beta_rows(*m.kern, m.own, m.row0, m.own_sum, m.batch_words, m.pool, part,
+                       m.beta.data(), S);
     lap(m.times.beta);
-    std::vector<std::size_t> part_sizes;
-    const std::vector<float> rows = core::allgather_values<float>(
-        comm, std::span<const float>(part.data(), part.size()), &part_sizes);
-    const std::size_t V = m.batch_words.size();
-    m.beta.assign(V * S, 0.0f);
+    std::vector<std::size_t> part_sizes(P);
+    for (std::size_t q = 0; q < P; ++q) {
+      part_sizes[q] =
+          V * static_cast<std::size_t>(m.first_row[q + 1] - m.first_row[q]) * sizeof(float);
+    }
+    const auto mine_bytes = std::as_bytes(std::span<const float>(part.data(), part.size()));
+    if (m.lean) {
+      m.beta_rows.resize(V * static_cast<std::size_t>(K));
+      collective([&] {
+        comm.allgather_sized(mine_bytes, std::as_writable_bytes(std::span<float>(m.beta_rows)),
+                             part_sizes);
+      });
+      m.times.collectives += 1;
+    } else {
+      std::vector<std::byte> gathered;
+      std::vector<std::size_t> sizes;
+      collective([&] { comm.allgather(mine_bytes, gathered, sizes); });
+      m.times.collectives += 2;
+      ensure(sizes == part_sizes, "online LDA: a rank sent wrong beta rows");
+      m.beta_rows.resize(gathered.size() / sizeof(float));
+      if (!gathered.empty()) std::memcpy(m.beta_rows.data(), gathered.data(), gathered.size());
+    }
+    // Word by word, in one pass over the cache: each other rank's rows of the word (rank q's
+    // block of V x n_q floats starts at from[q]), then zeros in the padding lanes [K, S).
+    const auto me = static_cast<std::size_t>(comm.rank());
+    std::vector<const float*> from(P);
     std::size_t at = 0;
     for (std::size_t q = 0; q < P; ++q) {
-      const auto r0 = static_cast<std::size_t>(m.first_row[q]);
-      const auto n = static_cast<std::size_t>(m.first_row[q + 1]) - r0;
-      ensure(part_sizes[q] == V * n, "online LDA: a rank sent wrong beta rows");
-      for (std::size_t i = 0; i < V; ++i) {
-        if (n > 0)
-          std::memcpy(m.beta.data() + i * S + r0, rows.data() + at + i * n, n * sizeof(float));
+      from[q] = m.beta_rows.data() + at;
+      at += V * static_cast<std::size_t>(m.first_row[q + 1] - m.first_row[q]);
+    }
+    for (std::size_t i = 0; i < V; ++i) {
+      float* row = m.beta.data() + i * S;
+      for (std::size_t q = 0; q < P; ++q) {
+        const auto r0 = static_cast<std::size_t>(m.first_row[q]);
+        const auto n = static_cast<std::size_t>(m.first_row[q + 1]) - r0;
+        if (n > 0 && q != me) std::memcpy(row + r0, from[q] + i * n, n * sizeof(float));
       }
-      at += V * n;
+      std::fill(row + K, row + S, 0.0f);
     }
     lap(m.times.communication);
   } else {
@@ -729,7 +859,7 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
                           m.beta);
     lap(m.times.beta);
   }
-  detail::BatchEStep own;
+  detail::BatchEStep& own = m.own_estep;
   const auto estep_t0 = Clock::now();
   const double estep_c0 = process_cpu_seconds();
   detail::run_estep(*m.kern, m.pool, mine, m.beta.data(), K, m.stride, model.alpha, m.options.estep,
@@ -739,8 +869,22 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   lap(m.times.estep);
 
   // 4. What every rank's E-step left, in corpus order: exp E[log theta], the entries' weights,
-  // the iterations and whether each converged.
-  std::vector<std::byte> out;
+  // the iterations and whether each converged. With the lean exchange, then the byte count of
+  // this rank's documents of the batch after next, and its documents of the next batch (both
+  // predicted: the next range of the widest width, from 0 after the corpus's end). Every rank
+  // knows every rank's E-step bytes (the dealing), and the documents' bytes were announced one
+  // batch before: then this is one collective of known sizes.
+  std::vector<std::vector<std::size_t>> docs_of(P);
+  for (std::size_t i = 0; i < B; ++i) docs_of[static_cast<std::size_t>(owner[i])].push_back(i);
+  std::vector<std::size_t> estep_bytes(P);
+  for (std::size_t q = 0; q < P; ++q) {
+    std::size_t entries = 0;
+    for (const std::size_t i : docs_of[q]) entries += m.docs.offsets[i + 1] - m.docs.offsets[i];
+    estep_bytes[q] = docs_of[q].size() * (S * sizeof(float) + 2 * sizeof(std::int32_t)) +
+                     entries * sizeof(float) + sizeof(double);
+  }
+  std::vector<std::byte>& out = m.out;
+  out.clear();
   const auto append = [&out](const void* p, std::size_t bytes) {
     const auto* b = static_cast<const std::byte*>(p);
     out.insert(out.end(), b, b + bytes);
@@ -754,13 +898,35 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   }
   append(flags.data(), flags.size() * sizeof(std::int32_t));
   append(&estep_cpu, sizeof estep_cpu);  // for phase_times' imbalance only; not in the model
-  std::vector<std::byte> gathered;
-  std::vector<std::size_t> sizes;
+  const auto next_of = [&](std::size_t e) {
+    const std::size_t b = e < total ? e : 0;
+    return std::pair<std::size_t, std::size_t>{b, std::min(total, b + m.widest)};
+  };
+  const auto [next_begin, next_end] = next_of(end);
+  const auto [after_begin, after_end] = next_of(next_end);
+  Impl::Announced& told = m.announced;
+  const bool known = m.lean && told.valid && told.begin == next_begin && told.end == next_end;
+  if (m.lean) {
+    const auto bytes = static_cast<std::uint64_t>(packed_bytes(shard, after_begin, after_end));
+    append(&bytes, sizeof bytes);
+    pack_documents(shard, next_begin, next_end, out);
+  }
+  std::vector<std::byte>& gathered = m.gathered;
+  std::vector<std::size_t> sizes(P);
   const auto wait_t0 = Clock::now();
-  comm.allgather(out, gathered, sizes);
+  if (known) {
+    for (std::size_t q = 0; q < P; ++q) {
+      sizes[q] = estep_bytes[q] + sizeof(std::uint64_t) + told.bytes[q];
+    }
+    gathered.resize(std::accumulate(sizes.begin(), sizes.end(), std::size_t{0}));
+    collective([&] { comm.allgather_sized(out, gathered, sizes); });
+    m.times.collectives += 1;
+  } else {
+    collective([&] { comm.allgather(out, gathered, sizes); });
+    m.times.collectives += 2;
+  }
   m.times.wait_wall += since(wait_t0);
 
-  const std::size_t B = end - begin;
   detail::BatchEStep& e = m.estep;
   e.stride = m.stride;
   e.exp_elog_theta.resize(B * S);
@@ -769,23 +935,28 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
   e.converged.assign(B, 1);
   // Per rank: its documents' positions in the batch, then its three blocks.
   double slowest_cpu = 0;
-  std::vector<std::vector<std::size_t>> docs_of(P);
-  for (std::size_t i = 0; i < B; ++i) docs_of[static_cast<std::size_t>(owner[i])].push_back(i);
+  std::vector<std::size_t> next_bytes(P, 0);
+  told.bytes.assign(P, 0);
   std::size_t at = 0;
   for (std::size_t q = 0; q < P; ++q) {
     const std::byte* base = gathered.data() + at;
+    const std::size_t head = estep_bytes[q] + (m.lean ? sizeof(std::uint64_t) : 0);
+    ensure(m.lean ? head <= sizes[q] && (sizes[q] - head) % sizeof(std::int32_t) == 0
+                  : head == sizes[q],
+           "online LDA: a rank sent a wrong E-step");
+    next_bytes[q] = sizes[q] - head;
+    if (m.lean) {
+      std::uint64_t announced = 0;
+      std::memcpy(&announced, base + estep_bytes[q], sizeof announced);
+      told.bytes[q] = static_cast<std::size_t>(announced);
+    }
+    double their_cpu = 0;
+    std::memcpy(&their_cpu, base + estep_bytes[q] - sizeof(double), sizeof their_cpu);
+    slowest_cpu = std::max(slowest_cpu, their_cpu);
+    const std::byte* w_at = base + docs_of[q].size() * S * sizeof(float);
     std::size_t entries = 0;
     for (const std::size_t i : docs_of[q]) entries += m.docs.offsets[i + 1] - m.docs.offsets[i];
-    const std::size_t eth_bytes = docs_of[q].size() * S * sizeof(float);
-    const std::size_t w_bytes = entries * sizeof(float);
-    const std::size_t f_bytes = docs_of[q].size() * 2 * sizeof(std::int32_t);
-    ensure(eth_bytes + w_bytes + f_bytes + sizeof(double) == sizes[q],
-           "online LDA: a rank sent a wrong E-step");
-    double their_cpu = 0;
-    std::memcpy(&their_cpu, base + sizes[q] - sizeof(double), sizeof their_cpu);
-    slowest_cpu = std::max(slowest_cpu, their_cpu);
-    const std::byte* w_at = base + eth_bytes;
-    const std::byte* f_at = w_at + w_bytes;
+    const std::byte* f_at = w_at + entries * sizeof(float);
     std::size_t n = 0;
     std::size_t k = 0;
     for (const std::size_t i : docs_of[q]) {
@@ -803,7 +974,31 @@ MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, st
     }
     at += sizes[q];
   }
+  if (m.lean) {
+    // The next batch's documents: the tail of every rank's block, concatenated in rank order.
+    docs_in.words.resize(std::accumulate(next_bytes.begin(), next_bytes.end(), std::size_t{0}) /
+                         sizeof(std::int32_t));
+    docs_in.starts.assign(1, 0);
+    std::size_t from = 0;
+    for (std::size_t q = 0; q < P; ++q) {
+      from += sizes[q];
+      const std::size_t n = next_bytes[q] / sizeof(std::int32_t);
+      if (n > 0) {
+        std::memcpy(docs_in.words.data() + docs_in.starts.back(),
+                    gathered.data() + from - next_bytes[q], next_bytes[q]);
+      }
+      docs_in.starts.push_back(docs_in.starts.back() + n);
+    }
+    docs_in.begin = next_begin;
+    docs_in.end = next_end;
+    docs_in.valid = true;
+    told.begin = after_begin;
+    told.end = after_end;
+    told.valid = true;
+  }
   m.times.estep_imbalance += slowest_cpu - estep_cpu;
+  m.times.collective_wall += collective_wall;
+  m.times.collective_cpu += collective_cpu;
   lap(m.times.communication);
   finish_update(stats);
   return stats;
@@ -845,9 +1040,11 @@ void report_phase_times(const OnlineLda& lda, int ranks, int rank) {
                "{\"phase_times\": {\"ranks\": %d, \"updates\": %lld, \"estep\": %.6f, "
                "\"beta\": %.6f, \"statistics\": %.6f, \"mstep\": %.6f, "
                "\"communication\": %.6f, \"rank\": %d, \"estep_wall\": %.6f, "
-               "\"wait_wall\": %.6f, \"estep_imbalance\": %.6f}}\n",
+               "\"wait_wall\": %.6f, \"estep_imbalance\": %.6f, \"collective_wall\": %.6f, "
+               "\"collective_cpu\": %.6f, \"collectives\": %lld}}\n",
                ranks, static_cast<long long>(t.updates), t.estep, t.beta, t.statistics, t.mstep,
-               t.communication, rank, t.estep_wall, t.wait_wall, t.estep_imbalance);
+               t.communication, rank, t.estep_wall, t.wait_wall, t.estep_imbalance,
+               t.collective_wall, t.collective_cpu, static_cast<long long>(t.collectives));
 }
 
 // Where training stands: what a checkpoint holds besides the model.

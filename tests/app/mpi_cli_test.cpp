@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "../support/named_corpus.hpp"
 #include "../support/paths.hpp"
@@ -51,6 +53,15 @@ int count_of(const std::string& text, const std::string& what) {
   int n = 0;
   for (auto i = text.find(what); i != std::string::npos; i = text.find(what, i + 1)) ++n;
   return n;
+}
+
+// The integers that follow each occurrence of `key` in `text` (e.g. "\"collectives\": ").
+std::vector<long long> numbers_after(const std::string& text, const std::string& key) {
+  std::vector<long long> out;
+  for (auto i = text.find(key); i != std::string::npos; i = text.find(key, i + 1)) {
+    out.push_back(std::stoll(text.substr(i + key.size())));
+  }
+  return out;
 }
 
 class MpiLda : public ::testing::Test {
@@ -148,12 +159,23 @@ TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
     // Every rank reports its phases once (its E-step and its wait beside them).
     EXPECT_EQ(count_of(r.err, "\"phase_times\""), c.ranks) << r.err;
     EXPECT_EQ(count_of(r.err, "\"wait_wall\""), c.ranks) << r.err;
+    // The lean exchange: each update one allgather (one MPI call, sizes known) of the E-step
+    // output with the next batch's documents, by topic one more of the beta rows; the first
+    // update gathers its documents (sizes, then bytes) and its E-step output (the same) first.
+    const auto updates = numbers_after(r.err, "\"updates\": ");
+    const auto calls = numbers_after(r.err, "\"collectives\": ");
+    ASSERT_EQ(calls.size(), static_cast<std::size_t>(c.ranks)) << r.err;
+    for (std::size_t q = 0; q < calls.size(); ++q) {
+      const long long per = std::strcmp(c.design, "by-topic") == 0 ? 2 : 1;
+      EXPECT_EQ(calls[q], per * updates[q] + 3) << r.err;
+    }
   }
 }
 
 // The E-step dealt by cost (the default) on a corpus of very uneven documents (every seventh 40
 // times longer, some empty): the one-process model byte for byte on 2 and 3 ranks, with fewer
-// topics than ranks, and with the old dealing (d mod P, PROPRIO_MPI_LDA_BALANCE=0).
+// topics than ranks, and with the old dealing and exchange (d mod P and three allgathers a batch:
+// PROPRIO_MPI_LDA_BALANCE=0 PROPRIO_MPI_LDA_EXCHANGE=three).
 TEST_F(MpiLda, UnevenDocumentsDealtByCostGiveTheOneProcessModel) {
   std::vector<std::string> vocab;
   for (int w = 0; w < 120; ++w) {
@@ -197,7 +219,8 @@ TEST_F(MpiLda, UnevenDocumentsDealtByCostGiveTheOneProcessModel) {
     name += "_";
     name += std::to_string(c.ranks);
     name += c.balance ? "_balanced.lda" : "_mod.lda";
-    std::string command = c.balance ? "" : "PROPRIO_MPI_LDA_BALANCE=0 ";
+    std::string command =
+        c.balance ? "" : "PROPRIO_MPI_LDA_BALANCE=0 PROPRIO_MPI_LDA_EXCHANGE=three ";
     command += mpirun(c.ranks) + cli() + " lda train --corpus " + path("uneven") + " " + args +
                " --threads 1 --model " + path(name);
     const auto r = run(command);

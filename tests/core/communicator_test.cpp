@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <span>
 #include <vector>
 
 #include "proprio/core/mpi_communicator.hpp"
@@ -24,6 +25,26 @@ TEST(Communicator, LocalWorldIsRankZeroOfOne) {
   std::vector<std::size_t> counts;
   EXPECT_EQ(allgather_values<int>(c, mine, &counts), mine);
   EXPECT_EQ(counts, std::vector<std::size_t>{3});
+}
+
+// The allgather of sizes every rank knows: the bytes land in the caller's buffer; sizes that do
+// not match the buffers are a broken invariant.
+TEST(Communicator, AllgatherOfKnownSizesFillsTheGivenBufferAndChecksTheSizes) {
+  LocalCommunicator c;
+  const std::vector<int> mine{4, 5, 6};
+  std::vector<int> all(3, 0);
+  const std::vector<std::size_t> sizes{3 * sizeof(int)};
+  c.allgather_sized(std::as_bytes(std::span<const int>(mine)),
+                    std::as_writable_bytes(std::span<int>(all)), sizes);
+  EXPECT_EQ(all, mine);
+  std::vector<int> longer(4, 0);
+  EXPECT_THROW(c.allgather_sized(std::as_bytes(std::span<const int>(mine)),
+                                 std::as_writable_bytes(std::span<int>(longer)), sizes),
+               InternalError);
+  const std::vector<std::size_t> two{12, 0};
+  EXPECT_THROW(c.allgather_sized(std::as_bytes(std::span<const int>(mine)),
+                                 std::as_writable_bytes(std::span<int>(all)), two),
+               InternalError);
 }
 
 TEST(Communicator, AgreeTurnsBadInputIntoACollectiveError) {

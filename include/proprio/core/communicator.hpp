@@ -53,6 +53,12 @@ class Communicator {
   /// byte count.
   virtual void allgather(std::span<const std::byte> mine, std::vector<std::byte>& all,
                          std::vector<std::size_t>& sizes) = 0;
+  /// The same when every rank knows every rank's byte count beforehand: `sizes[r]` is rank r's
+  /// (the same on every rank; sizes[rank()] == mine.size()), `all` holds their sum and receives
+  /// the concatenation. One collective (MPI_Allgatherv) where allgather needs two (the sizes,
+  /// then the bytes), and no allocation. This default runs allgather and copies.
+  virtual void allgather_sized(std::span<const std::byte> mine, std::span<std::byte> all,
+                               std::span<const std::size_t> sizes);
   /// Point to point (the rank-ordered fold below): blocking send to `to`, receive from `from`.
   virtual void send(std::span<const std::byte> data, int to) = 0;
   virtual void receive(std::span<std::byte> data, int from) = 0;
@@ -71,6 +77,8 @@ class LocalCommunicator final : public Communicator {
   void allreduce_max(std::span<std::int64_t>) override {}
   void allgather(std::span<const std::byte> mine, std::vector<std::byte>& all,
                  std::vector<std::size_t>& sizes) override;
+  void allgather_sized(std::span<const std::byte> mine, std::span<std::byte> all,
+                       std::span<const std::size_t> sizes) override;
   void send(std::span<const std::byte>, int) override;
   void receive(std::span<std::byte>, int) override;
 };

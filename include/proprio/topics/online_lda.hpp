@@ -179,7 +179,10 @@ class OnlineLda {
   /// cost, mpi_lda_balance) with its threads, they exchange what the E-step leaves (exp E[log
   /// theta] per document and the weight of each entry) and every rank sums the sufficient
   /// statistics in document order and applies the M-step: every rank's model is the one-process
-  /// model, bit for bit.
+  /// model, bit for bit. With the lean exchange (mpi_lda_lean_exchange, the default) the word ids
+  /// of the next batch, predicted as [end, end + the widest batch so far) or from 0 after the
+  /// corpus's end, travel with this batch's E-step output; a call with another range gathers its
+  /// documents first (the same model, one collective more).
   ///
   /// After distribute_by_topic(), the update is split by topic instead: rank r owns the
   /// contiguous block of topic rows mpi_topic_rows(K, size, r) of lambda; it computes exp(E[log
@@ -209,6 +212,13 @@ class OnlineLda {
   struct PhaseTimes {
     double estep = 0, beta = 0, statistics = 0, mstep = 0, communication = 0;
     double estep_wall = 0, wait_wall = 0, estep_imbalance = 0;
+    /// Wall and processor seconds in the data-parallel update's collectives (all of them,
+    /// waiting included: `communication` minus collective_cpu is the batch's assembly, packing
+    /// and unpacking alone), and the number of MPI collective calls they made (an allgather of
+    /// unknown sizes is two).
+    double collective_wall = 0;
+    double collective_cpu = 0;
+    std::int64_t collectives = 0;
     std::int64_t updates = 0;
   };
   [[nodiscard]] PhaseTimes phase_times() const;
@@ -240,6 +250,13 @@ std::vector<int> mpi_deal_by_cost(std::span<const std::int64_t> costs, int ranks
 /// (distinct words + 2) x the previous pass's iterations) rather than d mod P: yes unless the
 /// environment sets PROPRIO_MPI_LDA_BALANCE=0. The model is the same bits either way.
 bool mpi_lda_balance();
+
+/// Whether the data-parallel update uses the lean exchange (2026-12-03): each rank sends its
+/// documents of the next mini-batch with its E-step output (one collective fewer a batch, the
+/// batch's documents are ready when it starts), and the split-by-topic exp E[log beta] rows go in
+/// one collective of sizes every rank computes; yes unless PROPRIO_MPI_LDA_EXCHANGE=three (the
+/// earlier three allgathers a batch, each with its exchange of sizes). The same bits either way.
+bool mpi_lda_lean_exchange();
 
 /// Trains on `corpus` in order, `passes` times, mini-batch by mini-batch.
 OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options);
