@@ -65,6 +65,13 @@ enum class NextObjectRule {
 inline constexpr core::ChoiceNames<NextObjectRule, 2> kNextObjectRuleNames{
     {{"looks", NextObjectRule::kLooks}, {"dirichlet", NextObjectRule::kDirichlet}}};
 
+/// planning::PushPlanOptions with descent_clearance 0.04 m (SelfSupervisionOptions::plan's).
+inline planning::PushPlanOptions descent_checked() {
+  planning::PushPlanOptions p;
+  p.descent_clearance = 0.04;
+  return p;
+}
+
 /// topics::MotOptions with up to 3 Dirichlets per object (SelfSupervisionOptions::mot's default).
 inline topics::MotOptions three_components() {
   topics::MotOptions m;
@@ -114,7 +121,9 @@ struct SelfSupervisionOptions {
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
   /// How documents' features are extracted: must be how the vocabulary and model were made.
   features::ExtractOptions features;
-  planning::PushPlanOptions plan;
+  /// The planner's options; descent_clearance 0.04 m (paths whose arm would come down on a
+  /// blob are not planned: every refused transit of the report seeds was that).
+  planning::PushPlanOptions plan = descent_checked();
   segmentation::MlOptions segmentation;
   /// The Mixture of Topics: up to 3 Dirichlets per object (their number chosen by BIC), not the
   /// thesis's one. Session 14: on renders of each object alone (the ladder's a0 rung,
