@@ -42,8 +42,9 @@ constexpr double kMaxExtraApproach = 0.12;  // at most, m
 constexpr int kSides = 8;                   // (c): sides tried when a push is out of reach
 constexpr double kSidePush = 0.08;          // (c): how far those pushes go, m
 constexpr double kClearMargin = 0.04;       // (b): pushed this much beyond the clearance, m
-constexpr double kLandRadius = 0.15;        // a pushed object is looked for this near its target, m
-constexpr double kMaxLearnPush = 0.12;      // (c): the object is moved at most this far a push, m
+constexpr int kRechoices = 2;         // (b): choices again in a round after the chosen one was lost
+constexpr double kFindRadius = 0.12;  // a pushed object is looked for this near its target, m
+constexpr double kMaxLearnPush = 0.12;  // (c): the object is moved at most this far a push, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 
 // The blob of `view` nearest `centre` within kTrackRadius; -1 none.
@@ -94,6 +95,7 @@ class Learner {
     out_.views_per_class.assign(static_cast<std::size_t>(classes), 0);
     out_.stop_reasons.assign(static_cast<std::size_t>(classes), "");
     out_.views.theta.resize(0, model.num_topics());
+    class_looks_.resize(static_cast<std::size_t>(classes));
     if (!log_path.empty()) log_file_.open(log_path);
   }
 
@@ -173,11 +175,23 @@ class Learner {
     return recognition::document_theta(model_, corpus).theta;
   }
 
-  // (a) / (d): the blob to learn. Round 0: at random; later: the blob least likely under the
-  // classes learned so far (the largest log Dir(theta | omega_c) + log p(c) over c is least).
+  // The document of blob `k` of `view` in the last look's image (empty: too few features).
+  std::vector<std::int32_t> blob_document(const planning::PlanningView& view, int k) {
+    auto d = masked_document(image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_),
+                             vocabulary_, o_.features, o_.dilate);
+    if (static_cast<int>(d.size()) < o_.min_features) d.clear();
+    return d;
+  }
+
+  // (a) / (d): the blob to learn. Round 0: at random; later (o_.choice): kLooks, the unclaimed
+  // blob farthest from every class's looks (choose_unlearned); kDirichlet, the blob whose best
+  // log Dir(theta | omega_c) + log p(c) over the classes so far is least.
   int choose(int r, const planning::PlanningView& view) {
     const int n = static_cast<int>(view.objects.size());
-    if (r == 0 || model_so_far_.objects.empty()) {
+    const bool looks = o_.choice == NextObjectRule::kLooks &&
+                       std::any_of(class_looks_.begin(), class_looks_.end(),
+                                   [](const auto& l) { return !l.empty(); });
+    if (r == 0 || (!looks && model_so_far_.objects.empty())) {
       const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
       log({.event = "choose", .round = r, .blob = k, .why = "at random (7.2 a)"});
       return k;
@@ -185,9 +199,8 @@ class Learner {
     std::vector<std::vector<std::int32_t>> docs;
     std::vector<int> rows;
     for (int k = 0; k < n; ++k) {
-      auto d = masked_document(image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_),
-                               vocabulary_, o_.features, o_.dilate);
-      if (static_cast<int>(d.size()) >= o_.min_features) {
+      auto d = blob_document(view, k);
+      if (!d.empty()) {
         docs.push_back(std::move(d));
         rows.push_back(k);
       }
@@ -200,24 +213,60 @@ class Learner {
            .why = "at random: no blob has enough features to be scored"});
       return k;
     }
-    const topics::MotClassification cls = topics::classify_mot(model_so_far_, theta_of(docs));
-    int best = rows[0];
-    double best_score = std::numeric_limits<double>::infinity();
+    const Eigen::MatrixXd theta = theta_of(docs);
     std::vector<BlobScore> scores;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const double s = cls.log_score.row(static_cast<Eigen::Index>(i)).maxCoeff();
-      scores.push_back({rows[i], s});
-      if (s < best_score) {
-        best_score = s;
-        best = rows[i];
+    scores.reserve(rows.size());
+    for (const int k : rows) scores.push_back({k, 0.0});
+    int best = rows[0];
+    if (!model_so_far_.objects.empty()) {
+      const topics::MotClassification cls = topics::classify_mot(model_so_far_, theta);
+      double best_score = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        const double s = cls.log_score.row(static_cast<Eigen::Index>(i)).maxCoeff();
+        scores[i].best_log_score = s;
+        if (s < best_score) {
+          best_score = s;
+          best = rows[i];
+        }
       }
     }
+    if (!looks) {
+      log({.event = "choose",
+           .round = r,
+           .blob = best,
+           .why = "least likely under the classes learned so far (7.2 d)",
+           .scores = std::move(scores)});
+      return best;
+    }
+    std::vector<Eigen::VectorXd> blobs(static_cast<std::size_t>(n));
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      blobs[static_cast<std::size_t>(rows[i])] =
+          theta.row(static_cast<Eigen::Index>(i)).transpose();
+    }
+    const NextChoice next = choose_unlearned(blobs, class_looks_);
+    for (BlobScore& bs : scores) {
+      const auto b = static_cast<std::size_t>(bs.blob);
+      bs.nearest = next.nearest[b];
+      bs.nearest_class = next.nearest_class[b];
+      bs.claimed_by = next.claimed_by[b];
+    }
+    const bool all_claimed =
+        next.blob >= 0 && next.claimed_by[static_cast<std::size_t>(next.blob)] >= 0;
     log({.event = "choose",
          .round = r,
-         .blob = best,
-         .why = "least likely under the classes learned so far (7.2 d)",
+         .blob = next.blob,
+         .why = all_claimed ? "every blob is claimed by a learned class: the farthest (7.2 d)"
+                            : "unclaimed by the learned classes' looks, the farthest from them "
+                              "(7.2 d)",
          .scores = std::move(scores)});
-    return best;
+    return next.blob;
+  }
+
+  // (c): the chosen object's look (blob `c` of the last look) kept for (d)'s kLooks choice.
+  void keep_look(int r, const planning::PlanningView& view, int c) {
+    const auto d = blob_document(view, c);
+    if (d.empty()) return;
+    class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
   }
 
   // One push: plan given, executed, logged. Returns whether the robot executed it.
@@ -333,6 +382,7 @@ class Learner {
         return chosen;
       }
       bool pushed = false;
+      bool refused = false;
       for (const auto& [gap, k] : others) {
         // Away from the chosen object, far enough to leave it alone (a kEdge push's direction
         // ignores the chosen object and often brought the other one nearer to it); kEdge when
@@ -363,7 +413,12 @@ class Learner {
           pushed = true;
           break;
         }
+        refused = true;
       }
+      // A refusal (the hand would meet an object on its way down) grew the approaches: plan
+      // again rather than give up clearing after one refusal (seed 1: 3 of 4 rounds did, and
+      // their learn pushes then moved neighbours too).
+      if (!pushed && refused && pushes < o_.clear_pushes) continue;
       if (!pushed) {
         fault(r, "cannot-clear", "no push of a nearby object could be planned or executed");
         attendant_.cleared(r, view, c);
@@ -436,10 +491,15 @@ class Learner {
     double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
     int done = 0;
     int attempts = 0;
+    // The look after the last executed push and the chosen object in it (found by its motion):
+    // the next push plans on it instead of looking again and re-finding the object by position.
+    std::optional<planning::PlanningView> carried;
+    int carried_blob = -1;
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
-      const planning::PlanningView view = look();
-      int c = track(view, chosen);
+      const planning::PlanningView view = carried ? std::move(*carried) : look();
+      int c = carried ? carried_blob : track(view, chosen);
+      carried.reset();
       if (c < 0 && view.objects.size() == 1) {
         // Singulated: the one blob in view is the object, wherever the push left it.
         c = 0;
@@ -451,6 +511,7 @@ class Learner {
         break;
       }
       chosen = view.objects[static_cast<std::size_t>(c)].centre;
+      keep_look(r, view, c);
       Eigen::Vector2d target =
           centre_ + o_.circle_radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
       angle += kGoldenAngle;
@@ -486,9 +547,16 @@ class Learner {
       PushIntent in{r, "learn", index++, &view, c, &p};
       if (!execute(in, o_.views == ViewSource::kMotion ? name : std::string())) continue;
       ++out_.pushes_learn;
-      // Where is it now? Near the plan's target, or (a push that moved nothing) where it was.
-      const planning::PlanningView after = look();
-      int now = track(after, p.target, kLandRadius);
+      // Where is it now? What moved in the push near the plan's target (the hull carried there),
+      // or (a push that moved nothing) where it was. The blob nearest the target was taken
+      // before: with the others not cleared away (singulation failed in 90% of rounds) that
+      // was often another object, and the round went on pushing it (seed 1: the learn pushes
+      // of round 2 went to 4 blobs in turn; docs/results/selfsupervision.md, 2026-12-03).
+      const cv::Mat before_image = image_.clone();
+      planning::PlanningView after = look();
+      int now = planning::find_pushed_object(before_image, image_, after,
+                                             view.objects[static_cast<std::size_t>(c)], p.target,
+                                             kFindRadius, region_, plan_options_);
       if (now < 0) now = track(after, chosen);
       if (now >= 0 &&
           (after.objects[static_cast<std::size_t>(now)].centre - chosen).norm() < kStill) {
@@ -516,7 +584,11 @@ class Learner {
       what.push = done;
       what.taken = static_cast<int>(docs.size());
       log(std::move(what));
-      if (now >= 0) chosen = after.objects[static_cast<std::size_t>(now)].centre;
+      if (now >= 0) {
+        chosen = after.objects[static_cast<std::size_t>(now)].centre;
+        carried = std::move(after);
+        carried_blob = now;
+      }
       ++done;
       bar.tick();
     }
@@ -556,8 +628,23 @@ class Learner {
     const int k = choose(r, view);
     attendant_.chose(r, view, k);
     int index = 0;
-    const std::optional<Eigen::Vector2d> chosen =
+    std::optional<Eigen::Vector2d> chosen =
         clear(r, view.objects[static_cast<std::size_t>(k)].centre, index);
+    // Lost while clearing (pushed along or merged with a neighbour): choose again from a new
+    // look rather than end the round with nothing learned (the next round then chose the same
+    // object again, as no look of it was kept: seed 2 chose the bike in 3 of 4 rounds).
+    for (int again = 0; !chosen && again < kRechoices; ++again) {
+      const planning::PlanningView now = look();
+      if (now.objects.empty()) break;
+      log({.event = "look",
+           .round = r,
+           .phase = "choose",
+           .why = "the chosen object was lost while clearing: choosing again",
+           .blobs = putative_object_records(now, false)});
+      const int k2 = choose(r, now);
+      attendant_.chose(r, now, k2);
+      chosen = clear(r, now.objects[static_cast<std::size_t>(k2)].centre, index);
+    }
     if (!chosen) {
       out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost while clearing";
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -617,6 +704,8 @@ class Learner {
   Learning out_;
   topics::MotModel model_so_far_;
   std::vector<int> model_class_;
+  /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
+  std::vector<std::vector<Eigen::VectorXd>> class_looks_;
   int plans_ = 0;
   double extra_approach_ = 0;                 ///< m, grown after each refusal of the round
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for the arm's image
@@ -697,6 +786,119 @@ double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::
     }
   }
   return d;
+}
+
+double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
+  ensure(p.size() == q.size(), "hellinger: distributions of different lengths");
+  const double bc = (p.array().max(0.0) * q.array().max(0.0)).sqrt().sum();
+  return std::sqrt(std::max(0.0, 1.0 - bc));
+}
+
+NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
+                            const std::vector<std::vector<Eigen::VectorXd>>& class_looks) {
+  const int n = static_cast<int>(blobs.size());
+  const int k = static_cast<int>(class_looks.size());
+  NextChoice out;
+  out.claimed_by.assign(static_cast<std::size_t>(n), -1);
+  out.nearest.assign(static_cast<std::size_t>(n), -1.0);
+  out.nearest_class.assign(static_cast<std::size_t>(n), -1);
+  // distance[b][c]: the blob's least distance to class c's looks (inf: no looks or unscored).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
+                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
+  std::vector<int> scored;
+  std::vector<int> classes;  // the classes with looks
+  for (int c = 0; c < k; ++c) {
+    if (!class_looks[static_cast<std::size_t>(c)].empty()) classes.push_back(c);
+  }
+  for (int b = 0; b < n; ++b) {
+    const Eigen::VectorXd& t = blobs[static_cast<std::size_t>(b)];
+    if (t.size() == 0) continue;
+    scored.push_back(b);
+    double nearest = kInf;
+    for (const int c : classes) {
+      double d = kInf;
+      for (const Eigen::VectorXd& e : class_looks[static_cast<std::size_t>(c)]) {
+        d = std::min(d, hellinger(t, e));
+      }
+      distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] = d;
+      if (d < nearest) {
+        nearest = d;
+        out.nearest_class[static_cast<std::size_t>(b)] = c;
+      }
+    }
+    // No class has looks yet: every blob is as new as any other (distance 1, the most).
+    out.nearest[static_cast<std::size_t>(b)] = std::isfinite(nearest) ? nearest : 1.0;
+  }
+  if (scored.empty()) return out;
+  // The matching of classes to scored blobs of least total distance, as many pairs as the
+  // smaller side has: brute force (small tables), else greedy by least distance.
+  const int pairs = std::min(static_cast<int>(classes.size()), static_cast<int>(scored.size()));
+  std::vector<int> best(classes.size(), -1);
+  if (pairs > 0 && classes.size() <= 8 && scored.size() <= 8) {
+    double best_cost = kInf;
+    std::vector<int> now(classes.size(), -1);
+    std::vector<bool> used(static_cast<std::size_t>(n), false);
+    const auto search = [&](const auto& self, std::size_t i, int made, double cost) -> void {
+      if (cost >= best_cost) return;
+      if (i == classes.size()) {
+        if (made == pairs) {
+          best_cost = cost;
+          best = now;
+        }
+        return;
+      }
+      const int left = static_cast<int>(classes.size() - i);
+      for (const int b : scored) {
+        if (used[static_cast<std::size_t>(b)]) continue;
+        used[static_cast<std::size_t>(b)] = true;
+        now[i] = b;
+        self(self, i + 1, made + 1,
+             cost + distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(classes[i])]);
+        used[static_cast<std::size_t>(b)] = false;
+        now[i] = -1;
+      }
+      if (pairs - made < left) self(self, i + 1, made, cost);  // this class claims none
+    };
+    search(search, 0, 0, 0.0);
+  } else if (pairs > 0) {
+    std::vector<bool> used(static_cast<std::size_t>(n), false);
+    for (int made = 0; made < pairs; ++made) {
+      double least = kInf;
+      int bc = -1;
+      int bb = -1;
+      for (std::size_t i = 0; i < classes.size(); ++i) {
+        if (best[i] >= 0) continue;
+        for (const int b : scored) {
+          const double d =
+              distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(classes[i])];
+          if (!used[static_cast<std::size_t>(b)] && (bc < 0 || d < least)) {
+            least = d;
+            bc = static_cast<int>(i);
+            bb = b;
+          }
+        }
+      }
+      best[static_cast<std::size_t>(bc)] = bb;
+      used[static_cast<std::size_t>(bb)] = true;
+    }
+  }
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    if (best[i] >= 0) out.claimed_by[static_cast<std::size_t>(best[i])] = classes[i];
+  }
+  // The unclaimed blob farthest from every class; every blob claimed: the farthest of all.
+  for (const bool unclaimed_only : {true, false}) {
+    double far = -1;
+    for (const int b : scored) {
+      if (unclaimed_only && out.claimed_by[static_cast<std::size_t>(b)] >= 0) continue;
+      if (out.nearest[static_cast<std::size_t>(b)] > far) {
+        far = out.nearest[static_cast<std::size_t>(b)];
+        out.blob = b;
+      }
+    }
+    if (out.blob >= 0) break;
+  }
+  return out;
 }
 
 Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int classes,

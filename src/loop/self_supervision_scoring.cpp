@@ -172,6 +172,8 @@ std::string GroundTruthAttendant::object_under(const planning::PutativeObject& b
 
 void GroundTruthAttendant::chose(int r, const planning::PlanningView& view, int blob) {
   round(r).chosen = object_under(view.objects.at(static_cast<std::size_t>(blob)));
+  round(r).blobs.clear();
+  for (const auto& o : view.objects) round(r).blobs.push_back(object_under(o));
 }
 
 void GroundTruthAttendant::before_push(const PushIntent& intent) {
@@ -486,6 +488,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     const bool seen = c < static_cast<int>(rounds.size());
     s.class_chosen.push_back(seen ? rounds[static_cast<std::size_t>(c)].chosen : std::string());
     s.class_gap.push_back(seen ? rounds[static_cast<std::size_t>(c)].least_gap : -1.0);
+    s.class_blobs.push_back(seen ? rounds[static_cast<std::size_t>(c)].blobs
+                                 : std::vector<std::string>{});
   }
   // Singulation, clearing pushes, intended-only, off the table.
   int singulated = 0;
@@ -554,6 +558,12 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   for (std::size_t oi = 0; oi < objects.size(); ++oi) {
     ObjectScore os;
     os.name = objects[oi];
+    for (const auto& p : pushes) {
+      if (p.phase == "learn" && p.executed && p.intended == os.name) ++os.learn_pushes;
+    }
+    for (const auto& r : rounds) {
+      if (r.chosen == os.name) ++os.chosen;
+    }
     for (int c = 0; c < c_count; ++c) {
       if (s.class_object[static_cast<std::size_t>(c)] != os.name) continue;
       os.classes.push_back(c);

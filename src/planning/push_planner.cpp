@@ -519,6 +519,18 @@ double polygon_distance(const std::vector<Eigen::Vector2d>& a,
   return best;
 }
 
+bool descent_blocked(const Eigen::Vector2d& start, const std::vector<Eigen::Vector2d>& hull,
+                     const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance) {
+  const double r = start.norm();
+  const Eigen::Vector2d low = r > kForearmReach ? Eigen::Vector2d(start * (1.0 - kForearmReach / r))
+                                                : Eigen::Vector2d(0, 0);
+  const std::vector<Eigen::Vector2d> forearm{start, low};
+  if (hull.size() >= 3 && polygon_distance(forearm, hull) == 0.0) return true;
+  return std::any_of(others.begin(), others.end(), [&](const std::vector<Eigen::Vector2d>& o) {
+    return !o.empty() && polygon_distance(forearm, o) < clearance;
+  });
+}
+
 double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
                       const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
                       const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance,
@@ -879,6 +891,11 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
         !inside_region(t, region, options.table_margin + radius) ||
         (goal == PushGoal::kEdge && !in_view(view.camera, t, 0.0)) || push.length() < 0.005) {
       ++plan.rejected_region;
+      continue;
+    }
+    if (options.descent_clearance > 0 &&
+        descent_blocked(push.start, o.hull, obstacles, options.descent_clearance)) {
+      ++plan.rejected_reach;
       continue;
     }
     if (!robot::reachable(arm, push.start, push.height, q_rest, ik) ||

@@ -160,6 +160,45 @@ TEST(PushGeometry, PolygonDistanceAndPathClearance) {
   EXPECT_EQ(path_clearance(into, sq, c, {0.10, 0}, others, 0.0, 0.0), 0.0);  // not checked
 }
 
+TEST(PushGeometry, DescentBlockedByTheObjectUnderTheForearmOrANeighbourBesideTheHand) {
+  // The robot's base at the origin, an object 4 cm square at (0.25, 0). Pushed toward the base
+  // the hand comes down beyond it and the forearm hangs over it (the robot refuses: session 15,
+  // selfsupervise seed 1); pushed sideways it does not.
+  const std::vector<Eigen::Vector2d> sq{{0.23, -0.02}, {0.27, -0.02}, {0.27, 0.02}, {0.23, 0.02}};
+  EXPECT_TRUE(descent_blocked({0.30, 0.0}, sq, {}, 0.04));
+  EXPECT_FALSE(descent_blocked({0.25, -0.05}, sq, {}, 0.04));
+  // A neighbour 2 cm from the hand's way down: blocked with 4 cm, not with 1 cm.
+  const std::vector<std::vector<Eigen::Vector2d>> others{
+      {{0.23, -0.11}, {0.27, -0.11}, {0.27, -0.07}, {0.23, -0.07}}};
+  EXPECT_TRUE(descent_blocked({0.25, -0.05}, sq, others, 0.04));
+  EXPECT_FALSE(descent_blocked({0.25, -0.05}, sq, others, 0.01));
+  // A start nearer the base than kForearmReach: the forearm is the segment to the base.
+  EXPECT_TRUE(
+      descent_blocked({0.10, 0.0}, {}, {{{0.03, -0.01}, {0.05, -0.01}, {0.05, 0.01}}}, 0.01));
+}
+
+TEST(PushPlanner, DescentClearanceLeavesOutPushesTheArmWouldComeDownOn) {
+  // The object at (0.25, 0) pushed toward the base, to (0.17, 0): every path starts beyond it,
+  // the forearm over it. With descent_clearance none is planned; without, one is.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.25, 0.0}, 0.02);
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  PushPlanOptions o = flat_options();
+  const PushPlan free = plan_push(view, 0, PushGoal::kTarget, {0.17, 0.0}, {}, state, q0, o);
+  ASSERT_EQ(free.outcome, PlanOutcome::kPlanned) << free.message;
+  EXPECT_GT(free.push.start.x(), 0.25);
+  o.descent_clearance = 0.04;
+  const PushPlan checked = plan_push(view, 0, PushGoal::kTarget, {0.17, 0.0}, {}, state, q0, o);
+  EXPECT_EQ(checked.outcome, PlanOutcome::kUnreachable) << checked.message;
+  // Sideways it is planned.
+  const PushPlan aside = plan_push(view, 0, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
+  EXPECT_EQ(aside.outcome, PlanOutcome::kPlanned) << aside.message;
+}
+
 TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   // The object at (0.20, 0), its target 16 cm along +y, a neighbour on the line between: the
   // direct push would shove the neighbour along. With waypoints the planner pushes the object

@@ -53,6 +53,25 @@ enum class ViewSource {
 inline constexpr core::ChoiceNames<ViewSource, 2> kViewSourceNames{
     {{"motion", ViewSource::kMotion}, {"blob", ViewSource::kBlob}}};
 
+/// How (d) chooses the next object to learn.
+enum class NextObjectRule {
+  /// choose_unlearned: each learned class claims the blob nearest its own looks (one blob a
+  /// class), the unclaimed blob farthest from every class is chosen.
+  kLooks,
+  /// The thesis's literal rule: the blob whose best log Dir(theta | omega_c) + log p(c) under
+  /// the Mixture of Topics of the views so far (push frames) is least.
+  kDirichlet,
+};
+inline constexpr core::ChoiceNames<NextObjectRule, 2> kNextObjectRuleNames{
+    {{"looks", NextObjectRule::kLooks}, {"dirichlet", NextObjectRule::kDirichlet}}};
+
+/// planning::PushPlanOptions with descent_clearance 0.04 m (SelfSupervisionOptions::plan's).
+inline planning::PushPlanOptions descent_checked() {
+  planning::PushPlanOptions p;
+  p.descent_clearance = 0.04;
+  return p;
+}
+
 /// topics::MotOptions with up to 3 Dirichlets per object (SelfSupervisionOptions::mot's default).
 inline topics::MotOptions three_components() {
   topics::MotOptions m;
@@ -75,6 +94,9 @@ struct SelfSupervisionOptions {
   /// centre, m, stepped by the golden angle, so the object is pushed from ever other sides.
   double circle_radius = 0.07;
   ViewSource views = ViewSource::kMotion;
+  /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
+  /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
+  NextObjectRule choice = NextObjectRule::kLooks;
   int view_step = 2;  ///< kMotion: every n-th frame from the first touch
   /// kMotion: cut the arm's own image (its kinematics at each frame's joints) out of the views.
   bool cut_arm = true;
@@ -99,7 +121,9 @@ struct SelfSupervisionOptions {
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
   /// How documents' features are extracted: must be how the vocabulary and model were made.
   features::ExtractOptions features;
-  planning::PushPlanOptions plan;
+  /// The planner's options; descent_clearance 0.04 m (paths whose arm would come down on a
+  /// blob are not planned: every refused transit of the report seeds was that).
+  planning::PushPlanOptions plan = descent_checked();
   segmentation::MlOptions segmentation;
   /// The Mixture of Topics: up to 3 Dirichlets per object (their number chosen by BIC), not the
   /// thesis's one. Session 14: on renders of each object alone (the ladder's a0 rung,
@@ -126,6 +150,9 @@ struct SelfSupervisionOptions {
       {"circle_radius", "Radius of the circle of push targets, m", core::between(0.02, 0.3)});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
              kViewSourceNames);
+    v.choice(self.choice,
+             {"choice", "Next object (7.2 d): looks (one blob a learned class) or dirichlet"},
+             kNextObjectRuleNames);
     v(self.view_step, {"view_step", "Motion views: every n-th frame", core::between(1, 1000)});
     v(self.cut_arm, {"cut_arm", "Motion views: cut the arm's own image out"});
     v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
@@ -235,11 +262,17 @@ struct LoggedPlan {
 struct BlobScore {
   int blob = 0;
   double best_log_score = 0;
+  std::optional<double> nearest = {};     ///< kLooks: Hellinger distance to the nearest class
+  std::optional<int> nearest_class = {};  ///< kLooks: that class (0..C-1)
+  std::optional<int> claimed_by = {};     ///< kLooks: the class that claimed it, -1 none
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.blob, {"blob", "The blob"});
     v(self.best_log_score, {"best_log_score", "max over c of log Dir(theta | omega_c) + log p(c)"});
+    v(self.nearest, {"nearest", "Hellinger distance to the nearest class's looks"});
+    v(self.nearest_class, {"nearest_class", "That class"});
+    v(self.claimed_by, {"claimed_by", "The class that claimed the blob (-1 none)"});
   }
 };
 
@@ -352,6 +385,36 @@ Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int cl
                           const SelfSupervisionOptions& options,
                           const std::filesystem::path& episodes,
                           const std::filesystem::path& log_path = {}, bool progress = false);
+
+/// (d)'s choice of the next object to learn (7.2 d: "the object least likely under the models
+/// learned so far"), made in the look's own terms. Each learned class keeps the topic
+/// proportions (theta, rows summing to 1) of its object's blob in the looks of its learn round
+/// (the robot looking between pushes: the same camera, arm parked, whole-blob masks, as the
+/// candidates now, and from as many sides as the pushes turned it). A candidate blob's distance
+/// to a class is its least Hellinger distance to the class's looks (0..1). Every learned class
+/// then claims one blob, the one-to-one matching of classes to blobs of least total distance
+/// (an object is one class); of the blobs left unclaimed the one farthest from every class is
+/// chosen (ties: the first). Without the matching a learned object whose look had drifted from
+/// its class was chosen again while an object that looked like some class was never chosen
+/// (docs/results/selfsupervision.md, 2026-12-03).
+struct NextChoice {
+  int blob = -1;                   ///< the blob chosen (-1: no blob could be scored)
+  std::vector<int> claimed_by;     ///< per blob: the class that claimed it, -1 none
+  std::vector<double> nearest;     ///< per blob: its distance to the nearest class (-1: unscored)
+  std::vector<int> nearest_class;  ///< per blob: that class (-1: unscored or no class)
+};
+
+/// The choice above. `blobs`: one theta per blob (empty: the blob has too few features to be
+/// scored; it is neither claimed nor chosen); `class_looks[c]`: class c's look thetas (a class
+/// with none takes no part). Thetas must all have the same length. Classes that outnumber the
+/// scored blobs claim as many as there are; when every scored blob is claimed the farthest of
+/// all is chosen (the learner then learns an object twice, which the log says). Brute force
+/// over the matchings: at most 8 classes and 8 blobs take part (more: a greedy matching).
+NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
+                            const std::vector<std::vector<Eigen::VectorXd>>& class_looks);
+
+/// Hellinger distance between two distributions (non-negative, each summing to 1): 0..1.
+double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q);
 
 /// The visual-word document of `image`'s features inside `mask` (CV_8U, grown by `dilate` px).
 std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,

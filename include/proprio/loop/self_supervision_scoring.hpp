@@ -60,7 +60,10 @@ struct ViewTruth {
 
 /// A round as the ground truth saw it.
 struct RoundTruth {
-  std::string chosen;        ///< the object under the chosen blob at (a)/(d), or ""
+  std::string chosen;  ///< the object under the chosen blob at (a)/(d), or ""
+  /// The object under each blob of the look (a)/(d) chose from, in the look's blob order (the
+  /// decision log's "choose" scores name these blobs), "" where none is.
+  std::vector<std::string> blobs;
   bool singulated = false;   ///< after (b) its footprint is >= 10 cm from every other's
   double least_gap = -1;     ///< that least footprint gap, m (-1: chosen object not seen)
   std::vector<double> yaws;  ///< the chosen object's yaw before and after each learn push, rad
@@ -114,6 +117,8 @@ struct ObjectScore {
   int held_out = 0;            ///< held-out views with features
   double mot_accuracy = 0;     ///< of them, right by the Mixture of Topics
   double argmax_accuracy = 0;  ///< right by argmax theta (merged topics)
+  int learn_pushes = 0;        ///< executed learn pushes (7.2 c) aimed at it
+  int chosen = 0;              ///< rounds whose (a)/(d) chose it
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -125,6 +130,8 @@ struct ObjectScore {
     v(self.held_out, {"held_out", "Held-out views with features"});
     v(self.mot_accuracy, {"mot_accuracy", "Of them, right by the Mixture of Topics"});
     v(self.argmax_accuracy, {"argmax_accuracy", "Right by argmax theta"});
+    v(self.learn_pushes, {"learn_pushes", "Executed learn pushes aimed at it"});
+    v(self.chosen, {"chosen", "Rounds that chose it"});
   }
 };
 
@@ -188,6 +195,8 @@ struct SelfSupervisionScore {
   /// each round's least footprint gap after (b), m (-1: the chosen object was lost).
   std::vector<std::string> class_chosen;
   std::vector<double> class_gap;
+  /// Each round's look at (a)/(d): the object under each of its blobs (RoundTruth::blobs).
+  std::vector<std::vector<std::string>> class_blobs;
   std::vector<ObjectScore> objects;
   double singulation = 0;               ///< rounds singulated / rounds
   double pushes_per_cleared = 0;        ///< clear pushes / distinct objects they moved (per round)
@@ -206,6 +215,7 @@ struct SelfSupervisionScore {
     v(self.class_purity, {"class_purity", "Fraction of its views showing that object"});
     v(self.class_chosen, {"class_chosen", "The object under the blob chosen for each class"});
     v(self.class_gap, {"class_gap", "Each round's least footprint gap after (b), m (-1: lost)"});
+    v(self.class_blobs, {"class_blobs", "Each round's choice look: the object under each blob"});
     v(self.singulation, {"singulation", "Rounds singulated / rounds"});
     v(self.pushes_per_cleared, {"pushes_per_cleared", "Clear pushes / objects they moved"});
     v(self.only_intended,

@@ -114,6 +114,11 @@ struct PushPlanOptions {
   /// default: a single push must end at its target): none; loop::push_once uses it for every
   /// push of its closed loop but the last (loop::kViaPoints: 0, 24 was tried).
   int via_points = 0;
+  /// Least gap between the arm coming down to the pusher's start (its hand and low forearm) and
+  /// every other putative object's hull, m; paths that keep less, or whose forearm passes over
+  /// the pushed object itself, are not sampled (descent_blocked: the robot would refuse them).
+  /// 0 (the default): not checked. selfsupervise: 0.04 (the fingers reach 3 cm either side).
+  double descent_clearance = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -162,6 +167,9 @@ struct PushPlanOptions {
     v(self.via_points,
       {"via_points", "Target goal: paths sampled through a waypoint round a blocked line",
        core::between(0, 1000)});
+    v(self.descent_clearance,
+      {"descent_clearance", "Least gap between the arm's way down and other objects, m (0: off)",
+       core::between(0, 0.2)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -331,6 +339,19 @@ double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vec
                       const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
                       const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance,
                       double hand_clearance);
+
+/// How far from the pusher's start toward the arm's base (the table origin) the forearm hangs
+/// low at the end of the transit's way down, m (descent_blocked).
+inline constexpr double kForearmReach = 0.15;
+
+/// Whether the arm coming down to `start` (table m, robot base frame: the base at the origin)
+/// would meet a putative object: the hand and the low forearm (the segment from `start`
+/// kForearmReach toward the base) pass within `clearance` of an other object's hull (`others`),
+/// or over the pushed object's own `hull`. The planner knows no heights: every blob counts as
+/// tall. Session 15 (seed 1 of selfsupervise): every refused transit was the palm, fingers or
+/// forearm (arm_link3) meeting the bottle or the giraffe at 85-98% of the transit, the way down.
+bool descent_blocked(const Eigen::Vector2d& start, const std::vector<Eigen::Vector2d>& hull,
+                     const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance);
 
 /// The density of every putative object but view.objects[object]: its blob and its convex hull
 /// zeroed (eq 7.5's "own hull zeroed").
