@@ -61,7 +61,7 @@ class CheckTest : public ::testing::Test {
 
 #define EXPECT_HAS(haystack, needle)                                                              \
   do {                                                                                            \
-    const std::string h_ = (haystack);                                                            \
+    const std::string& h_ = (haystack);                                                           \
     EXPECT_NE(h_.find(needle), std::string::npos) << "expected '" << (needle) << "' in:\n" << h_; \
   } while (0)
 
