@@ -6,7 +6,9 @@
 
 #include "cli.hpp"
 #include "option_binder.hpp"
+#include "proprio/core/fields.hpp"
 #include "proprio/core/files.hpp"
+#include "proprio/core/json_io.hpp"
 #include "proprio/topics/lda_model_io.hpp"
 #include "proprio/topics/lda_runs.hpp"
 #include "world.hpp"
@@ -25,6 +27,7 @@ void add_corpus_options(CLI::App* cmd, std::filesystem::path& corpus, CorpusForm
 struct TrainArgs {
   LdaTrainingOptions options;
   JsonFlag json;
+  bool phase_times = false;
 };
 struct InferArgs {
   LdaInferenceOptions options;
@@ -53,6 +56,10 @@ void register_train(CLI::App* lda, const Invocation& inv) {
   cmd->add_option("--model", t->options.model, "Model file to write")->required();
   bind_options(cmd, t->options);
   bind_options(cmd, t->options.online);
+  bind_options(cmd, t->options.online.mpi);
+  cmd->add_flag("--phase-times", t->phase_times,
+                "Online: print this process's time per phase as a JSON line on stderr (every "
+                "rank its own; bench/bench_mpi.py reads it)");
   cmd->add_option("--heldout", t->options.heldout,
                   "Held-out corpus (same format): trace its perplexity (document completion)");
   t->json.add_to(cmd, "seconds, docs_per_s, tokens_per_s and the trace");
@@ -74,6 +81,10 @@ void register_train(CLI::App* lda, const Invocation& inv) {
       });
       const LdaTrainingResult r =
           run_lda_training(t->options, inv.provenance(t->options.online.seed), comm);
+      if (t->phase_times) {
+        const core::Json line = {{"phase_times", core::fields_to_json(r.phase_times)}};
+        std::fprintf(stderr, "%s\n", line.dump().c_str());
+      }
       if (comm.rank() != 0) return;
       std::printf("%s\n", r.brief().c_str());
       t->json.write(r.document);

@@ -12,11 +12,11 @@ and scoring the held-out pages excluded), wall clock of rank 0. The order of the
 rotated per repeat; the machine's load average (/proc/loadavg) is read before and after each run.
 The processor time of rank 0 is recorded beside (cpu_ratio: one process's over rank 0's), and
 its processor seconds per phase of the updates (E-step, exp E[log beta], sufficient statistics,
-M-step, communication: PROPRIO_LDA_PHASE_TIMES; every rank's line is kept in phases_by_rank,
+M-step, communication: `lda train --phase-times`; every rank's line is kept in phases_by_rank,
 with its E-step and wait wall seconds and its E-step imbalance). Each repeat runs one process and 2 ranks of each
-design in --designs (PROPRIO_MPI_LDA_DESIGN: by-topic, the default, and replicated); a design
+design in --designs (--mpi-design: by-topic, the default, and replicated); a design
 written DESIGN/three runs with the earlier exchange of three allgathers a batch
-(PROPRIO_MPI_LDA_EXCHANGE=three) instead of the lean one (2026-12-03), e.g. --designs
+(--mpi-exchange three) instead of the lean one (2026-12-03), e.g. --designs
 by-topic,by-topic/three. Each line also gives rank 0's processor milliseconds a batch in the
 communication phase (the batch's assembly, the collectives with their waiting, the unpacking).
 """
@@ -89,16 +89,15 @@ def main():
             train = [a.proprio, "lda", "train", "--corpus", str(corpus / "train"), "--heldout",
                      str(corpus / "heldout"), "-k", str(a.topics), "--batch", str(a.batch),
                      "--passes", str(a.passes), "--seed", str(r), "--threads", "1",
-                     "--model", str(model), "--json", str(js)]
-            cmd = train if name == "1x1" else \
-                [a.mpirun] + a.mpirun_options.split() + ["-np", "2"] + train
-            run_env = dict(env, PROPRIO_LDA_PHASE_TIMES="1")
+                     "--model", str(model), "--json", str(js), "--phase-times"]
             if name != "1x1":
                 design = designs[names.index(name) - 1]
-                run_env["PROPRIO_MPI_LDA_DESIGN"] = design.split("/")[0]
+                train += ["--mpi-design", design.split("/")[0]]
                 if design.endswith("/three"):
-                    run_env["PROPRIO_MPI_LDA_EXCHANGE"] = "three"
-            before, after, wall, phases = run(cmd, run_env)
+                    train += ["--mpi-exchange", "three"]
+            cmd = train if name == "1x1" else \
+                [a.mpirun] + a.mpirun_options.split() + ["-np", "2"] + train
+            before, after, wall, phases = run(cmd, env)
             doc = json.loads(js.read_text())
             runs[name] = {"seconds": doc["seconds"], "cpu_seconds_rank0": doc["cpu_seconds"],
                           "command_wall_seconds": wall, "perplexity": doc["heldout_perplexity"],

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The E-step's balance across MPI ranks (issue 23): `mpirun -np N proprio lda train --threads 1`
-(split by topic) with the mini-batch's documents dealt d mod N (PROPRIO_MPI_LDA_BALANCE=0) and
+(split by topic) with the mini-batch's documents dealt d mod N (`--mpi-dealing modulo`) and
 dealt by cost (the default), per rank: its E-step (processor seconds and wall seconds), its wait
 at the collective after the E-step (wall seconds) and the E-step imbalance (summed over the
 updates: the slowest rank's E-step processor time minus this rank's, the wait an idle machine
@@ -55,8 +55,7 @@ def main():
     ap.add_argument("--rss", action="store_true", help="peak RSS per rank (/usr/bin/time -v)")
     ap.add_argument("--out")
     a = ap.parse_args()
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               PROPRIO_LDA_PHASE_TIMES="1")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     tmp = pathlib.Path(tempfile.mkdtemp(prefix="proprio_bench_balance_"))
     timer = ["/usr/bin/time", "-v"] if a.rss else []
     results = []
@@ -68,13 +67,14 @@ def main():
             train = timer + [a.proprio, "lda", "train", "--corpus", str(pathlib.Path(a.corpus) /
                              "train"), "-k", str(a.topics), "--batch", str(a.batch), "--passes",
                              str(a.passes), "--seed", str(r), "--threads", "1", "--model",
-                             str(model)]
+                             str(model), "--phase-times"]
+            if name == "d-mod-P":
+                train += ["--mpi-dealing", "modulo"]
             if name == "1x1":
                 cmd = train
             else:
                 cmd = [a.mpirun] + a.mpirun_options.split() + ["-np", str(a.ranks)] + train
-            run_env = dict(env, PROPRIO_MPI_LDA_BALANCE="0" if name == "d-mod-P" else "1")
-            runs[name] = run(cmd, run_env)
+            runs[name] = run(cmd, env)
             runs[name]["model_bytes"] = model.read_bytes()
         one = runs["by-cost"]["model_bytes"]
         if any(runs[n].pop("model_bytes") != one for n in names):

@@ -17,7 +17,7 @@ documents, P ranks of one thread, on a network of bandwidth bw and latency lat. 
                 (allgather, reduce-scatter); an allreduce is a reduce-scatter and an allgather.
 
 Designs:
-  gather     (implemented, `PROPRIO_MPI_LDA_DESIGN=replicated`; bit-identical): allgather the
+  gather     (implemented, `--mpi-design replicated`; bit-identical): allgather the
              batch's word ids and counts (8 E_B bytes), then what the E-step leaves (4 B K + 4 E_B
              + 8 B bytes); every rank sums the statistics and applies the M-step.
   by-topic-gather  (implemented, the default; bit-identical): the same two allgathers, plus an

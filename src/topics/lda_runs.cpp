@@ -70,6 +70,7 @@ void train_online(const LdaTrainingOptions& o, const Corpus& corpus, const Corpu
   const OnlineLdaSummary& s = t.summary;
   r.text = s.brief();
   r.online = s;
+  r.phase_times = t.phase_times;
   r.model = t.model;
 }
 
@@ -239,6 +240,8 @@ LdaTrainingResult run_lda_training(const LdaTrainingOptions& options,
   r.text = t.summary.brief();
   r.online = t.summary;
   r.ranks = ranks;
+  r.phase_times = t.phase_times;
+  if (ranks > 1) r.mpi = options.online.mpi;
   r.model = std::move(t.model);
   r.document = core::result_document("proprio.lda.train", 1, provenance);
   r.message = core::first_line(r.text);

@@ -144,16 +144,16 @@ struct OnlineLda::Impl {
   std::vector<int> first_row;
   Eigen::MatrixXd own;
   Eigen::VectorXd own_sum;
-  // The E-step's dealing to ranks: by cost (mpi_lda_balance) with the iterations each document
-  // took in the previous pass, or d mod P.
-  bool balance = mpi_lda_balance();
+  // The E-step's dealing to ranks: by cost (options.mpi.dealing) with the iterations each
+  // document took in the previous pass, or d mod P.
+  bool balance = options.mpi.dealing == MpiLdaDealing::kByCost;
   std::vector<std::uint16_t> last_iterations;
   OnlineLda::PhaseTimes times;
-  // The data-parallel update's exchange (mpi_lda_lean_exchange) and its buffers, kept between
+  // The data-parallel update's exchange (options.mpi.exchange) and its buffers, kept between
   // updates. `ahead`: a batch's documents from every rank (32-bit: per document its size, word ids
   // and counts), rank q's from starts[q] to starts[q + 1]; with the lean exchange they come with
   // the previous update's E-step output, for the range [begin, end) it predicted.
-  bool lean = mpi_lda_lean_exchange();
+  bool lean = options.mpi.exchange == MpiLdaExchange::kLean;
   std::size_t widest = 0;  // the largest batch so far: the predicted next batch's size
   struct Ahead {
     std::vector<std::int32_t> words;
@@ -313,13 +313,6 @@ std::pair<int, int> mpi_topic_rows(int num_topics, int ranks, int rank) {
     return static_cast<int>(static_cast<std::int64_t>(r) * num_topics / ranks);
   };
   return {at(rank), at(rank + 1)};
-}
-
-bool mpi_lda_by_topic(int /*num_topics*/, int ranks) {
-  const char* v = std::getenv("PROPRIO_MPI_LDA_DESIGN");  // NOLINT(concurrency-mt-unsafe)
-  if (v != nullptr && std::string_view(v) == "replicated") return false;
-  if (v != nullptr && std::string_view(v) == "by-topic") return ranks > 1;
-  return ranks > 1;
 }
 
 void OnlineLda::distribute_by_topic(core::Communicator& comm) {
@@ -655,11 +648,6 @@ std::vector<int> mpi_deal_by_cost(std::span<const std::int64_t> costs, int ranks
   return owner;
 }
 
-bool mpi_lda_balance() {
-  const char* v = std::getenv("PROPRIO_MPI_LDA_BALANCE");  // NOLINT(concurrency-mt-unsafe)
-  return v == nullptr || std::string_view(v) != "0";
-}
-
 namespace {
 
 // Appends this rank's documents of [begin, end) to `out`: per document its size n, its n word ids
@@ -693,11 +681,6 @@ std::size_t packed_bytes(const CorpusShard& shard, std::size_t begin, std::size_
 }
 
 }  // namespace
-
-bool mpi_lda_lean_exchange() {
-  const char* v = std::getenv("PROPRIO_MPI_LDA_EXCHANGE");  // NOLINT(concurrency-mt-unsafe)
-  return v == nullptr || std::string_view(v) != "three";
-}
 
 MiniBatchStats OnlineLda::update(const CorpusShard& shard, std::size_t begin, std::size_t end,
                                  core::Communicator& comm) {
@@ -1030,23 +1013,6 @@ namespace {
 
 constexpr const char* kLdaCheckpointKind = "online_lda";
 
-// With PROPRIO_LDA_PHASE_TIMES set (bench/bench_mpi.py), one JSON line on stderr: this process's
-// processor seconds per phase of its updates, and the wall seconds of its E-step and of the wait
-// at the collective after it (every rank under MPI, each its line).
-void report_phase_times(const OnlineLda& lda, int ranks, int rank) {
-  if (std::getenv("PROPRIO_LDA_PHASE_TIMES") == nullptr) return;  // NOLINT(concurrency-mt-unsafe)
-  const OnlineLda::PhaseTimes t = lda.phase_times();
-  std::fprintf(stderr,
-               "{\"phase_times\": {\"ranks\": %d, \"updates\": %lld, \"estep\": %.6f, "
-               "\"beta\": %.6f, \"statistics\": %.6f, \"mstep\": %.6f, "
-               "\"communication\": %.6f, \"rank\": %d, \"estep_wall\": %.6f, "
-               "\"wait_wall\": %.6f, \"estep_imbalance\": %.6f, \"collective_wall\": %.6f, "
-               "\"collective_cpu\": %.6f, \"collectives\": %lld}}\n",
-               ranks, static_cast<long long>(t.updates), t.estep, t.beta, t.statistics, t.mstep,
-               t.communication, rank, t.estep_wall, t.wait_wall, t.estep_imbalance,
-               t.collective_wall, t.collective_cpu, static_cast<long long>(t.collectives));
-}
-
 // Where training stands: what a checkpoint holds besides the model.
 struct Progress {
   std::int32_t pass = 0;
@@ -1228,7 +1194,7 @@ OnlineLdaResult train(const Corpus& corpus, const Corpus* heldout, const OnlineL
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(progress.iterations) / static_cast<double>(docs_run) : 0.0;
-  report_phase_times(lda, 1, 0);
+  result.phase_times = lda.phase_times();
   result.model = lda.model();
   result.summary.message = core::first_line(result.summary.brief());
   return result;
@@ -1275,7 +1241,7 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   const std::int64_t D =
       options.total_documents > 0 ? options.total_documents : shard.total_documents;
   // Split by topic, each rank draws and holds only its rows of lambda.
-  OnlineLda lda = mpi_lda_by_topic(options.num_topics, comm.size())
+  OnlineLda lda = comm.size() > 1 && options.mpi.design == MpiLdaDesign::kByTopic
                       ? OnlineLda(options, local.num_words(), D, local.vocabulary(), comm)
                       : OnlineLda(options, local.num_words(), D, local.vocabulary());
   OnlineLdaResult result;
@@ -1335,7 +1301,9 @@ OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout
   const std::int64_t docs_run = nonempty * options.passes;
   s.mean_estep_iterations =
       docs_run > 0 ? static_cast<double>(iterations) / static_cast<double>(docs_run) : 0.0;
-  report_phase_times(lda, comm.size(), comm.rank());
+  result.phase_times = lda.phase_times();
+  result.phase_times.ranks = comm.size();
+  result.phase_times.rank = comm.rank();
   result.model = lda.release_model();
   result.summary.message = core::first_line(result.summary.brief());
   return result;

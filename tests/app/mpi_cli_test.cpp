@@ -113,14 +113,18 @@ TEST_F(MpiLda, TwoAndThreeRanksWriteTheOneProcessModelByteForByte) {
     std::string ranks_field = "\"ranks\": ";
     ranks_field += std::to_string(ranks);
     EXPECT_NE(slurp(model + ".json").find(ranks_field), std::string::npos);
+    // The record says how the ranks shared the work: the defaults.
+    EXPECT_NE(slurp(model + ".json").find("\"mpi_exchange\": \"lean\""), std::string::npos);
+    EXPECT_NE(slurp(model + ".json").find("\"mpi_design\": \"by-topic\""), std::string::npos);
     test::expect_schema_valid("lda_train.schema.json", model + ".json");
   }
 }
 
 // The update split by topic rows (each rank exp E[log beta], the statistics and the M-step of its
-// rows, PROPRIO_MPI_LDA_DESIGN=by-topic, the default) and the replicated one (every rank the whole
-// M-step) give the one-process model byte for byte, also with K not a multiple of the ranks
-// (7 topics; odd, so the topic sums' order is tested on every row) and fewer topics than ranks.
+// rows, --mpi-design by-topic, the default) and the replicated one (--mpi-design replicated: every
+// rank the whole M-step) give the one-process model byte for byte, also with K not a multiple of
+// the ranks (7 topics; odd, so the topic sums' order is tested on every row) and fewer topics than
+// ranks.
 TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
   struct Case {
     int k;
@@ -145,13 +149,12 @@ TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
     name += "_";
     name += std::to_string(c.ranks);
     name += ".lda";
-    std::string command = "PROPRIO_MPI_LDA_DESIGN=";
-    command += c.design;
-    command += " PROPRIO_LDA_PHASE_TIMES=1 ";
     // With a held-out corpus scored every 3 updates by rank 0: every rank gathers the rows.
-    command += mpirun(c.ranks) + cli() + " lda train --corpus " + path("c") + " " + args +
-               " --heldout " + path("other") + " --evaluate-every 3 --threads 1 --model " +
-               path(name);
+    std::string command = mpirun(c.ranks) + cli() + " lda train --corpus " + path("c") + " " +
+                          args + " --heldout " + path("other") +
+                          " --evaluate-every 3 --threads 1 --phase-times --mpi-design ";
+    command += c.design;
+    command += " --model " + path(name);
     const auto r = run(command);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(slurp(path(name)) == slurp(path(one)))
@@ -162,8 +165,8 @@ TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
     // The lean exchange: each update one allgather (one MPI call, sizes known) of the E-step
     // output with the next batch's documents, by topic one more of the beta rows; the first
     // update gathers its documents (sizes, then bytes) and its E-step output (the same) first.
-    const auto updates = numbers_after(r.err, "\"updates\": ");
-    const auto calls = numbers_after(r.err, "\"collectives\": ");
+    const auto updates = numbers_after(r.err, "\"updates\":");
+    const auto calls = numbers_after(r.err, "\"collectives\":");
     ASSERT_EQ(calls.size(), static_cast<std::size_t>(c.ranks)) << r.err;
     for (std::size_t q = 0; q < calls.size(); ++q) {
       const long long per = std::strcmp(c.design, "by-topic") == 0 ? 2 : 1;
@@ -175,7 +178,7 @@ TEST_F(MpiLda, ByTopicAndReplicatedDesignsWriteTheOneProcessModel) {
 // The E-step dealt by cost (the default) on a corpus of very uneven documents (every seventh 40
 // times longer, some empty): the one-process model byte for byte on 2 and 3 ranks, with fewer
 // topics than ranks, and with the old dealing and exchange (d mod P and three allgathers a batch:
-// PROPRIO_MPI_LDA_BALANCE=0 PROPRIO_MPI_LDA_EXCHANGE=three).
+// --mpi-dealing modulo --mpi-exchange three).
 TEST_F(MpiLda, UnevenDocumentsDealtByCostGiveTheOneProcessModel) {
   std::vector<std::string> vocab;
   for (int w = 0; w < 120; ++w) {
@@ -219,14 +222,21 @@ TEST_F(MpiLda, UnevenDocumentsDealtByCostGiveTheOneProcessModel) {
     name += "_";
     name += std::to_string(c.ranks);
     name += c.balance ? "_balanced.lda" : "_mod.lda";
-    std::string command =
-        c.balance ? "" : "PROPRIO_MPI_LDA_BALANCE=0 PROPRIO_MPI_LDA_EXCHANGE=three ";
-    command += mpirun(c.ranks) + cli() + " lda train --corpus " + path("uneven") + " " + args +
-               " --threads 1 --model " + path(name);
+    std::string command = mpirun(c.ranks) + cli() + " lda train --corpus " + path("uneven") + " " +
+                          args + " --threads 1 --phase-times --model " + path(name);
+    if (!c.balance) command += " --mpi-dealing modulo --mpi-exchange three";
     const auto r = run(command);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(slurp(path(name)) == slurp(path(one)))
         << "K " << c.k << ", " << c.ranks << " ranks, balance " << c.balance << ": another model";
+    // The exchange asked for ran: the earlier one makes 6 MPI calls an update by topic (3
+    // allgathers of unknown sizes), the lean one 2 (and 3 more for the first update).
+    const auto updates = numbers_after(r.err, "\"updates\":");
+    const auto calls = numbers_after(r.err, "\"collectives\":");
+    ASSERT_EQ(calls.size(), static_cast<std::size_t>(c.ranks)) << r.err;
+    for (std::size_t q = 0; q < calls.size(); ++q) {
+      EXPECT_EQ(calls[q], c.balance ? 2 * updates[q] + 3 : 6 * updates[q]) << r.err;
+    }
   }
 }
 

@@ -196,37 +196,36 @@ TEST(DataParallelLda, UpdatesOutOfThePredictedOrderGiveTheOneProcessModel) {
   const test::TempDir dir("proprio_shard_");
   const Corpus c = small_corpus();
   write_corpus(c, dir.path(), CorpusFormat::kUci);
-  const OnlineLdaOptions o = one_rank_options(5, 1);
   core::LocalCommunicator world;
   const CorpusShard shard = read_corpus_shard(dir.path(), CorpusFormat::kUci, 0, 1);
   ASSERT_EQ(c.num_documents(), 104U);
   const auto D = static_cast<std::int64_t>(c.num_documents());
-  OnlineLda one(o, c.num_words(), D, c.vocabulary());
-  OnlineLda par(o, c.num_words(), D, c.vocabulary());
   const std::vector<std::pair<std::size_t, std::size_t>> ranges = {
       {0, 16}, {16, 32}, {91, 104}, {0, 16}, {80, 91}, {64, 80}, {80, 96}, {96, 104}, {0, 7}};
-  for (const auto& [b, e] : ranges) {
-    const MiniBatchStats a = one.update(c, b, e);
-    const MiniBatchStats p = par.update(shard, b, e, world);
-    EXPECT_EQ(p.tokens, a.tokens);
-    EXPECT_EQ(p.estep_iterations, a.estep_iterations);
-  }
-  const Eigen::MatrixXd& want = one.model().lambda;
-  ASSERT_EQ(par.model().lambda.size(), want.size());
-  EXPECT_EQ(std::memcmp(par.model().lambda.data(), want.data(),
-                        static_cast<std::size_t>(want.size()) * sizeof(double)),
-            0);
-  // Predicted, so the documents came ahead with the E-step output of the update before, of
-  // sizes announced the update before that (one MPI call, sizes known): [16, 32) after [0, 16),
-  // [0, 16) after [91, 104) (from 0 after the end), [80, 96) after [64, 80), [96, 104) after it
-  // (cut at the end). The five others ([0, 7) is not the predicted [0, 16)) gather their
-  // documents first and their E-step output with its sizes (two calls each). Without the lean
-  // exchange every update makes those four calls.
-  const std::int64_t calls = par.phase_times().collectives;
-  if (mpi_lda_lean_exchange()) {
-    EXPECT_EQ(calls, 4 * 1 + 5 * 4);
-  } else {
-    EXPECT_EQ(calls, 9 * 4);
+  for (const MpiLdaExchange exchange : {MpiLdaExchange::kLean, MpiLdaExchange::kThree}) {
+    OnlineLdaOptions o = one_rank_options(5, 1);
+    o.mpi.exchange = exchange;
+    OnlineLda one(o, c.num_words(), D, c.vocabulary());
+    OnlineLda par(o, c.num_words(), D, c.vocabulary());
+    for (const auto& [b, e] : ranges) {
+      const MiniBatchStats a = one.update(c, b, e);
+      const MiniBatchStats p = par.update(shard, b, e, world);
+      EXPECT_EQ(p.tokens, a.tokens);
+      EXPECT_EQ(p.estep_iterations, a.estep_iterations);
+    }
+    const Eigen::MatrixXd& want = one.model().lambda;
+    ASSERT_EQ(par.model().lambda.size(), want.size());
+    EXPECT_EQ(std::memcmp(par.model().lambda.data(), want.data(),
+                          static_cast<std::size_t>(want.size()) * sizeof(double)),
+              0);
+    // Lean: predicted, so the documents came ahead with the E-step output of the update before,
+    // of sizes announced the update before that (one MPI call, sizes known): [16, 32) after
+    // [0, 16), [0, 16) after [91, 104) (from 0 after the end), [80, 96) after [64, 80),
+    // [96, 104) after it (cut at the end). The five others ([0, 7) is not the predicted [0, 16))
+    // gather their documents first and their E-step output with its sizes (two calls each). The
+    // earlier exchange: every update makes those four calls.
+    const std::int64_t calls = par.phase_times().collectives;
+    EXPECT_EQ(calls, exchange == MpiLdaExchange::kLean ? 4 * 1 + 5 * 4 : 9 * 4);
   }
 }
 

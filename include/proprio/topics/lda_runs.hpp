@@ -100,7 +100,11 @@ struct LdaTrainingResult {
   OnlineLdaOptions options;  ///< as used: alpha and eta resolved
   std::optional<OnlineLdaSummary> online;
   std::optional<LdaBatchRecord> batch;
-  std::optional<int> ranks;  ///< MPI ranks, when more than one
+  std::optional<int> ranks;          ///< MPI ranks, when more than one
+  std::optional<MpiLdaOptions> mpi;  ///< how the ranks shared the work, when more than one
+  /// Where this process's time went (online; each rank its own): a diagnostic that `lda train
+  /// --phase-times` prints, not part of the record.
+  LdaPhaseTimes phase_times;
   /// format "proprio.lda.train": the fields described below, from describe().
   core::Json document;
 
@@ -115,6 +119,7 @@ struct LdaTrainingResult {
     if (self.online) OnlineLdaSummary::describe(*self.online, v);
     if (self.batch) LdaBatchRecord::describe(*self.batch, v);
     v(self.ranks, {"ranks", "MPI ranks (with more than one)"});
+    v(self.mpi, {"mpi", "How the MPI ranks shared the work (with more than one)"});
   }
 };
 

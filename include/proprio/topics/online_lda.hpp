@@ -26,6 +26,58 @@
 
 namespace proprio::topics {
 
+/// How a data-parallel run (issue 23; docs/results/mpi.md) shares its work among MPI ranks. Every
+/// choice gives the one-process model bit for bit (tested): they exist so that the designs can be
+/// measured against each other from the same binary. One process ignores them.
+enum class MpiLdaDesign {
+  kByTopic,     ///< rank r owns topic rows mpi_topic_rows(K, P, r) of lambda and their M-step
+  kReplicated,  ///< every rank holds the whole lambda and runs the whole M-step
+};
+inline constexpr core::ChoiceNames<MpiLdaDesign, 2> kMpiLdaDesignNames{
+    {{"by-topic", MpiLdaDesign::kByTopic}, {"replicated", MpiLdaDesign::kReplicated}}};
+/// How a mini-batch's E-step is dealt to the ranks.
+enum class MpiLdaDealing {
+  kByCost,  ///< mpi_deal_by_cost of (distinct words + 2) x the previous pass's iterations
+  kModulo,  ///< document d to rank d mod P
+};
+inline constexpr core::ChoiceNames<MpiLdaDealing, 2> kMpiLdaDealingNames{
+    {{"cost", MpiLdaDealing::kByCost}, {"modulo", MpiLdaDealing::kModulo}}};
+/// What the ranks exchange a mini-batch.
+enum class MpiLdaExchange {
+  /// 2 collectives a batch split by topic, 1 replicated: the next batch's documents travel with
+  /// this batch's E-step output, and the sizes are known beforehand (docs/results/mpi.md, "The
+  /// lean exchange").
+  kLean,
+  /// The earlier exchange: three allgathers a batch (documents, beta rows, E-step output), each
+  /// with its exchange of sizes (6 collectives; replicated 4).
+  kThree,
+};
+inline constexpr core::ChoiceNames<MpiLdaExchange, 2> kMpiLdaExchangeNames{
+    {{"lean", MpiLdaExchange::kLean}, {"three", MpiLdaExchange::kThree}}};
+
+/// The data-parallel choices (above), defaults the measured best. Not part of OnlineLdaOptions'
+/// description (its JSON and a checkpoint's identity): like the thread count, they change no bit
+/// of the model. `lda train` binds them as flags and records them with "ranks".
+struct MpiLdaOptions {
+  MpiLdaDesign design = MpiLdaDesign::kByTopic;
+  MpiLdaDealing dealing = MpiLdaDealing::kByCost;
+  MpiLdaExchange exchange = MpiLdaExchange::kLean;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v.choice(self.design,
+             {"mpi_design", "Under mpirun: by-topic (each rank its topic rows) or replicated"},
+             kMpiLdaDesignNames);
+    v.choice(self.dealing,
+             {"mpi_dealing", "Under mpirun: the E-step dealt to ranks by cost or by d mod ranks"},
+             kMpiLdaDealingNames);
+    v.choice(
+        self.exchange,
+        {"mpi_exchange", "Under mpirun: lean (2 collectives a batch) or three (the earlier 6)"},
+        kMpiLdaExchangeNames);
+  }
+};
+
 struct OnlineLdaOptions {
   int num_topics = 100;    ///< K
   int batch_size = 256;    ///< documents per mini-batch (the thesis uses 50 frames in 6.3.3)
@@ -40,6 +92,8 @@ struct OnlineLdaOptions {
   std::int64_t total_documents = 0;
   /// gamma starts at random, Gamma(100, 1/100), as scikit-learn and gensim train.
   EStepOptions estep{100, 1e-3, GammaInit::kRandomGamma};
+  /// Data-parallel runs only (not in describe(): it changes no bit of the model).
+  MpiLdaOptions mpi;
   /// With a held-out corpus: its perplexity every this many mini-batches (and at the start and
   /// end); 0 = only at the start and the end.
   int evaluate_every = 0;
@@ -146,9 +200,51 @@ struct OnlineLdaSummary {
   }
 };
 
+/// Where an OnlineLda's time went (per process): processor seconds in each phase of its updates:
+/// E-step, exp(E[log beta]), sufficient statistics, M-step (with the topic sums) and communication
+/// (with the batch's assembly), and the number of updates. Beside them, wall seconds: the E-step,
+/// and the wait in the collective that follows it (the other ranks' longer E-steps); and the
+/// E-step's imbalance: summed over the updates, the slowest rank's E-step processor time minus
+/// this rank's (the wait an idle machine would see). A diagnostic of the benchmarks
+/// (bench/bench_mpi.py reads it from `lda train --phase-times`), not part of the record.
+struct LdaPhaseTimes {
+  int ranks = 1;  ///< the processes of the run
+  int rank = 0;   ///< this one's rank
+  std::int64_t updates = 0;
+  double estep = 0, beta = 0, statistics = 0, mstep = 0, communication = 0;
+  double estep_wall = 0, wait_wall = 0, estep_imbalance = 0;
+  /// Wall and processor seconds in the data-parallel update's collectives (all of them, waiting
+  /// included: `communication` minus collective_cpu is the batch's assembly, packing and
+  /// unpacking alone), and the number of MPI collective calls they made (an allgather of unknown
+  /// sizes is two).
+  double collective_wall = 0;
+  double collective_cpu = 0;
+  std::int64_t collectives = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.ranks, {"ranks", "Processes of the run"});
+    v(self.updates, {"updates", "Mini-batch updates"});
+    v(self.estep, {"estep", "E-step, processor s"});
+    v(self.beta, {"beta", "exp(E[log beta]) of the batches' words, processor s"});
+    v(self.statistics, {"statistics", "Sufficient statistics, processor s"});
+    v(self.mstep, {"mstep", "M-step with the topic sums, processor s"});
+    v(self.communication, {"communication", "Exchange and batch assembly, processor s"});
+    v(self.rank, {"rank", "This process's rank"});
+    v(self.estep_wall, {"estep_wall", "E-step, wall s"});
+    v(self.wait_wall, {"wait_wall", "Wait at the collective after the E-step, wall s"});
+    v(self.estep_imbalance,
+      {"estep_imbalance", "Slowest rank's E-step minus this rank's, processor s"});
+    v(self.collective_wall, {"collective_wall", "Inside the collectives, wall s"});
+    v(self.collective_cpu, {"collective_cpu", "Inside the collectives, processor s"});
+    v(self.collectives, {"collectives", "MPI collective calls"});
+  }
+};
+
 struct OnlineLdaResult {
   LdaModel model;
   OnlineLdaSummary summary;
+  LdaPhaseTimes phase_times;  ///< where this process's time went (a diagnostic)
 };
 
 /// The online learner as a stream consumer: a robot feeds it mini-batches as they come.
@@ -176,10 +272,10 @@ class OnlineLda {
   /// The same update as one rank of a data-parallel job (issue 23), collective: the mini-batch is
   /// documents [begin, end) of the whole corpus, of which this rank holds `shard`'s. The ranks
   /// exchange their documents' word ids, each runs the E-step on its share of the batch (dealt by
-  /// cost, mpi_lda_balance) with its threads, they exchange what the E-step leaves (exp E[log
+  /// cost, options.mpi.dealing) with its threads, they exchange what the E-step leaves (exp E[log
   /// theta] per document and the weight of each entry) and every rank sums the sufficient
   /// statistics in document order and applies the M-step: every rank's model is the one-process
-  /// model, bit for bit. With the lean exchange (mpi_lda_lean_exchange, the default) the word ids
+  /// model, bit for bit. With the lean exchange (options.mpi.exchange, the default) the word ids
   /// of the next batch, predicted as [end, end + the widest batch so far) or from 0 after the
   /// corpus's end, travel with this batch's E-step output; a call with another range gathers its
   /// documents first (the same model, one collective more).
@@ -203,24 +299,8 @@ class OnlineLda {
   void gather_topics(core::Communicator& comm, bool whole_here = true);
   /// Moves the model out (to be called once, after training: the learner keeps no lambda).
   LdaModel release_model();
-  /// Processor seconds this process spent in each phase of its updates so far: E-step, exp(E[log
-  /// beta]), sufficient statistics, M-step (with the topic sums) and communication (with the
-  /// batch's assembly), and the number of updates.
-  /// Beside them, wall seconds: the E-step, and the wait in the collective that follows it (the
-  /// other ranks' longer E-steps); and the E-step's imbalance: summed over the updates, the
-  /// slowest rank's E-step processor time minus this rank's (the wait an idle machine would see).
-  struct PhaseTimes {
-    double estep = 0, beta = 0, statistics = 0, mstep = 0, communication = 0;
-    double estep_wall = 0, wait_wall = 0, estep_imbalance = 0;
-    /// Wall and processor seconds in the data-parallel update's collectives (all of them,
-    /// waiting included: `communication` minus collective_cpu is the batch's assembly, packing
-    /// and unpacking alone), and the number of MPI collective calls they made (an allgather of
-    /// unknown sizes is two).
-    double collective_wall = 0;
-    double collective_cpu = 0;
-    std::int64_t collectives = 0;
-    std::int64_t updates = 0;
-  };
+  /// Processor seconds this process spent in each phase of its updates so far (LdaPhaseTimes).
+  using PhaseTimes = LdaPhaseTimes;
   [[nodiscard]] PhaseTimes phase_times() const;
 
   [[nodiscard]] const LdaModel& model() const;
@@ -236,27 +316,10 @@ class OnlineLda {
 /// to (r + 1) K / ranks; empty for some ranks when K < ranks).
 std::pair<int, int> mpi_topic_rows(int num_topics, int ranks, int rank);
 
-/// Whether a data-parallel job of `ranks` ranks splits the M-step by topic (OnlineLda::
-/// distribute_by_topic) or replicates it: PROPRIO_MPI_LDA_DESIGN=by-topic or =replicated when
-/// set, else by topic whenever there are 2 ranks or more (docs/results/mpi.md: the measurements).
-bool mpi_lda_by_topic(int num_topics, int ranks);
-
 /// Deals documents of the given E-step costs to `ranks` ranks, deterministically (every rank
 /// computes the same): largest cost first, each to the least loaded rank so far (ties: fewer
 /// documents, then the lower rank). Returns each document's rank.
 std::vector<int> mpi_deal_by_cost(std::span<const std::int64_t> costs, int ranks);
-
-/// Whether the data-parallel update deals a mini-batch's E-step by cost (mpi_deal_by_cost of
-/// (distinct words + 2) x the previous pass's iterations) rather than d mod P: yes unless the
-/// environment sets PROPRIO_MPI_LDA_BALANCE=0. The model is the same bits either way.
-bool mpi_lda_balance();
-
-/// Whether the data-parallel update uses the lean exchange (2026-12-03): each rank sends its
-/// documents of the next mini-batch with its E-step output (one collective fewer a batch, the
-/// batch's documents are ready when it starts), and the split-by-topic exp E[log beta] rows go in
-/// one collective of sizes every rank computes; yes unless PROPRIO_MPI_LDA_EXCHANGE=three (the
-/// earlier three allgathers a batch, each with its exchange of sizes). The same bits either way.
-bool mpi_lda_lean_exchange();
 
 /// Trains on `corpus` in order, `passes` times, mini-batch by mini-batch.
 OnlineLdaResult train_online_lda(const Corpus& corpus, const OnlineLdaOptions& options);
@@ -282,8 +345,8 @@ std::uint64_t corpus_checksum(const Corpus& corpus);
 /// Data-parallel training (issue 23), collective: every rank of `comm` passes its shard of the
 /// same corpus (read_corpus_shard(..., comm.rank(), comm.size())); the mini-batches are the
 /// one-process run's, and rank 0 (and every rank given `heldout`) returns the model
-/// train_online_lda gives on the whole corpus, bit for bit. Split by topic (mpi_lda_by_topic, the
-/// default with 2 ranks or more) the other ranks hold only their topic rows while training and
+/// train_online_lda gives on the whole corpus, bit for bit. Split by topic (options.mpi.design, the
+/// default, with 2 ranks or more) the other ranks hold only their topic rows while training and
 /// return the model without lambda (0 x 0); replicated, every rank returns the whole model.
 /// `heldout` (may be null, and given on some ranks only) is scored on the ranks that have it, out
 /// of the training time. The summary's documents and tokens count the whole corpus. Environment
