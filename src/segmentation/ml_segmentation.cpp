@@ -164,12 +164,71 @@ void MlOptions::validate() const {
   require(std::isfinite(depth_edge) && depth_edge >= 0,
           core::cat({"MlOptions.depth_edge must be >= 0, got ", core::num(depth_edge)}));
   require(min_depth_samples >= 1, "MlOptions.min_depth_samples must be >= 1");
+  require(std::isfinite(table_clearance) && table_clearance >= 0,
+          core::cat({"MlOptions.table_clearance must be >= 0, got ", core::num(table_clearance)}));
   if (!prior.empty()) {
     double lo = 0, hi = 0;
     cv::minMaxLoc(prior, &lo, &hi);
     require(cv::checkRange(prior) && lo >= 0 && hi <= 1,
             "MlOptions.prior must hold values in [0, 1] (no NaN)");
   }
+}
+
+cv::Mat1f table_heights(const cv::Mat1f& depth, const Eigen::Matrix3d& k_inv,
+                        const Eigen::Vector3d& up, double pixel_scale, double min_table_share) {
+  ensure(up.allFinite() && std::abs(up.norm() - 1.0) < 1e-6 && pixel_scale > 0,
+         "table_heights: up must be a unit vector and pixel_scale > 0");
+  constexpr float kUnknown = std::numeric_limits<float>::infinity();
+  constexpr double kNear = 2.0;  // mm either side of the modal bin that count as the table
+  cv::Mat1f h(depth.size(), kUnknown);
+  // h = up . (z K^-1 (x, y, 1)) = z (a x + b y + c), with (a, b, c) = up^T K^-1 in full-size
+  // pixels.
+  const Eigen::Vector3d row = k_inv.transpose() * up;
+  std::unordered_map<long, int> bins;
+  int known = 0;
+  for (int y = 0; y < depth.rows; ++y) {
+    const float* z = depth[y];
+    float* o = h[y];
+    for (int x = 0; x < depth.cols; ++x) {
+      if (!(z[x] > 0) || !std::isfinite(z[x])) continue;
+      const double v = z[x] * (row.x() * x * pixel_scale + row.y() * y * pixel_scale + row.z());
+      o[x] = static_cast<float>(v);
+      ++bins[static_cast<long>(std::floor(v))];
+      ++known;
+    }
+  }
+  if (known == 0) return h;
+  long mode = 0;
+  int best = -1;
+  for (const auto& [b, n] : bins) {
+    if (n > best || (n == best && b < mode)) {
+      best = n;
+      mode = b;
+    }
+  }
+  const double centre = static_cast<double>(mode) + 0.5;
+  double sum = 0;
+  int near = 0;
+  for (int y = 0; y < h.rows; ++y) {
+    const float* o = h[y];
+    for (int x = 0; x < h.cols; ++x) {
+      if (std::isfinite(o[x]) && std::abs(o[x] - centre) <= kNear + 0.5) {
+        sum += o[x];
+        ++near;
+      }
+    }
+  }
+  if (near < min_table_share * known) {
+    h.setTo(kUnknown);
+    return h;
+  }
+  const auto table = static_cast<float>(sum / near);
+  for (int y = 0; y < h.rows; ++y) {
+    float* o = h[y];
+    for (int x = 0; x < h.cols; ++x)
+      if (std::isfinite(o[x])) o[x] -= table;
+  }
+  return h;
 }
 
 cv::Mat1b threshold_map(const cv::Mat1f& map, double fraction) {
@@ -254,6 +313,7 @@ struct MlSegmenter::Impl {
   // Depth variant: this frame's and the previous frame's depth (processing size, mm, 0 =
   // unknown), the arm in the camera frame (mm), and K^-1 (full-size pixels).
   cv::Mat1f depth_now, prev_depth;
+  std::optional<Eigen::Vector3d> up;  // the world's up in the camera frame (table cut), last given
   std::optional<Eigen::Vector3d> ee3_now, prev_ee3;
   Eigen::Matrix3d k_inv = Eigen::Matrix3d::Identity();
   // Every frame's arm position when keep_frame_labels, else only the first touch's and the
@@ -761,6 +821,11 @@ struct MlSegmenter::Impl {
       float* o = m[y];
       for (int x = 0; x < lab.cols; ++x) o[x] = score[static_cast<size_t>(l[x])];
     }
+    if (opt.use_depth && opt.table_clearance > 0 && up && depth.size() == m.size()) {
+      // The table cut: what lies on the table's plane is not the object standing on it.
+      const cv::Mat1f above = table_heights(depth, k_inv, *up, inv_scale);
+      m.setTo(0.0F, above < static_cast<float>(opt.table_clearance));
+    }
     if (lab.size() != size) {
       cv::Mat1f full;
       cv::resize(m, full, size, 0, 0, cv::INTER_NEAREST);
@@ -895,6 +960,12 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
     m.ee3_now = depth->ee_camera;
     if (m.ee3_now && !m.ee3_now->allFinite()) m.ee3_now.reset();
     m.k_inv = depth->intrinsics.inverse();
+    if (depth->up) {
+      require(depth->up->allFinite() && depth->up->norm() > 0,
+              core::cat({"frame ", std::to_string(m.frames),
+                         ": the up direction is not finite or is zero"}));
+      m.up = depth->up->normalized();
+    }
   }
   const auto t0 = Clock::now();
   FrameOutput out;
@@ -982,7 +1053,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
         (m.supported_last_motion(a) - m.supported_last_motion(b)).norm() <= m.opt.handover_motion)
       a.successor = next;
   }
-  const bool keep_depth = m.opt.use_depth && m.opt.depth_smoothing;
+  const bool keep_depth = m.opt.use_depth && (m.opt.depth_smoothing || m.opt.table_clearance > 0);
   if (m.opt.keep_frame_labels) {
     m.labels.push_back(lab);
     if (keep_depth) m.depths.push_back(m.depth_now);
@@ -1097,6 +1168,7 @@ MlResult segment_ml(const episode::Episode& episode, const MlOptions& options) {
       // Metres (robot frame) -> millimetres in the camera frame; behind the camera: unknown.
       const Eigen::Vector3d x = cam.R * episode.arm()[i].ee + cam.t;
       if (x.allFinite() && x.z() > 0) d.ee_camera = 1000.0 * x;
+      d.up = cam.R.col(2);  // the world's +z: the table is level in the robot's frame
     }
     try {
       (void)seg.push(bgr, track[i], episode.arm()[i].touching, options.use_depth ? &d : nullptr);

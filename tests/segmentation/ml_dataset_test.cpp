@@ -17,6 +17,7 @@
 //                     pixels carried along the flow) and where M-L's mask misses them
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -361,6 +362,50 @@ TEST(MlDataset, TraceObjectMotion) {
     cv::Mat row;
     cv::hconcat(std::vector<cv::Mat>{frame(roi), pc(roi), mc(roi), cmp(roi)}, row);
     cv::imwrite((fs::path(out) / (name + "_trace.png")).string(), row);
+  }
+}
+
+// Heights above the table at the first touch (PROPRIO_SEG_HEIGHTS=1, a tracing aid for the depth
+// variant): each pixel's depth back-projected and taken into the world (robot) frame by the
+// calibration, its z in mm (the simulated table top is z = 0); per episode, the distribution of
+// heights of the mask's hits, false positives and misses.
+TEST(MlDataset, HeightsAtFirstTouch) {
+  const fs::path root = env("PROPRIO_CH5");
+  if (root.empty() || env("PROPRIO_SEG_HEIGHTS") != "1")
+    GTEST_SKIP() << "PROPRIO_CH5 and PROPRIO_SEG_HEIGHTS=1 not set";
+  MlOptions o;
+  SparseOptions so;
+  o.use_depth = true;
+  apply_overrides(env("PROPRIO_SEG_OPT"), o, so);
+  const std::vector<double> edges{-1e9, -5, 2, 5, 10, 20, 40, 1e9};
+  for (const auto& dir : episode::list_episode_dirs(root, env("PROPRIO_SEG_FILTER"))) {
+    const auto ep = episode::read_episode(dir);
+    const MlResult r = segment_ml(ep, o);
+    if (r.scored_frame < 0) continue;
+    const cv::Mat1b truth = ep.mask(r.scored_frame) == *ep.info().target;
+    cv::Mat1f z;
+    ep.depth(r.scored_frame).convertTo(z, CV_32F);
+    const auto& cam = ep.camera();
+    const Eigen::Matrix3d k_inv = cam.K.inverse();
+    std::vector<std::vector<int>> hist(3, std::vector<int>(edges.size() - 1, 0));
+    for (int y = 0; y < z.rows; ++y) {
+      for (int x = 0; x < z.cols; ++x) {
+        const int kind = r.mask(y, x) && truth(y, x) ? 0 : r.mask(y, x) ? 1 : truth(y, x) ? 2 : -1;
+        if (kind < 0 || !(z(y, x) > 0)) continue;
+        const Eigen::Vector3d xc = 0.001 * z(y, x) * (k_inv * Eigen::Vector3d(x, y, 1));
+        const double h = 1000.0 * (cam.R.transpose() * (xc - cam.t)).z();
+        for (size_t b = 0; b + 1 < edges.size(); ++b)
+          if (h >= edges[b] && h < edges[b + 1]) ++hist[static_cast<size_t>(kind)][b];
+      }
+    }
+    std::printf("%-34s heights (mm) <-5 | -5..2 | 2..5 | 5..10 | 10..20 | 20..40 | >40\n",
+                dir.filename().string().c_str());
+    const char* names[] = {"hit", "false +", "missed"};
+    for (size_t k = 0; k < 3; ++k) {
+      std::printf("  %-8s", names[k]);
+      for (const int c : hist[k]) std::printf(" %7d", c);
+      std::printf("\n");
+    }
   }
 }
 

@@ -380,6 +380,15 @@ TEST(MlDepth, BadDepthIsAnErrorNamingTheFrame) {
   d.ee_camera.reset();
   EXPECT_NO_THROW((void)seg.push(img, ee, false, &d));
   EXPECT_NO_THROW((void)seg.push(img, ee, true, &d));
+  // An up direction that is not finite or zero: an Error naming the frame.
+  for (const Eigen::Vector3d& up :
+       {Eigen::Vector3d(std::nan(""), 0, 1), Eigen::Vector3d(0, 0, 0)}) {
+    MlSegmenter bad(o, size);
+    MlSegmenter::DepthFrame e = d;
+    e.up = up;
+    const std::string msg = error_of([&] { (void)bad.push(img, ee, false, &e); });
+    EXPECT_NE(msg.find("frame 0: the up direction"), std::string::npos) << msg;
+  }
   // Without use_depth the depth is ignored.
   MlSegmenter plain(MlOptions{}, size);
   EXPECT_NO_THROW((void)plain.push(img, ee, false, &d));
@@ -429,6 +438,95 @@ TEST(MlDepth, DefaultDepthEdgeCutsAHandleHeightStep) {
   z(cv::Rect(5, 0, 5, 6)).setTo(995.0F);
   (void)split_at_depth_steps(one, z, MlOptions{}.depth_edge, n);
   EXPECT_EQ(n, 1);
+}
+
+TEST(MlDepth, TableHeightsUnderAnObliqueCamera) {
+  // A camera tilted 37 degrees down at a level table 1000 mm below it along the up direction
+  // u = (0, -0.6, -0.8) (camera frame), a 60 mm box on the table in a 40 x 30 rectangle and a
+  // column of holes: the table's pixels come out at height 0, the box's at 60, holes unknown.
+  const Eigen::Matrix3d k = test_intrinsics();
+  const Eigen::Matrix3d k_inv = k.inverse();
+  const Eigen::Vector3d up(0.0, -0.6, -0.8);
+  const cv::Rect box(140, 100, 40, 30);
+  cv::Mat1f z(240, 320);
+  for (int y = 0; y < z.rows; ++y) {
+    for (int x = 0; x < z.cols; ++x) {
+      const double level = box.contains({x, y}) ? -940.0 : -1000.0;  // u . X
+      z(y, x) = static_cast<float>(level / up.dot(k_inv * Eigen::Vector3d(x, y, 1.0)));
+    }
+  }
+  z.col(7).setTo(0.0F);
+  const cv::Mat1f h = table_heights(z, k_inv, up, 1.0);
+  EXPECT_NEAR(h(10, 10), 0.0, 0.01);
+  EXPECT_NEAR(h(230, 300), 0.0, 0.01);
+  EXPECT_NEAR(h(115, 160), 60.0, 0.01);
+  EXPECT_FALSE(std::isfinite(h(50, 7)));
+  // The same at half size, its pixels twice the full-size frame's.
+  cv::Mat1f half;
+  cv::resize(z, half, cv::Size(160, 120), 0, 0, cv::INTER_NEAREST);
+  const cv::Mat1f hh = table_heights(half, k_inv, up, 2.0);
+  EXPECT_NEAR(hh(5, 5), 0.0, 0.01);
+  EXPECT_NEAR(hh(57, 80), 60.0, 0.01);
+  // No plane holds a tenth of the known pixels (every row at its own height): no table, all
+  // unknown; and all holes: all unknown.
+  cv::Mat1f ramp(240, 320);
+  for (int y = 0; y < ramp.rows; ++y)
+    for (int x = 0; x < ramp.cols; ++x)
+      ramp(y, x) =
+          static_cast<float>((-1000.0 + 40.0 * y) / up.dot(k_inv * Eigen::Vector3d(x, y, 1.0)));
+  EXPECT_EQ(cv::countNonZero(table_heights(ramp, k_inv, up, 1.0) < 1e9F), 0);
+  EXPECT_EQ(cv::countNonZero(table_heights(cv::Mat1f(8, 8, 0.0F), k_inv, up, 1.0) < 1e9F), 0);
+}
+
+// The depth variant on the synthetic push (table 1000 mm below an overhead camera, the square
+// 60 mm tall): its map at the first touch, with the given table clearance, and the touch frame.
+std::pair<cv::Mat1f, PushFrame> depth_variant_map(const PushSpec& spec, double clearance,
+                                                  bool with_up) {
+  MlOptions o;
+  o.use_depth = true;
+  o.table_clearance = clearance;
+  o.keep_frame_labels = false;
+  MlSegmenter seg(o, cv::Size(spec.width, spec.height));
+  PushFrame touch;
+  for (int i = 0; i < spec.frames; ++i) {
+    const PushFrame f = push_frame(spec, i);
+    MlSegmenter::DepthFrame d = test_depth(f);
+    if (with_up) d.up = Eigen::Vector3d(0.0, 0.0, -2.0);  // towards the camera; normalised
+    (void)seg.push(f.image, f.ee, f.touching, &d);
+    if (seg.first_touch_frame() == i) touch = f;
+  }
+  const int t = seg.first_touch_frame().value_or(-1);
+  EXPECT_GE(t, 0);
+  if (t < 0) return {};
+  return {seg.map_for_frame(t), touch};
+}
+
+TEST(MlDepth, TableCutZeroesTheTableAndKeepsTheObject) {
+  // The pushed square's neighbourhood on the table takes some of its evidence (dense flow,
+  // the depth smoothing's own neighbours); with the table cut no pixel at the table's depth
+  // keeps any, and the square keeps its map.
+  PushSpec spec;
+  spec.frames = 26;
+  const auto [plain, touch] = depth_variant_map(spec, 0.0, true);
+  const auto [cut, touch2] = depth_variant_map(spec, 2.0, true);
+  const auto [no_up, touch3] = depth_variant_map(spec, 2.0, false);
+  ASSERT_FALSE(plain.empty());
+  ASSERT_FALSE(cut.empty());
+  const cv::Mat1b table = touch.mask == 0;
+  const cv::Mat1b square = touch.mask == 1;
+  double on_table = 0;
+  cv::minMaxLoc(plain, nullptr, &on_table, nullptr, nullptr, table);
+  EXPECT_GT(on_table, 0.0);  // what the cut has to remove
+  cv::minMaxLoc(cut, nullptr, &on_table, nullptr, nullptr, table);
+  EXPECT_EQ(on_table, 0.0);
+  // The square's own pixels are untouched, and without an up direction nothing is cut.
+  EXPECT_EQ(cv::norm(plain, cut, cv::NORM_INF, square), 0.0);
+  EXPECT_EQ(cv::norm(plain, no_up, cv::NORM_INF), 0.0);
+  const MlOptions o;
+  const double j_plain = jaccard(threshold_map(plain, o.depth_mask_fraction), square);
+  const double j_cut = jaccard(threshold_map(cut, o.depth_mask_fraction), square);
+  EXPECT_GE(j_cut, j_plain);
+  EXPECT_GE(j_cut, 0.7);
 }
 
 TEST(MlSegmentation, PriorMultipliesIn) {
@@ -800,6 +898,9 @@ TEST(MlOptions, ValidateNamesTheBadField) {
   o = MlOptions{};
   o.contact_gap = std::nan("");
   EXPECT_NE(error_of([&] { o.validate(); }).find("contact_gap"), std::string::npos);
+  o = MlOptions{};
+  o.table_clearance = -1;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("table_clearance"), std::string::npos);
   SparseOptions s;
   EXPECT_NO_THROW(s.validate());
   s.tau = 2;

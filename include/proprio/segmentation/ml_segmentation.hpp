@@ -252,6 +252,18 @@ struct MlOptions {
   /// at its outline keep their own evidence instead of taking the background's behind them.
   bool depth_smoothing = true;
   int min_depth_samples = 6;
+  /// Depth variant: the table cut. The pushed object stands on the table, so a pixel whose
+  /// depth puts it less than table_clearance mm above the table plane is not the object: its
+  /// map value is set to 0 (before the priors and the threshold). The plane is the depth's
+  /// dominant height along the world's up direction (table_heights; DepthFrame::up, from the
+  /// calibration). Traced on the tuning recording (docs/results/segmentation-eval.md, session
+  /// 16): ml-depth's false positives on the mugs and rabbits were table pixels (the table
+  /// through the handle, the strip around the rabbit's outline), within 2 mm of the plane, and
+  /// 2 mm raised all 24 tuning episodes (static 0.888 -> 0.936, moving 0.845 -> 0.924). The
+  /// object's own contact band (its pixels within table_clearance of the table, about 1% of
+  /// it) is lost with them. 0 = off; pixels of unknown depth and frames without an up
+  /// direction or a table are never cut. An object thinner than the clearance is cut whole.
+  double table_clearance = 2.0;
   /// Optional prior map (4.6), CV_32F in [0, 1] of the frames' size; multiplied into the map.
   cv::Mat1f prior;
   /// Keep the map painted with every frame's regions (MlResult::frame_maps).
@@ -326,6 +338,7 @@ struct MlOptions {
     v(self.depth_edge, {"depth_edge", "Depth step that cuts a region, mm (0 = none)"});
     v(self.depth_smoothing, {"depth_smoothing", "No smoothing across depth steps"});
     v(self.min_depth_samples, {"min_depth_samples", "Least depth samples of a 3-D motion"});
+    v(self.table_clearance, {"table_clearance", "Least height above the table, mm (0 = off)"});
   }
 };
 
@@ -427,6 +440,10 @@ class MlSegmenter {
     std::optional<Eigen::Vector3d> ee_camera;
     /// Camera intrinsics K, pixels of the full-size frame.
     Eigen::Matrix3d intrinsics = Eigen::Matrix3d::Identity();
+    /// The world's up direction (normal of the level table) in the camera frame, unit (none:
+    /// no table cut, MlOptions::table_clearance). segment_ml: the calibration's R times the
+    /// world's +z.
+    std::optional<Eigen::Vector3d> up;
   };
 
   /// Throws Error when options are invalid or the size is empty.
@@ -456,6 +473,18 @@ class MlSegmenter {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Height of each pixel above the table, mm (MlOptions::table_clearance): `depth` (CV_32F,
+/// millimetres along the optical axis, 0 = unknown) back-projected through `k_inv` (inverse
+/// intrinsics of the full-size frame; pixel (x, y) of depth is (x, y) * pixel_scale full-size
+/// pixels), each point X (camera frame, mm) at height h = up . X along `up` (unit, camera
+/// frame), less the table's height: the mode of h over the known pixels (1 mm bins, refined to
+/// the mean of the heights within 2 mm of the modal bin), when at least min_table_share of
+/// them lie within 2 mm of it. Unknown pixels, and every pixel when no table is found, get
+/// +infinity (never below a clearance). Requires a finite unit `up`, pixel_scale > 0.
+cv::Mat1f table_heights(const cv::Mat1f& depth, const Eigen::Matrix3d& k_inv,
+                        const Eigen::Vector3d& up, double pixel_scale,
+                        double min_table_share = 0.1);
 
 /// Binary mask (255/0) of map >= fraction * max(map); all zero when the map's max is 0.
 cv::Mat1b threshold_map(const cv::Mat1f& map, double fraction);
