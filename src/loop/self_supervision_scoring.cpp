@@ -202,6 +202,9 @@ void GroundTruthAttendant::after_push(const PushIntent& intent, bool executed) {
       if (after[i].name == t.intended) intended_moved = true;
     }
     if (before_[i].on_table && !after[i].on_table) ++t.fell_off;
+    if (after[i].name == t.intended && before_[i].on_table && after[i].on_table) {
+      t.turn_deg = turn_deg(before_[i].yaw, after[i].yaw);
+    }
     if (intent.phase == "learn" && after[i].name == round(intent.round).chosen) {
       round(intent.round).yaws.push_back(after[i].yaw);
     }
@@ -310,6 +313,13 @@ void GroundTruthAttendant::view_taken(const PushIntent& intent,
 double footprint_gap(const sim::ObjectTruth& a, const sim::ObjectTruth& b) {
   const double d = (a.centre - b.centre).head<2>().norm() - a.footprint_radius - b.footprint_radius;
   return std::max(0.0, d);
+}
+
+double turn_deg(double a, double b) {
+  constexpr double kTwoPi = 2 * std::numbers::pi;
+  double d = std::fmod(std::abs(b - a), kTwoPi);
+  if (d > std::numbers::pi) d = kTwoPi - d;
+  return d * 180.0 / std::numbers::pi;
 }
 
 double yaw_coverage_deg(std::vector<double> yaws) {
@@ -559,8 +569,12 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     ObjectScore os;
     os.name = objects[oi];
     for (const auto& p : pushes) {
-      if (p.phase == "learn" && p.executed && p.intended == os.name) ++os.learn_pushes;
+      if (p.phase == "learn" && p.executed && p.intended == os.name) {
+        ++os.learn_pushes;
+        os.turn_deg += p.turn_deg;
+      }
     }
+    if (os.learn_pushes > 0) os.turn_deg /= os.learn_pushes;
     for (const auto& r : rounds) {
       if (r.chosen == os.name) ++os.chosen;
     }

@@ -36,6 +36,9 @@ struct PushTruth {
   bool executed = false;
   int views = 0;           ///< learn pushes: training views taken
   std::string view_truth;  ///< learn pushes: the object under most of the learner's last mask
+  /// How far the push turned the intended object: |its yaw after - before| wrapped to 0..180,
+  /// degrees (0 when it is not known or left the table).
+  double turn_deg = 0;
 };
 
 /// One training view as the ground truth saw it (the oracle ladder's (a) and (b)).
@@ -107,6 +110,9 @@ double footprint_gap(const sim::ObjectTruth& a, const sim::ObjectTruth& b);
 /// neighbouring yaws around the circle; 0 for fewer than 2.
 double yaw_coverage_deg(std::vector<double> yaws);
 
+/// The turn between two yaws (rad): |b - a| wrapped to 0..180, degrees.
+double turn_deg(double a, double b);
+
 /// Per object: what the learner made of it.
 struct ObjectScore {
   std::string name;
@@ -119,6 +125,8 @@ struct ObjectScore {
   double argmax_accuracy = 0;  ///< right by argmax theta (merged topics)
   int learn_pushes = 0;        ///< executed learn pushes (7.2 c) aimed at it
   int chosen = 0;              ///< rounds whose (a)/(d) chose it
+  /// Mean turn of it per executed learn push aimed at it (PushTruth::turn_deg), degrees.
+  double turn_deg = 0;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -132,6 +140,7 @@ struct ObjectScore {
     v(self.argmax_accuracy, {"argmax_accuracy", "Right by argmax theta"});
     v(self.learn_pushes, {"learn_pushes", "Executed learn pushes aimed at it"});
     v(self.chosen, {"chosen", "Rounds that chose it"});
+    v(self.turn_deg, {"turn_deg", "Mean turn per learn push aimed at it, degrees"});
   }
 };
 
