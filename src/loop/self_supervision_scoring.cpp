@@ -501,6 +501,17 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     s.class_blobs.push_back(seen ? rounds[static_cast<std::size_t>(c)].blobs
                                  : std::vector<std::string>{});
   }
+  // Each executed learn push as the ground truth saw it: "intended>moved+moved".
+  s.class_learn_pushes.assign(static_cast<std::size_t>(c_count), {});
+  for (const auto& p : pushes) {
+    if (p.phase != "learn" || !p.executed || p.round < 0 || p.round >= c_count) continue;
+    std::string line = p.intended + ">";
+    for (std::size_t i = 0; i < p.moved.size(); ++i) {
+      if (i > 0) line += '+';
+      line += p.moved[i];
+    }
+    s.class_learn_pushes[static_cast<std::size_t>(p.round)].push_back(line);
+  }
   // Singulation, clearing pushes, intended-only, off the table.
   int singulated = 0;
   int executed = 0;

@@ -477,6 +477,18 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   EXPECT_EQ(s.mot.total(), s.objects[0].held_out + s.objects[1].held_out);
   const core::Json j = core::fields_to_json(s);
   EXPECT_TRUE(j.contains("mot_confusion"));
+  // Each executed learn push, intended>moved, per round.
+  ASSERT_EQ(s.class_learn_pushes.size(), 2U);
+  std::size_t listed = 0;
+  for (const auto& r : s.class_learn_pushes) {
+    listed += r.size();
+    for (const auto& p : r) EXPECT_NE(p.find('>'), std::string::npos) << p;
+  }
+  EXPECT_EQ(listed, static_cast<std::size_t>(l.pushes_learn));
+  for (const ObjectScore& os : s.objects) {
+    EXPECT_GE(os.turn_deg, 0.0);
+    EXPECT_LE(os.turn_deg, 180.0);
+  }
   EXPECT_NO_THROW((void)j.dump());  // no NaN or Inf
 }
 

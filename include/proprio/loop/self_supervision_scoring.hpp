@@ -206,6 +206,9 @@ struct SelfSupervisionScore {
   std::vector<double> class_gap;
   /// Each round's look at (a)/(d): the object under each of its blobs (RoundTruth::blobs).
   std::vector<std::vector<std::string>> class_blobs;
+  /// Per round, each executed learn push as the ground truth saw it: "intended>moved+moved"
+  /// (the object under the pushed blob, then every object that moved; "" for none).
+  std::vector<std::vector<std::string>> class_learn_pushes;
   std::vector<ObjectScore> objects;
   double singulation = 0;               ///< rounds singulated / rounds
   double pushes_per_cleared = 0;        ///< clear pushes / distinct objects they moved (per round)
@@ -225,6 +228,8 @@ struct SelfSupervisionScore {
     v(self.class_chosen, {"class_chosen", "The object under the blob chosen for each class"});
     v(self.class_gap, {"class_gap", "Each round's least footprint gap after (b), m (-1: lost)"});
     v(self.class_blobs, {"class_blobs", "Each round's choice look: the object under each blob"});
+    v(self.class_learn_pushes,
+      {"class_learn_pushes", "Each round's learn pushes: intended>what moved"});
     v(self.singulation, {"singulation", "Rounds singulated / rounds"});
     v(self.pushes_per_cleared, {"pushes_per_cleared", "Clear pushes / objects they moved"});
     v(self.only_intended,
