@@ -106,8 +106,12 @@ struct SelfSupervisionOptions {
   bool carry_budget = true;
   /// (c): after each learn push the object is the blob that moved (followed by its motion)
   /// unless its look no longer matches the round's own looks and another blob's does, by this
-  /// much of Hellinger distance (follow_by_looks); 0: off (motion only, as before session 16).
-  double refind_margin = 0.1;
+  /// much of Hellinger distance (follow_by_looks; the push's views are then not learned). 0 (the
+  /// default): off, motion only. Session 16, report seeds 2-6 with 0.1: 9 re-finds, most of
+  /// them (by the episodes' ground-truth masks) to another object than the chosen one; the
+  /// rounds whose object pushed most was the chosen one fell 14 -> 12 of 20: the resting-view
+  /// looks (T = 32) do not tell the objects apart well enough (docs/results/selfsupervision.md).
+  double refind_margin = 0;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
