@@ -296,7 +296,9 @@ class Learner {
          .plan = LoggedPlan::of(*intent.plan),
          .executed = ok,
          .message = message,
-         .episode = episode});
+         .episode = episode,
+         .offset = offset_ != 0 ? std::optional<double>(offset_) : std::nullopt});
+    offset_ = 0;
     if (!ok) {
       fault(intent.round, "robot-refused", message);
       extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
@@ -486,6 +488,65 @@ class Learner {
     return docs;
   }
 
+  // (c): the planned learn push `p` of blob `c` made to turn the object (turning_push), when the
+  // shifted push keeps clear of the others on the way down and is within reach.
+  void turn(int r, const planning::PlanningView& view, int c, planning::PushPlan& p) {
+    if (o_.turn_offset <= 0) return;
+    const auto& hull = view.objects[static_cast<std::size_t>(c)].hull;
+    const TurningPush t = turning_push(p, hull, o_.turn_offset);
+    if (t.offset == 0) return;
+    std::vector<std::vector<Eigen::Vector2d>> others;
+    for (std::size_t k = 0; k < view.objects.size(); ++k) {
+      if (static_cast<int>(k) != c) others.push_back(view.objects[k].hull);
+    }
+    robot::ArmState arm(robot_.arm());
+    const robot::JointVector q = robot_.joints();
+    const bool blocked =
+        plan_options_.descent_clearance > 0 &&
+        planning::descent_blocked(t.push.start, hull, others, plan_options_.descent_clearance);
+    const bool reach =
+        !blocked && robot::reachable(arm, t.push.start, t.push.height, q) &&
+        robot::reachable(arm, t.push.start, t.push.height + robot::PushMotionOptions{}.lift, q) &&
+        robot::reachable(arm, t.push.end, t.push.height, q);
+    if (!reach) {
+      log({.event = "plan",
+           .round = r,
+           .phase = "learn",
+           .blob = c,
+           .then = blocked ? "through the centre: the turning push's start is blocked"
+                           : "through the centre: the turning push is out of reach"});
+      return;
+    }
+    p.push = t.push;
+    offset_ = t.offset;
+  }
+
+  // (c): which blob of `after` is round r's object (follow_by_looks on the blobs' looks).
+  Followed follow(int r, const planning::PlanningView& after, int tracked) {
+    std::vector<std::vector<std::int32_t>> docs;
+    std::vector<int> rows;
+    for (int k = 0; k < static_cast<int>(after.objects.size()); ++k) {
+      auto d = blob_document(after, k);
+      if (!d.empty()) {
+        docs.push_back(std::move(d));
+        rows.push_back(k);
+      }
+    }
+    std::vector<Eigen::VectorXd> blobs(after.objects.size());
+    if (!docs.empty()) {
+      const Eigen::MatrixXd th = theta_of(docs);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        blobs[static_cast<std::size_t>(rows[i])] = th.row(static_cast<Eigen::Index>(i)).transpose();
+      }
+    }
+    std::vector<std::vector<Eigen::VectorXd>> others;
+    for (std::size_t q = 0; q < class_looks_.size(); ++q) {
+      if (static_cast<int>(q) != r) others.push_back(class_looks_[q]);
+    }
+    return follow_by_looks(blobs, class_looks_[static_cast<std::size_t>(r)], others, tracked,
+                           o_.refind_margin);
+  }
+
   // (c): push the chosen object again and again from several sides, taking its views.
   void learn(int r, Eigen::Vector2d chosen, int& index, core::ProgressBar& bar) {
     double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
@@ -495,7 +556,9 @@ class Learner {
     // the next push plans on it instead of looking again and re-finding the object by position.
     std::optional<planning::PlanningView> carried;
     int carried_blob = -1;
-    while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
+    // Unspent pushes of earlier rounds (objects lost, pushes not planned) go to this one.
+    const int budget = o_.carry_budget ? round_budget(r, o_.pushes, out_.pushes_learn) : o_.pushes;
+    while (done < budget && attempts < 2 * budget + 4) {
       ++attempts;
       const planning::PlanningView view = carried ? std::move(*carried) : look();
       int c = carried ? carried_blob : track(view, chosen);
@@ -543,6 +606,7 @@ class Learner {
         if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
         continue;
       }
+      turn(r, view, c, p);
       const std::string name = core::printf_string("round%d-push%02d", r + 1, done + 1);
       PushIntent in{r, "learn", index++, &view, c, &p};
       if (!execute(in, o_.views == ViewSource::kMotion ? name : std::string())) continue;
@@ -558,13 +622,37 @@ class Learner {
                                              view.objects[static_cast<std::size_t>(c)], p.target,
                                              kFindRadius, region_, plan_options_);
       if (now < 0) now = track(after, chosen);
+      // A neighbour moved instead (or the object was two touching ones): the round's own looks
+      // find the object again, and this push's views, of the neighbour, are not learned.
+      bool swapped = false;
+      if (o_.refind_margin > 0 && !class_looks_[static_cast<std::size_t>(r)].empty() &&
+          !after.objects.empty()) {
+        const Followed f = follow(r, after, now);
+        if (f.refound) {
+          log({.event = "refound",
+               .round = r,
+               .blob = f.blob,
+               .why = core::printf_string(
+                   "looks: blob %d matches the round's looks (Hellinger %.2f), the blob that "
+                   "moved (%d) does not (%.2f)",
+                   f.blob, f.distance, now, f.tracked_distance)});
+          swapped = now >= 0;
+          now = f.blob;
+        }
+      }
       if (now >= 0 &&
           (after.objects[static_cast<std::size_t>(now)].centre - chosen).norm() < kStill) {
         fault(r, "moved-nothing", "the push left the chosen object where it was");
       }
       cv::Mat last_mask;
       SelfSupervisionDecision what;
-      const auto docs = views_of(in, episodes_ / name, after, now, last_mask, what);
+      // A swap: this push's views would show the neighbour; none are taken.
+      std::vector<std::vector<std::int32_t>> docs;
+      if (swapped) {
+        fault(r, "swapped", "the push moved another object than the round's: no views taken");
+      } else {
+        docs = views_of(in, episodes_ / name, after, now, last_mask, what);
+      }
       attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
       if (!docs.empty()) {
         const Eigen::MatrixXd th = theta_of(docs);
@@ -590,10 +678,10 @@ class Learner {
         carried_blob = now;
       }
       ++done;
-      bar.tick();
+      if (done <= o_.pushes) bar.tick();
     }
-    if (done < o_.pushes) {
-      bar.tick(static_cast<std::size_t>(o_.pushes - done));
+    if (done < o_.pushes) bar.tick(static_cast<std::size_t>(o_.pushes - done));
+    if (done < budget) {
       if (out_.stop_reasons[static_cast<std::size_t>(r)].empty()) {
         out_.stop_reasons[static_cast<std::size_t>(r)] =
             core::cat({"only ", std::to_string(done), " pushes succeeded"});
@@ -707,7 +795,8 @@ class Learner {
   /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
   int plans_ = 0;
-  double extra_approach_ = 0;                 ///< m, grown after each refusal of the round
+  double offset_ = 0;          ///< the next push's turning offset, m (0: through the centre)
+  double extra_approach_ = 0;  ///< m, grown after each refusal of the round
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for the arm's image
 };
 
@@ -786,6 +875,73 @@ double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::
     }
   }
   return d;
+}
+
+TurningPush turning_push(const planning::PushPlan& plan, const std::vector<Eigen::Vector2d>& hull,
+                         double fraction) {
+  TurningPush out{plan.push, 0.0};
+  if (fraction == 0 || hull.size() < 3) return out;
+  const Eigen::Vector2d n = plan.direction.normalized();
+  // Negative fractions: to the right of n (counter-clockwise turns).
+  const Eigen::Vector2d l = (fraction < 0 ? -1.0 : 1.0) * Eigen::Vector2d(-n.y(), n.x());
+  double w = 0;
+  for (const Eigen::Vector2d& h : hull) w = std::max(w, (h - plan.centre).dot(l));
+  const double e = std::min(std::abs(fraction) * w, kMaxTurnOffset);
+  if (e <= 0) return out;
+  const Eigen::Vector2d contact = plan.centre + e * l;
+  const double depth = planning::distance_to_hull_edge(hull, contact, -n);
+  out.push.start = contact - (depth + plan.approach) * n;
+  out.push.end = plan.push.end + e * l;
+  // The pusher must still move forward along n past its start (a short push stays a push).
+  if ((out.push.end - out.push.start).dot(n) <= 0.005) return {plan.push, 0.0};
+  out.offset = fraction < 0 ? -e : e;
+  return out;
+}
+
+int round_budget(int round, int pushes, int spent) {
+  const int left = (round + 1) * pushes - spent;
+  return std::clamp(left, 0, 2 * pushes);
+}
+
+Followed follow_by_looks(const std::vector<Eigen::VectorXd>& blobs,
+                         const std::vector<Eigen::VectorXd>& own,
+                         const std::vector<std::vector<Eigen::VectorXd>>& others, int tracked,
+                         double margin) {
+  Followed out;
+  out.blob = tracked;
+  const auto least = [](const Eigen::VectorXd& t, const std::vector<Eigen::VectorXd>& looks) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Eigen::VectorXd& e : looks) d = std::min(d, hellinger(t, e));
+    return d;
+  };
+  const int n = static_cast<int>(blobs.size());
+  const bool scored_tracked =
+      tracked >= 0 && tracked < n && blobs[static_cast<std::size_t>(tracked)].size() > 0;
+  if (!own.empty() && scored_tracked) {
+    out.tracked_distance = least(blobs[static_cast<std::size_t>(tracked)], own);
+    out.distance = out.tracked_distance;
+  }
+  if (margin <= 0 || own.empty()) return out;
+  int best = -1;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < n; ++b) {
+    const Eigen::VectorXd& t = blobs[static_cast<std::size_t>(b)];
+    if (t.size() == 0 || b == tracked) continue;
+    const double d = least(t, own);
+    double other = std::numeric_limits<double>::infinity();
+    for (const auto& looks : others) other = std::min(other, least(t, looks));
+    if (d < other && d < best_d) {
+      best_d = d;
+      best = b;
+    }
+  }
+  if (best < 0) return out;
+  if (scored_tracked && !(best_d + margin < out.tracked_distance)) return out;
+  if (!scored_tracked && tracked >= 0) return out;  // moved but unscored: trust the motion
+  out.blob = best;
+  out.refound = true;
+  out.distance = best_d;
+  return out;
 }
 
 double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q) {

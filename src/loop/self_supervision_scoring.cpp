@@ -202,6 +202,9 @@ void GroundTruthAttendant::after_push(const PushIntent& intent, bool executed) {
       if (after[i].name == t.intended) intended_moved = true;
     }
     if (before_[i].on_table && !after[i].on_table) ++t.fell_off;
+    if (after[i].name == t.intended && before_[i].on_table && after[i].on_table) {
+      t.turn_deg = turn_deg(before_[i].yaw, after[i].yaw);
+    }
     if (intent.phase == "learn" && after[i].name == round(intent.round).chosen) {
       round(intent.round).yaws.push_back(after[i].yaw);
     }
@@ -310,6 +313,13 @@ void GroundTruthAttendant::view_taken(const PushIntent& intent,
 double footprint_gap(const sim::ObjectTruth& a, const sim::ObjectTruth& b) {
   const double d = (a.centre - b.centre).head<2>().norm() - a.footprint_radius - b.footprint_radius;
   return std::max(0.0, d);
+}
+
+double turn_deg(double a, double b) {
+  constexpr double kTwoPi = 2 * std::numbers::pi;
+  double d = std::fmod(std::abs(b - a), kTwoPi);
+  if (d > std::numbers::pi) d = kTwoPi - d;
+  return d * 180.0 / std::numbers::pi;
 }
 
 double yaw_coverage_deg(std::vector<double> yaws) {
@@ -491,6 +501,17 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     s.class_blobs.push_back(seen ? rounds[static_cast<std::size_t>(c)].blobs
                                  : std::vector<std::string>{});
   }
+  // Each executed learn push as the ground truth saw it: "intended>moved+moved".
+  s.class_learn_pushes.assign(static_cast<std::size_t>(c_count), {});
+  for (const auto& p : pushes) {
+    if (p.phase != "learn" || !p.executed || p.round < 0 || p.round >= c_count) continue;
+    std::string line = p.intended + ">";
+    for (std::size_t i = 0; i < p.moved.size(); ++i) {
+      if (i > 0) line += '+';
+      line += p.moved[i];
+    }
+    s.class_learn_pushes[static_cast<std::size_t>(p.round)].push_back(line);
+  }
   // Singulation, clearing pushes, intended-only, off the table.
   int singulated = 0;
   int executed = 0;
@@ -559,8 +580,12 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     ObjectScore os;
     os.name = objects[oi];
     for (const auto& p : pushes) {
-      if (p.phase == "learn" && p.executed && p.intended == os.name) ++os.learn_pushes;
+      if (p.phase == "learn" && p.executed && p.intended == os.name) {
+        ++os.learn_pushes;
+        os.turn_deg += p.turn_deg;
+      }
     }
+    if (os.learn_pushes > 0) os.turn_deg /= os.learn_pushes;
     for (const auto& r : rounds) {
       if (r.chosen == os.name) ++os.chosen;
     }

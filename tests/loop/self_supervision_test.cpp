@@ -17,6 +17,8 @@
 #include "proprio/loop/self_supervision.hpp"
 #include "proprio/loop/self_supervision_run.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
+#include "proprio/planning/push_planner.hpp"
+#include "proprio/sim/simulated_robot.hpp"
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/corpus.hpp"
 
@@ -133,6 +135,10 @@ TEST(SelfSupervision, YawCoverageAndFootprintGap) {
   const double ten = 10 * std::numbers::pi / 180;
   EXPECT_NEAR(yaw_coverage_deg({-ten, ten}), 20.0, 1e-9);
   EXPECT_NEAR(yaw_coverage_deg({0, 2.1, 4.2}), 360 - (2.1 * 180 / std::numbers::pi), 1e-9);
+  // The turn of a push: wrapped, 0..180 degrees.
+  EXPECT_NEAR(turn_deg(-ten, ten), 20.0, 1e-9);
+  EXPECT_NEAR(turn_deg(std::numbers::pi - ten, -std::numbers::pi + ten), 20.0, 1e-9);
+  EXPECT_NEAR(turn_deg(0.5, 0.5 + 4 * std::numbers::pi), 0.0, 1e-9);
   sim::ObjectTruth a;
   sim::ObjectTruth b;
   a.centre = {0, 0, 0.02};
@@ -142,6 +148,146 @@ TEST(SelfSupervision, YawCoverageAndFootprintGap) {
   EXPECT_NEAR(footprint_gap(a, b), 0.25, 1e-12);
   b.centre = {0.1, 0, 0};
   EXPECT_EQ(footprint_gap(a, b), 0.0);
+}
+
+planning::PushPlan straight_plan(const Eigen::Vector2d& centre, double approach) {
+  // A push along +x through `centre`, as planning::push_through_centre makes it: the start
+  // `approach` behind the hull's back edge (set by the caller), the end 6 cm on.
+  planning::PushPlan p;
+  p.outcome = planning::PlanOutcome::kPlanned;
+  p.centre = centre;
+  p.direction = Eigen::Vector2d::UnitX();
+  p.approach = approach;
+  p.push.end = centre + Eigen::Vector2d(0.06, 0);
+  p.push.height = 0.008;
+  p.push.speed = 0.05;
+  return p;
+}
+
+TEST(SelfSupervision, TurningPushMeetsTheObjectOffItsCentreLine) {
+  // A 4 cm square about (0.3, 0): half width 2 cm to the left (+y) of the push along +x.
+  const Eigen::Vector2d c(0.3, 0);
+  const std::vector<Eigen::Vector2d> square{
+      c + Eigen::Vector2d(-0.02, -0.02), c + Eigen::Vector2d(0.02, -0.02),
+      c + Eigen::Vector2d(0.02, 0.02), c + Eigen::Vector2d(-0.02, 0.02)};
+  planning::PushPlan p = straight_plan(c, 0.03);
+  p.push.start = c - Eigen::Vector2d(0.05, 0);
+  const TurningPush t = turning_push(p, square, 0.5);
+  EXPECT_NEAR(t.offset, 0.01, 1e-12);
+  EXPECT_NEAR(t.push.start.x(), 0.3 - 0.02 - 0.03, 1e-12);
+  EXPECT_NEAR(t.push.start.y(), 0.01, 1e-12);  // left of +x
+  EXPECT_NEAR(t.push.end.x(), p.push.end.x(), 1e-12);
+  EXPECT_NEAR(t.push.end.y(), 0.01, 1e-12);
+  // A diamond: off the centre line its back edge is nearer (2 cm behind, not 4): the start
+  // stays `approach` behind the edge the pusher meets, not behind the centre's.
+  const std::vector<Eigen::Vector2d> diamond{
+      c + Eigen::Vector2d(0, -0.04), c + Eigen::Vector2d(0.04, 0), c + Eigen::Vector2d(0, 0.04),
+      c + Eigen::Vector2d(-0.04, 0)};
+  const TurningPush d = turning_push(p, diamond, 0.5);
+  EXPECT_NEAR(d.offset, 0.02, 1e-12);
+  EXPECT_NEAR(d.push.start.x(), 0.3 - 0.02 - 0.03, 1e-9);
+  EXPECT_NEAR(d.push.start.y(), 0.02, 1e-12);
+  // At most kMaxTurnOffset; fraction 0: the push unchanged.
+  std::vector<Eigen::Vector2d> wide = square;
+  for (Eigen::Vector2d& v : wide) v.y() = c.y() + 5 * (v.y() - c.y());
+  EXPECT_NEAR(turning_push(p, wide, 0.9).offset, kMaxTurnOffset, 1e-12);
+  const TurningPush none = turning_push(p, square, 0.0);
+  EXPECT_EQ(none.offset, 0.0);
+  EXPECT_EQ(none.push.start, p.push.start);
+  EXPECT_EQ(none.push.end, p.push.end);
+}
+
+TEST(SelfSupervision, TurningPushTurnsTheObjectOnTheSimulatedTable) {
+  // The same push of the calculator, through its centre and off it, on identical tables: off
+  // the centre line the turn's sense is turning_push's (clockwise for a left offset), so the
+  // turns of a round's pushes add up instead of cancelling (session 16, docs/results/).
+  sim::TableOptions t;
+  t.objects = {"calculator"};
+  t.seed = 3;
+  t.width = 320;
+  t.height = 240;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  const auto turned = [&](double fraction, double yaw = 0.3, double dir = 1.5707963,
+                          const char* name = "calculator") {
+    t.objects = {name};
+    sim::SimulatedRobot robot(t, catalogue);
+    robot.place({{name, Eigen::Vector2d(0.27, 0.0), yaw}});
+    planning::PushPlanOptions po;
+    po.grid_step = 3;
+    po.patch = 6;
+    po.blobs.sigma = 3;
+    const planning::TableRegion region;
+    const planning::PlanningView view = planning::look_for_objects(robot.look(), region, po);
+    if (view.objects.empty()) return 0.0;
+    // The largest blob (a plain object may show as two).
+    int k = 0;
+    for (std::size_t i = 0; i < view.objects.size(); ++i) {
+      if (view.objects[i].pixels.size() > view.objects[static_cast<std::size_t>(k)].pixels.size()) {
+        k = static_cast<int>(i);
+      }
+    }
+    const auto& o = view.objects[static_cast<std::size_t>(k)];
+    robot::ArmState arm(robot.arm());
+    planning::PushPlan p =
+        planning::plan_push(view, k, planning::PushGoal::kTarget,
+                            o.centre + 0.08 * Eigen::Vector2d(std::cos(dir), std::sin(dir)), region,
+                            arm, robot.joints(), po);
+    if (p.outcome != planning::PlanOutcome::kPlanned) return 99.0;
+    p.push = turning_push(p, o.hull, fraction).push;
+    const double before = robot.ground_truth().at(0).yaw;
+    try {
+      (void)robot.push(p.push, {});
+    } catch (const Error&) {
+      return 99.0;
+    }
+    double d = robot.ground_truth().at(0).yaw - before;
+    d = std::remainder(d, 2 * std::numbers::pi);
+    return d;
+  };
+  // Through the centre a push turns it either way (here +12 and +22 degrees); off the centre
+  // line to the left clockwise (-27, -33), to the right counter-clockwise (+16, +26).
+  constexpr double kDeg = std::numbers::pi / 180;
+  for (const auto& [yaw, dir] : {std::pair{0.4, 0.0}, std::pair{1.8, -1.57}}) {
+    const double straight = turned(0.0, yaw, dir);
+    EXPECT_GT(straight, 5 * kDeg) << yaw;
+    EXPECT_LT(turned(0.6, yaw, dir), -10 * kDeg) << yaw;
+    EXPECT_GT(turned(-0.6, yaw, dir), 10 * kDeg) << yaw;
+  }
+}
+
+TEST(SelfSupervision, UnspentLearnPushesGoToLaterRounds) {
+  EXPECT_EQ(round_budget(0, 10, 0), 10);
+  EXPECT_EQ(round_budget(1, 10, 10), 10);
+  EXPECT_EQ(round_budget(1, 10, 3), 17);  // round 0 lost its object after 3 pushes
+  EXPECT_EQ(round_budget(2, 10, 3), 20);  // at most twice
+  EXPECT_EQ(round_budget(2, 10, 25), 5);  // earlier rounds spent more
+  EXPECT_EQ(round_budget(1, 10, 25), 0);
+}
+
+TEST(SelfSupervision, FollowByLooksRefindsTheRoundsObjectAfterASwap) {
+  // The round's own looks are near (1 0 0 0); another class's near (0 0 1 0).
+  const std::vector<Eigen::VectorXd> own{dist4(0.9, 0.05, 0.03, 0.02)};
+  const std::vector<std::vector<Eigen::VectorXd>> others{{dist4(0.02, 0.03, 0.9, 0.05)}};
+  // The blob that moved (1) looks like the other class; blob 0 like the round's object.
+  const std::vector<Eigen::VectorXd> blobs{dist4(0.85, 0.1, 0.03, 0.02),
+                                           dist4(0.05, 0.05, 0.85, 0.05), Eigen::VectorXd()};
+  const Followed f = follow_by_looks(blobs, own, others, 1, 0.1);
+  EXPECT_TRUE(f.refound);
+  EXPECT_EQ(f.blob, 0);
+  EXPECT_LT(f.distance, f.tracked_distance);
+  // Margin 0 (off), or no own looks: the motion's blob.
+  EXPECT_EQ(follow_by_looks(blobs, own, others, 1, 0.0).blob, 1);
+  EXPECT_FALSE(follow_by_looks(blobs, {}, others, 1, 0.1).refound);
+  // The moved blob still matches (within the margin): kept.
+  const std::vector<Eigen::VectorXd> close{dist4(0.85, 0.1, 0.03, 0.02),
+                                           dist4(0.8, 0.1, 0.05, 0.05)};
+  EXPECT_EQ(follow_by_looks(close, own, others, 1, 0.1).blob, 1);
+  EXPECT_FALSE(follow_by_looks(close, own, others, 1, 0.1).refound);
+  // A blob nearer another class's looks than the round's is never taken.
+  const std::vector<std::vector<Eigen::VectorXd>> near_other{{dist4(0.86, 0.1, 0.02, 0.02)}};
+  EXPECT_EQ(follow_by_looks(blobs, own, near_other, 1, 0.1).blob, 1);
+  // Nothing moved (tracked -1): the blob that matches.
+  EXPECT_EQ(follow_by_looks(blobs, own, others, -1, 0.1).blob, 0);
 }
 
 // A vocabulary and an LDA model (K = 3) made from the robot's first look: dense SIFT of the
@@ -331,6 +477,18 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   EXPECT_EQ(s.mot.total(), s.objects[0].held_out + s.objects[1].held_out);
   const core::Json j = core::fields_to_json(s);
   EXPECT_TRUE(j.contains("mot_confusion"));
+  // Each executed learn push, intended>moved, per round.
+  ASSERT_EQ(s.class_learn_pushes.size(), 2U);
+  std::size_t listed = 0;
+  for (const auto& r : s.class_learn_pushes) {
+    listed += r.size();
+    for (const auto& p : r) EXPECT_NE(p.find('>'), std::string::npos) << p;
+  }
+  EXPECT_EQ(listed, static_cast<std::size_t>(l.pushes_learn));
+  for (const ObjectScore& os : s.objects) {
+    EXPECT_GE(os.turn_deg, 0.0);
+    EXPECT_LE(os.turn_deg, 180.0);
+  }
   EXPECT_NO_THROW((void)j.dump());  // no NaN or Inf
 }
 

@@ -36,6 +36,9 @@ struct PushTruth {
   bool executed = false;
   int views = 0;           ///< learn pushes: training views taken
   std::string view_truth;  ///< learn pushes: the object under most of the learner's last mask
+  /// How far the push turned the intended object: |its yaw after - before| wrapped to 0..180,
+  /// degrees (0 when it is not known or left the table).
+  double turn_deg = 0;
 };
 
 /// One training view as the ground truth saw it (the oracle ladder's (a) and (b)).
@@ -107,6 +110,9 @@ double footprint_gap(const sim::ObjectTruth& a, const sim::ObjectTruth& b);
 /// neighbouring yaws around the circle; 0 for fewer than 2.
 double yaw_coverage_deg(std::vector<double> yaws);
 
+/// The turn between two yaws (rad): |b - a| wrapped to 0..180, degrees.
+double turn_deg(double a, double b);
+
 /// Per object: what the learner made of it.
 struct ObjectScore {
   std::string name;
@@ -119,6 +125,8 @@ struct ObjectScore {
   double argmax_accuracy = 0;  ///< right by argmax theta (merged topics)
   int learn_pushes = 0;        ///< executed learn pushes (7.2 c) aimed at it
   int chosen = 0;              ///< rounds whose (a)/(d) chose it
+  /// Mean turn of it per executed learn push aimed at it (PushTruth::turn_deg), degrees.
+  double turn_deg = 0;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -132,6 +140,7 @@ struct ObjectScore {
     v(self.argmax_accuracy, {"argmax_accuracy", "Right by argmax theta"});
     v(self.learn_pushes, {"learn_pushes", "Executed learn pushes aimed at it"});
     v(self.chosen, {"chosen", "Rounds that chose it"});
+    v(self.turn_deg, {"turn_deg", "Mean turn per learn push aimed at it, degrees"});
   }
 };
 
@@ -197,6 +206,9 @@ struct SelfSupervisionScore {
   std::vector<double> class_gap;
   /// Each round's look at (a)/(d): the object under each of its blobs (RoundTruth::blobs).
   std::vector<std::vector<std::string>> class_blobs;
+  /// Per round, each executed learn push as the ground truth saw it: "intended>moved+moved"
+  /// (the object under the pushed blob, then every object that moved; "" for none).
+  std::vector<std::vector<std::string>> class_learn_pushes;
   std::vector<ObjectScore> objects;
   double singulation = 0;               ///< rounds singulated / rounds
   double pushes_per_cleared = 0;        ///< clear pushes / distinct objects they moved (per round)
@@ -216,6 +228,8 @@ struct SelfSupervisionScore {
     v(self.class_chosen, {"class_chosen", "The object under the blob chosen for each class"});
     v(self.class_gap, {"class_gap", "Each round's least footprint gap after (b), m (-1: lost)"});
     v(self.class_blobs, {"class_blobs", "Each round's choice look: the object under each blob"});
+    v(self.class_learn_pushes,
+      {"class_learn_pushes", "Each round's learn pushes: intended>what moved"});
     v(self.singulation, {"singulation", "Rounds singulated / rounds"});
     v(self.pushes_per_cleared, {"pushes_per_cleared", "Clear pushes / objects they moved"});
     v(self.only_intended,
