@@ -285,6 +285,7 @@ std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
           "measure_footprint: the mask must be 8-bit of its box's size");
   if (hull_pixels.size() < 3) return std::nullopt;
   std::vector<cv::Point2f> poly;
+  poly.reserve(hull_pixels.size());
   for (const auto& h : hull_pixels) {
     poly.emplace_back(static_cast<float>(h.x()), static_cast<float>(h.y()));
   }
