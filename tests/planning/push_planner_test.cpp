@@ -201,6 +201,48 @@ TEST(PushPlanner, DescentClearanceLeavesOutPushesTheArmWouldComeDownOn) {
   EXPECT_EQ(aside.outcome, PlanOutcome::kPlanned) << aside.message;
 }
 
+TEST(PushPlanner, DescentClearanceGoesByMeasuredHeights) {
+  // The same push toward the base: a CD's height measured (1 cm), the forearm may pass over it and
+  // the push is planned again; a bottle's (19 cm) keeps it refused. A low neighbour beside every
+  // start of a sideways push does not block it, a tall one does.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.25, 0.0}, 0.02);
+  PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  PushPlanOptions o = flat_options();
+  o.descent_clearance = 0.04;
+  view.objects[0].height = 0.01;
+  const PushPlan low = plan_push(view, 0, PushGoal::kTarget, {0.17, 0.0}, {}, state, q0, o);
+  EXPECT_EQ(low.outcome, PlanOutcome::kPlanned) << low.message;
+  view.objects[0].height = 0.19;
+  const PushPlan tall = plan_push(view, 0, PushGoal::kTarget, {0.17, 0.0}, {}, state, q0, o);
+  EXPECT_EQ(tall.outcome, PlanOutcome::kUnreachable) << tall.message;
+  // Pushed sideways toward +y from behind it (starts near (0.25, -0.05)): a neighbour 1 cm
+  // past the starts' side.
+  std::vector<cv::KeyPoint> g;
+  add_feature_square(g, cam, {0.25, 0.0}, 0.02);
+  add_feature_square(g, cam, {0.25, -0.10}, 0.02);
+  PlanningView two = make_planning_view(g, cam, {}, flat_options());
+  ASSERT_EQ(two.objects.size(), 2U);
+  const int a = two.objects[0].centre.y() > -0.05 ? 0 : 1;
+  const auto b = static_cast<std::size_t>(1 - a);
+  two.objects[static_cast<std::size_t>(a)].height = 0.01;
+  two.objects[b].height = 0.01;
+  const PushPlan past_low = plan_push(two, a, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
+  EXPECT_EQ(past_low.outcome, PlanOutcome::kPlanned) << past_low.message;
+  two.objects[b].height = 0.15;
+  const PushPlan past_tall = plan_push(two, a, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
+  EXPECT_EQ(past_tall.outcome, PlanOutcome::kUnreachable) << past_tall.message;
+  // Heights unknown (no depth): every blob tall, as before.
+  two.objects[static_cast<std::size_t>(a)].height.reset();
+  two.objects[b].height.reset();
+  const PushPlan blind = plan_push(two, a, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
+  EXPECT_EQ(blind.outcome, PlanOutcome::kUnreachable) << blind.message;
+}
+
 TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   // The object at (0.20, 0), its target 16 cm along +y, a neighbour on the line between: the
   // direct push would shove the neighbour along. With waypoints the planner pushes the object
