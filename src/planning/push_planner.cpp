@@ -971,19 +971,6 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const bool heights = o.height.has_value() ||
                        std::any_of(obstacle_objects.begin(), obstacle_objects.end(),
                                    [](const PutativeObject* x) { return x->height.has_value(); });
-  // The corridor the cost integrates the other objects' density over (in the image, where the
-  // objects look as wide as their features' extent at centre_height): with a measured footprint,
-  // that footprint widened by the extent's shape centred on it, so that the corridor keeps the
-  // width the density map gives the objects; else the hull itself.
-  std::vector<Eigen::Vector2d> swept = o.hull;
-  if (o.height && o.extent.size() >= 3) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const auto& e : o.extent) mean += e;
-    mean /= static_cast<double>(o.extent.size());
-    std::vector<Eigen::Vector2d> both = o.hull;
-    for (const auto& e : o.extent) both.push_back(e - mean + o.centre);
-    swept = convex_hull(both, kMetresToMm);
-  }
   core::Rng rng(options.seed);
   const robot::IkOptions ik;
   struct Candidate {
@@ -1044,7 +1031,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       ++plan.rejected_reach;
       continue;
     }
-    double cost = path_cost(others, view.camera, push, swept, o.centre, t, options.centre_height,
+    double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
                             options.path_step);
     if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
     double blocked = path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,

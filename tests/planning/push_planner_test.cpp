@@ -243,42 +243,6 @@ TEST(PushPlanner, DescentClearanceGoesByMeasuredHeights) {
   EXPECT_EQ(blind.outcome, PlanOutcome::kUnreachable) << blind.message;
 }
 
-TEST(PushPlanner, AMeasuredFootprintSweepsTheCorridorTheImageGivesTheObject) {
-  // The cost integrates the other objects' feature density, in the image, over the corridor the
-  // pushed object sweeps. A measured footprint (depth) is narrower than the object's features'
-  // extent (which the density map's widths match): the corridor keeps the extent's width around
-  // it, so a neighbour beside the path costs as it did without depth, not less.
-  const geometry::Camera cam = down_camera();
-  std::vector<cv::KeyPoint> f;
-  add_feature_square(f, cam, {0.25, 0.0}, 0.02);
-  add_feature_square(f, cam, {0.30, 0.05}, 0.015);
-  PlanningView view = make_planning_view(f, cam, {}, flat_options());
-  ASSERT_EQ(view.objects.size(), 2U);
-  const int a = view.objects[0].centre.x() < 0.27 ? 0 : 1;
-  PutativeObject& obj = view.objects[static_cast<std::size_t>(a)];
-  robot::ArmState state(arm());
-  const robot::JointVector q0 = robot::JointVector::Zero();
-  PushPlanOptions o = flat_options();
-  o.candidates = 1;
-  o.target_spread = 0;
-  o.min_approach = o.max_approach = 0.03;
-  const Eigen::Vector2d target(0.25, 0.08);
-  const PushPlan wide = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
-  ASSERT_EQ(wide.outcome, PlanOutcome::kPlanned) << wide.message;
-  // A measured footprint half as wide as the features' extent, the same centre.
-  std::vector<Eigen::Vector2d> narrow;
-  for (const auto& h : obj.hull) narrow.push_back(obj.centre + 0.5 * (h - obj.centre));
-  obj.hull = narrow;
-  const PushPlan blind = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
-  obj.height = 0.05;
-  const PushPlan measured = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
-  ASSERT_EQ(blind.outcome, PlanOutcome::kPlanned) << blind.message;
-  ASSERT_EQ(measured.outcome, PlanOutcome::kPlanned) << measured.message;
-  EXPECT_GT(wide.cost, 0.0);
-  EXPECT_LT(blind.cost, 0.8 * wide.cost);      // the narrow hull's corridor misses it
-  EXPECT_GT(measured.cost, 0.95 * wide.cost);  // the extent's width kept
-}
-
 TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   // The object at (0.20, 0), its target 16 cm along +y, a neighbour on the line between: the
   // direct push would shove the neighbour along. With waypoints the planner pushes the object
