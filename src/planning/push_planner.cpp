@@ -638,14 +638,23 @@ bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
       if (polygon_distance(forearm, pushed.hull) == 0.0) return true;
     } else if (*pushed.height >= finger) {
       const bool tall = *pushed.height >= palm;
-      if (polygon_distance(hand, pushed.hull) < (tall ? kPalmReach : kFingerReach)) return true;
+      const double reach = (tall ? kPalmReach : kFingerReach) + kDescentReachMargin;
+      if (polygon_distance(hand, pushed.hull) < reach) return true;
       if (tall && polygon_distance(forearm, pushed.hull) == 0.0) return true;
     }
   }
   return std::any_of(others.begin(), others.end(), [&](const PutativeObject* o) {
     if (o == nullptr || o->hull.empty()) return false;
-    if (!o->height || *o->height >= palm) return polygon_distance(forearm, o->hull) < clearance;
-    if (*o->height >= finger) return polygon_distance(hand, o->hull) < clearance;
+    if (!o->height) return polygon_distance(forearm, o->hull) < clearance;
+    if (*o->height >= palm) {
+      return polygon_distance(forearm, o->hull) < clearance ||
+             polygon_distance(hand, o->hull) <
+                 std::max(clearance, kPalmReach + kDescentReachMargin);
+    }
+    if (*o->height >= finger) {
+      return polygon_distance(hand, o->hull) <
+             std::max(clearance, kFingerReach + kDescentReachMargin);
+    }
     return false;
   });
 }

@@ -629,6 +629,11 @@ TEST(PushGeometry, ALowBlobDoesNotBlockADescentATallOneDoes) {
   EXPECT_FALSE(descent_blocked(start, pushed_low, {&calculator}, clearance, tip));
   EXPECT_TRUE(descent_blocked(start, pushed_low, {&mug}, clearance, tip));
   EXPECT_TRUE(descent_blocked(start, pushed_low, {&giraffe}, clearance, tip));
+  // A giraffe 4.5-5.5 cm beside the hand: past the clearance, within the palm's reach.
+  const PutativeObject giraffe_past = square_object({0.46, 0.065}, 0.02, 0.16);
+  const PutativeObject mug_past = square_object({0.46, 0.065}, 0.02, 0.09);
+  EXPECT_TRUE(descent_blocked(start, pushed_low, {&giraffe_past}, clearance, tip));
+  EXPECT_FALSE(descent_blocked(start, pushed_low, {&mug_past}, clearance, tip));
   // Without a height: as the height-blind check (every blob tall).
   EXPECT_TRUE(descent_blocked(start, pushed_low, {&unknown}, clearance, tip));
   EXPECT_TRUE(descent_blocked(start, pushed_low.hull, {unknown.hull}, clearance));
@@ -646,20 +651,20 @@ TEST(PushGeometry, ALowBlobDoesNotBlockADescentATallOneDoes) {
   // The pushed object's own height sets how far behind it the hand may come down (starts on
   // its base side, its edge at 0.38 m: the forearm hangs away from it).
   const Eigen::Vector2d near(0.355, 0.0);  // 2.5 cm behind its edge
-  const Eigen::Vector2d mid(0.34, 0.0);    // 4 cm
-  const Eigen::Vector2d far(0.33, 0.0);    // 5 cm
+  const Eigen::Vector2d mid(0.335, 0.0);   // 4.5 cm
+  const Eigen::Vector2d far(0.32, 0.0);    // 6 cm
   const PutativeObject pushed_mug = square_object({0.40, 0.0}, 0.02, 0.09);
   const PutativeObject pushed_bottle = square_object({0.40, 0.0}, 0.02, 0.19);
   const PutativeObject pushed_blind = square_object({0.40, 0.0}, 0.02, std::nullopt);
   EXPECT_FALSE(descent_blocked(near, pushed_low, {}, clearance, tip));
-  EXPECT_TRUE(descent_blocked(near, pushed_mug, {}, clearance, tip));  // the fingers, 3 cm
+  EXPECT_TRUE(descent_blocked(near, pushed_mug, {}, clearance, tip));  // the fingers, 3 + 1 cm
   EXPECT_FALSE(descent_blocked(mid, pushed_mug, {}, clearance, tip));
-  EXPECT_TRUE(descent_blocked(mid, pushed_bottle, {}, clearance, tip));  // the palm, 4.5 cm
+  EXPECT_TRUE(descent_blocked(mid, pushed_bottle, {}, clearance, tip));  // the palm, 4.5 + 1 cm
   EXPECT_FALSE(descent_blocked(far, pushed_bottle, {}, clearance, tip));
   EXPECT_FALSE(descent_blocked(near, pushed_blind, {}, clearance, tip));  // height-blind: as before
   // Pushed toward the base (the start beyond it): the low forearm passes over it, which only an
   // object that reaches the palm (or one of unknown height) meets.
-  EXPECT_FALSE(descent_blocked(start, pushed_mug, {}, clearance, tip));
+  EXPECT_FALSE(descent_blocked({0.47, 0.0}, pushed_mug, {}, clearance, tip));  // 5 cm behind
   EXPECT_TRUE(descent_blocked(start, pushed_bottle, {}, clearance, tip));
   EXPECT_TRUE(descent_blocked(start, pushed_blind, {}, clearance, tip));
   EXPECT_TRUE(descent_blocked(start, pushed_blind.hull, {}, clearance));

@@ -404,6 +404,9 @@ inline constexpr double kPalmDrop = 0.10;
 inline constexpr double kPalmReach = 0.045;
 /// An object whose top is within this below a part of the hand still counts as meeting it, m.
 inline constexpr double kDescentHeightMargin = 0.005;
+/// Added to the hand's reach for the hand's orientation (its pitch is free where the arm reaches
+/// far), m.
+inline constexpr double kDescentReachMargin = 0.01;
 
 /// descent_blocked with the objects' heights where they were measured (PutativeObject::height,
 /// from depth); an object without one is treated as descent_blocked treats every object (tall).
@@ -411,12 +414,14 @@ inline constexpr double kDescentHeightMargin = 0.005;
 /// - an object lower than the fingers (h < tip_height + kFingerDrop - kDescentHeightMargin) never
 ///   blocks: the hand passes above it;
 /// - the pushed object (`pushed`) blocks when the start is nearer its hull than the part of the
-///   hand that reaches its height: kFingerReach, or kPalmReach once it reaches the palm (h >=
+///   hand that reaches its height (plus kDescentReachMargin): kFingerReach, or kPalmReach once it
+///   reaches the palm (h >=
 ///   tip_height + kPalmDrop - kDescentHeightMargin), when also the forearm must not pass over it;
 ///   its height so sets how far behind it the hand may come down;
-/// - another object blocks when it is within `clearance` of the hand (the start), or, once it
-///   reaches the palm, of the low forearm (the segment from the start kForearmReach toward the
-///   base).
+/// - another object blocks when it is within `clearance` (at least the reach of the part of the
+///   hand it reaches, plus kDescentReachMargin) of the hand (the start), or, once it reaches the
+///   palm, within `clearance` of the low forearm (the segment from the start kForearmReach toward
+///   the base).
 /// Units: m, table frame (the base at the origin).
 bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
                      const std::vector<const PutativeObject*>& others, double clearance,
