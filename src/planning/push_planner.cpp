@@ -33,6 +33,11 @@ constexpr double kViaLeast = 20.0 * std::numbers::pi / 180.0;
 constexpr double kViaMost = 100.0 * std::numbers::pi / 180.0;
 constexpr double kViaNear = 0.04;
 constexpr double kViaFar = 0.10;
+// Depth pixels sampled every this many pixels in each direction for a blob's footprint.
+constexpr int kDepthStep = 2;
+// The top's height: this quantile of the object's depth points' heights (a few stray points at
+// a silhouette's edge do not set it).
+constexpr double kTopQuantile = 0.98;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -217,7 +222,8 @@ std::optional<PutativeObject> putative_object(const features::Blob& blob,
                                               const std::vector<cv::KeyPoint>& features,
                                               const geometry::Camera& camera,
                                               const TableRegion& region,
-                                              const PushPlanOptions& options) {
+                                              const PushPlanOptions& options,
+                                              const cv::Mat& depth) {
   PutativeObject o;
   o.box = blob.box;
   o.mask = blob.mask;
@@ -250,6 +256,15 @@ std::optional<PutativeObject> putative_object(const features::Blob& blob,
   } catch (const Error&) {
     return std::nullopt;  // above the horizon: not on the table
   }
+  if (!depth.empty()) {
+    // An RGB-D look: the footprint and height measured from the depth points inside the
+    // features' hull (every other pixel: 3-4 mm apart on the table, enough for a hull).
+    if (auto m = measure_footprint(depth, camera, o.hull_pixels, o.mask, o.box, kDepthStep)) {
+      o.centre = m->centre;
+      table = std::move(m->hull);
+      o.height = m->height;
+    }
+  }
   if (!inside_region(o.centre, region, 0.0) || o.centre.norm() < region.base_radius) {
     return std::nullopt;
   }
@@ -260,14 +275,85 @@ std::optional<PutativeObject> putative_object(const features::Blob& blob,
 
 }  // namespace
 
+std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
+                                                   const geometry::Camera& camera,
+                                                   const std::vector<Eigen::Vector2d>& hull_pixels,
+                                                   const cv::Mat& mask, cv::Rect box, int step) {
+  require(depth.type() == CV_32FC1, "measure_footprint: the depth image must be CV_32FC1 (metres)");
+  require(step >= 1, "measure_footprint: step must be at least 1");
+  require(mask.empty() || (mask.type() == CV_8U && mask.size() == box.size()),
+          "measure_footprint: the mask must be 8-bit of its box's size");
+  if (hull_pixels.size() < 3) return std::nullopt;
+  std::vector<cv::Point2f> poly;
+  poly.reserve(hull_pixels.size());
+  for (const auto& h : hull_pixels) {
+    poly.emplace_back(static_cast<float>(h.x()), static_cast<float>(h.y()));
+  }
+  const cv::Rect image(0, 0, depth.cols, depth.rows);
+  const cv::Rect bounds = cv::boundingRect(poly) & image;
+  const Eigen::Matrix3d k_inv = camera.K.inverse();
+  const Eigen::Matrix3d r_t = camera.R.transpose();
+  std::vector<Eigen::Vector2d> xy;
+  std::vector<double> z;
+  for (int v = bounds.y; v < bounds.y + bounds.height; v += step) {
+    const auto* row = depth.ptr<float>(v);
+    for (int u = bounds.x; u < bounds.x + bounds.width; u += step) {
+      const double d = row[u];
+      if (!std::isfinite(d) || d <= 0) continue;
+      if (!mask.empty()) {
+        const cv::Point q(u - box.x, v - box.y);
+        if (q.x < 0 || q.y < 0 || q.x >= mask.cols || q.y >= mask.rows ||
+            mask.at<std::uint8_t>(q) == 0) {
+          continue;
+        }
+      }
+      if (cv::pointPolygonTest(poly, cv::Point2f(static_cast<float>(u), static_cast<float>(v)),
+                               false) < 0) {
+        continue;
+      }
+      const Eigen::Vector3d x = r_t * (d * (k_inv * Eigen::Vector3d(u, v, 1.0)) - camera.t);
+      if (x.z() < kObjectLeastHeight) continue;
+      xy.push_back(x.head<2>());
+      z.push_back(x.z());
+    }
+  }
+  if (static_cast<int>(xy.size()) < kFootprintLeastPoints) return std::nullopt;
+  MeasuredFootprint m;
+  m.points = static_cast<int>(xy.size());
+  const auto top = static_cast<std::ptrdiff_t>(kTopQuantile * static_cast<double>(z.size() - 1));
+  std::nth_element(z.begin(), z.begin() + top, z.end());
+  m.height = z[static_cast<std::size_t>(top)];
+  m.hull = convex_hull(xy, kMetresToMm);
+  // The hull's area centroid (the points' mean would lean toward the sides the camera sees).
+  double area = 0;
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < m.hull.size(); ++i) {
+    const Eigen::Vector2d& a = m.hull[i];
+    const Eigen::Vector2d& b = m.hull[(i + 1) % m.hull.size()];
+    const double w = cross(a, b);
+    area += w;
+    c += w * (a + b);
+  }
+  if (m.hull.size() < 3 || std::abs(area) < 1e-10) return std::nullopt;  // a line of points
+  m.centre = c / (3.0 * area);
+  return m;
+}
+
 PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
                                 const geometry::Camera& camera, const TableRegion& region,
-                                const PushPlanOptions& options) {
+                                const PushPlanOptions& options, const cv::Mat& depth) {
   options.validate();
   require(camera.width > 0 && camera.height > 0, "planning view: the camera has no image size");
   PlanningView view;
   view.camera = camera;
   view.image_size = cv::Size(camera.width, camera.height);
+  if (!depth.empty()) {
+    require(depth.type() == CV_32FC1 && depth.size() == view.image_size,
+            "planning view: the depth image must be CV_32FC1 (metres) of the camera's image size "
+            "(" +
+                std::to_string(camera.width) + " x " + std::to_string(camera.height) + ")");
+    view.depth = depth;
+  }
   // The table point of each feature: the viewing ray X = C + s R^T K^-1 (u, v, 1) meets z = 0
   // (eqs 3.13-3.17 in closed form; back_project_to_plane's SVD per point would cost more than the
   // rest of the view).
@@ -284,7 +370,7 @@ PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
   const std::vector<cv::KeyPoint>& kept = view.features;
   view.density = features::feature_density(kept, view.image_size, options.blobs);
   for (const features::Blob& b : features::find_blobs(kept, view.image_size, options.blobs)) {
-    if (auto o = putative_object(b, kept, camera, region, options)) {
+    if (auto o = putative_object(b, kept, camera, region, options, view.depth)) {
       view.objects.push_back(std::move(*o));
     }
   }
@@ -371,7 +457,8 @@ std::vector<int> split_putative_objects(PlanningView& view, const std::vector<cv
       if (inner.area() == 0) continue;
       part.box = inner + o.box.tl();
       part.mask = mask(inner).clone();
-      if (auto po = putative_object(part, view.features, view.camera, region, options)) {
+      if (auto po =
+              putative_object(part, view.features, view.camera, region, options, view.depth)) {
         made.push_back(std::move(*po));
       }
     }
@@ -403,8 +490,13 @@ std::vector<int> split_putative_objects(PlanningView& view, const std::vector<cv
 
 PlanningView look_for_objects(const robot::Look& look, const TableRegion& region,
                               const PushPlanOptions& options) {
+  cv::Mat depth = look.depth;
+  if (!depth.empty() && !look.arm_mask.empty() && look.arm_mask.size() == depth.size()) {
+    depth = depth.clone();
+    depth.setTo(0, look.arm_mask);  // the arm's own body is no object's
+  }
   return make_planning_view(textured_points(look.image, options, look.arm_mask), look.camera,
-                            region, options);
+                            region, options, depth);
 }
 
 namespace {
@@ -531,6 +623,42 @@ bool descent_blocked(const Eigen::Vector2d& start, const std::vector<Eigen::Vect
   });
 }
 
+bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
+                     const std::vector<const PutativeObject*>& others, double clearance,
+                     double tip_height) {
+  const double finger = tip_height + kFingerDrop - kDescentHeightMargin;
+  const double palm = tip_height + kPalmDrop - kDescentHeightMargin;
+  const double r = start.norm();
+  const Eigen::Vector2d low = r > kForearmReach ? Eigen::Vector2d(start * (1.0 - kForearmReach / r))
+                                                : Eigen::Vector2d(0, 0);
+  const std::vector<Eigen::Vector2d> forearm{start, low};
+  const std::vector<Eigen::Vector2d> hand{start};
+  if (pushed.hull.size() >= 3) {
+    if (!pushed.height) {
+      if (polygon_distance(forearm, pushed.hull) == 0.0) return true;
+    } else if (*pushed.height >= finger) {
+      const bool tall = *pushed.height >= palm;
+      const double reach = (tall ? kPalmReach : kFingerReach) + kDescentReachMargin;
+      if (polygon_distance(hand, pushed.hull) < reach) return true;
+      if (tall && polygon_distance(forearm, pushed.hull) == 0.0) return true;
+    }
+  }
+  return std::any_of(others.begin(), others.end(), [&](const PutativeObject* o) {
+    if (o == nullptr || o->hull.empty()) return false;
+    if (!o->height) return polygon_distance(forearm, o->hull) < clearance;
+    if (*o->height >= palm) {
+      return polygon_distance(forearm, o->hull) < clearance ||
+             polygon_distance(hand, o->hull) <
+                 std::max(clearance, kPalmReach + kDescentReachMargin);
+    }
+    if (*o->height >= finger) {
+      return polygon_distance(hand, o->hull) <
+             std::max(clearance, kFingerReach + kDescentReachMargin);
+    }
+    return false;
+  });
+}
+
 double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
                       const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
                       const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance,
@@ -603,7 +731,7 @@ int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
   double best_d = radius;
   for (const features::Blob& b :
        features::find_blobs(moving, after_view.image_size, options.blobs)) {
-    if (auto o = putative_object(b, moving, after_view.camera, region, options)) {
+    if (auto o = putative_object(b, moving, after_view.camera, region, options, after_view.depth)) {
       const double d = (o->centre - expected).norm();
       if (d <= best_d) {
         best_d = d;
@@ -840,12 +968,18 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   // The other objects' hulls the path keeps clear of; a blob holding p_c (the pushed object
   // merged with a neighbour, or found again as a part of one) cannot be kept clear of.
   std::vector<std::vector<Eigen::Vector2d>> obstacles;
+  std::vector<const PutativeObject*> obstacle_objects;
   for (std::size_t k = 0; k < view.objects.size(); ++k) {
     const PutativeObject& other = view.objects[k];
     if (static_cast<int>(k) == object || other.hull.size() < 3) continue;
     if (distance_to_polygon(other.hull, o.centre) == 0.0) continue;
     obstacles.push_back(other.hull);
+    obstacle_objects.push_back(&other);
   }
+  // Heights known (a depth look): the descent check goes by each object's height.
+  const bool heights = o.height.has_value() ||
+                       std::any_of(obstacle_objects.begin(), obstacle_objects.end(),
+                                   [](const PutativeObject* x) { return x->height.has_value(); });
   core::Rng rng(options.seed);
   const robot::IkOptions ik;
   struct Candidate {
@@ -894,7 +1028,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       continue;
     }
     if (options.descent_clearance > 0 &&
-        descent_blocked(push.start, o.hull, obstacles, options.descent_clearance)) {
+        (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance,
+                                   options.tip_height)
+                 : descent_blocked(push.start, o.hull, obstacles, options.descent_clearance))) {
       ++plan.rejected_reach;
       continue;
     }

@@ -663,7 +663,13 @@ SimulatedRobot::~SimulatedRobot() = default;
 robot::Look SimulatedRobot::look() {
   robot::Look l;
   s_->show_now();
-  l.image = s_->renderer.rgb(s_->world, s_->camera_name);
+  if (s_->options.depth) {
+    Frame f = s_->renderer.render(s_->world, s_->camera_name, kPassRgb | kPassDepth);
+    l.image = std::move(f.rgb);
+    l.depth = std::move(f.depth);
+  } else {
+    l.image = s_->renderer.rgb(s_->world, s_->camera_name);
+  }
   l.t = s_->world.time();
   l.q = s_->world.arm_joints();
   l.ee = s_->world.ee_position();

@@ -5,7 +5,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "../support/paths.hpp"
 #include "../support/table_views.hpp"
@@ -197,6 +199,48 @@ TEST(PushPlanner, DescentClearanceLeavesOutPushesTheArmWouldComeDownOn) {
   // Sideways it is planned.
   const PushPlan aside = plan_push(view, 0, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
   EXPECT_EQ(aside.outcome, PlanOutcome::kPlanned) << aside.message;
+}
+
+TEST(PushPlanner, DescentClearanceGoesByMeasuredHeights) {
+  // The same push toward the base: a CD's height measured (1 cm), the forearm may pass over it and
+  // the push is planned again; a bottle's (19 cm) keeps it refused. A low neighbour beside every
+  // start of a sideways push does not block it, a tall one does.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.25, 0.0}, 0.02);
+  PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  PushPlanOptions o = flat_options();
+  o.descent_clearance = 0.04;
+  view.objects[0].height = 0.01;
+  const PushPlan low = plan_push(view, 0, PushGoal::kTarget, {0.17, 0.0}, {}, state, q0, o);
+  EXPECT_EQ(low.outcome, PlanOutcome::kPlanned) << low.message;
+  view.objects[0].height = 0.19;
+  const PushPlan tall = plan_push(view, 0, PushGoal::kTarget, {0.17, 0.0}, {}, state, q0, o);
+  EXPECT_EQ(tall.outcome, PlanOutcome::kUnreachable) << tall.message;
+  // Pushed sideways toward +y from behind it (starts near (0.25, -0.05)): a neighbour 1 cm
+  // past the starts' side.
+  std::vector<cv::KeyPoint> g;
+  add_feature_square(g, cam, {0.25, 0.0}, 0.02);
+  add_feature_square(g, cam, {0.25, -0.10}, 0.02);
+  PlanningView two = make_planning_view(g, cam, {}, flat_options());
+  ASSERT_EQ(two.objects.size(), 2U);
+  const int a = two.objects[0].centre.y() > -0.05 ? 0 : 1;
+  const auto b = static_cast<std::size_t>(1 - a);
+  two.objects[static_cast<std::size_t>(a)].height = 0.01;
+  two.objects[b].height = 0.01;
+  const PushPlan past_low = plan_push(two, a, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
+  EXPECT_EQ(past_low.outcome, PlanOutcome::kPlanned) << past_low.message;
+  two.objects[b].height = 0.15;
+  const PushPlan past_tall = plan_push(two, a, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
+  EXPECT_EQ(past_tall.outcome, PlanOutcome::kUnreachable) << past_tall.message;
+  // Heights unknown (no depth): every blob tall, as before.
+  two.objects[static_cast<std::size_t>(a)].height.reset();
+  two.objects[b].height.reset();
+  const PushPlan blind = plan_push(two, a, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
+  EXPECT_EQ(blind.outcome, PlanOutcome::kUnreachable) << blind.message;
 }
 
 TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
@@ -467,6 +511,163 @@ TEST(PushPlanner, TheBaseContourCorrectsATallBoxsParallax) {
       EXPECT_GT((fv.objects[0].centre - k.c).norm(), err + 0.008);
     }
   }
+}
+
+// The depth image (CV_32FC1, metres along the optical axis) of the table top (z = 0) with the box
+// of draw_checkered_box standing on it: each pixel's ray against the box (slabs in its own frame)
+// and the table plane.
+cv::Mat1f render_box_depth(const geometry::Camera& cam, const Eigen::Vector2d& c, double hx,
+                           double hy, double h, double yaw) {
+  cv::Mat1f depth(cam.height, cam.width, 0.0F);
+  const Eigen::Matrix3d ray = cam.R.transpose() * cam.K.inverse();
+  const Eigen::Vector3d eye = cam.center();
+  const Eigen::Matrix2d to_box = Eigen::Rotation2Dd(-yaw).toRotationMatrix();
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      const Eigen::Vector3d d = ray * Eigen::Vector3d(u, v, 1.0);
+      double s = d.z() < 0 ? -eye.z() / d.z() : std::numeric_limits<double>::infinity();
+      // The box in its frame: |x| <= hx, |y| <= hy, 0 <= z <= h.
+      Eigen::Vector3d o;
+      o << to_box * (eye.head<2>() - c), eye.z();
+      Eigen::Vector3d dir;
+      dir << to_box * d.head<2>(), d.z();
+      const double lo[3] = {-hx, -hy, 0};
+      const double hi[3] = {hx, hy, h};
+      double enter = 0;
+      double leave = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(dir[k]) < 1e-12) {
+          if (o[k] < lo[k] || o[k] > hi[k]) leave = -1;
+          continue;
+        }
+        const double a = (lo[k] - o[k]) / dir[k];
+        const double b = (hi[k] - o[k]) / dir[k];
+        enter = std::max(enter, std::min(a, b));
+        leave = std::min(leave, std::max(a, b));
+      }
+      if (enter <= leave && enter > 0) s = std::min(s, enter);
+      if (std::isfinite(s)) depth(v, u) = static_cast<float>((cam.R * (eye + s * d) + cam.t).z());
+    }
+  }
+  return depth;
+}
+
+TEST(PushPlanner, DepthMeasuresABoxsFootprintAndHeight) {
+  const geometry::Camera cam = oblique_camera();
+  const TableRegion region;
+  struct Case {
+    Eigen::Vector2d c;
+    double hx, hy, h, yaw;
+  };
+  for (const Case& k :
+       {Case{{0.24, 0.06}, 0.02, 0.03, 0.15, 0.5}, Case{{0.10, -0.05}, 0.03, 0.02, 0.12, -0.3},
+        Case{{0.35, 0.12}, 0.06, 0.06, 0.01, 0.2}, Case{{0.45, -0.10}, 0.04, 0.025, 0.05, 1.0}}) {
+    cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
+    draw_checkered_box(img, cam, k.c, k.hx, k.hy, k.h, k.yaw);
+    const cv::Mat1f depth = render_box_depth(cam, k.c, k.hx, k.hy, k.h, k.yaw);
+    const PushPlanOptions o;
+    const std::vector<cv::KeyPoint> points = textured_points(img, o);
+    const PlanningView view = make_planning_view(points, cam, region, o, depth);
+    ASSERT_EQ(view.objects.size(), 1U);
+    const PutativeObject& m = view.objects[0];
+    ASSERT_TRUE(m.height.has_value());
+    EXPECT_NEAR(*m.height, k.h, 0.004) << "box at " << k.c.transpose();
+    EXPECT_LT((m.centre - k.c).norm(), 0.004) << "box at " << k.c.transpose() << " height " << k.h;
+    // The footprint is the box's: its diagonal, within the depth sampling (2 px).
+    const double diagonal = 2 * std::hypot(k.hx, k.hy);
+    EXPECT_NEAR(hull_span(m.hull), diagonal, 0.008);
+    // Without depth: the back-projection at 3.5 cm, exactly as make_planning_view has always
+    // made it (no height), which a tall box's parallax puts centimetres off.
+    const PlanningView plain = make_planning_view(points, cam, region, o);
+    const PlanningView empty = make_planning_view(points, cam, region, o, cv::Mat());
+    ASSERT_EQ(plain.objects.size(), 1U);
+    ASSERT_EQ(empty.objects.size(), 1U);
+    EXPECT_FALSE(plain.objects[0].height.has_value());
+    EXPECT_TRUE(plain.depth.empty());
+    EXPECT_EQ(plain.objects[0].centre, empty.objects[0].centre);
+    EXPECT_EQ(plain.objects[0].hull, empty.objects[0].hull);
+    EXPECT_EQ(plain.objects[0].extent, m.extent);  // what the tracking carries is unchanged
+    if (k.h > 0.1) {
+      EXPECT_GT((plain.objects[0].centre - k.c).norm(), 0.012);
+    }
+  }
+  // A depth image of another size, or not float metres, is bad input.
+  const PushPlanOptions o;
+  EXPECT_THROW((void)make_planning_view({}, cam, region, o, cv::Mat1f(10, 10, 1.0F)), Error);
+  EXPECT_THROW((void)make_planning_view({}, cam, region, o, cv::Mat(480, 640, CV_16U)), Error);
+  // Too few points above the table: no footprint.
+  EXPECT_FALSE(measure_footprint(cv::Mat1f(480, 640, 0.0F), cam, {{10, 10}, {100, 10}, {100, 100}})
+                   .has_value());
+}
+
+// A putative object with a square hull of side 2 * half around `c` and, when given, a height.
+PutativeObject square_object(const Eigen::Vector2d& c, double half, std::optional<double> height) {
+  PutativeObject o;
+  o.centre = c;
+  o.hull = {c + Eigen::Vector2d(-half, -half), c + Eigen::Vector2d(half, -half),
+            c + Eigen::Vector2d(half, half), c + Eigen::Vector2d(-half, half)};
+  o.extent = o.hull;
+  o.height = height;
+  return o;
+}
+
+TEST(PushGeometry, ALowBlobDoesNotBlockADescentATallOneDoes) {
+  const double tip = 0.008;
+  const double clearance = 0.04;
+  // The pushed object 0.40 m out on the x axis, pushed toward the base side... from behind it:
+  // the start 0.46 m out, 4 cm behind its edge (its half side 2 cm).
+  const Eigen::Vector2d start(0.46, 0.0);
+  const PutativeObject pushed_low = square_object({0.40, 0.0}, 0.02, 0.01);
+  // A neighbour 2 cm beside the hand (its hull's nearest edge 2 cm from the start).
+  const Eigen::Vector2d beside(0.46, 0.04);
+  const PutativeObject cd = square_object(beside, 0.02, 0.01);          // 1 cm high
+  const PutativeObject calculator = square_object(beside, 0.02, 0.02);  // 2 cm
+  const PutativeObject mug = square_object(beside, 0.02, 0.09);         // 9 cm
+  const PutativeObject giraffe = square_object(beside, 0.02, 0.16);     // 16 cm
+  const PutativeObject unknown = square_object(beside, 0.02, std::nullopt);
+  EXPECT_FALSE(descent_blocked(start, pushed_low, {&cd}, clearance, tip));
+  EXPECT_FALSE(descent_blocked(start, pushed_low, {&calculator}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(start, pushed_low, {&mug}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(start, pushed_low, {&giraffe}, clearance, tip));
+  // A giraffe 4.5-5.5 cm beside the hand: past the clearance, within the palm's reach.
+  const PutativeObject giraffe_past = square_object({0.46, 0.065}, 0.02, 0.16);
+  const PutativeObject mug_past = square_object({0.46, 0.065}, 0.02, 0.09);
+  EXPECT_TRUE(descent_blocked(start, pushed_low, {&giraffe_past}, clearance, tip));
+  EXPECT_FALSE(descent_blocked(start, pushed_low, {&mug_past}, clearance, tip));
+  // Without a height: as the height-blind check (every blob tall).
+  EXPECT_TRUE(descent_blocked(start, pushed_low, {&unknown}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(start, pushed_low.hull, {unknown.hull}, clearance));
+  // Height-blind, the low forearm passing over the pushed CD counts as meeting it.
+  EXPECT_TRUE(descent_blocked(start, pushed_low.hull, {}, clearance));
+  // A neighbour under the low forearm only (10 cm toward the base from the start, 3 cm aside):
+  // only one that reaches the palm meets it.
+  const Eigen::Vector2d under(0.36, 0.045);
+  EXPECT_FALSE(descent_blocked(start, pushed_low, {}, clearance, tip));
+  const PutativeObject mug_under = square_object(under, 0.02, 0.09);
+  const PutativeObject bottle_under = square_object(under, 0.02, 0.19);
+  EXPECT_FALSE(descent_blocked(start, pushed_low, {&mug_under}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(start, pushed_low, {&bottle_under}, clearance, tip));
+
+  // The pushed object's own height sets how far behind it the hand may come down (starts on
+  // its base side, its edge at 0.38 m: the forearm hangs away from it).
+  const Eigen::Vector2d near(0.355, 0.0);  // 2.5 cm behind its edge
+  const Eigen::Vector2d mid(0.335, 0.0);   // 4.5 cm
+  const Eigen::Vector2d far(0.32, 0.0);    // 6 cm
+  const PutativeObject pushed_mug = square_object({0.40, 0.0}, 0.02, 0.09);
+  const PutativeObject pushed_bottle = square_object({0.40, 0.0}, 0.02, 0.19);
+  const PutativeObject pushed_blind = square_object({0.40, 0.0}, 0.02, std::nullopt);
+  EXPECT_FALSE(descent_blocked(near, pushed_low, {}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(near, pushed_mug, {}, clearance, tip));  // the fingers, 3 + 1 cm
+  EXPECT_FALSE(descent_blocked(mid, pushed_mug, {}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(mid, pushed_bottle, {}, clearance, tip));  // the palm, 4.5 + 1 cm
+  EXPECT_FALSE(descent_blocked(far, pushed_bottle, {}, clearance, tip));
+  EXPECT_FALSE(descent_blocked(near, pushed_blind, {}, clearance, tip));  // height-blind: as before
+  // Pushed toward the base (the start beyond it): the low forearm passes over it, which only an
+  // object that reaches the palm (or one of unknown height) meets.
+  EXPECT_FALSE(descent_blocked({0.47, 0.0}, pushed_mug, {}, clearance, tip));  // 5 cm behind
+  EXPECT_TRUE(descent_blocked(start, pushed_bottle, {}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(start, pushed_blind, {}, clearance, tip));
+  EXPECT_TRUE(descent_blocked(start, pushed_blind.hull, {}, clearance));
 }
 
 }  // namespace

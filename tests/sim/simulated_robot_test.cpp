@@ -318,5 +318,63 @@ TEST(SimulatedRobot, OutlivesTheCatalogueItWasBuiltFrom) {
   EXPECT_EQ(robot->ground_truth()[2].name, "calculator");
 }
 
+// The camera-frame depth (metres along the optical axis) of world point `x`.
+double camera_depth(const geometry::Camera& c, const Eigen::Vector3d& x) {
+  return (c.R * x + c.t).z();
+}
+
+TEST(SimulatedRobot, AnRgbdLookHasTheDepthOfAKnownBox) {
+  // The catalogue's box is a 10 cm cube: its top's centre, and the table beside it, are at known
+  // depths along the optical axis.
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  TableOptions t = small_table();
+  t.objects = {"box"};
+  t.depth = true;
+  robot::Look look;
+  {
+    SimulatedRobot robot(t, cat);  // one GL context at a time
+    look = robot.look();
+    ASSERT_FALSE(look.depth.empty());
+    ASSERT_EQ(look.depth.type(), CV_32FC1);
+    ASSERT_EQ(look.depth.size(), look.image.size());
+    const ObjectTruth box = truth_of(robot.ground_truth(), "box");
+    EXPECT_NEAR(box.centre.z(), 0.05, 0.002);
+    const auto depth_at = [&](const Eigen::Vector3d& x) {
+      const Eigen::Vector2d p = look.camera.project(x);
+      return static_cast<double>(look.depth.at<float>(static_cast<int>(std::lround(p.y())),
+                                                      static_cast<int>(std::lround(p.x()))));
+    };
+    // A pixel's centre sees a point up to half a pixel (about 1.5 mm at 320 px) off the aimed one.
+    const Eigen::Vector3d top(box.centre.x(), box.centre.y(), 0.10);
+    EXPECT_NEAR(depth_at(top), camera_depth(look.camera, top), 0.003);
+    const Eigen::Vector3d table(box.centre.x() + (box.centre.x() > 0.3 ? -0.15 : 0.15),
+                                box.centre.y(), 0.0);
+    EXPECT_NEAR(depth_at(table), camera_depth(look.camera, table), 0.003);
+    // Every pixel of the box back-projects to a point of the cube (within a pixel's reach).
+    const cv::Mat mask = robot.ground_truth_mask() == box.id;
+    const Eigen::Matrix3d k_inv = look.camera.K.inverse();
+    int seen = 0;
+    for (int v = 0; v < mask.rows; ++v) {
+      for (int u = 0; u < mask.cols; ++u) {
+        if (mask.at<std::uint8_t>(v, u) == 0) continue;
+        const double d = look.depth.at<float>(v, u);
+        const Eigen::Vector3d x =
+            look.camera.R.transpose() * (d * (k_inv * Eigen::Vector3d(u, v, 1.0)) - look.camera.t);
+        EXPECT_LT(x.z(), 0.105);
+        EXPECT_GT(x.z(), -0.003);
+        EXPECT_LT((x.head<2>() - box.centre.head<2>()).norm(), 0.05 * std::sqrt(2.0) + 0.006);
+        ++seen;
+      }
+    }
+    EXPECT_GT(seen, 100);
+  }
+  // Without the option the look has no depth, and the same image.
+  t.depth = false;
+  SimulatedRobot plain(t, cat);
+  const robot::Look colour = plain.look();
+  EXPECT_TRUE(colour.depth.empty());
+  EXPECT_EQ(cv::norm(colour.image, look.image, cv::NORM_INF), 0.0);
+}
+
 }  // namespace
 }  // namespace proprio::sim

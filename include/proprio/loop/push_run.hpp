@@ -313,6 +313,9 @@ struct PushEvaluationOptions {
   sim::Background background = sim::Background::kPlain;
   int distractors = -1;
   int clutter = 0;
+  /// The robot's camera is an RGB-D one (sim::TableOptions::depth): the planner measures each
+  /// object's footprint and height from depth instead of back-projecting at centre_height.
+  bool depth = false;
   planning::PushPlanOptions plan = loop_plan_options();
 
   void validate() const;
@@ -347,6 +350,9 @@ struct PushEvaluationOptions {
                          core::between(-1, 4)});
     v(self.clutter,
       {"clutter", "Clutter objects on each table beside the objects pushed", core::between(0, 4)});
+    v(self.depth, {"depth",
+                   "An RGB-D camera: plan from each object's footprint and height "
+                   "measured from depth"});
   }
 };
 

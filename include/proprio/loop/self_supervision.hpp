@@ -135,6 +135,9 @@ struct SelfSupervisionOptions {
   /// ceiling the vocabulary and LDA model set, in seconds instead of a run's minutes (to tune
   /// them without a robot run; the other rungs are then empty, the run learns nothing).
   bool ceiling_only = false;
+  /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
+  /// planner measures each blob's footprint and height from depth (descent check by height).
+  bool depth = false;
   std::filesystem::path out;  ///< output directory (required by run_self_supervision)
   bool overwrite = false;
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
@@ -192,6 +195,9 @@ struct SelfSupervisionOptions {
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
     v(self.ceiling_only,
       {"ceiling_only", "No robot run: score only the ladder's renders (a0, a0_table)"});
+    v(self.depth, {"depth",
+                   "An RGB-D camera: plan from each blob's footprint and height "
+                   "measured from depth"});
     v(self.mot.components,
       {"mot_components", "Mixture of Topics: Dirichlets per object at most (1: the thesis's)",
        core::between(1, 10)});

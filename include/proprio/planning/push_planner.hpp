@@ -187,7 +187,42 @@ struct PutativeObject {
   /// image of the object lies on the table (the hull itself with CentreMethod::kFeatures), what
   /// find_pushed_object carries to find the object's features again.
   std::vector<Eigen::Vector2d> extent;
+  /// Measured from depth (make_planning_view with a depth image, measure_footprint): the height
+  /// of the object's top above the table, m; `centre` and `hull` are then its measured footprint
+  /// (the table-plane hull of its 3D points and that hull's centroid) instead of the back-
+  /// projection at centre_height. Empty without depth (or too few depth points on the object):
+  /// the planner knows no height and treats the object as tall.
+  std::optional<double> height;
 };
+
+/// An object's footprint and height measured from depth points (measure_footprint).
+struct MeasuredFootprint {
+  std::vector<Eigen::Vector2d> hull;  ///< convex hull of the points' table x y, m (CCW)
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< the hull's area centroid, m
+  double height = 0;  ///< the top's height above the table (98th percentile of z), m
+  int points = 0;     ///< depth points on the object (above kObjectLeastHeight)
+};
+
+/// Depth points lower than this above the table are the table, not an object, m.
+inline constexpr double kObjectLeastHeight = 0.005;
+/// Fewer depth points than this on a blob: no footprint measured (the blob keeps the
+/// back-projected one).
+inline constexpr int kFootprintLeastPoints = 20;
+
+/// The 3D footprint of what `depth` (CV_32FC1 metres along the optical axis, as robot::Look::depth;
+/// 0 or not finite: no measurement) sees inside the convex polygon `hull_pixels` (ideal pixels)
+/// and the 8-bit `mask` (placed at `box` in the image; empty: the polygon alone): each pixel
+/// (every `step` px) back-projected to the world, X = R^T (depth K^-1 (u, v, 1) - t) (base frame,
+/// table top z = 0); points at least kObjectLeastHeight above the table are the object. Their
+/// table x y's convex hull is its footprint for convex objects whose top or sides the camera sees
+/// (a box's top covers its footprint; a cylinder's unseen back half is missing, so its centre
+/// comes out up to 4r / 3pi nearer the camera). Empty (nullopt) when fewer than
+/// kFootprintLeastPoints points are on an object.
+std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
+                                                   const geometry::Camera& camera,
+                                                   const std::vector<Eigen::Vector2d>& hull_pixels,
+                                                   const cv::Mat& mask = {}, cv::Rect box = {},
+                                                   int step = 1);
 
 /// What the planner knows of the view: the features, their density (eq 6.3) and the putative
 /// objects, sorted by size (largest first).
@@ -197,6 +232,9 @@ struct PlanningView {
   std::vector<cv::KeyPoint> features;
   cv::Mat1f density;  ///< (h * N)(x) of eq 6.3 over all features
   std::vector<PutativeObject> objects;
+  /// The look's depth image (robot::Look::depth: CV_32FC1, metres along the optical axis) or
+  /// empty; with it every putative object's footprint and height are measured.
+  cv::Mat depth;
 };
 
 /// Feature points of an 8-bit image: the dense grid points (spacing options.grid_step) whose
@@ -210,11 +248,15 @@ std::vector<cv::KeyPoint> textured_points(const cv::Mat& image, const PushPlanOp
 /// convex hull back-projected to the table at options.centre_height. Features whose
 /// back-projection onto the table top falls outside `region` (table edges, the world beyond) are
 /// left out first; blobs whose centre falls within region.base_radius of the base axis are
-/// dropped.
+/// dropped. With `depth` (robot::Look::depth; empty: none, everything as without it) each blob's
+/// centre, hull and height are measured from the depth points inside its features' hull
+/// (measure_footprint) where it has enough of them. Throws Error when `depth` is not CV_32FC1 of
+/// the camera's image size.
 PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
                                 const geometry::Camera& camera, const TableRegion& region,
-                                const PushPlanOptions& options);
-/// make_planning_view of textured_points(look.image, ignoring look.arm_mask).
+                                const PushPlanOptions& options, const cv::Mat& depth = {});
+/// make_planning_view of textured_points(look.image, ignoring look.arm_mask), with look.depth
+/// (its arm pixels cleared).
 PlanningView look_for_objects(const robot::Look& look, const TableRegion& region,
                               const PushPlanOptions& options);
 
@@ -352,6 +394,38 @@ inline constexpr double kForearmReach = 0.15;
 /// forearm (arm_link3) meeting the bottle or the giraffe at 85-98% of the transit, the way down.
 bool descent_blocked(const Eigen::Vector2d& start, const std::vector<Eigen::Vector2d>& hull,
                      const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance);
+
+/// The hand above the pusher's tip when it points down (data/models/arm.xml): the fingers' lowest
+/// points kFingerDrop above the tip, reaching kFingerReach from its axis; the palm's lowest
+/// kPalmDrop above it, reaching kPalmReach; the forearm higher still. m.
+inline constexpr double kFingerDrop = 0.03;
+inline constexpr double kFingerReach = 0.03;
+inline constexpr double kPalmDrop = 0.10;
+inline constexpr double kPalmReach = 0.045;
+/// An object whose top is within this below a part of the hand still counts as meeting it, m.
+inline constexpr double kDescentHeightMargin = 0.005;
+/// Added to the hand's reach for the hand's orientation (its pitch is free where the arm reaches
+/// far), m.
+inline constexpr double kDescentReachMargin = 0.01;
+
+/// descent_blocked with the objects' heights where they were measured (PutativeObject::height,
+/// from depth); an object without one is treated as descent_blocked treats every object (tall).
+/// With a height h above the table, the pusher's tip at `tip_height` (m):
+/// - an object lower than the fingers (h < tip_height + kFingerDrop - kDescentHeightMargin) never
+///   blocks: the hand passes above it;
+/// - the pushed object (`pushed`) blocks when the start is nearer its hull than the part of the
+///   hand that reaches its height (plus kDescentReachMargin): kFingerReach, or kPalmReach once it
+///   reaches the palm (h >=
+///   tip_height + kPalmDrop - kDescentHeightMargin), when also the forearm must not pass over it;
+///   its height so sets how far behind it the hand may come down;
+/// - another object blocks when it is within `clearance` (at least the reach of the part of the
+///   hand it reaches, plus kDescentReachMargin) of the hand (the start), or, once it reaches the
+///   palm, within `clearance` of the low forearm (the segment from the start kForearmReach toward
+///   the base).
+/// Units: m, table frame (the base at the origin).
+bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
+                     const std::vector<const PutativeObject*>& others, double clearance,
+                     double tip_height);
 
 /// The density of every putative object but view.objects[object]: its blob and its convex hull
 /// zeroed (eq 7.5's "own hull zeroed").

@@ -10,6 +10,9 @@
 // - a grab of the current image (8-bit BGR) with a time stamp, and the arm's joint angles and
 //   end-effector position at that time; optionally where its own body is in the image (its
 //   link geometry drawn through the calibration), so that the arm is not taken for an object;
+// - optionally a depth image registered to the colour image (an RGB-D camera: the same pixels,
+//   the same calibration), in metres along the optical axis; planning then measures each
+//   object's footprint and height instead of assuming one height for all;
 // - a joint-position controller that follows a joint trajectory sampled at a fixed rate (the
 //   samples come from plan_push_motion: inverse kinematics of a straight line at the pusher's
 //   height, eqs 3.4-3.6), and a way to move the pusher above the table to the push's start
@@ -48,6 +51,12 @@ struct Look {
   /// CV_8U, 255 where the arm's own body is in view (the robot's self-model: its links drawn
   /// through the calibration at the joint angles q); empty when the robot cannot tell.
   cv::Mat arm_mask;
+  /// CV_32FC1, the image's size: each pixel's depth, metres along the camera's optical axis (the
+  /// camera frame's z, not the length of the ray), registered to `image` through `camera` (the
+  /// point seen at ideal pixel (u, v) is X_cam = depth * K^-1 (u, v, 1)^T, world X = R^T (X_cam -
+  /// t)); 0 where nothing was measured. Empty when the robot has no depth camera: every user then
+  /// behaves as with a colour camera alone.
+  cv::Mat depth;
 };
 
 /// A straight push along the table, in the table plane (world x y, m).

@@ -57,6 +57,10 @@ struct TableOptions {
   /// scoring oracles only (loop/self_supervision_scoring.hpp's oracle ladder); the learner never
   /// reads them. Not a command option: the oracle ladder's callers set it.
   bool record_masks = false;
+  /// An RGB-D camera: look() fills robot::Look::depth from the renderer's depth pass (metres
+  /// along the optical axis, the same pixels as the image; 0 where nothing is rendered). Off:
+  /// Look::depth stays empty (a colour camera alone, as before).
+  bool depth = false;
 
   /// Throws Error naming the first bad option (the clutter's names are checked against the
   /// catalogue when the robot is built).
@@ -91,6 +95,9 @@ struct TableOptions {
        core::between(0.2, 0.35)});
     v(self.record_transit,
       {"record_transit", "Record the arm's transit to the push's start in the episode"});
+    v(self.depth, {"depth",
+                   "An RGB-D camera: each look has a depth image too (planning "
+                   "measures objects' footprints and heights from it)"});
   }
 };
 
