@@ -41,6 +41,7 @@ const Loaded& loaded() {
           d.depth = ep.depth(i);
           d.intrinsics = ep.camera().K;
           d.ee_camera = 1000.0 * (ep.camera().R * ep.arm()[i].ee + ep.camera().t);
+          d.up = ep.camera().R.col(2);  // as segment_ml: the table cut (table_clearance) runs
           out.depth.push_back(d);
         }
       }
@@ -109,6 +110,15 @@ void BM_MlDepth(benchmark::State& state) {
   run_ml(state, o);
 }
 BENCHMARK(BM_MlDepth)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The same without the table cut (MlOptions::table_clearance = 0): what the cut costs.
+void BM_MlDepthNoTableCut(benchmark::State& state) {
+  seg::MlOptions o;
+  o.use_depth = true;
+  o.table_clearance = 0;
+  run_ml(state, o);
+}
+BENCHMARK(BM_MlDepthNoTableCut)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Stages alone, one 640x480 frame pair.
 void BM_Flow(benchmark::State& state) {

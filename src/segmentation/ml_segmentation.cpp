@@ -9,6 +9,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <unordered_map>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/text.hpp"
@@ -184,7 +185,10 @@ cv::Mat1f table_heights(const cv::Mat1f& depth, const Eigen::Matrix3d& k_inv,
   // h = up . (z K^-1 (x, y, 1)) = z (a x + b y + c), with (a, b, c) = up^T K^-1 in full-size
   // pixels.
   const Eigen::Vector3d row = k_inv.transpose() * up;
-  std::unordered_map<long, int> bins;
+  // 1 mm bins over +-kReach of the camera: a table farther than 65 m is no robot's table (such
+  // heights still count as known). A flat histogram, not a map: a frame is 10^5 pixels or more.
+  constexpr long kReach = 32768;
+  std::vector<int> bins(static_cast<std::size_t>(2 * kReach), 0);
   int known = 0;
   for (int y = 0; y < depth.rows; ++y) {
     const float* z = depth[y];
@@ -193,19 +197,20 @@ cv::Mat1f table_heights(const cv::Mat1f& depth, const Eigen::Matrix3d& k_inv,
       if (!(z[x] > 0) || !std::isfinite(z[x])) continue;
       const double v = z[x] * (row.x() * x * pixel_scale + row.y() * y * pixel_scale + row.z());
       o[x] = static_cast<float>(v);
-      ++bins[static_cast<long>(std::floor(v))];
       ++known;
+      if (v >= -static_cast<double>(kReach) && v < static_cast<double>(kReach)) {
+        ++bins[static_cast<std::size_t>(static_cast<long>(std::floor(v)) + kReach)];
+      }
     }
   }
   if (known == 0) return h;
-  long mode = 0;
-  int best = -1;
-  for (const auto& [b, n] : bins) {
-    if (n > best || (n == best && b < mode)) {
-      best = n;
-      mode = b;
-    }
+  // The fullest bin, the lowest of equals.
+  const auto fullest = std::max_element(bins.begin(), bins.end());
+  if (*fullest == 0) {
+    h.setTo(kUnknown);
+    return h;
   }
+  const long mode = static_cast<long>(fullest - bins.begin()) - kReach;
   const double centre = static_cast<double>(mode) + 0.5;
   double sum = 0;
   int near = 0;

@@ -476,6 +476,15 @@ TEST(MlDepth, TableHeightsUnderAnObliqueCamera) {
           static_cast<float>((-1000.0 + 40.0 * y) / up.dot(k_inv * Eigen::Vector3d(x, y, 1.0)));
   EXPECT_EQ(cv::countNonZero(table_heights(ramp, k_inv, up, 1.0) < 1e9F), 0);
   EXPECT_EQ(cv::countNonZero(table_heights(cv::Mat1f(8, 8, 0.0F), k_inv, up, 1.0) < 1e9F), 0);
+  // A plane 100 m below (beyond the +-32.768 m of the table's bins): known, never the table.
+  cv::Mat1f far = z * 100.0F;
+  far.col(7).setTo(0.0F);
+  EXPECT_EQ(cv::countNonZero(table_heights(far, k_inv, up, 1.0) < 1e9F), 0);
+  // With a table 1 m below in a third of the view, that plane is the table again.
+  z(cv::Rect(0, 0, 320, 80)).copyTo(far(cv::Rect(0, 0, 320, 80)));
+  const cv::Mat1f hf = table_heights(far, k_inv, up, 1.0);
+  EXPECT_NEAR(hf(10, 10), 0.0, 0.01);
+  EXPECT_NEAR(hf(200, 10), -99000.0, 1.0);  // far below it
 }
 
 // The depth variant on the synthetic push (table 1000 mm below an overhead camera, the square

@@ -480,7 +480,8 @@ class MlSegmenter {
 /// pixels), each point X (camera frame, mm) at height h = up . X along `up` (unit, camera
 /// frame), less the table's height: the mode of h over the known pixels (1 mm bins, refined to
 /// the mean of the heights within 2 mm of the modal bin), when at least min_table_share of
-/// them lie within 2 mm of it. Unknown pixels, and every pixel when no table is found, get
+/// them lie within 2 mm of it (heights beyond +-32.768 m count as known, never as the table).
+/// Unknown pixels, and every pixel when no table is found, get
 /// +infinity (never below a clearance). Requires a finite unit `up`, pixel_scale > 0.
 cv::Mat1f table_heights(const cv::Mat1f& depth, const Eigen::Matrix3d& k_inv,
                         const Eigen::Vector3d& up, double pixel_scale,
