@@ -316,16 +316,22 @@ MlSegmenter::DepthFrame test_depth(const PushFrame& f) {
   return d;
 }
 
-double depth_variant_jaccard(const PushSpec& spec, bool holes) {
+// The depth variant on the synthetic push (table 1000 mm below an overhead camera, the square
+// 60 mm tall): its map at the first touch, with the given table clearance (cut only `with_up`),
+// every 5th depth pixel unknown (as 0 or NaN) with `holes`, and the touch frame.
+std::pair<cv::Mat1f, PushFrame> depth_variant_map(const PushSpec& spec, double clearance,
+                                                  bool with_up, bool holes = false) {
   MlOptions o;
   o.use_depth = true;
+  o.table_clearance = clearance;
   o.keep_frame_labels = false;
   MlSegmenter seg(o, cv::Size(spec.width, spec.height));
   PushFrame touch;
   for (int i = 0; i < spec.frames; ++i) {
     const PushFrame f = push_frame(spec, i);
     MlSegmenter::DepthFrame d = test_depth(f);
-    if (holes) {  // every 5th pixel unknown, as 0 or NaN
+    if (with_up) d.up = Eigen::Vector3d(0.0, 0.0, -2.0);  // towards the camera; normalised
+    if (holes) {
       cv::Mat1f z = d.depth;
       for (int y = 0; y < z.rows; ++y)
         for (int x = (y % 5); x < z.cols; x += 5)
@@ -336,8 +342,15 @@ double depth_variant_jaccard(const PushSpec& spec, bool holes) {
   }
   const int t = seg.first_touch_frame().value_or(-1);
   EXPECT_GE(t, 0);
-  if (t < 0) return 0;
-  const cv::Mat1f map = seg.map_for_frame(t);
+  if (t < 0) return {};
+  return {seg.map_for_frame(t), touch};
+}
+
+double depth_variant_jaccard(const PushSpec& spec, bool holes) {
+  MlOptions o;
+  o.use_depth = true;  // the depth variant's mask fraction
+  const auto [map, touch] = depth_variant_map(spec, o.table_clearance, false, holes);
+  if (map.empty()) return 0;
   expect_valid_map(map);
   return jaccard(threshold_map(map, o.effective_mask_fraction()), touch.mask == 1);
 }
@@ -485,29 +498,6 @@ TEST(MlDepth, TableHeightsUnderAnObliqueCamera) {
   const cv::Mat1f hf = table_heights(far, k_inv, up, 1.0);
   EXPECT_NEAR(hf(10, 10), 0.0, 0.01);
   EXPECT_NEAR(hf(200, 10), -99000.0, 1.0);  // far below it
-}
-
-// The depth variant on the synthetic push (table 1000 mm below an overhead camera, the square
-// 60 mm tall): its map at the first touch, with the given table clearance, and the touch frame.
-std::pair<cv::Mat1f, PushFrame> depth_variant_map(const PushSpec& spec, double clearance,
-                                                  bool with_up) {
-  MlOptions o;
-  o.use_depth = true;
-  o.table_clearance = clearance;
-  o.keep_frame_labels = false;
-  MlSegmenter seg(o, cv::Size(spec.width, spec.height));
-  PushFrame touch;
-  for (int i = 0; i < spec.frames; ++i) {
-    const PushFrame f = push_frame(spec, i);
-    MlSegmenter::DepthFrame d = test_depth(f);
-    if (with_up) d.up = Eigen::Vector3d(0.0, 0.0, -2.0);  // towards the camera; normalised
-    (void)seg.push(f.image, f.ee, f.touching, &d);
-    if (seg.first_touch_frame() == i) touch = f;
-  }
-  const int t = seg.first_touch_frame().value_or(-1);
-  EXPECT_GE(t, 0);
-  if (t < 0) return {};
-  return {seg.map_for_frame(t), touch};
 }
 
 TEST(MlDepth, TableCutZeroesTheTableAndKeepsTheObject) {
