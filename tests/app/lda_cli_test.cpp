@@ -211,6 +211,7 @@ TEST_F(LdaCli, HostileArgumentsAreRefusedWithExitTwo) {
       {train + "--model " + d("train/docword.txt"), "--model is the same file as"},
       {train + "--alpha 1e300 --model " + d("x.lda"), "alpha"},
       {train + "--eta 1e300 --model " + d("x.lda"), "eta"},
+      {train + "--mpi-exchange four --model " + d("x.lda"), "(it is four)"},
       {"lda infer --model " + d("m.lda") + " --corpus " + d("heldout") + " --out " + d("m.lda"),
        "--out is the same file as"},
       {"lda infer --model " + d("nan.lda") + " --corpus " + d("heldout") + " --out " + d("x.csv"),

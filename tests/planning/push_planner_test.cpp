@@ -131,6 +131,17 @@ TEST(PushPlanner, PlansAroundAnObstacleAndRejectsWhatItCannotDo) {
                 .outcome,
             PlanOutcome::kAtTarget);
   const PlanningView empty = make_planning_view({}, cam, {}, flat_options());
+  // Depth of another type or size than the camera's image: an Error naming it.
+  for (const cv::Mat& depth :
+       {cv::Mat(480, 640, CV_16UC1, cv::Scalar(0)), cv::Mat(240, 320, CV_32FC1, cv::Scalar(0))}) {
+    try {
+      (void)make_planning_view({}, cam, {}, flat_options(), depth);
+      ADD_FAILURE() << "bad depth taken";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("depth image must be CV_32FC1"), std::string::npos)
+          << e.what();
+    }
+  }
   EXPECT_EQ(
       plan_push(empty, 0, PushGoal::kTarget, target, region, state, q0, flat_options()).outcome,
       PlanOutcome::kNoObjects);
