@@ -453,25 +453,31 @@ MiniBatchStats OnlineLda::update(const Corpus& corpus, std::size_t begin, std::s
 namespace {
 
 // sufficient_statistics (engine.hpp) on the topics [k0, k1) only: the whole vectors of lanes that
-// hold them, each entry summed in document order, as there.
+// hold them, each entry summed in document order, as there. Compact: a row holds only those
+// lanes (`width` floats a row, lane `lane0` first), so a rank zeroes and walks its share of the
+// V_B x stride block and not all of it; topic k of row r is at sstats[r * width + k - lane0].
 void statistics_of_rows(const detail::Kernels& kern, core::ThreadPool& pool,
                         const detail::BatchDocs& docs, const detail::BatchEStep& estep,
-                        std::size_t rows, int k0, int k1, detail::FloatBuffer& sstats) {
+                        std::size_t rows, int k0, int k1, detail::FloatBuffer& sstats, int& lane0,
+                        int& width) {
   const auto S = static_cast<std::size_t>(estep.stride);
-  sstats.assign(rows * S, 0.0f);
-  if (k1 <= k0) return;
   const int first = k0 / kern.lanes;
-  const int vectors = (k1 + kern.lanes - 1) / kern.lanes - first;
+  const int vectors = k1 > k0 ? (k1 + kern.lanes - 1) / kern.lanes - first : 0;
+  lane0 = first * kern.lanes;
+  width = vectors * kern.lanes;
+  const auto L = static_cast<std::size_t>(width);
+  sstats.assign(rows * L, 0.0f);
+  if (vectors == 0) return;
   const int parts = std::min(pool.size(), vectors);
   core::parallel_for(pool, static_cast<std::size_t>(parts), [&](std::size_t p, int) {
-    const int v0 = first + static_cast<int>(p) * vectors / parts;
-    const int v1 = first + (static_cast<int>(p) + 1) * vectors / parts;
+    const int v0 = static_cast<int>(p) * vectors / parts;
+    const int v1 = (static_cast<int>(p) + 1) * vectors / parts;
     const int a = v0 * kern.lanes;
     const int len = (v1 - v0) * kern.lanes;
     for (std::size_t d = 0; d < docs.size(); ++d) {
-      const float* eth = estep.exp_elog_theta.data() + d * S + a;
+      const float* eth = estep.exp_elog_theta.data() + d * S + lane0 + a;
       for (std::size_t e = docs.offsets[d]; e < docs.offsets[d + 1]; ++e) {
-        float* row = sstats.data() + static_cast<std::size_t>(docs.rows[e]) * S + a;
+        float* row = sstats.data() + static_cast<std::size_t>(docs.rows[e]) * L + a;
         kern.axpy(estep.weights[e], eth, row, len);
       }
     }
@@ -480,10 +486,12 @@ void statistics_of_rows(const detail::Kernels& kern, core::ThreadPool& pool,
 
 // The M-step (eq B.23-B.24) on the rows [k0, k0 + n) of lambda held in `rows` (n x W): for every
 // word, lambda = (1 - rho) lambda + rho eta + rho D/|B| sstats exp(E[log beta]) on the batch's
-// words, the decay alone on the others.
+// words, the decay alone on the others. Row r's statistics of topic k are at
+// sstats[r * sstride + k - lane0] (sufficient_statistics: sstride = S, lane0 = 0; compact:
+// statistics_of_rows), its exp E[log beta] at beta[r * S + k].
 void mstep_rows(Eigen::MatrixXd& rows, int k0, const std::vector<std::int32_t>& row_of_word,
-                const float* sstats, const float* beta, std::size_t S, double rho, double scale,
-                double eta, core::ThreadPool& pool) {
+                const float* sstats, std::size_t sstride, int lane0, const float* beta,
+                std::size_t S, double rho, double scale, double eta, core::ThreadPool& pool) {
   const double keep = 1.0 - rho;
   const double prior = rho * eta;
   const auto W = static_cast<std::size_t>(rows.cols());
@@ -496,7 +504,7 @@ void mstep_rows(Eigen::MatrixXd& rows, int k0, const std::vector<std::int32_t>& 
       double* col = rows.col(static_cast<Eigen::Index>(w)).data();
       const std::int32_t r = row_of_word[w];
       if (r >= 0) {
-        const float* s = sstats + static_cast<std::size_t>(r) * S + k0;
+        const float* s = sstats + static_cast<std::size_t>(r) * sstride + (k0 - lane0);
         const float* e = beta + static_cast<std::size_t>(r) * S + k0;
         for (int k = 0; k < n; ++k) {
           col[k] = keep * col[k] + prior +
@@ -516,9 +524,11 @@ void OnlineLda::finish_update(MiniBatchStats& stats) {
   LdaModel& model = m.model;
   const auto S = static_cast<std::size_t>(m.stride);
   Lap lap;
+  int lane0 = 0;         // the statistics' first lane (compact when split by topic)
+  int width = m.stride;  // and their floats a row
   if (m.by_topic) {
     statistics_of_rows(*m.kern, m.pool, m.docs, m.estep, m.batch_words.size(), m.row0, m.row1,
-                       m.sstats);
+                       m.sstats, lane0, width);
   } else {
     detail::sufficient_statistics(*m.kern, m.pool, m.docs, m.estep, m.batch_words.size(), m.sstats);
   }
@@ -534,11 +544,11 @@ void OnlineLda::finish_update(MiniBatchStats& stats) {
   const double scale =
       static_cast<double>(model.total_documents) / static_cast<double>(stats.documents);
   if (m.by_topic) {
-    mstep_rows(m.own, m.row0, m.row_of_word, m.sstats.data(), m.beta.data(), S, rho, scale,
-               model.eta, m.pool);
+    mstep_rows(m.own, m.row0, m.row_of_word, m.sstats.data(), static_cast<std::size_t>(width),
+               lane0, m.beta.data(), S, rho, scale, model.eta, m.pool);
     m.own_sum = detail::topic_sums(m.own, m.pool);
   } else {
-    mstep_rows(model.lambda, 0, m.row_of_word, m.sstats.data(), m.beta.data(), S, rho, scale,
+    mstep_rows(model.lambda, 0, m.row_of_word, m.sstats.data(), S, 0, m.beta.data(), S, rho, scale,
                model.eta, m.pool);
     m.topic_sum = detail::topic_sums(model.lambda, m.pool);
   }
