@@ -1239,15 +1239,43 @@ long test_failure_update(int rank) {
   return u;
 }
 
+// The ranks must run the same training: every option but the threads (which change no bit),
+// the MPI choices included. A rank given another batch size, K or exchange would send other
+// messages than the rest expect and desynchronise the collectives (a hang or garbage), so a
+// library caller that gives ranks different options gets one error on every rank instead.
+void check_same_options(const OnlineLdaOptions& options, core::Communicator& comm) {
+  if (comm.size() == 1) return;
+  OnlineLdaOptions o = options;
+  o.threads = 1;
+  const std::string text = core::fields_to_json(o).dump() + core::fields_to_json(o.mpi).dump();
+  const std::uint64_t h = core::fnv1a(text);
+  std::int64_t v = 0;
+  std::memcpy(&v, &h, sizeof v);
+  std::vector<std::int64_t> lo{v};
+  std::vector<std::int64_t> hi{v};
+  comm.allreduce_min(lo);
+  comm.allreduce_max(hi);
+  if (lo != hi) {
+    throw core::CollectiveError("online LDA: the " + std::to_string(comm.size()) +
+                                " MPI ranks were given different training options (every option "
+                                "but the threads must be the same on every rank)");
+  }
+}
+
 }  // namespace
 
 OnlineLdaResult train_online_lda(const CorpusShard& shard, const Corpus* heldout,
                                  const OnlineLdaOptions& options, core::Communicator& comm) {
-  options.validate();
   const Corpus& local = shard.documents;
-  if (shard.total_documents == 0) throw Error("online LDA: the training corpus is empty");
-  if (local.num_words() < 1) throw Error("online LDA: the vocabulary is empty");
-  check_heldout_words(heldout, local.num_words());
+  // Bad options or a held-out corpus (given to some ranks only) that one rank finds must stop
+  // every rank, not leave the others waiting in the first collective.
+  core::agree(comm, [&] {
+    options.validate();
+    if (shard.total_documents == 0) throw Error("online LDA: the training corpus is empty");
+    if (local.num_words() < 1) throw Error("online LDA: the vocabulary is empty");
+    check_heldout_words(heldout, local.num_words());
+  });
+  check_same_options(options, comm);
   const std::int64_t D =
       options.total_documents > 0 ? options.total_documents : shard.total_documents;
   // Split by topic, each rank draws and holds only its rows of lambda.

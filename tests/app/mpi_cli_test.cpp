@@ -253,6 +253,32 @@ TEST_F(MpiLda, RanksThatReadDifferentCorporaAllExit2WithOneLine) {
   EXPECT_FALSE(fs::exists(path("x.lda")));
 }
 
+// The same corpus but other options on one rank (a library caller could do it; mpirun's MPMD
+// form lets the CLI do it too): another exchange, design or kappa would desynchronise the
+// collectives or the model, so every rank stops with one line. Other thread counts are allowed
+// (no bit changes), and the job then writes the one-process model.
+TEST_F(MpiLda, RanksGivenDifferentOptionsAllExit2WithOneLine) {
+  std::string train = " lda train --corpus ";
+  train += path("c");
+  train += " ";
+  train += kArgs;
+  train += " --model ";
+  train += path("opt.lda");
+  for (const std::string other :
+       {" --mpi-exchange three", " --kappa 0.8", " --mpi-design replicated"}) {
+    const auto r = run(mpirun(2) + cli() + train + " : -np 1 " + cli() + train + other);
+    EXPECT_EQ(r.code, 2) << other << "\n" << r.err;
+    EXPECT_EQ(count_of(r.err, "proprio: "), 1) << r.err;
+    EXPECT_NE(r.err.find("3 MPI ranks were given different training options"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(path("opt.lda")));
+  }
+  const auto r =
+      run(mpirun(1) + cli() + train + " --threads 2 : -np 1 " + cli() + train + " --threads 1");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(path("opt.lda")), slurp(path("one.lda")));
+}
+
 TEST_F(MpiLda, MoreRanksThanDocumentsAndBadLinesExit2WithOneLine) {
   const test::TempDir d("proprio_mpi_", "tiny");
   {
