@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 
+#include "proprio/core/checkpoint.hpp"
 #include "proprio/core/error.hpp"
 
 namespace proprio::core {
@@ -92,6 +94,19 @@ void agree(Communicator& comm, const std::function<void()>& step) {
   message.resize(static_cast<std::size_t>(length[0]));
   comm.broadcast(std::as_writable_bytes(std::span(message.data(), message.size())), root);
   throw CollectiveError(message);
+}
+
+void require_same_on_every_rank(Communicator& comm, std::string_view text,
+                                const std::string& message) {
+  if (comm.size() == 1) return;
+  const std::uint64_t h = fnv1a(text);
+  std::int64_t v = 0;
+  std::memcpy(&v, &h, sizeof v);
+  std::int64_t lo[1] = {v};
+  std::int64_t hi[1] = {v};
+  comm.allreduce_min(lo);
+  comm.allreduce_max(hi);
+  if (lo[0] != hi[0]) throw CollectiveError(message);
 }
 
 void fold_in_rank_order(Communicator& comm, std::span<double> acc,

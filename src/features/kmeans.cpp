@@ -30,6 +30,7 @@
 #include "proprio/core/checkpoint.hpp"
 #include "proprio/core/communicator.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/core/fields.hpp"
 #include "proprio/core/parallel.hpp"
 #include "proprio/core/random.hpp"
 
@@ -440,6 +441,13 @@ VocabularyResult build_vocabulary(const DescriptorBlock& mine, const KmeansOptio
                   " descriptors (need at least as many descriptors as words)");
     }
   });
+  // Every rank must run the same k-means (all options but the threads, which change no bit).
+  KmeansOptions same = options;
+  same.threads = 0;
+  core::require_same_on_every_rank(comm, core::fields_to_json(same).dump(),
+                                   "k-means: the " + std::to_string(ranks) +
+                                       " MPI ranks were given different options (every option "
+                                       "but the threads must be the same on every rank)");
   std::vector<std::int64_t> dims{D};
   comm.allreduce_max(dims);
   D = static_cast<int>(dims[0]);

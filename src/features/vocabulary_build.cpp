@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "proprio/core/error.hpp"
+#include "proprio/core/fields.hpp"
 #include "proprio/core/progress.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/features/image_set.hpp"
@@ -143,6 +144,16 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
     }
     set = read_image_set(options.images);
   });
+  // Every rank must extract and sample alike (the k-means checks its own options again).
+  KmeansOptions kmeans = options.kmeans;
+  kmeans.threads = 0;
+  core::require_same_on_every_rank(
+      comm,
+      core::fields_to_json(options).dump() + core::fields_to_json(options.features).dump() +
+          core::fields_to_json(kmeans).dump(),
+      "vocab build: the " + std::to_string(ranks) +
+          " MPI ranks were given different options (every option but the threads must be the "
+          "same on every rank)");
   // 1. This rank's images' features.
   const std::size_t I = set.images.size();
   std::vector<cv::Mat> own(I);

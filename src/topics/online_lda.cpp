@@ -1244,22 +1244,13 @@ long test_failure_update(int rank) {
 // messages than the rest expect and desynchronise the collectives (a hang or garbage), so a
 // library caller that gives ranks different options gets one error on every rank instead.
 void check_same_options(const OnlineLdaOptions& options, core::Communicator& comm) {
-  if (comm.size() == 1) return;
   OnlineLdaOptions o = options;
   o.threads = 1;
-  const std::string text = core::fields_to_json(o).dump() + core::fields_to_json(o.mpi).dump();
-  const std::uint64_t h = core::fnv1a(text);
-  std::int64_t v = 0;
-  std::memcpy(&v, &h, sizeof v);
-  std::vector<std::int64_t> lo{v};
-  std::vector<std::int64_t> hi{v};
-  comm.allreduce_min(lo);
-  comm.allreduce_max(hi);
-  if (lo != hi) {
-    throw core::CollectiveError("online LDA: the " + std::to_string(comm.size()) +
-                                " MPI ranks were given different training options (every option "
-                                "but the threads must be the same on every rank)");
-  }
+  core::require_same_on_every_rank(
+      comm, core::fields_to_json(o).dump() + core::fields_to_json(o.mpi).dump(),
+      "online LDA: the " + std::to_string(comm.size()) +
+          " MPI ranks were given different training options (every option but the threads "
+          "must be the same on every rank)");
 }
 
 }  // namespace

@@ -362,6 +362,19 @@ TEST(MpiVocab, TwoAndThreeRanksBuildTheOneProcessVocabulary) {
       EXPECT_EQ(j["ranks"], ranks);
       test::expect_schema_valid("vocab_build.schema.json", out(name + ".json"));
     }
+    if (per_image == "0") continue;
+    // One rank given other options (mpirun's MPMD form): every rank stops with one line, nothing
+    // written; other thread counts are allowed.
+    for (const std::string other :
+         {" --min-contrast 3", " --max-iterations 7", " --seeding-trials 2"}) {
+      const auto r =
+          run(mpirun(1) + test::cli_path() + args + " --out " + out("bad.voc") + " : -np 1 " +
+              test::cli_path() + args + other + " --out " + out("bad.voc"));
+      EXPECT_EQ(r.code, 2) << other << "\n" << r.err;
+      EXPECT_EQ(count_of(r.err, "proprio: "), 1) << r.err;
+      EXPECT_NE(r.err.find("2 MPI ranks were given different options"), std::string::npos) << r.err;
+      EXPECT_FALSE(fs::exists(out("bad.voc")));
+    }
   }
 }
 

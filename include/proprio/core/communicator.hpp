@@ -16,6 +16,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "proprio/core/error.hpp"
@@ -94,6 +95,13 @@ int launched_mpi_world_size();
 /// next collective). It throws CollectiveError, also with one rank. Other exceptions pass through
 /// (a bug: the caller aborts the job).
 void agree(Communicator& comm, const std::function<void()>& step);
+
+/// Collective: checks that every rank passed the same `text` (by a 64-bit FNV-1a hash of it,
+/// compared by a minimum and a maximum over the ranks) and throws CollectiveError(`message`) on
+/// every rank when they differ. For the options of a data-parallel job: a rank given other
+/// options would send other messages than the rest expect, a hang or a wrong result.
+void require_same_on_every_rank(Communicator& comm, std::string_view text,
+                                const std::string& message);
 
 /// Every rank's values concatenated in rank order (a typed allgather); `counts[r]` is rank r's
 /// number of elements when `counts` is given.
