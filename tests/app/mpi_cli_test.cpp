@@ -266,7 +266,11 @@ TEST_F(MpiLda, RanksGivenDifferentOptionsAllExit2WithOneLine) {
   train += path("opt.lda");
   for (const std::string other :
        {" --mpi-exchange three", " --kappa 0.8", " --mpi-design replicated"}) {
-    const auto r = run(mpirun(2) + cli() + train + " : -np 1 " + cli() + train + other);
+    std::string line = mpirun(2) + cli() + train;
+    line += " : -np 1 ";
+    line += cli() + train;
+    line += other;
+    const auto r = run(line);
     EXPECT_EQ(r.code, 2) << other << "\n" << r.err;
     EXPECT_EQ(count_of(r.err, "proprio: "), 1) << r.err;
     EXPECT_NE(r.err.find("3 MPI ranks were given different training options"), std::string::npos)
@@ -364,12 +368,15 @@ TEST(MpiVocab, TwoAndThreeRanksBuildTheOneProcessVocabulary) {
     }
     if (per_image == "0") continue;
     // One rank given other options (mpirun's MPMD form): every rank stops with one line, nothing
-    // written; other thread counts are allowed.
+    // written.
     for (const std::string other :
          {" --min-contrast 3", " --max-iterations 7", " --seeding-trials 2"}) {
-      const auto r =
-          run(mpirun(1) + test::cli_path() + args + " --out " + out("bad.voc") + " : -np 1 " +
-              test::cli_path() + args + other + " --out " + out("bad.voc"));
+      std::string line = mpirun(1) + test::cli_path() + args;
+      line += " --out " + out("bad.voc");
+      line += " : -np 1 " + test::cli_path() + args;
+      line += other;
+      line += " --out " + out("bad.voc");
+      const auto r = run(line);
       EXPECT_EQ(r.code, 2) << other << "\n" << r.err;
       EXPECT_EQ(count_of(r.err, "proprio: "), 1) << r.err;
       EXPECT_NE(r.err.find("2 MPI ranks were given different options"), std::string::npos) << r.err;
