@@ -187,6 +187,9 @@ void register_sim_commands(CLI::App& root, const Invocation& inv) {
   views->add_option("--width", vs->options.width, "Image width")->capture_default_str();
   views->add_option("--height", vs->options.height, "Image height")->capture_default_str();
   views->add_option("--seed", vs->options.seed, "Seed")->capture_default_str();
+  views->add_flag("--masks", vs->options.masks,
+                  "Also the object's ground-truth mask as each image's alpha channel "
+                  "(read by --alpha-mask)");
   views->add_option("--out", vs->out, "Directory to create")->required();
   vs->json.add_to(views, "a summary");
   views->callback([vs, &inv] { run_views(*vs, inv); });

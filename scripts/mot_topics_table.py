@@ -4,8 +4,10 @@ usage: python3 scripts/mot_topics_table.py OUT_DIR T...
 Mean class accuracy per method and T: argmax theta (topics named by the labelled training views,
 merged), supervised MoT, online-supervised MoT (half the views, then the other half by the 50:50
 rule), unsupervised MoT (k-means over theta with C given; each learned object named after the
-majority class of its training views).
+majority class of its training views); when T*/mix.json exist (COMPONENTS > 1), the supervised
+MoT with a mixture of Dirichlets per object as a fifth curve.
 """
+import os
 import collections
 import csv
 import json
@@ -40,19 +42,24 @@ for t in topics:
                  "supervised": sup["mean_class_accuracy"],
                  "online": online["mean_class_accuracy"], "unsupervised": unsup,
                  "argmax_confusion": argmax, "supervised_confusion": sup})
+    if os.path.exists(f"{d}/mix.json"):
+        mix = json.load(open(f"{d}/mix.json"))["confusion"]
+        rows[-1].update({"mixture": mix["mean_class_accuracy"], "mixture_confusion": mix})
 classes = len(rows[0]["supervised_confusion"]["rows"])
 json.dump({"format": "proprio.experiment.mot_topics", "chance": 1 / classes, "rows": rows},
           open(f"{out}/fig7-9.json", "w"), indent=1)
 
 methods = [("supervised", "supervised MoT", "#1f77b4"), ("online", "online-supervised MoT", "#2ca02c"),
            ("unsupervised", "unsupervised MoT", "#d62728"), ("argmax", "argmax theta", "#7f7f7f")]
+if all("mixture" in r for r in rows):
+    methods.insert(1, ("mixture", "supervised MoT, mixture", "#9467bd"))
 print("T   " + "  ".join(f"{m[1]:>22}" for m in methods))
 for r in rows:
     print(f"{r['topics']:<3} " + "  ".join(f"{100 * r[m[0]]:21.1f}%" for m in methods))
 best = max(rows, key=lambda r: r["supervised"])
 print(f"chance {100 / classes:.1f}%; best supervised MoT {100 * best['supervised']:.1f}% at "
       f"T = {best['topics']}")
-for name in ("supervised", "argmax"):
+for name in [m[0] for m in methods if m[0] in ("supervised", "mixture", "argmax")]:
     r = max(rows, key=lambda r: r[name])
     c = r[f"{name}_confusion"]
     print(f"\n{name} at T = {r['topics']} (rows: truth)")

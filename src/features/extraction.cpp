@@ -121,4 +121,25 @@ Features select_features(const Features& f, const std::vector<int>& rows) {
 
 cv::Mat read_image(const fs::path& path) { return geometry::read_image(path, cv::IMREAD_COLOR); }
 
+cv::Mat read_alpha_mask(const fs::path& path) {
+  const cv::Mat all = geometry::read_image(path, cv::IMREAD_UNCHANGED);
+  if (all.channels() != 4) {
+    throw Error::in_file(path, "--alpha-mask: the image has no alpha channel (" +
+                                   std::to_string(all.channels()) + " channels)");
+  }
+  cv::Mat alpha;
+  cv::extractChannel(all, alpha, 3);
+  return alpha != 0;
+}
+
+Features extract_file_features(const fs::path& path, const ExtractOptions& options, bool grey) {
+  const cv::Mat image = geometry::read_image(path, grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
+  const cv::Mat mask = options.alpha_mask ? read_alpha_mask(path) : cv::Mat();
+  try {
+    return extract_features(image, options, mask);
+  } catch (const Error& e) {
+    throw Error::in_file(path, e.what());
+  }
+}
+
 }  // namespace proprio::features

@@ -23,10 +23,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Read as grey by the decoder, as `vocab build` always has (the vocabulary's bytes depend on it).
-cv::Mat read_grey(const std::filesystem::path& p) {
-  return geometry::read_image(p, cv::IMREAD_GRAYSCALE);
-}
+// Images are read as grey by the decoder (extract_file_features(..., grey = true)), as `vocab
+// build` always has: the vocabulary's bytes depend on it.
 
 // A uniform sample of `count` rows without replacement (partial Fisher-Yates), in row order.
 void append_sample(const cv::Mat& descriptors, int count, core::Rng& rng, cv::Mat& all) {
@@ -91,7 +89,7 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
   {
     core::ProgressBar bar(set.images.size(), "descriptors", options.progress);
     for (const auto& path : set.images) {
-      const Features f = extract_features(read_grey(path), options.features);
+      const Features f = extract_file_features(path, options.features, /*grey=*/true);
       bar.tick();
       if (f.empty()) {
         ++without;
@@ -165,7 +163,7 @@ VocabularyBuildResult run_vocabulary_build(const VocabularyBuildOptions& options
         options.progress && rank == 0);
     for (std::size_t i = static_cast<std::size_t>(rank); i < I;
          i += static_cast<std::size_t>(ranks)) {
-      const Features f = extract_features(read_grey(set.images[i]), options.features);
+      const Features f = extract_file_features(set.images[i], options.features, /*grey=*/true);
       bar.tick();
       if (f.empty()) continue;
       own[i] = f.descriptors;

@@ -42,13 +42,7 @@ LabelledCorpus image_corpus(const features::ImageSet& set, std::span<const std::
   out.classes = set.classes;
   std::size_t done = 0;
   for (std::size_t i : indices) {
-    const cv::Mat image = features::read_image(set.images[i]);
-    features::Features f;
-    try {
-      f = features::extract_features(image, options);
-    } catch (const Error& e) {
-      throw Error::in_file(set.images[i], e.what());
-    }
+    const features::Features f = features::extract_file_features(set.images[i], options);
     const std::vector<std::int32_t> tokens = features::bag_of_words(vocabulary, f.descriptors);
     out.corpus.add_tokens(tokens);
     out.labels.push_back(set.labels[i]);
@@ -127,8 +121,7 @@ cv::Mat sample_descriptors(const features::ImageSet& set, std::span<const std::s
   cv::Mat out(0, features::kDescriptorLength, CV_32F);
   std::size_t done = 0;
   for (std::size_t i : chosen) {
-    const features::Features f =
-        features::extract_features(features::read_image(set.images[i]), options);
+    const features::Features f = features::extract_file_features(set.images[i], options);
     for (std::size_t r :
          draw(static_cast<std::size_t>(f.size()), static_cast<std::size_t>(per_image), rng))
       out.push_back(f.descriptors.row(static_cast<int>(r)));

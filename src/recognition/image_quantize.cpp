@@ -15,14 +15,6 @@
 #include "proprio/topics/corpus_io.hpp"
 
 namespace proprio::recognition {
-namespace {
-
-// Read as grey by the decoder, as `vocab build` reads its images.
-cv::Mat read_grey(const std::filesystem::path& p) {
-  return geometry::read_image(p, cv::IMREAD_GRAYSCALE);
-}
-
-}  // namespace
 
 void QuantizeImagesOptions::validate() const {
   if (vocabulary.empty()) throw Error("vocab quantize: the vocabulary is required");
@@ -58,7 +50,7 @@ QuantizeImagesResult run_quantize_images(const QuantizeImagesOptions& options,
     core::ProgressBar bar(set.images.size(), "images", options.progress);
     for (std::size_t i = 0; i < set.images.size(); ++i) {
       const features::Features f =
-          features::extract_features(read_grey(set.images[i]), options.features);
+          features::extract_file_features(set.images[i], options.features, /*grey=*/true);
       bar.tick();
       if (f.descriptors.cols != v.dimension() && !f.empty()) {
         throw Error::in_file(options.vocabulary, "words of " + std::to_string(v.dimension()) +

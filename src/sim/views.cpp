@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
@@ -101,7 +102,15 @@ ViewsSummary render_views(const fs::path& out, const ViewsOptions& options,
         data.cam_xmat[9 * cam_id + 3 * i + 1] = up[i];
         data.cam_xmat[9 * cam_id + 3 * i + 2] = -fwd[i];
       }
-      const cv::Mat rgb = renderer.rgb(world, cam);
+      cv::Mat rgb = renderer.rgb(world, cam);
+      if (options.masks) {
+        // BGRA: the colours, and alpha 255 exactly where the object's id is in the mask.
+        const cv::Mat ids = renderer.mask(world, cam);
+        const cv::Mat alpha = ids == static_cast<int>(id);
+        cv::Mat bgra;
+        cv::merge(std::vector<cv::Mat>{rgb, alpha}, bgra);  // planes of one depth, any channels
+        rgb = bgra;
+      }
       char file[32];
       std::snprintf(file, sizeof file, "%06d.png", k);
       if (!cv::imwrite((dir / file).string(), rgb)) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "../support/schema_check.hpp"
 #include "../support/temp_dir.hpp"
@@ -176,6 +177,28 @@ TEST(SimCli, ViewsWritesAFolderPerObject) {
   const cv::Mat a = cv::imread((dir / "book" / "000000.png").string());
   const cv::Mat b = cv::imread((dir / "book" / "000001.png").string());
   EXPECT_GT(cv::norm(a, b, cv::NORM_L1), 1000.0);
+  // --masks: the same colours, and the object's ground-truth mask as the alpha channel.
+  const fs::path masked = scratch.path() / "masked";
+  ASSERT_EQ(run_cli("sim views --objects book,mug --per-object 3 --width 160 --height 120 "
+                    "--masks --out " +
+                    masked.string())
+                .code,
+            0);
+  for (const char* o : {"book", "mug"}) {
+    const cv::Mat plain = cv::imread((dir / o / "000001.png").string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat bgra = cv::imread((masked / o / "000001.png").string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(plain.channels(), 3);
+    ASSERT_EQ(bgra.channels(), 4) << o;
+    cv::Mat colours, alpha;
+    cv::cvtColor(bgra, colours, cv::COLOR_BGRA2BGR);
+    cv::extractChannel(bgra, alpha, 3);
+    EXPECT_EQ(cv::norm(plain, colours, cv::NORM_INF), 0.0) << o;
+    // The object fills part of the picture, not all of it; alpha is 0 or 255.
+    const int on = cv::countNonZero(alpha);
+    EXPECT_GT(on, 100) << o;
+    EXPECT_LT(on, alpha.rows * alpha.cols / 2) << o;
+    EXPECT_EQ(on, cv::countNonZero(alpha == 255)) << o;
+  }
   const auto bad =
       run_cli("sim views --objects teapot --per-object 1 --out " + (dir.string() + "_bad"));
   EXPECT_EQ(bad.code, 2);

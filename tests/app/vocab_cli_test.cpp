@@ -36,7 +36,9 @@ class VocabCli : public ::testing::Test {
     }
   }
   static void TearDownTestSuite() { temp_.reset(); }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static fs::path dir_;
 };
 std::optional<test::TempDir> VocabCli::temp_;
@@ -129,6 +131,14 @@ TEST_F(VocabCli, BadInput) {
   r = run_cli("vocab build --images " + images.string() + " --center-crop nan --out " + v.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--center-crop: must be in (0, 1]"), std::string::npos) << r.err;
+
+  // --alpha-mask reaches the image reader: pictures without alpha are named, nothing written.
+  r = run_cli("vocab build --images " + images.string() + " --alpha-mask --no-progress --out " +
+              v.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("no alpha channel"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(v));
 
   std::ofstream(v, std::ios::binary) << "PRVOCAB1 truncated";
   r = run_cli("vocab info --vocab " + v.string());

@@ -6,8 +6,10 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "../support/synthetic_episode.hpp"
+#include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/core/random.hpp"
@@ -104,6 +106,43 @@ TEST(Documents, ContrastAndCentreCropKeepTheTexturedCentre) {
   for (const auto& k : c.keypoints) EXPECT_TRUE(k.pt.x >= 100 && k.pt.x < 300) << k.pt;
   o.center_crop = 0;
   EXPECT_THROW((void)features::extract_features(img, o), Error);
+}
+
+TEST(Documents, AlphaMaskKeepsTheFeaturesOnTheObject) {
+  // sim views --masks writes the object's mask as the alpha channel: with --alpha-mask only the
+  // features there make the document (the left patch), the colours under alpha 0 are ignored.
+  const proprio::test::TempDir scratch("proprio_alpha_mask_");
+  const cv::Mat img = two_patches();
+  cv::Mat alpha = cv::Mat::zeros(img.size(), CV_8UC1);
+  alpha(cv::Rect(0, 0, 200, 240)).setTo(255);
+  cv::Mat bgra;
+  cv::merge(std::vector<cv::Mat>{img, alpha}, bgra);
+  const fs::path file = scratch.path() / "masked.png";
+  ASSERT_TRUE(cv::imwrite(file.string(), bgra));
+  features::ExtractOptions o;
+  const features::Features all = features::extract_file_features(file, o);
+  bool right_patch = false;
+  for (const auto& k : all.keypoints) right_patch = right_patch || k.pt.x >= 200;
+  EXPECT_TRUE(right_patch);  // without the option the alpha channel is not a mask
+  o.alpha_mask = true;
+  const features::Features kept = features::extract_file_features(file, o);
+  ASSERT_GT(kept.size(), 0);
+  EXPECT_LT(kept.size(), all.size());
+  for (const auto& k : kept.keypoints) EXPECT_LT(k.pt.x, 200.0F) << k.pt;
+  // The same as extract_features with the mask given.
+  EXPECT_EQ(kept.size(), features::extract_features(img, o, alpha).size());
+  // Grey decoding (vocab build) keeps the same grid points.
+  EXPECT_EQ(features::extract_file_features(file, o, /*grey=*/true).size(), kept.size());
+  // A picture without alpha: an Error naming it.
+  const fs::path plain = scratch.path() / "plain.png";
+  ASSERT_TRUE(cv::imwrite(plain.string(), img));
+  try {
+    (void)features::extract_file_features(plain, o);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("plain.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no alpha channel"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Documents, ImagesWithoutFeaturesGiveEmptyDocuments) {

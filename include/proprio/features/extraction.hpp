@@ -37,6 +37,11 @@ struct ExtractOptions {
   /// (0, 1]; 1 = all). For object-centred pictures (Caltech, the simulator's views) whose
   /// surroundings would otherwise outweigh a small object.
   double center_crop = 1.0;
+  /// Image files (folder-per-class sets): keep only the features on the image's alpha channel
+  /// (non-zero alpha: the object, as `sim views --masks` writes it, like a robot's view cut out
+  /// by its segmentation mask); an image without alpha is an Error naming it. Frames of episodes
+  /// have their own masks and ignore it.
+  bool alpha_mask = false;
 
   /// Throws Error naming the first option out of its bounds.
   void validate() const;
@@ -61,6 +66,9 @@ struct ExtractOptions {
     v(self.center_crop,
       {"center_crop", "Keep the features in this central fraction of width and height",
        core::positive_at_most(1)});
+    v(self.alpha_mask, {"alpha_mask",
+                        "Image files: keep only the features where the image's alpha channel is "
+                        "non-zero (sim views --masks)"});
   }
 };
 
@@ -76,5 +84,14 @@ Features select_features(const Features& f, const std::vector<int>& rows);
 /// Reads an image file (8-bit, colour or grey). Throws Error naming the file when it cannot be
 /// read or decoded.
 cv::Mat read_image(const std::filesystem::path& path);
+
+/// The features of an image file: extract_features of its pixels (grey when `grey`, else BGR),
+/// within its alpha channel when options.alpha_mask. Errors name the file.
+Features extract_file_features(const std::filesystem::path& path, const ExtractOptions& options,
+                               bool grey = false);
+
+/// An image file's alpha channel as a mask (CV_8U, 255 where alpha is non-zero). Throws Error
+/// naming the file when it cannot be read or has no alpha channel (not 4 channels).
+cv::Mat read_alpha_mask(const std::filesystem::path& path);
 
 }  // namespace proprio::features

@@ -23,6 +23,11 @@ struct ViewsOptions {
   /// Camera distance to the object, m, and elevation above the table, degrees (uniform ranges).
   double min_distance = 0.35, max_distance = 0.7;
   double min_elevation_deg = 10, max_elevation_deg = 60;
+  /// Also the object's ground-truth mask, as each PNG's alpha channel (255 on the object's
+  /// pixels, 0 elsewhere; the colours under alpha 0 are the backdrop, kept): the analogue of a
+  /// robot's view cut out by its segmentation mask. Feature options `--alpha-mask` read it. The
+  /// colours are the same as without it (the same draws, the same renders).
+  bool masks = false;
 
   static std::vector<std::filesystem::path> default_backgrounds();
   /// Throws Error naming the bad option (unknown objects are found by render_views).
