@@ -184,6 +184,7 @@ TEST(MlSegmentation, ArmRemovalOverEveryIntervalSeenKeepsAnObjectThatMovedOnce) 
   spec.jolt = 8;
   const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
   MlOptions o;
+  o.pixel_arm_removal = false;  // arm removal per region alone
   o.arm_removal_seen = false;
   const MlResult moved_only = segment_ml(ep, o);
   o.arm_removal_seen = true;
@@ -209,6 +210,7 @@ TEST(MlSegmentation, ArmRemovalPerPixelKeepsTheObjectsSideNextToTheArm) {
     const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
     MlOptions o;
     o.region_count = 100;  // large regions: some straddle the arm and the square at the touch
+    o.pixel_arm_removal = false;
     const MlResult region = segment_ml(ep, o);
     o.pixel_arm_removal = true;
     const MlResult pixel = segment_ml(ep, o);
