@@ -93,6 +93,11 @@ struct Track {
     const double pre = pre_count > 0 ? (pre_sum + (seen ? pre_still : 0)) / pre_count : 1.0;
     return std::clamp(post * pre, 0.0, 1.0);
   }
+  // The same without eq 4.18's arm-removal term (MlOptions::pixel_arm_removal).
+  [[nodiscard]] double post_score(double min_count) const {
+    const double n = std::max<double>(post_n, min_count);
+    return std::clamp(n > 0 ? post_sum / n : 0.0, 0.0, 1.0);
+  }
 };
 
 }  // namespace
@@ -121,6 +126,13 @@ void MlOptions::validate() const {
                  core::num(homography_selection)}));
   require_positive(evidence_step, "evidence_step");
   require_positive(arm_removal_step, "arm_removal_step");
+  require_positive(pixel_still_span, "pixel_still_span");
+  require(std::isfinite(pixel_motion_margin) && pixel_motion_margin >= 0,
+          core::cat({"MlOptions.pixel_motion_margin must be >= 0, got ",
+                     core::num(pixel_motion_margin)}));
+  require(std::isfinite(pixel_still_gradient) && pixel_still_gradient >= 0,
+          core::cat({"MlOptions.pixel_still_gradient must be >= 0, got ",
+                     core::num(pixel_still_gradient)}));
   require(std::isfinite(min_region_motion) && min_region_motion >= 0,
           "MlOptions.min_region_motion must be >= 0");
   require(std::isfinite(scale) && scale >= 0.1 && scale <= 1.0,
@@ -300,6 +312,18 @@ struct MlSegmenter::Impl {
   cv::Mat1b prev_gray;
   std::vector<cv::Mat1i> labels;  // per frame (or only the first touch's)
   cv::Mat1i touch_labels;
+  // Arm removal per pixel (pixel_arm_removal): per processing pixel, the last frame whose grey
+  // level differed from the previous frame's by more than kGlobalChangeLevel (-1: none), kept
+  // until the first touch; the arm's recent positions before it; and the first-touch frame's
+  // pixels found still then (empty: not judged).
+  cv::Mat1i last_change;
+  std::vector<std::pair<int, Eigen::Vector2d>> pre_touch_ee;
+  cv::Mat1b touch_still;
+  // ... and, once the arm has moved evidence_step pixels after the touch, whether each of them
+  // then matched the touch frame displaced by the arm's motion (touch_gray, touch_arm).
+  cv::Mat1b touch_gray;
+  Eigen::Vector2d touch_arm = Eigen::Vector2d::Zero();
+  bool touch_judged = false;
   // Depth variant with depth_smoothing: the depth of every frame whose labels are kept.
   std::vector<cv::Mat1f> depths;
   cv::Mat1f touch_depth;
@@ -584,6 +608,81 @@ struct MlSegmenter::Impl {
     return tr.last_motion;
   }
 
+  // Arm removal per pixel, before the touch: notes which pixels changed in this frame pair
+  // (every pixel when most of the image did, global_change) and where the arm is.
+  void note_pre_touch_change(const cv::Mat1b& gray, bool photometric_ok,
+                             const std::optional<Eigen::Vector2d>& ee) {
+    if (last_change.empty()) last_change = cv::Mat1i(gray.size(), -1);
+    if (!prev_gray.empty()) {
+      if (photometric_ok) {
+        cv::Mat1b diff;
+        cv::absdiff(gray, prev_gray, diff);
+        last_change.setTo(frames, diff > kGlobalChangeLevel);
+      } else {
+        last_change.setTo(frames);
+      }
+    }
+    if (ee) pre_touch_ee.emplace_back(frames, *ee);
+    constexpr size_t kKeep = 512;  // a long approach: its last frames are the ones that count
+    if (pre_touch_ee.size() > 2 * kKeep)
+      pre_touch_ee.erase(pre_touch_ee.begin(),
+                         pre_touch_ee.end() - static_cast<std::ptrdiff_t>(kKeep));
+  }
+
+  // At the first touch: the pixels that did not change since the arm was last pixel_still_span
+  // pixels from where it touches, and whose gradient would have shown a motion. None when the
+  // arm's position is unknown or it never moved that far.
+  void find_still_pixels(const cv::Mat1b& gray, const std::optional<Eigen::Vector2d>& ee) {
+    touch_still.release();
+    if (!ee || last_change.empty()) return;
+    int since = -1;
+    for (auto it = pre_touch_ee.rbegin(); it != pre_touch_ee.rend(); ++it) {
+      if ((it->second - *ee).norm() >= opt.pixel_still_span) {
+        since = it->first;
+        break;
+      }
+    }
+    if (since < 0) return;
+    cv::Mat1s gx, gy;
+    cv::Sobel(gray, gx, CV_16S, 1, 0);
+    cv::Sobel(gray, gy, CV_16S, 0, 1);
+    const cv::Mat1s mag = cv::abs(gx) + cv::abs(gy);
+    touch_still = (last_change <= since) & (mag >= opt.pixel_still_gradient);
+    touch_gray = gray;
+    touch_arm = *ee;
+  }
+
+  // After the touch, once the arm has moved evidence_step pixels from where it touched (d): a
+  // still pixel x of the touch frame keeps its place in touch_still only when the current frame
+  // displaced by d matches it better than undisplaced, |I(x + d) - I_touch(x)| + margin <
+  // |I(x) - I_touch(x)| (5x5 means, pixel_motion_margin): it moved as the arm did (the
+  // pushed object), not stood (the background beside it, which a region straddling the object's
+  // outline joins to it). The kept pixels are closed (5x5) so that the plain gaps between textured
+  // pixels of the object count with them; what no longer is in the region after that is left to the
+  // region.
+  void judge_still_pixels(const cv::Mat1b& gray, const std::optional<Eigen::Vector2d>& ee) {
+    if (touch_judged || touch_still.empty() || !ee) return;
+    const Eigen::Vector2d d = (*ee - touch_arm) / inv_scale;
+    if (d.norm() * inv_scale < opt.evidence_step) return;
+    cv::Mat1b shifted;
+    const cv::Matx23d to(1, 0, d.x(), 0, 1, d.y());
+    cv::warpAffine(gray, shifted, to, gray.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                   cv::BORDER_REPLICATE);
+    cv::Mat1f e_arm, e_still;
+    cv::Mat1b a, b;
+    cv::absdiff(shifted, touch_gray, a);
+    cv::absdiff(gray, touch_gray, b);
+    cv::boxFilter(a, e_arm, CV_32F, cv::Size(5, 5));
+    cv::boxFilter(b, e_still, CV_32F, cv::Size(5, 5));
+    const auto margin = static_cast<float>(opt.pixel_motion_margin);
+    cv::Mat1b moved = (e_arm + margin < e_still) & touch_still;
+    cv::morphologyEx(moved, moved, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+    touch_still = moved;
+    touch_judged = true;
+    touch_gray.release();
+  }
+
   // Whether most of the image changed between the frames (the light moved, the exposure
   // jumped): then no pixel's brightness says whether it moved, and the photometric checks
   // stand aside for this frame pair.
@@ -689,7 +788,8 @@ struct MlSegmenter::Impl {
   // pre-touch record.
   struct Scored {
     float score = 0.0F;
-    int evidence = 0;  // post-touch intervals, own and inherited
+    int evidence = 0;   // post-touch intervals, own and inherited
+    float post = 0.0F;  // the score without the arm-removal term (pixel_arm_removal)
   };
 
   [[nodiscard]] std::unordered_map<int, Scored> scores() const {
@@ -739,7 +839,8 @@ struct MlSegmenter::Impl {
     score.reserve(total.size());
     const double min_count = opt.min_evidence_fraction * post_intervals;
     for (const auto& [id, tr] : total)
-      score[id] = {static_cast<float>(tr.score(min_count, opt.arm_removal_seen)), tr.post_n};
+      score[id] = {static_cast<float>(tr.score(min_count, opt.arm_removal_seen)), tr.post_n,
+                   static_cast<float>(tr.post_score(min_count))};
     return score;
   }
 
@@ -785,6 +886,7 @@ struct MlSegmenter::Impl {
     std::unordered_map<int, int> index;
     std::vector<float> score(ids.size(), 0.0F);
     std::vector<int> evidence(ids.size(), 0);
+    std::vector<float> post(ids.size(), 0.0F);
     std::vector<Eigen::Vector3f> colour(ids.size(), Eigen::Vector3f::Zero());
     for (size_t k = 0; k < ids.size(); ++k) {
       index[ids[k]] = static_cast<int>(k);
@@ -792,6 +894,7 @@ struct MlSegmenter::Impl {
       if (sc != scored.end()) {
         score[k] = sc->second.score;
         evidence[k] = sc->second.evidence;
+        post[k] = sc->second.post;
       }
       const auto tr = tracks.find(ids[k]);
       if (tr != tracks.end()) colour[k] = tr->second.colour;
@@ -825,6 +928,17 @@ struct MlSegmenter::Impl {
       const int* l = compact[y];
       float* o = m[y];
       for (int x = 0; x < lab.cols; ++x) o[x] = score[static_cast<size_t>(l[x])];
+    }
+    if (frame == *first_touch && touch_judged && touch_still.size() == m.size()) {
+      // Arm removal per pixel (pixel_arm_removal): a pixel that did not move before the touch
+      // is not the arm, whatever the rest of its region did.
+      for (int y = 0; y < m.rows; ++y) {
+        const int* l = compact[y];
+        const uchar* still = touch_still[y];
+        float* o = m[y];
+        for (int x = 0; x < m.cols; ++x)
+          if (still[x]) o[x] = std::max(o[x], post[static_cast<size_t>(l[x])]);
+      }
     }
     if (opt.use_depth && opt.table_clearance > 0 && up && depth.size() == m.size()) {
       // The table cut: what lies on the table's plane is not the object standing on it.
@@ -1015,6 +1129,17 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   out.ms_regions = std::chrono::duration<double, std::milli>(t2 - t1).count();
 
   const bool first_touch_now = touching && !m.first_touch;
+  const bool pixel_arm_removal = m.opt.pixel_arm_removal && !m.opt.use_depth;
+  if (pixel_arm_removal && !m.first_touch) {
+    m.note_pre_touch_change(gray, photometric_ok, ee_image);
+    if (first_touch_now) {
+      m.find_still_pixels(gray, ee_image);
+      m.last_change.release();
+      m.pre_touch_ee.clear();
+      m.pre_touch_ee.shrink_to_fit();
+    }
+  }
+  if (pixel_arm_removal && m.first_touch && !first_touch_now) m.judge_still_pixels(gray, ee_image);
   if (first_touch_now) m.first_touch = m.frames;
   if (m.frames == 0 || !ee_image || !m.prev_ee || !m.interval_ee) {
     m.start_interval(ee_image, gray);  // arm unknown: the open interval carries no evidence

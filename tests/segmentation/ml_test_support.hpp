@@ -56,6 +56,10 @@ struct PushSpec {
   double square_brightness = 1.0;
   /// The same for the (textured) table: its grey levels pulled towards their mean.
   double background_contrast = 1.0;
+  /// The arm drawn with the square's own texture (another part of it): superpixels of the
+  /// touch frame then straddle the arm and the square it touches, as the simulated gripper and
+  /// the mug's side do.
+  bool arm_like_square = false;
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
@@ -130,7 +134,9 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
   const cv::Rect arm(static_cast<int>(std::lround(tip)) - s.arm,
                      static_cast<int>(std::lround(y_mid - s.arm / 2.0)), s.arm, s.arm);
   const cv::Rect arm_in = arm & cv::Rect(0, 0, s.width, s.height);
-  arm_tex(cv::Rect(0, 0, arm_in.width, arm_in.height)).copyTo(f.image(arm_in));
+  const cv::Point arm_from =
+      s.arm_like_square ? cv::Point(64 - arm_in.width, 64 - arm_in.height) : cv::Point(0, 0);
+  (s.arm_like_square ? sq_tex : arm_tex)(cv::Rect(arm_from, arm_in.size())).copyTo(f.image(arm_in));
   f.mask(arm_in).setTo(2);
   f.ee = {tip, y_mid};
   f.touching = s.touch && tip >= sq_left0;

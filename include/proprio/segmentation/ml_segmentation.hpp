@@ -120,6 +120,31 @@ struct MlOptions {
   /// taken for the arm. Traced on the tuning recording: with arm removal off, M-L's recall on
   /// the bottles and mugs rose to 0.95-0.98 (docs/results/segmentation-eval.md, session 13).
   bool arm_removal_seen = true;
+  /// Arm removal per pixel at the first touch (monocular M-L only; the depth variant's regions
+  /// are cut at depth steps): the map is painted on the first-touch frame's regions, and a
+  /// region there that straddles the still object and the arm beside it (a superpixel of the
+  /// mug's side next to the gripper, traced on the tuning recording,
+  /// docs/results/segmentation-eval.md, session 17) carries the arm's pre-touch record (eq
+  /// 4.18) into the object's pixels. A pixel whose grey level changed by no more than 3 between
+  /// any two frames since the arm was last pixel_still_span pixels from its
+  /// touch position, and whose Sobel gradient |gx| + |gy| at the touch is at least
+  /// pixel_still_gradient (so a motion of a pixel would have changed it), did not move before the
+  /// touch: it is not the arm; and if, once the arm has moved evidence_step pixels past its touch
+  /// position (by d, image pixels), the frame then matches the touch frame displaced by d
+  /// better than undisplaced at that pixel (5x5 mean absolute differences, by pixel_motion_margin),
+  /// it moved as the arm did after the touch: the pushed object, not the still background beside
+  /// it. Such pixels (closed with a 5x5 disc, to take in the plain gaps between them) get their
+  /// region's post-touch evidence alone (eq 4.21 without eq 4.18's term) when that is higher.
+  /// Other pixels keep their region's value; a streamed map (stream_maps) of the touch frame,
+  /// painted before the arm moved on, is unchanged. Off by default: on the tuning recording it
+  /// raised all six mugs (0.782 -> 0.868) and the 24 episodes' mean (0.810 -> 0.833), but it
+  /// lets some of a textured arm's pixels back in (the synthetic push: by chance unchanged from
+  /// frame to frame, then moving with the arm), and on held-out episodes the bottles' and
+  /// rabbits' precision fell (docs/results/segmentation-eval.md, session 17).
+  bool pixel_arm_removal = false;
+  double pixel_still_gradient = 24.0;
+  double pixel_still_span = 6.0;
+  double pixel_motion_margin = 2.0;
   /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
   /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
   /// interval must not match a region followed through the whole push. Off (0) by default:
@@ -307,6 +332,11 @@ struct MlOptions {
       {"homography_over_interval", "Fit homographies over the evidence interval"});
     v(self.homography_selection, {"homography_selection", "Evidence margin that selects it"});
     v(self.arm_removal_seen, {"arm_removal_seen", "Arm removal over every interval seen"});
+    v(self.pixel_arm_removal, {"pixel_arm_removal", "Arm removal per still pixel at touch"});
+    v(self.pixel_still_gradient,
+      {"pixel_still_gradient", "Least Sobel gradient of a still pixel, grey levels"});
+    v(self.pixel_motion_margin, {"pixel_motion_margin", "Least gain of a moved pixel, grey"});
+    v(self.pixel_still_span, {"pixel_still_span", "Arm motion a still pixel stood through, px"});
     v(self.evidence_step, {"evidence_step", "Arm motion between evidence frames, px"});
     v(self.arm_removal_step, {"arm_removal_step", "Arm motion that removes its regions, px"});
     v(self.min_region_motion, {"min_region_motion", "Least region motion that counts, px"});
