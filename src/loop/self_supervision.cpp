@@ -663,7 +663,7 @@ class Learner {
       const cv::Mat before_image = image_.clone();
       planning::PlanningView after = look();
       // What the push moved: the blobs of the look before it whose features changed.
-      const PushMotion motion = push_motion(before_image, image_, view, o_.moved_share);
+      const PushMotion motion = push_motion(before_image, image_, view, o_.moved_share, c);
       int now = planning::find_pushed_object(before_image, image_, after,
                                              view.objects[static_cast<std::size_t>(c)], p.target,
                                              kFindRadius, region_, plan_options_);
@@ -998,7 +998,7 @@ double learn_push_lack(const planning::PlanningView& view, int blob, const Eigen
 }
 
 PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
-                       const planning::PlanningView& view, double threshold) {
+                       const planning::PlanningView& view, double threshold, int pushed) {
   PushMotion m;
   double best = -1;
   for (std::size_t k = 0; k < view.objects.size(); ++k) {
@@ -1011,6 +1011,11 @@ PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
         m.most = static_cast<int>(k);
       }
     }
+  }
+  if (pushed >= 0 && pushed < static_cast<int>(m.share.size()) && m.most >= 0 &&
+      m.share[static_cast<std::size_t>(pushed)] >= threshold &&
+      m.share[static_cast<std::size_t>(pushed)] >= best - kShareTie) {
+    m.most = pushed;
   }
   return m;
 }

@@ -379,6 +379,17 @@ TEST(SelfSupervision, PushMotionSaysWhichBlobsMoved) {
   m = push_motion(before, other, view, 0.25);
   EXPECT_EQ(m.most, 1);
   EXPECT_TRUE(m.alone(1));
+  // Both moved as much (shares saturate): the pushed blob is the one that moved most (two
+  // moving, not a drift); with no pushed blob given, the first.
+  cv::Mat twice = after.clone();
+  twice(cv::Rect(130, 40, 40, 40)).setTo(128);
+  tex.copyTo(twice(cv::Rect(142, 40, 40, 40)));
+  m = push_motion(before, twice, view, 0.25, 1);
+  EXPECT_EQ(m.moved, (std::vector<int>{0, 1}));
+  EXPECT_EQ(m.most, 1);
+  EXPECT_EQ(push_motion(before, twice, view, 0.25).most, 0);
+  // The pushed blob moved clearly less than another: that one moved most.
+  EXPECT_EQ(push_motion(before, both, view, 0.25, 1).most, 0);
   // A higher threshold than any share: nothing counts.
   EXPECT_TRUE(push_motion(before, after, view, 1.01).moved.empty());
 }

@@ -544,16 +544,22 @@ double learn_push_lack(const planning::PlanningView& view, int blob, const Eigen
 /// (c) Which blobs of the look before a push moved in it: the motion of the push between the two
 /// looks (arm parked out of view; `before`, `after`: their 8-bit images of one size), per blob of
 /// `view` (the look before) the share of its feature points whose neighbourhood changed
-/// (planning::moved_share). A blob moved when its share is at least `threshold`.
+/// (planning::moved_share). A blob moved when its share is at least `threshold`. The share
+/// saturates (a blob pushed a few cm changes all its features): the pushed blob `pushed` (-1:
+/// none) is the one that moved most when it moved and its share is within kShareTie of the
+/// largest, so a push that moved its object and a neighbour as much is two moving, not a drift.
 struct PushMotion {
   std::vector<double> share;  ///< per blob of `view`, 0-1
   std::vector<int> moved;     ///< the blobs that moved, in order of their index
-  int most = -1;              ///< the blob of largest share among those that moved; -1 none
+  /// The blob of largest share among those that moved (ties: `pushed`, else the first); -1 none.
+  int most = -1;
   /// `blob` moved and no other one did.
   [[nodiscard]] bool alone(int blob) const { return moved.size() == 1 && moved.front() == blob; }
 };
 PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
-                       const planning::PlanningView& view, double threshold);
+                       const planning::PlanningView& view, double threshold, int pushed = -1);
+/// Shares this close count as a tie in push_motion.
+inline constexpr double kShareTie = 0.05;
 
 /// (c) Whether blob `now` of the look `after` a push holds another object of the look `before`:
 /// the index of the first blob of `before` other than `pushed` whose centre lies inside `now`'s
