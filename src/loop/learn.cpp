@@ -1160,6 +1160,20 @@ LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAtt
   return r;
 }
 
+sim::TableOptions learn_table(const LearnOptions& o) {
+  sim::TableOptions table;
+  table.objects = parse_object_list(o.objects);
+  table.clutter = o.clutter;  // ground truth role "clutter": scattered, never learned or scored
+  table.background = background_of(o);
+  table.distractors = o.distractors;
+  table.seed = o.seed;
+  table.width = o.width;
+  table.height = o.height;
+  table.record_masks = o.oracle_ladder;  // the ladder's ground truth (scoring only)
+  table.depth = o.depth;                 // an RGB-D camera: Look::depth for the planner
+  return table;
+}
+
 LearnResult run_learn(const LearnOptions& options, const core::Provenance& provenance) {
   const auto t0 = Clock::now();
   const LearnOptions o = options.resolved();
@@ -1176,15 +1190,7 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   }
   LearnOptions w;
   const auto staged = prepare_out(o, w);
-  sim::TableOptions table;
-  table.objects = objects;
-  table.clutter = o.clutter;  // ground truth role "clutter": scattered, never learned or scored
-  table.background = background_of(o);
-  table.distractors = o.distractors;
-  table.seed = o.seed;
-  table.width = o.width;
-  table.height = o.height;
-  table.record_masks = o.oracle_ladder;  // the ladder's ground truth (scoring only)
+  const sim::TableOptions table = learn_table(o);
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, o.seed);
   Core k;

@@ -584,24 +584,68 @@ class Learner {
       if ((target - chosen).norm() > kMaxLearnPush) {  // short pushes: it turns, stays in view
         target = chosen + kMaxLearnPush * (target - chosen).normalized();
       }
-      planning::PushPlan p = plan(view, c, planning::PushGoal::kTarget, target);
-      // Out of reach from that side (an object far from the arm cannot be pushed toward it):
-      // the other sides, an eighth of a turn apart, pushed kSidePush far.
+      // Out of reach from that side (an object far from the arm cannot be pushed toward it), or
+      // its corridor toward a neighbour: the other sides, an eighth of a turn apart, pushed
+      // kSidePush far, then (learn_clearance) kShortLearnPush far.
       const Eigen::Vector2d first = target - chosen;
       const double a0 = std::atan2(first.y(), first.x());
-      for (int side = 1; side < kSides && p.outcome != planning::PlanOutcome::kPlanned; ++side) {
+      const int lengths = o_.learn_clearance > 0 ? 2 : 1;
+      planning::PushPlan p;
+      p.outcome = planning::PlanOutcome::kUnreachable;
+      p.message = "no side kept clear of the other blobs";
+      bool crowded = false;  // a side was left out for its corridor
+      for (int i = 0; i < lengths * kSides; ++i) {
+        const int side = i % kSides;
+        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
+        const Eigen::Vector2d goal = i == 0
+                                         ? target
+                                         : chosen + (i < kSides ? kSidePush : kShortLearnPush) *
+                                                        Eigen::Vector2d(std::cos(a), std::sin(a));
+        const double lack = learn_push_lack(view, c, goal, o_.learn_clearance);
+        if (lack > 0) {
+          crowded = true;
+          log({.event = "plan",
+               .round = r,
+               .phase = "learn",
+               .blob = c,
+               .then = "another side: the corridor goes toward another blob",
+               .lack = lack});
+          continue;
+        }
+        p = plan(view, c, planning::PushGoal::kTarget, goal);
+        if (p.outcome == planning::PlanOutcome::kPlanned) {
+          // The planner may move the target (the table's region): the corridor checked again.
+          const double l2 = learn_push_lack(view, c, p.target, o_.learn_clearance);
+          if (l2 <= 0) break;
+          crowded = true;
+          log({.event = "plan",
+               .round = r,
+               .phase = "learn",
+               .blob = c,
+               .plan = LoggedPlan::of(p),
+               .then = "another side: the corridor goes toward another blob",
+               .lack = l2});
+          p.outcome = planning::PlanOutcome::kUnreachable;
+          p.message = "no side kept clear of the other blobs";
+          continue;
+        }
         log({.event = "plan",
              .round = r,
              .phase = "learn",
              .blob = c,
              .plan = LoggedPlan::of(p),
              .then = "another side"});
-        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
-        p = plan(view, c, planning::PushGoal::kTarget,
-                 chosen + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
       }
       if (p.outcome != planning::PlanOutcome::kPlanned) {
         log({.event = "plan", .round = r, .phase = "learn", .blob = c, .plan = LoggedPlan::of(p)});
+        if (crowded) {
+          // Every side either toward a neighbour or not planned: pushing anyway would move the
+          // neighbour and the round would drift to it.
+          fault(r, "crowded", "no learn push keeps clear of the other blobs: the round stops");
+          out_.stop_reasons[static_cast<std::size_t>(r)] =
+              "no learn push keeps clear of the other blobs";
+          break;
+        }
         fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
         if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
         continue;
@@ -618,6 +662,8 @@ class Learner {
       // of round 2 went to 4 blobs in turn; docs/results/selfsupervision.md, 2026-12-03).
       const cv::Mat before_image = image_.clone();
       planning::PlanningView after = look();
+      // What the push moved: the blobs of the look before it whose features changed.
+      const PushMotion motion = push_motion(before_image, image_, view, o_.moved_share, c);
       int now = planning::find_pushed_object(before_image, image_, after,
                                              view.objects[static_cast<std::size_t>(c)], p.target,
                                              kFindRadius, region_, plan_options_);
@@ -644,11 +690,34 @@ class Learner {
           (after.objects[static_cast<std::size_t>(now)].centre - chosen).norm() < kStill) {
         fault(r, "moved-nothing", "the push left the chosen object where it was");
       }
+      const int merged = merged_blob(view, c, after, now);
+      log({.event = "motion",
+           .round = r,
+           .phase = "learn",
+           .blob = c,
+           .shares = motion.share,
+           .moved_most = motion.most,
+           .merged_with = merged >= 0 ? std::optional<int>(merged) : std::nullopt});
+      // The push moved a neighbour most: the round would go on with the neighbour as its object.
+      const bool drift = o_.stop_on_drift && motion.most >= 0 && motion.most != c;
+      // The object and another moved: the views would show both.
+      const bool two = o_.alone_views && !drift && motion.most == c && !motion.alone(c);
       cv::Mat last_mask;
       SelfSupervisionDecision what;
       // A swap: this push's views would show the neighbour; none are taken.
       std::vector<std::vector<std::int32_t>> docs;
-      if (swapped) {
+      if (drift) {
+        fault(r, "drift",
+              core::printf_string("the push moved blob %d most (%.2f of its features), not the "
+                                  "round's object (blob %d, %.2f): no views, the round stops",
+                                  motion.most, motion.share[static_cast<std::size_t>(motion.most)],
+                                  c, motion.share[static_cast<std::size_t>(c)]));
+      } else if (two) {
+        fault(r, "two-moved",
+              core::printf_string("the push moved %d blobs (the round's object and another): "
+                                  "no views taken",
+                                  static_cast<int>(motion.moved.size())));
+      } else if (swapped) {
         fault(r, "swapped", "the push moved another object than the round's: no views taken");
       } else {
         docs = views_of(in, episodes_ / name, after, now, last_mask, what);
@@ -679,6 +748,18 @@ class Learner {
       }
       ++done;
       if (done <= o_.pushes) bar.tick();
+      if (drift) {
+        out_.stop_reasons[static_cast<std::size_t>(r)] = "the push moved another object most";
+        break;
+      }
+      if (o_.stop_on_drift && merged >= 0) {
+        fault(r, "merged",
+              core::printf_string("the pushed blob now holds blob %d of the look before: the "
+                                  "round stops",
+                                  merged));
+        out_.stop_reasons[static_cast<std::size_t>(r)] = "the pushed blob merged with another";
+        break;
+      }
     }
     if (done < o_.pushes) bar.tick(static_cast<std::size_t>(o_.pushes - done));
     if (done < budget) {
@@ -896,6 +977,60 @@ TurningPush turning_push(const planning::PushPlan& plan, const std::vector<Eigen
   if ((out.push.end - out.push.start).dot(n) <= 0.005) return {plan.push, 0.0};
   out.offset = fraction < 0 ? -e : e;
   return out;
+}
+
+double learn_push_lack(const planning::PlanningView& view, int blob, const Eigen::Vector2d& target,
+                       double clearance) {
+  ensure(blob >= 0 && blob < static_cast<int>(view.objects.size()),
+         "learn_push_lack: the blob is not one of the view's");
+  if (clearance <= 0) return 0.0;
+  std::vector<std::vector<Eigen::Vector2d>> others;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    if (static_cast<int>(k) != blob && !view.objects[k].hull.empty()) {
+      others.push_back(view.objects[k].hull);
+    }
+  }
+  const auto& o = view.objects[static_cast<std::size_t>(blob)];
+  if (o.hull.empty()) return 0.0;
+  // The pusher's own path is the planner's business (descent_clearance): hand_clearance 0.
+  return planning::path_clearance(robot::TablePush{}, o.hull, o.centre, target, others, clearance,
+                                  0.0);
+}
+
+PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
+                       const planning::PlanningView& view, double threshold, int pushed) {
+  PushMotion m;
+  double best = -1;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    const double s = planning::moved_share(before, after, view.objects[k]);
+    m.share.push_back(s);
+    if (s >= threshold) {
+      m.moved.push_back(static_cast<int>(k));
+      if (s > best) {
+        best = s;
+        m.most = static_cast<int>(k);
+      }
+    }
+  }
+  if (pushed >= 0 && pushed < static_cast<int>(m.share.size()) && m.most >= 0 &&
+      m.share[static_cast<std::size_t>(pushed)] >= threshold &&
+      m.share[static_cast<std::size_t>(pushed)] >= best - kShareTie) {
+    m.most = pushed;
+  }
+  return m;
+}
+
+int merged_blob(const planning::PlanningView& before, int pushed,
+                const planning::PlanningView& after, int now) {
+  if (now < 0 || now >= static_cast<int>(after.objects.size())) return -1;
+  const auto& hull = after.objects[static_cast<std::size_t>(now)].hull;
+  if (hull.size() < 3) return -1;
+  for (std::size_t k = 0; k < before.objects.size(); ++k) {
+    if (static_cast<int>(k) != pushed && inside(hull, before.objects[k].centre)) {
+      return static_cast<int>(k);
+    }
+  }
+  return -1;
 }
 
 int round_budget(int round, int pushes, int spent) {

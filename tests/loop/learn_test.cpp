@@ -39,6 +39,26 @@ TEST(Learn, QuickMakesTheRunSmall) {
   EXPECT_EQ(o.resolved().pushes, 5);
 }
 
+TEST(Learn, DepthGivesTheRobotAnRgbdCamera) {
+  // `proprio learn --depth`: the simulated table's camera is an RGB-D one (Look::depth), so the
+  // planner measures the blobs' footprints and heights from depth, as selfsupervise --depth.
+  LearnOptions o;
+  o.quick = true;
+  const LearnOptions q = o.resolved();
+  EXPECT_FALSE(learn_table(q).depth);
+  EXPECT_EQ(learn_table(q).objects, (std::vector<std::string>{"book", "bottle", "cd", "giraffe"}));
+  EXPECT_EQ(learn_table(q).clutter, q.clutter);
+  EXPECT_EQ(learn_table(q).width, q.width);
+  o.depth = true;
+  const sim::TableOptions t = learn_table(o.resolved());
+  EXPECT_TRUE(t.depth);
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+  sim::SimulatedRobot robot(t, catalogue);
+  const robot::Look l = robot.look();
+  EXPECT_FALSE(l.depth.empty());
+  EXPECT_EQ(l.depth.size(), l.image.size());
+}
+
 TEST(Learn, BadOptionsThrow) {
   LearnOptions o;
   o.background = "stripes";

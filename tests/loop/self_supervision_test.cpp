@@ -290,6 +290,133 @@ TEST(SelfSupervision, FollowByLooksRefindsTheRoundsObjectAfterASwap) {
   EXPECT_EQ(follow_by_looks(blobs, own, others, -1, 0.1).blob, 0);
 }
 
+// A putative object: a square footprint of half side `h` about (x, y), table m, and (for the
+// motion) feature points on a 4 px grid over the pixel box `px`.
+planning::PutativeObject square_blob(double x, double y, double h, cv::Rect px = {}) {
+  planning::PutativeObject o;
+  o.centre = Eigen::Vector2d(x, y);
+  o.hull = {{x - h, y - h}, {x + h, y - h}, {x + h, y + h}, {x - h, y + h}};
+  o.box = px;
+  for (int v = px.y; v < px.y + px.height; v += 4) {
+    for (int u = px.x; u < px.x + px.width; u += 4) o.pixels.emplace_back(u, v);
+  }
+  return o;
+}
+
+TEST(SelfSupervision, LearnPushKeepsItsCorridorClearOfNeighbours) {
+  // The object: 4 cm square at the origin; a neighbour 6 cm to its right (its left edge at
+  // x = 0.08, 4 cm from the object's right edge).
+  planning::PlanningView view;
+  view.objects = {square_blob(0, 0, 0.02), square_blob(0.10, 0, 0.02)};
+  const double clearance = 0.03;
+  // Toward the neighbour, 6 cm: the corridor runs into it.
+  EXPECT_GT(learn_push_lack(view, 0, {0.06, 0}, clearance), 0.0);
+  // Toward it but shorter (4 cm): the corridor's edge stops 2 cm from it, 1 cm inside the
+  // clearance.
+  EXPECT_NEAR(learn_push_lack(view, 0, {0.04, 0}, clearance), 0.01, 1e-9);
+  // 2 cm: 4 cm are left: clear.
+  EXPECT_EQ(learn_push_lack(view, 0, {0.02, 0}, clearance), 0.0);
+  // Away from it, or sideways: clear.
+  EXPECT_EQ(learn_push_lack(view, 0, {-0.08, 0}, clearance), 0.0);
+  EXPECT_EQ(learn_push_lack(view, 0, {0, 0.08}, clearance), 0.0);
+  // Off (clearance 0), or no other blob: never a lack.
+  EXPECT_EQ(learn_push_lack(view, 0, {0.06, 0}, 0.0), 0.0);
+  planning::PlanningView alone;
+  alone.objects = {square_blob(0, 0, 0.02)};
+  EXPECT_EQ(learn_push_lack(alone, 0, {0.06, 0}, clearance), 0.0);
+  // A neighbour nearer than the clearance already (1 cm): pushing away is clear, along it
+  // (not nearer) too, toward it not.
+  planning::PlanningView crowded;
+  crowded.objects = {square_blob(0, 0, 0.02), square_blob(0.05, 0, 0.02)};
+  EXPECT_EQ(learn_push_lack(crowded, 0, {-0.06, 0}, clearance), 0.0);
+  EXPECT_EQ(learn_push_lack(crowded, 0, {0, -0.06}, clearance), 0.0);
+  EXPECT_GT(learn_push_lack(crowded, 0, {0.03, 0}, clearance), 0.0);
+  // The neighbour's own pushes are measured against the object the same way.
+  EXPECT_GT(learn_push_lack(view, 1, {0.02, 0}, clearance), 0.0);
+  EXPECT_THROW((void)learn_push_lack(view, 2, {0, 0}, clearance), InternalError);
+}
+
+TEST(SelfSupervision, PushMotionSaysWhichBlobsMoved) {
+  // Two textured patches on a plain image; blob 0 over the left one, blob 1 over the right one.
+  cv::Mat before(120, 200, CV_8UC1, cv::Scalar(128));
+  cv::Mat tex(40, 40, CV_8UC1);
+  cv::randu(tex, 0, 255);
+  tex.copyTo(before(cv::Rect(20, 40, 40, 40)));
+  tex.copyTo(before(cv::Rect(130, 40, 40, 40)));
+  planning::PlanningView view;
+  view.objects = {square_blob(0, 0, 0.02, cv::Rect(20, 40, 40, 40)),
+                  square_blob(0.1, 0, 0.02, cv::Rect(130, 40, 40, 40))};
+  // Nothing changed: nothing moved.
+  PushMotion m = push_motion(before, before, view, 0.25);
+  EXPECT_TRUE(m.moved.empty());
+  EXPECT_EQ(m.most, -1);
+  EXPECT_FALSE(m.alone(0));
+  ASSERT_EQ(m.share.size(), 2U);
+  // The left patch moved 12 px right: blob 0 alone.
+  cv::Mat after(120, 200, CV_8UC1, cv::Scalar(128));
+  tex.copyTo(after(cv::Rect(32, 40, 40, 40)));
+  tex.copyTo(after(cv::Rect(130, 40, 40, 40)));
+  m = push_motion(before, after, view, 0.25);
+  EXPECT_EQ(m.moved, (std::vector<int>{0}));
+  EXPECT_EQ(m.most, 0);
+  EXPECT_TRUE(m.alone(0));
+  EXPECT_FALSE(m.alone(1));
+  EXPECT_GT(m.share[0], 0.5);
+  EXPECT_LT(m.share[1], 0.25);
+  // The right one moved too, but less (its lower half changed): both moved, blob 0 most.
+  cv::Mat both = after.clone();
+  cv::Mat part(10, 40, CV_8UC1);
+  cv::randu(part, 0, 255);
+  part.copyTo(both(cv::Rect(130, 70, 40, 10)));
+  part.copyTo(both(cv::Rect(130, 60, 40, 10)));
+  m = push_motion(before, both, view, 0.25);
+  EXPECT_EQ(m.moved, (std::vector<int>{0, 1}));
+  EXPECT_EQ(m.most, 0);
+  EXPECT_FALSE(m.alone(0));
+  // Only the right one moved: blob 1 moved most (a push of blob 0 that drifted).
+  cv::Mat other = before.clone();
+  tex.copyTo(other(cv::Rect(142, 40, 40, 40)));
+  m = push_motion(before, other, view, 0.25);
+  EXPECT_EQ(m.most, 1);
+  EXPECT_TRUE(m.alone(1));
+  // Both moved as much (shares saturate): the pushed blob is the one that moved most (two
+  // moving, not a drift); with no pushed blob given, the first.
+  cv::Mat twice = after.clone();
+  twice(cv::Rect(130, 40, 40, 40)).setTo(128);
+  tex.copyTo(twice(cv::Rect(142, 40, 40, 40)));
+  m = push_motion(before, twice, view, 0.25, 1);
+  EXPECT_EQ(m.moved, (std::vector<int>{0, 1}));
+  EXPECT_EQ(m.most, 1);
+  EXPECT_EQ(push_motion(before, twice, view, 0.25).most, 0);
+  // The pushed blob moved clearly less than another: that one moved most.
+  EXPECT_EQ(push_motion(before, both, view, 0.25, 1).most, 0);
+  // A higher threshold than any share: nothing counts.
+  EXPECT_TRUE(push_motion(before, after, view, 1.01).moved.empty());
+}
+
+TEST(SelfSupervision, MergedBlobHoldsAnotherBlobsCentre) {
+  planning::PlanningView before;
+  before.objects = {square_blob(0, 0, 0.02), square_blob(0.08, 0, 0.02), square_blob(0, 0.2, 0.02)};
+  // After the push the object (blob 0) was carried to the neighbour: one blob over both.
+  planning::PlanningView after;
+  after.objects = {square_blob(0, 0.2, 0.02)};
+  planning::PutativeObject both;
+  both.centre = Eigen::Vector2d(0.06, 0);
+  both.hull = {{0.03, -0.02}, {0.10, -0.02}, {0.10, 0.02}, {0.03, 0.02}};
+  after.objects.push_back(both);
+  EXPECT_EQ(merged_blob(before, 0, after, 1), 1);
+  // Its own centre does not count, nor a blob that stayed apart.
+  EXPECT_EQ(merged_blob(before, 1, after, 1), -1);
+  EXPECT_EQ(merged_blob(before, 0, after, 0), 2);  // the blob at blob 2's place holds it
+  EXPECT_EQ(merged_blob(before, 2, after, 0), -1);
+  // The object alone, moved: no merge; no blob (-1) or a bad index: none.
+  planning::PlanningView moved;
+  moved.objects = {square_blob(0.03, 0, 0.02)};
+  EXPECT_EQ(merged_blob(before, 0, moved, 0), -1);
+  EXPECT_EQ(merged_blob(before, 0, moved, -1), -1);
+  EXPECT_EQ(merged_blob(before, 0, moved, 3), -1);
+}
+
 // A vocabulary and an LDA model (K = 3) made from the robot's first look: dense SIFT of the
 // image, 24 words; documents are the words of 40 x 40 tiles.
 struct TinyModel {
@@ -458,6 +585,31 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   }
   EXPECT_EQ(chooses, 2);
   EXPECT_EQ(pushes, l.pushes_clear + l.pushes_learn + (pushes - l.pushes_clear - l.pushes_learn));
+  // Every executed learn push's motion is logged (which blobs moved); a push that moved another
+  // blob most gives no views and stops its round (drift), one that moved two gives no views.
+  int motions = 0;
+  for (std::size_t i = 0; i < l.log.size(); ++i) {
+    const auto& j = l.log[i];
+    if (j.event != "motion") continue;
+    ++motions;
+    ASSERT_TRUE(j.shares && j.moved_most && j.blob && j.round);
+    int moved = 0;
+    for (const double sh : *j.shares) moved += sh >= o.moved_share ? 1 : 0;
+    const bool drift = *j.moved_most >= 0 && *j.moved_most != *j.blob;
+    const bool two = !drift && *j.moved_most == *j.blob && moved > 1;
+    for (std::size_t k = i + 1; k < l.log.size(); ++k) {
+      if (l.log[k].event != "views") continue;
+      if (drift || two) {
+        EXPECT_EQ(l.log[k].taken, 0);
+      }
+      break;
+    }
+    if (drift) {
+      EXPECT_EQ(l.stop_reasons.at(static_cast<std::size_t>(*j.round)),
+                "the push moved another object most");
+    }
+  }
+  EXPECT_EQ(motions, l.pushes_learn);
   EXPECT_EQ(l.log.back().event, "end");
 
   const SelfSupervisionScore s =

@@ -99,6 +99,9 @@ struct LearnOptions {
   int held_out = 20;  ///< held-out ground-truth views per object (scoring)
   /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
   bool oracle_ladder = false;
+  /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
+  /// planner measures each blob's footprint and height from depth, as `selfsupervise --depth`.
+  bool depth = false;
   std::filesystem::path vocabulary;  ///< given vocabulary (else built from the robot's views)
   std::filesystem::path lda_model;   ///< given LDA model (else trained on the robot's views)
   std::filesystem::path out;         ///< the run directory (required)
@@ -150,6 +153,9 @@ struct LearnOptions {
     v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
+    v(self.depth, {"depth",
+                   "An RGB-D camera: plan from each blob's footprint and height "
+                   "measured from depth"});
     v(self.vocabulary, {"vocabulary", "Visual vocabulary file (default: built from the views)"});
     v(self.lda_model, {"model", "LDA model file (default: trained on the views)"});
     v(self.out, {"out", "Run directory"});
@@ -489,6 +495,11 @@ void LearnHeldOut::describe(Self& self, Visitor& v) {
 /// an existing out without overwrite, unreadable --vocabulary/--model.
 LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAttendant& attendant,
                       int classes, const core::Provenance& provenance);
+
+/// The simulated table run_learn (below) makes of `options` (already resolved): the named
+/// objects, the clutter, the backdrop and distractors, the seed, the image size, the ground-truth
+/// masks (oracle_ladder) and an RGB-D camera (depth). Throws Error for an unknown backdrop.
+sim::TableOptions learn_table(const LearnOptions& options);
 
 /// run_learn on a simulated table of options.objects + options.clutter (seed options.seed),
 /// scored against the ground truth and on held-out views (20 per object, as

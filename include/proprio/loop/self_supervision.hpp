@@ -112,6 +112,28 @@ struct SelfSupervisionOptions {
   /// rounds whose object pushed most was the chosen one fell 14 -> 12 of 20: the resting-view
   /// looks (T = 32) do not tell the objects apart well enough (docs/results/selfsupervision.md).
   double refind_margin = 0;
+  /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
+  /// from its centre to the push's target, in the table plane) at least this far from every
+  /// other blob's footprint, m (learn_push_lack: a neighbour nearer already may not come nearer).
+  /// A push that does not is replaced by another side, then by a shorter push (kShortLearnPush);
+  /// when none keeps clear the round stops, logged (fault "crowded"). 0: off (the code before
+  /// session 17: about 40% of learn pushes moved another object most). Session 17, report seeds
+  /// 2-6 with stop_on_drift and alone_views: learn pushes moving their object alone 41% -> 35%
+  /// (ground truth), c 35.4 -> 33.2% (noise): the blobs' hulls are not the objects'
+  /// (docs/results/selfsupervision.md, "Keeping a round on its object by geometry").
+  double learn_clearance = 0.03;
+  /// (c): a round stops, logged, when its push moved another blob most (fault "drift":
+  /// push_motion) or left the pushed blob merged with another one (fault "merged":
+  /// merged_blob); a round then no longer drifts to a neighbour and learns it as its object.
+  bool stop_on_drift = true;
+  /// (c): a push whose motion (push_motion) shows a second blob moving gives no training views
+  /// (fault "two-moved"), so the views show the round's object alone. Session 17: the looks'
+  /// motion saw a second object in few of the pushes that moved one (purity 68 -> 75%, within
+  /// the seeds' spread): a neighbour inside the pushed blob does not count as a blob.
+  bool alone_views = true;
+  /// A blob moved in a push when at least this share of its feature points changed between the
+  /// looks before and after it (planning::moved_share; push_motion).
+  double moved_share = 0.25;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -177,6 +199,16 @@ struct SelfSupervisionOptions {
     v(self.refind_margin,
       {"refind_margin", "Re-find the object by its looks by this margin (0: off)",
        core::between(0.0, 1.0)});
+    v(self.learn_clearance,
+      {"learn_clearance",
+       "Learn pushes keep their object's corridor this far from other blobs, m (0: off)",
+       core::between(0.0, 0.2)});
+    v(self.stop_on_drift,
+      {"stop_on_drift", "Stop a round when its push moved another blob most or merged it"});
+    v(self.alone_views,
+      {"alone_views", "Views only from pushes that moved the round's object alone"});
+    v(self.moved_share, {"moved_share", "Share of a blob's features that changed: it moved",
+                         core::between(0.01, 1.0)});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
              kViewSourceNames);
     v.choice(self.choice,
@@ -309,8 +341,8 @@ struct BlobScore {
 };
 
 /// One line of the decision log (decisions.jsonl): an event and the fields it has (the others are
-/// left out). Events: start, rescatter, look, choose, singulated, plan, push, replan, refound,
-/// views, fault, end.
+/// left out). Events: start, rescatter, look, choose, singulated, plan, push, motion, replan,
+/// refound, views, fault, end.
 struct SelfSupervisionDecision {
   std::string event = {};
   std::optional<int> round = {};          ///< the round (class) it belongs to
@@ -349,6 +381,12 @@ struct SelfSupervisionDecision {
   std::optional<int> faults = {};                       ///< end
   std::optional<double> seconds = {};                   ///< end: wall clock, s
   std::optional<double> offset = {};  ///< push (learn): the turning offset, m (turning_push)
+  /// motion (learn): per blob of the look before the push, the share of its features that
+  /// changed (push_motion)
+  std::optional<std::vector<double>> shares = {};
+  std::optional<int> moved_most = {};   ///< motion: the blob that moved most (-1: none moved)
+  std::optional<int> merged_with = {};  ///< motion: the blob of the look before it merged with
+  std::optional<double> lack = {};      ///< plan (learn): the corridor's lack of clearance, m
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -389,6 +427,10 @@ struct SelfSupervisionDecision {
     v(self.faults, {"faults", "Logged faults"});
     v(self.seconds, {"seconds", "Wall clock, s"});
     v(self.offset, {"offset", "Turning offset of the push, m"});
+    v(self.shares, {"shares", "Per blob, the share of its features that changed"});
+    v(self.moved_most, {"moved_most", "The blob that moved most (-1: none)"});
+    v(self.merged_with, {"merged_with", "The blob the pushed one merged with"});
+    v(self.lack, {"lack", "The corridor's lack of clearance from other blobs, m"});
   }
 };
 
@@ -492,6 +534,43 @@ Followed follow_by_looks(const std::vector<Eigen::VectorXd>& blobs,
                          const std::vector<Eigen::VectorXd>& own,
                          const std::vector<std::vector<Eigen::VectorXd>>& others, int tracked,
                          double margin);
+
+/// (c) A shorter learn push, m: tried from every side when no kSidePush-long one keeps clear of
+/// the neighbours (SelfSupervisionOptions::learn_clearance).
+inline constexpr double kShortLearnPush = 0.04;
+
+/// (c) How much a learn push of blob `blob` of `view` toward `target` (table m) lacks of
+/// `clearance` (m): planning::path_clearance of the corridor the blob's footprint hull sweeps
+/// from its centre to `target` against every other blob's hull (the pusher's own path not
+/// counted). 0: it keeps clear (or `clearance` <= 0, or no other blob).
+double learn_push_lack(const planning::PlanningView& view, int blob, const Eigen::Vector2d& target,
+                       double clearance);
+
+/// (c) Which blobs of the look before a push moved in it: the motion of the push between the two
+/// looks (arm parked out of view; `before`, `after`: their 8-bit images of one size), per blob of
+/// `view` (the look before) the share of its feature points whose neighbourhood changed
+/// (planning::moved_share). A blob moved when its share is at least `threshold`. The share
+/// saturates (a blob pushed a few cm changes all its features): the pushed blob `pushed` (-1:
+/// none) is the one that moved most when it moved and its share is within kShareTie of the
+/// largest, so a push that moved its object and a neighbour as much is two moving, not a drift.
+struct PushMotion {
+  std::vector<double> share;  ///< per blob of `view`, 0-1
+  std::vector<int> moved;     ///< the blobs that moved, in order of their index
+  /// The blob of largest share among those that moved (ties: `pushed`, else the first); -1 none.
+  int most = -1;
+  /// `blob` moved and no other one did.
+  [[nodiscard]] bool alone(int blob) const { return moved.size() == 1 && moved.front() == blob; }
+};
+PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
+                       const planning::PlanningView& view, double threshold, int pushed = -1);
+/// Shares this close count as a tie in push_motion.
+inline constexpr double kShareTie = 0.05;
+
+/// (c) Whether blob `now` of the look `after` a push holds another object of the look `before`:
+/// the index of the first blob of `before` other than `pushed` whose centre lies inside `now`'s
+/// footprint hull (table m), -1 when none (the pushed blob merged with a neighbour into one blob).
+int merged_blob(const planning::PlanningView& before, int pushed,
+                const planning::PlanningView& after, int now);
 
 /// Hellinger distance between two distributions (non-negative, each summing to 1): 0..1.
 double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q);
