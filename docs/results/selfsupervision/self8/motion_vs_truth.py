@@ -3,12 +3,8 @@
 'intended>moved+moved', intended = the object under the pushed blob) and that moved the round's
 chosen object alone; with the decision log's motion events (new code) the shares vs the truth."""
 import json, sys, os, math
-def ci(v):
-    n = len(v); m = sum(v) / n
-    if n < 2: return m, 0.0
-    sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1))
-    t = {2: 12.71, 3: 4.30, 4: 3.18, 5: 2.78, 6: 2.57}.get(n, 2.0)
-    return m, t * sd / math.sqrt(n)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../scripts"))
+from oracle_ladder_table import ci  # mean and 95% t half-width over the seeds
 tot = dict(n=0, alone=0, chosen_alone=0, chosen_most=0)
 per = []
 for run in sys.argv[1:]:

@@ -4,12 +4,8 @@ over the seeds; learn pushes moving the intended / the round's chosen object alo
 per object learn pushes and yaw range. usage: series.py DIR [DIR...] (each DIR a series: DIR/sN/motion-sN.json as scripts/experiment-selfsup
 writes them one seed an OUT dir, or DIR/motion-sN.json as copied here; faults need the runs' decision logs)."""
 import json, sys, math, glob, os
-def ci(v):
-    n = len(v); m = sum(v) / n
-    if n < 2: return m, 0.0
-    sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1))
-    t = {2: 12.71, 3: 4.30, 4: 3.18, 5: 2.78, 6: 2.57}[n]
-    return m, t * sd / math.sqrt(n)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../scripts"))
+from oracle_ladder_table import ci  # mean and 95% t half-width over the seeds
 for series in sys.argv[1:]:
     runs = sorted(glob.glob(os.path.join(series, "s*/motion-s*.json")) or glob.glob(os.path.join(series, "motion-s*.json")))
     rows = {}
