@@ -133,7 +133,12 @@ cv::Mat read_alpha_mask(const fs::path& path) {
 }
 
 Features extract_file_features(const fs::path& path, const ExtractOptions& options, bool grey) {
-  const cv::Mat image = geometry::read_image(path, grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
+  return extract_file_features(
+      path, geometry::read_image(path, grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR), options);
+}
+
+Features extract_file_features(const fs::path& path, const cv::Mat& image,
+                               const ExtractOptions& options) {
   const cv::Mat mask = options.alpha_mask ? read_alpha_mask(path) : cv::Mat();
   try {
     return extract_features(image, options, mask);

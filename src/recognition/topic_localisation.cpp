@@ -111,7 +111,7 @@ std::vector<std::string> run_topic_maps(const TopicMapRun& run) {
   const topics::LdaModel model = topics::load_lda_model(run.lda_model);
   const features::Vocabulary vocabulary = features::read_vocabulary(run.vocabulary);
   const cv::Mat image = geometry::read_image(run.image, cv::IMREAD_COLOR);
-  const features::Features f = features::extract_file_features(run.image, run.features);
+  const features::Features f = features::extract_file_features(run.image, image, run.features);
   const TopicMaps maps = topic_maps(f, image.size(), model, vocabulary, run.maps);
   const auto files = write_topic_maps(maps, run.out, image);
   std::vector<std::string> lines;

@@ -90,6 +90,11 @@ cv::Mat read_image(const std::filesystem::path& path);
 Features extract_file_features(const std::filesystem::path& path, const ExtractOptions& options,
                                bool grey = false);
 
+/// The same on `image`, already decoded from `path` (which names errors and, with
+/// options.alpha_mask, gives the alpha channel): for a caller that needs the pixels too.
+Features extract_file_features(const std::filesystem::path& path, const cv::Mat& image,
+                               const ExtractOptions& options);
+
 /// An image file's alpha channel as a mask (CV_8U, 255 where alpha is non-zero). Throws Error
 /// naming the file when it cannot be read or has no alpha channel (not 4 channels).
 cv::Mat read_alpha_mask(const std::filesystem::path& path);
