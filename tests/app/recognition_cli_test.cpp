@@ -292,7 +292,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   const CliRun mt =
       run("experiment scatter --episodes " + (dir_ / "episodes").string() + " --view-episodes " +
           (dir_ / "held" / "h1").string() + " " + (dir_ / "held" / "h2").string() +
-          " --objects baboon,fruits,building --view-step 2 --split-by-episode --mot"
+          " --objects baboon,fruits,building --view-step 2 --split-by-episode --mot --dilate 3"
           " --k objects --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
           " --passes 3 --quiet --json " +
           file("scatter-mot.json"));
@@ -301,6 +301,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   test::expect_schema_valid("experiment_scatter.schema.json", file("scatter-mot.json"));
   const core::Json jm = core::read_json(file("scatter-mot.json"));
   EXPECT_EQ(jm["view_split"], "episodes");
+  EXPECT_EQ(jm["mask_dilate"], 3);
   EXPECT_GE(jm["runs"][0]["mot"]["mean_class_accuracy"].get<double>(), 0.6) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["mean_class_accuracy"].get<double>(), 0.45) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["chosen_classes"].get<int>(), 1);
