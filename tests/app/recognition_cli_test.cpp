@@ -41,7 +41,9 @@ CliRun run(const std::string& args) {
   return r;
 }
 
+// NOLINTNEXTLINE(readability-identifier-naming)
 const char* kPhotos[] = {"baboon.jpg", "fruits.jpg", "building.jpg", "board.jpg"};
+// NOLINTNEXTLINE(readability-identifier-naming)
 const char* kClasses[] = {"baboon", "fruits", "building", "board"};
 
 cv::Mat photo(int c) {
@@ -81,7 +83,9 @@ class RecognitionCli : public ::testing::Test {
                                core::Provenance::current({"recognition_cli_test"}, 1));
   }
   static void TearDownTestSuite() { temp_.reset(); }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static fs::path dir_;
   std::string images() const { return (dir_ / "images").string(); }
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
