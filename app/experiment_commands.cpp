@@ -81,6 +81,7 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
 
 void run_scatter(ScatterArgs& a, const Invocation& inv) {
   a.options.options.topics = parse_topics(a.k);
+  a.options.options.frames.dilate = a.options.options.view_dilate;  // --dilate: both alike
   a.options.progress = !a.quiet;
   std::vector<std::filesystem::path> paths = a.options.episodes;
   paths.insert(paths.end(), a.options.view_episodes.begin(), a.options.view_episodes.end());
@@ -185,6 +186,10 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
   sc->add_option("--view-min-features", s->options.options.view_min_features,
                  "With --view-episodes: least features of a view")
       ->capture_default_str();
+  sc->add_option("--dilate", s->options.options.view_dilate,
+                 "Grow the object masks by this many px (the views' and each-object frames')")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
   sc->add_option("--k", s->k,
                  "Numbers of topics K, comma-separated; objects = the number of objects")
       ->capture_default_str();

@@ -3,14 +3,18 @@
 usage: python3 scripts/mot_topics_table.py OUT_DIR T...
 Mean class accuracy per method and T: argmax theta (topics named by the labelled training views,
 merged), supervised MoT, online-supervised MoT (half the views, then the other half by the 50:50
-rule), unsupervised MoT (k-means over theta with C given; each learned object named after the
+rule; with T*/online-r*.json (REPEATS > 1) the mean over the rule's draws, each draw listed in
+the JSON's "online_runs" and the table giving mean +- t(0.975, n-1) sd / sqrt(n)), unsupervised MoT (k-means over theta with C given; each learned object named after the
 majority class of its training views); when T*/mix.json exist (COMPONENTS > 1), the supervised
 MoT with a mixture of Dirichlets per object as a fifth curve.
 """
 import os
 import collections
 import csv
+import glob
 import json
+import math
+import statistics
 import sys
 
 out, topics = sys.argv[1], [int(t) for t in sys.argv[2:]]
@@ -31,7 +35,10 @@ for t in topics:
     d = f"{out}/T{t}"
     argmax = json.load(open(f"{d}/argmax.json"))["mapped"]["classes"]
     sup = json.load(open(f"{d}/sup.json"))["confusion"]
-    online = json.load(open(f"{d}/online.json"))["confusion"]
+    # The 50:50 rule's draws: online.json (seed SEED), online-r2.json (SEED + 1), ...
+    draws = [f"{d}/online.json"] + sorted(glob.glob(f"{d}/online-r*.json"),
+                                          key=lambda f: int(f.rsplit("-r", 1)[1][:-5]))
+    online_runs = [json.load(open(f))["confusion"]["mean_class_accuracy"] for f in draws]
     votes = collections.defaultdict(collections.Counter)
     for row in csv.DictReader(open(f"{d}/unsup-train.csv")):
         if row["class"]:
@@ -40,7 +47,8 @@ for t in topics:
     unsup, _, _ = mca_of_csv(f"{d}/unsup.csv", naming)
     rows.append({"topics": t, "argmax": argmax["mean_class_accuracy"],
                  "supervised": sup["mean_class_accuracy"],
-                 "online": online["mean_class_accuracy"], "unsupervised": unsup,
+                 "online": statistics.mean(online_runs), "online_runs": online_runs,
+                 "unsupervised": unsup,
                  "argmax_confusion": argmax, "supervised_confusion": sup})
     if os.path.exists(f"{d}/mix.json"):
         mix = json.load(open(f"{d}/mix.json"))["confusion"]
@@ -56,6 +64,19 @@ if all("mixture" in r for r in rows):
 print("T   " + "  ".join(f"{m[1]:>22}" for m in methods))
 for r in rows:
     print(f"{r['topics']:<3} " + "  ".join(f"{100 * r[m[0]]:21.1f}%" for m in methods))
+T975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26}
+if any(len(r["online_runs"]) > 1 for r in rows):
+    print("\nonline-supervised MoT over the 50:50 rule's draws (mean +- t(0.975, n-1) sd / sqrt(n); "
+          "supervised - online):")
+    for r in rows:
+        v = [100 * a for a in r["online_runs"]]
+        if len(v) < 2:
+            continue
+        m, s = statistics.mean(v), statistics.stdev(v)
+        h = T975.get(len(v) - 1, 2.0) * s / math.sqrt(len(v))
+        print(f"T = {r['topics']:<3} {len(v)} draws: {m:.1f} +- {h:.1f} (sd {s:.1f}; "
+              f"{min(v):.1f}-{max(v):.1f}); supervised {100 * r['supervised']:.1f}, "
+              f"difference {100 * r['supervised'] - m:+.1f} +- {h:.1f}")
 best = max(rows, key=lambda r: r["supervised"])
 print(f"chance {100 / classes:.1f}%; best supervised MoT {100 * best['supervised']:.1f}% at "
       f"T = {best['topics']}")

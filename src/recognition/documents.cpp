@@ -61,6 +61,7 @@ std::string to_string(FrameRegion region) {
 void FrameDocumentOptions::validate() const {
   features.validate();
   blobs.validate();
+  if (dilate < 0 || dilate > 100) throw Error("the mask growth must be in [0, 100] pixels");
   if (region == FrameRegion::kMasks && masks.empty()) {
     throw Error("the 'masks' region needs a directory of segmentation masks");
   }
@@ -119,12 +120,13 @@ std::vector<features::Features> frame_features(const episode::Episode& episode, 
         throw Error::in_file(episode.dir(), "the episode has no ground-truth masks");
       }
       const cv::Mat ids_image = episode.mask(frame);
-      const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(9, 9));
+      const cv::Mat kernel = cv::getStructuringElement(
+          cv::MORPH_ELLIPSE, cv::Size(2 * options.dilate + 1, 2 * options.dilate + 1));
       std::vector<features::Features> docs;
       for (int id : selected_object_ids(episode, options.objects)) {
         cv::Mat m = ids_image == id;
         if (cv::countNonZero(m) == 0) continue;
-        cv::dilate(m, m, kernel);
+        if (options.dilate > 0) cv::dilate(m, m, kernel);
         docs.push_back(features::extract_features(image, options.features, m));
       }
       return docs;

@@ -122,6 +122,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     rec.view_episodes = strings(options.view_episodes);
     rec.view_step = o.view_step;
     rec.view_block = o.view_block;
+    rec.mask_dilate = o.view_dilate;
     rec.view_split = o.split_by_episode ? "episodes" : "blocks";
   }
   rec.mot = o.mot;

@@ -193,6 +193,9 @@ void ScatterExperimentOptions::validate() const {
     throw Error("the fraction of views used to name topics must be in (0, 1)");
   }
   view_features.validate();
+  if (view_dilate < 0 || view_dilate > 100) {
+    throw Error("the views' mask growth must be in [0, 100] pixels");
+  }
 }
 
 namespace {
@@ -439,8 +442,9 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
       }
     }
     auto features_of = [&](const std::vector<std::vector<int>>& frames, const char* side) {
-      LabelledFeatures c = object_view_features(view_episodes, frames, objects,
-                                                options.view_features, options.view_min_features);
+      LabelledFeatures c =
+          object_view_features(view_episodes, frames, objects, options.view_features,
+                               options.view_min_features, options.view_dilate);
       for (int k = 0; k < static_cast<int>(objects.size()); ++k) {
         if (std::find(c.labels.begin(), c.labels.end(), k) == c.labels.end()) {
           std::string m = "object '";

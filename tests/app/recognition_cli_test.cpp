@@ -41,7 +41,9 @@ CliRun run(const std::string& args) {
   return r;
 }
 
+// NOLINTNEXTLINE(readability-identifier-naming)
 const char* kPhotos[] = {"baboon.jpg", "fruits.jpg", "building.jpg", "board.jpg"};
+// NOLINTNEXTLINE(readability-identifier-naming)
 const char* kClasses[] = {"baboon", "fruits", "building", "board"};
 
 cv::Mat photo(int c) {
@@ -81,7 +83,9 @@ class RecognitionCli : public ::testing::Test {
                                core::Provenance::current({"recognition_cli_test"}, 1));
   }
   static void TearDownTestSuite() { temp_.reset(); }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static fs::path dir_;
   std::string images() const { return (dir_ / "images").string(); }
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
@@ -292,7 +296,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   const CliRun mt =
       run("experiment scatter --episodes " + (dir_ / "episodes").string() + " --view-episodes " +
           (dir_ / "held" / "h1").string() + " " + (dir_ / "held" / "h2").string() +
-          " --objects baboon,fruits,building --view-step 2 --split-by-episode --mot"
+          " --objects baboon,fruits,building --view-step 2 --split-by-episode --mot --dilate 3"
           " --k objects --words 24 --dictionary-frames 20 --per-frame 60 --batch 10"
           " --passes 3 --quiet --json " +
           file("scatter-mot.json"));
@@ -301,6 +305,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   test::expect_schema_valid("experiment_scatter.schema.json", file("scatter-mot.json"));
   const core::Json jm = core::read_json(file("scatter-mot.json"));
   EXPECT_EQ(jm["view_split"], "episodes");
+  EXPECT_EQ(jm["mask_dilate"], 3);
   EXPECT_GE(jm["runs"][0]["mot"]["mean_class_accuracy"].get<double>(), 0.6) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["mean_class_accuracy"].get<double>(), 0.45) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["chosen_classes"].get<int>(), 1);

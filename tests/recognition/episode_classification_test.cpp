@@ -152,8 +152,18 @@ TEST(EpisodeClassification, EachObjectRegionGivesOneDocumentPerObjectInView) {
   const auto whole_object = frame_features(f.episodes[0], 3, fo);
   // The mask grown by 4 px keeps the patches on the outline as well.
   EXPECT_GT(docs[0].size(), whole_object[0].size());
-  fo.objects = {"box"};
+  // dilate 0: the object's own mask, as the objects region; a larger growth, more features.
   fo.region = FrameRegion::kEachObject;
+  fo.dilate = 0;
+  EXPECT_EQ(frame_features(f.episodes[0], 3, fo).at(0).size(), whole_object[0].size());
+  fo.dilate = 8;
+  EXPECT_GT(frame_features(f.episodes[0], 3, fo).at(0).size(), docs[0].size());
+  fo.dilate = 101;
+  EXPECT_THROW(fo.validate(), Error);
+  fo.dilate = -1;
+  EXPECT_THROW(fo.validate(), Error);
+  fo.dilate = 4;
+  fo.objects = {"box"};
   EXPECT_TRUE(frame_features(f.episodes[0], 3, fo).empty());  // the box is not in frame 3
   EpisodeClassifyOptions o;
   o.frames.region = FrameRegion::kEachObject;
@@ -254,6 +264,38 @@ TEST(ScatterExperiment, SeveralSeedsEqualOneRunPerSeed) {
     EXPECT_EQ(m.runs[0].summary.updates, r.runs[0].summary.updates);
   }
   EXPECT_THROW((void)run_scatter_experiments(f.episodes, f.episodes, objects, o, {}), Error);
+}
+
+// The masks' growth reaches the run: the each-object frames' documents (frames.dilate) and the
+// views (view_dilate). Views cut by the bare masks have at most n0 features; asking for n0 + 1
+// leaves none with view_dilate 0, and keeps views grown by 100 px (most of the frame).
+TEST(ScatterExperiment, MaskGrowthReachesFramesAndViews) {
+  const Fixture& f = fixture();
+  ScatterExperimentOptions o = small_scatter_options();
+  o.frames.region = FrameRegion::kEachObject;
+  const std::vector<std::string> objects = {"box", "mug"};
+  const ScatterExperimentResult grown = run_scatter_experiment(f.episodes, f.episodes, objects, o);
+  ScatterExperimentOptions bare = o;
+  bare.frames.dilate = 0;
+  const ScatterExperimentResult r = run_scatter_experiment(f.episodes, f.episodes, objects, bare);
+  EXPECT_EQ(r.documents, grown.documents);
+  EXPECT_LT(r.tokens, grown.tokens);
+  std::vector<int> all(10);
+  std::iota(all.begin(), all.end(), 0);
+  const LabelledFeatures v =
+      object_view_features(f.episodes, {all}, objects, o.view_features, 1, 0);
+  ASSERT_FALSE(v.views.empty());
+  int n0 = 0;
+  for (const auto& x : v.views) n0 = std::max(n0, x.size());
+  o.view_min_features = n0 + 1;
+  o.view_dilate = 100;
+  const ScatterExperimentResult wide = run_scatter_experiment(f.episodes, f.episodes, objects, o);
+  EXPECT_GT(wide.mapping_views, 0);
+  EXPECT_GT(wide.test_views, 0);
+  o.view_dilate = 0;
+  EXPECT_THROW((void)run_scatter_experiment(f.episodes, f.episodes, objects, o), Error);
+  o.view_dilate = 101;
+  EXPECT_THROW(o.validate(), Error);
 }
 
 // Each seed is handed out as soon as it is done, before the next starts (so a long run that is

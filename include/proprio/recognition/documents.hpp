@@ -35,9 +35,10 @@ enum class FrameRegion {
   kObjects,  ///< the features on the named objects (ground-truth mask), one document
   kBlobs,    ///< one document per feature-density blob (6.2)
   kMasks,    ///< the features inside a segmentation mask read from a directory
-  /// One document per named object in view (ground-truth masks, each grown by 4 px so that the
-  /// patches on its outline count, as in object_view_corpus): the thesis's blob documents
-  /// (6.2) with a perfect segmenter. No labels: which object a document is stays unknown.
+  /// One document per named object in view (ground-truth masks, each grown by
+  /// FrameDocumentOptions::dilate px, 4 by default, so that the patches on its outline count, as
+  /// in object_view_corpus): the thesis's blob documents (6.2) with a perfect segmenter. No
+  /// labels: which object a document is stays unknown.
   kEachObject,
 };
 
@@ -56,6 +57,10 @@ struct FrameDocumentOptions {
   std::filesystem::path masks;
   features::ExtractOptions features;
   features::BlobOptions blobs;
+  /// kEachObject: each object's mask is grown by this many pixels (an ellipse of side
+  /// 2 dilate + 1) before its features are taken; 0 keeps the grid points on the object only.
+  /// In [0, 100].
+  int dilate = 4;
   void validate() const;
 };
 

@@ -189,6 +189,9 @@ struct ScatterExperimentRecord {
   std::optional<std::string> views;
   std::optional<std::vector<std::string>> view_episodes;
   std::optional<int> view_step, view_block;
+  /// With view episodes: the masks' growth in pixels (views and each-object frames), since
+  /// 2026-12-03 (4 before, not recorded).
+  std::optional<int> mask_dilate;
   std::optional<std::string> view_split;
   bool mot = false;
   std::vector<std::string> objects;
@@ -214,6 +217,7 @@ struct ScatterExperimentRecord {
     v(self.view_episodes, {"view_episodes", "The episodes the views were cut from"});
     v(self.view_step, {"view_step", "Every n-th frame of them"});
     v(self.view_block, {"view_block", "Frames per block of the naming / test split"});
+    v(self.mask_dilate, {"mask_dilate", "Pixels the object masks were grown by"});
     v(self.view_split, {"view_split", "blocks or episodes"});
     v(self.mot, {"mot", "Whether the Mixture of Topics classified the views too"});
     v(self.objects, {"objects", "The objects"});

@@ -112,6 +112,10 @@ struct ScatterExperimentOptions {
   /// kept when there are at least view_min_features of them.
   int view_step = 5;
   int view_min_features = 20;
+  /// Each view's mask is grown by this many pixels before its features are taken
+  /// (object_view_features' dilate; 0: the grid points on the object only). The CLI's --dilate
+  /// sets it and frames.dilate together, so that LDA's documents and the views are cut alike.
+  int view_dilate = 4;
   /// View episodes are cut into blocks of view_block frames; a mapping_fraction of the blocks
   /// (spread evenly: alternate ones for 0.5) name the topics, the others are the test.
   int view_block = 25;
