@@ -33,6 +33,9 @@ constexpr std::uint64_t kTableStream = 0x7461626c65ULL;
 // (PushPlanOptions' bound on approaches), m.
 constexpr double kRetryApproach = 0.03;
 constexpr double kMostApproach = 0.3;
+// correction_gain: a push that moved the object less than this share of what it asked (or back)
+// counts as this share.
+constexpr double kLeastMovedShare = 1e-3;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -129,6 +132,15 @@ std::string PushRunResult::brief() const {
     s += b;
   }
   return s;
+}
+
+double correction_gain(const Eigen::Vector2d& asked, const Eigen::Vector2d& moved, double min_gain,
+                       double max_gain) {
+  require(asked.allFinite() && moved.allFinite() && asked.norm() > 0,
+          "correction gain: the push must have asked for a finite, non-zero move");
+  require(min_gain > 0 && min_gain <= max_gain, "correction gain: need 0 < min_gain <= max_gain");
+  const double k = moved.dot(asked) / asked.squaredNorm();  // share of the asked move made
+  return std::clamp(1.0 / std::max(k, kLeastMovedShare), min_gain, max_gain);
 }
 
 int putative_object_on(const planning::PlanningView& view, const cv::Mat& mask, int id) {
@@ -245,7 +257,8 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
     const int budget = options.goal == planning::PushGoal::kTarget ? options.max_pushes : 1;
     // The loop's gain: how much farther than needed a correction asks the object to go, from
     // how far the last push moved it against what it asked (an undershooting push, e.g. a
-    // pusher that meets the object later than its hull said, is made up for next time).
+    // pusher that meets the object later than its hull said, is made up for next time; with
+    // min_gain < 1 an overshooting one, an object that slid or rolled on, asks less next time).
     double gain = 1.0;
     for (int k = 0; k < budget; ++k) {
       PushStep step;
@@ -264,7 +277,7 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         if (k + 1 >= budget) popt.via_points = 0;
         planning::PushPlan plan = planning::plan_push(cur_view, cur_object, options.goal, aim,
                                                       region, arm, robot.joints(), popt);
-        if (plan.outcome != planning::PlanOutcome::kPlanned && gain > 1.0) {
+        if (plan.outcome != planning::PlanOutcome::kPlanned && gain != 1.0) {
           plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
                                      robot.joints(), popt);
         }
@@ -360,8 +373,7 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
           }
         }
         if (found >= 0 && asked.norm() > 1e-6) {
-          const double moved = (step.seen_centre - c).dot(asked) / asked.squaredNorm();
-          gain = std::clamp(1.0 / std::max(moved, 1e-3), 1.0, options.max_gain);
+          gain = correction_gain(asked, step.seen_centre - c, options.min_gain, options.max_gain);
         }
         const bool done = found < 0 || step.seen_distance <= options.tolerance;
         if (found < 0) step.message += "; the pushed object was not found again";
@@ -560,6 +572,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     po.max_pushes = options.max_pushes;
     po.tolerance = options.tolerance;
     po.max_gain = options.max_gain;
+    po.min_gain = options.min_gain;
     po.retries = options.retries;
     PushRunResult p;
     try {

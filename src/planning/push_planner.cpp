@@ -14,11 +14,10 @@
 namespace proprio::planning {
 
 namespace {
-constexpr double kAtTargetDistance = 0.01;  // m
-constexpr double kTransitLift = 0.06;       // m: robot::PushMotionOptions::lift
-constexpr int kCorridorLines = 5;           // lines across the swept corridor
-constexpr double kEdgeWeight = 1.0;         // kEdge: cost per image side of distance to the edge
-constexpr double kMetresToMm = 1000.0;      // hull computation in integer-free float mm
+constexpr double kTransitLift = 0.06;   // m: robot::PushMotionOptions::lift
+constexpr int kCorridorLines = 5;       // lines across the swept corridor
+constexpr double kEdgeWeight = 1.0;     // kEdge: cost per image side of distance to the edge
+constexpr double kMetresToMm = 1000.0;  // hull computation in integer-free float mm
 // Rate at which the chosen path's whole motion is checked, Hz: the simulated controller's,
 // so that a joint jump (an IK branch change) on the way is caught as it would be there.
 constexpr double kMotionCheckRate = 500.0;
@@ -814,16 +813,32 @@ double distance_to_hull_edge(const std::vector<Eigen::Vector2d>& hull, const Eig
   return std::isfinite(best) ? best : 0.0;
 }
 
+double push_tip_height(const PutativeObject& object, const PushPlanOptions& options) {
+  if (options.tip_fraction <= 0 || !object.height || *object.height > options.tip_raise_height) {
+    return options.tip_height;
+  }
+  return std::clamp(options.tip_fraction * *object.height, options.tip_height,
+                    std::max(options.tip_height, kMostTipHeight));
+}
+
+double push_speed_for(const PutativeObject& object, const PushPlanOptions& options) {
+  if (options.tall_push_speed > 0 && object.height && *object.height >= options.tall_height) {
+    return options.tall_push_speed;
+  }
+  return options.push_speed;
+}
+
 robot::TablePush push_through_centre(const std::vector<Eigen::Vector2d>& hull,
                                      const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
-                                     double approach, double height, double speed) {
+                                     double approach, double height, double speed,
+                                     double pusher_radius) {
   const Eigen::Vector2d d = target - centre;
   require(d.allFinite() && d.norm() > 1e-9, "push: the target is the object's centre");
   const Eigen::Vector2d n = d / d.norm();  // SPEC §5: p_t - p_s, not the thesis's p_s - p_t
   const double back = distance_to_hull_edge(hull, centre, -n);
   robot::TablePush push;
-  push.start = centre - (back + approach) * n;  // p_s, behind the object
-  push.end = target - back * n;                 // the back edge where p_c is over p_t
+  push.start = centre - (back + approach) * n;     // p_s, behind the object
+  push.end = target - (back + pusher_radius) * n;  // the back edge where p_c is over p_t
   push.height = height;
   push.speed = speed;
   return push;
@@ -960,7 +975,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
                         std::to_string(static_cast<int>(std::lround(radius * 1000))) +
                         " mm across its centre, would not fit)");
     }
-    if ((target - o.centre).norm() < kAtTargetDistance) {
+    if ((target - o.centre).norm() < options.least_push) {
       return finish(PlanOutcome::kAtTarget, "the object is already at the target");
     }
   }
@@ -980,6 +995,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const bool heights = o.height.has_value() ||
                        std::any_of(obstacle_objects.begin(), obstacle_objects.end(),
                                    [](const PutativeObject* x) { return x->height.has_value(); });
+  // The tip's height and the speed for this object (its measured height, when depth gave one).
+  const double tip = push_tip_height(o, options);
+  const double speed = push_speed_for(o, options);
   core::Rng rng(options.seed);
   const robot::IkOptions ik;
   struct Candidate {
@@ -1015,12 +1033,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       t = o.centre + r * Eigen::Vector2d(std::cos(a), std::sin(a));
     }
     const double approach = rng.uniform(options.min_approach, options.max_approach);
-    if ((t - o.centre).norm() < kAtTargetDistance) {
+    if ((t - o.centre).norm() < options.least_push) {
       ++plan.rejected_region;
       continue;
     }
     const robot::TablePush push =
-        push_through_centre(o.hull, o.centre, t, approach, options.tip_height, options.push_speed);
+        push_through_centre(o.hull, o.centre, t, approach, tip, speed, options.pusher_radius);
     if (!inside_region(push.start, region, options.table_margin) ||
         !inside_region(t, region, options.table_margin + radius) ||
         (goal == PushGoal::kEdge && !in_view(view.camera, t, 0.0)) || push.length() < 0.005) {
@@ -1028,8 +1046,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       continue;
     }
     if (options.descent_clearance > 0 &&
-        (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance,
-                                   options.tip_height)
+        (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance, tip)
                  : descent_blocked(push.start, o.hull, obstacles, options.descent_clearance))) {
       ++plan.rejected_reach;
       continue;
@@ -1049,9 +1066,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       // The second leg, from the waypoint on to the target, as the next plan would make it.
       std::vector<Eigen::Vector2d> moved = o.hull;
       for (auto& h : moved) h += t - o.centre;
-      if ((target - t).norm() < kAtTargetDistance) continue;
-      const robot::TablePush next = push_through_centre(moved, t, target, options.min_approach,
-                                                        options.tip_height, options.push_speed);
+      if ((target - t).norm() < options.least_push) continue;
+      const robot::TablePush next = push_through_centre(moved, t, target, options.min_approach, tip,
+                                                        speed, options.pusher_radius);
       if (!inside_region(next.start, region, options.table_margin) ||
           !robot::reachable(arm, next.start, next.height, q_rest, ik) ||
           !robot::reachable(arm, next.end, next.height, q_rest, ik)) {

@@ -58,6 +58,33 @@ TEST(PushGeometry, StartIsBehindTheObjectAndTheCentreEndsOverTheTarget) {
   const Eigen::Vector2d n = (t - p.start).normalized();
   EXPECT_NEAR(n.y(), 1.0, 1e-12);
   EXPECT_THROW((void)push_through_centre(square, c, c, 0.03, 0.008, 0.05), Error);
+  // A pusher of 8 mm radius meets the edge with its side: it stops 8 mm short, from the same start.
+  const robot::TablePush r = push_through_centre(square, c, t, 0.03, 0.008, 0.05, 0.008);
+  EXPECT_NEAR(r.start.y(), -0.05, 1e-12);
+  EXPECT_NEAR(r.end.y(), 0.072, 1e-12);
+  EXPECT_NEAR(r.end.x(), 0.2, 1e-12);
+}
+
+TEST(PushPlanner, PushesEndShortByThePushersRadius) {
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.28, 0.0}, 0.03);
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  PushPlanOptions o = flat_options();
+  o.target_spread = 0;
+  const Eigen::Vector2d target(0.22, 0.0);
+  const PushPlan axis = plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+  o.pusher_radius = 0.008;
+  const PushPlan side = plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(axis.outcome, PlanOutcome::kPlanned) << axis.message;
+  ASSERT_EQ(side.outcome, PlanOutcome::kPlanned) << side.message;
+  // The same path (same seed, same sampling), 8 mm shorter.
+  EXPECT_NEAR((axis.push.start - side.push.start).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((axis.push.end - side.push.end).norm(), 0.008, 1e-9);
+  EXPECT_NEAR(axis.push.length() - side.push.length(), 0.008, 1e-9);
 }
 
 TEST(PushPlanner, FindsTheObjectsAndTheirCentres) {
@@ -210,6 +237,76 @@ TEST(PushPlanner, DescentClearanceLeavesOutPushesTheArmWouldComeDownOn) {
   // Sideways it is planned.
   const PushPlan aside = plan_push(view, 0, PushGoal::kTarget, {0.25, 0.08}, {}, state, q0, o);
   EXPECT_EQ(aside.outcome, PlanOutcome::kPlanned) << aside.message;
+}
+
+TEST(PushPlanner, ATallObjectIsPushedHigherAndSlowerByItsMeasuredHeight) {
+  // A square object pushed toward -x: with tip_fraction and tall_push_speed set, a measured
+  // 15 cm object is pushed at a third of its height (5 cm: kMostTipHeight) and at the tall speed,
+  // a 3 cm one at 1 cm and the usual speed, an unmeasured one (no depth) at tip_height and
+  // push_speed; with the options off (the defaults) every object as before.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.28, 0.0}, 0.03);
+  PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target(0.22, 0.0);
+  PushPlanOptions o = flat_options();
+  o.tip_fraction = 1.0 / 3.0;
+  o.tall_height = 0.06;
+  o.tall_push_speed = 0.02;
+  struct Case {
+    std::optional<double> height;
+    double tip;
+    double speed;
+  };
+  // Taller than tip_raise_height (15 cm, a bottle): the low tip, slowly.
+  for (const Case& c :
+       {Case{0.19, o.tip_height, 0.02}, Case{0.15, kMostTipHeight, 0.02}, Case{0.09, 0.03, 0.02},
+        Case{0.03, 0.01, o.push_speed}, Case{0.012, o.tip_height, o.push_speed},
+        Case{std::nullopt, o.tip_height, o.push_speed}}) {
+    view.objects[0].height = c.height;
+    EXPECT_NEAR(push_tip_height(view.objects[0], o), c.tip, 1e-12);
+    EXPECT_NEAR(push_speed_for(view.objects[0], o), c.speed, 1e-12);
+    const PushPlan p = plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+    ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
+    EXPECT_NEAR(p.push.height, c.tip, 1e-12);
+    EXPECT_NEAR(p.push.speed, c.speed, 1e-12);
+    const PushPlan off =
+        plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, flat_options());
+    ASSERT_EQ(off.outcome, PlanOutcome::kPlanned) << off.message;
+    EXPECT_EQ(off.push.height, flat_options().tip_height);
+    EXPECT_EQ(off.push.speed, flat_options().push_speed);
+  }
+  PushPlanOptions bad = o;
+  bad.tip_fraction = 0.9;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
+TEST(PushPlanner, LeastPushSetsWhenAnObjectIsAtItsTarget) {
+  // 7 mm from its target: at the target by the default least push (1 cm), pushed the 7 mm with
+  // least_push 5 mm (a closed loop whose tolerance is under a centimetre), and the push's end is
+  // the target less the hull's back distance, as for a long push.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.28, 0.0}, 0.03);
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target = view.objects[0].centre + Eigen::Vector2d(-0.007, 0.0);
+  EXPECT_EQ(plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, flat_options()).outcome,
+            PlanOutcome::kAtTarget);
+  PushPlanOptions o = flat_options();
+  o.least_push = 0.005;
+  o.target_spread = 0;
+  const PushPlan p = plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
+  EXPECT_NEAR((p.target - target).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((p.push.end - p.push.start).norm(), p.approach + 0.007, 1e-9);
+  o.least_push = 0.001;
+  EXPECT_THROW(o.validate(), Error);
 }
 
 TEST(PushPlanner, DescentClearanceGoesByMeasuredHeights) {

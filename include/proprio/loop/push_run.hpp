@@ -56,6 +56,10 @@ struct PushOptions {
   /// the previous push moved it against what it asked (1, the default: no gain; 2 gave the same
   /// median and a worse 90th percentile on tables 1-100, docs/results/push.md).
   double max_gain = 1.0;
+  /// The least gain of a correction: after a push that moved the object k times what it asked
+  /// (k > 1: it slid or rolled on), the next asks 1/k of the remaining distance, down to this
+  /// (1, the default: never less than the remaining distance).
+  double min_gain = 1.0;
   /// When the robot refuses a push (its arm would meet an object on the way), another path is
   /// planned (another plan seed, its approach 3 cm longer each time) this many times.
   int retries = 2;
@@ -86,6 +90,8 @@ struct PushOptions {
        core::between(0.01, 0.3)});
     v(self.max_gain, {"max_gain", "Most gain of a correction push (after an undershooting push)",
                       core::between(1, 5)});
+    v(self.min_gain, {"min_gain", "Least gain of a correction push (after an overshooting push)",
+                      core::between(0.2, 1)});
     v(self.retries,
       {"retries", "Other paths planned when the robot refuses a push", core::between(0, 10)});
   }
@@ -276,6 +282,14 @@ struct PushRunResult {
   }
 };
 
+/// The closed loop's gain for the next push (PushOptions::min_gain, max_gain): a push asked the
+/// object's centre to move by `asked` (table m, not zero) and the look after it saw it move by
+/// `moved` (m); the share made along the asked direction is k = moved . asked / |asked|^2, and
+/// the next push asks 1/k times the remaining distance, clamped to [min_gain, max_gain] (k near 0
+/// or negative: max_gain). Throws Error for a zero or non-finite `asked`, or gains out of order.
+double correction_gain(const Eigen::Vector2d& asked, const Eigen::Vector2d& moved, double min_gain,
+                       double max_gain);
+
 /// The putative object of `view` that lies on object `id` of the ground-truth mask: the one with
 /// most of its feature points on it (at least half of them); -1 when none.
 int putative_object_on(const planning::PlanningView& view, const cv::Mat& mask, int id);
@@ -306,6 +320,7 @@ struct PushEvaluationOptions {
   int max_pushes = 3;        ///< PushOptions::max_pushes (1: open loop)
   double tolerance = 0.015;  ///< PushOptions::tolerance, m
   double max_gain = 1.0;     ///< PushOptions::max_gain
+  double min_gain = 1.0;     ///< PushOptions::min_gain
   int retries = 2;           ///< PushOptions::retries
   /// The tables' world (sim::TableOptions): what stands behind them, the distractors (-1: 2
   /// with the moving background, else 0) and clutter objects beside the 4-6 (drawn by each
@@ -339,6 +354,8 @@ struct PushEvaluationOptions {
        core::between(0.002, 0.1)});
     v(self.max_gain, {"max_gain", "Most gain of a correction push (after an undershooting push)",
                       core::between(1, 5)});
+    v(self.min_gain, {"min_gain", "Least gain of a correction push (after an overshooting push)",
+                      core::between(0.2, 1)});
     v(self.retries,
       {"retries", "Other paths planned when the robot refuses a push", core::between(0, 10)});
     v.choice(self.background,

@@ -98,6 +98,26 @@ struct PushPlanOptions {
   double table_margin = 0.03;   ///< paths and pushed objects keep this far inside the region, m
   double tip_height = 0.008;    ///< pusher tip above the table while pushing, m
   double push_speed = 0.05;     ///< m/s
+  /// kTarget: a target nearer than this to the object's centre is reached (PlanOutcome::kAtTarget)
+  /// and sampled targets nearer than this are not pushed to, m. A closed loop whose tolerance is
+  /// below it stops at it.
+  double least_push = 0.01;
+  /// Objects whose height was measured (depth, PutativeObject::height): the pusher's tip at this
+  /// fraction of the pushed object's height where that is above tip_height, at most
+  /// kMostTipHeight, for objects no taller than tip_raise_height (push_tip_height). 0 (the
+  /// default): tip_height for every object.
+  double tip_fraction = 0;
+  /// m: objects measured taller than this keep tip_height (a bottle pushed higher toppled).
+  double tip_raise_height = 0.15;
+  /// The pusher's radius, m: its side, not its axis, meets the object, so the push ends this much
+  /// short of where the axis would put the object's back edge (push_through_centre). 0 (the
+  /// default): the axis (the object goes on by the pusher's radius); the simulated arm's pusher
+  /// is a capsule of 8 mm radius.
+  double pusher_radius = 0;
+  /// Objects measured at least this tall (m) are pushed at tall_push_speed (push_speed_for).
+  double tall_height = 0.06;
+  /// m/s; 0 (the default): push_speed for every object.
+  double tall_push_speed = 0;
   /// Least gap kept between the corridor the pushed object sweeps (its hull carried from p_c to
   /// p_t) and every other putative object's hull, m; a path that keeps less is blocked by the
   /// shortfall (path_clearance), which outweighs the feature-density cost. 0 (the default: 1 cm
@@ -158,6 +178,24 @@ struct PushPlanOptions {
     v(self.tip_height,
       {"tip_height", "Pusher tip height above the table, m", core::between(0.002, 0.05)});
     v(self.push_speed, {"push_speed", "Push speed, m/s", core::positive_at_most(0.5)});
+    v(self.least_push, {"least_push", "Target goal: an object this near its target is there, m",
+                        core::between(0.002, 0.05)});
+    v(self.tip_fraction,
+      {"tip_fraction",
+       "Depth: the pusher's tip at this fraction of the object's measured height (0: tip_height)",
+       core::between(0, 0.5)});
+    v(self.tip_raise_height,
+      {"tip_raise_height", "Depth: objects taller than this keep tip_height, m",
+       core::between(0.005, 0.5)});
+    v(self.pusher_radius,
+      {"pusher_radius", "The pusher's radius: pushes end this much short, m (0: the axis)",
+       core::between(0, 0.05)});
+    v(self.tall_height,
+      {"tall_height", "Depth: objects measured this tall are pushed at tall_push_speed, m",
+       core::between(0.005, 0.5)});
+    v(self.tall_push_speed,
+      {"tall_push_speed", "Depth: push speed of tall objects, m/s (0: push_speed)",
+       core::between(0, 0.5)});
     v(self.clearance,
       {"clearance", "Least gap between the pushed object's corridor and other objects, m",
        core::between(0, 0.1)});
@@ -352,10 +390,13 @@ double distance_to_hull_edge(const std::vector<Eigen::Vector2d>& hull, const Eig
 /// The start and end of a push of an object with centre p_c to target p_t (SPEC §5, the sign of
 /// the thesis's n corrected): n = (p_t - p_c) / |p_t - p_c|, p_s = p_c - (d + approach) n, where
 /// d is the distance from p_c to the hull's edge along -n, and the pusher stops at p_t - d n so
-/// that p_c ends over p_t; the path is f(t) = p_s + t n (eq 7.4). Throws Error when p_t = p_c.
+/// that p_c ends over p_t; the path is f(t) = p_s + t n (eq 7.4). A pusher of radius
+/// `pusher_radius` (m) meets the object with its side, so it stops at p_t - (d + pusher_radius) n.
+/// Throws Error when p_t = p_c.
 robot::TablePush push_through_centre(const std::vector<Eigen::Vector2d>& hull,
                                      const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
-                                     double approach, double height, double speed);
+                                     double approach, double height, double speed,
+                                     double pusher_radius = 0);
 
 /// Cost of a push (eq 7.5): the density of `density` (the other objects' features; the pushed
 /// object's hull zeroed) integrated, in steps of `step` m, along the pusher's path and the
@@ -366,6 +407,20 @@ double path_cost(const cv::Mat1f& density, const geometry::Camera& camera,
                  const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
                  const Eigen::Vector2d& centre, const Eigen::Vector2d& target, double height,
                  double step);
+
+/// The highest tip PushPlanOptions::tip_fraction puts the pusher at, m (the fingers are
+/// kFingerDrop above the tip, the palm kPalmDrop).
+inline constexpr double kMostTipHeight = 0.05;
+
+/// The pusher tip's height above the table for pushing `object`, m: options.tip_height, or with a
+/// measured height h (depth) and options.tip_fraction > 0, tip_fraction * h where that is higher,
+/// at most kMostTipHeight, when h <= options.tip_raise_height. A tall object pushed at its foot is
+/// pushed by the fingers too (kFingerDrop above the tip), and turns or topples about its foot.
+double push_tip_height(const PutativeObject& object, const PushPlanOptions& options);
+
+/// The push speed for `object`, m/s: options.tall_push_speed when that is set (> 0) and the
+/// object's measured height (depth) is at least options.tall_height, else options.push_speed.
+double push_speed_for(const PutativeObject& object, const PushPlanOptions& options);
 
 /// Distance between two convex polygons (either orientation; 1 or 2 points are a point or a
 /// segment), any units; 0 when they overlap.
