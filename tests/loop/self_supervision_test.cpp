@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "../support/table_views.hpp"
 #include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/features/kmeans.hpp"
@@ -394,6 +395,90 @@ TEST(SelfSupervision, PushMotionSaysWhichBlobsMoved) {
   EXPECT_TRUE(push_motion(before, after, view, 1.01).moved.empty());
 }
 
+// The pixel rectangle of the table square of half side h at c (test::down_camera: image x =
+// world x, image y = -world y).
+cv::Rect square_px(const geometry::Camera& cam, const Eigen::Vector2d& c, double h) {
+  const Eigen::Vector2d a = cam.project(Eigen::Vector3d(c.x() - h, c.y() + h, 0));
+  const Eigen::Vector2d b = cam.project(Eigen::Vector3d(c.x() + h, c.y() - h, 0));
+  return {cv::Point(static_cast<int>(a.x()), static_cast<int>(a.y())),
+          cv::Point(static_cast<int>(b.x()), static_cast<int>(b.y()))};
+}
+
+TEST(SelfSupervision, EpisodeMotionSplitsTheBlobAndSeesTheNeighbourMove) {
+  // Two textured squares 5 mm apart (one blob to the looks) and a third apart, seen from above.
+  // The push moves the first 3 cm along +x; the neighbour is nudged 1 cm along -y in case 2.
+  const geometry::Camera cam = test::down_camera();
+  planning::PushPlanOptions po;
+  po.centre_height = 0.0;  // the squares lie on the table
+  const planning::TableRegion region;
+  const double h = 0.03;
+  const Eigen::Vector2d a(0.20, 0.0);
+  const Eigen::Vector2d b(0.20, -0.065);
+  const Eigen::Vector2d c(0.34, 0.12);
+  cv::Mat tex(square_px(cam, a, h).size() + cv::Size(1, 1), CV_8UC1);
+  cv::theRNG().state = 7;
+  cv::randu(tex, 0, 255);
+  const auto draw = [&](cv::Mat& img, const Eigen::Vector2d& at) {
+    const cv::Rect r = square_px(cam, at, h);
+    tex(cv::Rect(0, 0, r.width, r.height)).copyTo(img(r));
+  };
+  cv::Mat first(cam.height, cam.width, CV_8UC1, cv::Scalar(128));
+  draw(first, a);
+  draw(first, b);
+  draw(first, c);
+  const Eigen::Vector2d a_end = a + Eigen::Vector2d(0.03, 0);
+  cv::Mat last(cam.height, cam.width, CV_8UC1, cv::Scalar(128));
+  draw(last, a_end);
+  draw(last, b);
+  draw(last, c);
+  cv::Mat nudged(cam.height, cam.width, CV_8UC1, cv::Scalar(128));
+  draw(nudged, a_end);
+  draw(nudged, b - Eigen::Vector2d(0, 0.01));
+  draw(nudged, c);
+  const planning::PlanningView looked =
+      planning::make_planning_view(planning::textured_points(first, po), cam, region, po);
+  ASSERT_EQ(looked.objects.size(), 2U);  // the two near squares are one blob
+  const int merged = looked.objects[0].centre.x() < 0.27 ? 0 : 1;
+  // The push's motion segmentation: the first square at its touch; all it swept over the push.
+  cv::Mat touch(cam.height, cam.width, CV_8U, cv::Scalar(0));
+  touch(square_px(cam, a, h)).setTo(255);
+  cv::Mat explained(cam.height, cam.width, CV_8U, cv::Scalar(0));
+  explained(square_px(cam, a, h) | square_px(cam, a_end, h)).setTo(255);
+  // Case 1: the neighbour stayed: the blob is split, the pushed square moved alone.
+  planning::PlanningView view = looked;
+  EpisodeMotion em =
+      episode_motion(view, merged, touch, explained, first, last, 0.25, 10, region, po);
+  ASSERT_EQ(view.objects.size(), 3U);
+  ASSERT_GE(em.pushed, 0);
+  EXPECT_NEAR(view.objects[static_cast<std::size_t>(em.pushed)].centre.x(), a.x(), 0.01);
+  EXPECT_NEAR(view.objects[static_cast<std::size_t>(em.pushed)].centre.y(), a.y(), 0.01);
+  EXPECT_TRUE(em.motion.alone(em.pushed));
+  EXPECT_EQ(em.motion.most, em.pushed);
+  // Case 2: the neighbour was nudged 1 cm. The looks' blobs cannot see it (one blob moved, the
+  // pushed one: "alone"); the split view judged by what the push's own motion leaves
+  // unexplained sees two objects move.
+  EXPECT_TRUE(push_motion(first, nudged, looked, 0.25, merged).alone(merged));
+  view = looked;
+  em = episode_motion(view, merged, touch, explained, first, nudged, 0.25, 10, region, po);
+  ASSERT_EQ(view.objects.size(), 3U);
+  EXPECT_EQ(em.motion.most, em.pushed);
+  EXPECT_FALSE(em.motion.alone(em.pushed));
+  ASSERT_EQ(em.motion.moved.size(), 2U);
+  const int other = em.motion.moved[0] == em.pushed ? em.motion.moved[1] : em.motion.moved[0];
+  EXPECT_NEAR(view.objects[static_cast<std::size_t>(other)].centre.y(), b.y(), 0.01);
+  // Without a touch mask the blob stays whole, the planned blob is the pushed one; a neighbour's
+  // points all explained by the push's motion count as not moved.
+  view = looked;
+  cv::Mat all(cam.height, cam.width, CV_8U, cv::Scalar(255));
+  em = episode_motion(view, merged, cv::Mat(), all, first, nudged, 0.25, 10, region, po);
+  EXPECT_EQ(view.objects.size(), 2U);
+  EXPECT_EQ(em.pushed, merged);
+  EXPECT_TRUE(em.motion.alone(merged));
+  view = looked;
+  EXPECT_THROW((void)episode_motion(view, 2, touch, explained, first, last, 0.25, 10, region, po),
+               InternalError);
+}
+
 TEST(SelfSupervision, MergedBlobHoldsAnotherBlobsCentre) {
   planning::PlanningView before;
   before.objects = {square_blob(0, 0, 0.02), square_blob(0.08, 0, 0.02), square_blob(0, 0.2, 0.02)};
@@ -646,6 +731,55 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
     EXPECT_LE(os.turn_deg, 180.0);
   }
   EXPECT_NO_THROW((void)j.dump());  // no NaN or Inf
+}
+
+TEST(SelfSupervision, SplitByMotionJudgesLearnPushesByTheirEpisodes) {
+  // Motion views with split_by_motion: each learn push's segmentation splits the looks' blobs
+  // (logged "split") and what it moved is judged from its episode (motion source "episode");
+  // with alone_views a push that moved two objects gives no views.
+  SelfSupervisionOptions o = small_options();
+  o.views = ViewSource::kMotion;
+  o.split_by_motion = true;
+  o.alone_views = true;
+  const test::TempDir dir("proprio_selfsup_split_");
+  std::optional<TinyModel> tiny;
+  Learning l;
+  {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::SimulatedRobot robot(table_of(o), catalogue);
+    tiny = tiny_model(robot.look().image);
+    GroundTruthAttendant attendant(robot, o.seed);
+    l = learn_by_pushing(robot, attendant, 2, tiny->lda, tiny->vocabulary, o, dir.path());
+  }
+  ASSERT_GT(l.pushes_learn, 0);
+  int episode_judged = 0;
+  int splits = 0;
+  for (std::size_t i = 0; i < l.log.size(); ++i) {
+    const auto& j = l.log[i];
+    if (j.event == "split") {
+      ++splits;
+      EXPECT_EQ(j.phase, "learn");
+      EXPECT_TRUE(j.then.has_value());
+    }
+    if (j.event != "motion" || j.source != "episode") continue;
+    ++episode_judged;
+    ASSERT_TRUE(j.shares && j.moved_most && j.blob);
+    // The split came first (the look before the push, split by its touch mask).
+    EXPECT_GT(splits, 0);
+    ASSERT_LT(*j.blob, static_cast<int>(j.shares->size()));
+    int moved = 0;
+    for (const double sh : *j.shares) moved += sh >= o.moved_share ? 1 : 0;
+    const bool two = *j.moved_most == *j.blob && moved > 1;
+    for (std::size_t k = i + 1; k < l.log.size(); ++k) {
+      if (l.log[k].event != "views") continue;
+      if (two) {
+        EXPECT_EQ(l.log[k].taken, 0);
+      }
+      break;
+    }
+  }
+  EXPECT_GT(episode_judged, 0);
+  EXPECT_EQ(splits, episode_judged);
 }
 
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
