@@ -477,6 +477,24 @@ TEST(SelfSupervision, EpisodeMotionSplitsTheBlobAndSeesTheNeighbourMove) {
   view = looked;
   EXPECT_THROW((void)episode_motion(view, 2, touch, explained, first, last, 0.25, 10, region, po),
                InternalError);
+  // The pushed object after the push: of the split parts the push's end mask holds (here both
+  // near squares, swept together), the one nearest the push's target, not the larger share.
+  view = looked;
+  (void)episode_motion(view, merged, touch, explained, first, last, 0.25, 10, region, po);
+  cv::Mat end(cam.height, cam.width, CV_8U, cv::Scalar(0));
+  end(square_px(cam, a, h) | square_px(cam, b, h)).setTo(255);
+  const int at_a = pushed_part(view, end, a + Eigen::Vector2d(0.01, 0), 10);
+  const int at_b = pushed_part(view, end, b + Eigen::Vector2d(0.01, 0), 10);
+  ASSERT_GE(at_a, 0);
+  ASSERT_GE(at_b, 0);
+  EXPECT_NEAR(view.objects[static_cast<std::size_t>(at_a)].centre.y(), a.y(), 0.01);
+  EXPECT_NEAR(view.objects[static_cast<std::size_t>(at_b)].centre.y(), b.y(), 0.01);
+  // The third square is nearest a target by it, but the mask does not hold it; an empty mask
+  // holds none.
+  const int at_c = pushed_part(view, end, c, 10);
+  EXPECT_TRUE(at_c == at_a || at_c == at_b);
+  EXPECT_EQ(pushed_part(view, cv::Mat(cam.height, cam.width, CV_8U, cv::Scalar(0)), a, 10), -1);
+  EXPECT_THROW((void)pushed_part(view, cv::Mat(10, 10, CV_8U), a, 10), InternalError);
 }
 
 TEST(SelfSupervision, MergedBlobHoldsAnotherBlobsCentre) {

@@ -577,6 +577,13 @@ PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
 /// Shares this close count as a tie in push_motion.
 inline constexpr double kShareTie = 0.05;
 
+/// (c) Which putative object of `view` (the look after a push, split by the push's mask) is the
+/// pushed one: of those with at least `min_features` feature points inside `mask` (8-bit, the
+/// view's image size: what moved with the arm at the push's end), the one whose centre is nearest
+/// `target` (the push's target, table m); -1 when none.
+int pushed_part(const planning::PlanningView& view, const cv::Mat& mask,
+                const Eigen::Vector2d& target, int min_features);
+
 /// (c) What a learn push moved, judged from its own dense motion (the episode) on blobs split
 /// into objects, not from the looks' blobs (session 18: of 136 pushes the looks called "alone",
 /// 94 moved a neighbour that sat inside the pushed blob).
