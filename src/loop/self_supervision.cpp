@@ -628,7 +628,6 @@ class Learner {
     // a neighbour swept along as often: the round then went on with it, purity fell 82 -> 51%
     // on the tuning seed.)
     const int now = pushed_part(after, moved, target, o_.min_features);
-    if (now >= 0) last_region_ = moved;
     log({.event = "split",
          .round = r,
          .phase = "learn",
@@ -649,35 +648,12 @@ class Learner {
     // the next push plans on it instead of looking again and re-finding the object by position.
     std::optional<planning::PlanningView> carried;
     int carried_blob = -1;
-    last_region_ = cv::Mat();
     // Unspent pushes of earlier rounds (objects lost, pushes not planned) go to this one.
     const int budget = o_.carry_budget ? round_budget(r, o_.pushes, out_.pushes_learn) : o_.pushes;
     while (done < budget && attempts < 2 * budget + 4) {
       ++attempts;
-      planning::PlanningView fresh;
-      int c = carried_blob;
-      if (!carried) {
-        fresh = look();
-        c = -1;
-        // split_by_motion: a new look (after a refused or unplanned push) is split by where the
-        // last push's motion left the object, as the look after a push is; the object is the
-        // part that region holds nearest where it was (else the round went on with the
-        // neighbour it touched: tuning seed 1, round 2, after a refused push).
-        if (!last_region_.empty() && last_region_.size() == fresh.image_size) {
-          const std::size_t blobs = fresh.objects.size();
-          (void)planning::split_putative_objects(fresh, {last_region_}, o_.min_features, region_,
-                                                 plan_options_);
-          c = pushed_part(fresh, last_region_, chosen, o_.min_features);
-          log({.event = "split",
-               .round = r,
-               .phase = "learn",
-               .blob = c,
-               .then = core::printf_string("a new look: %d blobs -> %d", static_cast<int>(blobs),
-                                           static_cast<int>(fresh.objects.size()))});
-        }
-        if (c < 0) c = track(fresh, chosen);
-      }
-      const planning::PlanningView view = carried ? std::move(*carried) : std::move(fresh);
+      const planning::PlanningView view = carried ? std::move(*carried) : look();
+      int c = carried ? carried_blob : track(view, chosen);
       carried.reset();
       if (c < 0 && view.objects.size() == 1) {
         // Singulated: the one blob in view is the object, wherever the push left it.
@@ -1010,11 +986,8 @@ class Learner {
   /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
   int plans_ = 0;
-  double offset_ = 0;  ///< the next push's turning offset, m (0: through the centre)
-  /// split_by_motion: what moved with the arm at the end of the round's last learn push (grown),
-  /// the object's region in the looks until the next push; empty: none.
-  cv::Mat last_region_;
-  double extra_approach_ = 0;                 ///< m, grown after each refusal of the round
+  double offset_ = 0;          ///< the next push's turning offset, m (0: through the centre)
+  double extra_approach_ = 0;  ///< m, grown after each refusal of the round
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for the arm's image
 };
 
