@@ -686,13 +686,18 @@ class Learner {
       p.outcome = planning::PlanOutcome::kUnreachable;
       p.message = "no side kept clear of the other blobs";
       bool crowded = false;  // a side was left out for its corridor
-      for (int i = 0; i < lengths * kSides; ++i) {
-        const int side = i % kSides;
-        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
-        const Eigen::Vector2d goal = i == 0
-                                         ? target
-                                         : chosen + (i < kSides ? kSidePush : kShortLearnPush) *
-                                                        Eigen::Vector2d(std::cos(a), std::sin(a));
+      std::vector<Eigen::Vector2d> goals{target};
+      for (int l = 0; l < lengths; ++l) {
+        for (const auto& g :
+             fallback_goals(chosen, centre_, a0, l == 0 ? kSidePush : kShortLearnPush, kSides,
+                            o_.circle_radius, o_.inward_sides)) {
+          goals.push_back(g);
+        }
+        if (l == 0 && lengths > 1) {
+          goals.push_back(chosen + kShortLearnPush * Eigen::Vector2d(std::cos(a0), std::sin(a0)));
+        }
+      }
+      for (const Eigen::Vector2d& goal : goals) {
         const double lack = learn_push_lack(view, c, goal, o_.learn_clearance);
         if (lack > 0) {
           crowded = true;
@@ -1128,6 +1133,27 @@ PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
     m.most = pushed;
   }
   return m;
+}
+
+std::vector<Eigen::Vector2d> fallback_goals(const Eigen::Vector2d& chosen,
+                                            const Eigen::Vector2d& centre, double a0, double length,
+                                            int sides, double radius, bool inward) {
+  ensure(sides >= 1 && length > 0, "fallback_goals: bad sides or length");
+  std::vector<Eigen::Vector2d> out;
+  const double limit = std::max((chosen - centre).norm(), radius);
+  for (int k = 1; k < sides; ++k) {
+    const double a = a0 + (k * 2 * std::numbers::pi / sides);
+    const Eigen::Vector2d g = chosen + length * Eigen::Vector2d(std::cos(a), std::sin(a));
+    if (inward && (g - centre).norm() > limit) continue;
+    out.push_back(g);
+  }
+  if (inward) {
+    std::stable_sort(out.begin(), out.end(),
+                     [&](const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
+                       return (x - centre).norm() < (y - centre).norm();
+                     });
+  }
+  return out;
 }
 
 int pushed_part(const planning::PlanningView& view, const cv::Mat& mask,

@@ -497,6 +497,38 @@ TEST(SelfSupervision, EpisodeMotionSplitsTheBlobAndSeesTheNeighbourMove) {
   EXPECT_THROW((void)pushed_part(view, cv::Mat(10, 10, CV_8U), a, 10), InternalError);
 }
 
+TEST(SelfSupervision, FallbackGoalsGoInwardWhenAsked) {
+  // The object 16 cm out from the work centre along +x; its first goal was outward (a0 = 0).
+  const Eigen::Vector2d centre(0.24, 0.0);
+  const Eigen::Vector2d chosen(0.40, 0.0);
+  const double length = 0.08;
+  // Off: the other seven sides in turn, an eighth of a turn apart, the first at 45 degrees.
+  const std::vector<Eigen::Vector2d> all =
+      fallback_goals(chosen, centre, 0.0, length, 8, 0.07, false);
+  ASSERT_EQ(all.size(), 7U);
+  EXPECT_NEAR(all[0].x(), 0.40 + length * std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(all[0].y(), length * std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(all[3].x(), 0.32, 1e-12);  // k = 4: straight back toward the centre
+  // On: toward the centre first (straight back), nearest first; none ends farther out than the
+  // object is now (45 degrees off outward, 90 degrees off, ... are left out).
+  const std::vector<Eigen::Vector2d> in =
+      fallback_goals(chosen, centre, 0.0, length, 8, 0.07, true);
+  ASSERT_FALSE(in.empty());
+  EXPECT_LT(in.size(), all.size());
+  EXPECT_NEAR(in[0].x(), 0.32, 1e-12);
+  EXPECT_NEAR(in[0].y(), 0.0, 1e-12);
+  for (std::size_t k = 0; k < in.size(); ++k) {
+    EXPECT_LE((in[k] - centre).norm(), (chosen - centre).norm() + 1e-12);
+    if (k > 0) {
+      EXPECT_GE((in[k] - centre).norm(), (in[k - 1] - centre).norm());
+    }
+  }
+  // Within the circle of targets any side is allowed (sorted still).
+  EXPECT_EQ(fallback_goals(centre, centre, 0.0, 0.05, 8, 0.07, true).size(), 7U);
+  EXPECT_FALSE(SelfSupervisionOptions{}.inward_sides);  // off unless measured better
+  EXPECT_THROW((void)fallback_goals(chosen, centre, 0.0, 0.0, 8, 0.07, true), InternalError);
+}
+
 TEST(SelfSupervision, MergedBlobHoldsAnotherBlobsCentre) {
   planning::PlanningView before;
   before.objects = {square_blob(0, 0, 0.02), square_blob(0.08, 0, 0.02), square_blob(0, 0.2, 0.02)};

@@ -147,6 +147,9 @@ struct SelfSupervisionOptions {
   /// alone no more often (41 -> 42%, report seeds 2-6), c 35.4 -> 39.4% (noise) and the tuning
   /// seed's c 49.7 -> 32.3%: off (docs/results/selfsupervision.md, "Blobs that are objects").
   bool split_by_motion = false;
+  /// (c): a learn push's fallback sides (when its first goal cannot be planned) go inward first
+  /// and never farther from the work centre than the object already is (fallback_goals).
+  bool inward_sides = false;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -222,6 +225,8 @@ struct SelfSupervisionOptions {
       {"alone_views", "Views only from pushes that moved the round's object alone"});
     v(self.moved_share, {"moved_share", "Share of a blob's features that changed: it moved",
                          core::between(0.01, 1.0)});
+    v(self.inward_sides,
+      {"inward_sides", "Learn pushes' fallback sides go toward the work centre, never away"});
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
@@ -553,6 +558,17 @@ Followed follow_by_looks(const std::vector<Eigen::VectorXd>& blobs,
 /// (c) A shorter learn push, m: tried from every side when no kSidePush-long one keeps clear of
 /// the neighbours (SelfSupervisionOptions::learn_clearance).
 inline constexpr double kShortLearnPush = 0.04;
+
+/// (c) The fallback goals of a learn push whose first goal could not be planned (table m): from
+/// `chosen` (the object's centre), `length` m along the directions `a0` + k 2 pi / `sides`,
+/// k = 1..sides-1. With `inward` (SelfSupervisionOptions::inward_sides) they are sorted by their
+/// distance to `centre` (the work centre; nearest first) and those that end farther from it than
+/// both `chosen` and `radius` (the circle of learn targets) are left out: session 18, seed 4,
+/// the fallback sides carried an object 0.31 -> 0.55 m from the base, out of the arm's reach.
+/// Without, all in the order of k.
+std::vector<Eigen::Vector2d> fallback_goals(const Eigen::Vector2d& chosen,
+                                            const Eigen::Vector2d& centre, double a0, double length,
+                                            int sides, double radius, bool inward);
 
 /// (c) How much a learn push of blob `blob` of `view` toward `target` (table m) lacks of
 /// `clearance` (m): planning::path_clearance of the corridor the blob's footprint hull sweeps
