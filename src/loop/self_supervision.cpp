@@ -429,11 +429,48 @@ class Learner {
     }
   }
 
-  // The training views of one learn push's episode (kMotion) or of the look after it (kBlob).
+  // A learn push's episode and its M-L segmentation (kMotion), with the threshold of the scored
+  // frame's mask, applied to every frame's painted map.
+  struct Segmented {
+    episode::Episode episode;
+    segmentation::MlResult ml;
+    double threshold = std::numeric_limits<double>::infinity();
+    [[nodiscard]] bool valid() const {
+      return ml.scored_frame >= 0 && !ml.frame_maps.empty() && std::isfinite(threshold) &&
+             threshold > 0;
+    }
+  };
+  Segmented segment(const fs::path& dir) {
+    Segmented s{.episode = episode::read_episode(dir), .ml = {}};
+    segmentation::MlOptions mo = o_.segmentation;
+    mo.keep_frame_maps = true;
+    s.ml = segmentation::segment_ml(s.episode, mo);
+    if (s.ml.scored_frame < 0 || s.ml.frame_maps.empty()) return s;
+    for (int v = 0; v < s.ml.mask.rows; ++v) {
+      for (int u = 0; u < s.ml.mask.cols; ++u) {
+        if (s.ml.mask(v, u) != 0) s.threshold = std::min(s.threshold, double{s.ml.map(v, u)});
+      }
+    }
+    return s;
+  }
+  // Frame i's mask of what moved with the arm (valid() segmentations only).
+  cv::Mat frame_mask(const Segmented& s, int i) {
+    cv::Mat m = s.ml.frame_maps[static_cast<std::size_t>(i)] >= s.threshold;
+    // The arm moves with the arm: its own image (its kinematics at the frame's joints) is cut
+    // out, as proprio learn does. Without this a view's mask lay a third on the arm (oracle
+    // ladder, docs/results/selfsupervision.md).
+    if (o_.cut_arm) {
+      m.setTo(0, detail::arm_image_mask(s.episode, i, m.size(), robot_.arm(), arm_state_));
+    }
+    return m;
+  }
+
+  // The training views of one learn push's episode (kMotion; `seg` its segmentation when made
+  // already) or of the look after it (kBlob).
   std::vector<std::vector<std::int32_t>> views_of(const PushIntent& intent, const fs::path& dir,
                                                   const planning::PlanningView& after, int blob,
-                                                  cv::Mat& last_mask,
-                                                  SelfSupervisionDecision& what) {
+                                                  cv::Mat& last_mask, SelfSupervisionDecision& what,
+                                                  const Segmented* seg = nullptr) {
     std::vector<std::vector<std::int32_t>> docs;
     if (o_.views == ViewSource::kBlob) {
       if (blob < 0) return docs;
@@ -446,30 +483,19 @@ class Learner {
       what.source = "blob";
       return docs;
     }
-    const episode::Episode e = episode::read_episode(dir);
-    segmentation::MlOptions mo = o_.segmentation;
-    mo.keep_frame_maps = true;
-    const segmentation::MlResult ml = segmentation::segment_ml(e, mo);
+    std::optional<Segmented> own;
+    if (seg == nullptr) own.emplace(segment(dir));
+    const Segmented& sg = seg != nullptr ? *seg : *own;
+    const episode::Episode& e = sg.episode;
+    const segmentation::MlResult& ml = sg.ml;
     what.source = "motion";
     what.segmentation = ml.summary.message;
-    if (ml.scored_frame < 0 || ml.frame_maps.empty()) return docs;
-    // The mask's threshold of the scored frame, applied to every frame's painted map.
-    double thr = std::numeric_limits<double>::infinity();
-    for (int v = 0; v < ml.mask.rows; ++v) {
-      for (int u = 0; u < ml.mask.cols; ++u) {
-        if (ml.mask(v, u) != 0) thr = std::min(thr, static_cast<double>(ml.map(v, u)));
-      }
-    }
-    if (!std::isfinite(thr) || thr <= 0) return docs;
+    if (!sg.valid()) return docs;
     const int first = ml.first_touch_frame.value_or(0);
     int used = 0;
     int small = 0;
     for (int i = first; i < static_cast<int>(ml.frame_maps.size()); i += o_.view_step) {
-      cv::Mat m = ml.frame_maps[static_cast<std::size_t>(i)] >= thr;
-      // The arm moves with the arm: its own image (its kinematics at the frame's joints) is cut
-      // out, as proprio learn does. Without this a view's mask lay a third on the arm (oracle
-      // ladder, docs/results/selfsupervision.md).
-      if (o_.cut_arm) m.setTo(0, detail::arm_image_mask(e, i, m.size(), robot_.arm(), arm_state_));
+      cv::Mat m = frame_mask(sg, i);
       if (cv::countNonZero(m) == 0) continue;
       auto d = masked_document(e.frame(i), m, vocabulary_, o_.features, o_.dilate);
       if (static_cast<int>(d.size()) < o_.min_features) {
@@ -547,6 +573,72 @@ class Learner {
                            o_.refind_margin);
   }
 
+  // split_by_motion: the push's motion segmentation `seg` splits `before` (the look before the
+  // push, blob c planned) by its mask at the first touch and judges what moved from the episode
+  // (episode_motion: `pushed`, `motion`), and splits `after` by its mask at the push's end.
+  // Returns the pushed object's index in `after` (-1: not found there), or -2 when the
+  // segmentation found nothing (the caller judges by the looks).
+  int split_by_push(int r, const Segmented& seg, planning::PlanningView& before, int c,
+                    planning::PlanningView& after, const Eigen::Vector2d& target, int& pushed,
+                    PushMotion& motion) {
+    if (!seg.valid()) return -2;
+    const episode::Episode& e = seg.episode;
+    const int n = std::min(e.frame_count(), static_cast<int>(seg.ml.frame_maps.size()));
+    if (n < 2) return -2;
+    const cv::Size size = seg.ml.frame_maps.front().size();
+    if (size != before.image_size || size != after.image_size) return -2;
+    const auto grow = [&](const cv::Mat& m) {
+      if (o_.dilate <= 0 || m.empty()) return m;
+      cv::Mat g;
+      cv::dilate(m, g,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                           cv::Size(2 * o_.dilate + 1, 2 * o_.dilate + 1)));
+      return g;
+    };
+    // What moved with the arm at the first touch (where the object was) and at the end.
+    cv::Mat touch;
+    cv::Mat end;
+    cv::Mat explained(size, CV_8U, cv::Scalar(0));
+    for (int i = seg.ml.first_touch_frame.value_or(0); i < n; ++i) {
+      const cv::Mat m = frame_mask(seg, i);
+      if (cv::countNonZero(m) == 0) continue;
+      if (touch.empty()) touch = m;
+      end = m;
+    }
+    for (int i = 0; i < n; ++i) {
+      cv::bitwise_or(explained, seg.ml.frame_maps[static_cast<std::size_t>(i)] >= seg.threshold,
+                     explained);
+    }
+    for (const int i : {0, n - 1}) {
+      cv::bitwise_or(explained, detail::arm_image_mask(e, i, size, robot_.arm(), arm_state_),
+                     explained);
+    }
+    const std::size_t before_blobs = before.objects.size();
+    const EpisodeMotion em =
+        episode_motion(before, c, grow(touch), grow(explained), e.frame(0), e.frame(n - 1),
+                       o_.moved_share, o_.min_features, region_, plan_options_);
+    pushed = em.pushed;
+    motion = em.motion;
+    if (end.empty()) return -1;
+    const std::size_t blobs = after.objects.size();
+    const cv::Mat moved = grow(end);
+    (void)planning::split_putative_objects(after, {moved}, o_.min_features, region_, plan_options_);
+    // The pushed object: of the parts the end mask holds (min_features points or more), the
+    // one nearest the push's target. (The part holding most of the mask, split's answer, was
+    // a neighbour swept along as often: the round then went on with it, purity fell 82 -> 51%
+    // on the tuning seed.)
+    const int now = pushed_part(after, moved, target, o_.min_features);
+    log({.event = "split",
+         .round = r,
+         .phase = "learn",
+         .blob = now,
+         .then = core::printf_string(
+             "before the push: %d blobs -> %d (pushed blob %d -> %d); after: %d -> %d",
+             static_cast<int>(before_blobs), static_cast<int>(before.objects.size()), c, pushed,
+             static_cast<int>(blobs), static_cast<int>(after.objects.size()))});
+    return now;
+  }
+
   // (c): push the chosen object again and again from several sides, taking its views.
   void learn(int r, Eigen::Vector2d chosen, int& index, core::ProgressBar& bar) {
     double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
@@ -594,13 +686,18 @@ class Learner {
       p.outcome = planning::PlanOutcome::kUnreachable;
       p.message = "no side kept clear of the other blobs";
       bool crowded = false;  // a side was left out for its corridor
-      for (int i = 0; i < lengths * kSides; ++i) {
-        const int side = i % kSides;
-        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
-        const Eigen::Vector2d goal = i == 0
-                                         ? target
-                                         : chosen + (i < kSides ? kSidePush : kShortLearnPush) *
-                                                        Eigen::Vector2d(std::cos(a), std::sin(a));
+      std::vector<Eigen::Vector2d> goals{target};
+      for (int l = 0; l < lengths; ++l) {
+        for (const auto& g :
+             fallback_goals(chosen, centre_, a0, l == 0 ? kSidePush : kShortLearnPush, kSides,
+                            o_.circle_radius, o_.inward_sides)) {
+          goals.push_back(g);
+        }
+        if (l == 0 && lengths > 1) {
+          goals.push_back(chosen + kShortLearnPush * Eigen::Vector2d(std::cos(a0), std::sin(a0)));
+        }
+      }
+      for (const Eigen::Vector2d& goal : goals) {
         const double lack = learn_push_lack(view, c, goal, o_.learn_clearance);
         if (lack > 0) {
           crowded = true;
@@ -662,11 +759,26 @@ class Learner {
       // of round 2 went to 4 blobs in turn; docs/results/selfsupervision.md, 2026-12-03).
       const cv::Mat before_image = image_.clone();
       planning::PlanningView after = look();
-      // What the push moved: the blobs of the look before it whose features changed.
-      const PushMotion motion = push_motion(before_image, image_, view, o_.moved_share, c);
-      int now = planning::find_pushed_object(before_image, image_, after,
-                                             view.objects[static_cast<std::size_t>(c)], p.target,
-                                             kFindRadius, region_, plan_options_);
+      // What the push moved: the blobs of the look before it whose features changed; or
+      // (split_by_motion) the objects the push's own motion segmentation split them into, judged
+      // by the episode's frames.
+      planning::PlanningView judged = view;
+      int pushed = c;
+      std::optional<Segmented> seg;
+      int split_now = -1;
+      PushMotion motion;
+      if (o_.split_by_motion && o_.views == ViewSource::kMotion) {
+        seg = segment(episodes_ / name);
+        split_now = split_by_push(r, *seg, judged, c, after, p.target, pushed, motion);
+      }
+      if (split_now < -1 || !seg || !seg->valid()) {
+        motion = push_motion(before_image, image_, view, o_.moved_share, c);
+      }
+      int now = split_now >= 0
+                    ? split_now
+                    : planning::find_pushed_object(before_image, image_, after,
+                                                   view.objects[static_cast<std::size_t>(c)],
+                                                   p.target, kFindRadius, region_, plan_options_);
       if (now < 0) now = track(after, chosen);
       // A neighbour moved instead (or the object was two touching ones): the round's own looks
       // find the object again, and this push's views, of the neighbour, are not learned.
@@ -690,18 +802,21 @@ class Learner {
           (after.objects[static_cast<std::size_t>(now)].centre - chosen).norm() < kStill) {
         fault(r, "moved-nothing", "the push left the chosen object where it was");
       }
+      // On the looks' blobs: a fragment of the pushed object that its touch mask left out is a
+      // part of `judged` of its own, and would count as merged with it.
       const int merged = merged_blob(view, c, after, now);
       log({.event = "motion",
            .round = r,
            .phase = "learn",
-           .blob = c,
+           .blob = pushed,
+           .source = seg && seg->valid() ? std::optional<std::string>("episode") : std::nullopt,
            .shares = motion.share,
            .moved_most = motion.most,
            .merged_with = merged >= 0 ? std::optional<int>(merged) : std::nullopt});
       // The push moved a neighbour most: the round would go on with the neighbour as its object.
-      const bool drift = o_.stop_on_drift && motion.most >= 0 && motion.most != c;
+      const bool drift = o_.stop_on_drift && motion.most >= 0 && motion.most != pushed;
       // The object and another moved: the views would show both.
-      const bool two = o_.alone_views && !drift && motion.most == c && !motion.alone(c);
+      const bool two = o_.alone_views && !drift && motion.most == pushed && !motion.alone(pushed);
       cv::Mat last_mask;
       SelfSupervisionDecision what;
       // A swap: this push's views would show the neighbour; none are taken.
@@ -711,7 +826,7 @@ class Learner {
               core::printf_string("the push moved blob %d most (%.2f of its features), not the "
                                   "round's object (blob %d, %.2f): no views, the round stops",
                                   motion.most, motion.share[static_cast<std::size_t>(motion.most)],
-                                  c, motion.share[static_cast<std::size_t>(c)]));
+                                  pushed, motion.share[static_cast<std::size_t>(pushed)]));
       } else if (two) {
         fault(r, "two-moved",
               core::printf_string("the push moved %d blobs (the round's object and another): "
@@ -720,7 +835,7 @@ class Learner {
       } else if (swapped) {
         fault(r, "swapped", "the push moved another object than the round's: no views taken");
       } else {
-        docs = views_of(in, episodes_ / name, after, now, last_mask, what);
+        docs = views_of(in, episodes_ / name, after, now, last_mask, what, seg ? &*seg : nullptr);
       }
       attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
       if (!docs.empty()) {
@@ -1018,6 +1133,99 @@ PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
     m.most = pushed;
   }
   return m;
+}
+
+std::vector<Eigen::Vector2d> fallback_goals(const Eigen::Vector2d& chosen,
+                                            const Eigen::Vector2d& centre, double a0, double length,
+                                            int sides, double radius, bool inward) {
+  ensure(sides >= 1 && length > 0, "fallback_goals: bad sides or length");
+  std::vector<Eigen::Vector2d> out;
+  const double limit = std::max((chosen - centre).norm(), radius);
+  for (int k = 1; k < sides; ++k) {
+    const double a = a0 + (k * 2 * std::numbers::pi / sides);
+    const Eigen::Vector2d g = chosen + length * Eigen::Vector2d(std::cos(a), std::sin(a));
+    if (inward && (g - centre).norm() > limit) continue;
+    out.push_back(g);
+  }
+  if (inward) {
+    std::stable_sort(out.begin(), out.end(),
+                     [&](const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
+                       return (x - centre).norm() < (y - centre).norm();
+                     });
+  }
+  return out;
+}
+
+int pushed_part(const planning::PlanningView& view, const cv::Mat& mask,
+                const Eigen::Vector2d& target, int min_features) {
+  ensure(mask.type() == CV_8U && mask.size() == view.image_size,
+         "pushed_part: the mask must be 8-bit of the view's image size");
+  const cv::Rect image(cv::Point(0, 0), mask.size());
+  int best = -1;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    int n = 0;
+    for (const auto& p : view.objects[k].pixels) {
+      const cv::Point q(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
+      if (image.contains(q) && mask.at<std::uint8_t>(q) != 0) ++n;
+    }
+    const double d = (view.objects[k].centre - target).norm();
+    if (n >= min_features && d < nearest) {
+      nearest = d;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+EpisodeMotion episode_motion(planning::PlanningView& view, int pushed, const cv::Mat& touch,
+                             const cv::Mat& explained, const cv::Mat& first, const cv::Mat& last,
+                             double threshold, int min_features,
+                             const planning::TableRegion& region,
+                             const planning::PushPlanOptions& options) {
+  ensure(pushed >= 0 && pushed < static_cast<int>(view.objects.size()),
+         "episode_motion: the pushed blob is not one of the view's");
+  ensure(explained.empty() || (explained.type() == CV_8U && explained.size() == first.size()),
+         "episode_motion: the explained mask must be 8-bit of the frames' size");
+  EpisodeMotion out;
+  out.pushed = pushed;
+  if (!touch.empty()) {
+    const std::vector<int> found =
+        planning::split_putative_objects(view, {touch}, min_features, region, options);
+    if (found[0] >= 0) out.pushed = found[0];
+  }
+  const cv::Rect image(cv::Point(0, 0), first.size());
+  PushMotion& m = out.motion;
+  double best = -1;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    double s = 0;
+    if (static_cast<int>(k) == out.pushed || explained.empty()) {
+      s = planning::moved_share(first, last, view.objects[k]);
+    } else {
+      // Only the points the pushed object's own motion (and the arm) leave unexplained.
+      planning::PutativeObject rest = view.objects[k];
+      rest.pixels.clear();
+      for (const auto& p : view.objects[k].pixels) {
+        const cv::Point q(static_cast<int>(std::lround(p.x())),
+                          static_cast<int>(std::lround(p.y())));
+        if (image.contains(q) && explained.at<std::uint8_t>(q) == 0) rest.pixels.push_back(p);
+      }
+      s = rest.pixels.empty() ? 0.0 : planning::moved_share(first, last, rest);
+    }
+    m.share.push_back(s);
+    if (s >= threshold) {
+      m.moved.push_back(static_cast<int>(k));
+      if (s > best) {
+        best = s;
+        m.most = static_cast<int>(k);
+      }
+    }
+  }
+  const auto pu = static_cast<std::size_t>(out.pushed);
+  if (m.most >= 0 && m.share[pu] >= threshold && m.share[pu] >= best - kShareTie) {
+    m.most = out.pushed;
+  }
+  return out;
 }
 
 int merged_blob(const planning::PlanningView& before, int pushed,

@@ -136,6 +136,20 @@ struct SelfSupervisionOptions {
   /// A blob moved in a push when at least this share of its feature points changed between the
   /// looks before and after it (planning::moved_share; push_motion).
   double moved_share = 0.25;
+  /// (c), views kMotion: blobs that are objects (session 18). After a learn push its own motion
+  /// segmentation splits the blobs (thesis 8.1.1: what moved with the arm is one object;
+  /// planning::split_putative_objects): the look before by the mask at the first touch, before
+  /// what moved is judged (episode_motion: from the episode's frames, what the push's motion does
+  /// not explain), and the look after by the mask at the push's end, on which the next push is
+  /// planned. Off (the default): the looks' blobs and push_motion (the looks' difference).
+  /// Measured in session 18 with alone_views: the verdict of what moved agrees with the ground
+  /// truth for 64% of learn pushes (the looks: about 33%), but the pushes moved their object
+  /// alone no more often (41 -> 42%, report seeds 2-6), c 35.4 -> 39.4% (noise) and the tuning
+  /// seed's c 49.7 -> 32.3%: off (docs/results/selfsupervision.md, "Blobs that are objects").
+  bool split_by_motion = false;
+  /// (c): a learn push's fallback sides (when its first goal cannot be planned) go inward first
+  /// and never farther from the work centre than the object already is (fallback_goals).
+  bool inward_sides = false;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -211,6 +225,10 @@ struct SelfSupervisionOptions {
       {"alone_views", "Views only from pushes that moved the round's object alone"});
     v(self.moved_share, {"moved_share", "Share of a blob's features that changed: it moved",
                          core::between(0.01, 1.0)});
+    v(self.inward_sides,
+      {"inward_sides", "Learn pushes' fallback sides go toward the work centre, never away"});
+    v(self.split_by_motion,
+      {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
              kViewSourceNames);
     v.choice(self.choice,
@@ -541,6 +559,17 @@ Followed follow_by_looks(const std::vector<Eigen::VectorXd>& blobs,
 /// the neighbours (SelfSupervisionOptions::learn_clearance).
 inline constexpr double kShortLearnPush = 0.04;
 
+/// (c) The fallback goals of a learn push whose first goal could not be planned (table m): from
+/// `chosen` (the object's centre), `length` m along the directions `a0` + k 2 pi / `sides`,
+/// k = 1..sides-1. With `inward` (SelfSupervisionOptions::inward_sides) they are sorted by their
+/// distance to `centre` (the work centre; nearest first) and those that end farther from it than
+/// both `chosen` and `radius` (the circle of learn targets) are left out: session 18, seed 4,
+/// the fallback sides carried an object 0.31 -> 0.55 m from the base, out of the arm's reach.
+/// Without, all in the order of k.
+std::vector<Eigen::Vector2d> fallback_goals(const Eigen::Vector2d& chosen,
+                                            const Eigen::Vector2d& centre, double a0, double length,
+                                            int sides, double radius, bool inward);
+
 /// (c) How much a learn push of blob `blob` of `view` toward `target` (table m) lacks of
 /// `clearance` (m): planning::path_clearance of the corridor the blob's footprint hull sweeps
 /// from its centre to `target` against every other blob's hull (the pusher's own path not
@@ -567,6 +596,39 @@ PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
                        const planning::PlanningView& view, double threshold, int pushed = -1);
 /// Shares this close count as a tie in push_motion.
 inline constexpr double kShareTie = 0.05;
+
+/// (c) Which putative object of `view` (the look after a push, split by the push's mask) is the
+/// pushed one: of those with at least `min_features` feature points inside `mask` (8-bit, the
+/// view's image size: what moved with the arm at the push's end), the one whose centre is nearest
+/// `target` (the push's target, table m); -1 when none.
+int pushed_part(const planning::PlanningView& view, const cv::Mat& mask,
+                const Eigen::Vector2d& target, int min_features);
+
+/// (c) What a learn push moved, judged from its own dense motion (the episode) on blobs split
+/// into objects, not from the looks' blobs (session 18: of 136 pushes the looks called "alone",
+/// 94 moved a neighbour that sat inside the pushed blob).
+/// 1. `view` (the look before the push) is split in place by `touch` (8-bit, the view's image
+///    size: the push's motion segmentation at its first touch, the arm cut out; thesis 8.1.1,
+///    what moved with the arm is one object; planning::split_putative_objects with
+///    `min_features`, `region`, `options`); the putative object holding it is the pushed one,
+///    else `pushed` (the planned blob).
+/// 2. The pushed object's share is that of its feature points whose neighbourhood changed
+///    between the episode's frames `first` (before the touch) and `last` (the push's end; 8-bit,
+///    the view's image size; planning::moved_share). Every other object's share counts only its
+///    points the push's own motion does not explain: those outside `explained` (8-bit, non-zero
+///    where a frame's segmentation put the pushed object or the arm was); an object with no point
+///    left has share 0.
+/// Returns push_motion's verdict (threshold, ties to the pushed object) over the split view's
+/// objects and the pushed object's index in it.
+struct EpisodeMotion {
+  PushMotion motion;
+  int pushed = -1;  ///< index into the split view's objects
+};
+EpisodeMotion episode_motion(planning::PlanningView& view, int pushed, const cv::Mat& touch,
+                             const cv::Mat& explained, const cv::Mat& first, const cv::Mat& last,
+                             double threshold, int min_features,
+                             const planning::TableRegion& region,
+                             const planning::PushPlanOptions& options);
 
 /// (c) Whether blob `now` of the look `after` a push holds another object of the look `before`:
 /// the index of the first blob of `before` other than `pushed` whose centre lies inside `now`'s
