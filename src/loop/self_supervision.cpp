@@ -1112,26 +1112,39 @@ double learn_push_lack(const planning::PlanningView& view, int blob, const Eigen
                                   0.0);
 }
 
+namespace {
+
+// The next blob's moved share s into m (push_motion, episode_motion): it moved at `threshold` or
+// more; `best` is the largest share so far, whose blob is m.most.
+void add_share(PushMotion& m, double s, double threshold, double& best) {
+  const auto k = static_cast<int>(m.share.size());
+  m.share.push_back(s);
+  if (s >= threshold) {
+    m.moved.push_back(k);
+    if (s > best) {
+      best = s;
+      m.most = k;
+    }
+  }
+}
+
+// The tie rule: the pushed blob moved most when its share is within kShareTie of the largest
+// (a share saturates at 1 for a blob pushed a few cm).
+void prefer_pushed(PushMotion& m, int pushed, double threshold, double best) {
+  if (pushed < 0 || pushed >= static_cast<int>(m.share.size()) || m.most < 0) return;
+  const double own = m.share[static_cast<std::size_t>(pushed)];
+  if (own >= threshold && own >= best - kShareTie) m.most = pushed;
+}
+
+}  // namespace
+
 PushMotion push_motion(const cv::Mat& before, const cv::Mat& after,
                        const planning::PlanningView& view, double threshold, int pushed) {
   PushMotion m;
   double best = -1;
-  for (std::size_t k = 0; k < view.objects.size(); ++k) {
-    const double s = planning::moved_share(before, after, view.objects[k]);
-    m.share.push_back(s);
-    if (s >= threshold) {
-      m.moved.push_back(static_cast<int>(k));
-      if (s > best) {
-        best = s;
-        m.most = static_cast<int>(k);
-      }
-    }
-  }
-  if (pushed >= 0 && pushed < static_cast<int>(m.share.size()) && m.most >= 0 &&
-      m.share[static_cast<std::size_t>(pushed)] >= threshold &&
-      m.share[static_cast<std::size_t>(pushed)] >= best - kShareTie) {
-    m.most = pushed;
-  }
+  for (const planning::PutativeObject& o : view.objects)
+    add_share(m, planning::moved_share(before, after, o), threshold, best);
+  prefer_pushed(m, pushed, threshold, best);
   return m;
 }
 
@@ -1212,19 +1225,9 @@ EpisodeMotion episode_motion(planning::PlanningView& view, int pushed, const cv:
       }
       s = rest.pixels.empty() ? 0.0 : planning::moved_share(first, last, rest);
     }
-    m.share.push_back(s);
-    if (s >= threshold) {
-      m.moved.push_back(static_cast<int>(k));
-      if (s > best) {
-        best = s;
-        m.most = static_cast<int>(k);
-      }
-    }
+    add_share(m, s, threshold, best);
   }
-  const auto pu = static_cast<std::size_t>(out.pushed);
-  if (m.most >= 0 && m.share[pu] >= threshold && m.share[pu] >= best - kShareTie) {
-    m.most = out.pushed;
-  }
+  prefer_pushed(m, out.pushed, threshold, best);
   return out;
 }
 
