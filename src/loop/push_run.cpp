@@ -543,6 +543,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     table.distractors = options.distractors;
     if (options.clutter > 0) table.clutter = std::to_string(options.clutter);
     table.depth = options.depth;
+    table.roll_across = options.roll_across;
     sim::SimulatedRobot robot(table, catalogue);
     // The object to push: one of the table's objects (not the clutter, not a distractor).
     std::vector<sim::ObjectTruth> truth = robot.ground_truth();

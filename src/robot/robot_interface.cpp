@@ -1,6 +1,8 @@
 #include "proprio/robot/robot_interface.hpp"
 
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <string>
 
 #include "proprio/core/error.hpp"
@@ -70,6 +72,36 @@ JointVector append_move(ArmState& state, const CartesianTrajectory& move, const 
 
 }  // namespace
 
+double fingers_across_roll(ArmState& state, const JointVector& q,
+                           const Eigen::Vector2d& direction) {
+  require(direction.allFinite() && direction.norm() > 0,
+          "fingers across: the push direction must be finite and non-zero");
+  const Eigen::Vector3d d(direction.x(), direction.y(), 0);
+  // j5 turns about the last link's x axis: y(theta) = cos(theta) y0 + sin(theta) z0 (y0, z0 at
+  // j5 = 0, the joint's axis is +x), so y . d = 0 at theta = atan2(-y0 . d, z0 . d) (mod pi).
+  JointVector q0 = q;
+  q0[4] = 0;
+  const Eigen::Matrix3d r = state.ee_pose(q0).rotation;
+  const double a = r.col(1).dot(d);
+  const double b = r.col(2).dot(d);
+  const double theta = std::atan2(-a, b);
+  const double lo = state.arm().lower()[4];
+  const double hi = state.arm().upper()[4];
+  double best = q[4];
+  double best_gap = std::numeric_limits<double>::infinity();
+  for (int k = -2; k <= 2; ++k) {
+    const double c = theta + k * std::numbers::pi;
+    if (c < lo || c > hi) continue;
+    const double gap = std::abs(c - q[4]);
+    if (gap < best_gap) {
+      best = c;
+      best_gap = gap;
+    }
+  }
+  ensure(std::isfinite(best_gap), "fingers across: no roll within j5's limits");
+  return best;
+}
+
 PushMotion plan_push_motion(ArmState& state, const TablePush& push, const JointVector& q_rest,
                             const PushMotionOptions& options) {
   push.validate();
@@ -78,7 +110,13 @@ PushMotion plan_push_motion(ArmState& state, const TablePush& push, const JointV
   const Eigen::Vector3d end(push.end.x(), push.end.y(), push.height);
   const Eigen::Vector3d up(0, 0, options.lift);
   PushMotion m;
-  m.q_above_start = solve_ik(state, start + up, q_rest, options.ik).q;
+  JointVector q_from = q_rest;
+  if (options.roll_across) {
+    // The roll at the push's middle (j1 turns during a push across the arm's radius).
+    const JointVector q_mid = solve_ik(state, 0.5 * (start + end), q_rest, options.ik).q;
+    q_from[4] = fingers_across_roll(state, q_mid, push.end - push.start);
+  }
+  m.q_above_start = solve_ik(state, start + up, q_from, options.ik).q;
   std::vector<JointVector> q;
   JointVector last = append_move(state, straight_move(start + up, start, options.lift_speed),
                                  m.q_above_start, options, q);

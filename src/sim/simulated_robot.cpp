@@ -719,6 +719,7 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   World& world = s_->world;
   robot::PushMotionOptions mopt;
   mopt.rate_hz = 1.0 / world.timestep();
+  mopt.roll_across = s_->options.roll_across;
   const robot::JointVector q_now = world.arm_joints();
   const robot::PushMotion motion = robot::plan_push_motion(s_->ik_state, push, q_now, mopt);
   const std::vector<robot::JointVector> out_path =

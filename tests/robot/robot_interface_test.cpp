@@ -60,6 +60,55 @@ TEST(RobotInterface, PushMotionLowersPushesAndLiftsAtTheTipHeight) {
   EXPECT_TRUE(reachable(state, p.start, p.height, JointVector::Zero()));
 }
 
+// The jaws' line (the ee site's y axis) against the push's direction, |cos|, where the tip is
+// nearest the push's middle.
+double jaws_along_push(ArmState& state, const PushMotion& m, const TablePush& p) {
+  const Eigen::Vector2d middle = 0.5 * (p.start + p.end);
+  std::size_t mid = 0;
+  double nearest = 1e9;
+  for (int k = m.push_begin; k <= m.push_end; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const double gap = (state.ee_position(m.joints.q[i]).head<2>() - middle).norm();
+    if (gap < nearest) {
+      nearest = gap;
+      mid = i;
+    }
+  }
+  EXPECT_LT(nearest, 1e-3);
+  const Eigen::Vector3d y = state.ee_pose(m.joints.q[mid]).rotation.col(1);
+  const Eigen::Vector2d d = (p.end - p.start).normalized();
+  return std::abs(y.head<2>().dot(d)) / y.norm();
+}
+
+TEST(RobotInterface, RollAcrossTurnsTheJawsAcrossTheLineOfATangentialPush) {
+  ArmState state(testing::standard_arm());
+  TablePush across;  // across the arm's radius, at 0.25 m
+  across.start = {0.25, -0.05};
+  across.end = {0.25, 0.05};
+  const PushMotion kept = plan_push_motion(state, across, JointVector::Zero());
+  // j5 kept at 0: the jaws lie along the arm's tangent, ahead of and behind the pusher.
+  EXPECT_GT(jaws_along_push(state, kept, across), 0.95);
+  PushMotionOptions o;
+  o.roll_across = true;
+  const PushMotion rolled = plan_push_motion(state, across, JointVector::Zero(), o);
+  EXPECT_LT(jaws_along_push(state, rolled, across), 0.01);  // a sample from the middle
+  // The roll does not move the tip: the push is the same line.
+  for (const int k : {rolled.push_begin, rolled.push_end}) {
+    const auto i = static_cast<std::size_t>(k);
+    EXPECT_LT((state.ee_position(rolled.joints.q[i]) - state.ee_position(kept.joints.q[i])).norm(),
+              1e-6);
+  }
+  // A push along the radius keeps (about) the roll it had: the jaws already lie across it.
+  TablePush along;
+  along.start = {0.18, 0.0};
+  along.end = {0.28, 0.0};
+  const PushMotion radial = plan_push_motion(state, along, JointVector::Zero(), o);
+  EXPECT_LT(std::abs(radial.q_above_start[4]), 1e-6);
+  EXPECT_LT(jaws_along_push(state, radial, along), 0.01);
+  EXPECT_THROW((void)fingers_across_roll(state, JointVector::Zero(), Eigen::Vector2d::Zero()),
+               Error);
+}
+
 TEST(RobotInterface, RefusesBadAndUnreachablePushes) {
   ArmState state(testing::standard_arm());
   TablePush far;

@@ -196,6 +196,35 @@ TEST(SimulatedRobot, RecordsGroundTruthMasksOnlyWhenAskedForScoring) {
   fs::remove_all(dir);
 }
 
+TEST(SimulatedRobot, RollAcrossTurnsTheHandForAPushAcrossTheArmsRadius) {
+  // TableOptions::roll_across reaches the push's motion: a push across the arm's radius is made
+  // with the roll j5 near +-pi/2 (the jaws across the push); without it j5 stays at the park's 0.
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  for (const bool across : {false, true}) {
+    TableOptions t = small_table();
+    t.roll_across = across;
+    SimulatedRobot robot(t, cat);
+    const ObjectTruth mug = truth_of(robot.ground_truth(), "mug");
+    const Eigen::Vector2d c = mug.centre.head<2>();
+    const Eigen::Vector2d side(-c.y() / c.norm(), c.x() / c.norm());  // across the radius
+    robot::TablePush push;
+    push.start = c - side * (mug.footprint_radius + 0.03);
+    push.end = c + side * 0.02;
+    const fs::path dir = test::temp_dir() / "robot_push_roll";
+    const robot::PushRecording rec = recording_into(dir);
+    (void)robot.push(push, rec);
+    const episode::Episode e = episode::read_episode(dir);
+    ASSERT_GT(e.arm().size(), 2U);
+    const double j5 = e.arm()[e.arm().size() / 2].q[4];
+    if (across) {
+      EXPECT_GT(std::abs(j5), 1.0) << j5;
+    } else {
+      EXPECT_LT(std::abs(j5), 0.05) << j5;
+    }
+    fs::remove_all(dir);
+  }
+}
+
 TEST(SimulatedRobot, BacksAwayFromATallObjectBeforeGoingBack) {
   // The mug is 10 cm tall: pushed until the pusher stops against it, the lifted hand (6 cm up)
   // still touches it; the hand backs away along the push and goes back to the park by its

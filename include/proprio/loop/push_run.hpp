@@ -331,6 +331,9 @@ struct PushEvaluationOptions {
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth): the planner measures each
   /// object's footprint and height from depth instead of back-projecting at centre_height.
   bool depth = false;
+  /// Pushes turn the hand's roll so that the jaws lie across the push
+  /// (sim::TableOptions::roll_across).
+  bool roll_across = false;
   planning::PushPlanOptions plan = loop_plan_options();
 
   void validate() const;
@@ -370,6 +373,9 @@ struct PushEvaluationOptions {
     v(self.depth, {"depth",
                    "An RGB-D camera: plan from each object's footprint and height "
                    "measured from depth"});
+    v(self.roll_across, {"roll_across",
+                         "Pushes turn the hand's roll so that the gripper's jaws lie across the "
+                         "push, beside the pusher"});
   }
 };
 

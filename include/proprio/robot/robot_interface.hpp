@@ -100,9 +100,21 @@ struct PushMotionOptions {
   /// Fastest joint motion accepted between samples, rad/s (TrackOptions::max_joint_speed): the
   /// pitch of the pusher turns fast where the reach for a pusher pointing down ends.
   double max_joint_speed = 30;
+  /// Turn the roll j5 (it does not move the tip) so that the gripper's jaws, which lie on either
+  /// side of the pusher along the last link's y axis, lie across the push, beside the pusher,
+  /// at the push's middle: fingers_across_roll. Off: j5 keeps q_rest's value (the jaws lie
+  /// across the arm's radius, so they are ahead of and behind the pusher in a push across it).
+  bool roll_across = false;
   /// Throws Error when an option is out of range.
   void validate() const;
 };
+
+/// The roll j5 (rad, within its limits, the nearer to q's j5 of the two) that turns the last
+/// link's y axis (the line through both jaws) perpendicular to the table direction `direction`
+/// (any length > 0), with j1..j4 of q. Where the link points straight down every other roll
+/// leaves the jaws' line a component along `direction`; elsewhere this is the roll that
+/// minimises it. Throws Error for a zero or non-finite direction.
+double fingers_across_roll(ArmState& state, const JointVector& q, const Eigen::Vector2d& direction);
 
 /// The joint samples of one push: lower from `lift` above the start, push, lift at the end.
 struct PushMotion {

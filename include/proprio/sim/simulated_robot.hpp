@@ -61,6 +61,10 @@ struct TableOptions {
   /// along the optical axis, the same pixels as the image; 0 where nothing is rendered). Off:
   /// Look::depth stays empty (a colour camera alone, as before).
   bool depth = false;
+  /// Pushes turn the hand's roll so that the gripper's jaws lie across the push, beside the
+  /// pusher (robot::PushMotionOptions::roll_across). Off: the roll stays at the park's (the jaws
+  /// across the arm's radius).
+  bool roll_across = false;
 
   /// Throws Error naming the first bad option (the clutter's names are checked against the
   /// catalogue when the robot is built).
@@ -98,6 +102,9 @@ struct TableOptions {
     v(self.depth, {"depth",
                    "An RGB-D camera: each look has a depth image too (planning "
                    "measures objects' footprints and heights from it)"});
+    v(self.roll_across, {"roll_across",
+                         "Pushes turn the hand's roll so that the gripper's jaws lie across the "
+                         "push, beside the pusher"});
   }
 };
 
