@@ -1,7 +1,10 @@
 // proprio push / proprio evaluate push, run as a user would.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <initializer_list>
+#include <utility>
 
 #include "../support/schema_check.hpp"
 #include "../support/temp_dir.hpp"
@@ -67,6 +70,17 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+  }
+  // Session 18's push options out of their ranges: one line naming the flag.
+  for (const auto& [args, flag] : std::initializer_list<std::pair<const char*, const char*>>{
+           {"push --pusher-radius -0.01", "--pusher-radius"},
+           {"push --tip-fraction 0.9", "--tip-fraction"},
+           {"push --least-push 0.001", "--least-push"},
+           {"evaluate push --min-gain 2", "--min-gain"}}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    EXPECT_HAS(r.err, flag);
   }
 }
 
