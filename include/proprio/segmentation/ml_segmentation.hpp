@@ -186,9 +186,10 @@ struct MlOptions {
   /// both are left to min_photometric_gain.
   double min_photometric_contrast = 0.5;
   /// The same check before the touch: an unsupported motion does not make a region arm. Off
-  /// (false), the tuning recording's mean rose 0.810 -> 0.827 (a strip of the arm beside two
-  /// bottles and two rabbits removed; the mugs unchanged) and the held-out one's fell 0.833 ->
-  /// 0.828 (a bottle's recall), so it stays on (docs/results/segmentation-eval.md, session 19).
+  /// (false), the tuning recording's mean rose 0.810 -> 0.827 (pieces of the arm beside the
+  /// static bottles and two rabbits removed; the mugs unchanged) and the held-out one's fell
+  /// 0.833 -> 0.828 (a bottle's recall), so it stays on (docs/results/segmentation-eval.md,
+  /// session 19).
   bool photometric_pre_touch = true;
   /// A region track that the over-segmentation ends hands its evidence on to the track that
   /// took most of its pixels only when their last motions, as the image supports them
