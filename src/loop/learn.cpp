@@ -202,6 +202,7 @@ class Learner {
     left_at_.resize(static_cast<std::size_t>(classes));
     region_of_.resize(static_cast<std::size_t>(classes));
     blob_of_.assign(static_cast<std::size_t>(classes), -1);
+    own_.resize(static_cast<std::size_t>(classes));
   }
 
   template <class F>
@@ -240,8 +241,19 @@ class Learner {
     write_png(o_.out / "table.png", first.image);
     log({.event = "start", .classes = classes_, .work_centre = xy(centre_)});
     current_ = std::move(first);
-    for (int c = 0; c < classes_; ++c) {
+    // One turn a class; with rounds > C, a turn that gave its class no views leaves the class
+    // for the next turn, until every class has views or the turns are spent.
+    const int turns = std::max(classes_, o_.rounds);
+    int c = 0;
+    for (int turn = 0; turn < turns && c < classes_; ++turn) {
+      if (turn >= classes_) {
+        log({.event = "retry",
+             .object = c,
+             .why = core::cat({"turn ", std::to_string(turn + 1), " of ", std::to_string(turns),
+                               ": the class has no views yet"})});
+      }
       learn_object(c, bar);
+      if (o_.rounds == 0 || class_views(c) > 0) ++c;
     }
     bar.finish();
     log({.event = "end",
@@ -250,6 +262,29 @@ class Learner {
          .looks_split = splits_,
          .pushes = static_cast<int>(pushes_.size()),
          .faults = faults_});
+  }
+
+  // The mean log p(d) of the descriptors of `frames` under `om`'s words; nullopt when none.
+  std::optional<double> own_mean_log_p(const ObjectModel& om,
+                                       const std::vector<Eigen::MatrixXd>& frames) const {
+    Eigen::Index rows = 0;
+    for (const auto& f : frames) rows += f.rows();
+    if (rows == 0) return std::nullopt;
+    Eigen::MatrixXd x(rows, frames.front().cols());
+    Eigen::Index at = 0;
+    for (const auto& f : frames) {
+      x.middleRows(at, f.rows()) = f;
+      at += f.rows();
+    }
+    const double m = om.log_p_descriptors(x, wo_).mean();
+    if (!std::isfinite(m)) return std::nullopt;
+    return m;
+  }
+
+  // Training views of class c so far.
+  [[nodiscard]] int class_views(int c) const {
+    return static_cast<int>(
+        std::count_if(views_.begin(), views_.end(), [c](const View& v) { return v.cls == c; }));
   }
 
   void log(const LearnDecision& d) {
@@ -417,7 +452,7 @@ class Learner {
       return -1;
     }
     std::vector<BlobMeanLogP> scores;
-    int best = open.front();
+    int best = -1;
     double best_s = std::numeric_limits<double>::infinity();
     for (int b : open) {
       const auto& o = view.objects[static_cast<std::size_t>(b)];
@@ -435,15 +470,40 @@ class Learner {
         x.row(static_cast<Eigen::Index>(i)) = lf.unit.row(rows[i]);
       }
       double s = -std::numeric_limits<double>::infinity();
+      int s_object = -1;
+      double below = 0;
+      bool is_known = false;
       for (int k = 0; k < c; ++k) {
-        const ObjectModel& om = models_[static_cast<std::size_t>(k)];
-        if (om.learned()) s = std::max(s, om.log_p_descriptors(x, wo_).mean());
+        const auto ku = static_cast<std::size_t>(k);
+        const ObjectModel& om = models_[ku];
+        if (!om.learned()) continue;
+        const double sk = om.log_p_descriptors(x, wo_).mean();
+        const double bk = own_[ku] ? sk - *own_[ku] : 0.0;
+        if (sk > s) {
+          s = sk;
+          s_object = k;
+          below = bk;
+        }
+        // Its words say it is object k: not a new object.
+        if (o_.known_margin >= 0 && own_[ku] && bk >= -o_.known_margin && !is_known) {
+          is_known = true;
+          known.push_back({k, b});
+        }
       }
-      scores.push_back({b, s});
+      scores.push_back({b, s, s_object, std::isfinite(below) ? below : 0.0});
+      if (is_known) continue;
       if (s < best_s) {
         best_s = s;
         best = b;
       }
+    }
+    if (best < 0) {
+      if (o_.known_margin >= 0 && !scores.empty()) {
+        fault(c, "only-known-objects",
+              "every blob in view is an object learned already (by its words)");
+        return -1;
+      }
+      best = open.front();
     }
     log({.event = "choose",
          .object = c,
@@ -702,7 +762,8 @@ class Learner {
     }
     extra_approach_ = 0;
     outward_only_ = false;
-    std::vector<Eigen::Vector2d> tried;
+    // Blobs an earlier turn tried and got no views from are not chosen again (rounds > C).
+    std::vector<Eigen::Vector2d> tried = given_up_;
     int k = choose(c, view, tried);
     if (k < 0) {
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -889,6 +950,8 @@ class Learner {
             om.later_push(frames, wo_, rng_);
           else
             (void)om.first_push(frames, wo_, rng_);
+          // Its own views' mean log p under its words (the yardstick of known_margin).
+          if (om.learned()) own_[static_cast<std::size_t>(c)] = own_mean_log_p(om, frames);
         }
       });
       log({.event = "views",
@@ -902,6 +965,13 @@ class Learner {
       bar.tick();
     }
     left_at_[static_cast<std::size_t>(c)] = last;
+    if (o_.rounds > 0 && class_views(c) == 0) {
+      // Every blob this turn tried gave nothing: later turns choose others.
+      given_up_ = tried;
+      given_up_.push_back(last);
+      // A class with no views has no model: where it was left names no object.
+      left_at_[static_cast<std::size_t>(c)].reset();
+    }
     if (done < o_.pushes) {
       bar.tick(static_cast<std::size_t>(o_.pushes - done));
       log({.event = "move-on",
@@ -929,6 +999,10 @@ class Learner {
   std::vector<cv::Mat> region_of_;
   std::vector<int> blob_of_;  ///< per object, its putative object in the last plan_view, or -1
   int splits_ = 0;            ///< looks in which a blob was split by an object's region
+  /// Per class, its last push's views' mean log p under its words (known_margin's yardstick).
+  std::vector<std::optional<double>> own_;
+  /// Where turns that gave their class no views left their blob, m: not chosen again.
+  std::vector<Eigen::Vector2d> given_up_;
   std::vector<LearnPush> pushes_;
   std::vector<View> views_;
   std::vector<cv::Mat> frames_;

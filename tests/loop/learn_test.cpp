@@ -219,5 +219,114 @@ TEST(Learn, FaultsAreLoggedAndTheRunStillCompletes) {
   }
 }
 
+int count_of(const std::string& all, const std::string& what) {
+  int n = 0;
+  for (auto at = all.find(what); at != std::string::npos; at = all.find(what, at + 1)) ++n;
+  return n;
+}
+
+// A small table (book and bottle, 200 x 150) and options for the turn tests below.
+struct SmallTable {
+  SmallTable() {
+    o.objects = "book";
+    o.clutter = "bottle";
+    o.pushes = 1;
+    o.width = 200;
+    o.height = 150;
+    o.progress = false;
+    o.overwrite = true;
+    table.objects = {"book", "bottle"};
+    table.seed = 2;
+    table.width = o.width;
+    table.height = o.height;
+  }
+  LearnOptions o;
+  sim::TableOptions table;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+};
+
+TEST(Learn, ATurnThatGaveNoViewsIsRetriedButNotOnTheBlobsItTried) {
+  // Every push refused: the class gets no views. With --rounds 3 the class is tried again on
+  // later turns (logged "retry"), but not on the blobs an earlier turn tried: no more pushes
+  // are asked for than with one turn.
+  namespace fs = std::filesystem;
+  const test::TempDir dir("proprio_learn_rounds_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  int asked[2] = {0, 0};
+  std::string events[2];
+  for (int i = 0; i < 2; ++i) {
+    sim::SimulatedRobot sim_robot(t.table, t.catalogue);
+    FaultyRobot robot(sim_robot, false, true, Eigen::Vector2d::Zero());
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.rounds = i == 0 ? 0 : 3;
+    o.out = dir.path() / (i == 0 ? "one" : "three");
+    const LearnResult r = run_learn(o, robot, attendant, 1, prov);
+    EXPECT_EQ(r.summary.views, 0);
+    asked[i] = robot.refused;
+    events[i] = events_of(o.out / "decisions.jsonl");
+  }
+  EXPECT_EQ(count_of(events[0], "retry:"), 0) << events[0];
+  EXPECT_EQ(count_of(events[1], "retry:"), 2) << events[1];
+  EXPECT_GT(asked[0], 0);
+  EXPECT_EQ(asked[1], asked[0]) << events[1];
+}
+
+TEST(Learn, TurnsStopOnceEveryClassHasViews) {
+  const test::TempDir dir("proprio_learn_rounds_done_");
+  SmallTable t;
+  sim::SimulatedRobot robot(t.table, t.catalogue);
+  NullAttendant attendant;
+  LearnOptions o = t.o;
+  o.rounds = 4;
+  o.out = dir.path() / "run";
+  const LearnResult r = run_learn(o, robot, attendant, 1, core::Provenance::current({"t"}, 1));
+  ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
+  const std::string ev = events_of(o.out / "decisions.jsonl");
+  EXPECT_EQ(count_of(ev, "retry:"), 0) << ev;
+  EXPECT_EQ(count_of(ev, "choose:"), 1) << ev;
+}
+
+TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
+  // Two classes, one push each. With known_margin huge every blob is within it of the first
+  // object's own views: the second turn finds only known objects (by their words) and learns
+  // nothing; off (the default), it chooses the least likely blob. The choice's scores name the
+  // object whose model gives each blob's best score.
+  const test::TempDir dir("proprio_learn_known_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const double margin : {-1.0, 1000.0}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.known_margin = margin;
+    o.out = dir.path() / (margin < 0 ? "off" : "on");
+    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    ASSERT_GT(r.summary.views, 0);
+    std::ifstream in(o.out / "decisions.jsonl");
+    std::string line;
+    int second_choice = -2;
+    bool by_words = false;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j.value("object", -1) != 1) continue;
+      if (j["event"] == "choose") {
+        second_choice = j["blob"].get<int>();
+        for (const auto& s : j["scores"]) EXPECT_EQ(s["best_object"].get<int>(), 0) << line;
+      }
+      if (j.value("fault", std::string()) == "only-known-objects") by_words = true;
+    }
+    if (margin < 0) {
+      EXPECT_GE(second_choice, 0);
+      EXPECT_FALSE(by_words);
+    } else {
+      EXPECT_EQ(second_choice, -2);
+      EXPECT_TRUE(by_words);
+      EXPECT_EQ(r.objects.at(1).views, 0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace proprio::loop

@@ -81,6 +81,14 @@ struct LearnOptions {
   bool learn_clutter = true;
   /// Pushes of each object before moving on (7 objects x 6 keeps `make demo` inside 10 min).
   int pushes = 6;
+  /// A blob whose mean log p under a known object's words is at least that object's own views'
+  /// (its last push) less this many nats is that object (7.2 d leaves it out: no second class
+  /// of one object). -1: off (only where the object was segmented, recognised or left counts).
+  double known_margin = -1;
+  /// Turns (an object chosen and pushed) at most: 0 = one a class (C turns). More: a turn that
+  /// gave its class no views leaves the class for the next turn (the blob it tried is not chosen
+  /// again), and the run goes on until every class has views or the turns are spent.
+  int rounds = 0;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
@@ -133,6 +141,14 @@ struct LearnOptions {
     v(self.learn_clutter,
       {"learn_clutter", "Learn every object on the table (the clutter too), score the named"});
     v(self.pushes, {"pushes", "Pushes of each object", core::between(1, 1000)});
+    v(self.known_margin, {"known_margin",
+                          "A blob within this many nats of a known object's own mean log p is "
+                          "that object, not chosen as new; -1 off",
+                          core::between(-1.0, 1000.0)});
+    v(self.rounds, {"rounds",
+                    "Turns at most (0 = one a class); a turn that gave no views is retried "
+                    "on another blob until every class has views",
+                    core::between(0, 1000)});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
@@ -245,17 +261,23 @@ struct KnownBlob {
 struct BlobMeanLogP {
   int blob = 0;
   double best_mean_log_p = 0;  ///< -infinity (written null) when no model is learned
+  int best_object = -1;        ///< the object (class) whose model gives it
+  /// best_mean_log_p less that object's own views' mean log p (its last push), nats: near 0 or
+  /// above, the blob looks like that object (LearnOptions::known_margin).
+  double below_own = 0;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.blob, {"blob", "The blob"});
     v(self.best_mean_log_p, {"best_mean_log_p", "Its best mean log p under the models so far"});
+    v(self.best_object, {"best_object", "The object whose model gives it"});
+    v(self.below_own, {"below_own", "It less that object's own views' mean log p, nats"});
   }
 };
 
 /// One line of learn's decision log (decisions.jsonl): an event and the fields it has (the
-/// others are left out). Events: start, look, split, region, choose, recognise, refound, rechoose,
-/// replan, push, views, move-on, fault, no-views, end.
+/// others are left out). Events: start, retry, look, split, region, choose, recognise, refound,
+/// rechoose, replan, push, views, move-on, fault, no-views, end.
 struct LearnDecision {
   std::string event = {};
   std::optional<int> object = {};                       ///< the object (class) being learned
