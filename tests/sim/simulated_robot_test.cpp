@@ -225,6 +225,46 @@ TEST(SimulatedRobot, RollAcrossTurnsTheHandForAPushAcrossTheArmsRadius) {
   }
 }
 
+TEST(SimulatedRobot, NamesTheArmsPartsAndTheObjectsThatMetInAPush) {
+  // Ground truth for diagnosis: the arm's parts that touched each object, and the pairs of
+  // objects that came into contact (the mug pushed into the book).
+  EXPECT_EQ(arm_part_name("arm_pusher"), "pusher");
+  EXPECT_EQ(arm_part_name("arm_finger_left_geom"), "jaws");
+  EXPECT_EQ(arm_part_name("arm_finger_right_geom"), "jaws");
+  EXPECT_EQ(arm_part_name("arm_palm"), "palm");
+  EXPECT_EQ(arm_part_name("arm_link3_geom"), "links");
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  SimulatedRobot robot(small_table(), cat);
+  const auto before = robot.ground_truth();
+  const ObjectTruth mug = truth_of(before, "mug");
+  const ObjectTruth book = truth_of(before, "book");
+  const Eigen::Vector2d c = mug.centre.head<2>();
+  const Eigen::Vector2d to_book = book.centre.head<2>() - c;
+  const Eigen::Vector2d n = to_book.normalized();
+  robot::TablePush push;
+  push.start = c - n * (mug.footprint_radius + 0.03);
+  push.end = c + n * (to_book.norm() - 0.02);  // the mug well into the book's place
+  (void)robot.push(push, {});
+  const auto after = robot.ground_truth();
+  EXPECT_GT((truth_of(after, "book").centre - book.centre).head<2>().norm(), 0.005);
+  const auto& arm = robot.last_push_contact_phases();
+  const auto on_mug =
+      std::find_if(arm.begin(), arm.end(), [&](const ArmContact& a) { return a.id == mug.id; });
+  ASSERT_NE(on_mug, arm.end());
+  EXPECT_EQ(on_mug->phase, ContactPhase::kPush);
+  EXPECT_NE(std::find(on_mug->parts.begin(), on_mug->parts.end(), "pusher"), on_mug->parts.end());
+  for (const ArmContact& a : arm) EXPECT_FALSE(a.parts.empty());
+  const auto& met = robot.last_push_object_contacts();
+  const auto pair = std::find_if(met.begin(), met.end(), [&](const ObjectContact& m) {
+    return m.a == std::min(mug.id, book.id) && m.b == std::max(mug.id, book.id);
+  });
+  ASSERT_NE(pair, met.end());
+  EXPECT_FALSE(pair->already);
+  EXPECT_EQ(pair->phase, ContactPhase::kPush);
+  // Every pair names its lower id first.
+  for (const ObjectContact& m : met) EXPECT_LT(m.a, m.b);
+}
+
 TEST(SimulatedRobot, BacksAwayFromATallObjectBeforeGoingBack) {
   // The mug is 10 cm tall: pushed until the pusher stops against it, the lifted hand (6 cm up)
   // still touches it; the hand backs away along the push and goes back to the park by its
