@@ -11,6 +11,8 @@ Each other object a push moved more than 5 mm gets one cause, the first that app
   chain     no arm contact; only another (moved) object came into contact with it
   resting   no new contact; it was already touching an object the push moved
   none      no contact found (should not happen)
+A table on which no other object moved but the intended one did not move either (the plan was
+for a blob that was not on it) counts as no-move.
 and, besides, `merged` when the other object held >= 10% of the pushed blob's features (the
 path's cost ignored it). A table (executed, not only-intended) is counted under every cause of
 its moved neighbours. Usage: others.py EVAL.json [...]"""
@@ -18,7 +20,7 @@ import collections
 import json
 import sys
 
-CAUSES = ["transit", "jaws", "pusher", "hand", "swept", "chain", "resting", "none"]
+CAUSES = ["transit", "jaws", "pusher", "hand", "swept", "chain", "resting", "none", "no-move"]
 
 
 def cause(o, intended):
@@ -72,6 +74,9 @@ for path in sys.argv[1:]:
                 descr.append(f"step{k} {o['name']} {1000 * o['moved']:.0f}mm {c}"
                              f"{' merged' if m else ''}"
                              f" [{','.join(o.get('parts', []))}|{','.join(o.get('hit_by', []))}]")
+        if not tags:  # no other object moved: the intended one did not move either
+            tags.add("no-move")
+            descr.append(r["outcome"])
         for t in tags:
             by_table[t] += 1
         lines.append(f"  seed {r['seed']} {r['object']}: " + "; ".join(descr))
