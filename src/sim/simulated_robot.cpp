@@ -692,12 +692,13 @@ struct SimulatedRobot::State {
         }
       }
     }
-    for (const auto& [a, b] : object_pairs_touching()) {
-      const bool known = std::any_of(object_contacts.begin(), object_contacts.end(),
-                                     [&](const ObjectContact& c) { return c.a == a && c.b == b; });
+    for (const std::pair<ObjectId, ObjectId>& ab : object_pairs_touching()) {
+      const bool known =
+          std::any_of(object_contacts.begin(), object_contacts.end(),
+                      [&](const ObjectContact& c) { return c.a == ab.first && c.b == ab.second; });
       if (!known) {
         object_contacts.push_back(
-            {a, b, phase, std::binary_search(resting.begin(), resting.end(), std::pair(a, b))});
+            {ab.first, ab.second, phase, std::binary_search(resting.begin(), resting.end(), ab)});
       }
     }
   }
