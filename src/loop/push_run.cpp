@@ -87,7 +87,14 @@ PushScore score(const std::vector<sim::ObjectTruth>& before,
 std::vector<OtherMove> others_of(const std::vector<sim::ObjectTruth>& before,
                                  const std::vector<sim::ObjectTruth>& after,
                                  const std::string& intended,
-                                 const std::vector<sim::ArmContact>& contacts) {
+                                 const std::vector<sim::ArmContact>& contacts,
+                                 const std::vector<sim::ObjectContact>& between) {
+  const auto name_of = [&](sim::ObjectId id) {
+    for (const sim::ObjectTruth& t : before) {
+      if (t.id == id) return t.name;
+    }
+    return std::string("?");
+  };
   std::vector<OtherMove> out;
   for (std::size_t i = 0; i < before.size() && i < after.size(); ++i) {
     if (before[i].role == sim::TableRole::kDistractor || before[i].name == intended) continue;
@@ -95,9 +102,39 @@ std::vector<OtherMove> others_of(const std::vector<sim::ObjectTruth>& before,
     m.name = before[i].name;
     m.moved = (after[i].centre - before[i].centre).head<2>().norm();
     for (const sim::ArmContact& c : contacts) {
-      if (c.id == before[i].id) m.touch = core::choice_name(c.phase, sim::kContactPhaseNames);
+      if (c.id != before[i].id) continue;
+      m.touch = core::choice_name(c.phase, sim::kContactPhaseNames);
+      m.parts = c.parts;
+    }
+    for (const sim::ObjectContact& c : between) {
+      std::vector<std::string>& list = c.already ? m.resting_on : m.hit_by;
+      if (c.a == before[i].id) list.push_back(name_of(c.b));
+      if (c.b == before[i].id) list.push_back(name_of(c.a));
     }
     if (m.moved > kMovedThreshold || !m.touch.empty()) out.push_back(m);
+  }
+  return out;
+}
+
+// Ground truth: the other objects (not `intended`, not distractors) under at least
+// kMergedShare of `o`'s pixels in `mask`.
+std::vector<std::string> merged_with(const planning::PutativeObject& o, const cv::Mat& mask,
+                                     const std::vector<sim::ObjectTruth>& truth,
+                                     const std::string& intended) {
+  std::map<int, std::size_t> on;
+  for (const auto& p : o.pixels) {
+    const int u = static_cast<int>(std::lround(p.x()));
+    const int v = static_cast<int>(std::lround(p.y()));
+    if (u >= 0 && v >= 0 && u < mask.cols && v < mask.rows) ++on[mask.at<std::uint16_t>(v, u)];
+  }
+  std::vector<std::string> out;
+  for (const sim::ObjectTruth& t : truth) {
+    if (t.role == sim::TableRole::kDistractor || t.name == intended) continue;
+    const auto it = on.find(static_cast<int>(t.id));
+    if (it != on.end() &&
+        static_cast<double>(it->second) >= kMergedShare * static_cast<double>(o.pixels.size())) {
+      out.push_back(t.name);
+    }
   }
   return out;
 }
@@ -300,9 +337,12 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         try {
           const std::vector<sim::ObjectTruth> truth_before = robot.ground_truth();
           step.start_clearance = clearance_to_others(truth_before, intended, step.plan.push.start);
+          step.merged = merged_with(cur_view.objects[static_cast<std::size_t>(cur_object)],
+                                    robot.ground_truth_mask(), truth_before, intended);
           step.report = robot.push(step.plan.push, rec);
-          step.others = others_of(truth_before, robot.ground_truth(), intended,
-                                  robot.last_push_contact_phases());
+          step.others =
+              others_of(truth_before, robot.ground_truth(), intended,
+                        robot.last_push_contact_phases(), robot.last_push_object_contacts());
           step.message = step.report->message;
           // The record names the episode where it ends up (run_push swaps the staging in).
           if (!work.dir.empty()) step.report->episode_dir = options.out / episode_name(k);
@@ -638,6 +678,8 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
       e.end = s.plan.push.end;
       e.blocked = s.plan.blocked;
       e.via = s.plan.via;
+      e.merged = s.merged;
+      e.jaws = s.plan.push.jaws;
       row.steps.push_back(std::move(e));
     }
     r.pushes.push_back(std::move(row));

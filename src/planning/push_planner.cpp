@@ -821,6 +821,15 @@ double push_tip_height(const PutativeObject& object, const PushPlanOptions& opti
                     std::max(options.tip_height, kMostTipHeight));
 }
 
+robot::JawLine push_jaws(const PutativeObject& object, double tip_height,
+                         const PushPlanOptions& options) {
+  if (options.jaws_along_height > 0 && object.height &&
+      *object.height < tip_height + options.jaws_along_height) {
+    return robot::JawLine::kAlong;
+  }
+  return robot::JawLine::kRobot;
+}
+
 double push_speed_for(const PutativeObject& object, const PushPlanOptions& options) {
   if (options.tall_push_speed > 0 && object.height && *object.height >= options.tall_height) {
     return options.tall_push_speed;
@@ -998,6 +1007,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   // The tip's height and the speed for this object (its measured height, when depth gave one).
   const double tip = push_tip_height(o, options);
   const double speed = push_speed_for(o, options);
+  const robot::JawLine jaws = push_jaws(o, tip, options);
   core::Rng rng(options.seed);
   const robot::IkOptions ik;
   struct Candidate {
@@ -1037,8 +1047,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       ++plan.rejected_region;
       continue;
     }
-    const robot::TablePush push =
+    robot::TablePush push =
         push_through_centre(o.hull, o.centre, t, approach, tip, speed, options.pusher_radius);
+    push.jaws = jaws;
     if (!inside_region(push.start, region, options.table_margin) ||
         !inside_region(t, region, options.table_margin + radius) ||
         (goal == PushGoal::kEdge && !in_view(view.camera, t, 0.0)) || push.length() < 0.005) {
@@ -1067,8 +1078,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       std::vector<Eigen::Vector2d> moved = o.hull;
       for (auto& h : moved) h += t - o.centre;
       if ((target - t).norm() < options.least_push) continue;
-      const robot::TablePush next = push_through_centre(moved, t, target, options.min_approach, tip,
-                                                        speed, options.pusher_radius);
+      robot::TablePush next = push_through_centre(moved, t, target, options.min_approach, tip,
+                                                  speed, options.pusher_radius);
+      next.jaws = jaws;
       if (!inside_region(next.start, region, options.table_margin) ||
           !robot::reachable(arm, next.start, next.height, q_rest, ik) ||
           !robot::reachable(arm, next.end, next.height, q_rest, ik)) {

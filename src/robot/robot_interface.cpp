@@ -72,19 +72,26 @@ JointVector append_move(ArmState& state, const CartesianTrajectory& move, const 
 
 }  // namespace
 
-double fingers_across_roll(ArmState& state, const JointVector& q,
-                           const Eigen::Vector2d& direction) {
+namespace {
+
+// The roll that puts the jaws' line (the last link's y axis) across (`along` false) or along the
+// table direction `direction`, with j1..j4 of q: the one of theta + k pi within j5's limits
+// nearest q's j5.
+double fingers_roll(ArmState& state, const JointVector& q, const Eigen::Vector2d& direction,
+                    bool along) {
   require(direction.allFinite() && direction.norm() > 0,
-          "fingers across: the push direction must be finite and non-zero");
+          along ? "fingers along: the push direction must be finite and non-zero"
+                : "fingers across: the push direction must be finite and non-zero");
   const Eigen::Vector3d d(direction.x(), direction.y(), 0);
   // j5 turns about the last link's x axis: y(theta) = cos(theta) y0 + sin(theta) z0 (y0, z0 at
-  // j5 = 0, the joint's axis is +x), so y . d = 0 at theta = atan2(-y0 . d, z0 . d) (mod pi).
+  // j5 = 0, the joint's axis is +x), so y . d = 0 at theta = atan2(-y0 . d, z0 . d) (mod pi)
+  // and y . d is largest (z . d = 0) at theta = atan2(z0 . d, y0 . d).
   JointVector q0 = q;
   q0[4] = 0;
   const Eigen::Matrix3d r = state.ee_pose(q0).rotation;
   const double a = r.col(1).dot(d);
   const double b = r.col(2).dot(d);
-  const double theta = std::atan2(-a, b);
+  const double theta = along ? std::atan2(b, a) : std::atan2(-a, b);
   const double lo = state.arm().lower()[4];
   const double hi = state.arm().upper()[4];
   double best = q[4];
@@ -98,8 +105,19 @@ double fingers_across_roll(ArmState& state, const JointVector& q,
       best_gap = gap;
     }
   }
-  ensure(std::isfinite(best_gap), "fingers across: no roll within j5's limits");
+  ensure(std::isfinite(best_gap), "fingers: no roll within j5's limits");
   return best;
+}
+
+}  // namespace
+
+double fingers_across_roll(ArmState& state, const JointVector& q,
+                           const Eigen::Vector2d& direction) {
+  return fingers_roll(state, q, direction, false);
+}
+
+double fingers_along_roll(ArmState& state, const JointVector& q, const Eigen::Vector2d& direction) {
+  return fingers_roll(state, q, direction, true);
 }
 
 PushMotion plan_push_motion(ArmState& state, const TablePush& push, const JointVector& q_rest,
@@ -111,10 +129,12 @@ PushMotion plan_push_motion(ArmState& state, const TablePush& push, const JointV
   const Eigen::Vector3d up(0, 0, options.lift);
   PushMotion m;
   JointVector q_from = q_rest;
-  if (options.roll_across) {
+  const bool across =
+      push.jaws == JawLine::kAcross || (push.jaws == JawLine::kRobot && options.roll_across);
+  if (across || push.jaws == JawLine::kAlong) {
     // The roll at the push's middle (j1 turns during a push across the arm's radius).
     const JointVector q_mid = solve_ik(state, 0.5 * (start + end), q_rest, options.ik).q;
-    q_from[4] = fingers_across_roll(state, q_mid, push.end - push.start);
+    q_from[4] = fingers_roll(state, q_mid, push.end - push.start, !across);
   }
   m.q_above_start = solve_ik(state, start + up, q_from, options.ik).q;
   std::vector<JointVector> q;

@@ -9,6 +9,9 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "backdrop_video.hpp"
 #include "distractor_mover.hpp"
@@ -636,6 +639,70 @@ struct SimulatedRobot::State {
     return meets;
   }
 
+  // The arm's part of each geom (arm_part_name; empty: not the arm's), filled on first use.
+  const std::string& part_of_geom(int geom) {
+    if (geom_parts.empty()) {
+      const mjModel& m = world.model();
+      geom_parts.resize(static_cast<std::size_t>(m.ngeom));
+      for (int g = 0; g < m.ngeom; ++g) {
+        if (world.geom_object_id(g) != kArmId) continue;
+        const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
+        geom_parts[static_cast<std::size_t>(g)] = arm_part_name(name != nullptr ? name : "");
+      }
+    }
+    return geom_parts.at(static_cast<std::size_t>(geom));
+  }
+
+  // A table object (an object or clutter, not a distractor, the arm or the table).
+  [[nodiscard]] bool is_table_object(ObjectId id) const {
+    return id != kBackgroundId && id != kArmId && static_cast<std::size_t>(id) <= types.size();
+  }
+
+  // The pairs of table objects in contact now (a < b, ascending, once each).
+  [[nodiscard]] std::vector<std::pair<ObjectId, ObjectId>> object_pairs_touching() const {
+    const mjData& d = world.data();
+    std::vector<std::pair<ObjectId, ObjectId>> out;
+    for (int i = 0; i < d.ncon; ++i) {
+      const ObjectId a = world.geom_object_id(d.contact[i].geom1);
+      const ObjectId b = world.geom_object_id(d.contact[i].geom2);
+      if (a == b || !is_table_object(a) || !is_table_object(b)) continue;
+      out.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  // Ground truth of the push so far: the arm's parts touching each object (contact_phases) and
+  // the pairs of objects in contact (`resting`: those touching when it began).
+  void note_contacts(ContactPhase phase,
+                     const std::vector<std::pair<ObjectId, ObjectId>>& resting) {
+    const mjData& d = world.data();
+    for (int i = 0; i < d.ncon; ++i) {
+      const std::array<int, 2> g{d.contact[i].geom1, d.contact[i].geom2};
+      for (int k = 0; k < 2; ++k) {
+        const int arm_geom = g[static_cast<std::size_t>(k)];
+        const ObjectId other = world.geom_object_id(g[static_cast<std::size_t>(1 - k)]);
+        if (world.geom_object_id(arm_geom) != kArmId || !is_table_object(other)) continue;
+        const std::string& part = part_of_geom(arm_geom);
+        for (ArmContact& c : contact_phases) {
+          if (c.id == other && std::find(c.parts.begin(), c.parts.end(), part) == c.parts.end()) {
+            c.parts.push_back(part);
+          }
+        }
+      }
+    }
+    for (const std::pair<ObjectId, ObjectId>& ab : object_pairs_touching()) {
+      const bool known =
+          std::any_of(object_contacts.begin(), object_contacts.end(),
+                      [&](const ObjectContact& c) { return c.a == ab.first && c.b == ab.second; });
+      if (!known) {
+        object_contacts.push_back(
+            {ab.first, ab.second, phase, std::binary_search(resting.begin(), resting.end(), ab)});
+      }
+    }
+  }
+
   TableOptions options;
   std::vector<ObjectType> owned;         // never resized: `types` points into it
   std::vector<const ObjectType*> types;  // objects, then clutter
@@ -649,6 +716,8 @@ struct SimulatedRobot::State {
   int since_distractors = 0;
   std::vector<ObjectId> contacts;
   std::vector<ArmContact> contact_phases;
+  std::vector<ObjectContact> object_contacts;
+  std::vector<std::string> geom_parts;  // part_of_geom's table
 };
 
 SimulatedRobot::SimulatedRobot(const TableOptions& options, const ObjectCatalogue& catalogue) {
@@ -755,6 +824,8 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
   report.push = push;
   s_->contacts.clear();
   s_->contact_phases.clear();
+  s_->object_contacts.clear();
+  const std::vector<std::pair<ObjectId, ObjectId>> resting = s_->object_pairs_touching();
   ContactPhase phase = ContactPhase::kTransit;
   const double t0 = world.time();
   double t_record = t0;
@@ -768,9 +839,10 @@ robot::PushReport SimulatedRobot::push(const robot::TablePush& push,
       touched_since_frame = touched_since_frame || recorded;
       if (std::find(s_->contacts.begin(), s_->contacts.end(), id) == s_->contacts.end()) {
         s_->contacts.push_back(id);
-        s_->contact_phases.push_back({id, phase});
+        s_->contact_phases.push_back({id, phase, {}});
       }
     }
+    s_->note_contacts(phase, resting);
     if (!recorded) return;
     if (recorded_steps == 0) t_record = world.time() - world.timestep();
     if (++recorded_steps % steps_per_frame != 0) return;
@@ -878,6 +950,16 @@ cv::Mat SimulatedRobot::ground_truth_mask() {
 const std::vector<ObjectId>& SimulatedRobot::last_push_contacts() const { return s_->contacts; }
 const std::vector<ArmContact>& SimulatedRobot::last_push_contact_phases() const {
   return s_->contact_phases;
+}
+const std::vector<ObjectContact>& SimulatedRobot::last_push_object_contacts() const {
+  return s_->object_contacts;
+}
+
+std::string arm_part_name(const std::string& geom_name) {
+  if (geom_name == "arm_pusher") return "pusher";
+  if (geom_name.starts_with("arm_finger_")) return "jaws";
+  if (geom_name == "arm_palm") return "palm";
+  return "links";
 }
 
 std::vector<Placement> SimulatedRobot::scatter(std::uint64_t seed) {

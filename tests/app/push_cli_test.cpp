@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <initializer_list>
+#include <string>
 #include <utility>
 
 #include "../support/schema_check.hpp"
@@ -71,12 +72,15 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
   }
-  // Session 18's push options out of their ranges: one line naming the flag.
+  // Session 18's and 19's push options out of their ranges: one line naming the flag.
   for (const auto& [args, flag] : std::initializer_list<std::pair<const char*, const char*>>{
            {"push --pusher-radius -0.01", "--pusher-radius"},
            {"push --tip-fraction 0.9", "--tip-fraction"},
            {"push --least-push 0.001", "--least-push"},
-           {"evaluate push --min-gain 2", "--min-gain"}}) {
+           {"evaluate push --min-gain 2", "--min-gain"},
+           // Session 19's.
+           {"push --jaws-along-height 0.2", "--jaws-along-height"},
+           {"evaluate push --jaws-along-height -0.01", "--jaws-along-height"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
@@ -98,6 +102,19 @@ TEST(PushCli, EvaluatesAFewTables) {
   EXPECT_EQ(j["planned"].get<int>() + j["not_planned"].get<int>() + j["not_seen"].get<int>() +
                 j["refused"].get<int>(),
             3);
+  // Session 19's diagnosis: every step says how the jaws lay (the default: the robot's own), and
+  // every other object the arm touched names the arm's parts that did (none when it did not).
+  for (const auto& row : j["pushes"]) {
+    for (const auto& step : row["steps"]) {
+      EXPECT_EQ(step["jaws"], "robot");
+      ASSERT_TRUE(step.contains("merged"));
+      for (const auto& o : step["others"]) {
+        EXPECT_EQ(o["touch"].get<std::string>().empty(), o["parts"].empty()) << o.dump();
+        ASSERT_TRUE(o.contains("hit_by"));
+        ASSERT_TRUE(o.contains("resting_on"));
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -284,6 +284,47 @@ TEST(PushPlanner, ATallObjectIsPushedHigherAndSlowerByItsMeasuredHeight) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
+TEST(PushPlanner, ALowObjectIsPushedWithTheJawsAlongThePush) {
+  // jaws_along_height 2.5 cm, tip at a third of the height: a measured 3.5 cm book (tip 1.17 cm,
+  // 3.5 < 3.67) and a 1 cm CD are pushed with the jaws along the push; a 6 cm spirit level (tip
+  // 2 cm, 6 > 4.5), an unmeasured object (no depth) and any object with the option off (the
+  // default) as the robot holds them.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.28, 0.0}, 0.03);
+  PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target(0.22, 0.0);
+  PushPlanOptions o = flat_options();
+  o.tip_fraction = 1.0 / 3.0;
+  o.jaws_along_height = 0.025;
+  struct Case {
+    std::optional<double> height;
+    robot::JawLine jaws;
+  };
+  for (const Case& c : {Case{0.035, robot::JawLine::kAlong}, Case{0.01, robot::JawLine::kAlong},
+                        Case{0.06, robot::JawLine::kRobot}, Case{0.2, robot::JawLine::kRobot},
+                        Case{std::nullopt, robot::JawLine::kRobot}}) {
+    view.objects[0].height = c.height;
+    const double tip = push_tip_height(view.objects[0], o);
+    EXPECT_EQ(push_jaws(view.objects[0], tip, o), c.jaws);
+    const PushPlan p = plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+    ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
+    EXPECT_EQ(p.push.jaws, c.jaws);
+    const PushPlan off =
+        plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, flat_options());
+    ASSERT_EQ(off.outcome, PlanOutcome::kPlanned) << off.message;
+    EXPECT_EQ(off.push.jaws, robot::JawLine::kRobot);
+  }
+  PushPlanOptions bad = o;
+  bad.jaws_along_height = -0.01;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.jaws_along_height = 0.2;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 TEST(PushPlanner, LeastPushSetsWhenAnObjectIsAtItsTarget) {
   // 7 mm from its target: at the target by the default least push (1 cm), pushed the 7 mm with
   // least_push 5 mm (a closed loop whose tolerance is under a centimetre), and the push's end is

@@ -109,6 +109,35 @@ TEST(RobotInterface, RollAcrossTurnsTheJawsAcrossTheLineOfATangentialPush) {
                Error);
 }
 
+TEST(RobotInterface, APushsJawLineOverridesTheRobotsRoll) {
+  // TablePush::jaws: kAlong turns the jaws' line along the push (radial and tangential pushes),
+  // kAcross across it even when the robot's own setting (roll_across) is off, kRobot leaves it to
+  // that setting; the tip's path is the same line whatever the roll.
+  ArmState state(testing::standard_arm());
+  for (const bool radial : {false, true}) {
+    TablePush p;
+    p.start = radial ? Eigen::Vector2d(0.18, 0.0) : Eigen::Vector2d(0.25, -0.05);
+    p.end = radial ? Eigen::Vector2d(0.28, 0.0) : Eigen::Vector2d(0.25, 0.05);
+    const PushMotion kept = plan_push_motion(state, p, JointVector::Zero());
+    p.jaws = JawLine::kAlong;
+    const PushMotion along = plan_push_motion(state, p, JointVector::Zero());
+    EXPECT_GT(jaws_along_push(state, along, p), 0.9999) << radial;
+    PushMotionOptions o;
+    o.roll_across = true;  // the push's own line wins over the robot's setting
+    EXPECT_GT(jaws_along_push(state, plan_push_motion(state, p, JointVector::Zero(), o), p),
+              0.9999);
+    p.jaws = JawLine::kAcross;
+    EXPECT_LT(jaws_along_push(state, plan_push_motion(state, p, JointVector::Zero()), p), 0.01);
+    for (const int k : {along.push_begin, along.push_end}) {
+      const auto i = static_cast<std::size_t>(k);
+      EXPECT_LT((state.ee_position(along.joints.q[i]) - state.ee_position(kept.joints.q[i])).norm(),
+                1e-6);
+    }
+  }
+  EXPECT_THROW((void)fingers_along_roll(state, JointVector::Zero(), Eigen::Vector2d::Zero()),
+               Error);
+}
+
 TEST(RobotInterface, RefusesBadAndUnreachablePushes) {
   ArmState state(testing::standard_arm());
   TablePush far;

@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 #include "proprio/episode/episode.hpp"
@@ -223,6 +226,59 @@ TEST(SimulatedRobot, RollAcrossTurnsTheHandForAPushAcrossTheArmsRadius) {
     }
     fs::remove_all(dir);
   }
+}
+
+TEST(SimulatedRobot, NamesTheArmsPartsAndTheObjectsThatMetInAPush) {
+  // Ground truth for diagnosis: the arm's parts that touched each object, and the pairs of
+  // objects that came into contact. The book (3.5 cm tall) pushed at the 8 mm tip into the mug:
+  // the pusher touches the book, and the book meets the mug in the push, a pair that was not
+  // touching before.
+  EXPECT_EQ(arm_part_name("arm_pusher"), "pusher");
+  EXPECT_EQ(arm_part_name("arm_finger_left_geom"), "jaws");
+  EXPECT_EQ(arm_part_name("arm_finger_right_geom"), "jaws");
+  EXPECT_EQ(arm_part_name("arm_palm"), "palm");
+  EXPECT_EQ(arm_part_name("arm_link3_geom"), "links");
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  SimulatedRobot robot(small_table(), cat);
+  const auto before = robot.ground_truth();
+  const ObjectTruth book = truth_of(before, "book");
+  const ObjectTruth mug = truth_of(before, "mug");
+  const Eigen::Vector2d c = book.centre.head<2>();
+  const Eigen::Vector2d to_mug = mug.centre.head<2>() - c;
+  const Eigen::Vector2d n = to_mug.normalized();
+  robot::TablePush push;
+  // 2 cm behind the book's back edge (its box, 7.5 x 10.5 cm half extents, turned by its yaw).
+  const Eigen::Vector2d ax(std::cos(book.yaw), std::sin(book.yaw));
+  const Eigen::Vector2d ay(-ax.y(), ax.x());
+  push.start = c - n * (0.075 * std::abs(n.dot(ax)) + 0.105 * std::abs(n.dot(ay)) + 0.02);
+  push.end = c + n * (to_mug.norm() - 0.07);  // the book well into the mug's place
+  (void)robot.push(push, {});
+  const auto after = robot.ground_truth();
+  EXPECT_GT((truth_of(after, "mug").centre - mug.centre).head<2>().norm(), 0.005);
+  const auto& arm = robot.last_push_contact_phases();
+  const auto on_book =
+      std::find_if(arm.begin(), arm.end(), [&](const ArmContact& a) { return a.id == book.id; });
+  ASSERT_NE(on_book, arm.end());
+  EXPECT_EQ(on_book->phase, ContactPhase::kPush);
+  // The pusher touched it (the jaws may too: their lowest edge is only 3 mm above the book's top
+  // where the hand points straight down, and the book tilts against the mug).
+  EXPECT_NE(std::find(on_book->parts.begin(), on_book->parts.end(), "pusher"),
+            on_book->parts.end());
+  const std::vector<std::string> known{"pusher", "jaws", "palm", "links"};
+  for (const ArmContact& a : arm) {
+    EXPECT_FALSE(a.parts.empty());
+    for (const std::string& p : a.parts) {
+      EXPECT_NE(std::find(known.begin(), known.end(), p), known.end()) << p;
+    }
+  }
+  const auto& met = robot.last_push_object_contacts();
+  const auto pair = std::find_if(met.begin(), met.end(), [&](const ObjectContact& m) {
+    return m.a == std::min(mug.id, book.id) && m.b == std::max(mug.id, book.id);
+  });
+  ASSERT_NE(pair, met.end());
+  EXPECT_FALSE(pair->already);
+  EXPECT_EQ(pair->phase, ContactPhase::kPush);
+  for (const ObjectContact& m : met) EXPECT_LT(m.a, m.b);  // each pair names its lower id first
 }
 
 TEST(SimulatedRobot, BacksAwayFromATallObjectBeforeGoingBack) {

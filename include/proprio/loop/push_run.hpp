@@ -166,11 +166,15 @@ struct PushPlanRecord {
     v(p.cost, {"cost", "Feature density along the path (eq 7.5)"});
     v(p.blocked, {"blocked", "The path's lack of clearance from other objects, m (0: clear)"});
     v(p.via, {"via", "A push to a waypoint round a blocked line"});
+    v(std::string(core::choice_name(p.push.jaws, robot::kJawLineNames)),
+      {"jaws", "How the plan asked the jaws to lie: robot (its own setting), across, along"});
   }
 };
 
 /// An object counts as moved when its centre moved more than this, m.
 inline constexpr double kMovedThreshold = 0.005;
+/// PushStep::merged: another object holding this share of a putative object's features.
+inline constexpr double kMergedShare = 0.1;
 
 /// How one push ended.
 enum class PushOutcome {
@@ -194,12 +198,21 @@ struct OtherMove {
   std::string name;
   double moved = 0;   ///< distance its centre moved in this push, m
   std::string touch;  ///< when the arm first touched it: transit, push, return; empty: never
+  /// The arm's parts that touched it (sim::arm_part_name: pusher, jaws, palm, links).
+  std::vector<std::string> parts;
+  /// The objects that came into contact with it in this push (not touching it before).
+  std::vector<std::string> hit_by;
+  /// The objects touching it when this push began (and still or again during it).
+  std::vector<std::string> resting_on;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.name, {"name", "The object (catalogue name)"});
     v(self.moved, {"moved", "Distance its centre moved in this push, m"});
     v(self.touch, {"touch", "When the arm first touched it (transit, push, return; empty: never)"});
+    v(self.parts, {"parts", "The arm's parts that touched it (pusher, jaws, palm, links)"});
+    v(self.hit_by, {"hit_by", "Objects that came into contact with it in this push"});
+    v(self.resting_on, {"resting_on", "Objects touching it when this push began"});
   }
 };
 
@@ -223,6 +236,9 @@ struct PushStep {
   /// Ground truth: the push's start to the nearest other object's footprint circle, m
   /// (negative: the pusher came down inside it); 0 when not executed.
   double start_clearance = 0;
+  /// Ground truth: the other objects that hold at least kMergedShare of the pushed putative
+  /// object's features (blobs merged: the path's cost ignores them).
+  std::vector<std::string> merged;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -243,6 +259,7 @@ struct PushStep {
     v(self.others, {"others", "Ground truth: other objects this push moved or touched"});
     v(self.start_clearance,
       {"start_clearance", "Ground truth: the start to the nearest other footprint circle, m"});
+    v(self.merged, {"merged", "Ground truth: other objects merged into the pushed blob"});
   }
 };
 
@@ -393,6 +410,8 @@ struct PushEvaluationStep {
   Eigen::Vector2d end = Eigen::Vector2d::Zero();    ///< its end, table m
   double blocked = 0;                               ///< PushPlan::blocked, m
   bool via = false;                                 ///< PushPlan::via
+  std::vector<std::string> merged;                  ///< PushStep::merged
+  robot::JawLine jaws = robot::JawLine::kRobot;     ///< the plan's TablePush::jaws
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -411,6 +430,8 @@ struct PushEvaluationStep {
     v(xy(self.end), {"end", "The push's end, table m"});
     v(self.blocked, {"blocked", "The plan's lack of clearance from other objects, m"});
     v(self.via, {"via", "A push to a waypoint round a blocked line"});
+    v(self.merged, {"merged", "Ground truth: other objects merged into the pushed blob"});
+    v.choice(self.jaws, {"jaws", "How the plan asked the jaws to lie"}, robot::kJawLineNames);
   }
 };
 

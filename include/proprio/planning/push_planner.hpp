@@ -139,6 +139,12 @@ struct PushPlanOptions {
   /// the pushed object itself, are not sampled (descent_blocked: the robot would refuse them).
   /// 0 (the default): not checked. selfsupervise: 0.04 (the fingers reach 3 cm either side).
   double descent_clearance = 0;
+  /// Objects measured (depth) lower than the pusher's tip plus this, m, are pushed with the
+  /// gripper's jaws along the push (robot::JawLine::kAlong: the one ahead passes over the object,
+  /// and the hand is 3 cm wide across the push instead of 6 cm); others, and objects of unknown
+  /// height, as the robot holds them (kRobot). 0 (the default): every push kRobot. The jaws hang
+  /// kFingerDrop (3 cm) above the tip: 0.025 leaves 5 mm (push_jaws).
+  double jaws_along_height = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -208,6 +214,11 @@ struct PushPlanOptions {
     v(self.descent_clearance,
       {"descent_clearance", "Least gap between the arm's way down and other objects, m (0: off)",
        core::between(0, 0.2)});
+    v(self.jaws_along_height,
+      {"jaws_along_height",
+       "Depth: objects lower than the tip plus this are pushed with the jaws along the push, m "
+       "(0: never)",
+       core::between(0, 0.1)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -417,6 +428,12 @@ inline constexpr double kMostTipHeight = 0.05;
 /// at most kMostTipHeight, when h <= options.tip_raise_height. A tall object pushed at its foot is
 /// pushed by the fingers too (kFingerDrop above the tip), and turns or topples about its foot.
 double push_tip_height(const PutativeObject& object, const PushPlanOptions& options);
+
+/// How the jaws lie when pushing `object` with the tip at `tip_height` (m): JawLine::kAlong when
+/// options.jaws_along_height > 0 and the object's measured height (depth) is below tip_height +
+/// jaws_along_height, else kRobot (the robot's own setting).
+robot::JawLine push_jaws(const PutativeObject& object, double tip_height,
+                         const PushPlanOptions& options);
 
 /// The push speed for `object`, m/s: options.tall_push_speed when that is set (> 0) and the
 /// object's measured height (depth) is at least options.tall_height, else options.push_speed.

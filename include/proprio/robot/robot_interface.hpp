@@ -32,6 +32,7 @@
 #include <optional>
 #include <string>
 
+#include "proprio/core/fields.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/geometry/backprojection.hpp"
 #include "proprio/geometry/camera.hpp"
@@ -59,6 +60,19 @@ struct Look {
   cv::Mat depth;
 };
 
+/// How the gripper's jaws lie during a push. The simulated hand carries them 2.5 cm either side
+/// of the pusher along the last link's y axis, 3 to 10 cm above its tip: across the push they are
+/// beside the pusher (the hand 6 cm wide across the push, nothing ahead of the pusher but the jaws'
+/// 1.5 cm half width); along it one is ahead of the pusher, one behind (the hand 3 cm wide across
+/// the push; the one ahead passes over an object lower than 3 cm above the tip).
+enum class JawLine {
+  kRobot,   ///< the robot's own setting (PushMotionOptions::roll_across)
+  kAcross,  ///< across the push at its middle (fingers_across_roll)
+  kAlong,   ///< along the push at its middle (fingers_along_roll)
+};
+inline constexpr core::ChoiceNames<JawLine, 3> kJawLineNames{
+    {{"robot", JawLine::kRobot}, {"across", JawLine::kAcross}, {"along", JawLine::kAlong}}};
+
 /// A straight push along the table, in the table plane (world x y, m).
 struct TablePush {
   Eigen::Vector2d start = Eigen::Vector2d::Zero();  ///< where the pusher tip goes down, m
@@ -66,7 +80,8 @@ struct TablePush {
   /// Height of the pusher tip above the table while it pushes, m. 8 mm: below half the height
   /// of the thinnest catalogue objects (CD 1 cm, calculator 2 cm) and clear of the table.
   double height = 0.008;
-  double speed = 0.05;  ///< mean speed along the line, m/s
+  double speed = 0.05;             ///< mean speed along the line, m/s
+  JawLine jaws = JawLine::kRobot;  ///< how the gripper's jaws lie (the roll j5)
 
   /// Throws Error when a value is not finite, the line is shorter than 5 mm, the height is
   /// outside (0, 0.1] m or the speed outside (0, 0.5] m/s.
@@ -104,6 +119,7 @@ struct PushMotionOptions {
   /// side of the pusher along the last link's y axis, lie across the push, beside the pusher,
   /// at the push's middle: fingers_across_roll. Off: j5 keeps q_rest's value (the jaws lie
   /// across the arm's radius, so they are ahead of and behind the pusher in a push across it).
+  /// A push whose TablePush::jaws is not kRobot goes by that instead.
   bool roll_across = false;
   /// Throws Error when an option is out of range.
   void validate() const;
@@ -115,6 +131,12 @@ struct PushMotionOptions {
 /// leaves the jaws' line a component along `direction`; elsewhere this is the roll that
 /// minimises it. Throws Error for a zero or non-finite direction.
 double fingers_across_roll(ArmState& state, const JointVector& q, const Eigen::Vector2d& direction);
+
+/// The roll j5 (rad, within its limits, the nearer to q's j5 of the two) that turns the last
+/// link's y axis (the line through both jaws) along the table direction `direction` (any length
+/// > 0), with j1..j4 of q: the jaws ahead of and behind the pusher. Throws Error for a zero or
+/// non-finite direction.
+double fingers_along_roll(ArmState& state, const JointVector& q, const Eigen::Vector2d& direction);
 
 /// The joint samples of one push: lower from `lift` above the start, push, lift at the end.
 struct PushMotion {

@@ -144,10 +144,25 @@ inline constexpr core::ChoiceNames<ContactPhase, 3> kContactPhaseNames{
      {"push", ContactPhase::kPush},
      {"return", ContactPhase::kReturn}}};
 
-/// An object the arm touched during a push and when it first did.
+/// An object the arm touched during a push, when it first did, and with which parts.
 struct ArmContact {
   ObjectId id = 0;
   ContactPhase phase = ContactPhase::kPush;
+  /// The arm's parts that touched it (arm_part_name), in the order of first touch.
+  std::vector<std::string> parts;
+};
+
+/// The part of the simulated arm a geom belongs to (data/models/arm.xml): "pusher" (the pusher
+/// finger), "jaws" (either gripper jaw), "palm", or "links" (any other arm geom).
+[[nodiscard]] std::string arm_part_name(const std::string& geom_name);
+
+/// Two objects (ids, a < b) in contact with each other during a push: ground truth for
+/// diagnosis.
+struct ObjectContact {
+  ObjectId a = 0;
+  ObjectId b = 0;
+  ContactPhase phase = ContactPhase::kPush;  ///< when they first touched in the push
+  bool already = false;                      ///< they were touching when the push began
 };
 
 /// Where a scatter put one object.
@@ -214,6 +229,10 @@ class SimulatedRobot final : public robot::Robot {
   /// The same, each with the part of the push in which the arm first touched it (in the order
   /// of first touch).
   [[nodiscard]] const std::vector<ArmContact>& last_push_contact_phases() const;
+  /// Pairs of objects (not the arm, the table or the distractors) in contact with each other at
+  /// any time of the last push, in the order of first touch (ObjectContact::already: touching
+  /// when it began): an object the pushed one (or the arm) drove into another.
+  [[nodiscard]] const std::vector<ObjectContact>& last_push_object_contacts() const;
   /// Puts every object and the clutter (not the distractors) at a random non-overlapping place
   /// (scatter_placements from `seed`) and lets them settle; logged. Returns the placements.
   std::vector<Placement> scatter(std::uint64_t seed);
