@@ -806,6 +806,16 @@ class Learner {
         }
         fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
         if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
+        if (hub != centre_) {
+          // free_space: no side of the object's place was within reach (session 19, seed 3: a
+          // hub 10 cm beyond the work centre, 34 learn pushes not planned): the work centre's
+          // circle again.
+          hub = centre_;
+          log({.event = "hub",
+               .round = r,
+               .why = "no learn push could be planned about the object's place",
+               .work_centre = xy(hub)});
+        }
         continue;
       }
       turn(r, view, c, p);

@@ -912,8 +912,14 @@ TEST(SelfSupervision, FreeSpacePushesTheChosenObjectAndCentresItsLearnPushes) {
     if (j.event == "start") centre = j.work_centre;
     if (j.event == "look" && j.chosen) chosen = j.chosen;
     if (j.event == "hub") {
-      ++hubs;
       ASSERT_TRUE(centre && j.work_centre);
+      if (j.why) {
+        // No learn push could be planned about the object's place: the work centre again.
+        EXPECT_NEAR((*j.work_centre)[0], (*centre)[0], 1e-12);
+        EXPECT_NEAR((*j.work_centre)[1], (*centre)[1], 1e-12);
+        continue;
+      }
+      ++hubs;
       const double d =
           std::hypot((*j.work_centre)[0] - (*centre)[0], (*j.work_centre)[1] - (*centre)[1]);
       EXPECT_LE(d, o.free_space + 1e-9);
