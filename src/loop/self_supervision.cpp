@@ -45,6 +45,10 @@ constexpr double kClearMargin = 0.04;       // (b): pushed this much beyond the 
 constexpr int kRechoices = 2;         // (b): choices again in a round after the chosen one was lost
 constexpr double kFindRadius = 0.12;  // a pushed object is looked for this near its target, m
 constexpr double kMaxLearnPush = 0.12;  // (c): the object is moved at most this far a push, m
+constexpr double kFreeStep = 0.02;      // (b) free_space: the grid of free spots, m
+constexpr double kFreeGain = 0.02;      // (b) free_space: a spot must give this much more room, m
+constexpr int kFreeTries = 4;           // (b) free_space: spots planned at most per look
+constexpr double kFreeCorridor = 0.02;  // (b) free_space: its corridor keeps this from others, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
 
 // The blob of `view` nearest `centre` within kTrackRadius; -1 none.
@@ -329,6 +333,7 @@ class Learner {
     std::optional<Eigen::Vector2d> last_pushed;  // the pushed blob's centre before its push
     std::map<std::pair<double, double>, int> still_count;
     std::vector<Eigen::Vector2d> stuck;  // blobs that two pushes did not move: left alone
+    int free_moves = 0;                  // free_space: pushes of the chosen object tried
     const auto still = [&](const Eigen::Vector2d& p) -> int& {
       return still_count[{std::round(p.x() / kStill), std::round(p.y() / kStill)}];
     };
@@ -383,6 +388,15 @@ class Learner {
         attendant_.cleared(r, view, c);
         return chosen;
       }
+      // free_space: the chosen object itself into the room the others leave, first.
+      if (o_.free_space > 0 && free_moves < kFreeMoves) {
+        ++free_moves;
+        if (to_free_space(r, view, c, others.front().first, chosen, index)) {
+          ++pushes;
+          last_pushed.reset();
+          continue;
+        }
+      }
       bool pushed = false;
       bool refused = false;
       for (const auto& [gap, k] : others) {
@@ -427,6 +441,46 @@ class Learner {
         return chosen;
       }
     }
+  }
+
+  // (b), free_space: push blob c of `view` (the chosen object, `gap` m from its nearest
+  // neighbour) to the free spot that gives it kFreeGain more room, within free_space of the
+  // work centre, whose corridor keeps clear of the others. Returns whether a push was executed;
+  // `chosen` is then the object's centre after it (found by its motion).
+  bool to_free_space(int r, const planning::PlanningView& view, int c, double gap,
+                     Eigen::Vector2d& chosen, int& index) {
+    const std::vector<FreeSpot> spots =
+        free_spots(view, c, centre_, o_.free_space, kMaxFreePush, kFreeStep);
+    int tried = 0;
+    for (const FreeSpot& spot : spots) {
+      if (spot.gap < gap + kFreeGain || tried >= kFreeTries) break;
+      if ((spot.point - chosen).norm() < kFreeStep) continue;
+      if (learn_push_lack(view, c, spot.point, kFreeCorridor) > 0) continue;
+      ++tried;
+      planning::PushPlan p = plan(view, c, planning::PushGoal::kTarget, spot.point);
+      const std::string then = core::printf_string(
+          "free space: the chosen object toward (%.3f, %.3f), least gap %.3f -> %.3f m",
+          spot.point.x(), spot.point.y(), gap, spot.gap);
+      log({.event = "plan",
+           .round = r,
+           .phase = "clear",
+           .blob = c,
+           .gap = gap,
+           .plan = LoggedPlan::of(p),
+           .then = then});
+      if (p.outcome != planning::PlanOutcome::kPlanned) continue;
+      const cv::Mat before_image = image_.clone();
+      PushIntent in{r, "clear", index++, &view, c, &p};
+      if (!execute(in, "")) return false;
+      ++out_.pushes_clear;
+      planning::PlanningView after = look();
+      const int now = planning::find_pushed_object(before_image, image_, after,
+                                                   view.objects[static_cast<std::size_t>(c)],
+                                                   p.target, kFindRadius, region_, plan_options_);
+      chosen = now >= 0 ? after.objects[static_cast<std::size_t>(now)].centre : p.target;
+      return true;
+    }
+    return false;
   }
 
   // A learn push's episode and its M-L segmentation (kMotion), with the threshold of the scored
@@ -642,6 +696,14 @@ class Learner {
   // (c): push the chosen object again and again from several sides, taking its views.
   void learn(int r, Eigen::Vector2d chosen, int& index, core::ProgressBar& bar) {
     double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
+    // The circle of targets: about the work centre, or (free_space) about the object's place
+    // after (b), kept within free_space of the work centre.
+    Eigen::Vector2d hub = centre_;
+    if (o_.free_space > 0) {
+      const Eigen::Vector2d d = chosen - centre_;
+      hub = d.norm() <= o_.free_space ? chosen : centre_ + (o_.free_space / d.norm()) * d;
+      log({.event = "hub", .round = r, .work_centre = xy(hub)});
+    }
     int done = 0;
     int attempts = 0;
     // The look after the last executed push and the chosen object in it (found by its motion):
@@ -668,10 +730,10 @@ class Learner {
       chosen = view.objects[static_cast<std::size_t>(c)].centre;
       keep_look(r, view, c);
       Eigen::Vector2d target =
-          centre_ + o_.circle_radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+          hub + o_.circle_radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
       angle += kGoldenAngle;
       if ((target - chosen).norm() < 0.03) {
-        target = centre_ - (target - centre_);
+        target = hub - (target - hub);
       }
       if ((target - chosen).norm() > kMaxLearnPush) {  // short pushes: it turns, stays in view
         target = chosen + kMaxLearnPush * (target - chosen).normalized();
@@ -688,9 +750,8 @@ class Learner {
       bool crowded = false;  // a side was left out for its corridor
       std::vector<Eigen::Vector2d> goals{target};
       for (int l = 0; l < lengths; ++l) {
-        for (const auto& g :
-             fallback_goals(chosen, centre_, a0, l == 0 ? kSidePush : kShortLearnPush, kSides,
-                            o_.circle_radius, o_.inward_sides)) {
+        for (const auto& g : fallback_goals(chosen, hub, a0, l == 0 ? kSidePush : kShortLearnPush,
+                                            kSides, o_.circle_radius, o_.inward_sides)) {
           goals.push_back(g);
         }
         if (l == 0 && lengths > 1) {
@@ -745,6 +806,16 @@ class Learner {
         }
         fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
         if (extra_approach_ > 0) extra_approach_ = 0;  // the grown approach may be to blame
+        if (hub != centre_) {
+          // free_space: no side of the object's place was within reach (session 19, seed 3: a
+          // hub 10 cm beyond the work centre, 34 learn pushes not planned): the work centre's
+          // circle again.
+          hub = centre_;
+          log({.event = "hub",
+               .round = r,
+               .why = "no learn push could be planned about the object's place",
+               .work_centre = xy(hub)});
+        }
         continue;
       }
       turn(r, view, c, p);
@@ -1071,6 +1142,46 @@ double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::
     }
   }
   return d;
+}
+
+std::vector<FreeSpot> free_spots(const planning::PlanningView& view, int blob,
+                                 const Eigen::Vector2d& centre, double radius, double reach,
+                                 double step) {
+  ensure(blob >= 0 && blob < static_cast<int>(view.objects.size()),
+         "free_spots: the blob is not one of the view's");
+  ensure(step > 0 && radius >= 0 && reach >= 0, "free_spots: bad step, radius or reach");
+  const auto& o = view.objects[static_cast<std::size_t>(blob)];
+  std::vector<std::vector<Eigen::Vector2d>> others;
+  for (std::size_t k = 0; k < view.objects.size(); ++k) {
+    if (static_cast<int>(k) != blob && !view.objects[k].hull.empty()) {
+      others.push_back(view.objects[k].hull);
+    }
+  }
+  const auto gap_at = [&](const Eigen::Vector2d& p) {
+    std::vector<Eigen::Vector2d> moved = o.hull;
+    for (Eigen::Vector2d& h : moved) h += p - o.centre;
+    double g = std::numeric_limits<double>::infinity();
+    for (const auto& h : others) g = std::min(g, hull_gap(moved, h));
+    return g;
+  };
+  std::vector<FreeSpot> out;
+  if (others.empty()) return {{o.centre, std::numeric_limits<double>::infinity()}};
+  const int n = static_cast<int>(std::floor(radius / step));
+  for (int i = -n; i <= n; ++i) {
+    for (int j = -n; j <= n; ++j) {
+      const Eigen::Vector2d p =
+          centre + step * Eigen::Vector2d(static_cast<double>(i), static_cast<double>(j));
+      if ((p - centre).norm() > radius + 1e-12 || (p - o.centre).norm() > reach + 1e-12) continue;
+      out.push_back({p, gap_at(p)});
+    }
+  }
+  // Gaps in whole mm (a strict weak order), then the distance to the blob.
+  const auto mm = [](double g) { return std::floor(g / 0.001); };
+  std::stable_sort(out.begin(), out.end(), [&](const FreeSpot& a, const FreeSpot& b) {
+    if (mm(a.gap) != mm(b.gap)) return mm(a.gap) > mm(b.gap);
+    return (a.point - o.centre).norm() < (b.point - o.centre).norm();
+  });
+  return out;
 }
 
 TurningPush turning_push(const planning::PushPlan& plan, const std::vector<Eigen::Vector2d>& hull,

@@ -99,6 +99,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd,book" + inputs() + out, "named twice"},
       {"--objects book,,cd" + inputs() + out, "empty object name"},
       {"--objects book --pushes 0" + inputs() + out, "pushes"},
+      {"--objects book,cd --free-space 0.5" + inputs() + out, "free-space"},
+      {"--objects book,cd --free-space -0.1" + inputs() + out, "free-space"},
       {"--objects book,mug,bottle,spirit-level,rabbit,cd,calculator,giraffe,bike" + inputs() + out,
        "do not fit on the table"},
       {"--objects book,cd" + inputs("other.lda") + out,

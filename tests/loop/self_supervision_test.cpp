@@ -529,6 +529,59 @@ TEST(SelfSupervision, FallbackGoalsGoInwardWhenAsked) {
   EXPECT_THROW((void)fallback_goals(chosen, centre, 0.0, 0.0, 8, 0.07, true), InternalError);
 }
 
+TEST(SelfSupervision, FreeSpotsAreTheRoomTheOthersLeave) {
+  // The chosen object (blob 0, a 4 cm square) 2 cm from a neighbour to its right; a third blob
+  // far up. The work centre at the origin, spots within 10 cm of it on a 2 cm grid.
+  planning::PlanningView view;
+  view.objects = {square_blob(0.0, 0.0, 0.02), square_blob(0.06, 0.0, 0.02),
+                  square_blob(0.0, 0.3, 0.02)};
+  const std::vector<FreeSpot> spots = free_spots(view, 0, {0, 0}, 0.10, 1.0, 0.02);
+  ASSERT_FALSE(spots.empty());
+  // Best first; every spot within the radius; its gap the carried hull's least hull_gap.
+  for (std::size_t k = 0; k < spots.size(); ++k) {
+    EXPECT_LE(spots[k].point.norm(), 0.10 + 1e-12);
+    if (k > 0) {
+      EXPECT_LE(spots[k].gap, spots[k - 1].gap + 0.001);
+    }
+  }
+  // The best: the disc's point farthest from the neighbour beside it, (-0.10, 0), with 12 cm of
+  // room (the far blob is 26 cm above it).
+  EXPECT_NEAR(spots[0].point.x(), -0.10, 1e-12);
+  EXPECT_NEAR(spots[0].point.y(), 0.0, 1e-12);
+  EXPECT_NEAR(spots[0].gap, 0.12, 1e-9);
+  const std::vector<Eigen::Vector2d> moved = {
+      spots[0].point + Eigen::Vector2d(-0.02, -0.02), spots[0].point + Eigen::Vector2d(0.02, -0.02),
+      spots[0].point + Eigen::Vector2d(0.02, 0.02), spots[0].point + Eigen::Vector2d(-0.02, 0.02)};
+  EXPECT_NEAR(
+      spots[0].gap,
+      std::min(hull_gap(moved, view.objects[1].hull), hull_gap(moved, view.objects[2].hull)),
+      1e-12);
+  // Its own place (on the grid): the 2 cm it has.
+  bool own = false;
+  for (const FreeSpot& f : spots) {
+    if (f.point.norm() < 1e-12) {
+      own = true;
+      EXPECT_NEAR(f.gap, 0.02, 1e-9);
+    }
+  }
+  EXPECT_TRUE(own);
+  // Within `reach` of the blob only: 3 cm leaves the 9 points of the grid about it.
+  const std::vector<FreeSpot> near = free_spots(view, 0, {0, 0}, 0.10, 0.03, 0.02);
+  EXPECT_EQ(near.size(), 9U);
+  for (const FreeSpot& f : near) EXPECT_LE(f.point.norm(), 0.03 + 1e-12);
+  EXPECT_LT(near[0].point.x(), 0.0);  // away from the neighbour
+  // Alone: its own place, infinite room.
+  planning::PlanningView alone;
+  alone.objects = {square_blob(0.05, 0.0, 0.02)};
+  const std::vector<FreeSpot> a = free_spots(alone, 0, {0, 0}, 0.10, 1.0, 0.02);
+  ASSERT_EQ(a.size(), 1U);
+  EXPECT_EQ(a[0].point, Eigen::Vector2d(0.05, 0.0));
+  EXPECT_TRUE(std::isinf(a[0].gap));
+  EXPECT_THROW((void)free_spots(view, 3, {0, 0}, 0.1, 1.0, 0.02), InternalError);
+  EXPECT_THROW((void)free_spots(view, 0, {0, 0}, 0.1, 1.0, 0.0), InternalError);
+  EXPECT_EQ(SelfSupervisionOptions{}.free_space, 0.0);  // off unless measured better
+}
+
 TEST(SelfSupervision, MergedBlobHoldsAnotherBlobsCentre) {
   planning::PlanningView before;
   before.objects = {square_blob(0, 0, 0.02), square_blob(0.08, 0, 0.02), square_blob(0, 0.2, 0.02)};
@@ -832,6 +885,63 @@ TEST(SelfSupervision, SplitByMotionJudgesLearnPushesByTheirEpisodes) {
   }
   EXPECT_GT(episode_judged, 0);
   EXPECT_EQ(splits, episode_judged);
+}
+
+TEST(SelfSupervision, FreeSpacePushesTheChosenObjectAndCentresItsLearnPushes) {
+  // free_space: (b) pushes the chosen object itself toward a free spot (a clearing push of the
+  // chosen blob, logged "free space"), and (c)'s circle of targets is about its place after (b)
+  // (logged "hub", within free_space of the work centre).
+  SelfSupervisionOptions o = small_options();
+  o.free_space = 0.12;
+  o.seed = 11;  // a table whose chosen object can be pushed into free space in round 0
+  Learning l;
+  {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::SimulatedRobot robot(table_of(o), catalogue);
+    const TinyModel m = tiny_model(robot.look().image);
+    CountingAttendant attendant;
+    l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+  }
+  std::optional<std::vector<double>> centre;
+  std::optional<int> chosen;  // the last look's chosen blob
+  int hubs = 0;
+  int free_plans = 0;
+  int free_pushes = 0;
+  for (std::size_t i = 0; i < l.log.size(); ++i) {
+    const auto& j = l.log[i];
+    if (j.event == "start") centre = j.work_centre;
+    if (j.event == "look" && j.chosen) chosen = j.chosen;
+    if (j.event == "hub") {
+      ASSERT_TRUE(centre && j.work_centre);
+      if (j.why) {
+        // No learn push could be planned about the object's place: the work centre again.
+        EXPECT_NEAR((*j.work_centre)[0], (*centre)[0], 1e-12);
+        EXPECT_NEAR((*j.work_centre)[1], (*centre)[1], 1e-12);
+        continue;
+      }
+      ++hubs;
+      const double d =
+          std::hypot((*j.work_centre)[0] - (*centre)[0], (*j.work_centre)[1] - (*centre)[1]);
+      EXPECT_LE(d, o.free_space + 1e-9);
+    }
+    if (j.event == "plan" && j.then && j.then->rfind("free space", 0) == 0) {
+      ++free_plans;
+      // The chosen blob itself is planned, and the spot gives it more room than it had.
+      EXPECT_EQ(j.phase, "clear");
+      ASSERT_TRUE(chosen.has_value());
+      EXPECT_EQ(j.blob, chosen);
+      if (j.plan && j.plan->outcome == planning::PlanOutcome::kPlanned) {
+        ASSERT_LT(i + 1, l.log.size());
+        EXPECT_EQ(l.log[i + 1].event, "push");
+        EXPECT_EQ(l.log[i + 1].blob, chosen);
+        ++free_pushes;
+      }
+    }
+  }
+  EXPECT_EQ(hubs, 2);  // each round's learn pushes
+  EXPECT_GT(free_plans, 0);
+  EXPECT_GT(free_pushes, 0);
+  EXPECT_LE(free_plans, 2 * kFreeMoves * 4);  // at most kFreeTries spots a try
 }
 
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
