@@ -114,6 +114,9 @@ for n in (3, 4):
         u = run.get("mot_unsupervised")
         if u is not None:
             bic.append((s, u["chosen_classes"], u.get("chosen_classes_per_object")))
+    if not table:
+        print("no report seed done\n")
+        continue
     done = sorted(next(iter(table.values())).keys(), key=int)
     print("\n| method | " + " | ".join(f"seed {s}" for s in done) + " | mean +- 95% CI |")
     print("|---|" + "---|" * (len(done) + 1))

@@ -321,6 +321,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   const core::Json jm = core::read_json(file("scatter-mot.json"));
   EXPECT_EQ(jm["view_split"], "episodes");
   EXPECT_EQ(jm["mask_dilate"], 3);
+  EXPECT_EQ(jm["mask_erode"], 0);
   EXPECT_GE(jm["runs"][0]["mot"]["mean_class_accuracy"].get<double>(), 0.6) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["mean_class_accuracy"].get<double>(), 0.45) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["chosen_classes"].get<int>(), 1);
