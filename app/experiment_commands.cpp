@@ -82,6 +82,10 @@ void run_set(SetArgs& a, const Invocation& inv, bool dictionary) {
 void run_scatter(ScatterArgs& a, const Invocation& inv) {
   a.options.options.topics = parse_topics(a.k);
   a.options.options.frames.dilate = a.options.options.view_dilate;  // --dilate: both alike
+  a.options.options.frames.erode = a.options.options.view_erode;    // --erode: both alike
+  if (a.options.options.view_erode > 0 && a.options.options.view_dilate > 0) {
+    throw Error("--erode needs --dilate 0 (the masks are either grown or shrunk)");
+  }
   a.options.progress = !a.quiet;
   std::vector<std::filesystem::path> paths = a.options.episodes;
   paths.insert(paths.end(), a.options.view_episodes.begin(), a.options.view_episodes.end());
@@ -190,6 +194,11 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
                  "Grow the object masks by this many px (the views' and each-object frames')")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
+  sc->add_option("--erode", s->options.options.view_erode,
+                 "Shrink the object masks by this many px instead (views and each-object frames; "
+                 "only with --dilate 0)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
   sc->add_option("--k", s->k,
                  "Numbers of topics K, comma-separated; objects = the number of objects")
       ->capture_default_str();
@@ -237,6 +246,12 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
                  "With --mot: also evaluate the supervised MoT at these smoothings (comma-"
                  "separated), with either prior (tuning)")
       ->delimiter(',');
+  sc->add_option("--mot-grid-components", s->options.options.mot_grid_components,
+                 "With --mot-smoothing-grid: fit the grid's mixture once per cap, the most "
+                 "Dirichlet components per object (comma-separated, each in [2, 1000])")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000));
   bind_options(sc, s->options.options.frames.features);
   sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
   s->json.add_to(sc, "the confusion matrices");

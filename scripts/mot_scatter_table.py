@@ -19,12 +19,21 @@ out, tune, seeds = sys.argv[1], sys.argv[2], sys.argv[3:]
 T975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26}
 
 
-def grid(run, theta, s=0.0, prior="views", model="dirichlet"):
+def grid(run, theta, s=0.0, prior="views", model="dirichlet", components=10):
+    """The grid point; a mixture's with at most `components` per object (files before
+    2026-12-03 have only 10, unrecorded)."""
     for g in run["mot_grid"]:
         if (g["theta"] == theta and g["smoothing"] == s and g["prior"] == prior
-                and g.get("model", "dirichlet") == model):
+                and g.get("model", "dirichlet") == model
+                and (not model.startswith("mixture") or g.get("components", 10) == components)):
             return g
-    raise KeyError((theta, s, prior, model))
+    raise KeyError((theta, s, prior, model, components))
+
+
+def caps(run):
+    """The mixtures' component caps in the grid other than 10 (--mot-grid-components)."""
+    return sorted({g["components"] for g in run["mot_grid"]
+                   if g.get("components", 10) != 10 and g.get("model", "").startswith("mixture")})
 
 
 MOT = ["MoT, E-step theta", "MoT, word-posterior theta", "MoT mixture, E-step theta",
@@ -48,6 +57,13 @@ def methods(run):
                 out[f"MoT {label}, by words ({name} fit)"] = grid(run, theta, model=model)
             except KeyError:
                 pass
+    # Since 2026-12-03: the mixture with other component caps (--mot-grid-components).
+    for k in caps(run):
+        for theta, name in (("estep", "E-step"), ("word-posterior", "word-posterior")):
+            out[f"MoT mixture of <= {k}, {name} theta"] = grid(run, theta, model="mixture",
+                                                                components=k)
+            out[f"MoT mixture of <= {k}, by words ({name} fit)"] = grid(
+                run, theta, model="mixture-words", components=k)
     for c in run.get("ceilings", []):
         out[f"ceiling: {c['name']}"] = c
     if "mot_unsupervised" in run:
@@ -76,7 +92,9 @@ for n in (3, 4):
     print(f"tuning seed {tune}: grid (mean class accuracy %):")
     for g in r["mot_grid"]:
         print(f"  {g['theta']:>14} s={g['smoothing']:<5} prior {g['prior']:<8} "
-              f"{g.get('model', 'dirichlet'):<16} {100 * g['mean_class_accuracy']:.1f}")
+              f"{g.get('model', 'dirichlet'):<16} "
+              f"{'<= ' + str(g['components']) if 'components' in g else '':<6} "
+              f"{100 * g['mean_class_accuracy']:.1f}")
     for c in r.get("ceilings", []):
         print(f"  ceiling {c['name']:<24} {100 * c['mean_class_accuracy']:.1f}")
     table, per_object, bic, summed = {}, {}, [], {}
@@ -96,6 +114,9 @@ for n in (3, 4):
         u = run.get("mot_unsupervised")
         if u is not None:
             bic.append((s, u["chosen_classes"], u.get("chosen_classes_per_object")))
+    if not table:
+        print("no report seed done\n")
+        continue
     done = sorted(next(iter(table.values())).keys(), key=int)
     print("\n| method | " + " | ".join(f"seed {s}" for s in done) + " | mean +- 95% CI |")
     print("|---|" + "---|" * (len(done) + 1))
@@ -117,7 +138,8 @@ for n in (3, 4):
     print("\nconfusion matrices summed over the report seeds (rows: true object):")
     for k in ("argmax theta, merged", "MoT, word-posterior theta",
               "MoT mixture, word-posterior theta", "MoT shared precision, word-posterior theta",
-              "MoT mixture, by words (E-step fit)"):
+              "MoT mixture, by words (E-step fit)",
+              *(k for k in summed if k.startswith("MoT mixture of <=") and "E-step fit" in k)):
         if k not in summed:
             continue
         print(f"{k}:\n" + " " * 12 + "".join(f"{x[:10]:>11}" for x in names))

@@ -61,10 +61,33 @@ std::string to_string(FrameRegion region) {
 void FrameDocumentOptions::validate() const {
   features.validate();
   blobs.validate();
-  if (dilate < 0 || dilate > 100) throw Error("the mask growth must be in [0, 100] pixels");
+  check_mask_change(dilate, erode);
   if (region == FrameRegion::kMasks && masks.empty()) {
     throw Error("the 'masks' region needs a directory of segmentation masks");
   }
+}
+
+void check_mask_change(int dilate, int erode) {
+  if (dilate < 0 || dilate > 100) throw Error("the mask growth must be in [0, 100] pixels");
+  if (erode < 0 || erode > 100) throw Error("the mask shrinking must be in [0, 100] pixels");
+  if (dilate > 0 && erode > 0) throw Error("the masks are either grown or shrunk, not both");
+}
+
+cv::Mat object_mask(const cv::Mat& ids, int id, int dilate, int erode) {
+  check_mask_change(dilate, erode);
+  cv::Mat m = ids == id;
+  const int r = std::max(dilate, erode);
+  if (r == 0 || cv::countNonZero(m) == 0) return m;
+  const cv::Mat kernel =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  // Outside the image counts as off the object: an object cut by the frame's edge shrinks from
+  // it too (the patches there are clipped).
+  if (dilate > 0) {
+    cv::dilate(m, m, kernel);
+  } else {
+    cv::erode(m, m, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
+  return m;
 }
 
 std::vector<int> selected_object_ids(const episode::Episode& episode,
@@ -120,13 +143,10 @@ std::vector<features::Features> frame_features(const episode::Episode& episode, 
         throw Error::in_file(episode.dir(), "the episode has no ground-truth masks");
       }
       const cv::Mat ids_image = episode.mask(frame);
-      const cv::Mat kernel = cv::getStructuringElement(
-          cv::MORPH_ELLIPSE, cv::Size(2 * options.dilate + 1, 2 * options.dilate + 1));
       std::vector<features::Features> docs;
       for (int id : selected_object_ids(episode, options.objects)) {
-        cv::Mat m = ids_image == id;
+        const cv::Mat m = object_mask(ids_image, id, options.dilate, options.erode);
         if (cv::countNonZero(m) == 0) continue;
-        if (options.dilate > 0) cv::dilate(m, m, kernel);
         docs.push_back(features::extract_features(image, options.features, m));
       }
       return docs;

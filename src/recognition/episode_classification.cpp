@@ -183,14 +183,13 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
                                       const std::vector<std::vector<int>>& frames,
                                       const std::vector<std::string>& classes,
                                       const features::ExtractOptions& options, int min_features,
-                                      int dilate) {
+                                      int dilate, int erode) {
   assert(frames.size() == episodes.size());
   options.validate();
   if (min_features < 1) throw Error("a view needs at least 1 feature");
   if (dilate < 0) throw Error("the mask growth must be >= 0 pixels");
+  check_mask_change(dilate, erode);
   LabelledFeatures out{{}, {}, classes};
-  const cv::Mat kernel =
-      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilate + 1, 2 * dilate + 1));
   for (std::size_t ei = 0; ei < episodes.size(); ++ei) {
     const episode::Episode& e = episodes[ei];
     if (!e.info().has_masks) throw Error::in_file(e.dir(), "the episode has no ground-truth masks");
@@ -203,9 +202,8 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
       const cv::Mat ids = e.mask(i);
       const cv::Mat image = e.frame(i);
       for (const auto& [id, label] : wanted) {
-        cv::Mat m = ids == id;
+        const cv::Mat m = object_mask(ids, id, dilate, erode);
         if (cv::countNonZero(m) == 0) continue;
-        if (dilate > 0) cv::dilate(m, m, kernel);
         features::Features f = features::extract_features(image, options, m);
         if (f.size() < min_features) continue;
         out.views.push_back(std::move(f));
@@ -228,9 +226,10 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const std::vector<std::string>& classes,
                                   const features::Vocabulary& vocabulary,
                                   const features::ExtractOptions& options, int min_features,
-                                  int dilate) {
+                                  int dilate, int erode) {
   return views_corpus(
-      object_view_features(episodes, frames, classes, options, min_features, dilate), vocabulary);
+      object_view_features(episodes, frames, classes, options, min_features, dilate, erode),
+      vocabulary);
 }
 
 }  // namespace proprio::recognition

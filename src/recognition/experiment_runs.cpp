@@ -123,6 +123,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     rec.view_step = o.view_step;
     rec.view_block = o.view_block;
     rec.mask_dilate = o.view_dilate;
+    rec.mask_erode = o.view_erode;
     rec.view_split = o.split_by_episode ? "episodes" : "blocks";
   }
   rec.mot = o.mot;
@@ -176,8 +177,10 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     if (!run.mot_grid.empty()) {
       std::vector<ScatterGridRecord>& grid = j.mot_grid.emplace();
       for (const MotGridPoint& g : run.mot_grid) {
-        grid.push_back({g.classes, g.source, g.smoothing,
-                        g.prior == topics::MotPrior::kUniform ? "uniform" : "views", g.model});
+        ScatterGridRecord& point = grid.emplace_back(ScatterGridRecord{
+            g.classes, g.source, g.smoothing,
+            g.prior == topics::MotPrior::kUniform ? "uniform" : "views", g.model, std::nullopt});
+        if (g.model.starts_with("mixture")) point.components = g.components;
       }
     }
     if (!run.ceilings.empty()) {

@@ -196,6 +196,11 @@ void ScatterExperimentOptions::validate() const {
   if (view_dilate < 0 || view_dilate > 100) {
     throw Error("the views' mask growth must be in [0, 100] pixels");
   }
+  check_mask_change(view_dilate, view_erode);
+  if (mot_grid_components.empty()) throw Error("the MoT grid needs at least one component cap");
+  for (const int c : mot_grid_components) {
+    if (c < 2 || c > 1000) throw Error("the MoT grid's component caps must be in [2, 1000]");
+  }
 }
 
 namespace {
@@ -320,15 +325,19 @@ std::vector<ScatterExperimentResult> run_scatter(
         for (const auto source : {ThetaSource::kEStep, ThetaSource::kWordPosterior}) {
           for (const double s : o.mot_smoothing_grid) {
             for (const auto prior : {topics::MotPrior::kViews, topics::MotPrior::kUniform}) {
-              for (const std::string model : {"dirichlet", "shared-precision", "mixture"}) {
+              // The mixture once per component cap.
+              std::vector<std::pair<std::string, int>> models{{"dirichlet", 1},
+                                                              {"shared-precision", 1}};
+              for (const int c : o.mot_grid_components) models.emplace_back("mixture", c);
+              for (const auto& [model, components] : models) {
                 topics::MotOptions g = o.mot_options;
                 g.smoothing = s;
                 g.prior = prior;
                 g.shared_precision = model == "shared-precision";
-                g.components = model == "mixture" ? 10 : 1;
+                g.components = components;
                 const MotEvaluation e =
                     evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source);
-                r.mot_grid.push_back({source, s, prior, model, e.classes});
+                r.mot_grid.push_back({source, s, prior, model, components, e.classes});
                 // The same objects' Dirichlets classifying the test views by their words
                 // (topics::classify_mot_words): smoothing does not enter, so once per source
                 // and object model, with the prior from the views.
@@ -338,7 +347,7 @@ std::vector<ScatterExperimentResult> run_scatter(
                   std::vector<int> predicted = w.predicted;
                   for (std::size_t d = 0; d < predicted.size(); ++d)
                     if (test_docs.corpus.document(d).empty()) predicted[d] = -1;
-                  r.mot_grid.push_back({source, 0, prior, model + "-words",
+                  r.mot_grid.push_back({source, 0, prior, model + "-words", components,
                                         confusion_matrix(test_docs.labels, predicted,
                                                          test_docs.classes, test_docs.classes)});
                 }
@@ -444,7 +453,7 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
     auto features_of = [&](const std::vector<std::vector<int>>& frames, const char* side) {
       LabelledFeatures c =
           object_view_features(view_episodes, frames, objects, options.view_features,
-                               options.view_min_features, options.view_dilate);
+                               options.view_min_features, options.view_dilate, options.view_erode);
       for (int k = 0; k < static_cast<int>(objects.size()); ++k) {
         if (std::find(c.labels.begin(), c.labels.end(), k) == c.labels.end()) {
           std::string m = "object '";

@@ -3,6 +3,7 @@
 // with ground-truth masks; check the printed matrices, the JSON against its schema, and bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -181,6 +182,20 @@ TEST_F(RecognitionCli, BadInputIsOneLineAndExitTwo) {
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("'0' is not a number of topics >= 1"), std::string::npos) << r.out;
 
+  // The masks' shrinking and the grid's component caps out of range, one line naming the flag.
+  for (const auto& [flags, name] : std::vector<std::pair<std::string, std::string>>{
+           {" --dilate 0 --erode 101", "--erode"},
+           {" --dilate 0 --erode -1", "--erode"},
+           {" --erode 2", "--erode"},
+           {" --mot-grid-components 1", "--mot-grid-components"},
+           {" --mot-grid-components 5,1001", "--mot-grid-components"}}) {
+    r = run("experiment scatter --episodes " + file("none") + " --views " + images() + flags +
+            " --quiet");
+    EXPECT_EQ(r.code, 2) << flags << ": " << r.out;
+    EXPECT_NE(r.out.find(name), std::string::npos) << flags << ": " << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << flags << ": " << r.out;
+  }
+
   r = run("experiment dictionary --images " + images() + " --test-per-class 6 --quiet");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("it needs more than"), std::string::npos) << r.out;
@@ -306,6 +321,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   const core::Json jm = core::read_json(file("scatter-mot.json"));
   EXPECT_EQ(jm["view_split"], "episodes");
   EXPECT_EQ(jm["mask_dilate"], 3);
+  EXPECT_EQ(jm["mask_erode"], 0);
   EXPECT_GE(jm["runs"][0]["mot"]["mean_class_accuracy"].get<double>(), 0.6) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["mean_class_accuracy"].get<double>(), 0.45) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["chosen_classes"].get<int>(), 1);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -172,6 +173,74 @@ TEST(EpisodeClassification, EachObjectRegionGivesOneDocumentPerObjectInView) {
   for (const auto& c : r.documents) EXPECT_EQ(c.truth, c.frame % 2);
 }
 
+// object_mask: a square of side 21 grown or shrunk by an ellipse of radius 2 is a square of side
+// 25 without its corners, or of side 17; a square on the image's edge shrinks from the edge too.
+TEST(EpisodeClassification, ObjectMaskGrowsOrShrinksTheObject) {
+  cv::Mat ids = cv::Mat::zeros(60, 60, CV_16U);
+  ids(cv::Rect(20, 20, 21, 21)).setTo(5);
+  ids(cv::Rect(0, 0, 10, 10)).setTo(7);
+  EXPECT_EQ(cv::countNonZero(object_mask(ids, 5, 0, 0)), 21 * 21);
+  const cv::Mat shrunk = object_mask(ids, 5, 0, 2);
+  EXPECT_EQ(cv::countNonZero(shrunk), 17 * 17);
+  EXPECT_EQ(cv::countNonZero(shrunk(cv::Rect(22, 22, 17, 17))), 17 * 17);
+  const cv::Mat grown = object_mask(ids, 5, 2, 0);
+  EXPECT_GT(cv::countNonZero(grown), 21 * 21 + 4 * 21 * 2 - 1);
+  EXPECT_LT(cv::countNonZero(grown), 25 * 25);
+  EXPECT_EQ(cv::countNonZero(object_mask(ids, 7, 0, 2)), 6 * 6);
+  EXPECT_EQ(cv::countNonZero(object_mask(ids, 5, 0, 11)), 0);  // nothing left
+  EXPECT_EQ(cv::countNonZero(object_mask(ids, 9, 0, 2)), 0);   // not in the image
+  EXPECT_THROW((void)object_mask(ids, 5, 2, 2), Error);
+  EXPECT_THROW((void)object_mask(ids, 5, 0, 101), Error);
+  EXPECT_THROW((void)object_mask(ids, 5, 0, -1), Error);
+  EXPECT_THROW((void)object_mask(ids, 5, -1, 0), Error);
+}
+
+// Shrinking the masks (erode) leaves out the grid points near the outline: fewer features, each
+// of them inside the shrunk mask; too much shrinking leaves an object no document.
+TEST(EpisodeClassification, EachObjectRegionShrunkLeavesTheOutlineOut) {
+  const Fixture& f = fixture();
+  FrameDocumentOptions fo;
+  fo.region = FrameRegion::kEachObject;
+  fo.dilate = 0;
+  const auto bare = frame_features(f.episodes[0], 3, fo);
+  ASSERT_EQ(bare.size(), 1U);
+  fo.erode = 4;
+  const auto shrunk = frame_features(f.episodes[0], 3, fo);
+  ASSERT_EQ(shrunk.size(), 1U);
+  EXPECT_GT(shrunk[0].size(), 0);
+  EXPECT_LT(shrunk[0].size(), bare[0].size());
+  const cv::Mat ids = f.episodes[0].mask(3);
+  int id = 0;
+  for (const auto& o : f.episodes[0].objects())
+    if (cv::countNonZero(ids == o.id) > 0 && o.role != episode::ObjectRole::kArm) id = o.id;
+  const cv::Mat m = object_mask(ids, id, 0, 4);
+  for (const cv::KeyPoint& k : shrunk[0].keypoints)
+    EXPECT_NE(m.at<uchar>(cvRound(k.pt.y), cvRound(k.pt.x)), 0) << k.pt;
+  fo.erode = 100;
+  EXPECT_TRUE(frame_features(f.episodes[0], 3, fo).empty());
+  fo.erode = 101;
+  EXPECT_THROW(fo.validate(), Error);
+  fo.erode = -1;
+  EXPECT_THROW(fo.validate(), Error);
+  fo.erode = 2;
+  fo.dilate = 4;
+  EXPECT_THROW(fo.validate(), Error);
+  // The views alike: shrunk, fewer features in all.
+  std::vector<int> all(10);
+  std::iota(all.begin(), all.end(), 0);
+  const std::vector<std::string> objects = {"box", "mug"};
+  const features::ExtractOptions eo;
+  auto features_of = [&](int erode) {
+    int n = 0;
+    for (const auto& v : object_view_features(f.episodes, {all}, objects, eo, 1, 0, erode).views)
+      n += v.size();
+    return n;
+  };
+  EXPECT_LT(features_of(4), features_of(0));
+  EXPECT_GT(features_of(4), 0);
+  EXPECT_THROW((void)object_view_features(f.episodes, {all}, objects, eo, 1, 4, 2), Error);
+}
+
 TEST(EpisodeClassification, ClassNamesDropTheSimulatorsRolePrefixes) {
   EXPECT_EQ(object_class_name("scatter-bike"), "bike");
   EXPECT_EQ(object_class_name("distractor-spirit-level"), "spirit-level");
@@ -295,6 +364,64 @@ TEST(ScatterExperiment, MaskGrowthReachesFramesAndViews) {
   o.view_dilate = 0;
   EXPECT_THROW((void)run_scatter_experiment(f.episodes, f.episodes, objects, o), Error);
   o.view_dilate = 101;
+  EXPECT_THROW(o.validate(), Error);
+  // Shrinking reaches the frames' documents (fewer tokens than the bare masks) and the views
+  // (shrunk by 100 px, no object has a view left).
+  ScatterExperimentOptions shrunk = bare;
+  shrunk.frames.erode = 4;
+  const ScatterExperimentResult s = run_scatter_experiment(f.episodes, f.episodes, objects, shrunk);
+  EXPECT_LT(s.tokens, r.tokens);
+  EXPECT_GT(s.tokens, 0);
+  shrunk.view_dilate = 0;
+  shrunk.view_erode = 100;
+  EXPECT_THROW((void)run_scatter_experiment(f.episodes, f.episodes, objects, shrunk), Error);
+  shrunk.view_dilate = 4;
+  shrunk.view_erode = 2;
+  EXPECT_THROW(shrunk.validate(), Error);
+  shrunk.view_dilate = 0;
+  shrunk.view_erode = 101;
+  EXPECT_THROW(shrunk.validate(), Error);
+}
+
+// The MoT grid fits the mixture once per component cap: each cap's points carry it, the other
+// models carry 1, and the cap-10 points are those of the default grid (10 alone).
+TEST(ScatterExperiment, MotGridFitsTheMixtureOncePerComponentCap) {
+  const Fixture& f = fixture();
+  ScatterExperimentOptions o = small_scatter_options();
+  o.mot = true;
+  o.mot_smoothing_grid = {0};
+  const std::vector<std::string> objects = {"box", "mug"};
+  const ScatterExperimentResult one = run_scatter_experiment(f.episodes, f.episodes, objects, o);
+  o.mot_grid_components = {2, 10};
+  const ScatterExperimentResult two = run_scatter_experiment(f.episodes, f.episodes, objects, o);
+  ASSERT_EQ(one.runs.size(), 1U);
+  ASSERT_EQ(two.runs.size(), 1U);
+  // Per theta source: 2 priors x (2 models + caps), and the 2 + caps fits once more by words.
+  EXPECT_EQ(one.runs[0].mot_grid.size(), 2U * (2 * 3 + 3));
+  ASSERT_EQ(two.runs[0].mot_grid.size(), 2U * (2 * 4 + 4));
+  std::map<int, int> mixtures;
+  for (const MotGridPoint& g : two.runs[0].mot_grid) {
+    if (g.model.starts_with("mixture")) {
+      ++mixtures[g.components];
+    } else {
+      EXPECT_EQ(g.components, 1) << g.model;
+    }
+  }
+  EXPECT_EQ(mixtures, (std::map<int, int>{{2, 6}, {10, 6}}));
+  for (const MotGridPoint& g : one.runs[0].mot_grid) {
+    int found = 0;
+    for (const MotGridPoint& h : two.runs[0].mot_grid) {
+      if (h.source == g.source && h.prior == g.prior && h.model == g.model &&
+          h.components == g.components) {
+        EXPECT_EQ(h.classes.counts, g.classes.counts) << g.model;
+        ++found;
+      }
+    }
+    EXPECT_EQ(found, 1) << g.model << " " << g.components;
+  }
+  o.mot_grid_components = {1};
+  EXPECT_THROW(o.validate(), Error);
+  o.mot_grid_components = {};
   EXPECT_THROW(o.validate(), Error);
 }
 

@@ -61,8 +61,20 @@ struct FrameDocumentOptions {
   /// 2 dilate + 1) before its features are taken; 0 keeps the grid points on the object only.
   /// In [0, 100].
   int dilate = 4;
+  /// kEachObject: each object's mask is shrunk by this many pixels instead (the same ellipse),
+  /// so that the grid points whose 16 px SIFT patch lies mostly off the object, on the table or
+  /// a neighbour, are left out; an object with no pixel left gives no document. In [0, 100], and
+  /// 0 unless dilate is 0.
+  int erode = 0;
   void validate() const;
 };
+
+/// The mask of object `id` in a frame's object-id image `ids` (non-zero on the object), grown
+/// by `dilate` pixels or shrunk by `erode` pixels (an ellipse of side 2 n + 1; at most one of
+/// them non-zero, both in [0, 100]; Error otherwise).
+cv::Mat object_mask(const cv::Mat& ids, int id, int dilate, int erode);
+/// object_mask's checks of dilate and erode alone (Error naming the problem).
+void check_mask_change(int dilate, int erode);
 
 /// The features of the document(s) of frame i: one, or one per blob (kBlobs) or per object in view
 /// (kEachObject, in the order of the episode's objects). Throws Error when the episode lacks

@@ -86,14 +86,15 @@ std::string object_class_name(const std::string& object_name,
 /// Labelled views of single objects cut from frames by the ground-truth masks: for each of the
 /// frames `frames[e]` of episode e and each object whose class is one of `classes`, a document
 /// of the features inside that object's mask (grown by `dilate` pixels so that the SIFT patches
-/// on its outline count), kept when it has at least `min_features` features. Labels index
-/// `classes`. Throws Error when an episode has no masks.
+/// on its outline count, or shrunk by `erode` pixels so that those mostly off the object do not;
+/// object_mask), kept when it has at least `min_features` features. Labels index `classes`.
+/// Throws Error when an episode has no masks or dilate and erode are out of range or both > 0.
 LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const std::vector<std::vector<int>>& frames,
                                   const std::vector<std::string>& classes,
                                   const features::Vocabulary& vocabulary,
                                   const features::ExtractOptions& options, int min_features = 20,
-                                  int dilate = 4);
+                                  int dilate = 4, int erode = 0);
 
 /// The views of object_view_corpus before quantization (the same views, in the same order): so
 /// that several vocabularies can quantize one extraction (views_corpus).
@@ -106,7 +107,7 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
                                       const std::vector<std::vector<int>>& frames,
                                       const std::vector<std::string>& classes,
                                       const features::ExtractOptions& options,
-                                      int min_features = 20, int dilate = 4);
+                                      int min_features = 20, int dilate = 4, int erode = 0);
 
 /// The documents of `views` over `vocabulary` (each view's bag of words), with their labels.
 LabelledCorpus views_corpus(const LabelledFeatures& views, const features::Vocabulary& vocabulary);

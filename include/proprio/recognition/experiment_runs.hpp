@@ -133,6 +133,8 @@ struct ScatterGridRecord {
   double smoothing = 0;
   std::string prior;
   std::string model = "dirichlet";
+  /// The mixtures': the most components per object (absent before 2026-12-03: 10).
+  std::optional<int> components;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -141,6 +143,7 @@ struct ScatterGridRecord {
     v(self.smoothing, {"smoothing", "The theta smoothing"});
     v(self.prior, {"prior", "uniform or views"});
     v(self.model, {"model", "The object model: dirichlet, shared-precision or mixture"});
+    v(self.components, {"components", "The mixture's most components per object"});
   }
 };
 
@@ -192,6 +195,8 @@ struct ScatterExperimentRecord {
   /// With view episodes: the masks' growth in pixels (views and each-object frames), since
   /// 2026-12-03 (4 before, not recorded).
   std::optional<int> mask_dilate;
+  /// With view episodes: the masks' shrinking in pixels, since 2026-12-03 (0 before).
+  std::optional<int> mask_erode;
   std::optional<std::string> view_split;
   bool mot = false;
   std::vector<std::string> objects;
@@ -218,6 +223,7 @@ struct ScatterExperimentRecord {
     v(self.view_step, {"view_step", "Every n-th frame of them"});
     v(self.view_block, {"view_block", "Frames per block of the naming / test split"});
     v(self.mask_dilate, {"mask_dilate", "Pixels the object masks were grown by"});
+    v(self.mask_erode, {"mask_erode", "Pixels the object masks were shrunk by"});
     v(self.view_split, {"view_split", "blocks or episodes"});
     v(self.mot, {"mot", "Whether the Mixture of Topics classified the views too"});
     v(self.objects, {"objects", "The objects"});

@@ -116,6 +116,9 @@ struct ScatterExperimentOptions {
   /// (object_view_features' dilate; 0: the grid points on the object only). The CLI's --dilate
   /// sets it and frames.dilate together, so that LDA's documents and the views are cut alike.
   int view_dilate = 4;
+  /// Each view's mask is shrunk by this many pixels instead (object_mask; 0 unless view_dilate
+  /// is 0). The CLI's --erode sets it and frames.erode together.
+  int view_erode = 0;
   /// View episodes are cut into blocks of view_block frames; a mapping_fraction of the blocks
   /// (spread evenly: alternate ones for 0.5) name the topics, the others are the test.
   int view_block = 25;
@@ -133,6 +136,10 @@ struct ScatterExperimentOptions {
   /// precision, a mixture of at most 10 Dirichlets per object; ScatterRunResult::mot_grid): the
   /// tuning grid of docs/results/mot.md. Empty: none.
   std::vector<double> mot_smoothing_grid;
+  /// With mot_smoothing_grid: the grid's mixture model is fitted once per value here, the most
+  /// components an object may have (MotOptions::components; each >= 2), so that the cap is tuned
+  /// on the same LDA model and views. Default: 10 alone (the grid before 2026-12-03).
+  std::vector<int> mot_grid_components{10};
   std::uint64_t seed = 1;
   void validate() const;
 };
@@ -146,6 +153,9 @@ struct MotGridPoint {
   /// by the objects) or "mixture" (MotOptions::components = 10); with "-words" appended, the same
   /// fit classifying the test views by their words (topics::classify_mot_words; smoothing 0).
   std::string model = "dirichlet";
+  /// The mixture's most components per object (ScatterExperimentOptions::mot_grid_components);
+  /// 1 for the other models.
+  int components = 1;
   ConfusionMatrix classes;
 };
 
