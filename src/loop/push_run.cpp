@@ -415,7 +415,9 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         if (found >= 0 && asked.norm() > 1e-6) {
           gain = correction_gain(asked, step.seen_centre - c, options.min_gain, options.max_gain);
         }
-        const bool done = found < 0 || step.seen_distance <= options.tolerance;
+        // A shortened push stopped where the way on meets another object: the next would too.
+        const bool done =
+            found < 0 || step.seen_distance <= options.tolerance || step.plan.shortened > 0;
         if (found < 0) step.message += "; the pushed object was not found again";
         if (!work.dir.empty()) {  // the look after push k: out/look_2.png, ...
           std::string name = "look_";
@@ -678,6 +680,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
       e.end = s.plan.push.end;
       e.blocked = s.plan.blocked;
       e.via = s.plan.via;
+      e.shortened = s.plan.shortened;
       e.merged = s.merged;
       e.jaws = s.plan.push.jaws;
       row.steps.push_back(std::move(e));

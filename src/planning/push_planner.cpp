@@ -32,6 +32,8 @@ constexpr double kViaLeast = 20.0 * std::numbers::pi / 180.0;
 constexpr double kViaMost = 100.0 * std::numbers::pi / 180.0;
 constexpr double kViaNear = 0.04;
 constexpr double kViaFar = 0.10;
+// Shortened pushes (sweep_margin): the target is brought back toward the object in these steps, m.
+constexpr double kShortStep = 0.005;
 // Depth pixels sampled every this many pixels in each direction for a blob's footprint.
 constexpr int kDepthStep = 2;
 // The top's height: this quantile of the object's depth points' heights (a few stray points at
@@ -542,6 +544,12 @@ double moved_share(const cv::Mat& before, const cv::Mat& after, const PutativeOb
 namespace {
 
 // Distance of p to the convex polygon `hull` (either orientation): 0 inside.
+double hull_radius(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& c) {
+  double r = 0;
+  for (const auto& h : hull) r = std::max(r, (h - c).norm());
+  return r;
+}
+
 double distance_to_polygon(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) {
   const std::size_t n = hull.size();
   int positive = 0;
@@ -697,6 +705,40 @@ double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vec
     if (hand_clearance > 0 && (oc - hc).norm() - orad - hr < hand_clearance) {
       lack += std::max(0.0, hand_clearance - polygon_distance(hand, o));
     }
+  }
+  return lack;
+}
+
+std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hull,
+                                          const Eigen::Vector2d& centre,
+                                          const Eigen::Vector2d& target) {
+  std::vector<Eigen::Vector2d> all = hull;
+  for (const double turn : {0.0, kSweepTurn, -kSweepTurn}) {
+    const Eigen::Rotation2Dd r(turn);
+    for (const auto& h : hull) all.push_back(target + r * (h - centre));
+  }
+  return convex_hull(all, kMetresToMm);
+}
+
+double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& centre,
+                  const Eigen::Vector2d& target,
+                  const std::vector<std::vector<Eigen::Vector2d>>& others, double margin) {
+  if (margin <= 0 || others.empty() || hull.size() < 3) return 0.0;
+  const std::vector<Eigen::Vector2d> swept = sweep_region(hull, centre, target);
+  const double reach = hull_radius(hull, centre) + (target - centre).norm();
+  double lack = 0;
+  for (const auto& o : others) {
+    if (o.size() < 3) continue;
+    // Bounding circles first: most other objects are far from the path.
+    Eigen::Vector2d oc = Eigen::Vector2d::Zero();
+    for (const auto& p : o) oc += p;
+    oc /= static_cast<double>(o.size());
+    if ((oc - centre).norm() - hull_radius(o, oc) - reach > margin) continue;
+    const double before = std::min(margin, polygon_distance(hull, o));
+    if (before == 0.0) continue;  // touching already: nothing to keep clear of
+    const double gap = polygon_distance(swept, o);
+    lack += std::max(0.0, before - gap);
+    if (gap == 0.0) lack += margin - before;
   }
   return lack;
 }
@@ -917,12 +959,6 @@ cv::Mat1f others_density(const PlanningView& view, const PutativeObject& object)
   return d;
 }
 
-double hull_radius(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& c) {
-  double r = 0;
-  for (const auto& h : hull) r = std::max(r, (h - c).norm());
-  return r;
-}
-
 // Distance of the target's pixel to the nearest image border, as a fraction of the larger side.
 double border_fraction(const geometry::Camera& cam, const Eigen::Vector2d& t, double height) {
   const Eigen::Vector3d X(t.x(), t.y(), height);
@@ -1018,8 +1054,40 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     Eigen::Vector2d target;
     double approach;
     robot::TablePush push;
+    double shortened = 0;
   };
   std::vector<Candidate> feasible;
+  // A single push of the object's centre to t: checked (region, descent, reach) and scored.
+  const auto leg = [&](const Eigen::Vector2d& t, double approach) -> std::optional<Candidate> {
+    robot::TablePush push =
+        push_through_centre(o.hull, o.centre, t, approach, tip, speed, options.pusher_radius);
+    push.jaws = jaws;
+    if (!inside_region(push.start, region, options.table_margin) ||
+        !inside_region(t, region, options.table_margin + radius) ||
+        (goal == PushGoal::kEdge && !in_view(view.camera, t, 0.0)) || push.length() < 0.005) {
+      ++plan.rejected_region;
+      return std::nullopt;
+    }
+    if (options.descent_clearance > 0 &&
+        (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance, tip)
+                 : descent_blocked(push.start, o.hull, obstacles, options.descent_clearance))) {
+      ++plan.rejected_reach;
+      return std::nullopt;
+    }
+    if (!robot::reachable(arm, push.start, push.height, q_rest, ik) ||
+        !robot::reachable(arm, push.start, push.height + kTransitLift, q_rest, ik) ||
+        !robot::reachable(arm, push.end, push.height, q_rest, ik)) {
+      ++plan.rejected_reach;
+      return std::nullopt;
+    }
+    double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
+                            options.path_step);
+    if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
+    const double blocked = path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,
+                                          options.hand_clearance) +
+                           sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin);
+    return Candidate{kBlockedWeight * blocked + cost, cost, blocked, false, t, approach, push};
+  };
   const int via_points = goal == PushGoal::kTarget ? options.via_points : 0;
   const Eigen::Vector2d line = (target - o.centre).normalized();
   for (int i = 0; i < options.candidates + via_points; ++i) {
@@ -1047,32 +1115,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       ++plan.rejected_region;
       continue;
     }
-    robot::TablePush push =
-        push_through_centre(o.hull, o.centre, t, approach, tip, speed, options.pusher_radius);
-    push.jaws = jaws;
-    if (!inside_region(push.start, region, options.table_margin) ||
-        !inside_region(t, region, options.table_margin + radius) ||
-        (goal == PushGoal::kEdge && !in_view(view.camera, t, 0.0)) || push.length() < 0.005) {
-      ++plan.rejected_region;
-      continue;
-    }
-    if (options.descent_clearance > 0 &&
-        (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance, tip)
-                 : descent_blocked(push.start, o.hull, obstacles, options.descent_clearance))) {
-      ++plan.rejected_reach;
-      continue;
-    }
-    if (!robot::reachable(arm, push.start, push.height, q_rest, ik) ||
-        !robot::reachable(arm, push.start, push.height + kTransitLift, q_rest, ik) ||
-        !robot::reachable(arm, push.end, push.height, q_rest, ik)) {
-      ++plan.rejected_reach;
-      continue;
-    }
-    double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
-                            options.path_step);
-    if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
-    double blocked = path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,
-                                    options.hand_clearance);
+    std::optional<Candidate> c = leg(t, approach);
+    if (!c) continue;
     if (via) {
       // The second leg, from the waypoint on to the target, as the next plan would make it.
       std::vector<Eigen::Vector2d> moved = o.hull;
@@ -1087,13 +1131,31 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
         ++plan.rejected_reach;
         continue;
       }
-      cost += path_cost(others, view.camera, next, moved, t, target, options.centre_height,
-                        options.path_step);
-      blocked += path_clearance(next, moved, t, target, obstacles, options.clearance,
-                                options.hand_clearance);
+      c->cost += path_cost(others, view.camera, next, moved, t, target, options.centre_height,
+                           options.path_step);
+      c->blocked += path_clearance(next, moved, t, target, obstacles, options.clearance,
+                                   options.hand_clearance) +
+                    sweep_lack(moved, t, target, obstacles, options.sweep_margin);
+      c->via = true;
+      c->score = kBlockedWeight * c->blocked + c->cost + kViaCost;
     }
-    const double score = kBlockedWeight * blocked + cost + (via ? kViaCost : 0.0);
-    feasible.push_back({score, cost, blocked, via, t, approach, push});
+    if (!via && goal == PushGoal::kTarget && c->blocked > 0 && options.sweep_margin > 0 &&
+        sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin) > 0) {
+      // Shortened: the object stopped on the same line where its swept region is first clear.
+      const double full = (t - o.centre).norm();
+      const Eigen::Vector2d n = (t - o.centre) / full;
+      for (double d = full - kShortStep; d >= options.least_push; d -= kShortStep) {
+        const Eigen::Vector2d ts = o.centre + d * n;
+        if (sweep_lack(o.hull, o.centre, ts, obstacles, options.sweep_margin) > 0) continue;
+        if (std::optional<Candidate> s = leg(ts, approach)) {
+          s->shortened = full - d;
+          s->score += kShortCost * (full - d);
+          feasible.push_back(*s);
+        }
+        break;
+      }
+    }
+    feasible.push_back(*c);
   }
   std::stable_sort(feasible.begin(), feasible.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
@@ -1114,6 +1176,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     plan.cost = c.cost;
     plan.blocked = c.blocked;
     plan.via = c.via;
+    plan.shortened = c.shortened;
     plan.direction = (c.target - o.centre).normalized();
     plan.edge_distance = distance_to_hull_edge(o.hull, o.centre, -plan.direction);
     break;
@@ -1127,6 +1190,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
                      " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target);
   if (plan.via) said += " (a waypoint round a blocked line)";
+  if (plan.shortened > 0) {
+    said += " (" + std::to_string(static_cast<int>(std::lround(plan.shortened * 1000))) +
+            " mm short: the way on meets another object)";
+  }
   return finish(PlanOutcome::kPlanned, said);
 }
 

@@ -80,7 +80,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --min-gain 2", "--min-gain"},
            // Session 19's.
            {"push --jaws-along-height 0.2", "--jaws-along-height"},
-           {"evaluate push --jaws-along-height -0.01", "--jaws-along-height"}}) {
+           {"evaluate push --jaws-along-height -0.01", "--jaws-along-height"},
+           // Session 20's.
+           {"push --sweep-margin 0.06", "--sweep-margin"},
+           {"evaluate push --sweep-margin -0.01", "--sweep-margin"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
@@ -107,6 +110,7 @@ TEST(PushCli, EvaluatesAFewTables) {
   for (const auto& row : j["pushes"]) {
     for (const auto& step : row["steps"]) {
       EXPECT_EQ(step["jaws"], "robot");
+      EXPECT_EQ(step["shortened"], 0.0);  // session 20: no push is shortened by default
       ASSERT_TRUE(step.contains("merged"));
       for (const auto& o : step["others"]) {
         EXPECT_EQ(o["touch"].get<std::string>().empty(), o["parts"].empty()) << o.dump();

@@ -200,6 +200,105 @@ TEST(PushGeometry, PolygonDistanceAndPathClearance) {
   EXPECT_EQ(path_clearance(into, sq, c, {0.10, 0}, others, 0.0, 0.0), 0.0);  // not checked
 }
 
+std::vector<Eigen::Vector2d> box(double x0, double y0, double x1, double y1) {
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
+TEST(PushGeometry, SweepLackCountsTheSweptRegionsShortfallOfTheMargin) {
+  // A 2 cm square at the origin pushed 10 cm along +x, a 1 cm margin.
+  const auto sq = box(-0.01, -0.01, 0.01, 0.01);
+  const Eigen::Vector2d c(0, 0);
+  const Eigen::Vector2d t(0.10, 0);
+  const double m = 0.01;
+  // A neighbour on the line: run into, at least the margin.
+  EXPECT_GE(sweep_lack(sq, c, t, {box(0.05, -0.01, 0.07, 0.01)}, m), m);
+  // 3 cm beside the line: clear.
+  EXPECT_EQ(sweep_lack(sq, c, t, {box(0.04, 0.04, 0.06, 0.06)}, m), 0.0);
+  // Its lower edge 2 cm off the line: the swept region reaches 1.0-1.23 cm (the square turned
+  // 15 degrees at the end reaches 1 cm x (cos 15 + sin 15)), so the gap is 7.7-10 mm; the lack is
+  // the margin less the gap.
+  const double lack = sweep_lack(sq, c, t, {box(0.04, 0.02, 0.06, 0.04)}, m);
+  EXPECT_GT(lack, 0.0);
+  EXPECT_LT(lack, 0.0025);
+  // Touching already before the push: nothing to keep clear of; no margin: not checked.
+  EXPECT_EQ(sweep_lack(sq, c, t, {box(-0.01, 0.01, 0.01, 0.03)}, m), 0.0);
+  EXPECT_EQ(sweep_lack(sq, c, t, {box(0.05, -0.01, 0.07, 0.01)}, 0.0), 0.0);
+  // The turn allowance: a long thin object (8 x 1 cm) pushed along its length. A neighbour beside
+  // the end, 1.5 cm off the corridor without the turn, is within the margin of the object turned
+  // by 15 degrees (its front corner 1.52 cm off the line); the corridor without turn
+  // (path_clearance) does not see it.
+  const auto rod = box(-0.04, -0.005, 0.04, 0.005);
+  const std::vector<std::vector<Eigen::Vector2d>> beside{box(0.12, 0.02, 0.14, 0.04)};
+  EXPECT_GT(sweep_lack(rod, c, t, beside, m), 0.004);
+  const auto push = push_through_centre(rod, c, t, 0.03, 0.008, 0.05);
+  EXPECT_EQ(path_clearance(push, rod, c, t, beside, m, 0.0), 0.0);
+  // The region holds the object at the start and turned at the end.
+  const auto region = sweep_region(rod, c, t);
+  EXPECT_EQ(polygon_distance(region, {{-0.04, 0.0}}), 0.0);
+  EXPECT_EQ(polygon_distance(region, {{0.135, 0.013}}), 0.0);
+  EXPECT_GT(polygon_distance(region, {{0.0, 0.012}}), 0.0);  // not the whole turn along the way
+}
+
+TEST(PushPlanner, StopsShortWhereThePushedObjectsSweptRegionWouldMeetANeighbour) {
+  // The object at (0.20, 0), its target 16 cm along +y, a neighbour 12 cm along the line: the
+  // object at its target would lie on the neighbour, so no way round helps. With sweep_margin the
+  // planner pushes it along the line only as far as its swept region keeps the margin from the
+  // neighbour; without, it pushes it to the target (through the neighbour).
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.20, 0.0}, 0.02);
+  add_feature_square(f, cam, {0.20, 0.12}, 0.015);
+  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 2U);
+  const int a = view.objects[0].centre.y() < 0.06 ? 0 : 1;
+  const auto& obj = view.objects[static_cast<std::size_t>(a)];
+  const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target(0.20, 0.16);
+  PushPlanOptions o = flat_options();
+  o.sweep_margin = 0.01;
+  const PushPlan p = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
+  EXPECT_EQ(p.blocked, 0.0);
+  EXPECT_GT(p.shortened, 0.04);
+  EXPECT_NE(p.message.find("short"), std::string::npos) << p.message;
+  // The swept region keeps the margin from the neighbour's hull, and the object still goes
+  // most of the way there (its front 1 cm + the turn allowance short of the margin).
+  EXPECT_GE(polygon_distance(sweep_region(obj.hull, obj.centre, p.target), other.hull),
+            o.sweep_margin - 1e-6);
+  EXPECT_GT((p.target - obj.centre).norm(), 0.06);
+  // On the line to the target (within target_spread's turn of it).
+  const Eigen::Vector2d n = (p.target - obj.centre).normalized();
+  EXPECT_GT(n.dot((target - obj.centre).normalized()), 0.99);
+  // Without the margin: straight to the target, not shortened.
+  o.sweep_margin = 0;
+  const PushPlan direct = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
+  EXPECT_EQ(direct.shortened, 0.0);
+  EXPECT_LT((direct.target - target).norm(), o.target_spread + 1e-9);
+  EXPECT_EQ(polygon_distance(sweep_region(obj.hull, obj.centre, direct.target), other.hull), 0.0);
+  // A neighbour beside the line, clear of the swept region: the margin changes nothing.
+  std::vector<cv::KeyPoint> g;
+  add_feature_square(g, cam, {0.20, 0.0}, 0.02);
+  add_feature_square(g, cam, {0.30, 0.08}, 0.015);
+  const PlanningView clear = make_planning_view(g, cam, {}, flat_options());
+  ASSERT_EQ(clear.objects.size(), 2U);
+  const int b = clear.objects[0].centre.x() < 0.25 ? 0 : 1;
+  o.sweep_margin = 0.01;
+  const PushPlan aside = plan_push(clear, b, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(aside.outcome, PlanOutcome::kPlanned) << aside.message;
+  EXPECT_EQ(aside.shortened, 0.0);
+  EXPECT_EQ(aside.blocked, 0.0);
+  EXPECT_LT((aside.target - target).norm(), o.target_spread + 1e-9);
+  // Bounds.
+  PushPlanOptions bad = flat_options();
+  bad.sweep_margin = -0.001;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.sweep_margin = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 TEST(PushGeometry, DescentBlockedByTheObjectUnderTheForearmOrANeighbourBesideTheHand) {
   // The robot's base at the origin, an object 4 cm square at (0.25, 0). Pushed toward the base
   // the hand comes down beyond it and the forearm hangs over it (the robot refuses: session 15,

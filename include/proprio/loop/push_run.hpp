@@ -410,6 +410,7 @@ struct PushEvaluationStep {
   Eigen::Vector2d end = Eigen::Vector2d::Zero();    ///< its end, table m
   double blocked = 0;                               ///< PushPlan::blocked, m
   bool via = false;                                 ///< PushPlan::via
+  double shortened = 0;                             ///< PushPlan::shortened, m
   std::vector<std::string> merged;                  ///< PushStep::merged
   robot::JawLine jaws = robot::JawLine::kRobot;     ///< the plan's TablePush::jaws
 
@@ -430,6 +431,8 @@ struct PushEvaluationStep {
     v(xy(self.end), {"end", "The push's end, table m"});
     v(self.blocked, {"blocked", "The plan's lack of clearance from other objects, m"});
     v(self.via, {"via", "A push to a waypoint round a blocked line"});
+    v(self.shortened,
+      {"shortened", "How far short of the target asked the plan stopped the object, m (0: not)"});
     v(self.merged, {"merged", "Ground truth: other objects merged into the pushed blob"});
     v.choice(self.jaws, {"jaws", "How the plan asked the jaws to lie"}, robot::kJawLineNames);
   }

@@ -145,6 +145,15 @@ struct PushPlanOptions {
   /// height, as the robot holds them (kRobot). 0 (the default): every push kRobot. The jaws hang
   /// kFingerDrop (3 cm) above the tip: 0.025 leaves 5 mm (push_jaws).
   double jaws_along_height = 0;
+  /// Least gap kept between the region the pushed object sweeps and every other putative object's
+  /// hull, m (sweep_lack: its hull, and at the end that hull turned kSweepTurn either way about
+  /// its centre for the turn a push gives round and long objects, carried from p_c to p_t); a
+  /// path that keeps less is blocked by the shortfall, like clearance. A blocked push toward a
+  /// given target is also tried shortened (kTarget): the object stopped on the same line, 5 mm
+  /// steps back, where its swept region is first clear, at kShortCost per metre left to go (the
+  /// next push of the loop, re-planned, cannot go on through the neighbour either). 0 (the
+  /// default): not checked, no shortened pushes.
+  double sweep_margin = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -219,6 +228,11 @@ struct PushPlanOptions {
        "Depth: objects lower than the tip plus this are pushed with the jaws along the push, m "
        "(0: never)",
        core::between(0, 0.1)});
+    v(self.sweep_margin,
+      {"sweep_margin",
+       "Least gap between the pushed object's swept region and other objects, m; blocked pushes "
+       "to a target are also tried shortened (0: off)",
+       core::between(0, 0.05)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -383,6 +397,10 @@ struct PushPlan {
   /// How much the path (both legs through a waypoint) lacks of the clearances, summed over the
   /// other objects, m (path_clearance); 0: clear.
   double blocked = 0;
+  /// kTarget: how much nearer to the object than the target asked the plan's target is, m (a
+  /// push shortened where the object's swept region meets another object, sweep_margin); 0 for
+  /// a push that goes all the way (within target_spread).
+  double shortened = 0;
   /// kTarget: the push goes to a waypoint round a blocked line (target is that waypoint), not to
   /// the given target; the next push, re-planned, goes on.
   bool via = false;
@@ -453,6 +471,28 @@ double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vec
                       const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
                       const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance,
                       double hand_clearance);
+
+/// Either way the pushed object may turn in a push, rad (sweep_region).
+inline constexpr double kSweepTurn = 0.26;  // 15 degrees
+/// Score of a shortened push per metre it leaves to go (features x m per m): as much as 10 mm of
+/// blocking per 10 cm.
+inline constexpr double kShortCost = 100.0;
+
+/// The region (convex, CCW) the pushed object sweeps from `centre` to `target`: its `hull` at the
+/// start and, at the target, that hull carried there and turned by 0 and +-kSweepTurn about its
+/// centre, and all between. Table m.
+std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hull,
+                                          const Eigen::Vector2d& centre,
+                                          const Eigen::Vector2d& target);
+
+/// How much the pushed object's swept region (sweep_region) lacks of `margin` against `others`
+/// (the other objects' hulls), summed, m: coming nearer than `margin` to an other hull (nearer
+/// than it was before the push, when it was nearer already) counts the shortfall; running into
+/// one counts at least `margin`; a hull it touched already before the push counts nothing (it
+/// cannot be kept clear of). 0: clear, or margin <= 0.
+double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& centre,
+                  const Eigen::Vector2d& target,
+                  const std::vector<std::vector<Eigen::Vector2d>>& others, double margin);
 
 /// How far from the pusher's start toward the arm's base (the table origin) the forearm hangs
 /// low at the end of the transit's way down, m (descent_blocked).
