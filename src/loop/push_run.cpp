@@ -327,15 +327,6 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         }
         // A retry that cannot be planned leaves the refusal as the step's outcome.
         if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) break;
-        if (k > 0 && popt.sweep_margin > 0 && plan.outcome == planning::PlanOutcome::kPlanned &&
-            plan.blocked > 0) {
-          // A correction that would carry the object into another one is not made: the loop
-          // ends where the object went as far as it could (a first push is made, as before).
-          plan.outcome = planning::PlanOutcome::kBlocked;
-          plan.message = "the way on meets another object (" +
-                         std::to_string(static_cast<int>(std::lround(plan.blocked * 1000))) +
-                         " mm short of the sweep margin)";
-        }
         step.plan = std::move(plan);
         if (step.plan.outcome != planning::PlanOutcome::kPlanned) break;
         robot::PushRecording rec;
@@ -424,7 +415,9 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         if (found >= 0 && asked.norm() > 1e-6) {
           gain = correction_gain(asked, step.seen_centre - c, options.min_gain, options.max_gain);
         }
-        const bool done = found < 0 || step.seen_distance <= options.tolerance;
+        // A shortened push stopped where the way on meets another object: the next would too.
+        const bool done =
+            found < 0 || step.seen_distance <= options.tolerance || step.plan.shortened > 0;
         if (found < 0) step.message += "; the pushed object was not found again";
         if (!work.dir.empty()) {  // the look after push k: out/look_2.png, ...
           std::string name = "look_";

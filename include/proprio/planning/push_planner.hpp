@@ -372,18 +372,14 @@ enum class PlanOutcome {
   kTargetOffTable,  ///< the target (and the object over it) is outside the table region
   kUnreachable,     ///< no sampled path is reachable by the arm (IK) inside the region
   kAtTarget,        ///< the object's centre is already within 1 cm of the target
-  /// A later push of the closed loop (loop::push_once) not made: with sweep_margin, its object's
-  /// swept region would meet another object (it has gone as far as it can toward the target).
-  kBlocked,
 };
-inline constexpr core::ChoiceNames<PlanOutcome, 7> kPlanOutcomeNames{
+inline constexpr core::ChoiceNames<PlanOutcome, 6> kPlanOutcomeNames{
     {{"planned", PlanOutcome::kPlanned},
      {"at-target", PlanOutcome::kAtTarget},
      {"no-objects", PlanOutcome::kNoObjects},
      {"unknown-object", PlanOutcome::kUnknownObject},
      {"target-off-table", PlanOutcome::kTargetOffTable},
-     {"unreachable", PlanOutcome::kUnreachable},
-     {"blocked", PlanOutcome::kBlocked}}};
+     {"unreachable", PlanOutcome::kUnreachable}}};
 
 struct PushPlan {
   PlanOutcome outcome = PlanOutcome::kNoObjects;
