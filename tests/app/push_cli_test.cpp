@@ -121,5 +121,30 @@ TEST(PushCli, EvaluatesAFewTables) {
   }
 }
 
+TEST(PushCli, ASweepMarginStopsThePushShortOfANeighbourAndEndsTheLoop) {
+  // Tuning table 18 (docs/results/push.md, session 20): the spirit level's target lies past a
+  // neighbour. Without the margin the closed loop pushes it there and moves the rabbit and the
+  // giraffe; with a 1 cm margin its first push is shortened, nothing else moves and the loop
+  // ends after that push.
+  const test::TempDir dir("proprio_push_cli_");
+  const std::string common =
+      "evaluate push --tables 1 --seed 18 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
+      "--roll-across --json ";
+  const fs::path off = dir.path() / "off.json";
+  const fs::path on = dir.path() / "on.json";
+  const auto r0 = run_cli(common + off.string());
+  ASSERT_EQ(r0.code, 0) << r0.err;
+  const auto r1 = run_cli(common + on.string() + " --sweep-margin 0.01");
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  const core::Json a = core::read_json(off)["pushes"][0];
+  const core::Json b = core::read_json(on)["pushes"][0];
+  EXPECT_FALSE(a["only_intended"].get<bool>());
+  for (const auto& step : a["steps"]) EXPECT_EQ(step["shortened"], 0.0);
+  EXPECT_TRUE(b["only_intended"].get<bool>());
+  ASSERT_EQ(b["steps"].size(), 1U);
+  EXPECT_GT(b["steps"][0]["shortened"].get<double>(), 0.02);
+  EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
+}
+
 }  // namespace
 }  // namespace proprio::app
