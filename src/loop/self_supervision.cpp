@@ -172,7 +172,7 @@ class Learner {
     size_ = l.image.size();
     image_ = l.image;
     planning::PlanningView view = planning::look_for_objects(l, region_, plan_options_);
-    if (o_.split_merged && static_cast<int>(view.objects.size()) < out_.classes) {
+    if (o_.split_merged && splitting_ && static_cast<int>(view.objects.size()) < out_.classes) {
       const std::size_t seen = view.objects.size();
       const std::vector<int> split = split_merged_blobs(
           view, l.image, out_.classes, o_.min_features, o_.split_colour, region_, plan_options_);
@@ -1042,7 +1042,12 @@ class Learner {
       bar.tick(static_cast<std::size_t>(o_.pushes));
       return;
     }
+    // (c) follows its object by the pushes' motion; a look there with fewer blobs than C has
+    // mostly lost an object off the table, and splitting its largest blob, often the object
+    // learned, made most learn pushes unplannable (tuning seed 1): no splits in (c).
+    splitting_ = false;
     learn(r, *chosen, index, bar);
+    splitting_ = true;
     refit();
   }
 
@@ -1099,6 +1104,7 @@ class Learner {
   /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
   int plans_ = 0;
+  bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
   bool singulated_ = false;    ///< the last clear() ended with the chosen object alone
   int round_ = 0;              ///< the round under way (for the looks' "split" events)
   double offset_ = 0;          ///< the next push's turning offset, m (0: through the centre)

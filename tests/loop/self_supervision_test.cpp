@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
@@ -1019,6 +1020,73 @@ TEST(SelfSupervision, FreeSpacePushesTheChosenObjectAndCentresItsLearnPushes) {
   EXPECT_GT(free_plans, 0);
   EXPECT_GT(free_pushes, 0);
   EXPECT_LE(free_plans, 2 * kFreeMoves * 4);  // at most kFreeTries spots a try
+}
+
+TEST(SelfSupervision, SplitLooksAndTheSingulationGateAreLogged) {
+  // Told of 3 objects on a table of 2: every look shows fewer blobs than C, so with
+  // split_merged its largest blob is split (event "split", the look then has more blobs). With
+  // a clearance no table leaves (0.5 m) and no clearing pushes, (b) never singulates: with
+  // singulate_tries 2 each round starts (b) twice more, then (c) starts anyway, all logged.
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 1;
+  o.clear_pushes = 0;
+  o.clearance = 0.5;
+  const auto run = [&](const SelfSupervisionOptions& opt) {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::SimulatedRobot robot(table_of(opt), catalogue);
+    const TinyModel m = tiny_model(robot.look().image);
+    CountingAttendant attendant;
+    return learn_by_pushing(robot, attendant, 3, m.lda, m.vocabulary, opt, {});
+  };
+  const auto again = [](const SelfSupervisionDecision& j) {
+    return j.event == "replan" && j.why && j.why->rfind("(b) ended", 0) == 0;
+  };
+  const auto anyway = [](const SelfSupervisionDecision& j) {
+    return j.event == "replan" && j.why && j.why->rfind("(b) tried again", 0) == 0;
+  };
+  {
+    const Learning l = run(o);  // both off: no split, no second (b)
+    for (const auto& j : l.log) {
+      EXPECT_NE(j.event, "split");
+      EXPECT_FALSE(again(j) || anyway(j));
+    }
+  }
+  o.split_merged = true;
+  o.singulate_tries = 2;
+  const Learning l = run(o);
+  int splits = 0;
+  int split_looks = 0;
+  std::map<int, int> not_alone;  // per round: (b) ended without the object alone
+  std::map<int, int> retries;
+  std::map<int, int> gave_up;
+  for (std::size_t i = 0; i < l.log.size(); ++i) {
+    const auto& j = l.log[i];
+    if (j.event == "split") {
+      ++splits;
+      ASSERT_TRUE(j.blobs && j.why);
+      EXPECT_GE(j.blobs->size(), 2U);
+      EXPECT_LE(j.blobs->size(), 3U);
+      // A look logged right after it is the split one (the learn pushes' looks log no event).
+      if (i + 1 < l.log.size() && l.log[i + 1].event == "look") {
+        ++split_looks;
+        ASSERT_TRUE(l.log[i + 1].blobs);
+        EXPECT_EQ(l.log[i + 1].blobs->size(), j.blobs->size());
+      }
+    }
+    if (j.event == "fault" && j.fault == "not-singulated") ++not_alone[*j.round];
+    if (again(j)) ++retries[*j.round];
+    if (anyway(j)) ++gave_up[*j.round];
+    if (j.event == "singulated") ADD_FAILURE() << "no clearance of 0.5 m on this table";
+  }
+  EXPECT_GT(splits, 0);
+  EXPECT_GT(split_looks, 0);
+  ASSERT_FALSE(not_alone.empty());
+  for (const auto& [r, n] : not_alone) {
+    SCOPED_TRACE(r);
+    EXPECT_EQ(n, 3);  // the first (b) and two more
+    EXPECT_EQ(retries[r], 2);
+    EXPECT_EQ(gave_up[r], 1);
+  }
 }
 
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
