@@ -1249,12 +1249,13 @@ std::vector<int> split_merged_blobs(planning::PlanningView& view, const cv::Mat&
   std::vector<int> original(view.objects.size());
   for (std::size_t i = 0; i < original.size(); ++i) original[i] = static_cast<int>(i);
   std::vector<char> tried(view.objects.size(), 0);
+  const auto least = static_cast<std::size_t>(kSplitLeast) * static_cast<std::size_t>(min_features);
   while (static_cast<int>(view.objects.size()) < classes) {
     int b = -1;
     std::size_t most = 0;
     for (std::size_t i = 0; i < view.objects.size(); ++i) {
       const std::size_t n = view.objects[i].pixels.size();
-      if (tried[i] == 0 && n >= static_cast<std::size_t>(kSplitLeast * min_features) && n > most) {
+      if (tried[i] == 0 && n >= least && n > most) {
         most = n;
         b = static_cast<int>(i);
       }
