@@ -166,14 +166,18 @@ struct SelfSupervisionOptions {
   /// feature points' positions and colours (split_colour weighs the colours; logged, event
   /// "split"). The looks of (c) are not split: there an object lost off the table is the usual
   /// cause, and splitting the object being learned left most learn pushes unplannable (tuning
-  /// seed 1: 87 "not-planned" faults, c 49.7 -> 27.3%). Off (the default).
+  /// seed 1: 87 "not-planned" faults, c 49.7 -> 27.3%). Off (the default): measured with
+  /// singulate_tries 2, c 49.7 -> 25.0% on the tuning seed and 35.4 +- 10.7% -> 32.4 +- 10.8%
+  /// on seeds 2-6, singulation (ground truth) 30% -> 30%: a k-means cut is not the boundary
+  /// between two objects (docs/results/selfsupervision.md, "Session 20").
   bool split_merged = false;
   /// split_merged: the colours' weight against the positions in the k-means split (0: positions).
   double split_colour = 1.0;
   /// (b): when (b) ends without the chosen object singulated by the robot's own check (every
   /// other blob at least `clearance` away), (b) starts again with a new budget of clear_pushes,
   /// at most this many times, before (c) starts (logged, event "replan"). 0: (c) starts anyway
-  /// (the default; the fault "not-singulated" is logged either way).
+  /// (the default; the fault "not-singulated" is logged either way). Session 20, seeds 2-6 with
+  /// split_merged and 2: retries in 4 of 20 rounds, none of which then singulated.
   int singulate_tries = 0;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
