@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -170,7 +171,25 @@ class Learner {
     const robot::Look l = robot_.look();
     size_ = l.image.size();
     image_ = l.image;
-    return planning::look_for_objects(l, region_, plan_options_);
+    planning::PlanningView view = planning::look_for_objects(l, region_, plan_options_);
+    if (o_.split_merged && splitting_ && static_cast<int>(view.objects.size()) < out_.classes) {
+      const std::size_t seen = view.objects.size();
+      const std::vector<int> split = split_merged_blobs(
+          view, l.image, out_.classes, o_.min_features, o_.split_colour, region_, plan_options_);
+      if (!split.empty()) {
+        std::string which;
+        for (const int b : split)
+          which += core::cat({which.empty() ? "" : ", ", std::to_string(b)});
+        log({.event = "split",
+             .round = round_,
+             .why = core::cat({std::to_string(seen), " blobs for ", std::to_string(out_.classes),
+                               " objects: blob(s) ", which,
+                               " split in two by k-means on positions and colours; ",
+                               std::to_string(view.objects.size()), " blobs now"}),
+             .blobs = putative_object_records(view, false)});
+      }
+    }
+    return view;
   }
 
   Eigen::MatrixXd theta_of(const std::vector<std::vector<std::int32_t>>& docs) {
@@ -329,6 +348,7 @@ class Learner {
   // (b): push the blob nearest the chosen one toward the edge until every other is `clearance`
   // away. Returns the chosen blob's centre after it (nullopt: lost).
   std::optional<Eigen::Vector2d> clear(int r, Eigen::Vector2d chosen, int& index) {
+    singulated_ = false;
     int pushes = 0;
     std::optional<Eigen::Vector2d> last_pushed;  // the pushed blob's centre before its push
     std::map<std::pair<double, double>, int> still_count;
@@ -378,6 +398,7 @@ class Learner {
            .too_near = static_cast<int>(others.size()),
            .blobs = putative_object_records(view, false)});
       if (others.empty()) {
+        singulated_ = true;
         log({.event = "singulated", .round = r, .clear_pushes = pushes});
         attendant_.cleared(r, view, c);
         return chosen;
@@ -958,6 +979,7 @@ class Learner {
 
   void round(int r, core::ProgressBar& bar) {
     extra_approach_ = 0;
+    round_ = r;
     const planning::PlanningView view = look();
     log({.event = "look",
          .round = r,
@@ -1000,12 +1022,32 @@ class Learner {
       attendant_.chose(r, now, k2);
       chosen = clear(r, now.objects[static_cast<std::size_t>(k2)].centre, index);
     }
+    // singulate_tries: (c) starts only on an object the robot's own check finds alone, (b)
+    // started again a bounded number of times.
+    for (int t = 0; chosen && !singulated_ && t < o_.singulate_tries; ++t) {
+      log({.event = "replan",
+           .round = r,
+           .why = core::cat({"(b) ended with the chosen object not alone: (b) again, try ",
+                             std::to_string(t + 1), " of ", std::to_string(o_.singulate_tries)})});
+      chosen = clear(r, *chosen, index);
+    }
+    if (chosen && !singulated_ && o_.singulate_tries > 0) {
+      log({.event = "replan",
+           .round = r,
+           .why = "(b) tried again as often as allowed and the object is still not alone: (c) "
+                  "starts on it anyway"});
+    }
     if (!chosen) {
       out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost while clearing";
       bar.tick(static_cast<std::size_t>(o_.pushes));
       return;
     }
+    // (c) follows its object by the pushes' motion; a look there with fewer blobs than C has
+    // mostly lost an object off the table, and splitting its largest blob, often the object
+    // learned, made most learn pushes unplannable (tuning seed 1): no splits in (c).
+    splitting_ = false;
     learn(r, *chosen, index, bar);
+    splitting_ = true;
     refit();
   }
 
@@ -1062,6 +1104,9 @@ class Learner {
   /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
   int plans_ = 0;
+  bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
+  bool singulated_ = false;    ///< the last clear() ended with the chosen object alone
+  int round_ = 0;              ///< the round under way (for the looks' "split" events)
   double offset_ = 0;          ///< the next push's turning offset, m (0: through the centre)
   double extra_approach_ = 0;  ///< m, grown after each refusal of the round
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for the arm's image
@@ -1182,6 +1227,111 @@ std::vector<FreeSpot> free_spots(const planning::PlanningView& view, int blob,
     return (a.point - o.centre).norm() < (b.point - o.centre).norm();
   });
   return out;
+}
+
+std::vector<int> split_merged_blobs(planning::PlanningView& view, const cv::Mat& image, int classes,
+                                    int min_features, double colour_weight,
+                                    const planning::TableRegion& region,
+                                    const planning::PushPlanOptions& options) {
+  require(classes >= 1, "split_merged_blobs: classes must be at least 1");
+  require(min_features >= 1, "split_merged_blobs: min_features must be at least 1");
+  require(std::isfinite(colour_weight) && colour_weight >= 0,
+          "split_merged_blobs: colour_weight must be finite and at least 0");
+  require(image.type() == CV_8UC3 && image.size() == view.image_size,
+          "split_merged_blobs: image must be 8-bit BGR of the view's image size");
+  std::vector<int> split;
+  if (static_cast<int>(view.objects.size()) >= classes) return split;
+  cv::Mat lab;
+  cv::cvtColor(image, lab, cv::COLOR_BGR2Lab);
+  cv::blur(lab, lab, cv::Size(5, 5));
+  const cv::Rect frame(cv::Point(0, 0), view.image_size);
+  // Index into view.objects -> its index before any split (parts appended get -1: not split again).
+  std::vector<int> original(view.objects.size());
+  for (std::size_t i = 0; i < original.size(); ++i) original[i] = static_cast<int>(i);
+  std::vector<char> tried(view.objects.size(), 0);
+  const auto least = static_cast<std::size_t>(kSplitLeast) * static_cast<std::size_t>(min_features);
+  while (static_cast<int>(view.objects.size()) < classes) {
+    int b = -1;
+    std::size_t most = 0;
+    for (std::size_t i = 0; i < view.objects.size(); ++i) {
+      const std::size_t n = view.objects[i].pixels.size();
+      if (tried[i] == 0 && n >= least && n > most) {
+        most = n;
+        b = static_cast<int>(i);
+      }
+    }
+    if (b < 0) break;
+    tried[static_cast<std::size_t>(b)] = 1;
+    const planning::PutativeObject& o = view.objects[static_cast<std::size_t>(b)];
+    std::vector<cv::Point> pts;
+    for (const Eigen::Vector2d& p : o.pixels) {
+      const cv::Point q(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
+      if (frame.contains(q)) pts.push_back(q);
+    }
+    const auto n = static_cast<int>(pts.size());
+    if (n < kSplitLeast * min_features) continue;
+    // Standardised positions and colours; the start: the halves across the principal axis.
+    Eigen::MatrixXd pos(n, 2);
+    Eigen::MatrixXd col(n, 3);
+    for (int i = 0; i < n; ++i) {
+      const auto& q = pts[static_cast<std::size_t>(i)];
+      pos.row(i) << q.x, q.y;
+      const cv::Vec3b c = lab.at<cv::Vec3b>(q);
+      col.row(i) << c[0], c[1], c[2];
+    }
+    pos.rowwise() -= pos.colwise().mean();
+    col.rowwise() -= col.colwise().mean();
+    const double sp = std::sqrt(pos.squaredNorm() / n);
+    const double sc = std::sqrt(col.squaredNorm() / n);
+    if (sp <= 0) continue;
+    const Eigen::Matrix2d cov = pos.transpose() * pos / n;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+    const Eigen::Vector2d axis = eig.eigenvectors().col(1);
+    cv::Mat samples(n, 5, CV_32F);
+    cv::Mat labels(n, 1, CV_32S);
+    for (int i = 0; i < n; ++i) {
+      samples.at<float>(i, 0) = static_cast<float>(pos(i, 0) / sp);
+      samples.at<float>(i, 1) = static_cast<float>(pos(i, 1) / sp);
+      for (int k = 0; k < 3; ++k) {
+        samples.at<float>(i, 2 + k) =
+            sc > 0 ? static_cast<float>(colour_weight * col(i, k) / sc) : 0.0F;
+      }
+      labels.at<int>(i) = pos.row(i).dot(axis) < 0 ? 0 : 1;
+    }
+    cv::Mat centres;
+    cv::kmeans(samples, 2, labels,
+               cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4), 1,
+               cv::KMEANS_USE_INITIAL_LABELS, centres);
+    // Each part's region: the blob's mask pixels nearest one of its points.
+    std::vector<cv::Mat> regions(2, cv::Mat(view.image_size, CV_8U, cv::Scalar(0)));
+    regions[1] = cv::Mat(view.image_size, CV_8U, cv::Scalar(0));
+    for (int y = 0; y < o.mask.rows; ++y) {
+      for (int x = 0; x < o.mask.cols; ++x) {
+        if (o.mask(y, x) == 0) continue;
+        const cv::Point q(x + o.box.x, y + o.box.y);
+        int best = 0;
+        int best_d = std::numeric_limits<int>::max();
+        for (int i = 0; i < n; ++i) {
+          const cv::Point d = pts[static_cast<std::size_t>(i)] - q;
+          const int d2 = d.x * d.x + d.y * d.y;
+          if (d2 < best_d) {
+            best_d = d2;
+            best = labels.at<int>(i);
+          }
+        }
+        regions[static_cast<std::size_t>(best)].at<uchar>(q) = 255;
+      }
+    }
+    const std::size_t before = view.objects.size();
+    (void)planning::split_putative_objects(view, regions, min_features, region, options);
+    if (view.objects.size() > before) {
+      split.push_back(original[static_cast<std::size_t>(b)]);
+      original.resize(view.objects.size(), -1);
+      // The parts are not split again in this look (a third object would need its own look).
+      tried.resize(view.objects.size(), 1);
+    }
+  }
+  return split;
 }
 
 TurningPush turning_push(const planning::PushPlan& plan, const std::vector<Eigen::Vector2d>& hull,

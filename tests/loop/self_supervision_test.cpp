@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
@@ -497,6 +498,83 @@ TEST(SelfSupervision, EpisodeMotionSplitsTheBlobAndSeesTheNeighbourMove) {
   EXPECT_THROW((void)pushed_part(view, cv::Mat(10, 10, CV_8U), a, 10), InternalError);
 }
 
+TEST(SelfSupervision, MergedBlobIsSplitInTwoWhenFewerBlobsThanObjects) {
+  // Two touching textured squares 5 mm apart (one blob to the looks), one reddish and one
+  // bluish, and a third square apart: C = 3 objects, 2 blobs seen. The merged blob is split
+  // into the two squares (k-means on positions and colours); with C = 2 nothing is split.
+  const geometry::Camera cam = test::down_camera();
+  planning::PushPlanOptions po;
+  po.centre_height = 0.0;  // the squares lie on the table
+  const planning::TableRegion region;
+  const double h = 0.03;
+  const Eigen::Vector2d a(0.20, 0.0);
+  const Eigen::Vector2d b(0.20, -0.065);
+  const Eigen::Vector2d c(0.34, 0.12);
+  const cv::Size size = square_px(cam, a, h).size() + cv::Size(1, 1);
+  cv::Mat grey(size, CV_8UC1);
+  cv::theRNG().state = 7;
+  cv::randu(grey, 0, 255);
+  const auto tinted = [&](const cv::Scalar& tint) {
+    cv::Mat g3;
+    cv::cvtColor(grey, g3, cv::COLOR_GRAY2BGR);
+    cv::Mat out;
+    cv::multiply(g3, tint, out, 1.0 / 255);
+    return out;
+  };
+  const auto draw = [&](cv::Mat& img, const Eigen::Vector2d& at, const cv::Mat& tex) {
+    const cv::Rect r = square_px(cam, at, h);
+    tex(cv::Rect(0, 0, r.width, r.height)).copyTo(img(r));
+  };
+  cv::Mat img(cam.height, cam.width, CV_8UC3, cv::Scalar(128, 128, 128));
+  draw(img, a, tinted({60, 60, 255}));  // reddish (BGR)
+  draw(img, b, tinted({255, 80, 60}));  // bluish
+  draw(img, c, tinted({60, 255, 60}));
+  cv::Mat gray;
+  cv::cvtColor(img, gray, cv::COLOR_BGR2GRAY);
+  const planning::PlanningView looked =
+      planning::make_planning_view(planning::textured_points(gray, po), cam, region, po);
+  ASSERT_EQ(looked.objects.size(), 2U);  // the two near squares are one blob
+  const int merged = looked.objects[0].centre.x() < 0.27 ? 0 : 1;
+  for (const double colour : {1.0, 0.0}) {
+    SCOPED_TRACE(colour);
+    planning::PlanningView view = looked;
+    const std::vector<int> split = split_merged_blobs(view, img, 3, 10, colour, region, po);
+    ASSERT_EQ(split, std::vector<int>{merged});
+    ASSERT_EQ(view.objects.size(), 3U);
+    // The two parts are the two squares: one centre at each, each with its own points only.
+    std::vector<Eigen::Vector2d> centres;
+    for (const auto& o : view.objects) {
+      if (o.centre.x() < 0.27) centres.push_back(o.centre);
+    }
+    ASSERT_EQ(centres.size(), 2U);
+    if (centres[0].y() < centres[1].y()) std::swap(centres[0], centres[1]);
+    EXPECT_NEAR(centres[0].x(), a.x(), 0.005);
+    EXPECT_NEAR(centres[0].y(), a.y(), 0.005);
+    EXPECT_NEAR(centres[1].x(), b.x(), 0.005);
+    EXPECT_NEAR(centres[1].y(), b.y(), 0.005);
+    std::size_t points = 0;
+    for (const auto& o : view.objects) points += o.pixels.size();
+    std::size_t before = 0;
+    for (const auto& o : looked.objects) before += o.pixels.size();
+    EXPECT_EQ(points, before);  // no feature point lost or counted twice
+  }
+  // As many blobs as objects: nothing split. Too few points for two parts: left as it was.
+  planning::PlanningView view = looked;
+  EXPECT_TRUE(split_merged_blobs(view, img, 2, 10, 1.0, region, po).empty());
+  EXPECT_EQ(view.objects.size(), 2U);
+  EXPECT_TRUE(split_merged_blobs(view, img, 3, 100000, 1.0, region, po).empty());
+  EXPECT_EQ(view.objects.size(), 2U);
+  // Bad input: a grey image, an image of another size, no classes, a negative weight.
+  EXPECT_THROW((void)split_merged_blobs(view, gray, 3, 10, 1.0, region, po), Error);
+  EXPECT_THROW(
+      (void)split_merged_blobs(view, img(cv::Rect(0, 0, 10, 10)).clone(), 3, 10, 1.0, region, po),
+      Error);
+  EXPECT_THROW((void)split_merged_blobs(view, img, 0, 10, 1.0, region, po), Error);
+  EXPECT_THROW((void)split_merged_blobs(view, img, 3, 10, -1.0, region, po), Error);
+  EXPECT_FALSE(SelfSupervisionOptions{}.split_merged);  // off unless measured better
+  EXPECT_EQ(SelfSupervisionOptions{}.singulate_tries, 0);
+}
+
 TEST(SelfSupervision, FallbackGoalsGoInwardWhenAsked) {
   // The object 16 cm out from the work centre along +x; its first goal was outward (a0 = 0).
   const Eigen::Vector2d centre(0.24, 0.0);
@@ -942,6 +1020,73 @@ TEST(SelfSupervision, FreeSpacePushesTheChosenObjectAndCentresItsLearnPushes) {
   EXPECT_GT(free_plans, 0);
   EXPECT_GT(free_pushes, 0);
   EXPECT_LE(free_plans, 2 * kFreeMoves * 4);  // at most kFreeTries spots a try
+}
+
+TEST(SelfSupervision, SplitLooksAndTheSingulationGateAreLogged) {
+  // Told of 3 objects on a table of 2: every look shows fewer blobs than C, so with
+  // split_merged its largest blob is split (event "split", the look then has more blobs). With
+  // a clearance no table leaves (0.5 m) and no clearing pushes, (b) never singulates: with
+  // singulate_tries 2 each round starts (b) twice more, then (c) starts anyway, all logged.
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 1;
+  o.clear_pushes = 0;
+  o.clearance = 0.5;
+  const auto run = [&](const SelfSupervisionOptions& opt) {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::SimulatedRobot robot(table_of(opt), catalogue);
+    const TinyModel m = tiny_model(robot.look().image);
+    CountingAttendant attendant;
+    return learn_by_pushing(robot, attendant, 3, m.lda, m.vocabulary, opt, {});
+  };
+  const auto again = [](const SelfSupervisionDecision& j) {
+    return j.event == "replan" && j.why && j.why->rfind("(b) ended", 0) == 0;
+  };
+  const auto anyway = [](const SelfSupervisionDecision& j) {
+    return j.event == "replan" && j.why && j.why->rfind("(b) tried again", 0) == 0;
+  };
+  {
+    const Learning l = run(o);  // both off: no split, no second (b)
+    for (const auto& j : l.log) {
+      EXPECT_NE(j.event, "split");
+      EXPECT_FALSE(again(j) || anyway(j));
+    }
+  }
+  o.split_merged = true;
+  o.singulate_tries = 2;
+  const Learning l = run(o);
+  int splits = 0;
+  int split_looks = 0;
+  std::map<int, int> not_alone;  // per round: (b) ended without the object alone
+  std::map<int, int> retries;
+  std::map<int, int> gave_up;
+  for (std::size_t i = 0; i < l.log.size(); ++i) {
+    const auto& j = l.log[i];
+    if (j.event == "split") {
+      ++splits;
+      ASSERT_TRUE(j.blobs && j.why);
+      EXPECT_GE(j.blobs->size(), 2U);
+      EXPECT_LE(j.blobs->size(), 3U);
+      // A look logged right after it is the split one (the learn pushes' looks log no event).
+      if (i + 1 < l.log.size() && l.log[i + 1].event == "look") {
+        ++split_looks;
+        ASSERT_TRUE(l.log[i + 1].blobs);
+        EXPECT_EQ(l.log[i + 1].blobs->size(), j.blobs->size());
+      }
+    }
+    if (j.event == "fault" && j.fault == "not-singulated") ++not_alone[*j.round];
+    if (again(j)) ++retries[*j.round];
+    if (anyway(j)) ++gave_up[*j.round];
+    if (j.event == "singulated") ADD_FAILURE() << "no clearance of 0.5 m on this table";
+  }
+  EXPECT_GT(splits, 0);
+  EXPECT_GT(split_looks, 0);
+  ASSERT_FALSE(not_alone.empty());
+  for (const auto& [r, n] : not_alone) {
+    SCOPED_TRACE(r);
+    EXPECT_EQ(n, 3);  // the first (b) and two more
+    EXPECT_EQ(retries[r], 2);
+    EXPECT_EQ(gave_up[r], 1);
+  }
 }
 
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {

@@ -161,6 +161,24 @@ struct SelfSupervisionOptions {
   /// (noise), and the free-space push was executed only 3 times in 5 runs (its spots are mostly
   /// out of reach) (docs/results/selfsupervision.md, "Session 19").
   double free_space = 0.0;
+  /// (a), (b), (d): merged blobs split (split_merged_blobs, session 20): every look of the
+  /// choice and of (b) that shows fewer blobs than C splits its largest blob by k-means on its
+  /// feature points' positions and colours (split_colour weighs the colours; logged, event
+  /// "split"). The looks of (c) are not split: there an object lost off the table is the usual
+  /// cause, and splitting the object being learned left most learn pushes unplannable (tuning
+  /// seed 1: 87 "not-planned" faults, c 49.7 -> 27.3%). Off (the default): measured with
+  /// singulate_tries 2, c 49.7 -> 25.0% on the tuning seed and 35.4 +- 10.7% -> 32.4 +- 10.8%
+  /// on seeds 2-6, singulation (ground truth) 30% -> 30%: a k-means cut is not the boundary
+  /// between two objects (docs/results/selfsupervision.md, "Session 20").
+  bool split_merged = false;
+  /// split_merged: the colours' weight against the positions in the k-means split (0: positions).
+  double split_colour = 1.0;
+  /// (b): when (b) ends without the chosen object singulated by the robot's own check (every
+  /// other blob at least `clearance` away), (b) starts again with a new budget of clear_pushes,
+  /// at most this many times, before (c) starts (logged, event "replan"). 0: (c) starts anyway
+  /// (the default; the fault "not-singulated" is logged either way). Session 20, seeds 2-6 with
+  /// split_merged and 2: retries in 4 of 20 rounds, none of which then singulated.
+  int singulate_tries = 0;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -242,6 +260,14 @@ struct SelfSupervisionOptions {
       {"free_space",
        "Push the chosen object into free space within this radius of the work centre, m (0: off)",
        core::between(0.0, 0.3)});
+    v(self.split_merged,
+      {"split_merged",
+       "Split the largest blob by k-means while fewer blobs than objects are seen"});
+    v(self.split_colour, {"split_colour", "split_merged: the colours' weight against the positions",
+                          core::between(0.0, 10.0)});
+    v(self.singulate_tries,
+      {"singulate_tries", "Start (b) again this many times until the chosen object is alone",
+       core::between(0, 10)});
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
@@ -590,6 +616,24 @@ std::vector<Eigen::Vector2d> fallback_goals(const Eigen::Vector2d& chosen,
 inline constexpr int kFreeMoves = 2;
 /// (b) A free-space push carries the chosen object at most this far, m.
 inline constexpr double kMaxFreePush = 0.15;
+
+/// Merged blobs split (split_merged_blobs): a blob needs this many times min_features points.
+inline constexpr int kSplitLeast = 2;
+
+/// (a)-(c) Merged blobs split (session 20): while `view` holds fewer putative objects than
+/// `classes` (C, the objects the robot is told are on the table), the blob with the most feature
+/// points (of those not yet tried, and with at least kSplitLeast x `min_features`) is split in
+/// two by k-means (cv::kmeans, k = 2) on its feature points' image positions and their colours
+/// (CIE Lab of `image`, 8-bit BGR of the view's size, averaged over 5 x 5 px), each standardised
+/// over the blob, the colours weighted by `colour_weight` (0: positions only); the start is the
+/// blob's two halves across its principal axis, so the split is deterministic. Each half's
+/// region is the blob's mask pixels nearest one of its points; planning::split_putative_objects
+/// makes the two parts (each needs `min_features` points, else the blob is left as it was).
+/// Returns the indices (into view.objects before the split) of the blobs split, in order.
+std::vector<int> split_merged_blobs(planning::PlanningView& view, const cv::Mat& image, int classes,
+                                    int min_features, double colour_weight,
+                                    const planning::TableRegion& region,
+                                    const planning::PushPlanOptions& options);
 
 /// (b) A place the chosen object could be pushed to: `point` (table m, its centre there) and the
 /// least gap (hull_gap) its footprint hull, carried there, would leave to every other blob.
