@@ -11,6 +11,8 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string_view>
@@ -77,6 +79,7 @@ constexpr double kPushReach = 0.44;
 constexpr double kBehindBase = 0.0;         // least x of a blob's centre, m
 constexpr int kMaxFailures = 3;             // pushes in a row not planned or refused: move on
 constexpr double kMaxExtraApproach = 0.12;  // at most, m
+constexpr int kMaxMatchPool = 4000;         // "match": a known object's descriptors, at most
 
 using Clock = std::chrono::steady_clock;
 
@@ -120,6 +123,24 @@ int blob_on(const planning::PlanningView& view, const cv::Mat1b& mask) {
   return best;
 }
 
+// Rows of `x` as a CV_32F matrix.
+cv::Mat float_rows(const Eigen::MatrixXd& x) {
+  cv::Mat m;
+  if (x.rows() == 0) return m;
+  cv::eigen2cv(x, m);
+  m.convertTo(m, CV_32F);
+  return m;
+}
+
+// Nearest-neighbour distances of each row of `query` among the rows of `pool`.
+std::vector<float> nearest_distances(const cv::Mat& query, const cv::Mat& pool) {
+  std::vector<cv::DMatch> matches;
+  cv::BFMatcher(cv::NORM_L2).match(query, pool, matches);
+  std::vector<float> d(static_cast<std::size_t>(query.rows), std::numeric_limits<float>::max());
+  for (const auto& m : matches) d[static_cast<std::size_t>(m.queryIdx)] = m.distance;
+  return d;
+}
+
 // A look's features: positions and unit descriptors.
 struct LookFeatures {
   std::vector<cv::Point2f> points;
@@ -140,6 +161,29 @@ std::vector<std::string> names_or_empty(const std::string& list) {
 }
 
 }  // namespace
+
+double descriptor_match_fraction(const cv::Mat& query, const cv::Mat& known, const cv::Mat& rest,
+                                 double ratio) {
+  if (!(ratio > 0 && ratio <= 1)) throw Error("descriptor match: ratio must be in (0, 1]");
+  for (const cv::Mat* m : {&query, &known, &rest}) {
+    if (!m->empty() && m->type() != CV_32F) throw Error("descriptor match: descriptors not CV_32F");
+    if (!m->empty() && !query.empty() && m->cols != query.cols) {
+      throw Error("descriptor match: descriptors of different lengths");
+    }
+  }
+  if (query.empty() || known.empty()) return 0.0;
+  const std::vector<float> dk = nearest_distances(query, known);
+  std::vector<float> dr(dk.size(), std::numeric_limits<float>::max());
+  if (!rest.empty()) dr = nearest_distances(query, rest);
+  int matched = 0;
+  for (std::size_t i = 0; i < dk.size(); ++i) {
+    if (dk[i] < std::numeric_limits<float>::max() &&
+        (dr[i] == std::numeric_limits<float>::max() || dk[i] < ratio * dr[i])) {
+      ++matched;
+    }
+  }
+  return static_cast<double>(matched) / static_cast<double>(query.rows);
+}
 
 LearnOptions LearnOptions::resolved() const {
   LearnOptions o = *this;
@@ -454,20 +498,48 @@ class Learner {
     std::vector<BlobMeanLogP> scores;
     int best = -1;
     double best_s = std::numeric_limits<double>::infinity();
+    const bool match = o_.new_object == NewObjectScore::kMatch;
+    // "match": each known object's views' descriptors (a stride sample of kMaxMatchPool).
+    std::vector<cv::Mat> pools;
+    if (match) pools = timed("recognition", [&] { return known_pools(c); });
+    const cv::Mat look = match ? float_rows(lf.unit) : cv::Mat();
     for (int b : open) {
       const auto& o = view.objects[static_cast<std::size_t>(b)];
       const cv::Mat m = blob_mask(o, current_.image.size());
       std::vector<Eigen::Index> rows;
+      std::vector<int> others;  // the look's features outside the blob
       for (std::size_t i = 0; i < lf.points.size(); ++i) {
         const cv::Point p(static_cast<int>(lf.points[i].x), static_cast<int>(lf.points[i].y));
         if (p.inside(cv::Rect(0, 0, m.cols, m.rows)) && m.at<uchar>(p) != 0) {
           rows.push_back(static_cast<Eigen::Index>(i));
+        } else {
+          others.push_back(static_cast<int>(i));
         }
       }
       if (static_cast<int>(rows.size()) < o_.min_features) continue;
       Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), lf.unit.cols());
       for (std::size_t i = 0; i < rows.size(); ++i) {
         x.row(static_cast<Eigen::Index>(i)) = lf.unit.row(rows[i]);
+      }
+      std::optional<double> matched;
+      std::optional<int> matched_object;
+      if (match) {
+        timed("recognition", [&] {
+          const cv::Mat q = float_rows(x);
+          cv::Mat rest(static_cast<int>(others.size()), look.cols, CV_32F);
+          for (std::size_t i = 0; i < others.size(); ++i) {
+            look.row(others[i]).copyTo(rest.row(static_cast<int>(i)));
+          }
+          for (int k = 0; k < c; ++k) {
+            const cv::Mat& pool = pools[static_cast<std::size_t>(k)];
+            if (pool.empty()) continue;
+            const double f = descriptor_match_fraction(q, pool, rest, o_.match_ratio);
+            if (!matched || f > *matched) {
+              matched = f;
+              matched_object = k;
+            }
+          }
+        });
       }
       double s = -std::numeric_limits<double>::infinity();
       int s_object = -1;
@@ -490,10 +562,13 @@ class Learner {
           known.push_back({k, b});
         }
       }
-      scores.push_back({b, s, s_object, std::isfinite(below) ? below : 0.0});
+      scores.push_back(
+          {b, s, s_object, std::isfinite(below) ? below : 0.0, matched, matched_object});
       if (is_known) continue;
-      if (s < best_s) {
-        best_s = s;
+      // The least known: the fewest descriptors matched ("match"), else the least likely.
+      const double score = match ? matched.value_or(0.0) : s;
+      if (score < best_s) {
+        best_s = score;
         best = b;
       }
     }
@@ -508,10 +583,33 @@ class Learner {
     log({.event = "choose",
          .object = c,
          .blob = best,
-         .why = "least likely under the object models so far (7.2 d)",
+         .why = match ? "fewest descriptors matched to the objects so far (7.2 d)"
+                      : "least likely under the object models so far (7.2 d)",
          .known = std::move(known),
          .scores = std::move(scores)});
     return best;
+  }
+
+  // Per object before c, its views' unit descriptors (a stride sample of kMaxMatchPool rows).
+  [[nodiscard]] std::vector<cv::Mat> known_pools(int c) const {
+    std::vector<cv::Mat> pools(static_cast<std::size_t>(c));
+    for (int k = 0; k < c; ++k) {
+      std::vector<cv::Mat> parts;
+      int total = 0;
+      for (const View& v : views_) {
+        if (v.cls != k || v.descriptors.empty()) continue;
+        parts.push_back(float_rows(unit_descriptors(v.descriptors)));
+        total += parts.back().rows;
+      }
+      if (total == 0) continue;
+      cv::Mat all;
+      cv::vconcat(parts, all);
+      const int stride = (total + kMaxMatchPool - 1) / kMaxMatchPool;
+      cv::Mat pool(0, all.cols, CV_32F);
+      for (int r = 0; r < all.rows; r += stride) pool.push_back(all.row(r));
+      pools[static_cast<std::size_t>(k)] = pool;
+    }
+    return pools;
   }
 
   // Where is object c in the current look? Top-down when it has a model, else by position.

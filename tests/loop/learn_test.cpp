@@ -76,8 +76,46 @@ TEST(Learn, BadOptionsThrow) {
   o.objects = "book,,cd";
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
+  o.match_ratio = 0;
+  EXPECT_THROW(o.validate(), Error);
+  o.match_ratio = 1.5;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
   o.clutter = "";
   EXPECT_NO_THROW(o.validate());
+}
+
+TEST(Learn, DescriptorMatchFractionCountsDescriptorsNearerTheKnownThanTheRest) {
+  // Unit vectors e0..e3 (4-D): query = {e0, e1, e2, e3 * 0.9 + e2 * 0.1}; known = {e0, e1};
+  // rest = {e2, e3}. e0 and e1 match (distance 0 to known); e2 is nearer the rest; the last is
+  // nearer the rest too. So 2 of 4.
+  cv::Mat q = (cv::Mat_<float>(4, 4) << 1, 0, 0, 0,  //
+               0, 1, 0, 0,                           //
+               0, 0, 1, 0,                           //
+               0, 0, 0.1F, 0.9F);
+  cv::Mat known = (cv::Mat_<float>(2, 4) << 1, 0, 0, 0, 0, 1, 0, 0);
+  cv::Mat rest = (cv::Mat_<float>(2, 4) << 0, 0, 1, 0, 0, 0, 0, 1);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, known, rest, 0.8), 0.5);
+  // Known = the rest: nothing is nearer the known than ratio x the rest.
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, rest, rest, 0.8), 0.0);
+  // No rest: every descriptor with a neighbour in the known matches.
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, known, cv::Mat(), 0.8), 1.0);
+  // Nothing to match, or nothing known.
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(cv::Mat(), known, rest, 0.8), 0.0);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, cv::Mat(), rest, 0.8), 0.0);
+  // The ratio: e0 + 0.5 e2 (normalised) lies 0.46 from e0 and 1.05 from e2 (0.44 times):
+  // matched at 0.5, not at 0.4.
+  cv::Mat near = (cv::Mat_<float>(1, 4) << 0.894F, 0, 0.447F, 0);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(near, known, rest, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(near, known, rest, 0.4), 0.0);
+  // Bad input.
+  EXPECT_THROW((void)descriptor_match_fraction(q, known, rest, 0.0), Error);
+  EXPECT_THROW((void)descriptor_match_fraction(q, known, rest, 1.5), Error);
+  cv::Mat wide(2, 5, CV_32F, cv::Scalar(0));
+  EXPECT_THROW((void)descriptor_match_fraction(q, wide, rest, 0.8), Error);
+  cv::Mat doubles;
+  known.convertTo(doubles, CV_64F);
+  EXPECT_THROW((void)descriptor_match_fraction(q, doubles, rest, 0.8), Error);
 }
 
 TEST(Learn, AnExistingOutIsRefusedWithoutOverwrite) {
@@ -325,6 +363,52 @@ TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
       EXPECT_TRUE(by_words);
       EXPECT_EQ(r.objects.at(1).views, 0);
     }
+  }
+}
+
+TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
+  // new_object "match": the second turn scores each open blob by the fraction of its
+  // descriptors matched to the first object's views and chooses the least matched; "words"
+  // (the default) logs no match fractions.
+  const test::TempDir dir("proprio_learn_match_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const NewObjectScore how : {NewObjectScore::kWords, NewObjectScore::kMatch}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.new_object = how;
+    o.out = dir.path() / (how == NewObjectScore::kMatch ? "match" : "words");
+    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    ASSERT_GT(r.objects.at(0).views, 0);
+    std::ifstream in(o.out / "decisions.jsonl");
+    std::string line;
+    int chose = 0;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] != "choose" || j.value("object", -1) != 1) continue;
+      ++chose;
+      ASSERT_FALSE(j["scores"].empty()) << line;
+      if (how == NewObjectScore::kWords) {
+        for (const auto& s : j["scores"]) EXPECT_FALSE(s.contains("matched")) << line;
+        continue;
+      }
+      EXPECT_NE(j["why"].get<std::string>().find("matched"), std::string::npos) << line;
+      double least = 2;
+      int least_blob = -1;
+      for (const auto& s : j["scores"]) {
+        const double f = s["matched"].get<double>();
+        EXPECT_GE(f, 0.0);
+        EXPECT_LE(f, 1.0);
+        EXPECT_EQ(s["matched_object"].get<int>(), 0) << line;
+        if (f < least) {
+          least = f;
+          least_blob = s["blob"].get<int>();
+        }
+      }
+      EXPECT_EQ(j["blob"].get<int>(), least_blob) << line;
+    }
+    EXPECT_EQ(chose, 1);
   }
 }
 
