@@ -562,6 +562,11 @@ class Learner {
           known.push_back({k, b});
         }
       }
+      // Its descriptors say it is a known object: not a new object.
+      if (match && o_.match_known < 1.0 && matched && *matched >= o_.match_known && !is_known) {
+        is_known = true;
+        known.push_back({*matched_object, b});
+      }
       scores.push_back(
           {b, s, s_object, std::isfinite(below) ? below : 0.0, matched, matched_object});
       if (is_known) continue;
@@ -576,6 +581,11 @@ class Learner {
       if (o_.known_margin >= 0 && !scores.empty()) {
         fault(c, "only-known-objects",
               "every blob in view is an object learned already (by its words)");
+        return -1;
+      }
+      if (match && o_.match_known < 1.0 && !scores.empty()) {
+        fault(c, "only-known-objects",
+              "every blob in view is an object learned already (by its descriptors)");
         return -1;
       }
       best = open.front();

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "../support/temp_dir.hpp"
@@ -79,6 +80,11 @@ TEST(Learn, BadOptionsThrow) {
   o.match_ratio = 0;
   EXPECT_THROW(o.validate(), Error);
   o.match_ratio = 1.5;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.match_known = -0.1;
+  EXPECT_THROW(o.validate(), Error);
+  o.match_known = 1.1;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.clutter = "";
@@ -409,6 +415,37 @@ TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
       EXPECT_EQ(j["blob"].get<int>(), least_blob) << line;
     }
     EXPECT_EQ(chose, 1);
+  }
+}
+
+TEST(Learn, ABlobThatTheDescriptorsSayIsAKnownObjectIsNotANewClass) {
+  // new_object "match" with match_known 0: every blob has at least no descriptors matched to
+  // the first object's views, so every blob is that object: the second turn finds only known
+  // objects (by their descriptors) and learns nothing. With 1 (off) it chooses.
+  const test::TempDir dir("proprio_learn_match_known_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const double known : {1.0, 0.0}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.new_object = NewObjectScore::kMatch;
+    o.match_known = known;
+    o.out = dir.path() / (known < 1 ? "on" : "off");
+    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    ASSERT_GT(r.objects.at(0).views, 0);
+    const std::string ev = events_of(o.out / "decisions.jsonl");
+    std::ifstream in(o.out / "decisions.jsonl");
+    const std::string raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const bool by_descriptors = raw.find("(by its descriptors)") != std::string::npos;
+    if (known < 1) {
+      EXPECT_TRUE(by_descriptors) << ev;
+      EXPECT_EQ(count_of(ev, "choose:"), 1) << ev;
+      EXPECT_EQ(r.objects.at(1).views, 0);
+    } else {
+      EXPECT_FALSE(by_descriptors) << ev;
+      EXPECT_EQ(count_of(ev, "choose:"), 2) << ev;
+    }
   }
 }
 

@@ -113,6 +113,10 @@ struct LearnOptions {
   /// "match": a descriptor is a known object's when its nearest neighbour in that object's views
   /// is closer than this times its nearest among the look's other features.
   double match_ratio = 0.8;
+  /// "match": a blob with at least this fraction of its descriptors matched to one known
+  /// object's views is that object (7.2 d leaves it out: no second class of one object).
+  /// 1 = off (only where the object was segmented, recognised or left counts).
+  double match_known = 1.0;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
@@ -182,6 +186,10 @@ struct LearnOptions {
                          "match: nearest in a known object's views closer than this times the "
                          "nearest among the look's other features",
                          core::between(0.05, 1.0)});
+    v(self.match_known, {"match_known",
+                         "match: a blob with this fraction of its descriptors matched to a "
+                         "known object is that object, not chosen as new; 1 off",
+                         core::between(0.0, 1.0)});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
