@@ -130,6 +130,7 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --match-ratio 1.5" + out, "match"},
       {"--objects book --match-known -0.1" + out, "match"},
       {"--objects book --match-known 1.5" + out, "match"},
+      {"--objects book --carry-regions=maybe" + out, "carry-regions"},
       {"--objects book --new-object nearest" + out, "new"},
       {"--objects book,mug,bottle,rabbit,cd,calculator --clutter giraffe,bike,box" + out,
        "do not fit on the table"},

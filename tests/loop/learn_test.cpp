@@ -372,6 +372,70 @@ TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
   }
 }
 
+TEST(Learn, CarryRegionFindsTheObjectWhereItWasOrMovedWithThePush) {
+  // A 40 x 40 image, the object's region the square [5, 15)^2, the push's motion (+20, 0) px.
+  // The look's features: 4 at (8..11, 10) and 4 at (28..31, 10); the object's views hold e0.
+  // Where the features that are e0 lie says where the object is.
+  cv::Mat region(40, 40, CV_8U, cv::Scalar(0));
+  region(cv::Rect(5, 5, 10, 10)).setTo(255);
+  const cv::Point2d shift(20, 0);
+  std::vector<cv::Point2f> points;
+  for (int i = 0; i < 4; ++i) points.emplace_back(8.0F + i, 10.0F);
+  for (int i = 0; i < 4; ++i) points.emplace_back(28.0F + i, 10.0F);
+  const cv::Mat pool = (cv::Mat_<float>(1, 4) << 1, 0, 0, 0);
+  const auto look = [](bool object_left, bool object_right) {
+    cv::Mat d(8, 4, CV_32F, cv::Scalar(0));
+    for (int i = 0; i < 8; ++i) {
+      const bool object = i < 4 ? object_left : object_right;
+      d.at<float>(i, object ? 0 : 1 + (i % 3)) = 1;
+    }
+    return d;
+  };
+  cv::Mat out;
+  EXPECT_EQ(carry_region(region, shift, points, look(false, true), pool, 0.8, 0.1, out),
+            RegionFate::kCarried);
+  ASSERT_FALSE(out.empty());
+  EXPECT_EQ(out.at<uchar>(10, 30), 255);  // moved with the push
+  EXPECT_EQ(out.at<uchar>(10, 10), 0);
+  EXPECT_EQ(carry_region(region, shift, points, look(true, false), pool, 0.8, 0.1, out),
+            RegionFate::kStayed);
+  EXPECT_EQ(out.at<uchar>(10, 10), 255);
+  EXPECT_EQ(out.at<uchar>(10, 30), 0);
+  // Its appearance is nowhere: lost (forgotten), no region.
+  EXPECT_EQ(carry_region(region, shift, points, look(false, false), pool, 0.8, 0.1, out),
+            RegionFate::kLost);
+  EXPECT_TRUE(out.empty());
+  // Bad input.
+  EXPECT_THROW((void)carry_region(cv::Mat(), shift, points, look(true, true), pool, 0.8, 0.1, out),
+               Error);
+  EXPECT_THROW((void)carry_region(region, shift, {}, look(true, true), pool, 0.8, 0.1, out), Error);
+}
+
+TEST(Learn, CarryRegionsLogsTheRegionsCarriedOnlyWhenOn) {
+  // --carry-regions adds "carried" to every region line of the log; off, the log is as before.
+  const test::TempDir dir("proprio_learn_carry_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const bool carry : {false, true}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.carry_regions = carry;
+    o.out = dir.path() / (carry ? "on" : "off");
+    (void)run_learn(o, robot, attendant, 2, prov);
+    std::ifstream in(o.out / "decisions.jsonl");
+    std::string line;
+    int regions = 0;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] != "region") continue;
+      ++regions;
+      EXPECT_EQ(j.contains("carried"), carry) << line;
+    }
+    EXPECT_GT(regions, 0);
+  }
+}
+
 TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
   // new_object "match": the second turn scores each open blob by the fraction of its
   // descriptors matched to the first object's views and chooses the least matched; "words"

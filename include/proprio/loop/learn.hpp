@@ -73,6 +73,24 @@ inline constexpr core::ChoiceNames<NewObjectScore, 2> kNewObjectScoreNames{
 double descriptor_match_fraction(const cv::Mat& query, const cv::Mat& known, const cv::Mat& rest,
                                  double ratio);
 
+/// What became of a known object's region that another object's push moved over.
+enum class RegionFate {
+  kStayed,   ///< its features are still where the region was
+  kCarried,  ///< its features are where the push's motion carried the region
+  kLost      ///< neither: its appearance changed unexplained (the region is forgotten)
+};
+
+/// Where a known object's `region` (8-bit mask) lies after a push whose motion moved `shift`
+/// (px, the pusher from the touch to the push's end) passed over it: the region where it was
+/// and the region moved by `shift` are each scored by descriptor_match_fraction of the look's
+/// features inside it (`points`, rows of `descriptors`, CV_32F) against the object's views'
+/// descriptors (`pool`), the look's other features being the alternative. The better of the
+/// two with at least `min_matched` is the object's (`out`: that region; empty when kLost).
+/// Throws Error unless `points` and `descriptors` have one row each and the region is 8-bit.
+RegionFate carry_region(const cv::Mat& region, const cv::Point2d& shift,
+                        const std::vector<cv::Point2f>& points, const cv::Mat& descriptors,
+                        const cv::Mat& pool, double ratio, double min_matched, cv::Mat& out);
+
 /// The features of proprio learn's views, looks and vocabulary: dense SIFT every 4 px.
 inline features::ExtractOptions learn_features() {
   features::ExtractOptions f;
@@ -117,6 +135,10 @@ struct LearnOptions {
   /// object's views is that object (7.2 d leaves it out: no second class of one object).
   /// 1 = off (only where the object was segmented, recognised or left counts).
   double match_known = 1.0;
+  /// After a push, another known object's region that the push's motion overlapped is looked
+  /// for (carry_region: where it was, or moved with the push, by its descriptors) instead of
+  /// forgotten; a carried region is cut out of the pushed object's. Off: forgotten (as before).
+  bool carry_regions = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
@@ -190,6 +212,9 @@ struct LearnOptions {
                          "match: a blob with this fraction of its descriptors matched to a "
                          "known object is that object, not chosen as new; 1 off",
                          core::between(0.0, 1.0)});
+    v(self.carry_regions, {"carry_regions",
+                           "Look for a known object's region that another push moved over "
+                           "(where it was, or moved with the push) instead of forgetting it"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
@@ -357,6 +382,7 @@ struct LearnDecision {
   std::optional<std::string> by = {};              ///< split: what split it (top-down)
   std::optional<int> pixels = {};                  ///< region: its size, px
   std::optional<std::vector<int>> forgotten = {};  ///< region: objects whose region was forgotten
+  std::optional<std::vector<int>> carried = {};    ///< region: regions moved with the push
   std::optional<int> blobs_out_of_reach = {};      ///< end
   std::optional<int> looks_split = {};             ///< end: looks whose blobs were split
   std::optional<int> pushes = {};                  ///< end
@@ -395,6 +421,7 @@ struct LearnDecision {
     v(self.by, {"by", "What split the blob"});
     v(self.pixels, {"pixels", "The region's size, px"});
     v(self.forgotten, {"forgotten", "Objects whose region was forgotten"});
+    v(self.carried, {"carried", "Objects whose region moved with the push (carry_regions)"});
     v(self.blobs_out_of_reach, {"blobs_out_of_reach", "Blobs out of reach over all looks"});
     v(self.looks_split, {"looks_split", "Looks whose blobs were split"});
     v(self.pushes, {"pushes", "Pushes"});
