@@ -380,6 +380,7 @@ TEST(Learn, CarryRegionFindsTheObjectWhereItWasOrMovedWithThePush) {
   region(cv::Rect(5, 5, 10, 10)).setTo(255);
   const cv::Point2d shift(20, 0);
   std::vector<cv::Point2f> points;
+  points.reserve(8);
   for (int i = 0; i < 4; ++i) points.emplace_back(8.0F + i, 10.0F);
   for (int i = 0; i < 4; ++i) points.emplace_back(28.0F + i, 10.0F);
   const cv::Mat pool = (cv::Mat_<float>(1, 4) << 1, 0, 0, 0);
