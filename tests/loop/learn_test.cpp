@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "../support/temp_dir.hpp"
@@ -76,8 +77,51 @@ TEST(Learn, BadOptionsThrow) {
   o.objects = "book,,cd";
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
+  o.match_ratio = 0;
+  EXPECT_THROW(o.validate(), Error);
+  o.match_ratio = 1.5;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.match_known = -0.1;
+  EXPECT_THROW(o.validate(), Error);
+  o.match_known = 1.1;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
   o.clutter = "";
   EXPECT_NO_THROW(o.validate());
+}
+
+TEST(Learn, DescriptorMatchFractionCountsDescriptorsNearerTheKnownThanTheRest) {
+  // Unit vectors e0..e3 (4-D): query = {e0, e1, e2, e3 * 0.9 + e2 * 0.1}; known = {e0, e1};
+  // rest = {e2, e3}. e0 and e1 match (distance 0 to known); e2 is nearer the rest; the last is
+  // nearer the rest too. So 2 of 4.
+  cv::Mat q = (cv::Mat_<float>(4, 4) << 1, 0, 0, 0,  //
+               0, 1, 0, 0,                           //
+               0, 0, 1, 0,                           //
+               0, 0, 0.1F, 0.9F);
+  cv::Mat known = (cv::Mat_<float>(2, 4) << 1, 0, 0, 0, 0, 1, 0, 0);
+  cv::Mat rest = (cv::Mat_<float>(2, 4) << 0, 0, 1, 0, 0, 0, 0, 1);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, known, rest, 0.8), 0.5);
+  // Known = the rest: nothing is nearer the known than ratio x the rest.
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, rest, rest, 0.8), 0.0);
+  // No rest: every descriptor with a neighbour in the known matches.
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, known, cv::Mat(), 0.8), 1.0);
+  // Nothing to match, or nothing known.
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(cv::Mat(), known, rest, 0.8), 0.0);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(q, cv::Mat(), rest, 0.8), 0.0);
+  // The ratio: e0 + 0.5 e2 (normalised) lies 0.46 from e0 and 1.05 from e2 (0.44 times):
+  // matched at 0.5, not at 0.4.
+  cv::Mat near = (cv::Mat_<float>(1, 4) << 0.894F, 0, 0.447F, 0);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(near, known, rest, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(descriptor_match_fraction(near, known, rest, 0.4), 0.0);
+  // Bad input.
+  EXPECT_THROW((void)descriptor_match_fraction(q, known, rest, 0.0), Error);
+  EXPECT_THROW((void)descriptor_match_fraction(q, known, rest, 1.5), Error);
+  cv::Mat wide(2, 5, CV_32F, cv::Scalar(0));
+  EXPECT_THROW((void)descriptor_match_fraction(q, wide, rest, 0.8), Error);
+  cv::Mat doubles;
+  known.convertTo(doubles, CV_64F);
+  EXPECT_THROW((void)descriptor_match_fraction(q, doubles, rest, 0.8), Error);
 }
 
 TEST(Learn, AnExistingOutIsRefusedWithoutOverwrite) {
@@ -324,6 +368,148 @@ TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
       EXPECT_EQ(second_choice, -2);
       EXPECT_TRUE(by_words);
       EXPECT_EQ(r.objects.at(1).views, 0);
+    }
+  }
+}
+
+TEST(Learn, CarryRegionFindsTheObjectWhereItWasOrMovedWithThePush) {
+  // A 40 x 40 image, the object's region the square [5, 15)^2, the push's motion (+20, 0) px.
+  // The look's features: 4 at (8..11, 10) and 4 at (28..31, 10); the object's views hold e0.
+  // Where the features that are e0 lie says where the object is.
+  cv::Mat region(40, 40, CV_8U, cv::Scalar(0));
+  region(cv::Rect(5, 5, 10, 10)).setTo(255);
+  const cv::Point2d shift(20, 0);
+  std::vector<cv::Point2f> points;
+  points.reserve(8);
+  for (int i = 0; i < 4; ++i) points.emplace_back(8.0F + i, 10.0F);
+  for (int i = 0; i < 4; ++i) points.emplace_back(28.0F + i, 10.0F);
+  const cv::Mat pool = (cv::Mat_<float>(1, 4) << 1, 0, 0, 0);
+  const auto look = [](bool object_left, bool object_right) {
+    cv::Mat d(8, 4, CV_32F, cv::Scalar(0));
+    for (int i = 0; i < 8; ++i) {
+      const bool object = i < 4 ? object_left : object_right;
+      d.at<float>(i, object ? 0 : 1 + (i % 3)) = 1;
+    }
+    return d;
+  };
+  cv::Mat out;
+  EXPECT_EQ(carry_region(region, shift, points, look(false, true), pool, 0.8, 0.1, out),
+            RegionFate::kCarried);
+  ASSERT_FALSE(out.empty());
+  EXPECT_EQ(out.at<uchar>(10, 30), 255);  // moved with the push
+  EXPECT_EQ(out.at<uchar>(10, 10), 0);
+  EXPECT_EQ(carry_region(region, shift, points, look(true, false), pool, 0.8, 0.1, out),
+            RegionFate::kStayed);
+  EXPECT_EQ(out.at<uchar>(10, 10), 255);
+  EXPECT_EQ(out.at<uchar>(10, 30), 0);
+  // Its appearance is nowhere: lost (forgotten), no region.
+  EXPECT_EQ(carry_region(region, shift, points, look(false, false), pool, 0.8, 0.1, out),
+            RegionFate::kLost);
+  EXPECT_TRUE(out.empty());
+  // Bad input.
+  EXPECT_THROW((void)carry_region(cv::Mat(), shift, points, look(true, true), pool, 0.8, 0.1, out),
+               Error);
+  EXPECT_THROW((void)carry_region(region, shift, {}, look(true, true), pool, 0.8, 0.1, out), Error);
+}
+
+TEST(Learn, CarryRegionsLogsTheRegionsCarriedOnlyWhenOn) {
+  // --carry-regions adds "carried" to every region line of the log; off, the log is as before.
+  const test::TempDir dir("proprio_learn_carry_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const bool carry : {false, true}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.carry_regions = carry;
+    o.out = dir.path() / (carry ? "on" : "off");
+    (void)run_learn(o, robot, attendant, 2, prov);
+    std::ifstream in(o.out / "decisions.jsonl");
+    std::string line;
+    int regions = 0;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] != "region") continue;
+      ++regions;
+      EXPECT_EQ(j.contains("carried"), carry) << line;
+    }
+    EXPECT_GT(regions, 0);
+  }
+}
+
+TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
+  // new_object "match": the second turn scores each open blob by the fraction of its
+  // descriptors matched to the first object's views and chooses the least matched; "words"
+  // (the default) logs no match fractions.
+  const test::TempDir dir("proprio_learn_match_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const NewObjectScore how : {NewObjectScore::kWords, NewObjectScore::kMatch}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.new_object = how;
+    o.out = dir.path() / (how == NewObjectScore::kMatch ? "match" : "words");
+    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    ASSERT_GT(r.objects.at(0).views, 0);
+    std::ifstream in(o.out / "decisions.jsonl");
+    std::string line;
+    int chose = 0;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] != "choose" || j.value("object", -1) != 1) continue;
+      ++chose;
+      ASSERT_FALSE(j["scores"].empty()) << line;
+      if (how == NewObjectScore::kWords) {
+        for (const auto& s : j["scores"]) EXPECT_FALSE(s.contains("matched")) << line;
+        continue;
+      }
+      EXPECT_NE(j["why"].get<std::string>().find("matched"), std::string::npos) << line;
+      double least = 2;
+      int least_blob = -1;
+      for (const auto& s : j["scores"]) {
+        const double f = s["matched"].get<double>();
+        EXPECT_GE(f, 0.0);
+        EXPECT_LE(f, 1.0);
+        EXPECT_EQ(s["matched_object"].get<int>(), 0) << line;
+        if (f < least) {
+          least = f;
+          least_blob = s["blob"].get<int>();
+        }
+      }
+      EXPECT_EQ(j["blob"].get<int>(), least_blob) << line;
+    }
+    EXPECT_EQ(chose, 1);
+  }
+}
+
+TEST(Learn, ABlobThatTheDescriptorsSayIsAKnownObjectIsNotANewClass) {
+  // new_object "match" with match_known 0: every blob has at least no descriptors matched to
+  // the first object's views, so every blob is that object: the second turn finds only known
+  // objects (by their descriptors) and learns nothing. With 1 (off) it chooses.
+  const test::TempDir dir("proprio_learn_match_known_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const double known : {1.0, 0.0}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.new_object = NewObjectScore::kMatch;
+    o.match_known = known;
+    o.out = dir.path() / (known < 1 ? "on" : "off");
+    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    ASSERT_GT(r.objects.at(0).views, 0);
+    const std::string ev = events_of(o.out / "decisions.jsonl");
+    std::ifstream in(o.out / "decisions.jsonl");
+    const std::string raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const bool by_descriptors = raw.find("(by its descriptors)") != std::string::npos;
+    if (known < 1) {
+      EXPECT_TRUE(by_descriptors) << ev;
+      EXPECT_EQ(count_of(ev, "choose:"), 1) << ev;
+      EXPECT_EQ(r.objects.at(1).views, 0);
+    } else {
+      EXPECT_FALSE(by_descriptors) << ev;
+      EXPECT_EQ(count_of(ev, "choose:"), 2) << ev;
     }
   }
 }

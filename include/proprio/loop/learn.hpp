@@ -26,6 +26,7 @@
 // Frames: table points world x y (m, robot base frame); pixels as planning::PlanningView.
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,41 @@ enum class PushSegmentation {
 };
 inline constexpr core::ChoiceNames<PushSegmentation, 2> kPushSegmentationNames{
     {{"sparse", PushSegmentation::kSparse}, {"dense", PushSegmentation::kDense}}};
+
+/// How 7.2 (d) tells a new object from the known ones, among the blobs no cue marks as known.
+enum class NewObjectScore {
+  kWords,  ///< the blob least likely under the known objects' word Dirichlets (mean log p)
+  kMatch   ///< the blob with the fewest descriptors matched to a known object's views (NN ratio)
+};
+inline constexpr core::ChoiceNames<NewObjectScore, 2> kNewObjectScoreNames{
+    {{"words", NewObjectScore::kWords}, {"match", NewObjectScore::kMatch}}};
+
+/// The fraction of `query`'s descriptors (rows, CV_32F) whose nearest neighbour among `known`
+/// lies closer than `ratio` times their nearest neighbour among `rest` (the look's other
+/// features: the alternative that the descriptor is not the known object's). With `rest` empty
+/// every descriptor that has a neighbour in `known` matches. 0 when `query` or `known` is empty.
+/// Throws Error unless the non-empty matrices are CV_32F with one column count and
+/// 0 < ratio <= 1.
+double descriptor_match_fraction(const cv::Mat& query, const cv::Mat& known, const cv::Mat& rest,
+                                 double ratio);
+
+/// What became of a known object's region that another object's push moved over.
+enum class RegionFate {
+  kStayed,   ///< its features are still where the region was
+  kCarried,  ///< its features are where the push's motion carried the region
+  kLost      ///< neither: its appearance changed unexplained (the region is forgotten)
+};
+
+/// Where a known object's `region` (8-bit mask) lies after a push whose motion moved `shift`
+/// (px, the pusher from the touch to the push's end) passed over it: the region where it was
+/// and the region moved by `shift` are each scored by descriptor_match_fraction of the look's
+/// features inside it (`points`, rows of `descriptors`, CV_32F) against the object's views'
+/// descriptors (`pool`), the look's other features being the alternative. The better of the
+/// two with at least `min_matched` is the object's (`out`: that region; empty when kLost).
+/// Throws Error unless `points` and `descriptors` have one row each and the region is 8-bit.
+RegionFate carry_region(const cv::Mat& region, const cv::Point2d& shift,
+                        const std::vector<cv::Point2f>& points, const cv::Mat& descriptors,
+                        const cv::Mat& pool, double ratio, double min_matched, cv::Mat& out);
 
 /// The features of proprio learn's views, looks and vocabulary: dense SIFT every 4 px.
 inline features::ExtractOptions learn_features() {
@@ -89,6 +125,20 @@ struct LearnOptions {
   /// gave its class no views leaves the class for the next turn (the blob it tried is not chosen
   /// again), and the run goes on until every class has views or the turns are spent.
   int rounds = 0;
+  /// 7.2 (d): "words" (the blob least likely under the object words so far) or "match" (the blob
+  /// whose descriptors match a known object's views least: descriptor_match_fraction).
+  NewObjectScore new_object = NewObjectScore::kWords;
+  /// "match": a descriptor is a known object's when its nearest neighbour in that object's views
+  /// is closer than this times its nearest among the look's other features.
+  double match_ratio = 0.8;
+  /// "match": a blob with at least this fraction of its descriptors matched to one known
+  /// object's views is that object (7.2 d leaves it out: no second class of one object).
+  /// 1 = off (only where the object was segmented, recognised or left counts).
+  double match_known = 1.0;
+  /// After a push, another known object's region that the push's motion overlapped is looked
+  /// for (carry_region: where it was, or moved with the push, by its descriptors) instead of
+  /// forgotten; a carried region is cut out of the pushed object's. Off: forgotten (as before).
+  bool carry_regions = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
@@ -149,6 +199,22 @@ struct LearnOptions {
                     "Turns at most (0 = one a class); a turn that gave no views is retried "
                     "on another blob until every class has views",
                     core::between(0, 1000)});
+    v.choice(self.new_object,
+             {"new_object",
+              "How (d) picks a new object: words (least likely) or match (fewest "
+              "descriptors matched to known objects' views)"},
+             kNewObjectScoreNames);
+    v(self.match_ratio, {"match_ratio",
+                         "match: nearest in a known object's views closer than this times the "
+                         "nearest among the look's other features",
+                         core::between(0.05, 1.0)});
+    v(self.match_known, {"match_known",
+                         "match: a blob with this fraction of its descriptors matched to a "
+                         "known object is that object, not chosen as new; 1 off",
+                         core::between(0.0, 1.0)});
+    v(self.carry_regions, {"carry_regions",
+                           "Look for a known object's region that another push moved over "
+                           "(where it was, or moved with the push) instead of forgetting it"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
@@ -265,6 +331,10 @@ struct BlobMeanLogP {
   /// best_mean_log_p less that object's own views' mean log p (its last push), nats: near 0 or
   /// above, the blob looks like that object (LearnOptions::known_margin).
   double below_own = 0;
+  /// new_object "match": the largest fraction of its descriptors matched to one known object's
+  /// views, and that object (absent with "words").
+  std::optional<double> matched = {};
+  std::optional<int> matched_object = {};
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -272,6 +342,8 @@ struct BlobMeanLogP {
     v(self.best_mean_log_p, {"best_mean_log_p", "Its best mean log p under the models so far"});
     v(self.best_object, {"best_object", "The object whose model gives it"});
     v(self.below_own, {"below_own", "It less that object's own views' mean log p, nats"});
+    v(self.matched, {"matched", "match: its largest fraction matched to one known object"});
+    v(self.matched_object, {"matched_object", "match: that object"});
   }
 };
 
@@ -310,6 +382,7 @@ struct LearnDecision {
   std::optional<std::string> by = {};              ///< split: what split it (top-down)
   std::optional<int> pixels = {};                  ///< region: its size, px
   std::optional<std::vector<int>> forgotten = {};  ///< region: objects whose region was forgotten
+  std::optional<std::vector<int>> carried = {};    ///< region: regions moved with the push
   std::optional<int> blobs_out_of_reach = {};      ///< end
   std::optional<int> looks_split = {};             ///< end: looks whose blobs were split
   std::optional<int> pushes = {};                  ///< end
@@ -348,6 +421,7 @@ struct LearnDecision {
     v(self.by, {"by", "What split the blob"});
     v(self.pixels, {"pixels", "The region's size, px"});
     v(self.forgotten, {"forgotten", "Objects whose region was forgotten"});
+    v(self.carried, {"carried", "Objects whose region moved with the push (carry_regions)"});
     v(self.blobs_out_of_reach, {"blobs_out_of_reach", "Blobs out of reach over all looks"});
     v(self.looks_split, {"looks_split", "Looks whose blobs were split"});
     v(self.pushes, {"pushes", "Pushes"});
