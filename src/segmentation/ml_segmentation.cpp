@@ -127,6 +127,10 @@ void MlOptions::validate() const {
   require_positive(evidence_step, "evidence_step");
   require_positive(arm_removal_step, "arm_removal_step");
   require_positive(pixel_still_span, "pixel_still_span");
+  require_positive(carried_span, "carried_span");
+  require_positive(carried_step, "carried_step");
+  require(std::isfinite(carried_match) && carried_match >= 0,
+          core::cat({"MlOptions.carried_match must be >= 0, got ", core::num(carried_match)}));
   require(std::isfinite(pixel_motion_margin) && pixel_motion_margin >= 0,
           core::cat({"MlOptions.pixel_motion_margin must be >= 0, got ",
                      core::num(pixel_motion_margin)}));
@@ -324,6 +328,15 @@ struct MlSegmenter::Impl {
   cv::Mat1b touch_gray;
   Eigen::Vector2d touch_arm = Eigen::Vector2d::Zero();
   bool touch_judged = false;
+  // Carried touch pixels (carried_pixels): each first-touch pixel's position in the current
+  // frame and its motion over the last frame pair (processing pixels; x < 0: lost), the track
+  // it fell in at each sample (-1: lost), and the arm's motion past its touch position at
+  // which the next sample is taken.
+  cv::Mat2f carry_at, carry_motion;
+  std::vector<cv::Mat1i> carry_ids;
+  cv::Mat1f carry_look;  // the first-touch frame's grey levels, 5x5 means
+  double carry_next = 0.0;
+  bool carrying = false;
   // Depth variant with depth_smoothing: the depth of every frame whose labels are kept.
   std::vector<cv::Mat1f> depths;
   cv::Mat1f touch_depth;
@@ -606,6 +619,103 @@ struct MlSegmenter::Impl {
     if (!photometric_support(tr.last_gain, tr.last_expect, tr.last_contrasted))
       return Eigen::Vector2d::Zero();
     return tr.last_motion;
+  }
+
+  // Carried touch pixels: every pixel of the first-touch frame starts where it is, still.
+  void start_carrying(const cv::Mat1b& gray) {
+    carry_at.create(proc_size);
+    for (int y = 0; y < carry_at.rows; ++y) {
+      cv::Vec2f* a = carry_at[y];
+      for (int x = 0; x < carry_at.cols; ++x)
+        a[x] = cv::Vec2f(static_cast<float>(x), static_cast<float>(y));
+    }
+    carry_motion = cv::Mat2f(proc_size, cv::Vec2f(0.0F, 0.0F));
+    carry_ids.clear();
+    carry_next = opt.carried_step;
+    cv::boxFilter(gray, carry_look, CV_32F, cv::Size(5, 5));
+    carrying = true;
+  }
+
+  // The backward flow at (x, y), bilinear; (x, y) within the image.
+  [[nodiscard]] static cv::Vec2f flow_at(const cv::Mat2f& f, float x, float y) {
+    const int x0 = std::min(static_cast<int>(x), f.cols - 2);
+    const int y0 = std::min(static_cast<int>(y), f.rows - 2);
+    const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+    const cv::Vec2f* r0 = f[y0];
+    const cv::Vec2f* r1 = f[y0 + 1];
+    return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+           fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+  }
+
+  // Carries each first-touch pixel from the previous frame into this one: the point q of this
+  // frame whose backward flow b(q) takes it to the pixel's position p, q + b(q) = p, found by
+  // the iteration q <- p - b(q) from p plus the pixel's last motion. A pixel for which none is
+  // found within 1 px (it was covered, or it left the image) is lost.
+  void carry(const cv::Mat2f& back_flow) {
+    const auto w = static_cast<float>(back_flow.cols - 1);
+    const auto h = static_cast<float>(back_flow.rows - 1);
+    const auto inside = [&](const cv::Vec2f& q) {
+      return q[0] >= 0 && q[1] >= 0 && q[0] <= w && q[1] <= h;
+    };
+    constexpr int kIterations = 4;
+    constexpr float kMaxResidual = 1.0F;
+    for (int y = 0; y < carry_at.rows; ++y) {
+      cv::Vec2f* a = carry_at[y];
+      cv::Vec2f* v = carry_motion[y];
+      for (int x = 0; x < carry_at.cols; ++x) {
+        const cv::Vec2f p = a[x];
+        if (p[0] < 0) continue;
+        cv::Vec2f q = p + v[x];
+        bool found = false;
+        for (int it = 0; it < kIterations && inside(q); ++it) {
+          const cv::Vec2f next = p - flow_at(back_flow, q[0], q[1]);
+          if (cv::norm(next - q) <= 0.05) {
+            found = true;
+            break;
+          }
+          q = next;
+        }
+        if (!found && inside(q))
+          found = cv::norm(q + flow_at(back_flow, q[0], q[1]) - p) <= kMaxResidual;
+        if (!found || !inside(q)) {
+          a[x] = cv::Vec2f(-1.0F, -1.0F);
+          continue;
+        }
+        v[x] = q - p;
+        a[x] = q;
+      }
+    }
+  }
+
+  // Notes the track each carried pixel stands in (this frame's labels) and keeps those tracks
+  // and their successors (release_ended): their scores are read when the touch frame is painted.
+  void note_carried(const cv::Mat1i& lab, const cv::Mat1b& gray) {
+    cv::Mat1i ids(proc_size, -1);
+    cv::Mat1f look;
+    cv::boxFilter(gray, look, CV_32F, cv::Size(5, 5));
+    const auto match = static_cast<float>(opt.carried_match);
+    int last = -1;
+    for (int y = 0; y < ids.rows; ++y) {
+      const cv::Vec2f* a = carry_at[y];
+      int* o = ids[y];
+      for (int x = 0; x < ids.cols; ++x) {
+        if (a[x][0] < 0) continue;
+        const int qy = static_cast<int>(std::lround(a[x][1]));
+        const int qx = static_cast<int>(std::lround(a[x][0]));
+        // A pixel that no longer looks as it did (the flow carried a piece of the background
+        // along the object's edge) says nothing.
+        if (match > 0 && std::abs(look(qy, qx) - carry_look(y, x)) > match) continue;
+        const int id = lab(qy, qx);
+        o[x] = id;
+        if (id != last) {
+          Track& t = tracks[id];
+          t.root = true;
+          t.needed = true;
+          last = id;
+        }
+      }
+    }
+    carry_ids.push_back(ids);
   }
 
   // Arm removal per pixel, before the touch: notes which pixels changed in this frame pair
@@ -929,6 +1039,46 @@ struct MlSegmenter::Impl {
       float* o = m[y];
       for (int x = 0; x < lab.cols; ++x) o[x] = score[static_cast<size_t>(l[x])];
     }
+    if (frame == *first_touch && !carry_ids.empty() && carry_ids.front().size() == m.size()) {
+      // Carried touch pixels (carried_pixels): the median score of the tracks the pixel fell
+      // in, where at least half the samples still had it.
+      const size_t samples = carry_ids.size();
+      double peak_d = 0;
+      cv::minMaxLoc(m, nullptr, &peak_d);
+      const auto region_peak = static_cast<float>(peak_d);
+      std::vector<float> votes;
+      votes.reserve(samples);
+      std::vector<int> last_id(samples, -2);
+      std::vector<float> last_score(samples, 0.0F);
+      for (int y = 0; y < m.rows; ++y) {
+        float* o = m[y];
+        for (int x = 0; x < m.cols; ++x) {
+          votes.clear();
+          for (size_t k = 0; k < samples; ++k) {
+            const int id = carry_ids[k](y, x);
+            if (id < 0) continue;
+            if (id != last_id[k]) {
+              const auto sc = scored.find(id);
+              last_id[k] = id;
+              last_score[k] = sc != scored.end() ? sc->second.score : 0.0F;
+            }
+            votes.push_back(last_score[k]);
+          }
+          if (2 * votes.size() < samples) continue;
+          const size_t half = votes.size() / 2;
+          std::nth_element(votes.begin(), votes.begin() + static_cast<std::ptrdiff_t>(half),
+                           votes.end());
+          float med = votes[half];
+          if (votes.size() % 2 == 0) {
+            med =
+                0.5F * (med + *std::max_element(votes.begin(),
+                                                votes.begin() + static_cast<std::ptrdiff_t>(half)));
+          }
+          med = std::min(med, region_peak);
+          o[x] = opt.carried_max ? std::max(o[x], med) : med;
+        }
+      }
+    }
     if (frame == *first_touch && touch_judged && touch_still.size() == m.size()) {
       // Arm removal per pixel (pixel_arm_removal): a pixel that did not move before the touch
       // is not the arm, whatever the rest of its region did.
@@ -1152,13 +1302,13 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       cv::Mat1s mag = cv::abs(gx) + cv::abs(gy);
       textured = mag >= m.opt.min_gradient;
     }
-    const std::vector<int> ids =
-        m.accumulate(lab, back_flow, textured, gray, colour, photometric_ok);
     const double moved = (*ee_image - *m.interval_ee).norm();
     // Before the touch the arm's approach is slow: shorter intervals for arm removal. The first
     // touch closes the pre-touch interval (eq 4.18's T' ends there).
     const bool pre_touch = !m.first_touch || first_touch_now;
     const double step = pre_touch ? m.opt.arm_removal_step : m.opt.evidence_step;
+    const std::vector<int> ids =
+        m.accumulate(lab, back_flow, textured, gray, colour, photometric_ok);
     if (moved >= step || first_touch_now) {
       m.evaluate(ids, *ee_image, pre_touch, gray);
       m.start_interval(ee_image, gray);
@@ -1195,6 +1345,26 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       Track& r = m.tracks.at(t);
       r.root = true;
       r.needed = true;
+    }
+  }
+  if (m.opt.carried_pixels) {
+    if (first_touch_now) {
+      m.start_carrying(gray);
+    } else if (m.carrying && !back_flow.empty()) {
+      m.carry(back_flow);
+      if (!m.touch_ee) {
+        m.carrying = false;  // no touch position: no arm motion to sample by
+      } else if (ee_image && (*ee_image - *m.touch_ee).norm() >= m.carry_next) {
+        m.note_carried(lab, gray);
+        const double moved = (*ee_image - *m.touch_ee).norm();
+        m.carry_next = (std::floor(moved / m.opt.carried_step) + 1) * m.opt.carried_step;
+        if (m.carry_next > m.opt.carried_span + 1e-9) m.carrying = false;
+      }
+      if (!m.carrying) {
+        m.carry_at.release();
+        m.carry_motion.release();
+        m.carry_look.release();
+      }
     }
   }
   if (!m.opt.keep_frame_labels) m.release_ended();

@@ -145,6 +145,27 @@ struct MlOptions {
   double pixel_still_gradient = 24.0;
   double pixel_still_span = 6.0;
   double pixel_motion_margin = 2.0;
+  /// Carried touch pixels (monocular and depth alike): the map is painted on the first-touch
+  /// frame's regions, and a region there that straddles the object's outline (the bottle's
+  /// neck and the wall behind it, the mug's side and the gripper) gives both sides one score.
+  /// With this on, each pixel of the first-touch frame is carried forward along the flow (the
+  /// backward flow inverted per frame, q + b(q) = p, from the pixel's last motion; a pixel for
+  /// which no such q is found within 1 px was covered and is lost) while the arm moves
+  /// carried_span pixels past its touch position; every carried_step pixels of that motion it
+  /// notes the track it stands in, where its 5x5 mean grey level is still within carried_match
+  /// of the touch frame's (else that sample says nothing: the flow carried a piece of the
+  /// background along the object's edge). Where at least half the samples have it, the pixel
+  /// takes the median of those tracks' scores (capped at the regions' peak, since the
+  /// regions' scores are smoothed and the tracks' are not), or with carried_max the higher of
+  /// that and its region's value. Off by default: on the tuning recording it raised the mugs
+  /// (0.782 -> 0.821) and the books, but lowered the bottles (0.771 -> 0.765) and the rabbits
+  /// (0.744 -> 0.712): recall rises everywhere, and precision falls where the flow carries
+  /// background pixels with the object (docs/results/segmentation-eval.md, session 20).
+  bool carried_pixels = false;
+  double carried_span = 36.0;
+  double carried_step = 6.0;
+  bool carried_max = true;
+  double carried_match = 12.0;
   /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
   /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
   /// interval must not match a region followed through the whole push. Off (0) by default:
@@ -341,6 +362,12 @@ struct MlOptions {
       {"pixel_still_gradient", "Least Sobel gradient of a still pixel, grey levels"});
     v(self.pixel_motion_margin, {"pixel_motion_margin", "Least gain of a moved pixel, grey"});
     v(self.pixel_still_span, {"pixel_still_span", "Arm motion a still pixel stood through, px"});
+    v(self.carried_pixels,
+      {"carried_pixels", "Touch pixels take the tracks they are carried into"});
+    v(self.carried_span, {"carried_span", "Arm motion after the touch they are carried over, px"});
+    v(self.carried_step, {"carried_step", "Arm motion between their samples, px"});
+    v(self.carried_max, {"carried_max", "Higher of the carried median and the region's"});
+    v(self.carried_match, {"carried_match", "Largest grey-level change of a carried pixel"});
     v(self.evidence_step, {"evidence_step", "Arm motion between evidence frames, px"});
     v(self.arm_removal_step, {"arm_removal_step", "Arm motion that removes its regions, px"});
     v(self.min_region_motion, {"min_region_motion", "Least region motion that counts, px"});
