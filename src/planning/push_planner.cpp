@@ -543,13 +543,14 @@ double moved_share(const cv::Mat& before, const cv::Mat& after, const PutativeOb
 
 namespace {
 
-// Distance of p to the convex polygon `hull` (either orientation): 0 inside.
+// The largest distance from c to a vertex of `hull`: the radius of a circle about c holding it.
 double hull_radius(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& c) {
   double r = 0;
   for (const auto& h : hull) r = std::max(r, (h - c).norm());
   return r;
 }
 
+// Distance of p to the convex polygon `hull` (either orientation): 0 inside.
 double distance_to_polygon(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) {
   const std::size_t n = hull.size();
   int positive = 0;
