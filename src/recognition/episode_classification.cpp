@@ -203,8 +203,8 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
       const cv::Mat image = e.frame(i);
       for (const auto& [id, label] : wanted) {
         const cv::Mat m = object_mask(ids, id, dilate, erode);
-        auto origin = [&] {
-          const cv::Mat bare = object_mask(ids, id, 0, 0);
+        auto origin = [&, object = id] {
+          const cv::Mat bare = object_mask(ids, object, 0, 0);
           const int rows = bare.rows - 1;
           const int cols = bare.cols - 1;
           const bool border =
