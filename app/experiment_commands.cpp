@@ -62,6 +62,7 @@ struct SetArgs {
 struct ScatterArgs {
   ScatterExperimentRunOptions options;
   std::string k = "objects,8";
+  std::string view_select = "mask";
   JsonFlag json;
   bool quiet = false;
 };
@@ -83,6 +84,8 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   a.options.options.topics = parse_topics(a.k);
   a.options.options.frames.dilate = a.options.options.view_dilate;  // --dilate: both alike
   a.options.options.frames.erode = a.options.options.view_erode;    // --erode: both alike
+  a.options.options.view_selection = a.view_select == "bare" ? recognition::ViewSelection::kBareMask
+                                                             : recognition::ViewSelection::kMask;
   if (a.options.options.view_erode > 0 && a.options.options.view_dilate > 0) {
     throw Error("--erode needs --dilate 0 (the masks are either grown or shrunk)");
   }
@@ -190,6 +193,12 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
   sc->add_option("--view-min-features", s->options.options.view_min_features,
                  "With --view-episodes: least features of a view")
       ->capture_default_str();
+  sc->add_option("--view-select", s->view_select,
+                 "With --view-episodes: a view is kept by the features of the mask it is cut by "
+                 "(mask) or of the object's bare mask (bare: the same views whatever --dilate / "
+                 "--erode)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"mask", "bare"}));
   sc->add_option("--dilate", s->options.options.view_dilate,
                  "Grow the object masks by this many px (the views' and each-object frames')")
       ->capture_default_str()

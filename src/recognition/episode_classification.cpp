@@ -183,13 +183,13 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
                                       const std::vector<std::vector<int>>& frames,
                                       const std::vector<std::string>& classes,
                                       const features::ExtractOptions& options, int min_features,
-                                      int dilate, int erode) {
+                                      int dilate, int erode, ViewSelection selection) {
   assert(frames.size() == episodes.size());
   options.validate();
   if (min_features < 1) throw Error("a view needs at least 1 feature");
   if (dilate < 0) throw Error("the mask growth must be >= 0 pixels");
   check_mask_change(dilate, erode);
-  LabelledFeatures out{{}, {}, classes};
+  LabelledFeatures out{{}, {}, classes, {}};
   for (std::size_t ei = 0; ei < episodes.size(); ++ei) {
     const episode::Episode& e = episodes[ei];
     if (!e.info().has_masks) throw Error::in_file(e.dir(), "the episode has no ground-truth masks");
@@ -203,11 +203,47 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
       const cv::Mat image = e.frame(i);
       for (const auto& [id, label] : wanted) {
         const cv::Mat m = object_mask(ids, id, dilate, erode);
+        auto origin = [&, object = id] {
+          const cv::Mat bare = object_mask(ids, object, 0, 0);
+          const int rows = bare.rows - 1;
+          const int cols = bare.cols - 1;
+          const bool border =
+              cv::countNonZero(bare.row(0)) > 0 || cv::countNonZero(bare.row(rows)) > 0 ||
+              cv::countNonZero(bare.col(0)) > 0 || cv::countNonZero(bare.col(cols)) > 0;
+          return ViewOrigin{static_cast<int>(ei), i, cv::countNonZero(bare), border};
+        };
+        if (selection == ViewSelection::kBareMask && (dilate > 0 || erode > 0)) {
+          // Chosen by the bare mask's features, cut by m: extracted once over both masks (the
+          // grid points and descriptors do not depend on the mask, only which points are kept).
+          const cv::Mat bare = object_mask(ids, id, 0, 0);
+          if (cv::countNonZero(bare) == 0) continue;
+          cv::Mat both;
+          cv::bitwise_or(bare, m, both);
+          const features::Features all = features::extract_features(image, options, both);
+          auto on = [](const cv::Mat& mask, const cv::KeyPoint& k) {
+            const int x = static_cast<int>(std::lround(k.pt.x));
+            const int y = static_cast<int>(std::lround(k.pt.y));
+            return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<uchar>(y, x) != 0;
+          };
+          int on_bare = 0;
+          std::vector<int> rows;
+          for (int r = 0; r < all.size(); ++r) {
+            const cv::KeyPoint& k = all.keypoints[static_cast<std::size_t>(r)];
+            if (on(bare, k)) ++on_bare;
+            if (on(m, k)) rows.push_back(r);
+          }
+          if (on_bare < min_features) continue;
+          out.views.push_back(features::select_features(all, rows));
+          out.labels.push_back(label);
+          out.origins.push_back(origin());
+          continue;
+        }
         if (cv::countNonZero(m) == 0) continue;
         features::Features f = features::extract_features(image, options, m);
         if (f.size() < min_features) continue;
         out.views.push_back(std::move(f));
         out.labels.push_back(label);
+        out.origins.push_back(origin());
       }
     }
   }
@@ -226,10 +262,10 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const std::vector<std::string>& classes,
                                   const features::Vocabulary& vocabulary,
                                   const features::ExtractOptions& options, int min_features,
-                                  int dilate, int erode) {
-  return views_corpus(
-      object_view_features(episodes, frames, classes, options, min_features, dilate, erode),
-      vocabulary);
+                                  int dilate, int erode, ViewSelection selection) {
+  return views_corpus(object_view_features(episodes, frames, classes, options, min_features, dilate,
+                                           erode, selection),
+                      vocabulary);
 }
 
 }  // namespace proprio::recognition

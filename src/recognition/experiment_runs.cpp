@@ -124,6 +124,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     rec.view_block = o.view_block;
     rec.mask_dilate = o.view_dilate;
     rec.mask_erode = o.view_erode;
+    rec.view_selection = o.view_selection == ViewSelection::kBareMask ? "bare" : "mask";
     rec.view_split = o.split_by_episode ? "episodes" : "blocks";
   }
   rec.mot = o.mot;
@@ -139,6 +140,14 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
   rec.passes = o.online.passes;
   rec.mapping_views = r.mapping_views;
   rec.test_views = r.test_views;
+  if (!r.test_origins.empty()) {
+    std::vector<ScatterViewRecord>& views = rec.test_view_origins.emplace();
+    for (std::size_t i = 0; i < r.test_origins.size(); ++i) {
+      const ViewOrigin& v = r.test_origins[i];
+      views.push_back({v.episode, v.frame, r.objects[static_cast<std::size_t>(r.test_labels[i])],
+                       r.test_features[i], v.mask_pixels, v.at_border});
+    }
+  }
   rec.dictionary = kmeans_record(r.kmeans, r.dictionary_descriptors);
   for (const ScatterRunResult& run : r.runs) {
     const std::string title = "K = " + std::to_string(run.topics);
@@ -183,6 +192,8 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
         if (g.model.starts_with("mixture")) point.components = g.components;
       }
     }
+    if (!run.mixture_words_predicted.empty())
+      j.mixture_words_predicted = run.mixture_words_predicted;
     if (!run.ceilings.empty()) {
       std::vector<ScatterCeilingRecord>& c = j.ceilings.emplace();
       for (const RepresentationCeiling& x : run.ceilings) {

@@ -347,6 +347,9 @@ std::vector<ScatterExperimentResult> run_scatter(
                   std::vector<int> predicted = w.predicted;
                   for (std::size_t d = 0; d < predicted.size(); ++d)
                     if (test_docs.corpus.document(d).empty()) predicted[d] = -1;
+                  if (source == ThetaSource::kEStep && model == "mixture" &&
+                      components == o.mot_grid_components.front())
+                    r.mixture_words_predicted = predicted;
                   r.mot_grid.push_back({source, 0, prior, model + "-words", components,
                                         confusion_matrix(test_docs.labels, predicted,
                                                          test_docs.classes, test_docs.classes)});
@@ -451,9 +454,9 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
       }
     }
     auto features_of = [&](const std::vector<std::vector<int>>& frames, const char* side) {
-      LabelledFeatures c =
-          object_view_features(view_episodes, frames, objects, options.view_features,
-                               options.view_min_features, options.view_dilate, options.view_erode);
+      LabelledFeatures c = object_view_features(
+          view_episodes, frames, objects, options.view_features, options.view_min_features,
+          options.view_dilate, options.view_erode, options.view_selection);
       for (int k = 0; k < static_cast<int>(objects.size()); ++k) {
         if (std::find(c.labels.begin(), c.labels.end(), k) == c.labels.end()) {
           std::string m = "object '";
@@ -478,6 +481,11 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
     LabelledCorpus test_docs = views_corpus(view_features->second, v);
     result.mapping_views = static_cast<int>(mapping_docs.labels.size());
     result.test_views = static_cast<int>(test_docs.labels.size());
+    result.test_origins = view_features->second.origins;
+    result.test_labels = view_features->second.labels;
+    result.test_features.clear();
+    for (const features::Features& f : view_features->second.views)
+      result.test_features.push_back(f.size());
     return std::pair(std::move(mapping_docs), std::move(test_docs));
   };
   return run_scatter(episodes, objects, options, seeds, vocabulary, progress, make_views,

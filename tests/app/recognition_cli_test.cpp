@@ -188,7 +188,8 @@ TEST_F(RecognitionCli, BadInputIsOneLineAndExitTwo) {
            {" --dilate 0 --erode -1", "--erode"},
            {" --erode 2", "--erode"},
            {" --mot-grid-components 1", "--mot-grid-components"},
-           {" --mot-grid-components 5,1001", "--mot-grid-components"}}) {
+           {" --mot-grid-components 5,1001", "--mot-grid-components"},
+           {" --view-select all", "--view-select"}}) {
     r = run("experiment scatter --episodes " + file("none") + " --views " + images() + flags +
             " --quiet");
     EXPECT_EQ(r.code, 2) << flags << ": " << r.out;
@@ -322,6 +323,9 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   EXPECT_EQ(jm["view_split"], "episodes");
   EXPECT_EQ(jm["mask_dilate"], 3);
   EXPECT_EQ(jm["mask_erode"], 0);
+  EXPECT_EQ(jm["view_selection"], "mask");
+  EXPECT_EQ(jm["test_view_origins"].size(), jm["test_views"].get<std::size_t>());
+  EXPECT_EQ(jm["test_view_origins"][0]["episode"], 1);  // h2: the test episode
   EXPECT_GE(jm["runs"][0]["mot"]["mean_class_accuracy"].get<double>(), 0.6) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["mean_class_accuracy"].get<double>(), 0.45) << mt.out;
   EXPECT_GE(jm["runs"][0]["mot_unsupervised"]["chosen_classes"].get<int>(), 1);

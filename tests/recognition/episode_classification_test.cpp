@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
@@ -241,6 +242,72 @@ TEST(EpisodeClassification, EachObjectRegionShrunkLeavesTheOutlineOut) {
   EXPECT_THROW((void)object_view_features(f.episodes, {all}, objects, eo, 1, 4, 2), Error);
 }
 
+// Views chosen by their bare masks (ViewSelection::kBareMask) are the bare masks' views (the same
+// episodes, frames and objects, whatever the shrinking), each cut by the shrunk mask: its
+// features are those of the shrunk mask's own extraction (possibly none). Each view's origin
+// names its frame, its bare mask's area and whether that touches the image's border.
+TEST(EpisodeClassification, ViewsChosenByTheBareMasksAreTheBareMasksViews) {
+  const Fixture& f = fixture();
+  std::vector<int> all(10);
+  std::iota(all.begin(), all.end(), 0);
+  const std::vector<std::string> objects = {"box", "mug"};
+  const features::ExtractOptions eo;
+  const int least = 5;
+  const LabelledFeatures bare = object_view_features(f.episodes, {all}, objects, eo, least, 0, 0);
+  const LabelledFeatures chosen =
+      object_view_features(f.episodes, {all}, objects, eo, least, 0, 6, ViewSelection::kBareMask);
+  const LabelledFeatures shrunk = object_view_features(f.episodes, {all}, objects, eo, 1, 0, 6);
+  ASSERT_FALSE(bare.views.empty());
+  ASSERT_EQ(chosen.views.size(), bare.views.size());
+  ASSERT_EQ(chosen.origins.size(), chosen.views.size());
+  ASSERT_EQ(bare.origins.size(), bare.views.size());
+  ASSERT_EQ(shrunk.origins.size(), shrunk.views.size());
+  EXPECT_EQ(chosen.labels, bare.labels);
+  int fewer = 0;
+  for (std::size_t i = 0; i < chosen.views.size(); ++i) {
+    const ViewOrigin& o = chosen.origins[i];
+    EXPECT_EQ(o.episode, bare.origins[i].episode);
+    EXPECT_EQ(o.frame, bare.origins[i].frame);
+    EXPECT_EQ(o.mask_pixels, bare.origins[i].mask_pixels);
+    EXPECT_LE(chosen.views[i].size(), bare.views[i].size());
+    if (chosen.views[i].size() < bare.views[i].size()) ++fewer;
+    // The shrunk mask's own extraction of the same view (absent when it has no feature).
+    std::optional<std::size_t> same;
+    for (std::size_t j = 0; j < shrunk.views.size(); ++j)
+      if (shrunk.origins[j].frame == o.frame && shrunk.labels[j] == chosen.labels[i]) same = j;
+    if (!same) {
+      EXPECT_EQ(chosen.views[i].size(), 0);
+      continue;
+    }
+    ASSERT_EQ(chosen.views[i].size(), shrunk.views[*same].size());
+    for (int k = 0; k < chosen.views[i].size(); ++k) {
+      const auto u = static_cast<std::size_t>(k);
+      EXPECT_EQ(chosen.views[i].keypoints[u].pt, shrunk.views[*same].keypoints[u].pt);
+    }
+    EXPECT_EQ(cv::norm(chosen.views[i].descriptors, shrunk.views[*same].descriptors), 0);
+  }
+  EXPECT_GT(fewer, 0);
+  // The origins: the bare mask's area and border, by hand.
+  const episode::Episode& e = f.episodes[0];
+  for (std::size_t i = 0; i < bare.views.size(); ++i) {
+    const ViewOrigin& o = bare.origins[i];
+    EXPECT_EQ(o.episode, 0);
+    const cv::Mat ids = e.mask(o.frame);
+    int best = -1;
+    for (const auto& obj : e.objects()) {
+      const cv::Mat m = object_mask(ids, obj.id, 0, 0);
+      if (cv::countNonZero(m) != o.mask_pixels) continue;
+      best = obj.id;
+      const bool border = cv::countNonZero(m.row(0)) + cv::countNonZero(m.row(m.rows - 1)) +
+                              cv::countNonZero(m.col(0)) + cv::countNonZero(m.col(m.cols - 1)) >
+                          0;
+      EXPECT_EQ(o.at_border, border) << o.frame;
+    }
+    EXPECT_GE(best, 0) << o.frame;
+    EXPECT_GT(o.mask_pixels, 0);
+  }
+}
+
 TEST(EpisodeClassification, ClassNamesDropTheSimulatorsRolePrefixes) {
   EXPECT_EQ(object_class_name("scatter-bike"), "bike");
   EXPECT_EQ(object_class_name("distractor-spirit-level"), "spirit-level");
@@ -423,6 +490,75 @@ TEST(ScatterExperiment, MotGridFitsTheMixtureOncePerComponentCap) {
   EXPECT_THROW(o.validate(), Error);
   o.mot_grid_components = {};
   EXPECT_THROW(o.validate(), Error);
+}
+
+// Each test view carries where it comes from and its object, and the mixture by words' object
+// for it (the first component cap, E-step fit, prior from the views): counted, those give that
+// grid point's confusion matrix. Views chosen by the bare masks are as many as the bare masks'.
+TEST(ScatterExperiment, TestViewsCarryTheirOriginAndTheMixturesObject) {
+  const Fixture& f = fixture();
+  ScatterExperimentOptions o = small_scatter_options();
+  o.mot = true;
+  o.mot_smoothing_grid = {0};
+  o.mot_grid_components = {3, 10};
+  o.view_dilate = 0;
+  const std::vector<std::string> objects = {"box", "mug"};
+  const ScatterExperimentResult r = run_scatter_experiment(f.episodes, f.episodes, objects, o);
+  ASSERT_EQ(r.test_origins.size(), static_cast<std::size_t>(r.test_views));
+  ASSERT_EQ(r.test_labels.size(), r.test_origins.size());
+  ASSERT_EQ(r.test_features.size(), r.test_origins.size());
+  ASSERT_EQ(r.runs.size(), 1U);
+  const std::vector<int>& predicted = r.runs[0].mixture_words_predicted;
+  ASSERT_EQ(predicted.size(), r.test_origins.size());
+  for (const int p : predicted) EXPECT_TRUE(p >= -1 && p < 2) << p;
+  const ConfusionMatrix counted = confusion_matrix(r.test_labels, predicted, objects, objects);
+  int found = 0;
+  for (const MotGridPoint& g : r.runs[0].mot_grid) {
+    if (g.source == ThetaSource::kEStep && g.model == "mixture-words" && g.components == 3 &&
+        g.prior == topics::MotPrior::kViews) {
+      EXPECT_EQ(g.classes.counts, counted.counts);
+      ++found;
+    }
+  }
+  EXPECT_EQ(found, 1);
+  for (std::size_t i = 0; i < r.test_origins.size(); ++i) {
+    EXPECT_GE(r.test_features[i], o.view_min_features);
+    EXPECT_GT(r.test_origins[i].mask_pixels, 0);
+  }
+  // Shrunk by 6 px and chosen by the bare masks: the bare masks' views, each with fewer features
+  // (cut by the shrunk mask), some below the least a view needs (which shrinking cuts: that of the
+  // smallest bare view).
+  std::vector<int> all(10);
+  std::iota(all.begin(), all.end(), 0);
+  int least = std::numeric_limits<int>::max();
+  for (const auto& v :
+       object_view_features(f.episodes, {all}, objects, o.view_features, 1, 0, 0).views)
+    least = std::min(least, v.size());
+  o.view_min_features = least;
+  ScatterExperimentOptions shrunk = o;
+  shrunk.view_erode = 6;
+  shrunk.frames.erode = 6;
+  shrunk.frames.dilate = 0;
+  shrunk.mot = false;
+  shrunk.mot_smoothing_grid = {};
+  ScatterExperimentOptions bare = shrunk;
+  bare.view_erode = 0;
+  bare.frames.erode = 0;
+  const ScatterExperimentResult b = run_scatter_experiment(f.episodes, f.episodes, objects, bare);
+  shrunk.view_selection = ViewSelection::kBareMask;
+  const ScatterExperimentResult c = run_scatter_experiment(f.episodes, f.episodes, objects, shrunk);
+  EXPECT_EQ(c.test_views, b.test_views);
+  EXPECT_EQ(c.mapping_views, b.mapping_views);
+  EXPECT_EQ(c.test_labels, b.test_labels);
+  ASSERT_EQ(c.test_features.size(), b.test_features.size());
+  int below = 0;
+  for (std::size_t i = 0; i < c.test_features.size(); ++i) {
+    EXPECT_LT(c.test_features[i], b.test_features[i]);
+    EXPECT_EQ(c.test_origins[i].frame, b.test_origins[i].frame);
+    if (c.test_features[i] < least) ++below;
+  }
+  EXPECT_GT(below, 0);
+  EXPECT_TRUE(c.runs[0].mixture_words_predicted.empty());
 }
 
 // Each seed is handed out as soon as it is done, before the next starts (so a long run that is

@@ -46,6 +46,21 @@ enum class FrameRegion {
 FrameRegion parse_frame_region(const std::string& name);
 std::string to_string(FrameRegion region);
 
+/// Where a view was cut from: which of the episodes and frame, and its object's bare mask (its
+/// area in pixels and whether it touches the image's border: an object partly out of view).
+struct ViewOrigin {
+  int episode = 0;
+  int frame = 0;
+  int mask_pixels = 0;
+  bool at_border = false;
+};
+
+/// Which mask's features decide whether a view is kept (object_view_features).
+enum class ViewSelection {
+  kMask,      ///< the mask the view is cut by (grown or shrunk)
+  kBareMask,  ///< the object's bare mask, whatever the growth or shrinking
+};
+
 struct FrameDocumentOptions {
   FrameRegion region = FrameRegion::kWhole;
   /// kObjects, kEachObject: catalogue names; an episode object counts when its name is one of them

@@ -87,14 +87,18 @@ std::string object_class_name(const std::string& object_name,
 /// frames `frames[e]` of episode e and each object whose class is one of `classes`, a document
 /// of the features inside that object's mask (grown by `dilate` pixels so that the SIFT patches
 /// on its outline count, or shrunk by `erode` pixels so that those mostly off the object do not;
-/// object_mask), kept when it has at least `min_features` features. Labels index `classes`.
-/// Throws Error when an episode has no masks or dilate and erode are out of range or both > 0.
+/// object_mask), kept when it has at least `min_features` features (ViewSelection::kMask) or
+/// when its bare mask (neither grown nor shrunk) has (kBareMask: the same views whatever the
+/// growth or shrinking, a view then possibly with fewer than min_features, even none). Labels
+/// index `classes`. Throws Error when an episode has no masks or dilate and erode are out of
+/// range or both > 0.
 LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const std::vector<std::vector<int>>& frames,
                                   const std::vector<std::string>& classes,
                                   const features::Vocabulary& vocabulary,
                                   const features::ExtractOptions& options, int min_features = 20,
-                                  int dilate = 4, int erode = 0);
+                                  int dilate = 4, int erode = 0,
+                                  ViewSelection selection = ViewSelection::kMask);
 
 /// The views of object_view_corpus before quantization (the same views, in the same order): so
 /// that several vocabularies can quantize one extraction (views_corpus).
@@ -102,12 +106,15 @@ struct LabelledFeatures {
   std::vector<features::Features> views;
   std::vector<int> labels;
   std::vector<std::string> classes;
+  /// Where each view comes from (object_view_features fills it; empty otherwise).
+  std::vector<ViewOrigin> origins;
 };
 LabelledFeatures object_view_features(const std::vector<episode::Episode>& episodes,
                                       const std::vector<std::vector<int>>& frames,
                                       const std::vector<std::string>& classes,
                                       const features::ExtractOptions& options,
-                                      int min_features = 20, int dilate = 4, int erode = 0);
+                                      int min_features = 20, int dilate = 4, int erode = 0,
+                                      ViewSelection selection = ViewSelection::kMask);
 
 /// The documents of `views` over `vocabulary` (each view's bag of words), with their labels.
 LabelledCorpus views_corpus(const LabelledFeatures& views, const features::Vocabulary& vocabulary);

@@ -160,6 +160,27 @@ struct ScatterCeilingRecord {
   }
 };
 
+/// Where a test view of the scatter experiment comes from (ViewOrigin) and its object.
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ScatterViewRecord {
+  int episode = 0;
+  int frame = 0;
+  std::string object;
+  int features = 0;
+  int mask_pixels = 0;
+  bool at_border = false;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.episode, {"episode", "Index into view_episodes"});
+    v(self.frame, {"frame", "Frame of that episode"});
+    v(self.object, {"object", "The view's object"});
+    v(self.features, {"features", "Its features (inside the mask it is cut by)"});
+    v(self.mask_pixels, {"mask_pixels", "Pixels of the object's bare mask"});
+    v(self.at_border, {"at_border", "Whether the bare mask touches the image's border"});
+  }
+};
+
 /// One K of the scatter experiment.
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct ScatterRunRecord {
@@ -171,6 +192,7 @@ struct ScatterRunRecord {
   std::optional<ScatterUnsupervisedRecord> mot_unsupervised;
   std::optional<std::vector<ScatterGridRecord>> mot_grid;
   std::optional<std::vector<ScatterCeilingRecord>> ceilings;
+  std::optional<std::vector<int>> mixture_words_predicted;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -182,6 +204,10 @@ struct ScatterRunRecord {
     v(self.mot_unsupervised, {"mot_unsupervised", "The unsupervised Mixture of Topics"});
     v(self.mot_grid, {"mot_grid", "The smoothing grid"});
     v(self.ceilings, {"ceilings", "What the views' theta and words allow"});
+    v(self.mixture_words_predicted,
+      {"mixture_words_predicted",
+       "Each test view's object index by the mixture (E-step fit, first component cap) by "
+       "words, in test_view_origins' order (-1: an empty view)"});
   }
 };
 
@@ -197,6 +223,7 @@ struct ScatterExperimentRecord {
   std::optional<int> mask_dilate;
   /// With view episodes: the masks' shrinking in pixels, since 2026-12-03 (0 before).
   std::optional<int> mask_erode;
+  std::optional<std::string> view_selection;
   std::optional<std::string> view_split;
   bool mot = false;
   std::vector<std::string> objects;
@@ -211,6 +238,7 @@ struct ScatterExperimentRecord {
   int passes = 0;
   int mapping_views = 0;
   int test_views = 0;
+  std::optional<std::vector<ScatterViewRecord>> test_view_origins;
   std::optional<KmeansRecord> dictionary;
   std::vector<ScatterRunRecord> runs;
   double seconds = 0;
@@ -224,6 +252,9 @@ struct ScatterExperimentRecord {
     v(self.view_block, {"view_block", "Frames per block of the naming / test split"});
     v(self.mask_dilate, {"mask_dilate", "Pixels the object masks were grown by"});
     v(self.mask_erode, {"mask_erode", "Pixels the object masks were shrunk by"});
+    v(self.view_selection, {"view_selection",
+                            "Which mask's features kept a view: \"mask\" (the one it is cut by) or "
+                            "\"bare\" (the object's bare mask)"});
     v(self.view_split, {"view_split", "blocks or episodes"});
     v(self.mot, {"mot", "Whether the Mixture of Topics classified the views too"});
     v(self.objects, {"objects", "The objects"});
@@ -238,6 +269,7 @@ struct ScatterExperimentRecord {
     v(self.passes, {"passes", "Passes over the frames"});
     v(self.mapping_views, {"mapping_views", "Labelled views that name the topics"});
     v(self.test_views, {"test_views", "Test views"});
+    v(self.test_view_origins, {"test_view_origins", "Where each test view comes from"});
     v(self.dictionary, {"dictionary", "The dictionary's k-means, when built here"});
     v(self.runs, {"runs", "One per K"});
     v(self.seconds, {"seconds", "Wall time"});

@@ -119,6 +119,10 @@ struct ScatterExperimentOptions {
   /// Each view's mask is shrunk by this many pixels instead (object_mask; 0 unless view_dilate
   /// is 0). The CLI's --erode sets it and frames.erode together.
   int view_erode = 0;
+  /// Views kept by the features of their bare masks (ViewSelection::kBareMask), so that grown
+  /// or shrunk masks are scored on the same views as the bare ones; kMask (the default): by the
+  /// features of the mask they are cut by.
+  ViewSelection view_selection = ViewSelection::kMask;
   /// View episodes are cut into blocks of view_block frames; a mapping_fraction of the blocks
   /// (spread evenly: alternate ones for 0.5) name the topics, the others are the test.
   int view_block = 25;
@@ -171,6 +175,10 @@ struct ScatterRunResult {
   /// With ScatterExperimentOptions::mot_smoothing_grid: what the views' theta and words allow
   /// (representation_ceilings) on the same LDA model and views.
   std::vector<RepresentationCeiling> ceilings;
+  /// With mot_smoothing_grid and view episodes: each test view's object by the mixture of at
+  /// most mot_grid_components.front() Dirichlets per object (fitted on the E-step theta, prior
+  /// from the views) classifying by its words (-1: an empty view), in test_origins' order.
+  std::vector<int> mixture_words_predicted;
 };
 
 struct ScatterExperimentResult {
@@ -179,6 +187,10 @@ struct ScatterExperimentResult {
   int documents = 0;                 ///< training documents (empty ones dropped)
   std::int64_t tokens = 0;
   int mapping_views = 0, test_views = 0;
+  /// With view episodes: where each test view comes from, and its object (test_labels).
+  std::vector<ViewOrigin> test_origins;
+  std::vector<int> test_labels;
+  std::vector<int> test_features;                 ///< each test view's features
   std::optional<features::KmeansSummary> kmeans;  ///< when the dictionary was built here
   int dictionary_descriptors = 0;                 ///< descriptors it was built from
   int words = 0;
