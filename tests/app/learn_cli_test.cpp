@@ -29,6 +29,7 @@ class LearnCli : public ::testing::Test {
   static void TearDownTestSuite() { temp_.reset(); }
   static std::string file(const std::string& name) { return (dir() / name).string(); }
   static const fs::path& dir() { return temp_->path(); }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
 };
 std::optional<test::TempDir> LearnCli::temp_;
