@@ -52,7 +52,6 @@ class LdaCli : public ::testing::Test {
   static void TearDownTestSuite() { temp_.reset(); }
 
   static std::string d(const std::string& name) { return (dir_ / name).string(); }
-  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
   static fs::path dir_;
 };
