@@ -24,6 +24,7 @@ class InterceptCli : public ::testing::Test {
   static const fs::path& dir() { return temp_->path(); }
   static void SetUpTestSuite() { temp_.emplace("proprio_intercept_cli"); }
   static void TearDownTestSuite() { temp_.reset(); }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
   static std::string path(const std::string& name) { return (dir() / name).string(); }
   static std::string setup() { return " --precision-samples 4 --cache " + path("grid.json"); }

@@ -52,7 +52,9 @@ class LdaCli : public ::testing::Test {
   static void TearDownTestSuite() { temp_.reset(); }
 
   static std::string d(const std::string& name) { return (dir_ / name).string(); }
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static std::optional<test::TempDir> temp_;
+  // NOLINTNEXTLINE(readability-identifier-naming)
   static fs::path dir_;
 };
 std::optional<test::TempDir> LdaCli::temp_;
