@@ -203,8 +203,8 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
       const cv::Mat image = e.frame(i);
       for (const auto& [id, label] : wanted) {
         const cv::Mat m = object_mask(ids, id, dilate, erode);
-        auto origin = [&, object = id] {
-          const cv::Mat bare = object_mask(ids, object, 0, 0);
+        const cv::Mat bare = dilate > 0 || erode > 0 ? object_mask(ids, id, 0, 0) : m;
+        auto origin = [&] {
           const int rows = bare.rows - 1;
           const int cols = bare.cols - 1;
           const bool border =
@@ -215,7 +215,6 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
         if (selection == ViewSelection::kBareMask && (dilate > 0 || erode > 0)) {
           // Chosen by the bare mask's features, cut by m: extracted once over both masks (the
           // grid points and descriptors do not depend on the mask, only which points are kept).
-          const cv::Mat bare = object_mask(ids, id, 0, 0);
           if (cv::countNonZero(bare) == 0) continue;
           cv::Mat both;
           cv::bitwise_or(bare, m, both);
