@@ -33,6 +33,26 @@ PushPlanOptions flat_options() {
   return o;
 }
 
+// A 2 cm square object at (0.20, 0) and a 1.5 cm square neighbour at `neighbour`, seen from above.
+PlanningView object_and_neighbour(const geometry::Camera& cam, const Eigen::Vector2d& neighbour) {
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.20, 0.0}, 0.02);
+  add_feature_square(f, cam, neighbour, 0.015);
+  return make_planning_view(f, cam, {}, flat_options());
+}
+
+// The index of the view's object nearest `p`.
+int object_nearest(const PlanningView& view, const Eigen::Vector2d& p) {
+  int best = -1;
+  for (int i = 0; i < static_cast<int>(view.objects.size()); ++i) {
+    const auto d = [&](int k) {
+      return (view.objects[static_cast<std::size_t>(k)].centre - p).norm();
+    };
+    if (best < 0 || d(i) < d(best)) best = i;
+  }
+  return best;
+}
+
 TEST(PushGeometry, DistanceToHullEdgeIsTheExactIntersection) {
   const std::vector<Eigen::Vector2d> square{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   EXPECT_NEAR(distance_to_hull_edge(square, {0, 0}, {1, 0}), 1.0, 1e-12);
@@ -245,12 +265,9 @@ TEST(PushPlanner, StopsShortWhereThePushedObjectsSweptRegionWouldMeetANeighbour)
   // planner pushes it along the line only as far as its swept region keeps the margin from the
   // neighbour; without, it pushes it to the target (through the neighbour).
   const geometry::Camera cam = down_camera();
-  std::vector<cv::KeyPoint> f;
-  add_feature_square(f, cam, {0.20, 0.0}, 0.02);
-  add_feature_square(f, cam, {0.20, 0.12}, 0.015);
-  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  const PlanningView view = object_and_neighbour(cam, {0.20, 0.12});
   ASSERT_EQ(view.objects.size(), 2U);
-  const int a = view.objects[0].centre.y() < 0.06 ? 0 : 1;
+  const int a = object_nearest(view, {0.20, 0.0});
   const auto& obj = view.objects[static_cast<std::size_t>(a)];
   const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
   robot::ArmState state(arm());
@@ -497,12 +514,9 @@ TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   // beside the line first (its corridor clear of the neighbour), and from there the next push
   // reaches the target clear of it too.
   const geometry::Camera cam = down_camera();
-  std::vector<cv::KeyPoint> f;
-  add_feature_square(f, cam, {0.20, 0.0}, 0.02);
-  add_feature_square(f, cam, {0.20, 0.07}, 0.015);
-  const PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  const PlanningView view = object_and_neighbour(cam, {0.20, 0.07});
   ASSERT_EQ(view.objects.size(), 2U);
-  const int a = view.objects[0].centre.y() < 0.035 ? 0 : 1;
+  const int a = object_nearest(view, {0.20, 0.0});
   const auto& obj = view.objects[static_cast<std::size_t>(a)];
   const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
   robot::ArmState state(arm());
