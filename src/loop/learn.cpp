@@ -83,6 +83,9 @@ constexpr int kMaxMatchPool = 4000;         // "match": a known object's descrip
 // carry_regions: a region is the object's where this fraction of its features match its views
 // (new objects' blobs matched 0.00-0.05 in 7 of 11 choices, known ones 0.14 or more in 12 of 14).
 constexpr double kCarryMatched = 0.1;
+// LearnCandidates::kDepth: a candidate covers at least this many px of a 640-wide image (scaled
+// with the image's area; the cd covers about 600 px of a 320 x 240 look).
+constexpr double kCandidatePixels = 150;
 
 using Clock = std::chrono::steady_clock;
 
@@ -223,6 +226,7 @@ RegionFate carry_region(const cv::Mat& region, const cv::Point2d& shift,
 
 LearnOptions LearnOptions::resolved() const {
   LearnOptions o = *this;
+  if (o.candidates == LearnCandidates::kDepth) o.depth = true;  // candidates need the depth image
   if (!quick) return o;
   const LearnOptions d;
   if (o.pushes == d.pushes) o.pushes = 3;
@@ -233,6 +237,123 @@ LearnOptions LearnOptions::resolved() const {
   if (o.words == d.words) o.words = 100;
   if (o.topics == d.topics) o.topics = 6;
   return o;
+}
+
+std::vector<cv::Mat> depth_candidates(const cv::Mat& depth, const geometry::Camera& camera,
+                                      double min_height, double max_step, int min_pixels,
+                                      const cv::Mat& ignore) {
+  require(depth.type() == CV_32FC1 && depth.cols == camera.width && depth.rows == camera.height,
+          "depth_candidates: the depth image must be CV_32FC1 of the camera's image size");
+  require(ignore.empty() || (ignore.type() == CV_8U && ignore.size() == depth.size()),
+          "depth_candidates: the ignore mask must be 8-bit of the depth image's size");
+  require(min_height > 0 && std::isfinite(min_height), "depth_candidates: min_height must be > 0");
+  require(max_step > 0 && std::isfinite(max_step), "depth_candidates: max_step must be > 0");
+  require(min_pixels >= 1, "depth_candidates: min_pixels must be at least 1");
+  const Eigen::Matrix3d k_inv = camera.K.inverse();
+  const Eigen::Matrix3d r_t = camera.R.transpose();
+  const auto valid = [&](int u, int v) {
+    const float d = depth.at<float>(v, u);
+    return std::isfinite(d) && d > 0 && (ignore.empty() || ignore.at<uchar>(v, u) == 0);
+  };
+  cv::Mat1b up(depth.size(), 0);
+  for (int v = 0; v < depth.rows; ++v) {
+    for (int u = 0; u < depth.cols; ++u) {
+      if (!valid(u, v)) continue;
+      const double d = depth.at<float>(v, u);
+      const Eigen::Vector3d x = r_t * (d * (k_inv * Eigen::Vector3d(u, v, 1.0)) - camera.t);
+      if (x.z() < min_height) continue;
+      // An occlusion edge: a 4-neighbour's depth differs by more than max_step.
+      bool edge = false;
+      const int du[4] = {1, -1, 0, 0};
+      const int dv[4] = {0, 0, 1, -1};
+      for (int n = 0; n < 4 && !edge; ++n) {
+        const int uu = u + du[n];
+        const int vv = v + dv[n];
+        if (uu < 0 || vv < 0 || uu >= depth.cols || vv >= depth.rows || !valid(uu, vv)) continue;
+        edge = std::abs(static_cast<double>(depth.at<float>(vv, uu)) - d) > max_step;
+      }
+      if (!edge) up(v, u) = 255;
+    }
+  }
+  cv::Mat1i labels;
+  cv::Mat stats;
+  cv::Mat centroids;
+  const int n = cv::connectedComponentsWithStats(up, labels, stats, centroids, 8, CV_32S);
+  std::vector<std::pair<int, int>> order;  // (area, label)
+  for (int l = 1; l < n; ++l) {
+    const int area = stats.at<int>(l, cv::CC_STAT_AREA);
+    if (area >= min_pixels) order.emplace_back(area, l);
+  }
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  std::vector<cv::Mat> out;
+  for (const auto& [area, l] : order) {
+    cv::Mat m = labels == l;
+    out.push_back(m);
+  }
+  return out;
+}
+
+std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
+                                  const std::vector<cv::Mat>& candidates) {
+  cv::Size size;
+  const auto check = [&](const cv::Mat& m) {
+    if (m.empty()) return;
+    require(m.type() == CV_8U, "known_candidates: the masks must be 8-bit");
+    if (size.area() == 0) size = m.size();
+    require(m.size() == size, "known_candidates: the masks must have one size");
+  };
+  for (const cv::Mat& m : regions) check(m);
+  for (const cv::Mat& m : candidates) check(m);
+  struct Overlap {
+    int pixels;
+    int region;
+    int candidate;
+  };
+  std::vector<Overlap> all;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    if (regions[r].empty()) continue;
+    for (std::size_t b = 0; b < candidates.size(); ++b) {
+      if (candidates[b].empty()) continue;
+      cv::Mat both;
+      cv::bitwise_and(regions[r], candidates[b], both);
+      const int n = cv::countNonZero(both);
+      if (n > 0) all.push_back({n, static_cast<int>(r), static_cast<int>(b)});
+    }
+  }
+  std::sort(all.begin(), all.end(), [](const Overlap& a, const Overlap& b) {
+    if (a.pixels != b.pixels) return a.pixels > b.pixels;
+    return a.region != b.region ? a.region < b.region : a.candidate < b.candidate;
+  });
+  std::vector<int> found(regions.size(), -1);
+  std::vector<bool> taken(candidates.size(), false);
+  for (const Overlap& o : all) {
+    auto& f = found[static_cast<std::size_t>(o.region)];
+    if (f >= 0 || taken[static_cast<std::size_t>(o.candidate)]) continue;
+    f = o.candidate;
+    taken[static_cast<std::size_t>(o.candidate)] = true;
+  }
+  return found;
+}
+
+std::vector<LearnCoverage> learn_coverage(const std::vector<std::string>& objects,
+                                          const std::vector<LearnPush>& pushes) {
+  std::vector<LearnCoverage> out;
+  for (const std::string& name : objects) {
+    LearnCoverage c{name, 0, 0};
+    std::vector<int> turns;
+    for (const LearnPush& p : pushes) {
+      if (!p.executed || !p.truth || !p.truth->moved_intended || p.truth->intended != name) {
+        continue;
+      }
+      ++c.pushes;
+      if (std::find(turns.begin(), turns.end(), p.object) == turns.end()) turns.push_back(p.object);
+    }
+    c.turns = static_cast<int>(turns.size());
+    out.push_back(c);
+  }
+  return out;
 }
 
 namespace {
@@ -409,9 +530,11 @@ class Learner {
     for (cv::Mat& r : regions) {
       if (!r.empty() && (r.size() != v.image_size || r.type() != CV_8U)) r = cv::Mat();
     }
+    const bool by_depth = o_.candidates == LearnCandidates::kDepth && !current_.depth.empty();
     std::vector<int> found =
-        planning::split_putative_objects(v, regions, o_.min_features, region_, po_);
-    const std::size_t split = v.objects.size();
+        by_depth ? depth_view(v, regions)
+                 : planning::split_putative_objects(v, regions, o_.min_features, region_, po_);
+    const std::size_t split = by_depth ? blobs : v.objects.size();
     // Then the blobs beyond the arm's reach are dropped (kept as obstacles only).
     const auto far = [](const planning::PutativeObject& o) {
       return o.centre.norm() > kPushReach || o.centre.x() < kBehindBase;
@@ -449,6 +572,63 @@ class Learner {
 
   void relook() {
     current_ = timed("look", [&] { return robot_.look(); });
+  }
+
+  // LearnCandidates::kDepth: the putative objects of `v` become the look's depth candidates
+  // (depth_candidates; each the part of the feature blobs inside it, table texture dropped) and
+  // each known object the candidate its region overlaps most (known_candidates). Returns, per
+  // object, its candidate (index into v.objects) or -1.
+  std::vector<int> depth_view(planning::PlanningView& v, const std::vector<cv::Mat>& regions) {
+    const double scale = current_.image.cols / 640.0;
+    const int min_pixels =
+        std::max(8, static_cast<int>(std::lround(kCandidatePixels * scale * scale)));
+    cv::Mat arm = current_.arm_mask;
+    if (!arm.empty() && (arm.size() != current_.depth.size() || arm.type() != CV_8U)) {
+      arm = cv::Mat();
+    }
+    const std::vector<cv::Mat> cands = timed("look", [&] {
+      return depth_candidates(current_.depth, current_.camera, o_.candidate_height,
+                              o_.candidate_step, min_pixels, arm);
+    });
+    const std::size_t blobs = v.objects.size();
+    const std::vector<int> of =
+        planning::split_putative_objects(v, cands, o_.min_features, region_, po_);
+    std::vector<planning::PutativeObject> kept;
+    std::vector<cv::Mat> masks;
+    std::vector<bool> used(v.objects.size(), false);
+    int untextured = 0;
+    for (std::size_t i = 0; i < cands.size(); ++i) {
+      const int b = of[i];
+      if (b < 0 || used[static_cast<std::size_t>(b)]) {
+        ++untextured;  // too few features on it (or its features another candidate's)
+        continue;
+      }
+      used[static_cast<std::size_t>(b)] = true;
+      kept.push_back(v.objects[static_cast<std::size_t>(b)]);
+      masks.push_back(cands[i]);
+    }
+    if (!wrote_candidates_) {
+      cv::Mat1b labels(v.image_size, 0);
+      for (std::size_t i = 0; i < masks.size(); ++i) {
+        labels.setTo(static_cast<int>(255 - (i * 200) / std::max<std::size_t>(1, masks.size())),
+                     masks[i]);
+      }
+      write_png(o_.out / "candidates.png", labels);
+      wrote_candidates_ = true;
+    }
+    v.objects = std::move(kept);
+    std::vector<int> found = known_candidates(regions, masks);
+    std::vector<KnownBlob> known;
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      if (found[k] >= 0) known.push_back({static_cast<int>(k), found[k]});
+    }
+    log({.event = "candidates",
+         .known = std::move(known),
+         .blobs_before = static_cast<int>(blobs),
+         .blobs_after = static_cast<int>(v.objects.size()),
+         .by = core::cat({"depth: ", std::to_string(cands.size()), " candidates, ",
+                          std::to_string(untextured), " without features"})});
+    return found;
   }
 
   // (a) / (d): the blob to learn next: the first at random; later the blob whose descriptors
@@ -1167,8 +1347,9 @@ class Learner {
   /// Per object, where it lies in the current look (8-bit, the image's size): what moved with
   /// the arm at the end of its last push; empty when unknown (or moved since by another push).
   std::vector<cv::Mat> region_of_;
-  std::vector<int> blob_of_;  ///< per object, its putative object in the last plan_view, or -1
-  int splits_ = 0;            ///< looks in which a blob was split by an object's region
+  std::vector<int> blob_of_;       ///< per object, its putative object in the last plan_view, or -1
+  bool wrote_candidates_ = false;  ///< candidates.png (the first look's depth candidates) written
+  int splits_ = 0;                 ///< looks in which a blob was split by an object's region
   /// Per class, its last push's views' mean log p under its words (known_margin's yardstick).
   std::vector<std::optional<double>> own_;
   /// Where turns that gave their class no views left their blob, m: not chosen again.
@@ -1383,6 +1564,15 @@ std::string LearnResult::brief() const {
     b += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
                              100 * score->mot_accuracy, 100 * score->argmax_accuracy);
   }
+  if (!coverage.empty()) {
+    int covered = 0;
+    b += "\ncoverage (turns that pushed it as the intended object):";
+    for (const LearnCoverage& c : coverage) {
+      b += core::printf_string(" %s %d,", c.name.c_str(), c.turns);
+      covered += c.turns > 0 ? 1 : 0;
+    }
+    b += core::printf_string(" %d of %zu named objects covered", covered, coverage.size());
+  }
   if (!report.empty()) b += "\nreport: " + report.string();
   return b;
 }
@@ -1481,6 +1671,7 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
                            !t.intended.empty(),
                        t.only_intended};
   }
+  r.coverage = learn_coverage(objects, r.pushes);
   r.summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   r.record_seconds = true;
   write_final(r, w, *staged, provenance);

@@ -7,8 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "../support/table_views.hpp"
 #include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/json_io.hpp"
@@ -85,6 +87,12 @@ TEST(Learn, BadOptionsThrow) {
   o.match_known = -0.1;
   EXPECT_THROW(o.validate(), Error);
   o.match_known = 1.1;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.candidate_height = 0;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.candidate_step = 0.6;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.clutter = "";
@@ -511,6 +519,170 @@ TEST(Learn, ABlobThatTheDescriptorsSayIsAKnownObjectIsNotANewClass) {
       EXPECT_FALSE(by_descriptors) << ev;
       EXPECT_EQ(count_of(ev, "choose:"), 2) << ev;
     }
+  }
+}
+
+// A depth image of the test camera (1 m above (0.25, 0), looking down) seeing the table and
+// boxes (table x, y ranges and top height, m): depth = 1 - height along the optical axis.
+struct DepthBox {
+  double x0, x1, y0, y1, h;
+};
+cv::Mat depth_of_boxes(const geometry::Camera& cam, const std::vector<DepthBox>& boxes) {
+  cv::Mat depth(cam.height, cam.width, CV_32FC1, cv::Scalar(1.0));
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      double top = 0;
+      for (const DepthBox& b : boxes) {
+        // The point of pixel (u, v) at the box's top: X = C + d R^T K^-1 (u, v, 1), d = 1 - h.
+        const double d = 1.0 - b.h;
+        const double x = 0.25 + d * (u - 320.0) / 600.0;
+        const double y = -d * (v - 240.0) / 600.0;
+        if (x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1) top = std::max(top, b.h);
+      }
+      depth.at<float>(v, u) = static_cast<float>(1.0 - top);
+    }
+  }
+  return depth;
+}
+
+// The table point (m) of a mask's centroid seen at height h.
+Eigen::Vector2d centroid_on_table(const cv::Mat& mask, double h) {
+  const cv::Moments m = cv::moments(mask, true);
+  const double d = 1.0 - h;
+  return {0.25 + d * (m.m10 / m.m00 - 320.0) / 600.0, -d * (m.m01 / m.m00 - 240.0) / 600.0};
+}
+
+TEST(Learn, DepthCandidatesAreTheObjectsStandingOutOfTheTable) {
+  const geometry::Camera cam = test::down_camera();
+  // Two touching boxes of different heights (a book against a cd): two candidates, each on its
+  // box, largest first; the table is none.
+  const DepthBox a{0.20, 0.25, -0.03, 0.03, 0.04};
+  const DepthBox b{0.25, 0.28, -0.03, 0.03, 0.02};
+  const cv::Mat depth = depth_of_boxes(cam, {a, b});
+  const std::vector<cv::Mat> c = depth_candidates(depth, cam, 0.003, 0.01, 50);
+  ASSERT_EQ(c.size(), 2U);
+  EXPECT_EQ(c[0].type(), CV_8U);
+  EXPECT_EQ(c[0].size(), depth.size());
+  EXPECT_GT(cv::countNonZero(c[0]), cv::countNonZero(c[1]));
+  const Eigen::Vector2d ca = centroid_on_table(c[0], a.h);
+  const Eigen::Vector2d cb = centroid_on_table(c[1], b.h);
+  EXPECT_NEAR(ca.x(), 0.225, 0.004);
+  EXPECT_NEAR(ca.y(), 0.0, 0.004);
+  EXPECT_NEAR(cb.x(), 0.265, 0.004);
+  EXPECT_NEAR(cb.y(), 0.0, 0.004);
+  // Apart on the table: two candidates as well.
+  EXPECT_EQ(depth_candidates(depth_of_boxes(cam, {a, {0.30, 0.33, 0.05, 0.08, 0.02}}), cam, 0.003,
+                             0.01, 50)
+                .size(),
+            2U);
+  // Lower than min_height: the table (the 2 cm box is table for a 3 cm least height).
+  EXPECT_EQ(depth_candidates(depth, cam, 0.03, 0.01, 50).size(), 1U);
+  // Two touching boxes of one height: no depth step between them, one candidate (the limit).
+  EXPECT_EQ(depth_candidates(depth_of_boxes(cam, {a, {0.25, 0.28, -0.03, 0.03, 0.04}}), cam, 0.003,
+                             0.01, 50)
+                .size(),
+            1U);
+  // Smaller than min_pixels: none; ignored pixels (the arm) are no object; no measurement
+  // (depth 0) is none either.
+  EXPECT_TRUE(depth_candidates(depth, cam, 0.003, 0.01, 1000000).empty());
+  cv::Mat ignore(depth.size(), CV_8U, cv::Scalar(255));
+  EXPECT_TRUE(depth_candidates(depth, cam, 0.003, 0.01, 50, ignore).empty());
+  EXPECT_TRUE(depth_candidates(cv::Mat(depth.size(), CV_32FC1, cv::Scalar(0)), cam, 0.003, 0.01, 50)
+                  .empty());
+  EXPECT_TRUE(
+      depth_candidates(cv::Mat(depth.size(), CV_32FC1, cv::Scalar(1.0)), cam, 0.003, 0.01, 50)
+          .empty());
+  // Bad input.
+  EXPECT_THROW((void)depth_candidates(cv::Mat(10, 10, CV_32FC1), cam, 0.003, 0.01, 50), Error);
+  EXPECT_THROW((void)depth_candidates(cv::Mat(depth.size(), CV_8U), cam, 0.003, 0.01, 50), Error);
+  EXPECT_THROW((void)depth_candidates(depth, cam, 0, 0.01, 50), Error);
+  EXPECT_THROW((void)depth_candidates(depth, cam, 0.003, 0, 50), Error);
+  EXPECT_THROW((void)depth_candidates(depth, cam, 0.003, 0.01, 0), Error);
+  EXPECT_THROW((void)depth_candidates(depth, cam, 0.003, 0.01, 50, cv::Mat(5, 5, CV_8U)), Error);
+}
+
+TEST(Learn, AKnownObjectIsTheCandidateWhereItsPushLeftIt) {
+  const cv::Size s(40, 20);
+  const auto rect = [&](int x, int y, int w, int h) {
+    cv::Mat m(s, CV_8U, cv::Scalar(0));
+    m(cv::Rect(x, y, w, h)).setTo(255);
+    return m;
+  };
+  // Three candidates side by side; object 0 was left mostly on candidate 1 (and a little on 0:
+  // it lies against it), object 1 on candidate 2, object 2's place is unknown.
+  const std::vector<cv::Mat> cands{rect(0, 0, 10, 20), rect(12, 0, 10, 20), rect(24, 0, 10, 20)};
+  const std::vector<cv::Mat> regions{rect(8, 0, 14, 20), rect(26, 5, 6, 6), cv::Mat()};
+  EXPECT_EQ(known_candidates(regions, cands), (std::vector<int>{1, 2, -1}));
+  // One candidate per known object: two objects left on candidate 1, the one overlapping it
+  // more is it; the other is the candidate it overlaps next (0), not candidate 1 again.
+  const std::vector<cv::Mat> both{rect(12, 0, 10, 20), rect(6, 0, 10, 20)};
+  EXPECT_EQ(known_candidates(both, cands), (std::vector<int>{1, 0}));
+  // Overlapping nothing: -1; no candidates: -1.
+  EXPECT_EQ(known_candidates({rect(35, 0, 5, 5)}, cands), (std::vector<int>{-1}));
+  EXPECT_EQ(known_candidates({rect(0, 0, 5, 5)}, {}), (std::vector<int>{-1}));
+  // Bad input.
+  EXPECT_THROW((void)known_candidates({cv::Mat(s, CV_32F, cv::Scalar(1))}, cands), Error);
+  EXPECT_THROW((void)known_candidates({cv::Mat(10, 10, CV_8U, cv::Scalar(0))}, cands), Error);
+}
+
+TEST(Learn, CoverageCountsTheTurnsThatPushedEachNamedObject) {
+  const auto push = [](int cls, bool executed, const std::string& intended, bool moved) {
+    LearnPush p;
+    p.object = cls;
+    p.executed = executed;
+    p.truth = LearnPushTruth{intended, {}, moved, false};
+    return p;
+  };
+  std::vector<LearnPush> pushes{
+      push(0, true, "cd", true),       push(0, true, "cd", true),  // one turn, two pushes
+      push(1, true, "cd", true),                                   // a second turn
+      push(2, true, "book", false),                                // it did not move
+      push(3, false, "giraffe", true),                             // not executed
+      push(4, true, "mug", true),                                  // not a named object
+  };
+  LearnPush unknown;
+  unknown.executed = true;  // no ground truth: counts for nothing
+  pushes.push_back(unknown);
+  const std::vector<LearnCoverage> c = learn_coverage({"book", "cd", "giraffe"}, pushes);
+  ASSERT_EQ(c.size(), 3U);
+  EXPECT_EQ(c[0].name, "book");
+  EXPECT_EQ(c[0].turns, 0);
+  EXPECT_EQ(c[0].pushes, 0);
+  EXPECT_EQ(c[1].name, "cd");
+  EXPECT_EQ(c[1].turns, 2);
+  EXPECT_EQ(c[1].pushes, 3);
+  EXPECT_EQ(c[2].turns, 0);
+  EXPECT_TRUE(learn_coverage({}, pushes).empty());
+}
+
+TEST(Learn, DepthCandidatesAreLoggedAndTurnOnTheDepthCamera) {
+  LearnOptions o;
+  o.candidates = LearnCandidates::kDepth;
+  EXPECT_TRUE(o.resolved().depth);
+  EXPECT_TRUE(learn_table(o.resolved()).depth);
+  EXPECT_FALSE(LearnOptions().resolved().depth);
+  // A run with depth candidates logs them each look; with blobs it logs none.
+  const test::TempDir dir("proprio_learn_candidates_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const bool by_depth : {false, true}) {
+    sim::TableOptions table = t.table;
+    table.depth = by_depth;
+    sim::SimulatedRobot robot(table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions lo = t.o;
+    lo.candidates = by_depth ? LearnCandidates::kDepth : LearnCandidates::kBlobs;
+    lo.out = dir.path() / (by_depth ? "depth" : "blobs");
+    (void)run_learn(lo, robot, attendant, 2, prov);
+    std::ifstream in(lo.out / "decisions.jsonl");
+    std::string line;
+    int candidates = 0;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] == "candidates") ++candidates;
+    }
+    EXPECT_EQ(candidates > 0, by_depth);
+    EXPECT_EQ(std::filesystem::exists(lo.out / "candidates.png"), by_depth);
   }
 }
 

@@ -64,6 +64,34 @@ enum class NewObjectScore {
 inline constexpr core::ChoiceNames<NewObjectScore, 2> kNewObjectScoreNames{
     {{"words", NewObjectScore::kWords}, {"match", NewObjectScore::kMatch}}};
 
+/// Where the putative objects offered to 7.2 (d) come from.
+enum class LearnCandidates {
+  kBlobs,  ///< feature-density blobs, split by the known objects' segmented regions (as before)
+  kDepth   ///< objects standing out of the table in the depth image (depth_candidates; RGB-D)
+};
+inline constexpr core::ChoiceNames<LearnCandidates, 2> kLearnCandidatesNames{
+    {{"blobs", LearnCandidates::kBlobs}, {"depth", LearnCandidates::kDepth}}};
+
+/// The objects a depth image shows on the table: pixels whose back-projected point
+/// (X = R^T (depth K^-1 (u, v, 1)^T - t), base frame, table top z = 0) lies at least
+/// `min_height` m above the table, split where the depth jumps by more than `max_step` m
+/// between 4-neighbours (an object in front of another: its edge pixels are left out), in
+/// 8-connected components of at least `min_pixels` px, largest first. Each is an 8-bit mask of
+/// the image's size (255 inside). `ignore` (8-bit of the image's size or empty): pixels that are
+/// no object (the arm). Depth 0 or not finite: no measurement. Throws Error unless `depth` is
+/// CV_32FC1 of the camera's image size, min_height > 0, max_step > 0 and min_pixels >= 1.
+std::vector<cv::Mat> depth_candidates(const cv::Mat& depth, const geometry::Camera& camera,
+                                      double min_height, double max_step, int min_pixels,
+                                      const cv::Mat& ignore = {});
+
+/// Which candidate each known object is: per known object r, the candidate (8-bit masks of one
+/// size) its `regions[r]` (where the robot left it: its last push's segmented region; empty =
+/// unknown) overlaps most, one candidate per known object (the largest overlaps are taken
+/// first; a candidate taken by one object is not another's). -1 when it overlaps none left.
+/// Throws Error unless every non-empty mask is 8-bit of one size.
+std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
+                                  const std::vector<cv::Mat>& candidates);
+
 /// The fraction of `query`'s descriptors (rows, CV_32F) whose nearest neighbour among `known`
 /// lies closer than `ratio` times their nearest neighbour among `rest` (the look's other
 /// features: the alternative that the descriptor is not the known object's). With `rest` empty
@@ -139,6 +167,14 @@ struct LearnOptions {
   /// for (carry_region: where it was, or moved with the push, by its descriptors) instead of
   /// forgotten; a carried region is cut out of the pushed object's. Off: forgotten (as before).
   bool carry_regions = false;
+  /// The putative objects offered to (d): "blobs" (feature-density blobs, as before) or
+  /// "depth" (depth_candidates of the look; turns on the RGB-D camera, `depth`): a known object
+  /// is the candidate its last push's region overlaps most (known_candidates), one each.
+  LearnCandidates candidates = LearnCandidates::kBlobs;
+  /// "depth": a candidate's pixels stand at least this high above the table, m (the cd is 5 mm).
+  double candidate_height = 0.003;
+  /// "depth": candidates are split where the depth jumps more than this between pixels, m.
+  double candidate_step = 0.01;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
@@ -215,6 +251,17 @@ struct LearnOptions {
     v(self.carry_regions, {"carry_regions",
                            "Look for a known object's region that another push moved over "
                            "(where it was, or moved with the push) instead of forgetting it"});
+    v.choice(self.candidates,
+             {"candidates",
+              "Putative objects offered to (d): blobs (feature density) or depth (objects "
+              "standing out of the table in the depth image; an RGB-D camera)"},
+             kLearnCandidatesNames);
+    v(self.candidate_height,
+      {"candidate_height", "depth candidates: least height above the table, m",
+       core::between(0.001, 0.2)});
+    v(self.candidate_step,
+      {"candidate_step", "depth candidates: split where the depth jumps more than this, m",
+       core::between(0.001, 0.5)});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
@@ -429,6 +476,26 @@ struct LearnDecision {
   }
 };
 
+/// Coverage of one named object (ground truth, scoring only): the turns (classes) whose
+/// executed pushes moved it as the intended object.
+struct LearnCoverage {
+  std::string name;
+  int turns = 0;   ///< classes with at least one such push
+  int pushes = 0;  ///< executed pushes that moved it as the intended object
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "The named object"});
+    v(self.turns, {"turns", "Turns (classes) whose pushes moved it as the intended object"});
+    v(self.pushes, {"pushes", "Executed pushes that moved it as the intended object"});
+  }
+};
+
+/// Per named object (`objects`, in order) its coverage by `pushes` (their ground truth; pushes
+/// without it count for nothing).
+std::vector<LearnCoverage> learn_coverage(const std::vector<std::string>& objects,
+                                          const std::vector<LearnPush>& pushes);
+
 /// A learned object (class) in learn.json.
 struct LearnObjectRecord {
   std::string name;                  ///< the class (object_1, ...)
@@ -541,6 +608,8 @@ struct LearnResult {
   bool held_out = false;        ///< the held-out views were asked for (simulation)
   bool record_seconds = false;  ///< the record lists summary.seconds (simulation)
   std::optional<SelfSupervisionScore> score;
+  /// Simulation: per named object, the turns whose pushes moved it as the intended object.
+  std::vector<LearnCoverage> coverage;
   core::Json document;  ///< format "proprio.learn" (also DIR/learn.json)
   /// The run's HTML page (loop/learn_report.hpp), written last by the simulated run; empty
   /// after the robot-only run (it has no held-out views to show).
@@ -566,6 +635,12 @@ struct LearnResult {
       {"dirichlet_update", "The object-word Dirichlet update and the two updates compared"});
     if (self.held_out) v(LearnHeldOut{&self}, {"held_out", "Held-out views"});
     v(self.score, {"ground_truth", "Scored against the ground truth"});
+    if (!self.coverage.empty()) {
+      v(self.coverage, {"coverage", "Ground truth: per named object, the turns that pushed it"});
+      int covered = 0;
+      for (const LearnCoverage& c : self.coverage) covered += c.turns > 0 ? 1 : 0;
+      v(covered, {"covered", "Ground truth: named objects pushed as the intended object"});
+    }
     if (self.record_seconds) v(self.summary.seconds, {"seconds", "Wall clock, s"});
   }
 };
