@@ -296,7 +296,8 @@ std::vector<cv::Mat> depth_candidates(const cv::Mat& depth, const geometry::Came
 }
 
 std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
-                                  const std::vector<cv::Mat>& candidates) {
+                                  const std::vector<cv::Mat>& candidates,
+                                  const std::vector<std::optional<cv::Point2d>>& ends) {
   cv::Size size;
   const auto check = [&](const cv::Mat& m) {
     if (m.empty()) return;
@@ -306,7 +307,11 @@ std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
   };
   for (const cv::Mat& m : regions) check(m);
   for (const cv::Mat& m : candidates) check(m);
+  require(ends.empty() || ends.size() == regions.size(),
+          "known_candidates: one push end per region (or none)");
   struct Overlap {
+    int tenths;       // the fraction of the candidate inside the region, to a tenth
+    double distance;  // of the candidate's centroid from the push's end, px (0 without one)
     int pixels;
     int region;
     int candidate;
@@ -319,10 +324,19 @@ std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
       cv::Mat both;
       cv::bitwise_and(regions[r], candidates[b], both);
       const int n = cv::countNonZero(both);
-      if (n > 0) all.push_back({n, static_cast<int>(r), static_cast<int>(b)});
+      if (n == 0) continue;
+      const cv::Moments m = cv::moments(candidates[b], true);
+      double distance = 0;
+      if (!ends.empty() && ends[r]) {
+        distance = std::hypot(m.m10 / m.m00 - ends[r]->x, m.m01 / m.m00 - ends[r]->y);
+      }
+      const int tenths = static_cast<int>(std::lround(10.0 * n / m.m00));
+      all.push_back({tenths, distance, n, static_cast<int>(r), static_cast<int>(b)});
     }
   }
   std::sort(all.begin(), all.end(), [](const Overlap& a, const Overlap& b) {
+    if (a.tenths != b.tenths) return a.tenths > b.tenths;
+    if (a.distance != b.distance) return a.distance < b.distance;
     if (a.pixels != b.pixels) return a.pixels > b.pixels;
     return a.region != b.region ? a.region < b.region : a.candidate < b.candidate;
   });
@@ -403,6 +417,7 @@ class Learner {
     left_at_.resize(static_cast<std::size_t>(classes));
     region_of_.resize(static_cast<std::size_t>(classes));
     blob_of_.assign(static_cast<std::size_t>(classes), -1);
+    end_of_.resize(static_cast<std::size_t>(classes));
     own_.resize(static_cast<std::size_t>(classes));
   }
 
@@ -617,7 +632,7 @@ class Learner {
       wrote_candidates_ = true;
     }
     v.objects = std::move(kept);
-    std::vector<int> found = known_candidates(regions, masks);
+    std::vector<int> found = known_candidates(regions, masks, end_of_);
     std::vector<KnownBlob> known;
     for (std::size_t k = 0; k < found.size(); ++k) {
       if (found[k] >= 0) known.push_back({static_cast<int>(k), found[k]});
@@ -1032,6 +1047,7 @@ class Learner {
   // position find it then). A push that segmented nothing changes nothing.
   void update_regions(int c, const Segmented& seg, const Eigen::Vector2d& end_px) {
     if (seg.view_masks.empty()) return;
+    end_of_[static_cast<std::size_t>(c)] = cv::Point2d(end_px.x(), end_px.y());
     cv::Mat moved =
         seg.mask.empty() ? cv::Mat(current_.image.size(), CV_8U, cv::Scalar(0)) : seg.mask.clone();
     for (const auto& [i, m] : seg.view_masks) cv::bitwise_or(moved, m, moved);
@@ -1347,9 +1363,12 @@ class Learner {
   /// Per object, where it lies in the current look (8-bit, the image's size): what moved with
   /// the arm at the end of its last push; empty when unknown (or moved since by another push).
   std::vector<cv::Mat> region_of_;
-  std::vector<int> blob_of_;       ///< per object, its putative object in the last plan_view, or -1
-  bool wrote_candidates_ = false;  ///< candidates.png (the first look's depth candidates) written
-  int splits_ = 0;                 ///< looks in which a blob was split by an object's region
+  std::vector<int> blob_of_;  ///< per object, its putative object in the last plan_view, or -1
+  /// candidates.png (the first look's depth candidates) written.
+  bool wrote_candidates_ = false;
+  /// Per object, where the pusher ended in its last push that gave a region (image px).
+  std::vector<std::optional<cv::Point2d>> end_of_;
+  int splits_ = 0;  ///< looks in which a blob was split by an object's region
   /// Per class, its last push's views' mean log p under its words (known_margin's yardstick).
   std::vector<std::optional<double>> own_;
   /// Where turns that gave their class no views left their blob, m: not chosen again.

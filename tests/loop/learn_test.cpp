@@ -617,6 +617,17 @@ TEST(Learn, AKnownObjectIsTheCandidateWhereItsPushLeftIt) {
   // more is it; the other is the candidate it overlaps next (0), not candidate 1 again.
   const std::vector<cv::Mat> both{rect(12, 0, 10, 20), rect(6, 0, 10, 20)};
   EXPECT_EQ(known_candidates(both, cands), (std::vector<int>{1, 0}));
+  // A region over the whole image (a failed segmentation): every candidate lies inside it; the
+  // one nearest where the pusher ended is the object, not the largest.
+  const std::vector<cv::Mat> wide{cands[0], cands[1], rect(24, 0, 16, 20)};
+  const cv::Mat all(s, CV_8U, cv::Scalar(255));
+  EXPECT_EQ(known_candidates({all}, wide, {cv::Point2d(16, 10)}), (std::vector<int>{1}));
+  EXPECT_EQ(known_candidates({all}, wide), (std::vector<int>{2}));
+  EXPECT_EQ(known_candidates({all}, wide, {std::nullopt}), (std::vector<int>{2}));
+  // Most of a small candidate inside beats a little of a large one.
+  EXPECT_EQ(known_candidates({rect(0, 0, 14, 20)}, {rect(0, 0, 30, 20), rect(2, 2, 8, 8)}),
+            (std::vector<int>{1}));
+  EXPECT_THROW((void)known_candidates({all}, wide, {std::nullopt, std::nullopt}), Error);
   // Overlapping nothing: -1; no candidates: -1.
   EXPECT_EQ(known_candidates({rect(35, 0, 5, 5)}, cands), (std::vector<int>{-1}));
   EXPECT_EQ(known_candidates({rect(0, 0, 5, 5)}, {}), (std::vector<int>{-1}));

@@ -85,12 +85,16 @@ std::vector<cv::Mat> depth_candidates(const cv::Mat& depth, const geometry::Came
                                       const cv::Mat& ignore = {});
 
 /// Which candidate each known object is: per known object r, the candidate (8-bit masks of one
-/// size) its `regions[r]` (where the robot left it: its last push's segmented region; empty =
-/// unknown) overlaps most, one candidate per known object (the largest overlaps are taken
-/// first; a candidate taken by one object is not another's). -1 when it overlaps none left.
-/// Throws Error unless every non-empty mask is 8-bit of one size.
+/// size) lying most inside its `regions[r]` (where the robot left it: its last push's segmented
+/// region; empty = unknown): the fraction of the candidate's pixels inside the region, to a
+/// tenth; among equal fractions the candidate nearest `ends[r]` (the pixel where the robot's
+/// pusher ended, when given: the object lies just ahead of it), then the larger overlap. One
+/// candidate per known object (the best pairs are taken first; a candidate taken by one object
+/// is not another's). -1 when it overlaps none left. Throws Error unless every non-empty mask is
+/// 8-bit of one size and `ends` is empty or has one entry per region.
 std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
-                                  const std::vector<cv::Mat>& candidates);
+                                  const std::vector<cv::Mat>& candidates,
+                                  const std::vector<std::optional<cv::Point2d>>& ends = {});
 
 /// The fraction of `query`'s descriptors (rows, CV_32F) whose nearest neighbour among `known`
 /// lies closer than `ratio` times their nearest neighbour among `rest` (the look's other
