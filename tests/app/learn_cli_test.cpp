@@ -108,6 +108,14 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   EXPECT_EQ(printed, core::printf_string("%.1f", 100 * acc));
   EXPECT_EQ(j["ground_truth"]["mot_confusion"]["accuracy"].get<double>(), acc);
   EXPECT_EQ(j["ground_truth"]["mot_accuracy"].get<double>(), acc);
+  // Coverage (ground truth): per named object the turns that pushed it as intended, printed.
+  ASSERT_EQ(j["coverage"].size(), 1U);
+  EXPECT_EQ(j["coverage"][0]["name"], "book");
+  const int turns = j["coverage"][0]["turns"].get<int>();
+  EXPECT_EQ(j["covered"].get<int>(), turns > 0 ? 1 : 0);
+  EXPECT_HAS(r.out, core::printf_string("coverage (turns that pushed it as the intended object): "
+                                        "book %d, %d of 1 named objects covered",
+                                        turns, turns > 0 ? 1 : 0));
   const std::string page = core::read_file(dir() / "moving" / "report.html");
   EXPECT_HAS(page, core::printf_string("Mixture of Topics <b>%.1f%%</b>", 100 * acc));
 }
