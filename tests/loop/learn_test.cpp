@@ -47,6 +47,8 @@ TEST(Learn, DepthGivesTheRobotAnRgbdCamera) {
   // planner measures the blobs' footprints and heights from depth, as selfsupervise --depth.
   LearnOptions o;
   o.quick = true;
+  EXPECT_TRUE(learn_table(o.resolved()).depth);  // the default depth candidates need it
+  o.candidates = LearnCandidates::kBlobs;
   const LearnOptions q = o.resolved();
   EXPECT_FALSE(learn_table(q).depth);
   EXPECT_EQ(learn_table(q).objects, (std::vector<std::string>{"book", "bottle", "cd", "giraffe"}));
@@ -671,7 +673,9 @@ TEST(Learn, DepthCandidatesAreLoggedAndTurnOnTheDepthCamera) {
   o.candidates = LearnCandidates::kDepth;
   EXPECT_TRUE(o.resolved().depth);
   EXPECT_TRUE(learn_table(o.resolved()).depth);
-  EXPECT_FALSE(LearnOptions().resolved().depth);
+  EXPECT_EQ(LearnOptions().candidates, LearnCandidates::kDepth);  // the default
+  o.candidates = LearnCandidates::kBlobs;
+  EXPECT_FALSE(o.resolved().depth);
   // A run with depth candidates logs them each look; with blobs it logs none.
   const test::TempDir dir("proprio_learn_candidates_");
   SmallTable t;

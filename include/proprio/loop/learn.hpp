@@ -171,10 +171,13 @@ struct LearnOptions {
   /// for (carry_region: where it was, or moved with the push, by its descriptors) instead of
   /// forgotten; a carried region is cut out of the pushed object's. Off: forgotten (as before).
   bool carry_regions = false;
-  /// The putative objects offered to (d): "blobs" (feature-density blobs, as before) or
-  /// "depth" (depth_candidates of the look; turns on the RGB-D camera, `depth`): a known object
-  /// is the candidate its last push's region overlaps most (known_candidates), one each.
-  LearnCandidates candidates = LearnCandidates::kBlobs;
+  /// The putative objects offered to (d): "depth" (depth_candidates of the look; turns on the
+  /// RGB-D camera, `depth`): a known object is the candidate lying most inside its last push's
+  /// region (known_candidates), one each; or "blobs" (feature-density blobs split by the known
+  /// objects' regions: a camera without depth; the default before session 21). Depth by
+  /// default: every named object pushed more often, held out higher on report seeds 2-7
+  /// (docs/results/learn.md, "Session 21").
+  LearnCandidates candidates = LearnCandidates::kDepth;
   /// "depth": a candidate's pixels stand at least this high above the table, m (the cd is 5 mm).
   double candidate_height = 0.003;
   /// "depth": candidates are split where the depth jumps more than this between pixels, m.
@@ -199,6 +202,7 @@ struct LearnOptions {
   bool oracle_ladder = false;
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
   /// planner measures each blob's footprint and height from depth, as `selfsupervise --depth`.
+  /// Turned on by resolved() with candidates "depth" (the default): off only with "blobs".
   bool depth = false;
   std::filesystem::path vocabulary;  ///< given vocabulary (else built from the robot's views)
   std::filesystem::path lda_model;   ///< given LDA model (else trained on the robot's views)
