@@ -844,11 +844,27 @@ double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vec
   return lack;
 }
 
+double sweep_turn(const std::vector<Eigen::Vector2d>& hull) {
+  if (hull.size() < 3) return kSweepTurn;
+  std::vector<cv::Point2f> p;
+  p.reserve(hull.size());
+  for (const auto& h : hull) {
+    p.emplace_back(static_cast<float>(h.x() * kMetresToMm),
+                   static_cast<float>(h.y() * kMetresToMm));
+  }
+  const cv::RotatedRect rect = cv::minAreaRect(p);
+  const double w = std::min(rect.size.width, rect.size.height);
+  const double l = std::max(rect.size.width, rect.size.height);
+  if (w <= 0) return kSweepTurn;
+  const double fill = std::abs(cv::contourArea(p)) / (w * l);
+  return fill >= kBoxFill && l <= kBoxAspect * w ? kBoxTurn : kSweepTurn;
+}
+
 std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hull,
                                           const Eigen::Vector2d& centre,
-                                          const Eigen::Vector2d& target) {
+                                          const Eigen::Vector2d& target, double turn_most) {
   std::vector<Eigen::Vector2d> all = hull;
-  for (const double turn : {0.0, kSweepTurn, -kSweepTurn}) {
+  for (const double turn : {0.0, turn_most, -turn_most}) {
     const Eigen::Rotation2Dd r(turn);
     for (const auto& h : hull) all.push_back(target + r * (h - centre));
   }
@@ -858,9 +874,9 @@ std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hu
 double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& centre,
                   const Eigen::Vector2d& target,
                   const std::vector<std::vector<Eigen::Vector2d>>& others, double margin,
-                  bool touching) {
+                  bool touching, double turn) {
   if (margin <= 0 || others.empty() || hull.size() < 3) return 0.0;
-  const std::vector<Eigen::Vector2d> swept = sweep_region(hull, centre, target);
+  const std::vector<Eigen::Vector2d> swept = sweep_region(hull, centre, target, turn);
   const double reach = hull_radius(hull, centre) + (target - centre).norm();
   double lack = 0;
   for (const auto& o : others) {
@@ -1191,6 +1207,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const double tip = push_tip_height(o, options);
   const double speed = push_speed_for(o, options);
   const robot::JawLine jaws = push_jaws(o, tip, options);
+  // The turn the swept region allows for (sweep_margin).
+  const double turn = options.sweep_turn_by_shape ? sweep_turn(o.hull) : kSweepTurn;
   core::Rng rng(options.seed);
   const robot::IkOptions ik;
   struct Candidate {
@@ -1230,10 +1248,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     double cost = path_cost(others, view.camera, push, o.hull, o.centre, t, options.centre_height,
                             options.path_step);
     if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
-    const double blocked =
-        path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,
-                       options.hand_clearance) +
-        sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching);
+    const double blocked = path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,
+                                          options.hand_clearance) +
+                           sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin,
+                                      options.sweep_touching, turn);
     return Candidate{kBlockedWeight * blocked + cost, cost, blocked, false, t, approach, push};
   };
   const int via_points = goal == PushGoal::kTarget ? options.via_points : 0;
@@ -1281,16 +1299,16 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       }
       c->cost += path_cost(others, view.camera, next, moved, t, target, options.centre_height,
                            options.path_step);
-      c->blocked +=
-          path_clearance(next, moved, t, target, obstacles, options.clearance,
-                         options.hand_clearance) +
-          sweep_lack(moved, t, target, obstacles, options.sweep_margin, options.sweep_touching);
+      c->blocked += path_clearance(next, moved, t, target, obstacles, options.clearance,
+                                   options.hand_clearance) +
+                    sweep_lack(moved, t, target, obstacles, options.sweep_margin,
+                               options.sweep_touching, turn);
       c->via = true;
       c->score = kBlockedWeight * c->blocked + c->cost + kViaCost;
     }
     if (!via && goal == PushGoal::kTarget && c->blocked > 0 && options.sweep_margin > 0 &&
-        sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching) >
-            0) {
+        sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching,
+                   turn) > 0) {
       // Shortened: the object stopped on the same line where its swept region is first clear.
       const double full = (t - o.centre).norm();
       const Eigen::Vector2d n = (t - o.centre) / full;

@@ -87,7 +87,8 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            // Session 21's.
            {"push --depth-split 0.2", "--depth-split"},
            {"evaluate push --depth-split -0.01", "--depth-split"},
-           {"evaluate push --sweep-touching=maybe", "--sweep-touching"}}) {
+           {"evaluate push --sweep-touching=maybe", "--sweep-touching"},
+           {"push --sweep-turn-by-shape=2", "--sweep-turn-by-shape"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

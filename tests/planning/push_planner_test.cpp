@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -257,6 +258,32 @@ TEST(PushGeometry, SweepLackCountsTheSweptRegionsShortfallOfTheMargin) {
   EXPECT_EQ(polygon_distance(region, {{-0.04, 0.0}}), 0.0);
   EXPECT_EQ(polygon_distance(region, {{0.135, 0.013}}), 0.0);
   EXPECT_GT(polygon_distance(region, {{0.0, 0.012}}), 0.0);  // not the whole turn along the way
+}
+
+TEST(PushGeometry, TheTurnAllowanceGoesByTheFootprintsShape) {
+  // A square and a 4 x 3 cm rectangle are box-like; a disc (pi / 4 of its square), a rod
+  // (8 x 1 cm) and a triangle (half its rectangle) are not; too few points: the full turn.
+  EXPECT_EQ(sweep_turn(box(-0.01, -0.01, 0.01, 0.01)), kBoxTurn);
+  EXPECT_EQ(sweep_turn(box(-0.02, -0.015, 0.02, 0.015)), kBoxTurn);
+  std::vector<Eigen::Vector2d> disc;
+  for (int k = 0; k < 32; ++k) {
+    const double a = 2 * std::numbers::pi * k / 32;
+    disc.emplace_back(0.03 * std::cos(a), 0.03 * std::sin(a));
+  }
+  EXPECT_EQ(sweep_turn(disc), kSweepTurn);
+  EXPECT_EQ(sweep_turn(box(-0.04, -0.005, 0.04, 0.005)), kSweepTurn);
+  EXPECT_EQ(sweep_turn({{0, 0}, {0.04, 0}, {0, 0.04}}), kSweepTurn);
+  EXPECT_EQ(sweep_turn({{0, 0}, {0.04, 0}}), kSweepTurn);
+  // A box's smaller turn sweeps less: the neighbour 2 cm off the line is 7.7-10 mm from the
+  // square turned 15 degrees at the end, farther from it turned 3 degrees, 1 cm from it unturned.
+  const auto sq = box(-0.01, -0.01, 0.01, 0.01);
+  const std::vector<std::vector<Eigen::Vector2d>> off{box(0.04, 0.02, 0.06, 0.04)};
+  const double full = sweep_lack(sq, {0, 0}, {0.10, 0}, off, 0.01);
+  const double little = sweep_lack(sq, {0, 0}, {0.10, 0}, off, 0.01, false, kBoxTurn);
+  EXPECT_GT(full, 0.001);
+  EXPECT_LT(full, 0.0025);
+  EXPECT_LT(little, full - 0.0008);
+  EXPECT_NEAR(sweep_lack(sq, {0, 0}, {0.10, 0}, off, 0.01, false, 0.0), 0.0, 1e-9);  // no turn
 }
 
 TEST(PushGeometry, SweepLackCountsATouchingNeighbourOnlyWhenThePushGoesTowardIt) {

@@ -158,6 +158,10 @@ struct PushPlanOptions {
   /// running into one) when the push goes toward it (sweep_lack's `touching`). false (the
   /// default): a touching neighbour counts nothing.
   bool sweep_touching = false;
+  /// With sweep_margin: the turn allowance by the pushed object's shape (sweep_turn: a box-like
+  /// footprint, pushed through its centre, hardly turns) instead of kSweepTurn for every object.
+  /// false (the default): kSweepTurn.
+  bool sweep_turn_by_shape = false;
   /// Depth: a blob whose depth points hold two or more tops that meet at a step in height of at
   /// least this, m (depth_tops), is split into them (split_by_depth), so that two touching
   /// objects of different heights are two putative objects. 0 (the default): not split.
@@ -245,6 +249,10 @@ struct PushPlanOptions {
       {"sweep_touching",
        "With sweep_margin: a neighbour touching the pushed object counts when the push goes "
        "toward it"});
+    v(self.sweep_turn_by_shape,
+      {"sweep_turn_by_shape",
+       "With sweep_margin: the swept region's turn allowance by the object's shape (boxes hardly "
+       "turn)"});
     v(self.depth_split,
       {"depth_split",
        "Depth: blobs holding tops that meet at a height step of at least this are split, m (0: "
@@ -532,24 +540,37 @@ inline constexpr double kSweepTurn = 0.26;  // 15 degrees
 /// blocking per 10 cm.
 inline constexpr double kShortCost = 100.0;
 
+/// sweep_turn: the turn allowance of a box-like footprint, rad (3 degrees).
+inline constexpr double kBoxTurn = 0.05;
+/// sweep_turn: a footprint is box-like when its hull fills at least this share of its least-area
+/// enclosing rectangle (a disc fills pi / 4 = 0.785 of its square)...
+inline constexpr double kBoxFill = 0.9;
+/// ...and that rectangle is at most this many times as long as it is wide (long objects turn).
+inline constexpr double kBoxAspect = 2.5;
+
+/// The turn a push may give an object of footprint `hull` (convex, table m), rad: kBoxTurn for a
+/// box-like one (kBoxFill, kBoxAspect), else kSweepTurn (round and long objects; fewer than 3
+/// points too).
+double sweep_turn(const std::vector<Eigen::Vector2d>& hull);
+
 /// The region (convex, CCW) the pushed object sweeps from `centre` to `target`: its `hull` at the
-/// start and, at the target, that hull carried there and turned by 0 and +-kSweepTurn about its
+/// start and, at the target, that hull carried there and turned by 0 and +-`turn` (rad) about its
 /// centre, and all between. Table m.
 std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hull,
                                           const Eigen::Vector2d& centre,
-                                          const Eigen::Vector2d& target);
+                                          const Eigen::Vector2d& target, double turn = kSweepTurn);
 
-/// How much the pushed object's swept region (sweep_region) lacks of `margin` against `others`
-/// (the other objects' hulls), summed, m: coming nearer than `margin` to an other hull (nearer
-/// than it was before the push, when it was nearer already) counts the shortfall; running into
-/// one counts at least `margin`; a hull it touched already before the push counts nothing (it
-/// cannot be kept clear of), unless `touching` and the push goes toward it (the object's hull
-/// drawn back kTouchBack against the push no longer touches it): then it counts `margin`. 0:
-/// clear, or margin <= 0.
+/// How much the pushed object's swept region (sweep_region, turned `turn` either way) lacks of
+/// `margin` against `others` (the other objects' hulls), summed, m: coming nearer than `margin` to
+/// an other hull (nearer than it was before the push, when it was nearer already) counts the
+/// shortfall; running into one counts at least `margin`; a hull it touched already before the push
+/// counts nothing (it cannot be kept clear of), unless `touching` and the push goes toward it (the
+/// object's hull drawn back kTouchBack against the push no longer touches it): then it counts
+/// `margin`. 0: clear, or margin <= 0.
 double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& centre,
                   const Eigen::Vector2d& target,
                   const std::vector<std::vector<Eigen::Vector2d>>& others, double margin,
-                  bool touching = false);
+                  bool touching = false, double turn = kSweepTurn);
 /// sweep_lack: how far a touching neighbour's push is drawn back to tell whether it goes toward
 /// it, m.
 inline constexpr double kTouchBack = 0.01;
