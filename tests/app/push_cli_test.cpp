@@ -88,7 +88,7 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"push --depth-split 0.2", "--depth-split"},
            {"evaluate push --depth-split -0.01", "--depth-split"},
            {"evaluate push --sweep-touching=maybe", "--sweep-touching"},
-           {"push --sweep-turn-by-shape=2", "--sweep-turn-by-shape"}}) {
+           {"push --sweep-turn-by-shape=maybe", "--sweep-turn-by-shape"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
