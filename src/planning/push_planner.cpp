@@ -36,6 +36,8 @@ constexpr double kViaFar = 0.10;
 constexpr double kShortStep = 0.005;
 // Depth pixels sampled every this many pixels in each direction for a blob's footprint.
 constexpr int kDepthStep = 2;
+// Depth pixels sampled for depth_tops: every one (its 4 mm cells all filled on a far top).
+constexpr int kTopStep = 1;
 // The top's height: this quantile of the object's depth points' heights (a few stray points at
 // a silhouette's edge do not set it).
 constexpr double kTopQuantile = 0.98;
@@ -375,7 +377,139 @@ PlanningView make_planning_view(const std::vector<cv::KeyPoint>& features,
       view.objects.push_back(std::move(*o));
     }
   }
+  if (options.depth_split > 0) (void)split_by_depth(view, region, options);
   return view;
+}
+
+DepthTops depth_tops(const cv::Mat& depth, const geometry::Camera& camera, const cv::Mat& mask,
+                     cv::Rect box, double jump, int step) {
+  require(depth.type() == CV_32FC1, "depth_tops: the depth image must be CV_32FC1 (metres)");
+  require(step >= 1, "depth_tops: step must be at least 1");
+  require(std::isfinite(jump) && jump > 0, "depth_tops: jump must be positive");
+  require(!mask.empty() && mask.type() == CV_8U && mask.size() == box.size(),
+          "depth_tops: the mask must be 8-bit of its box's size");
+  DepthTops out;
+  out.labels = cv::Mat1i(box.size(), 0);
+  // The depth points on objects: their pixel (in the box), table x y and height.
+  struct Point {
+    cv::Point q;
+    Eigen::Vector2d xy;
+    double z;
+  };
+  std::vector<Point> points;
+  const cv::Rect image(0, 0, depth.cols, depth.rows);
+  const Eigen::Matrix3d k_inv = camera.K.inverse();
+  const Eigen::Matrix3d r_t = camera.R.transpose();
+  for (int y = 0; y < box.height; y += step) {
+    for (int x = 0; x < box.width; x += step) {
+      const cv::Point p(box.x + x, box.y + y);
+      if (mask.at<std::uint8_t>(y, x) == 0 || !image.contains(p)) continue;
+      const double d = depth.at<float>(p);
+      if (!std::isfinite(d) || d <= 0) continue;
+      const Eigen::Vector3d w = r_t * (d * (k_inv * Eigen::Vector3d(p.x, p.y, 1.0)) - camera.t);
+      if (w.z() < kObjectLeastHeight) continue;
+      points.push_back({cv::Point(x, y), w.head<2>(), w.z()});
+    }
+  }
+  if (static_cast<int>(points.size()) < kFootprintLeastPoints) return out;
+  // The top-down map: the highest point per cell.
+  Eigen::Vector2d lo = points.front().xy;
+  Eigen::Vector2d hi = lo;
+  for (const Point& p : points) {
+    lo = lo.cwiseMin(p.xy);
+    hi = hi.cwiseMax(p.xy);
+  }
+  const auto cell_of = [&](const Eigen::Vector2d& xy) {
+    return cv::Point(static_cast<int>((xy.x() - lo.x()) / kTopCell),
+                     static_cast<int>((xy.y() - lo.y()) / kTopCell));
+  };
+  const cv::Point far = cell_of(hi);
+  cv::Mat1f top(far.y + 1, far.x + 1, -1.0F);
+  for (const Point& p : points) {
+    float& t = top(cell_of(p.xy));
+    t = std::max(t, static_cast<float>(p.z));
+  }
+  // Tops: cells within two cells of each other (an empty cell between two sampled ones does not
+  // part them) whose heights differ by less than the jump (a flood fill).
+  cv::Mat1i part(top.size(), 0);
+  int parts = 0;
+  std::vector<cv::Point> stack;
+  for (int y = 0; y < top.rows; ++y) {
+    for (int x = 0; x < top.cols; ++x) {
+      if (top(y, x) < 0 || part(y, x) != 0) continue;
+      part(y, x) = ++parts;
+      stack.assign(1, cv::Point(x, y));
+      while (!stack.empty()) {
+        const cv::Point c = stack.back();
+        stack.pop_back();
+        for (int dy = -2; dy <= 2; ++dy) {
+          for (int dx = -2; dx <= 2; ++dx) {
+            const cv::Point n(c.x + dx, c.y + dy);
+            if (n.x < 0 || n.y < 0 || n.x >= top.cols || n.y >= top.rows) continue;
+            if (top(n) < 0 || part(n) != 0 || std::abs(top(n) - top(c)) >= jump) continue;
+            part(n) = parts;
+            stack.push_back(n);
+          }
+        }
+      }
+    }
+  }
+  // Tops that keep kTopLeastArea once eroded by a cell.
+  std::vector<int> top_of(static_cast<std::size_t>(parts) + 1, 0);
+  const double least_cells = kTopLeastArea / (kTopCell * kTopCell);
+  for (int k = 1; k <= parts; ++k) {
+    const cv::Mat1b cells = part == k;
+    if (cv::countNonZero(cells) < least_cells) continue;
+    cv::Mat1b closed;
+    cv::Mat1b inner;
+    cv::morphologyEx(cells, closed, cv::MORPH_CLOSE, cv::Mat());
+    cv::erode(closed, inner, cv::Mat(), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, 0);
+    if (cv::countNonZero(inner) >= least_cells) top_of[static_cast<std::size_t>(k)] = ++out.count;
+  }
+  if (out.count == 0) return out;
+  // Every mask pixel goes to the top of the nearest sampled point that lies on one.
+  cv::Mat1b seeds(box.size(), 255);
+  for (const Point& p : points) {
+    if (top_of[static_cast<std::size_t>(part(cell_of(p.xy)))] > 0) seeds(p.q) = 0;
+  }
+  cv::Mat1f distance;
+  cv::Mat1i nearest;
+  cv::distanceTransform(seeds, distance, nearest, cv::DIST_L2, cv::DIST_MASK_5,
+                        cv::DIST_LABEL_PIXEL);
+  double most = 0;
+  cv::minMaxLoc(nearest, nullptr, &most);
+  std::vector<int> label_top(static_cast<std::size_t>(most) + 1, 0);
+  for (const Point& p : points) {
+    const int t = top_of[static_cast<std::size_t>(part(cell_of(p.xy)))];
+    if (t > 0) label_top[static_cast<std::size_t>(nearest(p.q))] = t;
+  }
+  for (int y = 0; y < box.height; ++y) {
+    for (int x = 0; x < box.width; ++x) {
+      if (mask.at<std::uint8_t>(y, x) != 0) {
+        out.labels(y, x) = label_top[static_cast<std::size_t>(nearest(y, x))];
+      }
+    }
+  }
+  return out;
+}
+
+int split_by_depth(PlanningView& view, const TableRegion& region, const PushPlanOptions& options) {
+  if (options.depth_split <= 0 || view.depth.empty()) return 0;
+  std::vector<cv::Mat> regions;
+  for (const PutativeObject& o : view.objects) {
+    const DepthTops t =
+        depth_tops(view.depth, view.camera, o.mask, o.box, options.depth_split, kTopStep);
+    if (t.count < 2) continue;
+    for (int k = 1; k <= t.count; ++k) {
+      cv::Mat r(view.image_size, CV_8U, cv::Scalar(0));
+      r(o.box).setTo(255, t.labels == k);
+      regions.push_back(r);
+    }
+  }
+  if (regions.empty()) return 0;
+  const std::size_t before = view.objects.size();
+  (void)split_putative_objects(view, regions, options.blobs.min_features, region, options);
+  return static_cast<int>(view.objects.size() - before);
 }
 
 std::vector<int> split_putative_objects(PlanningView& view, const std::vector<cv::Mat>& regions,
@@ -710,11 +844,27 @@ double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vec
   return lack;
 }
 
+double sweep_turn(const std::vector<Eigen::Vector2d>& hull) {
+  if (hull.size() < 3) return kSweepTurn;
+  std::vector<cv::Point2f> p;
+  p.reserve(hull.size());
+  for (const auto& h : hull) {
+    p.emplace_back(static_cast<float>(h.x() * kMetresToMm),
+                   static_cast<float>(h.y() * kMetresToMm));
+  }
+  const cv::RotatedRect rect = cv::minAreaRect(p);
+  const double w = std::min(rect.size.width, rect.size.height);
+  const double l = std::max(rect.size.width, rect.size.height);
+  if (w <= 0) return kSweepTurn;
+  const double fill = std::abs(cv::contourArea(p)) / (w * l);
+  return fill >= kBoxFill && l <= kBoxAspect * w ? kBoxTurn : kSweepTurn;
+}
+
 std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hull,
                                           const Eigen::Vector2d& centre,
-                                          const Eigen::Vector2d& target) {
+                                          const Eigen::Vector2d& target, double turn_most) {
   std::vector<Eigen::Vector2d> all = hull;
-  for (const double turn : {0.0, kSweepTurn, -kSweepTurn}) {
+  for (const double turn : {0.0, turn_most, -turn_most}) {
     const Eigen::Rotation2Dd r(turn);
     for (const auto& h : hull) all.push_back(target + r * (h - centre));
   }
@@ -723,9 +873,10 @@ std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hu
 
 double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& centre,
                   const Eigen::Vector2d& target,
-                  const std::vector<std::vector<Eigen::Vector2d>>& others, double margin) {
+                  const std::vector<std::vector<Eigen::Vector2d>>& others, double margin,
+                  bool touching, double turn) {
   if (margin <= 0 || others.empty() || hull.size() < 3) return 0.0;
-  const std::vector<Eigen::Vector2d> swept = sweep_region(hull, centre, target);
+  const std::vector<Eigen::Vector2d> swept = sweep_region(hull, centre, target, turn);
   const double reach = hull_radius(hull, centre) + (target - centre).norm();
   double lack = 0;
   for (const auto& o : others) {
@@ -736,7 +887,18 @@ double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2
     oc /= static_cast<double>(o.size());
     if ((oc - centre).norm() - hull_radius(o, oc) - reach > margin) continue;
     const double before = std::min(margin, polygon_distance(hull, o));
-    if (before == 0.0) continue;  // touching already: nothing to keep clear of
+    if (before == 0.0) {
+      // Touching already: nothing to keep clear of, unless the push goes toward it (drawn back
+      // against the push, the object leaves it).
+      const double length = (target - centre).norm();
+      if (!touching || length < 1e-9) continue;
+      const Eigen::Vector2d back = -kTouchBack / length * (target - centre);
+      std::vector<Eigen::Vector2d> drawn;
+      drawn.reserve(hull.size());
+      for (const auto& h : hull) drawn.push_back(h + back);
+      if (polygon_distance(drawn, o) > 0.0) lack += margin;
+      continue;
+    }
     const double gap = polygon_distance(swept, o);
     lack += std::max(0.0, before - gap);
     if (gap == 0.0) lack += margin - before;
@@ -1045,6 +1207,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const double tip = push_tip_height(o, options);
   const double speed = push_speed_for(o, options);
   const robot::JawLine jaws = push_jaws(o, tip, options);
+  // The turn the swept region allows for (sweep_margin).
+  const double turn = options.sweep_turn_by_shape ? sweep_turn(o.hull) : kSweepTurn;
   core::Rng rng(options.seed);
   const robot::IkOptions ik;
   struct Candidate {
@@ -1086,7 +1250,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     if (goal == PushGoal::kEdge) cost += kEdgeWeight * border_fraction(view.camera, t, 0.0);
     const double blocked = path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,
                                           options.hand_clearance) +
-                           sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin);
+                           sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin,
+                                      options.sweep_touching, turn);
     return Candidate{kBlockedWeight * blocked + cost, cost, blocked, false, t, approach, push};
   };
   const int via_points = goal == PushGoal::kTarget ? options.via_points : 0;
@@ -1136,18 +1301,22 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
                            options.path_step);
       c->blocked += path_clearance(next, moved, t, target, obstacles, options.clearance,
                                    options.hand_clearance) +
-                    sweep_lack(moved, t, target, obstacles, options.sweep_margin);
+                    sweep_lack(moved, t, target, obstacles, options.sweep_margin,
+                               options.sweep_touching, turn);
       c->via = true;
       c->score = kBlockedWeight * c->blocked + c->cost + kViaCost;
     }
     if (!via && goal == PushGoal::kTarget && c->blocked > 0 && options.sweep_margin > 0 &&
-        sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin) > 0) {
+        sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching,
+                   turn) > 0) {
       // Shortened: the object stopped on the same line where its swept region is first clear.
       const double full = (t - o.centre).norm();
       const Eigen::Vector2d n = (t - o.centre) / full;
       for (double d = full - kShortStep; d >= options.least_push; d -= kShortStep) {
         const Eigen::Vector2d ts = o.centre + d * n;
-        if (sweep_lack(o.hull, o.centre, ts, obstacles, options.sweep_margin) > 0) continue;
+        if (sweep_lack(o.hull, o.centre, ts, obstacles, options.sweep_margin,
+                       options.sweep_touching) > 0)
+          continue;
         if (std::optional<Candidate> s = leg(ts, approach)) {
           s->shortened = full - d;
           s->score += kShortCost * (full - d);

@@ -83,7 +83,12 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --jaws-along-height -0.01", "--jaws-along-height"},
            // Session 20's.
            {"push --sweep-margin 0.06", "--sweep-margin"},
-           {"evaluate push --sweep-margin -0.01", "--sweep-margin"}}) {
+           {"evaluate push --sweep-margin -0.01", "--sweep-margin"},
+           // Session 21's.
+           {"push --depth-split 0.2", "--depth-split"},
+           {"evaluate push --depth-split -0.01", "--depth-split"},
+           {"evaluate push --sweep-touching=maybe", "--sweep-touching"},
+           {"push --sweep-turn-by-shape=maybe", "--sweep-turn-by-shape"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -257,6 +258,55 @@ TEST(PushGeometry, SweepLackCountsTheSweptRegionsShortfallOfTheMargin) {
   EXPECT_EQ(polygon_distance(region, {{-0.04, 0.0}}), 0.0);
   EXPECT_EQ(polygon_distance(region, {{0.135, 0.013}}), 0.0);
   EXPECT_GT(polygon_distance(region, {{0.0, 0.012}}), 0.0);  // not the whole turn along the way
+}
+
+TEST(PushGeometry, TheTurnAllowanceGoesByTheFootprintsShape) {
+  // A square and a 4 x 3 cm rectangle are box-like; a disc (pi / 4 of its square), a rod
+  // (8 x 1 cm) and a triangle (half its rectangle) are not; too few points: the full turn.
+  EXPECT_EQ(sweep_turn(box(-0.01, -0.01, 0.01, 0.01)), kBoxTurn);
+  EXPECT_EQ(sweep_turn(box(-0.02, -0.015, 0.02, 0.015)), kBoxTurn);
+  std::vector<Eigen::Vector2d> disc;
+  for (int k = 0; k < 32; ++k) {
+    const double a = 2 * std::numbers::pi * k / 32;
+    disc.emplace_back(0.03 * std::cos(a), 0.03 * std::sin(a));
+  }
+  EXPECT_EQ(sweep_turn(disc), kSweepTurn);
+  EXPECT_EQ(sweep_turn(box(-0.04, -0.005, 0.04, 0.005)), kSweepTurn);
+  EXPECT_EQ(sweep_turn({{0, 0}, {0.04, 0}, {0, 0.04}}), kSweepTurn);
+  EXPECT_EQ(sweep_turn({{0, 0}, {0.04, 0}}), kSweepTurn);
+  // A box's smaller turn sweeps less: the neighbour 2 cm off the line is 7.7-10 mm from the
+  // square turned 15 degrees at the end, farther from it turned 3 degrees, 1 cm from it unturned.
+  const auto sq = box(-0.01, -0.01, 0.01, 0.01);
+  const std::vector<std::vector<Eigen::Vector2d>> off{box(0.04, 0.02, 0.06, 0.04)};
+  const double full = sweep_lack(sq, {0, 0}, {0.10, 0}, off, 0.01);
+  const double little = sweep_lack(sq, {0, 0}, {0.10, 0}, off, 0.01, false, kBoxTurn);
+  EXPECT_GT(full, 0.001);
+  EXPECT_LT(full, 0.0025);
+  EXPECT_LT(little, full - 0.0008);
+  EXPECT_NEAR(sweep_lack(sq, {0, 0}, {0.10, 0}, off, 0.01, false, 0.0), 0.0, 1e-9);  // no turn
+}
+
+TEST(PushGeometry, SweepLackCountsATouchingNeighbourOnlyWhenThePushGoesTowardIt) {
+  // A 2 cm square at the origin, a 1 cm margin, neighbours touching it (or overlapping it by
+  // 3 mm, as measured footprints do).
+  const auto sq = box(-0.01, -0.01, 0.01, 0.01);
+  const Eigen::Vector2d c(0, 0);
+  const double m = 0.01;
+  const std::vector<std::vector<Eigen::Vector2d>> ahead{box(0.01, -0.01, 0.03, 0.01)};
+  const std::vector<std::vector<Eigen::Vector2d>> overlapping{box(0.007, -0.01, 0.027, 0.01)};
+  const std::vector<std::vector<Eigen::Vector2d>> beside{box(-0.01, 0.007, 0.01, 0.027)};
+  const Eigen::Vector2d toward(0.10, 0);
+  // Off (the default): a touching neighbour counts nothing, whichever way the push goes.
+  EXPECT_EQ(sweep_lack(sq, c, toward, ahead, m), 0.0);
+  // On: pushed toward it, the margin; the overlapping one too.
+  EXPECT_DOUBLE_EQ(sweep_lack(sq, c, toward, ahead, m, true), m);
+  EXPECT_DOUBLE_EQ(sweep_lack(sq, c, toward, overlapping, m, true), m);
+  // Pushed away from it, or along the side they touch at: nothing.
+  EXPECT_EQ(sweep_lack(sq, c, {-0.10, 0}, ahead, m, true), 0.0);
+  EXPECT_EQ(sweep_lack(sq, c, toward, beside, m, true), 0.0);
+  // Pushed toward the one beside (+y): the margin; no margin: nothing.
+  EXPECT_DOUBLE_EQ(sweep_lack(sq, c, {0, 0.10}, beside, m, true), m);
+  EXPECT_EQ(sweep_lack(sq, c, toward, ahead, 0.0, true), 0.0);
 }
 
 TEST(PushPlanner, StopsShortWhereThePushedObjectsSweptRegionWouldMeetANeighbour) {
@@ -860,6 +910,94 @@ TEST(PushPlanner, DepthMeasuresABoxsFootprintAndHeight) {
   // Too few points above the table: no footprint.
   EXPECT_FALSE(measure_footprint(cv::Mat1f(480, 640, 0.0F), cam, {{10, 10}, {100, 10}, {100, 100}})
                    .has_value());
+}
+
+// The depth image of two boxes (render_box_depth's): the nearer surface of either at each pixel.
+cv::Mat1f render_two_boxes_depth(const geometry::Camera& cam, const Eigen::Vector2d& a, double ah,
+                                 const Eigen::Vector2d& b, double bh, double half) {
+  cv::Mat1f depth = render_box_depth(cam, a, half, half, ah, 0.0);
+  const cv::Mat1f other = render_box_depth(cam, b, half, half, bh, 0.0);
+  cv::Mat nearer;
+  cv::min(static_cast<const cv::Mat&>(depth), static_cast<const cv::Mat&>(other), nearer);
+  return nearer;
+}
+
+TEST(PushSplit, TwoTouchingBoxesOfDifferentHeightsAreSplitByTheirDepthTops) {
+  const geometry::Camera cam = oblique_camera();
+  const TableRegion region;
+  // A 3 cm high box and a 9 cm high one, 6 cm square, touching side by side (y = 0.03).
+  const Eigen::Vector2d low(0.24, 0.0);
+  const Eigen::Vector2d high(0.24, 0.06);
+  const double half = 0.03;
+  const auto scene = [&](double low_h, double high_h) {
+    cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
+    // The farther one first: the nearer one's faces cover it where they overlap in the image.
+    const bool low_nearer =
+        (low - cam.center().head<2>()).norm() < (high - cam.center().head<2>()).norm();
+    if (low_nearer) {
+      draw_checkered_box(img, cam, high, half, half, high_h, 0.0);
+      draw_checkered_box(img, cam, low, half, half, low_h, 0.0);
+    } else {
+      draw_checkered_box(img, cam, low, half, half, low_h, 0.0);
+      draw_checkered_box(img, cam, high, half, half, high_h, 0.0);
+    }
+    return std::make_pair(img, render_two_boxes_depth(cam, low, low_h, high, high_h, half));
+  };
+  const auto [img, depth] = scene(0.03, 0.09);
+  PushPlanOptions o;
+  const std::vector<cv::KeyPoint> points = textured_points(img, o);
+  // Off (the default): one blob, one putative object between the two.
+  const PlanningView merged = make_planning_view(points, cam, region, o, depth);
+  ASSERT_EQ(merged.objects.size(), 1U);
+  const PutativeObject& both = merged.objects[0];
+  const DepthTops tops = depth_tops(depth, cam, both.mask, both.box, 0.01);
+  EXPECT_EQ(tops.count, 2);
+  EXPECT_EQ(tops.labels.size(), both.box.size());
+  PlanningView copy = merged;
+  EXPECT_EQ(split_by_depth(copy, region, o), 0);  // depth_split 0: off
+  EXPECT_EQ(copy.objects.size(), 1U);
+  // On: two putative objects, each with its own box's centre and height.
+  o.depth_split = 0.01;
+  const PlanningView split = make_planning_view(points, cam, region, o, depth);
+  ASSERT_EQ(split.objects.size(), 2U);
+  const int a = object_nearest(split, low);
+  const int b = object_nearest(split, high);
+  ASSERT_NE(a, b);
+  const PutativeObject& pa = split.objects[static_cast<std::size_t>(a)];
+  const PutativeObject& pb = split.objects[static_cast<std::size_t>(b)];
+  EXPECT_LT((pa.centre - low).norm(), 0.008) << pa.centre.transpose();
+  EXPECT_LT((pb.centre - high).norm(), 0.008) << pb.centre.transpose();
+  ASSERT_TRUE(pa.height.has_value());
+  ASSERT_TRUE(pb.height.has_value());
+  EXPECT_NEAR(*pa.height, 0.03, 0.004);
+  EXPECT_NEAR(*pb.height, 0.09, 0.004);
+  EXPECT_EQ(pa.pixels.size() + pb.pixels.size(), both.pixels.size());  // every feature kept
+  // A step smaller than the jump (3 vs 4.5 cm with a 2 cm jump), or two tops of the same height:
+  // one top, not split.
+  PushPlanOptions big = o;
+  big.depth_split = 0.02;
+  const auto [img2, depth2] = scene(0.03, 0.045);
+  EXPECT_EQ(make_planning_view(textured_points(img2, big), cam, region, big, depth2).objects.size(),
+            1U);
+  const auto [img3, depth3] = scene(0.05, 0.05);
+  const PlanningView same = make_planning_view(textured_points(img3, o), cam, region, o, depth3);
+  ASSERT_EQ(same.objects.size(), 1U);
+  EXPECT_EQ(depth_tops(depth3, cam, same.objects[0].mask, same.objects[0].box, 0.01).count, 1);
+  // One box alone: one top. No depth: nothing split.
+  cv::Mat one(480, 640, CV_8U, cv::Scalar(128));
+  draw_checkered_box(one, cam, low, half, half, 0.03, 0.0);
+  const cv::Mat1f one_depth = render_box_depth(cam, low, half, half, 0.03, 0.0);
+  const PlanningView single =
+      make_planning_view(textured_points(one, o), cam, region, o, one_depth);
+  ASSERT_EQ(single.objects.size(), 1U);
+  EXPECT_EQ(depth_tops(one_depth, cam, single.objects[0].mask, single.objects[0].box, 0.01).count,
+            1);
+  EXPECT_EQ(make_planning_view(points, cam, region, o).objects.size(), 1U);
+  // Bad input.
+  EXPECT_THROW((void)depth_tops(depth, cam, both.mask, both.box, 0.0), Error);
+  EXPECT_THROW((void)depth_tops(depth, cam, both.mask, both.box, 0.01, 0), Error);
+  EXPECT_THROW((void)depth_tops(depth, cam, cv::Mat1b(3, 3, 255), both.box, 0.01), Error);
+  EXPECT_THROW((void)depth_tops(cv::Mat(480, 640, CV_16U), cam, both.mask, both.box, 0.01), Error);
 }
 
 // A putative object with a square hull of side 2 * half around `c` and, when given, a height.

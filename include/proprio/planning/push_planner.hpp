@@ -154,6 +154,18 @@ struct PushPlanOptions {
   /// next push of the loop, re-planned, cannot go on through the neighbour either). 0 (the
   /// default): not checked, no shortened pushes.
   double sweep_margin = 0;
+  /// With sweep_margin: a neighbour the pushed object touches already counts too (the margin, as
+  /// running into one) when the push goes toward it (sweep_lack's `touching`). false (the
+  /// default): a touching neighbour counts nothing.
+  bool sweep_touching = false;
+  /// With sweep_margin: the turn allowance by the pushed object's shape (sweep_turn: a box-like
+  /// footprint, pushed through its centre, hardly turns) instead of kSweepTurn for every object.
+  /// false (the default): kSweepTurn.
+  bool sweep_turn_by_shape = false;
+  /// Depth: a blob whose depth points hold two or more tops that meet at a step in height of at
+  /// least this, m (depth_tops), is split into them (split_by_depth), so that two touching
+  /// objects of different heights are two putative objects. 0 (the default): not split.
+  double depth_split = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -233,6 +245,19 @@ struct PushPlanOptions {
        "Least gap between the pushed object's swept region and other objects, m; blocked pushes "
        "to a target are also tried shortened (0: off)",
        core::between(0, 0.05)});
+    v(self.sweep_touching,
+      {"sweep_touching",
+       "With sweep_margin: a neighbour touching the pushed object counts when the push goes "
+       "toward it"});
+    v(self.sweep_turn_by_shape,
+      {"sweep_turn_by_shape",
+       "With sweep_margin: the swept region's turn allowance by the object's shape (boxes hardly "
+       "turn)"});
+    v(self.depth_split,
+      {"depth_split",
+       "Depth: blobs holding tops that meet at a height step of at least this are split, m (0: "
+       "off)",
+       core::between(0, 0.1)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -286,6 +311,34 @@ std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
                                                    const std::vector<Eigen::Vector2d>& hull_pixels,
                                                    const cv::Mat& mask = {}, cv::Rect box = {},
                                                    int step = 1);
+
+/// Side of the cells of depth_tops's top-down height map, m.
+inline constexpr double kTopCell = 0.004;
+/// A top of depth_tops keeps at least this area once a cell is taken off its rim, m^2 (a steep
+/// rim cut off its object by the step, a thin strip, a few stray points are no top).
+inline constexpr double kTopLeastArea = 6e-4;
+
+/// The tops of what a depth image sees inside a blob (depth_tops).
+struct DepthTops {
+  /// Box-sized: 0 outside the blob's mask, else 1..count, the top nearest the pixel (in the
+  /// image) among the sampled depth points that lie on a top.
+  cv::Mat1i labels;
+  int count = 0;  ///< tops found (0: too few depth points above the table)
+};
+
+/// The separate tops of what `depth` (CV_32FC1 metres along the optical axis, as
+/// robot::Look::depth) sees inside a blob (the 8-bit `mask` placed at `box` in the image): its
+/// depth points, every `step` px, at least kObjectLeastHeight above the table, go into a top-down
+/// map of the highest point in each kTopCell cell (an object's vertical sides fall under its top's
+/// rim); cells within two cells of each other whose heights differ by less than `jump` (m) are one
+/// top. Two
+/// touching objects whose tops differ in height by `jump` or more so come apart along the step
+/// between them; two of equal height do not, and one object whose own surface has such a step is
+/// cut there. Tops smaller than kTopLeastArea once closed and eroded by a cell are left out (their
+/// pixels go to the nearest top). Throws Error on a bad depth image, mask, step (< 1) or jump (<=
+/// 0).
+DepthTops depth_tops(const cv::Mat& depth, const geometry::Camera& camera, const cv::Mat& mask,
+                     cv::Rect box, double jump, int step = 2);
 
 /// What the planner knows of the view: the features, their density (eq 6.3) and the putative
 /// objects, sorted by size (largest first).
@@ -363,6 +416,15 @@ int find_pushed_object(const cv::Mat& before_image, const cv::Mat& after_image,
 std::vector<int> split_putative_objects(PlanningView& view, const std::vector<cv::Mat>& regions,
                                         int min_features, const TableRegion& region,
                                         const PushPlanOptions& options);
+
+/// Splits every putative object of `view` whose blob holds two or more depth tops
+/// (depth_tops of view.depth with options.depth_split as the jump) into them
+/// (split_putative_objects with each top's part of the blob as a region, options.blobs
+/// min_features points per part): touching objects merged into one blob become separate putative
+/// objects with their own measured footprints. make_planning_view calls it when
+/// options.depth_split > 0. Returns the number of putative objects added; 0 without depth or
+/// with depth_split 0.
+int split_by_depth(PlanningView& view, const TableRegion& region, const PushPlanOptions& options);
 
 /// How planning ended.
 enum class PlanOutcome {
@@ -478,21 +540,40 @@ inline constexpr double kSweepTurn = 0.26;  // 15 degrees
 /// blocking per 10 cm.
 inline constexpr double kShortCost = 100.0;
 
+/// sweep_turn: the turn allowance of a box-like footprint, rad (3 degrees).
+inline constexpr double kBoxTurn = 0.05;
+/// sweep_turn: a footprint is box-like when its hull fills at least this share of its least-area
+/// enclosing rectangle (a disc fills pi / 4 = 0.785 of its square)...
+inline constexpr double kBoxFill = 0.9;
+/// ...and that rectangle is at most this many times as long as it is wide (long objects turn).
+inline constexpr double kBoxAspect = 2.5;
+
+/// The turn a push may give an object of footprint `hull` (convex, table m), rad: kBoxTurn for a
+/// box-like one (kBoxFill, kBoxAspect), else kSweepTurn (round and long objects; fewer than 3
+/// points too).
+double sweep_turn(const std::vector<Eigen::Vector2d>& hull);
+
 /// The region (convex, CCW) the pushed object sweeps from `centre` to `target`: its `hull` at the
-/// start and, at the target, that hull carried there and turned by 0 and +-kSweepTurn about its
+/// start and, at the target, that hull carried there and turned by 0 and +-`turn` (rad) about its
 /// centre, and all between. Table m.
 std::vector<Eigen::Vector2d> sweep_region(const std::vector<Eigen::Vector2d>& hull,
                                           const Eigen::Vector2d& centre,
-                                          const Eigen::Vector2d& target);
+                                          const Eigen::Vector2d& target, double turn = kSweepTurn);
 
-/// How much the pushed object's swept region (sweep_region) lacks of `margin` against `others`
-/// (the other objects' hulls), summed, m: coming nearer than `margin` to an other hull (nearer
-/// than it was before the push, when it was nearer already) counts the shortfall; running into
-/// one counts at least `margin`; a hull it touched already before the push counts nothing (it
-/// cannot be kept clear of). 0: clear, or margin <= 0.
+/// How much the pushed object's swept region (sweep_region, turned `turn` either way) lacks of
+/// `margin` against `others` (the other objects' hulls), summed, m: coming nearer than `margin` to
+/// an other hull (nearer than it was before the push, when it was nearer already) counts the
+/// shortfall; running into one counts at least `margin`; a hull it touched already before the push
+/// counts nothing (it cannot be kept clear of), unless `touching` and the push goes toward it (the
+/// object's hull drawn back kTouchBack against the push no longer touches it): then it counts
+/// `margin`. 0: clear, or margin <= 0.
 double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& centre,
                   const Eigen::Vector2d& target,
-                  const std::vector<std::vector<Eigen::Vector2d>>& others, double margin);
+                  const std::vector<std::vector<Eigen::Vector2d>>& others, double margin,
+                  bool touching = false, double turn = kSweepTurn);
+/// sweep_lack: how far a touching neighbour's push is drawn back to tell whether it goes toward
+/// it, m.
+inline constexpr double kTouchBack = 0.01;
 
 /// How far from the pusher's start toward the arm's base (the table origin) the forearm hangs
 /// low at the end of the transit's way down, m (descent_blocked).
