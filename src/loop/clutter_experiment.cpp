@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -43,7 +44,10 @@ namespace {
 constexpr int kLdaIterations = 60;  // as learn
 constexpr std::uint64_t kTrialStream = 0x7c1a;
 constexpr std::uint64_t kTargetStream = 0x7c1b;
-constexpr int kMaxReplacements = 3;  // re-placements of the scene when the object is not seen
+constexpr int kMaxReplacements = 3;
+constexpr std::uint64_t kVocabularyStream = 0x7c1c;
+/// The vocabulary's k-means runs over at most this many of the views' descriptors (seeded).
+constexpr int kVocabularySample = 50000;  // re-placements of the scene when the object is not seen
 const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};  // as score_self_supervision
 constexpr std::string_view kCacheMarkers[] = {"clutter_cache.json"};
 
@@ -304,6 +308,98 @@ ViewsByFraction push_views(const fs::path& episode_dir, const ClutterExperimentO
   return out;
 }
 
+// The segmented views of a push are cached beside its episode (views_dense.bin or
+// views_sparse.bin): "PCLV", version, the key (the options that shape the views, as JSON), then
+// per fraction the views' descriptors. Written atomically; a file of another key, version or
+// size is recomputed (and replaced).
+constexpr char kViewsMagic[4] = {'P', 'C', 'L', 'V'};
+constexpr std::uint32_t kViewsVersion = 1;
+
+std::string views_key(const ClutterExperimentOptions& o) {
+  return core::Json{
+      {"segmentation", std::string(core::choice_name(o.segmentation, kPushSegmentationNames))},
+      {"fractions", o.fractions},
+      {"view_step", o.view_step},
+      {"min_features", o.min_features},
+      {"dilate", o.dilate},
+      {"features", core::fields_to_json(o.features)},
+      {"dense", core::fields_to_json(o.dense)},
+      {"sparse", core::fields_to_json(o.sparse)}}
+      .dump();
+}
+
+fs::path views_file(const fs::path& episode_dir, const ClutterExperimentOptions& o) {
+  return episode_dir.parent_path() /
+         (std::string("views_") +
+          std::string(core::choice_name(o.segmentation, kPushSegmentationNames)) + ".bin");
+}
+
+std::optional<ViewsByFraction> read_views(const fs::path& file, const std::string& key,
+                                          std::size_t fractions) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  const auto u32 = [&]() {
+    std::uint32_t v = 0;
+    in.read(reinterpret_cast<char*>(&v), sizeof v);
+    return v;
+  };
+  char magic[4] = {};
+  in.read(magic, 4);
+  if (!in || !std::equal(magic, magic + 4, kViewsMagic) || u32() != kViewsVersion) {
+    return std::nullopt;
+  }
+  const std::uint32_t key_size = u32();
+  if (!in || key_size != key.size()) return std::nullopt;
+  std::string k(key_size, '\0');
+  in.read(k.data(), key_size);
+  if (!in || k != key || u32() != fractions) return std::nullopt;
+  ViewsByFraction out(fractions);
+  for (auto& views : out) {
+    const std::uint32_t n = u32();
+    if (!in || n > 100000) return std::nullopt;
+    for (std::uint32_t v = 0; v < n; ++v) {
+      const std::uint32_t rows = u32();
+      const std::uint32_t cols = u32();
+      if (!in || rows > 1000000 || cols != 128) return std::nullopt;
+      cv::Mat d(static_cast<int>(rows), static_cast<int>(cols), CV_32F);
+      in.read(reinterpret_cast<char*>(d.data), static_cast<std::streamsize>(d.total() * 4));
+      if (!in) return std::nullopt;
+      views.push_back(d);
+    }
+  }
+  in.peek();
+  if (!in.eof()) return std::nullopt;  // more than the header says
+  return out;
+}
+
+void write_views(const fs::path& file, const std::string& key, const ViewsByFraction& views) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    const auto u32 = [&](std::size_t v) {
+      const auto x = static_cast<std::uint32_t>(v);
+      out.write(reinterpret_cast<const char*>(&x), sizeof x);
+    };
+    out.write(kViewsMagic, 4);
+    u32(kViewsVersion);
+    u32(key.size());
+    out.write(key.data(), static_cast<std::streamsize>(key.size()));
+    u32(views.size());
+    for (const auto& f : views) {
+      u32(f.size());
+      for (const auto& d : f) {
+        const cv::Mat c = d.isContinuous() ? d : d.clone();
+        u32(static_cast<std::size_t>(c.rows));
+        u32(static_cast<std::size_t>(c.cols));
+        out.write(reinterpret_cast<const char*>(c.data),
+                  static_cast<std::streamsize>(c.total() * 4));
+      }
+    }
+    if (!out) throw Error(tmp.string() + ": cannot write");
+  }
+  fs::rename(tmp, file);
+}
+
 double share(int right, int n) { return n > 0 ? static_cast<double>(right) / n : 0.0; }
 
 struct SeedData {
@@ -328,6 +424,21 @@ void sweep_seed(const SeedData& d, const ClutterExperimentOptions& o,
     if (!views.empty()) {
       cv::Mat stacked;
       cv::vconcat(views, stacked);
+      if (stacked.rows > kVocabularySample) {
+        // k-means over a seeded sample of the descriptors (all of them cost minutes a run).
+        std::vector<int> rows(static_cast<std::size_t>(stacked.rows));
+        std::iota(rows.begin(), rows.end(), 0);
+        core::Rng rng(core::stream_seed(d.seed, kVocabularyStream));
+        for (std::size_t i = 0; i < static_cast<std::size_t>(kVocabularySample); ++i) {
+          const auto j =
+              i + static_cast<std::size_t>(rng.uniform() * static_cast<double>(rows.size() - i));
+          std::swap(rows[i], rows[std::min(j, rows.size() - 1)]);
+        }
+        cv::Mat sample(kVocabularySample, stacked.cols, CV_32F);
+        for (int i = 0; i < kVocabularySample; ++i)
+          stacked.row(rows[static_cast<std::size_t>(i)]).copyTo(sample.row(i));
+        stacked = sample;
+      }
       features::KmeansOptions ko;
       ko.words = std::min(o.words, stacked.rows);
       ko.seed = d.seed;
@@ -785,6 +896,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
     arm_table.height = 48;
     std::optional<robot::ArmState> arm_state;
     std::vector<SeedData> data;
+    const std::string key = views_key(o);
     {
       // The arm's kinematics (the robot's own knowledge) for cutting it out of the views.
       const sim::SimulatedRobot arm_robot(arm_table, sim::ObjectCatalogue::load_default());
@@ -798,7 +910,14 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
           if (p.seed != seed || p.episode.empty()) continue;
           const int label = static_cast<int>(std::find(objects.begin(), objects.end(), p.object) -
                                              objects.begin());
-          ViewsByFraction v = push_views(o.cache / p.episode, o, arm_robot.arm(), arm_state);
+          const fs::path ep = o.cache / p.episode;
+          const fs::path vf = views_file(ep, o);
+          std::optional<ViewsByFraction> cached = read_views(vf, key, o.fractions.size());
+          if (!cached) {
+            cached = push_views(ep, o, arm_robot.arm(), arm_state);
+            write_views(vf, key, *cached);
+          }
+          ViewsByFraction& v = *cached;
           for (std::size_t fi = 0; fi < v.size(); ++fi) {
             for (auto& x : v[fi]) {
               d.views[fi].push_back(std::move(x));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/schema_check.hpp"
 #include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/json_io.hpp"
@@ -109,6 +110,7 @@ TEST(ClutterExperiment, QuickRunScoresEveryCellAndReusesItsCache) {
   const core::Json j = core::read_json(o.json);
   EXPECT_EQ(j.at("format"), kClutterExperimentFormat);
   EXPECT_EQ(j.at("cells").size(), 4U);
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
   const fs::path manifest = o.cache / "seed_2" / "book_t1" / "clutter_cache.json";
   ASSERT_TRUE(fs::exists(manifest));
   const auto written = fs::last_write_time(manifest);
