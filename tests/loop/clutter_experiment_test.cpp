@@ -114,10 +114,20 @@ TEST(ClutterExperiment, QuickRunScoresEveryCellAndReusesItsCache) {
   const fs::path manifest = o.cache / "seed_2" / "book_t1" / "clutter_cache.json";
   ASSERT_TRUE(fs::exists(manifest));
   const auto written = fs::last_write_time(manifest);
+  // Each executed push's segmented views are cached beside its episode; a damaged file is
+  // segmented again (the same figures below).
+  std::vector<fs::path> views;
+  for (const auto& e : fs::recursive_directory_iterator(o.cache)) {
+    if (e.path().filename() == "views_dense.bin") views.push_back(e.path());
+  }
+  ASSERT_FALSE(views.empty());
+  const auto size = fs::file_size(views.front());
+  fs::resize_file(views.front(), size / 2);
   // Again from the cache: nothing recorded again, the same figures.
   o.overwrite = true;  // --json and --figure exist
   const ClutterExperimentResult again = run_clutter_experiment(o, core::Provenance{});
   EXPECT_EQ(fs::last_write_time(manifest), written);
+  EXPECT_EQ(fs::file_size(views.front()), size);
   ASSERT_EQ(again.cells.size(), r.cells.size());
   for (std::size_t i = 0; i < r.cells.size(); ++i) {
     EXPECT_DOUBLE_EQ(again.cells[i].supervised, r.cells[i].supervised);
