@@ -4,7 +4,9 @@ usage: /usr/bin/python3 scripts/clutter_table.py FILE
 Per number of topics T: the supervised and unsupervised Mixture of Topics' held-out accuracy,
 mean over seeds x fractions with a 95% interval over the seeds (each seed's mean over the
 fractions; mean +- t(0.975, n-1) sd / sqrt(n)), the worst and best cell, the band (per fraction
-the mean over seeds: its min and max); per object the supervised accuracy at T >= 15 (mean over
+the mean over seeds: its min and max); the leave-one-trial-out diagnostic (each trial's own views
+classified by a supervised MoT fitted to the other trials', mean over seeds x fractions); per
+object the supervised accuracy at T >= 15 (mean over
 seeds x fractions x T); the pushes per object; the issue's target (T >= 15: mean >= 90%, worst
 >= 80%).
 """
@@ -43,11 +45,16 @@ def row(key, t):
             f"{100 * max(vals):.1f} | {100 * min(bands):.1f}-{100 * max(bands):.1f}")
 
 
+def cross(t):
+    vals = [c["cross_trial"] for c in cells if c["topics"] == t and c.get("cross_trial") is not None]
+    return f"{100 * statistics.mean(vals):.1f}" if vals else "-"
+
+
 print("| T | supervised mean (95% over seeds) | worst | best | band | "
-      "unsupervised mean | worst | best | band |")
-print("|---|---|---|---|---|---|---|---|---|")
+      "unsupervised mean | worst | best | band | leave-one-trial-out |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for t in o["topics"]:
-    print(f"| {t} | {row('supervised', t)} | {row('unsupervised', t)} |")
+    print(f"| {t} | {row('supervised', t)} | {row('unsupervised', t)} | {cross(t)} |")
 
 high = [c for c in cells if c["topics"] >= 15]
 if high:

@@ -105,7 +105,7 @@ Eigen::Vector2d push_target(const sim::ObjectTruth& t, const ClutterExperimentOp
   for (int attempt = 0; attempt < 200; ++attempt) {
     const double a = rng.uniform(0.0, 2 * std::numbers::pi);
     const double r = rng.uniform(o.min_shift, o.max_shift);
-    const Eigen::Vector2d p = c + r * Eigen::Vector2d(std::cos(a), std::sin(a));
+    Eigen::Vector2d p = c + r * Eigen::Vector2d(std::cos(a), std::sin(a));
     const double margin = 0.04;
     if (p.x() < region.min.x() + margin || p.x() > region.max.x() - margin ||
         p.y() < region.min.y() + margin || p.y() > region.max.y() - margin) {
@@ -407,6 +407,7 @@ struct SeedData {
   // per fraction: views (descriptors) and their object
   std::vector<std::vector<cv::Mat>> views;
   std::vector<std::vector<int>> labels;
+  std::vector<std::vector<int>> trials;  // per fraction: each view's trial
   // held-out descriptors per object
   std::vector<std::vector<cv::Mat>> held;
 };
@@ -488,6 +489,41 @@ void sweep_seed(const SeedData& d, const ClutterExperimentOptions& o,
             truth.empty() ? Eigen::MatrixXd() : recognition::document_theta(lda, held).theta;
         const topics::MotFit sup = topics::fit_mot(theta, labels, objects, o.mot);
         if (!truth.empty()) sup_pred = topics::classify_mot(sup.model, held_theta).predicted;
+        // Diagnostic: each trial's views classified by a supervised MoT fitted to the other
+        // trials' views (the same LDA): push-like held-out views instead of renders.
+        {
+          const auto& trial_of = d.trials[fi];
+          int right = 0;
+          int n = 0;
+          for (int held_trial = 0; held_trial < o.trials && o.trials > 1; ++held_trial) {
+            std::vector<int> train_labels(labels.size(), -1);
+            std::vector<Eigen::Index> test;
+            std::vector<int> train_per(static_cast<std::size_t>(C), 0);
+            for (std::size_t v = 0; v < labels.size(); ++v) {
+              if (trial_of[v] == held_trial) {
+                test.push_back(static_cast<Eigen::Index>(v));
+              } else {
+                train_labels[v] = labels[v];
+                ++train_per[static_cast<std::size_t>(labels[v])];
+              }
+            }
+            if (test.empty() ||
+                !std::all_of(train_per.begin(), train_per.end(), [](int k) { return k >= 2; })) {
+              continue;
+            }
+            const topics::MotFit fold = topics::fit_mot(theta, train_labels, objects, o.mot);
+            Eigen::MatrixXd test_theta(static_cast<Eigen::Index>(test.size()), theta.cols());
+            for (std::size_t i = 0; i < test.size(); ++i) {
+              test_theta.row(static_cast<Eigen::Index>(i)) = theta.row(test[i]);
+            }
+            const auto pred = topics::classify_mot(fold.model, test_theta).predicted;
+            for (std::size_t i = 0; i < test.size(); ++i) {
+              right += pred[i] == labels[static_cast<std::size_t>(test[i])] ? 1 : 0;
+              ++n;
+            }
+          }
+          if (n > 0) cell.cross_trial = share(right, n);
+        }
         try {
           topics::MotOptions uo = o.mot;
           uo.classes = C;
@@ -700,6 +736,7 @@ core::Json cell_json(const ClutterCell& c) {
                     {"unsupervised_per_object", c.unsupervised_per_object},
                     {"supervised_confusion", c.supervised_confusion.to_json()},
                     {"unsupervised_confusion", c.unsupervised_confusion.to_json()},
+                    {"cross_trial", c.cross_trial ? core::Json(*c.cross_trial) : core::Json()},
                     {"note", c.note}};
 }
 
@@ -906,6 +943,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
         d.seed = seed;
         d.views.resize(o.fractions.size());
         d.labels.resize(o.fractions.size());
+        d.trials.resize(o.fractions.size());
         for (const auto& p : r.pushes) {
           if (p.seed != seed || p.episode.empty()) continue;
           const int label = static_cast<int>(std::find(objects.begin(), objects.end(), p.object) -
@@ -922,6 +960,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
             for (auto& x : v[fi]) {
               d.views[fi].push_back(std::move(x));
               d.labels[fi].push_back(label);
+              d.trials[fi].push_back(p.trial);
             }
           }
           bar.tick();

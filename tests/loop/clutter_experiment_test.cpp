@@ -105,6 +105,7 @@ TEST(ClutterExperiment, QuickRunScoresEveryCellAndReusesItsCache) {
     EXPECT_EQ(c.supervised_confusion.rows, (std::vector<std::string>{"book", "cd"}));
     EXPECT_EQ(c.supervised_confusion.total(), c.unsupervised_confusion.total());
     EXPECT_LE(c.supervised_confusion.total(), 2 * 6);
+    EXPECT_FALSE(c.cross_trial.has_value());  // one trial: no trial to leave out
   }
   EXPECT_TRUE(fs::exists(o.figure));
   const core::Json j = core::read_json(o.json);

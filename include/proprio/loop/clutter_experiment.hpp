@@ -29,6 +29,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,10 @@ struct ClutterCell {
   std::vector<double> unsupervised_per_object;
   recognition::ConfusionMatrix supervised_confusion;    ///< objects x objects
   recognition::ConfusionMatrix unsupervised_confusion;  ///< objects x objects (named clusters)
+  /// Diagnostic: the share of each trial's own views that a supervised MoT fitted to the other
+  /// trials' views classifies as their object (leave one trial out; the same LDA, which saw
+  /// every view); nullopt with one trial or an object with < 2 views outside a trial.
+  std::optional<double> cross_trial;
   std::string note;  ///< why a model is missing (empty: both fitted)
 };
 
