@@ -13,6 +13,7 @@
 #include "option_binder.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
+#include "proprio/loop/clutter_experiment.hpp"
 #include "proprio/recognition/experiment_runs.hpp"
 #include "proprio/recognition/recognize_runs.hpp"
 
@@ -118,6 +119,73 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
     json_of(seeds[i]).write(run.document);
   };
   (void)run_scatter_experiments_files(a.options, inv.provenance(a.options.options.seed), write);
+}
+
+struct ClutterArgs {
+  loop::ClutterExperimentOptions options;
+  std::string segmentation = "dense";
+  bool quiet = false;
+};
+
+void run_clutter(ClutterArgs& a, const Invocation& inv) {
+  a.options.segmentation =
+      a.segmentation == "sparse" ? loop::PushSegmentation::kSparse : loop::PushSegmentation::kDense;
+  a.options.progress = !a.quiet;
+  const loop::ClutterExperimentResult r = loop::run_clutter_experiment(
+      a.options, inv.provenance(a.options.seeds.empty() ? 1 : a.options.seeds.front()));
+  std::fputs(r.brief().c_str(), stdout);
+}
+
+void add_clutter_options(CLI::App* cmd, ClutterArgs& a) {
+  loop::ClutterExperimentOptions& o = a.options;
+  cmd->add_option("--cache", o.cache,
+                  "Directory of the recorded pushes and held-out renders (made, or reused when "
+                  "recorded with the same options)")
+      ->required();
+  cmd->add_option("--json", o.json, "Write the results as JSON to this file (atomically)");
+  cmd->add_option("--figure", o.figure, "Write Fig 8-3 (accuracy against topics) as PNG");
+  cmd->add_option("--objects", o.objects, "Objects pushed and scored, catalogue names")
+      ->capture_default_str();
+  cmd->add_option("--clutter", o.clutter, "More catalogue objects on the table; '' none")
+      ->capture_default_str();
+  cmd->add_option("--background", o.background, "Backdrop: plain, photo or moving")
+      ->capture_default_str();
+  cmd->add_option("--seeds", o.seeds, "Seeds, one table each (comma-separated)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--trials", o.trials, "Trials per object (each re-places the scene)")
+      ->capture_default_str();
+  cmd->add_option("--pushes", o.pushes, "Pushes per trial")->capture_default_str();
+  cmd->add_option("--fractions", o.fractions,
+                  "Segmentation thresholds: mask = map >= fraction x its maximum (comma-separated)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--topics", o.topics, "Numbers of LDA topics T (comma-separated)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--segmentation", a.segmentation, "Push segmentation: dense or sparse")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"dense", "sparse"}));
+  cmd->add_option("--words", o.words, "Vocabulary words")->capture_default_str();
+  cmd->add_option("--view-step", o.view_step, "Views: every n-th frame from the touch")
+      ->capture_default_str();
+  cmd->add_option("--min-features", o.min_features, "Features a view needs")->capture_default_str();
+  cmd->add_option("--dilate", o.dilate, "Grow the masks by this many px")->capture_default_str();
+  cmd->add_option("--fps", o.fps, "Frame rate of the push episodes")->capture_default_str();
+  cmd->add_option("--width", o.width, "Image width, px")->capture_default_str();
+  cmd->add_option("--height", o.height, "Image height, px")->capture_default_str();
+  cmd->add_option("--held-out", o.held_out, "Held-out renders per object")->capture_default_str();
+  cmd->add_option("--min-shift", o.min_shift, "Push target: at least this far from the object, m")
+      ->capture_default_str();
+  cmd->add_option("--max-shift", o.max_shift, "Push target: at most this far, m")
+      ->capture_default_str();
+  cmd->add_flag("--quick", o.quick,
+                "Small and fast: first seed, 1 trial of 3 pushes, 240x180, fractions 0.5,0.7, "
+                "topics 4,8");
+  cmd->add_flag("--record-only", o.record_only, "Record the pushes into the cache and stop");
+  cmd->add_flag("--overwrite", o.overwrite,
+                "Replace a cache recorded with other options, and --json / --figure");
+  cmd->add_flag("-q,--quiet", a.quiet, "No progress bar");
 }
 
 void add_set_options(CLI::App* cmd, SetArgs& a) {
@@ -265,6 +333,15 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
   sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
   s->json.add_to(sc, "the confusion matrices");
   sc->callback([s, &inv] { run_scatter(*s, inv); });
+
+  auto c = std::make_shared<ClutterArgs>();
+  auto* cl = exp->add_subcommand(
+      "clutter",
+      "Pushes of book, bottle, CD and giraffe in clutter, segmented bottom-up; supervised and "
+      "unsupervised Mixture of Topics against topics and segmentation threshold (thesis 8.2, "
+      "Fig 8-3, Tables 8.1-8.2)");
+  add_clutter_options(cl, *c);
+  cl->callback([c, &inv] { run_clutter(*c, inv); });
 }
 
 }  // namespace proprio::app

@@ -1,0 +1,154 @@
+#pragma once
+// `proprio experiment clutter` (thesis 8.2, Fig 8-3, Tables 8.1-8.2; issue 21 "Experiment 8.2"):
+// the robot pushes each of book, bottle, CD and giraffe on a cluttered table with a moving
+// backdrop, `trials` trials of `pushes` pushes each, every push planned by the push planner
+// toward that object (loop::push_once). The harness is the thesis's experimenter: it reads the
+// simulator's ground truth to say WHICH object a trial pushes (the planner finds it in the view
+// through the ground-truth mask, as `proprio push --object` does), where its target lies (a
+// point 5-10 cm from the object's true centre, drawn by the seed) and to score; a trial
+// re-places the whole scene (SimulatedRobot::scatter, seeded by seed, object and trial) and the
+// object's pushes then continue from where the last left it.
+//
+// Each push is segmented bottom-up from its recorded frames alone, as `proprio learn` does
+// (dense Motion-Likelihood by default, the sparse SIFT variant as an option): the mask of a
+// frame is map >= fraction x the map's maximum, swept over `fractions`; the arm's own image
+// (its kinematics) is cut out; every view_step-th frame from the touch with min_features
+// features inside the (dilated) mask is a view labelled by the trial's object. For each
+// fraction a vocabulary (k-means over the descriptors of all the pushes' views: the pushes'
+// own views, as learn builds it) and, for each T of `topics`, batch LDA over those views; then
+// a supervised Mixture of Topics (labels: the trial's object) and an unsupervised one (C = the
+// number of objects; each cluster named after an object by the assignment that puts most
+// training views on their own object: an exhaustive search over the C! assignments, the
+// Hungarian method's optimum) classify held-out renders of each object (alone, at the table's
+// centre, yaw stepped through 360 degrees, as score_self_supervision renders them).
+//
+// The recorded pushes and the held-out renders are cached (CACHE/seed_S/OBJECT_tT/ per trial
+// and CACHE/seed_S/held_out/, each staged and committed whole with a versioned manifest that
+// is checked when read: another experiment's options there are an error), so the sweep reruns
+// without simulating; a trial already cached is not recorded again.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "proprio/core/json_io.hpp"
+#include "proprio/core/provenance.hpp"
+#include "proprio/features/extraction.hpp"
+#include "proprio/loop/learn.hpp"
+#include "proprio/recognition/confusion.hpp"
+#include "proprio/segmentation/ml_segmentation.hpp"
+#include "proprio/topics/mixture_of_topics.hpp"
+
+namespace proprio::loop {
+
+inline constexpr const char* kClutterExperimentFormat = "proprio.experiment.clutter";
+inline constexpr int kClutterExperimentVersion = 1;
+/// The manifest of a cached trial or held-out set (CACHE/seed_S/*/clutter_cache.json).
+inline constexpr const char* kClutterCacheFormat = "proprio.experiment.clutter.cache";
+inline constexpr int kClutterCacheVersion = 1;
+
+struct ClutterExperimentOptions {
+  std::string objects = "book,bottle,cd,giraffe";  ///< pushed and scored (catalogue names)
+  std::string clutter = "mug,rabbit,calculator";   ///< on the table too, never pushed on purpose
+  std::string background = "moving";               ///< plain, photo or moving
+  std::vector<std::uint64_t> seeds{1, 2, 3};       ///< one table (world) each
+  int trials = 3;                                  ///< trials per object (each re-places the scene)
+  int pushes = 10;                                 ///< pushes per trial
+  /// Mask = map >= fraction x the map's maximum: the sweep (issue 21: 0.5 to 0.9).
+  std::vector<double> fractions{0.5, 0.6, 0.7, 0.8, 0.9};
+  std::vector<int> topics{2, 4, 6, 8, 10, 15, 20, 25};  ///< LDA topics T
+  PushSegmentation segmentation = PushSegmentation::kDense;
+  int words = 200;        ///< vocabulary words (learn's default)
+  int view_step = 3;      ///< views: every n-th frame from the touch (learn's)
+  int min_features = 10;  ///< a view needs this many features (learn's)
+  int dilate = 4;         ///< masks grown by this many px (learn's)
+  double fps = 15;        ///< frame rate of the pushes' episodes (learn's)
+  int width = 320;        ///< camera image, px (learn's)
+  int height = 240;
+  int held_out = 20;  ///< held-out renders per object (learn's)
+  /// The push's target: this far from the object's true centre, m (drawn by the seed).
+  double min_shift = 0.05;
+  double max_shift = 0.10;
+  /// Small and fast (CI): the first seed, 1 trial of 3 pushes, 240 x 180, 2 fractions (0.5,
+  /// 0.7), 2 topic counts (4, 8), 60 words, 6 held-out renders.
+  bool quick = false;
+  bool record_only = false;      ///< record (or check) the cache and stop
+  std::filesystem::path cache;   ///< the cache directory (required)
+  std::filesystem::path json;    ///< the results (format kClutterExperimentFormat)
+  std::filesystem::path figure;  ///< Fig 8-3 as PNG (empty: none)
+  bool overwrite = false;        ///< replace a cache of other options, --json, --figure
+  bool progress = true;
+  features::ExtractOptions features = learn_features();
+  segmentation::MlOptions dense;
+  segmentation::SparseOptions sparse;
+  topics::MotOptions mot;
+
+  /// The options with quick applied.
+  [[nodiscard]] ClutterExperimentOptions resolved() const;
+  /// Throws Error naming the first bad option (as its CLI flag): bounds, empty lists, a
+  /// fraction outside (0, 1), a topic count < 2, a repeated or unknown name, no cache.
+  void validate() const;
+};
+
+/// One (seed, fraction, T) cell of the sweep.
+struct ClutterCell {
+  std::uint64_t seed = 0;
+  double fraction = 0;
+  int topics = 0;
+  int views = 0;  ///< training views (all objects)
+  std::vector<int> views_per_object;
+  double supervised = 0;    ///< held-out renders classified as their object
+  double unsupervised = 0;  ///< the same, clusters named by the best assignment
+  std::vector<double> supervised_per_object;
+  std::vector<double> unsupervised_per_object;
+  recognition::ConfusionMatrix supervised_confusion;    ///< objects x objects
+  recognition::ConfusionMatrix unsupervised_confusion;  ///< objects x objects (named clusters)
+  /// Diagnostic: the share of each trial's own views that a supervised MoT fitted to the other
+  /// trials' views classifies as their object (leave one trial out; the same LDA, which saw
+  /// every view); nullopt with one trial or an object with < 2 views outside a trial.
+  std::optional<double> cross_trial;
+  std::string note;  ///< why a model is missing (empty: both fitted)
+};
+
+/// One recorded push (from the cache's manifests).
+struct ClutterPush {
+  std::uint64_t seed = 0;
+  std::string object;
+  int trial = 0;
+  int index = 0;
+  std::string outcome;  ///< PushOutcome's name
+  bool moved_intended = false;
+  bool only_intended = false;
+  int replaced = 0;     ///< times the scene was re-placed because the object was not seen
+  std::string episode;  ///< relative to the cache (empty: no push executed)
+};
+
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct ClutterExperimentResult {
+  ClutterExperimentOptions options;  ///< resolved
+  std::vector<ClutterPush> pushes;
+  std::vector<ClutterCell> cells;
+  double record_seconds = 0;
+  double sweep_seconds = 0;
+  core::Json document;  ///< format kClutterExperimentFormat
+  std::string message;
+  /// The table of means (supervised and unsupervised per T: mean over seeds x fractions, worst,
+  /// best) and the best and worst confusion matrices.
+  [[nodiscard]] std::string brief() const;
+};
+
+/// The best assignment of C clusters to C objects: assignment[k] = the object cluster k is
+/// named after, maximising sum_k counts[k][assignment[k]] (counts: clusters x objects, square,
+/// C <= 8; exhaustive over the C! permutations, the Hungarian method's optimum; ties: the first
+/// permutation in lexicographic order). Throws Error for a non-square or too large matrix.
+std::vector<int> best_assignment(const std::vector<std::vector<int>>& counts);
+
+/// Records what is not cached yet, then sweeps (unless record_only); writes --json and
+/// --figure. Throws Error for bad options, a cache of other options (without overwrite), an
+/// existing --json/--figure without overwrite.
+ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& options,
+                                               const core::Provenance& provenance);
+
+}  // namespace proprio::loop

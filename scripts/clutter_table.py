@@ -1,0 +1,97 @@
+"""Tables of `proprio experiment clutter --json FILE` (thesis 8.2, Fig 8-3, Tables 8.1-8.2).
+
+usage: /usr/bin/python3 scripts/clutter_table.py FILE
+Per number of topics T: the supervised and unsupervised Mixture of Topics' held-out accuracy,
+mean over seeds x fractions with a 95% interval over the seeds (each seed's mean over the
+fractions; mean +- t(0.975, n-1) sd / sqrt(n)), the worst and best cell, the band (per fraction
+the mean over seeds: its min and max); the leave-one-trial-out diagnostic (each trial's own views
+classified by a supervised MoT fitted to the other trials', mean over seeds x fractions); per
+object the supervised accuracy at T >= 15 (mean over
+seeds x fractions x T); the pushes per object; the issue's target (T >= 15: mean >= 90%, worst
+>= 80%).
+"""
+import json
+import statistics
+import sys
+from collections import defaultdict
+
+T975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26}
+
+d = json.load(open(sys.argv[1]))
+o = d["options"]
+objects = o["objects"]
+cells = d["cells"]
+
+
+def interval(values):
+    if len(values) < 2:
+        return ""
+    m = statistics.mean(values)
+    h = T975.get(len(values) - 1, 2.0) * statistics.stdev(values) / len(values) ** 0.5
+    return f" +- {100 * h:.1f}"
+
+
+def row(key, t):
+    cs = [c for c in cells if c["topics"] == t]
+    per_seed = defaultdict(list)
+    per_fraction = defaultdict(list)
+    for c in cs:
+        per_seed[c["seed"]].append(c[key])
+        per_fraction[c["fraction"]].append(c[key])
+    seeds = [statistics.mean(v) for v in per_seed.values()]
+    bands = [statistics.mean(v) for v in per_fraction.values()]
+    vals = [c[key] for c in cs]
+    return (f"{100 * statistics.mean(vals):.1f}{interval(seeds)} | {100 * min(vals):.1f} | "
+            f"{100 * max(vals):.1f} | {100 * min(bands):.1f}-{100 * max(bands):.1f}")
+
+
+def cross(t):
+    vals = [c["cross_trial"] for c in cells if c["topics"] == t and c.get("cross_trial") is not None]
+    return f"{100 * statistics.mean(vals):.1f}" if vals else "-"
+
+
+print("| T | supervised mean (95% over seeds) | worst | best | band | "
+      "unsupervised mean | worst | best | band | leave-one-trial-out |")
+print("|---|---|---|---|---|---|---|---|---|---|")
+for t in o["topics"]:
+    print(f"| {t} | {row('supervised', t)} | {row('unsupervised', t)} | {cross(t)} |")
+
+high = [c for c in cells if c["topics"] >= 15]
+if high:
+    print()
+    for key in ("supervised", "unsupervised"):
+        vals = [c[key] for c in high]
+        print(f"T >= 15, {key}: mean {100 * statistics.mean(vals):.1f}%, worst "
+              f"{100 * min(vals):.1f}% over {len(vals)} cells (target: mean >= 90%, worst >= 80%)")
+    print()
+    print("| object | pushes executed | moved it | training views (fraction 0.7) | "
+          "supervised, T >= 15 | per seed |")
+    print("|---|---|---|---|---|---|")
+    for i, name in enumerate(objects):
+        ps = [p for p in d["pushes"] if p["object"] == name]
+        views = [c["views_per_object"][i] for c in cells
+                 if abs(c["fraction"] - 0.7) < 1e-9 and c["topics"] == o["topics"][0]]
+        per_seed = defaultdict(list)
+        for c in high:
+            per_seed[c["seed"]].append(c["supervised_per_object"][i])
+        seeds = [statistics.mean(v) for v in per_seed.values()]
+        acc = statistics.mean(c["supervised_per_object"][i] for c in high)
+        print(f"| {name} | {sum(p['executed'] for p in ps)} / {len(ps)} | "
+              f"{sum(p['moved_intended'] for p in ps)} | {'/'.join(str(v) for v in views)} | "
+              f"{100 * acc:.1f}{interval(seeds)} | "
+              f"{' '.join(f'{100 * s:.0f}' for s in seeds)} |")
+
+for which in ("best", "worst"):
+    if which not in d:
+        continue
+    b = d[which]
+    m = b["supervised"]
+    print()
+    print(f"{which}: fraction {b['fraction']}, T {b['topics']}, supervised, summed over the "
+          f"seeds: {100 * m['accuracy']:.1f}% (rows: true object, % of its renders)")
+    print()
+    print("| | " + " | ".join(m["columns"]) + " |")
+    print("|---|" + "---|" * len(m["columns"]))
+    for r, counts in zip(m["rows"], m["counts"]):
+        n = sum(counts) + m["unclassified"][m["rows"].index(r)]
+        print(f"| {r} | " + " | ".join(f"{100 * x / n:.0f}" if n else "-" for x in counts) + " |")

@@ -1,0 +1,145 @@
+// proprio experiment clutter (thesis 8.2): the cluster naming, the options, and a --quick run
+// on a small simulated table whose cache a second run reuses without simulating.
+#include "proprio/loop/clutter_experiment.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "../support/schema_check.hpp"
+#include "../support/temp_dir.hpp"
+#include "proprio/core/error.hpp"
+#include "proprio/core/json_io.hpp"
+
+namespace proprio::loop {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(ClutterExperiment, BestAssignmentMaximisesTheViewsOnTheirOwnObject) {
+  // Cluster 0 holds mostly object 1, cluster 1 object 0, cluster 2 object 2.
+  EXPECT_EQ(best_assignment({{0, 5, 1}, {4, 0, 0}, {0, 1, 7}}), (std::vector<int>{1, 0, 2}));
+  // The greedy choice (cluster 0 -> object 0, its largest) is not the best: 6 + 5 > 6 + 1.
+  EXPECT_EQ(best_assignment({{6, 5}, {6, 1}}), (std::vector<int>{1, 0}));
+  EXPECT_EQ(best_assignment({{3}}), (std::vector<int>{0}));
+  EXPECT_TRUE(best_assignment({}).empty());
+  EXPECT_THROW(best_assignment({{1, 2}, {3}}), Error);
+  EXPECT_THROW(best_assignment(std::vector<std::vector<int>>(9, std::vector<int>(9, 0))), Error);
+}
+
+TEST(ClutterExperiment, DefaultsAreTheIssues) {
+  ClutterExperimentOptions o;
+  EXPECT_EQ(o.objects, "book,bottle,cd,giraffe");
+  EXPECT_EQ(o.background, "moving");
+  EXPECT_EQ(o.seeds, (std::vector<std::uint64_t>{1, 2, 3}));
+  EXPECT_EQ(o.trials, 3);
+  EXPECT_EQ(o.pushes, 10);
+  EXPECT_EQ(o.fractions, (std::vector<double>{0.5, 0.6, 0.7, 0.8, 0.9}));
+  EXPECT_EQ(o.topics, (std::vector<int>{2, 4, 6, 8, 10, 15, 20, 25}));
+  EXPECT_EQ(o.segmentation, PushSegmentation::kDense);
+  EXPECT_THROW(o.validate(), Error);  // no cache
+  o.cache = "somewhere";
+  EXPECT_NO_THROW(o.validate());
+  o.quick = true;
+  const ClutterExperimentOptions q = o.resolved();
+  EXPECT_EQ(q.seeds.size(), 1U);
+  EXPECT_EQ(q.fractions.size(), 2U);
+  EXPECT_EQ(q.topics.size(), 2U);
+  EXPECT_LT(q.pushes, o.pushes);
+}
+
+TEST(ClutterExperiment, BadOptionsNameTheFlag) {
+  const auto message = [](auto change) {
+    ClutterExperimentOptions o;
+    o.cache = "somewhere";
+    change(o);
+    try {
+      o.validate();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message([](auto& o) {
+              o.fractions = {0.5, 1.0};
+            }).find("--fractions"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) {
+              o.fractions = {0.5, 0.5};
+            }).find("--fractions"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.topics = {1}; }).find("--topics"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.seeds = {}; }).find("--seeds"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.trials = 0; }).find("--trials"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.pushes = 0; }).find("--pushes"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.objects = "book,unicorn"; }).find("unicorn"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.clutter = "book"; }).find("repeated"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.max_shift = 0.02; }).find("--max-shift"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.background = "stripes"; }).find("--background"),
+            std::string::npos);
+}
+
+TEST(ClutterExperiment, QuickRunScoresEveryCellAndReusesItsCache) {
+  const test::TempDir temp("proprio_clutter_experiment");
+  ClutterExperimentOptions o;
+  o.quick = true;
+  o.objects = "book,cd";
+  o.clutter = "mug";
+  o.background = "plain";
+  o.seeds = {2};
+  o.cache = temp.path() / "cache";
+  o.json = temp.path() / "clutter.json";
+  o.figure = temp.path() / "fig.png";
+  o.progress = false;
+  const ClutterExperimentResult r = run_clutter_experiment(o, core::Provenance{});
+  ASSERT_EQ(r.pushes.size(), 2U * 3U);  // 2 objects x 1 trial x 3 pushes
+  ASSERT_EQ(r.cells.size(), 2U * 2U);   // 2 fractions x 2 topic counts
+  for (const auto& c : r.cells) {
+    EXPECT_GE(c.supervised, 0.0);
+    EXPECT_LE(c.supervised, 1.0);
+    EXPECT_GE(c.unsupervised, 0.0);
+    EXPECT_LE(c.unsupervised, 1.0);
+    // Every held-out render with features is a row of both matrices (objects x objects).
+    EXPECT_EQ(c.supervised_confusion.rows, (std::vector<std::string>{"book", "cd"}));
+    EXPECT_EQ(c.supervised_confusion.total(), c.unsupervised_confusion.total());
+    EXPECT_LE(c.supervised_confusion.total(), 2 * 6);
+    EXPECT_FALSE(c.cross_trial.has_value());  // one trial: no trial to leave out
+  }
+  EXPECT_TRUE(fs::exists(o.figure));
+  const core::Json j = core::read_json(o.json);
+  EXPECT_EQ(j.at("format"), kClutterExperimentFormat);
+  EXPECT_EQ(j.at("cells").size(), 4U);
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  const fs::path manifest = o.cache / "seed_2" / "book_t1" / "clutter_cache.json";
+  ASSERT_TRUE(fs::exists(manifest));
+  const auto written = fs::last_write_time(manifest);
+  // Each executed push's segmented views are cached beside its episode; a damaged file is
+  // segmented again (the same figures below).
+  std::vector<fs::path> views;
+  for (const auto& e : fs::recursive_directory_iterator(o.cache)) {
+    if (e.path().filename() == "views_dense.bin") views.push_back(e.path());
+  }
+  ASSERT_FALSE(views.empty());
+  const auto size = fs::file_size(views.front());
+  fs::resize_file(views.front(), size / 2);
+  // Again from the cache: nothing recorded again, the same figures.
+  o.overwrite = true;  // --json and --figure exist
+  const ClutterExperimentResult again = run_clutter_experiment(o, core::Provenance{});
+  EXPECT_EQ(fs::last_write_time(manifest), written);
+  EXPECT_EQ(fs::file_size(views.front()), size);
+  ASSERT_EQ(again.cells.size(), r.cells.size());
+  for (std::size_t i = 0; i < r.cells.size(); ++i) {
+    EXPECT_DOUBLE_EQ(again.cells[i].supervised, r.cells[i].supervised);
+  }
+  // A cache recorded with other options is refused (without --overwrite).
+  o.overwrite = false;
+  o.json.clear();
+  o.figure.clear();
+  o.min_shift = 0.06;
+  EXPECT_THROW(run_clutter_experiment(o, core::Provenance{}), Error);
+}
+
+}  // namespace
+}  // namespace proprio::loop
