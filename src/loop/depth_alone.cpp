@@ -44,6 +44,9 @@ std::vector<Eigen::Vector2d> hull_of(const std::vector<Eigen::Vector2d>& xy) {
   return out;
 }
 
+// Footprints nearer each other than this are parts of one object when no other blob owns one, m.
+constexpr double kPartGap = 0.015;
+
 }  // namespace
 
 void DepthFootprintOptions::validate() const {
@@ -163,8 +166,24 @@ DepthAlone depth_alone(const DepthFootprints& fp, const planning::PlanningView& 
     }
     return n;
   };
-  const auto& c = view.objects[static_cast<std::size_t>(chosen)];
-  const std::vector<int> cv = votes(c);
+  // Each footprint's owner: the blob with the most features on it (-1: none). The depth jumps
+  // that separate objects also cut one object into parts (a head above its body, a wheel in
+  // front of a frame): the chosen object is every footprint it owns, and every footprint no blob
+  // owns within kPartGap of those.
+  const std::size_t n_parts = fp.parts.size();
+  std::vector<std::vector<int>> on(view.objects.size());  // per blob: its features per footprint
+  std::vector<int> owner(n_parts, -1);
+  std::vector<int> most(n_parts, 0);
+  for (std::size_t b = 0; b < view.objects.size(); ++b) {
+    on[b] = votes(view.objects[b]);
+    for (std::size_t k = 0; k < n_parts; ++k) {
+      if (on[b][k] > most[k]) {
+        most[k] = on[b][k];
+        owner[k] = static_cast<int>(b);
+      }
+    }
+  }
+  const std::vector<int>& cv = on[static_cast<std::size_t>(chosen)];
   const auto best = std::max_element(cv.begin(), cv.end());
   if (*best == 0) {
     out.why = "the chosen blob's features lie on no depth footprint";
@@ -172,25 +191,73 @@ DepthAlone depth_alone(const DepthFootprints& fp, const planning::PlanningView& 
   }
   out.measured = true;
   out.footprint = static_cast<int>(best - cv.begin());
-  const auto& mine = fp.parts[static_cast<std::size_t>(out.footprint)];
-  const int total = static_cast<int>(c.pixels.size());
-  for (std::size_t k = 0; k < cv.size(); ++k) {
-    if (static_cast<int>(k) != out.footprint && 4 * cv[k] >= total) out.merged = true;
+  std::vector<char> mine(n_parts, 0);
+  mine[static_cast<std::size_t>(out.footprint)] = 1;
+  for (std::size_t k = 0; k < n_parts; ++k) {
+    if (owner[k] == chosen) mine[k] = 1;
   }
+  const auto gap_between = [&](std::size_t a, std::size_t b) {
+    return hull_gap(fp.parts[a].hull, fp.parts[b].hull);
+  };
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (std::size_t k = 0; k < n_parts; ++k) {
+      if (mine[k] != 0 || owner[k] >= 0) continue;
+      for (std::size_t j = 0; j < n_parts; ++j) {
+        if (mine[j] != 0 && gap_between(k, j) < kPartGap) {
+          mine[k] = 1;
+          grew = true;
+          break;
+        }
+      }
+    }
+  }
+  // Merged: the chosen blob's own footprints fall into two groups kPartGap or more apart, each
+  // with at least a quarter of its features (two objects seen as one blob).
+  {
+    std::vector<int> group(n_parts, -1);
+    std::vector<int> share;
+    for (std::size_t k = 0; k < n_parts; ++k) {
+      if (mine[k] == 0 || group[k] >= 0) continue;
+      const int g = static_cast<int>(share.size());
+      share.push_back(0);
+      std::vector<std::size_t> stack{k};
+      group[k] = g;
+      while (!stack.empty()) {
+        const std::size_t a = stack.back();
+        stack.pop_back();
+        share[static_cast<std::size_t>(g)] += cv[a];
+        for (std::size_t j = 0; j < n_parts; ++j) {
+          if (mine[j] != 0 && group[j] < 0 && gap_between(a, j) < kPartGap) {
+            group[j] = g;
+            stack.push_back(j);
+          }
+        }
+      }
+    }
+    const int total =
+        static_cast<int>(view.objects[static_cast<std::size_t>(chosen)].pixels.size());
+    int big = 0;
+    for (const int s : share) big += 4 * s >= total ? 1 : 0;
+    out.merged = big >= 2;
+  }
+  const auto gap_to_mine = [&](std::size_t k) {
+    double g = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < n_parts; ++j) {
+      if (mine[j] != 0) g = std::min(g, gap_between(k, j));
+    }
+    return g;
+  };
   out.gap = std::numeric_limits<double>::infinity();
   for (std::size_t b = 0; b < view.objects.size(); ++b) {
     if (static_cast<int>(b) == chosen) continue;
-    const std::vector<int> n = votes(view.objects[b]);
-    const auto m = std::max_element(n.begin(), n.end());
+    const auto m = std::max_element(on[b].begin(), on[b].end());
     if (*m == 0) continue;
-    const auto k = static_cast<std::size_t>(m - n.begin());
-    const double g =
-        static_cast<int>(k) == out.footprint ? 0.0 : hull_gap(mine.hull, fp.parts[k].hull);
-    out.blob_gaps[b] = g;
+    const auto k = static_cast<std::size_t>(m - on[b].begin());
+    out.blob_gaps[b] = mine[k] != 0 ? 0.0 : gap_to_mine(k);
   }
-  for (std::size_t k = 0; k < fp.parts.size(); ++k) {
-    if (static_cast<int>(k) == out.footprint) continue;
-    out.gap = std::min(out.gap, hull_gap(mine.hull, fp.parts[k].hull));
+  for (std::size_t k = 0; k < n_parts; ++k) {
+    if (mine[k] == 0) out.gap = std::min(out.gap, gap_to_mine(k));
   }
   // Another blob on the chosen footprint: two objects touching (or one standing on the other).
   for (const auto& g : out.blob_gaps) {

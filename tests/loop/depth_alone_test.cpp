@@ -125,22 +125,37 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
     EXPECT_FALSE(a.alone) << a.why;
     EXPECT_FALSE(depth_alone(fp, view_of(cam, {{tall}, {low}}), 1, 0.04).alone);
   }
-  // A low box 1 cm in front of a tall one: the table between them is hidden behind the low box,
-  // the depth jumps from its top to the tall box's face; two footprints 1 cm apart. Seen as one
-  // blob, that blob lies on both: merged, not alone.
+  // A low box 2.5 cm in front of a tall one: two footprints 2.5 cm apart. Seen as one blob,
+  // that blob lies on both: merged, not alone.
   {
     const Box front{{0.30, -0.10}, 0.03, 0.03, 0.04};
-    const Box behind{{0.30, -0.03}, 0.03, 0.03, 0.15};
+    const Box behind{{0.30, -0.015}, 0.03, 0.03, 0.15};
     const cv::Mat1f depth = render(cam, {front, behind});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     ASSERT_EQ(fp.parts.size(), 2U);
     const DepthAlone a = depth_alone(fp, view_of(cam, {{front}, {behind}}), 0, 0.04);
-    EXPECT_NEAR(a.gap, 0.01, 0.006);
+    EXPECT_NEAR(a.gap, 0.025, 0.005);
     EXPECT_FALSE(a.alone) << a.why;
     const DepthAlone one = depth_alone(fp, view_of(cam, {{front, behind}}), 0, 0.01);
     EXPECT_TRUE(one.merged);
     EXPECT_FALSE(one.alone) << one.why;
-    // Without the depth jump (join as wide as the scene) the two are one footprint.
+  }
+  // Parts of one object: 8 mm apart (the table between hidden behind the low box), separated by
+  // the depth jump from its top to the tall box's face, but one blob owns both and they are
+  // nearer than 1.5 cm: one object, alone; two blobs on them are two objects 8 mm apart, not
+  // alone. Without the depth jump (join as wide as the scene) they are one footprint.
+  {
+    const Box front{{0.30, -0.10}, 0.03, 0.03, 0.04};
+    const Box behind{{0.30, -0.032}, 0.03, 0.03, 0.15};
+    const cv::Mat1f depth = render(cam, {front, behind});
+    const DepthFootprints fp = depth_footprints(depth, cam, region);
+    ASSERT_EQ(fp.parts.size(), 2U);
+    const DepthAlone one = depth_alone(fp, view_of(cam, {{front, behind}}), 0, 0.1);
+    EXPECT_FALSE(one.merged);
+    EXPECT_TRUE(one.alone) << one.why;
+    const DepthAlone two = depth_alone(fp, view_of(cam, {{front}, {behind}}), 0, 0.1);
+    EXPECT_LT(two.gap, 0.015);
+    EXPECT_FALSE(two.alone) << two.why;
     DepthFootprintOptions wide;
     wide.join = 0.2;
     EXPECT_EQ(depth_footprints(depth, cam, region, wide).parts.size(), 1U);

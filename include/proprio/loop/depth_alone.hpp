@@ -6,8 +6,12 @@
 // table region) are objects. Neighbouring points closer than `join` in 3D belong to one surface,
 // so a gap of table between two objects or a jump in depth where one object stands in front of
 // or on top of another separates them; each connected surface of at least least_pixels pixels is
-// a footprint (table x y of its points). The chosen blob is alone when its footprint is at least
-// `clearance` from every other footprint and no other blob's features lie on it.
+// a footprint (table x y of its points). A depth jump also cuts one object into parts (a head
+// above its body): the chosen object is every footprint its blob owns (has the most features
+// on) and every footprint no blob owns within 1.5 cm of those. It is alone when that is at least
+// `clearance` from every other footprint, no other blob's features lie mostly on it, and its
+// own footprints do not fall into two groups 1.5 cm apart with a quarter of its features each
+// (two objects seen as one blob).
 //
 // Frames: world x y, m (robot base frame, table top z = 0); pixels as planning::PlanningView.
 
@@ -66,8 +70,8 @@ struct DepthAlone {
   /// The least gap from the chosen footprint to any other footprint, m (0: another blob's
   /// features lie on it; infinity when it is the only one).
   double gap = 0;
-  /// A second footprint carries at least a quarter of the chosen blob's features: the blob is
-  /// two objects seen as one.
+  /// The chosen blob's footprints fall into two groups 1.5 cm or more apart, each with at least a
+  /// quarter of its features: the blob is two objects seen as one.
   bool merged = false;
   int footprint = -1;  ///< the chosen blob's footprint (the one most of its features lie on)
   /// Per blob of the view, the gap from the chosen footprint to the blob's own footprint, m (0:
