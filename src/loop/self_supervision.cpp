@@ -419,6 +419,7 @@ class Learner {
       }
       const bool use_depth = o_.alone_by_depth && by_depth && by_depth->measured;
       std::vector<std::pair<double, int>> others;
+      int hull_near = 0;  // blobs too near by the feature hulls (logged beside the depth check)
       for (std::size_t k = 0; k < view.objects.size(); ++k) {
         if (static_cast<int>(k) == c) continue;
         const bool left_alone = std::any_of(stuck.begin(), stuck.end(), [&](const auto& p) {
@@ -426,6 +427,7 @@ class Learner {
         });
         if (left_alone) continue;
         double gap = hull_gap(view.objects[k].hull, view.objects[static_cast<std::size_t>(c)].hull);
+        if (gap < o_.clearance) ++hull_near;
         if (use_depth && by_depth->blob_gaps[k]) gap = *by_depth->blob_gaps[k];
         if (gap < o_.clearance) others.emplace_back(gap, static_cast<int>(k));
       }
@@ -438,7 +440,10 @@ class Learner {
            .gap = by_depth && by_depth->measured && std::isfinite(by_depth->gap)
                       ? std::optional<double>(by_depth->gap)
                       : std::nullopt,
-           .why = by_depth ? std::optional<std::string>(by_depth->why) : std::nullopt,
+           .why = by_depth ? std::optional<std::string>(
+                                 core::cat({"feature hulls: ", std::to_string(hull_near),
+                                            " too near; ", by_depth->why}))
+                           : std::nullopt,
            .blobs = putative_object_records(view, false)});
       // alone_by_depth: not alone although no blob is too near (the chosen blob lies on two
       // footprints, or a footprint without a blob is too near): nothing this (b) can push.

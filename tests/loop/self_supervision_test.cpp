@@ -1141,7 +1141,8 @@ TEST(SelfSupervision, DepthCheckIsLoggedAndAnotherObjectIsChosenWhenNotAlone) {
     if (j.event == "look" && j.phase == "clear") {
       ++clear_looks;
       ASSERT_TRUE(j.why.has_value());
-      EXPECT_EQ(j.why->rfind("depth: ", 0), 0U) << *j.why;
+      EXPECT_EQ(j.why->rfind("feature hulls: ", 0), 0U) << *j.why;
+      EXPECT_NE(j.why->find("; depth: "), std::string::npos) << *j.why;
       EXPECT_NE(j.why->find("not alone"), std::string::npos) << *j.why;
       if (j.gap) {
         EXPECT_LT(*j.gap, 0.5);

@@ -1,13 +1,13 @@
 #!/usr/bin/python3
 """The robot's singulation check against the ground truth, per round: the last look of (b) of
-each round (decision log RUN/decisions.jsonl, event "look", phase "clear") gives the check that
-decided ("too_near" == 0: alone; with --alone-by-depth that is the depth check) and, whenever the
-camera measured depth, the depth check's verdict ("why" ends in ": alone") and gap; the ground
+each round (decision log RUN/decisions.jsonl, event "look", phase "clear") gives the feature
+hulls' verdict ("why" begins "feature hulls: 0 too near"; in older logs "too_near" == 0) and,
+whenever the camera measured depth, the depth check's verdict ("why" ends in ": alone") and gap; the ground
 truth is the round's gap after (b) (RUN.json, ground_truth.class_gap; alone: >= 10 cm).
 usage: check.py RUN [RUN ...]   (RUN without .json)"""
 import json, os, sys
 
-tab = {"decided": [[0, 0], [0, 0]], "depth": [[0, 0], [0, 0]]}  # [said alone][truly alone]
+tab = {"hulls": [[0, 0], [0, 0]], "depth": [[0, 0], [0, 0]]}  # [said alone][truly alone]
 for run in sys.argv[1:]:
     d = json.load(open(run + ".json")); g = d["ground_truth"]
     log = [json.loads(l) for l in open(os.path.join(run, "decisions.jsonl"))]
@@ -21,13 +21,16 @@ for run in sys.argv[1:]:
         if j is None:
             print(f"  round {r}: no look of (b)"); continue
         truly = gap >= 0.1
-        said = j.get("too_near", 1) == 0
         why = j.get("why", "")
+        # the feature hulls' verdict: in "why" ("feature hulls: N too near; depth: ..."), in
+        # older logs too_near (then the check that decided)
+        said = (why.startswith("feature hulls: 0 too near") if why.startswith("feature hulls")
+                else j.get("too_near", 1) == 0)
         depth = why.endswith(": alone") if why else None
-        tab["decided"][int(said)][int(truly)] += 1
+        tab["hulls"][int(said)][int(truly)] += 1
         if depth is not None: tab["depth"][int(depth)][int(truly)] += 1
         dg = j.get("gap")
-        print(f"  round {r}: truth gap {gap:6.3f} {'ALONE' if truly else 'near '}; decided "
+        print(f"  round {r}: truth gap {gap:6.3f} {'ALONE' if truly else 'near '}; hulls "
               f"{'alone' if said else 'not  '}; depth {'-' if depth is None else ('alone' if depth else 'not  ')} "
               f"(gap {'-' if dg is None else f'{dg:.3f}'}) {why}")
 for k, t in tab.items():
