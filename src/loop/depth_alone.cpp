@@ -44,10 +44,12 @@ std::vector<Eigen::Vector2d> hull_of(const std::vector<Eigen::Vector2d>& xy) {
   return out;
 }
 
-// Footprints nearer each other than this are parts of one object when no other blob owns one, m.
-constexpr double kPartGap = 0.015;
-
 }  // namespace
+
+void DepthAloneOptions::validate() const {
+  require(std::isfinite(part_gap) && part_gap >= 0 && part_gap <= 0.1,
+          "depth_alone: part_gap must be in [0, 0.1] m");
+}
 
 void DepthFootprintOptions::validate() const {
   require(std::isfinite(least_height) && least_height >= 0 && least_height <= 0.1,
@@ -142,7 +144,8 @@ DepthFootprints depth_footprints(const cv::Mat& depth, const geometry::Camera& c
 }
 
 DepthAlone depth_alone(const DepthFootprints& fp, const planning::PlanningView& view, int chosen,
-                       double clearance) {
+                       double clearance, const DepthAloneOptions& options) {
+  options.validate();
   require(chosen >= 0 && chosen < static_cast<int>(view.objects.size()),
           "depth_alone: the chosen blob is not one of the view's");
   require(std::isfinite(clearance) && clearance > 0, "depth_alone: clearance must be positive");
@@ -193,18 +196,19 @@ DepthAlone depth_alone(const DepthFootprints& fp, const planning::PlanningView& 
   out.footprint = static_cast<int>(best - cv.begin());
   std::vector<char> mine(n_parts, 0);
   mine[static_cast<std::size_t>(out.footprint)] = 1;
-  for (std::size_t k = 0; k < n_parts; ++k) {
+  const double part_gap = options.part_gap;
+  for (std::size_t k = 0; part_gap > 0 && k < n_parts; ++k) {
     if (owner[k] == chosen) mine[k] = 1;
   }
   const auto gap_between = [&](std::size_t a, std::size_t b) {
     return hull_gap(fp.parts[a].hull, fp.parts[b].hull);
   };
-  for (bool grew = true; grew;) {
+  for (bool grew = part_gap > 0; grew;) {
     grew = false;
     for (std::size_t k = 0; k < n_parts; ++k) {
       if (mine[k] != 0 || owner[k] >= 0) continue;
       for (std::size_t j = 0; j < n_parts; ++j) {
-        if (mine[j] != 0 && gap_between(k, j) < kPartGap) {
+        if (mine[j] != 0 && gap_between(k, j) < part_gap) {
           mine[k] = 1;
           grew = true;
           break;
@@ -228,7 +232,7 @@ DepthAlone depth_alone(const DepthFootprints& fp, const planning::PlanningView& 
         stack.pop_back();
         share[static_cast<std::size_t>(g)] += cv[a];
         for (std::size_t j = 0; j < n_parts; ++j) {
-          if (mine[j] != 0 && group[j] < 0 && gap_between(a, j) < kPartGap) {
+          if (mine[j] != 0 && group[j] < 0 && gap_between(a, j) < part_gap) {
             group[j] = g;
             stack.push_back(j);
           }
@@ -239,6 +243,10 @@ DepthAlone depth_alone(const DepthFootprints& fp, const planning::PlanningView& 
         static_cast<int>(view.objects[static_cast<std::size_t>(chosen)].pixels.size());
     int big = 0;
     for (const int s : share) big += 4 * s >= total ? 1 : 0;
+    // part_gap 0: any other footprint with a quarter of its features.
+    for (std::size_t k = 0; part_gap <= 0 && k < n_parts; ++k) {
+      if (mine[k] == 0 && 4 * cv[k] >= total) ++big;
+    }
     out.merged = big >= 2;
   }
   const auto gap_to_mine = [&](std::size_t k) {

@@ -142,17 +142,21 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
   }
   // Parts of one object: 8 mm apart (the table between hidden behind the low box), separated by
   // the depth jump from its top to the tall box's face, but one blob owns both and they are
-  // nearer than 1.5 cm: one object, alone; two blobs on them are two objects 8 mm apart, not
-  // alone. Without the depth jump (join as wide as the scene) they are one footprint.
+  // nearer than part_gap 1.5 cm: one object, alone; two blobs on them are two objects 8 mm apart,
+  // not alone. Without the depth jump (join as wide as the scene) they are one footprint.
   {
     const Box front{{0.30, -0.10}, 0.03, 0.03, 0.04};
     const Box behind{{0.30, -0.032}, 0.03, 0.03, 0.15};
     const cv::Mat1f depth = render(cam, {front, behind});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     ASSERT_EQ(fp.parts.size(), 2U);
-    const DepthAlone one = depth_alone(fp, view_of(cam, {{front, behind}}), 0, 0.1);
+    DepthAloneOptions parts;
+    parts.part_gap = 0.015;
+    const DepthAlone one = depth_alone(fp, view_of(cam, {{front, behind}}), 0, 0.1, parts);
     EXPECT_FALSE(one.merged);
     EXPECT_TRUE(one.alone) << one.why;
+    // part_gap 0 (the default): the second part carries half the blob's features: merged.
+    EXPECT_TRUE(depth_alone(fp, view_of(cam, {{front, behind}}), 0, 0.1).merged);
     const DepthAlone two = depth_alone(fp, view_of(cam, {{front}, {behind}}), 0, 0.1);
     EXPECT_LT(two.gap, 0.015);
     EXPECT_FALSE(two.alone) << two.why;
@@ -202,6 +206,11 @@ TEST(DepthAlone, NoDepthIsNotMeasuredAndBadInputsThrow) {
   EXPECT_THROW((void)depth_alone(fp, view, -1, 0.1), Error);
   EXPECT_THROW((void)depth_alone(fp, view, 0, 0.0), Error);
   EXPECT_THROW((void)depth_alone(fp, view, 0, std::nan("")), Error);
+  DepthAloneOptions bad;
+  bad.part_gap = -0.01;
+  EXPECT_THROW((void)depth_alone(fp, view, 0, 0.1, bad), Error);
+  bad.part_gap = 0.2;
+  EXPECT_THROW((void)depth_alone(fp, view, 0, 0.1, bad), Error);
   EXPECT_THROW((void)depth_footprints(cv::Mat1f(10, 10, 1.0F), cam, region), Error);
   EXPECT_THROW((void)depth_footprints(cv::Mat(240, 320, CV_16U), cam, region), Error);
   DepthFootprintOptions o;
