@@ -4,11 +4,18 @@ each round (decision log RUN/decisions.jsonl, event "look", phase "clear") gives
 hulls' verdict ("why" begins "feature hulls: 0 too near"; in older logs "too_near" == 0) and,
 whenever the camera measured depth, the depth check's verdict ("why" ends in ": alone") and gap; the ground
 truth is the round's gap after (b) (RUN.json, ground_truth.class_gap; alone: >= 10 cm).
-usage: check.py RUN [RUN ...]   (RUN without .json)"""
+With --at T the depth check's verdict is recomputed at clearance T from its logged gap (alone:
+not merged and gap >= T; no gap logged and "none other": alone).
+usage: check.py [--at T] RUN [RUN ...]   (RUN without .json)"""
 import json, os, sys
 
+args = sys.argv[1:]
+at = None
+if args and args[0] == "--at":
+    at = float(args[1]); args = args[2:]
+
 tab = {"hulls": [[0, 0], [0, 0]], "depth": [[0, 0], [0, 0]]}  # [said alone][truly alone]
-for run in sys.argv[1:]:
+for run in args:
     d = json.load(open(run + ".json")); g = d["ground_truth"]
     log = [json.loads(l) for l in open(os.path.join(run, "decisions.jsonl"))]
     last = {}
@@ -27,6 +34,9 @@ for run in sys.argv[1:]:
         said = (why.startswith("feature hulls: 0 too near") if why.startswith("feature hulls")
                 else j.get("too_near", 1) == 0)
         depth = why.endswith(": alone") if why else None
+        if at is not None and depth is not None and "depth:" in why:
+            dg_ = j.get("gap", float("inf") if "none other" in why else None)
+            depth = dg_ is not None and "lies on two footprints" not in why and dg_ >= at
         tab["hulls"][int(said)][int(truly)] += 1
         if depth is not None: tab["depth"][int(depth)][int(truly)] += 1
         dg = j.get("gap")
