@@ -186,9 +186,10 @@ struct SelfSupervisionOptions {
   /// The blobs pushed away are those whose footprint lies nearer than `clearance`. Turns the
   /// RGB-D camera on (as `depth`). Off (the default). Either way, with `depth` on, every look of
   /// (b) logs both verdicts (`why`: "feature hulls: N too near; depth: ..."; `gap`: the depth
-  /// gap). Tuning seed 1 (session 21, 12 rounds): the feature hulls said "alone" in 11 rounds not
-  /// alone by the ground truth; the depth check at clearance 0.10 was right in 8 of 12 and
-  /// measures the gap 2-9 cm too wide (the objects' hidden backs), at 0.15 right in 12 of 12.
+  /// gap). Tuning seed 1 (session 21): the feature hulls said "alone" in all 4 rounds of a
+  /// `depth` run, none alone by the ground truth; over 12 rounds of three runs the depth check
+  /// at clearance 0.10 was right in 8, measuring gaps 2-9 cm too wide (the objects' hidden
+  /// backs), at 0.15 in 12 (docs/results/selfsupervision.md, "Session 21").
   bool alone_by_depth = false;
   /// (b): when (b) (and its singulate_tries) ends with the chosen object not alone by the robot's
   /// check, choose instead the blob of the last look that stands farthest from the others by
