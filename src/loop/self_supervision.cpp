@@ -23,6 +23,7 @@
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/features.hpp"
+#include "proprio/loop/depth_alone.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/topics/corpus.hpp"
 
@@ -345,6 +346,36 @@ class Learner {
     return planning::plan_push(view, blob, goal, target, region_, arm, robot_.joints(), po);
   }
 
+  // switch_tries: the blob of `view` other than `skip` whose least gap to the others (by the
+  // robot's check: depth footprints with alone_by_depth, else the feature hulls) is largest; -1
+  // when there is none.
+  int most_isolated(const planning::PlanningView& view, int skip) const {
+    DepthFootprints fp;
+    if (o_.alone_by_depth && !view.depth.empty()) {
+      fp = depth_footprints(view.depth, view.camera, region_);
+    }
+    int best = -1;
+    double best_gap = -1;
+    for (std::size_t k = 0; k < view.objects.size(); ++k) {
+      if (static_cast<int>(k) == skip) continue;
+      double g = std::numeric_limits<double>::infinity();
+      std::optional<DepthAlone> d;
+      if (!fp.parts.empty()) d = depth_alone(fp, view, static_cast<int>(k), o_.clearance);
+      if (d && d->measured) {
+        g = d->merged ? 0.0 : d->gap;
+      } else {
+        for (std::size_t j = 0; j < view.objects.size(); ++j) {
+          if (j != k) g = std::min(g, hull_gap(view.objects[j].hull, view.objects[k].hull));
+        }
+      }
+      if (g > best_gap) {
+        best_gap = g;
+        best = static_cast<int>(k);
+      }
+    }
+    return best;
+  }
+
   // (b): push the blob nearest the chosen one toward the edge until every other is `clearance`
   // away. Returns the chosen blob's centre after it (nullopt: lost).
   std::optional<Eigen::Vector2d> clear(int r, Eigen::Vector2d chosen, int& index) {
@@ -379,15 +410,25 @@ class Learner {
           }
         }
       }
+      // The robot's check from depth footprints (logged whenever the camera measures depth;
+      // alone_by_depth: it decides).
+      std::optional<DepthAlone> by_depth;
+      if (!view.depth.empty()) {
+        by_depth =
+            depth_alone(depth_footprints(view.depth, view.camera, region_), view, c, o_.clearance);
+      }
+      const bool use_depth = o_.alone_by_depth && by_depth && by_depth->measured;
       std::vector<std::pair<double, int>> others;
+      int hull_near = 0;  // blobs too near by the feature hulls (logged beside the depth check)
       for (std::size_t k = 0; k < view.objects.size(); ++k) {
         if (static_cast<int>(k) == c) continue;
         const bool left_alone = std::any_of(stuck.begin(), stuck.end(), [&](const auto& p) {
           return (view.objects[k].centre - p).norm() < kStill;
         });
         if (left_alone) continue;
-        const double gap =
-            hull_gap(view.objects[k].hull, view.objects[static_cast<std::size_t>(c)].hull);
+        double gap = hull_gap(view.objects[k].hull, view.objects[static_cast<std::size_t>(c)].hull);
+        if (gap < o_.clearance) ++hull_near;
+        if (use_depth && by_depth->blob_gaps[k]) gap = *by_depth->blob_gaps[k];
         if (gap < o_.clearance) others.emplace_back(gap, static_cast<int>(k));
       }
       std::sort(others.begin(), others.end());
@@ -396,7 +437,22 @@ class Learner {
            .phase = "clear",
            .chosen = c,
            .too_near = static_cast<int>(others.size()),
+           .gap = by_depth && by_depth->measured && std::isfinite(by_depth->gap)
+                      ? std::optional<double>(by_depth->gap)
+                      : std::nullopt,
+           .why = by_depth ? std::optional<std::string>(
+                                 core::cat({"feature hulls: ", std::to_string(hull_near),
+                                            " too near; ", by_depth->why}))
+                           : std::nullopt,
            .blobs = putative_object_records(view, false)});
+      // alone_by_depth: not alone although no blob is too near (the chosen blob lies on two
+      // footprints, or a footprint without a blob is too near): nothing this (b) can push.
+      if (use_depth && !by_depth->alone && others.empty()) {
+        fault(r, "cannot-clear",
+              core::cat({"not alone by depth with no blob to push away (", by_depth->why, ")"}));
+        attendant_.cleared(r, view, c);
+        return chosen;
+      }
       if (others.empty()) {
         singulated_ = true;
         log({.event = "singulated", .round = r, .clear_pushes = pushes});
@@ -1036,6 +1092,22 @@ class Learner {
            .round = r,
            .why = "(b) tried again as often as allowed and the object is still not alone: (c) "
                   "starts on it anyway"});
+    }
+    // switch_tries: another object, the one standing farthest from the others by the robot's
+    // check, when (b) could not singulate this one.
+    for (int t = 0; chosen && !singulated_ && t < o_.switch_tries; ++t) {
+      const planning::PlanningView now = look();
+      const int k2 = most_isolated(now, track(now, *chosen));
+      if (k2 < 0) break;
+      log({.event = "replan",
+           .round = r,
+           .blob = k2,
+           .why = core::cat({"(b) could not singulate the chosen object: the blob farthest from "
+                             "the others chosen instead, switch ",
+                             std::to_string(t + 1), " of ", std::to_string(o_.switch_tries)}),
+           .blobs = putative_object_records(now, false)});
+      attendant_.chose(r, now, k2);
+      chosen = clear(r, now.objects[static_cast<std::size_t>(k2)].centre, index);
     }
     if (!chosen) {
       out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost while clearing";

@@ -105,6 +105,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd --split-colour -1" + inputs() + out, "split-colour"},
       {"--objects book,cd --singulate-tries 11" + inputs() + out, "singulate-tries"},
       {"--objects book,cd --singulate-tries -1" + inputs() + out, "singulate-tries"},
+      {"--objects book,cd --switch-tries 6" + inputs() + out, "switch-tries"},
+      {"--objects book,cd --switch-tries -1" + inputs() + out, "switch-tries"},
       {"--objects book,mug,bottle,spirit-level,rabbit,cd,calculator,giraffe,bike" + inputs() + out,
        "do not fit on the table"},
       {"--objects book,cd" + inputs("other.lda") + out,

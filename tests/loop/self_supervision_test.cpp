@@ -775,6 +775,16 @@ class CountingAttendant final : public TableAttendant {
   int rescatters = 0;
 };
 
+// Counts the choices it is told of (TableAttendant::chose).
+class ChoiceCounter final : public TableAttendant {
+ public:
+  std::string rescatter(int round) override { return "re-scatter " + std::to_string(round); }
+  void chose(int /*round*/, const planning::PlanningView& /*view*/, int /*blob*/) override {
+    ++choices;
+  }
+  int choices = 0;
+};
+
 bool logged(const Learning& l, const std::string& fault) {
   for (const auto& j : l.log) {
     if (j.fault == fault) return true;
@@ -1087,6 +1097,78 @@ TEST(SelfSupervision, SplitLooksAndTheSingulationGateAreLogged) {
     EXPECT_EQ(retries[r], 2);
     EXPECT_EQ(gave_up[r], 1);
   }
+}
+
+TEST(SelfSupervision, DepthCheckIsLoggedAndAnotherObjectIsChosenWhenNotAlone) {
+  // The book and the bottle with a clearance no table leaves (0.5 m) and no clearing pushes: (b)
+  // never singulates. Without depth the looks of (b) carry no depth verdict; with
+  // alone_by_depth every look of (b) logs the depth check ("depth: ... not alone", its gap), and
+  // with switch_tries 1 each round that was not singulated chooses once another blob (logged,
+  // the attendant told), whose (b) ends not singulated too.
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 1;
+  o.clear_pushes = 0;
+  o.clearance = 0.5;
+  const auto run = [&](const SelfSupervisionOptions& opt, ChoiceCounter& attendant) {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::TableOptions t = table_of(opt);
+    t.depth = opt.depth || opt.alone_by_depth;
+    sim::SimulatedRobot robot(t, catalogue);
+    const TinyModel m = tiny_model(robot.look().image);
+    return learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, opt, {});
+  };
+  const auto switched = [](const SelfSupervisionDecision& j) {
+    return j.event == "replan" && j.why && j.why->rfind("(b) could not singulate", 0) == 0;
+  };
+  {
+    ChoiceCounter attendant;
+    const Learning l = run(o, attendant);
+    for (const auto& j : l.log) {
+      if (j.event == "look" && j.phase == "clear") {
+        EXPECT_FALSE(j.why.has_value());
+      }
+      EXPECT_FALSE(switched(j));
+    }
+  }
+  o.alone_by_depth = true;
+  o.switch_tries = 1;
+  ChoiceCounter attendant;
+  const Learning l = run(o, attendant);
+  int clear_looks = 0;
+  std::map<int, int> not_alone;
+  std::map<int, int> switches;
+  for (const auto& j : l.log) {
+    if (j.event == "look" && j.phase == "clear") {
+      ++clear_looks;
+      ASSERT_TRUE(j.why.has_value());
+      EXPECT_EQ(j.why->rfind("feature hulls: ", 0), 0U) << *j.why;
+      EXPECT_NE(j.why->find("; depth: "), std::string::npos) << *j.why;
+      EXPECT_NE(j.why->find("not alone"), std::string::npos) << *j.why;
+      if (j.gap) {
+        EXPECT_LT(*j.gap, 0.5);
+      }
+    }
+    if (j.event == "fault" && (j.fault == "not-singulated" || j.fault == "cannot-clear")) {
+      ++not_alone[*j.round];
+    }
+    if (switched(j)) {
+      ++switches[*j.round];
+      ASSERT_TRUE(j.blob && j.blobs);
+      EXPECT_LT(*j.blob, static_cast<int>(j.blobs->size()));
+    }
+    if (j.event == "singulated") ADD_FAILURE() << "no clearance of 0.5 m on this table";
+  }
+  EXPECT_GT(clear_looks, 0);
+  ASSERT_FALSE(not_alone.empty());
+  int total = 0;
+  for (const auto& [r, n] : not_alone) {
+    SCOPED_TRACE(r);
+    EXPECT_EQ(n, 2);  // the first (b) and the switched object's
+    EXPECT_EQ(switches[r], 1);
+    total += switches[r];
+  }
+  // The attendant is told of each choice: the first of each round and each switch.
+  EXPECT_EQ(attendant.choices, static_cast<int>(not_alone.size()) + total);
 }
 
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {

@@ -179,6 +179,23 @@ struct SelfSupervisionOptions {
   /// (the default; the fault "not-singulated" is logged either way). Session 20, seeds 2-6 with
   /// split_merged and 2: retries in 4 of 20 rounds, none of which then singulated.
   int singulate_tries = 0;
+  /// (b): the robot's singulation check from depth (loop::depth_alone, session 21): the chosen
+  /// object's footprint measured in the depth image (height above the table, split at depth
+  /// discontinuities) and its gap to every other footprint, instead of the feature hulls' gap;
+  /// a blob whose features lie on two footprints, or another blob on its footprint, is not alone.
+  /// The blobs pushed away are those whose footprint lies nearer than `clearance`. Turns the
+  /// RGB-D camera on (as `depth`). Off (the default). Either way, with `depth` on, every look of
+  /// (b) logs both verdicts (`why`: "feature hulls: N too near; depth: ..."; `gap`: the depth
+  /// gap). Tuning seed 1 (session 21): the feature hulls said "alone" in all 4 rounds of a
+  /// `depth` run, none alone by the ground truth; over 12 rounds of three runs the depth check
+  /// at clearance 0.10 was right in 8, measuring gaps 2-9 cm too wide (the objects' hidden
+  /// backs), at 0.15 in 12 (docs/results/selfsupervision.md, "Session 21").
+  bool alone_by_depth = false;
+  /// (b): when (b) (and its singulate_tries) ends with the chosen object not alone by the robot's
+  /// check, choose instead the blob of the last look that stands farthest from the others by
+  /// that check and run (b) on it, at most this many times a round (logged, event "replan").
+  /// 0: (c) starts on the object not alone (the default).
+  int switch_tries = 0;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -268,6 +285,13 @@ struct SelfSupervisionOptions {
     v(self.singulate_tries,
       {"singulate_tries", "Start (b) again this many times until the chosen object is alone",
        core::between(0, 10)});
+    v(self.alone_by_depth,
+      {"alone_by_depth",
+       "(b)'s check from depth footprints and their gaps (turns the RGB-D camera on)"});
+    v(self.switch_tries,
+      {"switch_tries",
+       "When (b) cannot singulate the chosen object, choose the most isolated other, this often",
+       core::between(0, 5)});
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
