@@ -5,19 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <vector>
 
+#include "../support/box_depth.hpp"
 #include "proprio/core/error.hpp"
 
 namespace proprio::loop {
 namespace {
 
 // An axis-aligned box standing on the table: footprint centre, half sides, height, m.
-struct Box {
-  Eigen::Vector2d c;
-  double hx, hy, h;
-};
+using Box = test::DepthBox;
 
 geometry::Camera oblique_camera() {
   const Eigen::Vector3d eye(0.30, -0.45, 0.80);
@@ -33,38 +30,6 @@ geometry::Camera oblique_camera() {
   c.width = 320;
   c.height = 240;
   return c;
-}
-
-// The depth image (metres along the optical axis) of the table top and `boxes`.
-cv::Mat1f render(const geometry::Camera& cam, const std::vector<Box>& boxes) {
-  cv::Mat1f depth(cam.height, cam.width, 0.0F);
-  const Eigen::Matrix3d ray = cam.R.transpose() * cam.K.inverse();
-  const Eigen::Vector3d eye = cam.center();
-  for (int v = 0; v < cam.height; ++v) {
-    for (int u = 0; u < cam.width; ++u) {
-      const Eigen::Vector3d d = ray * Eigen::Vector3d(u, v, 1.0);
-      double s = d.z() < 0 ? -eye.z() / d.z() : std::numeric_limits<double>::infinity();
-      for (const Box& b : boxes) {
-        const double lo[3] = {b.c.x() - b.hx, b.c.y() - b.hy, 0};
-        const double hi[3] = {b.c.x() + b.hx, b.c.y() + b.hy, b.h};
-        double enter = 0;
-        double leave = std::numeric_limits<double>::infinity();
-        for (int k = 0; k < 3; ++k) {
-          if (std::abs(d[k]) < 1e-12) {
-            if (eye[k] < lo[k] || eye[k] > hi[k]) leave = -1;
-            continue;
-          }
-          const double a = (lo[k] - eye[k]) / d[k];
-          const double e = (hi[k] - eye[k]) / d[k];
-          enter = std::max(enter, std::min(a, e));
-          leave = std::min(leave, std::max(a, e));
-        }
-        if (enter <= leave && enter > 0) s = std::min(s, enter);
-      }
-      if (std::isfinite(s)) depth(v, u) = static_cast<float>((cam.R * (eye + s * d) + cam.t).z());
-    }
-  }
-  return depth;
 }
 
 // A blob of feature points on the tops of `boxes` (a 5 x 5 grid on each top, projected).
@@ -97,7 +62,7 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
   // Side by side across the view, 5 cm of table between them.
   {
     const Box low{{0.41, 0.00}, 0.03, 0.03, 0.04};
-    const cv::Mat1f depth = render(cam, {tall, low});
+    const cv::Mat1f depth = test::render_boxes_depth(cam, {tall, low});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     ASSERT_EQ(fp.parts.size(), 2U);
     const planning::PlanningView view = view_of(cam, {{tall}, {low}});
@@ -117,7 +82,7 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
   // the low box's blob lies on the tall one's footprint: gap 0, not alone.
   {
     const Box low{{0.36, 0.00}, 0.03, 0.03, 0.04};
-    const cv::Mat1f depth = render(cam, {tall, low});
+    const cv::Mat1f depth = test::render_boxes_depth(cam, {tall, low});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     const DepthAlone a = depth_alone(fp, view_of(cam, {{tall}, {low}}), 0, 0.04);
     EXPECT_TRUE(a.measured);
@@ -130,7 +95,7 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
   {
     const Box front{{0.30, -0.10}, 0.03, 0.03, 0.04};
     const Box behind{{0.30, -0.015}, 0.03, 0.03, 0.15};
-    const cv::Mat1f depth = render(cam, {front, behind});
+    const cv::Mat1f depth = test::render_boxes_depth(cam, {front, behind});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     ASSERT_EQ(fp.parts.size(), 2U);
     const DepthAlone a = depth_alone(fp, view_of(cam, {{front}, {behind}}), 0, 0.04);
@@ -147,7 +112,7 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
   {
     const Box front{{0.30, -0.10}, 0.03, 0.03, 0.04};
     const Box behind{{0.30, -0.032}, 0.03, 0.03, 0.15};
-    const cv::Mat1f depth = render(cam, {front, behind});
+    const cv::Mat1f depth = test::render_boxes_depth(cam, {front, behind});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     ASSERT_EQ(fp.parts.size(), 2U);
     DepthAloneOptions parts;
@@ -167,7 +132,7 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
   // Touching boxes of one height make one surface: two blobs on it are not alone (gap 0).
   {
     const Box twin{{0.36, 0.00}, 0.03, 0.03, 0.15};
-    const cv::Mat1f depth = render(cam, {tall, twin});
+    const cv::Mat1f depth = test::render_boxes_depth(cam, {tall, twin});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     ASSERT_EQ(fp.parts.size(), 1U);
     const DepthAlone a = depth_alone(fp, view_of(cam, {{tall}, {twin}}), 0, 0.04);
@@ -178,7 +143,7 @@ TEST(DepthAlone, AGapOfFiveCentimetresIsAloneTouchingObjectsAreNot) {
   }
   // One box alone: its footprint is the box's, no other footprint, alone.
   {
-    const cv::Mat1f depth = render(cam, {tall});
+    const cv::Mat1f depth = test::render_boxes_depth(cam, {tall});
     const DepthFootprints fp = depth_footprints(depth, cam, region);
     ASSERT_EQ(fp.parts.size(), 1U);
     EXPECT_NEAR(fp.parts[0].height, 0.15, 0.005);
@@ -199,9 +164,9 @@ TEST(DepthAlone, NoDepthIsNotMeasuredAndBadInputsThrow) {
   const DepthAlone a = depth_alone(none, view, 0, 0.1);
   EXPECT_FALSE(a.measured);
   EXPECT_FALSE(a.alone);
-  EXPECT_TRUE(depth_footprints(render(cam, {}), cam, region).parts.empty());
+  EXPECT_TRUE(depth_footprints(test::render_boxes_depth(cam, {}), cam, region).parts.empty());
   // Bad inputs.
-  const DepthFootprints fp = depth_footprints(render(cam, {b}), cam, region);
+  const DepthFootprints fp = depth_footprints(test::render_boxes_depth(cam, {b}), cam, region);
   EXPECT_THROW((void)depth_alone(fp, view, 1, 0.1), Error);
   EXPECT_THROW((void)depth_alone(fp, view, -1, 0.1), Error);
   EXPECT_THROW((void)depth_alone(fp, view, 0, 0.0), Error);
@@ -215,13 +180,13 @@ TEST(DepthAlone, NoDepthIsNotMeasuredAndBadInputsThrow) {
   EXPECT_THROW((void)depth_footprints(cv::Mat(240, 320, CV_16U), cam, region), Error);
   DepthFootprintOptions o;
   o.join = 0;
-  EXPECT_THROW((void)depth_footprints(render(cam, {b}), cam, region, o), Error);
+  EXPECT_THROW((void)depth_footprints(test::render_boxes_depth(cam, {b}), cam, region, o), Error);
   o = {};
   o.least_pixels = 0;
-  EXPECT_THROW((void)depth_footprints(render(cam, {b}), cam, region, o), Error);
+  EXPECT_THROW((void)depth_footprints(test::render_boxes_depth(cam, {b}), cam, region, o), Error);
   o = {};
   o.least_height = -0.01;
-  EXPECT_THROW((void)depth_footprints(render(cam, {b}), cam, region, o), Error);
+  EXPECT_THROW((void)depth_footprints(test::render_boxes_depth(cam, {b}), cam, region, o), Error);
 }
 
 }  // namespace

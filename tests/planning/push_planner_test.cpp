@@ -5,11 +5,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "../support/box_depth.hpp"
 #include "../support/paths.hpp"
 #include "../support/table_views.hpp"
 #include "proprio/core/error.hpp"
@@ -826,42 +826,10 @@ TEST(PushPlanner, TheBaseContourCorrectsATallBoxsParallax) {
 }
 
 // The depth image (CV_32FC1, metres along the optical axis) of the table top (z = 0) with the box
-// of draw_checkered_box standing on it: each pixel's ray against the box (slabs in its own frame)
-// and the table plane.
+// of draw_checkered_box standing on it.
 cv::Mat1f render_box_depth(const geometry::Camera& cam, const Eigen::Vector2d& c, double hx,
                            double hy, double h, double yaw) {
-  cv::Mat1f depth(cam.height, cam.width, 0.0F);
-  const Eigen::Matrix3d ray = cam.R.transpose() * cam.K.inverse();
-  const Eigen::Vector3d eye = cam.center();
-  const Eigen::Matrix2d to_box = Eigen::Rotation2Dd(-yaw).toRotationMatrix();
-  for (int v = 0; v < cam.height; ++v) {
-    for (int u = 0; u < cam.width; ++u) {
-      const Eigen::Vector3d d = ray * Eigen::Vector3d(u, v, 1.0);
-      double s = d.z() < 0 ? -eye.z() / d.z() : std::numeric_limits<double>::infinity();
-      // The box in its frame: |x| <= hx, |y| <= hy, 0 <= z <= h.
-      Eigen::Vector3d o;
-      o << to_box * (eye.head<2>() - c), eye.z();
-      Eigen::Vector3d dir;
-      dir << to_box * d.head<2>(), d.z();
-      const double lo[3] = {-hx, -hy, 0};
-      const double hi[3] = {hx, hy, h};
-      double enter = 0;
-      double leave = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < 3; ++k) {
-        if (std::abs(dir[k]) < 1e-12) {
-          if (o[k] < lo[k] || o[k] > hi[k]) leave = -1;
-          continue;
-        }
-        const double a = (lo[k] - o[k]) / dir[k];
-        const double b = (hi[k] - o[k]) / dir[k];
-        enter = std::max(enter, std::min(a, b));
-        leave = std::min(leave, std::max(a, b));
-      }
-      if (enter <= leave && enter > 0) s = std::min(s, enter);
-      if (std::isfinite(s)) depth(v, u) = static_cast<float>((cam.R * (eye + s * d) + cam.t).z());
-    }
-  }
-  return depth;
+  return test::render_boxes_depth(cam, {{c, hx, hy, h, yaw}});
 }
 
 TEST(PushPlanner, DepthMeasuresABoxsFootprintAndHeight) {
@@ -912,14 +880,10 @@ TEST(PushPlanner, DepthMeasuresABoxsFootprintAndHeight) {
                    .has_value());
 }
 
-// The depth image of two boxes (render_box_depth's): the nearer surface of either at each pixel.
+// The depth image of two square boxes (half side `half`, heights ah and bh) standing on the table.
 cv::Mat1f render_two_boxes_depth(const geometry::Camera& cam, const Eigen::Vector2d& a, double ah,
                                  const Eigen::Vector2d& b, double bh, double half) {
-  cv::Mat1f depth = render_box_depth(cam, a, half, half, ah, 0.0);
-  const cv::Mat1f other = render_box_depth(cam, b, half, half, bh, 0.0);
-  cv::Mat nearer;
-  cv::min(static_cast<const cv::Mat&>(depth), static_cast<const cv::Mat&>(other), nearer);
-  return nearer;
+  return test::render_boxes_depth(cam, {{a, half, half, ah, 0.0}, {b, half, half, bh, 0.0}});
 }
 
 TEST(PushSplit, TwoTouchingBoxesOfDifferentHeightsAreSplitByTheirDepthTops) {
