@@ -85,6 +85,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
   a.options.options.topics = parse_topics(a.k);
   a.options.options.frames.dilate = a.options.options.view_dilate;  // --dilate: both alike
   a.options.options.frames.erode = a.options.options.view_erode;    // --erode: both alike
+  a.options.options.frames.erode_min_features = a.options.options.view_erode_min_features;
   a.options.options.view_selection = a.view_select == "bare" ? recognition::ViewSelection::kBareMask
                                                              : recognition::ViewSelection::kMask;
   if (a.options.options.view_erode > 0 && a.options.options.view_dilate > 0) {
@@ -276,6 +277,11 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
                  "only with --dilate 0)")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
+  sc->add_option("--erode-min-features", s->options.options.view_erode_min_features,
+                 "Adaptive shrink (with --erode): each mask shrunk only as far as it keeps this "
+                 "many of its bare mask's features, by at most --erode px (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 10000));
   sc->add_option("--k", s->k,
                  "Numbers of topics K, comma-separated; objects = the number of objects")
       ->capture_default_str();

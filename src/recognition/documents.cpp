@@ -62,6 +62,7 @@ void FrameDocumentOptions::validate() const {
   features.validate();
   blobs.validate();
   check_mask_change(dilate, erode);
+  check_erode_min_features(erode_min_features);
   if (region == FrameRegion::kMasks && masks.empty()) {
     throw Error("the 'masks' region needs a directory of segmentation masks");
   }
@@ -88,6 +89,32 @@ cv::Mat object_mask(const cv::Mat& ids, int id, int dilate, int erode) {
     cv::erode(m, m, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   }
   return m;
+}
+
+bool on_mask(const cv::Mat& mask, const cv::KeyPoint& k) {
+  const int x = static_cast<int>(std::lround(k.pt.x));
+  const int y = static_cast<int>(std::lround(k.pt.y));
+  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<uchar>(y, x) != 0;
+}
+
+void check_erode_min_features(int min_features) {
+  if (min_features < 0 || min_features > 10000) {
+    throw Error("the adaptive shrink's least features must be in [0, 10000]");
+  }
+}
+
+int adaptive_erosion(const cv::Mat& ids, int id, int erode, int min_features,
+                     const std::vector<cv::KeyPoint>& points) {
+  check_mask_change(0, erode);
+  check_erode_min_features(min_features);
+  if (min_features == 0) return erode;
+  for (int r = erode; r > 0; --r) {
+    const cv::Mat m = object_mask(ids, id, 0, r);
+    int kept = 0;
+    for (const cv::KeyPoint& k : points)
+      if (on_mask(m, k) && ++kept >= min_features) return r;
+  }
+  return 0;
 }
 
 std::vector<int> selected_object_ids(const episode::Episode& episode,
@@ -144,7 +171,24 @@ std::vector<features::Features> frame_features(const episode::Episode& episode, 
       }
       const cv::Mat ids_image = episode.mask(frame);
       std::vector<features::Features> docs;
+      const bool adaptive = options.erode > 0 && options.erode_min_features > 0;
       for (int id : selected_object_ids(episode, options.objects)) {
+        if (adaptive) {
+          // The features of the bare mask, kept on its adaptively shrunk mask (the grid points
+          // and descriptors do not depend on the mask, only which points are kept).
+          const cv::Mat bare = object_mask(ids_image, id, 0, 0);
+          if (cv::countNonZero(bare) == 0) continue;
+          const features::Features all = features::extract_features(image, options.features, bare);
+          const int r = adaptive_erosion(ids_image, id, options.erode, options.erode_min_features,
+                                         all.keypoints);
+          const cv::Mat m = object_mask(ids_image, id, 0, r);
+          if (cv::countNonZero(m) == 0) continue;
+          std::vector<int> rows;
+          for (int k = 0; k < all.size(); ++k)
+            if (on_mask(m, all.keypoints[static_cast<std::size_t>(k)])) rows.push_back(k);
+          docs.push_back(features::select_features(all, rows));
+          continue;
+        }
         const cv::Mat m = object_mask(ids_image, id, options.dilate, options.erode);
         if (cv::countNonZero(m) == 0) continue;
         docs.push_back(features::extract_features(image, options.features, m));

@@ -183,12 +183,14 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
                                       const std::vector<std::vector<int>>& frames,
                                       const std::vector<std::string>& classes,
                                       const features::ExtractOptions& options, int min_features,
-                                      int dilate, int erode, ViewSelection selection) {
+                                      int dilate, int erode, ViewSelection selection,
+                                      int erode_min_features) {
   assert(frames.size() == episodes.size());
   options.validate();
   if (min_features < 1) throw Error("a view needs at least 1 feature");
   if (dilate < 0) throw Error("the mask growth must be >= 0 pixels");
   check_mask_change(dilate, erode);
+  check_erode_min_features(erode_min_features);
   LabelledFeatures out{{}, {}, classes, {}};
   for (std::size_t ei = 0; ei < episodes.size(); ++ei) {
     const episode::Episode& e = episodes[ei];
@@ -212,26 +214,30 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
               cv::countNonZero(bare.col(0)) > 0 || cv::countNonZero(bare.col(cols)) > 0;
           return ViewOrigin{static_cast<int>(ei), i, cv::countNonZero(bare), border};
         };
-        if (selection == ViewSelection::kBareMask && (dilate > 0 || erode > 0)) {
-          // Chosen by the bare mask's features, cut by m: extracted once over both masks (the
+        const bool adaptive = erode > 0 && erode_min_features > 0;
+        if (adaptive || (selection == ViewSelection::kBareMask && (dilate > 0 || erode > 0))) {
+          // Chosen by the bare mask's (kBareMask) or the cut's features, cut by m or, adaptive,
+          // by the bare mask shrunk by adaptive_erosion: extracted once over both masks (the
           // grid points and descriptors do not depend on the mask, only which points are kept).
           if (cv::countNonZero(bare) == 0) continue;
           cv::Mat both;
           cv::bitwise_or(bare, m, both);
           const features::Features all = features::extract_features(image, options, both);
-          auto on = [](const cv::Mat& mask, const cv::KeyPoint& k) {
-            const int x = static_cast<int>(std::lround(k.pt.x));
-            const int y = static_cast<int>(std::lround(k.pt.y));
-            return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<uchar>(y, x) != 0;
-          };
+          const cv::Mat cut =
+              adaptive
+                  ? object_mask(ids, id, 0,
+                                adaptive_erosion(ids, id, erode, erode_min_features, all.keypoints))
+                  : m;
           int on_bare = 0;
           std::vector<int> rows;
           for (int r = 0; r < all.size(); ++r) {
             const cv::KeyPoint& k = all.keypoints[static_cast<std::size_t>(r)];
-            if (on(bare, k)) ++on_bare;
-            if (on(m, k)) rows.push_back(r);
+            if (on_mask(bare, k)) ++on_bare;
+            if (on_mask(cut, k)) rows.push_back(r);
           }
-          if (on_bare < min_features) continue;
+          const int kept =
+              selection == ViewSelection::kBareMask ? on_bare : static_cast<int>(rows.size());
+          if (kept < min_features) continue;
           out.views.push_back(features::select_features(all, rows));
           out.labels.push_back(label);
           out.origins.push_back(origin());
@@ -261,9 +267,10 @@ LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
                                   const std::vector<std::string>& classes,
                                   const features::Vocabulary& vocabulary,
                                   const features::ExtractOptions& options, int min_features,
-                                  int dilate, int erode, ViewSelection selection) {
+                                  int dilate, int erode, ViewSelection selection,
+                                  int erode_min_features) {
   return views_corpus(object_view_features(episodes, frames, classes, options, min_features, dilate,
-                                           erode, selection),
+                                           erode, selection, erode_min_features),
                       vocabulary);
 }
 

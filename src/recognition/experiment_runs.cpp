@@ -124,6 +124,7 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     rec.view_block = o.view_block;
     rec.mask_dilate = o.view_dilate;
     rec.mask_erode = o.view_erode;
+    rec.mask_erode_min_features = o.view_erode_min_features;
     rec.view_selection = o.view_selection == ViewSelection::kBareMask ? "bare" : "mask";
     rec.view_split = o.split_by_episode ? "episodes" : "blocks";
   }

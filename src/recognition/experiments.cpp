@@ -197,6 +197,7 @@ void ScatterExperimentOptions::validate() const {
     throw Error("the views' mask growth must be in [0, 100] pixels");
   }
   check_mask_change(view_dilate, view_erode);
+  check_erode_min_features(view_erode_min_features);
   if (mot_grid_components.empty()) throw Error("the MoT grid needs at least one component cap");
   for (const int c : mot_grid_components) {
     if (c < 2 || c > 1000) throw Error("the MoT grid's component caps must be in [2, 1000]");
@@ -454,9 +455,10 @@ std::vector<ScatterExperimentResult> run_scatter_experiments(
       }
     }
     auto features_of = [&](const std::vector<std::vector<int>>& frames, const char* side) {
-      LabelledFeatures c = object_view_features(
-          view_episodes, frames, objects, options.view_features, options.view_min_features,
-          options.view_dilate, options.view_erode, options.view_selection);
+      LabelledFeatures c =
+          object_view_features(view_episodes, frames, objects, options.view_features,
+                               options.view_min_features, options.view_dilate, options.view_erode,
+                               options.view_selection, options.view_erode_min_features);
       for (int k = 0; k < static_cast<int>(objects.size()); ++k) {
         if (std::find(c.labels.begin(), c.labels.end(), k) == c.labels.end()) {
           std::string m = "object '";

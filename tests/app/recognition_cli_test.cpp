@@ -189,7 +189,9 @@ TEST_F(RecognitionCli, BadInputIsOneLineAndExitTwo) {
            {" --erode 2", "--erode"},
            {" --mot-grid-components 1", "--mot-grid-components"},
            {" --mot-grid-components 5,1001", "--mot-grid-components"},
-           {" --view-select all", "--view-select"}}) {
+           {" --view-select all", "--view-select"},
+           {" --dilate 0 --erode 4 --erode-min-features -1", "--erode-min-features"},
+           {" --dilate 0 --erode 4 --erode-min-features 10001", "--erode-min-features"}}) {
     r = run("experiment scatter --episodes " + file("none") + " --views " + images() + flags +
             " --quiet");
     EXPECT_EQ(r.code, 2) << flags << ": " << r.out;
@@ -323,6 +325,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   EXPECT_EQ(jm["view_split"], "episodes");
   EXPECT_EQ(jm["mask_dilate"], 3);
   EXPECT_EQ(jm["mask_erode"], 0);
+  EXPECT_EQ(jm["mask_erode_min_features"], 0);
   EXPECT_EQ(jm["view_selection"], "mask");
   EXPECT_EQ(jm["test_view_origins"].size(), jm["test_views"].get<std::size_t>());
   EXPECT_EQ(jm["test_view_origins"][0]["episode"], 1);  // h2: the test episode

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -177,6 +178,45 @@ TEST(Documents, UnreadableImageNamesTheFile) {
   fs::remove_all(dir);
 }
 
+// The adaptive shrink on a 40 px square with a grid point every 4 px: shrunk by r px the square
+// keeps the points in [20 + r, 60 - r) on each axis (100 points bare, 81 for r = 1-3, 64 for 4,
+// 49 for 5-7, 36 for 8); the shrink is the largest r <= erode that keeps min_features of them.
+TEST(Documents, AdaptiveErosionShrinksOnlyAsFarAsEnoughFeaturesStay) {
+  cv::Mat1b ids(100, 100, uchar{0});
+  ids(cv::Rect(20, 20, 40, 40)).setTo(3);
+  std::vector<cv::KeyPoint> points;
+  for (int y = 0; y < 100; y += 4)
+    for (int x = 0; x < 100; x += 4) points.emplace_back(cv::Point2f(x, y), 4.0F);
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 0, points), 8);  // off: the fixed shrink
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 36, points), 8);
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 37, points), 7);
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 50, points), 4);
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 64, points), 4);
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 65, points), 3);
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 82, points), 0);  // only the bare mask keeps 82
+  EXPECT_EQ(adaptive_erosion(ids, 3, 8, 101, points), 0);
+  EXPECT_EQ(adaptive_erosion(ids, 3, 2, 50, points), 2);  // never beyond erode
+  EXPECT_EQ(adaptive_erosion(ids, 3, 0, 50, points), 0);
+  EXPECT_EQ(adaptive_erosion(ids, 4, 8, 1, points), 0);  // no such object
+  // By brute force: the shrunk mask keeps min_features, one pixel more would not.
+  auto kept = [&](int r) {
+    const cv::Mat m = object_mask(ids, 3, 0, r);
+    int n = 0;
+    for (const cv::KeyPoint& k : points) n += on_mask(m, k) ? 1 : 0;
+    return n;
+  };
+  for (int k = 1; k <= 101; k += 5) {
+    const int r = adaptive_erosion(ids, 3, 8, k, points);
+    if (r > 0) {
+      EXPECT_GE(kept(r), k) << k;
+    }
+    for (int q = r + 1; q <= 8; ++q) EXPECT_LT(kept(q), k) << k << " " << q;
+  }
+  EXPECT_THROW((void)adaptive_erosion(ids, 3, 8, -1, points), Error);
+  EXPECT_THROW((void)adaptive_erosion(ids, 3, 8, 10001, points), Error);
+  EXPECT_THROW((void)adaptive_erosion(ids, 3, 101, 10, points), Error);
+}
+
 TEST(Documents, ParsersRejectUnknownNames) {
   EXPECT_EQ(features::parse_feature_kind("sift"), features::FeatureKind::kSift);
   EXPECT_EQ(parse_frame_region("objects"), FrameRegion::kObjects);
@@ -282,6 +322,57 @@ TEST(FrameDocuments, RegionsNestAndBadMasksAreNamed) {
   EXPECT_LT(in_mask[0].size(), both.first);
   cv::imwrite((o.masks / "000003.png").string(), cv::Mat1b(10, 10, uchar{255}));
   EXPECT_THROW((void)frame_features(e, 3, o), Error);
+  fs::remove_all(dir);
+}
+
+// The adaptive shrink of each object's frame document: with 1 least feature it is the fixed
+// shrink, with more than any object has the bare mask, in between each document keeps at least
+// that many features (or all of its bare mask's, when fewer).
+TEST(FrameDocuments, AdaptiveShrinkKeepsEnoughFeaturesOfEachObject) {
+  const fs::path dir = fs::temp_directory_path() / "proprio_recognition_adaptive";
+  fs::remove_all(dir);
+  const episode::Episode e = episode::read_episode(write_two_object_episode(dir / "ep"));
+  FrameDocumentOptions o;
+  o.region = FrameRegion::kEachObject;
+  o.dilate = 0;
+  const auto bare = frame_features(e, 2, o);
+  o.erode = 12;
+  const auto fixed = frame_features(e, 2, o);
+  ASSERT_EQ(bare.size(), 2U);
+  ASSERT_EQ(fixed.size(), 2U);
+  auto same = [](const features::Features& a, const features::Features& b) {
+    if (a.size() != b.size()) return false;
+    for (int k = 0; k < a.size(); ++k) {
+      const auto u = static_cast<std::size_t>(k);
+      if (a.keypoints[u].pt != b.keypoints[u].pt) return false;
+    }
+    return cv::norm(a.descriptors, b.descriptors) == 0;
+  };
+  o.erode_min_features = 1;
+  const auto one = frame_features(e, 2, o);
+  o.erode_min_features = 10000;
+  const auto all = frame_features(e, 2, o);
+  ASSERT_EQ(one.size(), 2U);
+  ASSERT_EQ(all.size(), 2U);
+  const int least = std::min(fixed[0].size(), fixed[1].size()) + 1;
+  o.erode_min_features = least;
+  const auto some = frame_features(e, 2, o);
+  ASSERT_EQ(some.size(), 2U);
+  int grew = 0;
+  for (std::size_t d = 0; d < 2; ++d) {
+    EXPECT_LT(fixed[d].size(), bare[d].size());
+    EXPECT_TRUE(same(one[d], fixed[d])) << d;
+    EXPECT_TRUE(same(all[d], bare[d])) << d;
+    EXPECT_GE(some[d].size(), std::min(least, bare[d].size())) << d;
+    EXPECT_LE(some[d].size(), bare[d].size()) << d;
+    if (fixed[d].size() >= least) {
+      EXPECT_TRUE(same(some[d], fixed[d])) << d;
+    }
+    if (some[d].size() > fixed[d].size()) ++grew;
+  }
+  EXPECT_GT(grew, 0);
+  o.erode_min_features = -1;
+  EXPECT_THROW(o.validate(), Error);
   fs::remove_all(dir);
 }
 

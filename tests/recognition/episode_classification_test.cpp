@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -240,6 +241,57 @@ TEST(EpisodeClassification, EachObjectRegionShrunkLeavesTheOutlineOut) {
   EXPECT_LT(features_of(4), features_of(0));
   EXPECT_GT(features_of(4), 0);
   EXPECT_THROW((void)object_view_features(f.episodes, {all}, objects, eo, 1, 4, 2), Error);
+}
+
+// The adaptive shrink of the views (erode_min_features): the same views as the bare masks
+// (kBareMask), each keeping at least the least features (or all of its bare mask's); a view
+// whose fixed shrink keeps that many is the fixed shrink's view, the others keep more.
+TEST(EpisodeClassification, AdaptiveShrinkKeepsEnoughFeaturesOfEachView) {
+  const Fixture& f = fixture();
+  std::vector<int> all(10);
+  std::iota(all.begin(), all.end(), 0);
+  const std::vector<std::string> objects = {"box", "mug"};
+  const features::ExtractOptions eo;
+  const int least = 5;
+  const int erode = 6;
+  const LabelledFeatures bare = object_view_features(f.episodes, {all}, objects, eo, least, 0, 0);
+  const LabelledFeatures fixed = object_view_features(f.episodes, {all}, objects, eo, least, 0,
+                                                      erode, ViewSelection::kBareMask);
+  ASSERT_FALSE(fixed.views.empty());
+  std::vector<int> sizes;
+  for (const auto& v : fixed.views) sizes.push_back(v.size());
+  std::sort(sizes.begin(), sizes.end());
+  const int k = sizes[sizes.size() / 2] + 1;  // more than half the fixed views keep fewer
+  const LabelledFeatures adaptive = object_view_features(f.episodes, {all}, objects, eo, least, 0,
+                                                         erode, ViewSelection::kBareMask, k);
+  ASSERT_EQ(adaptive.views.size(), bare.views.size());
+  ASSERT_EQ(fixed.views.size(), bare.views.size());
+  EXPECT_EQ(adaptive.labels, bare.labels);
+  int same = 0, more = 0;
+  for (std::size_t i = 0; i < adaptive.views.size(); ++i) {
+    EXPECT_EQ(adaptive.origins[i].frame, bare.origins[i].frame);
+    const int n = adaptive.views[i].size();
+    EXPECT_GE(n, std::min(k, bare.views[i].size())) << i;
+    EXPECT_LE(n, bare.views[i].size()) << i;
+    if (fixed.views[i].size() >= k) {
+      ASSERT_EQ(n, fixed.views[i].size()) << i;
+      EXPECT_EQ(cv::norm(adaptive.views[i].descriptors, fixed.views[i].descriptors), 0);
+      ++same;
+    } else if (n > fixed.views[i].size()) {
+      ++more;
+    }
+  }
+  EXPECT_GT(same, 0);
+  EXPECT_GT(more, 0);
+  // Off (0) is the fixed shrink; out of range is an Error.
+  const LabelledFeatures off = object_view_features(f.episodes, {all}, objects, eo, least, 0, erode,
+                                                    ViewSelection::kBareMask, 0);
+  ASSERT_EQ(off.views.size(), fixed.views.size());
+  for (std::size_t i = 0; i < off.views.size(); ++i)
+    EXPECT_EQ(off.views[i].size(), fixed.views[i].size());
+  EXPECT_THROW((void)object_view_features(f.episodes, {all}, objects, eo, least, 0, erode,
+                                          ViewSelection::kBareMask, -1),
+               Error);
 }
 
 // Views chosen by their bare masks (ViewSelection::kBareMask) are the bare masks' views (the same

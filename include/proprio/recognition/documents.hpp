@@ -81,6 +81,11 @@ struct FrameDocumentOptions {
   /// a neighbour, are left out; an object with no pixel left gives no document. In [0, 100], and
   /// 0 unless dilate is 0.
   int erode = 0;
+  /// kEachObject with erode > 0: the adaptive shrink (adaptive_erosion). Each object's mask is
+  /// shrunk only as far as it keeps at least this many of its bare mask's features (by the
+  /// largest r <= erode that does; not at all when none does). 0 (the default): every mask by
+  /// erode. In [0, 10000].
+  int erode_min_features = 0;
   void validate() const;
 };
 
@@ -90,6 +95,19 @@ struct FrameDocumentOptions {
 cv::Mat object_mask(const cv::Mat& ids, int id, int dilate, int erode);
 /// object_mask's checks of dilate and erode alone (Error naming the problem).
 void check_mask_change(int dilate, int erode);
+
+/// Whether key point `k` (rounded to the nearest pixel) lies on the non-zero pixels of `mask`.
+bool on_mask(const cv::Mat& mask, const cv::KeyPoint& k);
+
+/// The adaptive shrink: how many pixels (in [0, erode]) object `id`'s mask in the object-id
+/// image `ids` is shrunk by (object_mask) so that it keeps at least `min_features` of `points`
+/// (the grid points found on its bare mask): the largest r <= erode whose shrunk mask holds at
+/// least min_features of them (on_mask), 0 (the bare mask) when none does. min_features 0: erode
+/// (the fixed shrink). Error when erode is not in [0, 100] or min_features not in [0, 10000].
+int adaptive_erosion(const cv::Mat& ids, int id, int erode, int min_features,
+                     const std::vector<cv::KeyPoint>& points);
+/// adaptive_erosion's check of min_features alone.
+void check_erode_min_features(int min_features);
 
 /// The features of the document(s) of frame i: one, or one per blob (kBlobs) or per object in view
 /// (kEachObject, in the order of the episode's objects). Throws Error when the episode lacks

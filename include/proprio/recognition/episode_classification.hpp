@@ -90,15 +90,15 @@ std::string object_class_name(const std::string& object_name,
 /// object_mask), kept when it has at least `min_features` features (ViewSelection::kMask) or
 /// when its bare mask (neither grown nor shrunk) has (kBareMask: the same views whatever the
 /// growth or shrinking, a view then possibly with fewer than min_features, even none). Labels
-/// index `classes`. Throws Error when an episode has no masks or dilate and erode are out of
-/// range or both > 0.
-LabelledCorpus object_view_corpus(const std::vector<episode::Episode>& episodes,
-                                  const std::vector<std::vector<int>>& frames,
-                                  const std::vector<std::string>& classes,
-                                  const features::Vocabulary& vocabulary,
-                                  const features::ExtractOptions& options, int min_features = 20,
-                                  int dilate = 4, int erode = 0,
-                                  ViewSelection selection = ViewSelection::kMask);
+/// index `classes`. erode_min_features > 0 (with erode > 0): the adaptive shrink, each view's
+/// mask shrunk by adaptive_erosion (by at most erode pixels, only as far as it keeps that many of
+/// its bare mask's features); 0: by erode. Throws Error when an episode has no masks or dilate
+/// and erode are out of range or both > 0, or erode_min_features is not in [0, 10000].
+LabelledCorpus object_view_corpus(
+    const std::vector<episode::Episode>& episodes, const std::vector<std::vector<int>>& frames,
+    const std::vector<std::string>& classes, const features::Vocabulary& vocabulary,
+    const features::ExtractOptions& options, int min_features = 20, int dilate = 4, int erode = 0,
+    ViewSelection selection = ViewSelection::kMask, int erode_min_features = 0);
 
 /// The views of object_view_corpus before quantization (the same views, in the same order): so
 /// that several vocabularies can quantize one extraction (views_corpus).
@@ -114,7 +114,8 @@ LabelledFeatures object_view_features(const std::vector<episode::Episode>& episo
                                       const std::vector<std::string>& classes,
                                       const features::ExtractOptions& options,
                                       int min_features = 20, int dilate = 4, int erode = 0,
-                                      ViewSelection selection = ViewSelection::kMask);
+                                      ViewSelection selection = ViewSelection::kMask,
+                                      int erode_min_features = 0);
 
 /// The documents of `views` over `vocabulary` (each view's bag of words), with their labels.
 LabelledCorpus views_corpus(const LabelledFeatures& views, const features::Vocabulary& vocabulary);

@@ -223,6 +223,8 @@ struct ScatterExperimentRecord {
   std::optional<int> mask_dilate;
   /// With view episodes: the masks' shrinking in pixels, since 2026-12-03 (0 before).
   std::optional<int> mask_erode;
+  /// With view episodes: the adaptive shrink's least features (0: off), since 2026-12-04.
+  std::optional<int> mask_erode_min_features;
   std::optional<std::string> view_selection;
   std::optional<std::string> view_split;
   bool mot = false;
@@ -252,6 +254,9 @@ struct ScatterExperimentRecord {
     v(self.view_block, {"view_block", "Frames per block of the naming / test split"});
     v(self.mask_dilate, {"mask_dilate", "Pixels the object masks were grown by"});
     v(self.mask_erode, {"mask_erode", "Pixels the object masks were shrunk by"});
+    v(self.mask_erode_min_features,
+      {"mask_erode_min_features",
+       "Adaptive shrink: each mask shrunk only as far as it keeps this many features (0: off)"});
     v(self.view_selection, {"view_selection",
                             "Which mask's features kept a view: \"mask\" (the one it is cut by) or "
                             "\"bare\" (the object's bare mask)"});

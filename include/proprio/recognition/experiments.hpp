@@ -119,6 +119,11 @@ struct ScatterExperimentOptions {
   /// Each view's mask is shrunk by this many pixels instead (object_mask; 0 unless view_dilate
   /// is 0). The CLI's --erode sets it and frames.erode together.
   int view_erode = 0;
+  /// The adaptive shrink (object_view_features' erode_min_features; 0, the default: off): each
+  /// view's mask shrunk by at most view_erode pixels, only as far as it keeps this many of its
+  /// bare mask's features. The CLI's --erode-min-features sets it and
+  /// frames.erode_min_features together. In [0, 10000].
+  int view_erode_min_features = 0;
   /// Views kept by the features of their bare masks (ViewSelection::kBareMask), so that grown
   /// or shrunk masks are scored on the same views as the bare ones; kMask (the default): by the
   /// features of the mask they are cut by.
