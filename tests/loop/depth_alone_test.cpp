@@ -17,19 +17,8 @@ namespace {
 using Box = test::DepthBox;
 
 geometry::Camera oblique_camera() {
-  const Eigen::Vector3d eye(0.30, -0.45, 0.80);
-  const Eigen::Vector3d z = (Eigen::Vector3d(0.30, 0.02, 0.0) - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  geometry::Camera c;
-  c.K << 300, 0, 160, 0, 300, 120, 0, 0, 1;
-  c.R.row(0) = x.transpose();
-  c.R.row(1) = y.transpose();
-  c.R.row(2) = z.transpose();
-  c.t = -c.R * eye;
-  c.width = 320;
-  c.height = 240;
-  return c;
+  return test::look_at_camera(Eigen::Vector3d(0.30, -0.45, 0.80), Eigen::Vector3d(0.30, 0.02, 0.0),
+                              300, 320, 240);
 }
 
 // A blob of feature points on the tops of `boxes` (a 5 x 5 grid on each top, projected).

@@ -722,19 +722,8 @@ TEST(PushSplit, ABlobIsLeftWholeWhenTheRegionHoldsAllOrNoneOfIt) {
 // The simulated table's camera (sim::SimulatedRobot): from (0.24, -0.40, 0.80) toward
 // (0.24, 0.02, 0), 62 degrees below the horizontal; OpenCV axes (x right, y down, z forward).
 geometry::Camera oblique_camera() {
-  const Eigen::Vector3d eye(0.24, -0.40, 0.80);
-  const Eigen::Vector3d z = (Eigen::Vector3d(0.24, 0.02, 0.0) - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  geometry::Camera c;
-  c.K << 600, 0, 320, 0, 600, 240, 0, 0, 1;
-  c.R.row(0) = x.transpose();
-  c.R.row(1) = y.transpose();
-  c.R.row(2) = z.transpose();
-  c.t = -c.R * eye;
-  c.width = 640;
-  c.height = 480;
-  return c;
+  return test::look_at_camera(Eigen::Vector3d(0.24, -0.40, 0.80), Eigen::Vector3d(0.24, 0.02, 0.0),
+                              600, 640, 480);
 }
 
 // The largest distance between two points of a polygon, m.

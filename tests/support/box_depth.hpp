@@ -1,6 +1,6 @@
 #pragma once
-// Depth images of boxes standing on the table, ray-cast from a camera: the known scenes of the
-// tests that find objects in depth (the push planner's depth split, the singulation check).
+// Depth images of boxes standing on the table, ray-cast from an oblique camera: the known scenes of
+// the tests that find objects in depth (the push planner's depth split, the singulation check).
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -23,6 +23,25 @@ struct DepthBox {
   double h = 0.0;
   double yaw = 0.0;
 };
+
+/// A pinhole camera at `eye` looking at `target` (base frame, m; never straight down), OpenCV
+/// axes (x right, y down, z forward), focal length `focal` px, principal point at the centre
+/// of a `width` x `height` image: the oblique view of the simulated table's camera.
+inline geometry::Camera look_at_camera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+                                       double focal, int width, int height) {
+  const Eigen::Vector3d z = (target - eye).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  geometry::Camera c;
+  c.K << focal, 0, width / 2.0, 0, focal, height / 2.0, 0, 0, 1;
+  c.R.row(0) = x.transpose();
+  c.R.row(1) = y.transpose();
+  c.R.row(2) = z.transpose();
+  c.t = -c.R * eye;
+  c.width = width;
+  c.height = height;
+  return c;
+}
 
 /// The depth image (metres along the optical axis; 0 where the ray meets nothing) of the table
 /// top and `boxes`: each pixel's ray against every box (slabs in the box's frame) and the table
