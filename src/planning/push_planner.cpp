@@ -80,8 +80,10 @@ std::vector<cv::KeyPoint> textured_points(const cv::Mat& image, const PushPlanOp
         cv::getStructuringElement(cv::MORPH_RECT, cv::Size(options.patch + 1, options.patch + 1)));
   }
   std::vector<cv::KeyPoint> out;
-  for (int y = half; y + half <= grey.rows; y += options.grid_step) {
-    for (int x = half; x + half <= grey.cols; x += options.grid_step) {
+  // A point's patch spans [x - half, x - half + patch) (an odd patch has one more column to the
+  // right), so the last point is the one whose patch still ends inside the image.
+  for (int y = half; y - half + options.patch <= grey.rows; y += options.grid_step) {
+    for (int x = half; x - half + options.patch <= grey.cols; x += options.grid_step) {
       const int x0 = x - half;
       const int y0 = y - half;
       const int x1 = x0 + options.patch;

@@ -108,6 +108,30 @@ TEST(PushPlanner, PushesEndShortByThePushersRadius) {
   EXPECT_NEAR(axis.push.length() - side.push.length(), 0.008, 1e-9);
 }
 
+// Every point's patch lies inside the image, odd patches too (an odd patch reaches one column
+// further right than left: the old bounds let its last patch read past the integral image).
+TEST(PushPlanner, TexturedPointsKeepTheirPatchesInsideTheImage) {
+  cv::Mat1b img(10, 10);
+  for (int y = 0; y < img.rows; ++y) {
+    for (int x = 0; x < img.cols; ++x) img(y, x) = static_cast<uchar>(((x + y) % 2) * 200);
+  }
+  PushPlanOptions o;
+  o.grid_step = 1;
+  o.min_contrast = 1;
+  for (const int patch : {4, 5}) {
+    o.patch = patch;
+    const std::vector<cv::KeyPoint> points = textured_points(img, o);
+    // Points x = y = patch / 2 .. 10 - patch + patch / 2: 7 a side for 4 (2..8), 6 for 5 (2..7).
+    const int side = 10 - patch + 1;
+    EXPECT_EQ(points.size(), static_cast<std::size_t>(side * side)) << "patch " << patch;
+    for (const cv::KeyPoint& k : points) {
+      EXPECT_GE(k.pt.x - patch / 2, 0);
+      EXPECT_LE(k.pt.x - patch / 2 + patch, 10) << "patch " << patch;
+      EXPECT_LE(k.pt.y - patch / 2 + patch, 10) << "patch " << patch;
+    }
+  }
+}
+
 TEST(PushPlanner, FindsTheObjectsAndTheirCentres) {
   const geometry::Camera cam = down_camera();
   std::vector<cv::KeyPoint> f;
