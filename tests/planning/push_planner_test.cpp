@@ -124,10 +124,12 @@ TEST(PushPlanner, TexturedPointsKeepTheirPatchesInsideTheImage) {
     // Points x = y = patch / 2 .. 10 - patch + patch / 2: 7 a side for 4 (2..8), 6 for 5 (2..7).
     const int side = 10 - patch + 1;
     EXPECT_EQ(points.size(), static_cast<std::size_t>(side * side)) << "patch " << patch;
+    const int half = patch / 2;  // a patch spans [x - half, x - half + patch)
     for (const cv::KeyPoint& k : points) {
-      EXPECT_GE(k.pt.x - patch / 2, 0);
-      EXPECT_LE(k.pt.x - patch / 2 + patch, 10) << "patch " << patch;
-      EXPECT_LE(k.pt.y - patch / 2 + patch, 10) << "patch " << patch;
+      const int x = static_cast<int>(k.pt.x);
+      const int y = static_cast<int>(k.pt.y);
+      EXPECT_GE(std::min(x, y) - half, 0);
+      EXPECT_LE(std::max(x, y) - half + patch, 10) << "patch " << patch;
     }
   }
 }
