@@ -34,6 +34,8 @@ constexpr double kViaNear = 0.04;
 constexpr double kViaFar = 0.10;
 // Shortened pushes (sweep_margin): the target is brought back toward the object in these steps, m.
 constexpr double kShortStep = 0.005;
+// hand_raise: the tip's height steps, m.
+constexpr double kRaiseStep = 0.005;
 // Depth pixels sampled every this many pixels in each direction for a blob's footprint.
 constexpr int kDepthStep = 2;
 // Depth pixels sampled for depth_tops: every one (its 4 mm cells all filled on a far top).
@@ -803,6 +805,61 @@ bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
   });
 }
 
+std::vector<Eigen::Vector2d> hand_footprint(const Eigen::Vector2d& start,
+                                            const Eigen::Vector2d& end, double along,
+                                            double across) {
+  require(start.allFinite() && end.allFinite() && (end - start).norm() > 0,
+          "hand footprint: the push must have a finite, non-zero length");
+  require(std::isfinite(along) && std::isfinite(across) && along >= 0 && across >= 0,
+          "hand footprint: the half extents must be finite and >= 0");
+  const Eigen::Vector2d n = (end - start).normalized();
+  const Eigen::Vector2d m(-n.y(), n.x());
+  const Eigen::Vector2d a = start - along * n;
+  const Eigen::Vector2d b = end + along * n;
+  return {a - across * m, b - across * m, b + across * m, a + across * m};
+}
+
+double hand_lack(const robot::TablePush& push, bool jaws_along,
+                 const std::vector<const PutativeObject*>& others, double margin) {
+  if (margin <= 0 || others.empty()) return 0.0;
+  require(std::isfinite(push.height), "hand lack: the tip's height must be finite");
+  const Eigen::Vector2d& s = push.start;
+  const Eigen::Vector2d& e = push.end;
+  const double finger = push.height + kFingerDrop - kDescentHeightMargin;
+  const double palm = push.height + kPalmDrop - kDescentHeightMargin;
+  const std::vector<Eigen::Vector2d> jaws = jaws_along
+                                                ? hand_footprint(s, e, kFingerReach, kJawHalf)
+                                                : hand_footprint(s, e, kJawHalf, kFingerReach);
+  const std::vector<Eigen::Vector2d> palm_box = jaws_along
+                                                    ? hand_footprint(s, e, kPalmReach, kPalmHalf)
+                                                    : hand_footprint(s, e, kPalmHalf, kPalmReach);
+  const auto low = [](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    const double r = p.norm();
+    return r > kForearmReach ? Eigen::Vector2d(p * (1.0 - kForearmReach / r))
+                             : Eigen::Vector2d(0, 0);
+  };
+  const std::vector<Eigen::Vector2d> forearm = convex_hull({s, low(s), e, low(e)}, kMetresToMm);
+  const std::vector<Eigen::Vector2d> line{s, e};
+  double lack = 0;
+  for (const PutativeObject* o : others) {
+    if (o == nullptr || o->hull.empty()) continue;
+    const double h = o->height ? *o->height : std::numeric_limits<double>::infinity();
+    if (h < finger) continue;
+    // A part nearer than the margin counts the shortfall; running into the object, the margin
+    // plus how far the pusher's line lies inside the part's reach of it.
+    const auto part = [&](const std::vector<Eigen::Vector2d>& poly, double reach) {
+      const double d = polygon_distance(poly, o->hull);
+      if (d >= margin) return 0.0;
+      if (d > 0) return margin - d;
+      return margin + std::max(0.0, reach - polygon_distance(line, o->hull));
+    };
+    double l = part(jaws, kFingerReach);
+    if (h >= palm) l = std::max({l, part(palm_box, kPalmReach), part(forearm, 0.0)});
+    lack += l;
+  }
+  return lack;
+}
+
 double path_clearance(const robot::TablePush& push, const std::vector<Eigen::Vector2d>& hull,
                       const Eigen::Vector2d& centre, const Eigen::Vector2d& target,
                       const std::vector<std::vector<Eigen::Vector2d>>& others, double clearance,
@@ -1222,8 +1279,40 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     double approach;
     robot::TablePush push;
     double shortened = 0;
+    double hand = 0;  // hand_lack's part of blocked
   };
   std::vector<Candidate> feasible;
+  // hand_margin: the hand's shortfall of a push, which is set to the jaws' line (hand_jaws) and
+  // the tip's height (hand_raise) that block it least. 0 when hand_margin is 0.
+  const bool low_object = o.height && *o.height < tip + kFingerDrop - kDescentHeightMargin;
+  const double raise_top =
+      options.hand_raise > 0 && o.height && *o.height <= options.tip_raise_height
+          ? std::min({kMostTipHeight, kRaiseFraction * *o.height, tip + options.hand_raise})
+          : tip;
+  const auto hand_fit = [&](robot::TablePush& push) {
+    if (options.hand_margin <= 0) return 0.0;
+    const auto lack = [&](const robot::TablePush& p) {
+      return hand_lack(p, p.jaws == robot::JawLine::kAlong, obstacle_objects, options.hand_margin);
+    };
+    double best_lack = lack(push);
+    if (best_lack > 0 && options.hand_jaws && low_object && push.jaws != robot::JawLine::kAlong) {
+      robot::TablePush along = push;
+      along.jaws = robot::JawLine::kAlong;
+      if (const double l = lack(along); l < best_lack) {
+        best_lack = l;
+        push = along;
+      }
+    }
+    for (double z = tip + kRaiseStep; best_lack > 0 && z <= raise_top + 1e-9; z += kRaiseStep) {
+      robot::TablePush raised = push;
+      raised.height = z;
+      if (const double l = lack(raised); l < best_lack) {
+        best_lack = l;
+        push = raised;
+      }
+    }
+    return best_lack;
+  };
   // A single push of the object's centre to t: checked (region, descent, reach) and scored.
   const auto leg = [&](const Eigen::Vector2d& t, double approach) -> std::optional<Candidate> {
     robot::TablePush push =
@@ -1235,8 +1324,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       ++plan.rejected_region;
       return std::nullopt;
     }
+    const double hand = hand_fit(push);
     if (options.descent_clearance > 0 &&
-        (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance, tip)
+        (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance,
+                                   push.height)
                  : descent_blocked(push.start, o.hull, obstacles, options.descent_clearance))) {
       ++plan.rejected_reach;
       return std::nullopt;
@@ -1253,8 +1344,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     const double blocked = path_clearance(push, o.hull, o.centre, t, obstacles, options.clearance,
                                           options.hand_clearance) +
                            sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin,
-                                      options.sweep_touching, turn);
-    return Candidate{kBlockedWeight * blocked + cost, cost, blocked, false, t, approach, push};
+                                      options.sweep_touching, turn) +
+                           hand;
+    return Candidate{
+        kBlockedWeight * blocked + cost, cost, blocked, false, t, approach, push, 0.0, hand};
   };
   const int via_points = goal == PushGoal::kTarget ? options.via_points : 0;
   const Eigen::Vector2d line = (target - o.centre).normalized();
@@ -1304,14 +1397,19 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       c->blocked += path_clearance(next, moved, t, target, obstacles, options.clearance,
                                    options.hand_clearance) +
                     sweep_lack(moved, t, target, obstacles, options.sweep_margin,
-                               options.sweep_touching, turn);
+                               options.sweep_touching, turn) +
+                    hand_lack(next, next.jaws == robot::JawLine::kAlong, obstacle_objects,
+                              options.hand_margin);
       c->via = true;
       c->score = kBlockedWeight * c->blocked + c->cost + kViaCost;
     }
-    if (!via && goal == PushGoal::kTarget && c->blocked > 0 && options.sweep_margin > 0 &&
-        sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching,
-                   turn) > 0) {
-      // Shortened: the object stopped on the same line where its swept region is first clear.
+    if (!via && goal == PushGoal::kTarget && c->blocked > 0 &&
+        ((options.sweep_margin > 0 &&
+          sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching,
+                     turn) > 0) ||
+         c->hand > 0)) {
+      // Shortened: the object stopped on the same line where its swept region (and, with
+      // hand_margin, the hand) is first clear.
       const double full = (t - o.centre).norm();
       const Eigen::Vector2d n = (t - o.centre) / full;
       for (double d = full - kShortStep; d >= options.least_push; d -= kShortStep) {
@@ -1319,6 +1417,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
         if (sweep_lack(o.hull, o.centre, ts, obstacles, options.sweep_margin,
                        options.sweep_touching) > 0)
           continue;
+        if (options.hand_margin > 0) {
+          robot::TablePush p = push_through_centre(o.hull, o.centre, ts, approach, tip, speed,
+                                                   options.pusher_radius);
+          p.jaws = jaws;
+          if (p.length() >= 0.005 && hand_fit(p) > 0) continue;
+        }
         if (std::optional<Candidate> s = leg(ts, approach)) {
           s->shortened = full - d;
           s->score += kShortCost * (full - d);
@@ -1362,6 +1466,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
                      " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target);
   if (plan.via) said += " (a waypoint round a blocked line)";
+  if (plan.push.jaws != jaws) said += " (the jaws along the push: the hand clears)";
+  if (plan.push.height > tip + 1e-9) {
+    said += " (the tip raised to " +
+            std::to_string(static_cast<int>(std::lround(plan.push.height * 1000))) +
+            " mm: the hand clears)";
+  }
   if (plan.shortened > 0) {
     said += " (" + std::to_string(static_cast<int>(std::lround(plan.shortened * 1000))) +
             " mm short: the way on meets another object)";

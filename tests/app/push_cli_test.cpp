@@ -88,7 +88,13 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"push --depth-split 0.2", "--depth-split"},
            {"evaluate push --depth-split -0.01", "--depth-split"},
            {"evaluate push --sweep-touching=maybe", "--sweep-touching"},
-           {"push --sweep-turn-by-shape=maybe", "--sweep-turn-by-shape"}}) {
+           {"push --sweep-turn-by-shape=maybe", "--sweep-turn-by-shape"},
+           // Session 22's.
+           {"push --hand-margin 0.06", "--hand-margin"},
+           {"evaluate push --hand-margin -0.01", "--hand-margin"},
+           {"evaluate push --hand-jaws=maybe", "--hand-jaws"},
+           {"push --hand-raise 0.05", "--hand-raise"},
+           {"evaluate push --hand-raise -0.005", "--hand-raise"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

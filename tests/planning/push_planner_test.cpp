@@ -1049,5 +1049,150 @@ TEST(PushGeometry, ALowBlobDoesNotBlockADescentATallOneDoes) {
   EXPECT_TRUE(descent_blocked(start, pushed_blind.hull, {}, clearance));
 }
 
+TEST(PushGeometry, TheHandsFootprintMeetsATallNeighbourBesideThePushNotALowOne) {
+  // A push along +x from (0.20, 0) to (0.30, 0), the tip 1 cm up: the jaws (across the push)
+  // reach 3 cm to either side from 3.5 cm up (kFingerDrop less kDescentHeightMargin), the palm
+  // 4.5 cm from 10.5 cm up.
+  const std::vector<Eigen::Vector2d> box = hand_footprint({0.20, 0.0}, {0.30, 0.0}, 0.015, 0.03);
+  ASSERT_EQ(box.size(), 4U);
+  EXPECT_NEAR((box[0] - Eigen::Vector2d(0.185, -0.03)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((box[2] - Eigen::Vector2d(0.315, 0.03)).norm(), 0.0, 1e-12);
+  robot::TablePush push;
+  push.start = {0.20, 0.0};
+  push.end = {0.30, 0.0};
+  push.height = 0.01;
+  const double margin = 0.01;
+  // A neighbour 3.5-5.5 cm beside the line: 5 mm past the jaws' reach.
+  const Eigen::Vector2d beside(0.25, 0.045);
+  const PutativeObject low = square_object(beside, 0.01, 0.02);     // under the jaws
+  const PutativeObject mug = square_object(beside, 0.01, 0.09);     // the jaws' height
+  const PutativeObject bottle = square_object(beside, 0.01, 0.12);  // the palm's
+  const PutativeObject unknown = square_object(beside, 0.01, std::nullopt);
+  EXPECT_EQ(hand_lack(push, false, {&low}, margin), 0.0);
+  EXPECT_NEAR(hand_lack(push, false, {&mug}, margin), 0.005, 1e-9);  // 5 mm short of 1 cm
+  // The palm (4.5 cm) runs into the bottle 1 cm deep: the margin and that 1 cm.
+  EXPECT_NEAR(hand_lack(push, false, {&bottle}, margin), 0.02, 1e-9);
+  EXPECT_NEAR(hand_lack(push, false, {&unknown}, margin), 0.02, 1e-9);  // unknown counts as tall
+  // The jaws along the push: the hand 1.5 cm wide to either side (the palm 2.5 cm, 1 cm from
+  // the bottle: just the margin): clear.
+  EXPECT_EQ(hand_lack(push, true, {&mug}, margin), 0.0);
+  EXPECT_NEAR(hand_lack(push, true, {&bottle}, margin), 0.0, 1e-12);
+  // The tip raised to 7 cm: the jaws (from 9.5 cm) pass over the mug, not the bottle.
+  robot::TablePush raised = push;
+  raised.height = 0.07;
+  EXPECT_EQ(hand_lack(raised, false, {&mug}, margin), 0.0);
+  EXPECT_GT(hand_lack(raised, false, {&bottle}, margin), 0.0);
+  // A neighbour 3 cm ahead of the end: clear of the jaws across (1.5 cm ahead), touched by the
+  // jaw ahead when they lie along the push (3 cm ahead): the margin.
+  const PutativeObject ahead = square_object({0.34, 0.0}, 0.01, 0.09);
+  EXPECT_EQ(hand_lack(push, false, {&ahead}, margin), 0.0);
+  EXPECT_NEAR(hand_lack(push, true, {&ahead}, margin), 0.01, 1e-9);
+  // Summed over the objects; no margin or no objects: nothing; a null entry is skipped.
+  EXPECT_NEAR(hand_lack(push, false, {&mug, &ahead, &low, nullptr}, margin), 0.005, 1e-9);
+  EXPECT_EQ(hand_lack(push, false, {&mug}, 0.0), 0.0);
+  EXPECT_EQ(hand_lack(push, false, {}, margin), 0.0);
+  // A tall neighbour under the low forearm only (on the line, 7-9 cm toward the base from the
+  // start): the palm-high bottle meets it, the mug does not.
+  const PutativeObject bottle_under = square_object({0.12, 0.0}, 0.01, 0.19);
+  const PutativeObject mug_under = square_object({0.12, 0.0}, 0.01, 0.09);
+  EXPECT_NEAR(hand_lack(push, false, {&bottle_under}, margin), 0.01, 1e-9);
+  EXPECT_EQ(hand_lack(push, false, {&mug_under}, margin), 0.0);
+  // Bad input.
+  EXPECT_THROW((void)hand_footprint({0.2, 0.0}, {0.2, 0.0}, 0.01, 0.01), Error);
+  EXPECT_THROW((void)hand_footprint({0.2, 0.0}, {0.3, 0.0}, -0.01, 0.01), Error);
+  robot::TablePush bad = push;
+  bad.end = bad.start;
+  EXPECT_THROW((void)hand_lack(bad, false, {&mug}, margin), Error);
+}
+
+TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJawsOrRaisingTheTip) {
+  // The object (4 cm square) at (0.20, 0) pushed 16 cm along +y; a neighbour (3 cm square) at
+  // (0.245, 0.1225): the object passes 1 cm from it, but the jaws across the push (3 cm either
+  // side of the pusher) would run into it near the end of the push when it is as tall as they
+  // hang low.
+  const geometry::Camera cam = down_camera();
+  PlanningView view = object_and_neighbour(cam, {0.245, 0.1225});
+  ASSERT_EQ(view.objects.size(), 2U);
+  const int a = object_nearest(view, {0.20, 0.0});
+  PutativeObject& obj = view.objects[static_cast<std::size_t>(a)];
+  PutativeObject& other = view.objects[static_cast<std::size_t>(1 - a)];
+  obj.height = 0.02;
+  other.height = 0.09;
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target(0.20, 0.16);
+  PushPlanOptions o = flat_options();
+  o.target_spread = 0;  // every candidate on the line: only stopping short, the jaws or the tip
+  // Off (the default): straight to the target, the jaws into the neighbour.
+  const PushPlan direct = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
+  EXPECT_EQ(direct.shortened, 0.0);
+  EXPECT_NEAR((direct.target - target).norm(), 0.0, 1e-12);
+  EXPECT_GT(hand_lack(direct.push, false, {&other}, 0.01), 0.005);
+  // hand_margin: stopped short where the jaws keep 1 cm from it (the pusher's end 1.5 cm behind
+  // the jaws' front, the object's back 2 cm behind its centre: about 6 cm short).
+  o.hand_margin = 0.01;
+  const PushPlan shorter = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(shorter.outcome, PlanOutcome::kPlanned) << shorter.message;
+  EXPECT_EQ(shorter.blocked, 0.0);
+  EXPECT_EQ(hand_lack(shorter.push, false, {&other}, 0.01), 0.0);
+  EXPECT_GE(shorter.shortened, 0.05 - 1e-9);
+  EXPECT_LE(shorter.shortened, 0.07 + 1e-9);
+  EXPECT_EQ(shorter.push.jaws, robot::JawLine::kRobot);
+  EXPECT_NEAR(shorter.push.height, o.tip_height, 1e-12);
+  // A low neighbour (2 cm: the jaws pass over it): to the target.
+  other.height = 0.02;
+  const PushPlan over = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(over.outcome, PlanOutcome::kPlanned) << over.message;
+  EXPECT_EQ(over.shortened, 0.0);
+  EXPECT_EQ(over.blocked, 0.0);
+  other.height = 0.09;
+  // hand_jaws: the object is low, so the jaws may lie along the push (1.5 cm either side): clear
+  // all the way to the target.
+  o.hand_jaws = true;
+  const PushPlan along = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(along.outcome, PlanOutcome::kPlanned) << along.message;
+  EXPECT_EQ(along.push.jaws, robot::JawLine::kAlong);
+  EXPECT_EQ(along.shortened, 0.0);
+  EXPECT_EQ(along.blocked, 0.0);
+  EXPECT_NEAR((along.target - target).norm(), 0.0, 1e-12);
+  EXPECT_NE(along.message.find("jaws along"), std::string::npos) << along.message;
+  // ...but not for an object the jaw ahead would run into (6 cm tall): stopped short again.
+  obj.height = 0.06;
+  const PushPlan tall = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(tall.outcome, PlanOutcome::kPlanned) << tall.message;
+  EXPECT_EQ(tall.push.jaws, robot::JawLine::kRobot);
+  EXPECT_GT(tall.shortened, 0.04);
+  // hand_raise: a 5 cm neighbour; the tip raised from 8 mm in 5 mm steps until the jaws (2.5 cm
+  // above it, with the height margin) pass over it: 2.8 cm (at most half the object's 6 cm).
+  o.hand_jaws = false;
+  o.hand_raise = 0.03;
+  other.height = 0.05;
+  const PushPlan raised = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(raised.outcome, PlanOutcome::kPlanned) << raised.message;
+  EXPECT_NEAR(raised.push.height, 0.028, 1e-9);
+  EXPECT_EQ(raised.shortened, 0.0);
+  EXPECT_EQ(raised.blocked, 0.0);
+  EXPECT_NE(raised.message.find("raised to 28 mm"), std::string::npos) << raised.message;
+  // A neighbour too tall to pass over within the raise: stopped short at the usual tip.
+  other.height = 0.09;
+  const PushPlan high = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(high.outcome, PlanOutcome::kPlanned) << high.message;
+  EXPECT_GT(high.shortened, 0.04);
+  EXPECT_EQ(high.blocked, 0.0);
+  EXPECT_NEAR(high.push.height, o.tip_height, 1e-12);
+  // Bounds.
+  PushPlanOptions bad = flat_options();
+  bad.hand_margin = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.hand_margin = -0.001;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.hand_margin = 0;
+  bad.hand_raise = 0.031;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.hand_raise = -0.001;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 }  // namespace
 }  // namespace proprio::planning

@@ -166,6 +166,23 @@ struct PushPlanOptions {
   /// least this, m (depth_tops), is split into them (split_by_depth), so that two touching
   /// objects of different heights are two putative objects. 0 (the default): not split.
   double depth_split = 0;
+  /// Depth: least gap kept between the hand above the pusher (hand_lack: the jaws, from
+  /// kFingerDrop above the tip, the palm from kPalmDrop, and the low forearm, swept along the
+  /// push) and every other putative object whose measured height reaches that part, m; a path
+  /// that keeps less is blocked by the shortfall, like sweep_margin, and a blocked push toward a
+  /// given target is also tried shortened where the hand is first clear. 0 (the default): not
+  /// checked.
+  double hand_margin = 0;
+  /// With hand_margin: a push whose hand is blocked with the jaws across the push is also tried
+  /// with the jaws along it (3 cm wide across instead of 6 cm) when the pushed object is low
+  /// enough for the jaw ahead to pass over it; the less blocked is kept. false (the default): the
+  /// jaws as push_jaws says.
+  bool hand_jaws = false;
+  /// With hand_margin: a push whose hand is blocked is also tried with the pusher's tip raised
+  /// in 5 mm steps by up to this, m (the tip at most kMostTipHeight and kRaiseFraction of the
+  /// pushed object's measured height), so that the hand passes over a lower neighbour; the least
+  /// blocked, then lowest, kept. 0 (the default): the tip as push_tip_height says.
+  double hand_raise = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -258,6 +275,19 @@ struct PushPlanOptions {
        "Depth: blobs holding tops that meet at a height step of at least this are split, m (0: "
        "off)",
        core::between(0, 0.1)});
+    v(self.hand_margin,
+      {"hand_margin",
+       "Depth: least gap between the hand above the pusher and other objects as tall as it, m; "
+       "blocked pushes to a target are also tried shortened (0: off)",
+       core::between(0, 0.05)});
+    v(self.hand_jaws,
+      {"hand_jaws",
+       "With hand_margin: a blocked push is also tried with the jaws along it (low objects)"});
+    v(self.hand_raise,
+      {"hand_raise",
+       "With hand_margin: a blocked push is also tried with the tip raised by up to this, m (0: "
+       "off)",
+       core::between(0, 0.03)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -600,6 +630,35 @@ inline constexpr double kDescentHeightMargin = 0.005;
 /// Added to the hand's reach for the hand's orientation (its pitch is free where the arm reaches
 /// far), m.
 inline constexpr double kDescentReachMargin = 0.01;
+
+/// The jaws' half extent across their own line (the finger boxes are 3 cm wide), and the palm's,
+/// m (data/models/arm.xml).
+inline constexpr double kJawHalf = 0.015;
+inline constexpr double kPalmHalf = 0.025;
+/// hand_raise: the tip is raised to at most this fraction of the pushed object's measured height.
+inline constexpr double kRaiseFraction = 0.5;
+
+/// The footprint (convex, CCW, table m) the pusher's tip sweeps from `start` to `end` carrying a
+/// box `along` m either side of its axis along the push and `across` m either side across it (a
+/// rectangle from start - along n to end + along n, 2 across wide). Throws Error when start =
+/// end or a half extent is negative.
+std::vector<Eigen::Vector2d> hand_footprint(const Eigen::Vector2d& start,
+                                            const Eigen::Vector2d& end, double along,
+                                            double across);
+
+/// How much the hand above the pusher lacks of `margin` against `others` along `push` (its tip at
+/// push.height), m, summed over the objects: with the jaws across the push (`jaws_along` false)
+/// the jaws sweep hand_footprint(kJawHalf along, kFingerReach across), along it (kFingerReach
+/// along, kJawHalf across); the palm (kPalmHalf and kPalmReach, the same way round); the low
+/// forearm the quadrilateral from the push's start and end kForearmReach toward the base (the
+/// origin). An object counts against the jaws when its measured height reaches them (h >=
+/// push.height + kFingerDrop - kDescentHeightMargin), against the palm and forearm when it
+/// reaches the palm (kPalmDrop); an object of unknown height counts as tall. A part that comes
+/// nearer than `margin` to an object counts the shortfall, and when it runs into it at least
+/// `margin` plus how far the pusher's line lies inside the part's reach of the object (so a
+/// deeper overlap counts more). 0: clear, or margin <= 0. The pushed object is not in `others`.
+double hand_lack(const robot::TablePush& push, bool jaws_along,
+                 const std::vector<const PutativeObject*>& others, double margin);
 
 /// descent_blocked with the objects' heights where they were measured (PutativeObject::height,
 /// from depth); an object without one is treated as descent_blocked treats every object (tall).
