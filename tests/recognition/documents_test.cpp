@@ -196,7 +196,8 @@ TEST(Documents, AdaptiveErosionOnTheBoxIsTheWholeImagesShrink) {
   core::Rng rng(22);
   // Uniform integer in [lo, hi].
   auto uniform_int = [&rng](int lo, int hi) {
-    return lo + static_cast<int>(rng.index(static_cast<std::uint64_t>(hi - lo + 1)));
+    const int span = hi - lo + 1;
+    return lo + static_cast<int>(rng.index(static_cast<std::uint64_t>(span)));
   };
   int shrunk = 0;
   int bare = 0;
