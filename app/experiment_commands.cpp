@@ -335,6 +335,12 @@ void register_experiment_commands(CLI::App& root, const Invocation& inv) {
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::Range(2, 1000));
+  sc->add_option("--mot-grid-word-weights", s->options.options.mot_grid_word_weights,
+                 "With --mot-smoothing-grid: also pool each object model's classification by "
+                 "words with the objects' word multinomials at these weights (comma-separated, "
+                 "each in [0, 1]; 0: the MoT by words alone, 1: naive Bayes on the words)")
+      ->delimiter(',')
+      ->check(CLI::Range(0.0, 1.0));
   bind_options(sc, s->options.options.frames.features);
   sc->add_flag("-q,--quiet", s->quiet, "No progress bar");
   s->json.add_to(sc, "the confusion matrices");

@@ -108,11 +108,31 @@ int adaptive_erosion(const cv::Mat& ids, int id, int erode, int min_features,
   check_mask_change(0, erode);
   check_erode_min_features(min_features);
   if (min_features == 0) return erode;
+  // Only the object's bounding box padded by `erode` pixels (clipped to the image) is shrunk:
+  // the pixels around it are off the object, as is the world beyond the image, so object_mask's
+  // shrunk mask is the same there and empty elsewhere (the same r as shrinking the whole image).
+  const cv::Mat bare = ids == id;
+  const cv::Rect box = cv::boundingRect(bare);
+  if (box.area() == 0) return 0;
+  const cv::Rect roi =
+      cv::Rect(box.x - erode, box.y - erode, box.width + 2 * erode, box.height + 2 * erode) &
+      cv::Rect(0, 0, ids.cols, ids.rows);
+  const cv::Mat crop = bare(roi).clone();
+  // The points' pixels (rounded as on_mask rounds) in the box's coordinates; those off it never
+  // count.
+  std::vector<cv::Point> inside;
+  for (const cv::KeyPoint& k : points) {
+    const cv::Point p(static_cast<int>(std::lround(k.pt.x)), static_cast<int>(std::lround(k.pt.y)));
+    if (roi.contains(p)) inside.push_back(p - roi.tl());
+  }
   for (int r = erode; r > 0; --r) {
-    const cv::Mat m = object_mask(ids, id, 0, r);
+    const cv::Mat kernel =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+    cv::Mat m;
+    cv::erode(crop, m, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
     int kept = 0;
-    for (const cv::KeyPoint& k : points)
-      if (on_mask(m, k) && ++kept >= min_features) return r;
+    for (const cv::Point& p : inside)
+      if (m.at<uchar>(p) != 0 && ++kept >= min_features) return r;
   }
   return 0;
 }

@@ -187,9 +187,10 @@ ExperimentRun scatter_run(const ScatterExperimentRunOptions& options,
     if (!run.mot_grid.empty()) {
       std::vector<ScatterGridRecord>& grid = j.mot_grid.emplace();
       for (const MotGridPoint& g : run.mot_grid) {
-        ScatterGridRecord& point = grid.emplace_back(ScatterGridRecord{
-            g.classes, g.source, g.smoothing,
-            g.prior == topics::MotPrior::kUniform ? "uniform" : "views", g.model, std::nullopt});
+        ScatterGridRecord& point = grid.emplace_back(
+            ScatterGridRecord{g.classes, g.source, g.smoothing,
+                              g.prior == topics::MotPrior::kUniform ? "uniform" : "views", g.model,
+                              std::nullopt, g.word_weight});
         if (g.model.starts_with("mixture")) point.components = g.components;
       }
     }

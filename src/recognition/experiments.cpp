@@ -202,6 +202,9 @@ void ScatterExperimentOptions::validate() const {
   for (const int c : mot_grid_components) {
     if (c < 2 || c > 1000) throw Error("the MoT grid's component caps must be in [2, 1000]");
   }
+  for (const double w : mot_grid_word_weights) {
+    if (!(w >= 0 && w <= 1)) throw Error("the MoT grid's word weights must be in [0, 1]");
+  }
 }
 
 namespace {
@@ -323,6 +326,12 @@ std::vector<ScatterExperimentResult> run_scatter(
         r.mot = evaluate_mot(trained.model, mapping_docs, test_docs, o.mot_options);
         r.mot_unsupervised =
             evaluate_mot_unsupervised(trained.model, mapping_docs, test_docs, o.mot_options);
+        // The objects' word multinomials from the labelled views (for mot_grid_word_weights).
+        const Eigen::MatrixXd log_phi =
+            o.mot_grid_word_weights.empty()
+                ? Eigen::MatrixXd()
+                : topics::fit_word_multinomials(mapping_docs.corpus, mapping_docs.labels,
+                                                static_cast<int>(mapping_docs.classes.size()));
         for (const auto source : {ThetaSource::kEStep, ThetaSource::kWordPosterior}) {
           for (const double s : o.mot_smoothing_grid) {
             for (const auto prior : {topics::MotPrior::kViews, topics::MotPrior::kUniform}) {
@@ -338,7 +347,8 @@ std::vector<ScatterExperimentResult> run_scatter(
                 g.components = components;
                 const MotEvaluation e =
                     evaluate_mot(trained.model, mapping_docs, test_docs, g, {}, source);
-                r.mot_grid.push_back({source, s, prior, model, components, e.classes});
+                r.mot_grid.push_back(
+                    {source, s, prior, model, components, std::nullopt, e.classes});
                 // The same objects' Dirichlets classifying the test views by their words
                 // (topics::classify_mot_words): smoothing does not enter, so once per source
                 // and object model, with the prior from the views.
@@ -352,8 +362,20 @@ std::vector<ScatterExperimentResult> run_scatter(
                       components == o.mot_grid_components.front())
                     r.mixture_words_predicted = predicted;
                   r.mot_grid.push_back({source, 0, prior, model + "-words", components,
+                                        std::nullopt,
                                         confusion_matrix(test_docs.labels, predicted,
                                                          test_docs.classes, test_docs.classes)});
+                  for (const double weight : o.mot_grid_word_weights) {
+                    std::vector<int> pooled = topics::pool_word_multinomials(
+                                                  e.fit.model, w, log_phi, test_docs.corpus, weight)
+                                                  .predicted;
+                    for (std::size_t d = 0; d < pooled.size(); ++d)
+                      if (test_docs.corpus.document(d).empty()) pooled[d] = -1;
+                    r.mot_grid.push_back({source, 0, prior, model + "-words-multinomial",
+                                          components, weight,
+                                          confusion_matrix(test_docs.labels, pooled,
+                                                           test_docs.classes, test_docs.classes)});
+                  }
                 }
               }
             }

@@ -601,6 +601,74 @@ MotClassification classify_mot_words(const MotModel& model, const LdaModel& lda,
   return out;
 }
 
+Eigen::MatrixXd fit_word_multinomials(const Corpus& corpus, std::span<const int> labels,
+                                      int classes, double pseudo_count) {
+  if (classes < 1) throw Error("word multinomials: need at least one object");
+  if (!(pseudo_count > 0 && pseudo_count <= 1e6)) {
+    throw Error("word multinomials: the pseudo-count must be in (0, 1e6], got " +
+                number(pseudo_count));
+  }
+  if (labels.size() != corpus.num_documents()) {
+    throw Error("word multinomials: " + std::to_string(labels.size()) + " labels for " +
+                std::to_string(corpus.num_documents()) + " documents");
+  }
+  Eigen::MatrixXd counts = Eigen::MatrixXd::Constant(classes, corpus.num_words(), pseudo_count);
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const int c = labels[d];
+    if (c < 0) continue;
+    if (c >= classes) {
+      throw Error("word multinomials: document " + std::to_string(d) + " has label " +
+                  std::to_string(c) + " of " + std::to_string(classes) + " objects");
+    }
+    const DocumentView doc = corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) counts(c, doc.words[i]) += doc.counts[i];
+  }
+  for (Eigen::Index c = 0; c < counts.rows(); ++c) {
+    const double total = counts.row(c).sum();
+    counts.row(c) = (counts.row(c).array() / total).log().matrix();
+  }
+  return counts;
+}
+
+MotClassification pool_word_multinomials(const MotModel& model, const MotClassification& by_words,
+                                         const Eigen::MatrixXd& log_phi, const Corpus& corpus,
+                                         double weight) {
+  model.validate();
+  if (!(weight >= 0 && weight <= 1)) {
+    throw Error("pooled word multinomials: the weight must be in [0, 1], got " + number(weight));
+  }
+  const Eigen::Index classes = model.num_classes();
+  const auto docs = static_cast<Eigen::Index>(corpus.num_documents());
+  if (log_phi.rows() != classes ||
+      log_phi.cols() != static_cast<Eigen::Index>(corpus.num_words())) {
+    throw Error("pooled word multinomials: the multinomials are " + std::to_string(log_phi.rows()) +
+                " x " + std::to_string(log_phi.cols()) + ", expected " + std::to_string(classes) +
+                " objects x " + std::to_string(corpus.num_words()) + " words");
+  }
+  if (by_words.log_score.rows() != docs || by_words.log_score.cols() != classes) {
+    throw Error("pooled word multinomials: the scores by words are not " + std::to_string(docs) +
+                " documents x " + std::to_string(classes) + " objects");
+  }
+  const Eigen::VectorXd log_p = model.log_prior();
+  MotClassification out;
+  out.log_score.resize(docs, classes);
+  for (Eigen::Index d = 0; d < docs; ++d) {
+    const DocumentView doc = corpus.document(static_cast<std::size_t>(d));
+    Eigen::VectorXd multinomial = Eigen::VectorXd::Zero(classes);
+    for (std::size_t i = 0; i < doc.size(); ++i)
+      multinomial += static_cast<double>(doc.counts[i]) * log_phi.col(doc.words[i]);
+    const Eigen::VectorXd mot = by_words.log_score.row(d).transpose() - log_p;
+    out.log_score.row(d) = ((1 - weight) * mot + weight * multinomial + log_p).transpose();
+  }
+  out.posterior.resize(docs, classes);
+  for (Eigen::Index d = 0; d < docs; ++d) {
+    const double z = log_sum_exp(out.log_score.row(d).transpose());
+    out.posterior.row(d) = (out.log_score.row(d).array() - z).exp();
+  }
+  out.predicted = argmax_rows(out.log_score);
+  return out;
+}
+
 MotUpdateSummary update_mot(MotModel& model, const Eigen::Ref<const Eigen::MatrixXd>& theta,
                             const std::vector<std::string>& labels, const MotOptions& options) {
   options.validate();

@@ -190,6 +190,8 @@ TEST_F(RecognitionCli, BadInputIsOneLineAndExitTwo) {
            {" --mot-grid-components 1", "--mot-grid-components"},
            {" --mot-grid-components 5,1001", "--mot-grid-components"},
            {" --view-select all", "--view-select"},
+           {" --mot-grid-word-weights -0.1", "--mot-grid-word-weights"},
+           {" --mot-grid-word-weights 0.5,1.5", "--mot-grid-word-weights"},
            {" --dilate 0 --erode 4 --erode-min-features -1", "--erode-min-features"},
            {" --dilate 0 --erode 4 --erode-min-features 10001", "--erode-min-features"}}) {
     r = run("experiment scatter --episodes " + file("none") + " --views " + images() + flags +

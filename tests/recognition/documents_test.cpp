@@ -178,6 +178,63 @@ TEST(Documents, UnreadableImageNamesTheFile) {
   fs::remove_all(dir);
 }
 
+// The adaptive shrink works on the object's bounding box padded by erode px: it must give the r
+// of shrinking the whole image (the reference below, the code before session 22) on shapes that
+// touch the image's edges or not, holes, two parts, and points on half pixels around the box.
+TEST(Documents, AdaptiveErosionOnTheBoxIsTheWholeImagesShrink) {
+  auto reference = [](const cv::Mat& ids, int id, int erode, int min_features,
+                      const std::vector<cv::KeyPoint>& points) {
+    if (min_features == 0) return erode;
+    for (int r = erode; r > 0; --r) {
+      const cv::Mat m = object_mask(ids, id, 0, r);
+      int kept = 0;
+      for (const cv::KeyPoint& k : points)
+        if (on_mask(m, k) && ++kept >= min_features) return r;
+    }
+    return 0;
+  };
+  core::Rng rng(22);
+  // Uniform integer in [lo, hi].
+  auto uniform_int = [&rng](int lo, int hi) {
+    const int span = hi - lo + 1;
+    return lo + static_cast<int>(rng.index(static_cast<std::uint64_t>(span)));
+  };
+  int shrunk = 0;
+  int bare = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    cv::Mat1b ids(48, 64, uchar{0});
+    const int cx = uniform_int(-5, 68);
+    const int cy = uniform_int(-5, 52);
+    cv::ellipse(ids, cv::Point(cx, cy), cv::Size(uniform_int(2, 20), uniform_int(2, 15)),
+                uniform_int(0, 179), 0, 360, cv::Scalar(5), cv::FILLED);
+    if (trial % 3 == 0) cv::circle(ids, cv::Point(cx, cy), 2, cv::Scalar(0), cv::FILLED);  // hole
+    if (trial % 4 == 0)
+      cv::rectangle(ids, cv::Rect(uniform_int(0, 60), uniform_int(0, 44), 6, 4), cv::Scalar(5),
+                    cv::FILLED);                                          // a second part
+    cv::rectangle(ids, cv::Rect(0, 0, 3, 3), cv::Scalar(7), cv::FILLED);  // another object
+    std::vector<cv::KeyPoint> points;
+    for (int i = 0; i < 400; ++i) {
+      // Half pixels too: on_mask rounds them away from zero.
+      const float x = static_cast<float>(uniform_int(-4, 136)) / 2.0F;
+      const float y = static_cast<float>(uniform_int(-4, 104)) / 2.0F;
+      points.emplace_back(cv::Point2f(x, y), 4.0F);
+    }
+    for (const int erode : {1, 3, 6}) {
+      for (const int k : {1, 5, 20, 60, 150}) {
+        const int want = reference(ids, 5, erode, k, points);
+        EXPECT_EQ(adaptive_erosion(ids, 5, erode, k, points), want)
+            << "trial " << trial << " erode " << erode << " k " << k;
+        shrunk += want > 0 ? 1 : 0;
+        bare += want == 0 ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(shrunk, 100);  // both outcomes are exercised
+  EXPECT_GT(bare, 100);
+  cv::Mat1b none(10, 10, uchar{0});
+  EXPECT_EQ(adaptive_erosion(none, 5, 4, 1, {}), 0);  // no such object
+}
+
 // The adaptive shrink on a 40 px square with a grid point every 4 px: shrunk by r px the square
 // keeps the points in [20 + r, 60 - r) on each axis (100 points bare, 81 for r = 1-3, 64 for 4,
 // 49 for 5-7, 36 for 8); the shrink is the largest r <= erode that keeps min_features of them.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -542,6 +543,61 @@ TEST(ScatterExperiment, MotGridFitsTheMixtureOncePerComponentCap) {
   EXPECT_THROW(o.validate(), Error);
   o.mot_grid_components = {};
   EXPECT_THROW(o.validate(), Error);
+}
+
+// The grid's word weights: each "-words" point gains one "-words-multinomial" point per weight;
+// weight 0 is the "-words" point itself, weight 1 leaves only the word multinomials and the prior
+// (the same for every object model of one theta source and prior); the other points are those
+// of the grid without weights.
+TEST(ScatterExperiment, MotGridPoolsTheWordsWithTheObjectsMultinomials) {
+  const Fixture& f = fixture();
+  ScatterExperimentOptions o = small_scatter_options();
+  o.mot = true;
+  o.mot_smoothing_grid = {0};
+  const std::vector<std::string> objects = {"box", "mug"};
+  const ScatterExperimentResult plain = run_scatter_experiment(f.episodes, f.episodes, objects, o);
+  o.mot_grid_word_weights = {0, 0.5, 1};
+  const ScatterExperimentResult pooled = run_scatter_experiment(f.episodes, f.episodes, objects, o);
+  ASSERT_EQ(plain.runs.size(), 1U);
+  ASSERT_EQ(pooled.runs.size(), 1U);
+  const std::vector<MotGridPoint>& grid = pooled.runs[0].mot_grid;
+  // Per theta source: 2 priors x 3 models, 3 by words, and 3 x 3 pooled.
+  ASSERT_EQ(grid.size(), 2U * (2 * 3 + 3 + 3 * 3));
+  int words = 0;
+  int pooled_points = 0;
+  for (const MotGridPoint& g : grid) {
+    if (!g.model.ends_with("-words-multinomial")) {
+      EXPECT_FALSE(g.word_weight.has_value()) << g.model;
+      int found = 0;
+      for (const MotGridPoint& h : plain.runs[0].mot_grid) {
+        if (h.source == g.source && h.prior == g.prior && h.model == g.model) {
+          EXPECT_EQ(h.classes.counts, g.classes.counts) << g.model;
+          ++found;
+        }
+      }
+      EXPECT_EQ(found, 1) << g.model;
+      words += g.model.ends_with("-words") ? 1 : 0;
+      continue;
+    }
+    ++pooled_points;
+    ASSERT_TRUE(g.word_weight.has_value());
+    const std::string base = g.model.substr(0, g.model.size() - std::string("-multinomial").size());
+    for (const MotGridPoint& h : grid) {
+      if (h.source != g.source || h.prior != g.prior) continue;
+      if (*g.word_weight == 0 && h.model == base) {
+        EXPECT_EQ(h.classes.counts, g.classes.counts) << g.model;
+      }
+      if (*g.word_weight == 1 && h.word_weight == 1.0) {
+        EXPECT_EQ(h.classes.counts, g.classes.counts) << g.model << " " << h.model;
+      }
+    }
+  }
+  EXPECT_EQ(words, 6);
+  EXPECT_EQ(pooled_points, 18);
+  for (const double bad : {-0.1, 1.5, std::nan("")}) {
+    o.mot_grid_word_weights = {0.5, bad};
+    EXPECT_THROW(o.validate(), Error) << bad;
+  }
 }
 
 // Each test view carries where it comes from and its object, and the mixture by words' object

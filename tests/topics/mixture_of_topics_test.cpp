@@ -577,6 +577,78 @@ TEST(MixtureOfTopics, ClassifiesDocumentsByTheirWords) {
   EXPECT_THROW((void)classify_mot_words(three, lda, corpus), Error);
 }
 
+// Each object's word multinomial: pooled counts plus the pseudo-count, normalised (known
+// answers); a label < 0 leaves its document out.
+TEST(MixtureOfTopics, WordMultinomialsArePooledCountsPlusThePseudoCount) {
+  Corpus corpus(3);
+  corpus.add_document(std::vector<std::int32_t>{0, 1}, std::vector<std::int32_t>{2, 1});  // 0
+  corpus.add_document(std::vector<std::int32_t>{2}, std::vector<std::int32_t>{3});        // 1
+  corpus.add_document(std::vector<std::int32_t>{0}, std::vector<std::int32_t>{9});        // out
+  const std::vector<int> labels{0, 1, -1};
+  const Eigen::MatrixXd p = fit_word_multinomials(corpus, labels, 2);
+  ASSERT_EQ(p.rows(), 2);
+  ASSERT_EQ(p.cols(), 3);
+  EXPECT_NEAR(p(0, 0), std::log(3.0 / 6), 1e-12);
+  EXPECT_NEAR(p(0, 1), std::log(2.0 / 6), 1e-12);
+  EXPECT_NEAR(p(0, 2), std::log(1.0 / 6), 1e-12);
+  EXPECT_NEAR(p(1, 0), std::log(1.0 / 6), 1e-12);
+  EXPECT_NEAR(p(1, 2), std::log(4.0 / 6), 1e-12);
+  const Eigen::MatrixXd half = fit_word_multinomials(corpus, labels, 3, 0.5);
+  EXPECT_NEAR(half(0, 0), std::log(2.5 / 4.5), 1e-12);
+  EXPECT_NEAR(half(2, 1), std::log(1.0 / 3), 1e-12);  // no document: uniform
+  EXPECT_THROW((void)fit_word_multinomials(corpus, std::vector<int>{0, 2, -1}, 2), Error);
+  EXPECT_THROW((void)fit_word_multinomials(corpus, std::vector<int>{0, 1}, 2), Error);
+  EXPECT_THROW((void)fit_word_multinomials(corpus, labels, 2, 0.0), Error);
+  EXPECT_THROW((void)fit_word_multinomials(corpus, labels, 0), Error);
+}
+
+// The pooled score (1 - w) (MoT by words - log p(c)) + w sum log p(word | c) + log p(c): known
+// answers by hand; w = 0 is classify_mot_words, w = 1 naive Bayes with the MoT's prior.
+TEST(MixtureOfTopics, PoolingWithWordMultinomialsWeighsTheTwoScores) {
+  Eigen::VectorXd a(2), b(2);
+  a << 6.0, 1.5;
+  b << 1.5, 6.0;
+  MotModel m;
+  m.objects.push_back({"a", {}, Dirichlet(a), 1.0});
+  m.objects.push_back({"b", {}, Dirichlet(b), 3.0});
+  const LdaModel lda = two_topic_lda();
+  Corpus corpus(3);
+  corpus.add_document(std::vector<std::int32_t>{0, 2}, std::vector<std::int32_t>{4, 1});
+  corpus.add_document(std::vector<std::int32_t>{1}, std::vector<std::int32_t>{2});
+  corpus.add_document(std::span<const std::int32_t>{}, std::span<const std::int32_t>{});
+  const MotClassification words = classify_mot_words(m, lda, corpus);
+  Eigen::MatrixXd log_phi(2, 3);
+  log_phi << std::log(0.1), std::log(0.1), std::log(0.8),  // object a: mostly word 2
+      std::log(0.7), std::log(0.2), std::log(0.1);         // object b: mostly word 0
+  const Eigen::VectorXd log_p = m.log_prior();
+  for (const double w : {0.0, 0.3, 1.0}) {
+    const MotClassification got = pool_word_multinomials(m, words, log_phi, corpus, w);
+    ASSERT_EQ(got.log_score.rows(), 3);
+    for (int c = 0; c < 2; ++c) {
+      const double mot0 = words.log_score(0, c) - log_p(c);
+      const double mot1 = words.log_score(1, c) - log_p(c);
+      const double multi0 = 4 * log_phi(c, 0) + log_phi(c, 2);
+      const double multi1 = 2 * log_phi(c, 1);
+      EXPECT_NEAR(got.log_score(0, c), (1 - w) * mot0 + w * multi0 + log_p(c), 1e-9) << w;
+      EXPECT_NEAR(got.log_score(1, c), (1 - w) * mot1 + w * multi1 + log_p(c), 1e-9) << w;
+      EXPECT_NEAR(got.log_score(2, c), log_p(c), 1e-12) << w;  // empty: the prior
+    }
+    for (Eigen::Index d = 0; d < 3; ++d) EXPECT_NEAR(got.posterior.row(d).sum(), 1.0, 1e-12);
+    if (w == 0.0) {
+      EXPECT_EQ(got.predicted, words.predicted);
+    }
+  }
+  // Word 0 four times: naive Bayes says b (0.7 against 0.1) whatever the MoT says.
+  EXPECT_EQ(pool_word_multinomials(m, words, log_phi, corpus, 1.0).predicted[0], 1);
+  EXPECT_THROW((void)pool_word_multinomials(m, words, log_phi, corpus, -0.1), Error);
+  EXPECT_THROW((void)pool_word_multinomials(m, words, log_phi, corpus, 1.5), Error);
+  EXPECT_THROW((void)pool_word_multinomials(m, words, log_phi.leftCols(2), corpus, 0.5), Error);
+  EXPECT_THROW((void)pool_word_multinomials(m, words, log_phi.topRows(1), corpus, 0.5), Error);
+  MotClassification short_words = words;
+  short_words.log_score.conservativeResize(2, 2);
+  EXPECT_THROW((void)pool_word_multinomials(m, short_words, log_phi, corpus, 0.5), Error);
+}
+
 TEST(MixtureOfTopics, WordsOfAMixtureObjectSumItsComponents) {
   Eigen::VectorXd a(2), b(2);
   a << 5.0, 1.0;

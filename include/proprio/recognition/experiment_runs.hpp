@@ -135,6 +135,8 @@ struct ScatterGridRecord {
   std::string model = "dirichlet";
   /// The mixtures': the most components per object (absent before 2026-12-03: 10).
   std::optional<int> components;
+  /// The -words-multinomial models': the multinomials' weight (absent before session 22).
+  std::optional<double> word_weight;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -144,6 +146,7 @@ struct ScatterGridRecord {
     v(self.prior, {"prior", "uniform or views"});
     v(self.model, {"model", "The object model: dirichlet, shared-precision or mixture"});
     v(self.components, {"components", "The mixture's most components per object"});
+    v(self.word_weight, {"word_weight", "The word multinomials' weight in the pooled score"});
   }
 };
 

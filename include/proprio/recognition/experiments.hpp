@@ -149,6 +149,11 @@ struct ScatterExperimentOptions {
   /// components an object may have (MotOptions::components; each >= 2), so that the cap is tuned
   /// on the same LDA model and views. Default: 10 alone (the grid before 2026-12-03).
   std::vector<int> mot_grid_components{10};
+  /// With mot_smoothing_grid: also pool each object model's classification by words with the
+  /// objects' word multinomials fitted to the labelled views (topics::fit_word_multinomials,
+  /// topics::pool_word_multinomials), once per weight here, each in [0, 1] (model
+  /// "<model>-words-multinomial"). Default: none (the grid before session 22).
+  std::vector<double> mot_grid_word_weights;
   std::uint64_t seed = 1;
   void validate() const;
 };
@@ -160,11 +165,15 @@ struct MotGridPoint {
   topics::MotPrior prior = topics::MotPrior::kViews;
   /// The object model: "dirichlet" (one per object), "shared-precision" (one precision shared
   /// by the objects) or "mixture" (MotOptions::components = 10); with "-words" appended, the same
-  /// fit classifying the test views by their words (topics::classify_mot_words; smoothing 0).
+  /// fit classifying the test views by their words (topics::classify_mot_words; smoothing 0);
+  /// with "-words-multinomial", that pooled with the objects' word multinomials at word_weight.
   std::string model = "dirichlet";
   /// The mixture's most components per object (ScatterExperimentOptions::mot_grid_components);
   /// 1 for the other models.
   int components = 1;
+  /// "-words-multinomial" models: the multinomials' weight (ScatterExperimentOptions::
+  /// mot_grid_word_weights).
+  std::optional<double> word_weight;
   ConfusionMatrix classes;
 };
 

@@ -251,6 +251,27 @@ MotClassification classify_mot(const MotModel& model,
 MotClassification classify_mot_words(const MotModel& model, const LdaModel& lda,
                                      const Corpus& corpus, const EStepOptions& estep = {});
 
+/// Each object's multinomial over the words, an addition to the thesis's model (session 22 of
+/// docs/results/mot.md): row c is log p(w | c) from the pooled word counts of the documents
+/// labelled c plus `pseudo_count` for every word (add-one smoothing by default). A label < 0
+/// leaves its document out. Throws Error when labels and documents differ in number, a label is
+/// >= classes, classes < 1 or pseudo_count is not in (0, 1e6].
+Eigen::MatrixXd fit_word_multinomials(const Corpus& corpus, std::span<const int> labels,
+                                      int classes, double pseudo_count = 1.0);
+
+/// The Mixture of Topics by words pooled with the objects' word multinomials (log-linear, a
+/// product of the two experts): with L_c(w_d) = by_words.log_score(d, c) - log p(c) (the MoT's
+/// bound on log p(w_d | c), classify_mot_words),
+///   log_score(d, c) = (1 - weight) L_c(w_d) + weight sum_n log p(w_dn | c) + log p(c),
+/// p(c) the model's prior and p(w | c) = exp(log_phi(c, w)) (fit_word_multinomials). weight 0
+/// gives classify_mot_words' scores, weight 1 multinomial naive Bayes with the MoT's prior. An
+/// empty document scores (1 - weight) L_c + log p(c) as before. Throws Error on weight outside
+/// [0, 1], a log_phi with other than C rows or other than the corpus's W columns, or a by_words
+/// with other than D x C scores.
+MotClassification pool_word_multinomials(const MotModel& model, const MotClassification& by_words,
+                                         const Eigen::MatrixXd& log_phi, const Corpus& corpus,
+                                         double weight);
+
 struct MotUpdateSummary {
   int views = 0;                          ///< new views
   int new_objects = 0;                    ///< labels not in the model before
