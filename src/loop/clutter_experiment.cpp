@@ -69,7 +69,8 @@ core::Json recording_key(const ClutterExperimentOptions& o, std::uint64_t seed) 
                {"width", o.width},           {"height", o.height},
                {"held_out", o.held_out},     {"min_shift", o.min_shift},
                {"max_shift", o.max_shift}};
-  // Session 22's harness options, only when set (a session-21 cache stays valid).
+  // Session 22's harness options, only when not the session-21 harness (whose caches stay
+  // valid for --attempts 1).
   if (o.attempts != 1) k["attempts"] = o.attempts;
   if (o.sweep_margin != 0) k["sweep_margin"] = o.sweep_margin;
   if (o.depth_split != 0) k["depth_split"] = o.depth_split;

@@ -39,7 +39,7 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.fractions, (std::vector<double>{0.5, 0.6, 0.7, 0.8, 0.9}));
   EXPECT_EQ(o.topics, (std::vector<int>{2, 4, 6, 8, 10, 15, 20, 25}));
   EXPECT_EQ(o.segmentation, PushSegmentation::kDense);
-  EXPECT_EQ(o.attempts, 1);  // the session-21 harness
+  EXPECT_EQ(o.attempts, 6);  // session 22 (1: the session-21 harness)
   EXPECT_EQ(o.sweep_margin, 0.0);
   EXPECT_EQ(o.depth_split, 0.0);
   EXPECT_EQ(o.erode, 0);
