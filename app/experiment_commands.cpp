@@ -180,6 +180,22 @@ void add_clutter_options(CLI::App* cmd, ClutterArgs& a) {
       ->capture_default_str();
   cmd->add_option("--max-shift", o.max_shift, "Push target: at most this far, m")
       ->capture_default_str();
+  cmd->add_option("--attempts", o.attempts,
+                  "Planning attempts per planned push (a new target each; the scene re-placed "
+                  "after an object not seen or off the table and every second failure); 1: the "
+                  "session-21 harness")
+      ->capture_default_str();
+  cmd->add_option("--sweep-margin", o.sweep_margin,
+                  "Push planner: least gap between the pushed object's swept region and its "
+                  "neighbours, m; 0: off")
+      ->capture_default_str();
+  cmd->add_option("--depth-split", o.depth_split,
+                  "Push planner: split a blob at a depth step of this height, m; 0: off")
+      ->capture_default_str();
+  cmd->add_option("--erode", o.erode,
+                  "Erode the view masks by this many px (after the arm is cut out, before "
+                  "--dilate); 0: none")
+      ->capture_default_str();
   cmd->add_flag("--quick", o.quick,
                 "Small and fast: first seed, 1 trial of 3 pushes, 240x180, fractions 0.5,0.7, "
                 "topics 4,8");

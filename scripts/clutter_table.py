@@ -4,8 +4,10 @@ usage: /usr/bin/python3 scripts/clutter_table.py FILE
 Per number of topics T: the supervised and unsupervised Mixture of Topics' held-out accuracy,
 mean over seeds x fractions with a 95% interval over the seeds (each seed's mean over the
 fractions; mean +- t(0.975, n-1) sd / sqrt(n)), the worst and best cell, the band (per fraction
-the mean over seeds: its min and max); the leave-one-trial-out diagnostic (each trial's own views
-classified by a supervised MoT fitted to the other trials', mean over seeds x fractions); per
+the mean over seeds: its min and max); held-out pushes: the leave-one-trial-out diagnostic (each trial's own views
+classified by a supervised MoT fitted to the other trials') and the other seeds' push views
+(session 22: classified by each seed's supervised MoT), mean over seeds x fractions; per
+planned push, why it was not executed (its last outcome) and every failed attempt's cause; per
 object the supervised accuracy at T >= 15 (mean over
 seeds x fractions x T); the pushes per object; the issue's target (T >= 15: mean >= 90%, worst
 >= 80%).
@@ -45,16 +47,44 @@ def row(key, t):
             f"{100 * max(vals):.1f} | {100 * min(bands):.1f}-{100 * max(bands):.1f}")
 
 
-def cross(t):
-    vals = [c["cross_trial"] for c in cells if c["topics"] == t and c.get("cross_trial") is not None]
-    return f"{100 * statistics.mean(vals):.1f}" if vals else "-"
+def cross(t, key="cross_trial"):
+    vals = [c[key] for c in cells if c["topics"] == t and c.get(key) is not None]
+    if not vals:
+        return "-"
+    per_seed = defaultdict(list)
+    for c in cells:
+        if c["topics"] == t and c.get(key) is not None:
+            per_seed[c["seed"]].append(c[key])
+    seeds = [statistics.mean(v) for v in per_seed.values()]
+    return f"{100 * statistics.mean(vals):.1f}{interval(seeds)}"
 
 
 print("| T | supervised mean (95% over seeds) | worst | best | band | "
-      "unsupervised mean | worst | best | band | leave-one-trial-out |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+      "unsupervised mean | worst | best | band | pushes: other trial | pushes: other seeds |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
 for t in o["topics"]:
-    print(f"| {t} | {row('supervised', t)} | {row('unsupervised', t)} | {cross(t)} |")
+    print(f"| {t} | {row('supervised', t)} | {row('unsupervised', t)} | {cross(t)} | "
+          f"{cross(t, 'cross_seed')} |")
+
+# Why planned pushes were not executed (final outcome), and the failed attempts by cause.
+print()
+causes = ["not-planned", "robot-refused", "object-not-seen", "off-table"]
+print("| object | planned | executed | " + " | ".join(f"not: {c}" for c in causes) +
+      " | attempts made | failed attempts by cause |")
+print("|---|---|---|" + "---|" * len(causes) + "---|---|")
+for name in objects:
+    ps = [p for p in d["pushes"] if p["object"] == name]
+    out = defaultdict(int)
+    failed = defaultdict(int)
+    for p in ps:
+        if not p["executed"]:
+            out[p["outcome"]] += 1
+        for f in p.get("failed", []):
+            failed[f] += 1
+    print(f"| {name} | {len(ps)} | {sum(p['executed'] for p in ps)} | " +
+          " | ".join(str(out[c]) for c in causes) +
+          f" | {sum(p.get('attempts', 1) for p in ps)} | " +
+          ", ".join(f"{k} {v}" for k, v in sorted(failed.items())) + " |")
 
 high = [c for c in cells if c["topics"] >= 15]
 if high:
@@ -65,8 +95,8 @@ if high:
               f"{100 * min(vals):.1f}% over {len(vals)} cells (target: mean >= 90%, worst >= 80%)")
     print()
     print("| object | pushes executed | moved it | training views (fraction 0.7) | "
-          "supervised, T >= 15 | per seed |")
-    print("|---|---|---|---|---|---|")
+          "renders, T >= 15 | per seed | other seeds' pushes, T >= 15 | per seed |")
+    print("|---|---|---|---|---|---|---|---|")
     for i, name in enumerate(objects):
         ps = [p for p in d["pushes"] if p["object"] == name]
         views = [c["views_per_object"][i] for c in cells
@@ -76,10 +106,17 @@ if high:
             per_seed[c["seed"]].append(c["supervised_per_object"][i])
         seeds = [statistics.mean(v) for v in per_seed.values()]
         acc = statistics.mean(c["supervised_per_object"][i] for c in high)
+        xs = defaultdict(list)
+        for c in high:
+            if c.get("cross_seed_per_object"):
+                xs[c["seed"]].append(c["cross_seed_per_object"][i])
+        xseeds = [statistics.mean(v) for v in xs.values()]
+        xcol = (f"{100 * statistics.mean(xseeds):.1f}{interval(xseeds)} | "
+                f"{' '.join(f'{100 * s:.0f}' for s in xseeds)}") if xseeds else "- | -"
         print(f"| {name} | {sum(p['executed'] for p in ps)} / {len(ps)} | "
               f"{sum(p['moved_intended'] for p in ps)} | {'/'.join(str(v) for v in views)} | "
               f"{100 * acc:.1f}{interval(seeds)} | "
-              f"{' '.join(f'{100 * s:.0f}' for s in seeds)} |")
+              f"{' '.join(f'{100 * s:.0f}' for s in seeds)} | {xcol} |")
 
 for which in ("best", "worst"):
     if which not in d:

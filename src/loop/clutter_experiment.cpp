@@ -44,10 +44,10 @@ namespace {
 constexpr int kLdaIterations = 60;  // as learn
 constexpr std::uint64_t kTrialStream = 0x7c1a;
 constexpr std::uint64_t kTargetStream = 0x7c1b;
-constexpr int kMaxReplacements = 3;
+constexpr int kMaxReplacements = 3;  // re-placements of the scene when the object is not seen
 constexpr std::uint64_t kVocabularyStream = 0x7c1c;
 /// The vocabulary's k-means runs over at most this many of the views' descriptors (seeded).
-constexpr int kVocabularySample = 50000;  // re-placements of the scene when the object is not seen
+constexpr int kVocabularySample = 50000;
 const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};  // as score_self_supervision
 constexpr std::string_view kCacheMarkers[] = {"clutter_cache.json"};
 
@@ -63,12 +63,18 @@ std::vector<std::string> names_of(const std::string& list) {
 // What a cached directory's manifest must say for this experiment (the options that shape
 // the recording).
 core::Json recording_key(const ClutterExperimentOptions& o, std::uint64_t seed) {
-  return core::Json{{"objects", o.objects},       {"clutter", o.clutter},
-                    {"background", o.background}, {"seed", seed},
-                    {"pushes", o.pushes},         {"fps", o.fps},
-                    {"width", o.width},           {"height", o.height},
-                    {"held_out", o.held_out},     {"min_shift", o.min_shift},
-                    {"max_shift", o.max_shift}};
+  core::Json k{{"objects", o.objects},       {"clutter", o.clutter},
+               {"background", o.background}, {"seed", seed},
+               {"pushes", o.pushes},         {"fps", o.fps},
+               {"width", o.width},           {"height", o.height},
+               {"held_out", o.held_out},     {"min_shift", o.min_shift},
+               {"max_shift", o.max_shift}};
+  // Session 22's harness options, only when not the session-21 harness (whose caches stay
+  // valid for --attempts 1).
+  if (o.attempts != 1) k["attempts"] = o.attempts;
+  if (o.sweep_margin != 0) k["sweep_margin"] = o.sweep_margin;
+  if (o.depth_split != 0) k["depth_split"] = o.depth_split;
+  return k;
 }
 
 // Reads a cached directory's manifest: nullopt when the directory does not exist; Error when
@@ -129,12 +135,73 @@ void record_trial(sim::SimulatedRobot& robot, const ClutterExperimentOptions& o,
   robot.scatter(core::stream_seed(seed, kTrialStream, oi, static_cast<std::uint64_t>(trial)));
   core::Rng rng(core::stream_seed(seed, kTargetStream, oi, static_cast<std::uint64_t>(trial)));
   core::Json pushes = core::Json::array();
+  const auto find_object = [&]() -> std::optional<sim::ObjectTruth> {
+    for (const auto& t : robot.ground_truth()) {
+      if (t.name == object) return t;
+    }
+    return std::nullopt;
+  };
   for (int k = 0; k < o.pushes; ++k) {
-    const std::vector<sim::ObjectTruth> truth = robot.ground_truth();
-    const auto it = std::find_if(truth.begin(), truth.end(),
-                                 [&](const sim::ObjectTruth& t) { return t.name == object; });
+    PushOptions po;
+    po.table = {};  // the robot's table
+    po.object = object;
+    po.fps = o.fps;
+    po.max_pushes = 1;
+    // The planner's pixel quantities scaled with the image, as learn scales them.
+    const double scale = o.width / 640.0;
+    po.plan.grid_step = std::max(2, static_cast<int>(std::lround(po.plan.grid_step * scale)));
+    po.plan.patch = std::max(4, static_cast<int>(std::lround(po.plan.patch * scale)));
+    po.plan.blobs.sigma = po.plan.blobs.sigma * scale;
+    po.plan.sweep_margin = o.sweep_margin;
+    po.plan.depth_split = o.depth_split;
+    char name[32];
+    std::snprintf(name, sizeof name, "push_%02d", k);
+    po.out = work / name;
     core::Json pj{{"index", k}};
-    if (it == truth.end() || !it->on_table) {
+    const auto rescatter = [&](int n) {
+      robot.scatter(core::stream_seed(seed, kTrialStream, oi, static_cast<std::uint64_t>(trial),
+                                      static_cast<std::uint64_t>(k),
+                                      static_cast<std::uint64_t>(n)));
+    };
+    if (o.attempts > 1) {
+      // Session 22: up to `attempts` attempts, re-placing the scene when the object is not free.
+      int replaced = 0;
+      core::Json failed = core::Json::array();
+      std::optional<PushRunResult> r;
+      int attempt = 0;
+      for (; attempt < o.attempts; ++attempt) {
+        const std::optional<sim::ObjectTruth> t = find_object();
+        if (!t || !t->on_table) {
+          failed.push_back("off-table");
+          rescatter(++replaced);
+          continue;
+        }
+        const Eigen::Vector2d target = push_target(*t, o, rng);
+        po.target_x = target.x();
+        po.target_y = target.y();
+        fs::remove_all(po.out);
+        r = push_once(robot, po, provenance);
+        if (r->report.has_value() && !r->report->episode_dir.empty()) break;
+        failed.push_back(std::string(core::choice_name(r->outcome, kPushOutcomeNames)));
+        if (r->outcome == PushOutcome::kObjectNotSeen || attempt % 2 == 1) rescatter(++replaced);
+      }
+      const bool executed =
+          r && r->report.has_value() && !r->report->episode_dir.empty() && attempt < o.attempts;
+      if (!executed) fs::remove_all(po.out);
+      pj["replaced"] = replaced;
+      pj["attempts"] = std::min(attempt + 1, o.attempts);
+      pj["failed"] = failed;
+      pj["outcome"] = r ? std::string(core::choice_name(r->outcome, kPushOutcomeNames))
+                        : std::string("off-table");
+      if (!executed && !failed.empty()) pj["outcome"] = failed.back();
+      pj["episode"] = executed ? std::string(name) + "/episode" : std::string();
+      pj["moved_intended"] = executed && r->score.moved_intended;
+      pj["only_intended"] = executed && r->score.only_intended;
+      pushes.push_back(pj);
+      continue;
+    }
+    const std::optional<sim::ObjectTruth> it = find_object();
+    if (!it || !it->on_table) {
       pj["outcome"] = "off-table";
       pj["episode"] = "";
       pj["moved_intended"] = false;
@@ -143,34 +210,17 @@ void record_trial(sim::SimulatedRobot& robot, const ClutterExperimentOptions& o,
       continue;
     }
     const Eigen::Vector2d target = push_target(*it, o, rng);
-    PushOptions po;
-    po.table = {};  // the robot's table
-    po.object = object;
     po.target_x = target.x();
     po.target_y = target.y();
-    po.fps = o.fps;
-    po.max_pushes = 1;
-    // The planner's pixel quantities scaled with the image, as learn scales them.
-    const double scale = o.width / 640.0;
-    po.plan.grid_step = std::max(2, static_cast<int>(std::lround(po.plan.grid_step * scale)));
-    po.plan.patch = std::max(4, static_cast<int>(std::lround(po.plan.patch * scale)));
-    po.plan.blobs.sigma = po.plan.blobs.sigma * scale;
-    char name[32];
-    std::snprintf(name, sizeof name, "push_%02d", k);
-    po.out = work / name;
     PushRunResult r = push_once(robot, po, provenance);
     // The object is not seen as a putative object of its own (merged with a neighbour, or out
     // of view): the experimenter re-places the scene and the push is planned again.
     int replaced = 0;
     while (r.outcome == PushOutcome::kObjectNotSeen && replaced < kMaxReplacements) {
       ++replaced;
-      robot.scatter(core::stream_seed(seed, kTrialStream, oi, static_cast<std::uint64_t>(trial),
-                                      static_cast<std::uint64_t>(k),
-                                      static_cast<std::uint64_t>(replaced)));
-      const auto moved = robot.ground_truth();
-      const auto at = std::find_if(moved.begin(), moved.end(),
-                                   [&](const sim::ObjectTruth& t) { return t.name == object; });
-      if (at == moved.end()) break;
+      rescatter(replaced);
+      const std::optional<sim::ObjectTruth> at = find_object();
+      if (!at) break;
       const Eigen::Vector2d again = push_target(*at, o, rng);
       po.target_x = again.x();
       po.target_y = again.y();
@@ -242,6 +292,14 @@ cv::Mat dilated(const cv::Mat& mask, int px) {
   return out;
 }
 
+cv::Mat eroded(const cv::Mat& mask, int px) {
+  if (px <= 0) return mask;
+  cv::Mat out;
+  cv::erode(mask, out,
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * px + 1, 2 * px + 1)));
+  return out;
+}
+
 // A segmented push's views at every fraction: descriptors per view (CV_32F rows).
 using ViewsByFraction = std::vector<std::vector<cv::Mat>>;
 
@@ -255,6 +313,7 @@ ViewsByFraction push_views(const fs::path& episode_dir, const ClutterExperimentO
   const auto take = [&](std::size_t fi, int i, const cv::Mat& m0) {
     cv::Mat m = m0.clone();
     m.setTo(0, arm_mask(i, m.size()));
+    m = eroded(m, o.erode);
     if (cv::countNonZero(m) == 0) return;
     const features::Features f =
         features::extract_features(e.frame(i), o.features, dilated(m, o.dilate));
@@ -316,7 +375,7 @@ constexpr char kViewsMagic[4] = {'P', 'C', 'L', 'V'};
 constexpr std::uint32_t kViewsVersion = 1;
 
 std::string views_key(const ClutterExperimentOptions& o) {
-  return core::Json{
+  core::Json k{
       {"segmentation", std::string(core::choice_name(o.segmentation, kPushSegmentationNames))},
       {"fractions", o.fractions},
       {"view_step", o.view_step},
@@ -324,14 +383,16 @@ std::string views_key(const ClutterExperimentOptions& o) {
       {"dilate", o.dilate},
       {"features", core::fields_to_json(o.features)},
       {"dense", core::fields_to_json(o.dense)},
-      {"sparse", core::fields_to_json(o.sparse)}}
-      .dump();
+      {"sparse", core::fields_to_json(o.sparse)}};
+  if (o.erode != 0) k["erode"] = o.erode;  // only when set: session-21 views stay valid
+  return k.dump();
 }
 
 fs::path views_file(const fs::path& episode_dir, const ClutterExperimentOptions& o) {
   return episode_dir.parent_path() /
          (std::string("views_") +
-          std::string(core::choice_name(o.segmentation, kPushSegmentationNames)) + ".bin");
+          std::string(core::choice_name(o.segmentation, kPushSegmentationNames)) +
+          (o.erode != 0 ? "_e" + std::to_string(o.erode) : std::string()) + ".bin");
 }
 
 std::optional<ViewsByFraction> read_views(const fs::path& file, const std::string& key,
@@ -412,9 +473,30 @@ struct SeedData {
   std::vector<std::vector<cv::Mat>> held;
 };
 
-void sweep_seed(const SeedData& d, const ClutterExperimentOptions& o,
-                const std::vector<std::string>& objects, std::vector<ClutterCell>& cells,
-                core::ProgressBar& bar) {
+// The share of views classified as their label, overall and per label (0 for a label with none).
+std::pair<double, std::vector<double>> label_accuracy(const std::vector<int>& labels,
+                                                      const std::vector<int>& predicted, int C) {
+  std::vector<int> right(static_cast<std::size_t>(C), 0);
+  std::vector<int> n(static_cast<std::size_t>(C), 0);
+  int all = 0;
+  for (std::size_t v = 0; v < labels.size(); ++v) {
+    const auto l = static_cast<std::size_t>(labels[v]);
+    ++n[l];
+    if (predicted[v] == labels[v]) {
+      ++right[l];
+      ++all;
+    }
+  }
+  std::vector<double> per(static_cast<std::size_t>(C), 0.0);
+  for (std::size_t c = 0; c < per.size(); ++c) per[c] = share(right[c], n[c]);
+  return {share(all, static_cast<int>(labels.size())), per};
+}
+
+// `d`: the seed swept; `all`: every seed's data (the other seeds' push views are its held-out
+// pushes).
+void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
+                const ClutterExperimentOptions& o, const std::vector<std::string>& objects,
+                std::vector<ClutterCell>& cells, core::ProgressBar& bar) {
   const int C = static_cast<int>(objects.size());
   for (std::size_t fi = 0; fi < o.fractions.size(); ++fi) {
     const auto& views = d.views[fi];
@@ -489,6 +571,26 @@ void sweep_seed(const SeedData& d, const ClutterExperimentOptions& o,
             truth.empty() ? Eigen::MatrixXd() : recognition::document_theta(lda, held).theta;
         const topics::MotFit sup = topics::fit_mot(theta, labels, objects, o.mot);
         if (!truth.empty()) sup_pred = topics::classify_mot(sup.model, held_theta).predicted;
+        // Held-out pushes: the other seeds' push views through this seed's vocabulary, LDA
+        // and supervised MoT.
+        if (all.size() > 1) {
+          topics::Corpus other(vocabulary->size());
+          std::vector<int> other_labels;
+          for (const auto& e : all) {
+            if (e.seed == d.seed) continue;
+            for (std::size_t v = 0; v < e.views[fi].size(); ++v) {
+              other.add_tokens(features::bag_of_words(*vocabulary, e.views[fi][v]));
+              other_labels.push_back(e.labels[fi][v]);
+            }
+          }
+          if (!other_labels.empty()) {
+            const Eigen::MatrixXd other_theta = recognition::document_theta(lda, other).theta;
+            const auto [acc, per_object] = label_accuracy(
+                other_labels, topics::classify_mot(sup.model, other_theta).predicted, C);
+            cell.cross_seed = acc;
+            cell.cross_seed_per_object = per_object;
+          }
+        }
         // Diagnostic: each trial's views classified by a supervised MoT fitted to the other
         // trials' views (the same LDA): push-like held-out views instead of renders.
         {
@@ -572,6 +674,8 @@ struct TopicSummary {
   double u_mean = 0, u_worst = 1, u_best = 0;
   double u_band_low = 1, u_band_high = 0;
   double seed_sd = 0;  // sd over seeds of the mean over fractions (supervised)
+  // Held-out pushes (supervised): mean over the cells that have them; nullopt: none.
+  std::optional<double> cross_trial, cross_seed;
 };
 
 std::vector<TopicSummary> summarise(const std::vector<ClutterCell>& cells,
@@ -584,6 +688,8 @@ std::vector<TopicSummary> summarise(const std::vector<ClutterCell>& cells,
     std::map<double, std::pair<double, int>> sup_f;
     std::map<double, std::pair<double, int>> uns_f;
     std::map<std::uint64_t, std::pair<double, int>> sup_s;
+    std::pair<double, int> ct{0, 0};
+    std::pair<double, int> cs{0, 0};
     for (const auto& c : cells) {
       if (c.topics != t) continue;
       ++n;
@@ -599,7 +705,17 @@ std::vector<TopicSummary> summarise(const std::vector<ClutterCell>& cells,
       ++uns_f[c.fraction].second;
       sup_s[c.seed].first += c.supervised;
       ++sup_s[c.seed].second;
+      if (c.cross_trial) {
+        ct.first += *c.cross_trial;
+        ++ct.second;
+      }
+      if (c.cross_seed) {
+        cs.first += *c.cross_seed;
+        ++cs.second;
+      }
     }
+    if (ct.second > 0) s.cross_trial = ct.first / ct.second;
+    if (cs.second > 0) s.cross_seed = cs.first / cs.second;
     if (n == 0) continue;
     s.mean /= n;
     s.u_mean /= n;
@@ -737,6 +853,8 @@ core::Json cell_json(const ClutterCell& c) {
                     {"supervised_confusion", c.supervised_confusion.to_json()},
                     {"unsupervised_confusion", c.unsupervised_confusion.to_json()},
                     {"cross_trial", c.cross_trial ? core::Json(*c.cross_trial) : core::Json()},
+                    {"cross_seed", c.cross_seed ? core::Json(*c.cross_seed) : core::Json()},
+                    {"cross_seed_per_object", c.cross_seed_per_object},
                     {"note", c.note}};
 }
 
@@ -809,6 +927,12 @@ void ClutterExperimentOptions::validate() const {
        "--min-shift: must be in [0.01, 0.3]");
   need(std::isfinite(max_shift) && max_shift >= min_shift && max_shift <= 0.3,
        "--max-shift: must be in [--min-shift, 0.3]");
+  need(attempts >= 1 && attempts <= 20, "--attempts: must be in [1, 20]");
+  need(std::isfinite(sweep_margin) && sweep_margin >= 0 && sweep_margin <= 0.1,
+       "--sweep-margin: must be in [0, 0.1]");
+  need(std::isfinite(depth_split) && depth_split >= 0 && depth_split <= 0.2,
+       "--depth-split: must be in [0, 0.2]");
+  need(erode >= 0 && erode <= 50, "--erode: must be in [0, 50]");
   need(background == "plain" || background == "photo" || background == "moving",
        "--background: must be plain, photo or moving");
   need(!cache.empty(), "--cache: required");
@@ -833,12 +957,18 @@ std::string ClutterExperimentResult::brief() const {
   std::string b = message + "\n";
   if (cells.empty()) return b;
   const auto s = summarise(cells, options);
-  b += "   T  supervised mean [worst, best] band          unsupervised mean [worst, best] band\n";
+  b += "   T  supervised mean [worst, best] band          unsupervised mean [worst, best] band"
+       "      pushes: other trial  other seed\n";
+  const auto pct = [](const std::optional<double>& v) {
+    return v ? core::printf_string("%5.1f%%", 100 * *v) : std::string("     -");
+  };
   for (const auto& t : s) {
     b += core::printf_string(
-        "  %2d  %5.1f%% [%5.1f, %5.1f] %5.1f-%5.1f   %5.1f%% [%5.1f, %5.1f] %5.1f-%5.1f\n",
+        "  %2d  %5.1f%% [%5.1f, %5.1f] %5.1f-%5.1f   %5.1f%% [%5.1f, %5.1f] %5.1f-%5.1f   "
+        "      %s      %s\n",
         t.topics, 100 * t.mean, 100 * t.worst, 100 * t.best, 100 * t.band_low, 100 * t.band_high,
-        100 * t.u_mean, 100 * t.u_worst, 100 * t.u_best, 100 * t.u_band_low, 100 * t.u_band_high);
+        100 * t.u_mean, 100 * t.u_worst, 100 * t.u_best, 100 * t.u_band_low, 100 * t.u_band_high,
+        pct(t.cross_trial).c_str(), pct(t.cross_seed).c_str());
   }
   const auto [best, worst] = best_worst(cells, options);
   const auto m_best = summed(cells, best.first, best.second, true);
@@ -909,7 +1039,8 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
           r.pushes.push_back(
               {seed, name, trial, p.at("index").get<int>(), p.at("outcome").get<std::string>(),
                p.at("moved_intended").get<bool>(), p.at("only_intended").get<bool>(),
-               p.value("replaced", 0),
+               p.value("replaced", 0), p.value("attempts", 1),
+               p.value("failed", std::vector<std::string>{}),
                ep.empty() ? std::string() : fs::relative(dir / ep, o.cache).generic_string()});
         }
       }
@@ -990,7 +1121,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
     }
     core::ProgressBar bar(o.seeds.size() * o.fractions.size() * o.topics.size(), "clutter: sweep",
                           o.progress);
-    for (const auto& d : data) sweep_seed(d, o, objects, r.cells, bar);
+    for (const auto& d : data) sweep_seed(d, data, o, objects, r.cells, bar);
     bar.finish();
     r.sweep_seconds = seconds_since(t1);
   }
@@ -1018,6 +1149,10 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
       {"held_out", o.held_out},
       {"min_shift", o.min_shift},
       {"max_shift", o.max_shift},
+      {"attempts", o.attempts},
+      {"sweep_margin", o.sweep_margin},
+      {"depth_split", o.depth_split},
+      {"erode", o.erode},
       {"quick", o.quick},
       {"record_only", o.record_only}};
   core::Json pushes = core::Json::array();
@@ -1030,6 +1165,8 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
                       {"moved_intended", p.moved_intended},
                       {"only_intended", p.only_intended},
                       {"replaced", p.replaced},
+                      {"attempts", p.attempts},
+                      {"failed", p.failed},
                       {"executed", !p.episode.empty()}});
   }
   doc["pushes"] = pushes;
@@ -1050,7 +1187,9 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
                           {{"mean", s.u_mean},
                            {"worst", s.u_worst},
                            {"best", s.u_best},
-                           {"band", {s.u_band_low, s.u_band_high}}}}});
+                           {"band", {s.u_band_low, s.u_band_high}}}},
+                         {"cross_trial", s.cross_trial ? core::Json(*s.cross_trial) : core::Json()},
+                         {"cross_seed", s.cross_seed ? core::Json(*s.cross_seed) : core::Json()}});
     }
     doc["summary"] = summary;
     const auto [best, worst] = best_worst(r.cells, o);

@@ -37,6 +37,14 @@ TEST(ClutterCli, BadInputIsOneLineAndExit2) {
       {cache + " --objects book,cd --clutter cd", "repeated"},
       {cache + " --background stripes", "--background"},
       {cache + " --segmentation fancy", "--segmentation"},
+      {cache + " --attempts 0", "--attempts"},
+      {cache + " --attempts 21", "--attempts"},
+      {cache + " --sweep-margin -0.01", "--sweep-margin"},
+      {cache + " --sweep-margin 0.5", "--sweep-margin"},
+      {cache + " --depth-split -1", "--depth-split"},
+      {cache + " --depth-split abc", "--depth-split"},
+      {cache + " --erode -1", "--erode"},
+      {cache + " --erode 51", "--erode"},
       {"", "--cache"},
   };
   for (const auto& c : cases) {

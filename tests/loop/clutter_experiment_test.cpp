@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,10 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.fractions, (std::vector<double>{0.5, 0.6, 0.7, 0.8, 0.9}));
   EXPECT_EQ(o.topics, (std::vector<int>{2, 4, 6, 8, 10, 15, 20, 25}));
   EXPECT_EQ(o.segmentation, PushSegmentation::kDense);
+  EXPECT_EQ(o.attempts, 6);  // session 22 (1: the session-21 harness)
+  EXPECT_EQ(o.sweep_margin, 0.0);
+  EXPECT_EQ(o.depth_split, 0.0);
+  EXPECT_EQ(o.erode, 0);
   EXPECT_THROW(o.validate(), Error);  // no cache
   o.cache = "somewhere";
   EXPECT_NO_THROW(o.validate());
@@ -79,6 +84,96 @@ TEST(ClutterExperiment, BadOptionsNameTheFlag) {
   EXPECT_NE(message([](auto& o) { o.max_shift = 0.02; }).find("--max-shift"), std::string::npos);
   EXPECT_NE(message([](auto& o) { o.background = "stripes"; }).find("--background"),
             std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.attempts = 0; }).find("--attempts"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.attempts = 21; }).find("--attempts"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.sweep_margin = -0.01; }).find("--sweep-margin"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) {
+              o.depth_split = std::numeric_limits<double>::quiet_NaN();
+            }).find("--depth-split"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.erode = -1; }).find("--erode"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.erode = 51; }).find("--erode"), std::string::npos);
+}
+
+// Session 22: more planning attempts per push, eroded view masks, and the score on held-out
+// pushes (the other seed's push views), on two small tables.
+TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
+  const test::TempDir temp("proprio_clutter_attempts");
+  ClutterExperimentOptions o;
+  o.objects = "book,cd";
+  o.clutter = "mug";
+  o.background = "plain";
+  o.seeds = {2, 3};
+  o.trials = 1;
+  o.pushes = 2;
+  o.width = 240;
+  o.height = 180;
+  o.fractions = {0.5};
+  o.topics = {4};
+  o.words = 60;
+  o.held_out = 6;
+  o.attempts = 3;
+  o.erode = 1;
+  o.cache = temp.path() / "cache";
+  o.json = temp.path() / "clutter.json";
+  o.progress = false;
+  const ClutterExperimentResult r = run_clutter_experiment(o, core::Provenance{});
+  ASSERT_EQ(r.pushes.size(), 2U * 2U * 2U);  // 2 seeds x 2 objects x 2 pushes
+  for (const auto& p : r.pushes) {
+    EXPECT_GE(p.attempts, 1);
+    EXPECT_LE(p.attempts, 3);
+    // Every attempt before the executed one (or every attempt of a push not executed) failed.
+    const auto failed = static_cast<int>(p.failed.size());
+    EXPECT_EQ(failed, p.episode.empty() ? p.attempts : p.attempts - 1) << p.object << p.index;
+    if (p.episode.empty()) {
+      EXPECT_FALSE(p.moved_intended);
+    }
+  }
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  const core::Json manifest =
+      core::read_json(o.cache / "seed_2" / "book_t1" / "clutter_cache.json");
+  EXPECT_EQ(manifest.at("recording").at("attempts"), 3);
+  // The eroded views are cached apart from the uneroded ones.
+  int eroded_files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(o.cache)) {
+    EXPECT_NE(e.path().filename(), "views_dense.bin");
+    eroded_files += e.path().filename() == "views_dense_e1.bin" ? 1 : 0;
+  }
+  EXPECT_GT(eroded_files, 0);
+  ASSERT_EQ(r.cells.size(), 2U);
+  for (const auto& c : r.cells) {
+    if (!c.note.empty()) continue;  // no model on a seed with too few views
+    ASSERT_TRUE(c.cross_seed.has_value());
+    ASSERT_EQ(c.cross_seed_per_object.size(), 2U);
+    // The other seed's views are the held-out pushes: the overall share is the per-object
+    // shares weighted by the other seed's views per object.
+    const ClutterCell& other = r.cells[c.seed == 2 ? 1 : 0];
+    double right = 0;
+    int n = 0;
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_GE(c.cross_seed_per_object[k], 0.0);
+      EXPECT_LE(c.cross_seed_per_object[k], 1.0);
+      right += c.cross_seed_per_object[k] * other.views_per_object[k];
+      n += other.views_per_object[k];
+    }
+    ASSERT_GT(n, 0);
+    EXPECT_NEAR(*c.cross_seed, right / n, 1e-9);
+  }
+  // Without erosion (segmented again from the same recording): a mask is never smaller, so a
+  // view is never lost.
+  o.erode = 0;
+  o.overwrite = true;
+  const ClutterExperimentResult plain = run_clutter_experiment(o, core::Provenance{});
+  ASSERT_EQ(plain.cells.size(), r.cells.size());
+  for (std::size_t i = 0; i < r.cells.size(); ++i) {
+    EXPECT_GE(plain.cells[i].views, r.cells[i].views);
+  }
+  // The cache holds attempts = 3: a run of the session-21 harness (1) on it is refused.
+  o.overwrite = false;
+  o.json.clear();
+  o.attempts = 1;
+  EXPECT_THROW(run_clutter_experiment(o, core::Provenance{}), Error);
 }
 
 TEST(ClutterExperiment, QuickRunScoresEveryCellAndReusesItsCache) {
