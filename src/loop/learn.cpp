@@ -993,8 +993,10 @@ class Learner {
   // or nothing when one can.
   std::optional<std::string> unpushable(const planning::PlanningView& view, int b) {
     const Eigen::Vector2d at = view.objects[static_cast<std::size_t>(b)].centre;
+    const double approach = extra_approach_;  // a trial: the approach it grew is not kept
     const Sides s = plan_sides(view, b, at, push_target(view, b, at, 0.0));
-    if (s.plan.outcome == planning::PlanOutcome::kPlanned) return std::nullopt;
+    extra_approach_ = approach;
+    if (s.clear) return std::nullopt;
     return std::string(s.blocked > 0 ? "start-blocked" : "no-push-path");
   }
 
@@ -1122,6 +1124,7 @@ class Learner {
     planning::PushPlan plan;
     int blocked = 0;  // sides planned but their start not clear
     int hand = 0;     // of them, those whose start the hand would meet (depth points)
+    bool clear = false;  // the plan is planned and its start clear
   };
   Sides plan_sides(const planning::PlanningView& view, int blob, const Eigen::Vector2d& at,
                    const Eigen::Vector2d& target) {
@@ -1166,6 +1169,7 @@ class Learner {
       extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
     }
     if (!ok && least) out.plan = *least;
+    out.clear = ok;
     return out;
   }
 
