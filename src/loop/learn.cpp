@@ -1122,8 +1122,8 @@ class Learner {
   // kSidePush long): the first planned whose start is clear (start_clear, hand_met).
   struct Sides {
     planning::PushPlan plan;
-    int blocked = 0;  // sides planned but their start not clear
-    int hand = 0;     // of them, those whose start the hand would meet (depth points)
+    int blocked = 0;     // sides planned but their start not clear
+    int hand = 0;        // of them, those whose start the hand would meet (depth points)
     bool clear = false;  // the plan is planned and its start clear
   };
   Sides plan_sides(const planning::PlanningView& view, int blob, const Eigen::Vector2d& at,
