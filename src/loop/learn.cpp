@@ -697,6 +697,7 @@ class Learner {
         std::vector<cv::Point> hull;
         cv::convexHull(on, hull);
         std::vector<Eigen::Vector2d> hull_px;
+        hull_px.reserve(hull.size());
         for (const cv::Point& q : hull) hull_px.emplace_back(q.x, q.y);
         const cv::Rect box = cv::boundingRect(on);
         if (hull_px.size() < 3) continue;
