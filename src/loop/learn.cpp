@@ -76,7 +76,12 @@ constexpr double kApproachStep = 0.03;  // approach added after a refusal, m
 // base axis than this, or behind the base, cannot be pushed from behind; it is not an object
 // to learn (distractors moving behind the work area, the backdrop), m.
 constexpr double kPushReach = 0.44;
-constexpr double kBehindBase = 0.0;         // least x of a blob's centre, m
+constexpr double kBehindBase = 0.0;  // least x of a blob's centre, m
+// start_clearance: a push start is not clear when the hand would meet this many depth points
+// (a stray pixel or two at an object's rim is no object).
+constexpr int kHandLeastPoints = 3;
+// candidate_footprint: every this many px of a candidate are back-projected (as the planner's).
+constexpr int kFootprintStep = 2;
 constexpr int kMaxFailures = 3;             // pushes in a row not planned or refused: move on
 constexpr double kMaxExtraApproach = 0.12;  // at most, m
 constexpr int kMaxMatchPool = 4000;         // "match": a known object's descriptors, at most
@@ -351,6 +356,49 @@ std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
   return found;
 }
 
+std::vector<Eigen::Vector3d> depth_points(const cv::Mat& depth, const geometry::Camera& camera,
+                                          double min_height, int step, const cv::Mat& ignore) {
+  require(depth.type() == CV_32FC1 && depth.cols == camera.width && depth.rows == camera.height,
+          "depth_points: the depth image must be CV_32FC1 of the camera's image size");
+  require(ignore.empty() || (ignore.type() == CV_8U && ignore.size() == depth.size()),
+          "depth_points: the ignore mask must be 8-bit of the depth image's size");
+  require(min_height >= 0 && std::isfinite(min_height), "depth_points: min_height must be >= 0");
+  require(step >= 1, "depth_points: step must be at least 1");
+  const Eigen::Matrix3d k_inv = camera.K.inverse();
+  const Eigen::Matrix3d r_t = camera.R.transpose();
+  std::vector<Eigen::Vector3d> out;
+  for (int v = 0; v < depth.rows; v += step) {
+    for (int u = 0; u < depth.cols; u += step) {
+      const float d = depth.at<float>(v, u);
+      if (!std::isfinite(d) || d <= 0 || (!ignore.empty() && ignore.at<uchar>(v, u) != 0)) {
+        continue;
+      }
+      const Eigen::Vector3d x =
+          r_t * (static_cast<double>(d) * (k_inv * Eigen::Vector3d(u, v, 1.0)) - camera.t);
+      if (x.z() >= min_height) out.push_back(x);
+    }
+  }
+  return out;
+}
+
+int hand_meets(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector2d& start,
+               const HandClearance& clearance) {
+  for (const double q :
+       {clearance.pusher, clearance.pusher_height, clearance.hand, clearance.hand_height}) {
+    require(q >= 0 && std::isfinite(q),
+            "hand_meets: the clearance's distances and heights must be >= 0 and finite");
+  }
+  int met = 0;
+  for (const Eigen::Vector3d& p : points) {
+    const double r = (p.head<2>() - start).norm();
+    if ((r < clearance.pusher && p.z() > clearance.pusher_height) ||
+        (r < clearance.hand && p.z() > clearance.hand_height)) {
+      ++met;
+    }
+  }
+  return met;
+}
+
 std::vector<LearnCoverage> learn_coverage(const std::vector<std::string>& objects,
                                           const std::vector<LearnPush>& pushes) {
   std::vector<LearnCoverage> out;
@@ -518,6 +566,7 @@ class Learner {
   [[nodiscard]] const std::vector<View>& views() const { return views_; }
   [[nodiscard]] const std::map<std::string, double>& seconds() const { return seconds_; }
   [[nodiscard]] int faults() const { return faults_; }
+  [[nodiscard]] const std::map<std::string, int>& skips() const { return skips_; }
   [[nodiscard]] const std::vector<PredictiveLikelihood>& dirichlet_measure() const {
     return dirichlet_measure_;
   }
@@ -544,6 +593,18 @@ class Learner {
     std::vector<cv::Mat> regions = region_of_;
     for (cv::Mat& r : regions) {
       if (!r.empty() && (r.size() != v.image_size || r.type() != CV_8U)) r = cv::Mat();
+    }
+    points_.clear();
+    if (o_.start_clearance > 0 && !current_.depth.empty()) {
+      cv::Mat arm = current_.arm_mask;
+      if (!arm.empty() && (arm.size() != current_.depth.size() || arm.type() != CV_8U)) {
+        arm = cv::Mat();
+      }
+      const int step = std::max(1, current_.depth.cols / 320);
+      points_ = timed("look", [&] {
+        return depth_points(current_.depth, current_.camera, HandClearance{}.pusher_height, step,
+                            arm);
+      });
     }
     const bool by_depth = o_.candidates == LearnCandidates::kDepth && !current_.depth.empty();
     std::vector<int> found =
@@ -622,6 +683,32 @@ class Learner {
       kept.push_back(v.objects[static_cast<std::size_t>(b)]);
       masks.push_back(cands[i]);
     }
+    if (o_.candidate_footprint) {
+      // The planner's footprint from the whole candidate's depth points (not only inside its
+      // features' hull): the hand is not to come down on the untextured part of an object.
+      cv::Mat depth = current_.depth;
+      if (!arm.empty()) {
+        depth = depth.clone();
+        depth.setTo(0, arm);
+      }
+      for (std::size_t i = 0; i < kept.size(); ++i) {
+        std::vector<cv::Point> on;
+        cv::findNonZero(masks[i], on);
+        std::vector<cv::Point> hull;
+        cv::convexHull(on, hull);
+        std::vector<Eigen::Vector2d> hull_px;
+        hull_px.reserve(hull.size());
+        for (const cv::Point& q : hull) hull_px.emplace_back(q.x, q.y);
+        const cv::Rect box = cv::boundingRect(on);
+        if (hull_px.size() < 3) continue;
+        if (auto m = planning::measure_footprint(depth, current_.camera, hull_px, masks[i](box),
+                                                 box, kFootprintStep)) {
+          kept[i].centre = m->centre;
+          kept[i].hull = std::move(m->hull);
+          kept[i].height = m->height;
+        }
+      }
+    }
     if (!wrote_candidates_) {
       cv::Mat1b labels(v.image_size, 0);
       for (std::size_t i = 0; i < masks.size(); ++i) {
@@ -661,12 +748,52 @@ class Learner {
       return open;
     };
     std::vector<int> open = open_blobs();
+    // Why each candidate was not chosen (the first reason found).
+    std::map<int, std::string> why_not;
+    const auto skip = [&](int b, const std::string& reason) { why_not.emplace(b, reason); };
+    const auto skipped = [&](int chosen) {
+      std::vector<CandidateSkip> out;
+      for (std::size_t f = 0; f < far_.size(); ++f) out.push_back({-1, "out-of-reach"});
+      for (int b = 0; b < static_cast<int>(view.objects.size()); ++b) {
+        if (b == chosen) continue;
+        const auto it = why_not.find(b);
+        out.push_back({b, it != why_not.end() ? it->second : "less-new"});
+      }
+      for (const CandidateSkip& k : out) ++skips_[k.reason];
+      return out;
+    };
+    for (int b = 0; b < static_cast<int>(view.objects.size()); ++b) {
+      if (std::find(open.begin(), open.end(), b) == open.end()) skip(b, "tried");
+    }
     if (open.empty()) return -1;
     bool any = false;
     for (int k = 0; k < c; ++k) any = any || models_[static_cast<std::size_t>(k)].learned();
     if (!any) {
-      const int k = open[rng_.index(open.size())];
-      log({.event = "choose", .object = c, .blob = k, .why = "at random (7.2 a)"});
+      int k = open[rng_.index(open.size())];
+      if (o_.prefer_pushable) {
+        // The drawn one first, then the others in a random order: the first pushable.
+        std::vector<int> order = open;
+        std::shuffle(order.begin(), order.end(), rng_.engine());
+        std::stable_partition(order.begin(), order.end(), [&](int b) { return b == k; });
+        k = -1;
+        for (const int b : order) {
+          if (const auto why = unpushable(view, b)) {
+            skip(b, *why);
+          } else {
+            k = b;
+            break;
+          }
+        }
+        if (k < 0) k = order.front();  // none: the drawn one (its failures move on)
+      }
+      for (const int b : open) {
+        if (b != k) skip(b, "not-drawn");
+      }
+      log({.event = "choose",
+           .object = c,
+           .blob = k,
+           .why = "at random (7.2 a)",
+           .skipped = skipped(k)});
       return k;
     }
     const LookFeatures lf = timed("recognition", [&] { return features_of(current_.image); });
@@ -718,8 +845,10 @@ class Learner {
     for (const auto& kn : known) {
       const auto it = std::find(open.begin(), open.end(), kn.blob);
       if (it != open.end()) open.erase(it);
+      skip(kn.blob, "known");
     }
     if (open.empty()) {
+      log({.event = "none-chosen", .object = c, .skipped = skipped(-1)});
       // Learning a known object again would give two classes of one object: move on instead.
       // (Pushing the least likely known blob anyway was tried on seed 1: six classes, five of
       // them the book, held out unchanged at 25%, 2.6 times the time.)
@@ -727,6 +856,7 @@ class Learner {
       return -1;
     }
     std::vector<BlobMeanLogP> scores;
+    std::vector<std::pair<double, int>> ranked;  // (score, blob) of the new-looking candidates
     int best = -1;
     double best_s = std::numeric_limits<double>::infinity();
     const bool match = o_.new_object == NewObjectScore::kMatch;
@@ -747,7 +877,10 @@ class Learner {
           others.push_back(static_cast<int>(i));
         }
       }
-      if (static_cast<int>(rows.size()) < o_.min_features) continue;
+      if (static_cast<int>(rows.size()) < o_.min_features) {
+        skip(b, "no-features");
+        continue;
+      }
       Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), lf.unit.cols());
       for (std::size_t i = 0; i < rows.size(); ++i) {
         x.row(static_cast<Eigen::Index>(i)) = lf.unit.row(rows[i]);
@@ -800,15 +933,40 @@ class Learner {
       }
       scores.push_back(
           {b, s, s_object, std::isfinite(below) ? below : 0.0, matched, matched_object});
-      if (is_known) continue;
+      if (is_known) {
+        skip(b, "known");
+        continue;
+      }
       // The least known: the fewest descriptors matched ("match"), else the least likely.
       const double score = match ? matched.value_or(0.0) : s;
+      ranked.emplace_back(score, b);
       if (score < best_s) {
         best_s = score;
         best = b;
       }
     }
+    if (o_.prefer_pushable && ranked.size() > 1) {
+      // In the order of choice, the first candidate a push can be planned for.
+      std::stable_sort(ranked.begin(), ranked.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (const auto& [score, b] : ranked) {
+        if (const auto why = unpushable(view, b)) {
+          skip(b, *why);
+        } else {
+          best = b;
+          break;
+        }
+      }
+      // None pushable: the least known anyway (its failures move on).
+      if (why_not.count(best) > 0) {
+        best = ranked.front().second;
+        why_not.erase(best);
+      }
+    }
     if (best < 0) {
+      if (!scores.empty() && (o_.known_margin >= 0 || (match && o_.match_known < 1.0))) {
+        log({.event = "none-chosen", .object = c, .skipped = skipped(-1)});
+      }
       if (o_.known_margin >= 0 && !scores.empty()) {
         fault(c, "only-known-objects",
               "every blob in view is an object learned already (by its words)");
@@ -827,8 +985,20 @@ class Learner {
          .why = match ? "fewest descriptors matched to the objects so far (7.2 d)"
                       : "least likely under the object models so far (7.2 d)",
          .known = std::move(known),
-         .scores = std::move(scores)});
+         .scores = std::move(scores),
+         .skipped = skipped(best)});
     return best;
+  }
+
+  // prefer_pushable: why no push of candidate `b` can be planned (no-push-path, start-blocked),
+  // or nothing when one can.
+  std::optional<std::string> unpushable(const planning::PlanningView& view, int b) {
+    const Eigen::Vector2d at = view.objects[static_cast<std::size_t>(b)].centre;
+    const double approach = extra_approach_;  // a trial: the approach it grew is not kept
+    const Sides s = plan_sides(view, b, at, push_target(view, b, at, 0.0));
+    extra_approach_ = approach;
+    if (s.clear) return std::nullopt;
+    return std::string(s.blocked > 0 ? "start-blocked" : "no-push-path");
   }
 
   // Per object before c, its views' unit descriptors (a stride sample of kMaxMatchPool rows).
@@ -947,6 +1117,70 @@ class Learner {
       }
     }
     return best;
+  }
+
+  // A push of `blob` (at `at`) toward `target`, else from the other sides (kSides, a side push
+  // kSidePush long): the first planned whose start is clear (start_clear, hand_met).
+  struct Sides {
+    planning::PushPlan plan;
+    int blocked = 0;     // sides planned but their start not clear
+    int hand = 0;        // of them, those whose start the hand would meet (depth points)
+    bool clear = false;  // the plan is planned and its start clear
+  };
+  Sides plan_sides(const planning::PlanningView& view, int blob, const Eigen::Vector2d& at,
+                   const Eigen::Vector2d& target) {
+    Sides out;
+    // start_clearance: the planned side whose start the hand meets least, when none is clear.
+    std::optional<planning::PushPlan> least;
+    int least_met = std::numeric_limits<int>::max();
+    const auto usable = [&](const planning::PushPlan& q) {
+      if (q.outcome != planning::PlanOutcome::kPlanned) return false;
+      if (!start_clear(view, q)) {
+        ++out.blocked;
+        return false;
+      }
+      if (const int met = hand_met(q); met >= kHandLeastPoints) {
+        ++out.blocked;
+        ++out.hand;
+        if (met < least_met) {
+          least_met = met;
+          least = q;
+        }
+        return false;
+      }
+      return true;
+    };
+    const Eigen::Vector2d dir0 = target - at;
+    const double a0 = std::atan2(dir0.y(), dir0.x());
+    // With start_clearance, every side's start met by the hand: the approaches grow (up to
+    // kMaxExtraApproach) and the sides are planned again.
+    bool ok = false;
+    for (;;) {
+      out.plan = timed("plan", [&] { return plan(view, blob, target); });
+      ok = usable(out.plan);
+      for (int side = 1; side < kSides && !ok; ++side) {
+        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
+        const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+        if (outward_only_ && at.norm() > 1e-9 && dir.dot(at.normalized()) < -0.2) continue;
+        if ((at + kSidePush * dir).x() < kTargetFront) continue;
+        out.plan = timed("plan", [&] { return plan(view, blob, at + kSidePush * dir); });
+        ok = usable(out.plan);
+      }
+      if (ok || !least || extra_approach_ >= kMaxExtraApproach) break;
+      extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
+    }
+    if (!ok && least) out.plan = *least;
+    out.clear = ok;
+    return out;
+  }
+
+  // start_clearance: how many of the look's depth points the hand coming down to the push's
+  // start meets (0 when off).
+  [[nodiscard]] int hand_met(const planning::PushPlan& p) const {
+    if (o_.start_clearance <= 0 || points_.empty()) return 0;
+    HandClearance hc;
+    hc.hand = o_.start_clearance;
+    return hand_meets(points_, p.push.start, hc);
   }
 
   // The pusher comes down at the push's start: refused by the robot when the arm there would be
@@ -1137,7 +1371,8 @@ class Learner {
     }
     attendant_.chose(c, view, k);
     Eigen::Vector2d last = view.objects[static_cast<std::size_t>(k)].centre;
-    int failures = 0;  // pushes in a row not planned or refused
+    int failures = 0;                          // pushes in a row not planned or refused
+    std::string last_failure = "not-planned";  // the last failure's kind (CandidateSkip)
     double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
     int done = 0;
     int attempts = 0;
@@ -1158,6 +1393,8 @@ class Learner {
         // The object cannot be pushed (out of reach, or the hand would come down on it):
         // another blob instead, logged.
         tried.push_back(last);
+        ++skips_[last_failure];
+        const std::vector<CandidateSkip> given_up{{k, last_failure}};
         k = choose(c, view, tried);
         if (k < 0) {
           fault(c, "no-pushable-object", "every blob in view was tried; moving on");
@@ -1166,7 +1403,8 @@ class Learner {
         log({.event = "rechoose",
              .object = c,
              .blob = k,
-             .why = "three pushes in a row could not be planned or were refused"});
+             .why = "three pushes in a row could not be planned or were refused",
+             .skipped = given_up});
         attendant_.chose(c, view, k);
         last = view.objects[static_cast<std::size_t>(k)].centre;
         failures = 0;
@@ -1183,32 +1421,20 @@ class Learner {
       last = view.objects[static_cast<std::size_t>(blob)].centre;
       const Eigen::Vector2d target = push_target(view, blob, last, angle);
       angle += kGoldenAngle;
-      planning::PushPlan p = timed("plan", [&] { return plan(view, blob, target); });
-      const Eigen::Vector2d dir0 = target - last;
-      const double a0 = std::atan2(dir0.y(), dir0.x());
-      const auto usable = [&](const planning::PushPlan& q) {
-        return q.outcome == planning::PlanOutcome::kPlanned && start_clear(view, q);
-      };
-      int blocked = 0;
-      for (int side = 1; side < kSides && !usable(p); ++side) {
-        if (p.outcome == planning::PlanOutcome::kPlanned) ++blocked;
-        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
-        const Eigen::Vector2d dir(std::cos(a), std::sin(a));
-        if (outward_only_ && last.norm() > 1e-9 && dir.dot(last.normalized()) < -0.2) continue;
-        if ((last + kSidePush * dir).x() < kTargetFront) continue;
-        p = timed("plan", [&] {
-          return plan(view, blob, last + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
-        });
-      }
-      if (blocked > 0) {
-        log({.event = "replan",
-             .object = c,
-             .why = "the pusher would come down on a blob",
-             .sides_rejected = blocked});
+      const Sides sides = plan_sides(view, blob, last, target);
+      const planning::PushPlan& p = sides.plan;
+      if (sides.blocked > 0) {
+        LearnDecision d{.event = "replan",
+                        .object = c,
+                        .why = "the pusher would come down on a blob",
+                        .sides_rejected = sides.blocked};
+        if (sides.hand > 0) d.sides_hand = sides.hand;
+        log(d);
       }
       if (p.outcome != planning::PlanOutcome::kPlanned) {
         fault(c, "not-planned", core::cat({"no side could be pushed: ", p.message}));
         ++failures;
+        last_failure = sides.blocked > 0 ? "start-blocked" : "not-planned";
         extra_approach_ = 0;  // the grown approach may be to blame
         relook();
         continue;
@@ -1250,6 +1476,8 @@ class Learner {
       if (!lp.executed) {
         fault(c, "robot-refused", message);
         ++failures;
+        last_failure =
+            message.find("transit") != std::string::npos ? "transit-refused" : "robot-refused";
         if (message.find("transit") != std::string::npos) outward_only_ = true;
         extra_approach_ = std::min(kMaxExtraApproach, extra_approach_ + kApproachStep);
         lp.outcome = "refused: " + message;
@@ -1369,6 +1597,10 @@ class Learner {
   /// Per object, where the pusher ended in its last push that gave a region (image px).
   std::vector<std::optional<cv::Point2d>> end_of_;
   int splits_ = 0;  ///< looks in which a blob was split by an object's region
+  /// start_clearance: the last look's depth points above the table (x, y, height, m).
+  std::vector<Eigen::Vector3d> points_;
+  /// Per reason, the candidates skipped at the run's choices (CandidateSkip).
+  std::map<std::string, int> skips_;
   /// Per class, its last push's views' mean log p under its words (known_margin's yardstick).
   std::vector<std::optional<double>> own_;
   /// Where turns that gave their class no views left their blob, m: not chosen again.
@@ -1513,6 +1745,7 @@ LearnResult finish(Core& k, const LearnOptions& o, const std::optional<SelfSuper
   const Learner& l = *k.learner;
   const Learning& g = k.learning;
   r.pushes = l.pushes();
+  for (const auto& [reason, count] : l.skips()) r.skipped.push_back({reason, count});
   LearnSummary& s = r.summary;
   s.classes = k.classes;
   s.faults = l.faults();
@@ -1591,6 +1824,13 @@ std::string LearnResult::brief() const {
       covered += c.turns > 0 ? 1 : 0;
     }
     b += core::printf_string(" %d of %zu named objects covered", covered, coverage.size());
+  }
+  if (!skipped.empty()) {
+    b += "\ncandidates skipped at the choices (why):";
+    for (std::size_t i = 0; i < skipped.size(); ++i) {
+      b += core::printf_string("%s %s %d", i == 0 ? "" : ",", skipped[i].reason.c_str(),
+                               skipped[i].count);
+    }
   }
   if (!report.empty()) b += "\nreport: " + report.string();
   return b;

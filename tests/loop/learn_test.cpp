@@ -7,7 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <map>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <string>
 
 #include "../support/table_views.hpp"
@@ -95,6 +98,11 @@ TEST(Learn, BadOptionsThrow) {
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.candidate_step = 0.6;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.start_clearance = -0.01;
+  EXPECT_THROW(o.validate(), Error);
+  o.start_clearance = 0.3;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.clutter = "";
@@ -698,6 +706,122 @@ TEST(Learn, DepthCandidatesAreLoggedAndTurnOnTheDepthCamera) {
     }
     EXPECT_EQ(candidates > 0, by_depth);
     EXPECT_EQ(std::filesystem::exists(lo.out / "candidates.png"), by_depth);
+  }
+}
+
+TEST(Learn, DepthPointsAreWhatStandsAboveTheTable) {
+  const geometry::Camera cam = test::down_camera();
+  const DepthBox tall{0.20, 0.25, -0.03, 0.03, 0.10};
+  const DepthBox low{0.35, 0.38, -0.03, 0.03, 0.02};
+  const cv::Mat depth = depth_of_boxes(cam, {tall, low});
+  const std::vector<Eigen::Vector3d> p = depth_points(depth, cam, 0.008);
+  ASSERT_FALSE(p.empty());
+  int on_tall = 0;
+  for (const Eigen::Vector3d& x : p) {
+    const bool in_tall = x.x() > 0.199 && x.x() < 0.251 && std::abs(x.y()) < 0.031;
+    const bool in_low = x.x() > 0.349 && x.x() < 0.381 && std::abs(x.y()) < 0.031;
+    EXPECT_TRUE(in_tall || in_low) << x.transpose();
+    EXPECT_NEAR(x.z(), in_tall ? 0.10 : 0.02, 1e-4);
+    on_tall += in_tall ? 1 : 0;
+  }
+  EXPECT_GT(on_tall, 0);
+  EXPECT_LT(on_tall, static_cast<int>(p.size()));
+  // Every other pixel: about a quarter; above 5 cm only the tall box; the arm's pixels none.
+  const auto n2 = static_cast<double>(depth_points(depth, cam, 0.008, 2).size());
+  EXPECT_NEAR(n2 / static_cast<double>(p.size()), 0.25, 0.05);
+  EXPECT_EQ(depth_points(depth, cam, 0.05).size(), static_cast<std::size_t>(on_tall));
+  EXPECT_TRUE(
+      depth_points(depth, cam, 0.008, 1, cv::Mat(depth.size(), CV_8U, cv::Scalar(255))).empty());
+  EXPECT_THROW((void)depth_points(cv::Mat(10, 10, CV_32FC1), cam, 0.008), Error);
+  EXPECT_THROW((void)depth_points(depth, cam, -0.01), Error);
+  EXPECT_THROW((void)depth_points(depth, cam, 0.008, 0), Error);
+  EXPECT_THROW((void)depth_points(depth, cam, 0.008, 1, cv::Mat(5, 5, CV_8U)), Error);
+}
+
+TEST(Learn, TheHandMeetsWhatStandsAroundThePushStart) {
+  const geometry::Camera cam = test::down_camera();
+  const DepthBox tall{0.20, 0.25, -0.03, 0.03, 0.10};
+  const DepthBox low{0.35, 0.38, -0.03, 0.03, 0.02};
+  const std::vector<Eigen::Vector3d> p =
+      depth_points(depth_of_boxes(cam, {tall, low}), cam, HandClearance{}.pusher_height);
+  const HandClearance hc;  // pusher 2 cm above 8 mm, fingers 4.5 cm above 3.5 cm
+  // On the tall box; 3 cm from it (the fingers come down on it); 6 cm away: clear.
+  EXPECT_GT(hand_meets(p, {0.225, 0.0}, hc), 0);
+  EXPECT_GT(hand_meets(p, {0.225, 0.06}, hc), 0);
+  EXPECT_EQ(hand_meets(p, {0.225, 0.09}, hc), 0);
+  // 1 cm from the low box: the pusher meets it; 3 cm: the fingers pass above it.
+  EXPECT_GT(hand_meets(p, {0.365, 0.04}, hc), 0);
+  EXPECT_EQ(hand_meets(p, {0.365, 0.06}, hc), 0);
+  HandClearance narrow = hc;
+  narrow.hand = 0.02;  // fingers within 2 cm only: 3 cm from the tall box is clear
+  EXPECT_EQ(hand_meets(p, {0.225, 0.06}, narrow), 0);
+  EXPECT_EQ(hand_meets({}, {0.225, 0.0}, hc), 0);
+  HandClearance bad = hc;
+  bad.pusher = -0.01;
+  EXPECT_THROW((void)hand_meets(p, {0.2, 0.0}, bad), Error);
+  bad = hc;
+  bad.hand_height = std::numeric_limits<double>::infinity();
+  EXPECT_THROW((void)hand_meets(p, {0.2, 0.0}, bad), Error);
+}
+
+TEST(Learn, EverySkippedCandidateHasAReasonAndTheRunCountsThem) {
+  const test::TempDir dir("proprio_learn_skipped_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const bool prefer : {false, true}) {
+    sim::TableOptions table = t.table;
+    table.depth = true;
+    sim::SimulatedRobot robot(table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions lo = t.o;
+    lo.candidates = LearnCandidates::kDepth;
+    lo.prefer_pushable = prefer;
+    lo.candidate_footprint = prefer;
+    lo.start_clearance = prefer ? 0.045 : 0.0;
+    lo.out = dir.path() / (prefer ? "prefer" : "plain");
+    const LearnResult r = run_learn(lo, robot, attendant, 2, prov);
+    std::ifstream in(lo.out / "decisions.jsonl");
+    std::string line;
+    std::map<std::string, int> counted;
+    int chooses = 0;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] != "choose" && j["event"] != "rechoose" && j["event"] != "none-chosen") {
+        continue;
+      }
+      if (j["event"] == "choose") {
+        ++chooses;
+        ASSERT_TRUE(j.contains("skipped")) << line;
+      }
+      if (!j.contains("skipped")) continue;
+      std::set<int> seen;
+      for (const auto& k : j["skipped"]) {
+        const std::string reason = k["reason"].get<std::string>();
+        const int b = k["blob"].get<int>();
+        EXPECT_FALSE(reason.empty());
+        ++counted[reason];
+        if (b < 0) {
+          EXPECT_EQ(reason, "out-of-reach");
+          continue;
+        }
+        if (j["event"] == "choose") {
+          EXPECT_NE(b, j["blob"].get<int>()) << "the chosen blob is not skipped: " << line;
+          EXPECT_TRUE(seen.insert(b).second) << "one reason a blob: " << line;
+        }
+        // Without prefer_pushable no push is planned before the choice.
+        if (!prefer && j["event"] == "choose") {
+          EXPECT_NE(reason, "no-push-path");
+          EXPECT_NE(reason, "start-blocked");
+        }
+      }
+    }
+    EXPECT_GT(chooses, 0);
+    // learn.json's counts are the log's.
+    std::map<std::string, int> recorded;
+    for (const SkipCount& s : r.skipped) recorded[s.reason] = s.count;
+    EXPECT_EQ(recorded, counted);
+    const core::Json doc = core::read_json(lo.out / "learn.json");
+    EXPECT_EQ(doc.contains("skipped"), !counted.empty());
   }
 }
 

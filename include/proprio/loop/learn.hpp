@@ -96,6 +96,32 @@ std::vector<int> known_candidates(const std::vector<cv::Mat>& regions,
                                   const std::vector<cv::Mat>& candidates,
                                   const std::vector<std::optional<cv::Point2d>>& ends = {});
 
+/// The points a depth image shows above the table: every `step`-th pixel (in x and y) whose
+/// back-projected point (as depth_candidates) stands at least `min_height` m above the table, in
+/// the base frame (x, y, height), m. `ignore` (8-bit of the image's size or empty): pixels that
+/// are no object (the arm). Throws Error unless `depth` is CV_32FC1 of the camera's image size,
+/// min_height >= 0 and step >= 1.
+std::vector<Eigen::Vector3d> depth_points(const cv::Mat& depth, const geometry::Camera& camera,
+                                          double min_height, int step = 1,
+                                          const cv::Mat& ignore = {});
+
+/// The hand coming straight down to a push's start, as seen from above: the pusher's tip
+/// (pushing at `pusher_height`) and, higher up, the fingers and the palm around it.
+struct HandClearance {
+  double pusher = 0.02;          ///< a point within this of the start (table x y) meets the pusher
+  double pusher_height = 0.008;  ///< ... when it stands higher than this (the tip's height), m
+  double hand = 0.045;           ///< within this (m) a point meets the fingers or the palm
+  double hand_height = 0.035;    ///< ... when it stands higher than this (the fingers' bottom), m
+};
+
+/// How many of `points` (depth_points: x, y, height, m) the hand would meet coming straight down
+/// to the push start `start` (table x y, m): those within `clearance.pusher` of it and higher
+/// than `clearance.pusher_height`, or within `clearance.hand` and higher than
+/// `clearance.hand_height`. 0: the way down is clear of everything the camera sees. Throws Error
+/// unless the clearance's distances and heights are >= 0 and finite.
+int hand_meets(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector2d& start,
+               const HandClearance& clearance);
+
 /// The fraction of `query`'s descriptors (rows, CV_32F) whose nearest neighbour among `known`
 /// lies closer than `ratio` times their nearest neighbour among `rest` (the look's other
 /// features: the alternative that the descriptor is not the known object's). With `rest` empty
@@ -182,6 +208,19 @@ struct LearnOptions {
   double candidate_height = 0.003;
   /// "depth": candidates are split where the depth jumps more than this between pixels, m.
   double candidate_step = 0.01;
+  /// "depth": the planner's footprint of a candidate (its centre, hull and height) measured
+  /// from the depth points of the whole candidate, not only inside its features' hull (a
+  /// texture on part of an object gave a footprint too small: the hand came down on it). Off
+  /// by default.
+  bool candidate_footprint = false;
+  /// With depth: a push whose start has a depth point higher than the fingers (HandClearance)
+  /// within this many m, or one higher than the pusher's tip within 0.02 m, is not tried (another
+  /// side is planned); 0: off (the default; the robot refuses such transits itself).
+  double start_clearance = 0;
+  /// Before choosing (7.2 d), a push is planned for the candidates in the order of choice; the
+  /// first that can be pushed (planned, start clear) is chosen. Off: the best is chosen and
+  /// others are tried only after three failures.
+  bool prefer_pushable = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
@@ -270,6 +309,15 @@ struct LearnOptions {
     v(self.candidate_step,
       {"candidate_step", "depth candidates: split where the depth jumps more than this, m",
        core::between(0.001, 0.5)});
+    v(self.candidate_footprint,
+      {"candidate_footprint",
+       "depth candidates: the planner's footprint measured over the whole candidate"});
+    v(self.start_clearance,
+      {"start_clearance",
+       "depth: skip push starts with a depth point above the fingers within this, m; 0 off",
+       core::between(0.0, 0.2)});
+    v(self.prefer_pushable,
+      {"prefer_pushable", "Plan a push before choosing a candidate; choose the first pushable"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
@@ -402,6 +450,35 @@ struct BlobMeanLogP {
   }
 };
 
+/// Why a candidate in view was not the one chosen (7.2 d) or was given up: the decisions log's
+/// "skipped" of choose and rechoose events.
+struct CandidateSkip {
+  int blob = -1;  ///< the candidate (blob index in the look); -1: out of reach (not in the look)
+  /// out-of-reach, tried (given up earlier), known (a learned object), no-features (fewer than
+  /// min_features), no-push-path (no side planned), start-blocked (the hand would come down on
+  /// something), transit-refused / not-planned (given up after failures), not-drawn (the first
+  /// choice is at random), less-new (a newer-looking candidate was chosen).
+  std::string reason;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.blob, {"blob", "The candidate (-1: out of reach, not in the look)"});
+    v(self.reason, {"reason", "Why it was not chosen"});
+  }
+};
+
+/// learn.json's "skipped": how often candidates were skipped for one reason, over the run.
+struct SkipCount {
+  std::string reason;
+  int count = 0;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.reason, {"reason", "Why (CandidateSkip::reason)"});
+    v(self.count, {"count", "Candidates skipped for it over the run's choices"});
+  }
+};
+
 /// One line of learn's decision log (decisions.jsonl): an event and the fields it has (the
 /// others are left out). Events: start, retry, look, split, region, choose, recognise, refound,
 /// rechoose, replan, push, views, move-on, fault, no-views, end.
@@ -430,7 +507,9 @@ struct LearnDecision {
   std::optional<std::vector<KnownBlob>> known = {};      ///< choose (7.2 d)
   std::optional<std::vector<BlobMeanLogP>> scores = {};  ///< choose (7.2 d)
   std::optional<int> sides_rejected = {};                ///< replan
-  std::optional<std::string> fault = {};                 ///< fault: its kind
+  std::optional<int> sides_hand = {};  ///< replan: sides whose start the hand would meet (depth)
+  std::optional<std::vector<CandidateSkip>> skipped = {};  ///< choose, rechoose
+  std::optional<std::string> fault = {};                   ///< fault: its kind
   std::optional<std::string> message = {};
   std::optional<int> blobs_before = {};            ///< split
   std::optional<int> blobs_after = {};             ///< split
@@ -469,6 +548,8 @@ struct LearnDecision {
     v(self.known, {"known", "Objects learned already"});
     v(self.scores, {"scores", "Each scored blob"});
     v(self.sides_rejected, {"sides_rejected", "Sides rejected"});
+    v(self.sides_hand, {"sides_hand", "Sides whose start the hand would meet (depth)"});
+    v(self.skipped, {"skipped", "Candidates not chosen and why"});
     v(self.fault, {"fault", "The fault's kind"});
     v(self.message, {"message", "What happened, in words"});
     v(self.blobs_before, {"blobs_before", "Blobs before the split"});
@@ -618,6 +699,8 @@ struct LearnResult {
   std::optional<SelfSupervisionScore> score;
   /// Simulation: per named object, the turns whose pushes moved it as the intended object.
   std::vector<LearnCoverage> coverage;
+  /// Per reason, the candidates skipped at the run's choices (decisions.jsonl's "skipped").
+  std::vector<SkipCount> skipped;
   core::Json document;  ///< format "proprio.learn" (also DIR/learn.json)
   /// The run's HTML page (loop/learn_report.hpp), written last by the simulated run; empty
   /// after the robot-only run (it has no held-out views to show).
@@ -648,6 +731,9 @@ struct LearnResult {
       int covered = 0;
       for (const LearnCoverage& c : self.coverage) covered += c.turns > 0 ? 1 : 0;
       v(covered, {"covered", "Ground truth: named objects pushed as the intended object"});
+    }
+    if (!self.skipped.empty()) {
+      v(self.skipped, {"skipped", "Per reason, candidates not chosen at the run's choices"});
     }
     if (self.record_seconds) v(self.summary.seconds, {"seconds", "Wall clock, s"});
   }
