@@ -157,11 +157,11 @@ struct MlOptions {
   /// background along the object's edge). Where at least half the samples have it, the pixel
   /// takes the median of those tracks' scores (capped at the regions' peak, since the
   /// regions' scores are smoothed and the tracks' are not), or with carried_max the higher of
-  /// that and its region's value. Off by default: on the tuning recording it raised the mugs
-  /// (0.782 -> 0.821) and the books, but lowered the bottles (0.771 -> 0.765) and the rabbits
-  /// (0.744 -> 0.712): recall rises everywhere, and precision falls where the flow carries
-  /// background pixels with the object (docs/results/segmentation-eval.md, session 20).
-  bool carried_pixels = false;
+  /// that and its region's value. On by default since session 22, with carried_fb 0.25: without
+  /// the forward-backward check recall rose everywhere but precision fell where the flow
+  /// carried background pixels with the object (session 20: bottles and rabbits fell); with it,
+  /// held-out (held2) 0.833 -> 0.874, every object up (docs/results/segmentation-eval.md).
+  bool carried_pixels = true;
   double carried_span = 36.0;
   double carried_step = 6.0;
   bool carried_max = true;
@@ -171,8 +171,9 @@ struct MlOptions {
   /// flow from its position p does not land within this of the q the inverted backward flow
   /// gave (|p + f(p) - q|) is lost: the flow there is not consistent both ways, as on a rim
   /// of background dragged along the object's edge or a pixel being covered. Costs one more
-  /// flow per frame while the arm moves carried_span pixels after the touch.
-  double carried_fb = 0.0;
+  /// flow per frame while the arm moves carried_span pixels after the touch. 0.25 chosen on the
+  /// tuning recording (1 and 0.5 px let the rabbit's background rim through).
+  double carried_fb = 0.25;
   /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
   /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
   /// interval must not match a region followed through the whole push. Off (0) by default:
