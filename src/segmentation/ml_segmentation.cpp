@@ -1388,7 +1388,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       r.needed = true;
     }
   }
-  if (m.opt.carried_pixels) {
+  if (m.opt.carried_pixels && (!m.opt.use_depth || m.opt.carried_with_depth)) {
     if (first_touch_now) {
       m.start_carrying(gray);
     } else if (m.carrying && !back_flow.empty()) {

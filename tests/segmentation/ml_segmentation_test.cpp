@@ -490,6 +490,30 @@ MlSegmenter::DepthFrame test_depth(const PushFrame& f) {
   return d;
 }
 
+// carried_with_depth: the depth variant carries no pixels unless asked (its default map is the
+// one with carried_pixels off, exactly); asked, it does.
+TEST(MlSegmentation, DepthVariantCarriesPixelsOnlyWhenAsked) {
+  PushSpec spec;
+  spec.arm_like_square = true;
+  const auto run = [&](bool carried, bool with_depth) {
+    MlOptions o;
+    o.use_depth = true;
+    o.region_count = 100;
+    o.carried_pixels = carried;
+    o.carried_with_depth = with_depth;
+    MlSegmenter seg(o, cv::Size(spec.width, spec.height));
+    for (int i = 0; i < spec.frames; ++i) {
+      const PushFrame f = push_frame(spec, i);
+      MlSegmenter::DepthFrame d = test_depth(f);
+      (void)seg.push(f.image, f.ee, f.touching, &d);
+    }
+    return seg.map_for_frame(*seg.first_touch_frame());
+  };
+  const cv::Mat1f plain = run(false, false);
+  EXPECT_EQ(cv::norm(run(true, false), plain, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(run(true, true), plain, cv::NORM_INF), 0.0);
+}
+
 // The depth variant on the synthetic push (table 1000 mm below an overhead camera, the square
 // 60 mm tall): its map at the first touch, with the given table clearance (cut only `with_up`),
 // every 5th depth pixel unknown (as 0 or NaN) with `holes`, and the touch frame.

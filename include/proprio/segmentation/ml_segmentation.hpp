@@ -174,6 +174,10 @@ struct MlOptions {
   /// flow per frame while the arm moves carried_span pixels after the touch. 0.25 chosen on the
   /// tuning recording (1 and 0.5 px let the rabbit's background rim through).
   double carried_fb = 0.25;
+  /// The depth variant (use_depth) carries pixels too only with this on: on held2 the depth
+  /// variant's mean did not change with them (0.928 either way; mug 0.914 -> 0.902, rabbit
+  /// 0.916 -> 0.932), so its default stays as it was (session 22).
+  bool carried_with_depth = false;
   /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
   /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
   /// interval must not match a region followed through the whole push. Off (0) by default:
@@ -384,6 +388,7 @@ struct MlOptions {
     v(self.carried_max, {"carried_max", "Higher of the carried median and the region's"});
     v(self.carried_match, {"carried_match", "Largest grey-level change of a carried pixel"});
     v(self.carried_fb, {"carried_fb", "Forward-backward flow check of carried pixels, px"});
+    v(self.carried_with_depth, {"carried_with_depth", "The depth variant carries pixels too"});
     v(self.evidence_step, {"evidence_step", "Arm motion between evidence frames, px"});
     v(self.arm_removal_step, {"arm_removal_step", "Arm motion that removes its regions, px"});
     v(self.min_region_motion, {"min_region_motion", "Least region motion that counts, px"});
