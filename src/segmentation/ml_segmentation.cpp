@@ -131,6 +131,11 @@ void MlOptions::validate() const {
   require_positive(carried_step, "carried_step");
   require(std::isfinite(carried_match) && carried_match >= 0,
           core::cat({"MlOptions.carried_match must be >= 0, got ", core::num(carried_match)}));
+  require(std::isfinite(carried_fb) && carried_fb >= 0,
+          core::cat({"MlOptions.carried_fb must be >= 0, got ", core::num(carried_fb)}));
+  require(smoothing_keep_evidence >= 0,
+          core::cat({"MlOptions.smoothing_keep_evidence must be >= 0, got ",
+                     core::num(smoothing_keep_evidence)}));
   require(std::isfinite(pixel_motion_margin) && pixel_motion_margin >= 0,
           core::cat({"MlOptions.pixel_motion_margin must be >= 0, got ",
                      core::num(pixel_motion_margin)}));
@@ -650,8 +655,9 @@ struct MlSegmenter::Impl {
   // Carries each first-touch pixel from the previous frame into this one: the point q of this
   // frame whose backward flow b(q) takes it to the pixel's position p, q + b(q) = p, found by
   // the iteration q <- p - b(q) from p plus the pixel's last motion. A pixel for which none is
-  // found within 1 px (it was covered, or it left the image) is lost.
-  void carry(const cv::Mat2f& back_flow) {
+  // found within 1 px (it was covered, or it left the image) is lost. With a forward flow
+  // (carried_fb), so is a pixel whose forward flow from p does not land within carried_fb of q.
+  void carry(const cv::Mat2f& back_flow, const cv::Mat2f& fwd_flow) {
     const auto w = static_cast<float>(back_flow.cols - 1);
     const auto h = static_cast<float>(back_flow.rows - 1);
     const auto inside = [&](const cv::Vec2f& q) {
@@ -659,6 +665,7 @@ struct MlSegmenter::Impl {
     };
     constexpr int kIterations = 4;
     constexpr float kMaxResidual = 1.0F;
+    const auto fb = static_cast<float>(opt.carried_fb);
     for (int y = 0; y < carry_at.rows; ++y) {
       cv::Vec2f* a = carry_at[y];
       cv::Vec2f* v = carry_motion[y];
@@ -677,6 +684,8 @@ struct MlSegmenter::Impl {
         }
         if (!found && inside(q))
           found = cv::norm(q + flow_at(back_flow, q[0], q[1]) - p) <= kMaxResidual;
+        if (found && inside(q) && !fwd_flow.empty())
+          found = cv::norm(p + flow_at(fwd_flow, p[0], p[1]) - q) <= fb;
         if (!found || !inside(q)) {
           a[x] = cv::Vec2f(-1.0F, -1.0F);
           continue;
@@ -1030,8 +1039,10 @@ struct MlSegmenter::Impl {
       so.colour_sigma = opt.smoothing_colour_sigma;
       const bool by_depth = opt.use_depth && opt.depth_smoothing && opt.depth_edge > 0;
       so.depth_step = by_depth ? opt.depth_edge : 0.0;
+      const std::vector<float> own = score;
       (void)smooth_region_scores(compact, evidence, colour, so, score,
                                  by_depth ? depth : cv::Mat1f());
+      if (opt.smoothing_keep_evidence > 0) keep_evidenced(compact, evidence, own, score);
     }
     cv::Mat1f m(lab.size());
     for (int y = 0; y < lab.rows; ++y) {
@@ -1152,6 +1163,36 @@ struct MlSegmenter::Impl {
       }
       if (succ >= 0) tracks[succ].preds.push_back(t);
     }
+  }
+
+  // smoothing_keep_evidence: a region with that many post-touch intervals takes the higher of
+  // its smoothed score and its own, the latter capped at the smoothed scores' robust peak (the
+  // score that peak_area of the pixels reach; with peak_area 0, their maximum).
+  void keep_evidenced(const cv::Mat1i& compact, const std::vector<int>& evidence,
+                      const std::vector<float>& own, std::vector<float>& score) const {
+    std::vector<std::ptrdiff_t> area(score.size(), 0);
+    for (int y = 0; y < compact.rows; ++y) {
+      const int* l = compact[y];
+      for (int x = 0; x < compact.cols; ++x) ++area[static_cast<size_t>(l[x])];
+    }
+    std::vector<size_t> order(score.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return score[a] > score[b] || (score[a] == score[b] && a < b);
+    });
+    const auto need = std::max<std::ptrdiff_t>(
+        1, static_cast<std::ptrdiff_t>(
+               std::ceil(opt.peak_area * static_cast<double>(compact.total()))));
+    float peak = 0.0F;
+    std::ptrdiff_t reached = 0;
+    for (size_t k : order) {
+      peak = score[k];
+      reached += area[k];
+      if (reached >= need) break;
+    }
+    for (size_t k = 0; k < score.size(); ++k)
+      if (evidence[k] >= opt.smoothing_keep_evidence)
+        score[k] = std::max(score[k], std::min(own[k], peak));
   }
 
   // Clips the map at its robust peak: the value that at least peak_area of the pixels reach. The
@@ -1347,11 +1388,13 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       r.needed = true;
     }
   }
-  if (m.opt.carried_pixels) {
+  if (m.opt.carried_pixels && (!m.opt.use_depth || m.opt.carried_with_depth)) {
     if (first_touch_now) {
       m.start_carrying(gray);
     } else if (m.carrying && !back_flow.empty()) {
-      m.carry(back_flow);
+      cv::Mat2f fwd_flow;
+      if (m.opt.carried_fb > 0) fwd_flow = m.flow.compute(m.prev_gray, gray);
+      m.carry(back_flow, fwd_flow);
       if (!m.touch_ee) {
         m.carrying = false;  // no touch position: no arm motion to sample by
       } else if (ee_image && (*ee_image - *m.touch_ee).norm() >= m.carry_next) {

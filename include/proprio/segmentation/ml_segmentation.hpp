@@ -157,15 +157,27 @@ struct MlOptions {
   /// background along the object's edge). Where at least half the samples have it, the pixel
   /// takes the median of those tracks' scores (capped at the regions' peak, since the
   /// regions' scores are smoothed and the tracks' are not), or with carried_max the higher of
-  /// that and its region's value. Off by default: on the tuning recording it raised the mugs
-  /// (0.782 -> 0.821) and the books, but lowered the bottles (0.771 -> 0.765) and the rabbits
-  /// (0.744 -> 0.712): recall rises everywhere, and precision falls where the flow carries
-  /// background pixels with the object (docs/results/segmentation-eval.md, session 20).
-  bool carried_pixels = false;
+  /// that and its region's value. On by default since session 22, with carried_fb 0.25: without
+  /// the forward-backward check recall rose everywhere but precision fell where the flow
+  /// carried background pixels with the object (session 20: bottles and rabbits fell); with it,
+  /// held-out (held2) 0.833 -> 0.874, every object up (docs/results/segmentation-eval.md).
+  bool carried_pixels = true;
   double carried_span = 36.0;
   double carried_step = 6.0;
   bool carried_max = true;
   double carried_match = 12.0;
+  /// Forward-backward check of the carried pixels, px (0 = off): in each frame pair of the
+  /// carrying window the forward flow is computed as well, and a carried pixel whose forward
+  /// flow from its position p does not land within this of the q the inverted backward flow
+  /// gave (|p + f(p) - q|) is lost: the flow there is not consistent both ways, as on a rim
+  /// of background dragged along the object's edge or a pixel being covered. Costs one more
+  /// flow per frame while the arm moves carried_span pixels after the touch. 0.25 chosen on the
+  /// tuning recording (1 and 0.5 px let the rabbit's background rim through).
+  double carried_fb = 0.25;
+  /// The depth variant (use_depth) carries pixels too only with this on: on held2 the depth
+  /// variant's mean did not change with them (0.928 either way; mug 0.914 -> 0.902, rabbit
+  /// 0.916 -> 0.932), so its default stays as it was (session 22).
+  bool carried_with_depth = false;
   /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
   /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
   /// interval must not match a region followed through the whole push. Off (0) by default:
@@ -246,6 +258,13 @@ struct MlOptions {
   bool region_smoothing = true;
   double smoothing_weight = 0.01;
   double smoothing_colour_sigma = 25.0;
+  /// Evidenced regions keep their own score (0 = off): after the smoothing, a region with at
+  /// least this many post-touch intervals of its own takes the higher of its smoothed score and
+  /// its own, the latter capped at the smoothed scores' robust peak (the score that peak_area of
+  /// the frame's pixels reach after the smoothing), so a well-evidenced piece of a dark object
+  /// is not pulled down by like-coloured background beside it, and a high sliver cannot raise
+  /// the peak that sets the mask's threshold. Regions with less evidence are smoothed as usual.
+  int smoothing_keep_evidence = 0;
   /// Processing scale: over-segmentation, flow and tracking run on images resized by this factor
   /// (speed); the map is returned at full size.
   double scale = 1.0;
@@ -368,6 +387,8 @@ struct MlOptions {
     v(self.carried_step, {"carried_step", "Arm motion between their samples, px"});
     v(self.carried_max, {"carried_max", "Higher of the carried median and the region's"});
     v(self.carried_match, {"carried_match", "Largest grey-level change of a carried pixel"});
+    v(self.carried_fb, {"carried_fb", "Forward-backward flow check of carried pixels, px"});
+    v(self.carried_with_depth, {"carried_with_depth", "The depth variant carries pixels too"});
     v(self.evidence_step, {"evidence_step", "Arm motion between evidence frames, px"});
     v(self.arm_removal_step, {"arm_removal_step", "Arm motion that removes its regions, px"});
     v(self.min_region_motion, {"min_region_motion", "Least region motion that counts, px"});
@@ -386,6 +407,8 @@ struct MlOptions {
     v(self.region_smoothing, {"region_smoothing", "Smooth region scores over the graph"});
     v(self.smoothing_weight, {"smoothing_weight", "Data weight of the smoothing"});
     v(self.smoothing_colour_sigma, {"smoothing_colour_sigma", "Colour sigma of the smoothing"});
+    v(self.smoothing_keep_evidence,
+      {"smoothing_keep_evidence", "Intervals a region needs to keep its own score"});
     v(self.scale, {"scale", "Image scale of the processing"});
     v(self.direction_prior, {"direction_prior", "Prior on the push direction"});
     v(self.contact_prior, {"contact_prior", "Keep blobs near the arm's contact"});
