@@ -76,7 +76,8 @@ constexpr double kApproachStep = 0.03;  // approach added after a refusal, m
 // base axis than this, or behind the base, cannot be pushed from behind; it is not an object
 // to learn (distractors moving behind the work area, the backdrop), m.
 constexpr double kPushReach = 0.44;
-constexpr double kBehindBase = 0.0;  // least x of a blob's centre, m
+constexpr double kBehindBase = 0.0;               // least x of a blob's centre, m
+const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};  // as score_self_supervision
 // start_clearance: a push start is not clear when the hand would meet this many depth points
 // (a stray pixel or two at an object's rim is no object).
 constexpr int kHandLeastPoints = 3;
@@ -1624,9 +1625,43 @@ class Learner {
 };
 
 // Everything a run leaves besides the JSON: the learner's record, the models, the views' theta.
+// The held-out views' documents of each object, as score_self_supervision renders them (alone
+// at the table's centre, yaw stepped through 360 degrees, the ground-truth mask, views with at
+// least min_features features): one simulated table at a time.
+std::vector<topics::Corpus> held_out_documents(const LearnOptions& o,
+                                               const std::vector<std::string>& objects,
+                                               const features::Vocabulary& vocabulary) {
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  std::vector<topics::Corpus> held;
+  held.reserve(objects.size());
+  for (const std::string& name : objects) {
+    sim::TableOptions table;
+    table.objects = {name};
+    table.seed = o.seed;
+    table.width = o.width;
+    table.height = o.height;
+    sim::SimulatedRobot alone(table, catalogue);
+    const int id = alone.ground_truth().at(0).id;
+    topics::Corpus corpus(vocabulary.size());
+    for (int v = 0; v < o.held_out; ++v) {
+      const double yaw = 2 * std::numbers::pi * v / o.held_out;
+      alone.place({{name, kHeldOutCentre, yaw}});
+      const robot::Look look = alone.look();
+      const cv::Mat mask = alone.ground_truth_mask() == id;
+      const auto doc = masked_document(look.image, mask, vocabulary, o.features, o.dilate);
+      if (static_cast<int>(doc.size()) < o.min_features) continue;
+      corpus.add_tokens(doc);
+    }
+    held.push_back(std::move(corpus));
+  }
+  return held;
+}
+
 struct Core {
   std::unique_ptr<Learner> learner;
   Learning learning;
+  std::optional<topics::Corpus> training;  ///< the robot's views' documents (model order)
+  std::vector<int> training_labels;        ///< their model classes (-1: class left out)
   std::optional<topics::LdaModel> lda;
   std::optional<features::Vocabulary> vocabulary;
   int classes = 0;
@@ -1705,6 +1740,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
     });
   }
   topics::save_lda_model(*k.lda, o.out / "lda.model");
+  k.training = corpus;
   l.timed("model", [&] {
     g.views.theta = recognition::document_theta(*k.lda, corpus).theta;
     for (const auto& v : views) {
@@ -1728,6 +1764,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
     std::vector<int> labels;
     for (int lab : g.views.labels) labels.push_back(remap[static_cast<std::size_t>(lab)]);
     g.model = topics::fit_mot(g.views.theta, labels, names, o.mot).model;
+    k.training_labels = labels;
   });
   if (g.model.num_classes() > 0) {
     const std::uint32_t vc = recognition::vocabulary_checksum(*k.vocabulary);
@@ -1802,6 +1839,80 @@ void write_final(LearnResult& r, const LearnOptions& w, core::StagedDirectory& s
 
 }  // namespace
 
+LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaModel& lda,
+                              const topics::Corpus& training, const std::vector<int>& labels,
+                              const std::vector<topics::Corpus>& held,
+                              const std::vector<std::string>& objects,
+                              const std::vector<std::string>& class_object, double weight) {
+  const int classes = model.num_classes();
+  if (classes < 1) throw Error("score_by_words: the model has no classes");
+  if (held.size() != objects.size()) {
+    throw Error(core::cat({"score_by_words: ", std::to_string(held.size()),
+                           " held-out corpora for ", std::to_string(objects.size()), " objects"}));
+  }
+  if (static_cast<int>(class_object.size()) != classes) {
+    throw Error(core::cat({"score_by_words: ", std::to_string(class_object.size()),
+                           " class names for ", std::to_string(classes), " classes"}));
+  }
+  if (!(weight >= 0 && weight <= 1)) {
+    throw Error("score_by_words: weight " + std::to_string(weight) + " is not in [0, 1]");
+  }
+  // fit_word_multinomials checks labels against the documents and the classes.
+  const Eigen::MatrixXd log_phi = topics::fit_word_multinomials(training, labels, classes, 1.0);
+  LearnWordScore s;
+  s.weight = weight;
+  s.word_weights.assign(std::begin(kLearnWordWeights), std::end(kLearnWordWeights));
+  const std::size_t g_count = s.word_weights.size();
+  s.grid.assign(g_count, 0.0);
+  int all = 0;
+  int right_theta = 0;
+  int right_words = 0;
+  int right_pooled = 0;
+  std::vector<int> right_grid(g_count, 0);
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    LearnWordObject ob;
+    ob.name = objects[i];
+    ob.grid.assign(g_count, 0.0);
+    const topics::Corpus& docs = held[i];
+    ob.held_out = static_cast<int>(docs.num_documents());
+    if (ob.held_out > 0) {
+      const auto right = [&](const topics::MotClassification& c) {
+        int n = 0;
+        for (int m : c.predicted)
+          n += (m >= 0 && class_object[static_cast<std::size_t>(m)] == ob.name) ? 1 : 0;
+        return n;
+      };
+      const Eigen::MatrixXd theta = recognition::document_theta(lda, docs).theta;
+      const int rt = right(topics::classify_mot(model, theta));
+      const topics::MotClassification by_words = topics::classify_mot_words(model, lda, docs);
+      const int rw = right(by_words);
+      const int rp = right(topics::pool_word_multinomials(model, by_words, log_phi, docs, weight));
+      for (std::size_t gi = 0; gi < g_count; ++gi) {
+        const int rg = right(
+            topics::pool_word_multinomials(model, by_words, log_phi, docs, s.word_weights[gi]));
+        ob.grid[gi] = static_cast<double>(rg) / ob.held_out;
+        right_grid[gi] += rg;
+      }
+      ob.theta = static_cast<double>(rt) / ob.held_out;
+      ob.words = static_cast<double>(rw) / ob.held_out;
+      ob.pooled = static_cast<double>(rp) / ob.held_out;
+      all += ob.held_out;
+      right_theta += rt;
+      right_words += rw;
+      right_pooled += rp;
+    }
+    s.objects.push_back(std::move(ob));
+  }
+  if (all > 0) {
+    s.theta = static_cast<double>(right_theta) / all;
+    s.words = static_cast<double>(right_words) / all;
+    s.pooled = static_cast<double>(right_pooled) / all;
+    for (std::size_t gi = 0; gi < g_count; ++gi)
+      s.grid[gi] = static_cast<double>(right_grid[gi]) / all;
+  }
+  return s;
+}
+
 std::string LearnResult::brief() const {
   const LearnSummary& s = summary;
   std::string b = core::printf_string(
@@ -1815,6 +1926,18 @@ std::string LearnResult::brief() const {
     }
     b += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
                              100 * score->mot_accuracy, 100 * score->argmax_accuracy);
+  }
+  if (words) {
+    b += core::printf_string(
+        "\nheld out by words: Mixture of Topics by words %.1f%%, pooled with word multinomials "
+        "(weight %.2f) %.1f%% (",
+        100 * words->words, words->weight, 100 * words->pooled);
+    for (std::size_t i = 0; i < words->objects.size(); ++i) {
+      const LearnWordObject& ob = words->objects[i];
+      b += core::printf_string("%s%s %.0f/%.0f", i == 0 ? "" : ", ", ob.name.c_str(),
+                               100 * ob.words, 100 * ob.pooled);
+    }
+    b += " %)";
   }
   if (!coverage.empty()) {
     int covered = 0;
@@ -1915,7 +2038,20 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
     k.learner->mutable_seconds()["held_out"] =
         std::chrono::duration<double>(Clock::now() - th).count();
   }
+  std::optional<LearnWordScore> by_words;
+  if (score && k.training && k.learning.model.num_classes() > 0) {
+    const auto th = Clock::now();
+    const std::vector<topics::Corpus> held = held_out_documents(o, objects, *k.vocabulary);
+    std::vector<std::string> class_object;
+    for (int c : k.learning.model_class)
+      class_object.push_back(score->class_object[static_cast<std::size_t>(c)]);
+    by_words = score_by_words(k.learning.model, *k.lda, *k.training, k.training_labels, held,
+                              objects, class_object, o.mot_word_weight);
+    k.learner->mutable_seconds()["held_out_words"] =
+        std::chrono::duration<double>(Clock::now() - th).count();
+  }
   LearnResult r = finish(k, w, score, true);
+  r.words = by_words;
   // Nothing to score (no score): no views were taken, so no vocabulary, LDA or object model was
   // made; the record says so.
   r.held_out = true;

@@ -38,7 +38,8 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   fs::create_directories(dir());
   const auto r = run_cli(
       "learn --objects book --clutter bottle --background plain --pushes 2 --width 200 "
-      "--height 150 --words 20 --topics 2 --held-out 3 --min-features 3 --seed 3 -q --out " +
+      "--height 150 --words 20 --topics 2 --held-out 3 --min-features 3 --seed 3 "
+      "--mot-word-weight 0.5 -q --out " +
       file("run") + " --json " + file("run.json"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "learned");
@@ -76,6 +77,27 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   EXPECT_EQ(j["held_out"]["views_per_object"], 3);
   EXPECT_TRUE(j["held_out"]["mot"].contains("counts"));
   EXPECT_TRUE(j["held_out"]["argmax"].contains("accuracy"));
+  // The held-out views classified by their words too, beside the MoT by theta of the same
+  // documents (the same figure as held_out.mot), the pooled figure at --mot-word-weight.
+  ASSERT_GT(j["model_classes"].size(), 0U);  // this run learns both objects
+  {
+    ASSERT_TRUE(j.contains("held_out_words")) << j.dump();
+    const core::Json& w = j["held_out_words"];
+    EXPECT_EQ(w["weight"].get<double>(), 0.5);
+    EXPECT_EQ(w["theta"].get<double>(), j["held_out"]["mot"]["accuracy"].get<double>());
+    ASSERT_EQ(w["word_weights"].size(), w["grid"].size());
+    EXPECT_EQ(w["word_weights"][3].get<double>(), 0.5);
+    EXPECT_EQ(w["grid"][3].get<double>(), w["pooled"].get<double>());
+    EXPECT_EQ(w["grid"][0].get<double>(), w["words"].get<double>());
+    ASSERT_EQ(w["objects"].size(), j["ground_truth"]["objects"].size());
+    for (std::size_t i = 0; i < w["objects"].size(); ++i) {
+      EXPECT_EQ(w["objects"][i]["held_out"], j["ground_truth"]["objects"][i]["held_out"]);
+      EXPECT_EQ(w["objects"][i]["theta"].get<double>(),
+                j["ground_truth"]["objects"][i]["mot_accuracy"].get<double>());
+    }
+    EXPECT_HAS(r.out, core::printf_string("pooled with word multinomials (weight 0.50) %.1f%%",
+                                          100 * w["pooled"].get<double>()));
+  }
   std::ifstream log(run / "decisions.jsonl");
   std::string first;
   std::getline(log, first);
@@ -150,6 +172,8 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --start-clearance 0.5" + out, "start-clearance"},
       {"--objects book --candidate-footprint=maybe" + out, "candidate-footprint"},
       {"--objects book --prefer-pushable=maybe" + out, "prefer-pushable"},
+      {"--objects book --mot-word-weight -0.1" + out, "mot-word-weight"},
+      {"--objects book --mot-word-weight 1.5" + out, "mot-word-weight"},
       {"--objects book,mug,bottle,rabbit,cd,calculator --clutter giraffe,bike,box" + out,
        "do not fit on the table"},
       {"--objects book --background stripes" + out, "background"},

@@ -17,8 +17,11 @@
 #include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/recognition/mot.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
+#include "proprio/topics/batch_lda.hpp"
 
 namespace proprio::loop {
 namespace {
@@ -105,8 +108,95 @@ TEST(Learn, BadOptionsThrow) {
   o.start_clearance = 0.3;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
+  EXPECT_DOUBLE_EQ(o.mot_word_weight, 0.25);
+  o.mot_word_weight = -0.01;
+  EXPECT_THROW(o.validate(), Error);
+  o.mot_word_weight = 1.01;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
   o.clutter = "";
   EXPECT_NO_THROW(o.validate());
+}
+
+// Documents of `n` words drawn from words [first, first + 5) of a 10-word vocabulary.
+void add_documents(topics::Corpus& corpus, int docs, int first, std::uint64_t seed) {
+  core::Rng rng(seed);
+  for (int d = 0; d < docs; ++d) {
+    std::vector<std::int32_t> tokens;
+    for (int n = 0; n < 30; ++n) tokens.push_back(first + static_cast<int>(rng.index(5)));
+    corpus.add_tokens(tokens);
+  }
+}
+
+TEST(Learn, ScoreByWordsKnowsWhichObjectEachHeldOutViewShows) {
+  // Two objects of disjoint words (0-4 and 5-9): the robot's views of each are one class; the
+  // held-out views of each are classified as their own object by theta, by words and pooled.
+  topics::Corpus training(10);
+  add_documents(training, 12, 0, 1);
+  add_documents(training, 12, 5, 2);
+  std::vector<int> labels(24, 0);
+  for (int d = 12; d < 24; ++d) labels[static_cast<std::size_t>(d)] = 1;
+  labels[0] = -1;  // a view whose class was left out of the model
+  topics::BatchLdaOptions bo;
+  bo.num_topics = 2;
+  bo.seed = 3;
+  const topics::LdaModel lda = topics::train_batch_lda(training, bo).model;
+  const Eigen::MatrixXd theta = recognition::document_theta(lda, training).theta;
+  std::vector<int> fit_labels = labels;
+  fit_labels[0] = 0;
+  const topics::MotModel model = topics::fit_mot(theta, fit_labels, {"c0", "c1"}, {}).model;
+  std::vector<topics::Corpus> held(3, topics::Corpus(10));
+  add_documents(held[0], 7, 0, 4);
+  add_documents(held[1], 5, 5, 5);  // held[2]: an object without a view with features
+  const std::vector<std::string> objects{"book", "cd", "giraffe"};
+  const LearnWordScore s =
+      score_by_words(model, lda, training, labels, held, objects, {"book", "cd"}, 0.25);
+  EXPECT_DOUBLE_EQ(s.weight, 0.25);
+  EXPECT_DOUBLE_EQ(s.theta, 1.0);
+  EXPECT_DOUBLE_EQ(s.words, 1.0);
+  EXPECT_DOUBLE_EQ(s.pooled, 1.0);
+  ASSERT_EQ(s.word_weights.size(), std::size(kLearnWordWeights));
+  ASSERT_EQ(s.grid.size(), s.word_weights.size());
+  for (double g : s.grid) EXPECT_DOUBLE_EQ(g, 1.0);
+  ASSERT_EQ(s.objects.size(), 3U);
+  EXPECT_EQ(s.objects[0].name, "book");
+  EXPECT_EQ(s.objects[0].held_out, 7);
+  EXPECT_EQ(s.objects[1].held_out, 5);
+  EXPECT_EQ(s.objects[2].held_out, 0);
+  EXPECT_DOUBLE_EQ(s.objects[2].pooled, 0.0);
+  EXPECT_EQ(s.objects[2].grid.size(), s.word_weights.size());
+  // The classes named the other way round: every view wrong; a class named after no held-out
+  // object: its views wrong, the other object's right (5 of 12).
+  const LearnWordScore swapped =
+      score_by_words(model, lda, training, labels, held, objects, {"cd", "book"}, 1.0);
+  EXPECT_DOUBLE_EQ(swapped.theta, 0.0);
+  EXPECT_DOUBLE_EQ(swapped.words, 0.0);
+  EXPECT_DOUBLE_EQ(swapped.pooled, 0.0);
+  const LearnWordScore one =
+      score_by_words(model, lda, training, labels, held, objects, {"mug", "cd"}, 0.0);
+  EXPECT_DOUBLE_EQ(one.theta, 5.0 / 12);
+  EXPECT_DOUBLE_EQ(one.words, 5.0 / 12);
+  EXPECT_DOUBLE_EQ(one.objects[0].words, 0.0);
+  EXPECT_DOUBLE_EQ(one.objects[1].words, 1.0);
+  // Weight 0 is the Mixture of Topics by words alone; the pooled figure is the grid's at its
+  // weight.
+  EXPECT_DOUBLE_EQ(one.pooled, one.words);
+  EXPECT_DOUBLE_EQ(one.grid[0], one.words);
+  EXPECT_DOUBLE_EQ(s.grid[2], s.pooled);
+  // Bad input.
+  EXPECT_THROW((void)score_by_words(model, lda, training, labels, held, {"book"}, {"a", "b"}, 0.25),
+               Error);
+  EXPECT_THROW((void)score_by_words(model, lda, training, labels, held, objects, {"a"}, 0.25),
+               Error);
+  EXPECT_THROW((void)score_by_words(model, lda, training, labels, held, objects, {"a", "b"}, 1.5),
+               Error);
+  EXPECT_THROW((void)score_by_words(model, lda, training, labels, held, objects, {"a", "b"}, -0.1),
+               Error);
+  EXPECT_THROW((void)score_by_words(model, lda, training, {0, 1}, held, objects, {"a", "b"}, 0.25),
+               Error);
+  EXPECT_THROW(
+      (void)score_by_words(topics::MotModel(), lda, training, labels, held, objects, {}, 0.25),
+      Error);
 }
 
 TEST(Learn, DescriptorMatchFractionCountsDescriptorsNearerTheKnownThanTheRest) {

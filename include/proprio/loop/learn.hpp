@@ -237,6 +237,13 @@ struct LearnOptions {
   int width = 320;        ///< image size of the camera, px
   int height = 240;
   int held_out = 20;  ///< held-out ground-truth views per object (scoring)
+  /// Scoring: the held-out views are also classified by their words (topics::classify_mot_words:
+  /// the Mixture of Topics' bound on log p(w | c)) pooled with each class's word multinomial
+  /// fitted to the robot's own views (topics::fit_word_multinomials, pool_word_multinomials) at
+  /// this weight (0: by words alone; 1: multinomial naive Bayes), beside the Mixture of Topics by
+  /// theta and argmax theta (learn.json "held_out_words", the printout; docs/results/mot.md,
+  /// session 22). 0.25 as chosen there.
+  double mot_word_weight = 0.25;
   /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
   bool oracle_ladder = false;
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
@@ -336,6 +343,10 @@ struct LearnOptions {
     v(self.width, {"width", "Image width, px", core::between(64, 4096)});
     v(self.height, {"height", "Image height, px", core::between(48, 4096)});
     v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
+    v(self.mot_word_weight,
+      {"mot_word_weight",
+       "Scoring: weight of the word multinomials pooled with the MoT by words (0 words alone)",
+       core::between(0.0, 1.0)});
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
     v(self.depth, {"depth",
@@ -670,6 +681,66 @@ struct LearnDirichletUpdate {
   }
 };
 
+/// The word weights held-out views are also scored at (LearnWordScore::grid): 0 is the
+/// Mixture of Topics by words alone, 1 multinomial naive Bayes.
+inline constexpr double kLearnWordWeights[] = {0.0, 0.1, 0.25, 0.5, 0.75, 1.0};
+
+/// One held-out object classified by words (LearnWordScore).
+struct LearnWordObject {
+  std::string name;
+  int held_out = 0;          ///< its held-out views with features
+  double theta = 0;          ///< right by the Mixture of Topics by theta (eq 7.3)
+  double words = 0;          ///< right by the Mixture of Topics by words (classify_mot_words)
+  double pooled = 0;         ///< right by that pooled with the word multinomials at the weight
+  std::vector<double> grid;  ///< right by the pooled classifier at each kLearnWordWeights
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.name, {"name", "The object"});
+    v(self.held_out, {"held_out", "Its held-out views with features"});
+    v(self.theta, {"theta", "Right by the Mixture of Topics by theta"});
+    v(self.words, {"words", "Right by the Mixture of Topics by words"});
+    v(self.pooled, {"pooled", "Right by that pooled with the word multinomials"});
+    v(self.grid, {"grid", "Right by the pooled classifier at each weight of word_weights"});
+  }
+};
+
+/// The held-out views classified by their words (LearnOptions::mot_word_weight), beside the
+/// Mixture of Topics by theta on the same documents: a view is right when it is given a class
+/// named after its own object (as SelfSupervisionScore's figures).
+// NOLINTNEXTLINE(bugprone-exception-escape)
+struct LearnWordScore {
+  double weight = 0.25;
+  double theta = 0;   ///< held-out views right by the MoT by theta (the score's mot_accuracy)
+  double words = 0;   ///< right by the MoT by words
+  double pooled = 0;  ///< right by that pooled with the word multinomials at weight
+  std::vector<double> word_weights;  ///< kLearnWordWeights
+  std::vector<double> grid;          ///< right by the pooled classifier at each of them
+  std::vector<LearnWordObject> objects;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.weight, {"weight", "The word multinomials' weight in the pooled score"});
+    v(self.theta, {"theta", "Held-out views right by the Mixture of Topics by theta"});
+    v(self.words, {"words", "Right by the Mixture of Topics by words"});
+    v(self.pooled, {"pooled", "Right by that pooled with the word multinomials"});
+    v(self.word_weights, {"word_weights", "The weights of grid"});
+    v(self.grid, {"grid", "Right by the pooled classifier at each weight"});
+    v(self.objects, {"objects", "Per held-out object"});
+  }
+};
+
+/// Scores held-out documents by theta and by words. `training`/`labels`: the robot's views and
+/// their model classes (-1: left out), for the word multinomials; `held[i]`: object i's held-out
+/// documents (objects[i]); `class_object[m]`: the object model class m is named after ("" none).
+/// Throws Error when the sizes disagree (held vs objects, labels vs training, class_object vs
+/// the model's classes), on a weight outside [0, 1] or on an empty model.
+LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaModel& lda,
+                              const topics::Corpus& training, const std::vector<int>& labels,
+                              const std::vector<topics::Corpus>& held,
+                              const std::vector<std::string>& objects,
+                              const std::vector<std::string>& class_object, double weight);
+
 struct LearnResult;
 
 /// learn.json's "held_out": the views per object and the held-out confusion matrices, or why
@@ -697,6 +768,8 @@ struct LearnResult {
   bool held_out = false;        ///< the held-out views were asked for (simulation)
   bool record_seconds = false;  ///< the record lists summary.seconds (simulation)
   std::optional<SelfSupervisionScore> score;
+  /// Simulation: the held-out views classified by their words (LearnOptions::mot_word_weight).
+  std::optional<LearnWordScore> words;
   /// Simulation: per named object, the turns whose pushes moved it as the intended object.
   std::vector<LearnCoverage> coverage;
   /// Per reason, the candidates skipped at the run's choices (decisions.jsonl's "skipped").
@@ -726,6 +799,7 @@ struct LearnResult {
       {"dirichlet_update", "The object-word Dirichlet update and the two updates compared"});
     if (self.held_out) v(LearnHeldOut{&self}, {"held_out", "Held-out views"});
     v(self.score, {"ground_truth", "Scored against the ground truth"});
+    v(self.words, {"held_out_words", "Held-out views classified by their words"});
     if (!self.coverage.empty()) {
       v(self.coverage, {"coverage", "Ground truth: per named object, the turns that pushed it"});
       int covered = 0;
