@@ -118,11 +118,12 @@ TEST(Learn, BadOptionsThrow) {
   EXPECT_NO_THROW(o.validate());
 }
 
-// Documents of `n` words drawn from words [first, first + 5) of a 10-word vocabulary.
+// Documents of 30 words drawn from words [first, first + 5) of a 10-word vocabulary.
 void add_documents(topics::Corpus& corpus, int docs, int first, std::uint64_t seed) {
   core::Rng rng(seed);
   for (int d = 0; d < docs; ++d) {
     std::vector<std::int32_t> tokens;
+    tokens.reserve(30);
     for (int n = 0; n < 30; ++n) tokens.push_back(first + static_cast<int>(rng.index(5)));
     corpus.add_tokens(tokens);
   }
