@@ -736,6 +736,9 @@ class Learner {
       if (touch.empty()) touch = m;
       end = m;
     }
+    // No frame's mask holds anything: the segmentation found nothing, so nothing is split and
+    // the push is judged by the looks (an empty touch mask would judge it moved nothing).
+    if (touch.empty()) return -2;
     for (int i = 0; i < n; ++i) {
       cv::bitwise_or(explained, seg.ml.frame_maps[static_cast<std::size_t>(i)] >= seg.threshold,
                      explained);
@@ -957,7 +960,8 @@ class Learner {
            .round = r,
            .phase = "learn",
            .blob = pushed,
-           .source = seg && seg->valid() ? std::optional<std::string>("episode") : std::nullopt,
+           .source = seg && seg->valid() && split_now >= -1 ? std::optional<std::string>("episode")
+                                                            : std::nullopt,
            .shares = motion.share,
            .moved_most = motion.most,
            .merged_with = merged >= 0 ? std::optional<int>(merged) : std::nullopt});

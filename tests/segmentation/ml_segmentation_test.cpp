@@ -239,16 +239,21 @@ TEST(MlSegmentation, ArmRemovalPerPixelKeepsTheObjectsSideNextToTheArm) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
+// The push of a square the arm's texture on a plain table (the carried pixels' tests).
+episode::Episode arm_like_square_on_plain_table(const TempDir& tmp) {
+  PushSpec spec;
+  spec.arm_like_square = true;
+  spec.plain_background = true;
+  return episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+}
+
 // Large regions (100 superpixels) straddle the square's outline at the touch: the arm wears the
 // square's texture, so regions shared with the arm carry its pre-touch record (eq 4.18) into the
 // square's side. Carried along the flow, the square's own pixels fall in the square's tracks
 // later on, and take their scores: recall rises; the arm stays out.
 TEST(MlSegmentation, CarriedTouchPixelsTakeTheTracksTheyFallIn) {
   TempDir tmp("carried");
-  PushSpec spec;
-  spec.arm_like_square = true;
-  spec.plain_background = true;
-  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  const auto ep = arm_like_square_on_plain_table(tmp);
   MlOptions o;
   o.region_count = 100;
   o.carried_pixels = false;
@@ -289,10 +294,7 @@ TEST(MlSegmentation, CarriedTouchPixelsTakeTheTracksTheyFallIn) {
 // recall stays above the regions' own.
 TEST(MlSegmentation, CarriedPixelsForwardBackwardCheck) {
   TempDir tmp("carried_fb");
-  PushSpec spec;
-  spec.arm_like_square = true;
-  spec.plain_background = true;
-  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  const auto ep = arm_like_square_on_plain_table(tmp);
   MlOptions o;
   o.region_count = 100;
   o.carried_pixels = false;

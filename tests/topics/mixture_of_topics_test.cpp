@@ -473,6 +473,18 @@ TEST(MixtureOfTopics, ExactUpdateBeatsResamplingOnAStationaryObject) {
   EXPECT_LT(forget.drift, exact.drift);  // forgetting follows an object that changes
 }
 
+// Two objects over two topics: a mostly topic 0 (Dir(6, 1.5)), b mostly topic 1 (Dir(1.5, 6)),
+// b three times as likely a priori.
+MotModel two_object_model() {
+  Eigen::VectorXd a(2), b(2);
+  a << 6.0, 1.5;
+  b << 1.5, 6.0;
+  MotModel m;
+  m.objects.push_back({"a", {}, Dirichlet(a), 1.0});
+  m.objects.push_back({"b", {}, Dirichlet(b), 3.0});
+  return m;
+}
+
 // Two topics over three words: beta_0 = (0.6, 0.2, 0.2), beta_1 = (0.2, 0.2, 0.6).
 LdaModel two_topic_lda() {
   LdaModel m;
@@ -534,12 +546,7 @@ TEST(MixtureOfTopics, WordsBoundIsBelowTheExactMarginalAndExactForSeparateTopics
 TEST(MixtureOfTopics, ClassifiesDocumentsByTheirWords) {
   // Two objects over two topics: a mostly topic 0, b mostly topic 1. Each document: theta from
   // its object's Dirichlet, 30 words from that mixture of the topics (LDA's generative process).
-  Eigen::VectorXd a(2), b(2);
-  a << 6.0, 1.5;
-  b << 1.5, 6.0;
-  MotModel m;
-  m.objects.push_back({"a", {}, Dirichlet(a), 1.0});
-  m.objects.push_back({"b", {}, Dirichlet(b), 3.0});
+  const MotModel m = two_object_model();
   const LdaModel lda = two_topic_lda();
   const Eigen::MatrixXd beta = lda.topic_word();
   core::Rng rng(5);
@@ -548,7 +555,7 @@ TEST(MixtureOfTopics, ClassifiesDocumentsByTheirWords) {
   std::uniform_real_distribution<double> u(0, 1);
   for (int d = 0; d < 200; ++d) {
     const int c = d % 2;
-    const Eigen::VectorXd theta = Dirichlet(c == 0 ? a : b).sample(rng);
+    const Eigen::VectorXd theta = m.objects[static_cast<std::size_t>(c)].dirichlet.sample(rng);
     std::vector<std::int32_t> tokens;
     for (int n = 0; n < 30; ++n) {
       const int k = u(rng.engine()) < theta(0) ? 0 : 1;
@@ -605,12 +612,7 @@ TEST(MixtureOfTopics, WordMultinomialsArePooledCountsPlusThePseudoCount) {
 // The pooled score (1 - w) (MoT by words - log p(c)) + w sum log p(word | c) + log p(c): known
 // answers by hand; w = 0 is classify_mot_words, w = 1 naive Bayes with the MoT's prior.
 TEST(MixtureOfTopics, PoolingWithWordMultinomialsWeighsTheTwoScores) {
-  Eigen::VectorXd a(2), b(2);
-  a << 6.0, 1.5;
-  b << 1.5, 6.0;
-  MotModel m;
-  m.objects.push_back({"a", {}, Dirichlet(a), 1.0});
-  m.objects.push_back({"b", {}, Dirichlet(b), 3.0});
+  const MotModel m = two_object_model();
   const LdaModel lda = two_topic_lda();
   Corpus corpus(3);
   corpus.add_document(std::vector<std::int32_t>{0, 2}, std::vector<std::int32_t>{4, 1});
