@@ -77,9 +77,9 @@ def pooled_table(runs, names, objects):
         return
     print("by the pooled words classifier (--pooled-score): held-out accuracy per weight w of the"
           " word multinomials; 'once' = c's multinomials counting each push once")
-    heads = [("once " if f["once"] else "w ") + f"{f['weight']:g}"
-             for f in next(r["pooled"] for rs in rungs for r in rs if r.get("pooled")
-                           and r["name"] == "c"), [])]
+    c_pooled = next((r["pooled"] for rs in rungs for r in rs
+                     if r.get("pooled") and r["name"] == "c"), [])
+    heads = [("once " if f["once"] else "w ") + f"{f['weight']:g}" for f in c_pooled]
     print(f"{'rung':9s} {'theta':>15s}  " + " ".join(f"{h:>15s}" for h in heads))
     for k, name in enumerate(names):
         rs = [x[k] for x in rungs]
