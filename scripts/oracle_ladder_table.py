@@ -61,10 +61,47 @@ def main():
     print(f"robot's view masks: {f('share_object'):.0f}% on the object mostly in view, "
           f"{f('share_arm'):.0f}% arm, {f('share_background'):.0f}% background, "
           f"{f('share_other'):.0f}% other objects")
+    pooled_table(runs, names, objects)
     for name in names:
         what = next(r["what"] for r in runs[0][1]["oracle_ladder"]["rungs"] if r["name"] == name)
         print(f"  {name}: {what}")
     print()
+
+
+def pooled_table(runs, names, objects):
+    """The rungs by the pooled words classifier (selfsupervise --pooled-score), when recorded:
+    per weight of the word multinomials, mean +- 95% t interval over the runs; the theta figure
+    beside it, and the paired difference at each weight."""
+    rungs = [g["oracle_ladder"]["rungs"] for _, g in runs]
+    if not any(r.get("pooled") for rs in rungs for r in rs):
+        return
+    print("by the pooled words classifier (--pooled-score): held-out accuracy per weight w of the"
+          " word multinomials; 'once' = c's multinomials counting each push once")
+    c_pooled = next((r["pooled"] for rs in rungs for r in rs
+                     if r.get("pooled") and r["name"] == "c"), [])
+    heads = [("once " if f["once"] else "w ") + f"{f['weight']:g}" for f in c_pooled]
+    print(f"{'rung':9s} {'theta':>15s}  " + " ".join(f"{h:>15s}" for h in heads))
+    for k, name in enumerate(names):
+        rs = [x[k] for x in rungs]
+        if not all(r.get("pooled") for r in rs):
+            continue
+        m, h = ci([r["accuracy"] for r in rs])
+        cells = [f"{100 * m:6.1f} +- {0 if math.isnan(h) else 100 * h:4.1f}"]
+        for j in range(len(rs[0]["pooled"])):
+            m, h = ci([r["pooled"][j]["accuracy"] for r in rs])
+            cells.append(f"{100 * m:6.1f} +- {0 if math.isnan(h) else 100 * h:4.1f}")
+        print(f"{name:9s} " + " ".join(f"{c:>15s}" for c in cells))
+    c = [x[-1] for x in rungs]
+    if all(r["name"] == "c" and r.get("pooled") for r in c):
+        print("c, paired difference pooled - theta (points, mean +- 95% t interval), per run:")
+        for j, f in enumerate(c[0]["pooled"]):
+            d = [r["pooled"][j]["accuracy"] - r["accuracy"] for r in c]
+            m, h = ci(d)
+            hs = "" if math.isnan(h) else f" +- {100 * h:4.1f}"
+            print(f"  {heads[j]:8s} {100 * m:+6.1f}{hs:9s}  " + " ".join(f"{100 * x:+4.0f}" for x in d)
+                  + "   per object (mean): " + " ".join(
+                      f"{o} {100 * sum(r['pooled'][j]['per_object'][i] for r in c) / len(c):4.1f}"
+                      for i, o in enumerate(objects)))
 
 
 if __name__ == "__main__":

@@ -101,6 +101,7 @@ class Learner {
     out_.views_per_class.assign(static_cast<std::size_t>(classes), 0);
     out_.stop_reasons.assign(static_cast<std::size_t>(classes), "");
     out_.views.theta.resize(0, model.num_topics());
+    out_.views.words = topics::Corpus(model.num_words());
     class_looks_.resize(static_cast<std::size_t>(classes));
     if (!log_path.empty()) log_file_.open(log_path);
   }
@@ -1000,6 +1001,7 @@ class Learner {
           v.labels.push_back(r);
           v.push.push_back(done);
           v.tokens.push_back(static_cast<int>(d.size()));
+          v.words.add_tokens(d);
         }
         out_.views_per_class[static_cast<std::size_t>(r)] += static_cast<int>(docs.size());
       }

@@ -29,7 +29,93 @@ core::Json held_out_confusion_json(const recognition::ConfusionMatrix& m, double
   return j;
 }
 
+Eigen::MatrixXd weighted_word_multinomials(const topics::Corpus& corpus,
+                                           std::span<const int> labels, int classes,
+                                           std::span<const double> weights) {
+  if (weights.empty()) return topics::fit_word_multinomials(corpus, labels, classes, 1.0);
+  const std::size_t n = corpus.num_documents();
+  if (labels.size() != n || weights.size() != n) {
+    throw Error(core::cat({"weighted_word_multinomials: ", std::to_string(n), " documents, ",
+                           std::to_string(labels.size()), " labels, ",
+                           std::to_string(weights.size()), " weights"}));
+  }
+  if (classes < 1) throw Error("weighted_word_multinomials: classes must be >= 1");
+  Eigen::MatrixXd counts = Eigen::MatrixXd::Ones(classes, corpus.num_words());  // add-one
+  for (std::size_t d = 0; d < n; ++d) {
+    if (!std::isfinite(weights[d]) || weights[d] < 0) {
+      throw Error(core::cat({"weighted_word_multinomials: weight of document ", std::to_string(d),
+                             " is negative or not finite"}));
+    }
+    if (labels[d] >= classes) {
+      throw Error(core::cat({"weighted_word_multinomials: label ", std::to_string(labels[d]),
+                             " of document ", std::to_string(d), " >= classes"}));
+    }
+    if (labels[d] < 0) continue;
+    const topics::DocumentView doc = corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i)
+      counts(labels[d], doc.words[i]) += weights[d] * doc.counts[i];
+  }
+  for (Eigen::Index c = 0; c < counts.rows(); ++c) {
+    counts.row(c) = (counts.row(c) / counts.row(c).sum()).array().log().matrix();
+  }
+  return counts;
+}
+
+std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push) {
+  if (labels.size() != push.size()) {
+    throw Error(core::cat({"counts_once: ", std::to_string(labels.size()), " labels but ",
+                           std::to_string(push.size()), " pushes"}));
+  }
+  std::map<std::pair<int, int>, int> views;
+  for (std::size_t i = 0; i < labels.size(); ++i) ++views[{labels[i], push[i]}];
+  std::vector<double> w(labels.size());
+  for (std::size_t i = 0; i < labels.size(); ++i) w[i] = 1.0 / views[{labels[i], push[i]}];
+  return w;
+}
+
 namespace {
+
+// The pooled words classifier's held-out figure: `model` (classes named by `right`'s test) with
+// the word multinomials `log_phi`, on the held-out words of each object (`held`, whose MoT-by-words
+// scores are `by_words`); `right(c, oi)`: class c is held-out object oi's.
+template <class Right>
+PooledFigure pooled_figure(const topics::MotModel& model, const Eigen::MatrixXd& log_phi,
+                           const std::vector<topics::Corpus>& held,
+                           const std::vector<topics::MotClassification>& by_words, double weight,
+                           bool once, const Right& right) {
+  PooledFigure f;
+  f.weight = weight;
+  f.once = once;
+  f.per_object.assign(held.size(), 0.0);
+  int ok_all = 0;
+  int n = 0;
+  for (std::size_t oi = 0; oi < held.size(); ++oi) {
+    const auto docs = static_cast<int>(held[oi].num_documents());
+    if (docs == 0) continue;
+    const topics::MotClassification cls =
+        topics::pool_word_multinomials(model, by_words[oi], log_phi, held[oi], weight);
+    int ok = 0;
+    for (const int c : cls.predicted) {
+      if (c >= 0 && right(c, oi)) ++ok;
+    }
+    f.per_object[oi] = static_cast<double>(ok) / docs;
+    ok_all += ok;
+    n += docs;
+  }
+  f.accuracy = n > 0 ? static_cast<double>(ok_all) / n : 0.0;
+  return f;
+}
+
+// MoT-by-words scores of each object's held-out words (empty for an object with none).
+std::vector<topics::MotClassification> by_words_of(const topics::MotModel& model,
+                                                   const topics::LdaModel& lda,
+                                                   const std::vector<topics::Corpus>& held) {
+  std::vector<topics::MotClassification> w(held.size());
+  for (std::size_t oi = 0; oi < held.size(); ++oi) {
+    if (held[oi].num_documents() > 0) w[oi] = topics::classify_mot_words(model, lda, held[oi]);
+  }
+  return w;
+}
 
 // The table point the held-out views put an object at: the middle of the scatter region.
 const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};
@@ -62,7 +148,10 @@ constexpr int kLadderRenders = 24;                          // a0, a0_table: vie
 LadderRung ladder_rung(std::string name, std::string what, const Eigen::MatrixXd& theta,
                        const std::vector<std::string>& labels,
                        const std::vector<std::string>& objects,
-                       const std::vector<Eigen::MatrixXd>& held, const topics::MotOptions& mot) {
+                       const std::vector<Eigen::MatrixXd>& held, const topics::MotOptions& mot,
+                       const topics::Corpus* words = nullptr,
+                       const std::vector<topics::Corpus>* held_words = nullptr,
+                       const topics::LdaModel* lda = nullptr) {
   LadderRung r;
   r.name = std::move(name);
   r.what = std::move(what);
@@ -107,6 +196,19 @@ LadderRung ladder_rung(std::string name, std::string what, const Eigen::MatrixXd
     n += static_cast<int>(held[oi].rows());
   }
   r.accuracy = fraction(right, n);
+  if (words != nullptr && held_words != nullptr && lda != nullptr) {
+    // The same views' words (rows of theta), the same classes: the pooled words classifier.
+    const Eigen::MatrixXd log_phi =
+        weighted_word_multinomials(*words, ids, static_cast<int>(classes.size()));
+    const auto by_words = by_words_of(model, *lda, *held_words);
+    const auto is_right = [&](int c, std::size_t oi) {
+      return classes[static_cast<std::size_t>(c)] == objects[oi];
+    };
+    r.pooled.emplace();
+    for (const double w : kPooledWeights) {
+      r.pooled->push_back(pooled_figure(model, log_phi, *held_words, by_words, w, false, is_right));
+    }
+  }
   return r;
 }
 
@@ -335,30 +437,30 @@ double yaw_coverage_deg(std::vector<double> yaws) {
 namespace {
 
 // The rungs (a0, a0_table, a, b, b_pure, c_named, c); see OracleLadder.
-OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant& attendant,
-                           const SelfSupervisionScore& s, const std::vector<std::string>& objects,
-                           const std::vector<Eigen::MatrixXd>& held, const topics::Corpus& a0,
-                           const std::vector<std::string>& a0_labels,
-                           const topics::Corpus& a0_table,
-                           const std::vector<std::string>& a0_table_labels,
-                           const topics::Corpus& alone,
-                           const std::vector<std::string>& alone_labels,
-                           const topics::LdaModel& model, const features::Vocabulary& vocabulary,
-                           const SelfSupervisionOptions& options) {
+OracleLadder oracle_ladder(
+    const Learning& learning, const GroundTruthAttendant& attendant, const SelfSupervisionScore& s,
+    const std::vector<std::string>& objects, const std::vector<Eigen::MatrixXd>& held,
+    const topics::Corpus& a0, const std::vector<std::string>& a0_labels,
+    const topics::Corpus& a0_table, const std::vector<std::string>& a0_table_labels,
+    const topics::Corpus& alone, const std::vector<std::string>& alone_labels,
+    const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+    const SelfSupervisionOptions& options, const std::vector<topics::Corpus>& held_words) {
   OracleLadder l;
+  const bool pooled = options.pooled_score;
   const auto theta_of = [&](const topics::Corpus& c) {
     return c.num_documents() > 0 ? recognition::document_theta(model, c).theta
                                  : Eigen::MatrixXd(0, model.num_topics());
   };
-  const auto rung = [&](std::string name, std::string what, const Eigen::MatrixXd& theta,
-                        const std::vector<std::string>& labels) {
-    return ladder_rung(std::move(name), std::move(what), theta, labels, objects, held, options.mot);
+  const auto rung = [&](std::string name, std::string what, const topics::Corpus& words,
+                        const Eigen::MatrixXd& theta, const std::vector<std::string>& labels) {
+    return ladder_rung(std::move(name), std::move(what), theta, labels, objects, held, options.mot,
+                       pooled ? &words : nullptr, &held_words, &model);
   };
-  l.rungs.push_back(
-      rung("a0", "renders alone at the centre, other yaws; true labels", theta_of(a0), a0_labels));
+  l.rungs.push_back(rung("a0", "renders alone at the centre, other yaws; true labels", a0,
+                         theta_of(a0), a0_labels));
   l.rungs.push_back(rung("a0_table",
                          "renders alone at random places and yaws of the table; true labels",
-                         theta_of(a0_table), a0_table_labels));
+                         a0_table, theta_of(a0_table), a0_table_labels));
   // (a): the pushed object's ground-truth mask in the frames the learner took its views from.
   const std::vector<ViewTruth>& views = attendant.views();
   topics::Corpus a_corpus(vocabulary.size());
@@ -388,11 +490,11 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
     }
   }
   l.rungs.push_back(rung("a", "the pushed object's true mask in the push frames; true labels",
-                         theta_of(a_corpus), a_labels));
-  l.rungs.push_back(rung("a_last", "(a), each push's last view only (the arm lifted)",
+                         a_corpus, theta_of(a_corpus), a_labels));
+  l.rungs.push_back(rung("a_last", "(a), each push's last view only (the arm lifted)", last_corpus,
                          theta_of(last_corpus), last_labels));
   l.rungs.push_back(rung("a_alone",
-                         "renders of the object alone in the pose of each push's last view",
+                         "renders of the object alone in the pose of each push's last view", alone,
                          theta_of(alone), alone_labels));
   // (b), (c): the robot's own views (its masks), labelled by the truth or by the robot.
   const Eigen::MatrixXd& theta = learning.views.theta;
@@ -426,15 +528,23 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
     l.share_background /= known;
     l.share_other /= known;
   }
-  LadderRung b = rung("b", "the robot's views (its masks); true labels (object mostly in view)",
-                      theta, b_labels);
+  // The robot's views' words, when they are the rows of theta (not in a ceiling-only run).
+  const bool have_words =
+      static_cast<Eigen::Index>(learning.views.words.num_documents()) == theta.rows();
+  const topics::Corpus& words = learning.views.words;
+  const auto robot_rung = [&](std::string name, std::string what,
+                              const std::vector<std::string>& labels) {
+    return ladder_rung(std::move(name), std::move(what), theta, labels, objects, held, options.mot,
+                       pooled && have_words ? &words : nullptr, &held_words, &model);
+  };
+  LadderRung b = robot_rung(
+      "b", "the robot's views (its masks); true labels (object mostly in view)", b_labels);
   b.label_purity = 1;
   l.rungs.push_back(b);
-  l.rungs.push_back(rung("b_pure", "(b), only views whose mask is at least half on the object",
-                         theta, pure_labels));
-  LadderRung cn =
-      rung("c_named", "the robot's views and labels, classes named after one object merged", theta,
-           named);
+  l.rungs.push_back(robot_rung(
+      "b_pure", "(b), only views whose mask is at least half on the object", pure_labels));
+  LadderRung cn = robot_rung(
+      "c_named", "the robot's views and labels, classes named after one object merged", named);
   cn.label_purity = known > 0 ? static_cast<double>(agree) / known : -1;
   l.rungs.push_back(cn);
   LadderRung c;
@@ -445,6 +555,7 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
   c.accuracy = s.mot_accuracy;
   c.label_purity = cn.label_purity;
   for (const ObjectScore& o : s.objects) c.per_object.push_back(o.mot_accuracy);
+  c.pooled = s.pooled;
   l.rungs.push_back(c);
   return l;
 }
@@ -563,6 +674,20 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   if (mot.num_classes() > 0) {
     mapping = recognition::map_topics(learning.views.theta, train_labels, mot.num_classes());
   }
+  // The pooled words classifier's multinomials from the training views' words (model classes).
+  const bool want_words = options.pooled_score || options.mot_classifier == MotClassifier::kPooled;
+  Eigen::MatrixXd log_phi;
+  if (want_words && mot.num_classes() > 0) {
+    if (static_cast<Eigen::Index>(learning.views.words.num_documents()) !=
+        learning.views.theta.rows()) {
+      throw Error(core::cat(
+          {"selfsupervise scoring: ", std::to_string(learning.views.words.num_documents()),
+           " view documents for ", std::to_string(learning.views.theta.rows()),
+           " training views"}));
+    }
+    log_phi = weighted_word_multinomials(learning.views.words, train_labels, mot.num_classes());
+  }
+  std::vector<topics::Corpus> held_words(objects.size(), topics::Corpus(model.num_words()));
   std::vector<int> truth_rows;
   std::vector<int> mot_pred;
   std::vector<int> argmax_pred;
@@ -662,6 +787,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
         alone_labels.push_back(os.name);
       }
     }
+    held_words[oi] = corpus;
     os.held_out = static_cast<int>(corpus.num_documents());
     if (os.held_out > 0) {
       const Eigen::MatrixXd theta = recognition::document_theta(model, corpus).theta;
@@ -669,7 +795,11 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     }
     if (os.held_out > 0 && mot.num_classes() > 0) {
       const Eigen::MatrixXd& theta = held[oi];
-      const topics::MotClassification cls = topics::classify_mot(mot, theta);
+      const topics::MotClassification cls =
+          options.mot_classifier == MotClassifier::kPooled
+              ? topics::pool_word_multinomials(mot, topics::classify_mot_words(mot, model, corpus),
+                                               log_phi, corpus, options.mot_word_weight)
+              : topics::classify_mot(mot, theta);
       std::vector<int> topic(static_cast<std::size_t>(theta.rows()));
       for (Eigen::Index d = 0; d < theta.rows(); ++d) {
         Eigen::Index k = 0;
@@ -708,10 +838,27 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   }
   s.mot_accuracy = fraction(right_mot, n);
   s.argmax_accuracy = fraction(right_argmax, n);
+  if (options.pooled_score && mot.num_classes() > 0) {
+    // c by the pooled words classifier at each weight, and with each push's views counted once.
+    const auto by_words = by_words_of(mot, model, held_words);
+    const auto is_right = [&](int m, std::size_t oi) {
+      return s.class_object[static_cast<std::size_t>(
+                 learning.model_class[static_cast<std::size_t>(m)])] == objects[oi];
+    };
+    s.pooled.emplace();
+    for (const double w : kPooledWeights) {
+      s.pooled->push_back(pooled_figure(mot, log_phi, held_words, by_words, w, false, is_right));
+    }
+    const Eigen::MatrixXd once =
+        weighted_word_multinomials(learning.views.words, train_labels, mot.num_classes(),
+                                   counts_once(learning.views.labels, learning.views.push));
+    s.pooled->push_back(
+        pooled_figure(mot, once, held_words, by_words, options.mot_word_weight, true, is_right));
+  }
   if (ladder) {
-    s.ladder =
-        oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels, a0_table_corpus,
-                      a0_table_labels, alone_corpus, alone_labels, model, vocabulary, options);
+    s.ladder = oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels,
+                             a0_table_corpus, a0_table_labels, alone_corpus, alone_labels, model,
+                             vocabulary, options, held_words);
   }
   return s;
 }

@@ -4,12 +4,14 @@
 // robot's first look) scored against the ground truth and on held-out views.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <vector>
 
 #include "../support/table_views.hpp"
 #include "../support/temp_dir.hpp"
@@ -1235,6 +1237,84 @@ TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
   EXPECT_LE(s.ladder->rungs[5].training_views, static_cast<int>(l.views.labels.size()));
   EXPECT_DOUBLE_EQ(s.ladder->rungs.back().accuracy, s.mot_accuracy);
   EXPECT_NO_THROW((void)core::fields_to_json(s).dump());
+  EXPECT_FALSE(s.pooled.has_value());  // pooled_score off: no pooled figures
+  // The pooled words classifier learns from the same views: one document a training view, of
+  // the view's own length.
+  ASSERT_EQ(l.views.words.num_documents(), l.views.labels.size());
+  for (std::size_t i = 0; i < l.views.labels.size(); ++i) {
+    EXPECT_EQ(l.views.words.document(i).tokens(), l.views.tokens[i]) << i;
+  }
+  // pooled_score: every rung and c scored by it too, on the same held-out views; the theta
+  // figures unchanged. mot_classifier kPooled at a weight gives the same figure as c's pooled one
+  // at that weight (weight 1: naive Bayes on the views' words with the MoT's prior).
+  o.pooled_score = true;
+  const SelfSupervisionScore p =
+      score_self_supervision(l, *attendant, {"book", "bottle"}, tiny->lda, tiny->vocabulary, o);
+  EXPECT_DOUBLE_EQ(p.mot_accuracy, s.mot_accuracy);
+  ASSERT_TRUE(p.pooled.has_value());
+  ASSERT_EQ(p.pooled->size(), kPooledWeights.size() + 1);
+  EXPECT_TRUE(p.pooled->back().once);
+  for (std::size_t k = 0; k < kPooledWeights.size(); ++k) {
+    EXPECT_DOUBLE_EQ((*p.pooled)[k].weight, kPooledWeights[k]);
+    EXPECT_FALSE((*p.pooled)[k].once);
+  }
+  for (const LadderRung& r : p.ladder->rungs) {
+    if (r.classes == 0) continue;
+    ASSERT_TRUE(r.pooled.has_value()) << r.name;
+    EXPECT_EQ(r.pooled->size(), r.name == "c" ? kPooledWeights.size() + 1 : kPooledWeights.size())
+        << r.name;
+    for (const PooledFigure& f : *r.pooled) {
+      EXPECT_GE(f.accuracy, 0.0) << r.name;
+      EXPECT_LE(f.accuracy, 1.0) << r.name;
+      EXPECT_EQ(f.per_object.size(), 2U) << r.name;
+    }
+  }
+  for (const std::size_t k : {std::size_t{1}, kPooledWeights.size() - 1}) {
+    SelfSupervisionOptions q = o;
+    q.pooled_score = false;
+    q.oracle_ladder = false;
+    q.mot_classifier = MotClassifier::kPooled;
+    q.mot_word_weight = kPooledWeights[k];
+    const SelfSupervisionScore by =
+        score_self_supervision(l, *attendant, {"book", "bottle"}, tiny->lda, tiny->vocabulary, q);
+    EXPECT_DOUBLE_EQ(by.mot_accuracy, (*p.pooled)[k].accuracy) << kPooledWeights[k];
+    for (std::size_t oi = 0; oi < 2; ++oi) {
+      EXPECT_DOUBLE_EQ(by.objects[oi].mot_accuracy, (*p.pooled)[k].per_object[oi]);
+    }
+  }
+}
+
+TEST(SelfSupervision, WeightedWordMultinomialsKnownAnswers) {
+  topics::Corpus c(3);
+  c.add_tokens(std::vector<std::int32_t>{0, 0, 1});  // class 0
+  c.add_tokens(std::vector<std::int32_t>{2});        // class 1
+  c.add_tokens(std::vector<std::int32_t>{1, 2});     // left out (-1)
+  const std::vector<int> labels{0, 1, -1};
+  // Unweighted: the same as topics::fit_word_multinomials (add-one).
+  const Eigen::MatrixXd plain = weighted_word_multinomials(c, labels, 2);
+  EXPECT_TRUE(plain.isApprox(topics::fit_word_multinomials(c, labels, 2, 1.0)));
+  EXPECT_NEAR(plain(0, 0), std::log(3.0 / 6.0), 1e-12);
+  // Document 0 at weight 0.5: counts 1 + 1, 1 + 0.5, 1 of 4.5.
+  const std::vector<double> w{0.5, 1, 1};
+  const Eigen::MatrixXd half = weighted_word_multinomials(c, labels, 2, w);
+  EXPECT_NEAR(half(0, 0), std::log(2.0 / 4.5), 1e-12);
+  EXPECT_NEAR(half(0, 1), std::log(1.5 / 4.5), 1e-12);
+  EXPECT_NEAR(half(0, 2), std::log(1.0 / 4.5), 1e-12);
+  EXPECT_NEAR(half(1, 2), std::log(2.0 / 4.0), 1e-12);
+  // Weights of 1: as unweighted.
+  EXPECT_TRUE(
+      weighted_word_multinomials(c, labels, 2, std::vector<double>{1, 1, 1}).isApprox(plain));
+  EXPECT_THROW((void)weighted_word_multinomials(c, labels, 2, std::vector<double>{1, -1, 1}),
+               Error);
+  EXPECT_THROW((void)weighted_word_multinomials(c, labels, 2, std::vector<double>{1, 1}), Error);
+  EXPECT_THROW((void)weighted_word_multinomials(c, std::vector<int>{0, 2, -1}, 2,
+                                                std::vector<double>{1, 1, 1}),
+               Error);
+  // Each push's views weigh 1 together: (class, push) groups of 3, 1 and 2 views.
+  const std::vector<double> once =
+      counts_once(std::vector<int>{0, 0, 0, 0, 1, 1}, std::vector<int>{0, 0, 0, 1, 0, 0});
+  EXPECT_EQ(once, (std::vector<double>{1.0 / 3, 1.0 / 3, 1.0 / 3, 1, 0.5, 0.5}));
+  EXPECT_THROW((void)counts_once(std::vector<int>{0}, std::vector<int>{0, 1}), Error);
 }
 
 }  // namespace

@@ -36,6 +36,7 @@
 #include "proprio/planning/push_planner.hpp"
 #include "proprio/robot/robot_interface.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
+#include "proprio/topics/corpus.hpp"
 #include "proprio/topics/lda_model.hpp"
 #include "proprio/topics/mixture_of_topics.hpp"
 
@@ -52,6 +53,18 @@ enum class ViewSource {
 };
 inline constexpr core::ChoiceNames<ViewSource, 2> kViewSourceNames{
     {{"motion", ViewSource::kMotion}, {"blob", ViewSource::kBlob}}};
+
+/// How the held-out views are classified by the learned Mixture of Topics (scoring only).
+enum class MotClassifier {
+  /// Eq 7.3 on each view's theta (the thesis's; the default).
+  kTheta,
+  /// The Mixture of Topics by words pooled with each class's word multinomial
+  /// (topics::pool_word_multinomials at SelfSupervisionOptions::mot_word_weight; the classifier
+  /// that met issue 17 on the scatter videos, docs/results/mot.md session 22).
+  kPooled,
+};
+inline constexpr core::ChoiceNames<MotClassifier, 2> kMotClassifierNames{
+    {{"theta", MotClassifier::kTheta}, {"pooled", MotClassifier::kPooled}}};
 
 /// How (d) chooses the next object to learn.
 enum class NextObjectRule {
@@ -215,6 +228,16 @@ struct SelfSupervisionOptions {
   /// objects in the push frames, on the robot's views with ground-truth labels. The pushes'
   /// episodes then carry ground-truth masks (never read by the learner).
   bool oracle_ladder = false;
+  /// Scoring: the classifier of the held-out figure (mot_accuracy, the confusion, the ladder's
+  /// c). The learner's own choices (d) use theta either way.
+  MotClassifier mot_classifier = MotClassifier::kTheta;
+  /// kPooled: the weight of the word multinomials (0: the MoT by words alone, 1: naive Bayes on
+  /// the words with the MoT's prior). 0.25 was chosen on the scatter videos' tuning seeds.
+  double mot_word_weight = 0.25;
+  /// Scoring: also score c and every ladder rung by the pooled words classifier at the weights
+  /// kPooledWeights, and c with each push's views counted once (SelfSupervisionScore::pooled),
+  /// on the same run as the theta figures (a paired comparison).
+  bool pooled_score = false;
   /// Scoring only: skip the robot and score the ladder's render rungs (a0, a0_table) alone, the
   /// ceiling the vocabulary and LDA model set, in seconds instead of a run's minutes (to tune
   /// them without a robot run; the other rungs are then empty, the run learns nothing).
@@ -310,6 +333,14 @@ struct SelfSupervisionOptions {
     v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
+    v.choice(self.mot_classifier,
+             {"mot_classifier",
+              "Held-out figure's classifier: theta (eq 7.3) or pooled (words + multinomials)"},
+             kMotClassifierNames);
+    v(self.mot_word_weight, {"mot_word_weight", "Pooled classifier: weight of the multinomials",
+                             core::between(0.0, 1.0)});
+    v(self.pooled_score,
+      {"pooled_score", "Also score c and the ladder by the pooled words classifier"});
     v(self.ceiling_only,
       {"ceiling_only", "No robot run: score only the ladder's renders (a0, a0_table)"});
     v(self.depth, {"depth",
@@ -378,6 +409,9 @@ struct TrainingViews {
   std::vector<int> labels;  ///< class of each view (0..C-1)
   std::vector<int> push;    ///< the push of its round that took it
   std::vector<int> tokens;  ///< its document's length
+  /// Each view's document (its words, the same rows as theta): the pooled words classifier's
+  /// training data (SelfSupervisionOptions::mot_classifier, pooled_score).
+  topics::Corpus words;
 };
 
 /// A plan as the decision log lists it (the path and its cost only when it was planned).

@@ -7,9 +7,11 @@
 // stepped through 360 degrees, classified by the learned Mixture of Topics and by argmax theta
 // (same LDA model, topics merged by the learner's own labels).
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -113,6 +115,38 @@ double yaw_coverage_deg(std::vector<double> yaws);
 /// The turn between two yaws (rad): |b - a| wrapped to 0..180, degrees.
 double turn_deg(double a, double b);
 
+/// A held-out figure by the pooled words classifier (SelfSupervisionOptions::pooled_score).
+struct PooledFigure {
+  double weight = 0;               ///< of the word multinomials (pool_word_multinomials)
+  bool once = false;               ///< the multinomials count each push's views once
+  double accuracy = 0;             ///< held-out views given their own object's class
+  std::vector<double> per_object;  ///< the same per held-out object
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.weight, {"weight", "Weight of the word multinomials"});
+    v(self.once, {"once", "Each push's views counted once in the multinomials"});
+    v(self.accuracy, {"accuracy", "Held-out views given their own object's class"});
+    v(self.per_object, {"per_object", "The same per held-out object"});
+  }
+};
+
+/// The weights SelfSupervisionOptions::pooled_score scores at.
+inline constexpr std::array<double, 5> kPooledWeights{0.0, 0.25, 0.5, 0.75, 1.0};
+
+/// Each class's log multinomial over the words, as topics::fit_word_multinomials (add-one),
+/// but each document's counts scaled by its weight (`weights` empty: 1 each, the same as
+/// fit_word_multinomials). counts_once() gives the weights that count each push once. Throws
+/// Error when labels or weights differ from the documents in number, a label is >= classes, or a
+/// weight is negative or not finite.
+Eigen::MatrixXd weighted_word_multinomials(const topics::Corpus& corpus,
+                                           std::span<const int> labels, int classes,
+                                           std::span<const double> weights = {});
+
+/// 1 / (views of its group) for each view, its group the pair (labels[i], push[i]): every push's
+/// views weigh 1 together. Throws Error when labels and push differ in number.
+std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push);
+
 /// Per object: what the learner made of it.
 struct ObjectScore {
   std::string name;
@@ -162,6 +196,8 @@ struct LadderRung {
   double accuracy = 0;             ///< held-out views given their own object's class
   std::vector<double> per_object;  ///< the same per held-out object (SelfSupervisionScore order)
   double label_purity = -1;        ///< b, c: views whose label is the object mostly in view
+  /// SelfSupervisionOptions::pooled_score: the same by the pooled words classifier.
+  std::optional<std::vector<PooledFigure>> pooled;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -172,6 +208,7 @@ struct LadderRung {
     v(self.accuracy, {"accuracy", "Held-out views given their own object's class"});
     v(self.per_object, {"per_object", "The same per held-out object"});
     v(self.label_purity, {"label_purity", "Views labelled with the object mostly in view (-1)"});
+    v(self.pooled, {"pooled", "The same by the pooled words classifier"});
   }
 };
 
@@ -219,6 +256,9 @@ struct SelfSupervisionScore {
   recognition::ConfusionMatrix argmax;  ///< the same by argmax theta
   double mot_accuracy = 0;              ///< held-out views classified as their object
   double argmax_accuracy = 0;
+  /// SelfSupervisionOptions::pooled_score: the held-out figure (c) by the pooled words
+  /// classifier at each of kPooledWeights, then at mot_word_weight with pushes counted once.
+  std::optional<std::vector<PooledFigure>> pooled;
   std::optional<OracleLadder> ladder;  ///< SelfSupervisionOptions::oracle_ladder
 
   template <class Self, class Visitor>
@@ -243,6 +283,7 @@ struct SelfSupervisionScore {
     v(held_out_confusion_json(self.argmax, self.argmax_accuracy),
       {"argmax_confusion", "The same by argmax theta"});
     v(self.objects, {"objects", "Per object"});
+    v(self.pooled, {"pooled", "Held-out figure by the pooled words classifier"});
     v(self.ladder, {"oracle_ladder", "Held-out accuracy by training views (ground truth)"});
   }
 };
