@@ -1463,7 +1463,11 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       const double f = half > 1 ? static_cast<double>(m) / (half - 1) : 0.5;
       const double a = (i % 2 == 0 ? 1.0 : -1.0) * (kViaLeast + f * (kViaMost - kViaLeast));
       const double r = kViaNear + (kViaFar - kViaNear) * 0.5 * (m % 3);
-      const Eigen::Vector2d t = o.centre + r * (Eigen::Rotation2Dd(a) * line);
+      // Even pairs round the object's centre (a way round from the start); odd pairs beside the
+      // target (its second leg comes in from another side).
+      const Eigen::Vector2d t = (m % 2 == 0)
+                                    ? Eigen::Vector2d(o.centre + r * (Eigen::Rotation2Dd(a) * line))
+                                    : Eigen::Vector2d(target - r * (Eigen::Rotation2Dd(a) * line));
       std::optional<Candidate> c = leg(t, approach);
       if (!c || !second_leg(*c, t)) continue;
       feasible.push_back(*c);

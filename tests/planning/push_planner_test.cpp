@@ -1202,16 +1202,18 @@ TEST(PushPlanner, AShortenedPushWhoseHandIsNowhereClearKeepsItsShortenedEnd) {
   std::vector<cv::KeyPoint> f;
   add_feature_square(f, cam, {0.20, 0.0}, 0.02);
   add_feature_square(f, cam, {0.20, 0.12}, 0.015);
-  add_feature_square(f, cam, {0.235, -0.02}, 0.015);
+  add_feature_square(f, cam, {0.25, -0.02}, 0.015);
   PlanningView view = make_planning_view(f, cam, {}, flat_options());
-  ASSERT_EQ(view.objects.size(), 3U);
+  ASSERT_EQ(view.objects.size(), 3U)
+      << view.objects[0].centre.transpose() << " / " << view.objects[1].centre.transpose();
   const int a = object_nearest(view, {0.20, 0.0});
   PutativeObject& obj = view.objects[static_cast<std::size_t>(a)];
   obj.height = 0.02;
-  PutativeObject& ahead = view.objects[static_cast<std::size_t>(object_nearest(view, {0.20, 0.12}))];
+  PutativeObject& ahead =
+      view.objects[static_cast<std::size_t>(object_nearest(view, {0.20, 0.12}))];
   ahead.height = 0.02;
   PutativeObject& beside =
-      view.objects[static_cast<std::size_t>(object_nearest(view, {0.235, -0.02}))];
+      view.objects[static_cast<std::size_t>(object_nearest(view, {0.25, -0.02}))];
   beside.height = 0.12;
   robot::ArmState state(arm());
   const robot::JointVector q0 = robot::JointVector::Zero();
@@ -1250,11 +1252,12 @@ TEST(PushPlanner, AShortenedPushWhoseHandIsNowhereClearKeepsItsShortenedEnd) {
 }
 
 TEST(PushPlanner, ABlockedLineIsGoneRoundThroughAFanOfWaypoints) {
-  // The object at (0.20, 0), its target 16 cm along +y, a neighbour on the line between: with
-  // sweep_margin alone the push stops short of it; with via_blocked it goes round through a
-  // waypoint, both legs clear, so that the next push reaches the target.
+  // The object at (0.20, 0), its target 16 cm along +y, a neighbour on the line 11 cm along:
+  // with sweep_margin alone the push stops short of it (8 cm short scores less than the margin's
+  // 1 cm of blocking); with via_blocked it goes round through a waypoint, both legs clear, so
+  // that the next push reaches the target.
   const geometry::Camera cam = down_camera();
-  const PlanningView view = object_and_neighbour(cam, {0.20, 0.07});
+  const PlanningView view = object_and_neighbour(cam, {0.20, 0.11});
   ASSERT_EQ(view.objects.size(), 2U);
   const int a = object_nearest(view, {0.20, 0.0});
   const auto& obj = view.objects[static_cast<std::size_t>(a)];
@@ -1267,7 +1270,7 @@ TEST(PushPlanner, ABlockedLineIsGoneRoundThroughAFanOfWaypoints) {
   const PushPlan short_push = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
   ASSERT_EQ(short_push.outcome, PlanOutcome::kPlanned) << short_push.message;
   EXPECT_FALSE(short_push.via);
-  EXPECT_GT(short_push.shortened, 0.05);
+  EXPECT_GT(short_push.shortened, 0.05) << short_push.message << " blocked " << short_push.blocked;
   o.via_blocked = 24;
   const PushPlan round = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
   ASSERT_EQ(round.outcome, PlanOutcome::kPlanned) << round.message;
