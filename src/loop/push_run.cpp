@@ -311,7 +311,10 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         popt.min_approach = std::min(kMostApproach, popt.min_approach + attempt * kRetryApproach);
         popt.max_approach = std::min(kMostApproach, popt.max_approach + attempt * kRetryApproach);
         // A push round a blocked line needs a push after it to reach the target.
-        if (k + 1 >= budget) popt.via_points = 0;
+        if (k + 1 >= budget) {
+          popt.via_points = 0;
+          popt.via_blocked = 0;
+        }
         planning::PushPlan plan = planning::plan_push(cur_view, cur_object, options.goal, aim,
                                                       region, arm, robot.joints(), popt);
         if (plan.outcome != planning::PlanOutcome::kPlanned && gain != 1.0) {

@@ -1349,6 +1349,33 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     return Candidate{
         kBlockedWeight * blocked + cost, cost, blocked, false, t, approach, push, 0.0, hand};
   };
+  // A waypoint path: the second leg, from the waypoint t on to the target, as the next plan would
+  // make it, its cost and shortfalls added to the first leg's c. false when it cannot be made.
+  const auto second_leg = [&](Candidate& c, const Eigen::Vector2d& t) {
+    std::vector<Eigen::Vector2d> moved = o.hull;
+    for (auto& h : moved) h += t - o.centre;
+    if ((target - t).norm() < options.least_push) return false;
+    robot::TablePush next = push_through_centre(moved, t, target, options.min_approach, tip, speed,
+                                                options.pusher_radius);
+    next.jaws = jaws;
+    if (!inside_region(next.start, region, options.table_margin) ||
+        !robot::reachable(arm, next.start, next.height, q_rest, ik) ||
+        !robot::reachable(arm, next.end, next.height, q_rest, ik)) {
+      ++plan.rejected_reach;
+      return false;
+    }
+    c.cost += path_cost(others, view.camera, next, moved, t, target, options.centre_height,
+                        options.path_step);
+    c.blocked +=
+        path_clearance(next, moved, t, target, obstacles, options.clearance,
+                       options.hand_clearance) +
+        sweep_lack(moved, t, target, obstacles, options.sweep_margin, options.sweep_touching,
+                   turn) +
+        hand_lack(next, next.jaws == robot::JawLine::kAlong, obstacle_objects, options.hand_margin);
+    c.via = true;
+    c.score = kBlockedWeight * c.blocked + c.cost + kViaCost;
+    return true;
+  };
   const int via_points = goal == PushGoal::kTarget ? options.via_points : 0;
   const Eigen::Vector2d line = (target - o.centre).normalized();
   for (int i = 0; i < options.candidates + via_points; ++i) {
@@ -1378,31 +1405,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     }
     std::optional<Candidate> c = leg(t, approach);
     if (!c) continue;
-    if (via) {
-      // The second leg, from the waypoint on to the target, as the next plan would make it.
-      std::vector<Eigen::Vector2d> moved = o.hull;
-      for (auto& h : moved) h += t - o.centre;
-      if ((target - t).norm() < options.least_push) continue;
-      robot::TablePush next = push_through_centre(moved, t, target, options.min_approach, tip,
-                                                  speed, options.pusher_radius);
-      next.jaws = jaws;
-      if (!inside_region(next.start, region, options.table_margin) ||
-          !robot::reachable(arm, next.start, next.height, q_rest, ik) ||
-          !robot::reachable(arm, next.end, next.height, q_rest, ik)) {
-        ++plan.rejected_reach;
-        continue;
-      }
-      c->cost += path_cost(others, view.camera, next, moved, t, target, options.centre_height,
-                           options.path_step);
-      c->blocked += path_clearance(next, moved, t, target, obstacles, options.clearance,
-                                   options.hand_clearance) +
-                    sweep_lack(moved, t, target, obstacles, options.sweep_margin,
-                               options.sweep_touching, turn) +
-                    hand_lack(next, next.jaws == robot::JawLine::kAlong, obstacle_objects,
-                              options.hand_margin);
-      c->via = true;
-      c->score = kBlockedWeight * c->blocked + c->cost + kViaCost;
-    }
+    if (via && !second_leg(*c, t)) continue;
     if (!via && goal == PushGoal::kTarget && c->blocked > 0 &&
         ((options.sweep_margin > 0 &&
           sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching,
@@ -1412,26 +1415,63 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       // hand_margin, the hand) is first clear.
       const double full = (t - o.centre).norm();
       const Eigen::Vector2d n = (t - o.centre) / full;
+      const auto shorten = [&](double d) {
+        if (std::optional<Candidate> s = leg(o.centre + d * n, approach)) {
+          s->shortened = full - d;
+          s->score += kShortCost * (full - d);
+          feasible.push_back(*s);
+        }
+      };
+      // hand_keep_short: the first point clear of the sweep, kept when none is clear of both.
+      std::optional<double> sweep_clear;
+      bool found = false;
       for (double d = full - kShortStep; d >= options.least_push; d -= kShortStep) {
         const Eigen::Vector2d ts = o.centre + d * n;
         if (sweep_lack(o.hull, o.centre, ts, obstacles, options.sweep_margin,
                        options.sweep_touching) > 0)
           continue;
+        if (!sweep_clear) sweep_clear = d;
         if (options.hand_margin > 0) {
           robot::TablePush p = push_through_centre(o.hull, o.centre, ts, approach, tip, speed,
                                                    options.pusher_radius);
           p.jaws = jaws;
           if (p.length() >= 0.005 && hand_fit(p) > 0) continue;
         }
-        if (std::optional<Candidate> s = leg(ts, approach)) {
-          s->shortened = full - d;
-          s->score += kShortCost * (full - d);
-          feasible.push_back(*s);
-        }
+        shorten(d);
+        found = true;
         break;
+      }
+      if (!found && sweep_clear && options.hand_keep_short && options.sweep_margin > 0 &&
+          sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin, options.sweep_touching,
+                     turn) > 0) {
+        shorten(*sweep_clear);
       }
     }
     feasible.push_back(*c);
+  }
+  // via_blocked: no direct push reaches the target clear, so waypoints in a fixed fan round the
+  // line, each scored with both legs.
+  const bool direct_clear = std::any_of(feasible.begin(), feasible.end(), [](const Candidate& c) {
+    return !c.via && c.blocked <= 0 && c.shortened <= 0;
+  });
+  if (goal == PushGoal::kTarget && options.via_blocked > 0 && !direct_clear) {
+    const int half = (options.via_blocked + 1) / 2;
+    const double approach = 0.5 * (options.min_approach + options.max_approach);
+    for (int i = 0; i < options.via_blocked; ++i) {
+      ++plan.sampled;
+      const int m = i / 2;
+      const double f = half > 1 ? static_cast<double>(m) / (half - 1) : 0.5;
+      const double a = (i % 2 == 0 ? 1.0 : -1.0) * (kViaLeast + f * (kViaMost - kViaLeast));
+      const double r = kViaNear + (kViaFar - kViaNear) * 0.5 * (m % 3);
+      // Even pairs round the object's centre (a way round from the start); odd pairs beside the
+      // target (its second leg comes in from another side).
+      const Eigen::Vector2d t = (m % 2 == 0)
+                                    ? Eigen::Vector2d(o.centre + r * (Eigen::Rotation2Dd(a) * line))
+                                    : Eigen::Vector2d(target - r * (Eigen::Rotation2Dd(a) * line));
+      std::optional<Candidate> c = leg(t, approach);
+      if (!c || !second_leg(*c, t)) continue;
+      feasible.push_back(*c);
+    }
   }
   std::stable_sort(feasible.begin(), feasible.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score < b.score; });

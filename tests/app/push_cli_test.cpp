@@ -94,7 +94,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --hand-margin -0.01", "--hand-margin"},
            {"evaluate push --hand-jaws=maybe", "--hand-jaws"},
            {"push --hand-raise 0.05", "--hand-raise"},
-           {"evaluate push --hand-raise -0.005", "--hand-raise"}}) {
+           {"evaluate push --hand-raise -0.005", "--hand-raise"},
+           {"evaluate push --hand-keep-short=maybe", "--hand-keep-short"},
+           {"push --via-blocked 201", "--via-blocked"},
+           {"evaluate push --via-blocked -1", "--via-blocked"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

@@ -1194,5 +1194,137 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   EXPECT_THROW(bad.validate(), Error);
 }
 
+TEST(PushPlanner, AShortenedPushWhoseHandIsNowhereClearKeepsItsShortenedEnd) {
+  // The object at (0.20, 0), its target 16 cm along +y; a low neighbour 12 cm along the line
+  // (the object at its target would lie on it: the sweep stops the push short) and a tall one
+  // behind the object, which the hand meets at the start of every push along this line.
+  const geometry::Camera cam = down_camera();
+  std::vector<cv::KeyPoint> f;
+  add_feature_square(f, cam, {0.20, 0.0}, 0.02);
+  add_feature_square(f, cam, {0.20, 0.12}, 0.015);
+  add_feature_square(f, cam, {0.20, -0.065}, 0.015);
+  PlanningView view = make_planning_view(f, cam, {}, flat_options());
+  ASSERT_EQ(view.objects.size(), 3U)
+      << view.objects[0].centre.transpose() << " / " << view.objects[1].centre.transpose();
+  const int a = object_nearest(view, {0.20, 0.0});
+  PutativeObject& obj = view.objects[static_cast<std::size_t>(a)];
+  obj.height = 0.02;
+  PutativeObject& ahead =
+      view.objects[static_cast<std::size_t>(object_nearest(view, {0.20, 0.12}))];
+  ahead.height = 0.02;
+  PutativeObject& beside =
+      view.objects[static_cast<std::size_t>(object_nearest(view, {0.20, -0.065}))];
+  beside.height = 0.12;
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target(0.20, 0.16);
+  PushPlanOptions o = flat_options();
+  o.target_spread = 0;  // every candidate on the line
+  o.sweep_margin = 0.01;
+  // The sweep alone: stopped short of the low neighbour.
+  const PushPlan sweep = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(sweep.outcome, PlanOutcome::kPlanned) << sweep.message;
+  EXPECT_GT(sweep.shortened, 0.04);
+  // With the hand too (session 22): no point of the line is clear of both, so the full push is
+  // made, into the low neighbour.
+  o.hand_margin = 0.01;
+  const PushPlan full = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(full.outcome, PlanOutcome::kPlanned) << full.message;
+  EXPECT_EQ(full.shortened, 0.0);
+  EXPECT_GT(full.blocked, 0.0);
+  EXPECT_GT(hand_lack(full.push, false, {&beside}, 0.01), 0.0);
+  // hand_keep_short: the sweep's shortened end is kept, its hand's shortfall counted.
+  o.hand_keep_short = true;
+  const PushPlan kept = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(kept.outcome, PlanOutcome::kPlanned) << kept.message;
+  EXPECT_NEAR(kept.shortened, sweep.shortened, 1e-9);
+  EXPECT_NEAR((kept.target - sweep.target).norm(), 0.0, 1e-9);
+  EXPECT_GT(kept.blocked, 0.0);
+  EXPECT_LT(kept.blocked, full.blocked);
+  EXPECT_NEAR(kept.blocked, hand_lack(kept.push, false, {&beside}, 0.01), 1e-9);
+  // Without the sweep margin there is nothing to keep: the option changes nothing.
+  o.sweep_margin = 0;
+  const PushPlan no_sweep = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  o.hand_keep_short = false;
+  const PushPlan no_sweep_off = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  EXPECT_NEAR((no_sweep.target - no_sweep_off.target).norm(), 0.0, 1e-12);
+  EXPECT_EQ(no_sweep.shortened, no_sweep_off.shortened);
+}
+
+TEST(PushPlanner, ABlockedLineIsGoneRoundThroughAFanOfWaypoints) {
+  // The object at (0.20, 0), its target 16 cm along +y, a neighbour on the line 11 cm along:
+  // with sweep_margin alone the push stops short of it (8 cm short scores less than the margin's
+  // 1 cm of blocking); with via_blocked it goes round through a waypoint, both legs clear, so
+  // that the next push reaches the target.
+  const geometry::Camera cam = down_camera();
+  const PlanningView view = object_and_neighbour(cam, {0.20, 0.11});
+  ASSERT_EQ(view.objects.size(), 2U);
+  const int a = object_nearest(view, {0.20, 0.0});
+  const auto& obj = view.objects[static_cast<std::size_t>(a)];
+  const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target(0.20, 0.16);
+  PushPlanOptions o = flat_options();
+  o.sweep_margin = 0.01;
+  const PushPlan short_push = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(short_push.outcome, PlanOutcome::kPlanned) << short_push.message;
+  EXPECT_FALSE(short_push.via);
+  EXPECT_GT(short_push.shortened, 0.05) << short_push.message << " blocked " << short_push.blocked;
+  o.via_blocked = 24;
+  const PushPlan round = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(round.outcome, PlanOutcome::kPlanned) << round.message;
+  EXPECT_TRUE(round.via);
+  EXPECT_EQ(round.blocked, 0.0);
+  EXPECT_EQ(round.shortened, 0.0);
+  EXPECT_NE(round.message.find("waypoint"), std::string::npos) << round.message;
+  // The waypoint is one of the fan's: 20-100 degrees off the line and 4-10 cm from the centre,
+  // or beside the target (the second leg 20-100 degrees off the line, 4-10 cm long). Here the
+  // neighbour lies too near the target for a way round from the start: beside the target.
+  const Eigen::Vector2d line = (target - obj.centre).normalized();
+  const Eigen::Vector2d w = target - round.target;
+  const double off = std::acos(w.normalized().dot(line));
+  EXPECT_GE(off, 20.0 * std::numbers::pi / 180.0 - 1e-9);
+  EXPECT_LE(off, 100.0 * std::numbers::pi / 180.0 + 1e-9);
+  EXPECT_GE(w.norm(), 0.04 - 1e-9);
+  EXPECT_LE(w.norm(), 0.10 + 1e-9);
+  // Both legs' swept regions keep the margin from the neighbour.
+  std::vector<Eigen::Vector2d> moved = obj.hull;
+  for (auto& h : moved) h += round.target - obj.centre;
+  EXPECT_GE(polygon_distance(sweep_region(obj.hull, obj.centre, round.target), other.hull),
+            o.sweep_margin - 1e-6);
+  EXPECT_GE(polygon_distance(sweep_region(moved, round.target, target), other.hull),
+            o.sweep_margin - 1e-6);
+  // The fan is fixed: another plan seed picks the same waypoint.
+  o.seed = 7;
+  const PushPlan again = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(again.outcome, PlanOutcome::kPlanned) << again.message;
+  EXPECT_NEAR((again.target - round.target).norm(), 0.0, 1e-12);
+  // A clear line: no waypoint, the same plan as without the option.
+  const PlanningView clear = object_and_neighbour(cam, {0.30, 0.08});
+  const int b = object_nearest(clear, {0.20, 0.0});
+  const PushPlan direct = plan_push(clear, b, PushGoal::kTarget, target, {}, state, q0, o);
+  o.via_blocked = 0;
+  const PushPlan direct_off = plan_push(clear, b, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
+  EXPECT_FALSE(direct.via);
+  EXPECT_NEAR((direct.target - direct_off.target).norm(), 0.0, 1e-12);
+  EXPECT_EQ(direct.sampled, direct_off.sampled);
+  // A neighbour at the target (no way round reaches it clear): still stopped short.
+  const PlanningView at = object_and_neighbour(cam, {0.20, 0.12});
+  const int c = object_nearest(at, {0.20, 0.0});
+  o.via_blocked = 24;
+  const PushPlan stuck = plan_push(at, c, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(stuck.outcome, PlanOutcome::kPlanned) << stuck.message;
+  EXPECT_FALSE(stuck.via);
+  EXPECT_GT(stuck.shortened, 0.04);
+  // Bounds.
+  PushPlanOptions bad = flat_options();
+  bad.via_blocked = -1;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.via_blocked = 201;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 }  // namespace
 }  // namespace proprio::planning

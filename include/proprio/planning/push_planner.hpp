@@ -183,6 +183,19 @@ struct PushPlanOptions {
   /// pushed object's measured height), so that the hand passes over a lower neighbour; the least
   /// blocked, then lowest, kept. 0 (the default): the tip as push_tip_height says.
   double hand_raise = 0;
+  /// With hand_margin: a push whose sweep-shortened end (sweep_margin) is not clear for the
+  /// hand at any point of its line keeps the first point clear of the sweep, its hand's
+  /// shortfall counted as blocking (session 22's check then made the full, blocked push
+  /// instead). false (the default): session 22's behaviour.
+  bool hand_keep_short = false;
+  /// kTarget: when no direct push (nor its shortened form) reaches the target clear, this many
+  /// waypoints in a fixed fan round the line (turned 20-100 degrees off it either way, 4-10 cm
+  /// from p_c) are also tried; each is scored with both legs' shortfalls (clearance,
+  /// sweep_margin, hand_margin) and taken when its score beats the best direct push's (a
+  /// waypoint costs as much as 3 mm of blocking or 3 cm of shortening: it spends a push). 0 (the
+  /// default): none (via_points samples waypoints at random for every push instead).
+  /// loop::push_once sets it to 0 on its last push.
+  int via_blocked = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -288,6 +301,15 @@ struct PushPlanOptions {
        "With hand_margin: a blocked push is also tried with the tip raised by up to this, m (0: "
        "off)",
        core::between(0, 0.03)});
+    v(self.hand_keep_short,
+      {"hand_keep_short",
+       "With hand_margin: a sweep-shortened push whose line is nowhere clear for the hand keeps "
+       "its shortened end"});
+    v(self.via_blocked,
+      {"via_blocked",
+       "Target goal: waypoints in a fixed fan tried when no direct push reaches the target "
+       "clear (0: off)",
+       core::between(0, 200)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
