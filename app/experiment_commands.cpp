@@ -125,7 +125,7 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
 struct ClutterArgs {
   loop::ClutterExperimentOptions options;
   std::string segmentation = "dense";
-  std::string mot_classifier = "theta";
+  std::string mot_classifier = "pooled";
   bool quiet = false;
 };
 

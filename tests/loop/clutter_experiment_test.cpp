@@ -44,7 +44,7 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.sweep_margin, 0.0);
   EXPECT_EQ(o.depth_split, 0.0);
   EXPECT_EQ(o.erode, 0);
-  EXPECT_EQ(o.mot_classifier, ClutterMotClassifier::kTheta);  // eq 7.3, as before session 23
+  EXPECT_EQ(o.mot_classifier, ClutterMotClassifier::kPooled);  // session 23 (theta: eq 7.3)
   EXPECT_EQ(o.mot_word_weight, 0.25);
   EXPECT_THROW(o.validate(), Error);  // no cache
   o.cache = "somewhere";
@@ -126,6 +126,7 @@ TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
   o.held_out = 6;
   o.attempts = 3;
   o.erode = 1;
+  o.mot_classifier = ClutterMotClassifier::kTheta;  // compared with words and pooled below
   o.cache = temp.path() / "cache";
   o.json = temp.path() / "clutter.json";
   o.progress = false;
@@ -255,6 +256,10 @@ TEST(ClutterExperiment, QuickRunScoresEveryCellAndReusesItsCache) {
     EXPECT_EQ(c.supervised_confusion.total(), c.unsupervised_confusion.total());
     EXPECT_LE(c.supervised_confusion.total(), 2 * 6);
     EXPECT_FALSE(c.cross_trial.has_value());  // one trial: no trial to leave out
+    // The default classifier (pooled) has theta's scores beside.
+    ASSERT_TRUE(c.theta.has_value());
+    EXPECT_GE(c.theta->supervised, 0.0);
+    EXPECT_LE(c.theta->supervised, 1.0);
   }
   EXPECT_TRUE(fs::exists(o.figure));
   const core::Json j = core::read_json(o.json);
