@@ -125,12 +125,16 @@ void run_scatter(ScatterArgs& a, const Invocation& inv) {
 struct ClutterArgs {
   loop::ClutterExperimentOptions options;
   std::string segmentation = "dense";
+  std::string mot_classifier = "pooled";
   bool quiet = false;
 };
 
 void run_clutter(ClutterArgs& a, const Invocation& inv) {
   a.options.segmentation =
       a.segmentation == "sparse" ? loop::PushSegmentation::kSparse : loop::PushSegmentation::kDense;
+  for (const auto& [name, value] : loop::kClutterMotClassifierNames) {
+    if (name == a.mot_classifier) a.options.mot_classifier = value;
+  }
   a.options.progress = !a.quiet;
   const loop::ClutterExperimentResult r = loop::run_clutter_experiment(
       a.options, inv.provenance(a.options.seeds.empty() ? 1 : a.options.seeds.front()));
@@ -195,6 +199,15 @@ void add_clutter_options(CLI::App* cmd, ClutterArgs& a) {
   cmd->add_option("--erode", o.erode,
                   "Erode the view masks by this many px (after the arm is cut out, before "
                   "--dilate); 0: none")
+      ->capture_default_str();
+  cmd->add_option("--mot-classifier", a.mot_classifier,
+                  "The supervised MoT classifies a view by its theta (eq 7.3), its words (the "
+                  "MoT's bound on log p(w|c)) or its words pooled with each object's word "
+                  "multinomial; other than theta, theta's scores are printed beside")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"theta", "words", "pooled"}));
+  cmd->add_option("--mot-word-weight", o.mot_word_weight,
+                  "pooled: the word multinomials' weight in [0, 1]")
       ->capture_default_str();
   cmd->add_flag("--quick", o.quick,
                 "Small and fast: first seed, 1 trial of 3 pushes, 240x180, fractions 0.5,0.7, "

@@ -10,7 +10,9 @@ classified by a supervised MoT fitted to the other trials') and the other seeds'
 planned push, why it was not executed (its last outcome) and every failed attempt's cause; per
 object the supervised accuracy at T >= 15 (mean over
 seeds x fractions x T); the pushes per object; the issue's target (T >= 15: mean >= 90%, worst
->= 80%).
+>= 80%). Session 23: with --mot-classifier other than theta, the classifier beside theta (eq 7.3)
+on the same models at T >= 15: per seed, the paired difference with its 95% interval over the
+seeds, per object.
 """
 import json
 import statistics
@@ -132,3 +134,68 @@ for which in ("best", "worst"):
     for r, counts in zip(m["rows"], m["counts"]):
         n = sum(counts) + m["unclassified"][m["rows"].index(r)]
         print(f"| {r} | " + " | ".join(f"{100 * x / n:.0f}" if n else "-" for x in counts) + " |")
+
+
+# Session 23: the classifier (--mot-classifier) against theta on the same models, T >= 15.
+paired = [c for c in cells if c["topics"] >= 15 and c.get("theta")]
+if paired:
+    name = o.get("mot_classifier", "theta")
+    if name == "pooled":
+        name += f" (w {o.get('mot_word_weight')})"
+    print()
+    print(f"T >= 15: supervised MoT by {name} against theta (eq 7.3), the same vocabulary, LDA and "
+          "MoT (per seed: mean over fractions x T; difference: mean +- 95% interval over seeds)")
+    print()
+    print("| score | classifier | theta | difference | classifier per seed | theta per seed |")
+    print("|---|---|---|---|---|---|")
+    for label, key in (("renders", "supervised"), ("pushes: other trial", "cross_trial"),
+                       ("pushes: other seeds", "cross_seed")):
+        a = defaultdict(list)
+        b = defaultdict(list)
+        for c in paired:
+            if c.get(key) is None or c["theta"].get(key) is None:
+                continue
+            a[c["seed"]].append(c[key])
+            b[c["seed"]].append(c["theta"][key])
+        if not a:
+            continue
+        sa = [statistics.mean(a[k]) for k in sorted(a)]
+        sb = [statistics.mean(b[k]) for k in sorted(a)]
+        diff = [x - y for x, y in zip(sa, sb)]
+        print(f"| {label} | {100 * statistics.mean(sa):.1f}{interval(sa)} | "
+              f"{100 * statistics.mean(sb):.1f}{interval(sb)} | "
+              f"{100 * statistics.mean(diff):+.1f}{interval(diff)} | "
+              f"{' '.join(f'{100 * x:.1f}' for x in sa)} | {' '.join(f'{100 * x:.1f}' for x in sb)} |")
+    vals = [c["supervised"] for c in paired]
+    tvals = [c["theta"]["supervised"] for c in paired]
+    print()
+    print(f"renders, {len(vals)} cells: classifier mean {100 * statistics.mean(vals):.1f}%, worst "
+          f"{100 * min(vals):.1f}%; theta mean {100 * statistics.mean(tvals):.1f}%, worst "
+          f"{100 * min(tvals):.1f}% (target: mean >= 90%, worst >= 80%)")
+    print()
+    print("| object | renders: classifier | theta | per seed (classifier / theta) | "
+          "other seeds' pushes: classifier | theta |")
+    print("|---|---|---|---|---|---|")
+    for i, obj in enumerate(objects):
+        a = defaultdict(list)
+        b = defaultdict(list)
+        xa = defaultdict(list)
+        xb = defaultdict(list)
+        for c in paired:
+            a[c["seed"]].append(c["supervised_per_object"][i])
+            b[c["seed"]].append(c["theta"]["supervised_per_object"][i])
+            if c.get("cross_seed_per_object") and c["theta"].get("cross_seed_per_object"):
+                xa[c["seed"]].append(c["cross_seed_per_object"][i])
+                xb[c["seed"]].append(c["theta"]["cross_seed_per_object"][i])
+        sa = [statistics.mean(a[k]) for k in sorted(a)]
+        sb = [statistics.mean(b[k]) for k in sorted(a)]
+        per = " ".join(f"{100 * x:.0f}/{100 * y:.0f}" for x, y in zip(sa, sb))
+        if xa:
+            xsa = [statistics.mean(xa[k]) for k in sorted(xa)]
+            xsb = [statistics.mean(xb[k]) for k in sorted(xa)]
+            xcol = (f"{100 * statistics.mean(xsa):.1f}{interval(xsa)} | "
+                    f"{100 * statistics.mean(xsb):.1f}{interval(xsb)}")
+        else:
+            xcol = "- | -"
+        print(f"| {obj} | {100 * statistics.mean(sa):.1f}{interval(sa)} | "
+              f"{100 * statistics.mean(sb):.1f}{interval(sb)} | {per} | {xcol} |")

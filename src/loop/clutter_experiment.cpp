@@ -541,8 +541,13 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
       std::vector<int> sup_pred;
       std::vector<int> uns_pred;
       const bool every = std::all_of(per.begin(), per.end(), [](int n) { return n >= 2; });
+      const bool by_theta = o.mot_classifier == ClutterMotClassifier::kTheta;
       if (!vocabulary || !every) {
         cell.note = "an object has fewer than 2 training views: no model";
+        if (!by_theta) {
+          cell.theta = ClutterCell::Theta{};
+          cell.theta->supervised_per_object.assign(static_cast<std::size_t>(C), 0.0);
+        }
         // every held-out render counts as wrong (unclassified)
         for (int c = 0; c < C; ++c) {
           for (std::size_t v = 0; v < d.held[static_cast<std::size_t>(c)].size(); ++v) {
@@ -570,7 +575,43 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
         const Eigen::MatrixXd held_theta =
             truth.empty() ? Eigen::MatrixXd() : recognition::document_theta(lda, held).theta;
         const topics::MotFit sup = topics::fit_mot(theta, labels, objects, o.mot);
-        if (!truth.empty()) sup_pred = topics::classify_mot(sup.model, held_theta).predicted;
+        // The supervised MoT's classifier (o.mot_classifier): docs' theta or their words;
+        // log_phi: the objects' word multinomials (pooled only).
+        const auto classify = [&](const topics::MotModel& model, const Eigen::MatrixXd& log_phi,
+                                  const Eigen::MatrixXd& docs_theta,
+                                  const topics::Corpus& docs) -> std::vector<int> {
+          switch (o.mot_classifier) {
+            case ClutterMotClassifier::kWords:
+              return topics::classify_mot_words(model, lda, docs).predicted;
+            case ClutterMotClassifier::kPooled:
+              return topics::pool_word_multinomials(model,
+                                                    topics::classify_mot_words(model, lda, docs),
+                                                    log_phi, docs, o.mot_word_weight)
+                  .predicted;
+            case ClutterMotClassifier::kTheta:
+              break;
+          }
+          return topics::classify_mot(model, docs_theta).predicted;
+        };
+        const auto word_multinomials = [&](const std::vector<int>& with_labels) {
+          return o.mot_classifier == ClutterMotClassifier::kPooled
+                     ? topics::fit_word_multinomials(corpus, with_labels, C)
+                     : Eigen::MatrixXd();
+        };
+        const Eigen::MatrixXd log_phi = word_multinomials(labels);
+        if (!by_theta) {
+          cell.theta = ClutterCell::Theta{};
+          cell.theta->supervised_per_object.assign(static_cast<std::size_t>(C), 0.0);
+        }
+        if (!truth.empty()) {
+          sup_pred = classify(sup.model, log_phi, held_theta, held);
+          if (!by_theta) {
+            const auto [acc, per_object] =
+                label_accuracy(truth, topics::classify_mot(sup.model, held_theta).predicted, C);
+            cell.theta->supervised = acc;
+            cell.theta->supervised_per_object = per_object;
+          }
+        }
         // Held-out pushes: the other seeds' push views through this seed's vocabulary, LDA
         // and supervised MoT.
         if (all.size() > 1) {
@@ -585,10 +626,16 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
           }
           if (!other_labels.empty()) {
             const Eigen::MatrixXd other_theta = recognition::document_theta(lda, other).theta;
-            const auto [acc, per_object] = label_accuracy(
-                other_labels, topics::classify_mot(sup.model, other_theta).predicted, C);
+            const auto [acc, per_object] =
+                label_accuracy(other_labels, classify(sup.model, log_phi, other_theta, other), C);
             cell.cross_seed = acc;
             cell.cross_seed_per_object = per_object;
+            if (!by_theta) {
+              const auto [t_acc, t_per_object] = label_accuracy(
+                  other_labels, topics::classify_mot(sup.model, other_theta).predicted, C);
+              cell.theta->cross_seed = t_acc;
+              cell.theta->cross_seed_per_object = t_per_object;
+            }
           }
         }
         // Diagnostic: each trial's views classified by a supervised MoT fitted to the other
@@ -596,14 +643,15 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
         {
           const auto& trial_of = d.trials[fi];
           int right = 0;
+          int theta_right = 0;
           int n = 0;
           for (int held_trial = 0; held_trial < o.trials && o.trials > 1; ++held_trial) {
             std::vector<int> train_labels(labels.size(), -1);
-            std::vector<Eigen::Index> test;
+            std::vector<std::size_t> test;
             std::vector<int> train_per(static_cast<std::size_t>(C), 0);
             for (std::size_t v = 0; v < labels.size(); ++v) {
               if (trial_of[v] == held_trial) {
-                test.push_back(static_cast<Eigen::Index>(v));
+                test.push_back(v);
               } else {
                 train_labels[v] = labels[v];
                 ++train_per[static_cast<std::size_t>(labels[v])];
@@ -616,15 +664,22 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
             const topics::MotFit fold = topics::fit_mot(theta, train_labels, objects, o.mot);
             Eigen::MatrixXd test_theta(static_cast<Eigen::Index>(test.size()), theta.cols());
             for (std::size_t i = 0; i < test.size(); ++i) {
-              test_theta.row(static_cast<Eigen::Index>(i)) = theta.row(test[i]);
+              test_theta.row(static_cast<Eigen::Index>(i)) =
+                  theta.row(static_cast<Eigen::Index>(test[i]));
             }
-            const auto pred = topics::classify_mot(fold.model, test_theta).predicted;
+            const auto pred = classify(fold.model, word_multinomials(train_labels), test_theta,
+                                       corpus.subset(test));
+            const auto theta_pred = by_theta
+                                        ? std::vector<int>()
+                                        : topics::classify_mot(fold.model, test_theta).predicted;
             for (std::size_t i = 0; i < test.size(); ++i) {
-              right += pred[i] == labels[static_cast<std::size_t>(test[i])] ? 1 : 0;
+              right += pred[i] == labels[test[i]] ? 1 : 0;
+              if (!by_theta) theta_right += theta_pred[i] == labels[test[i]] ? 1 : 0;
               ++n;
             }
           }
           if (n > 0) cell.cross_trial = share(right, n);
+          if (n > 0 && !by_theta) cell.theta->cross_trial = share(theta_right, n);
         }
         try {
           topics::MotOptions uo = o.mot;
@@ -676,6 +731,8 @@ struct TopicSummary {
   double seed_sd = 0;  // sd over seeds of the mean over fractions (supervised)
   // Held-out pushes (supervised): mean over the cells that have them; nullopt: none.
   std::optional<double> cross_trial, cross_seed;
+  // With a classifier other than theta: theta's (eq 7.3) means over the same cells.
+  std::optional<double> theta_mean, theta_cross_trial, theta_cross_seed;
 };
 
 std::vector<TopicSummary> summarise(const std::vector<ClutterCell>& cells,
@@ -690,6 +747,9 @@ std::vector<TopicSummary> summarise(const std::vector<ClutterCell>& cells,
     std::map<std::uint64_t, std::pair<double, int>> sup_s;
     std::pair<double, int> ct{0, 0};
     std::pair<double, int> cs{0, 0};
+    std::pair<double, int> th{0, 0};
+    std::pair<double, int> th_ct{0, 0};
+    std::pair<double, int> th_cs{0, 0};
     for (const auto& c : cells) {
       if (c.topics != t) continue;
       ++n;
@@ -713,7 +773,22 @@ std::vector<TopicSummary> summarise(const std::vector<ClutterCell>& cells,
         cs.first += *c.cross_seed;
         ++cs.second;
       }
+      if (c.theta) {
+        th.first += c.theta->supervised;
+        ++th.second;
+        if (c.theta->cross_trial) {
+          th_ct.first += *c.theta->cross_trial;
+          ++th_ct.second;
+        }
+        if (c.theta->cross_seed) {
+          th_cs.first += *c.theta->cross_seed;
+          ++th_cs.second;
+        }
+      }
     }
+    if (th.second > 0) s.theta_mean = th.first / th.second;
+    if (th_ct.second > 0) s.theta_cross_trial = th_ct.first / th_ct.second;
+    if (th_cs.second > 0) s.theta_cross_seed = th_cs.first / th_cs.second;
     if (ct.second > 0) s.cross_trial = ct.first / ct.second;
     if (cs.second > 0) s.cross_seed = cs.first / cs.second;
     if (n == 0) continue;
@@ -840,6 +915,14 @@ void draw_figure(const std::vector<TopicSummary>& s, const fs::path& file) {
   if (!cv::imwrite(file.string(), img)) throw Error(file.string() + ": cannot write the figure");
 }
 
+core::Json theta_json(const ClutterCell::Theta& t) {
+  return core::Json{{"supervised", t.supervised},
+                    {"supervised_per_object", t.supervised_per_object},
+                    {"cross_trial", t.cross_trial ? core::Json(*t.cross_trial) : core::Json()},
+                    {"cross_seed", t.cross_seed ? core::Json(*t.cross_seed) : core::Json()},
+                    {"cross_seed_per_object", t.cross_seed_per_object}};
+}
+
 core::Json cell_json(const ClutterCell& c) {
   return core::Json{{"seed", c.seed},
                     {"fraction", c.fraction},
@@ -855,6 +938,7 @@ core::Json cell_json(const ClutterCell& c) {
                     {"cross_trial", c.cross_trial ? core::Json(*c.cross_trial) : core::Json()},
                     {"cross_seed", c.cross_seed ? core::Json(*c.cross_seed) : core::Json()},
                     {"cross_seed_per_object", c.cross_seed_per_object},
+                    {"theta", c.theta ? theta_json(*c.theta) : core::Json()},
                     {"note", c.note}};
 }
 
@@ -933,6 +1017,8 @@ void ClutterExperimentOptions::validate() const {
   need(std::isfinite(depth_split) && depth_split >= 0 && depth_split <= 0.2,
        "--depth-split: must be in [0, 0.2]");
   need(erode >= 0 && erode <= 50, "--erode: must be in [0, 50]");
+  need(std::isfinite(mot_word_weight) && mot_word_weight >= 0 && mot_word_weight <= 1,
+       "--mot-word-weight: must be in [0, 1]");
   need(background == "plain" || background == "photo" || background == "moving",
        "--background: must be plain, photo or moving");
   need(!cache.empty(), "--cache: required");
@@ -969,6 +1055,19 @@ std::string ClutterExperimentResult::brief() const {
         t.topics, 100 * t.mean, 100 * t.worst, 100 * t.best, 100 * t.band_low, 100 * t.band_high,
         100 * t.u_mean, 100 * t.u_worst, 100 * t.u_best, 100 * t.u_band_low, 100 * t.u_band_high,
         pct(t.cross_trial).c_str(), pct(t.cross_seed).c_str());
+  }
+  if (options.mot_classifier != ClutterMotClassifier::kTheta) {
+    b += core::printf_string(
+        "supervised MoT by %s%s; the same models by theta (eq 7.3), paired:\n"
+        "   T  renders  other trial  other seed\n",
+        std::string(core::choice_name(options.mot_classifier, kClutterMotClassifierNames)).c_str(),
+        options.mot_classifier == ClutterMotClassifier::kPooled
+            ? core::printf_string(" (word weight %.2f)", options.mot_word_weight).c_str()
+            : "");
+    for (const auto& t : s) {
+      b += core::printf_string("  %2d   %s       %s      %s\n", t.topics, pct(t.theta_mean).c_str(),
+                               pct(t.theta_cross_trial).c_str(), pct(t.theta_cross_seed).c_str());
+    }
   }
   const auto [best, worst] = best_worst(cells, options);
   const auto m_best = summed(cells, best.first, best.second, true);
@@ -1153,6 +1252,9 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
       {"sweep_margin", o.sweep_margin},
       {"depth_split", o.depth_split},
       {"erode", o.erode},
+      {"mot_classifier",
+       std::string(core::choice_name(o.mot_classifier, kClutterMotClassifierNames))},
+      {"mot_word_weight", o.mot_word_weight},
       {"quick", o.quick},
       {"record_only", o.record_only}};
   core::Json pushes = core::Json::array();
@@ -1176,20 +1278,29 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
   if (!r.cells.empty()) {
     core::Json summary = core::Json::array();
     for (const auto& s : summarise(r.cells, o)) {
-      summary.push_back({{"topics", s.topics},
-                         {"supervised",
-                          {{"mean", s.mean},
-                           {"worst", s.worst},
-                           {"best", s.best},
-                           {"band", {s.band_low, s.band_high}},
-                           {"seed_sd", s.seed_sd}}},
-                         {"unsupervised",
-                          {{"mean", s.u_mean},
-                           {"worst", s.u_worst},
-                           {"best", s.u_best},
-                           {"band", {s.u_band_low, s.u_band_high}}}},
-                         {"cross_trial", s.cross_trial ? core::Json(*s.cross_trial) : core::Json()},
-                         {"cross_seed", s.cross_seed ? core::Json(*s.cross_seed) : core::Json()}});
+      summary.push_back(
+          {{"topics", s.topics},
+           {"supervised",
+            {{"mean", s.mean},
+             {"worst", s.worst},
+             {"best", s.best},
+             {"band", {s.band_low, s.band_high}},
+             {"seed_sd", s.seed_sd}}},
+           {"unsupervised",
+            {{"mean", s.u_mean},
+             {"worst", s.u_worst},
+             {"best", s.u_best},
+             {"band", {s.u_band_low, s.u_band_high}}}},
+           {"cross_trial", s.cross_trial ? core::Json(*s.cross_trial) : core::Json()},
+           {"cross_seed", s.cross_seed ? core::Json(*s.cross_seed) : core::Json()},
+           {"theta",
+            s.theta_mean
+                ? core::Json{{"supervised", *s.theta_mean},
+                             {"cross_trial", s.theta_cross_trial ? core::Json(*s.theta_cross_trial)
+                                                                 : core::Json()},
+                             {"cross_seed",
+                              s.theta_cross_seed ? core::Json(*s.theta_cross_seed) : core::Json()}}
+                : core::Json()}});
     }
     doc["summary"] = summary;
     const auto [best, worst] = best_worst(r.cells, o);

@@ -45,6 +45,9 @@ TEST(ClutterCli, BadInputIsOneLineAndExit2) {
       {cache + " --depth-split abc", "--depth-split"},
       {cache + " --erode -1", "--erode"},
       {cache + " --erode 51", "--erode"},
+      {cache + " --mot-classifier fancy", "--mot-classifier"},
+      {cache + " --mot-word-weight -0.1", "--mot-word-weight"},
+      {cache + " --mot-word-weight 1.5", "--mot-word-weight"},
       {"", "--cache"},
   };
   for (const auto& c : cases) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -43,6 +44,8 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.sweep_margin, 0.0);
   EXPECT_EQ(o.depth_split, 0.0);
   EXPECT_EQ(o.erode, 0);
+  EXPECT_EQ(o.mot_classifier, ClutterMotClassifier::kPooled);  // session 23 (theta: eq 7.3)
+  EXPECT_EQ(o.mot_word_weight, 0.25);
   EXPECT_THROW(o.validate(), Error);  // no cache
   o.cache = "somewhere";
   EXPECT_NO_THROW(o.validate());
@@ -94,6 +97,14 @@ TEST(ClutterExperiment, BadOptionsNameTheFlag) {
             std::string::npos);
   EXPECT_NE(message([](auto& o) { o.erode = -1; }).find("--erode"), std::string::npos);
   EXPECT_NE(message([](auto& o) { o.erode = 51; }).find("--erode"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.mot_word_weight = -0.1; }).find("--mot-word-weight"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.mot_word_weight = 1.5; }).find("--mot-word-weight"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) {
+              o.mot_word_weight = std::numeric_limits<double>::infinity();
+            }).find("--mot-word-weight"),
+            std::string::npos);
 }
 
 // Session 22: more planning attempts per push, eroded view masks, and the score on held-out
@@ -115,6 +126,7 @@ TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
   o.held_out = 6;
   o.attempts = 3;
   o.erode = 1;
+  o.mot_classifier = ClutterMotClassifier::kTheta;  // compared with words and pooled below
   o.cache = temp.path() / "cache";
   o.json = temp.path() / "clutter.json";
   o.progress = false;
@@ -169,6 +181,49 @@ TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
   for (std::size_t i = 0; i < r.cells.size(); ++i) {
     EXPECT_GE(plain.cells[i].views, r.cells[i].views);
   }
+  // Session 23: the supervised MoT by words, and pooled with the word multinomials, swept again
+  // from the cached views (nothing segmented again). Each cell also holds theta's scores, which
+  // are the theta run's (the same vocabulary, LDA and MoT); pooled at weight 0 is by words.
+  ASSERT_TRUE(std::all_of(plain.cells.begin(), plain.cells.end(),
+                          [](const ClutterCell& c) { return !c.theta.has_value(); }));
+  o.json = temp.path() / "clutter_words.json";
+  o.mot_classifier = ClutterMotClassifier::kWords;
+  const ClutterExperimentResult words = run_clutter_experiment(o, core::Provenance{});
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  o.json = temp.path() / "clutter_pooled.json";
+  o.mot_classifier = ClutterMotClassifier::kPooled;
+  o.mot_word_weight = 0;
+  const ClutterExperimentResult pooled0 = run_clutter_experiment(o, core::Provenance{});
+  o.mot_word_weight = 1;
+  const ClutterExperimentResult pooled1 = run_clutter_experiment(o, core::Provenance{});
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  ASSERT_EQ(words.cells.size(), plain.cells.size());
+  ASSERT_EQ(pooled0.cells.size(), plain.cells.size());
+  ASSERT_EQ(pooled1.cells.size(), plain.cells.size());
+  bool any_model = false;
+  for (std::size_t i = 0; i < plain.cells.size(); ++i) {
+    const ClutterCell& t = plain.cells[i];
+    for (const ClutterCell* c : {&words.cells[i], &pooled0.cells[i], &pooled1.cells[i]}) {
+      ASSERT_TRUE(c->theta.has_value());
+      EXPECT_EQ(c->views, t.views);
+      EXPECT_DOUBLE_EQ(c->theta->supervised, t.supervised);
+      EXPECT_EQ(c->theta->supervised_per_object, t.supervised_per_object);
+      EXPECT_EQ(c->theta->cross_seed.has_value(), t.cross_seed.has_value());
+      if (t.cross_seed) {
+        EXPECT_DOUBLE_EQ(*c->theta->cross_seed, *t.cross_seed);
+      }
+      EXPECT_EQ(c->theta->cross_seed_per_object, t.cross_seed_per_object);
+      EXPECT_EQ(c->cross_seed.has_value(), t.cross_seed.has_value());
+      EXPECT_GE(c->supervised, 0.0);
+      EXPECT_LE(c->supervised, 1.0);
+    }
+    EXPECT_DOUBLE_EQ(pooled0.cells[i].supervised, words.cells[i].supervised);
+    EXPECT_EQ(pooled0.cells[i].supervised_confusion.counts,
+              words.cells[i].supervised_confusion.counts);
+    EXPECT_EQ(pooled0.cells[i].cross_seed_per_object, words.cells[i].cross_seed_per_object);
+    any_model = any_model || t.note.empty();
+  }
+  EXPECT_TRUE(any_model);
   // The cache holds attempts = 3: a run of the session-21 harness (1) on it is refused.
   o.overwrite = false;
   o.json.clear();
@@ -201,6 +256,10 @@ TEST(ClutterExperiment, QuickRunScoresEveryCellAndReusesItsCache) {
     EXPECT_EQ(c.supervised_confusion.total(), c.unsupervised_confusion.total());
     EXPECT_LE(c.supervised_confusion.total(), 2 * 6);
     EXPECT_FALSE(c.cross_trial.has_value());  // one trial: no trial to leave out
+    // The default classifier (pooled) has theta's scores beside.
+    ASSERT_TRUE(c.theta.has_value());
+    EXPECT_GE(c.theta->supervised, 0.0);
+    EXPECT_LE(c.theta->supervised, 1.0);
   }
   EXPECT_TRUE(fs::exists(o.figure));
   const core::Json j = core::read_json(o.json);
