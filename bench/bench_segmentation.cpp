@@ -98,6 +98,15 @@ void BM_MlNoCarriedPixels(benchmark::State& state) {
 }
 BENCHMARK(BM_MlNoCarriedPixels)->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// The baseline's touch cut as evidence (MlOptions::touch_fm): a colour frame kept per frame
+// before the touch and one Fitzpatrick & Metta cut at it.
+void BM_MlTouchFm(benchmark::State& state) {
+  seg::MlOptions o;
+  o.touch_fm = 1.0;
+  run_ml(state, o);
+}
+BENCHMARK(BM_MlTouchFm)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 // Arm removal per pixel at the touch (MlOptions::pixel_arm_removal): one grey-level difference
 // a frame before the touch, a Sobel at the touch, one warp and two box filters after it.
 void BM_MlPixelArmRemoval(benchmark::State& state) {
