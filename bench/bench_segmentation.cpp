@@ -89,6 +89,24 @@ void run_ml(benchmark::State& state, seg::MlOptions o) {
 void BM_MlTranslationDefault(benchmark::State& state) { run_ml(state, seg::MlOptions{}); }
 BENCHMARK(BM_MlTranslationDefault)->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// The default without the first-touch pixels carried along the flow (MlOptions::carried_pixels,
+// on by default since session 22): what carrying them (and their forward-backward check) costs.
+void BM_MlNoCarriedPixels(benchmark::State& state) {
+  seg::MlOptions o;
+  o.carried_pixels = false;
+  run_ml(state, o);
+}
+BENCHMARK(BM_MlNoCarriedPixels)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The baseline's touch cut as evidence (MlOptions::touch_fm): a colour frame kept per frame
+// before the touch and one Fitzpatrick & Metta cut at it.
+void BM_MlTouchFm(benchmark::State& state) {
+  seg::MlOptions o;
+  o.touch_fm = 1.0;
+  run_ml(state, o);
+}
+BENCHMARK(BM_MlTouchFm)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 // Arm removal per pixel at the touch (MlOptions::pixel_arm_removal): one grey-level difference
 // a frame before the touch, a Sobel at the touch, one warp and two box filters after it.
 void BM_MlPixelArmRemoval(benchmark::State& state) {

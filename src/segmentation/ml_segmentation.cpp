@@ -14,6 +14,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/geometry/camera.hpp"
+#include "proprio/segmentation/fm_baseline.hpp"
 #include "proprio/segmentation/motion_models.hpp"
 #include "proprio/segmentation/optical_flow.hpp"
 #include "proprio/segmentation/region_smoothing.hpp"
@@ -133,6 +134,13 @@ void MlOptions::validate() const {
           core::cat({"MlOptions.carried_match must be >= 0, got ", core::num(carried_match)}));
   require(std::isfinite(carried_fb) && carried_fb >= 0,
           core::cat({"MlOptions.carried_fb must be >= 0, got ", core::num(carried_fb)}));
+  require(std::isfinite(touch_fm) && touch_fm >= 0 && touch_fm <= 1,
+          core::cat({"MlOptions.touch_fm must be in [0, 1], got ", core::num(touch_fm)}));
+  require(std::isfinite(touch_fm_fraction) && touch_fm_fraction > 0 && touch_fm_fraction <= 1,
+          core::cat({"MlOptions.touch_fm_fraction must be in (0, 1], got ",
+                     core::num(touch_fm_fraction)}));
+  require(std::isfinite(carried_colour) && carried_colour >= 0,
+          core::cat({"MlOptions.carried_colour must be >= 0, got ", core::num(carried_colour)}));
   require(smoothing_keep_evidence >= 0,
           core::cat({"MlOptions.smoothing_keep_evidence must be >= 0, got ",
                      core::num(smoothing_keep_evidence)}));
@@ -339,7 +347,12 @@ struct MlSegmenter::Impl {
   // which the next sample is taken.
   cv::Mat2f carry_at, carry_motion;
   std::vector<cv::Mat1i> carry_ids;
-  cv::Mat1f carry_look;  // the first-touch frame's grey levels, 5x5 means
+  cv::Mat1f carry_look;    // the first-touch frame's grey levels, 5x5 means
+  cv::Mat3b carry_colour;  // the first-touch frame's colours (carried_colour)
+  // The baseline's evidence at the touch (touch_fm): the last two frames' colours before the
+  // touch, and the baseline's cut of the touch frame (processing size; empty: none).
+  cv::Mat3b fm_before2, fm_before;
+  cv::Mat1b touch_fm;
   double carry_next = 0.0;
   bool carrying = false;
   // Depth variant with depth_smoothing: the depth of every frame whose labels are kept.
@@ -627,7 +640,7 @@ struct MlSegmenter::Impl {
   }
 
   // Carried touch pixels: every pixel of the first-touch frame starts where it is, still.
-  void start_carrying(const cv::Mat1b& gray) {
+  void start_carrying(const cv::Mat1b& gray, const cv::Mat3b& colour) {
     carry_at.create(proc_size);
     for (int y = 0; y < carry_at.rows; ++y) {
       cv::Vec2f* a = carry_at[y];
@@ -638,6 +651,7 @@ struct MlSegmenter::Impl {
     carry_ids.clear();
     carry_next = opt.carried_step;
     cv::boxFilter(gray, carry_look, CV_32F, cv::Size(5, 5));
+    if (opt.carried_colour > 0) colour.copyTo(carry_colour);
     carrying = true;
   }
 
@@ -703,7 +717,11 @@ struct MlSegmenter::Impl {
     cv::Mat1f look;
     cv::boxFilter(gray, look, CV_32F, cv::Size(5, 5));
     const auto match = static_cast<float>(opt.carried_match);
+    const bool by_colour = opt.carried_colour > 0 && carry_colour.size() == ids.size();
+    const auto colour_sq = static_cast<float>(opt.carried_colour * opt.carried_colour);
     int last = -1;
+    int colour_id = -1;  // the track whose colour is in track_colour
+    Eigen::Vector3f track_colour = Eigen::Vector3f::Zero();
     for (int y = 0; y < ids.rows; ++y) {
       const cv::Vec2f* a = carry_at[y];
       int* o = ids[y];
@@ -715,6 +733,17 @@ struct MlSegmenter::Impl {
         // along the object's edge) says nothing.
         if (match > 0 && std::abs(look(qy, qx) - carry_look(y, x)) > match) continue;
         const int id = lab(qy, qx);
+        if (by_colour) {
+          // ... nor does one whose touch colour is unlike the track it stands in.
+          if (id != colour_id) {
+            const auto tr = tracks.find(id);
+            track_colour = tr != tracks.end() ? tr->second.colour : Eigen::Vector3f::Zero();
+            colour_id = id;
+          }
+          const cv::Vec3b& c = carry_colour(y, x);
+          const Eigen::Vector3f d = Eigen::Vector3f(c[0], c[1], c[2]) - track_colour;
+          if (d.squaredNorm() > colour_sq) continue;
+        }
         o[x] = id;
         if (id != last) {
           Track& t = tracks[id];
@@ -1090,6 +1119,31 @@ struct MlSegmenter::Impl {
         }
       }
     }
+    if (frame == *first_touch && touch_fm.size() == m.size()) {
+      // The baseline's evidence (touch_fm): a region mostly inside its cut scores at least
+      // touch_fm x the map's peak.
+      double peak_d = 0;
+      cv::minMaxLoc(m, nullptr, &peak_d);
+      const auto floor = static_cast<float>(opt.touch_fm * peak_d);
+      std::vector<int> in(ids.size(), 0), all(ids.size(), 0);
+      for (int y = 0; y < m.rows; ++y) {
+        const int* l = compact[y];
+        const uchar* f = touch_fm[y];
+        for (int x = 0; x < m.cols; ++x) {
+          ++all[static_cast<size_t>(l[x])];
+          if (f[x]) ++in[static_cast<size_t>(l[x])];
+        }
+      }
+      std::vector<char> raise(ids.size(), 0);
+      for (size_t k = 0; k < ids.size(); ++k)
+        raise[k] = all[k] > 0 && in[k] >= opt.touch_fm_fraction * all[k] ? 1 : 0;
+      for (int y = 0; y < m.rows; ++y) {
+        const int* l = compact[y];
+        float* o = m[y];
+        for (int x = 0; x < m.cols; ++x)
+          if (raise[static_cast<size_t>(l[x])]) o[x] = std::max(o[x], floor);
+      }
+    }
     if (frame == *first_touch && touch_judged && touch_still.size() == m.size()) {
       // Arm removal per pixel (pixel_arm_removal): a pixel that did not move before the touch
       // is not the arm, whatever the rest of its region did.
@@ -1331,6 +1385,24 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
     }
   }
   if (pixel_arm_removal && m.first_touch && !first_touch_now) m.judge_still_pixels(gray, ee_image);
+  if (m.opt.touch_fm > 0 && !m.opt.use_depth && !m.first_touch) {
+    if (first_touch_now && !m.fm_before2.empty()) {
+      FmFrames f;
+      f.touch_frame = m.frames;
+      f.before2 = m.fm_before2;
+      f.before = m.fm_before;
+      f.touch = colour;
+      if (ee_image) f.ee = *ee_image / m.inv_scale;
+      m.touch_fm = segment_fm(f, FmOptions{}).mask;
+    }
+    if (first_touch_now) {
+      m.fm_before2.release();
+      m.fm_before.release();
+    } else {
+      m.fm_before2 = m.fm_before;
+      m.fm_before = cv::Mat3b(colour).clone();
+    }
+  }
   if (first_touch_now) m.first_touch = m.frames;
   if (m.frames == 0 || !ee_image || !m.prev_ee || !m.interval_ee) {
     m.start_interval(ee_image, gray);  // arm unknown: the open interval carries no evidence
@@ -1390,7 +1462,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
   }
   if (m.opt.carried_pixels && (!m.opt.use_depth || m.opt.carried_with_depth)) {
     if (first_touch_now) {
-      m.start_carrying(gray);
+      m.start_carrying(gray, colour);
     } else if (m.carrying && !back_flow.empty()) {
       cv::Mat2f fwd_flow;
       if (m.opt.carried_fb > 0) fwd_flow = m.flow.compute(m.prev_gray, gray);
@@ -1407,6 +1479,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
         m.carry_at.release();
         m.carry_motion.release();
         m.carry_look.release();
+        m.carry_colour.release();
       }
     }
   }

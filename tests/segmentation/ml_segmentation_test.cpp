@@ -13,6 +13,7 @@
 #include "../support/error_of.hpp"
 #include "ml_test_support.hpp"
 #include "proprio/core/error.hpp"
+#include "proprio/segmentation/fm_baseline.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
 #include "proprio/segmentation/motion_models.hpp"
 #include "proprio/segmentation/optical_flow.hpp"
@@ -335,6 +336,102 @@ TEST(MlSegmentation, CarriedPixelsForwardBackwardCheck) {
   EXPECT_THROW(bad.validate(), Error);
   bad.carried_fb = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(bad.validate(), Error);
+}
+
+// carried_colour: a huge tolerance drops no sample (the map equals the unchecked one exactly);
+// a tight one drops samples and so changes the map; validate() rejects a negative or NaN value.
+TEST(MlSegmentation, CarriedPixelsColourCheck) {
+  TempDir tmp("carried_colour");
+  PushSpec spec;
+  spec.arm_like_square = true;
+  spec.plain_background = true;
+  const auto ep = episode::read_episode(write_push_episode(tmp.path() / "ep", spec));
+  MlOptions o;
+  o.region_count = 100;
+  const MlResult plain = segment_ml(ep, o);
+  o.carried_colour = 1e6;
+  const MlResult loose = segment_ml(ep, o);
+  EXPECT_EQ(cv::norm(loose.map, plain.map, cv::NORM_INF), 0.0);
+  o.carried_colour = 2;
+  const MlResult tight = segment_ml(ep, o);
+  expect_valid_map(tight.map);
+  const cv::Mat1b truth = truth_at(ep, tight.scored_frame);
+  std::printf("carried colour: J %.3f -> %.3f (off -> 2)\n", jaccard(plain.mask, truth),
+              jaccard(tight.mask, truth));
+  EXPECT_GT(cv::norm(tight.map, plain.map, cv::NORM_INF), 0.0);
+  MlOptions bad;
+  bad.carried_colour = -1;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.carried_colour = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(bad.validate(), Error);
+}
+
+// touch_fm: every region at least half inside the baseline's touch cut scores at least the
+// map's peak (touch_fm 1), so without the priors the map is nowhere lower, its peak is kept, the
+// mask only grows and it holds most of the baseline's cut; validate() rejects values out of
+// range. The touch is flagged one frame after the contact, so that the square moves in the
+// touch frame pair, as the simulator's objects do (at the contact itself the baseline sees only
+// the arm's motion and cuts nothing).
+TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
+  PushSpec spec;
+  const auto run = [&](double touch_fm) {
+    MlOptions o;
+    o.contact_prior = false;
+    o.direction_prior = false;
+    o.touch_fm = touch_fm;
+    MlSegmenter seg(o, cv::Size(spec.width, spec.height));
+    bool contact = false;
+    for (int i = 0; i < spec.frames; ++i) {
+      const PushFrame f = push_frame(spec, i);
+      (void)seg.push(f.image, f.ee, contact && f.touching, nullptr);
+      contact = f.touching;
+    }
+    return std::make_pair(seg.map_for_frame(*seg.first_touch_frame()), *seg.first_touch_frame());
+  };
+  const auto [plain, t] = run(0);
+  const auto [raised, t_raised] = run(1);
+  ASSERT_EQ(t, t_raised);
+  expect_valid_map(raised);
+  FmFrames frames;
+  frames.touch_frame = t;
+  frames.before2 = push_frame(spec, t - 2).image;
+  frames.before = push_frame(spec, t - 1).image;
+  frames.touch = push_frame(spec, t).image;
+  frames.ee = push_frame(spec, t).ee;
+  const cv::Mat1b fm = segment_fm(frames, FmOptions{}).mask;
+  ASSERT_GT(cv::countNonZero(fm), 0);
+  double lo = 0, peak_plain = 0, peak_raised = 0;
+  cv::minMaxLoc(cv::Mat1f(raised - plain), &lo, nullptr);
+  cv::minMaxLoc(plain, nullptr, &peak_plain);
+  cv::minMaxLoc(raised, nullptr, &peak_raised);
+  const auto mask_of = [](const cv::Mat1f& map, double peak) {
+    return cv::Mat1b(map >= 0.75 * peak);
+  };
+  const cv::Mat1b plain_mask = mask_of(plain, peak_plain);
+  const cv::Mat1b raised_mask = mask_of(raised, peak_raised);
+  const auto held = [&](const cv::Mat1b& mask) {
+    return static_cast<double>(cv::countNonZero(mask & fm)) / cv::countNonZero(fm);
+  };
+  const cv::Mat1b truth = push_frame(spec, t).mask == 1;
+  std::printf("touch fm: J %.3f -> %.3f, share of the baseline's cut %.3f -> %.3f\n",
+              jaccard(plain_mask, truth), jaccard(raised_mask, truth), held(plain_mask),
+              held(raised_mask));
+  EXPECT_GE(lo, 0.0);
+  EXPECT_GT(cv::norm(raised, plain, cv::NORM_INF), 0.0);
+  EXPECT_NEAR(peak_raised, peak_plain, 1e-6);
+  EXPECT_EQ(cv::countNonZero(plain_mask & ~raised_mask), 0);
+  EXPECT_GE(held(raised_mask), held(plain_mask));
+  EXPECT_GT(held(raised_mask), 0.8);
+  MlOptions bad;
+  for (double v : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    bad.touch_fm = v;
+    EXPECT_THROW(bad.validate(), Error) << v;
+  }
+  bad.touch_fm = 1;
+  for (double v : {0.0, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    bad.touch_fm_fraction = v;
+    EXPECT_THROW(bad.validate(), Error) << v;
+  }
 }
 
 // smoothing_keep_evidence: an evidenced region takes the higher of its smoothed and its own

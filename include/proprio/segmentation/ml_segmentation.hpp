@@ -178,6 +178,25 @@ struct MlOptions {
   /// variant's mean did not change with them (0.928 either way; mug 0.914 -> 0.902, rabbit
   /// 0.916 -> 0.932), so its default stays as it was (session 22).
   bool carried_with_depth = false;
+  /// Colour check of the carried pixels, BGR distance (0 = off): a sample in which a carried
+  /// pixel's first-touch colour lies farther than this from the mean colour of the track it
+  /// stands in says nothing (a piece of the background carried onto the object, as the table
+  /// at the mug's rim, which the forward-backward check lets through because the flow there is
+  /// consistent both ways). Session 23; off by default (docs/results/segmentation-eval.md).
+  double carried_colour = 0.0;
+  /// The baseline's evidence at the touch (monocular only; 0 = off): the Fitzpatrick & Metta
+  /// cut of the first-touch frame (segment_fm with its default options on frames t-2, t-1, t:
+  /// the frame difference outside the arm's dilated motion, filled by a graph cut, the part
+  /// nearest the end-effector) is computed while streaming, and a touch-frame region at least
+  /// touch_fm_fraction of whose pixels lie in it scores at least touch_fm times the map's peak.
+  /// For regions the motion likelihood lost (a static bottle's upper body, which the smoothing
+  /// pulls down). The depth variant ignores it. On by default since session 23: on the tuning
+  /// recording the bottles rose 0.771 -> 0.832 (static 0.67 -> 0.80), every other object within
+  /// 0.001; held-out (held2) 0.874 -> 0.887, bottle 0.836 -> 0.897, mug 0.830 -> 0.831, the
+  /// others unchanged (docs/results/segmentation-eval.md). Costs a colour frame copy per frame
+  /// before the touch and one baseline cut at it.
+  double touch_fm = 1.0;
+  double touch_fm_fraction = 0.5;
   /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
   /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
   /// interval must not match a region followed through the whole push. Off (0) by default:
@@ -389,6 +408,10 @@ struct MlOptions {
     v(self.carried_match, {"carried_match", "Largest grey-level change of a carried pixel"});
     v(self.carried_fb, {"carried_fb", "Forward-backward flow check of carried pixels, px"});
     v(self.carried_with_depth, {"carried_with_depth", "The depth variant carries pixels too"});
+    v(self.touch_fm, {"touch_fm", "Score of regions in the baseline's touch cut, x peak"});
+    v(self.touch_fm_fraction, {"touch_fm_fraction", "Share of a region in that cut to count"});
+    v(self.carried_colour,
+      {"carried_colour", "Largest colour distance of a carried pixel to its track"});
     v(self.evidence_step, {"evidence_step", "Arm motion between evidence frames, px"});
     v(self.arm_removal_step, {"arm_removal_step", "Arm motion that removes its regions, px"});
     v(self.min_region_motion, {"min_region_motion", "Least region motion that counts, px"});
