@@ -28,6 +28,7 @@
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/push_run.hpp"
 #include "proprio/loop/self_supervision.hpp"
+#include "proprio/loop/self_supervision_scoring.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
@@ -48,7 +49,6 @@ constexpr int kMaxReplacements = 3;  // re-placements of the scene when the obje
 constexpr std::uint64_t kVocabularyStream = 0x7c1c;
 /// The vocabulary's k-means runs over at most this many of the views' descriptors (seeded).
 constexpr int kVocabularySample = 50000;
-const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};  // as score_self_supervision
 constexpr std::string_view kCacheMarkers[] = {"clutter_cache.json"};
 
 double seconds_since(Clock::time_point t0) {
@@ -261,15 +261,12 @@ void record_held_out(const ClutterExperimentOptions& o, std::uint64_t seed,
     const int id = alone.ground_truth().at(0).id;
     fs::create_directories(work / name);
     for (int v = 0; v < o.held_out; ++v) {
-      const double yaw = 2 * std::numbers::pi * v / o.held_out;
-      alone.place({{name, kHeldOutCentre, yaw}});
-      const robot::Look look = alone.look();
-      const cv::Mat mask = alone.ground_truth_mask() == id;
+      const HeldOutView view = render_held_out_view(alone, name, id, v, o.held_out);
       char file[32];
       std::snprintf(file, sizeof file, "view_%03d.png", v);
-      cv::imwrite((work / name / file).string(), look.image);
+      cv::imwrite((work / name / file).string(), view.image);
       std::snprintf(file, sizeof file, "mask_%03d.png", v);
-      cv::imwrite((work / name / file).string(), mask);
+      cv::imwrite((work / name / file).string(), view.mask);
     }
   }
   core::Json m = core::result_document(kClutterCacheFormat, kClutterCacheVersion, provenance);

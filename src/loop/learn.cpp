@@ -29,6 +29,7 @@
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
+#include "proprio/loop/self_supervision_scoring.hpp"
 #include "proprio/recognition/confusion.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/robot/arm.hpp"
@@ -76,8 +77,7 @@ constexpr double kApproachStep = 0.03;  // approach added after a refusal, m
 // base axis than this, or behind the base, cannot be pushed from behind; it is not an object
 // to learn (distractors moving behind the work area, the backdrop), m.
 constexpr double kPushReach = 0.44;
-constexpr double kBehindBase = 0.0;               // least x of a blob's centre, m
-const Eigen::Vector2d kHeldOutCentre{0.27, 0.0};  // as score_self_supervision
+constexpr double kBehindBase = 0.0;  // least x of a blob's centre, m
 // start_clearance: a push start is not clear when the hand would meet this many depth points
 // (a stray pixel or two at an object's rim is no object).
 constexpr int kHandLeastPoints = 3;
@@ -1644,11 +1644,8 @@ std::vector<topics::Corpus> held_out_documents(const LearnOptions& o,
     const int id = alone.ground_truth().at(0).id;
     topics::Corpus corpus(vocabulary.size());
     for (int v = 0; v < o.held_out; ++v) {
-      const double yaw = 2 * std::numbers::pi * v / o.held_out;
-      alone.place({{name, kHeldOutCentre, yaw}});
-      const robot::Look look = alone.look();
-      const cv::Mat mask = alone.ground_truth_mask() == id;
-      const auto doc = masked_document(look.image, mask, vocabulary, o.features, o.dilate);
+      const HeldOutView view = render_held_out_view(alone, name, id, v, o.held_out);
+      const auto doc = masked_document(view.image, view.mask, vocabulary, o.features, o.dilate);
       if (static_cast<int>(doc.size()) < o.min_features) continue;
       corpus.add_tokens(doc);
     }

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -562,6 +563,17 @@ OracleLadder oracle_ladder(
 
 }  // namespace
 
+HeldOutView render_held_out_view(sim::SimulatedRobot& alone, const std::string& name, int id, int v,
+                                 int count) {
+  assert(count > 0 && v >= 0 && v < count);
+  const double yaw = 2 * std::numbers::pi * v / count;
+  alone.place({{name, kHeldOutCentre, yaw}});
+  HeldOutView view;
+  view.image = alone.look().image;
+  view.mask = alone.ground_truth_mask() == id;
+  return view;
+}
+
 SelfSupervisionScore score_self_supervision(const Learning& learning,
                                             const GroundTruthAttendant& attendant,
                                             const std::vector<std::string>& objects,
@@ -738,12 +750,9 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     const int id = alone.ground_truth().at(0).id;
     topics::Corpus corpus(vocabulary.size());
     for (int v = 0; v < options.held_out; ++v) {
-      const double yaw = 2 * std::numbers::pi * v / options.held_out;
-      alone.place({{os.name, kHeldOutCentre, yaw}});
-      const robot::Look look = alone.look();
-      const cv::Mat mask = alone.ground_truth_mask() == id;
+      const HeldOutView view = render_held_out_view(alone, os.name, id, v, options.held_out);
       const auto doc =
-          masked_document(look.image, mask, vocabulary, options.features, options.dilate);
+          masked_document(view.image, view.mask, vocabulary, options.features, options.dilate);
       if (static_cast<int>(doc.size()) < options.min_features) continue;
       corpus.add_tokens(doc);
     }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <opencv2/core.hpp>
 
 #include "proprio/core/json_io.hpp"
 #include "proprio/episode/episode.hpp"
@@ -287,6 +288,17 @@ struct SelfSupervisionScore {
     v(self.ladder, {"oracle_ladder", "Held-out accuracy by training views (ground truth)"});
   }
 };
+
+/// One held-out view (thesis 7.3.2's test set, shared by selfsupervise, learn and experiment
+/// clutter): `name`, the only object of `alone`'s table (ground-truth id `id`), placed at the
+/// scatter region's middle (table frame (0.27, 0) m) with yaw 2 pi v / count rad, seen by the
+/// robot's camera. Returns the image and the object's ground-truth mask (CV_8U, 255 on it).
+struct HeldOutView {
+  cv::Mat image;
+  cv::Mat mask;
+};
+HeldOutView render_held_out_view(sim::SimulatedRobot& alone, const std::string& name, int id, int v,
+                                 int count);
 
 /// Scores the learning from the attendant's records (its robot is not used: it may be gone),
 /// renders `held_out` views of each object of
