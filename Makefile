@@ -3,7 +3,7 @@ BUILD ?= build
 BUILD_ASAN ?= build-asan
 BUILD_FUZZ ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= json csv calib scene corpus lda_model mot_model vocabulary features image checkpoint
+FUZZ_TARGETS ?= json csv calib scene corpus lda_model mot_model vocabulary features image checkpoint clutter_cache
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 

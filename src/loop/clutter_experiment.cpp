@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -26,6 +25,7 @@
 #include "proprio/features/features.hpp"
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/vocabulary.hpp"
+#include "proprio/loop/clutter_cache.hpp"
 #include "proprio/loop/push_run.hpp"
 #include "proprio/loop/self_supervision.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
@@ -88,14 +88,14 @@ std::optional<core::Json> read_cache(const fs::path& dir, const core::Json& key,
                 ": not a cache of proprio experiment clutter (no clutter_cache.json)");
   }
   const core::Json j = core::read_json(file);
-  if (j.value("format", std::string()) != kClutterCacheFormat ||
-      j.value("format_version", -1) != kClutterCacheVersion) {
+  const ClutterManifestMatch match = match_clutter_manifest(j, key);
+  if (match == ClutterManifestMatch::kOtherFormat) {
     if (overwrite) return std::nullopt;
     throw Error(file.string() + ": not a " + kClutterCacheFormat + " version " +
                 std::to_string(kClutterCacheVersion) +
                 " manifest (use --overwrite to record again)");
   }
-  if (!j.contains("recording") || j["recording"] != key) {
+  if (match == ClutterManifestMatch::kOtherOptions) {
     if (overwrite) return std::nullopt;
     throw Error(file.string() +
                 ": recorded with other options (use --overwrite to record again, or another "
@@ -298,7 +298,7 @@ cv::Mat eroded(const cv::Mat& mask, int px) {
 }
 
 // A segmented push's views at every fraction: descriptors per view (CV_32F rows).
-using ViewsByFraction = std::vector<std::vector<cv::Mat>>;
+using ViewsByFraction = ClutterViews;
 
 ViewsByFraction push_views(const fs::path& episode_dir, const ClutterExperimentOptions& o,
                            const robot::Arm& arm, std::optional<robot::ArmState>& arm_state) {
@@ -365,12 +365,8 @@ ViewsByFraction push_views(const fs::path& episode_dir, const ClutterExperimentO
 }
 
 // The segmented views of a push are cached beside its episode (views_dense.bin or
-// views_sparse.bin): "PCLV", version, the key (the options that shape the views, as JSON), then
-// per fraction the views' descriptors. Written atomically; a file of another key, version or
-// size is recomputed (and replaced).
-constexpr char kViewsMagic[4] = {'P', 'C', 'L', 'V'};
-constexpr std::uint32_t kViewsVersion = 1;
-
+// views_sparse.bin; loop/clutter_cache.hpp): the key is the options that shape the views, as
+// JSON. Written atomically; a file of another key, version or size is recomputed (and replaced).
 std::string views_key(const ClutterExperimentOptions& o) {
   core::Json k{
       {"segmentation", std::string(core::choice_name(o.segmentation, kPushSegmentationNames))},
@@ -390,72 +386,6 @@ fs::path views_file(const fs::path& episode_dir, const ClutterExperimentOptions&
          (std::string("views_") +
           std::string(core::choice_name(o.segmentation, kPushSegmentationNames)) +
           (o.erode != 0 ? "_e" + std::to_string(o.erode) : std::string()) + ".bin");
-}
-
-std::optional<ViewsByFraction> read_views(const fs::path& file, const std::string& key,
-                                          std::size_t fractions) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return std::nullopt;
-  const auto u32 = [&]() {
-    std::uint32_t v = 0;
-    in.read(reinterpret_cast<char*>(&v), sizeof v);
-    return v;
-  };
-  char magic[4] = {};
-  in.read(magic, 4);
-  if (!in || !std::equal(magic, magic + 4, kViewsMagic) || u32() != kViewsVersion) {
-    return std::nullopt;
-  }
-  const std::uint32_t key_size = u32();
-  if (!in || key_size != key.size()) return std::nullopt;
-  std::string k(key_size, '\0');
-  in.read(k.data(), key_size);
-  if (!in || k != key || u32() != fractions) return std::nullopt;
-  ViewsByFraction out(fractions);
-  for (auto& views : out) {
-    const std::uint32_t n = u32();
-    if (!in || n > 100000) return std::nullopt;
-    for (std::uint32_t v = 0; v < n; ++v) {
-      const std::uint32_t rows = u32();
-      const std::uint32_t cols = u32();
-      if (!in || rows > 1000000 || cols != 128) return std::nullopt;
-      cv::Mat d(static_cast<int>(rows), static_cast<int>(cols), CV_32F);
-      in.read(reinterpret_cast<char*>(d.data), static_cast<std::streamsize>(d.total() * 4));
-      if (!in) return std::nullopt;
-      views.push_back(d);
-    }
-  }
-  in.peek();
-  if (!in.eof()) return std::nullopt;  // more than the header says
-  return out;
-}
-
-void write_views(const fs::path& file, const std::string& key, const ViewsByFraction& views) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    const auto u32 = [&](std::size_t v) {
-      const auto x = static_cast<std::uint32_t>(v);
-      out.write(reinterpret_cast<const char*>(&x), sizeof x);
-    };
-    out.write(kViewsMagic, 4);
-    u32(kViewsVersion);
-    u32(key.size());
-    out.write(key.data(), static_cast<std::streamsize>(key.size()));
-    u32(views.size());
-    for (const auto& f : views) {
-      u32(f.size());
-      for (const auto& d : f) {
-        const cv::Mat c = d.isContinuous() ? d : d.clone();
-        u32(static_cast<std::size_t>(c.rows));
-        u32(static_cast<std::size_t>(c.cols));
-        out.write(reinterpret_cast<const char*>(c.data),
-                  static_cast<std::streamsize>(c.total() * 4));
-      }
-    }
-    if (!out) throw Error(tmp.string() + ": cannot write");
-  }
-  fs::rename(tmp, file);
 }
 
 double share(int right, int n) { return n > 0 ? static_cast<double>(right) / n : 0.0; }
@@ -1130,15 +1060,9 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
         const fs::path dir = trial_dir(o.cache, seed, name, trial);
         const auto m = read_cache(dir, recording_key(o, seed), false);
         if (!m) throw Error(dir.string() + ": missing from the cache");
-        for (const auto& p : (*m)["pushes"]) {
-          const std::string ep = p.at("episode").get<std::string>();
-          r.pushes.push_back(
-              {seed, name, trial, p.at("index").get<int>(), p.at("outcome").get<std::string>(),
-               p.at("moved_intended").get<bool>(), p.at("only_intended").get<bool>(),
-               p.value("replaced", 0), p.value("attempts", 1),
-               p.value("failed", std::vector<std::string>{}),
-               ep.empty() ? std::string() : fs::relative(dir / ep, o.cache).generic_string()});
-        }
+        const std::vector<ClutterPush> pushes = clutter_manifest_pushes(
+            *m, dir / "clutter_cache.json", seed, name, trial, trial_dir({}, seed, name, trial));
+        r.pushes.insert(r.pushes.end(), pushes.begin(), pushes.end());
       }
     }
   }
@@ -1177,10 +1101,10 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
                                              objects.begin());
           const fs::path ep = o.cache / p.episode;
           const fs::path vf = views_file(ep, o);
-          std::optional<ViewsByFraction> cached = read_views(vf, key, o.fractions.size());
+          std::optional<ViewsByFraction> cached = read_clutter_views(vf, key, o.fractions.size());
           if (!cached) {
             cached = push_views(ep, o, arm_robot.arm(), arm_state);
-            write_views(vf, key, *cached);
+            write_clutter_views(vf, key, *cached);
           }
           ViewsByFraction& v = *cached;
           for (std::size_t fi = 0; fi < v.size(); ++fi) {

@@ -36,6 +36,7 @@
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
 #include "proprio/features/extraction.hpp"
+#include "proprio/loop/clutter_cache.hpp"
 #include "proprio/loop/learn.hpp"
 #include "proprio/recognition/confusion.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
@@ -45,9 +46,6 @@ namespace proprio::loop {
 
 inline constexpr const char* kClutterExperimentFormat = "proprio.experiment.clutter";
 inline constexpr int kClutterExperimentVersion = 1;
-/// The manifest of a cached trial or held-out set (CACHE/seed_S/*/clutter_cache.json).
-inline constexpr const char* kClutterCacheFormat = "proprio.experiment.clutter.cache";
-inline constexpr int kClutterCacheVersion = 1;
 
 /// How the supervised Mixture of Topics classifies a view (session 23; docs/results/mot.md
 /// session 22): by its E-step theta (eq 7.3, the thesis's), by its words (the MoT's bound on
@@ -160,23 +158,6 @@ struct ClutterCell {
   };
   std::optional<Theta> theta;
   std::string note;  ///< why a model is missing (empty: both fitted)
-};
-
-/// One recorded push (from the cache's manifests).
-struct ClutterPush {
-  std::uint64_t seed = 0;
-  std::string object;
-  int trial = 0;
-  int index = 0;
-  std::string outcome;  ///< PushOutcome's name
-  bool moved_intended = false;
-  bool only_intended = false;
-  int replaced = 0;  ///< times the scene was re-placed because the object was not seen
-  int attempts = 1;  ///< planning attempts made (ClutterExperimentOptions::attempts)
-  /// The outcome of every attempt that was not executed (in order), "off-table" for an object
-  /// found off the table.
-  std::vector<std::string> failed;
-  std::string episode;  ///< relative to the cache (empty: no push executed)
 };
 
 // NOLINTNEXTLINE(bugprone-exception-escape)
