@@ -54,6 +54,28 @@ int object_nearest(const PlanningView& view, const Eigen::Vector2d& p) {
   return best;
 }
 
+// The scene of the sweep, waypoint and hand tests: the object at (0.20, 0) and a neighbour at
+// `neighbour` (object_and_neighbour) seen by the down camera, the arm at rest, and the object's
+// target 16 cm along +y. Check view.objects.size() before obj() and other().
+struct NeighbourScene {
+  explicit NeighbourScene(const Eigen::Vector2d& neighbour)
+      : view(object_and_neighbour(cam, neighbour)), a(object_nearest(view, {0.20, 0.0})) {}
+  PutativeObject& obj() { return view.objects.at(static_cast<std::size_t>(a)); }
+  PutativeObject& other() { return view.objects.at(static_cast<std::size_t>(1 - a)); }
+  // A plan of object `index` of `v` (this scene's object by default) toward the target.
+  PushPlan plan(const PushPlanOptions& o) { return plan(o, view, a); }
+  PushPlan plan(const PushPlanOptions& o, const PlanningView& v, int index) {
+    return plan_push(v, index, PushGoal::kTarget, target, {}, state, q0, o);
+  }
+
+  geometry::Camera cam = down_camera();
+  PlanningView view;
+  int a = -1;
+  robot::ArmState state{arm()};
+  robot::JointVector q0 = robot::JointVector::Zero();
+  Eigen::Vector2d target{0.20, 0.16};
+};
+
 TEST(PushGeometry, DistanceToHullEdgeIsTheExactIntersection) {
   const std::vector<Eigen::Vector2d> square{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   EXPECT_NEAR(distance_to_hull_edge(square, {0, 0}, {1, 0}), 1.0, 1e-12);
@@ -340,18 +362,14 @@ TEST(PushPlanner, StopsShortWhereThePushedObjectsSweptRegionWouldMeetANeighbour)
   // object at its target would lie on the neighbour, so no way round helps. With sweep_margin the
   // planner pushes it along the line only as far as its swept region keeps the margin from the
   // neighbour; without, it pushes it to the target (through the neighbour).
-  const geometry::Camera cam = down_camera();
-  const PlanningView view = object_and_neighbour(cam, {0.20, 0.12});
-  ASSERT_EQ(view.objects.size(), 2U);
-  const int a = object_nearest(view, {0.20, 0.0});
-  const auto& obj = view.objects[static_cast<std::size_t>(a)];
-  const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
-  robot::ArmState state(arm());
-  const robot::JointVector q0 = robot::JointVector::Zero();
-  const Eigen::Vector2d target(0.20, 0.16);
+  NeighbourScene s({0.20, 0.12});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  const auto& obj = s.obj();
+  const auto& other = s.other();
+  const Eigen::Vector2d target = s.target;
   PushPlanOptions o = flat_options();
   o.sweep_margin = 0.01;
-  const PushPlan p = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan p = s.plan(o);
   ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
   EXPECT_EQ(p.blocked, 0.0);
   EXPECT_GT(p.shortened, 0.04);
@@ -366,20 +384,20 @@ TEST(PushPlanner, StopsShortWhereThePushedObjectsSweptRegionWouldMeetANeighbour)
   EXPECT_GT(n.dot((target - obj.centre).normalized()), 0.99);
   // Without the margin: straight to the target, not shortened.
   o.sweep_margin = 0;
-  const PushPlan direct = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan direct = s.plan(o);
   ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
   EXPECT_EQ(direct.shortened, 0.0);
   EXPECT_LT((direct.target - target).norm(), o.target_spread + 1e-9);
   EXPECT_EQ(polygon_distance(sweep_region(obj.hull, obj.centre, direct.target), other.hull), 0.0);
   // A neighbour beside the line, clear of the swept region: the margin changes nothing.
   std::vector<cv::KeyPoint> g;
-  add_feature_square(g, cam, {0.20, 0.0}, 0.02);
-  add_feature_square(g, cam, {0.30, 0.08}, 0.015);
-  const PlanningView clear = make_planning_view(g, cam, {}, flat_options());
+  add_feature_square(g, s.cam, {0.20, 0.0}, 0.02);
+  add_feature_square(g, s.cam, {0.30, 0.08}, 0.015);
+  const PlanningView clear = make_planning_view(g, s.cam, {}, flat_options());
   ASSERT_EQ(clear.objects.size(), 2U);
   const int b = clear.objects[0].centre.x() < 0.25 ? 0 : 1;
   o.sweep_margin = 0.01;
-  const PushPlan aside = plan_push(clear, b, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan aside = s.plan(o, clear, b);
   ASSERT_EQ(aside.outcome, PlanOutcome::kPlanned) << aside.message;
   EXPECT_EQ(aside.shortened, 0.0);
   EXPECT_EQ(aside.blocked, 0.0);
@@ -589,20 +607,16 @@ TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   // direct push would shove the neighbour along. With waypoints the planner pushes the object
   // beside the line first (its corridor clear of the neighbour), and from there the next push
   // reaches the target clear of it too.
-  const geometry::Camera cam = down_camera();
-  const PlanningView view = object_and_neighbour(cam, {0.20, 0.07});
-  ASSERT_EQ(view.objects.size(), 2U);
-  const int a = object_nearest(view, {0.20, 0.0});
-  const auto& obj = view.objects[static_cast<std::size_t>(a)];
-  const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
-  robot::ArmState state(arm());
-  const robot::JointVector q0 = robot::JointVector::Zero();
-  const Eigen::Vector2d target(0.20, 0.16);
+  NeighbourScene s({0.20, 0.07});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  const auto& obj = s.obj();
+  const auto& other = s.other();
+  const Eigen::Vector2d target = s.target;
   PushPlanOptions o = flat_options();
   o.clearance = 0.01;
   o.hand_clearance = 0.03;
   o.via_points = 24;
-  const PushPlan p = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan p = s.plan(o);
   ASSERT_EQ(p.outcome, PlanOutcome::kPlanned) << p.message;
   EXPECT_TRUE(p.via);
   EXPECT_EQ(p.blocked, 0.0);
@@ -629,7 +643,7 @@ TEST(PushPlanner, GoesRoundANeighbourInTheLineThroughAWaypoint) {
   EXPECT_GT(polygon_distance(hull_of(on), other.hull), 0.005);
   // Without waypoints (a single push must end at the target) the plan goes straight, blocked.
   o.via_points = 0;
-  const PushPlan direct = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan direct = s.plan(o);
   ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
   EXPECT_FALSE(direct.via);
   EXPECT_GT(direct.blocked, 0.0);
@@ -1110,21 +1124,17 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   // (0.245, 0.1225): the object passes 1 cm from it, but the jaws across the push (3 cm either
   // side of the pusher) would run into it near the end of the push when it is as tall as they
   // hang low.
-  const geometry::Camera cam = down_camera();
-  PlanningView view = object_and_neighbour(cam, {0.245, 0.1225});
-  ASSERT_EQ(view.objects.size(), 2U);
-  const int a = object_nearest(view, {0.20, 0.0});
-  PutativeObject& obj = view.objects[static_cast<std::size_t>(a)];
-  PutativeObject& other = view.objects[static_cast<std::size_t>(1 - a)];
+  NeighbourScene s({0.245, 0.1225});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  PutativeObject& obj = s.obj();
+  PutativeObject& other = s.other();
   obj.height = 0.02;
   other.height = 0.09;
-  robot::ArmState state(arm());
-  const robot::JointVector q0 = robot::JointVector::Zero();
-  const Eigen::Vector2d target(0.20, 0.16);
+  const Eigen::Vector2d target = s.target;
   PushPlanOptions o = flat_options();
   o.target_spread = 0;  // every candidate on the line: only stopping short, the jaws or the tip
   // Off (the default): straight to the target, the jaws into the neighbour.
-  const PushPlan direct = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan direct = s.plan(o);
   ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
   EXPECT_EQ(direct.shortened, 0.0);
   EXPECT_NEAR((direct.target - target).norm(), 0.0, 1e-12);
@@ -1132,7 +1142,7 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   // hand_margin: stopped short where the jaws keep 1 cm from it (the pusher's end 1.5 cm behind
   // the jaws' front, the object's back 2 cm behind its centre: about 6 cm short).
   o.hand_margin = 0.01;
-  const PushPlan shorter = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan shorter = s.plan(o);
   ASSERT_EQ(shorter.outcome, PlanOutcome::kPlanned) << shorter.message;
   EXPECT_EQ(shorter.blocked, 0.0);
   EXPECT_EQ(hand_lack(shorter.push, false, {&other}, 0.01), 0.0);
@@ -1142,7 +1152,7 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   EXPECT_NEAR(shorter.push.height, o.tip_height, 1e-12);
   // A low neighbour (2 cm: the jaws pass over it): to the target.
   other.height = 0.02;
-  const PushPlan over = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan over = s.plan(o);
   ASSERT_EQ(over.outcome, PlanOutcome::kPlanned) << over.message;
   EXPECT_EQ(over.shortened, 0.0);
   EXPECT_EQ(over.blocked, 0.0);
@@ -1150,7 +1160,7 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   // hand_jaws: the object is low, so the jaws may lie along the push (1.5 cm either side): clear
   // all the way to the target.
   o.hand_jaws = true;
-  const PushPlan along = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan along = s.plan(o);
   ASSERT_EQ(along.outcome, PlanOutcome::kPlanned) << along.message;
   EXPECT_EQ(along.push.jaws, robot::JawLine::kAlong);
   EXPECT_EQ(along.shortened, 0.0);
@@ -1159,7 +1169,7 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   EXPECT_NE(along.message.find("jaws along"), std::string::npos) << along.message;
   // ...but not for an object the jaw ahead would run into (6 cm tall): stopped short again.
   obj.height = 0.06;
-  const PushPlan tall = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan tall = s.plan(o);
   ASSERT_EQ(tall.outcome, PlanOutcome::kPlanned) << tall.message;
   EXPECT_EQ(tall.push.jaws, robot::JawLine::kRobot);
   EXPECT_GT(tall.shortened, 0.04);
@@ -1168,7 +1178,7 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   o.hand_jaws = false;
   o.hand_raise = 0.03;
   other.height = 0.05;
-  const PushPlan raised = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan raised = s.plan(o);
   ASSERT_EQ(raised.outcome, PlanOutcome::kPlanned) << raised.message;
   EXPECT_NEAR(raised.push.height, 0.028, 1e-9);
   EXPECT_EQ(raised.shortened, 0.0);
@@ -1176,7 +1186,7 @@ TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJaws
   EXPECT_NE(raised.message.find("raised to 28 mm"), std::string::npos) << raised.message;
   // A neighbour too tall to pass over within the raise: stopped short at the usual tip.
   other.height = 0.09;
-  const PushPlan high = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan high = s.plan(o);
   ASSERT_EQ(high.outcome, PlanOutcome::kPlanned) << high.message;
   EXPECT_GT(high.shortened, 0.04);
   EXPECT_EQ(high.blocked, 0.0);
@@ -1256,23 +1266,19 @@ TEST(PushPlanner, ABlockedLineIsGoneRoundThroughAFanOfWaypoints) {
   // with sweep_margin alone the push stops short of it (8 cm short scores less than the margin's
   // 1 cm of blocking); with via_blocked it goes round through a waypoint, both legs clear, so
   // that the next push reaches the target.
-  const geometry::Camera cam = down_camera();
-  const PlanningView view = object_and_neighbour(cam, {0.20, 0.11});
-  ASSERT_EQ(view.objects.size(), 2U);
-  const int a = object_nearest(view, {0.20, 0.0});
-  const auto& obj = view.objects[static_cast<std::size_t>(a)];
-  const auto& other = view.objects[static_cast<std::size_t>(1 - a)];
-  robot::ArmState state(arm());
-  const robot::JointVector q0 = robot::JointVector::Zero();
-  const Eigen::Vector2d target(0.20, 0.16);
+  NeighbourScene s({0.20, 0.11});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  const auto& obj = s.obj();
+  const auto& other = s.other();
+  const Eigen::Vector2d target = s.target;
   PushPlanOptions o = flat_options();
   o.sweep_margin = 0.01;
-  const PushPlan short_push = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan short_push = s.plan(o);
   ASSERT_EQ(short_push.outcome, PlanOutcome::kPlanned) << short_push.message;
   EXPECT_FALSE(short_push.via);
   EXPECT_GT(short_push.shortened, 0.05) << short_push.message << " blocked " << short_push.blocked;
   o.via_blocked = 24;
-  const PushPlan round = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan round = s.plan(o);
   ASSERT_EQ(round.outcome, PlanOutcome::kPlanned) << round.message;
   EXPECT_TRUE(round.via);
   EXPECT_EQ(round.blocked, 0.0);
@@ -1297,24 +1303,24 @@ TEST(PushPlanner, ABlockedLineIsGoneRoundThroughAFanOfWaypoints) {
             o.sweep_margin - 1e-6);
   // The fan is fixed: another plan seed picks the same waypoint.
   o.seed = 7;
-  const PushPlan again = plan_push(view, a, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan again = s.plan(o);
   ASSERT_EQ(again.outcome, PlanOutcome::kPlanned) << again.message;
   EXPECT_NEAR((again.target - round.target).norm(), 0.0, 1e-12);
   // A clear line: no waypoint, the same plan as without the option.
-  const PlanningView clear = object_and_neighbour(cam, {0.30, 0.08});
+  const PlanningView clear = object_and_neighbour(s.cam, {0.30, 0.08});
   const int b = object_nearest(clear, {0.20, 0.0});
-  const PushPlan direct = plan_push(clear, b, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan direct = s.plan(o, clear, b);
   o.via_blocked = 0;
-  const PushPlan direct_off = plan_push(clear, b, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan direct_off = s.plan(o, clear, b);
   ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
   EXPECT_FALSE(direct.via);
   EXPECT_NEAR((direct.target - direct_off.target).norm(), 0.0, 1e-12);
   EXPECT_EQ(direct.sampled, direct_off.sampled);
   // A neighbour at the target (no way round reaches it clear): still stopped short.
-  const PlanningView at = object_and_neighbour(cam, {0.20, 0.12});
+  const PlanningView at = object_and_neighbour(s.cam, {0.20, 0.12});
   const int c = object_nearest(at, {0.20, 0.0});
   o.via_blocked = 24;
-  const PushPlan stuck = plan_push(at, c, PushGoal::kTarget, target, {}, state, q0, o);
+  const PushPlan stuck = s.plan(o, at, c);
   ASSERT_EQ(stuck.outcome, PlanOutcome::kPlanned) << stuck.message;
   EXPECT_FALSE(stuck.via);
   EXPECT_GT(stuck.shortened, 0.04);
