@@ -1,5 +1,6 @@
 // The robot's singulation check from depth footprints (include/proprio/loop/depth_alone.hpp).
 #include "proprio/loop/depth_alone.hpp"
+#include "proprio/geometry/depth_pixels.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -71,8 +72,7 @@ DepthFootprints depth_footprints(const cv::Mat& depth, const geometry::Camera& c
           "depth footprints: the depth image must be of the camera's image size");
   const int w = depth.cols;
   const int h = depth.rows;
-  const Eigen::Matrix3d k_inv = camera.K.inverse();
-  const Eigen::Matrix3d r_t = camera.R.transpose();
+  const geometry::DepthPixels pixels(camera);
   std::vector<Eigen::Vector3d> x(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   std::vector<char> on(x.size(), 0);
   const Eigen::Vector2d lo = region.min + Eigen::Vector2d::Constant(region.edge_band);
@@ -81,8 +81,8 @@ DepthFootprints depth_footprints(const cv::Mat& depth, const geometry::Camera& c
     const auto* row = depth.ptr<float>(v);
     for (int u = 0; u < w; ++u) {
       const double d = row[u];
-      if (!std::isfinite(d) || d <= 0) continue;
-      const Eigen::Vector3d p = r_t * (d * (k_inv * Eigen::Vector3d(u, v, 1.0)) - camera.t);
+      if (!geometry::depth_measured(d)) continue;
+      const Eigen::Vector3d p = pixels.world(u, v, d);
       if (p.z() < options.least_height) continue;
       if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
       if (p.head<2>().norm() < region.base_radius) continue;

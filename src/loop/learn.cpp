@@ -1,5 +1,6 @@
 // `proprio learn`: look, plan, move (thesis Ch 8). See the header.
 #include "proprio/loop/learn.hpp"
+#include "proprio/geometry/depth_pixels.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -255,18 +256,17 @@ std::vector<cv::Mat> depth_candidates(const cv::Mat& depth, const geometry::Came
   require(min_height > 0 && std::isfinite(min_height), "depth_candidates: min_height must be > 0");
   require(max_step > 0 && std::isfinite(max_step), "depth_candidates: max_step must be > 0");
   require(min_pixels >= 1, "depth_candidates: min_pixels must be at least 1");
-  const Eigen::Matrix3d k_inv = camera.K.inverse();
-  const Eigen::Matrix3d r_t = camera.R.transpose();
+  const geometry::DepthPixels pixels(camera);
   const auto valid = [&](int u, int v) {
     const float d = depth.at<float>(v, u);
-    return std::isfinite(d) && d > 0 && (ignore.empty() || ignore.at<uchar>(v, u) == 0);
+    return geometry::depth_measured(d) && (ignore.empty() || ignore.at<uchar>(v, u) == 0);
   };
   cv::Mat1b up(depth.size(), 0);
   for (int v = 0; v < depth.rows; ++v) {
     for (int u = 0; u < depth.cols; ++u) {
       if (!valid(u, v)) continue;
       const double d = depth.at<float>(v, u);
-      const Eigen::Vector3d x = r_t * (d * (k_inv * Eigen::Vector3d(u, v, 1.0)) - camera.t);
+      const Eigen::Vector3d x = pixels.world(u, v, d);
       if (x.z() < min_height) continue;
       // An occlusion edge: a 4-neighbour's depth differs by more than max_step.
       bool edge = false;
@@ -365,17 +365,15 @@ std::vector<Eigen::Vector3d> depth_points(const cv::Mat& depth, const geometry::
           "depth_points: the ignore mask must be 8-bit of the depth image's size");
   require(min_height >= 0 && std::isfinite(min_height), "depth_points: min_height must be >= 0");
   require(step >= 1, "depth_points: step must be at least 1");
-  const Eigen::Matrix3d k_inv = camera.K.inverse();
-  const Eigen::Matrix3d r_t = camera.R.transpose();
+  const geometry::DepthPixels pixels(camera);
   std::vector<Eigen::Vector3d> out;
   for (int v = 0; v < depth.rows; v += step) {
     for (int u = 0; u < depth.cols; u += step) {
       const float d = depth.at<float>(v, u);
-      if (!std::isfinite(d) || d <= 0 || (!ignore.empty() && ignore.at<uchar>(v, u) != 0)) {
+      if (!geometry::depth_measured(d) || (!ignore.empty() && ignore.at<uchar>(v, u) != 0)) {
         continue;
       }
-      const Eigen::Vector3d x =
-          r_t * (static_cast<double>(d) * (k_inv * Eigen::Vector3d(u, v, 1.0)) - camera.t);
+      const Eigen::Vector3d x = pixels.world(u, v, d);
       if (x.z() >= min_height) out.push_back(x);
     }
   }

@@ -1,4 +1,5 @@
 #include "proprio/planning/push_planner.hpp"
+#include "proprio/geometry/depth_pixels.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -298,8 +299,7 @@ std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
   }
   const cv::Rect image(0, 0, depth.cols, depth.rows);
   const cv::Rect bounds = cv::boundingRect(poly) & image;
-  const Eigen::Matrix3d k_inv = camera.K.inverse();
-  const Eigen::Matrix3d r_t = camera.R.transpose();
+  const geometry::DepthPixels pixels(camera);
   std::vector<Eigen::Vector2d> xy;
   std::vector<double> z;
   for (int v = bounds.y; v < bounds.y + bounds.height; v += step) {
@@ -318,7 +318,7 @@ std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
                                false) < 0) {
         continue;
       }
-      const Eigen::Vector3d x = r_t * (d * (k_inv * Eigen::Vector3d(u, v, 1.0)) - camera.t);
+      const Eigen::Vector3d x = pixels.world(u, v, d);
       if (x.z() < kObjectLeastHeight) continue;
       xy.push_back(x.head<2>());
       z.push_back(x.z());
@@ -402,15 +402,14 @@ DepthTops depth_tops(const cv::Mat& depth, const geometry::Camera& camera, const
   };
   std::vector<Point> points;
   const cv::Rect image(0, 0, depth.cols, depth.rows);
-  const Eigen::Matrix3d k_inv = camera.K.inverse();
-  const Eigen::Matrix3d r_t = camera.R.transpose();
+  const geometry::DepthPixels pixels(camera);
   for (int y = 0; y < box.height; y += step) {
     for (int x = 0; x < box.width; x += step) {
       const cv::Point p(box.x + x, box.y + y);
       if (mask.at<std::uint8_t>(y, x) == 0 || !image.contains(p)) continue;
       const double d = depth.at<float>(p);
-      if (!std::isfinite(d) || d <= 0) continue;
-      const Eigen::Vector3d w = r_t * (d * (k_inv * Eigen::Vector3d(p.x, p.y, 1.0)) - camera.t);
+      if (!geometry::depth_measured(d)) continue;
+      const Eigen::Vector3d w = pixels.world(p.x, p.y, d);
       if (w.z() < kObjectLeastHeight) continue;
       points.push_back({cv::Point(x, y), w.head<2>(), w.z()});
     }

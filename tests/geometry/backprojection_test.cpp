@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "proprio/core/error.hpp"
+#include "proprio/geometry/depth_pixels.hpp"
 #include "synthetic.hpp"
 
 namespace proprio::geometry {
@@ -58,6 +62,32 @@ TEST(BackProjection, ImpossibleGeometryIsAnError) {
   EXPECT_THROW(back_project_to_plane(cam.P(), {320, 400}, Plane{Eigen::Vector3d::Zero(), 1.0}),
                Error);
   EXPECT_THROW(back_project_to_plane(cam.P(), {std::nan(""), 400}, table), Error);
+}
+
+TEST(DepthPixels, APixelAtItsDepthIsTheWorldPointThatProjectsThere) {
+  const Camera cam = testing::robot_camera();
+  const DepthPixels pixels(cam);
+  core::Rng rng(11);
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::Vector3d X(rng.uniform(-0.3, 0.3), rng.uniform(0.0, 0.5), rng.uniform(0.0, 0.2));
+    // A pixel near X's and the depth of the point that projects there.
+    const Eigen::Vector2d x = cam.project(X);
+    const int u = static_cast<int>(std::lround(x.x()));
+    const int v = static_cast<int>(std::lround(x.y()));
+    const double d = cam.depth(X);
+    const Eigen::Vector3d W = pixels.world(u, v, d);
+    EXPECT_LT((cam.project(W) - Eigen::Vector2d(u, v)).norm(), 1e-9);
+    EXPECT_NEAR(cam.depth(W), d, 1e-12);
+    // The same operations, to the bit, as the depth finders had written them.
+    const Eigen::Matrix3d k_inv = cam.K.inverse();
+    const Eigen::Matrix3d r_t = cam.R.transpose();
+    const Eigen::Vector3d same = r_t * (d * (k_inv * Eigen::Vector3d(u, v, 1.0)) - cam.t);
+    EXPECT_EQ(W, same);
+  }
+  EXPECT_TRUE(depth_measured(0.5));
+  for (const double d : {0.0, -0.1, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    EXPECT_FALSE(depth_measured(d)) << d;
+  }
 }
 
 }  // namespace
