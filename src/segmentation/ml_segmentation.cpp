@@ -139,12 +139,12 @@ void MlOptions::validate() const {
   require(std::isfinite(touch_fm_fraction) && touch_fm_fraction > 0 && touch_fm_fraction <= 1,
           core::cat({"MlOptions.touch_fm_fraction must be in (0, 1], got ",
                      core::num(touch_fm_fraction)}));
-  require(std::isfinite(touch_fm_agree) && touch_fm_agree >= 0 && touch_fm_agree <= 1,
-          core::cat({"MlOptions.touch_fm_agree must be in [0, 1], got ",
-                     core::num(touch_fm_agree)}));
+  require(
+      std::isfinite(touch_fm_agree) && touch_fm_agree >= 0 && touch_fm_agree <= 1,
+      core::cat({"MlOptions.touch_fm_agree must be in [0, 1], got ", core::num(touch_fm_agree)}));
   require(std::isfinite(touch_fm_margin) && touch_fm_margin >= 0 && touch_fm_margin <= 100,
-          core::cat({"MlOptions.touch_fm_margin must be in [0, 100], got ",
-                     core::num(touch_fm_margin)}));
+          core::cat(
+              {"MlOptions.touch_fm_margin must be in [0, 100], got ", core::num(touch_fm_margin)}));
   require(std::isfinite(carried_colour) && carried_colour >= 0,
           core::cat({"MlOptions.carried_colour must be >= 0, got ", core::num(carried_colour)}));
   require(smoothing_keep_evidence >= 0,
