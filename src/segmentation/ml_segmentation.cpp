@@ -139,6 +139,12 @@ void MlOptions::validate() const {
   require(std::isfinite(touch_fm_fraction) && touch_fm_fraction > 0 && touch_fm_fraction <= 1,
           core::cat({"MlOptions.touch_fm_fraction must be in (0, 1], got ",
                      core::num(touch_fm_fraction)}));
+  require(
+      std::isfinite(touch_fm_agree) && touch_fm_agree >= 0 && touch_fm_agree <= 1,
+      core::cat({"MlOptions.touch_fm_agree must be in [0, 1], got ", core::num(touch_fm_agree)}));
+  require(std::isfinite(touch_fm_margin) && touch_fm_margin >= 0 && touch_fm_margin <= 100,
+          core::cat(
+              {"MlOptions.touch_fm_margin must be in [0, 100], got ", core::num(touch_fm_margin)}));
   require(std::isfinite(carried_colour) && carried_colour >= 0,
           core::cat({"MlOptions.carried_colour must be >= 0, got ", core::num(carried_colour)}));
   require(smoothing_keep_evidence >= 0,
@@ -352,7 +358,7 @@ struct MlSegmenter::Impl {
   // The baseline's evidence at the touch (touch_fm): the last two frames' colours before the
   // touch, and the baseline's cut of the touch frame (processing size; empty: none).
   cv::Mat3b fm_before2, fm_before;
-  cv::Mat1b touch_fm;
+  cv::Mat1b touch_fm, touch_fm_arm;
   double carry_next = 0.0;
   bool carrying = false;
   // Depth variant with depth_smoothing: the depth of every frame whose labels are kept.
@@ -1186,6 +1192,7 @@ struct MlSegmenter::Impl {
       (void)apply_contact_prior(m, *ee, opt.effective_mask_fraction(), opt.contact_radius,
                                 opt.contact_gap);
     }
+    if (opt.touch_fm_against && frame == *first_touch && !touch_fm.empty()) against_fm(m);
     return m;
   }
 
@@ -1217,6 +1224,27 @@ struct MlSegmenter::Impl {
       }
       if (succ >= 0) tracks[succ].preds.push_back(t);
     }
+  }
+
+  // touch_fm_against: where the baseline's touch cut and the mask agree (their intersection
+  // over union at least touch_fm_agree), the mask's pixels farther than touch_fm_margin from the
+  // cut and from the baseline's arm model are set to 0.
+  void against_fm(cv::Mat1f& m) const {
+    cv::Mat1b cut = touch_fm, arm = touch_fm_arm;
+    if (cut.size() != m.size()) cv::resize(touch_fm, cut, m.size(), 0, 0, cv::INTER_NEAREST);
+    if (arm.empty()) arm = cv::Mat1b(m.size(), uchar{0});
+    if (arm.size() != m.size()) cv::resize(touch_fm_arm, arm, m.size(), 0, 0, cv::INTER_NEAREST);
+    const cv::Mat1b mask = threshold_map(m, opt.effective_mask_fraction());
+    const int both = cv::countNonZero(mask & cut);
+    const int either = cv::countNonZero(mask | cut);
+    if (either == 0 || both < opt.touch_fm_agree * either) return;
+    cv::Mat1b keep = cut | arm;
+    const int r = static_cast<int>(std::lround(opt.touch_fm_margin));
+    if (r > 0) {
+      cv::dilate(keep, keep,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+    }
+    m.setTo(0.0F, ~keep);
   }
 
   // smoothing_keep_evidence: a region with that many post-touch intervals takes the higher of
@@ -1393,7 +1421,9 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       f.before = m.fm_before;
       f.touch = colour;
       if (ee_image) f.ee = *ee_image / m.inv_scale;
-      m.touch_fm = segment_fm(f, FmOptions{}).mask;
+      FmResult fm = segment_fm(f, FmOptions{});
+      m.touch_fm = fm.mask;
+      m.touch_fm_arm = fm.arm;
     }
     if (first_touch_now) {
       m.fm_before2.release();

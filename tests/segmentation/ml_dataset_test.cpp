@@ -11,6 +11,10 @@
 //   PROPRIO_SEG_SPARSE  1: score segment_ml_sparse instead
 //   PROPRIO_SEG_DUMP  directory for PNGs (frame, map, mask vs truth) per episode
 //   PROPRIO_SEG_CSV   per-episode CSV output
+//   PROPRIO_SEG_RIM   1: also run the Fitzpatrick & Metta baseline on each episode and print
+//                     where M-L's false positives lie: inside the baseline's cut or not, and by
+//                     distance to the truth's outline (a rim) and to the end-effector; with
+//                     PROPRIO_SEG_DUMP a fourth panel: the baseline's mask against the truth
 //   PROPRIO_SEG_CHECK_TARGETS  1: assert issue 4's targets (static >= 0.80, moving >= 0.75)
 //   PROPRIO_SEG_TRACE  directory: MlDataset.TraceObjectMotion traces how the target's own pixels
 //                     move against the arm over the post-touch evidence intervals (the truth's
@@ -19,6 +23,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -32,6 +37,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/fields.hpp"
 #include "proprio/episode/discovery.hpp"
+#include "proprio/segmentation/fm_baseline.hpp"
 #include "proprio/segmentation/ml_segmentation.hpp"
 #include "proprio/segmentation/motion_models.hpp"
 #include "proprio/segmentation/optical_flow.hpp"
@@ -152,6 +158,49 @@ TEST(MlDataset, JaccardAtFirstTouch) {
       const int hit = cv::countNonZero(r.mask & truth);
       prec = cv::countNonZero(r.mask) ? double(hit) / cv::countNonZero(r.mask) : 0;
       rec = cv::countNonZero(truth) ? double(hit) / cv::countNonZero(truth) : 0;
+      cv::Mat3b fm_cmp;
+      if (env("PROPRIO_SEG_RIM") == "1") {
+        const FmResult fm = segment_fm(ep, FmOptions{});
+        const cv::Mat1b fmask =
+            fm.mask.size() == truth.size() ? fm.mask : cv::Mat1b(truth.size(), uchar{0});
+        // Distance of every pixel to the truth (0 inside).
+        cv::Mat1f to_truth;
+        cv::distanceTransform(~truth, to_truth, cv::DIST_L2, 3);
+        const auto ee = ep.ee_image(r.scored_frame);
+        int fp = 0, fp_in_fm = 0, d2 = 0, d5 = 0, d10 = 0, far_ee = 0, far_ee_out_fm = 0;
+        int fn = 0, fn_in_fm = 0;
+        for (int y = 0; y < truth.rows; ++y)
+          for (int x = 0; x < truth.cols; ++x) {
+            const bool mk = r.mask(y, x) != 0, tr = truth(y, x) != 0, f = fmask(y, x) != 0;
+            if (!mk && tr) {
+              ++fn;
+              fn_in_fm += f ? 1 : 0;
+            }
+            if (!mk || tr) continue;
+            ++fp;
+            fp_in_fm += f ? 1 : 0;
+            const float d = to_truth(y, x);
+            d2 += d <= 2 ? 1 : 0;
+            d5 += d <= 5 ? 1 : 0;
+            d10 += d <= 10 ? 1 : 0;
+            const bool far = ee && std::hypot(x - ee->x(), y - ee->y()) > 40;
+            far_ee += far ? 1 : 0;
+            far_ee_out_fm += far && !f ? 1 : 0;
+          }
+        const int fhit = cv::countNonZero(fmask & truth);
+        const int fn_all = cv::countNonZero(fmask);
+        const int tn = cv::countNonZero(truth);
+        std::printf(
+            "  rim %-30s fm J %.3f P %.3f R %.3f | ML fp %d: in fm %d, <=2px %d, <=5px %d, "
+            "<=10px %d, >40px from ee %d (outside fm %d) | ML fn %d: in fm %d\n",
+            name.c_str(), double(fhit) / std::max(1, fn_all + tn - fhit),
+            double(fhit) / std::max(1, fn_all), double(fhit) / std::max(1, tn), fp, fp_in_fm, d2,
+            d5, d10, far_ee, far_ee_out_fm, fn, fn_in_fm);
+        fm_cmp = cv::Mat3b(truth.size(), cv::Vec3b(0, 0, 0));
+        fm_cmp.setTo(cv::Vec3b(0, 255, 0), fmask & truth);
+        fm_cmp.setTo(cv::Vec3b(0, 0, 255), fmask & ~truth);
+        fm_cmp.setTo(cv::Vec3b(255, 0, 0), ~fmask & truth);
+      }
       if (!dump.empty()) {
         fs::create_directories(dump);
         cv::Mat frame = ep.frame(r.scored_frame);
@@ -170,7 +219,9 @@ TEST(MlDataset, JaccardAtFirstTouch) {
               cv::Rect(0, 0, truth.cols, truth.rows);
         if (roi.area() == 0) roi = cv::Rect(0, 0, truth.cols, truth.rows);
         cv::Mat row;
-        cv::hconcat(std::vector<cv::Mat>{frame(roi), mapc(roi), cmp(roi)}, row);
+        std::vector<cv::Mat> panels{frame(roi), mapc(roi), cmp(roi)};
+        if (!fm_cmp.empty()) panels.push_back(fm_cmp(roi));
+        cv::hconcat(panels, row);
         cv::imwrite((fs::path(dump) / (name + ".png")).string(), row);
       }
     }

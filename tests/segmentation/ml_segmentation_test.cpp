@@ -434,6 +434,72 @@ TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
   }
 }
 
+// touch_fm_against: where the baseline's touch cut and the mask agree, the map is 0 farther than
+// touch_fm_margin from the cut and the baseline's arm model and unchanged within it; a baseline
+// that does not agree enough (touch_fm_agree 1: the two would have to be identical) leaves the
+// map as it was; validate() rejects values out of range.
+TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
+  PushSpec spec;
+  const auto run = [&](bool against, double agree) {
+    MlOptions o;
+    o.contact_prior = false;
+    o.direction_prior = false;
+    o.touch_fm_against = against;
+    o.touch_fm_agree = agree;
+    o.touch_fm_margin = 2;
+    MlSegmenter seg(o, cv::Size(spec.width, spec.height));
+    bool contact = false;
+    for (int i = 0; i < spec.frames; ++i) {
+      const PushFrame f = push_frame(spec, i);
+      (void)seg.push(f.image, f.ee, contact && f.touching, nullptr);
+      contact = f.touching;
+    }
+    return std::make_pair(seg.map_for_frame(*seg.first_touch_frame()), *seg.first_touch_frame());
+  };
+  const auto [plain, t] = run(false, 0.0);
+  const auto [cut_map, t_cut] = run(true, 0.0);
+  const auto [unagreed, t_unagreed] = run(true, 1.0);
+  ASSERT_EQ(t, t_cut);
+  ASSERT_EQ(t, t_unagreed);
+  expect_valid_map(cut_map);
+  FmFrames frames;
+  frames.touch_frame = t;
+  frames.before2 = push_frame(spec, t - 2).image;
+  frames.before = push_frame(spec, t - 1).image;
+  frames.touch = push_frame(spec, t).image;
+  frames.ee = push_frame(spec, t).ee;
+  const FmResult fm = segment_fm(frames, FmOptions{});
+  ASSERT_GT(cv::countNonZero(fm.mask), 0);
+  cv::Mat1b keep = fm.mask | fm.arm;
+  cv::dilate(keep, keep, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  double peak = 0;
+  cv::minMaxLoc(plain, nullptr, &peak);
+  const cv::Mat1b plain_mask = plain >= 0.75 * peak;
+  cv::Mat1f plain_outside;
+  plain.copyTo(plain_outside, ~keep);
+  ASSERT_GT(cv::countNonZero(plain_outside), 0);  // there is something to cut
+  EXPECT_EQ(cv::norm(cut_map, plain, cv::NORM_INF, keep), 0.0);
+  cv::Mat1f outside;
+  cut_map.copyTo(outside, ~keep);
+  EXPECT_EQ(cv::countNonZero(outside), 0);
+  EXPECT_EQ(cv::norm(unagreed, plain, cv::NORM_INF), 0.0);
+  const cv::Mat1b truth = push_frame(spec, t).mask == 1;
+  double peak_cut = 0;
+  cv::minMaxLoc(cut_map, nullptr, &peak_cut);
+  std::printf("touch fm against: J %.3f -> %.3f\n", jaccard(plain_mask, truth),
+              jaccard(cv::Mat1b(cut_map >= 0.75 * peak_cut), truth));
+  MlOptions bad;
+  for (double v : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    bad.touch_fm_agree = v;
+    EXPECT_THROW(bad.validate(), Error) << v;
+  }
+  bad.touch_fm_agree = 0.5;
+  for (double v : {-1.0, 101.0, std::numeric_limits<double>::infinity()}) {
+    bad.touch_fm_margin = v;
+    EXPECT_THROW(bad.validate(), Error) << v;
+  }
+}
+
 // smoothing_keep_evidence: an evidenced region takes the higher of its smoothed and its own
 // score, the latter capped at the smoothed scores' robust peak. So, without the priors, the map
 // is nowhere lower than the plain smoothing's, its peak (and with it the mask's threshold) is

@@ -197,6 +197,15 @@ struct MlOptions {
   /// before the touch and one baseline cut at it.
   double touch_fm = 1.0;
   double touch_fm_fraction = 0.5;
+  /// The baseline's touch cut as evidence against (monocular, with touch_fm > 0; off by
+  /// default): where the cut and M-L's mask at the first touch agree (intersection over union at
+  /// least touch_fm_agree; a baseline that found something else, as on the book, leaves the map
+  /// alone), the map is set to 0 farther than touch_fm_margin pixels from both the cut and the
+  /// baseline's arm model (the arm's dilated motion, where the cut says nothing). For the rim of
+  /// table the regions and the carried pixels give the mug (session 24).
+  bool touch_fm_against = false;
+  double touch_fm_agree = 0.5;
+  double touch_fm_margin = 2.0;
   /// Integration (eq 4.21): a region's mean likelihood over the post-touch intervals it was
   /// seen in, but over at least this fraction of all of them (the unseen count as 0): one lucky
   /// interval must not match a region followed through the whole push. Off (0) by default:
@@ -410,6 +419,10 @@ struct MlOptions {
     v(self.carried_with_depth, {"carried_with_depth", "The depth variant carries pixels too"});
     v(self.touch_fm, {"touch_fm", "Score of regions in the baseline's touch cut, x peak"});
     v(self.touch_fm_fraction, {"touch_fm_fraction", "Share of a region in that cut to count"});
+    v(self.touch_fm_against,
+      {"touch_fm_against", "Map set to 0 away from the baseline's cut where the two agree"});
+    v(self.touch_fm_agree, {"touch_fm_agree", "Their least intersection over union to do so"});
+    v(self.touch_fm_margin, {"touch_fm_margin", "Distance from the cut kept, px"});
     v(self.carried_colour,
       {"carried_colour", "Largest colour distance of a carried pixel to its track"});
     v(self.evidence_step, {"evidence_step", "Arm motion between evidence frames, px"});
