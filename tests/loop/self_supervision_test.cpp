@@ -1261,6 +1261,7 @@ TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
   // they are explained, so the round drops them (logged, event "repeat"), looks again and
   // chooses again (the attendant told), and its class keeps only the views of the later pushes.
   SelfSupervisionOptions o = small_options();
+  o.pushes = 4;  // round 0's class needs 2 views or more to be in the model
   o.repeat_tries = 1;
   o.repeat_share = 0.01;
   const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
