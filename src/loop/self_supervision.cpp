@@ -775,7 +775,9 @@ class Learner {
   }
 
   // (c): push the chosen object again and again from several sides, taking its views.
-  void learn(int r, Eigen::Vector2d chosen, int& index, core::ProgressBar& bar) {
+  // Returns true when (repeat_tries) the round's first views were already explained by a
+  // learned class: the views were dropped and the round should choose again.
+  bool learn(int r, Eigen::Vector2d chosen, int& index, core::ProgressBar& bar, int budget) {
     double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
     // The circle of targets: about the work centre, or (free_space) about the object's place
     // after (b), kept within free_space of the work centre.
@@ -791,8 +793,6 @@ class Learner {
     // the next push plans on it instead of looking again and re-finding the object by position.
     std::optional<planning::PlanningView> carried;
     int carried_blob = -1;
-    // Unspent pushes of earlier rounds (objects lost, pushes not planned) go to this one.
-    const int budget = o_.carry_budget ? round_budget(r, o_.pushes, out_.pushes_learn) : o_.pushes;
     while (done < budget && attempts < 2 * budget + 4) {
       ++attempts;
       const planning::PlanningView view = carried ? std::move(*carried) : look();
@@ -990,6 +990,15 @@ class Learner {
       } else {
         docs = views_of(in, episodes_ / name, after, now, last_mask, what, seg ? &*seg : nullptr);
       }
+      if (repeat_check_ && !docs.empty()) {
+        repeat_check_ = false;  // the round's first push with views only
+        if (repeated(r, docs, after, now)) {
+          attendant_.views_taken(in, 0, last_mask);
+          ++done;
+          if (done <= o_.pushes) bar.tick();
+          return true;
+        }
+      }
       attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
       if (!docs.empty()) {
         const Eigen::MatrixXd th = theta_of(docs);
@@ -1037,6 +1046,52 @@ class Learner {
             core::cat({"only ", std::to_string(done), " pushes succeeded"});
       }
     }
+    return false;
+  }
+
+  // repeat_tries: whether a learned class already explains this round's first views (`docs`);
+  // if so the round's looks of its object (and the look after the push, blob `now` of `after`)
+  // go to that class, so that (d) sees the object as learned, and the views are not kept.
+  bool repeated(int r, const std::vector<std::vector<std::int32_t>>& docs,
+                const planning::PlanningView& after, int now) {
+    std::vector<int> labels;
+    labels.reserve(out_.views.labels.size());
+    for (const int l : out_.views.labels) {
+      const auto it = std::find(model_class_.begin(), model_class_.end(), l);
+      labels.push_back(it == model_class_.end() ? -1 : static_cast<int>(it - model_class_.begin()));
+    }
+    const RepeatTest t =
+        explained_by(model_so_far_, out_.views.theta, labels, theta_of(docs), o_.repeat_share);
+    std::string shares;
+    for (std::size_t m = 0; m < t.shares.size(); ++m) {
+      shares += core::printf_string(
+          "%s%s %.2f", m ? ", " : "",
+          out_.class_names[static_cast<std::size_t>(model_class_[m])].c_str(), t.shares[m]);
+    }
+    if (t.cls < 0) {
+      log({.event = "repeat",
+           .round = r,
+           .why = core::cat({"the round's first views are new (shares explained: ", shares, ")"}),
+           .views = static_cast<int>(docs.size())});
+      return false;
+    }
+    const int c = model_class_[static_cast<std::size_t>(t.cls)];
+    auto& mine = class_looks_[static_cast<std::size_t>(r)];
+    auto& theirs = class_looks_[static_cast<std::size_t>(c)];
+    theirs.insert(theirs.end(), mine.begin(), mine.end());
+    mine.clear();
+    if (now >= 0) {
+      const auto d = blob_document(after, now);
+      if (!d.empty()) theirs.push_back(theta_of({d}).row(0).transpose());
+    }
+    log({.event = "repeat",
+         .round = r,
+         .why = core::cat({"the round's first views are explained by ",
+                           out_.class_names[static_cast<std::size_t>(c)],
+                           " (shares explained: ", shares,
+                           "): views dropped, its looks given to that class, choose again"}),
+         .views = static_cast<int>(docs.size())});
+    return true;
   }
 
   void round(int r, core::ProgressBar& bar) {
@@ -1123,9 +1178,38 @@ class Learner {
     // (c) follows its object by the pushes' motion; a look there with fewer blobs than C has
     // mostly lost an object off the table, and splitting its largest blob, often the object
     // learned, made most learn pushes unplannable (tuning seed 1): no splits in (c).
-    splitting_ = false;
-    learn(r, *chosen, index, bar);
-    splitting_ = true;
+    // Unspent pushes of earlier rounds (objects lost, pushes not planned) go to this one.
+    int budget = o_.carry_budget ? round_budget(r, o_.pushes, out_.pushes_learn) : o_.pushes;
+    for (int t = 0;; ++t) {
+      splitting_ = false;
+      repeat_check_ = t < o_.repeat_tries && !model_so_far_.objects.empty();
+      const int spent = out_.pushes_learn;
+      const bool again = learn(r, *chosen, index, bar, budget);
+      repeat_check_ = false;
+      splitting_ = true;
+      if (!again) break;
+      // repeat_tries: the object was learned already; another, with the pushes left.
+      budget -= out_.pushes_learn - spent;
+      const planning::PlanningView now = look();
+      log({.event = "look",
+           .round = r,
+           .phase = "choose",
+           .why = "the round's object was learned already: choosing again",
+           .blobs = putative_object_records(now, false)});
+      if (now.objects.empty() || budget <= 0) {
+        out_.stop_reasons[static_cast<std::size_t>(r)] =
+            "the round's object was learned already and no other could be chosen";
+        break;
+      }
+      const int k2 = choose(r, now);
+      attendant_.chose(r, now, k2);
+      chosen = clear(r, now.objects[static_cast<std::size_t>(k2)].centre, index);
+      if (!chosen) {
+        out_.stop_reasons[static_cast<std::size_t>(r)] =
+            "the round's object was learned already and the next was lost while clearing";
+        break;
+      }
+    }
     refit();
   }
 
@@ -1182,6 +1266,7 @@ class Learner {
   /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
   int plans_ = 0;
+  bool repeat_check_ = false;  ///< repeat_tries: test the next push's views (learn)
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
   bool singulated_ = false;    ///< the last clear() ended with the chosen object alone
   int round_ = 0;              ///< the round under way (for the looks' "split" events)
@@ -1633,6 +1718,57 @@ double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
   ensure(p.size() == q.size(), "hellinger: distributions of different lengths");
   const double bc = (p.array().max(0.0) * q.array().max(0.0)).sqrt().sum();
   return std::sqrt(std::max(0.0, 1.0 - bc));
+}
+
+RepeatTest explained_by(const topics::MotModel& model, const Eigen::MatrixXd& known,
+                        const std::vector<int>& known_labels, const Eigen::MatrixXd& fresh,
+                        double share) {
+  const int k = static_cast<int>(model.objects.size());
+  if (static_cast<Eigen::Index>(known_labels.size()) != known.rows()) {
+    throw Error("explained_by: one label per known view is needed");
+  }
+  if (!(share > 0 && share <= 1)) throw Error("explained_by: share must be in (0, 1]");
+  if (known.rows() > 0 && fresh.rows() > 0 && known.cols() != fresh.cols()) {
+    throw Error("explained_by: the known and fresh views' theta differ in length");
+  }
+  for (const int l : known_labels) {
+    if (l < -1 || l >= k) throw Error("explained_by: a label is not a class of the model");
+  }
+  RepeatTest out;
+  out.shares.assign(static_cast<std::size_t>(k), 0.0);
+  out.floors.assign(static_cast<std::size_t>(k), -std::numeric_limits<double>::infinity());
+  if (k == 0 || fresh.rows() == 0) return out;
+  if (known.rows() > 0) {
+    const topics::MotClassification own = topics::classify_mot(model, known);
+    for (int c = 0; c < k; ++c) {
+      std::vector<double> s;
+      for (Eigen::Index i = 0; i < known.rows(); ++i) {
+        if (known_labels[static_cast<std::size_t>(i)] == c) s.push_back(own.log_score(i, c));
+      }
+      if (s.empty()) continue;
+      std::sort(s.begin(), s.end());
+      const auto q =
+          static_cast<std::size_t>(std::floor(kRepeatQuantile * static_cast<double>(s.size() - 1)));
+      out.floors[static_cast<std::size_t>(c)] = s[q];
+    }
+  }
+  const topics::MotClassification now = topics::classify_mot(model, fresh);
+  for (Eigen::Index i = 0; i < fresh.rows(); ++i) {
+    const int c = now.predicted[static_cast<std::size_t>(i)];
+    const double floor = out.floors[static_cast<std::size_t>(c)];
+    if (std::isfinite(floor) && now.log_score(i, c) >= floor) {
+      out.shares[static_cast<std::size_t>(c)] += 1.0 / static_cast<double>(fresh.rows());
+    }
+  }
+  double best = 0;
+  for (int c = 0; c < k; ++c) {
+    if (out.shares[static_cast<std::size_t>(c)] > best) {
+      best = out.shares[static_cast<std::size_t>(c)];
+      out.cls = c;
+    }
+  }
+  if (best + 1e-12 < share) out.cls = -1;
+  return out;
 }
 
 NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,

@@ -107,6 +107,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd --singulate-tries -1" + inputs() + out, "singulate-tries"},
       {"--objects book,cd --switch-tries 6" + inputs() + out, "switch-tries"},
       {"--objects book,cd --switch-tries -1" + inputs() + out, "switch-tries"},
+      {"--objects book,cd --repeat-tries 6" + inputs() + out, "repeat-tries"},
+      {"--objects book,cd --repeat-share 0" + inputs() + out, "repeat-share"},
       {"--objects book,cd --mot-word-weight 1.5" + inputs() + out, "mot-word-weight"},
       {"--objects book,cd --mot-word-weight -0.1" + inputs() + out, "mot-word-weight"},
       {"--objects book,cd --mot-classifier words" + inputs() + out, "mot-classifier"},

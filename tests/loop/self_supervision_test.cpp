@@ -4,6 +4,7 @@
 // robot's first look) scored against the ground truth and on held-out views.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -25,6 +26,7 @@
 #include "proprio/sim/simulated_robot.hpp"
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/corpus.hpp"
+#include "proprio/topics/mixture_of_topics.hpp"
 
 namespace proprio::loop {
 namespace {
@@ -109,6 +111,86 @@ TEST(SelfSupervision, NextObjectIsTheOneNoLearnedClassClaims) {
   // No class has looks yet: the first scored blob; no blob scored: none.
   EXPECT_EQ(choose_unlearned(blobs, {{}, {}}).blob, 0);
   EXPECT_EQ(choose_unlearned({Eigen::VectorXd(), Eigen::VectorXd()}, looks).blob, -1);
+}
+
+TEST(SelfSupervision, ExplainedByTellsALearnedObjectFromANewOne) {
+  // Two learned classes, A (topic 0) and B (topic 1), 8 views each; a round's first views of A
+  // again, of a new object C (topic 2), and of A mixed with C.
+  const auto near = [](int topic, int i) {
+    Eigen::VectorXd t = Eigen::VectorXd::Constant(4, 0.0);
+    const double main = 0.62 + 0.02 * i;
+    t(topic) = main;
+    const double rest = 1.0 - main;
+    t((topic + 1) % 4) = 0.5 * rest;
+    t((topic + 2) % 4) = (0.3 - 0.01 * (i % 3)) * rest;
+    t((topic + 3) % 4) = rest - t((topic + 1) % 4) - t((topic + 2) % 4);
+    return t;
+  };
+  const int n = 8;
+  Eigen::MatrixXd known(2 * n + 1, 4);
+  std::vector<int> labels;
+  for (int i = 0; i < n; ++i) {
+    known.row(i) = near(0, i).transpose();
+    known.row(n + i) = near(1, i).transpose();
+  }
+  labels.assign(static_cast<std::size_t>(n), 0);
+  labels.insert(labels.end(), static_cast<std::size_t>(n), 1);
+  known.row(2 * n) = near(2, 0).transpose();  // a view of no class the model has (-1)
+  labels.push_back(-1);
+  topics::MotOptions mo;
+  mo.components = 1;
+  const topics::MotModel model =
+      topics::fit_mot(known.topRows(2 * n), std::span<const int>(labels.data(), 2 * n), {"A", "B"},
+                      mo)
+          .model;
+  Eigen::MatrixXd again(n, 4);
+  Eigen::MatrixXd other(n, 4);
+  for (int i = 0; i < n; ++i) {
+    again.row(i) = near(0, i).transpose();
+    other.row(i) = near(2, i).transpose();
+  }
+  // A's own views again: each scores as it did, so 7 of 8 are at least A's lower quartile
+  // (the second least of 8) and none is B's.
+  const RepeatTest a = explained_by(model, known, labels, again, 0.5);
+  EXPECT_EQ(a.cls, 0);
+  ASSERT_EQ(a.shares.size(), 2U);
+  EXPECT_DOUBLE_EQ(a.shares[0], 7.0 / 8.0);
+  EXPECT_DOUBLE_EQ(a.shares[1], 0.0);
+  EXPECT_TRUE(std::isfinite(a.floors[0]));
+  EXPECT_TRUE(std::isfinite(a.floors[1]));
+  // The share asked for is what decides: 7/8 is enough for 0.85, not for 0.9.
+  EXPECT_EQ(explained_by(model, known, labels, again, 0.85).cls, 0);
+  EXPECT_EQ(explained_by(model, known, labels, again, 0.9).cls, -1);
+  // A new object: no class explains any of its views.
+  const RepeatTest c = explained_by(model, known, labels, other, 0.5);
+  EXPECT_EQ(c.cls, -1);
+  EXPECT_DOUBLE_EQ(c.shares[0], 0.0);
+  EXPECT_DOUBLE_EQ(c.shares[1], 0.0);
+  // Half A, half the new object: A explains at most half (the first four include A's least).
+  Eigen::MatrixXd half(n, 4);
+  half.topRows(n / 2) = again.bottomRows(n / 2);
+  half.bottomRows(n / 2) = other.topRows(n / 2);
+  EXPECT_DOUBLE_EQ(explained_by(model, known, labels, half, 0.5).shares[0], 0.5);
+  EXPECT_EQ(explained_by(model, known, labels, half, 0.5).cls, 0);
+  EXPECT_EQ(explained_by(model, known, labels, half, 0.6).cls, -1);
+  // A class with no views of its own explains nothing (its floor is -inf).
+  std::vector<int> no_b = labels;
+  for (int i = n; i < 2 * n; ++i) no_b[static_cast<std::size_t>(i)] = -1;
+  Eigen::MatrixXd bs(1, 4);
+  bs.row(0) = near(1, 3).transpose();
+  const RepeatTest b = explained_by(model, known, no_b, bs, 0.5);
+  EXPECT_EQ(b.cls, -1);
+  EXPECT_FALSE(std::isfinite(b.floors[1]));
+  EXPECT_EQ(explained_by(model, known, labels, bs, 0.5).cls, 1);
+  // Bad input.
+  EXPECT_THROW((void)explained_by(model, known, {0, 1}, again, 0.5), Error);
+  std::vector<int> bad = labels;
+  bad[0] = 2;
+  EXPECT_THROW((void)explained_by(model, known, bad, again, 0.5), Error);
+  EXPECT_THROW((void)explained_by(model, known, labels, again, 0.0), Error);
+  EXPECT_THROW(
+      (void)explained_by(model, known, labels, Eigen::MatrixXd::Constant(2, 3, 1.0 / 3), 0.5),
+      Error);
 }
 
 TEST(SelfSupervision, HullGapKnownAnswers) {
@@ -1171,6 +1253,56 @@ TEST(SelfSupervision, DepthCheckIsLoggedAndAnotherObjectIsChosenWhenNotAlone) {
   }
   // The attendant is told of each choice: the first of each round and each switch.
   EXPECT_EQ(attendant.choices, static_cast<int>(not_alone.size()) + total);
+}
+
+TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
+  // repeat_tries 1 at a share any explained view meets: round 1's first views (blob views of
+  // the book and the bottle) are tested against object_1's Mixture of Topics; on this table
+  // they are explained, so the round drops them (logged, event "repeat"), looks again and
+  // chooses again (the attendant told), and its class keeps only the views of the later pushes.
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 4;  // round 0's class needs 2 views or more to be in the model
+  o.repeat_tries = 1;
+  o.repeat_share = 0.01;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  sim::SimulatedRobot robot(table_of(o), catalogue);
+  const TinyModel m = tiny_model(robot.look().image);
+  ChoiceCounter attendant;
+  const Learning l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+  int repeats = 0;
+  int again_looks = 0;
+  int chooses = 0;
+  int dropped = 0;
+  int taken_after = 0;  // round 1's views logged after the repeat
+  for (const auto& j : l.log) {
+    if (j.event == "choose") ++chooses;
+    if (j.event == "repeat") {
+      ++repeats;
+      EXPECT_EQ(j.round, 1);  // round 0 has no class to test against
+      ASSERT_TRUE(j.why && j.views);
+      EXPECT_EQ(j.why->rfind("the round's first views are explained by object_1", 0), 0U) << *j.why;
+      dropped = *j.views;
+    }
+    if (j.event == "look" && j.why && j.why->find("learned already") != std::string::npos) {
+      ++again_looks;
+    }
+    if (j.event == "views" && j.round == 1 && repeats > 0) taken_after += j.taken.value_or(0);
+  }
+  EXPECT_EQ(repeats, 1);
+  EXPECT_EQ(again_looks, 1);
+  EXPECT_GT(dropped, 0);
+  EXPECT_EQ(chooses, 3);
+  EXPECT_EQ(attendant.choices, 3);
+  EXPECT_EQ(static_cast<int>(std::count(l.views.labels.begin(), l.views.labels.end(), 1)),
+            taken_after);
+
+  // Off (the default): no test, no "repeat" event, one choice a round.
+  o.repeat_tries = 0;
+  sim::SimulatedRobot robot2(table_of(o), catalogue);
+  ChoiceCounter attendant2;
+  const Learning l2 = learn_by_pushing(robot2, attendant2, 2, m.lda, m.vocabulary, o, {});
+  for (const auto& j : l2.log) EXPECT_NE(j.event, "repeat");
+  EXPECT_EQ(attendant2.choices, 2);
 }
 
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {

@@ -209,6 +209,15 @@ struct SelfSupervisionOptions {
   /// that check and run (b) on it, at most this many times a round (logged, event "replan").
   /// 0: (c) starts on the object not alone (the default).
   int switch_tries = 0;
+  /// (c), rounds after the first: "an object learned twice" (session 24). The first learn push
+  /// of a round that gives views is tested against the classes learned so far (explained_by on
+  /// the views' theta and the Mixture of Topics of the earlier rounds' views): when a class
+  /// already explains them, the round drops those views, gives its looks of the object to that
+  /// class (so that (d)'s choice sees the object as learned) and chooses again (logged, event
+  /// "repeat"), with the pushes left, at most this many times a round. 0: off (the default).
+  int repeat_tries = 0;
+  /// repeat_tries: the share of the views a class must explain (explained_by).
+  double repeat_share = 0.5;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -315,6 +324,13 @@ struct SelfSupervisionOptions {
       {"switch_tries",
        "When (b) cannot singulate the chosen object, choose the most isolated other, this often",
        core::between(0, 5)});
+    v(self.repeat_tries,
+      {"repeat_tries",
+       "When a round's first views are already explained by a learned class, choose again, "
+       "this often (0: off)",
+       core::between(0, 5)});
+    v(self.repeat_share, {"repeat_share", "repeat_tries: share of the views a class must explain",
+                          core::between(0.01, 1.0)});
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
@@ -607,6 +623,28 @@ struct NextChoice {
 /// over the matchings: at most 8 classes and 8 blobs take part (more: a greedy matching).
 NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
                             const std::vector<std::vector<Eigen::VectorXd>>& class_looks);
+
+/// (c) before a new class (SelfSupervisionOptions::repeat_tries): is a round's first views'
+/// object one the robot has learned already? `model`: the Mixture of Topics of the earlier
+/// rounds' views; `known` (rows theta) and `known_labels` (the model's class of each row, -1:
+/// none): the views it was fitted on; `fresh`: the new views' theta. Class c's floor is the
+/// lower quartile (kRepeatQuantile) of its own views' log Dir(theta | omega_c) + log p(c); a
+/// fresh view is explained by c when c is its most likely class and its score under c is at
+/// least c's floor (as likely as three quarters of the views c learned from). The class that
+/// explains the largest share of the fresh views, when that share is at least `share`, is the
+/// answer (ties: the lower class). Only what the robot sees is used (never the ground truth).
+struct RepeatTest {
+  int cls = -1;                ///< the model's class (index into model.objects); -1: none
+  std::vector<double> shares;  ///< per model class: the share of the fresh views it explains
+  std::vector<double> floors;  ///< per model class: its floor (-inf: no views of its own)
+};
+inline constexpr double kRepeatQuantile = 0.25;
+
+/// The test above. Throws Error when the shapes disagree, a label is out of range or `share` is
+/// outside (0, 1].
+RepeatTest explained_by(const topics::MotModel& model, const Eigen::MatrixXd& known,
+                        const std::vector<int>& known_labels, const Eigen::MatrixXd& fresh,
+                        double share);
 
 /// Most sideways offset of a turning push, m (SelfSupervisionOptions::turn_offset).
 inline constexpr double kMaxTurnOffset = 0.03;
