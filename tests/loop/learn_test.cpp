@@ -9,6 +9,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <string>
@@ -35,6 +36,9 @@ TEST(Learn, DefaultsAreTheIssuesWorld) {
   EXPECT_EQ(o.seed, 1U);
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(o.resolved().pushes, o.pushes);  // not quick: unchanged
+  // The dense segmentation takes the baseline's touch cut as evidence (issue 20), as
+  // MlOptions's default (docs/results/learn.md, "Session 24").
+  EXPECT_DOUBLE_EQ(o.dense.touch_fm, 1.0);
 }
 
 TEST(Learn, QuickMakesTheRunSmall) {
@@ -112,6 +116,11 @@ TEST(Learn, BadOptionsThrow) {
   o.mot_word_weight = -0.01;
   EXPECT_THROW(o.validate(), Error);
   o.mot_word_weight = 1.01;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.dense.touch_fm = -0.1;
+  EXPECT_THROW(o.validate(), Error);
+  o.dense.touch_fm = 1.1;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.clutter = "";
@@ -439,6 +448,36 @@ TEST(Learn, TurnsStopOnceEveryClassHasViews) {
   const std::string ev = events_of(o.out / "decisions.jsonl");
   EXPECT_EQ(count_of(ev, "retry:"), 0) << ev;
   EXPECT_EQ(count_of(ev, "choose:"), 1) << ev;
+}
+
+TEST(Learn, TheDenseSegmentationTakesTheTouchCutOption) {
+  // --seg-touch-fm reaches the push's segmentation: the same push segmented with the baseline's
+  // touch cut as evidence (1) and without it (0) gives different maps; the run's options record
+  // it.
+  namespace fs = std::filesystem;
+  const test::TempDir dir("proprio_learn_touch_fm_");
+  SmallTable t;
+  cv::Mat maps[2];
+  for (int i = 0; i < 2; ++i) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.dense.touch_fm = i == 0 ? 0.0 : 1.0;
+    o.out = dir.path() / (i == 0 ? "off" : "on");
+    (void)run_learn(o, robot, attendant, 1, core::Provenance::current({"t"}, 1));
+    const core::Json j = core::read_json(o.out / "learn.json");
+    EXPECT_DOUBLE_EQ(j["options"]["seg_touch_fm"].get<double>(), o.dense.touch_fm);
+    ASSERT_FALSE(j["pushes"].empty());
+    ASSERT_TRUE(j["pushes"][0]["executed"].get<bool>());
+    const fs::path map = o.out / j["pushes"][0]["dir"].get<std::string>() / "map.png";
+    ASSERT_TRUE(fs::exists(map)) << map;
+    maps[i] = cv::imread(map.string(), cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(maps[i].empty());
+  }
+  ASSERT_EQ(maps[0].size(), maps[1].size());
+  cv::Mat diff;
+  cv::absdiff(maps[0], maps[1], diff);
+  EXPECT_GT(cv::countNonZero(diff.reshape(1)), 0);
 }
 
 TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
