@@ -174,6 +174,8 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --prefer-pushable=maybe" + out, "prefer-pushable"},
       {"--objects book --mot-word-weight -0.1" + out, "mot-word-weight"},
       {"--objects book --mot-word-weight 1.5" + out, "mot-word-weight"},
+      {"--objects book --seg-touch-fm -0.1" + out, "seg-touch-fm"},
+      {"--objects book --seg-touch-fm 1.5" + out, "seg-touch-fm"},
       {"--objects book,mug,bottle,rabbit,cd,calculator --clutter giraffe,bike,box" + out,
        "do not fit on the table"},
       {"--objects book --background stripes" + out, "background"},

@@ -35,6 +35,9 @@ TEST(Learn, DefaultsAreTheIssuesWorld) {
   EXPECT_EQ(o.seed, 1U);
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(o.resolved().pushes, o.pushes);  // not quick: unchanged
+  // The dense segmentation takes the baseline's touch cut as evidence (issue 20), as
+  // MlOptions's default (docs/results/learn.md, "Session 24").
+  EXPECT_DOUBLE_EQ(o.dense.touch_fm, 1.0);
 }
 
 TEST(Learn, QuickMakesTheRunSmall) {
@@ -112,6 +115,11 @@ TEST(Learn, BadOptionsThrow) {
   o.mot_word_weight = -0.01;
   EXPECT_THROW(o.validate(), Error);
   o.mot_word_weight = 1.01;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.dense.touch_fm = -0.1;
+  EXPECT_THROW(o.validate(), Error);
+  o.dense.touch_fm = 1.1;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.clutter = "";
@@ -439,6 +447,29 @@ TEST(Learn, TurnsStopOnceEveryClassHasViews) {
   const std::string ev = events_of(o.out / "decisions.jsonl");
   EXPECT_EQ(count_of(ev, "retry:"), 0) << ev;
   EXPECT_EQ(count_of(ev, "choose:"), 1) << ev;
+}
+
+TEST(Learn, TheTouchCutOptionIsRecordedAndBothSettingsRun) {
+  // --seg-touch-fm (LearnOptions::dense.touch_fm, passed to segment_ml with the push's other
+  // dense options; its effect on a map is tested in ml_segmentation_test): a run with it off
+  // and one with it on both segment their first push, and learn.json records the setting. (On
+  // this small plain table the first push's map is the same either way.)
+  namespace fs = std::filesystem;
+  const test::TempDir dir("proprio_learn_touch_fm_");
+  SmallTable t;
+  for (int i = 0; i < 2; ++i) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.dense.touch_fm = i == 0 ? 0.0 : 1.0;
+    o.out = dir.path() / (i == 0 ? "off" : "on");
+    (void)run_learn(o, robot, attendant, 1, core::Provenance::current({"t"}, 1));
+    const core::Json j = core::read_json(o.out / "learn.json");
+    EXPECT_DOUBLE_EQ(j["options"]["seg_touch_fm"].get<double>(), o.dense.touch_fm);
+    ASSERT_FALSE(j["pushes"].empty());
+    ASSERT_TRUE(j["pushes"][0]["executed"].get<bool>());
+    EXPECT_TRUE(fs::exists(o.out / j["pushes"][0]["dir"].get<std::string>() / "map.png"));
+  }
 }
 
 TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {

@@ -260,6 +260,9 @@ struct LearnOptions {
   features::ExtractOptions features = learn_features();
   planning::PushPlanOptions plan;
   segmentation::SparseOptions sparse;
+  /// The dense segmentation's options; --seg-touch-fm sets its touch_fm (the baseline's touch
+  /// cut as evidence in monocular M-L, issue 20; MlOptions's default 1, docs/results/learn.md
+  /// "Session 24").
   segmentation::MlOptions dense;
   ObjectWordOptions words_model;
   topics::MotOptions mot;
@@ -335,6 +338,11 @@ struct LearnOptions {
              kDirichletUpdateNames);
     v(self.mask_fraction,
       {"mask_fraction", "Push mask: map >= fraction x its maximum", core::between(0.05, 1)});
+    v(self.dense.touch_fm,
+      {"seg_touch_fm",
+       "dense: regions in the baseline's touch cut score at least this x the map's peak "
+       "(MlOptions::touch_fm); 0 off",
+       core::between(0.0, 1.0)});
     v(self.view_step,
       {"view_step", "Views: every n-th frame from the touch", core::between(1, 1000)});
     v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
