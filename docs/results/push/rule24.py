@@ -6,34 +6,10 @@ within), the median final distance over the executed tables (bootstrap 95%), and
 same three. Usage: rule24.py BASE.json CANDIDATE.json  (stdlib only, seeded). Prints whether the
 candidate passes: not lower on the first two, median below 20 mm."""
 import json
-import math
-import random
 import sys
 from collections import defaultdict
 
-
-def median(v):
-    v = sorted(v)
-    n = len(v)
-    return float('nan') if n == 0 else (v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2]))
-
-
-def boot(v, n=2000):
-    if len(v) < 2:
-        return (float('nan'), float('nan'))
-    rng = random.Random(1)
-    s = sorted(median([rng.choice(v) for _ in v]) for _ in range(n))
-    return s[int(0.025 * n)], s[int(0.975 * n) - 1]
-
-
-def wilson(k, n, z=1.96):
-    if n == 0:
-        return (float('nan'), float('nan'))
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return c - h, c + h
+from summarise import boot, median, wilson  # the same statistics as summarise.py
 
 
 def figures(rows, tol):
