@@ -3,7 +3,8 @@ BUILD ?= build
 BUILD_ASAN ?= build-asan
 BUILD_FUZZ ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= json csv calib scene corpus lda_model mot_model vocabulary features image checkpoint clutter_cache
+# Every target in tests/fuzz (fuzz_<name>.cpp), so that a new parser's target is never left out.
+FUZZ_TARGETS ?= $(sort $(patsubst tests/fuzz/fuzz_%.cpp,%,$(wildcard tests/fuzz/fuzz_*.cpp)))
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 

@@ -196,6 +196,10 @@ void add_clutter_options(CLI::App* cmd, ClutterArgs& a) {
   cmd->add_option("--depth-split", o.depth_split,
                   "Push planner: split a blob at a depth step of this height, m; 0: off")
       ->capture_default_str();
+  cmd->add_option("--seg-touch-fm", o.dense.touch_fm,
+                  "dense: regions in the baseline's touch cut score at least this x the map's "
+                  "peak (MlOptions::touch_fm); 0 off")
+      ->capture_default_str();
   cmd->add_option("--erode", o.erode,
                   "Erode the view masks by this many px (after the arm is cut out, before "
                   "--dilate); 0: none")

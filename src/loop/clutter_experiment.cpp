@@ -944,6 +944,8 @@ void ClutterExperimentOptions::validate() const {
   need(std::isfinite(depth_split) && depth_split >= 0 && depth_split <= 0.2,
        "--depth-split: must be in [0, 0.2]");
   need(erode >= 0 && erode <= 50, "--erode: must be in [0, 50]");
+  need(std::isfinite(dense.touch_fm) && dense.touch_fm >= 0 && dense.touch_fm <= 1,
+       "--seg-touch-fm: must be in [0, 1]");
   need(std::isfinite(mot_word_weight) && mot_word_weight >= 0 && mot_word_weight <= 1,
        "--mot-word-weight: must be in [0, 1]");
   need(background == "plain" || background == "photo" || background == "moving",
@@ -1173,6 +1175,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
       {"sweep_margin", o.sweep_margin},
       {"depth_split", o.depth_split},
       {"erode", o.erode},
+      {"seg_touch_fm", o.dense.touch_fm},
       {"mot_classifier",
        std::string(core::choice_name(o.mot_classifier, kClutterMotClassifierNames))},
       {"mot_word_weight", o.mot_word_weight},

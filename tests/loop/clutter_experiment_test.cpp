@@ -44,6 +44,7 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.sweep_margin, 0.0);
   EXPECT_EQ(o.depth_split, 0.0);
   EXPECT_EQ(o.erode, 0);
+  EXPECT_EQ(o.dense.touch_fm, 1.0);  // MlOptions's default (--seg-touch-fm)
   EXPECT_EQ(o.mot_classifier, ClutterMotClassifier::kPooled);  // session 23 (theta: eq 7.3)
   EXPECT_EQ(o.mot_word_weight, 0.25);
   EXPECT_THROW(o.validate(), Error);  // no cache
@@ -97,6 +98,12 @@ TEST(ClutterExperiment, BadOptionsNameTheFlag) {
             std::string::npos);
   EXPECT_NE(message([](auto& o) { o.erode = -1; }).find("--erode"), std::string::npos);
   EXPECT_NE(message([](auto& o) { o.erode = 51; }).find("--erode"), std::string::npos);
+  EXPECT_NE(message([](auto& o) { o.dense.touch_fm = -0.1; }).find("--seg-touch-fm"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) {
+              o.dense.touch_fm = std::numeric_limits<double>::quiet_NaN();
+            }).find("--seg-touch-fm"),
+            std::string::npos);
   EXPECT_NE(message([](auto& o) { o.mot_word_weight = -0.1; }).find("--mot-word-weight"),
             std::string::npos);
   EXPECT_NE(message([](auto& o) { o.mot_word_weight = 1.5; }).find("--mot-word-weight"),

@@ -366,12 +366,36 @@ TEST(MlSegmentation, CarriedPixelsColourCheck) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
+// The synthetic push streamed through a segmenter with the touch flagged one frame after the
+// contact, so that the square moves in the touch frame pair, as the simulator's objects do (at
+// the contact itself the baseline sees only the arm's motion and cuts nothing). Returns the map
+// at the first touch and that frame.
+std::pair<cv::Mat1f, int> touch_map(const PushSpec& spec, const MlOptions& o) {
+  MlSegmenter seg(o, cv::Size(spec.width, spec.height));
+  bool contact = false;
+  for (int i = 0; i < spec.frames; ++i) {
+    const PushFrame f = push_frame(spec, i);
+    (void)seg.push(f.image, f.ee, contact && f.touching, nullptr);
+    contact = f.touching;
+  }
+  return {seg.map_for_frame(*seg.first_touch_frame()), *seg.first_touch_frame()};
+}
+
+// The baseline's frames around touch frame t of the synthetic push.
+FmFrames fm_frames_at(const PushSpec& spec, int t) {
+  FmFrames frames;
+  frames.touch_frame = t;
+  frames.before2 = push_frame(spec, t - 2).image;
+  frames.before = push_frame(spec, t - 1).image;
+  frames.touch = push_frame(spec, t).image;
+  frames.ee = push_frame(spec, t).ee;
+  return frames;
+}
+
 // touch_fm: every region at least half inside the baseline's touch cut scores at least the
 // map's peak (touch_fm 1), so without the priors the map is nowhere lower, its peak is kept, the
 // mask only grows and it holds most of the baseline's cut; validate() rejects values out of
-// range. The touch is flagged one frame after the contact, so that the square moves in the
-// touch frame pair, as the simulator's objects do (at the contact itself the baseline sees only
-// the arm's motion and cuts nothing).
+// range (the touch flagged as touch_map says).
 TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
   PushSpec spec;
   const auto run = [&](double touch_fm) {
@@ -379,25 +403,13 @@ TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
     o.contact_prior = false;
     o.direction_prior = false;
     o.touch_fm = touch_fm;
-    MlSegmenter seg(o, cv::Size(spec.width, spec.height));
-    bool contact = false;
-    for (int i = 0; i < spec.frames; ++i) {
-      const PushFrame f = push_frame(spec, i);
-      (void)seg.push(f.image, f.ee, contact && f.touching, nullptr);
-      contact = f.touching;
-    }
-    return std::make_pair(seg.map_for_frame(*seg.first_touch_frame()), *seg.first_touch_frame());
+    return touch_map(spec, o);
   };
   const auto [plain, t] = run(0);
   const auto [raised, t_raised] = run(1);
   ASSERT_EQ(t, t_raised);
   expect_valid_map(raised);
-  FmFrames frames;
-  frames.touch_frame = t;
-  frames.before2 = push_frame(spec, t - 2).image;
-  frames.before = push_frame(spec, t - 1).image;
-  frames.touch = push_frame(spec, t).image;
-  frames.ee = push_frame(spec, t).ee;
+  const FmFrames frames = fm_frames_at(spec, t);
   const cv::Mat1b fm = segment_fm(frames, FmOptions{}).mask;
   ASSERT_GT(cv::countNonZero(fm), 0);
   double lo = 0, peak_plain = 0, peak_raised = 0;
@@ -447,14 +459,7 @@ TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
     o.touch_fm_against = against;
     o.touch_fm_agree = agree;
     o.touch_fm_margin = 2;
-    MlSegmenter seg(o, cv::Size(spec.width, spec.height));
-    bool contact = false;
-    for (int i = 0; i < spec.frames; ++i) {
-      const PushFrame f = push_frame(spec, i);
-      (void)seg.push(f.image, f.ee, contact && f.touching, nullptr);
-      contact = f.touching;
-    }
-    return std::make_pair(seg.map_for_frame(*seg.first_touch_frame()), *seg.first_touch_frame());
+    return touch_map(spec, o);
   };
   const auto [plain, t] = run(false, 0.0);
   const auto [cut_map, t_cut] = run(true, 0.0);
@@ -462,12 +467,7 @@ TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
   ASSERT_EQ(t, t_cut);
   ASSERT_EQ(t, t_unagreed);
   expect_valid_map(cut_map);
-  FmFrames frames;
-  frames.touch_frame = t;
-  frames.before2 = push_frame(spec, t - 2).image;
-  frames.before = push_frame(spec, t - 1).image;
-  frames.touch = push_frame(spec, t).image;
-  frames.ee = push_frame(spec, t).ee;
+  const FmFrames frames = fm_frames_at(spec, t);
   const FmResult fm = segment_fm(frames, FmOptions{});
   ASSERT_GT(cv::countNonZero(fm.mask), 0);
   cv::Mat1b keep = fm.mask | fm.arm;
