@@ -789,6 +789,7 @@ class Learner {
     }
     int done = 0;
     int attempts = 0;
+    bool views_seen = false;  // repeat_later: a push of this call gave views
     // The look after the last executed push and the chosen object in it (found by its motion):
     // the next push plans on it instead of looking again and re-finding the object by position.
     std::optional<planning::PlanningView> carried;
@@ -992,13 +993,23 @@ class Learner {
       }
       if (repeat_check_ && !docs.empty()) {
         repeat_check_ = false;  // the round's first push with views only
-        if (repeated(r, docs, after, now)) {
+        if (repeated(r, docs, after, now, true)) {
           attendant_.views_taken(in, 0, last_mask);
           ++done;
           if (done <= o_.pushes) bar.tick();
           return true;
         }
+      } else if (o_.repeat_later && views_seen && !docs.empty() && !model_so_far_.objects.empty() &&
+                 repeated(r, docs, after, now, false)) {
+        // The round drifted onto a learned object: no views, the round stops.
+        attendant_.views_taken(in, 0, last_mask);
+        ++done;
+        if (done <= o_.pushes) bar.tick();
+        out_.stop_reasons[static_cast<std::size_t>(r)] =
+            "a later push's views were explained by a learned class";
+        break;
       }
+      if (!docs.empty()) views_seen = true;
       attendant_.views_taken(in, static_cast<int>(docs.size()), last_mask);
       if (!docs.empty()) {
         const Eigen::MatrixXd th = theta_of(docs);
@@ -1049,11 +1060,13 @@ class Learner {
     return false;
   }
 
-  // repeat_tries: whether a learned class already explains this round's first views (`docs`);
-  // if so the round's looks of its object (and the look after the push, blob `now` of `after`)
-  // go to that class, so that (d) sees the object as learned, and the views are not kept.
+  // repeat_tries (`first`): whether a learned class already explains this round's first views
+  // (`docs`); if so the round's looks of its object (and the look after the push, blob `now` of
+  // `after`) go to that class, so that (d) sees the object as learned, and the views are not
+  // kept. repeat_later (not `first`): the same test of a later push's views; if so only the look
+  // after the push goes to that class (the round's earlier looks are of its own object).
   bool repeated(int r, const std::vector<std::vector<std::int32_t>>& docs,
-                const planning::PlanningView& after, int now) {
+                const planning::PlanningView& after, int now, bool first) {
     std::vector<int> labels;
     labels.reserve(out_.views.labels.size());
     for (const int l : out_.views.labels) {
@@ -1068,28 +1081,33 @@ class Learner {
           "%s%s %.2f", m ? ", " : "",
           out_.class_names[static_cast<std::size_t>(model_class_[m])].c_str(), t.shares[m]);
     }
+    const char* which = first ? "the round's first views" : "a later push's views";
     if (t.cls < 0) {
       log({.event = "repeat",
            .round = r,
-           .why = core::cat({"the round's first views are new (shares explained: ", shares, ")"}),
+           .why = core::cat({which, " are new (shares explained: ", shares, ")"}),
            .views = static_cast<int>(docs.size())});
       return false;
     }
     const int c = model_class_[static_cast<std::size_t>(t.cls)];
     auto& mine = class_looks_[static_cast<std::size_t>(r)];
     auto& theirs = class_looks_[static_cast<std::size_t>(c)];
-    theirs.insert(theirs.end(), mine.begin(), mine.end());
-    mine.clear();
+    if (first) {
+      theirs.insert(theirs.end(), mine.begin(), mine.end());
+      mine.clear();
+    }
     if (now >= 0) {
       const auto d = blob_document(after, now);
       if (!d.empty()) theirs.push_back(theta_of({d}).row(0).transpose());
     }
     log({.event = "repeat",
          .round = r,
-         .why = core::cat({"the round's first views are explained by ",
-                           out_.class_names[static_cast<std::size_t>(c)],
-                           " (shares explained: ", shares,
-                           "): views dropped, its looks given to that class, choose again"}),
+         .why =
+             core::cat({which, " are explained by ", out_.class_names[static_cast<std::size_t>(c)],
+                        " (shares explained: ", shares,
+                        first ? "): views dropped, its looks given to that class, choose again"
+                              : "): views dropped, the look after the push given to that "
+                                "class, the round stops"}),
          .views = static_cast<int>(docs.size())});
     return true;
   }

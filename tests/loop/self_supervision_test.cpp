@@ -1305,6 +1305,53 @@ TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
   EXPECT_EQ(attendant2.choices, 2);
 }
 
+TEST(SelfSupervision, ARoundWhoseLaterViewsALearnedClassExplainsStops) {
+  // repeat_later at a share any explained view meets: round 1's first views are kept (no
+  // repeat_tries), each later push's views are tested against object_1's Mixture of Topics; on
+  // this table they are explained, so the round drops them (event "repeat"), gives no more
+  // views and stops with the reason said; its class keeps only the views before.
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 4;  // round 0's class needs 2 views or more to be in the model
+  o.repeat_later = true;
+  o.repeat_share = 0.01;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  sim::SimulatedRobot robot(table_of(o), catalogue);
+  const TinyModel m = tiny_model(robot.look().image);
+  ChoiceCounter attendant;
+  const Learning l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+  int repeats = 0;
+  int taken_before = 0;  // round 1's views logged before the repeat
+  int views_after = 0;   // round 1's "views" events after it
+  bool first_views = false;
+  for (const auto& j : l.log) {
+    if (j.event == "repeat") {
+      ++repeats;
+      EXPECT_EQ(j.round, 1);  // round 0 has no class to test against
+      ASSERT_TRUE(j.why && j.views);
+      EXPECT_EQ(j.why->rfind("a later push's views are explained by object_1", 0), 0U) << *j.why;
+      EXPECT_NE(j.why->find("the round stops"), std::string::npos) << *j.why;
+      EXPECT_GT(*j.views, 0);
+      EXPECT_TRUE(first_views);  // never the round's first push with views
+    }
+    if (j.event == "views" && j.round == 1) {
+      if (repeats > 0) {
+        ++views_after;
+      } else {
+        taken_before += j.taken.value_or(0);
+        first_views = first_views || j.taken.value_or(0) > 0;
+      }
+    }
+  }
+  EXPECT_EQ(repeats, 1);
+  EXPECT_EQ(views_after, 0);  // the round stopped at the dropped push
+  EXPECT_GT(taken_before, 0);
+  EXPECT_EQ(static_cast<int>(std::count(l.views.labels.begin(), l.views.labels.end(), 1)),
+            taken_before);
+  ASSERT_EQ(l.stop_reasons.size(), 2U);
+  EXPECT_EQ(l.stop_reasons[1], "a later push's views were explained by a learned class");
+  EXPECT_EQ(attendant.choices, 2);  // the round stops; it does not choose again
+}
+
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
   // Motion views with the oracle ladder: the episodes carry ground-truth masks (the table's
   // record_masks), the attendant records every view's truth in the views' order, and the score

@@ -218,6 +218,14 @@ struct SelfSupervisionOptions {
   int repeat_tries = 0;
   /// repeat_tries: the share of the views a class must explain (explained_by).
   double repeat_share = 0.5;
+  /// (c), rounds after the first: "a round that drifts onto a learned object" (session 25). Every
+  /// learn push's views after the round's first push with views are tested as repeat_tries
+  /// tests the first (explained_by at repeat_share against the Mixture of Topics of the earlier
+  /// rounds' views): when a learned class explains them the round has drifted onto that class's
+  /// object (its tracked blob is now a neighbour it pushed): those views are dropped, the look
+  /// after the push is given to that class and the round stops (logged, event "repeat"; its
+  /// unspent pushes go to the next round with carry_budget). Off (the default).
+  bool repeat_later = false;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -331,6 +339,9 @@ struct SelfSupervisionOptions {
        core::between(0, 5)});
     v(self.repeat_share, {"repeat_share", "repeat_tries: share of the views a class must explain",
                           core::between(0.01, 1.0)});
+    v(self.repeat_later,
+      {"repeat_later",
+       "Stop a round when a later push's views are already explained by a learned class"});
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
