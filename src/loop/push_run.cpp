@@ -304,6 +304,8 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
       for (int attempt = 0; attempt <= options.retries; ++attempt) {
         robot::ArmState arm(robot.arm());
         planning::PushPlanOptions popt = options.plan;
+        // The descent pose check poses the hand as the table's robot rolls it.
+        popt.roll_across = options.table.roll_across;
         popt.seed = core::stream_seed(options.plan.seed, static_cast<std::uint64_t>(k),
                                       static_cast<std::uint64_t>(attempt));
         // A refusal is a hand that would come down on or beside a tall object near the start:

@@ -1204,6 +1204,230 @@ std::string metres(const Eigen::Vector2d& p) {
 
 }  // namespace
 
+namespace {
+
+// Spacing of the balls a capsule or cylinder is sampled as, and of a box's surface points, m.
+constexpr double kPartSample = 0.005;
+
+// A ball of the arm's surface: centre (world m) and radius (m).
+struct Ball {
+  Eigen::Vector3d centre;
+  double radius;
+};
+
+// The colliding geoms of the arm's moving parts: in the subtree of its base body, not the base
+// nor the first link's body (the robot's contact check leaves those out too).
+std::vector<int> moving_arm_geoms(const robot::Arm& a) {
+  const mjModel& m = a.model();
+  const int base = a.base_body();
+  const int first = m.jnt_bodyid[a.joint_id(0)];
+  std::vector<int> out;
+  for (int g = 0; g < m.ngeom; ++g) {
+    const int b = m.geom_bodyid[g];
+    if (b == base || b == first) continue;
+    if (m.geom_contype[g] == 0 && m.geom_conaffinity[g] == 0) continue;
+    bool in_arm = false;
+    for (int k = b; k > 0; k = m.body_parentid[k]) {
+      if (k == base) {
+        in_arm = true;
+        break;
+      }
+    }
+    if (in_arm) out.push_back(g);
+  }
+  return out;
+}
+
+// Geom g (where `d`'s kinematics put it) as balls.
+void geom_balls(const mjModel& m, const mjData& d, int g, std::vector<Ball>& out) {
+  const Eigen::Vector3d pos(d.geom_xpos[3 * g], d.geom_xpos[3 * g + 1], d.geom_xpos[3 * g + 2]);
+  Eigen::Matrix3d rot;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) rot(r, c) = d.geom_xmat[9 * g + 3 * r + c];
+  }
+  const mjtNum* size = m.geom_size + 3 * g;
+  switch (m.geom_type[g]) {
+    case mjGEOM_SPHERE:
+      out.push_back({pos, size[0]});
+      return;
+    case mjGEOM_CAPSULE:
+    case mjGEOM_CYLINDER: {
+      const Eigen::Vector3d axis = rot.col(2);
+      const int n = 1 + static_cast<int>(std::ceil(2.0 * size[1] / kPartSample));
+      for (int i = 0; i <= n; ++i) {
+        const double t = -size[1] + 2.0 * size[1] * static_cast<double>(i) / n;
+        out.push_back({pos + t * axis, size[0]});
+      }
+      return;
+    }
+    case mjGEOM_BOX: {
+      std::array<int, 3> n{};
+      for (int k = 0; k < 3; ++k) {
+        n[static_cast<std::size_t>(k)] =
+            1 + static_cast<int>(std::ceil(2.0 * size[k] / kPartSample));
+      }
+      for (int i = 0; i <= n[0]; ++i) {
+        for (int j = 0; j <= n[1]; ++j) {
+          for (int k = 0; k <= n[2]; ++k) {
+            const bool surface = i == 0 || j == 0 || k == 0 || i == n[0] || j == n[1] || k == n[2];
+            if (!surface) continue;
+            const Eigen::Vector3d local(size[0] * (2.0 * i / n[0] - 1.0),
+                                        size[1] * (2.0 * j / n[1] - 1.0),
+                                        size[2] * (2.0 * k / n[2] - 1.0));
+            out.push_back({pos + rot * local, 0.0});
+          }
+        }
+      }
+      return;
+    }
+    default:
+      out.push_back({pos, m.geom_rbound[g]});
+      return;
+  }
+}
+
+}  // namespace
+
+DescentMap descent_map(const PlanningView& view, const TableRegion& region) {
+  DescentMap map;
+  map.origin = region.min;
+  const int cols =
+      std::max(1, static_cast<int>(std::ceil((region.max.x() - region.min.x()) / kDescentCell)));
+  const int rows =
+      std::max(1, static_cast<int>(std::ceil((region.max.y() - region.min.y()) / kDescentCell)));
+  map.top = cv::Mat1f::zeros(rows, cols);
+  const auto cell_of = [&](const Eigen::Vector2d& p, int& cx, int& cy) {
+    cx = static_cast<int>(std::floor((p.x() - map.origin.x()) / kDescentCell));
+    cy = static_cast<int>(std::floor((p.y() - map.origin.y()) / kDescentCell));
+    return cx >= 0 && cy >= 0 && cx < cols && cy < rows;
+  };
+  if (!view.depth.empty()) {
+    require(view.depth.type() == CV_32FC1, "descent map: the depth image must be CV_32FC1");
+    const geometry::DepthPixels pixels(view.camera);
+    for (int v = 0; v < view.depth.rows; v += 2) {
+      const float* row = view.depth.ptr<float>(v);
+      for (int u = 0; u < view.depth.cols; u += 2) {
+        if (!geometry::depth_measured(row[u])) continue;
+        const Eigen::Vector3d X = pixels.world(u, v, row[u]);
+        if (X.z() < kObjectLeastHeight) continue;
+        int cx = 0;
+        int cy = 0;
+        if (!cell_of(X.head<2>(), cx, cy)) continue;
+        float& t = map.top(cy, cx);
+        t = std::max(t, static_cast<float>(X.z()));
+      }
+    }
+    return map;
+  }
+  for (const PutativeObject& o : view.objects) {
+    if (o.hull.size() < 3) continue;
+    const auto h = static_cast<float>(o.height.value_or(kUnknownHeight));
+    Eigen::Vector2d lo = o.hull.front();
+    Eigen::Vector2d hi = o.hull.front();
+    for (const auto& p : o.hull) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    int x0 = 0;
+    int y0 = 0;
+    int x1 = 0;
+    int y1 = 0;
+    (void)cell_of(lo, x0, y0);
+    (void)cell_of(hi, x1, y1);
+    for (int cy = std::max(0, y0); cy <= std::min(rows - 1, y1); ++cy) {
+      for (int cx = std::max(0, x0); cx <= std::min(cols - 1, x1); ++cx) {
+        const Eigen::Vector2d c = map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
+        if (distance_to_polygon(o.hull, c) > 0.5 * kDescentCell) continue;
+        map.top(cy, cx) = std::max(map.top(cy, cx), h);
+      }
+    }
+  }
+  return map;
+}
+
+std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robot::TablePush& push,
+                                                const robot::JointVector& q_rest,
+                                                const DescentMap& map, double margin,
+                                                bool roll_across) {
+  require(std::isfinite(margin) && margin >= 0, "descent poses: the margin must be >= 0");
+  push.validate();
+  if (map.top.empty()) return std::nullopt;
+  double highest = 0;
+  cv::minMaxLoc(map.top, nullptr, &highest);
+  if (highest <= 0) return std::nullopt;
+  const Eigen::Vector3d start(push.start.x(), push.start.y(), push.height);
+  const robot::PushMotionOptions motion;
+  // The roll as plan_push_motion sets it.
+  robot::JointVector q_from = q_rest;
+  const bool across =
+      push.jaws == robot::JawLine::kAcross || (push.jaws == robot::JawLine::kRobot && roll_across);
+  if (across || push.jaws == robot::JawLine::kAlong) {
+    const Eigen::Vector3d mid(0.5 * (push.start.x() + push.end.x()),
+                              0.5 * (push.start.y() + push.end.y()), push.height);
+    const robot::JointVector q_mid = robot::solve_ik(arm, mid, q_rest, motion.ik).q;
+    q_from[4] = across ? robot::fingers_across_roll(arm, q_mid, push.end - push.start)
+                       : robot::fingers_along_roll(arm, q_mid, push.end - push.start);
+  }
+  const robot::JointVector q_above =
+      robot::solve_ik(arm, start + Eigen::Vector3d(0, 0, motion.lift), q_from, motion.ik).q;
+  // The top of the way down: the first of kDescentTops reached (seeded by the pose above the
+  // start, as the robot's transit is).
+  robot::JointVector q = q_above;
+  double top = 0;
+  for (const double h : kDescentTops) {
+    try {
+      q = robot::solve_ik(arm, Eigen::Vector3d(start.x(), start.y(), h), q_above, motion.ik).q;
+      top = h;
+      break;
+    } catch (const Error&) {
+      if (h == kDescentTops.back()) throw;
+    }
+  }
+  const robot::Arm& a = arm.arm();
+  const mjModel& m = a.model();
+  const std::vector<int> geoms = moving_arm_geoms(a);
+  const int steps = std::max(1, static_cast<int>(std::ceil((top - push.height) / kDescentStep)));
+  const double half_diagonal = 0.5 * std::numbers::sqrt2 * kDescentCell;
+  std::vector<Ball> balls;
+  for (int i = 0; i <= steps; ++i) {
+    const double z = top + (push.height - top) * static_cast<double>(i) / steps;
+    if (i > 0) q = robot::solve_ik(arm, Eigen::Vector3d(start.x(), start.y(), z), q, motion.ik).q;
+    arm.set_joints(q);
+    for (const int g : geoms) {
+      balls.clear();
+      geom_balls(m, arm.data(), g, balls);
+      for (const Ball& b : balls) {
+        const double low = b.centre.z() - b.radius - margin;
+        if (low >= highest) continue;
+        const double reach = b.radius + margin + half_diagonal;
+        const int x0 =
+            static_cast<int>(std::floor((b.centre.x() - reach - map.origin.x()) / kDescentCell));
+        const int x1 =
+            static_cast<int>(std::floor((b.centre.x() + reach - map.origin.x()) / kDescentCell));
+        const int y0 =
+            static_cast<int>(std::floor((b.centre.y() - reach - map.origin.y()) / kDescentCell));
+        const int y1 =
+            static_cast<int>(std::floor((b.centre.y() + reach - map.origin.y()) / kDescentCell));
+        for (int cy = std::max(0, y0); cy <= std::min(map.top.rows - 1, y1); ++cy) {
+          for (int cx = std::max(0, x0); cx <= std::min(map.top.cols - 1, x1); ++cx) {
+            const double t = map.top(cy, cx);
+            if (t <= low) continue;
+            const Eigen::Vector2d c =
+                map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
+            if ((c - b.centre.head<2>()).norm() > reach) continue;
+            const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
+            return std::string(name != nullptr ? name : "the arm") + " at " +
+                   std::to_string(static_cast<int>(std::lround(b.centre.z() * 1000))) +
+                   " mm on something " + std::to_string(static_cast<int>(std::lround(t * 1000))) +
+                   " mm tall";
+          }
+        }
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 cv::Mat1f density_of_others(const PlanningView& view, int object) {
   ensure(object >= 0 && object < static_cast<int>(view.objects.size()),
          "density of others: no putative object " + std::to_string(object));
@@ -1477,12 +1701,29 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   double best = std::numeric_limits<double>::infinity();
   robot::PushMotionOptions motion;
   motion.rate_hz = kMotionCheckRate;
+  // descent_pose_margin: what the arm may meet, the pushed object too.
+  const DescentMap solid =
+      options.descent_pose_margin > 0 ? descent_map(view, region) : DescentMap{};
+  std::string first_met;
   for (const Candidate& c : feasible) {
     try {
       (void)robot::plan_push_motion(arm, c.push, q_rest, motion);
     } catch (const Error&) {
       ++plan.rejected_reach;
       continue;
+    }
+    if (options.descent_pose_margin > 0) {
+      try {
+        if (std::optional<std::string> part = descent_meets_object(
+                arm, c.push, q_rest, solid, options.descent_pose_margin, options.roll_across)) {
+          if (plan.rejected_descent == 0) first_met = *part;
+          ++plan.rejected_descent;
+          continue;
+        }
+      } catch (const Error&) {
+        ++plan.rejected_reach;
+        continue;
+      }
     }
     best = c.cost;
     plan.target = c.target;
@@ -1497,10 +1738,15 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     break;
   }
   if (!std::isfinite(best)) {
-    return finish(PlanOutcome::kUnreachable,
-                  "no path: of " + std::to_string(plan.sampled) + " sampled, " +
-                      std::to_string(plan.rejected_region) + " left the table or view and " +
-                      std::to_string(plan.rejected_reach) + " were out of the arm's reach");
+    return finish(
+        PlanOutcome::kUnreachable,
+        "no path: of " + std::to_string(plan.sampled) + " sampled, " +
+            std::to_string(plan.rejected_region) + " left the table or view and " +
+            std::to_string(plan.rejected_reach) + " were out of the arm's reach" +
+            (plan.rejected_descent > 0
+                 ? " and " + std::to_string(plan.rejected_descent) +
+                       " would meet an object on the arm's way down (the first: " + first_met + ")"
+                 : std::string()));
   }
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
                      " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target);

@@ -97,7 +97,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --hand-raise -0.005", "--hand-raise"},
            {"evaluate push --hand-keep-short=maybe", "--hand-keep-short"},
            {"push --via-blocked 201", "--via-blocked"},
-           {"evaluate push --via-blocked -1", "--via-blocked"}}) {
+           {"evaluate push --via-blocked -1", "--via-blocked"},
+           // Session 25's.
+           {"push --descent-pose-margin 0.06", "--descent-pose-margin"},
+           {"evaluate push --descent-pose-margin -0.01", "--descent-pose-margin"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

@@ -449,6 +449,63 @@ TEST(PushPlanner, DescentClearanceLeavesOutPushesTheArmWouldComeDownOn) {
   EXPECT_EQ(aside.outcome, PlanOutcome::kPlanned) << aside.message;
 }
 
+TEST(PushPlanner, DescentPosesLeaveOutPushesWhoseArmComesDownOnAMeasuredObject) {
+  // The object at (0.20, 0) pushed 16 cm along +y: the pusher starts behind it, 5.5-6 cm from
+  // its edge (y near -0.08), and a neighbour stands 2.5-3 cm beyond the start (y from -0.105).
+  // 20 cm tall (a bottle), the arm coming down to any such start meets it; 1 cm tall (a CD), the
+  // hand passes over it. No depth image: the map is the hulls raised to their heights.
+  NeighbourScene s({0.20, -0.12});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  s.obj().height = 0.01;
+  s.other().height = 0.20;
+  const auto meets = [&](const robot::TablePush& p) {
+    return descent_meets_object(s.state, p, s.q0, descent_map(s.view, {}), 0.005, false);
+  };
+  PushPlanOptions o = flat_options();
+  o.min_approach = 0.055;
+  o.max_approach = 0.06;
+  const PushPlan free = s.plan(o);
+  ASSERT_EQ(free.outcome, PlanOutcome::kPlanned) << free.message;
+  EXPECT_TRUE(meets(free.push).has_value());
+  EXPECT_EQ(free.rejected_descent, 0);
+  o.descent_pose_margin = 0.005;
+  const PushPlan checked = s.plan(o);
+  EXPECT_EQ(checked.outcome, PlanOutcome::kUnreachable) << checked.message;
+  EXPECT_GT(checked.rejected_descent, 0);
+  EXPECT_NE(checked.message.find("way down"), std::string::npos) << checked.message;
+  // The usual approach (2-6 cm): a start nearer the object, clear of the neighbour, is planned.
+  o.min_approach = flat_options().min_approach;
+  o.max_approach = flat_options().max_approach;
+  const PushPlan near = s.plan(o);
+  ASSERT_EQ(near.outcome, PlanOutcome::kPlanned) << near.message;
+  EXPECT_FALSE(meets(near.push).has_value()) << *meets(near.push);
+  // A 1 cm neighbour does not block the far starts.
+  s.other().height = 0.01;
+  EXPECT_FALSE(meets(free.push).has_value()) << *meets(free.push);
+  o.min_approach = 0.055;
+  o.max_approach = 0.06;
+  EXPECT_EQ(s.plan(o).outcome, PlanOutcome::kPlanned);
+  // Unknown height (no depth): tall.
+  s.other().height = std::nullopt;
+  EXPECT_TRUE(meets(free.push).has_value());
+  // The pushed object itself, 20 cm tall, with the pusher 2 cm behind it: the hand above the
+  // pusher comes down on it.
+  s.other().height = 0.01;
+  s.obj().height = 0.20;
+  robot::TablePush close = free.push;
+  close.start = {0.20, -0.04};
+  EXPECT_TRUE(meets(close).has_value());
+  // Bounds: the option and the margin.
+  PushPlanOptions bad = flat_options();
+  bad.descent_pose_margin = -0.001;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.descent_pose_margin = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+  EXPECT_THROW(
+      (void)descent_meets_object(s.state, free.push, s.q0, descent_map(s.view, {}), -1.0, false),
+      Error);
+}
+
 TEST(PushPlanner, ATallObjectIsPushedHigherAndSlowerByItsMeasuredHeight) {
   // A square object pushed toward -x: with tip_fraction and tall_push_speed set, a measured
   // 15 cm object is pushed at a third of its height (5 cm: kMostTipHeight) and at the tall speed,

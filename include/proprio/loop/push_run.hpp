@@ -156,6 +156,11 @@ struct PushPlanRecord {
     v(p.sampled, {"sampled", "Candidate paths sampled"});
     v(p.rejected_region, {"rejected_region", "Of them outside the table region"});
     v(p.rejected_reach, {"rejected_reach", "Of them out of the arm's reach"});
+    // Written only when the descent pose check rejected one (default outputs unchanged).
+    if (p.rejected_descent > 0) {
+      v(p.rejected_descent,
+        {"rejected_descent", "Of them whose arm would meet an object on its way down"});
+    }
     if (p.outcome != planning::PlanOutcome::kPlanned) return;
     v(xy(p.centre), {"centre", "p_c, table m"});
     v(xy(p.target), {"target", "p_t, table m"});

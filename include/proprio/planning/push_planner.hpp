@@ -11,6 +11,7 @@
 // ideal image pixels (OpenCV: x right, y down).
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <opencv2/core.hpp>
@@ -139,6 +140,18 @@ struct PushPlanOptions {
   /// the pushed object itself, are not sampled (descent_blocked: the robot would refuse them).
   /// 0 (the default): not checked. selfsupervise: 0.04 (the fingers reach 3 cm either side).
   double descent_clearance = 0;
+  /// Least gap kept between the arm's own poses on its way down to the pusher's start and what
+  /// the depth image sees above the table, m (descent_meets_object against descent_map: the
+  /// transit's vertical leg from kDescentTops down to the start, posed by inverse kinematics every
+  /// kDescentStep, each moving part of the arm against the highest point seen in each 5 mm cell,
+  /// the pushed object's too; without depth, the putative objects' hulls raised to their measured
+  /// heights, an unmeasured one counted as tall). A path whose descent meets something is not
+  /// taken; the next best is (PushPlan::rejected_descent). 0 (the default): not checked.
+  double descent_pose_margin = 0;
+  /// The robot turns the jaws across the push (sim::TableOptions::roll_across), so
+  /// descent_pose_margin poses the hand that way. Not a command-line option: loop::push_once sets
+  /// it from the simulated table's options.
+  bool roll_across = false;
   /// Objects measured (depth) lower than the pusher's tip plus this, m, are pushed with the
   /// gripper's jaws along the push (robot::JawLine::kAlong: the one ahead passes over the object,
   /// and the hand is 3 cm wide across the push instead of 6 cm); others, and objects of unknown
@@ -265,6 +278,11 @@ struct PushPlanOptions {
     v(self.descent_clearance,
       {"descent_clearance", "Least gap between the arm's way down and other objects, m (0: off)",
        core::between(0, 0.2)});
+    v(self.descent_pose_margin,
+      {"descent_pose_margin",
+       "Depth: least gap between the arm's poses on its way down to the start and the objects' "
+       "measured footprints x heights, m (0: off)",
+       core::between(0, 0.05)});
     v(self.jaws_along_height,
       {"jaws_along_height",
        "Depth: objects lower than the tip plus this are pushed with the jaws along the push, m "
@@ -521,7 +539,9 @@ struct PushPlan {
   int sampled = 0;          ///< candidate paths sampled
   int rejected_region = 0;  ///< of them outside the table region
   int rejected_reach = 0;   ///< of them out of the arm's reach
-  double seconds = 0;       ///< wall-clock planning time
+  /// Of them whose arm would meet an object on its way down (PushPlanOptions::descent_pose_margin).
+  int rejected_descent = 0;
+  double seconds = 0;  ///< wall-clock planning time
 };
 
 /// Distance from `p` (inside the convex polygon `hull`, CCW) to its boundary along direction
@@ -700,6 +720,51 @@ double hand_lack(const robot::TablePush& push, bool jaws_along,
 bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
                      const std::vector<const PutativeObject*>& others, double clearance,
                      double tip_height);
+
+/// The heights above the pusher's start from which the robot's transit comes straight down
+/// (sim::TableOptions::transit_height's default, and the lower ones it falls back to where that
+/// is out of reach), m.
+inline constexpr std::array<double, 3> kDescentTops{0.26, 0.22, 0.18};
+/// Spacing of the poses descent_meets_object checks on the way down, m.
+inline constexpr double kDescentStep = 0.01;
+/// descent_map: an object of unknown height (no depth) counts as this tall, m.
+inline constexpr double kUnknownHeight = 1.0;
+
+/// Side of the cells of a DescentMap, m.
+inline constexpr double kDescentCell = 0.005;
+
+/// What the arm may meet on its way down to a push, as the robot sees it (not the simulator's
+/// truth): a top-down map of the highest point above the table in each kDescentCell cell of the
+/// table region.
+struct DescentMap {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< table m: the corner of cell (0, 0)
+  /// Rows along y, columns along x: the highest point seen in the cell, m above the table (0:
+  /// nothing kObjectLeastHeight or more above it).
+  cv::Mat1f top;
+};
+
+/// The DescentMap of `view` over `region`: with depth (view.depth, robot::Look::depth with the
+/// arm's pixels cleared), every second pixel's depth point at least kObjectLeastHeight above the
+/// table, in the cell under it; without depth, each putative object's hull (table x y) filled to
+/// its measured height (PutativeObject::height), kUnknownHeight where none was measured.
+DescentMap descent_map(const PlanningView& view, const TableRegion& region);
+
+/// Whether the arm, coming down to `push`'s start as the simulated robot does (from the first of
+/// kDescentTops it reaches above the start, straight down to the start at push.height; the roll
+/// j5 as robot::plan_push_motion sets it from `q_rest`, across the push when `roll_across` or
+/// push.jaws say so), meets what `map` holds: at poses every kDescentStep (inverse kinematics,
+/// each seeded by the one above), every moving part of the arm (its colliding geoms below the
+/// first link: capsules and cylinders as balls along their axes, boxes as their surface points,
+/// other shapes as their bounding spheres) comes within `margin` of a cell's column (its centre
+/// within the ball's radius, `margin` and half the cell's diagonal; its top above the ball's
+/// lowest point less `margin`). The pushed object is in the map too: a hand that comes down on
+/// it meets it. Returns the first part that meets one (its geom's name, its height and the
+/// cell's top), or nullopt. Units: m, table frame (the base at the origin). Throws Error when no
+/// pose of the way down can be reached or the margin is negative.
+std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robot::TablePush& push,
+                                                const robot::JointVector& q_rest,
+                                                const DescentMap& map, double margin,
+                                                bool roll_across);
 
 /// The density of every putative object but view.objects[object]: its blob and its convex hull
 /// zeroed (eq 7.5's "own hull zeroed").
