@@ -1255,6 +1255,17 @@ TEST(SelfSupervision, DepthCheckIsLoggedAndAnotherObjectIsChosenWhenNotAlone) {
   EXPECT_EQ(attendant.choices, static_cast<int>(not_alone.size()) + total);
 }
 
+// Two rounds of learn_by_pushing on the table of o, with the tiny model of its first look: the
+// run and how often the attendant was told a choice.
+std::pair<Learning, int> two_round_run(const SelfSupervisionOptions& o) {
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  sim::SimulatedRobot robot(table_of(o), catalogue);
+  const TinyModel m = tiny_model(robot.look().image);
+  ChoiceCounter attendant;
+  Learning l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+  return {std::move(l), attendant.choices};
+}
+
 TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
   // repeat_tries 1 at a share any explained view meets: round 1's first views (blob views of
   // the book and the bottle) are tested against object_1's Mixture of Topics; on this table
@@ -1264,11 +1275,7 @@ TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
   o.pushes = 4;  // round 0's class needs 2 views or more to be in the model
   o.repeat_tries = 1;
   o.repeat_share = 0.01;
-  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
-  sim::SimulatedRobot robot(table_of(o), catalogue);
-  const TinyModel m = tiny_model(robot.look().image);
-  ChoiceCounter attendant;
-  const Learning l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+  const auto [l, choices] = two_round_run(o);
   int repeats = 0;
   int again_looks = 0;
   int chooses = 0;
@@ -1292,17 +1299,15 @@ TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
   EXPECT_EQ(again_looks, 1);
   EXPECT_GT(dropped, 0);
   EXPECT_EQ(chooses, 3);
-  EXPECT_EQ(attendant.choices, 3);
+  EXPECT_EQ(choices, 3);
   EXPECT_EQ(static_cast<int>(std::count(l.views.labels.begin(), l.views.labels.end(), 1)),
             taken_after);
 
   // Off (the default): no test, no "repeat" event, one choice a round.
   o.repeat_tries = 0;
-  sim::SimulatedRobot robot2(table_of(o), catalogue);
-  ChoiceCounter attendant2;
-  const Learning l2 = learn_by_pushing(robot2, attendant2, 2, m.lda, m.vocabulary, o, {});
+  const auto [l2, choices2] = two_round_run(o);
   for (const auto& j : l2.log) EXPECT_NE(j.event, "repeat");
-  EXPECT_EQ(attendant2.choices, 2);
+  EXPECT_EQ(choices2, 2);
 }
 
 TEST(SelfSupervision, ARoundWhoseLaterViewsALearnedClassExplainsStops) {
@@ -1314,11 +1319,7 @@ TEST(SelfSupervision, ARoundWhoseLaterViewsALearnedClassExplainsStops) {
   o.pushes = 4;  // round 0's class needs 2 views or more to be in the model
   o.repeat_later = true;
   o.repeat_share = 0.01;
-  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
-  sim::SimulatedRobot robot(table_of(o), catalogue);
-  const TinyModel m = tiny_model(robot.look().image);
-  ChoiceCounter attendant;
-  const Learning l = learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, o, {});
+  const auto [l, choices] = two_round_run(o);
   int repeats = 0;
   int taken_before = 0;  // round 1's views logged before the repeat
   int views_after = 0;   // round 1's "views" events after it
@@ -1349,7 +1350,7 @@ TEST(SelfSupervision, ARoundWhoseLaterViewsALearnedClassExplainsStops) {
             taken_before);
   ASSERT_EQ(l.stop_reasons.size(), 2U);
   EXPECT_EQ(l.stop_reasons[1], "a later push's views were explained by a learned class");
-  EXPECT_EQ(attendant.choices, 2);  // the round stops; it does not choose again
+  EXPECT_EQ(choices, 2);  // the round stops; it does not choose again
 }
 
 TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {

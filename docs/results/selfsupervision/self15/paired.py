@@ -6,20 +6,12 @@ intervals; the paired difference (option minus defaults) and the rule's verdict;
 is lost (objects never learned, learned once, learned twice or more).
 """
 import json
-import math
 import os
 import sys
 
-T95 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45}  # by degrees of freedom
-
-
-def ci(v):
-    n = len(v)
-    m = sum(v) / n
-    if n < 2:
-        return m, float("nan")
-    sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1))
-    return m, T95[n - 1] * sd / math.sqrt(n)
+# The mean and 95 % t half-width over seeds: the oracle ladder table's (one definition).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "scripts"))
+from oracle_ladder_table import ci  # noqa: E402
 
 
 def path(d, s):  # a run directory's motion-sN.json, or the committed copy d-sN.json
