@@ -1411,7 +1411,9 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
         for (int cy = std::max(0, y0); cy <= std::min(map.top.rows - 1, y1); ++cy) {
           for (int cx = std::max(0, x0); cx <= std::min(map.top.cols - 1, x1); ++cx) {
             const double t = map.top(cy, cx);
-            if (t <= low) continue;
+            // An empty cell is the table the pusher comes down to, not an object (a margin above
+            // the pusher's lowest point would otherwise meet every one).
+            if (t <= 0 || t <= low) continue;
             const Eigen::Vector2d c =
                 map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
             if ((c - b.centre.head<2>()).norm() > reach) continue;
@@ -1419,7 +1421,7 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
             return std::string(name != nullptr ? name : "the arm") + " at " +
                    std::to_string(static_cast<int>(std::lround(b.centre.z() * 1000))) +
                    " mm on something " + std::to_string(static_cast<int>(std::lround(t * 1000))) +
-                   " mm tall";
+                   " mm tall at " + metres(c);
           }
         }
       }

@@ -485,6 +485,20 @@ TEST(PushPlanner, DescentPosesLeaveOutPushesWhoseArmComesDownOnAMeasuredObject) 
   o.min_approach = 0.055;
   o.max_approach = 0.06;
   EXPECT_EQ(s.plan(o).outcome, PlanOutcome::kPlanned);
+  // A margin larger than the pusher's lowest point above the table (tip 8 mm): the bare table
+  // under the pusher is not an object, so a start far from both is clear; the tall neighbour
+  // still blocks the far start.
+  const auto meets_wide = [&](const robot::TablePush& p) {
+    return descent_meets_object(s.state, p, s.q0, descent_map(s.view, {}), 0.012, false);
+  };
+  robot::TablePush away = free.push;  // 10 cm and more from both objects
+  away.start = {0.30, 0.10};
+  away.end = {0.30, 0.16};
+  ASSERT_LT(away.height, 0.012);  // the pusher's tip, its lowest point, is within the margin
+  EXPECT_FALSE(meets_wide(away).has_value()) << *meets_wide(away);
+  s.other().height = 0.20;
+  EXPECT_TRUE(meets_wide(free.push).has_value());
+  s.other().height = 0.01;
   // Unknown height (no depth): tall.
   s.other().height = std::nullopt;
   EXPECT_TRUE(meets(free.push).has_value());
