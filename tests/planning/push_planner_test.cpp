@@ -473,11 +473,28 @@ TEST(PushPlanner, DescentPosesLeaveOutPushesWhoseArmComesDownOnAMeasuredObject) 
   EXPECT_EQ(checked.outcome, PlanOutcome::kUnreachable) << checked.message;
   EXPECT_GT(checked.rejected_descent, 0);
   EXPECT_NE(checked.message.find("way down"), std::string::npos) << checked.message;
+  EXPECT_FALSE(checked.descent_met);
+  // descent_pose_fallback: every descent meets the neighbour, so the best path is pushed anyway
+  // (the one taken without the check), flagged.
+  o.descent_pose_fallback = true;
+  const PushPlan fallback = s.plan(o);
+  ASSERT_EQ(fallback.outcome, PlanOutcome::kPlanned) << fallback.message;
+  EXPECT_TRUE(fallback.descent_met);
+  EXPECT_GT(fallback.rejected_descent, 0);
+  EXPECT_EQ(fallback.push.start, free.push.start);
+  EXPECT_NE(fallback.message.find("way down meets"), std::string::npos) << fallback.message;
+  o.descent_pose_fallback = false;
   // The usual approach (2-6 cm): a start nearer the object, clear of the neighbour, is planned.
   o.min_approach = flat_options().min_approach;
   o.max_approach = flat_options().max_approach;
   const PushPlan near = s.plan(o);
   ASSERT_EQ(near.outcome, PlanOutcome::kPlanned) << near.message;
+  EXPECT_FALSE(near.descent_met);
+  o.descent_pose_fallback = true;  // a clear descent exists: the fallback changes nothing
+  const PushPlan near_fallback = s.plan(o);
+  EXPECT_EQ(near_fallback.push.start, near.push.start);
+  EXPECT_FALSE(near_fallback.descent_met);
+  o.descent_pose_fallback = false;
   EXPECT_FALSE(meets(near.push).has_value()) << *meets(near.push);
   // A 1 cm neighbour does not block the far starts.
   s.other().height = 0.01;
