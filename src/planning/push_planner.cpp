@@ -1411,7 +1411,9 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
         for (int cy = std::max(0, y0); cy <= std::min(map.top.rows - 1, y1); ++cy) {
           for (int cx = std::max(0, x0); cx <= std::min(map.top.cols - 1, x1); ++cx) {
             const double t = map.top(cy, cx);
-            if (t <= low) continue;
+            // An empty cell is the table the pusher comes down to, not an object (a margin above
+            // the pusher's lowest point would otherwise meet every one).
+            if (t <= 0 || t <= low) continue;
             const Eigen::Vector2d c =
                 map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
             if ((c - b.centre.head<2>()).norm() > reach) continue;
@@ -1419,7 +1421,7 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
             return std::string(name != nullptr ? name : "the arm") + " at " +
                    std::to_string(static_cast<int>(std::lround(b.centre.z() * 1000))) +
                    " mm on something " + std::to_string(static_cast<int>(std::lround(t * 1000))) +
-                   " mm tall";
+                   " mm tall at " + metres(c);
           }
         }
       }
@@ -1705,6 +1707,20 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const DescentMap solid =
       options.descent_pose_margin > 0 ? descent_map(view, region) : DescentMap{};
   std::string first_met;
+  // descent_pose_fallback: the best path whose descent alone met something.
+  const Candidate* met = nullptr;
+  const auto take = [&](const Candidate& c) {
+    best = c.cost;
+    plan.target = c.target;
+    plan.push = c.push;
+    plan.approach = c.approach;
+    plan.cost = c.cost;
+    plan.blocked = c.blocked;
+    plan.via = c.via;
+    plan.shortened = c.shortened;
+    plan.direction = (c.target - o.centre).normalized();
+    plan.edge_distance = distance_to_hull_edge(o.hull, o.centre, -plan.direction);
+  };
   for (const Candidate& c : feasible) {
     try {
       (void)robot::plan_push_motion(arm, c.push, q_rest, motion);
@@ -1716,7 +1732,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       try {
         if (std::optional<std::string> part = descent_meets_object(
                 arm, c.push, q_rest, solid, options.descent_pose_margin, options.roll_across)) {
-          if (plan.rejected_descent == 0) first_met = *part;
+          if (plan.rejected_descent == 0) {
+            first_met = *part;
+            met = &c;
+          }
           ++plan.rejected_descent;
           continue;
         }
@@ -1725,17 +1744,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
         continue;
       }
     }
-    best = c.cost;
-    plan.target = c.target;
-    plan.push = c.push;
-    plan.approach = c.approach;
-    plan.cost = c.cost;
-    plan.blocked = c.blocked;
-    plan.via = c.via;
-    plan.shortened = c.shortened;
-    plan.direction = (c.target - o.centre).normalized();
-    plan.edge_distance = distance_to_hull_edge(o.hull, o.centre, -plan.direction);
+    take(c);
     break;
+  }
+  if (!std::isfinite(best) && met != nullptr && options.descent_pose_fallback) {
+    take(*met);
+    plan.descent_met = true;
   }
   if (!std::isfinite(best)) {
     return finish(
@@ -1751,6 +1765,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
                      " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target);
   if (plan.via) said += " (a waypoint round a blocked line)";
+  if (plan.descent_met) said += " (every path's way down meets an object: " + first_met + ")";
   if (plan.push.jaws != jaws) said += " (the jaws along the push: the hand clears)";
   if (plan.push.height > tip + 1e-9) {
     said += " (the tip raised to " +

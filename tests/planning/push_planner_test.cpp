@@ -473,11 +473,28 @@ TEST(PushPlanner, DescentPosesLeaveOutPushesWhoseArmComesDownOnAMeasuredObject) 
   EXPECT_EQ(checked.outcome, PlanOutcome::kUnreachable) << checked.message;
   EXPECT_GT(checked.rejected_descent, 0);
   EXPECT_NE(checked.message.find("way down"), std::string::npos) << checked.message;
+  EXPECT_FALSE(checked.descent_met);
+  // descent_pose_fallback: every descent meets the neighbour, so the best path is pushed anyway
+  // (the one taken without the check), flagged.
+  o.descent_pose_fallback = true;
+  const PushPlan fallback = s.plan(o);
+  ASSERT_EQ(fallback.outcome, PlanOutcome::kPlanned) << fallback.message;
+  EXPECT_TRUE(fallback.descent_met);
+  EXPECT_GT(fallback.rejected_descent, 0);
+  EXPECT_EQ(fallback.push.start, free.push.start);
+  EXPECT_NE(fallback.message.find("way down meets"), std::string::npos) << fallback.message;
+  o.descent_pose_fallback = false;
   // The usual approach (2-6 cm): a start nearer the object, clear of the neighbour, is planned.
   o.min_approach = flat_options().min_approach;
   o.max_approach = flat_options().max_approach;
   const PushPlan near = s.plan(o);
   ASSERT_EQ(near.outcome, PlanOutcome::kPlanned) << near.message;
+  EXPECT_FALSE(near.descent_met);
+  o.descent_pose_fallback = true;  // a clear descent exists: the fallback changes nothing
+  const PushPlan near_fallback = s.plan(o);
+  EXPECT_EQ(near_fallback.push.start, near.push.start);
+  EXPECT_FALSE(near_fallback.descent_met);
+  o.descent_pose_fallback = false;
   EXPECT_FALSE(meets(near.push).has_value()) << *meets(near.push);
   // A 1 cm neighbour does not block the far starts.
   s.other().height = 0.01;
@@ -485,6 +502,20 @@ TEST(PushPlanner, DescentPosesLeaveOutPushesWhoseArmComesDownOnAMeasuredObject) 
   o.min_approach = 0.055;
   o.max_approach = 0.06;
   EXPECT_EQ(s.plan(o).outcome, PlanOutcome::kPlanned);
+  // A margin larger than the pusher's lowest point above the table (tip 8 mm): the bare table
+  // under the pusher is not an object, so a start far from both is clear; the tall neighbour
+  // still blocks the far start.
+  const auto meets_wide = [&](const robot::TablePush& p) {
+    return descent_meets_object(s.state, p, s.q0, descent_map(s.view, {}), 0.012, false);
+  };
+  robot::TablePush away = free.push;  // 10 cm and more from both objects
+  away.start = {0.30, 0.10};
+  away.end = {0.30, 0.16};
+  ASSERT_LT(away.height, 0.012);  // the pusher's tip, its lowest point, is within the margin
+  EXPECT_FALSE(meets_wide(away).has_value()) << *meets_wide(away);
+  s.other().height = 0.20;
+  EXPECT_TRUE(meets_wide(free.push).has_value());
+  s.other().height = 0.01;
   // Unknown height (no depth): tall.
   s.other().height = std::nullopt;
   EXPECT_TRUE(meets(free.push).has_value());

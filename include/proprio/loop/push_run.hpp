@@ -161,6 +161,9 @@ struct PushPlanRecord {
       v(p.rejected_descent,
         {"rejected_descent", "Of them whose arm would meet an object on its way down"});
     }
+    if (p.descent_met) {
+      v(p.descent_met, {"descent_met", "Every path's way down met an object; the best was taken"});
+    }
     if (p.outcome != planning::PlanOutcome::kPlanned) return;
     v(xy(p.centre), {"centre", "p_c, table m"});
     v(xy(p.target), {"target", "p_t, table m"});
@@ -416,6 +419,7 @@ struct PushEvaluationStep {
   double blocked = 0;                               ///< PushPlan::blocked, m
   bool via = false;                                 ///< PushPlan::via
   double shortened = 0;                             ///< PushPlan::shortened, m
+  bool descent_met = false;                         ///< PushPlan::descent_met
   std::vector<std::string> merged;                  ///< PushStep::merged
   robot::JawLine jaws = robot::JawLine::kRobot;     ///< the plan's TablePush::jaws
 
@@ -438,6 +442,12 @@ struct PushEvaluationStep {
     v(self.via, {"via", "A push to a waypoint round a blocked line"});
     v(self.shortened,
       {"shortened", "How far short of the target asked the plan stopped the object, m (0: not)"});
+    // Written only when true (default outputs unchanged).
+    if (self.descent_met) {
+      v(self.descent_met,
+        {"descent_met",
+         "Every path's way down met an object; descent_pose_fallback took the best"});
+    }
     v(self.merged, {"merged", "Ground truth: other objects merged into the pushed blob"});
     v.choice(self.jaws, {"jaws", "How the plan asked the jaws to lie"}, robot::kJawLineNames);
   }

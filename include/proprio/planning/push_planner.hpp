@@ -148,6 +148,10 @@ struct PushPlanOptions {
   /// heights, an unmeasured one counted as tall). A path whose descent meets something is not
   /// taken; the next best is (PushPlan::rejected_descent). 0 (the default): not checked.
   double descent_pose_margin = 0;
+  /// With descent_pose_margin: when the descent of every path that could be taken meets
+  /// something, the best of them is taken anyway (as without the check; PushPlan::descent_met)
+  /// instead of no plan. false (the default): no plan (PlanOutcome::kUnreachable).
+  bool descent_pose_fallback = false;
   /// The robot turns the jaws across the push (sim::TableOptions::roll_across), so
   /// descent_pose_margin poses the hand that way. Not a command-line option: loop::push_once sets
   /// it from the simulated table's options.
@@ -283,6 +287,10 @@ struct PushPlanOptions {
        "Depth: least gap between the arm's poses on its way down to the start and the objects' "
        "measured footprints x heights, m (0: off)",
        core::between(0, 0.05)});
+    v(self.descent_pose_fallback,
+      {"descent_pose_fallback",
+       "With descent_pose_margin: when every path's way down meets an object, the best is pushed "
+       "anyway instead of none"});
     v(self.jaws_along_height,
       {"jaws_along_height",
        "Depth: objects lower than the tip plus this are pushed with the jaws along the push, m "
@@ -541,6 +549,9 @@ struct PushPlan {
   int rejected_reach = 0;   ///< of them out of the arm's reach
   /// Of them whose arm would meet an object on its way down (PushPlanOptions::descent_pose_margin).
   int rejected_descent = 0;
+  /// The plan's own descent meets an object: every path's did, and
+  /// PushPlanOptions::descent_pose_fallback took the best of them anyway.
+  bool descent_met = false;
   double seconds = 0;  ///< wall-clock planning time
 };
 
