@@ -53,10 +53,11 @@ constexpr std::uint64_t kPlanStream = 0x706c616eULL;        // core::stream_seed
 constexpr std::size_t kMaxObjects = 8;  // the most objects a simulated table holds
 constexpr double kTrackRadius = 0.08;   // a blob is the object when its centre is this near, m
 constexpr double kLandRadius = 0.15;    // a pushed object is looked for this near its target, m
-constexpr double kStill = 0.01;         // moved less than this: did not move, m
-constexpr double kPushStep = 0.06;      // an object is pushed this far a push, m
-constexpr int kDirections = 12;         // directions a push target is chosen from
-constexpr double kCrowded = 0.15;       // blobs further than this from a target do not matter, m
+constexpr double kHoldRadius = 0.05;  // hold_target: the object is the blob this near its target, m
+constexpr double kStill = 0.01;       // moved less than this: did not move, m
+constexpr double kPushStep = 0.06;    // an object is pushed this far a push, m
+constexpr int kDirections = 12;       // directions a push target is chosen from
+constexpr double kCrowded = 0.15;     // blobs further than this from a target do not matter, m
 // Push targets stay where the arm can push them again and the camera sees them (robot base
 // frame, m): within kTargetReach of the base axis (a push from behind needs room past the
 // object), beyond kTargetNear (clear of the arm's base), within kTargetSide of the view's centre
@@ -84,7 +85,9 @@ constexpr double kBehindBase = 0.0;  // least x of a blob's centre, m
 constexpr int kHandLeastPoints = 3;
 // candidate_footprint: every this many px of a candidate are back-projected (as the planner's).
 constexpr int kFootprintStep = 2;
-constexpr int kMaxFailures = 3;             // pushes in a row not planned or refused: move on
+constexpr int kMaxFailures = 3;  // pushes in a row not planned or refused: move on
+constexpr int kMaxMerges =
+    2;  // identity_margin: a turn's pushes merged into known objects, at most
 constexpr double kMaxExtraApproach = 0.12;  // at most, m
 constexpr int kMaxMatchPool = 4000;         // "match": a known object's descriptors, at most
 // carry_regions: a region is the object's where this fraction of its features match its views
@@ -1026,6 +1029,13 @@ class Learner {
   int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
              std::string& how) {
     const ObjectModel& om = models_[static_cast<std::size_t>(c)];
+    if (o_.hold_target && held_) {
+      // Where the last push landed it (the blob nearest its target): held on to.
+      if (const int b = track(view, last, kTrackRadius); b >= 0) {
+        how = "held";
+        return b;
+      }
+    }
     if (const int b = blob_of_[static_cast<std::size_t>(c)]; b >= 0) {
       how = "segmented";  // where its last push's motion segmentation left it
       return b;
@@ -1345,6 +1355,42 @@ class Learner {
     log(d);
   }
 
+  // The identity check of a turn's first push that gave views (LearnOptions::identity_margin):
+  // per known object, the views' mean log p under its words and that less its own yardstick,
+  // logged; the known object they are merged into (the best within the margin, while the turn
+  // may still merge), else nullopt.
+  std::optional<int> identity(int c, int index, int blob,
+                              const std::vector<Eigen::MatrixXd>& frames, int merges) {
+    std::vector<BlobMeanLogP> scores;
+    std::optional<int> best;
+    double best_below = -std::numeric_limits<double>::infinity();
+    timed("recognition", [&] {
+      for (int k = 0; k < c; ++k) {
+        const auto ku = static_cast<std::size_t>(k);
+        if (!models_[ku].learned() || !own_[ku]) continue;
+        const std::optional<double> sk = own_mean_log_p(models_[ku], frames);
+        if (!sk) continue;
+        const double below = *sk - *own_[ku];
+        scores.push_back({blob, *sk, k, below});
+        if (o_.identity_margin >= 0 && below >= -o_.identity_margin && below > best_below) {
+          best_below = below;
+          best = k;
+        }
+      }
+    });
+    if (scores.empty()) return std::nullopt;
+    if (best && merges >= kMaxMerges) best.reset();
+    LearnDecision d{.event = "identity", .object = c, .index = index, .blob = blob};
+    d.scores = std::move(scores);
+    if (best) {
+      d.why = core::cat({"its views are object ", std::to_string(*best + 1),
+                         "'s (within the identity margin): merged into it; the turn chooses "
+                         "again"});
+    }
+    log(d);
+    return best;
+  }
+
   void learn_object(int c, core::ProgressBar& bar) {
     planning::PlanningView view = plan_view();
     std::vector<std::vector<double>> centres;
@@ -1376,6 +1422,9 @@ class Learner {
     int done = 0;
     int attempts = 0;
     bool first = true;
+    held_ = false;
+    bool checked = false;  // the identity check of the turn's first push with views is done
+    int merges = 0;        // the turn's pushes merged into known objects (identity_margin)
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
       if (!first) view = plan_view();
@@ -1409,6 +1458,7 @@ class Learner {
         failures = 0;
         extra_approach_ = 0;
         first = true;
+        held_ = false;
       }
       std::string how = "chosen";
       const int blob = first ? k : locate(c, view, last, how);
@@ -1519,12 +1569,27 @@ class Learner {
         lp.outcome = core::cat({std::to_string(lp.views), " views; ", seg.message});
       }
       attendant_.views_taken(in, lp.views, last_mask);
-      update_regions(c, seg,
+      // Identity check (LearnOptions::identity_margin): is the turn's first push with views of
+      // an object learned already? Then the push is that object's (its views, words, region).
+      std::optional<int> same;
+      if (!checked && !frames.empty() && c > 0) {
+        checked = true;
+        same = identity(c, lp.index, blob, frames, merges);
+      }
+      const int owner = same ? *same : c;
+      update_regions(owner, seg,
                      view.camera.project(Eigen::Vector3d(p.push.end.x(), p.push.end.y(), 0.0)));
       // Did the object move? Where its motion segmentation left it, else near the plan's target,
       // else where it was.
       const planning::PlanningView after = plan_view();
-      int now = blob_of_[static_cast<std::size_t>(c)];
+      int now = -1;
+      held_ = false;
+      if (o_.hold_target && !same) {
+        // The blob nearest where the push meant to land it, before its segmented region.
+        now = track(after, p.target, kHoldRadius);
+        held_ = now >= 0;
+      }
+      if (now < 0) now = blob_of_[static_cast<std::size_t>(owner)];
       if (now < 0) now = track(after, p.target, kLandRadius);
       if (now < 0) now = track(after, last, kTrackRadius);
       if (now >= 0 &&
@@ -1532,6 +1597,44 @@ class Learner {
         fault(c, "moved-nothing", "the push left the object where it was");
       }
       if (now >= 0) last = after.objects[static_cast<std::size_t>(now)].centre;
+      if (same) {
+        // Merged: the known object takes the push (as a later push of it); the turn's class
+        // stays empty and the turn chooses again among the others.
+        const auto su = static_cast<std::size_t>(*same);
+        timed("words", [&] {
+          models_[su].later_push(frames, wo_, rng_);
+          own_[su] = own_mean_log_p(models_[su], frames);
+        });
+        for (View& v : views_) {
+          if (v.cls == c) v.cls = *same;
+        }
+        left_at_[su] = last;
+        ++merges;
+        lp.outcome += core::cat({"; merged into object ", std::to_string(*same + 1)});
+        pushes_.push_back(lp);
+        bar.tick();
+        view = plan_view();
+        // The merged object is known now (its region, where it was left): not chosen again.
+        const std::vector<CandidateSkip> merged{{blob, "known"}};
+        k = choose(c, view, tried);
+        if (k < 0) break;
+        log({.event = "rechoose",
+             .object = c,
+             .blob = k,
+             .why =
+                 core::cat({"identity: the pushed object is object ", std::to_string(*same + 1)}),
+             .skipped = merged});
+        attendant_.chose(c, view, k);
+        last = view.objects[static_cast<std::size_t>(k)].centre;
+        failures = 0;
+        extra_approach_ = 0;
+        first = true;
+        held_ = false;
+        checked = false;
+        done = 0;
+        attempts = 0;
+        continue;
+      }
       // Object words and their Dirichlet (8.1.2).
       ObjectModel& om = models_[static_cast<std::size_t>(c)];
       timed("words", [&] {
@@ -1615,6 +1718,8 @@ class Learner {
   std::vector<std::vector<double>> far_;  ///< the last look's blobs out of reach (centres, m)
   /// The last look's blobs out of reach: not to learn, but the arm's paths avoid them.
   std::vector<planning::PutativeObject> obstacles_;
+  /// hold_target: the object's last position (`last`) is the blob nearest its last push's target.
+  bool held_ = false;
   double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
   /// The object's transit was refused: pushes away from the base are preferred (their start lies
   /// between the base and the object, reached without passing over it).

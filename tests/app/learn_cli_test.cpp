@@ -157,6 +157,8 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --rounds 1001" + out, "rounds"},
       {"--objects book --known-margin -2" + out, "known"},
       {"--objects book --known-margin 1001" + out, "known"},
+      {"--objects book --identity-margin -2" + out, "identity-margin"},
+      {"--objects book --identity-margin 1001" + out, "identity-margin"},
       {"--objects book --match-ratio 0" + out, "match"},
       {"--objects book --match-ratio 1.5" + out, "match"},
       {"--objects book --match-known -0.1" + out, "match"},

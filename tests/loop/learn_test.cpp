@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -98,6 +99,12 @@ TEST(Learn, BadOptionsThrow) {
   o.match_known = -0.1;
   EXPECT_THROW(o.validate(), Error);
   o.match_known = 1.1;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  EXPECT_DOUBLE_EQ(o.identity_margin, -1.0);  // off by default
+  o.identity_margin = -1.5;
+  EXPECT_THROW(o.validate(), Error);
+  o.identity_margin = 1000.5;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.candidate_height = 0;
@@ -508,6 +515,98 @@ TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
       EXPECT_EQ(second_choice, -2);
       EXPECT_TRUE(by_words);
       EXPECT_EQ(r.objects.at(1).views, 0);
+    }
+  }
+}
+
+TEST(Learn, AnIdentityCheckMergesAFirstPushOfAKnownObjectAndTheTurnChoosesAgain) {
+  // Two classes, one push each. The second turn's first push that gave views is checked against
+  // the first object (decisions.jsonl "identity", its scores against object 0). With
+  // identity_margin huge every object is within it of object 0: the push is merged into object
+  // 0 (its views counted there) and the turn chooses again: a "rechoose" by identity, or, with
+  // both objects of this table known, the only-known-objects fault; off (the default) the check
+  // is logged only and the second class keeps its views.
+  const test::TempDir dir("proprio_learn_identity_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const double margin : {-1.0, 1000.0}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.identity_margin = margin;
+    o.pushes = 2;  // the second turn's first push on this table moves nothing: its second has views
+    o.out = dir.path() / (margin < 0 ? "off" : "on");
+    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
+    std::ifstream in(o.out / "decisions.jsonl");
+    std::string line;
+    int checks = 0;
+    int merged = 0;
+    int rechosen = 0;
+    int only_known = 0;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j.value("fault", std::string()) == "only-known-objects") ++only_known;
+      if (j["event"] == "identity") {
+        ++checks;
+        EXPECT_EQ(j["object"].get<int>(), 1) << line;
+        ASSERT_FALSE(j["scores"].empty()) << line;
+        EXPECT_EQ(j["scores"][0]["best_object"].get<int>(), 0) << line;
+        if (j.contains("why")) ++merged;
+      }
+      if (j["event"] == "rechoose" && j.value("why", std::string()).rfind("identity", 0) == 0) {
+        ++rechosen;
+      }
+    }
+    const core::Json rec = core::read_json(o.out / "learn.json");
+    EXPECT_DOUBLE_EQ(rec["options"]["identity_margin"].get<double>(), margin);
+    if (margin < 0) {
+      EXPECT_GE(checks, 1);
+      EXPECT_EQ(merged, 0);
+      EXPECT_EQ(rechosen, 0);
+      EXPECT_EQ(only_known, 0);
+      EXPECT_GT(r.objects.at(1).views, 0);
+    } else {
+      ASSERT_GE(merged, 1) << events_of(o.out / "decisions.jsonl");
+      EXPECT_LE(merged, 2);  // at most twice a turn
+      EXPECT_GE(rechosen + only_known, 1);
+      // The merged pushes' views are object 0's: the first class has more views than its own
+      // push gave.
+      int views_of_0 = 0;
+      for (const LearnPush& p : r.pushes) views_of_0 += p.object == 0 ? p.views : 0;
+      EXPECT_GT(r.objects.at(0).views, views_of_0);
+    }
+  }
+}
+
+TEST(Learn, HoldTargetAimsTheNextPushAtTheBlobWhereThePushMeantToLandTheObject) {
+  // One class, three pushes. With hold_target, a push that landed its object within 0.05 m of
+  // the plan's target holds it there: the turn's next push is located "held" (the blob nearest
+  // that target), not by the segmented region; off (the default) no push is located "held".
+  const test::TempDir dir("proprio_learn_hold_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const bool hold : {false, true}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.pushes = 3;
+    o.hold_target = hold;
+    o.out = dir.path() / (hold ? "on" : "off");
+    const LearnResult r = run_learn(o, robot, attendant, 1, prov);
+    ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
+    const core::Json rec = core::read_json(o.out / "learn.json");
+    EXPECT_EQ(rec["options"]["hold_target"].get<bool>(), hold);
+    int held = 0;
+    for (std::size_t i = 0; i < r.pushes.size(); ++i) {
+      if (r.pushes[i].located != "held") continue;
+      ++held;
+      EXPECT_GT(i, 0U);  // never the turn's first push (that one is "chosen")
+    }
+    if (hold) {
+      EXPECT_GE(held, 1) << events_of(o.out / "decisions.jsonl");
+    } else {
+      EXPECT_EQ(held, 0);
     }
   }
 }

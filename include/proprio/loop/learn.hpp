@@ -221,6 +221,25 @@ struct LearnOptions {
   /// first that can be pushed (planned, start clear) is chosen. Off: the best is chosen and
   /// others are tried only after three failures.
   bool prefer_pushable = false;
+  /// Identity check after a turn's first push that gave views (session 26): the mean log p of
+  /// those views' descriptors under each known object's words (eq 8.4) less that object's own
+  /// yardstick (its last push's views' mean log p under its words, as known_margin), nats; when
+  /// the best such difference is at least -identity_margin the pushed object is that known one:
+  /// the views are merged into its class (its words and Dirichlet updated as by a later push, its
+  /// region and place taken from the push), the turn's class is emptied and the turn chooses
+  /// again (7.2 d: the merged object now known, its blob not chosen again), at most twice a
+  /// turn. -1 (any negative): off (the check is still logged: decisions.jsonl's "identity" events).
+  double identity_margin = -1;
+  /// Hold on to the chosen object between a turn's pushes (session 26): after a push the object
+  /// is the candidate nearest the push's planned landing point (the plan's target, within
+  /// 0.05 m), before what moved with the arm (its segmented region, which also takes in
+  /// neighbours that moved with it or lay beside it: 27 of the 67 later push attempts of the
+  /// tuning seeds 1, 8-10 --quick were aimed at another object than the turn chose, 18 of them
+  /// located by that region; docs/results/learn.md "Session 26"); the next push is aimed at the
+  /// blob nearest where it was held. Off: the segmented region first (as before). Off by default:
+  /// on report seeds 2-7 it halved the drift and gave more named objects a class, but held-out
+  /// MoT fell 20.2 -> 8.5 % (docs/results/learn.md, "Session 26").
+  bool hold_target = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
@@ -328,6 +347,15 @@ struct LearnOptions {
        core::between(0.0, 0.2)});
     v(self.prefer_pushable,
       {"prefer_pushable", "Plan a push before choosing a candidate; choose the first pushable"});
+    v(self.identity_margin,
+      {"identity_margin",
+       "After a turn's first push: views within this many nats of a known object's own mean "
+       "log p are merged into it and the turn chooses again; -1 off",
+       core::between(-1.0, 1000.0)});
+    v(self.hold_target,
+      {"hold_target",
+       "After a push the object is the blob nearest the push's target (within 0.05 m) before "
+       "its segmented region: the turn holds on to it"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
@@ -500,7 +528,10 @@ struct SkipCount {
 
 /// One line of learn's decision log (decisions.jsonl): an event and the fields it has (the
 /// others are left out). Events: start, retry, look, split, region, choose, recognise, refound,
-/// rechoose, replan, push, views, move-on, fault, no-views, end.
+/// rechoose, replan, push, views, identity, move-on, fault, no-views, end. identity (a turn's
+/// first push that gave views, classes after the first): `scores` per known object (blob: the
+/// pushed blob; best_object: the object; best_mean_log_p and below_own: the views' mean log p
+/// under its words and that less its own), `why` when they were merged into one.
 struct LearnDecision {
   std::string event = {};
   std::optional<int> object = {};                       ///< the object (class) being learned

@@ -1,0 +1,58 @@
+#!/usr/bin/python3
+"""Paired comparison of two sets of `proprio learn` runs on the same seeds (session 26).
+
+usage: scripts/learn_paired.py BASE_DIR OPTION_DIR SEED [SEED ...]   (MODE=quick by default)
+
+BASE_DIR/OPTION_DIR hold scripts/experiment-learn's runs (MODE-sSEED/learn.json). Prints per seed
+the held-out MoT by theta, argmax theta, pooled words, per named object MoT / argmax %, named
+objects given a class and the later learn pushes aimed at another object than the turn chose
+(ground truth); then the means and the paired differences (option - base) with 95 % t intervals
+(scripts/oracle_ladder_table.py's ci).
+"""
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from oracle_ladder_table import ci  # noqa: E402
+
+
+def figures(run):
+    j = json.load(open(f"{run}/learn.json"))
+    g = j["ground_truth"]
+    w = j.get("held_out_words", {})
+    chosen = dict(zip(j["classes"], g["class_chosen"]))
+    later = [p for p in j["pushes"] if p["located"] != "chosen"]
+    drift = sum(1 for p in later if p.get("intended") != chosen[p["class"]])
+    truths = [o.get("truth", "") for o in j["objects"] if o["views"] > 0]
+    named = sum(1 for o in g["objects"] if o["name"] in truths)
+    per = " ".join(f"{o['name']} {100 * o['mot_accuracy']:.0f}/{100 * o['argmax_accuracy']:.0f}"
+                   for o in g["objects"])
+    return {"MoT": 100 * g["mot_accuracy"], "argmax": 100 * g["argmax_accuracy"],
+            "pooled": 100 * w.get("pooled", 0), "named": named,
+            "drift": f"{drift}/{len(later)}", "per": per,
+            "classes": ",".join(t or "-" for t in truths)}
+
+
+def main(base, option, seeds):
+    mode = os.environ.get("MODE", "quick")
+    rows = []
+    for s in seeds:
+        b = figures(f"{base}/{mode}-s{s}")
+        o = figures(f"{option}/{mode}-s{s}")
+        rows.append((s, b, o))
+        for name, f in (("base", b), ("option", o)):
+            print(f"s{s} {name:<6} MoT {f['MoT']:5.1f} argmax {f['argmax']:5.1f} pooled "
+                  f"{f['pooled']:5.1f} named {f['named']} drift {f['drift']:>5}  {f['per']}; "
+                  f"{f['classes']}")
+    for key in ("MoT", "argmax", "pooled", "named"):
+        bv = [r[1][key] for r in rows]
+        ov = [r[2][key] for r in rows]
+        d = [o - b for b, o in zip(bv, ov)]
+        m, h = ci(d)
+        print(f"{key:<7} base {sum(bv) / len(bv):5.1f} option {sum(ov) / len(ov):5.1f} paired "
+              f"(option - base) {' '.join(f'{x:+.1f}' for x in d)}: {m:+.1f} +- {h:.1f}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2], sys.argv[3:])
