@@ -403,6 +403,7 @@ TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
     o.contact_prior = false;
     o.direction_prior = false;
     o.touch_fm = touch_fm;
+    o.touch_fm_against = false;  // raising alone: against only ever lowers (its own test)
     return touch_map(spec, o);
   };
   const auto [plain, t] = run(0);
