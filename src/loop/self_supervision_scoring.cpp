@@ -139,6 +139,28 @@ std::pair<int, int> most_voted(const std::map<int, int>& votes) {
   return {best, best_n};
 }
 
+// A blob's votes (ground-truth id -> points) as "name:share+name:share", largest first
+// (PushTruth::blob_truth); "" when no point lies on an object.
+std::string blob_composition(const std::map<int, int>& votes,
+                             const std::vector<sim::ObjectTruth>& objects) {
+  int all = 0;
+  for (const auto& [id, n] : votes) all += n;
+  if (all == 0) return {};
+  std::vector<std::pair<int, int>> byn(votes.begin(), votes.end());
+  std::stable_sort(byn.begin(), byn.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string out;
+  for (const auto& [id, n] : byn) {
+    std::string name = "?";
+    for (const auto& o : objects) {
+      if (o.id == id) name = o.name;
+    }
+    if (!out.empty()) out += '+';
+    out += core::printf_string("%s:%.2f", name.c_str(), static_cast<double>(n) / all);
+  }
+  return out;
+}
+
 constexpr std::uint64_t kLadderStream = 0x6c6164646572ULL;  // core::stream_seed key: a0_table
 constexpr int kLadderRenders = 24;                          // a0, a0_table: views per object
 
@@ -256,7 +278,7 @@ std::string GroundTruthAttendant::rescatter(int round) {
   return line;
 }
 
-std::string GroundTruthAttendant::object_under(const planning::PutativeObject& blob) {
+std::map<int, int> GroundTruthAttendant::votes_under(const planning::PutativeObject& blob) {
   const cv::Mat mask = robot_.ground_truth_mask();
   std::map<int, int> votes;
   for (const auto& p : blob.pixels) {
@@ -266,7 +288,11 @@ std::string GroundTruthAttendant::object_under(const planning::PutativeObject& b
     const int id = mask.at<std::uint16_t>(v, u);
     if (id != 0) ++votes[id];
   }
-  const int best = most_voted(votes).first;
+  return votes;
+}
+
+std::string GroundTruthAttendant::object_under(const planning::PutativeObject& blob) {
+  const int best = most_voted(votes_under(blob)).first;
   for (const auto& o : robot_.ground_truth()) {
     if (o.id == best) return o.name;
   }
@@ -284,7 +310,9 @@ void GroundTruthAttendant::before_push(const PushIntent& intent) {
   PushTruth t;
   t.round = intent.round;
   t.phase = intent.phase;
-  t.intended = object_under(intent.view->objects.at(static_cast<std::size_t>(intent.blob)));
+  const auto& blob = intent.view->objects.at(static_cast<std::size_t>(intent.blob));
+  t.intended = object_under(blob);
+  t.blob_truth = blob_composition(votes_under(blob), before_);
   pushes_.push_back(t);
   if (intent.phase == "learn") {
     for (const auto& o : before_) {
@@ -626,6 +654,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   }
   // Each executed learn push as the ground truth saw it: "intended>moved+moved".
   s.class_learn_pushes.assign(static_cast<std::size_t>(c_count), {});
+  s.class_learn_blobs.assign(static_cast<std::size_t>(c_count), {});
   for (const auto& p : pushes) {
     if (p.phase != "learn" || !p.executed || p.round < 0 || p.round >= c_count) continue;
     std::string line = p.intended + ">";
@@ -634,6 +663,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
       line += p.moved[i];
     }
     s.class_learn_pushes[static_cast<std::size_t>(p.round)].push_back(line);
+    s.class_learn_blobs[static_cast<std::size_t>(p.round)].push_back(p.blob_truth);
   }
   // Singulation, clearing pushes, intended-only, off the table.
   int singulated = 0;

@@ -1001,6 +1001,21 @@ TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
     for (const auto& p : r) EXPECT_NE(p.find('>'), std::string::npos) << p;
   }
   EXPECT_EQ(listed, static_cast<std::size_t>(l.pushes_learn));
+  // Each learn push's blob by object, "name:share+...", largest first, led by its intended.
+  ASSERT_EQ(s.class_learn_blobs.size(), s.class_learn_pushes.size());
+  for (std::size_t r = 0; r < s.class_learn_blobs.size(); ++r) {
+    ASSERT_EQ(s.class_learn_blobs[r].size(), s.class_learn_pushes[r].size());
+    for (std::size_t k = 0; k < s.class_learn_blobs[r].size(); ++k) {
+      const std::string& b = s.class_learn_blobs[r][k];
+      const std::string intended =
+          s.class_learn_pushes[r][k].substr(0, s.class_learn_pushes[r][k].find('>'));
+      if (intended.empty()) {
+        EXPECT_TRUE(b.empty()) << b;
+        continue;
+      }
+      EXPECT_EQ(b.rfind(intended + ":", 0), 0U) << b << " / " << intended;
+    }
+  }
   for (const ObjectScore& os : s.objects) {
     EXPECT_GE(os.turn_deg, 0.0);
     EXPECT_LE(os.turn_deg, 180.0);

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -33,6 +34,10 @@ struct PushTruth {
   int round = 0;
   std::string phase;     ///< "clear" or "learn"
   std::string intended;  ///< the object under the pushed blob (most of its features), or ""
+  /// The pushed blob's feature points by the object under them, "name:share+name:share" (share
+  /// of the points on an object, largest first; points on no object left out), "" none: tells a
+  /// blob of two touching objects from a neighbour's own blob (drift diagnosis, session 26).
+  std::string blob_truth;
   std::vector<std::string> moved;  ///< objects whose centre moved > kMovedThreshold
   bool only_intended = false;      ///< the intended object moved and nothing else
   int fell_off = 0;                ///< objects that left the table in this push
@@ -96,6 +101,8 @@ class GroundTruthAttendant final : public TableAttendant {
  private:
   RoundTruth& round(int r);
   std::string object_under(const planning::PutativeObject& blob);
+  /// The blob's points on each object (ground-truth id -> count; points on no object left out).
+  std::map<int, int> votes_under(const planning::PutativeObject& blob);
   sim::SimulatedRobot& robot_;
   std::uint64_t seed_;
   std::vector<RoundTruth> rounds_;
@@ -247,6 +254,8 @@ struct SelfSupervisionScore {
   /// Per round, each executed learn push as the ground truth saw it: "intended>moved+moved"
   /// (the object under the pushed blob, then every object that moved; "" for none).
   std::vector<std::vector<std::string>> class_learn_pushes;
+  /// Per round, each executed learn push's blob as the ground truth saw it (PushTruth::blob_truth).
+  std::vector<std::vector<std::string>> class_learn_blobs;
   std::vector<ObjectScore> objects;
   double singulation = 0;               ///< rounds singulated / rounds
   double pushes_per_cleared = 0;        ///< clear pushes / distinct objects they moved (per round)
@@ -271,6 +280,8 @@ struct SelfSupervisionScore {
     v(self.class_blobs, {"class_blobs", "Each round's choice look: the object under each blob"});
     v(self.class_learn_pushes,
       {"class_learn_pushes", "Each round's learn pushes: intended>what moved"});
+    v(self.class_learn_blobs,
+      {"class_learn_blobs", "Each round's learn pushes: the pushed blob's points by object"});
     v(self.singulation, {"singulation", "Rounds singulated / rounds"});
     v(self.pushes_per_cleared, {"pushes_per_cleared", "Clear pushes / objects they moved"});
     v(self.only_intended,

@@ -1,6 +1,7 @@
 """Session 25: defaults against --repeat-tries 1 on the same seeds, and session 24's rule.
 
-usage: python3 paired.py DEF REP [SEEDS]   (DEF/motion-sN.json or DEF-sN.json; SEEDS default "2 3 4 5 6")
+usage: python3 paired.py DEF REP [SEEDS] [LABEL]   (DEF/motion-sN.json or DEF-sN.json; SEEDS default
+"2 3 4 5 6"; LABEL the option's name, default "--repeat-tries 1"; session 26 also "--repeat-later")
 Prints per seed c, argmax, classes by ground-truth name, per-object c; means with 95% t
 intervals; the paired difference (option minus defaults) and the rule's verdict; and where c
 is lost (objects never learned, learned once, learned twice or more).
@@ -27,7 +28,8 @@ def main():
     a, b = sys.argv[1], sys.argv[2]
     seeds = (sys.argv[3] if len(sys.argv) > 3 else "2 3 4 5 6").split()
     seeds = [s for s in seeds if all(os.path.exists(path(d, s)) for d in (a, b))]
-    runs = {"defaults": [load(a, s) for s in seeds], "--repeat-tries 1": [load(b, s) for s in seeds]}
+    option = sys.argv[4] if len(sys.argv) > 4 else "--repeat-tries 1"
+    runs = {"defaults": [load(a, s) for s in seeds], option: [load(b, s) for s in seeds]}
     print(f"seeds {' '.join(seeds)}")
     for name, rows in runs.items():
         print(f"\n## {name}")
@@ -51,7 +53,7 @@ def main():
         distinct = [len(set(r["ground_truth"]["class_object"])) for r in rows]
         print(f"distinct objects learned per seed: {distinct}")
     d = [100 * (y["ground_truth"]["mot_accuracy"] - x["ground_truth"]["mot_accuracy"])
-         for x, y in zip(runs["defaults"], runs["--repeat-tries 1"])]
+         for x, y in zip(runs["defaults"], runs[option])]
     m, h = ci(d)
     print(f"\npaired difference (option - defaults), points: {m:+.1f} +- {h:.1f}; per seed "
           + " ".join(f"{x:+.1f}" for x in d))
