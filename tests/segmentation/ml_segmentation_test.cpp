@@ -501,6 +501,50 @@ TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
   }
 }
 
+// touch_fm_fill: where the cut and the mask agree, every pixel of the cut outside the baseline's
+// arm model scores at least touch_fm_fill x the map's peak (so the mask holds the whole cut) and
+// no other pixel changes; a baseline that does not agree enough leaves the map as it was;
+// validate() rejects values out of range.
+TEST(MlSegmentation, TouchFmFillRaisesEveryPixelOfTheCut) {
+  PushSpec spec;
+  const auto run = [&](double fill, double agree) {
+    MlOptions o;
+    o.contact_prior = false;
+    o.direction_prior = false;
+    o.touch_fm_against = false;
+    o.touch_fm_fill = fill;
+    o.touch_fm_agree = agree;
+    return touch_map(spec, o);
+  };
+  const auto [plain, t] = run(0.0, 0.0);
+  const auto [filled, t_filled] = run(1.0, 0.0);
+  const auto [unagreed, t_unagreed] = run(1.0, 1.0);
+  ASSERT_EQ(t, t_filled);
+  ASSERT_EQ(t, t_unagreed);
+  expect_valid_map(filled);
+  const FmResult fm = segment_fm(fm_frames_at(spec, t), FmOptions{});
+  const cv::Mat1b fill = fm.mask & ~fm.arm;
+  ASSERT_GT(cv::countNonZero(fill), 0);
+  double peak = 0, peak_filled = 0, low_in_cut = 0;
+  cv::minMaxLoc(plain, nullptr, &peak);
+  cv::minMaxLoc(filled, nullptr, &peak_filled);
+  EXPECT_NEAR(peak_filled, peak, 1e-6);
+  cv::minMaxLoc(filled, &low_in_cut, nullptr, nullptr, nullptr, fill);
+  EXPECT_GE(low_in_cut, peak - 1e-6);  // every pixel of the cut at the peak
+  cv::minMaxLoc(plain, &low_in_cut, nullptr, nullptr, nullptr, fill);
+  EXPECT_LT(low_in_cut, 0.75 * peak);  // ... which some were not: the test can fail
+  EXPECT_EQ(cv::norm(filled, plain, cv::NORM_INF, ~fill), 0.0);
+  EXPECT_EQ(cv::norm(unagreed, plain, cv::NORM_INF), 0.0);
+  const cv::Mat1b truth = push_frame(spec, t).mask == 1;
+  std::printf("touch fm fill: J %.3f -> %.3f\n", jaccard(cv::Mat1b(plain >= 0.75 * peak), truth),
+              jaccard(cv::Mat1b(filled >= 0.75 * peak), truth));
+  MlOptions bad;
+  for (double v : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    bad.touch_fm_fill = v;
+    EXPECT_THROW(bad.validate(), Error) << v;
+  }
+}
+
 // smoothing_keep_evidence: an evidenced region takes the higher of its smoothed and its own
 // score, the latter capped at the smoothed scores' robust peak. So, without the priors, the map
 // is nowhere lower than the plain smoothing's, its peak (and with it the mask's threshold) is
