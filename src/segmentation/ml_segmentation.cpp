@@ -142,6 +142,8 @@ void MlOptions::validate() const {
   require(
       std::isfinite(touch_fm_agree) && touch_fm_agree >= 0 && touch_fm_agree <= 1,
       core::cat({"MlOptions.touch_fm_agree must be in [0, 1], got ", core::num(touch_fm_agree)}));
+  require(std::isfinite(touch_fm_fill) && touch_fm_fill >= 0 && touch_fm_fill <= 1,
+          core::cat({"MlOptions.touch_fm_fill must be in [0, 1], got ", core::num(touch_fm_fill)}));
   require(std::isfinite(touch_fm_margin) && touch_fm_margin >= 0 && touch_fm_margin <= 100,
           core::cat(
               {"MlOptions.touch_fm_margin must be in [0, 100], got ", core::num(touch_fm_margin)}));
@@ -1192,7 +1194,10 @@ struct MlSegmenter::Impl {
       (void)apply_contact_prior(m, *ee, opt.effective_mask_fraction(), opt.contact_radius,
                                 opt.contact_gap);
     }
-    if (opt.touch_fm_against && frame == *first_touch && !touch_fm.empty()) against_fm(m);
+    if ((opt.touch_fm_against || opt.touch_fm_fill > 0) && frame == *first_touch &&
+        !touch_fm.empty()) {
+      against_fm(m);
+    }
     return m;
   }
 
@@ -1226,9 +1231,10 @@ struct MlSegmenter::Impl {
     }
   }
 
-  // touch_fm_against: where the baseline's touch cut and the mask agree (their intersection
-  // over union at least touch_fm_agree), the mask's pixels farther than touch_fm_margin from the
-  // cut and from the baseline's arm model are set to 0.
+  // Where the baseline's touch cut and the mask agree (their intersection over union at least
+  // touch_fm_agree): touch_fm_fill, the cut's pixels outside the baseline's arm model score at
+  // least touch_fm_fill x the map's peak; touch_fm_against, the mask's pixels farther than
+  // touch_fm_margin from the cut and from the arm model are set to 0.
   void against_fm(cv::Mat1f& m) const {
     cv::Mat1b cut = touch_fm, arm = touch_fm_arm;
     if (cut.size() != m.size()) cv::resize(touch_fm, cut, m.size(), 0, 0, cv::INTER_NEAREST);
@@ -1238,6 +1244,15 @@ struct MlSegmenter::Impl {
     const int both = cv::countNonZero(mask & cut);
     const int either = cv::countNonZero(mask | cut);
     if (either == 0 || both < opt.touch_fm_agree * either) return;
+    if (opt.touch_fm_fill > 0) {
+      double peak = 0;
+      cv::minMaxLoc(m, nullptr, &peak);
+      const cv::Mat1b fill = cut & ~arm;
+      cv::Mat1f floor(m.size(), static_cast<float>(opt.touch_fm_fill * peak));
+      cv::Mat1f raised = cv::max(m, floor);
+      raised.copyTo(m, fill);
+    }
+    if (!opt.touch_fm_against) return;
     cv::Mat1b keep = cut | arm;
     const int r = static_cast<int>(std::lround(opt.touch_fm_margin));
     if (r > 0) {

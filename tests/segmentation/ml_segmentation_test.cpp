@@ -404,6 +404,7 @@ TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
     o.direction_prior = false;
     o.touch_fm = touch_fm;
     o.touch_fm_against = false;  // raising alone: against only ever lowers (its own test)
+    o.touch_fm_fill = 0;         // and fill raises pixels, not regions (its own test)
     return touch_map(spec, o);
   };
   const auto [plain, t] = run(0);
@@ -460,6 +461,7 @@ TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
     o.touch_fm_against = against;
     o.touch_fm_agree = agree;
     o.touch_fm_margin = 2;
+    o.touch_fm_fill = 0;  // its own test
     return touch_map(spec, o);
   };
   const auto [plain, t] = run(false, 0.0);
@@ -497,6 +499,50 @@ TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
   bad.touch_fm_agree = 0.5;
   for (double v : {-1.0, 101.0, std::numeric_limits<double>::infinity()}) {
     bad.touch_fm_margin = v;
+    EXPECT_THROW(bad.validate(), Error) << v;
+  }
+}
+
+// touch_fm_fill: where the cut and the mask agree, every pixel of the cut outside the baseline's
+// arm model scores at least touch_fm_fill x the map's peak (so the mask holds the whole cut) and
+// no other pixel changes; a baseline that does not agree enough leaves the map as it was;
+// validate() rejects values out of range.
+TEST(MlSegmentation, TouchFmFillRaisesEveryPixelOfTheCut) {
+  PushSpec spec;
+  const auto run = [&](double fill, double agree) {
+    MlOptions o;
+    o.contact_prior = false;
+    o.direction_prior = false;
+    o.touch_fm_against = false;
+    o.touch_fm_fill = fill;
+    o.touch_fm_agree = agree;
+    return touch_map(spec, o);
+  };
+  const auto [plain, t] = run(0.0, 0.0);
+  const auto [filled, t_filled] = run(1.0, 0.0);
+  const auto [unagreed, t_unagreed] = run(1.0, 1.0);
+  ASSERT_EQ(t, t_filled);
+  ASSERT_EQ(t, t_unagreed);
+  expect_valid_map(filled);
+  const FmResult fm = segment_fm(fm_frames_at(spec, t), FmOptions{});
+  const cv::Mat1b fill = fm.mask & ~fm.arm;
+  ASSERT_GT(cv::countNonZero(fill), 0);
+  double peak = 0, peak_filled = 0, low_in_cut = 0;
+  cv::minMaxLoc(plain, nullptr, &peak);
+  cv::minMaxLoc(filled, nullptr, &peak_filled);
+  EXPECT_NEAR(peak_filled, peak, 1e-6);
+  cv::minMaxLoc(filled, &low_in_cut, nullptr, nullptr, nullptr, fill);
+  EXPECT_GE(low_in_cut, peak - 1e-6);  // every pixel of the cut at the peak
+  cv::minMaxLoc(plain, &low_in_cut, nullptr, nullptr, nullptr, fill);
+  EXPECT_LT(low_in_cut, 0.75 * peak);  // ... which some were not: the test can fail
+  EXPECT_EQ(cv::norm(filled, plain, cv::NORM_INF, ~fill), 0.0);
+  EXPECT_EQ(cv::norm(unagreed, plain, cv::NORM_INF), 0.0);
+  const cv::Mat1b truth = push_frame(spec, t).mask == 1;
+  std::printf("touch fm fill: J %.3f -> %.3f\n", jaccard(cv::Mat1b(plain >= 0.75 * peak), truth),
+              jaccard(cv::Mat1b(filled >= 0.75 * peak), truth));
+  MlOptions bad;
+  for (double v : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    bad.touch_fm_fill = v;
     EXPECT_THROW(bad.validate(), Error) << v;
   }
 }
