@@ -1425,6 +1425,16 @@ class Learner {
     held_ = false;
     bool checked = false;  // the identity check of the turn's first push with views is done
     int merges = 0;        // the turn's pushes merged into known objects (identity_margin)
+    // The turn starts again on blob k of the view (logged "rechoose", why).
+    const auto rechoose = [&](const std::string& why, const std::vector<CandidateSkip>& skipped) {
+      log({.event = "rechoose", .object = c, .blob = k, .why = why, .skipped = skipped});
+      attendant_.chose(c, view, k);
+      last = view.objects[static_cast<std::size_t>(k)].centre;
+      failures = 0;
+      extra_approach_ = 0;
+      first = true;
+      held_ = false;
+    };
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
       if (!first) view = plan_view();
@@ -1448,17 +1458,7 @@ class Learner {
           fault(c, "no-pushable-object", "every blob in view was tried; moving on");
           break;
         }
-        log({.event = "rechoose",
-             .object = c,
-             .blob = k,
-             .why = "three pushes in a row could not be planned or were refused",
-             .skipped = given_up});
-        attendant_.chose(c, view, k);
-        last = view.objects[static_cast<std::size_t>(k)].centre;
-        failures = 0;
-        extra_approach_ = 0;
-        first = true;
-        held_ = false;
+        rechoose("three pushes in a row could not be planned or were refused", given_up);
       }
       std::string how = "chosen";
       const int blob = first ? k : locate(c, view, last, how);
@@ -1618,18 +1618,8 @@ class Learner {
         const std::vector<CandidateSkip> merged{{blob, "known"}};
         k = choose(c, view, tried);
         if (k < 0) break;
-        log({.event = "rechoose",
-             .object = c,
-             .blob = k,
-             .why =
-                 core::cat({"identity: the pushed object is object ", std::to_string(*same + 1)}),
-             .skipped = merged});
-        attendant_.chose(c, view, k);
-        last = view.objects[static_cast<std::size_t>(k)].centre;
-        failures = 0;
-        extra_approach_ = 0;
-        first = true;
-        held_ = false;
+        rechoose(core::cat({"identity: the pushed object is object ", std::to_string(*same + 1)}),
+                 merged);
         checked = false;
         done = 0;
         attempts = 0;
