@@ -1196,7 +1196,7 @@ struct MlSegmenter::Impl {
     }
     if ((opt.touch_fm_against || opt.touch_fm_fill > 0) && frame == *first_touch &&
         !touch_fm.empty()) {
-      against_fm(m);
+      with_touch_cut(m);
     }
     return m;
   }
@@ -1235,7 +1235,7 @@ struct MlSegmenter::Impl {
   // touch_fm_agree): touch_fm_fill, the cut's pixels outside the baseline's arm model score at
   // least touch_fm_fill x the map's peak; touch_fm_against, the mask's pixels farther than
   // touch_fm_margin from the cut and from the arm model are set to 0.
-  void against_fm(cv::Mat1f& m) const {
+  void with_touch_cut(cv::Mat1f& m) const {
     cv::Mat1b cut = touch_fm, arm = touch_fm_arm;
     if (cut.size() != m.size()) cv::resize(touch_fm, cut, m.size(), 0, 0, cv::INTER_NEAREST);
     if (arm.empty()) arm = cv::Mat1b(m.size(), uchar{0});
@@ -1247,10 +1247,8 @@ struct MlSegmenter::Impl {
     if (opt.touch_fm_fill > 0) {
       double peak = 0;
       cv::minMaxLoc(m, nullptr, &peak);
-      const cv::Mat1b fill = cut & ~arm;
-      cv::Mat1f floor(m.size(), static_cast<float>(opt.touch_fm_fill * peak));
-      cv::Mat1f raised = cv::max(m, floor);
-      raised.copyTo(m, fill);
+      const cv::Mat1f raised = cv::max(m, opt.touch_fm_fill * peak);
+      raised.copyTo(m, cut & ~arm);
     }
     if (!opt.touch_fm_against) return;
     cv::Mat1b keep = cut | arm;
