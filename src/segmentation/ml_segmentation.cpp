@@ -5,6 +5,7 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <opencv2/imgproc.hpp>
@@ -144,6 +145,9 @@ void MlOptions::validate() const {
       core::cat({"MlOptions.touch_fm_agree must be in [0, 1], got ", core::num(touch_fm_agree)}));
   require(std::isfinite(touch_fm_fill) && touch_fm_fill >= 0 && touch_fm_fill <= 1,
           core::cat({"MlOptions.touch_fm_fill must be in [0, 1], got ", core::num(touch_fm_fill)}));
+  require(std::isfinite(touch_fm_refine) && touch_fm_refine >= 0 && touch_fm_refine <= 16,
+          core::cat({"MlOptions.touch_fm_refine must be in [0, 16] px, got ",
+                     core::num(touch_fm_refine)}));
   require(std::isfinite(touch_fm_margin) && touch_fm_margin >= 0 && touch_fm_margin <= 100,
           core::cat(
               {"MlOptions.touch_fm_margin must be in [0, 100], got ", core::num(touch_fm_margin)}));
@@ -361,6 +365,7 @@ struct MlSegmenter::Impl {
   // touch, and the baseline's cut of the touch frame (processing size; empty: none).
   cv::Mat3b fm_before2, fm_before;
   cv::Mat1b touch_fm, touch_fm_arm;
+  cv::Mat3b touch_colour;  // the first-touch frame's colours (touch_fm_refine)
   double carry_next = 0.0;
   bool carrying = false;
   // Depth variant with depth_smoothing: the depth of every frame whose labels are kept.
@@ -1194,8 +1199,8 @@ struct MlSegmenter::Impl {
       (void)apply_contact_prior(m, *ee, opt.effective_mask_fraction(), opt.contact_radius,
                                 opt.contact_gap);
     }
-    if ((opt.touch_fm_against || opt.touch_fm_fill > 0) && frame == *first_touch &&
-        !touch_fm.empty()) {
+    if ((opt.touch_fm_against || opt.touch_fm_fill > 0 || opt.touch_fm_refine > 0) &&
+        frame == *first_touch && !touch_fm.empty()) {
       with_touch_cut(m);
     }
     return m;
@@ -1250,14 +1255,77 @@ struct MlSegmenter::Impl {
       const cv::Mat1f raised = cv::max(m, opt.touch_fm_fill * peak);
       raised.copyTo(m, cut & ~arm);
     }
-    if (!opt.touch_fm_against) return;
-    cv::Mat1b keep = cut | arm;
-    const int r = static_cast<int>(std::lround(opt.touch_fm_margin));
-    if (r > 0) {
-      cv::dilate(keep, keep,
-                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+    if (opt.touch_fm_against) {
+      cv::Mat1b keep = cut | arm;
+      const int r = static_cast<int>(std::lround(opt.touch_fm_margin));
+      if (r > 0) {
+        cv::dilate(keep, keep,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+      }
+      m.setTo(0.0F, ~keep);
     }
-    m.setTo(0.0F, ~keep);
+    if (opt.touch_fm_refine > 0) refine_outline(m, arm);
+  }
+
+  // touch_fm_refine: GrabCut (OpenCV) on the touch frame, the mask's inside and the scene beyond
+  // a band of touch_fm_refine px round its outline held fixed; the band's pixels follow its
+  // labels (object: the map's peak; background: 0), the arm model's excepted. The crop round the
+  // band gives GrabCut's background mixture the scene next to the object, not the whole frame.
+  void refine_outline(cv::Mat1f& m, const cv::Mat1b& arm) const {
+    if (touch_colour.empty()) return;
+    cv::Mat3b img = touch_colour;
+    if (img.size() != m.size()) cv::resize(touch_colour, img, m.size(), 0, 0, cv::INTER_LINEAR);
+    const cv::Mat1b mask = threshold_map(m, opt.effective_mask_fraction());
+    if (cv::countNonZero(mask) == 0) return;
+    const int r = static_cast<int>(std::lround(opt.touch_fm_refine));
+    const auto disc = [](int k) {
+      return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1));
+    };
+    cv::Mat1b inner, outer, context;
+    cv::erode(mask, inner, disc(r));
+    cv::dilate(mask, outer, disc(r));
+    constexpr int kContext = 16;  // px of scene round the band for the background's colours
+    cv::dilate(outer, context, disc(kContext));
+    const cv::Rect roi = cv::boundingRect(context);
+    if (roi.width < 2 || roi.height < 2) return;
+    cv::Mat1b gc(roi.size(), static_cast<uchar>(cv::GC_BGD));
+    for (int y = 0; y < roi.height; ++y) {
+      const uchar* in = inner[y + roi.y] + roi.x;
+      const uchar* out = outer[y + roi.y] + roi.x;
+      const uchar* mk = mask[y + roi.y] + roi.x;
+      uchar* l = gc[y];
+      for (int x = 0; x < roi.width; ++x) {
+        if (in[x] != 0) {
+          l[x] = cv::GC_FGD;
+        } else if (out[x] != 0) {
+          l[x] = mk[x] != 0 ? cv::GC_PR_FGD : cv::GC_PR_BGD;
+        }
+      }
+    }
+    if (cv::countNonZero(gc == cv::GC_FGD) == 0) return;
+    // GrabCut seeds its k-means from OpenCV's thread-local generator: a fixed state keeps the
+    // result the same on every run and thread; the caller's state is put back.
+    constexpr std::uint64_t kGrabCutSeed = 0x5EEDU;
+    cv::RNG& rng = cv::theRNG();
+    const std::uint64_t saved = rng.state;
+    rng.state = kGrabCutSeed;
+    cv::Mat bgd, fgd;
+    cv::grabCut(img(roi), gc, cv::Rect(), bgd, fgd, 2, cv::GC_INIT_WITH_MASK);
+    rng.state = saved;
+    double peak = 0;
+    cv::minMaxLoc(m, nullptr, &peak);
+    for (int y = 0; y < roi.height; ++y) {
+      const uchar* in = inner[y + roi.y] + roi.x;
+      const uchar* out = outer[y + roi.y] + roi.x;
+      const uchar* a = arm[y + roi.y] + roi.x;
+      const uchar* l = gc[y];
+      float* o = m[y + roi.y] + roi.x;
+      for (int x = 0; x < roi.width; ++x) {
+        if (in[x] != 0 || out[x] == 0 || a[x] != 0) continue;
+        const bool object = l[x] == cv::GC_FGD || l[x] == cv::GC_PR_FGD;
+        o[x] = object ? std::max(o[x], static_cast<float>(peak)) : 0.0F;
+      }
+    }
   }
 
   // smoothing_keep_evidence: a region with that many post-touch intervals takes the higher of
@@ -1437,6 +1505,7 @@ MlSegmenter::FrameOutput MlSegmenter::push(const cv::Mat& bgr,
       FmResult fm = segment_fm(f, FmOptions{});
       m.touch_fm = fm.mask;
       m.touch_fm_arm = fm.arm;
+      if (m.opt.touch_fm_refine > 0) m.touch_colour = cv::Mat3b(colour).clone();
     }
     if (first_touch_now) {
       m.fm_before2.release();

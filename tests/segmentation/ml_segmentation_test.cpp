@@ -547,6 +547,51 @@ TEST(MlSegmentation, TouchFmFillRaisesEveryPixelOfTheCut) {
   }
 }
 
+// touch_fm_refine: GrabCut changes the map only in the band round the mask's outline (the arm
+// model excepted), each changed pixel to the peak or to 0; the same options give the same map;
+// on the synthetic push (an object of its own colour on a textured table) the refined mask is
+// closer to the truth; validate() rejects values out of range.
+TEST(MlSegmentation, TouchFmRefineSettlesTheOutlineByColour) {
+  PushSpec spec;
+  const auto run = [&](double refine) {
+    MlOptions o;
+    o.contact_prior = false;
+    o.direction_prior = false;
+    o.touch_fm_refine = refine;
+    return touch_map(spec, o);
+  };
+  const auto [plain, t] = run(0.0);
+  const auto [refined, t_refined] = run(2.0);
+  const auto [again, t_again] = run(2.0);
+  ASSERT_EQ(t, t_refined);
+  expect_valid_map(refined);
+  EXPECT_EQ(cv::norm(refined, again, cv::NORM_INF), 0.0);
+  double peak = 0;
+  cv::minMaxLoc(plain, nullptr, &peak);
+  const cv::Mat1b mask = plain >= 0.75 * peak;
+  cv::Mat1b inner, outer;
+  const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5));
+  cv::erode(mask, inner, disc);
+  cv::dilate(mask, outer, disc);
+  const cv::Mat1b band = outer & ~inner;
+  EXPECT_EQ(cv::norm(refined, plain, cv::NORM_INF, ~band), 0.0);
+  const cv::Mat1b changed = refined != plain;
+  ASSERT_GT(cv::countNonZero(changed), 0);  // it did something: the test can fail
+  const cv::Mat1b at_ends = (refined == 0.0F) | (refined >= static_cast<float>(peak) - 1e-6F);
+  EXPECT_EQ(cv::countNonZero(changed & ~at_ends), 0);
+  const cv::Mat1b truth = push_frame(spec, t).mask == 1;
+  const double j_plain = jaccard(mask, truth);
+  const double j_refined = jaccard(cv::Mat1b(refined >= 0.75 * peak), truth);
+  std::printf("touch fm refine: %d px changed, J %.3f -> %.3f\n", cv::countNonZero(changed),
+              j_plain, j_refined);
+  EXPECT_GT(j_refined, j_plain);
+  MlOptions bad;
+  for (double v : {-1.0, 17.0, std::numeric_limits<double>::quiet_NaN()}) {
+    bad.touch_fm_refine = v;
+    EXPECT_THROW(bad.validate(), Error) << v;
+  }
+}
+
 // smoothing_keep_evidence: an evidenced region takes the higher of its smoothed and its own
 // score, the latter capped at the smoothed scores' robust peak. So, without the priors, the map
 // is nowhere lower than the plain smoothing's, its peak (and with it the mask's threshold) is
