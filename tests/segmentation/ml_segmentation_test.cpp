@@ -405,6 +405,7 @@ TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
     o.touch_fm = touch_fm;
     o.touch_fm_against = false;  // raising alone: against only ever lowers (its own test)
     o.touch_fm_fill = 0;         // and fill raises pixels, not regions (its own test)
+    o.touch_fm_refine = 0;       // and the refinement lowers the outline's pixels (its own test)
     return touch_map(spec, o);
   };
   const auto [plain, t] = run(0);
@@ -461,7 +462,8 @@ TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
     o.touch_fm_against = against;
     o.touch_fm_agree = agree;
     o.touch_fm_margin = 2;
-    o.touch_fm_fill = 0;  // its own test
+    o.touch_fm_fill = 0;    // its own test
+    o.touch_fm_refine = 0;  // its own test
     return touch_map(spec, o);
   };
   const auto [plain, t] = run(false, 0.0);
@@ -515,6 +517,7 @@ TEST(MlSegmentation, TouchFmFillRaisesEveryPixelOfTheCut) {
     o.direction_prior = false;
     o.touch_fm_against = false;
     o.touch_fm_fill = fill;
+    o.touch_fm_refine = 0;  // its own test
     o.touch_fm_agree = agree;
     return touch_map(spec, o);
   };
