@@ -687,6 +687,7 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
       e.via = s.plan.via;
       e.shortened = s.plan.shortened;
       e.descent_met = s.plan.descent_met;
+      e.target_moved = s.plan.target_moved;
       e.merged = s.merged;
       e.jaws = s.plan.push.jaws;
       row.steps.push_back(std::move(e));

@@ -1483,6 +1483,45 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     obstacles.push_back(other.hull);
     obstacle_objects.push_back(&other);
   }
+  // free_target_margin: a target the object cannot lie at without meeting another object is
+  // moved to the nearest point a straight push reaches clear.
+  Eigen::Vector2d goal_target = target;
+  if (goal == PushGoal::kTarget && options.free_target_margin > 0 && !obstacles.empty()) {
+    const double m = options.free_target_margin;
+    std::vector<Eigen::Vector2d> at = o.hull;
+    for (auto& h : at) h += target - o.centre;
+    const bool against = std::any_of(obstacles.begin(), obstacles.end(), [&](const auto& other) {
+      return polygon_distance(at, other) < m;
+    });
+    const auto clear = [&](const Eigen::Vector2d& p) {
+      return inside_region(p, region, options.table_margin + radius) &&
+             sweep_lack(o.hull, o.centre, p, obstacles, m, false, 0.0) <= 0;
+    };
+    bool found = false;
+    for (int ring = 1; against && !found && ring * kFreeTargetStep <= kFreeTargetMost + 1e-9;
+         ++ring) {
+      const double r = ring * kFreeTargetStep;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < kFreeTargetAngles; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / kFreeTargetAngles;
+        const Eigen::Vector2d p = target + r * Eigen::Vector2d(std::cos(a), std::sin(a));
+        if (const double d = (p - o.centre).norm(); d < nearest && clear(p)) {
+          nearest = d;
+          goal_target = p;
+          found = true;
+        }
+      }
+    }
+    plan.target_moved = (goal_target - target).norm();
+    plan.target = goal_target;
+    if (found && (goal_target - o.centre).norm() < options.least_push) {
+      return finish(PlanOutcome::kAtTarget,
+                    "the object is already at the nearest free point to the target " +
+                        metres(target) + ", " +
+                        std::to_string(static_cast<int>(std::lround(plan.target_moved * 1000))) +
+                        " mm from it (it lies against another object)");
+    }
+  }
   // Heights known (a depth look): the descent check goes by each object's height.
   const bool heights = o.height.has_value() ||
                        std::any_of(obstacle_objects.begin(), obstacle_objects.end(),
@@ -1579,9 +1618,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const auto second_leg = [&](Candidate& c, const Eigen::Vector2d& t) {
     std::vector<Eigen::Vector2d> moved = o.hull;
     for (auto& h : moved) h += t - o.centre;
-    if ((target - t).norm() < options.least_push) return false;
-    robot::TablePush next = push_through_centre(moved, t, target, options.min_approach, tip, speed,
-                                                options.pusher_radius);
+    if ((goal_target - t).norm() < options.least_push) return false;
+    robot::TablePush next = push_through_centre(moved, t, goal_target, options.min_approach, tip,
+                                                speed, options.pusher_radius);
     next.jaws = jaws;
     if (!inside_region(next.start, region, options.table_margin) ||
         !robot::reachable(arm, next.start, next.height, q_rest, ik) ||
@@ -1589,12 +1628,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       ++plan.rejected_reach;
       return false;
     }
-    c.cost += path_cost(others, view.camera, next, moved, t, target, options.centre_height,
+    c.cost += path_cost(others, view.camera, next, moved, t, goal_target, options.centre_height,
                         options.path_step);
     c.blocked +=
-        path_clearance(next, moved, t, target, obstacles, options.clearance,
+        path_clearance(next, moved, t, goal_target, obstacles, options.clearance,
                        options.hand_clearance) +
-        sweep_lack(moved, t, target, obstacles, options.sweep_margin, options.sweep_touching,
+        sweep_lack(moved, t, goal_target, obstacles, options.sweep_margin, options.sweep_touching,
                    turn) +
         hand_lack(next, next.jaws == robot::JawLine::kAlong, obstacle_objects, options.hand_margin);
     c.via = true;
@@ -1602,11 +1641,11 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     return true;
   };
   const int via_points = goal == PushGoal::kTarget ? options.via_points : 0;
-  const Eigen::Vector2d line = (target - o.centre).normalized();
+  const Eigen::Vector2d line = (goal_target - o.centre).normalized();
   for (int i = 0; i < options.candidates + via_points; ++i) {
     ++plan.sampled;
     const bool via = i >= options.candidates;
-    Eigen::Vector2d t = target;
+    Eigen::Vector2d t = goal_target;
     if (via) {
       // A waypoint beside the line: turned 20-100 degrees off it either way, 4-10 cm away.
       const double a = (rng.uniform() < 0.5 ? -1.0 : 1.0) * rng.uniform(kViaLeast, kViaMost);
@@ -1690,9 +1729,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       const double r = kViaNear + (kViaFar - kViaNear) * 0.5 * (m % 3);
       // Even pairs round the object's centre (a way round from the start); odd pairs beside the
       // target (its second leg comes in from another side).
-      const Eigen::Vector2d t = (m % 2 == 0)
-                                    ? Eigen::Vector2d(o.centre + r * (Eigen::Rotation2Dd(a) * line))
-                                    : Eigen::Vector2d(target - r * (Eigen::Rotation2Dd(a) * line));
+      const Eigen::Vector2d t =
+          (m % 2 == 0) ? Eigen::Vector2d(o.centre + r * (Eigen::Rotation2Dd(a) * line))
+                       : Eigen::Vector2d(goal_target - r * (Eigen::Rotation2Dd(a) * line));
       std::optional<Candidate> c = leg(t, approach);
       if (!c || !second_leg(*c, t)) continue;
       feasible.push_back(*c);
@@ -1765,6 +1804,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
                      " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target);
   if (plan.via) said += " (a waypoint round a blocked line)";
+  if (plan.target_moved > 0) {
+    said += " (the target " + metres(target) +
+            " lies against another object: the nearest free point, " +
+            std::to_string(static_cast<int>(std::lround(plan.target_moved * 1000))) +
+            " mm from it)";
+  }
   if (plan.descent_met) said += " (every path's way down meets an object: " + first_met + ")";
   if (plan.push.jaws != jaws) said += " (the jaws along the push: the hand clears)";
   if (plan.push.height > tip + 1e-9) {

@@ -100,7 +100,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --via-blocked -1", "--via-blocked"},
            // Session 25's.
            {"push --descent-pose-margin 0.06", "--descent-pose-margin"},
-           {"evaluate push --descent-pose-margin -0.01", "--descent-pose-margin"}}) {
+           {"evaluate push --descent-pose-margin -0.01", "--descent-pose-margin"},
+           // Session 27's.
+           {"push --free-target-margin 0.06", "--free-target-margin"},
+           {"evaluate push --free-target-margin -0.01", "--free-target-margin"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

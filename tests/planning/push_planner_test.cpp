@@ -1420,5 +1420,63 @@ TEST(PushPlanner, ABlockedLineIsGoneRoundThroughAFanOfWaypoints) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
+TEST(PushPlanner, ATargetAgainstANeighbourBecomesTheNearestPointAStraightPushReachesClear) {
+  // The object at (0.20, 0), its target 16 cm along +y, a neighbour 19 cm along: the object put
+  // at the target would lie against the neighbour, so reaching it pushes the neighbour too.
+  // Without free_target_margin the planner pushes it to the target; with it, to the nearest
+  // point whose straight push keeps the margin (here short of the target on the same side).
+  NeighbourScene s({0.20, 0.19});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  const auto& obj = s.obj();
+  const auto& other = s.other();
+  const Eigen::Vector2d target = s.target;
+  const auto at = [&](const Eigen::Vector2d& p) {
+    std::vector<Eigen::Vector2d> h = obj.hull;
+    for (auto& x : h) x += p - obj.centre;
+    return h;
+  };
+  const double margin = 0.01;
+  ASSERT_LT(polygon_distance(at(target), other.hull), margin);
+  PushPlanOptions o = flat_options();
+  o.target_spread = 0;  // the planned target is the goal itself
+  const PushPlan direct = s.plan(o);
+  ASSERT_EQ(direct.outcome, PlanOutcome::kPlanned) << direct.message;
+  EXPECT_EQ(direct.target_moved, 0.0);
+  EXPECT_NEAR((direct.target - target).norm(), 0.0, 1e-12);
+  o.free_target_margin = margin;
+  const PushPlan moved = s.plan(o);
+  ASSERT_EQ(moved.outcome, PlanOutcome::kPlanned) << moved.message;
+  EXPECT_GT(moved.target_moved, 0.0);
+  EXPECT_NEAR((moved.target - target).norm(), moved.target_moved, 1e-12);
+  EXPECT_NE(moved.message.find("lies against"), std::string::npos) << moved.message;
+  // The straight push there keeps the margin (its swept region and the footprint at its end)...
+  EXPECT_EQ(sweep_lack(obj.hull, obj.centre, moved.target, {other.hull}, margin, false, 0.0), 0.0);
+  EXPECT_GE(polygon_distance(at(moved.target), other.hull), margin - 1e-9);
+  // ...and it is the nearest such point of the search (one ring step nearer, none is).
+  for (int k = 0; k < kFreeTargetAngles; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kFreeTargetAngles;
+    const Eigen::Vector2d p =
+        target + (moved.target_moved - kFreeTargetStep) * Eigen::Vector2d(std::cos(a), std::sin(a));
+    EXPECT_GT(sweep_lack(obj.hull, obj.centre, p, {other.hull}, margin, false, 0.0), 0.0) << k;
+  }
+  EXPECT_LE(moved.target_moved, 0.03);
+  // A clear target: the same plan as without the option.
+  const PlanningView clear = object_and_neighbour(s.cam, {0.30, 0.08});
+  const int b = object_nearest(clear, {0.20, 0.0});
+  const PushPlan with = s.plan(o, clear, b);
+  o.free_target_margin = 0;
+  const PushPlan without = s.plan(o, clear, b);
+  ASSERT_EQ(with.outcome, PlanOutcome::kPlanned) << with.message;
+  EXPECT_EQ(with.target_moved, 0.0);
+  EXPECT_NEAR((with.target - without.target).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((with.push.start - without.push.start).norm(), 0.0, 1e-12);
+  // Bounds.
+  PushPlanOptions bad = flat_options();
+  bad.free_target_margin = -0.001;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.free_target_margin = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 }  // namespace
 }  // namespace proprio::planning

@@ -164,6 +164,10 @@ struct PushPlanRecord {
     if (p.descent_met) {
       v(p.descent_met, {"descent_met", "Every path's way down met an object; the best was taken"});
     }
+    if (p.target_moved > 0) {
+      v(p.target_moved,
+        {"target_moved", "The target lay against another object: the goal moved this far, m"});
+    }
     if (p.outcome != planning::PlanOutcome::kPlanned) return;
     v(xy(p.centre), {"centre", "p_c, table m"});
     v(xy(p.target), {"target", "p_t, table m"});
@@ -420,6 +424,7 @@ struct PushEvaluationStep {
   bool via = false;                                 ///< PushPlan::via
   double shortened = 0;                             ///< PushPlan::shortened, m
   bool descent_met = false;                         ///< PushPlan::descent_met
+  double target_moved = 0;                          ///< PushPlan::target_moved, m
   std::vector<std::string> merged;                  ///< PushStep::merged
   robot::JawLine jaws = robot::JawLine::kRobot;     ///< the plan's TablePush::jaws
 
@@ -447,6 +452,12 @@ struct PushEvaluationStep {
       v(self.descent_met,
         {"descent_met",
          "Every path's way down met an object; descent_pose_fallback took the best"});
+    }
+    // Written only when the goal moved (default outputs unchanged).
+    if (self.target_moved > 0) {
+      v(self.target_moved,
+        {"target_moved",
+         "The target lay against another object: free_target_margin moved the goal this far, m"});
     }
     v(self.merged, {"merged", "Ground truth: other objects merged into the pushed blob"});
     v.choice(self.jaws, {"jaws", "How the plan asked the jaws to lie"}, robot::kJawLineNames);

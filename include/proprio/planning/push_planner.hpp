@@ -213,6 +213,15 @@ struct PushPlanOptions {
   /// default): none (via_points samples waypoints at random for every push instead).
   /// loop::push_once sets it to 0 on its last push.
   int via_blocked = 0;
+  /// kTarget: when the pushed object's footprint put at the target (its hull carried from p_c)
+  /// comes within this of another putative object's hull (the target lies against a neighbour, so
+  /// reaching it means pushing that neighbour too), the goal becomes the nearest point to the
+  /// target (rings kFreeTargetStep apart, kFreeTargetAngles points each, out to kFreeTargetMost)
+  /// inside the table region whose straight push keeps this margin (sweep_lack with no turn
+  /// allowance: the swept region from p_c and the footprint there), the point nearest the object
+  /// on the first ring that has one (PushPlan::target_moved). No such point: the target as
+  /// given. m; 0 (the default): the target as given.
+  double free_target_margin = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -336,6 +345,11 @@ struct PushPlanOptions {
        "Target goal: waypoints in a fixed fan tried when no direct push reaches the target "
        "clear (0: off)",
        core::between(0, 200)});
+    v(self.free_target_margin,
+      {"free_target_margin",
+       "Target goal: a target whose object footprint would lie within this of another object is "
+       "moved to the nearest point a straight push reaches clear, m (0: off)",
+       core::between(0, 0.05)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -552,6 +566,9 @@ struct PushPlan {
   /// The plan's own descent meets an object: every path's did, and
   /// PushPlanOptions::descent_pose_fallback took the best of them anyway.
   bool descent_met = false;
+  /// kTarget with PushPlanOptions::free_target_margin: how far the goal was moved from the target
+  /// asked (that target lay against another object), m; 0: not moved.
+  double target_moved = 0;
   double seconds = 0;  ///< wall-clock planning time
 };
 
@@ -657,6 +674,12 @@ double sweep_lack(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2
 /// sweep_lack: how far a touching neighbour's push is drawn back to tell whether it goes toward
 /// it, m.
 inline constexpr double kTouchBack = 0.01;
+/// free_target_margin: the search's rings round the target are this far apart, m...
+inline constexpr double kFreeTargetStep = 0.005;
+/// ...each of this many points...
+inline constexpr int kFreeTargetAngles = 24;
+/// ...out to this distance from the target, m.
+inline constexpr double kFreeTargetMost = 0.10;
 
 /// How far from the pusher's start toward the arm's base (the table origin) the forearm hangs
 /// low at the end of the transit's way down, m (descent_blocked).
