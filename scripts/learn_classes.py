@@ -5,9 +5,9 @@ summed over the classes named after it.
 
 usage: scripts/learn_classes.py RUN_DIR [RUN_DIR ...]   (directories holding learn.json)
 
-Per class (learn.json ground truth): the object it is named after (class_object: most of its
-views), the object its turn chose, its learn pushes as intended>moved, its views, its purity (the
-share of its views showing the object it is named after) and, when that object is a named
+Per class (learn.json ground truth): the object it is named after (class_object: its pushes'
+target), the object its turn chose, its learn pushes as intended>moved, its views, its purity
+(the share of its views showing the object it is named after) and, when that object is a named
 (scored) one, the held-out views of it (20) the Mixture of Topics gives this class. Per named
 object: classes named after it, executed pushes that moved it as the intended object, views of
 those classes (and their views showing it: views x purity), held-out MoT / argmax %. Last, over
