@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <numeric>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -70,6 +71,9 @@ constexpr double kTargetSide = 0.27;
 // stands where every transit (raised over the base, turned toward the start) passes; on seed 1
 // pushes to x 0.085-0.1 were followed by refused transits.
 constexpr double kTargetFront = 0.12;
+// keep_in_reach: what a push target outside that area costs in push_target's score (more than
+// any gap, kCrowded), m.
+constexpr double kOutsideArea = 1.0;
 constexpr int kSides = 8;                           // sides tried when a push is out of reach
 constexpr double kSidePush = 0.08;                  // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
@@ -1109,23 +1113,31 @@ class Learner {
         if (static_cast<int>(b) == blob) continue;
         gap = std::min(gap, (view.objects[b].centre - t).norm());
       }
-      const double off = std::max(0.0, t.norm() - kTargetReach) +
-                         std::max(0.0, kTargetNear - t.norm()) +
-                         std::max(0.0, kTargetFront - t.x()) +
-                         std::max(0.0, std::abs(t.y() - centre_.y()) - kTargetSide);
+      const double off = off_area(t);
       // Ties (nothing near) go to the first direction: the golden-angle turn.
       // After a transit refusal, pushes toward the base are left last: their start lies beyond
       // the object, and the unfolding arm passes over it (and whatever stands between).
       const double inward = outward_only_ && at.norm() > 1e-9
                                 ? std::max(0.0, -(t - at).normalized().dot(at.normalized()))
                                 : 0.0;
-      const double score = gap - (4 * off) - inward - (1e-3 * i);
+      // keep_in_reach: a target outside the area only when no direction keeps it inside (the
+      // gap is at most kCrowded, so kOutsideArea outweighs it).
+      const double outside = o_.keep_in_reach && off > 0 ? kOutsideArea : 0.0;
+      const double score = gap - (4 * off) - outside - inward - (1e-3 * i);
       if (score > best_score) {
         best_score = score;
         best = t;
       }
     }
     return best;
+  }
+
+  // How far a push target lies outside the area the arm can push an object again (kTargetReach,
+  // kTargetNear, kTargetFront, kTargetSide about the view's centre line), m summed; 0 inside.
+  [[nodiscard]] double off_area(const Eigen::Vector2d& t) const {
+    return std::max(0.0, t.norm() - kTargetReach) + std::max(0.0, kTargetNear - t.norm()) +
+           std::max(0.0, kTargetFront - t.x()) +
+           std::max(0.0, std::abs(t.y() - centre_.y()) - kTargetSide);
   }
 
   // A push of `blob` (at `at`) toward `target`, else from the other sides (kSides, a side push
@@ -1167,7 +1179,19 @@ class Learner {
     for (;;) {
       out.plan = timed("plan", [&] { return plan(view, blob, target); });
       ok = usable(out.plan);
-      for (int side = 1; side < kSides && !ok; ++side) {
+      // keep_in_reach: the sides whose push ends inside the area first (stable: in turn).
+      std::vector<int> sides(kSides - 1);
+      std::iota(sides.begin(), sides.end(), 1);
+      const auto side_end = [&](int side) {
+        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
+        return Eigen::Vector2d(at + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      };
+      if (o_.keep_in_reach) {
+        std::stable_partition(sides.begin(), sides.end(),
+                              [&](int side) { return off_area(side_end(side)) <= 0; });
+      }
+      for (const int side : sides) {
+        if (ok) break;
         const double a = a0 + (side * 2 * std::numbers::pi / kSides);
         const Eigen::Vector2d dir(std::cos(a), std::sin(a));
         if (outward_only_ && at.norm() > 1e-9 && dir.dot(at.normalized()) < -0.2) continue;

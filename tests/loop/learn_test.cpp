@@ -611,6 +611,40 @@ TEST(Learn, HoldTargetAimsTheNextPushAtTheBlobWhereThePushMeantToLandTheObject) 
   }
 }
 
+TEST(Learn, KeepInReachKeepsEveryPushTargetInsideTheAreaTheArmCanPushAgain) {
+  // One object pushed 8 times. With keep_in_reach every planned push's target lies inside the
+  // area the arm can push it again (within 0.36 m of the base axis, beyond 0.16 m, at least
+  // 0.12 m in front of the base; the planner samples targets within 0.01 m of the given one);
+  // off, the turn's pushes carry it further out.
+  const test::TempDir dir("proprio_learn_reach_");
+  SmallTable t;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  int outside[2] = {0, 0};
+  double furthest[2] = {0, 0};
+  for (const bool keep : {false, true}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    NullAttendant attendant;
+    LearnOptions o = t.o;
+    o.learn_clutter = false;
+    o.pushes = 8;
+    o.keep_in_reach = keep;
+    o.out = dir.path() / (keep ? "on" : "off");
+    const LearnResult r = run_learn(o, robot, attendant, 1, prov);
+    ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
+    const core::Json rec = core::read_json(o.out / "learn.json");
+    EXPECT_EQ(rec["options"]["keep_in_reach"].get<bool>(), keep);
+    for (const LearnPush& p : r.pushes) {
+      const double n = p.plan.target.norm();
+      furthest[keep ? 1 : 0] = std::max(furthest[keep ? 1 : 0], n);
+      if (n > 0.36 + 0.011 || n < 0.16 - 0.011 || p.plan.target.x() < 0.12 - 0.011) {
+        ++outside[keep ? 1 : 0];
+      }
+    }
+  }
+  EXPECT_EQ(outside[1], 0) << "furthest target " << furthest[1] << " m";
+  EXPECT_GT(outside[0], 0) << "furthest target " << furthest[0] << " m";
+}
+
 TEST(Learn, CarryRegionFindsTheObjectWhereItWasOrMovedWithThePush) {
   // A 40 x 40 image, the object's region the square [5, 15)^2, the push's motion (+20, 0) px.
   // The look's features: 4 at (8..11, 10) and 4 at (28..31, 10); the object's views hold e0.
