@@ -389,6 +389,8 @@ class Learner {
     const auto still = [&](const Eigen::Vector2d& p) -> int& {
       return still_count[{std::round(p.x() / kStill), std::round(p.y() / kStill)}];
     };
+    std::optional<planning::PlanningView> previous;  // merge_ratio: the look before
+    int previous_blob = -1;
     while (true) {
       const planning::PlanningView view = look();
       const int c = track(view, chosen);
@@ -396,6 +398,26 @@ class Learner {
         fault(r, "lost", "the chosen object is no longer where it was (off the table or merged)");
         attendant_.cleared(r, view, -1);
         return std::nullopt;
+      }
+      // merge_ratio: a clearing push pushed a neighbour into the chosen object (fewer blobs, its
+      // blob grown): (c) would learn both as one, so the object counts as lost and the round
+      // chooses again.
+      if (o_.merge_ratio > 0 && previous &&
+          merged_by_growth(*previous, previous_blob, view, c, o_.merge_ratio)) {
+        fault(r, "grown",
+              core::printf_string(
+                  "(b): the look shows %d blobs (%d before) and the chosen object's blob %d of "
+                  "%d feature points (%d before): merged with a neighbour, choosing again",
+                  static_cast<int>(view.objects.size()), static_cast<int>(previous->objects.size()),
+                  c, static_cast<int>(view.objects[static_cast<std::size_t>(c)].pixels.size()),
+                  static_cast<int>(
+                      previous->objects[static_cast<std::size_t>(previous_blob)].pixels.size())));
+        attendant_.cleared(r, view, -1);
+        return std::nullopt;
+      }
+      if (o_.merge_ratio > 0) {
+        previous = view;
+        previous_blob = c;
       }
       chosen = view.objects[static_cast<std::size_t>(c)].centre;
       if (last_pushed) {

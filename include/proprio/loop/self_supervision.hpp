@@ -233,7 +233,10 @@ struct SelfSupervisionOptions {
   /// pushes go to the next round with carry_budget): the class is not trained on a blob of two
   /// objects, and the round does not drift onto the neighbour. Session 26 (report seeds 2-6,
   /// ground truth): 9 of the defaults' 12 drifts were the chosen object and a neighbour
-  /// becoming one blob, 7 right after a learn push that moved both. 0: off (the default);
+  /// becoming one blob, 7 right after a learn push that moved both. The same test in (b): a
+  /// clearing push that pushed a neighbour into the chosen object (its blob grown by the ratio
+  /// while the blobs fell, as on tuning seed 1: 128 -> 398, 100 -> 231 features) makes the object
+  /// count as lost, and the round chooses again (fault "grown"). 0: off (the default);
   /// otherwise more than 1.
   double merge_ratio = 0.0;
   ViewSource views = ViewSource::kMotion;
