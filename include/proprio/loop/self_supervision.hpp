@@ -237,7 +237,9 @@ struct SelfSupervisionOptions {
   /// clearing push that pushed a neighbour into the chosen object (its blob grown by the ratio
   /// while the blobs fell, as on tuning seed 1: 128 -> 398, 100 -> 231 features) makes the object
   /// count as lost, and the round chooses again (fault "grown"). 0: off (the default);
-  /// otherwise more than 1.
+  /// otherwise more than 1. Session 27 with 1.5: tuning seed 1 c 37.2 -> 53.8%, report seeds
+  /// 2-6 33.6 +- 13.9% -> 31.5 +- 15.0% (paired -2.1 +- 3.8 points; it fired on 2 seeds, both in
+  /// (b)): off (docs/results/selfsupervision.md, "Session 27").
   double merge_ratio = 0.0;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
