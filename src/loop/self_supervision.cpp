@@ -389,6 +389,8 @@ class Learner {
     const auto still = [&](const Eigen::Vector2d& p) -> int& {
       return still_count[{std::round(p.x() / kStill), std::round(p.y() / kStill)}];
     };
+    std::optional<planning::PlanningView> previous;  // merge_ratio: the look before
+    int previous_blob = -1;
     while (true) {
       const planning::PlanningView view = look();
       const int c = track(view, chosen);
@@ -396,6 +398,26 @@ class Learner {
         fault(r, "lost", "the chosen object is no longer where it was (off the table or merged)");
         attendant_.cleared(r, view, -1);
         return std::nullopt;
+      }
+      // merge_ratio: a clearing push pushed a neighbour into the chosen object (fewer blobs, its
+      // blob grown): (c) would learn both as one, so the object counts as lost and the round
+      // chooses again.
+      if (o_.merge_ratio > 0 && previous &&
+          merged_by_growth(*previous, previous_blob, view, c, o_.merge_ratio)) {
+        fault(r, "grown",
+              core::printf_string(
+                  "(b): the look shows %d blobs (%d before) and the chosen object's blob %d of "
+                  "%d feature points (%d before): merged with a neighbour, choosing again",
+                  static_cast<int>(view.objects.size()), static_cast<int>(previous->objects.size()),
+                  c, static_cast<int>(view.objects[static_cast<std::size_t>(c)].pixels.size()),
+                  static_cast<int>(
+                      previous->objects[static_cast<std::size_t>(previous_blob)].pixels.size())));
+        attendant_.cleared(r, view, -1);
+        return std::nullopt;
+      }
+      if (o_.merge_ratio > 0) {
+        previous = view;
+        previous_blob = c;
       }
       chosen = view.objects[static_cast<std::size_t>(c)].centre;
       if (last_pushed) {
@@ -971,6 +993,9 @@ class Learner {
       const bool drift = o_.stop_on_drift && motion.most >= 0 && motion.most != pushed;
       // The object and another moved: the views would show both.
       const bool two = o_.alone_views && !drift && motion.most == pushed && !motion.alone(pushed);
+      // merge_ratio: the push left the object and a neighbour one blob (as the robot sees it).
+      const bool grown = o_.merge_ratio > 0 && !drift && !two &&
+                         merged_by_growth(view, c, after, now, o_.merge_ratio);
       cv::Mat last_mask;
       SelfSupervisionDecision what;
       // A swap: this push's views would show the neighbour; none are taken.
@@ -986,6 +1011,15 @@ class Learner {
               core::printf_string("the push moved %d blobs (the round's object and another): "
                                   "no views taken",
                                   static_cast<int>(motion.moved.size())));
+      } else if (grown) {
+        fault(r, "grown",
+              core::printf_string(
+                  "the look after the push shows %d blobs (%d before) and the object's blob %d "
+                  "of %d feature points (%d before): merged with a neighbour, no views, the "
+                  "round stops",
+                  static_cast<int>(after.objects.size()), static_cast<int>(view.objects.size()),
+                  now, static_cast<int>(after.objects[static_cast<std::size_t>(now)].pixels.size()),
+                  static_cast<int>(view.objects[static_cast<std::size_t>(c)].pixels.size())));
       } else if (swapped) {
         fault(r, "swapped", "the push moved another object than the round's: no views taken");
       } else {
@@ -1039,6 +1073,11 @@ class Learner {
       if (done <= o_.pushes) bar.tick();
       if (drift) {
         out_.stop_reasons[static_cast<std::size_t>(r)] = "the push moved another object most";
+        break;
+      }
+      if (grown) {
+        out_.stop_reasons[static_cast<std::size_t>(r)] =
+            "the push merged the object with a neighbour (its blob grew, fewer blobs)";
         break;
       }
       if (o_.stop_on_drift && merged >= 0) {
@@ -1302,6 +1341,9 @@ void SelfSupervisionOptions::validate() const {
   plan.validate();
   segmentation.validate();
   mot.validate();
+  if (merge_ratio != 0.0 && merge_ratio <= 1.0) {
+    throw Error("selfsupervise: merge_ratio must be 0 (off) or above 1");
+  }
 }
 
 std::vector<std::string> parse_object_list(const std::string& list) {
@@ -1684,6 +1726,18 @@ int merged_blob(const planning::PlanningView& before, int pushed,
     }
   }
   return -1;
+}
+
+bool merged_by_growth(const planning::PlanningView& before, int pushed,
+                      const planning::PlanningView& after, int now, double ratio) {
+  require(std::isfinite(ratio) && ratio > 1.0, "merged_by_growth: ratio must be above 1");
+  if (pushed < 0 || pushed >= static_cast<int>(before.objects.size())) return false;
+  if (now < 0 || now >= static_cast<int>(after.objects.size())) return false;
+  if (after.objects.size() >= before.objects.size()) return false;
+  const auto was =
+      static_cast<double>(before.objects[static_cast<std::size_t>(pushed)].pixels.size());
+  const auto is = static_cast<double>(after.objects[static_cast<std::size_t>(now)].pixels.size());
+  return was > 0 && is >= ratio * was;
 }
 
 int round_budget(int round, int pushes, int spent) {

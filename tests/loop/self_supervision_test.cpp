@@ -767,6 +767,49 @@ TEST(SelfSupervision, MergedBlobHoldsAnotherBlobsCentre) {
   EXPECT_EQ(merged_blob(before, 0, moved, 3), -1);
 }
 
+TEST(SelfSupervision, MergedByGrowthWhenTheObjectsBlobGrowsAndBlobsFall) {
+  // A blob of n feature points (their positions do not matter to the test).
+  const auto blob = [](int n) {
+    planning::PutativeObject o;
+    o.pixels.assign(static_cast<std::size_t>(n), Eigen::Vector2d(10, 10));
+    return o;
+  };
+  planning::PlanningView before;
+  before.objects = {blob(100), blob(80), blob(60)};
+  // The push carried the object (blob 0, 100 points) into its neighbour: two blobs left, the
+  // object's blob of 180 points.
+  planning::PlanningView after;
+  after.objects = {blob(60), blob(180)};
+  EXPECT_TRUE(merged_by_growth(before, 0, after, 1, 1.5));
+  EXPECT_TRUE(merged_by_growth(before, 0, after, 1, 1.8));  // at the ratio exactly
+  EXPECT_FALSE(merged_by_growth(before, 0, after, 1, 1.9));
+  // The object alone, turned (more points) but as many blobs: no merge.
+  planning::PlanningView turned;
+  turned.objects = {blob(180), blob(80), blob(60)};
+  EXPECT_FALSE(merged_by_growth(before, 0, turned, 0, 1.5));
+  // Fewer blobs (a neighbour pushed off the table) but the object's blob no larger: no merge.
+  planning::PlanningView left;
+  left.objects = {blob(105), blob(80)};
+  EXPECT_FALSE(merged_by_growth(before, 0, left, 0, 1.5));
+  // No blob found (-1), bad indices, an empty blob before: none.
+  EXPECT_FALSE(merged_by_growth(before, 0, after, -1, 1.5));
+  EXPECT_FALSE(merged_by_growth(before, 0, after, 2, 1.5));
+  EXPECT_FALSE(merged_by_growth(before, 5, after, 1, 1.5));
+  planning::PlanningView empty_before;
+  empty_before.objects = {blob(0), blob(80), blob(60)};
+  EXPECT_FALSE(merged_by_growth(empty_before, 0, after, 1, 1.5));
+  // A ratio of 1 or less (or not finite) is not a growth.
+  EXPECT_THROW((void)merged_by_growth(before, 0, after, 1, 1.0), Error);
+  EXPECT_THROW((void)merged_by_growth(before, 0, after, 1, std::nan("")), Error);
+  // The option: off by default; 0 or above 1.
+  EXPECT_EQ(SelfSupervisionOptions{}.merge_ratio, 0.0);
+  SelfSupervisionOptions o;
+  o.merge_ratio = 0.5;
+  EXPECT_THROW(o.validate(), Error);
+  o.merge_ratio = 1.5;
+  EXPECT_NO_THROW(o.validate());
+}
+
 // A vocabulary and an LDA model (K = 3) made from the robot's first look: dense SIFT of the
 // image, 24 words; documents are the words of 40 x 40 tiles.
 struct TinyModel {
