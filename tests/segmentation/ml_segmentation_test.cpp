@@ -381,6 +381,18 @@ std::pair<cv::Mat1f, int> touch_map(const PushSpec& spec, const MlOptions& o) {
   return {seg.map_for_frame(*seg.first_touch_frame()), *seg.first_touch_frame()};
 }
 
+// Options for the touch cut's tests: the priors and every use of the baseline's cut off, so a
+// test turns on only what it checks.
+MlOptions touch_options() {
+  MlOptions o;
+  o.contact_prior = false;
+  o.direction_prior = false;
+  o.touch_fm_against = false;
+  o.touch_fm_fill = 0;
+  o.touch_fm_refine = 0;
+  return o;
+}
+
 // The baseline's frames around touch frame t of the synthetic push.
 FmFrames fm_frames_at(const PushSpec& spec, int t) {
   FmFrames frames;
@@ -399,13 +411,8 @@ FmFrames fm_frames_at(const PushSpec& spec, int t) {
 TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
   PushSpec spec;
   const auto run = [&](double touch_fm) {
-    MlOptions o;
-    o.contact_prior = false;
-    o.direction_prior = false;
+    MlOptions o = touch_options();  // raising alone: the others lower pixels (their own tests)
     o.touch_fm = touch_fm;
-    o.touch_fm_against = false;  // raising alone: against only ever lowers (its own test)
-    o.touch_fm_fill = 0;         // and fill raises pixels, not regions (its own test)
-    o.touch_fm_refine = 0;       // and the refinement lowers the outline's pixels (its own test)
     return touch_map(spec, o);
   };
   const auto [plain, t] = run(0);
@@ -456,14 +463,10 @@ TEST(MlSegmentation, TouchFmRaisesTheRegionsOfTheBaselinesCut) {
 TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
   PushSpec spec;
   const auto run = [&](bool against, double agree) {
-    MlOptions o;
-    o.contact_prior = false;
-    o.direction_prior = false;
+    MlOptions o = touch_options();
     o.touch_fm_against = against;
     o.touch_fm_agree = agree;
     o.touch_fm_margin = 2;
-    o.touch_fm_fill = 0;    // its own test
-    o.touch_fm_refine = 0;  // its own test
     return touch_map(spec, o);
   };
   const auto [plain, t] = run(false, 0.0);
@@ -512,12 +515,8 @@ TEST(MlSegmentation, TouchFmAgainstZeroesTheMapAwayFromTheCut) {
 TEST(MlSegmentation, TouchFmFillRaisesEveryPixelOfTheCut) {
   PushSpec spec;
   const auto run = [&](double fill, double agree) {
-    MlOptions o;
-    o.contact_prior = false;
-    o.direction_prior = false;
-    o.touch_fm_against = false;
+    MlOptions o = touch_options();
     o.touch_fm_fill = fill;
-    o.touch_fm_refine = 0;  // its own test
     o.touch_fm_agree = agree;
     return touch_map(spec, o);
   };
@@ -557,9 +556,9 @@ TEST(MlSegmentation, TouchFmFillRaisesEveryPixelOfTheCut) {
 TEST(MlSegmentation, TouchFmRefineSettlesTheOutlineByColour) {
   PushSpec spec;
   const auto run = [&](double refine) {
-    MlOptions o;
-    o.contact_prior = false;
-    o.direction_prior = false;
+    MlOptions o = touch_options();
+    o.touch_fm_against = true;  // as by default: the refinement works on their mask
+    o.touch_fm_fill = 1;
     o.touch_fm_refine = refine;
     return touch_map(spec, o);
   };
