@@ -1302,7 +1302,15 @@ struct MlSegmenter::Impl {
         }
       }
     }
-    if (cv::countNonZero(gc == cv::GC_FGD) == 0) return;
+    // GrabCut fits 5-component colour mixtures by k-means to each side and throws when a side
+    // has fewer samples (a mask over the whole crop: the frame changed everywhere at the touch).
+    constexpr int kLeastSamples = 5;
+    const int object_samples =
+        cv::countNonZero(gc == cv::GC_FGD) + cv::countNonZero(gc == cv::GC_PR_FGD);
+    if (cv::countNonZero(gc == cv::GC_FGD) == 0 || object_samples < kLeastSamples ||
+        static_cast<int>(gc.total()) - object_samples < kLeastSamples) {
+      return;
+    }
     // GrabCut seeds its k-means from OpenCV's thread-local generator: a fixed state keeps the
     // result the same on every run and thread; the caller's state is put back.
     constexpr std::uint64_t kGrabCutSeed = 0x5EEDU;
