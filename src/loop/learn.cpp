@@ -1182,18 +1182,18 @@ class Learner {
       // keep_in_reach: the sides whose push ends inside the area first (stable: in turn).
       std::vector<int> sides(kSides - 1);
       std::iota(sides.begin(), sides.end(), 1);
-      const auto side_end = [&](int side) {
+      const auto side_dir = [&](int side) {
         const double a = a0 + (side * 2 * std::numbers::pi / kSides);
-        return Eigen::Vector2d(at + kSidePush * Eigen::Vector2d(std::cos(a), std::sin(a)));
+        return Eigen::Vector2d(std::cos(a), std::sin(a));
       };
       if (o_.keep_in_reach) {
-        std::stable_partition(sides.begin(), sides.end(),
-                              [&](int side) { return off_area(side_end(side)) <= 0; });
+        std::stable_partition(sides.begin(), sides.end(), [&](int side) {
+          return off_area(at + kSidePush * side_dir(side)) <= 0;
+        });
       }
       for (const int side : sides) {
         if (ok) break;
-        const double a = a0 + (side * 2 * std::numbers::pi / kSides);
-        const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+        const Eigen::Vector2d dir = side_dir(side);
         if (outward_only_ && at.norm() > 1e-9 && dir.dot(at.normalized()) < -0.2) continue;
         if ((at + kSidePush * dir).x() < kTargetFront) continue;
         out.plan = timed("plan", [&] { return plan(view, blob, at + kSidePush * dir); });

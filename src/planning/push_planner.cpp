@@ -1483,13 +1483,18 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     obstacles.push_back(other.hull);
     obstacle_objects.push_back(&other);
   }
+  // The object's hull carried from its centre to p.
+  const auto hull_at = [&o](const Eigen::Vector2d& p) {
+    std::vector<Eigen::Vector2d> h = o.hull;
+    for (auto& x : h) x += p - o.centre;
+    return h;
+  };
   // free_target_margin: a target the object cannot lie at without meeting another object is
   // moved to the nearest point a straight push reaches clear.
   Eigen::Vector2d goal_target = target;
   if (goal == PushGoal::kTarget && options.free_target_margin > 0 && !obstacles.empty()) {
     const double m = options.free_target_margin;
-    std::vector<Eigen::Vector2d> at = o.hull;
-    for (auto& h : at) h += target - o.centre;
+    const std::vector<Eigen::Vector2d> at = hull_at(target);
     const bool against = std::any_of(obstacles.begin(), obstacles.end(), [&](const auto& other) {
       return polygon_distance(at, other) < m;
     });
@@ -1616,8 +1621,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   // A waypoint path: the second leg, from the waypoint t on to the target, as the next plan would
   // make it, its cost and shortfalls added to the first leg's c. false when it cannot be made.
   const auto second_leg = [&](Candidate& c, const Eigen::Vector2d& t) {
-    std::vector<Eigen::Vector2d> moved = o.hull;
-    for (auto& h : moved) h += t - o.centre;
+    const std::vector<Eigen::Vector2d> moved = hull_at(t);
     if ((goal_target - t).norm() < options.least_push) return false;
     robot::TablePush next = push_through_centre(moved, t, goal_target, options.min_approach, tip,
                                                 speed, options.pusher_radius);
