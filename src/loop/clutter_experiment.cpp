@@ -154,6 +154,9 @@ void record_trial(sim::SimulatedRobot& robot, const ClutterExperimentOptions& o,
     po.plan.blobs.sigma = po.plan.blobs.sigma * scale;
     po.plan.sweep_margin = o.sweep_margin;
     po.plan.depth_split = o.depth_split;
+    // The experiment's pushes aim where it asks (recorded so; loop::kLoopFreeTargetMargin, the
+    // push loop's default since session 28, was not measured here).
+    po.plan.free_target_margin = 0;
     char name[32];
     std::snprintf(name, sizeof name, "push_%02d", k);
     po.out = work / name;

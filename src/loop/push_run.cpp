@@ -558,6 +558,42 @@ std::string PushEvaluationResult::brief() const {
   return b;
 }
 
+PushTarget draw_push_target(const sim::BoxFootprint& object,
+                            const std::vector<sim::BoxFootprint>& others,
+                            const PushEvaluationOptions& options, core::Rng& rng) {
+  options.validate();
+  const sim::ScatterRegion scatter;
+  const bool clearance = options.target_clearance > 0;
+  const int most = clearance ? kClearTargetDraws : 100;
+  PushTarget out;
+  out.point = object.centre;
+  std::optional<Eigen::Vector2d> first;  // the first draw in the region
+  for (int k = 0; k < most; ++k) {
+    const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
+    const double d = rng.uniform(options.min_shift, options.max_shift);
+    const Eigen::Vector2d c = object.centre + d * Eigen::Vector2d(std::cos(a), std::sin(a));
+    out.draws = k + 1;
+    if (c.x() < scatter.min.x() || c.x() > scatter.max.x() || c.y() < scatter.min.y() ||
+        c.y() > scatter.max.y() || c.norm() < scatter.base_clearance) {
+      continue;
+    }
+    if (!first) first = c;
+    if (!clearance) break;
+    sim::BoxFootprint there = object;
+    there.centre = c;
+    const bool clear = std::all_of(others.begin(), others.end(), [&](const sim::BoxFootprint& o) {
+      return sim::footprint_overlap(there, o, options.target_clearance) == 0.0;
+    });
+    if (clear) {
+      out.point = c;
+      return out;
+    }
+  }
+  if (first) out.point = *first;
+  out.clear = !clearance;
+  return out;
+}
+
 PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
                                          const core::Provenance& provenance) {
   options.validate();
@@ -575,7 +611,6 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
   int pushes_made = 0;
   int looks_after = 0;
   int tracked = 0;
-  const sim::ScatterRegion scatter;
   for (int t = 0; t < options.tables; ++t) {
     const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
     auto rng = core::Rng::stream(seed, kTableStream);
@@ -597,18 +632,21 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     std::erase_if(truth,
                   [](const sim::ObjectTruth& o) { return o.role != sim::TableRole::kObject; });
     const sim::ObjectTruth chosen = truth[rng.index(truth.size())];
-    // A target min..max_shift away, inside the scatter region.
-    Eigen::Vector2d target = chosen.centre.head<2>();
-    for (int k = 0; k < 100; ++k) {
-      const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
-      const double d = rng.uniform(options.min_shift, options.max_shift);
-      const Eigen::Vector2d c =
-          chosen.centre.head<2>() + d * Eigen::Vector2d(std::cos(a), std::sin(a));
-      if (c.x() >= scatter.min.x() && c.x() <= scatter.max.x() && c.y() >= scatter.min.y() &&
-          c.y() <= scatter.max.y() && c.norm() >= scatter.base_clearance) {
-        target = c;
-        break;
+    // A target min..max_shift away, inside the scatter region (with target_clearance: where the
+    // object fits beside the other objects and the clutter).
+    std::vector<sim::BoxFootprint> others;
+    for (const sim::ObjectTruth& o : robot.ground_truth()) {
+      if (o.id != chosen.id && o.role != sim::TableRole::kDistractor) {
+        others.push_back(sim::box_footprint(o, catalogue.get(o.name)));
       }
+    }
+    const PushTarget drawn = draw_push_target(
+        sim::box_footprint(chosen, catalogue.get(chosen.name)), others, options, rng);
+    const Eigen::Vector2d target = drawn.point;
+    if (options.target_clearance > 0) {
+      spdlog::info("table {}: target ({:.3f}, {:.3f}) for the {} after {} draws, {}", seed,
+                   target.x(), target.y(), chosen.name, drawn.draws,
+                   drawn.clear ? "clear" : "none clear: the first in the region kept");
     }
     PushOptions po;
     po.table = table;
@@ -671,6 +709,10 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
     row.off_table = p.score.off_table;
     row.plan_ms = p.plan.seconds * kMs;
     row.pushes = p.pushes;
+    if (options.target_clearance > 0) {
+      row.target_draws = drawn.draws;
+      row.target_clear = drawn.clear;
+    }
     for (const PushStep& s : p.steps) {
       PushEvaluationStep e;
       e.true_distance = s.true_distance;

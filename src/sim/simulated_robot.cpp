@@ -175,7 +175,28 @@ double overlap(const Footprint& a, const Footprint& b, double gap) {
   return std::max(0.0, least);
 }
 
+Footprint footprint(const BoxFootprint& b) {
+  Footprint f;
+  f.rot = Eigen::Rotation2Dd(b.yaw).toRotationMatrix();
+  f.c = b.centre;
+  f.h = b.half;
+  return f;
+}
+
 }  // namespace
+
+BoxFootprint box_footprint(const ObjectTruth& truth, const ObjectType& type) {
+  BoxFootprint b;
+  b.centre = truth.centre.head<2>();
+  b.half = type.half_extents().head<2>();
+  b.yaw = truth.yaw;
+  return b;
+}
+
+double footprint_overlap(const BoxFootprint& a, const BoxFootprint& b, double gap) {
+  require(std::isfinite(gap) && gap >= 0, "footprint_overlap: gap must be finite and >= 0");
+  return overlap(footprint(a), footprint(b), gap);
+}
 
 namespace {
 

@@ -103,7 +103,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --descent-pose-margin -0.01", "--descent-pose-margin"},
            // Session 27's.
            {"push --free-target-margin 0.06", "--free-target-margin"},
-           {"evaluate push --free-target-margin -0.01", "--free-target-margin"}}) {
+           {"evaluate push --free-target-margin -0.01", "--free-target-margin"},
+           // Session 28's.
+           {"evaluate push --target-clearance -0.01", "--target-clearance"},
+           {"evaluate push --target-clearance 0.2", "--target-clearance"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
@@ -145,11 +148,12 @@ TEST(PushCli, ASweepMarginStopsThePushShortOfANeighbourAndEndsTheLoop) {
   // Tuning table 18 (docs/results/push.md, session 20): the spirit level's target lies past a
   // neighbour. Without the margin the closed loop pushes it there and moves the rabbit and the
   // giraffe; with a 1 cm margin its first push is shortened, nothing else moves and the loop
-  // ends after that push.
+  // ends after that push. (Session 28's loop defaults, the depth split and the free target,
+  // turned off: with them on, the spirit level moves alone here too.)
   const test::TempDir dir("proprio_push_cli_");
   const std::string common =
       "evaluate push --tables 1 --seed 18 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
-      "--roll-across --json ";
+      "--roll-across --depth-split 0 --free-target-margin 0 --json ";
   const fs::path off = dir.path() / "off.json";
   const fs::path on = dir.path() / "on.json";
   const auto r0 = run_cli(common + off.string());

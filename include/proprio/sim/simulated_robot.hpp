@@ -185,6 +185,22 @@ struct ScatterRegion {
   double gap = 0.03;  ///< least gap between two objects' footprints (yawed bounding boxes), m
 };
 
+/// An object's footprint on the table, as scatter_placements keeps objects apart: its bounding
+/// box (ObjectType::half_extents, x y) about its centre, turned by its yaw about world z.
+struct BoxFootprint {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< the box's centre, world x y, m
+  Eigen::Vector2d half = Eigen::Vector2d::Zero();    ///< half extents along its own axes, m
+  double yaw = 0;                                    ///< rad about world z
+};
+
+/// An object's footprint where the ground truth has it now (its centre's x y and its yaw),
+/// with its type's box (`type` must be the object's catalogue type).
+[[nodiscard]] BoxFootprint box_footprint(const ObjectTruth& truth, const ObjectType& type);
+
+/// How far two footprints grown by `gap` / 2 each overlap, m: the least penetration over the
+/// separating axes of both boxes; 0 when they are at least `gap` apart (gap in m, >= 0).
+[[nodiscard]] double footprint_overlap(const BoxFootprint& a, const BoxFootprint& b, double gap);
+
 /// Places `types` at random non-overlapping places (their bounding boxes, turned by their yaw,
 /// `gap` apart) of `region` with random yaw (as a person would put them down), from `seed`:
 /// the largest footprints first, each at the best of many random places; a draw in which an
