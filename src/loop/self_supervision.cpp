@@ -607,14 +607,17 @@ class Learner {
     }
     return s;
   }
-  // Frame i's mask of what moved with the arm (valid() segmentations only).
-  cv::Mat frame_mask(const Segmented& s, int i) {
+  // Frame i's mask of what moved with the arm (valid() segmentations only); `arm` gets the
+  // arm's own image when cut_arm or arm_patches_out needs it (else it is left empty).
+  cv::Mat frame_mask(const Segmented& s, int i, cv::Mat* arm = nullptr) {
     cv::Mat m = s.ml.frame_maps[static_cast<std::size_t>(i)] >= s.threshold;
     // The arm moves with the arm: its own image (its kinematics at the frame's joints) is cut
     // out, as proprio learn does. Without this a view's mask lay a third on the arm (oracle
     // ladder, docs/results/selfsupervision.md).
-    if (o_.cut_arm) {
-      m.setTo(0, detail::arm_image_mask(s.episode, i, m.size(), robot_.arm(), arm_state_));
+    if (o_.cut_arm || o_.arm_patches_out) {
+      const cv::Mat a = detail::arm_image_mask(s.episode, i, m.size(), robot_.arm(), arm_state_);
+      if (o_.cut_arm) m.setTo(0, a);
+      if (arm != nullptr) *arm = a;
     }
     return m;
   }
@@ -649,9 +652,11 @@ class Learner {
     int used = 0;
     int small = 0;
     for (int i = first; i < static_cast<int>(ml.frame_maps.size()); i += o_.view_step) {
-      cv::Mat m = frame_mask(sg, i);
+      cv::Mat arm;
+      cv::Mat m = frame_mask(sg, i, &arm);
       if (cv::countNonZero(m) == 0) continue;
-      auto d = masked_document(e.frame(i), m, vocabulary_, o_.features, o_.dilate);
+      auto d = masked_document(e.frame(i), m, vocabulary_, o_.features, o_.dilate,
+                               o_.arm_patches_out ? arm : cv::Mat());
       if (static_cast<int>(d.size()) < o_.min_features) {
         ++small;
         continue;
@@ -1368,12 +1373,29 @@ std::vector<std::string> parse_object_list(const std::string& list) {
 
 std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
                                           const features::Vocabulary& vocabulary,
-                                          const features::ExtractOptions& options, int dilate) {
-  cv::Mat m = mask;
+                                          const features::ExtractOptions& options, int dilate,
+                                          const cv::Mat& exclude) {
+  // A new matrix: `mask` is the caller's and stays as it was (dilating into a header that
+  // shared its data grew the caller's mask by `dilate` px at every call, until session 28).
+  cv::Mat m;
   if (dilate > 0) {
     const cv::Mat kernel =
         cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilate + 1, 2 * dilate + 1));
     cv::dilate(mask, m, kernel);
+  } else {
+    m = mask.clone();
+  }
+  if (!exclude.empty() && cv::countNonZero(exclude) > 0) {
+    if (exclude.size() != mask.size() || exclude.type() != CV_8U) {
+      throw Error("masked_document: the exclude mask is not CV_8U of the mask's size");
+    }
+    // A grid point's patch reaches `exclude` exactly when the point lies in `exclude` grown by
+    // the patch's half side (a square: the patch is one); features lie on the rounded point.
+    const int half = static_cast<int>(std::ceil(options.dense.size / 2));
+    cv::Mat reach;
+    cv::dilate(exclude, reach,
+               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1)));
+    m.setTo(0, reach);
   }
   const features::Features f = features::extract_features(image, options, m);
   if (f.size() == 0) return {};

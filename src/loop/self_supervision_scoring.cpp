@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 #include <set>
 #include <utility>
 
@@ -15,6 +16,7 @@
 #include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
+#include "proprio/features/extraction.hpp"
 #include "proprio/loop/push_run.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/recognition/topic_mapping.hpp"
@@ -394,6 +396,7 @@ void GroundTruthAttendant::view_taken(const PushIntent& intent,
     t.posed = true;
     t.position = o.position.head<2>();
     t.yaw = o.yaw;
+    t.upright = o.upright;
   }
   // The ground-truth ids of the view: the episode's mask of that frame (recorded only with
   // TableOptions::record_masks), or the table now (the look after the push).
@@ -465,15 +468,208 @@ double yaw_coverage_deg(std::vector<double> yaws) {
 
 namespace {
 
+// The ladder's probes (SelfSupervisionOptions::ladder_probes): each push's last frame against a
+// clean render of the same pose, with one thing changed at a time (OracleLadder::probe_names).
+struct Probes {
+  std::vector<std::string> names;
+  std::vector<std::string> whats;
+  std::vector<topics::Corpus> corpora;
+  std::vector<std::vector<std::string>> labels;
+  std::map<std::string, double> sum;
+  std::map<std::string, int> count;
+  Probes(std::size_t words, std::initializer_list<std::pair<const char*, const char*>> rungs) {
+    for (const auto& [n, w] : rungs) {
+      names.emplace_back(n);
+      whats.emplace_back(w);
+      corpora.emplace_back(words);
+      labels.emplace_back();
+    }
+  }
+  void add(std::size_t k, const std::vector<std::int32_t>& doc, const std::string& label) {
+    corpora[k].add_tokens(doc);
+    labels[k].push_back(label);
+  }
+  void stat(const std::string& object, const std::string& key, double value) {
+    for (std::string name : {object, std::string("all")}) {
+      name += '.';
+      name += key;
+      sum[name] += value;
+      ++count[name];
+    }
+  }
+};
+
+// What lies under each feature's support window (the dense SIFT patch, `side` px square) in a
+// ground-truth id image: bit 0 the arm, bit 1 another object, bit 2 the background.
+int window_content(const cv::Mat& ids, int id, const cv::KeyPoint& k, float side) {
+  const int half = static_cast<int>(std::ceil(side / 2));
+  const int cx = static_cast<int>(std::lround(k.pt.x));
+  const int cy = static_cast<int>(std::lround(k.pt.y));
+  int bits = 0;
+  for (int y = std::max(0, cy - half); y < std::min(ids.rows, cy + half); ++y) {
+    for (int x = std::max(0, cx - half); x < std::min(ids.cols, cx + half); ++x) {
+      const int v = ids.at<std::uint16_t>(y, x);
+      if (v == sim::kArmId) {
+        bits |= 1;
+      } else if (v == 0) {
+        bits |= 4;
+      } else if (v != id) {
+        bits |= 2;
+      }
+    }
+  }
+  return bits;
+}
+
+cv::Mat grown(const cv::Mat& mask, int dilate) {
+  if (dilate <= 0) return mask.clone();
+  cv::Mat m;
+  const cv::Mat kernel =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilate + 1, 2 * dilate + 1));
+  cv::dilate(mask, m, kernel);
+  return m;
+}
+
+// The words of the features of `f` in `rows` (none when `rows` is empty).
+std::vector<std::int32_t> words_of(const features::Vocabulary& vocabulary,
+                                   const features::Features& f, const std::vector<int>& rows) {
+  if (rows.empty()) return {};
+  return features::bag_of_words(vocabulary, features::select_features(f, rows).descriptors);
+}
+
+void probe_push_view(Probes& p, const std::string& name, int frame_id, const cv::Mat& frame,
+                     const cv::Mat& frame_ids, const cv::Mat& render, const cv::Mat& render_mask,
+                     const features::Vocabulary& vocabulary, const SelfSupervisionOptions& o) {
+  const cv::Mat mg = frame_ids == frame_id;
+  const cv::Mat& mr = render_mask;
+  const cv::Mat arm = frame_ids == sim::kArmId;
+  const cv::Mat other = (frame_ids != frame_id) & (frame_ids != 0) & (frame_ids != sim::kArmId);
+  const int min = o.min_features;
+  const auto doc = [&](const cv::Mat& image, const cv::Mat& mask, int dilate) {
+    return masked_document(image, mask, vocabulary, o.features, dilate);
+  };
+  const auto put = [&](std::size_t k, const std::vector<std::int32_t>& d) {
+    if (static_cast<int>(d.size()) >= min) p.add(k, d, name);
+  };
+  // Pixel statistics: the pose's agreement, the object's own pixels, the table round it.
+  const double inter = cv::countNonZero(mg & mr);
+  const double uni = cv::countNonZero(mg | mr);
+  p.stat(name, "iou", uni > 0 ? inter / uni : 0);
+  p.stat(name, "frame_object_px", cv::countNonZero(mg));
+  p.stat(name, "render_object_px", cv::countNonZero(mr));
+  const cv::Mat hidden = mr & ~mg;
+  const double hidden_n = cv::countNonZero(hidden);
+  p.stat(name, "render_px_hidden", cv::countNonZero(mr) > 0 ? hidden_n / cv::countNonZero(mr) : 0);
+  p.stat(name, "hidden_by_arm", hidden_n > 0 ? cv::countNonZero(hidden & arm) / hidden_n : 0);
+  p.stat(name, "hidden_by_other", hidden_n > 0 ? cv::countNonZero(hidden & other) / hidden_n : 0);
+  cv::Mat gf;
+  cv::Mat gr;
+  cv::cvtColor(frame, gf, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(render, gr, cv::COLOR_BGR2GRAY);
+  cv::Mat diff;
+  cv::absdiff(gf, gr, diff);
+  cv::Mat core_both;
+  cv::erode(mg & mr, core_both, cv::Mat(), {-1, -1}, 2);
+  if (cv::countNonZero(core_both) > 0)
+    p.stat(name, "grey_diff_object", cv::mean(diff, core_both)[0]);
+  const cv::Mat band = grown(mg | mr, 12) & ~grown(mg | mr, 2) & (frame_ids == 0);
+  if (cv::countNonZero(band) > 0) p.stat(name, "grey_diff_table_band", cv::mean(diff, band)[0]);
+  // Features: what their windows reach, and their words against the render's at the same points.
+  const cv::Mat fm = grown(mg, o.dilate);
+  const cv::Mat rm = grown(mr, o.dilate);
+  const features::Features ff = features::extract_features(frame, o.features, fm);
+  const features::Features fr = features::extract_features(render, o.features, rm);
+  const std::vector<std::int32_t> wf = ff.size() > 0
+                                           ? features::bag_of_words(vocabulary, ff.descriptors)
+                                           : std::vector<std::int32_t>{};
+  const std::vector<std::int32_t> wr = fr.size() > 0
+                                           ? features::bag_of_words(vocabulary, fr.descriptors)
+                                           : std::vector<std::int32_t>{};
+  p.stat(name, "frame_features", ff.size());
+  p.stat(name, "render_features", fr.size());
+  const float side = o.features.dense.size;
+  cv::Mat render_ids(render_mask.size(), CV_16U, cv::Scalar(0));
+  render_ids.setTo(frame_id, mr);
+  std::map<std::pair<int, int>, std::int32_t> render_word;
+  int render_touch_bg = 0;
+  for (int i = 0; i < fr.size(); ++i) {
+    const cv::KeyPoint& k = fr.keypoints[static_cast<std::size_t>(i)];
+    render_word[{static_cast<int>(std::lround(k.pt.x)), static_cast<int>(std::lround(k.pt.y))}] =
+        wr[static_cast<std::size_t>(i)];
+    if ((window_content(render_ids, frame_id, k, side) & 4) != 0) ++render_touch_bg;
+  }
+  if (fr.size() > 0) p.stat(name, "render_feat_touch_table", double(render_touch_bg) / fr.size());
+  int touch_arm = 0;
+  int touch_other = 0;
+  int touch_bg = 0;
+  int inside = 0;
+  int same_clean = 0;
+  int both_clean = 0;
+  int same_dirty = 0;
+  int both_dirty = 0;
+  std::vector<int> clean_rows;
+  std::vector<int> no_arm_rows;
+  for (int i = 0; i < ff.size(); ++i) {
+    const cv::KeyPoint& k = ff.keypoints[static_cast<std::size_t>(i)];
+    const int bits = window_content(frame_ids, frame_id, k, side);
+    touch_arm += (bits & 1) != 0 ? 1 : 0;
+    touch_other += (bits & 2) != 0 ? 1 : 0;
+    touch_bg += (bits & 4) != 0 ? 1 : 0;
+    inside += bits == 0 ? 1 : 0;
+    const bool dirty = (bits & 3) != 0;
+    if (!dirty) clean_rows.push_back(i);
+    if ((bits & 1) == 0) no_arm_rows.push_back(i);
+    const auto it = render_word.find(
+        {static_cast<int>(std::lround(k.pt.x)), static_cast<int>(std::lround(k.pt.y))});
+    if (it == render_word.end()) continue;
+    const bool same = it->second == wf[static_cast<std::size_t>(i)];
+    (dirty ? both_dirty : both_clean)++;
+    if (same) (dirty ? same_dirty : same_clean)++;
+  }
+  if (ff.size() > 0) {
+    p.stat(name, "frame_feat_touch_arm", double(touch_arm) / ff.size());
+    p.stat(name, "frame_feat_touch_other", double(touch_other) / ff.size());
+    p.stat(name, "frame_feat_touch_table", double(touch_bg) / ff.size());
+    p.stat(name, "frame_feat_inside", double(inside) / ff.size());
+  }
+  if (both_clean > 0) p.stat(name, "same_word_clean", double(same_clean) / both_clean);
+  if (both_dirty > 0) p.stat(name, "same_word_arm_or_other", double(same_dirty) / both_dirty);
+  p.stat(name, "shared_points_clean", both_clean);
+  p.stat(name, "shared_points_arm_or_other", both_dirty);
+  // The probes' documents.
+  put(0, wf);
+  put(1, wr);
+  put(2, doc(frame, mg, 0));
+  put(3, doc(frame, mr, o.dilate));
+  cv::Mat noarm = frame.clone();
+  render.copyTo(noarm, arm);
+  put(4, doc(noarm, mg, o.dilate));
+  cv::Mat noother = frame.clone();
+  render.copyTo(noother, other);
+  put(5, doc(noother, mg, o.dilate));
+  cv::Mat context = render.clone();
+  frame.copyTo(context, mg);
+  put(6, doc(context, mg, o.dilate));
+  put(7, doc(context, mg | mr, o.dilate));
+  put(8, words_of(vocabulary, ff, clean_rows));
+  put(9, words_of(vocabulary, ff, no_arm_rows));
+  cv::Mat swapped = frame.clone();
+  render.copyTo(swapped, mr);
+  put(10, doc(swapped, mr, o.dilate));
+}
+
 // The rungs (a0, a0_table, a, b, b_pure, c_named, c); see OracleLadder.
-OracleLadder oracle_ladder(
-    const Learning& learning, const GroundTruthAttendant& attendant, const SelfSupervisionScore& s,
-    const std::vector<std::string>& objects, const std::vector<Eigen::MatrixXd>& held,
-    const topics::Corpus& a0, const std::vector<std::string>& a0_labels,
-    const topics::Corpus& a0_table, const std::vector<std::string>& a0_table_labels,
-    const topics::Corpus& alone, const std::vector<std::string>& alone_labels,
-    const topics::LdaModel& model, const features::Vocabulary& vocabulary,
-    const SelfSupervisionOptions& options, const std::vector<topics::Corpus>& held_words) {
+OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant& attendant,
+                           const SelfSupervisionScore& s, const std::vector<std::string>& objects,
+                           const std::vector<Eigen::MatrixXd>& held, const topics::Corpus& a0,
+                           const std::vector<std::string>& a0_labels,
+                           const topics::Corpus& a0_table,
+                           const std::vector<std::string>& a0_table_labels,
+                           const topics::Corpus& alone,
+                           const std::vector<std::string>& alone_labels,
+                           const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+                           const SelfSupervisionOptions& options,
+                           const std::vector<topics::Corpus>& held_words, const Probes* probes) {
   OracleLadder l;
   const bool pooled = options.pooled_score;
   const auto theta_of = [&](const topics::Corpus& c) {
@@ -507,9 +703,12 @@ OracleLadder oracle_ladder(
       if (o.name == v.intended) id = o.id;
     }
     if (id < 0) continue;
-    const cv::Mat mask = e->mask(v.frame) == id;
+    const cv::Mat ids = e->mask(v.frame);
+    const cv::Mat mask = ids == id;
+    // arm_patches_out: the patches reaching the arm's true pixels are left out.
+    const cv::Mat arm = options.arm_patches_out ? cv::Mat(ids == sim::kArmId) : cv::Mat();
     const auto doc =
-        masked_document(e->frame(v.frame), mask, vocabulary, options.features, options.dilate);
+        masked_document(e->frame(v.frame), mask, vocabulary, options.features, options.dilate, arm);
     if (static_cast<int>(doc.size()) < options.min_features) continue;
     a_corpus.add_tokens(doc);
     a_labels.push_back(v.intended);
@@ -525,6 +724,16 @@ OracleLadder oracle_ladder(
   l.rungs.push_back(rung("a_alone",
                          "renders of the object alone in the pose of each push's last view", alone,
                          theta_of(alone), alone_labels));
+  if (probes != nullptr) {
+    for (std::size_t k = 0; k < probes->names.size(); ++k) {
+      l.rungs.push_back(rung(probes->names[k], probes->whats[k], probes->corpora[k],
+                             theta_of(probes->corpora[k]), probes->labels[k]));
+    }
+    for (const auto& [key, total] : probes->sum) {
+      l.probe_names.push_back(key);
+      l.probe_values.push_back(total / probes->count.at(key));
+    }
+  }
   // (b), (c): the robot's own views (its masks), labelled by the truth or by the robot.
   const Eigen::MatrixXd& theta = learning.views.theta;
   const bool aligned = static_cast<Eigen::Index>(views.size()) == theta.rows();
@@ -743,6 +952,23 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   std::vector<std::string> a0_table_labels;
   topics::Corpus alone_corpus(vocabulary.size());
   std::vector<std::string> alone_labels;
+  std::optional<Probes> probes;
+  if (ladder && options.ladder_probes) {
+    probes.emplace(
+        vocabulary.size(),
+        std::initializer_list<std::pair<const char*, const char*>>{
+            {"p_last", "probe: each push's last frame, the true mask (a_last where a render is)"},
+            {"p_alone", "probe: the render of the same pose (a_alone where a frame is)"},
+            {"p_last_d0", "probe: the frame, the true mask not grown"},
+            {"p_last_rmask", "probe: the frame under the render's (unoccluded) mask"},
+            {"p_noarm", "probe: the frame, the arm's pixels from the render"},
+            {"p_noother", "probe: the frame, other objects' pixels from the render"},
+            {"p_frame_obj", "probe: the render with the frame's object pixels, the frame's mask"},
+            {"p_frame_obj_rmask", "probe: the same under the frame's and render's masks"},
+            {"p_clean", "probe: the frame's features whose window reaches no arm or other object"},
+            {"p_clean_arm", "probe: the frame's features whose window reaches no arm"},
+            {"p_render_obj", "probe: the frame with the render's object pasted, render's mask"}});
+  }
   for (std::size_t oi = 0; oi < objects.size(); ++oi) {
     ObjectScore os;
     os.name = objects[oi];
@@ -825,6 +1051,33 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
         alone_corpus.add_tokens(doc);
         alone_labels.push_back(os.name);
       }
+      // The probes: each push's last frame against the render of the same pose.
+      if (probes) {
+        std::optional<episode::Episode> pe;
+        for (std::size_t vi = 0; vi < views.size(); ++vi) {
+          const ViewTruth& v = views[vi];
+          const bool last = vi + 1 == views.size() || views[vi + 1].episode != v.episode;
+          if (!last || !v.posed || v.intended != os.name || v.episode.empty() || v.frame < 0) {
+            continue;
+          }
+          if (!pe || pe->dir() != v.episode) pe.emplace(episode::read_episode(v.episode));
+          if (!pe->info().has_masks) continue;
+          int fid = -1;
+          for (const auto& o : pe->objects()) {
+            if (o.name == v.intended) fid = o.id;
+          }
+          if (fid < 0) continue;
+          alone.place({{os.name, v.position, v.yaw}});
+          const robot::Look look = alone.look();
+          const cv::Mat frame = pe->frame(v.frame);
+          const cv::Mat fids = pe->mask(v.frame);
+          if (frame.size() != look.image.size() || frame.type() != look.image.type()) continue;
+          // The render's ids carry the frame's id for the object (one object, one id).
+          probes->stat(os.name, "toppled", v.upright ? 0 : 1);
+          probe_push_view(*probes, os.name, fid, frame, fids, look.image,
+                          alone.ground_truth_mask() == id, vocabulary, options);
+        }
+      }
     }
     held_words[oi] = corpus;
     os.held_out = static_cast<int>(corpus.num_documents());
@@ -897,7 +1150,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   if (ladder) {
     s.ladder = oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels,
                              a0_table_corpus, a0_table_labels, alone_corpus, alone_labels, model,
-                             vocabulary, options, held_words);
+                             vocabulary, options, held_words, probes ? &*probes : nullptr);
   }
   return s;
 }

@@ -810,6 +810,62 @@ TEST(SelfSupervision, MergedByGrowthWhenTheObjectsBlobGrowsAndBlobsFall) {
   EXPECT_NO_THROW(o.validate());
 }
 
+// arm_patches_out: a feature whose patch reaches the arm's own image is left out, so the
+// object's document does not depend on what the arm beside it looks like (session 28: in the
+// push frames the patches on the object's outline described the arm's texture).
+TEST(SelfSupervision, ArmPatchesOutLeavesTheArmOutOfTheObjectsDocument) {
+  cv::Mat table(120, 160, CV_8UC3, cv::Scalar(120, 130, 140));
+  cv::RNG rng(7);
+  const cv::Rect object(40, 30, 40, 50);
+  const cv::Rect arm_box(82, 10, 40, 100);  // beside the object, 2 px off its outline
+  cv::Mat with_arm = table.clone();
+  cv::Mat patch(object.size(), CV_8UC3);
+  rng.fill(patch, cv::RNG::UNIFORM, 0, 255);
+  patch.copyTo(with_arm(object));
+  cv::Mat plain = with_arm.clone();  // the same object, no arm beside it
+  cv::Mat stripes(arm_box.size(), CV_8UC3, cv::Scalar(20, 20, 20));
+  for (int y = 0; y < stripes.rows; y += 6) {
+    stripes.rowRange(y, std::min(y + 3, stripes.rows)).setTo(cv::Scalar(250, 250, 250));
+  }
+  stripes.copyTo(with_arm(arm_box));
+  cv::Mat mask(table.size(), CV_8U, cv::Scalar(0));
+  mask(object).setTo(255);
+  cv::Mat arm(table.size(), CV_8U, cv::Scalar(0));
+  arm(arm_box).setTo(255);
+  features::DenseSiftOptions ds;
+  ds.step = 4;
+  features::KmeansOptions k;
+  k.words = 16;
+  k.threads = 1;
+  const features::Vocabulary vocabulary =
+      features::build_vocabulary(features::dense_sift(with_arm, ds).descriptors, k).vocabulary;
+  features::ExtractOptions fo;
+  fo.dense.step = 4;
+  const auto sorted = [](std::vector<std::int32_t> d) {
+    std::sort(d.begin(), d.end());
+    return d;
+  };
+  // Without it the arm's stripes change the words of the patches on the object's right edge.
+  const auto kept_arm = sorted(masked_document(with_arm, mask, vocabulary, fo, 4));
+  const auto kept_plain = sorted(masked_document(plain, mask, vocabulary, fo, 4));
+  EXPECT_EQ(kept_arm.size(), kept_plain.size());
+  EXPECT_NE(kept_arm, kept_plain);
+  // With it the documents with and without the arm are the same, and smaller.
+  const auto out_arm = sorted(masked_document(with_arm, mask, vocabulary, fo, 4, arm));
+  const auto out_plain = sorted(masked_document(plain, mask, vocabulary, fo, 4, arm));
+  EXPECT_FALSE(out_arm.empty());
+  EXPECT_LT(out_arm.size(), kept_arm.size());
+  EXPECT_EQ(out_arm, out_plain);
+  // The caller's mask is left as it was (it was grown by `dilate` at every call before).
+  EXPECT_EQ(cv::countNonZero(mask), object.area());
+  // An empty exclude mask is none; one of another size is an Error; the option is off.
+  EXPECT_EQ(sorted(masked_document(with_arm, mask, vocabulary, fo, 4, cv::Mat())), kept_arm);
+  EXPECT_THROW((void)masked_document(with_arm, mask, vocabulary, fo, 4,
+                                     cv::Mat(10, 10, CV_8U, cv::Scalar(255))),
+               Error);
+  EXPECT_FALSE(SelfSupervisionOptions{}.arm_patches_out);
+}
+
 // A vocabulary and an LDA model (K = 3) made from the robot's first look: dense SIFT of the
 // image, 24 words; documents are the words of 40 x 40 tiles.
 struct TinyModel {

@@ -248,6 +248,13 @@ struct SelfSupervisionOptions {
   int view_step = 2;  ///< kMotion: every n-th frame from the first touch
   /// kMotion: cut the arm's own image (its kinematics at each frame's joints) out of the views.
   bool cut_arm = true;
+  /// kMotion: also leave out of the views every feature whose patch (features.dense.size px
+  /// square) reaches the arm's own image (its kinematics at the frame's joints, as cut_arm):
+  /// cut_arm takes the arm's pixels out of the mask, but the patches of the object's pixels
+  /// beside the arm still describe the arm (docs/results/selfsupervision.md, "Session 28").
+  /// Scoring: the ladder's a and a_last rungs then leave out the patches reaching the arm's
+  /// ground-truth pixels.
+  bool arm_patches_out = false;
   int min_features = 15;   ///< a view needs this many features (else left out, logged)
   int dilate = 4;          ///< masks grown by this many pixels (features on the outline count)
   double fps = 15;         ///< frame rate of the pushes' episodes
@@ -260,6 +267,11 @@ struct SelfSupervisionOptions {
   /// objects in the push frames, on the robot's views with ground-truth labels. The pushes'
   /// episodes then carry ground-truth masks (never read by the learner).
   bool oracle_ladder = false;
+  /// Scoring, with oracle_ladder: also the ladder's probes, each push's last frame against a
+  /// render of the object alone in the same pose with one thing changed at a time (the arm's or
+  /// the other objects' pixels replaced by the render's, the masks swapped, features whose
+  /// patch reaches the arm left out), as rungs p_*, and OracleLadder::probe_names/values.
+  bool ladder_probes = false;
   /// Scoring: the classifier of the held-out figure (mot_accuracy, the confusion, the ladder's
   /// c). The learner's own choices (d) use theta either way.
   MotClassifier mot_classifier = MotClassifier::kTheta;
@@ -371,6 +383,9 @@ struct SelfSupervisionOptions {
              kNextObjectRuleNames);
     v(self.view_step, {"view_step", "Motion views: every n-th frame", core::between(1, 1000)});
     v(self.cut_arm, {"cut_arm", "Motion views: cut the arm's own image out"});
+    v(self.arm_patches_out, {"arm_patches_out",
+                             "Motion views: leave out the features whose patch reaches the arm's "
+                             "own image"});
     v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
     v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
     v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
@@ -380,6 +395,8 @@ struct SelfSupervisionOptions {
     v(self.held_out, {"held_out", "Held-out views per object", core::between(1, 100000)});
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
+    v(self.ladder_probes,
+      {"ladder_probes", "With oracle_ladder: also probe push frames against renders (p_* rungs)"});
     v.choice(self.mot_classifier,
              {"mot_classifier",
               "Held-out figure's classifier: theta (eq 7.3) or pooled (words + multinomials)"},
@@ -854,9 +871,14 @@ bool merged_by_growth(const planning::PlanningView& before, int pushed,
 double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q);
 
 /// The visual-word document of `image`'s features inside `mask` (CV_8U, grown by `dilate` px).
+/// With `exclude` (CV_8U of the image's size, or empty for none) a feature whose patch (the
+/// dense SIFT support, options.dense.size px square round its grid point) reaches a non-zero
+/// pixel of `exclude` is left out: its descriptor would describe what lies there (the arm
+/// beside the object, SelfSupervisionOptions::arm_patches_out), not the object.
 std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
                                           const features::Vocabulary& vocabulary,
-                                          const features::ExtractOptions& options, int dilate);
+                                          const features::ExtractOptions& options, int dilate,
+                                          const cv::Mat& exclude = {});
 
 /// The table distance between two convex polygons (m): 0 when they overlap.
 double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b);

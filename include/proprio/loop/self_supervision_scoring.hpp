@@ -67,6 +67,7 @@ struct ViewTruth {
   bool posed = false;
   Eigen::Vector2d position = Eigen::Vector2d::Zero();
   double yaw = 0;
+  bool upright = true;  ///< its z axis pointed up then (not toppled)
 };
 
 /// A round as the ground truth saw it.
@@ -230,6 +231,16 @@ struct OracleLadder {
   double share_arm = 0;
   double share_background = 0;
   double share_other = 0;
+  /// SelfSupervisionOptions::ladder_probes: statistics of each push's last frame against the
+  /// render of the same pose ("object.key" or "all.key", the mean over the pushes; keys: iou of
+  /// the two masks, grey_diff_object / grey_diff_table_band (0-255, mean absolute grey difference
+  /// on the object and on the table round it), frame_feat_touch_arm / _other / _table (fraction
+  /// of the frame's features whose patch window reaches the arm, another object, the table),
+  /// same_word_clean / same_word_arm_or_other (fraction of grid points where the frame's word is
+  /// the render's, for windows on the object and table only / reaching the arm or another object),
+  /// toppled (the object's z axis no longer up when the view was taken: the render is upright).
+  std::vector<std::string> probe_names;
+  std::vector<double> probe_values;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -238,6 +249,8 @@ struct OracleLadder {
     v(self.share_arm, {"share_arm", "Fraction on the arm"});
     v(self.share_background, {"share_background", "Fraction on the background"});
     v(self.share_other, {"share_other", "Fraction on other objects"});
+    v(self.probe_names, {"probe_names", "ladder_probes: the statistics' names"});
+    v(self.probe_values, {"probe_values", "ladder_probes: their means over the pushes"});
   }
 };
 
