@@ -1269,8 +1269,10 @@ struct MlSegmenter::Impl {
 
   // touch_fm_refine: GrabCut (OpenCV) on the touch frame, the mask's inside and the scene beyond
   // a band of touch_fm_refine px round its outline held fixed; the band's pixels follow its
-  // labels (object: the map's peak; background: 0), the arm model's excepted. The crop round the
-  // band gives GrabCut's background mixture the scene next to the object, not the whole frame.
+  // labels (object: the map's peak; background: 0), the arm model's excepted (with
+  // touch_fm_refine_arm, the mask's pixels in it are settled too, wherever they lie). The crop
+  // round the band gives GrabCut's background mixture the scene next to the object, not the whole
+  // frame.
   void refine_outline(cv::Mat1f& m, const cv::Mat1b& arm) const {
     if (touch_colour.empty()) return;
     cv::Mat3b img = touch_colour;
@@ -1293,9 +1295,12 @@ struct MlSegmenter::Impl {
       const uchar* in = inner[y + roi.y] + roi.x;
       const uchar* out = outer[y + roi.y] + roi.x;
       const uchar* mk = mask[y + roi.y] + roi.x;
+      const uchar* a = arm[y + roi.y] + roi.x;
       uchar* l = gc[y];
       for (int x = 0; x < roi.width; ++x) {
-        if (in[x] != 0) {
+        if (opt.touch_fm_refine_arm && mk[x] != 0 && a[x] != 0) {
+          l[x] = cv::GC_PR_FGD;  // the arm's rim or the object: colour decides
+        } else if (in[x] != 0) {
           l[x] = cv::GC_FGD;
         } else if (out[x] != 0) {
           l[x] = mk[x] != 0 ? cv::GC_PR_FGD : cv::GC_PR_BGD;
@@ -1328,8 +1333,10 @@ struct MlSegmenter::Impl {
       const uchar* a = arm[y + roi.y] + roi.x;
       const uchar* l = gc[y];
       float* o = m[y + roi.y] + roi.x;
+      const uchar* mk = mask[y + roi.y] + roi.x;
       for (int x = 0; x < roi.width; ++x) {
-        if (in[x] != 0 || out[x] == 0 || a[x] != 0) continue;
+        const bool settle_arm = opt.touch_fm_refine_arm && a[x] != 0 && mk[x] != 0;
+        if (!settle_arm && (in[x] != 0 || out[x] == 0 || a[x] != 0)) continue;
         const bool object = l[x] == cv::GC_FGD || l[x] == cv::GC_PR_FGD;
         o[x] = object ? std::max(o[x], static_cast<float>(peak)) : 0.0F;
       }

@@ -60,6 +60,11 @@ struct PushSpec {
   /// touch frame then straddle the arm and the square it touches, as the simulated gripper and
   /// the mug's side do.
   bool arm_like_square = false;
+  /// A strip of the arm, this many pixels tall, along the underside of the arm block and the
+  /// square, drawn (with the arm's texture) only from the first touching frame on and moving
+  /// with the arm: a part of the arm first seen at the touch (as the simulated arm's side and
+  /// shade next to a pushed bottle), with no record from before the touch (mask 2).
+  int arm_rim = 0;
 };
 
 /// Smooth random colour texture (blurred noise), deterministic by seed.
@@ -140,6 +145,15 @@ inline PushFrame push_frame(const PushSpec& s, int i) {
   f.mask(arm_in).setTo(2);
   f.ee = {tip, y_mid};
   f.touching = s.touch && tip >= sq_left0;
+  if (s.arm_rim > 0 && f.touching) {
+    const cv::Rect rim = cv::Rect(arm.x, arm.y + arm.height, arm.width + s.square, s.arm_rim) &
+                         cv::Rect(0, 0, s.width, s.height);
+    for (int x = rim.x; x < rim.x + rim.width; x += 64) {  // the 64 px texture tiled along it
+      const cv::Rect piece(x, rim.y, std::min(64, rim.x + rim.width - x), rim.height);
+      arm_tex(cv::Rect(cv::Point(0, 64 - piece.height), piece.size())).copyTo(f.image(piece));
+    }
+    f.mask(rim).setTo(2);
+  }
   if (s.shake > 0) {
     cv::RNG rng(1000 + i);
     const cv::Matx23d shift(1, 0, rng.uniform(-s.shake, s.shake + 1), 0, 1,
