@@ -411,6 +411,19 @@ struct SmallTable {
   LearnOptions o;
   sim::TableOptions table;
   const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+
+  // One run of learn on this table (a fresh robot, no attendant) with `o` changed by `set`, its
+  // output in `out`, for `classes` classes: each setting a test compares starts from the same
+  // table.
+  template <class Set>
+  LearnResult run(const std::filesystem::path& out, int classes, Set set) const {
+    sim::SimulatedRobot robot(table, catalogue);
+    NullAttendant attendant;
+    LearnOptions opts = o;
+    set(opts);
+    opts.out = out;
+    return run_learn(opts, robot, attendant, classes, core::Provenance::current({"learn_test"}, 1));
+  }
 };
 
 TEST(Learn, ATurnThatGaveNoViewsIsRetriedButNotOnTheBlobsItTried) {
@@ -443,15 +456,11 @@ TEST(Learn, ATurnThatGaveNoViewsIsRetriedButNotOnTheBlobsItTried) {
 
 TEST(Learn, TurnsStopOnceEveryClassHasViews) {
   const test::TempDir dir("proprio_learn_rounds_done_");
-  SmallTable t;
-  sim::SimulatedRobot robot(t.table, t.catalogue);
-  NullAttendant attendant;
-  LearnOptions o = t.o;
-  o.rounds = 4;
-  o.out = dir.path() / "run";
-  const LearnResult r = run_learn(o, robot, attendant, 1, core::Provenance::current({"t"}, 1));
-  ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
-  const std::string ev = events_of(o.out / "decisions.jsonl");
+  const SmallTable t;
+  const std::filesystem::path out = dir.path() / "run";
+  const LearnResult r = t.run(out, 1, [](LearnOptions& o) { o.rounds = 4; });
+  ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
+  const std::string ev = events_of(out / "decisions.jsonl");
   EXPECT_EQ(count_of(ev, "retry:"), 0) << ev;
   EXPECT_EQ(count_of(ev, "choose:"), 1) << ev;
 }
@@ -463,19 +472,16 @@ TEST(Learn, TheTouchCutOptionIsRecordedAndBothSettingsRun) {
   // this small plain table the first push's map is the same either way.)
   namespace fs = std::filesystem;
   const test::TempDir dir("proprio_learn_touch_fm_");
-  SmallTable t;
+  const SmallTable t;
   for (int i = 0; i < 2; ++i) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.dense.touch_fm = i == 0 ? 0.0 : 1.0;
-    o.out = dir.path() / (i == 0 ? "off" : "on");
-    (void)run_learn(o, robot, attendant, 1, core::Provenance::current({"t"}, 1));
-    const core::Json j = core::read_json(o.out / "learn.json");
-    EXPECT_DOUBLE_EQ(j["options"]["seg_touch_fm"].get<double>(), o.dense.touch_fm);
+    const double touch_fm = i == 0 ? 0.0 : 1.0;
+    const fs::path out = dir.path() / (i == 0 ? "off" : "on");
+    (void)t.run(out, 1, [&](LearnOptions& o) { o.dense.touch_fm = touch_fm; });
+    const core::Json j = core::read_json(out / "learn.json");
+    EXPECT_DOUBLE_EQ(j["options"]["seg_touch_fm"].get<double>(), touch_fm);
     ASSERT_FALSE(j["pushes"].empty());
     ASSERT_TRUE(j["pushes"][0]["executed"].get<bool>());
-    EXPECT_TRUE(fs::exists(o.out / j["pushes"][0]["dir"].get<std::string>() / "map.png"));
+    EXPECT_TRUE(fs::exists(out / j["pushes"][0]["dir"].get<std::string>() / "map.png"));
   }
 }
 
@@ -485,17 +491,12 @@ TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
   // nothing; off (the default), it chooses the least likely blob. The choice's scores name the
   // object whose model gives each blob's best score.
   const test::TempDir dir("proprio_learn_known_");
-  SmallTable t;
-  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  const SmallTable t;
   for (const double margin : {-1.0, 1000.0}) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.known_margin = margin;
-    o.out = dir.path() / (margin < 0 ? "off" : "on");
-    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    const std::filesystem::path out = dir.path() / (margin < 0 ? "off" : "on");
+    const LearnResult r = t.run(out, 2, [&](LearnOptions& o) { o.known_margin = margin; });
     ASSERT_GT(r.summary.views, 0);
-    std::ifstream in(o.out / "decisions.jsonl");
+    std::ifstream in(out / "decisions.jsonl");
     std::string line;
     int second_choice = -2;
     bool by_words = false;
@@ -527,18 +528,16 @@ TEST(Learn, AnIdentityCheckMergesAFirstPushOfAKnownObjectAndTheTurnChoosesAgain)
   // both objects of this table known, the only-known-objects fault; off (the default) the check
   // is logged only and the second class keeps its views.
   const test::TempDir dir("proprio_learn_identity_");
-  SmallTable t;
-  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  const SmallTable t;
   for (const double margin : {-1.0, 1000.0}) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.identity_margin = margin;
-    o.pushes = 2;  // the second turn's first push on this table moves nothing: its second has views
-    o.out = dir.path() / (margin < 0 ? "off" : "on");
-    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
-    ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
-    std::ifstream in(o.out / "decisions.jsonl");
+    const std::filesystem::path out = dir.path() / (margin < 0 ? "off" : "on");
+    const LearnResult r = t.run(out, 2, [&](LearnOptions& o) {
+      o.identity_margin = margin;
+      o.pushes =
+          2;  // the second turn's first push on this table moves nothing: its second has views
+    });
+    ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
+    std::ifstream in(out / "decisions.jsonl");
     std::string line;
     int checks = 0;
     int merged = 0;
@@ -558,7 +557,7 @@ TEST(Learn, AnIdentityCheckMergesAFirstPushOfAKnownObjectAndTheTurnChoosesAgain)
         ++rechosen;
       }
     }
-    const core::Json rec = core::read_json(o.out / "learn.json");
+    const core::Json rec = core::read_json(out / "learn.json");
     EXPECT_DOUBLE_EQ(rec["options"]["identity_margin"].get<double>(), margin);
     if (margin < 0) {
       EXPECT_GE(checks, 1);
@@ -567,7 +566,7 @@ TEST(Learn, AnIdentityCheckMergesAFirstPushOfAKnownObjectAndTheTurnChoosesAgain)
       EXPECT_EQ(only_known, 0);
       EXPECT_GT(r.objects.at(1).views, 0);
     } else {
-      ASSERT_GE(merged, 1) << events_of(o.out / "decisions.jsonl");
+      ASSERT_GE(merged, 1) << events_of(out / "decisions.jsonl");
       EXPECT_LE(merged, 2);  // at most twice a turn
       EXPECT_GE(rechosen + only_known, 1);
       // The merged pushes' views are object 0's: the first class has more views than its own
@@ -584,18 +583,15 @@ TEST(Learn, HoldTargetAimsTheNextPushAtTheBlobWhereThePushMeantToLandTheObject) 
   // the plan's target holds it there: the turn's next push is located "held" (the blob nearest
   // that target), not by the segmented region; off (the default) no push is located "held".
   const test::TempDir dir("proprio_learn_hold_");
-  SmallTable t;
-  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  const SmallTable t;
   for (const bool hold : {false, true}) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.pushes = 3;
-    o.hold_target = hold;
-    o.out = dir.path() / (hold ? "on" : "off");
-    const LearnResult r = run_learn(o, robot, attendant, 1, prov);
-    ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
-    const core::Json rec = core::read_json(o.out / "learn.json");
+    const std::filesystem::path out = dir.path() / (hold ? "on" : "off");
+    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) {
+      o.pushes = 3;
+      o.hold_target = hold;
+    });
+    ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
+    const core::Json rec = core::read_json(out / "learn.json");
     EXPECT_EQ(rec["options"]["hold_target"].get<bool>(), hold);
     int held = 0;
     for (std::size_t i = 0; i < r.pushes.size(); ++i) {
@@ -604,7 +600,7 @@ TEST(Learn, HoldTargetAimsTheNextPushAtTheBlobWhereThePushMeantToLandTheObject) 
       EXPECT_GT(i, 0U);  // never the turn's first push (that one is "chosen")
     }
     if (hold) {
-      EXPECT_GE(held, 1) << events_of(o.out / "decisions.jsonl");
+      EXPECT_GE(held, 1) << events_of(out / "decisions.jsonl");
     } else {
       EXPECT_EQ(held, 0);
     }
@@ -617,21 +613,18 @@ TEST(Learn, KeepInReachKeepsEveryPushTargetInsideTheAreaTheArmCanPushAgain) {
   // 0.12 m in front of the base; the planner samples targets within 0.01 m of the given one);
   // off, the turn's pushes carry it further out.
   const test::TempDir dir("proprio_learn_reach_");
-  SmallTable t;
-  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  const SmallTable t;
   int outside[2] = {0, 0};
   double furthest[2] = {0, 0};
   for (const bool keep : {false, true}) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.learn_clutter = false;
-    o.pushes = 8;
-    o.keep_in_reach = keep;
-    o.out = dir.path() / (keep ? "on" : "off");
-    const LearnResult r = run_learn(o, robot, attendant, 1, prov);
-    ASSERT_GT(r.summary.views, 0) << events_of(o.out / "decisions.jsonl");
-    const core::Json rec = core::read_json(o.out / "learn.json");
+    const std::filesystem::path out = dir.path() / (keep ? "on" : "off");
+    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) {
+      o.learn_clutter = false;
+      o.pushes = 8;
+      o.keep_in_reach = keep;
+    });
+    ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
+    const core::Json rec = core::read_json(out / "learn.json");
     EXPECT_EQ(rec["options"]["keep_in_reach"].get<bool>(), keep);
     for (const LearnPush& p : r.pushes) {
       const double n = p.plan.target.norm();
@@ -688,16 +681,11 @@ TEST(Learn, CarryRegionFindsTheObjectWhereItWasOrMovedWithThePush) {
 TEST(Learn, CarryRegionsLogsTheRegionsCarriedOnlyWhenOn) {
   // --carry-regions adds "carried" to every region line of the log; off, the log is as before.
   const test::TempDir dir("proprio_learn_carry_");
-  SmallTable t;
-  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  const SmallTable t;
   for (const bool carry : {false, true}) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.carry_regions = carry;
-    o.out = dir.path() / (carry ? "on" : "off");
-    (void)run_learn(o, robot, attendant, 2, prov);
-    std::ifstream in(o.out / "decisions.jsonl");
+    const std::filesystem::path out = dir.path() / (carry ? "on" : "off");
+    (void)t.run(out, 2, [&](LearnOptions& o) { o.carry_regions = carry; });
+    std::ifstream in(out / "decisions.jsonl");
     std::string line;
     int regions = 0;
     while (std::getline(in, line)) {
@@ -715,17 +703,13 @@ TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
   // descriptors matched to the first object's views and chooses the least matched; "words"
   // (the default) logs no match fractions.
   const test::TempDir dir("proprio_learn_match_");
-  SmallTable t;
-  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  const SmallTable t;
   for (const NewObjectScore how : {NewObjectScore::kWords, NewObjectScore::kMatch}) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.new_object = how;
-    o.out = dir.path() / (how == NewObjectScore::kMatch ? "match" : "words");
-    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    const std::filesystem::path out =
+        dir.path() / (how == NewObjectScore::kMatch ? "match" : "words");
+    const LearnResult r = t.run(out, 2, [&](LearnOptions& o) { o.new_object = how; });
     ASSERT_GT(r.objects.at(0).views, 0);
-    std::ifstream in(o.out / "decisions.jsonl");
+    std::ifstream in(out / "decisions.jsonl");
     std::string line;
     int chose = 0;
     while (std::getline(in, line)) {
@@ -761,19 +745,16 @@ TEST(Learn, ABlobThatTheDescriptorsSayIsAKnownObjectIsNotANewClass) {
   // the first object's views, so every blob is that object: the second turn finds only known
   // objects (by their descriptors) and learns nothing. With 1 (off) it chooses.
   const test::TempDir dir("proprio_learn_match_known_");
-  SmallTable t;
-  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  const SmallTable t;
   for (const double known : {1.0, 0.0}) {
-    sim::SimulatedRobot robot(t.table, t.catalogue);
-    NullAttendant attendant;
-    LearnOptions o = t.o;
-    o.new_object = NewObjectScore::kMatch;
-    o.match_known = known;
-    o.out = dir.path() / (known < 1 ? "on" : "off");
-    const LearnResult r = run_learn(o, robot, attendant, 2, prov);
+    const std::filesystem::path out = dir.path() / (known < 1 ? "on" : "off");
+    const LearnResult r = t.run(out, 2, [&](LearnOptions& o) {
+      o.new_object = NewObjectScore::kMatch;
+      o.match_known = known;
+    });
     ASSERT_GT(r.objects.at(0).views, 0);
-    const std::string ev = events_of(o.out / "decisions.jsonl");
-    std::ifstream in(o.out / "decisions.jsonl");
+    const std::string ev = events_of(out / "decisions.jsonl");
+    std::ifstream in(out / "decisions.jsonl");
     const std::string raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const bool by_descriptors = raw.find("(by its descriptors)") != std::string::npos;
     if (known < 1) {
