@@ -468,6 +468,16 @@ double yaw_coverage_deg(std::vector<double> yaws) {
 
 namespace {
 
+// The id an episode's masks give the object named `name` (its last listing; -1: not among its
+// objects).
+int object_id(const episode::Episode& e, const std::string& name) {
+  int id = -1;
+  for (const auto& o : e.objects()) {
+    if (o.name == name) id = o.id;
+  }
+  return id;
+}
+
 // The ladder's probes (SelfSupervisionOptions::ladder_probes): each push's last frame against a
 // clean render of the same pose, with one thing changed at a time (OracleLadder::probe_names).
 struct Probes {
@@ -698,10 +708,7 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
     if (v.episode.empty() || v.intended.empty() || v.frame < 0) continue;
     if (!e || e->dir() != v.episode) e.emplace(episode::read_episode(v.episode));
     if (!e->info().has_masks) continue;
-    int id = -1;
-    for (const auto& o : e->objects()) {
-      if (o.name == v.intended) id = o.id;
-    }
+    const int id = object_id(*e, v.intended);
     if (id < 0) continue;
     const cv::Mat ids = e->mask(v.frame);
     const cv::Mat mask = ids == id;
@@ -1062,10 +1069,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
           }
           if (!pe || pe->dir() != v.episode) pe.emplace(episode::read_episode(v.episode));
           if (!pe->info().has_masks) continue;
-          int fid = -1;
-          for (const auto& o : pe->objects()) {
-            if (o.name == v.intended) fid = o.id;
-          }
+          const int fid = object_id(*pe, v.intended);
           if (fid < 0) continue;
           alone.place({{os.name, v.position, v.yaw}});
           const robot::Look look = alone.look();
