@@ -2,21 +2,20 @@
 // Shared by the features tests: temporary files and the expected-error check.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 
 namespace proprio::features::test {
 
+/// `name` in a per-process temporary directory, removed when the process exits.
 inline std::filesystem::path temp_path(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("proprio_features_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir / name;
+  static const proprio::test::TempDir kDir("proprio_", "features_test");
+  return kDir.path() / name;
 }
 
 inline std::string slurp(const std::filesystem::path& p) {

@@ -2,8 +2,6 @@
 // the mapping from labelled views, views cut from frames by the masks, bad input.
 #include "proprio/recognition/episode_classification.hpp"
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,11 +9,13 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
 #include "../support/synthetic_episode.hpp"
+#include "../support/temp_dir.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/features/kmeans.hpp"
 #include "proprio/recognition/experiments.hpp"
@@ -55,6 +55,9 @@ fs::path write_alternating_episode(const fs::path& dir, bool masks = true) {
 }
 
 struct Fixture {
+  // Shared: the fixture is built once per process and its episodes are read from this directory
+  // lazily, so it lives until the process exits and is then removed.
+  std::shared_ptr<const test::TempDir> scratch;
   fs::path dir;
   std::vector<episode::Episode> episodes;
   std::optional<features::Vocabulary> vocabulary;
@@ -66,9 +69,8 @@ const Fixture& fixture() {
   static const Fixture kFixture = [] {
     Fixture x;
     // One directory per process: ctest runs this file's tests in parallel processes.
-    x.dir = fs::temp_directory_path() /
-            ("proprio_episode_classification_test_" + std::to_string(::getpid()));
-    fs::remove_all(x.dir);
+    x.scratch = std::make_shared<const test::TempDir>("proprio_", "episode_classification_test");
+    x.dir = x.scratch->path();
     x.episodes.push_back(episode::read_episode(write_alternating_episode(x.dir / "ep")));
     features::ExtractOptions eo;
     cv::Mat all;

@@ -1,12 +1,12 @@
 #pragma once
 // Shared helpers for the sim tests: small scenes, temporary files, quadrant test images.
 
-#include <unistd.h>
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "../support/temp_dir.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/scene_description.hpp"
 
@@ -14,11 +14,10 @@ namespace proprio::sim::test {
 
 namespace fs = std::filesystem;
 
-/// A per-process temporary directory for test files.
+/// A per-process temporary directory for test files, removed when the process exits.
 inline fs::path temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / ("proprio_sim_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir;
+  static const proprio::test::TempDir kDir("proprio_", "sim_test");
+  return kDir.path();
 }
 
 /// An image in four coloured quadrants (BGR): top-left red, top-right green, bottom-left blue,
