@@ -20,6 +20,7 @@
 #include "proprio/segmentation/optical_flow.hpp"
 #include "proprio/segmentation/region_smoothing.hpp"
 #include "proprio/segmentation/region_tracker.hpp"
+#include "touch_refine.hpp"
 
 namespace proprio::segmentation {
 
@@ -1267,85 +1268,16 @@ struct MlSegmenter::Impl {
     if (opt.touch_fm_refine > 0) refine_outline(m, arm);
   }
 
-  // touch_fm_refine: GrabCut (OpenCV) on the touch frame, the mask's inside and the scene beyond
-  // a band of touch_fm_refine px round its outline held fixed; the band's pixels follow its
-  // labels (object: the map's peak; background: 0), the arm model's excepted (with
-  // touch_fm_refine_arm, the mask's pixels in it are settled too, wherever they lie). The crop
-  // round the band gives GrabCut's background mixture the scene next to the object, not the whole
-  // frame.
+  // touch_fm_refine: GrabCut on the touch frame round the mask's outline (refine_touch_outline).
   void refine_outline(cv::Mat1f& m, const cv::Mat1b& arm) const {
     if (touch_colour.empty()) return;
     cv::Mat3b img = touch_colour;
     if (img.size() != m.size()) cv::resize(touch_colour, img, m.size(), 0, 0, cv::INTER_LINEAR);
-    const cv::Mat1b mask = threshold_map(m, opt.effective_mask_fraction());
-    if (cv::countNonZero(mask) == 0) return;
-    const int r = static_cast<int>(std::lround(opt.touch_fm_refine));
-    const auto disc = [](int k) {
-      return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1));
-    };
-    cv::Mat1b inner, outer, context;
-    cv::erode(mask, inner, disc(r));
-    cv::dilate(mask, outer, disc(r));
-    constexpr int kContext = 16;  // px of scene round the band for the background's colours
-    cv::dilate(outer, context, disc(kContext));
-    const cv::Rect roi = cv::boundingRect(context);
-    if (roi.width < 2 || roi.height < 2) return;
-    cv::Mat1b gc(roi.size(), static_cast<uchar>(cv::GC_BGD));
-    for (int y = 0; y < roi.height; ++y) {
-      const uchar* in = inner[y + roi.y] + roi.x;
-      const uchar* out = outer[y + roi.y] + roi.x;
-      const uchar* mk = mask[y + roi.y] + roi.x;
-      const uchar* a = arm[y + roi.y] + roi.x;
-      uchar* l = gc[y];
-      for (int x = 0; x < roi.width; ++x) {
-        if (opt.touch_fm_refine_arm && mk[x] != 0 && a[x] != 0) {
-          l[x] = cv::GC_PR_FGD;  // the arm's rim or the object: colour decides
-        } else if (in[x] != 0) {
-          l[x] = cv::GC_FGD;
-        } else if (out[x] != 0) {
-          l[x] = mk[x] != 0 ? cv::GC_PR_FGD : cv::GC_PR_BGD;
-        }
-      }
-    }
-    // GrabCut fits 5-component colour mixtures by k-means to each side and throws when a side
-    // has fewer samples (a mask over the whole crop: the frame changed everywhere at the touch).
-    constexpr int kLeastSamples = 5;
-    const int object_samples =
-        cv::countNonZero(gc == cv::GC_FGD) + cv::countNonZero(gc == cv::GC_PR_FGD);
-    if (cv::countNonZero(gc == cv::GC_FGD) == 0 || object_samples < kLeastSamples ||
-        static_cast<int>(gc.total()) - object_samples < kLeastSamples) {
-      return;
-    }
-    // GrabCut seeds its k-means from OpenCV's thread-local generator: a fixed state keeps the
-    // result the same on every run and thread; the caller's state is put back.
-    constexpr std::uint64_t kGrabCutSeed = 0x5EEDU;
-    cv::RNG& rng = cv::theRNG();
-    const std::uint64_t saved = rng.state;
-    rng.state = kGrabCutSeed;
-    cv::Mat bgd, fgd;
-    cv::grabCut(img(roi), gc, cv::Rect(), bgd, fgd, 2, cv::GC_INIT_WITH_MASK);
-    rng.state = saved;
-    double peak = 0;
-    cv::minMaxLoc(m, nullptr, &peak);
-    for (int y = 0; y < roi.height; ++y) {
-      const uchar* in = inner[y + roi.y] + roi.x;
-      const uchar* out = outer[y + roi.y] + roi.x;
-      const uchar* a = arm[y + roi.y] + roi.x;
-      const uchar* l = gc[y];
-      float* o = m[y + roi.y] + roi.x;
-      const uchar* mk = mask[y + roi.y] + roi.x;
-      for (int x = 0; x < roi.width; ++x) {
-        const bool settle_arm = opt.touch_fm_refine_arm && a[x] != 0 && mk[x] != 0;
-        if (!settle_arm && (in[x] != 0 || out[x] == 0 || a[x] != 0)) continue;
-        const bool object = l[x] == cv::GC_FGD || l[x] == cv::GC_PR_FGD;
-        o[x] = object ? std::max(o[x], static_cast<float>(peak)) : 0.0F;
-      }
-    }
+    refine_touch_outline(m, threshold_map(m, opt.effective_mask_fraction()), img, arm,
+                         static_cast<int>(std::lround(opt.touch_fm_refine)),
+                         opt.touch_fm_refine_arm);
   }
 
-  // smoothing_keep_evidence: a region with that many post-touch intervals takes the higher of
-  // its smoothed score and its own, the latter capped at the smoothed scores' robust peak (the
-  // score that peak_area of the pixels reach; with peak_area 0, their maximum).
   void keep_evidenced(const cv::Mat1i& compact, const std::vector<int>& evidence,
                       const std::vector<float>& own, std::vector<float>& score) const {
     std::vector<std::ptrdiff_t> area(score.size(), 0);
