@@ -185,7 +185,7 @@ TEST(PushCli, ACorrectionWhoseHandWouldMeetANeighbourIsNotMade) {
       "--roll-across --target-clearance 0.01 --json ";
   const fs::path off = dir.path() / "off.json";
   const fs::path on = dir.path() / "on.json";
-  const auto r0 = run_cli(common + off.string());
+  const auto r0 = run_cli(common + off.string() + " --correction-hand-margin 0");
   ASSERT_EQ(r0.code, 0) << r0.err;
   const auto r1 = run_cli(common + on.string() + " --correction-hand-margin 0.01");
   ASSERT_EQ(r1.code, 0) << r1.err;
