@@ -317,6 +317,10 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
           popt.via_points = 0;
           popt.via_blocked = 0;
         }
+        // correction_hand_margin: a correction is planned with the hand kept clear.
+        const bool hand_checked = k > 0 && popt.correction_hand_margin > 0;
+        if (hand_checked)
+          popt.hand_margin = std::max(popt.hand_margin, popt.correction_hand_margin);
         planning::PushPlan plan = planning::plan_push(cur_view, cur_object, options.goal, aim,
                                                       region, arm, robot.joints(), popt);
         if (plan.outcome != planning::PlanOutcome::kPlanned && gain != 1.0) {
@@ -334,6 +338,15 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) break;
         step.plan = std::move(plan);
         if (step.plan.outcome != planning::PlanOutcome::kPlanned) break;
+        if (hand_checked && step.plan.hand_blocked > 0) {
+          // The correction's hand would meet another object: not made, the loop ends here.
+          step.message =
+              "correction not made: the hand would come " +
+              std::to_string(static_cast<int>(std::lround(step.plan.hand_blocked * 1000))) +
+              " mm too near another object (correction_hand_margin)";
+          spdlog::info("push {}: {}", k + 1, step.message);
+          break;
+        }
         robot::PushRecording rec;
         if (!work.dir.empty()) rec.episode_dir = work.dir / episode_name(k);
         rec.fps = options.fps;

@@ -1759,6 +1759,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     plan.approach = c.approach;
     plan.cost = c.cost;
     plan.blocked = c.blocked;
+    plan.hand_blocked = c.hand;
     plan.via = c.via;
     plan.shortened = c.shortened;
     plan.direction = (c.target - o.centre).normalized();

@@ -106,7 +106,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --free-target-margin -0.01", "--free-target-margin"},
            // Session 28's.
            {"evaluate push --target-clearance -0.01", "--target-clearance"},
-           {"evaluate push --target-clearance 0.2", "--target-clearance"}}) {
+           {"evaluate push --target-clearance 0.2", "--target-clearance"},
+           // Session 29's.
+           {"push --correction-hand-margin 0.06", "--correction-hand-margin"},
+           {"evaluate push --correction-hand-margin -0.01", "--correction-hand-margin"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
@@ -168,6 +171,36 @@ TEST(PushCli, ASweepMarginStopsThePushShortOfANeighbourAndEndsTheLoop) {
   ASSERT_EQ(b["steps"].size(), 1U);
   EXPECT_GT(b["steps"][0]["shortened"].get<double>(), 0.02);
   EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
+}
+
+TEST(PushCli, ACorrectionWhoseHandWouldMeetANeighbourIsNotMade) {
+  // Tuning table 2 with a target where the spirit level fits (docs/results/push.md, session 29):
+  // the first push leaves it beside the rabbit, and the corrections' jaws and palm push the
+  // rabbit (the loop's defaults). With --correction-hand-margin 0.01 the second push's hand is
+  // blocked by the rabbit's measured hull and height, so it is not made: only the spirit level
+  // moved, after one push.
+  const test::TempDir dir("proprio_push_cli_");
+  const std::string common =
+      "evaluate push --tables 1 --seed 2 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
+      "--roll-across --target-clearance 0.01 --json ";
+  const fs::path off = dir.path() / "off.json";
+  const fs::path on = dir.path() / "on.json";
+  const auto r0 = run_cli(common + off.string() + " --correction-hand-margin 0");
+  ASSERT_EQ(r0.code, 0) << r0.err;
+  const auto r1 = run_cli(common + on.string() + " --correction-hand-margin 0.01");
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  const core::Json a = core::read_json(off)["pushes"][0];
+  const core::Json b = core::read_json(on)["pushes"][0];
+  EXPECT_FALSE(a["only_intended"].get<bool>());
+  ASSERT_GE(a["steps"].size(), 2U);
+  EXPECT_TRUE(a["steps"][1]["executed"].get<bool>());
+  EXPECT_TRUE(b["only_intended"].get<bool>());
+  EXPECT_EQ(b["pushes"], 1);
+  ASSERT_EQ(b["steps"].size(), 2U);
+  EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
+  EXPECT_FALSE(b["steps"][1]["executed"].get<bool>());
+  EXPECT_GT(b["steps"][1]["blocked"].get<double>(), 0.0);
+  EXPECT_HAS(b["steps"][1]["message"].get<std::string>(), "correction not made");
 }
 
 }  // namespace

@@ -136,6 +136,17 @@ TEST(PushTargets, TheClosedLoopSplitsByDepthAndFreesTargetsByDefault) {
   EXPECT_EQ(planner.free_target_margin, 0.0);
 }
 
+TEST(PushTargets, TheClosedLoopSkipsACorrectionWhoseHandIsBlockedByDefault) {
+  // Session 29's decision (docs/results/push.md): the loop's options, not the planner's.
+  const PushOptions push;
+  EXPECT_EQ(push.plan.correction_hand_margin, kLoopCorrectionHandMargin);
+  EXPECT_EQ(kLoopCorrectionHandMargin, 0.01);
+  const PushEvaluationOptions evaluation;
+  EXPECT_EQ(evaluation.plan.correction_hand_margin, 0.01);
+  const planning::PushPlanOptions planner;
+  EXPECT_EQ(planner.correction_hand_margin, 0.0);
+}
+
 TEST(PushTargets, TheClearanceIsBounded) {
   PushEvaluationOptions options;
   options.target_clearance = -0.01;

@@ -1207,6 +1207,44 @@ TEST(PushGeometry, TheHandsFootprintMeetsATallNeighbourBesideThePushNotALowOne) 
   EXPECT_THROW((void)hand_lack(bad, false, {&mug}, margin), Error);
 }
 
+TEST(PushPlanner, APlanSaysHowMuchOfItsBlockingIsTheHands) {
+  // A tall neighbour beside the pusher's start (behind the object, 4-5.5 cm off the line): the
+  // jaws across the push (3 cm either side) meet it at every start, so no shortening clears it.
+  // The loop's correction_hand_margin reads PushPlan::hand_blocked.
+  NeighbourScene s({0.24, -0.065});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  PutativeObject& obj = s.obj();
+  PutativeObject& other = s.other();
+  obj.height = 0.02;
+  other.height = 0.09;
+  PushPlanOptions o = flat_options();
+  // No hand margin (the default): nothing known of the hand.
+  const PushPlan off = s.plan(o);
+  ASSERT_EQ(off.outcome, PlanOutcome::kPlanned) << off.message;
+  EXPECT_EQ(off.hand_blocked, 0.0);
+  EXPECT_GT(hand_lack(off.push, false, {&other}, 0.01), 0.0);
+  // With it: planned anyway (every path is blocked), the shortfall the hand's.
+  o.hand_margin = 0.01;
+  const PushPlan on = s.plan(o);
+  ASSERT_EQ(on.outcome, PlanOutcome::kPlanned) << on.message;
+  EXPECT_GT(on.hand_blocked, 0.0);
+  EXPECT_NEAR(on.hand_blocked, hand_lack(on.push, false, {&other}, 0.01), 1e-12);
+  EXPECT_NEAR(on.blocked, on.hand_blocked, 1e-12);  // no other clearance asked
+  // A low neighbour (the jaws pass over it): clear.
+  other.height = 0.02;
+  const PushPlan low = s.plan(o);
+  ASSERT_EQ(low.outcome, PlanOutcome::kPlanned) << low.message;
+  EXPECT_EQ(low.hand_blocked, 0.0);
+  // correction_hand_margin's bounds (the planner does not read it).
+  PushPlanOptions bad = flat_options();
+  bad.correction_hand_margin = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.correction_hand_margin = -0.001;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.correction_hand_margin = 0.01;
+  EXPECT_NO_THROW(bad.validate());
+}
+
 TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJawsOrRaisingTheTip) {
   // The object (4 cm square) at (0.20, 0) pushed 16 cm along +y; a neighbour (3 cm square) at
   // (0.245, 0.1225): the object passes 1 cm from it, but the jaws across the push (3 cm either

@@ -222,6 +222,13 @@ struct PushPlanOptions {
   /// on the first ring that has one (PushPlan::target_moved). No such point: the target as
   /// given. m; 0 (the default): the target as given.
   double free_target_margin = 0;
+  /// The closed loop's correction pushes (loop::push_once, the second push and after; the planner
+  /// itself does not read it): each is planned with hand_margin at least this, and one whose hand
+  /// is still blocked (PushPlan::hand_blocked > 0: the jaws, palm or low forearm would come nearer
+  /// than this to another putative object that reaches them, hand_lack) is not made; the loop
+  /// ends with the object where the last push left it. The first push is planned as before.
+  /// m; 0 (the default): corrections are planned and made as the first push.
+  double correction_hand_margin = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -349,6 +356,11 @@ struct PushPlanOptions {
       {"free_target_margin",
        "Target goal: a target whose object footprint would lie within this of another object is "
        "moved to the nearest point a straight push reaches clear, m (0: off)",
+       core::between(0, 0.05)});
+    v(self.correction_hand_margin,
+      {"correction_hand_margin",
+       "Closed loop: correction pushes are planned with at least this hand margin and not made "
+       "when the hand is still blocked, m (0: off)",
        core::between(0, 0.05)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
@@ -551,6 +563,9 @@ struct PushPlan {
   /// How much the path (both legs through a waypoint) lacks of the clearances, summed over the
   /// other objects, m (path_clearance); 0: clear.
   double blocked = 0;
+  /// Of blocked, the hand's part (hand_lack against PushPlanOptions::hand_margin, with the jaws'
+  /// line and tip height the plan takes), m; 0: the hand is clear or hand_margin is 0.
+  double hand_blocked = 0;
   /// kTarget: how much nearer to the object than the target asked the plan's target is, m (a
   /// push shortened where the object's swept region meets another object, sweep_margin); 0 for
   /// a push that goes all the way (within target_spread).
