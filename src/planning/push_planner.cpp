@@ -848,6 +848,7 @@ PushContact push_contact(const std::vector<Eigen::Vector3d>& points, const Eigen
   const bool along = jaws == robot::JawLine::kAlong;
   const double jaw_low = tip_height + kFingerDrop;
   const double jaw_high = jaw_low + kJawLength;
+  // The rod reaches up to the palm; the palm itself is left out (push_contact).
   const double palm_low = tip_height + kPalmDrop;
   // The pusher's axis position (along the push, from the centre) at which a part first touches a
   // point at (s along, l across, z); +inf when no part passes it.
@@ -886,7 +887,6 @@ PushContact push_contact(const std::vector<Eigen::Vector3d>& points, const Eigen
           hand = disc(s, l, kFingerReach);
         }
       }
-      if (z >= palm_low) hand = std::min(hand, disc(s, l, kPalmReach));
       if (std::isfinite(rod) || std::isfinite(hand)) {
         hits.push_back({std::min(rod, hand), z, hand < rod});
       }

@@ -1621,15 +1621,15 @@ TEST(PushPlanner, ToppleRatioLeavesOutPushesThatWouldTipALeggedObject) {
 }
 
 TEST(PushPlanner, ToppleOffsetTurnsTheJawsAcrossSoThatTheRodMeetsANarrowTallBoxLow) {
-  // A 7 x 3.8 x 15 cm box at (0.24, 0) pushed 10 cm along its length (+x): with the robot's own
+  // A 7 x 3 x 15 cm box at (0.24, 0) pushed 10 cm along its length (+x): with the robot's own
   // roll (unknown) the jaws may reach 3 cm ahead of the rod and meet its end 3.8 cm up
   // (0.8 x 3.8 / 3.5 = 0.87); turned across the push they pass either side of it (2-3 cm off the
-  // line, the box 1.9 cm) and the rod meets it at its foot.
+  // line, the box 1.5 cm) and the rod meets it at its foot.
   const geometry::Camera cam = oblique_camera();
   const Eigen::Vector2d c(0.24, 0.0);
   cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
-  draw_checkered_box(img, cam, c, 0.035, 0.019, 0.15, 0.0);
-  const cv::Mat1f depth = render_box_depth(cam, c, 0.035, 0.019, 0.15, 0.0);
+  draw_checkered_box(img, cam, c, 0.035, 0.015, 0.15, 0.0);
+  const cv::Mat1f depth = render_box_depth(cam, c, 0.035, 0.015, 0.15, 0.0);
   PushPlanOptions o;
   const PlanningView view = make_planning_view(textured_points(img, o), cam, {}, o, depth);
   ASSERT_EQ(view.objects.size(), 1U);
