@@ -1539,7 +1539,8 @@ TEST(PushContact, APushAcrossTheWheelsMeetsTheBikeHighAndTipsItAlongTheWheelsItS
   // Shifted 5 cm onto a wheel the rod meets the wheel's face at its tip, but the jaws beside it
   // meet the same face 7 mm sooner, 3.8 cm up: this hand tips the bike across its wheels
   // wherever it aims.
-  const PushContact wheel = push_contact(bike, c, {0, 1}, tip, robot::JawLine::kAcross, 0.05);
+  const PushContact wheel =
+      push_contact(bike, c, {0, 1}, tip, robot::JawLine::kAcross, false, 0.05);
   EXPECT_TRUE(wheel.jaws);
   EXPECT_GT(wheel.ratio, 1.5);
   // The camera sees one side: half the points (those toward -y) give the same verdicts.
