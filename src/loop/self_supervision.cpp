@@ -115,6 +115,8 @@ class Learner {
     // neighbouring objects do not merge into one blob in a smaller image.
     const double scale = first.image.cols / 640.0;
     plan_options_ = o_.plan;
+    if (o_.topple_ratio > 0) plan_options_.topple_ratio = o_.topple_ratio;
+    if (o_.topple_offset > 0) plan_options_.topple_offset = o_.topple_offset;
     plan_options_.grid_step = std::max(2, static_cast<int>(std::lround(o_.plan.grid_step * scale)));
     plan_options_.patch = std::max(4, static_cast<int>(std::lround(o_.plan.patch * scale)));
     plan_options_.blobs.sigma = o_.plan.blobs.sigma * scale;
@@ -344,7 +346,17 @@ class Learner {
     po.max_approach = std::min(0.3, po.max_approach + extra_approach_);
     po.min_approach = std::min(po.max_approach, po.min_approach + extra_approach_);
     po.seed = core::stream_seed(o_.seed, kPlanStream, static_cast<std::uint64_t>(++plans_));
-    return planning::plan_push(view, blob, goal, target, region_, arm, robot_.joints(), po);
+    planning::PushPlan p =
+        planning::plan_push(view, blob, goal, target, region_, arm, robot_.joints(), po);
+    if (p.outcome != planning::PlanOutcome::kPlanned && p.rejected_topple > 0 && !strict_topple_) {
+      // topple_ratio: every push would tip the object over; pushed as without the check.
+      const int rejected = p.rejected_topple;
+      po.topple_ratio = 0;
+      p = planning::plan_push(view, blob, goal, target, region_, arm, robot_.joints(), po);
+      p.rejected_topple = rejected;
+      p.message += " (every push would tip it over: planned without that check)";
+    }
+    return p;
   }
 
   // switch_tries: the blob of `view` other than `skip` whose least gap to the others (by the
@@ -867,42 +879,49 @@ class Learner {
           goals.push_back(chosen + kShortLearnPush * Eigen::Vector2d(std::cos(a0), std::sin(a0)));
         }
       }
-      for (const Eigen::Vector2d& goal : goals) {
-        const double lack = learn_push_lack(view, c, goal, o_.learn_clearance);
-        if (lack > 0) {
-          crowded = true;
-          log({.event = "plan",
-               .round = r,
-               .phase = "learn",
-               .blob = c,
-               .then = "another side: the corridor goes toward another blob",
-               .lack = lack});
-          continue;
-        }
-        p = plan(view, c, planning::PushGoal::kTarget, goal);
-        if (p.outcome == planning::PlanOutcome::kPlanned) {
-          // The planner may move the target (the table's region): the corridor checked again.
-          const double l2 = learn_push_lack(view, c, p.target, o_.learn_clearance);
-          if (l2 <= 0) break;
-          crowded = true;
+      // topple_ratio: every side is first tried with pushes that would tip the object left out;
+      // only when none is left is each tried again as without the check.
+      const int passes = plan_options_.topple_ratio > 0 ? 2 : 1;
+      for (int pass = 0; pass < passes && p.outcome != planning::PlanOutcome::kPlanned; ++pass) {
+        strict_topple_ = pass + 1 < passes;
+        for (const Eigen::Vector2d& goal : goals) {
+          const double lack = learn_push_lack(view, c, goal, o_.learn_clearance);
+          if (lack > 0) {
+            crowded = true;
+            log({.event = "plan",
+                 .round = r,
+                 .phase = "learn",
+                 .blob = c,
+                 .then = "another side: the corridor goes toward another blob",
+                 .lack = lack});
+            continue;
+          }
+          p = plan(view, c, planning::PushGoal::kTarget, goal);
+          if (p.outcome == planning::PlanOutcome::kPlanned) {
+            // The planner may move the target (the table's region): the corridor checked again.
+            const double l2 = learn_push_lack(view, c, p.target, o_.learn_clearance);
+            if (l2 <= 0) break;
+            crowded = true;
+            log({.event = "plan",
+                 .round = r,
+                 .phase = "learn",
+                 .blob = c,
+                 .plan = LoggedPlan::of(p),
+                 .then = "another side: the corridor goes toward another blob",
+                 .lack = l2});
+            p.outcome = planning::PlanOutcome::kUnreachable;
+            p.message = "no side kept clear of the other blobs";
+            continue;
+          }
           log({.event = "plan",
                .round = r,
                .phase = "learn",
                .blob = c,
                .plan = LoggedPlan::of(p),
-               .then = "another side: the corridor goes toward another blob",
-               .lack = l2});
-          p.outcome = planning::PlanOutcome::kUnreachable;
-          p.message = "no side kept clear of the other blobs";
-          continue;
+               .then = "another side"});
         }
-        log({.event = "plan",
-             .round = r,
-             .phase = "learn",
-             .blob = c,
-             .plan = LoggedPlan::of(p),
-             .then = "another side"});
       }
+      strict_topple_ = false;
       if (p.outcome != planning::PlanOutcome::kPlanned) {
         log({.event = "plan", .round = r, .phase = "learn", .blob = c, .plan = LoggedPlan::of(p)});
         if (crowded) {
@@ -1333,7 +1352,10 @@ class Learner {
   bool singulated_ = false;    ///< the last clear() ended with the chosen object alone
   int round_ = 0;              ///< the round under way (for the looks' "split" events)
   double offset_ = 0;          ///< the next push's turning offset, m (0: through the centre)
-  double extra_approach_ = 0;  ///< m, grown after each refusal of the round
+  /// topple_ratio: plan() leaves a plan whose every push would tip the object unplanned (the
+  /// learn pushes' first pass over the sides); false: it re-plans it without the check.
+  bool strict_topple_ = false;
+  double extra_approach_ = 0;                 ///< m, grown after each refusal of the round
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for the arm's image
 };
 

@@ -159,8 +159,8 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
   table.width = options.width;
   table.height = options.height;
   table.record_masks = options.oracle_ladder;  // the ladder's ground truth (scoring only)
-  table.depth =
-      options.depth || options.alone_by_depth;  // an RGB-D camera: Look::depth for the planner
+  table.depth = options.depth || options.alone_by_depth ||
+                options.topple_ratio > 0;  // an RGB-D camera: Look::depth for the planner
   // One GL context at a time: the table's robot goes before the held-out views are rendered
   // (the attendant keeps its records, not the robot).
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);

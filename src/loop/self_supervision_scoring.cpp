@@ -315,6 +315,9 @@ void GroundTruthAttendant::before_push(const PushIntent& intent) {
   const auto& blob = intent.view->objects.at(static_cast<std::size_t>(intent.blob));
   t.intended = object_under(blob);
   t.blob_truth = blob_composition(votes_under(blob), before_);
+  for (const auto& o : before_) {
+    if (o.name == t.intended && !o.upright) t.lying_before = true;
+  }
   pushes_.push_back(t);
   if (intent.phase == "learn") {
     for (const auto& o : before_) {
@@ -335,6 +338,7 @@ void GroundTruthAttendant::after_push(const PushIntent& intent, bool executed) {
       if (after[i].name == t.intended) intended_moved = true;
     }
     if (before_[i].on_table && !after[i].on_table) ++t.fell_off;
+    if (before_[i].upright && !after[i].upright) t.tipped.push_back(after[i].name);
     if (after[i].name == t.intended && before_[i].on_table && after[i].on_table) {
       t.turn_deg = turn_deg(before_[i].yaw, after[i].yaw);
     }
@@ -983,6 +987,15 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
       if (p.phase == "learn" && p.executed && p.intended == os.name) {
         ++os.learn_pushes;
         os.turn_deg += p.turn_deg;
+        if (p.lying_before) ++os.learn_lying;
+      }
+      if (!p.executed) continue;
+      const bool fell = std::find(p.tipped.begin(), p.tipped.end(), os.name) != p.tipped.end();
+      if (p.intended == os.name) {
+        ++os.pushes;
+        if (fell) ++os.tipped;
+      } else if (fell) {
+        ++os.tipped_by_others;
       }
     }
     if (os.learn_pushes > 0) os.turn_deg /= os.learn_pushes;

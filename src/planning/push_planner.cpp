@@ -44,6 +44,8 @@ constexpr int kTopStep = 1;
 // The top's height: this quantile of the object's depth points' heights (a few stray points at
 // a silhouette's edge do not set it).
 constexpr double kTopQuantile = 0.98;
+// topple_offset's steps sideways, m.
+constexpr double kToppleStep = 0.01;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -283,15 +285,16 @@ std::optional<PutativeObject> putative_object(const features::Blob& blob,
 
 }  // namespace
 
-std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
-                                                   const geometry::Camera& camera,
-                                                   const std::vector<Eigen::Vector2d>& hull_pixels,
-                                                   const cv::Mat& mask, cv::Rect box, int step) {
+std::vector<Eigen::Vector3d> object_depth_points(const cv::Mat& depth,
+                                                 const geometry::Camera& camera,
+                                                 const std::vector<Eigen::Vector2d>& hull_pixels,
+                                                 const cv::Mat& mask, cv::Rect box, int step) {
   require(depth.type() == CV_32FC1, "measure_footprint: the depth image must be CV_32FC1 (metres)");
   require(step >= 1, "measure_footprint: step must be at least 1");
   require(mask.empty() || (mask.type() == CV_8U && mask.size() == box.size()),
           "measure_footprint: the mask must be 8-bit of its box's size");
-  if (hull_pixels.size() < 3) return std::nullopt;
+  std::vector<Eigen::Vector3d> out;
+  if (hull_pixels.size() < 3) return out;
   std::vector<cv::Point2f> poly;
   poly.reserve(hull_pixels.size());
   for (const auto& h : hull_pixels) {
@@ -300,8 +303,6 @@ std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
   const cv::Rect image(0, 0, depth.cols, depth.rows);
   const cv::Rect bounds = cv::boundingRect(poly) & image;
   const geometry::DepthPixels pixels(camera);
-  std::vector<Eigen::Vector2d> xy;
-  std::vector<double> z;
   for (int v = bounds.y; v < bounds.y + bounds.height; v += step) {
     const auto* row = depth.ptr<float>(v);
     for (int u = bounds.x; u < bounds.x + bounds.width; u += step) {
@@ -320,9 +321,25 @@ std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
       }
       const Eigen::Vector3d x = pixels.world(u, v, d);
       if (x.z() < kObjectLeastHeight) continue;
-      xy.push_back(x.head<2>());
-      z.push_back(x.z());
+      out.push_back(x);
     }
+  }
+  return out;
+}
+
+std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
+                                                   const geometry::Camera& camera,
+                                                   const std::vector<Eigen::Vector2d>& hull_pixels,
+                                                   const cv::Mat& mask, cv::Rect box, int step) {
+  const std::vector<Eigen::Vector3d> points =
+      object_depth_points(depth, camera, hull_pixels, mask, box, step);
+  std::vector<Eigen::Vector2d> xy;
+  std::vector<double> z;
+  xy.reserve(points.size());
+  z.reserve(points.size());
+  for (const auto& x : points) {
+    xy.push_back(x.head<2>());
+    z.push_back(x.z());
   }
   if (static_cast<int>(xy.size()) < kFootprintLeastPoints) return std::nullopt;
   MeasuredFootprint m;
@@ -816,6 +833,82 @@ std::vector<Eigen::Vector2d> hand_footprint(const Eigen::Vector2d& start,
   const Eigen::Vector2d a = start - along * n;
   const Eigen::Vector2d b = end + along * n;
   return {a - across * m, b - across * m, b + across * m, a + across * m};
+}
+
+PushContact push_contact(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector2d& centre,
+                         const Eigen::Vector2d& direction, double tip_height, robot::JawLine jaws,
+                         bool roll_across, double offset) {
+  require(direction.allFinite() && std::abs(direction.norm() - 1.0) < 1e-6,
+          "push_contact: the direction must be a unit vector");
+  require(std::isfinite(tip_height) && tip_height >= 0,
+          "push_contact: the tip's height must be finite and non-negative");
+  const Eigen::Vector2d side(-direction.y(), direction.x());
+  const bool across =
+      jaws == robot::JawLine::kAcross || (jaws == robot::JawLine::kRobot && roll_across);
+  const bool along = jaws == robot::JawLine::kAlong;
+  const double jaw_low = tip_height + kFingerDrop;
+  const double jaw_high = jaw_low + kJawLength;
+  // The rod reaches up to the palm; the palm itself is left out (push_contact).
+  const double palm_low = tip_height + kPalmDrop;
+  // The pusher's axis position (along the push, from the centre) at which a part first touches a
+  // point at (s along, l across, z); +inf when no part passes it.
+  const auto disc = [](double s, double l, double r) {
+    return std::abs(l) <= r ? s - std::sqrt(r * r - l * l)
+                            : std::numeric_limits<double>::infinity();
+  };
+  struct Hit {
+    double at;
+    double z;
+    bool jaws;
+  };
+  std::vector<Hit> hits;
+  PushContact c;
+  double base = -std::numeric_limits<double>::infinity();
+  double any_base = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector2d d0 = p.head<2>() - centre;
+    for (const Eigen::Vector2d& d : {d0, Eigen::Vector2d(-d0)}) {  // the unseen side: reflected
+      const double s = d.dot(direction);
+      const double l = d.dot(side) - offset;
+      const double z = p.z();
+      any_base = std::max(any_base, s);
+      if (z <= kFootHeight) base = std::max(base, s);
+      if (z < tip_height) continue;  // the tip passes over it
+      double rod =
+          z < palm_low ? disc(s, l, kPusherRadius) : std::numeric_limits<double>::infinity();
+      double hand = std::numeric_limits<double>::infinity();
+      if (z >= jaw_low && z <= jaw_high) {
+        if (across) {
+          if (std::abs(l) >= kFingerReach - 0.01 && std::abs(l) <= kFingerReach)
+            hand = s - kJawHalf;
+        } else if (along) {
+          if (std::abs(l) <= kJawHalf) hand = s - kFingerReach;
+        } else {
+          hand = disc(s, l, kFingerReach);
+        }
+      }
+      if (std::isfinite(rod) || std::isfinite(hand)) {
+        hits.push_back({std::min(rod, hand), z, hand < rod});
+      }
+    }
+  }
+  if (!std::isfinite(base)) base = any_base;
+  c.base = std::max(0.001, std::isfinite(base) ? base : 0.0);
+  if (hits.empty()) return c;
+  const double first = std::min_element(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+                         return a.at < b.at;
+                       })->at;
+  c.met = true;
+  c.height = std::numeric_limits<double>::infinity();
+  for (const Hit& h : hits) {
+    if (h.at > first + kContactBand) continue;
+    if (h.z < c.height) {
+      c.height = h.z;
+      c.jaws = h.jaws;
+    }
+  }
+  c.ratio = kToppleFriction * c.height / c.base;
+  return c;
 }
 
 double hand_lack(const robot::TablePush& push, bool jaws_along,
@@ -1548,9 +1641,16 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     double approach;
     robot::TablePush push;
     double shortened = 0;
-    double hand = 0;  // hand_lack's part of blocked
+    double hand = 0;    // hand_lack's part of blocked
+    double topple = 0;  // push_contact's ratio (topple_ratio)
+    double offset = 0;  // topple_offset: the line shifted sideways, m
   };
   std::vector<Candidate> feasible;
+  // topple_ratio: the pushed object's depth points, to judge where each push meets it.
+  const std::vector<Eigen::Vector3d> topple_points =
+      options.topple_ratio > 0 && !view.depth.empty()
+          ? object_depth_points(view.depth, view.camera, o.hull_pixels, o.mask, o.box, kDepthStep)
+          : std::vector<Eigen::Vector3d>{};
   // hand_margin: the hand's shortfall of a push, which is set to the jaws' line (hand_jaws) and
   // the tip's height (hand_raise) that block it least. 0 when hand_margin is 0.
   const bool low_object = o.height && *o.height < tip + kFingerDrop - kDescentHeightMargin;
@@ -1593,7 +1693,49 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       ++plan.rejected_region;
       return std::nullopt;
     }
-    const double hand = hand_fit(push);
+    double hand = hand_fit(push);
+    double topple = 0;
+    double offset = 0;
+    if (static_cast<int>(topple_points.size()) >= kFootprintLeastPoints) {
+      const Eigen::Vector2d n = (t - o.centre).normalized();
+      const auto ratio = [&](robot::JawLine j, double e) {
+        return push_contact(topple_points, o.centre, n, push.height, j, options.roll_across, e)
+            .ratio;
+      };
+      topple = ratio(push.jaws, 0.0);
+      if (topple > options.topple_ratio && options.topple_offset > 0) {
+        // The jaws across, then the line shifted to meet a low part (1 cm steps, either way).
+        const robot::JawLine across = robot::JawLine::kAcross;
+        if (const double r = ratio(across, 0.0); r <= options.topple_ratio) {
+          topple = r;
+          push.jaws = across;
+        }
+        for (double e = kToppleStep;
+             topple > options.topple_ratio && e <= options.topple_offset + 1e-9; e += kToppleStep) {
+          for (const double side : {e, -e}) {
+            const double r = ratio(across, side);
+            if (r > options.topple_ratio) continue;
+            const Eigen::Vector2d shift = side * Eigen::Vector2d(-n.y(), n.x());
+            robot::TablePush shifted =
+                push_through_centre(o.hull, o.centre + shift, t + shift, approach, push.height,
+                                    push.speed, options.pusher_radius);
+            shifted.jaws = across;
+            if (!inside_region(shifted.start, region, options.table_margin)) continue;
+            push = shifted;
+            topple = r;
+            offset = side;
+            break;
+          }
+        }
+      }
+      if (topple > options.topple_ratio) {
+        ++plan.rejected_topple;
+        return std::nullopt;
+      }
+      if (push.jaws != jaws && options.hand_margin > 0) {
+        hand = hand_lack(push, false, obstacle_objects, options.hand_margin);
+      }
+    }
     if (options.descent_clearance > 0 &&
         (heights ? descent_blocked(push.start, o, obstacle_objects, options.descent_clearance,
                                    push.height)
@@ -1615,8 +1757,17 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
                            sweep_lack(o.hull, o.centre, t, obstacles, options.sweep_margin,
                                       options.sweep_touching, turn) +
                            hand;
-    return Candidate{
-        kBlockedWeight * blocked + cost, cost, blocked, false, t, approach, push, 0.0, hand};
+    return Candidate{kBlockedWeight * blocked + cost,
+                     cost,
+                     blocked,
+                     false,
+                     t,
+                     approach,
+                     push,
+                     0.0,
+                     hand,
+                     topple,
+                     offset};
   };
   // A waypoint path: the second leg, from the waypoint t on to the target, as the next plan would
   // make it, its cost and shortfalls added to the first leg's c. false when it cannot be made.
@@ -1762,6 +1913,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     plan.hand_blocked = c.hand;
     plan.via = c.via;
     plan.shortened = c.shortened;
+    plan.topple = c.topple;
+    plan.offset = c.offset;
     plan.direction = (c.target - o.centre).normalized();
     plan.edge_distance = distance_to_hull_edge(o.hull, o.centre, -plan.direction);
   };
@@ -1801,6 +1954,9 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
         "no path: of " + std::to_string(plan.sampled) + " sampled, " +
             std::to_string(plan.rejected_region) + " left the table or view and " +
             std::to_string(plan.rejected_reach) + " were out of the arm's reach" +
+            (plan.rejected_topple > 0
+                 ? " and " + std::to_string(plan.rejected_topple) + " would tip the object over"
+                 : std::string()) +
             (plan.rejected_descent > 0
                  ? " and " + std::to_string(plan.rejected_descent) +
                        " would meet an object on the arm's way down (the first: " + first_met + ")"
@@ -1809,6 +1965,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
                      " to " + metres(plan.push.end) + ", its centre to " + metres(plan.target);
   if (plan.via) said += " (a waypoint round a blocked line)";
+  if (plan.offset != 0) {
+    said += " (its line " + std::to_string(static_cast<int>(std::lround(plan.offset * 1000))) +
+            " mm to the left of the centre: through the centre it would tip over)";
+  }
   if (plan.target_moved > 0) {
     said += " (the target " + metres(target) +
             " lies against another object: the nearest free point, " +
@@ -1816,7 +1976,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
             " mm from it)";
   }
   if (plan.descent_met) said += " (every path's way down meets an object: " + first_met + ")";
-  if (plan.push.jaws != jaws) said += " (the jaws along the push: the hand clears)";
+  if (plan.push.jaws != jaws && plan.push.jaws == robot::JawLine::kAlong) {
+    said += " (the jaws along the push: the hand clears)";
+  }
+  if (plan.push.jaws != jaws && plan.push.jaws == robot::JawLine::kAcross) {
+    said += " (the jaws across the push: with them as they were it would tip over)";
+  }
   if (plan.push.height > tip + 1e-9) {
     said += " (the tip raised to " +
             std::to_string(static_cast<int>(std::lround(plan.push.height * 1000))) +

@@ -1516,5 +1516,177 @@ TEST(PushPlanner, ATargetAgainstANeighbourBecomesTheNearestPointAStraightPushRea
   EXPECT_THROW(bad.validate(), Error);
 }
 
+// Depth points (table frame, m) of a toy bicycle centred at `c`, its wheels along x: two wheels
+// (discs of radius 4 cm in the x-z plane, 3 cm thick) at x = +-5.5 cm and a frame bar 5.7-7.3 cm
+// up between them (the catalogue's bike), every 2 mm.
+std::vector<Eigen::Vector3d> bike_points(const Eigen::Vector2d& c) {
+  std::vector<Eigen::Vector3d> p;
+  for (double x = -0.1; x <= 0.1; x += 0.002) {
+    for (double z = 0.0; z <= 0.08; z += 0.002) {
+      const double w = std::abs(x) - 0.055;
+      const bool wheel = w * w + (z - 0.04) * (z - 0.04) <= 0.04 * 0.04;
+      const bool frame = std::abs(x) <= 0.05 && z >= 0.057 && z <= 0.073;
+      for (double y = -0.015; y <= 0.0151; y += 0.005) {
+        if (wheel || (frame && std::abs(y) <= 0.008)) p.emplace_back(c.x() + x, c.y() + y, z);
+      }
+    }
+  }
+  return p;
+}
+
+// A box's depth points (its top and sides), every 2 mm.
+std::vector<Eigen::Vector3d> box_points(const Eigen::Vector2d& c, double hx, double hy, double h) {
+  std::vector<Eigen::Vector3d> p;
+  for (double x = -hx; x <= hx + 1e-9; x += 0.002) {
+    for (double y = -hy; y <= hy + 1e-9; y += 0.002) {
+      for (double z = kObjectLeastHeight; z <= h + 1e-9; z += 0.002) {
+        p.emplace_back(c.x() + x, c.y() + y, z);
+      }
+    }
+  }
+  return p;
+}
+
+TEST(PushContact, APushAcrossTheWheelsMeetsTheBikeHighAndTipsItAlongTheWheelsItSlides) {
+  const Eigen::Vector2d c(0.30, 0.05);
+  const std::vector<Eigen::Vector3d> bike = bike_points(c);
+  const double tip = 0.008;
+  // Along the wheels' line: the first wheel's rim is met (the jaws' disc, the robot's roll
+  // unknown, 3 cm ahead of the rod, meets it from 3.8 cm up), its foot reaches 9 cm ahead: it
+  // slides.
+  const PushContact along = push_contact(bike, c, {1, 0}, tip);
+  EXPECT_TRUE(along.met);
+  EXPECT_GT(along.base, 0.08);
+  EXPECT_LT(along.ratio, 0.5);
+  // The jaws across the push pass beside the 3 cm thick wheels: the rod meets the rim, lower.
+  const PushContact rod = push_contact(bike, c, {1, 0}, tip, robot::JawLine::kAcross);
+  EXPECT_FALSE(rod.jaws);
+  EXPECT_LT(rod.height, along.height + 1e-9);
+  EXPECT_LT(rod.ratio, 0.5);
+  // Across, through the middle: the rod passes between the wheels under the frame, and the jaws
+  // (across, 2-3 cm to either side of the rod) meet the wheels' faces 3.8 cm up; the foot
+  // reaches 1.5 cm ahead: it tips (friction 0.8 x 3.8 / 1.5 = 2).
+  const PushContact across = push_contact(bike, c, {0, 1}, tip, robot::JawLine::kAcross);
+  EXPECT_TRUE(across.met);
+  EXPECT_TRUE(across.jaws);
+  EXPECT_NEAR(across.height, tip + kFingerDrop, 0.0025);
+  EXPECT_NEAR(across.base, 0.015, 0.0025);
+  EXPECT_GT(across.ratio, 1.5);
+  // The jaws along the push: the one ahead meets the frame and the wheels' inner edges.
+  EXPECT_GT(push_contact(bike, c, {0, 1}, tip, robot::JawLine::kAlong).ratio, 1.5);
+  // Shifted 5 cm onto a wheel the rod meets the wheel's face at its tip, but the jaws beside it
+  // meet the same face 7 mm sooner, 3.8 cm up: this hand tips the bike across its wheels
+  // wherever it aims.
+  const PushContact wheel =
+      push_contact(bike, c, {0, 1}, tip, robot::JawLine::kAcross, false, 0.05);
+  EXPECT_TRUE(wheel.jaws);
+  EXPECT_GT(wheel.ratio, 1.5);
+  // The camera sees one side: half the points (those toward -y) give the same verdicts.
+  std::vector<Eigen::Vector3d> half;
+  for (const auto& p : bike) {
+    if (p.y() <= c.y()) half.push_back(p);
+  }
+  EXPECT_GT(push_contact(half, c, {0, -1}, tip, robot::JawLine::kAcross).ratio, 1.5);
+  EXPECT_LT(push_contact(half, c, {1, 0}, tip).ratio, 0.5);
+  // A book (the catalogue's, 15 x 21 x 3.5 cm) slides every way; a 6 mm thin box, lower than
+  // the pusher's lowest point (its tip 8 mm up), is not met.
+  const std::vector<Eigen::Vector3d> book = box_points(c, 0.075, 0.105, 0.035);
+  for (double a = 0; a < 6.28; a += 0.5) {
+    const PushContact b = push_contact(book, c, {std::cos(a), std::sin(a)}, tip);
+    EXPECT_TRUE(b.met);
+    EXPECT_LT(b.ratio, 0.5) << a;
+  }
+  const PushContact cd = push_contact(box_points(c, 0.06, 0.06, 0.006), c, {1, 0}, tip);
+  EXPECT_FALSE(cd.met);
+  EXPECT_EQ(cd.ratio, 0.0);
+  EXPECT_FALSE(push_contact({}, c, {1, 0}, tip).met);
+  // Bad input.
+  EXPECT_THROW((void)push_contact(bike, c, {1, 1}, tip), Error);
+  EXPECT_THROW((void)push_contact(bike, c, {1, 0}, -0.001), Error);
+}
+
+TEST(PushPlanner, ToppleRatioLeavesOutPushesThatWouldTipALeggedObject) {
+  // The toy bicycle of boxes (two 8 x 3 x 8 cm wheels, a frame bar 5.7-7.3 cm up between them) at
+  // (0.24, 0), seen in depth by the oblique camera: pushed 10 cm across its wheels (+y), the
+  // pusher would pass between the wheels under the frame; along them (+x) it meets a wheel.
+  const geometry::Camera cam = oblique_camera();
+  const Eigen::Vector2d c(0.24, 0.0);
+  const std::vector<test::DepthBox> boxes{{{c.x() - 0.055, c.y()}, 0.04, 0.015, 0.08, 0.0},
+                                          {{c.x() + 0.055, c.y()}, 0.04, 0.015, 0.08, 0.0},
+                                          {c, 0.05, 0.008, 0.073, 0.0, 0.057}};
+  cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
+  for (const auto& b : boxes) draw_checkered_box(img, cam, b.c, b.hx, b.hy, b.h, b.yaw);
+  const cv::Mat1f depth = test::render_boxes_depth(cam, boxes);
+  PushPlanOptions o;
+  const PlanningView view = make_planning_view(textured_points(img, o), cam, {}, o, depth);
+  ASSERT_EQ(view.objects.size(), 1U);
+  ASSERT_TRUE(view.objects[0].height.has_value());
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const auto plan = [&](const Eigen::Vector2d& target) {
+    return plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+  };
+  const Eigen::Vector2d across = view.objects[0].centre + Eigen::Vector2d(0.0, 0.10);
+  const Eigen::Vector2d along = view.objects[0].centre + Eigen::Vector2d(0.10, 0.0);
+  // Off (the default): both planned, nothing judged.
+  const PushPlan off = plan(across);
+  ASSERT_EQ(off.outcome, PlanOutcome::kPlanned) << off.message;
+  EXPECT_EQ(off.rejected_topple, 0);
+  EXPECT_EQ(off.topple, 0.0);
+  ASSERT_EQ(plan(along).outcome, PlanOutcome::kPlanned);
+  // On: across is not planned (every sampled push would tip it), along is.
+  o.topple_ratio = 1.0;
+  const PushPlan no = plan(across);
+  EXPECT_EQ(no.outcome, PlanOutcome::kUnreachable) << no.message;
+  EXPECT_GT(no.rejected_topple, 0);
+  EXPECT_NE(no.message.find("tip the object over"), std::string::npos) << no.message;
+  const PushPlan yes = plan(along);
+  ASSERT_EQ(yes.outcome, PlanOutcome::kPlanned) << yes.message;
+  EXPECT_GT(yes.topple, 0.0);
+  EXPECT_LE(yes.topple, 1.0);
+  EXPECT_EQ(yes.offset, 0.0);
+  // Without depth the option does nothing.
+  PlanningView plain = view;
+  plain.depth = cv::Mat();
+  const PushPlan blind = plan_push(plain, 0, PushGoal::kTarget, across, {}, state, q0, o);
+  EXPECT_EQ(blind.rejected_topple, 0);
+  // Bounds.
+  PushPlanOptions bad;
+  bad.topple_ratio = -0.1;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.topple_ratio = 1.0;
+  bad.topple_offset = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
+TEST(PushPlanner, ToppleOffsetTurnsTheJawsAcrossSoThatTheRodMeetsANarrowTallBoxLow) {
+  // A 7 x 3 x 15 cm box at (0.24, 0) pushed 10 cm along its length (+x): with the robot's own
+  // roll (unknown) the jaws may reach 3 cm ahead of the rod and meet its end 3.8 cm up
+  // (0.8 x 3.8 / 3.5 = 0.87); turned across the push they pass either side of it (2-3 cm off the
+  // line, the box 1.5 cm) and the rod meets it at its foot.
+  const geometry::Camera cam = oblique_camera();
+  const Eigen::Vector2d c(0.24, 0.0);
+  cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
+  draw_checkered_box(img, cam, c, 0.035, 0.015, 0.15, 0.0);
+  const cv::Mat1f depth = render_box_depth(cam, c, 0.035, 0.015, 0.15, 0.0);
+  PushPlanOptions o;
+  const PlanningView view = make_planning_view(textured_points(img, o), cam, {}, o, depth);
+  ASSERT_EQ(view.objects.size(), 1U);
+  robot::ArmState state(arm());
+  const robot::JointVector q0 = robot::JointVector::Zero();
+  const Eigen::Vector2d target = view.objects[0].centre + Eigen::Vector2d(0.10, 0.0);
+  o.topple_ratio = 0.7;
+  const PushPlan robot_roll = plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+  EXPECT_EQ(robot_roll.outcome, PlanOutcome::kUnreachable) << robot_roll.message;
+  EXPECT_GT(robot_roll.rejected_topple, 0);
+  o.topple_offset = 0.02;
+  const PushPlan turned = plan_push(view, 0, PushGoal::kTarget, target, {}, state, q0, o);
+  ASSERT_EQ(turned.outcome, PlanOutcome::kPlanned) << turned.message;
+  EXPECT_EQ(turned.push.jaws, robot::JawLine::kAcross);
+  EXPECT_EQ(turned.offset, 0.0);
+  EXPECT_LT(turned.topple, 0.5);
+  EXPECT_NE(turned.message.find("jaws across"), std::string::npos) << turned.message;
+}
+
 }  // namespace
 }  // namespace proprio::planning

@@ -15,13 +15,15 @@
 namespace proprio::test {
 
 /// A box standing on the table (z = 0): footprint centre (x, y), half sides along its own axes,
-/// height, m; turned by `yaw` rad about the vertical.
+/// height (its top), m; turned by `yaw` rad about the vertical; its bottom `z0` above the table
+/// (0: on it; above 0, held up there, as a bicycle's frame between its wheels).
 struct DepthBox {
   Eigen::Vector2d c;
   double hx = 0.0;
   double hy = 0.0;
   double h = 0.0;
   double yaw = 0.0;
+  double z0 = 0.0;
 };
 
 /// A pinhole camera at `eye` looking at `target` (base frame, m; never straight down), OpenCV
@@ -61,7 +63,7 @@ inline cv::Mat1f render_boxes_depth(const geometry::Camera& cam,
         o << to_box * (eye.head<2>() - b.c), eye.z();
         Eigen::Vector3d dir;
         dir << to_box * d.head<2>(), d.z();
-        const double lo[3] = {-b.hx, -b.hy, 0};
+        const double lo[3] = {-b.hx, -b.hy, b.z0};
         const double hi[3] = {b.hx, b.hy, b.h};
         double enter = 0;
         double leave = std::numeric_limits<double>::infinity();

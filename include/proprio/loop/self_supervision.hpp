@@ -289,6 +289,15 @@ struct SelfSupervisionOptions {
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
   /// planner measures each blob's footprint and height from depth (descent check by height).
   bool depth = false;
+  /// Pushes that would tip the pushed object over are not taken (planning::PushPlanOptions::
+  /// topple_ratio, judged from its depth points: where the pusher and the hand meet it first
+  /// against how far its foot reaches ahead): a learn push tries the other sides instead. Turns
+  /// the RGB-D camera on (as `depth`). 0 (the default): off. Session 29: the giraffe and the bike
+  /// toppled in nearly every push.
+  double topple_ratio = 0;
+  /// With topple_ratio: a tipping push is tried with the jaws across, then shifted sideways by up
+  /// to this (planning::PushPlanOptions::topple_offset), m. 0 (the default): neither.
+  double topple_offset = 0;
   std::filesystem::path out;  ///< output directory (required by run_self_supervision)
   bool overwrite = false;
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
@@ -410,6 +419,16 @@ struct SelfSupervisionOptions {
     v(self.depth, {"depth",
                    "An RGB-D camera: plan from each blob's footprint and height "
                    "measured from depth"});
+    v(self.topple_ratio,
+      {"topple_ratio",
+       "Depth: pushes whose first contact would tip the object (friction x contact height / its "
+       "foot's reach above this) are not taken; turns the RGB-D camera on (0: off)",
+       core::between(0.0, 10.0)});
+    v(self.topple_offset,
+      {"topple_offset",
+       "With topple_ratio: a tipping push is tried with the jaws across, then shifted sideways by "
+       "up to this to meet a low part, m (0: neither)",
+       core::between(0.0, 0.05)});
     v(self.mot.components,
       {"mot_components", "Mixture of Topics: Dirichlets per object at most (1: the thesis's)",
        core::between(1, 10)});

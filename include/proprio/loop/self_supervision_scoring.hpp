@@ -41,6 +41,9 @@ struct PushTruth {
   std::vector<std::string> moved;  ///< objects whose centre moved > kMovedThreshold
   bool only_intended = false;      ///< the intended object moved and nothing else
   int fell_off = 0;                ///< objects that left the table in this push
+  /// Objects standing before the push and lying after it (sim::ObjectTruth::upright), by name.
+  std::vector<std::string> tipped;
+  bool lying_before = false;  ///< the intended object lay on its side when the push began
   bool executed = false;
   int views = 0;           ///< learn pushes: training views taken
   std::string view_truth;  ///< learn pushes: the object under most of the learner's last mask
@@ -170,6 +173,13 @@ struct ObjectScore {
   int chosen = 0;              ///< rounds whose (a)/(d) chose it
   /// Mean turn of it per executed learn push aimed at it (PushTruth::turn_deg), degrees.
   double turn_deg = 0;
+  /// Executed pushes aimed at it (both phases), and of them those it stood before and lay after
+  /// (PushTruth::tipped); learn pushes aimed at it that began with it lying (tipped earlier).
+  int pushes = 0;
+  int tipped = 0;
+  int learn_lying = 0;
+  /// Executed pushes aimed at another object during which it tipped over.
+  int tipped_by_others = 0;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -184,6 +194,11 @@ struct ObjectScore {
     v(self.learn_pushes, {"learn_pushes", "Executed learn pushes aimed at it"});
     v(self.chosen, {"chosen", "Rounds that chose it"});
     v(self.turn_deg, {"turn_deg", "Mean turn per learn push aimed at it, degrees"});
+    v(self.pushes, {"pushes", "Executed pushes aimed at it (both phases)"});
+    v(self.tipped, {"tipped", "Of them, those it stood before and lay after"});
+    v(self.learn_lying, {"learn_lying", "Learn pushes aimed at it that began with it lying"});
+    v(self.tipped_by_others,
+      {"tipped_by_others", "Pushes aimed at another object during which it tipped over"});
   }
 };
 

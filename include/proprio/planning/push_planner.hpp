@@ -229,6 +229,21 @@ struct PushPlanOptions {
   /// ends with the object where the last push left it. The first push is planned as before.
   /// m; 0 (the default): corrections are planned and made as the first push.
   double correction_hand_margin = 0;
+  /// Depth: a push whose first contact with the pushed object (push_contact from its depth
+  /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
+  /// reach ahead of the centre) is not sampled (PushPlan::rejected_topple): the object would
+  /// fall over rather than slide (session 29: the giraffe and the bike toppled in 30 of 34
+  /// pushes, their bodies met above their legs and wheels). When every path is rejected so the
+  /// plan fails (kUnreachable), and a caller that tries other sides (selfsupervise's learn
+  /// pushes) tries them. 0 (the default), or no depth image: not checked.
+  double topple_ratio = 0;
+  /// With topple_ratio: a push that would tip the object is also tried with the jaws turned
+  /// across the push (robot::JawLine::kAcross: the fingers 2-3 cm to either side, not ahead), then
+  /// with its line shifted sideways in 1 cm steps by up to this, m, either way (the pusher aimed
+  /// at a low part, a leg or a wheel, off the centre: the object turns as well as slides; a
+  /// departure from thesis 7.2.1's push through the centre, PushPlan::offset); the first that
+  /// does not tip it is kept. 0 (the default): neither.
+  double topple_offset = 0;
   std::uint64_t seed = 1;
 
   /// Throws Error naming the first option out of its bounds or inconsistent.
@@ -362,6 +377,16 @@ struct PushPlanOptions {
        "Closed loop: correction pushes are planned with at least this hand margin and not made "
        "when the hand is still blocked, m (0: off)",
        core::between(0, 0.05)});
+    v(self.topple_ratio,
+      {"topple_ratio",
+       "Depth: pushes whose first contact, judged from the object's depth points, would tip it "
+       "(friction x contact height / foot reach above this) are not taken (0: off)",
+       core::between(0, 10)});
+    v(self.topple_offset,
+      {"topple_offset",
+       "With topple_ratio: a tipping push is tried with the jaws across, then shifted sideways by "
+       "up to this to meet a low part, m (0: neither)",
+       core::between(0, 0.05)});
     v(self.seed, {"plan_seed", "Seed of the sampled paths"});
   }
 };
@@ -415,6 +440,69 @@ std::optional<MeasuredFootprint> measure_footprint(const cv::Mat& depth,
                                                    const std::vector<Eigen::Vector2d>& hull_pixels,
                                                    const cv::Mat& mask = {}, cv::Rect box = {},
                                                    int step = 1);
+
+/// The depth points measure_footprint takes as the object's (same arguments, same checks): each
+/// pixel inside `hull_pixels` and `mask`, every `step` px, back-projected to the world (base frame,
+/// table top z = 0, m), those at least kObjectLeastHeight above the table. Empty when none (or
+/// fewer than 3 hull pixels).
+std::vector<Eigen::Vector3d> object_depth_points(const cv::Mat& depth,
+                                                 const geometry::Camera& camera,
+                                                 const std::vector<Eigen::Vector2d>& hull_pixels,
+                                                 const cv::Mat& mask = {}, cv::Rect box = {},
+                                                 int step = 1);
+
+/// Friction push_contact assumes between an object and the table: the simulated table's 0.8
+/// (MuJoCo takes the larger of two geoms' coefficients, so every object slides at >= 0.8).
+inline constexpr double kToppleFriction = 0.8;
+/// push_contact: the object's points met within this of the first contact (along the push) are
+/// met at once, m (the object gives a little as the first point is pushed).
+inline constexpr double kContactBand = 0.004;
+/// push_contact: the object's foot, what it stands on, is its points up to this high, m.
+inline constexpr double kFootHeight = 0.02;
+/// The pusher's radius (data/models/arm.xml's capsule, its tip the end effector), m.
+inline constexpr double kPusherRadius = 0.008;
+/// How far the jaws reach along their own line (arm.xml: the finger boxes 3 cm wide), and how
+/// long they are (7 cm, from kFingerDrop above the tip up), m.
+inline constexpr double kJawLength = 0.07;
+
+/// What a push meets first (push_contact), judged from the object's depth points.
+struct PushContact {
+  bool met = false;   ///< the pusher or the hand meets one of the points
+  bool jaws = false;  ///< the first contact is the jaws' or the palm's, not the pusher rod's
+  /// The lowest point met at the first contact (within kContactBand of it), m above the table.
+  double height = 0;
+  /// How far the object's foot (points up to kFootHeight, or all when none are that low) reaches
+  /// ahead of its centre along the push, m (at least 1 mm): the edge it would tip about.
+  double base = 0;
+  /// kToppleFriction * height / base: an object pushed at `height` slides while its friction
+  /// (kToppleFriction times its weight) turns it about its foot's front edge less than its weight
+  /// at `base` holds it back; above 1 it tips over instead (statics of a rigid body, its centre
+  /// of mass over `centre`). 0 when nothing is met.
+  double ratio = 0;
+};
+
+/// Where a straight push through `centre` along `direction` (table m, unit) first meets an object
+/// whose depth points (object_depth_points, table frame, m) are `points`: the hand's parts swept
+/// along the line, the vertical pusher rod (radius kPusherRadius, from `tip_height` up to the
+/// palm), the jaws from kFingerDrop above the tip (`jaws`, `roll_across` as push_jaws and
+/// sim::TableOptions::roll_across set them: across the push, the finger boxes kFingerReach - 1 cm
+/// to kFingerReach off the line and kJawHalf ahead of the axis; along, one of them kFingerReach
+/// ahead, kJawHalf either side; the robot's own roll unknown, a disc of radius kFingerReach). The
+/// palm (kPalmDrop above the tip) is left out: judged as a disc of kPalmReach it met every object
+/// taller than 11 cm first, the 23.5 cm bottle too, yet with the jaws across the bottle pushed at
+/// its foot stood in 4 of 5 single pushes (session 29). The camera sees one side of the object: the
+/// points are taken with their reflection through `centre` (the unseen side as the seen one
+/// turned half round). The first contact's lowest point is where the object is pushed once it
+/// starts to turn (its higher points lean away from a vertical rod), so a rod that meets a leg
+/// or a wheel near the table pushes it there, and one that passes between them under a body
+/// meets the body high. Thesis 7.2.1's push through the centre is kept; only whether it tips is
+/// judged. `offset` (m) shifts the pusher's line sideways, to the left of `direction` (its foot
+/// stays judged about `centre`). Throws Error when `direction` is not a unit vector or tip_height
+/// is negative.
+PushContact push_contact(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector2d& centre,
+                         const Eigen::Vector2d& direction, double tip_height,
+                         robot::JawLine jaws = robot::JawLine::kRobot, bool roll_across = false,
+                         double offset = 0);
 
 /// Side of the cells of depth_tops's top-down height map, m.
 inline constexpr double kTopCell = 0.004;
@@ -578,6 +666,14 @@ struct PushPlan {
   int rejected_reach = 0;   ///< of them out of the arm's reach
   /// Of them whose arm would meet an object on its way down (PushPlanOptions::descent_pose_margin).
   int rejected_descent = 0;
+  /// Of them that would tip the object over (PushPlanOptions::topple_ratio).
+  int rejected_topple = 0;
+  /// The taken push's tipping ratio (push_contact), when PushPlanOptions::topple_ratio is on and
+  /// depth measured the object; 0 otherwise.
+  double topple = 0;
+  /// topple_offset: the push's line is shifted this far to the left of its direction, m (0:
+  /// through the centre).
+  double offset = 0;
   /// The plan's own descent meets an object: every path's did, and
   /// PushPlanOptions::descent_pose_fallback took the best of them anyway.
   bool descent_met = false;
