@@ -16,6 +16,7 @@
 #include <set>
 
 #include "arm_image.hpp"
+#include "mask_morphology.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
@@ -284,22 +285,6 @@ fs::path trial_dir(const fs::path& cache, std::uint64_t seed, const std::string&
   return cache / ("seed_" + std::to_string(seed)) / (object + "_t" + std::to_string(trial + 1));
 }
 
-cv::Mat dilated(const cv::Mat& mask, int px) {
-  if (px <= 0) return mask;
-  cv::Mat out;
-  cv::dilate(mask, out,
-             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * px + 1, 2 * px + 1)));
-  return out;
-}
-
-cv::Mat eroded(const cv::Mat& mask, int px) {
-  if (px <= 0) return mask;
-  cv::Mat out;
-  cv::erode(mask, out,
-            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * px + 1, 2 * px + 1)));
-  return out;
-}
-
 // A segmented push's views at every fraction: descriptors per view (CV_32F rows).
 using ViewsByFraction = ClutterViews;
 
@@ -313,10 +298,10 @@ ViewsByFraction push_views(const fs::path& episode_dir, const ClutterExperimentO
   const auto take = [&](std::size_t fi, int i, const cv::Mat& m0) {
     cv::Mat m = m0.clone();
     m.setTo(0, arm_mask(i, m.size()));
-    m = eroded(m, o.erode);
+    m = detail::eroded(m, o.erode);
     if (cv::countNonZero(m) == 0) return;
     const features::Features f =
-        features::extract_features(e.frame(i), o.features, dilated(m, o.dilate));
+        features::extract_features(e.frame(i), o.features, detail::dilated(m, o.dilate));
     if (f.size() < o.min_features) return;
     out[fi].push_back(f.descriptors.clone());
   };
@@ -1136,7 +1121,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
                           ": missing or not the view's size");
             }
             const features::Features f =
-                features::extract_features(image, o.features, dilated(mask, o.dilate));
+                features::extract_features(image, o.features, detail::dilated(mask, o.dilate));
             if (f.size() < o.min_features) continue;  // as score_self_supervision
             d.held[oi].push_back(f.descriptors.clone());
           }

@@ -21,6 +21,7 @@
 
 #include "arm_image.hpp"
 #include "blob_tracking.hpp"
+#include "mask_morphology.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
@@ -114,14 +115,6 @@ using detail::blob_mask;
 
 int track(const planning::PlanningView& view, const Eigen::Vector2d& centre, double radius) {
   return detail::nearest_blob(view, centre, radius);
-}
-
-cv::Mat dilated(const cv::Mat& mask, int px) {
-  if (px <= 0) return mask;
-  cv::Mat m;
-  cv::dilate(mask, m,
-             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * px + 1, 2 * px + 1)));
-  return m;
 }
 
 // The blob of `view` with most feature points inside `mask` (image size); -1 none.
@@ -826,7 +819,7 @@ class Learner {
           if (b >= 0 && !someones) {
             cv::Mat region;
             cv::bitwise_and(
-                dilated(td.mask, o_.dilate),
+                detail::dilated(td.mask, o_.dilate),
                 blob_mask(view.objects[static_cast<std::size_t>(b)], current_.image.size()),
                 region);
             const std::size_t before = view.objects.size();
@@ -1367,7 +1360,7 @@ class Learner {
         if (!keep[static_cast<std::size_t>(labels(y, x))]) last(y, x) = 0;
       }
     }
-    cv::Mat region = dilated(last, o_.dilate);
+    cv::Mat region = detail::dilated(last, o_.dilate);
     // An object carried along with c is not c: its region is cut out of c's.
     for (int k : carried) region.setTo(0, region_of_[static_cast<std::size_t>(k)]);
     region_of_[static_cast<std::size_t>(c)] = region;
@@ -1579,7 +1572,7 @@ class Learner {
         write_png(dir / "frame.png", seg.frame);
         timed("words", [&] {
           for (std::size_t v = 0; v < seg.view_masks.size(); ++v) {
-            const cv::Mat m = dilated(seg.view_masks[v].second, o_.dilate);
+            const cv::Mat m = detail::dilated(seg.view_masks[v].second, o_.dilate);
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
             views_.push_back({c, done, f.descriptors.clone()});

@@ -12,6 +12,7 @@
 #include <set>
 #include <utility>
 
+#include "mask_morphology.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
@@ -535,15 +536,6 @@ int window_content(const cv::Mat& ids, int id, const cv::KeyPoint& k, float side
   return bits;
 }
 
-cv::Mat grown(const cv::Mat& mask, int dilate) {
-  if (dilate <= 0) return mask.clone();
-  cv::Mat m;
-  const cv::Mat kernel =
-      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilate + 1, 2 * dilate + 1));
-  cv::dilate(mask, m, kernel);
-  return m;
-}
-
 // The words of the features of `f` in `rows` (none when `rows` is empty).
 std::vector<std::int32_t> words_of(const features::Vocabulary& vocabulary,
                                    const features::Features& f, const std::vector<int>& rows) {
@@ -586,11 +578,12 @@ void probe_push_view(Probes& p, const std::string& name, int frame_id, const cv:
   cv::erode(mg & mr, core_both, cv::Mat(), {-1, -1}, 2);
   if (cv::countNonZero(core_both) > 0)
     p.stat(name, "grey_diff_object", cv::mean(diff, core_both)[0]);
-  const cv::Mat band = grown(mg | mr, 12) & ~grown(mg | mr, 2) & (frame_ids == 0);
+  const cv::Mat band =
+      detail::dilated(mg | mr, 12) & ~detail::dilated(mg | mr, 2) & (frame_ids == 0);
   if (cv::countNonZero(band) > 0) p.stat(name, "grey_diff_table_band", cv::mean(diff, band)[0]);
   // Features: what their windows reach, and their words against the render's at the same points.
-  const cv::Mat fm = grown(mg, o.dilate);
-  const cv::Mat rm = grown(mr, o.dilate);
+  const cv::Mat fm = detail::dilated(mg, o.dilate);
+  const cv::Mat rm = detail::dilated(mr, o.dilate);
   const features::Features ff = features::extract_features(frame, o.features, fm);
   const features::Features fr = features::extract_features(render, o.features, rm);
   const std::vector<std::int32_t> wf = ff.size() > 0
