@@ -289,10 +289,11 @@ std::vector<Eigen::Vector3d> object_depth_points(const cv::Mat& depth,
                                                  const geometry::Camera& camera,
                                                  const std::vector<Eigen::Vector2d>& hull_pixels,
                                                  const cv::Mat& mask, cv::Rect box, int step) {
-  require(depth.type() == CV_32FC1, "measure_footprint: the depth image must be CV_32FC1 (metres)");
-  require(step >= 1, "measure_footprint: step must be at least 1");
+  require(depth.type() == CV_32FC1,
+          "object_depth_points: the depth image must be CV_32FC1 (metres)");
+  require(step >= 1, "object_depth_points: step must be at least 1");
   require(mask.empty() || (mask.type() == CV_8U && mask.size() == box.size()),
-          "measure_footprint: the mask must be 8-bit of its box's size");
+          "object_depth_points: the mask must be 8-bit of its box's size");
   std::vector<Eigen::Vector3d> out;
   if (hull_pixels.size() < 3) return out;
   std::vector<cv::Point2f> poly;
