@@ -27,9 +27,16 @@ namespace proprio {
 namespace {
 namespace fs = std::filesystem;
 
-// mpirun as CI runs it: as root, more ranks than cores, a bounded time.
+// mpirun as CI runs it: as root, more ranks than cores, a bounded time. Its session directory
+// lies under this process's own temporary directory: ctest runs two test processes at once, and
+// two mpiruns creating the shared /tmp/ompi.<host>.<uid> together can fail ("File exists").
 std::string mpirun(int ranks) {
-  std::string s = "timeout 120 " PROPRIO_MPIEXEC " --allow-run-as-root --oversubscribe -np ";
+  static const test::TempDir kSessions("proprio_", "ompi_sessions");
+  std::string s = "timeout 120 " PROPRIO_MPIEXEC
+                  " --allow-run-as-root --oversubscribe --mca "
+                  "orte_tmpdir_base ";
+  s += kSessions.path().string();
+  s += " -np ";
   s += std::to_string(ranks);
   s += " ";
   return s;
