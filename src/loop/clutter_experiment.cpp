@@ -16,7 +16,6 @@
 #include <set>
 
 #include "arm_image.hpp"
-#include "mask_morphology.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
@@ -25,6 +24,7 @@
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/features.hpp"
 #include "proprio/features/kmeans.hpp"
+#include "proprio/features/mask_morphology.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/clutter_cache.hpp"
 #include "proprio/loop/push_run.hpp"
@@ -298,10 +298,10 @@ ViewsByFraction push_views(const fs::path& episode_dir, const ClutterExperimentO
   const auto take = [&](std::size_t fi, int i, const cv::Mat& m0) {
     cv::Mat m = m0.clone();
     m.setTo(0, arm_mask(i, m.size()));
-    m = detail::eroded(m, o.erode);
+    m = features::eroded(m, o.erode);
     if (cv::countNonZero(m) == 0) return;
     const features::Features f =
-        features::extract_features(e.frame(i), o.features, detail::dilated(m, o.dilate));
+        features::extract_features(e.frame(i), o.features, features::dilated(m, o.dilate));
     if (f.size() < o.min_features) return;
     out[fi].push_back(f.descriptors.clone());
   };
@@ -1121,7 +1121,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
                           ": missing or not the view's size");
             }
             const features::Features f =
-                features::extract_features(image, o.features, detail::dilated(mask, o.dilate));
+                features::extract_features(image, o.features, features::dilated(mask, o.dilate));
             if (f.size() < o.min_features) continue;  // as score_self_supervision
             d.held[oi].push_back(f.descriptors.clone());
           }

@@ -21,7 +21,6 @@
 
 #include "arm_image.hpp"
 #include "blob_tracking.hpp"
-#include "mask_morphology.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
@@ -30,6 +29,7 @@
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/features.hpp"
 #include "proprio/features/kmeans.hpp"
+#include "proprio/features/mask_morphology.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
@@ -819,7 +819,7 @@ class Learner {
           if (b >= 0 && !someones) {
             cv::Mat region;
             cv::bitwise_and(
-                detail::dilated(td.mask, o_.dilate),
+                features::dilated(td.mask, o_.dilate),
                 blob_mask(view.objects[static_cast<std::size_t>(b)], current_.image.size()),
                 region);
             const std::size_t before = view.objects.size();
@@ -1360,7 +1360,7 @@ class Learner {
         if (!keep[static_cast<std::size_t>(labels(y, x))]) last(y, x) = 0;
       }
     }
-    cv::Mat region = detail::dilated(last, o_.dilate);
+    cv::Mat region = features::dilated(last, o_.dilate);
     // An object carried along with c is not c: its region is cut out of c's.
     for (int k : carried) region.setTo(0, region_of_[static_cast<std::size_t>(k)]);
     region_of_[static_cast<std::size_t>(c)] = region;
@@ -1572,7 +1572,7 @@ class Learner {
         write_png(dir / "frame.png", seg.frame);
         timed("words", [&] {
           for (std::size_t v = 0; v < seg.view_masks.size(); ++v) {
-            const cv::Mat m = detail::dilated(seg.view_masks[v].second, o_.dilate);
+            const cv::Mat m = features::dilated(seg.view_masks[v].second, o_.dilate);
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
             views_.push_back({c, done, f.descriptors.clone()});

@@ -17,13 +17,13 @@
 
 #include "arm_image.hpp"
 #include "blob_tracking.hpp"
-#include "mask_morphology.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/progress.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/features.hpp"
+#include "proprio/features/mask_morphology.hpp"
 #include "proprio/loop/depth_alone.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/topics/corpus.hpp"
@@ -760,7 +760,7 @@ class Learner {
     const cv::Size size = seg.ml.frame_maps.front().size();
     if (size != before.image_size || size != after.image_size) return -2;
     const auto grow = [&](const cv::Mat& m) {
-      return m.empty() ? m : detail::dilated(m, o_.dilate);
+      return m.empty() ? m : features::dilated(m, o_.dilate);
     };
     // What moved with the arm at the first touch (where the object was) and at the end.
     cv::Mat touch;
@@ -1395,7 +1395,7 @@ std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& m
                                           const cv::Mat& exclude) {
   // A new matrix: `mask` is the caller's and stays as it was (dilating into a header that
   // shared its data grew the caller's mask by `dilate` px at every call, until session 28).
-  cv::Mat m = detail::dilated(mask, dilate);
+  cv::Mat m = features::dilated(mask, dilate);
   if (!exclude.empty() && cv::countNonZero(exclude) > 0) {
     if (exclude.size() != mask.size() || exclude.type() != CV_8U) {
       throw Error("masked_document: the exclude mask is not CV_8U of the mask's size");

@@ -12,12 +12,12 @@
 #include <set>
 #include <utility>
 
-#include "mask_morphology.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/extraction.hpp"
+#include "proprio/features/mask_morphology.hpp"
 #include "proprio/loop/push_run.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/recognition/topic_mapping.hpp"
@@ -579,11 +579,11 @@ void probe_push_view(Probes& p, const std::string& name, int frame_id, const cv:
   if (cv::countNonZero(core_both) > 0)
     p.stat(name, "grey_diff_object", cv::mean(diff, core_both)[0]);
   const cv::Mat band =
-      detail::dilated(mg | mr, 12) & ~detail::dilated(mg | mr, 2) & (frame_ids == 0);
+      features::dilated(mg | mr, 12) & ~features::dilated(mg | mr, 2) & (frame_ids == 0);
   if (cv::countNonZero(band) > 0) p.stat(name, "grey_diff_table_band", cv::mean(diff, band)[0]);
   // Features: what their windows reach, and their words against the render's at the same points.
-  const cv::Mat fm = detail::dilated(mg, o.dilate);
-  const cv::Mat rm = detail::dilated(mr, o.dilate);
+  const cv::Mat fm = features::dilated(mg, o.dilate);
+  const cv::Mat rm = features::dilated(mr, o.dilate);
   const features::Features ff = features::extract_features(frame, o.features, fm);
   const features::Features fr = features::extract_features(render, o.features, rm);
   const std::vector<std::int32_t> wf = ff.size() > 0

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
+#include "proprio/features/mask_morphology.hpp"
 #include "proprio/geometry/image_file.hpp"
 
 namespace proprio::recognition {
@@ -79,8 +80,7 @@ cv::Mat object_mask(const cv::Mat& ids, int id, int dilate, int erode) {
   cv::Mat m = ids == id;
   const int r = std::max(dilate, erode);
   if (r == 0 || cv::countNonZero(m) == 0) return m;
-  const cv::Mat kernel =
-      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  const cv::Mat kernel = features::disc(r);
   // Outside the image counts as off the object: an object cut by the frame's edge shrinks from
   // it too (the patches there are clipped).
   if (dilate > 0) {
@@ -126,8 +126,7 @@ int adaptive_erosion(const cv::Mat& ids, int id, int erode, int min_features,
     if (roi.contains(p)) inside.push_back(p - roi.tl());
   }
   for (int r = erode; r > 0; --r) {
-    const cv::Mat kernel =
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+    const cv::Mat kernel = features::disc(r);
     cv::Mat m;
     cv::erode(crop, m, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
     int kept = 0;

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "proprio/core/error.hpp"
+#include "proprio/features/mask_morphology.hpp"
 
 namespace proprio::segmentation {
 namespace {
@@ -28,15 +29,6 @@ cv::Mat frame_checked(const episode::Episode& ep, int i, cv::Size size) {
   return f;
 }
 
-cv::Mat1b dilated(const cv::Mat1b& m, int radius) {
-  if (radius <= 0) return m.clone();
-  cv::Mat1b out;
-  const cv::Mat k =
-      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
-  cv::dilate(m, out, k);
-  return out;
-}
-
 // Touch by differencing: the first frame whose moving pixels near the end-effector, outside the
 // dilated motion of the frame pair before, number at least touch_min_pixels.
 std::optional<int> touch_by_differencing(const episode::Episode& ep, const FmOptions& o,
@@ -55,7 +47,8 @@ std::optional<int> touch_by_differencing(const episode::Episode& ep, const FmOpt
                      cv::Point(static_cast<int>(std::lround(ee->x())),
                                static_cast<int>(std::lround(ee->y()))),
                      static_cast<int>(std::lround(o.touch_radius)), cv::Scalar(255), cv::FILLED);
-          const cv::Mat1b evidence = motion & ~dilated(prev_motion, o.arm_dilation) & near;
+          const cv::Mat1b evidence =
+              motion & ~features::dilated(prev_motion, o.arm_dilation) & near;
           // The arm must be moving (else the first jitter would count).
           if (cv::countNonZero(prev_motion) > 0 &&
               cv::countNonZero(evidence) >= o.touch_min_pixels) {
@@ -147,8 +140,9 @@ FmResult segment_fm(const FmFrames& frames, const FmOptions& options) {
   r.summary.touched = true;
   const cv::Size size = frames.touch.size();
 
-  r.arm = dilated(difference_mask(frames.before2, frames.before, options.difference_threshold),
-                  options.arm_dilation);
+  r.arm = features::dilated(
+      difference_mask(frames.before2, frames.before, options.difference_threshold),
+      options.arm_dilation);
   r.motion = difference_mask(frames.before, frames.touch, options.difference_threshold);
   const cv::Mat1b evidence = r.motion & ~r.arm;
   r.summary.moving_pixels = cv::countNonZero(r.motion);
@@ -162,9 +156,7 @@ FmResult segment_fm(const FmFrames& frames, const FmOptions& options) {
   // The hull: between evidence pixels less than 2 fill_radius apart a still pixel costs nothing
   // as object, so the cut fills the gaps that a textured object's moving edges leave.
   cv::Mat1b hull;
-  const cv::Mat disc = cv::getStructuringElement(
-      cv::MORPH_ELLIPSE, cv::Size(2 * options.fill_radius + 1, 2 * options.fill_radius + 1));
-  cv::morphologyEx(evidence, hull, cv::MORPH_CLOSE, disc);
+  cv::morphologyEx(evidence, hull, cv::MORPH_CLOSE, features::disc(options.fill_radius));
   p.cost_object.setTo(0.f, hull);
   p.cost_background.setTo(static_cast<float>(options.motion_weight), evidence);
   p.seeds = cv::Mat1b(size, kSeedFree);

@@ -14,6 +14,7 @@
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/text.hpp"
+#include "proprio/features/mask_morphology.hpp"
 #include "proprio/geometry/camera.hpp"
 #include "proprio/segmentation/fm_baseline.hpp"
 #include "proprio/segmentation/motion_models.hpp"
@@ -292,12 +293,7 @@ int apply_contact_prior(cv::Mat1f& m, const Eigen::Vector2d& ee, double fraction
   assert(radius > 0 && gap >= 0);
   const cv::Mat1b mask = threshold_map(m, fraction);
   if (cv::countNonZero(mask) == 0) return 0;
-  cv::Mat1b joined = mask;
-  const int half = static_cast<int>(std::lround(gap / 2));
-  if (half > 0) {
-    cv::dilate(mask, joined,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * half + 1, 2 * half + 1)));
-  }
+  const cv::Mat1b joined = features::dilated(mask, static_cast<int>(std::lround(gap / 2)));
   cv::Mat1i blob;
   const int n = cv::connectedComponents(joined, blob, 8, CV_32S);
   std::vector<char> near(static_cast<size_t>(n), 0);
@@ -838,8 +834,7 @@ struct MlSegmenter::Impl {
     cv::boxFilter(b, e_still, CV_32F, cv::Size(5, 5));
     const auto margin = static_cast<float>(opt.pixel_motion_margin);
     cv::Mat1b moved = (e_arm + margin < e_still) & touch_still;
-    cv::morphologyEx(moved, moved, cv::MORPH_CLOSE,
-                     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+    cv::morphologyEx(moved, moved, cv::MORPH_CLOSE, features::disc(2));
     touch_still = moved;
     touch_judged = true;
     touch_gray.release();
@@ -1259,10 +1254,7 @@ struct MlSegmenter::Impl {
     if (opt.touch_fm_against) {
       cv::Mat1b keep = cut | arm;
       const int r = static_cast<int>(std::lround(opt.touch_fm_margin));
-      if (r > 0) {
-        cv::dilate(keep, keep,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
-      }
+      if (r > 0) keep = features::dilated(keep, r);
       m.setTo(0.0F, ~keep);
     }
     if (opt.touch_fm_refine > 0) refine_outline(m, arm);

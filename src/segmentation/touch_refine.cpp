@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <opencv2/imgproc.hpp>
 
+#include "proprio/features/mask_morphology.hpp"
+
 namespace proprio::segmentation {
 
 void refine_touch_outline(cv::Mat1f& map, const cv::Mat1b& mask, const cv::Mat3b& colour,
@@ -13,14 +15,11 @@ void refine_touch_outline(cv::Mat1f& map, const cv::Mat1b& mask, const cv::Mat3b
   assert((arm_in.empty() || arm_in.size() == map.size()) && band >= 0);
   if (cv::countNonZero(mask) == 0) return;
   const cv::Mat1b arm = arm_in.empty() ? cv::Mat1b(map.size(), uchar{0}) : arm_in;
-  const auto disc = [](int k) {
-    return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1));
-  };
   cv::Mat1b inner, outer, context;
-  cv::erode(mask, inner, disc(band));
-  cv::dilate(mask, outer, disc(band));
+  cv::erode(mask, inner, features::disc(band));
+  cv::dilate(mask, outer, features::disc(band));
   constexpr int kContext = 16;  // px of scene round the band for the background's colours
-  cv::dilate(outer, context, disc(kContext));
+  cv::dilate(outer, context, features::disc(kContext));
   const cv::Rect roi = cv::boundingRect(context);
   if (roi.width < 2 || roi.height < 2) return;
   cv::Mat1b gc(roi.size(), static_cast<uchar>(cv::GC_BGD));
