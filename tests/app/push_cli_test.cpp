@@ -109,7 +109,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --target-clearance 0.2", "--target-clearance"},
            // Session 29's.
            {"push --correction-hand-margin 0.06", "--correction-hand-margin"},
-           {"evaluate push --correction-hand-margin -0.01", "--correction-hand-margin"}}) {
+           {"evaluate push --correction-hand-margin -0.01", "--correction-hand-margin"},
+           // Session 30's.
+           {"push --first-hand-margin 0.06", "--first-hand-margin"},
+           {"evaluate push --first-hand-margin -0.01", "--first-hand-margin"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

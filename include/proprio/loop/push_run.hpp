@@ -483,6 +483,8 @@ struct PushEvaluationStep {
   double shortened = 0;                             ///< PushPlan::shortened, m
   bool descent_met = false;                         ///< PushPlan::descent_met
   double target_moved = 0;                          ///< PushPlan::target_moved, m
+  bool hand_cleared = false;                        ///< PushPlan::hand_cleared
+  double hand_fallback = 0;                         ///< PushPlan::hand_fallback, m
   std::vector<std::string> merged;                  ///< PushStep::merged
   robot::JawLine jaws = robot::JawLine::kRobot;     ///< the plan's TablePush::jaws
 
@@ -516,6 +518,17 @@ struct PushEvaluationStep {
       v(self.target_moved,
         {"target_moved",
          "The target lay against another object: free_target_margin moved the goal this far, m"});
+    }
+    // Written only with first_hand_margin acting (default outputs unchanged).
+    if (self.hand_cleared) {
+      v(self.hand_cleared,
+        {"hand_cleared", "first_hand_margin: the push is the one planned with its hand clear"});
+    }
+    if (self.hand_fallback != 0) {
+      v(self.hand_fallback,
+        {"hand_fallback",
+         "first_hand_margin: no push with a clear hand (its shortfall, m; -1: none planned), so "
+         "the push as without it"});
     }
     v(self.merged, {"merged", "Ground truth: other objects merged into the pushed blob"});
     v.choice(self.jaws, {"jaws", "How the plan asked the jaws to lie"}, robot::kJawLineNames);
