@@ -2013,7 +2013,9 @@ PushPlan plan_push_hand_clear(const PlanningView& view, int object, PushGoal goa
     return tried;
   }
   PushPlan plan = plan_push(view, object, goal, target, region, arm, q_rest, options);
-  plan.hand_fallback = tried.outcome == PlanOutcome::kPlanned ? tried.blocked : -1.0;
+  // How far the try fell short: its blocking, and its shortening (clear only shortened).
+  plan.hand_fallback =
+      tried.outcome == PlanOutcome::kPlanned ? tried.blocked + tried.shortened : -1.0;
   plan.seconds += tried.seconds;
   return plan;
 }

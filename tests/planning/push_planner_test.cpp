@@ -1290,7 +1290,7 @@ TEST(PushPlanner, AFirstPushWhoseHandIsBlockedTurnsTheJawsOrGoesThroughAWaypoint
   const PushPlan fallback = clear(0);
   ASSERT_EQ(fallback.outcome, PlanOutcome::kPlanned) << fallback.message;
   EXPECT_FALSE(fallback.hand_cleared);
-  EXPECT_GT(fallback.hand_fallback, 0.0);
+  EXPECT_GT(fallback.hand_fallback, 0.0);  // blocked, or clear only shortened
   EXPECT_NEAR((fallback.push.start - today_tall.push.start).norm(), 0.0, 1e-12);
   EXPECT_NEAR((fallback.push.end - today_tall.push.end).norm(), 0.0, 1e-12);
   EXPECT_EQ(fallback.hand_blocked, 0.0);  // planned as the options say: no hand margin

@@ -235,7 +235,8 @@ struct PushPlanOptions {
   /// one whose hand is clear: the jaws along the push over a low object (hand_jaws) or a push to a
   /// waypoint round the line (via_blocked, kFirstHandVia waypoints; the loop's next push goes on
   /// to the target), the least blocked kept; when none is clear the first push is made as without
-  /// it. m; 0 (the default): the first push is planned as the options say.
+  /// it. m; 0 (the planner's default): the first push is planned as the options say; the
+  /// closed loop's default is loop::kLoopFirstHandMargin (session 30).
   double first_hand_margin = 0;
   /// Depth: a push whose first contact with the pushed object (push_contact from its depth
   /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
@@ -697,8 +698,8 @@ struct PushPlan {
   /// not the push the options alone give.
   bool hand_cleared = false;
   /// plan_push_hand_clear: its clear-hand try was not clear (or not planned), so the plan is the
-  /// one the options alone give; the try's shortfall (PushPlan::blocked), m, or -1 when the try
-  /// planned nothing. 0: not tried, or the try was kept.
+  /// one the options alone give; how far the try fell short (its PushPlan::blocked plus its
+  /// PushPlan::shortened), m, or -1 when the try planned nothing. 0: not tried, or kept.
   double hand_fallback = 0;
   double seconds = 0;  ///< wall-clock planning time
 };
