@@ -321,18 +321,23 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         const bool hand_checked = k > 0 && popt.correction_hand_margin > 0;
         if (hand_checked)
           popt.hand_margin = std::max(popt.hand_margin, popt.correction_hand_margin);
-        planning::PushPlan plan = planning::plan_push(cur_view, cur_object, options.goal, aim,
-                                                      region, arm, robot.joints(), popt);
-        if (plan.outcome != planning::PlanOutcome::kPlanned && gain != 1.0) {
-          plan = planning::plan_push(cur_view, cur_object, options.goal, target, region, arm,
-                                     robot.joints(), popt);
-        }
+        // first_hand_margin: the first push is planned with its hand kept clear where it can be
+        // (a waypoint only when a push follows to go on to the target).
+        const double first_hand =
+            k == 0 && options.goal == planning::PushGoal::kTarget ? popt.first_hand_margin : 0.0;
+        const int first_via = k + 1 < budget ? planning::kFirstHandVia : 0;
+        const auto plan_to = [&](const Eigen::Vector2d& goal_point) {
+          return planning::plan_push_hand_clear(cur_view, cur_object, options.goal, goal_point,
+                                                region, arm, robot.joints(), popt, first_hand,
+                                                first_via);
+        };
+        planning::PushPlan plan = plan_to(aim);
+        if (plan.outcome != planning::PlanOutcome::kPlanned && gain != 1.0) plan = plan_to(target);
         if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) {
           // The longer approach out of reach: another path of the usual approach, as before.
           popt.min_approach = options.plan.min_approach;
           popt.max_approach = options.plan.max_approach;
-          plan = planning::plan_push(cur_view, cur_object, options.goal, aim, region, arm,
-                                     robot.joints(), popt);
+          plan = plan_to(aim);
         }
         // A retry that cannot be planned leaves the refusal as the step's outcome.
         if (plan.outcome != planning::PlanOutcome::kPlanned && attempt > 0) break;
@@ -743,6 +748,8 @@ PushEvaluationResult run_push_evaluation(const PushEvaluationOptions& options,
       e.shortened = s.plan.shortened;
       e.descent_met = s.plan.descent_met;
       e.target_moved = s.plan.target_moved;
+      e.hand_cleared = s.plan.hand_cleared;
+      e.hand_fallback = s.plan.hand_fallback;
       e.merged = s.merged;
       e.jaws = s.plan.push.jaws;
       row.steps.push_back(std::move(e));

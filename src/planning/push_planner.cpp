@@ -1995,4 +1995,29 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   return finish(PlanOutcome::kPlanned, said);
 }
 
+PushPlan plan_push_hand_clear(const PlanningView& view, int object, PushGoal goal,
+                              const Eigen::Vector2d& target, const TableRegion& region,
+                              robot::ArmState& arm, const robot::JointVector& q_rest,
+                              const PushPlanOptions& options, double margin, int via) {
+  require(std::isfinite(margin) && margin >= 0 && margin <= 0.05,
+          "plan_push_hand_clear: margin must be in [0, 0.05] m");
+  require(via >= 0, "plan_push_hand_clear: via must be >= 0");
+  if (margin <= 0) return plan_push(view, object, goal, target, region, arm, q_rest, options);
+  PushPlanOptions clear = options;
+  clear.hand_margin = std::max(clear.hand_margin, margin);
+  clear.hand_jaws = true;
+  clear.via_blocked = std::max(clear.via_blocked, via);
+  PushPlan tried = plan_push(view, object, goal, target, region, arm, q_rest, clear);
+  if (tried.outcome == PlanOutcome::kPlanned && tried.blocked <= 0 && tried.shortened <= 0) {
+    tried.hand_cleared = true;
+    return tried;
+  }
+  PushPlan plan = plan_push(view, object, goal, target, region, arm, q_rest, options);
+  // How far the try fell short: its blocking, and its shortening (clear only shortened).
+  plan.hand_fallback =
+      tried.outcome == PlanOutcome::kPlanned ? tried.blocked + tried.shortened : -1.0;
+  plan.seconds += tried.seconds;
+  return plan;
+}
+
 }  // namespace proprio::planning

@@ -109,7 +109,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --target-clearance 0.2", "--target-clearance"},
            // Session 29's.
            {"push --correction-hand-margin 0.06", "--correction-hand-margin"},
-           {"evaluate push --correction-hand-margin -0.01", "--correction-hand-margin"}}) {
+           {"evaluate push --correction-hand-margin -0.01", "--correction-hand-margin"},
+           // Session 30's.
+           {"push --first-hand-margin 0.06", "--first-hand-margin"},
+           {"evaluate push --first-hand-margin -0.01", "--first-hand-margin"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
@@ -201,6 +204,33 @@ TEST(PushCli, ACorrectionWhoseHandWouldMeetANeighbourIsNotMade) {
   EXPECT_FALSE(b["steps"][1]["executed"].get<bool>());
   EXPECT_GT(b["steps"][1]["blocked"].get<double>(), 0.0);
   EXPECT_HAS(b["steps"][1]["message"].get<std::string>(), "correction not made");
+}
+
+TEST(PushCli, AFirstPushWhoseHandWouldMeetANeighbourIsReplannedClear) {
+  // Tuning table 53 with a target where the book fits (docs/results/push.md, session 30): the
+  // loop's defaults push the book with a palm that comes down beside the bottle and moves it.
+  // With --first-hand-margin 0.01 the first push is re-planned so that its hand keeps 1 cm from
+  // every other object's measured hull and height: only the book moves.
+  const test::TempDir dir("proprio_push_cli_");
+  const std::string common =
+      "evaluate push --tables 1 --seed 53 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
+      "--roll-across --target-clearance 0.01 --json ";
+  const fs::path off = dir.path() / "off.json";
+  const fs::path on = dir.path() / "on.json";
+  const auto r0 = run_cli(common + off.string() + " --first-hand-margin 0");
+  ASSERT_EQ(r0.code, 0) << r0.err;
+  const auto r1 = run_cli(common + on.string() + " --first-hand-margin 0.01");
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  const core::Json a = core::read_json(off)["pushes"][0];
+  const core::Json b = core::read_json(on)["pushes"][0];
+  ASSERT_FALSE(a["steps"].empty());
+  EXPECT_TRUE(a["steps"][0]["executed"].get<bool>());
+  EXPECT_FALSE(a["only_intended"].get<bool>());
+  EXPECT_FALSE(a["steps"][0].contains("hand_cleared"));
+  ASSERT_FALSE(b["steps"].empty());
+  EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
+  EXPECT_TRUE(b["steps"][0]["hand_cleared"].get<bool>());
+  EXPECT_TRUE(b["only_intended"].get<bool>());
 }
 
 }  // namespace

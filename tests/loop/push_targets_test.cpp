@@ -147,6 +147,17 @@ TEST(PushTargets, TheClosedLoopSkipsACorrectionWhoseHandIsBlockedByDefault) {
   EXPECT_EQ(planner.correction_hand_margin, 0.0);
 }
 
+TEST(PushTargets, TheClosedLoopKeepsTheFirstPushsHandClearByDefault) {
+  // Session 30's decision (docs/results/push.md): the loop's options, not the planner's.
+  const PushOptions push;
+  EXPECT_EQ(push.plan.first_hand_margin, kLoopFirstHandMargin);
+  EXPECT_EQ(kLoopFirstHandMargin, 0.01);
+  const PushEvaluationOptions evaluation;
+  EXPECT_EQ(evaluation.plan.first_hand_margin, 0.01);
+  const planning::PushPlanOptions planner;
+  EXPECT_EQ(planner.first_hand_margin, 0.0);
+}
+
 TEST(PushTargets, TheClearanceIsBounded) {
   PushEvaluationOptions options;
   options.target_clearance = -0.01;

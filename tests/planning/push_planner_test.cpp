@@ -1245,6 +1245,75 @@ TEST(PushPlanner, APlanSaysHowMuchOfItsBlockingIsTheHands) {
   EXPECT_NO_THROW(bad.validate());
 }
 
+TEST(PushPlanner, AFirstPushWhoseHandIsBlockedTurnsTheJawsOrGoesThroughAWaypoint) {
+  // The scene of APlanSaysHowMuchOfItsBlockingIsTheHands: a tall neighbour beside the pusher's
+  // start, which the hand (jaws across, 3 cm either side) meets on every straight push to the
+  // target and at every shortening. plan_push_hand_clear (the loop's first_hand_margin) keeps
+  // the hand clear: jaws along over a low object, else a waypoint; else the push as without it.
+  NeighbourScene s({0.24, -0.065});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  PutativeObject& obj = s.obj();
+  PutativeObject& other = s.other();
+  obj.height = 0.02;
+  other.height = 0.09;
+  const PushPlanOptions o = flat_options();
+  const double margin = 0.01;
+  const auto clear = [&](int via) {
+    return plan_push_hand_clear(s.view, s.a, PushGoal::kTarget, s.target, {}, s.state, s.q0, o,
+                                margin, via);
+  };
+  const PushPlan today = s.plan(o);
+  ASSERT_EQ(today.outcome, PlanOutcome::kPlanned) << today.message;
+  ASSERT_GT(hand_lack(today.push, false, {&other}, margin), 0.0);  // the blocked first push
+  // A low object: the jaws along the push (1.5 cm either side) pass the neighbour, all the way.
+  const PushPlan along = clear(kFirstHandVia);
+  ASSERT_EQ(along.outcome, PlanOutcome::kPlanned) << along.message;
+  EXPECT_TRUE(along.hand_cleared);
+  EXPECT_EQ(along.hand_fallback, 0.0);
+  EXPECT_EQ(along.push.jaws, robot::JawLine::kAlong);
+  EXPECT_FALSE(along.via);
+  EXPECT_EQ(along.shortened, 0.0);
+  EXPECT_EQ(hand_lack(along.push, true, {&other}, margin), 0.0);
+  // A taller object (the jaw ahead would not pass over it): a push to a waypoint round the line
+  // whose hand, and the next push's from there to the target, keep clear.
+  obj.height = 0.06;
+  const PushPlan via = clear(kFirstHandVia);
+  ASSERT_EQ(via.outcome, PlanOutcome::kPlanned) << via.message;
+  EXPECT_TRUE(via.hand_cleared);
+  EXPECT_TRUE(via.via);
+  EXPECT_NE(via.push.jaws, robot::JawLine::kAlong);
+  EXPECT_EQ(via.blocked, 0.0);
+  EXPECT_EQ(hand_lack(via.push, false, {&other}, margin), 0.0);
+  EXPECT_GT((via.target - s.target).norm(), 0.02);  // the waypoint, not the target
+  // No waypoints allowed (no push follows): nothing clears it, so the push as without the option.
+  const PushPlan today_tall = s.plan(o);
+  const PushPlan fallback = clear(0);
+  ASSERT_EQ(fallback.outcome, PlanOutcome::kPlanned) << fallback.message;
+  EXPECT_FALSE(fallback.hand_cleared);
+  EXPECT_GT(fallback.hand_fallback, 0.0);  // blocked, or clear only shortened
+  EXPECT_NEAR((fallback.push.start - today_tall.push.start).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((fallback.push.end - today_tall.push.end).norm(), 0.0, 1e-12);
+  EXPECT_EQ(fallback.hand_blocked, 0.0);  // planned as the options say: no hand margin
+  // Margin 0: plan_push itself.
+  const PushPlan off = plan_push_hand_clear(s.view, s.a, PushGoal::kTarget, s.target, {}, s.state,
+                                            s.q0, o, 0.0, kFirstHandVia);
+  EXPECT_FALSE(off.hand_cleared);
+  EXPECT_EQ(off.hand_fallback, 0.0);
+  EXPECT_NEAR((off.push.start - today_tall.push.start).norm(), 0.0, 1e-12);
+  // Bad input; first_hand_margin's bounds (the planner does not read it).
+  EXPECT_THROW((void)plan_push_hand_clear(s.view, s.a, PushGoal::kTarget, s.target, {}, s.state,
+                                          s.q0, o, 0.06, 0),
+               Error);
+  EXPECT_THROW((void)plan_push_hand_clear(s.view, s.a, PushGoal::kTarget, s.target, {}, s.state,
+                                          s.q0, o, 0.01, -1),
+               Error);
+  PushPlanOptions bad = flat_options();
+  bad.first_hand_margin = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.first_hand_margin = 0.01;
+  EXPECT_NO_THROW(bad.validate());
+}
+
 TEST(PushPlanner, TheHandKeepsClearOfATallNeighbourByStoppingShortTurningTheJawsOrRaisingTheTip) {
   // The object (4 cm square) at (0.20, 0) pushed 16 cm along +y; a neighbour (3 cm square) at
   // (0.245, 0.1225): the object passes 1 cm from it, but the jaws across the push (3 cm either

@@ -229,6 +229,15 @@ struct PushPlanOptions {
   /// ends with the object where the last push left it. The first push is planned as before.
   /// m; 0 (the default): corrections are planned and made as the first push.
   double correction_hand_margin = 0;
+  /// The closed loop's first push (loop::push_once; the planner itself does not read it): planned
+  /// by plan_push_hand_clear with this margin, so that a first push whose hand (the jaws, palm or
+  /// low forearm, hand_lack) would come nearer than this to another putative object is replaced by
+  /// one whose hand is clear: the jaws along the push over a low object (hand_jaws) or a push to a
+  /// waypoint round the line (via_blocked, kFirstHandVia waypoints; the loop's next push goes on
+  /// to the target), the least blocked kept; when none is clear the first push is made as without
+  /// it. m; 0 (the planner's default): the first push is planned as the options say; the
+  /// closed loop's default is loop::kLoopFirstHandMargin (session 30).
+  double first_hand_margin = 0;
   /// Depth: a push whose first contact with the pushed object (push_contact from its depth
   /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
   /// reach ahead of the centre) is not sampled (PushPlan::rejected_topple): the object would
@@ -376,6 +385,11 @@ struct PushPlanOptions {
       {"correction_hand_margin",
        "Closed loop: correction pushes are planned with at least this hand margin and not made "
        "when the hand is still blocked, m (0: off)",
+       core::between(0, 0.05)});
+    v(self.first_hand_margin,
+      {"first_hand_margin",
+       "Closed loop: a first push whose hand would come nearer than this to another object is "
+       "replaced by one with the jaws along or through a waypoint whose hand is clear, m (0: off)",
        core::between(0, 0.05)});
     v(self.topple_ratio,
       {"topple_ratio",
@@ -680,6 +694,13 @@ struct PushPlan {
   /// kTarget with PushPlanOptions::free_target_margin: how far the goal was moved from the target
   /// asked (that target lay against another object), m; 0: not moved.
   double target_moved = 0;
+  /// plan_push_hand_clear: the plan is its clear-hand try (hand_margin, hand_jaws, via_blocked),
+  /// not the push the options alone give.
+  bool hand_cleared = false;
+  /// plan_push_hand_clear: its clear-hand try was not clear (or not planned), so the plan is the
+  /// one the options alone give; how far the try fell short (its PushPlan::blocked plus its
+  /// PushPlan::shortened), m, or -1 when the try planned nothing. 0: not tried, or kept.
+  double hand_fallback = 0;
   double seconds = 0;  ///< wall-clock planning time
 };
 
@@ -928,5 +949,23 @@ cv::Mat1f density_of_others(const PlanningView& view, int object);
 PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
                    const Eigen::Vector2d& target, const TableRegion& region, robot::ArmState& arm,
                    const robot::JointVector& q_rest, const PushPlanOptions& options);
+
+/// Waypoints plan_push_hand_clear tries round a first push whose hand is blocked (via_blocked's
+/// fan: session 23's 24).
+inline constexpr int kFirstHandVia = 24;
+
+/// A push whose hand keeps clear of the other putative objects (PushPlanOptions::first_hand_margin,
+/// the closed loop's first push): plan_push with hand_margin at least `margin` (m), hand_jaws on
+/// and, when `via` > 0, via_blocked at least `via` (the push may go to a waypoint round the
+/// line; pass 0 when no push follows to go on to the target). That plan is returned
+/// (PushPlan::hand_cleared) when it is wholly clear (PushPlan::blocked 0: with a waypoint, both
+/// legs) and goes all the way (not shortened: the loop ends after a shortened push); otherwise
+/// plan_push with `options` as given (PushPlan::hand_fallback says how blocked the try was).
+/// `margin` 0: plan_push alone. Throws Error as plan_push does, and for a margin outside
+/// [0, 0.05] or a negative `via`.
+PushPlan plan_push_hand_clear(const PlanningView& view, int object, PushGoal goal,
+                              const Eigen::Vector2d& target, const TableRegion& region,
+                              robot::ArmState& arm, const robot::JointVector& q_rest,
+                              const PushPlanOptions& options, double margin, int via);
 
 }  // namespace proprio::planning
