@@ -112,6 +112,12 @@ struct ClutterExperimentOptions {
   ClutterMotClassifier mot_classifier = ClutterMotClassifier::kPooled;
   /// pooled: the word multinomials' weight w in [0, 1] (0: words; 0.25 chosen on seed 1).
   double mot_word_weight = 0.25;
+  /// pooled: each object's word multinomial with a background shared by all objects and each
+  /// view scored at its own share of background (topics::fit_background_word_model,
+  /// background_word_scores; session 30), so that a view's share of table no longer votes for
+  /// the object whose training views showed most table. false (the default): the add-one
+  /// multinomials (topics::fit_word_multinomials).
+  bool mot_word_background = false;
   features::ExtractOptions features = learn_features();
   segmentation::MlOptions dense;
   segmentation::SparseOptions sparse;
