@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <set>
+#include <span>
 
 #include "arm_image.hpp"
 #include "mask_morphology.hpp"
@@ -378,6 +379,28 @@ fs::path views_file(const fs::path& episode_dir, const ClutterExperimentOptions&
 
 double share(int right, int n) { return n > 0 ? static_cast<double>(right) / n : 0.0; }
 
+// ClutterExperimentOptions::mot_word_per_view: each labelled document's weight, the mean
+// number of words of the labelled documents over its own (an empty or unlabelled one: 0).
+std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<const int> labels) {
+  std::vector<double> words(corpus.num_documents(), 0.0);
+  double total = 0;
+  int n = 0;
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const topics::DocumentView doc = corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) words[d] += doc.counts[i];
+    if (labels[d] >= 0 && words[d] > 0) {
+      total += words[d];
+      ++n;
+    }
+  }
+  const double mean = n > 0 ? total / n : 0.0;
+  std::vector<double> w(words.size(), 0.0);
+  for (std::size_t d = 0; d < w.size(); ++d) {
+    if (labels[d] >= 0 && words[d] > 0) w[d] = mean / words[d];
+  }
+  return w;
+}
+
 struct SeedData {
   std::uint64_t seed = 0;
   // per fraction: views (descriptors) and their object
@@ -526,6 +549,9 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
           if (o.mot_classifier != ClutterMotClassifier::kPooled) return m;
           if (o.mot_word_background) {
             m.background = topics::fit_background_word_model(corpus, with_labels, C);
+          } else if (o.mot_word_per_view) {
+            m.log_phi = weighted_word_multinomials(corpus, with_labels, C,
+                                                   per_view_weights(corpus, with_labels));
           } else {
             m.log_phi = topics::fit_word_multinomials(corpus, with_labels, C);
           }
@@ -956,6 +982,10 @@ void ClutterExperimentOptions::validate() const {
        "--mot-word-weight: must be in [0, 1]");
   need(!mot_word_background || mot_classifier == ClutterMotClassifier::kPooled,
        "--mot-word-background: only with --mot-classifier pooled");
+  need(!mot_word_per_view || mot_classifier == ClutterMotClassifier::kPooled,
+       "--mot-word-per-view: only with --mot-classifier pooled");
+  need(!(mot_word_per_view && mot_word_background),
+       "--mot-word-per-view: not with --mot-word-background");
   need(background == "plain" || background == "photo" || background == "moving",
        "--background: must be plain, photo or moving");
   need(!cache.empty(), "--cache: required");
@@ -999,8 +1029,9 @@ std::string ClutterExperimentResult::brief() const {
         "   T  renders  other trial  other seed\n",
         std::string(core::choice_name(options.mot_classifier, kClutterMotClassifierNames)).c_str(),
         options.mot_classifier == ClutterMotClassifier::kPooled
-            ? core::printf_string(" (word weight %.2f%s)", options.mot_word_weight,
-                                  options.mot_word_background ? ", shared background" : "")
+            ? core::printf_string(" (word weight %.2f%s%s)", options.mot_word_weight,
+                                  options.mot_word_background ? ", shared background" : "",
+                                  options.mot_word_per_view ? ", views weighed alike" : "")
                   .c_str()
             : "");
     for (const auto& t : s) {
@@ -1190,6 +1221,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
        std::string(core::choice_name(o.mot_classifier, kClutterMotClassifierNames))},
       {"mot_word_weight", o.mot_word_weight},
       {"mot_word_background", o.mot_word_background},
+      {"mot_word_per_view", o.mot_word_per_view},
       {"quick", o.quick},
       {"record_only", o.record_only}};
   core::Json pushes = core::Json::array();

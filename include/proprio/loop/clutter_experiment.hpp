@@ -118,6 +118,12 @@ struct ClutterExperimentOptions {
   /// the object whose training views showed most table. false (the default): the add-one
   /// multinomials (topics::fit_word_multinomials).
   bool mot_word_background = false;
+  /// pooled: each view's word counts scaled to the mean view's number of words in the objects'
+  /// word multinomials (loop::weighted_word_multinomials), so that every view of an object
+  /// weighs the same: a view with many words (a large mask: neighbours, the arm's surroundings)
+  /// no longer outweighs the object's small, purer views (session 30: the giraffe's). false (the
+  /// default): the pooled counts.
+  bool mot_word_per_view = false;
   features::ExtractOptions features = learn_features();
   segmentation::MlOptions dense;
   segmentation::SparseOptions sparse;
