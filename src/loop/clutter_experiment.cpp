@@ -982,10 +982,6 @@ void ClutterExperimentOptions::validate() const {
        "--mot-word-weight: must be in [0, 1]");
   need(!mot_word_background || mot_classifier == ClutterMotClassifier::kPooled,
        "--mot-word-background: only with --mot-classifier pooled");
-  need(!mot_word_per_view || mot_classifier == ClutterMotClassifier::kPooled,
-       "--mot-word-per-view: only with --mot-classifier pooled");
-  need(!(mot_word_per_view && mot_word_background),
-       "--mot-word-per-view: not with --mot-word-background");
   need(background == "plain" || background == "photo" || background == "moving",
        "--background: must be plain, photo or moving");
   need(!cache.empty(), "--cache: required");
@@ -1031,7 +1027,9 @@ std::string ClutterExperimentResult::brief() const {
         options.mot_classifier == ClutterMotClassifier::kPooled
             ? core::printf_string(" (word weight %.2f%s%s)", options.mot_word_weight,
                                   options.mot_word_background ? ", shared background" : "",
-                                  options.mot_word_per_view ? ", views weighed alike" : "")
+                                  options.mot_word_per_view && !options.mot_word_background
+                                      ? ", views weighed alike"
+                                      : "")
                   .c_str()
             : "");
     for (const auto& t : s) {

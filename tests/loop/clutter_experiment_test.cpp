@@ -48,7 +48,7 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.mot_classifier, ClutterMotClassifier::kPooled);  // session 23 (theta: eq 7.3)
   EXPECT_EQ(o.mot_word_weight, 0.25);
   EXPECT_FALSE(o.mot_word_background);  // session 30
-  EXPECT_FALSE(o.mot_word_per_view);    // session 30
+  EXPECT_TRUE(o.mot_word_per_view);     // session 30 (false: the pooled counts)
   EXPECT_THROW(o.validate(), Error);    // no cache
   o.cache = "somewhere";
   EXPECT_NO_THROW(o.validate());
@@ -118,16 +118,6 @@ TEST(ClutterExperiment, BadOptionsNameTheFlag) {
               o.mot_word_background = true;
               o.mot_classifier = ClutterMotClassifier::kTheta;
             }).find("--mot-word-background"),
-            std::string::npos);
-  EXPECT_NE(message([](auto& o) {
-              o.mot_word_per_view = true;
-              o.mot_classifier = ClutterMotClassifier::kWords;
-            }).find("--mot-word-per-view"),
-            std::string::npos);
-  EXPECT_NE(message([](auto& o) {
-              o.mot_word_per_view = true;
-              o.mot_word_background = true;
-            }).find("--mot-word-per-view"),
             std::string::npos);
 }
 
@@ -268,21 +258,23 @@ TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
     EXPECT_LE(background1.cells[i].supervised, 1.0);
   }
   o.mot_word_background = false;
-  // Session 30: every view weighs the same in the multinomials; at weight 0 the same as by words.
-  o.json = temp.path() / "clutter_per_view.json";
-  o.mot_word_per_view = true;
+  // Session 30: the pooled counts (every view weighing the same is the default, run above); at
+  // weight 0 the same as by words.
+  o.json = temp.path() / "clutter_counts.json";
+  o.mot_word_per_view = false;
   o.mot_word_weight = 0;
-  const ClutterExperimentResult per_view0 = run_clutter_experiment(o, core::Provenance{});
+  const ClutterExperimentResult counts0 = run_clutter_experiment(o, core::Provenance{});
   o.mot_word_weight = 1;
-  const ClutterExperimentResult per_view1 = run_clutter_experiment(o, core::Provenance{});
+  const ClutterExperimentResult counts1 = run_clutter_experiment(o, core::Provenance{});
   test::expect_schema_valid("experiment_clutter.schema.json", o.json);
-  EXPECT_EQ(per_view1.document.at("options").at("mot_word_per_view"), true);
-  ASSERT_EQ(per_view0.cells.size(), words.cells.size());
+  EXPECT_EQ(counts1.document.at("options").at("mot_word_per_view"), false);
+  EXPECT_EQ(pooled1.document.at("options").at("mot_word_per_view"), true);
+  ASSERT_EQ(counts0.cells.size(), words.cells.size());
   for (std::size_t i = 0; i < words.cells.size(); ++i) {
-    EXPECT_EQ(per_view0.cells[i].supervised_confusion.counts,
+    EXPECT_EQ(counts0.cells[i].supervised_confusion.counts,
               words.cells[i].supervised_confusion.counts);
   }
-  o.mot_word_per_view = false;
+  o.mot_word_per_view = true;
   // The cache holds attempts = 3: a run of the session-21 harness (1) on it is refused.
   o.overwrite = false;
   o.json.clear();
