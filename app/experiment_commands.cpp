@@ -213,6 +213,13 @@ void add_clutter_options(CLI::App* cmd, ClutterArgs& a) {
   cmd->add_option("--mot-word-weight", o.mot_word_weight,
                   "pooled: the word multinomials' weight in [0, 1]")
       ->capture_default_str();
+  cmd->add_flag("--mot-word-background", o.mot_word_background,
+                "pooled: each object's word multinomial with a background shared by all objects, "
+                "each view scored at its own share of background");
+  cmd->add_flag("--mot-word-per-view,!--no-mot-word-per-view", o.mot_word_per_view,
+                "pooled: every view of an object weighs the same in its word multinomial (its "
+                "counts scaled to the mean view's number of words; the default since session "
+                "30); --no-mot-word-per-view: the pooled counts");
   cmd->add_flag("--quick", o.quick,
                 "Small and fast: first seed, 1 trial of 3 pushes, 240x180, fractions 0.5,0.7, "
                 "topics 4,8");

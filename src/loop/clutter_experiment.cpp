@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <set>
+#include <span>
 
 #include "arm_image.hpp"
 #include "proprio/core/error.hpp"
@@ -378,6 +379,28 @@ fs::path views_file(const fs::path& episode_dir, const ClutterExperimentOptions&
 
 double share(int right, int n) { return n > 0 ? static_cast<double>(right) / n : 0.0; }
 
+// ClutterExperimentOptions::mot_word_per_view: each labelled document's weight, the mean
+// number of words of the labelled documents over its own (an empty or unlabelled one: 0).
+std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<const int> labels) {
+  std::vector<double> words(corpus.num_documents(), 0.0);
+  double total = 0;
+  int n = 0;
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const topics::DocumentView doc = corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) words[d] += doc.counts[i];
+    if (labels[d] >= 0 && words[d] > 0) {
+      total += words[d];
+      ++n;
+    }
+  }
+  const double mean = n > 0 ? total / n : 0.0;
+  std::vector<double> w(words.size(), 0.0);
+  for (std::size_t d = 0; d < w.size(); ++d) {
+    if (labels[d] >= 0 && words[d] > 0) w[d] = mean / words[d];
+  }
+  return w;
+}
+
 struct SeedData {
   std::uint64_t seed = 0;
   // per fraction: views (descriptors) and their object
@@ -491,14 +514,27 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
             truth.empty() ? Eigen::MatrixXd() : recognition::document_theta(lda, held).theta;
         const topics::MotFit sup = topics::fit_mot(theta, labels, objects, o.mot);
         // The supervised MoT's classifier (o.mot_classifier): docs' theta or their words;
-        // log_phi: the objects' word multinomials (pooled only).
-        const auto classify = [&](const topics::MotModel& model, const Eigen::MatrixXd& log_phi,
+        // log_phi / background: the objects' word multinomials (pooled only; background with
+        // mot_word_background), fitted to the same labels as model.
+        struct WordModels {
+          Eigen::MatrixXd log_phi;
+          topics::BackgroundWordModel background;
+        };
+        const auto classify = [&](const topics::MotModel& model, const WordModels& word_models,
                                   const Eigen::MatrixXd& docs_theta,
                                   const topics::Corpus& docs) -> std::vector<int> {
+          const Eigen::MatrixXd& log_phi = word_models.log_phi;
+          const topics::BackgroundWordModel& background = word_models.background;
           switch (o.mot_classifier) {
             case ClutterMotClassifier::kWords:
               return topics::classify_mot_words(model, lda, docs).predicted;
             case ClutterMotClassifier::kPooled:
+              if (o.mot_word_background) {
+                return topics::pool_word_scores(model, topics::classify_mot_words(model, lda, docs),
+                                                topics::background_word_scores(background, docs),
+                                                o.mot_word_weight)
+                    .predicted;
+              }
               return topics::pool_word_multinomials(model,
                                                     topics::classify_mot_words(model, lda, docs),
                                                     log_phi, docs, o.mot_word_weight)
@@ -509,17 +545,25 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
           return topics::classify_mot(model, docs_theta).predicted;
         };
         const auto word_multinomials = [&](const std::vector<int>& with_labels) {
-          return o.mot_classifier == ClutterMotClassifier::kPooled
-                     ? topics::fit_word_multinomials(corpus, with_labels, C)
-                     : Eigen::MatrixXd();
+          WordModels m;
+          if (o.mot_classifier != ClutterMotClassifier::kPooled) return m;
+          if (o.mot_word_background) {
+            m.background = topics::fit_background_word_model(corpus, with_labels, C);
+          } else if (o.mot_word_per_view) {
+            m.log_phi = weighted_word_multinomials(corpus, with_labels, C,
+                                                   per_view_weights(corpus, with_labels));
+          } else {
+            m.log_phi = topics::fit_word_multinomials(corpus, with_labels, C);
+          }
+          return m;
         };
-        const Eigen::MatrixXd log_phi = word_multinomials(labels);
+        const WordModels word_models = word_multinomials(labels);
         if (!by_theta) {
           cell.theta = ClutterCell::Theta{};
           cell.theta->supervised_per_object.assign(static_cast<std::size_t>(C), 0.0);
         }
         if (!truth.empty()) {
-          sup_pred = classify(sup.model, log_phi, held_theta, held);
+          sup_pred = classify(sup.model, word_models, held_theta, held);
           if (!by_theta) {
             const auto [acc, per_object] =
                 label_accuracy(truth, topics::classify_mot(sup.model, held_theta).predicted, C);
@@ -541,8 +585,8 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
           }
           if (!other_labels.empty()) {
             const Eigen::MatrixXd other_theta = recognition::document_theta(lda, other).theta;
-            const auto [acc, per_object] =
-                label_accuracy(other_labels, classify(sup.model, log_phi, other_theta, other), C);
+            const auto [acc, per_object] = label_accuracy(
+                other_labels, classify(sup.model, word_models, other_theta, other), C);
             cell.cross_seed = acc;
             cell.cross_seed_per_object = per_object;
             if (!by_theta) {
@@ -936,6 +980,8 @@ void ClutterExperimentOptions::validate() const {
        "--seg-touch-fm: must be in [0, 1]");
   need(std::isfinite(mot_word_weight) && mot_word_weight >= 0 && mot_word_weight <= 1,
        "--mot-word-weight: must be in [0, 1]");
+  need(!mot_word_background || mot_classifier == ClutterMotClassifier::kPooled,
+       "--mot-word-background: only with --mot-classifier pooled");
   need(background == "plain" || background == "photo" || background == "moving",
        "--background: must be plain, photo or moving");
   need(!cache.empty(), "--cache: required");
@@ -979,7 +1025,12 @@ std::string ClutterExperimentResult::brief() const {
         "   T  renders  other trial  other seed\n",
         std::string(core::choice_name(options.mot_classifier, kClutterMotClassifierNames)).c_str(),
         options.mot_classifier == ClutterMotClassifier::kPooled
-            ? core::printf_string(" (word weight %.2f)", options.mot_word_weight).c_str()
+            ? core::printf_string(" (word weight %.2f%s%s)", options.mot_word_weight,
+                                  options.mot_word_background ? ", shared background" : "",
+                                  options.mot_word_per_view && !options.mot_word_background
+                                      ? ", views weighed alike"
+                                      : "")
+                  .c_str()
             : "");
     for (const auto& t : s) {
       b += core::printf_string("  %2d   %s       %s      %s\n", t.topics, pct(t.theta_mean).c_str(),
@@ -1167,6 +1218,8 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
       {"mot_classifier",
        std::string(core::choice_name(o.mot_classifier, kClutterMotClassifierNames))},
       {"mot_word_weight", o.mot_word_weight},
+      {"mot_word_background", o.mot_word_background},
+      {"mot_word_per_view", o.mot_word_per_view},
       {"quick", o.quick},
       {"record_only", o.record_only}};
   core::Json pushes = core::Json::array();

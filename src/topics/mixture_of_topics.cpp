@@ -634,9 +634,6 @@ MotClassification pool_word_multinomials(const MotModel& model, const MotClassif
                                          const Eigen::MatrixXd& log_phi, const Corpus& corpus,
                                          double weight) {
   model.validate();
-  if (!(weight >= 0 && weight <= 1)) {
-    throw Error("pooled word multinomials: the weight must be in [0, 1], got " + number(weight));
-  }
   const Eigen::Index classes = model.num_classes();
   const auto docs = static_cast<Eigen::Index>(corpus.num_documents());
   if (log_phi.rows() != classes ||
@@ -644,6 +641,30 @@ MotClassification pool_word_multinomials(const MotModel& model, const MotClassif
     throw Error("pooled word multinomials: the multinomials are " + std::to_string(log_phi.rows()) +
                 " x " + std::to_string(log_phi.cols()) + ", expected " + std::to_string(classes) +
                 " objects x " + std::to_string(corpus.num_words()) + " words");
+  }
+  Eigen::MatrixXd multinomial = Eigen::MatrixXd::Zero(docs, classes);
+  for (Eigen::Index d = 0; d < docs; ++d) {
+    const DocumentView doc = corpus.document(static_cast<std::size_t>(d));
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      multinomial.row(d) +=
+          static_cast<double>(doc.counts[i]) * log_phi.col(doc.words[i]).transpose();
+    }
+  }
+  return pool_word_scores(model, by_words, multinomial, weight);
+}
+
+MotClassification pool_word_scores(const MotModel& model, const MotClassification& by_words,
+                                   const Eigen::MatrixXd& word_scores, double weight) {
+  model.validate();
+  if (!(weight >= 0 && weight <= 1)) {
+    throw Error("pooled word multinomials: the weight must be in [0, 1], got " + number(weight));
+  }
+  const Eigen::Index classes = model.num_classes();
+  const Eigen::Index docs = word_scores.rows();
+  if (word_scores.cols() != classes) {
+    throw Error("pooled word multinomials: the word scores have " +
+                std::to_string(word_scores.cols()) + " objects, expected " +
+                std::to_string(classes));
   }
   if (by_words.log_score.rows() != docs || by_words.log_score.cols() != classes) {
     throw Error("pooled word multinomials: the scores by words are not " + std::to_string(docs) +
@@ -653,12 +674,9 @@ MotClassification pool_word_multinomials(const MotModel& model, const MotClassif
   MotClassification out;
   out.log_score.resize(docs, classes);
   for (Eigen::Index d = 0; d < docs; ++d) {
-    const DocumentView doc = corpus.document(static_cast<std::size_t>(d));
-    Eigen::VectorXd multinomial = Eigen::VectorXd::Zero(classes);
-    for (std::size_t i = 0; i < doc.size(); ++i)
-      multinomial += static_cast<double>(doc.counts[i]) * log_phi.col(doc.words[i]);
     const Eigen::VectorXd mot = by_words.log_score.row(d).transpose() - log_p;
-    out.log_score.row(d) = ((1 - weight) * mot + weight * multinomial + log_p).transpose();
+    out.log_score.row(d) =
+        ((1 - weight) * mot + weight * word_scores.row(d).transpose() + log_p).transpose();
   }
   out.posterior.resize(docs, classes);
   for (Eigen::Index d = 0; d < docs; ++d) {
@@ -666,6 +684,102 @@ MotClassification pool_word_multinomials(const MotModel& model, const MotClassif
     out.posterior.row(d) = (out.log_score.row(d).array() - z).exp();
   }
   out.predicted = argmax_rows(out.log_score);
+  return out;
+}
+
+BackgroundWordModel fit_background_word_model(const Corpus& corpus, std::span<const int> labels,
+                                              int classes, double pseudo_count, int iterations) {
+  if (iterations < 1) {
+    throw Error("background word model: need at least one EM iteration, got " +
+                std::to_string(iterations));
+  }
+  // Checks the labels, classes and pseudo-count; the add-one multinomials p_c.
+  const Eigen::MatrixXd log_p = fit_word_multinomials(corpus, labels, classes, pseudo_count);
+  const auto words = static_cast<Eigen::Index>(corpus.num_words());
+  Eigen::MatrixXd counts = Eigen::MatrixXd::Zero(classes, words);
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const int c = labels[d];
+    if (c < 0) continue;
+    const DocumentView doc = corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) counts(c, doc.words[i]) += doc.counts[i];
+  }
+  // b(w) proportional to min_c p_c(w).
+  Eigen::VectorXd background = log_p.colwise().minCoeff().transpose().array().exp().matrix();
+  background /= background.sum();
+  BackgroundWordModel m;
+  m.log_background = background.array().log().matrix();
+  m.log_object.resize(classes, words);
+  m.background_share = Eigen::VectorXd::Zero(classes);
+  for (Eigen::Index c = 0; c < classes; ++c) {
+    const double total = counts.row(c).sum();
+    Eigen::VectorXd q = log_p.row(c).transpose().array().exp().matrix();
+    double s = 0.5;
+    if (total > 0) {
+      for (int it = 0; it < iterations; ++it) {
+        Eigen::VectorXd own = Eigen::VectorXd::Constant(words, pseudo_count);
+        double bg = 0;
+        for (Eigen::Index w = 0; w < words; ++w) {
+          const double a = s * background(w);
+          const double b = (1 - s) * q(w);
+          const double r = a + b > 0 ? a / (a + b) : 0.0;  // the background's responsibility
+          bg += counts(c, w) * r;
+          own(w) += counts(c, w) * (1 - r);
+        }
+        s = bg / total;
+        q = own / own.sum();
+      }
+    }
+    m.log_object.row(c) = q.array().log().matrix().transpose();
+    m.background_share(c) = s;
+  }
+  return m;
+}
+
+Eigen::MatrixXd background_word_scores(const BackgroundWordModel& model, const Corpus& corpus,
+                                       int iterations) {
+  const Eigen::Index classes = model.log_object.rows();
+  const auto words = static_cast<Eigen::Index>(corpus.num_words());
+  if (model.log_object.cols() != words || model.log_background.size() != words) {
+    throw Error("background word scores: the model has " + std::to_string(model.log_object.cols()) +
+                " words (background " + std::to_string(model.log_background.size()) +
+                "), the corpus " + std::to_string(words));
+  }
+  if (iterations < 1) {
+    throw Error("background word scores: need at least one EM iteration, got " +
+                std::to_string(iterations));
+  }
+  const Eigen::VectorXd background = model.log_background.array().exp().matrix();
+  const auto docs = static_cast<Eigen::Index>(corpus.num_documents());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(docs, classes);
+  for (Eigen::Index d = 0; d < docs; ++d) {
+    const DocumentView doc = corpus.document(static_cast<std::size_t>(d));
+    double total = 0;
+    for (std::size_t i = 0; i < doc.size(); ++i) total += doc.counts[i];
+    if (total <= 0) continue;
+    for (Eigen::Index c = 0; c < classes; ++c) {
+      const auto likelihood = [&](double s) {
+        double l = 0;
+        for (std::size_t i = 0; i < doc.size(); ++i) {
+          const auto w = static_cast<Eigen::Index>(doc.words[i]);
+          l += doc.counts[i] *
+               std::log(s * background(w) + (1 - s) * std::exp(model.log_object(c, w)));
+        }
+        return l;
+      };
+      double s = 0.5;
+      for (int it = 0; it < iterations; ++it) {
+        double bg = 0;
+        for (std::size_t i = 0; i < doc.size(); ++i) {
+          const auto w = static_cast<Eigen::Index>(doc.words[i]);
+          const double a = s * background(w);
+          const double b = (1 - s) * std::exp(model.log_object(c, w));
+          bg += doc.counts[i] * (a + b > 0 ? a / (a + b) : 0.0);
+        }
+        s = bg / total;
+      }
+      out(d, c) = likelihood(s);
+    }
+  }
   return out;
 }
 

@@ -47,7 +47,9 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.dense.touch_fm, 1.0);  // MlOptions's default (--seg-touch-fm)
   EXPECT_EQ(o.mot_classifier, ClutterMotClassifier::kPooled);  // session 23 (theta: eq 7.3)
   EXPECT_EQ(o.mot_word_weight, 0.25);
-  EXPECT_THROW(o.validate(), Error);  // no cache
+  EXPECT_FALSE(o.mot_word_background);  // session 30
+  EXPECT_TRUE(o.mot_word_per_view);     // session 30 (false: the pooled counts)
+  EXPECT_THROW(o.validate(), Error);    // no cache
   o.cache = "somewhere";
   EXPECT_NO_THROW(o.validate());
   o.quick = true;
@@ -111,6 +113,11 @@ TEST(ClutterExperiment, BadOptionsNameTheFlag) {
   EXPECT_NE(message([](auto& o) {
               o.mot_word_weight = std::numeric_limits<double>::infinity();
             }).find("--mot-word-weight"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& o) {
+              o.mot_word_background = true;
+              o.mot_classifier = ClutterMotClassifier::kTheta;
+            }).find("--mot-word-background"),
             std::string::npos);
 }
 
@@ -233,6 +240,41 @@ TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
     any_model = any_model || t.note.empty();
   }
   EXPECT_TRUE(any_model);
+  // Session 30: the multinomials against a shared background; at weight 0 the same as by words.
+  o.json = temp.path() / "clutter_background.json";
+  o.mot_word_background = true;
+  o.mot_word_weight = 0;
+  const ClutterExperimentResult background0 = run_clutter_experiment(o, core::Provenance{});
+  o.mot_word_weight = 1;
+  const ClutterExperimentResult background1 = run_clutter_experiment(o, core::Provenance{});
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  EXPECT_EQ(background1.document.at("options").at("mot_word_background"), true);
+  ASSERT_EQ(background0.cells.size(), words.cells.size());
+  ASSERT_EQ(background1.cells.size(), words.cells.size());
+  for (std::size_t i = 0; i < words.cells.size(); ++i) {
+    EXPECT_EQ(background0.cells[i].supervised_confusion.counts,
+              words.cells[i].supervised_confusion.counts);
+    EXPECT_GE(background1.cells[i].supervised, 0.0);
+    EXPECT_LE(background1.cells[i].supervised, 1.0);
+  }
+  o.mot_word_background = false;
+  // Session 30: the pooled counts (every view weighing the same is the default, run above); at
+  // weight 0 the same as by words.
+  o.json = temp.path() / "clutter_counts.json";
+  o.mot_word_per_view = false;
+  o.mot_word_weight = 0;
+  const ClutterExperimentResult counts0 = run_clutter_experiment(o, core::Provenance{});
+  o.mot_word_weight = 1;
+  const ClutterExperimentResult counts1 = run_clutter_experiment(o, core::Provenance{});
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  EXPECT_EQ(counts1.document.at("options").at("mot_word_per_view"), false);
+  EXPECT_EQ(pooled1.document.at("options").at("mot_word_per_view"), true);
+  ASSERT_EQ(counts0.cells.size(), words.cells.size());
+  for (std::size_t i = 0; i < words.cells.size(); ++i) {
+    EXPECT_EQ(counts0.cells[i].supervised_confusion.counts,
+              words.cells[i].supervised_confusion.counts);
+  }
+  o.mot_word_per_view = true;
   // The cache holds attempts = 3: a run of the session-21 harness (1) on it is refused.
   o.overwrite = false;
   o.json.clear();

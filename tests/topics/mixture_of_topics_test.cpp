@@ -651,6 +651,88 @@ TEST(MixtureOfTopics, PoolingWithWordMultinomialsWeighsTheTwoScores) {
   EXPECT_THROW((void)pool_word_multinomials(m, short_words, log_phi, corpus, 0.5), Error);
 }
 
+// Session 30: word 0 is the table, in every object's views (a: 20 %, b: 80 %); words 1 and 2
+// are a's and b's own. A view of a with mostly table (8 table, 2 of a's words: a thin object's
+// view) goes to b by the add-one multinomials (b's views hold most table) and to a with the
+// shared background, which scores the view at its own share of table.
+TEST(MixtureOfTopics, SharedBackgroundStopsTheTableVotingForAnObject) {
+  Corpus train(3);
+  std::vector<int> labels;
+  for (int i = 0; i < 10; ++i) {
+    train.add_document(std::vector<std::int32_t>{0, 1}, std::vector<std::int32_t>{2, 8});
+    labels.push_back(0);
+    train.add_document(std::vector<std::int32_t>{0, 2}, std::vector<std::int32_t>{8, 2});
+    labels.push_back(1);
+  }
+  Corpus test(3);
+  test.add_document(std::vector<std::int32_t>{0, 1}, std::vector<std::int32_t>{8, 2});  // a
+  test.add_document(std::vector<std::int32_t>{0, 2}, std::vector<std::int32_t>{1, 3});  // b
+  test.add_document(std::span<const std::int32_t>{}, std::span<const std::int32_t>{});
+  const Eigen::MatrixXd log_phi = fit_word_multinomials(train, labels, 2);
+  const auto plain = [&](Eigen::Index d, Eigen::Index c) {
+    const DocumentView doc = test.document(static_cast<std::size_t>(d));
+    double l = 0;
+    for (std::size_t i = 0; i < doc.size(); ++i) l += doc.counts[i] * log_phi(c, doc.words[i]);
+    return l;
+  };
+  EXPECT_GT(plain(0, 1), plain(0, 0));  // the table votes for b
+
+  const BackgroundWordModel m = fit_background_word_model(train, labels, 2);
+  ASSERT_EQ(m.log_object.rows(), 2);
+  ASSERT_EQ(m.log_object.cols(), 3);
+  ASSERT_EQ(m.log_background.size(), 3);
+  EXPECT_NEAR(m.log_background.array().exp().sum(), 1.0, 1e-12);
+  for (Eigen::Index c = 0; c < 2; ++c)
+    EXPECT_NEAR(m.log_object.row(c).array().exp().sum(), 1.0, 1e-12);
+  // The background is mostly table; b's training share of it is larger than a's.
+  EXPECT_GT(m.log_background(0), std::log(0.8));
+  EXPECT_GT(m.background_share(1), m.background_share(0));
+  // Each object's own word gains once the background explains part of the table.
+  EXPECT_GT(m.log_object(0, 1), log_phi(0, 1));
+  EXPECT_GT(m.log_object(1, 2), log_phi(1, 2));
+
+  const Eigen::MatrixXd scores = background_word_scores(m, test);
+  ASSERT_EQ(scores.rows(), 3);
+  ASSERT_EQ(scores.cols(), 2);
+  EXPECT_GT(scores(0, 0), scores(0, 1));  // the view of a: a
+  EXPECT_GT(scores(1, 1), scores(1, 0));  // the view of b: b
+  EXPECT_EQ(scores(2, 0), 0.0);           // empty: no evidence
+  EXPECT_EQ(scores(2, 1), 0.0);
+  // Each score is the best share's: no share in a grid of 101 does better.
+  const Eigen::VectorXd bg = m.log_background.array().exp().matrix();
+  for (Eigen::Index d = 0; d < 2; ++d) {
+    for (Eigen::Index c = 0; c < 2; ++c) {
+      const DocumentView doc = test.document(static_cast<std::size_t>(d));
+      for (int k = 0; k <= 100; ++k) {
+        const double s = k / 100.0;
+        double l = 0;
+        for (std::size_t i = 0; i < doc.size(); ++i) {
+          l += doc.counts[i] *
+               std::log(s * bg(doc.words[i]) + (1 - s) * std::exp(m.log_object(c, doc.words[i])));
+        }
+        EXPECT_LE(l, scores(d, c) + 1e-6) << d << " " << c << " " << s;
+      }
+    }
+  }
+  // Pooled at weight 1 with a flat MoT: the background scores decide.
+  const MotModel mot = two_object_model();
+  MotClassification flat;
+  flat.log_score = Eigen::MatrixXd::Zero(3, 2);
+  for (Eigen::Index d = 0; d < 3; ++d) flat.log_score.row(d) = mot.log_prior().transpose();
+  const MotClassification pooled = pool_word_scores(mot, flat, scores, 1.0);
+  EXPECT_EQ(pooled.predicted[0], 0);
+  EXPECT_EQ(pooled.predicted[1], 1);
+  EXPECT_NEAR(pooled.log_score(0, 1), scores(0, 1) + mot.log_prior()(1), 1e-12);
+
+  EXPECT_THROW((void)fit_background_word_model(train, labels, 2, 1.0, 0), Error);
+  EXPECT_THROW((void)fit_background_word_model(train, std::vector<int>{0}, 2), Error);
+  EXPECT_THROW((void)background_word_scores(m, Corpus(4)), Error);
+  EXPECT_THROW((void)background_word_scores(m, test, 0), Error);
+  EXPECT_THROW((void)pool_word_scores(mot, flat, scores.leftCols(1), 1.0), Error);
+  EXPECT_THROW((void)pool_word_scores(mot, flat, scores.topRows(2), 1.0), Error);
+  EXPECT_THROW((void)pool_word_scores(mot, flat, scores, 1.5), Error);
+}
+
 TEST(MixtureOfTopics, WordsOfAMixtureObjectSumItsComponents) {
   Eigen::VectorXd a(2), b(2);
   a << 5.0, 1.0;

@@ -272,6 +272,43 @@ MotClassification pool_word_multinomials(const MotModel& model, const MotClassif
                                          const Eigen::MatrixXd& log_phi, const Corpus& corpus,
                                          double weight);
 
+/// The objects' word multinomials with a background shared by all objects (session 30 of
+/// docs/results/learn.md, an addition to the thesis's model): a view's words are a mixture
+///   p(w | c, s) = s b(w) + (1 - s) q_c(w),
+/// b the background, q_c the object's own words and s in [0, 1] the view's share of background.
+/// b(w) is proportional to min_c p_c(w), p_c the add-one multinomials of fit_word_multinomials
+/// (what every object's views hold: the table, the backdrop, shared neighbours); q_c and each
+/// object's training share of background are fitted by EM on the pooled counts of its views.
+/// A view is then scored with its own share s (background_word_scores), so that how much table
+/// a view shows no longer votes for the object whose training views showed most table.
+struct BackgroundWordModel {
+  Eigen::MatrixXd log_object;        ///< C x W: log q_c(w)
+  Eigen::VectorXd log_background;    ///< W: log b(w)
+  Eigen::VectorXd background_share;  ///< C: each object's fitted training share of background
+};
+
+/// Fits BackgroundWordModel to the documents labelled 0..classes-1 (a label < 0 leaves its
+/// document out; pseudo_count added to every word of q_c in each M-step, as
+/// fit_word_multinomials; `iterations` EM steps). Throws Error as fit_word_multinomials, and for
+/// iterations < 1.
+BackgroundWordModel fit_background_word_model(const Corpus& corpus, std::span<const int> labels,
+                                              int classes, double pseudo_count = 1.0,
+                                              int iterations = 100);
+
+/// D x C: each document's log-likelihood under each object with its own background share,
+///   max over s in [0, 1] of sum_n log(s b(w_dn) + (1 - s) q_c(w_dn))
+/// (the share found by `iterations` EM steps from 0.5; the objective is concave in s). An empty
+/// document scores 0. Throws Error when the model's W differs from the corpus's or the model's
+/// parts disagree in size.
+Eigen::MatrixXd background_word_scores(const BackgroundWordModel& model, const Corpus& corpus,
+                                       int iterations = 50);
+
+/// pool_word_multinomials with the multinomial term given as a D x C matrix of log-likelihoods
+/// (e.g. background_word_scores): log_score(d, c) = (1 - weight) L_c(w_d) + weight
+/// word_scores(d, c) + log p(c). Throws Error on weight outside [0, 1] or sizes that disagree.
+MotClassification pool_word_scores(const MotModel& model, const MotClassification& by_words,
+                                   const Eigen::MatrixXd& word_scores, double weight);
+
 struct MotUpdateSummary {
   int views = 0;                          ///< new views
   int new_objects = 0;                    ///< labels not in the model before
