@@ -39,11 +39,16 @@ def check(base, cand, with_median, label):
     return fails
 
 
-for path in sys.argv[1:]:
-    rows, tol = load(path)
-    print(f'== {path}')
-    show('all', rows, tol)
-fails = check(sys.argv[1], sys.argv[2], True, 'feasible targets')
-if len(sys.argv) >= 5:
-    fails += check(sys.argv[3], sys.argv[4], False, "issue's targets")
-print('rule29: ' + ('PASSES' if not fails else 'FAILS: ' + '; '.join(fails)))
+def main():
+    for path in sys.argv[1:]:
+        rows, tol = load(path)
+        print(f'== {path}')
+        show('all', rows, tol)
+    fails = check(sys.argv[1], sys.argv[2], True, 'feasible targets')
+    if len(sys.argv) >= 5:
+        fails += check(sys.argv[3], sys.argv[4], False, "issue's targets")
+    print('rule29: ' + ('PASSES' if not fails else 'FAILS: ' + '; '.join(fails)))
+
+
+if __name__ == '__main__':
+    main()

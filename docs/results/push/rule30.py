@@ -12,36 +12,10 @@ CAND_ISSUE.json  (stdlib only). All must hold:
      defaults' (an option that changes nothing does not become a default).
 Prints each file's figures (rule24.py's, per object too), the tables whose only-intended
 changed, and PASSES or FAILS with the conditions that failed."""
-import json
 import sys
 
-from rule24 import figures, show  # noqa: F401  (show prints the figures and per object)
-from summarise import median
-
-
-def load(path):
-    j = json.load(open(path))
-    return j['pushes'], j['options'].get('tolerance', 0.015)
-
-
-def check(base, cand, with_median, label):
-    """rule29.py's conditions 1-3 (rule29.py runs on import, so they are repeated here)."""
-    (br, bt), (cr, ct) = load(base), load(cand)
-    _, be, bo, bw, bd = figures(br, bt)
-    _, ce, co, cw, cd = figures(cr, ct)
-    bm, cm = median(bd), median(cd)
-    fails = []
-    if co / max(ce, 1) < bo / max(be, 1):
-        fails.append(f'{label} 1: only intended {co}/{ce} below {bo}/{be}')
-    if ce < be - 1:
-        fails.append(f'{label} 1: executed {ce} fewer than {be} - 1')
-    if cw < bw - 3:
-        fails.append(f'{label} 2: within tolerance {cw} fewer than {bw} - 3')
-    if with_median and not (cm < 0.020 and cm <= bm + 0.002):
-        fails.append(f'{label} 3: median {1000 * cm:.1f} mm (defaults {1000 * bm:.1f} mm)')
-    print(f'{label}: only intended {co}/{ce} against {bo}/{be}; within tolerance {cw} against '
-          f'{bw}; median {1000 * cm:.1f} against {1000 * bm:.1f} mm')
-    return fails
+from rule24 import figures, show
+from rule29 import check, load  # conditions 1-3 (rule29.py's, the same code)
 
 
 if len(sys.argv) != 5:
