@@ -95,15 +95,19 @@ class Learner {
         o_(options),
         episodes_(std::move(episodes)),
         rng_(core::Rng::stream(options.seed, kChoiceStream)) {
-    out_.classes = classes;
-    for (int c = 0; c < classes; ++c) {
-      out_.class_names.push_back(core::cat({"object_", std::to_string(c + 1)}));
+    objects_ = classes;
+    // rounds: up to that many rounds, each its own class until merge_into_classes().
+    const int rounds = options.rounds > 0 ? std::max(classes, options.rounds) : classes;
+    out_.classes = rounds;
+    for (int c = 0; c < rounds; ++c) {
+      out_.class_names.push_back(
+          core::cat({rounds > classes ? "round_" : "object_", std::to_string(c + 1)}));
     }
-    out_.views_per_class.assign(static_cast<std::size_t>(classes), 0);
-    out_.stop_reasons.assign(static_cast<std::size_t>(classes), "");
+    out_.views_per_class.assign(static_cast<std::size_t>(rounds), 0);
+    out_.stop_reasons.assign(static_cast<std::size_t>(rounds), "");
     out_.views.theta.resize(0, model.num_topics());
     out_.views.words = topics::Corpus(model.num_words());
-    class_looks_.resize(static_cast<std::size_t>(classes));
+    class_looks_.resize(static_cast<std::size_t>(rounds));
     if (!log_path.empty()) log_file_.open(log_path);
   }
 
@@ -144,8 +148,19 @@ class Learner {
         }
       }
       round(r, bar);
+      rounds_run_ = r + 1;
+      if (merging() && rounds_run_ >= objects_ && rounds_run_ < out_.classes && judged_done()) {
+        bar.tick(static_cast<std::size_t>(out_.classes - rounds_run_) *
+                 static_cast<std::size_t>(o_.pushes));
+        break;
+      }
     }
     bar.finish();
+    if (merging()) {
+      merge_into_classes();
+    } else {
+      for (int r = 0; r < rounds_run_; ++r) out_.round_class.push_back(r);
+    }
     fit();
     out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     log({.event = "end",
@@ -177,17 +192,17 @@ class Learner {
     size_ = l.image.size();
     image_ = l.image;
     planning::PlanningView view = planning::look_for_objects(l, region_, plan_options_);
-    if (o_.split_merged && splitting_ && static_cast<int>(view.objects.size()) < out_.classes) {
+    if (o_.split_merged && splitting_ && static_cast<int>(view.objects.size()) < objects_) {
       const std::size_t seen = view.objects.size();
-      const std::vector<int> split = split_merged_blobs(
-          view, l.image, out_.classes, o_.min_features, o_.split_colour, region_, plan_options_);
+      const std::vector<int> split = split_merged_blobs(view, l.image, objects_, o_.min_features,
+                                                        o_.split_colour, region_, plan_options_);
       if (!split.empty()) {
         std::string which;
         for (const int b : split)
           which += core::cat({which.empty() ? "" : ", ", std::to_string(b)});
         log({.event = "split",
              .round = round_,
-             .why = core::cat({std::to_string(seen), " blobs for ", std::to_string(out_.classes),
+             .why = core::cat({std::to_string(seen), " blobs for ", std::to_string(objects_),
                                " objects: blob(s) ", which,
                                " split in two by k-means on positions and colours; ",
                                std::to_string(view.objects.size()), " blobs now"}),
@@ -271,7 +286,7 @@ class Learner {
       blobs[static_cast<std::size_t>(rows[i])] =
           theta.row(static_cast<Eigen::Index>(i)).transpose();
     }
-    const NextChoice next = choose_unlearned(blobs, class_looks_);
+    const NextChoice next = choose_unlearned(blobs, merging() ? group_looks() : class_looks_);
     for (BlobScore& bs : scores) {
       const auto b = static_cast<std::size_t>(bs.blob);
       bs.nearest = next.nearest[b];
@@ -1190,10 +1205,9 @@ class Learner {
       bar.tick(static_cast<std::size_t>(o_.pushes));
       return;
     }
-    if (static_cast<int>(view.objects.size()) < out_.classes) {
+    if (static_cast<int>(view.objects.size()) < objects_) {
       fault(r, "fewer-blobs",
-            core::cat({std::to_string(view.objects.size()), " blobs for ",
-                       std::to_string(out_.classes),
+            core::cat({std::to_string(view.objects.size()), " blobs for ", std::to_string(objects_),
                        " objects: some are merged or out of view; going on with what is seen"}));
     }
     const int k = choose(r, view);
@@ -1302,7 +1316,7 @@ class Learner {
       }
     }
     if (names.empty()) return;
-    for (int& l : labels) l = remap[static_cast<std::size_t>(l)];
+    for (int& l : labels) l = l < 0 ? -1 : remap[static_cast<std::size_t>(l)];
     model_so_far_ = topics::fit_mot(out_.views.theta, labels, names, o_.mot).model;
     model_class_.clear();
     for (int c = 0; c < out_.classes; ++c) {
@@ -1322,6 +1336,128 @@ class Learner {
                          " views (a Dirichlet needs 2); left out of the model"}));
       }
     }
+  }
+
+  // SelfSupervisionOptions::rounds: more rounds than objects, merged by the robot's judgement.
+  [[nodiscard]] bool merging() const { return out_.classes > objects_; }
+
+  // Per round run so far: its views' word counts.
+  std::vector<Eigen::VectorXd> round_counts() const {
+    std::vector<Eigen::VectorXd> counts(static_cast<std::size_t>(rounds_run_),
+                                        Eigen::VectorXd::Zero(vocabulary_.size()));
+    for (std::size_t d = 0; d < out_.views.labels.size(); ++d) {
+      const int r = out_.views.labels[d];
+      if (r < 0 || r >= rounds_run_) continue;
+      const topics::DocumentView doc = out_.views.words.document(d);
+      for (std::size_t k = 0; k < doc.size(); ++k) {
+        counts[static_cast<std::size_t>(r)][doc.words[k]] += doc.counts[k];
+      }
+    }
+    return counts;
+  }
+
+  // The robot's judgement so far: the round classes grouped (merge_rounds at same_object).
+  RoundMerge judge() const {
+    const auto counts = round_counts();
+    if (counts.empty()) return {};
+    return merge_rounds(counts, objects_, o_.same_object);
+  }
+
+  // After a round: whether the robot judges C distinct objects learned (logged either way).
+  bool judged_done() {
+    const RoundMerge m = judge();
+    const bool done = m.distinct >= objects_;
+    log({.event = "judge",
+         .round = rounds_run_ - 1,
+         .why = core::cat(
+             {std::to_string(m.distinct), " distinct objects of ", std::to_string(objects_),
+              " judged from ", std::to_string(rounds_run_), " rounds (round classes nearer than ",
+              core::printf_string("%.3g", o_.same_object), " nats a word are one object): ",
+              done ? "every object learned, no more rounds"
+                   : "another round, choosing the object least like the groups"}),
+         .classes = m.distinct});
+    return done;
+  }
+
+  // (d) with rounds: each group of rounds the robot judges one object claims one blob, by the
+  // looks of all its rounds (rounds without views take no part: their object is not learned).
+  std::vector<std::vector<Eigen::VectorXd>> group_looks() const {
+    const RoundMerge m = judge();
+    std::vector<std::vector<Eigen::VectorXd>> looks(static_cast<std::size_t>(m.distinct));
+    for (std::size_t r = 0; r < m.judged.size(); ++r) {
+      const int g = m.judged[r];
+      if (g < 0) continue;
+      const auto& own = class_looks_[r];
+      looks[static_cast<std::size_t>(g)].insert(looks[static_cast<std::size_t>(g)].end(),
+                                                own.begin(), own.end());
+    }
+    return looks;
+  }
+
+  // The round classes merged into C classes (merge_rounds), every merge logged; the views
+  // relabelled, the classes renamed object_1..object_C.
+  void merge_into_classes() {
+    const RoundMerge m = judge();
+    // Every pair of rounds with views: their distance (what the merges below were made from).
+    const auto counts = round_counts();
+    for (std::size_t a = 0; a < counts.size(); ++a) {
+      for (std::size_t b = a + 1; b < counts.size(); ++b) {
+        if (counts[a].sum() <= 0 || counts[b].sum() <= 0) continue;
+        log({.event = "distance",
+             .distance = round_distance(counts[a], counts[b]),
+             .merged = std::vector<int>{static_cast<int>(a), static_cast<int>(b)}});
+      }
+    }
+    // The merges that made the classes: the first (rounds with views - C) of m.steps (the later
+    // ones only group rounds for the judgement).
+    const auto with_views = static_cast<int>(
+        std::count_if(counts.begin(), counts.end(), [](const auto& c) { return c.sum() > 0; }));
+    const auto applied = static_cast<std::size_t>(std::max(0, with_views - objects_));
+    for (std::size_t k = 0; k < applied && k < m.steps.size(); ++k) {
+      const RoundMergeStep& st = m.steps[k];
+      std::vector<int> both = st.a;
+      both.insert(both.end(), st.b.begin(), st.b.end());
+      std::sort(both.begin(), both.end());
+      const auto list = [](const std::vector<int>& rs) {
+        std::string t;
+        for (const int r : rs) t += core::cat({t.empty() ? "" : "+", std::to_string(r + 1)});
+        return t;
+      };
+      log({.event = "merge",
+           .why = core::cat(
+               {"rounds ", list(st.a), " and ", list(st.b), ": ",
+                st.same ? "nearer than same_object: one object"
+                        : "not nearer than same_object, merged as more groups are left than C"}),
+           .distance = st.distance,
+           .merged = both});
+    }
+    std::vector<int> cls = m.class_of_round;
+    cls.resize(static_cast<std::size_t>(rounds_run_), -1);
+    const int groups = cls.empty() ? 0 : *std::max_element(cls.begin(), cls.end()) + 1;
+    for (std::size_t r = 0; r < cls.size(); ++r) {
+      log({.event = "merge",
+           .round = static_cast<int>(r),
+           .why = cls[r] < 0 ? std::string("the round has no views: no class")
+                             : core::cat({"round ", std::to_string(r + 1), " is object_",
+                                          std::to_string(cls[r] + 1)})});
+    }
+    if (groups < objects_) {
+      fault(rounds_run_ - 1, "fewer-classes",
+            core::cat({std::to_string(groups), " classes of views for ", std::to_string(objects_),
+                       " objects"}));
+    }
+    for (int& l : out_.views.labels) l = cls[static_cast<std::size_t>(l)];
+    out_.views_per_class.assign(static_cast<std::size_t>(objects_), 0);
+    for (const int l : out_.views.labels) {
+      if (l >= 0) ++out_.views_per_class[static_cast<std::size_t>(l)];
+    }
+    out_.classes = objects_;
+    out_.class_names.clear();
+    for (int c = 0; c < objects_; ++c) {
+      out_.class_names.push_back(core::cat({"object_", std::to_string(c + 1)}));
+    }
+    out_.round_class = cls;
+    class_looks_.assign(static_cast<std::size_t>(objects_), {});
   }
 
   robot::Robot& robot_;
@@ -1347,6 +1483,8 @@ class Learner {
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
   bool singulated_ = false;    ///< the last clear() ended with the chosen object alone
   int round_ = 0;              ///< the round under way (for the looks' "split" events)
+  int objects_ = 0;            ///< C, the objects on the table (out_.classes: the rounds)
+  int rounds_run_ = 0;         ///< rounds run so far
   double offset_ = 0;          ///< the next push's turning offset, m (0: through the centre)
   /// topple_ratio: plan() leaves a plan whose every push would tip the object unplanned (the
   /// learn pushes' first pass over the sides); false: it re-plans it without the check.
@@ -1825,6 +1963,86 @@ double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
   return std::sqrt(std::max(0.0, 1.0 - bc));
 }
 
+double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  if (a.size() != b.size() || a.size() == 0) {
+    throw Error("round_distance: word counts of different lengths (or none)");
+  }
+  if (!a.allFinite() || !b.allFinite() || a.minCoeff() < 0 || b.minCoeff() < 0) {
+    throw Error("round_distance: word counts must be finite and non-negative");
+  }
+  const double sa = a.sum();
+  const double sb = b.sum();
+  if (sa <= 0 || sb <= 0) throw Error("round_distance: a round without words");
+  const auto n = static_cast<double>(a.size());
+  const Eigen::ArrayXd la = ((a.array() + kRoundSmoothing) / (sa + kRoundSmoothing * n)).log();
+  const Eigen::ArrayXd lb = ((b.array() + kRoundSmoothing) / (sb + kRoundSmoothing * n)).log();
+  // H(a, phi_b) - H(a, phi_a) = sum_w a_w (log phi_a - log phi_b) / sum a.
+  const double ab = (a.array() * (la - lb)).sum() / sa;
+  const double ba = (b.array() * (lb - la)).sum() / sb;
+  return std::max(0.0, 0.5 * (ab + ba));
+}
+
+RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes,
+                        double same_object) {
+  if (classes < 1) throw Error("merge_rounds: classes must be >= 1");
+  struct Group {
+    std::vector<int> rounds;
+    Eigen::VectorXd counts;
+  };
+  std::vector<Group> groups;  // ordered by their first round
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    if (counts[r].size() != counts.front().size()) {
+      throw Error("merge_rounds: word counts of different lengths");
+    }
+    if (counts[r].sum() > 0) groups.push_back({{static_cast<int>(r)}, counts[r]});
+  }
+  RoundMerge out;
+  out.class_of_round.assign(counts.size(), -1);
+  out.judged.assign(counts.size(), -1);
+  const auto number = [&groups](std::vector<int>& dst) {
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      for (const int r : groups[g].rounds) dst[static_cast<std::size_t>(r)] = static_cast<int>(g);
+    }
+  };
+  const auto many = [&groups] { return static_cast<int>(groups.size()); };
+  if (many() <= classes) number(out.class_of_round);
+  bool judging = true;
+  while (groups.size() > 1) {
+    std::size_t bi = 0;
+    std::size_t bj = 1;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      for (std::size_t j = i + 1; j < groups.size(); ++j) {
+        const double d = round_distance(groups[i].counts, groups[j].counts);
+        if (d < best) {
+          best = d;
+          bi = i;
+          bj = j;
+        }
+      }
+    }
+    const bool same = best < same_object;
+    if (judging && !same) {
+      number(out.judged);
+      out.distinct = many();
+      judging = false;
+    }
+    if (!judging && many() <= classes) break;
+    out.steps.push_back({groups[bi].rounds, groups[bj].rounds, best, same});
+    Group& g = groups[bi];
+    g.rounds.insert(g.rounds.end(), groups[bj].rounds.begin(), groups[bj].rounds.end());
+    std::sort(g.rounds.begin(), g.rounds.end());
+    g.counts += groups[bj].counts;
+    groups.erase(groups.begin() + static_cast<std::ptrdiff_t>(bj));
+    if (many() == classes) number(out.class_of_round);
+  }
+  if (judging) {
+    number(out.judged);
+    out.distinct = many();
+  }
+  return out;
+}
+
 RepeatTest explained_by(const topics::MotModel& model, const Eigen::MatrixXd& known,
                         const std::vector<int>& known_labels, const Eigen::MatrixXd& fresh,
                         double share) {
@@ -1989,6 +2207,11 @@ Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int cl
                           const fs::path& log_path, bool progress) {
   options.validate();
   if (classes < 1) throw Error("self-supervision: at least one object is needed");
+  if (options.rounds > 0 && options.rounds < classes) {
+    throw Error(core::cat({"self-supervision: --rounds ", std::to_string(options.rounds),
+                           " is fewer than the ", std::to_string(classes),
+                           " objects (0: one round an object)"}));
+  }
   if (vocabulary.size() != model.num_words()) {
     throw Error(core::cat({"the vocabulary has ", std::to_string(vocabulary.size()),
                            " words, the LDA model ", std::to_string(model.num_words()),

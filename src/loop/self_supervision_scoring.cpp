@@ -825,6 +825,13 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   const int c_count = learning.classes;
   const auto& pushes = attendant.pushes();
   const auto& rounds = attendant.rounds();
+  // The class of round r (SelfSupervisionOptions::rounds merges rounds; otherwise round r's).
+  const auto class_of = [&learning](int r) {
+    if (r < 0) return -1;
+    if (learning.round_class.empty()) return r;
+    const auto u = static_cast<std::size_t>(r);
+    return u < learning.round_class.size() ? learning.round_class[u] : -1;
+  };
   // Each class is named after the object the ground truth says it pushed most (learn pushes).
   s.class_object.assign(static_cast<std::size_t>(c_count), "");
   s.class_purity.assign(static_cast<std::size_t>(c_count), 0.0);
@@ -833,7 +840,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   for (int c = 0; c < c_count; ++c) {
     std::map<std::string, int> pushed;
     for (const auto& p : pushes) {
-      if (p.round == c && p.phase == "learn" && p.executed && !p.intended.empty()) {
+      if (class_of(p.round) == c && p.phase == "learn" && p.executed && !p.intended.empty()) {
         ++pushed[p.intended];
       }
     }
@@ -847,7 +854,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     int pure = 0;
     int views = 0;
     for (const auto& p : pushes) {
-      if (p.round != c || p.phase != "learn") continue;
+      if (class_of(p.round) != c || p.phase != "learn") continue;
       views += p.views;
       if (!p.view_truth.empty() && p.view_truth == s.class_object[static_cast<std::size_t>(c)]) {
         pure += p.views;
@@ -858,25 +865,49 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     all_views += views;
   }
   s.purity = fraction(pure_views, all_views);
+  for (std::size_t r = 0; r < rounds.size(); ++r) {
+    std::map<std::string, int> pushed;
+    for (const auto& p : pushes) {
+      if (p.round == static_cast<int>(r) && p.phase == "learn" && p.executed &&
+          !p.intended.empty()) {
+        ++pushed[p.intended];
+      }
+    }
+    std::string most;
+    int best = 0;
+    for (const auto& [name, n] : pushed) {
+      if (n > best) {
+        best = n;
+        most = name;
+      }
+    }
+    s.round_object.push_back(most);
+  }
   for (int c = 0; c < c_count; ++c) {
-    const bool seen = c < static_cast<int>(rounds.size());
-    s.class_chosen.push_back(seen ? rounds[static_cast<std::size_t>(c)].chosen : std::string());
-    s.class_gap.push_back(seen ? rounds[static_cast<std::size_t>(c)].least_gap : -1.0);
-    s.class_blobs.push_back(seen ? rounds[static_cast<std::size_t>(c)].blobs
-                                 : std::vector<std::string>{});
+    // The class's first round (its own with one round an object).
+    int first = -1;
+    for (int r = 0; r < static_cast<int>(rounds.size()) && first < 0; ++r) {
+      if (class_of(r) == c) first = r;
+    }
+    const bool seen = first >= 0;
+    const auto f = static_cast<std::size_t>(std::max(first, 0));
+    s.class_chosen.push_back(seen ? rounds[f].chosen : std::string());
+    s.class_gap.push_back(seen ? rounds[f].least_gap : -1.0);
+    s.class_blobs.push_back(seen ? rounds[f].blobs : std::vector<std::string>{});
   }
   // Each executed learn push as the ground truth saw it: "intended>moved+moved".
   s.class_learn_pushes.assign(static_cast<std::size_t>(c_count), {});
   s.class_learn_blobs.assign(static_cast<std::size_t>(c_count), {});
   for (const auto& p : pushes) {
-    if (p.phase != "learn" || !p.executed || p.round < 0 || p.round >= c_count) continue;
+    const int pc = class_of(p.round);
+    if (p.phase != "learn" || !p.executed || pc < 0 || pc >= c_count) continue;
     std::string line = p.intended + ">";
     for (std::size_t i = 0; i < p.moved.size(); ++i) {
       if (i > 0) line += '+';
       line += p.moved[i];
     }
-    s.class_learn_pushes[static_cast<std::size_t>(p.round)].push_back(line);
-    s.class_learn_blobs[static_cast<std::size_t>(p.round)].push_back(p.blob_truth);
+    s.class_learn_pushes[static_cast<std::size_t>(pc)].push_back(line);
+    s.class_learn_blobs[static_cast<std::size_t>(pc)].push_back(p.blob_truth);
   }
   // Singulation, clearing pushes, intended-only, off the table.
   int singulated = 0;
@@ -902,7 +933,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     if (p.only_intended) ++only;
     s.off_table += p.fell_off;
   }
-  s.singulation = fraction(singulated, c_count);
+  // Of the rounds run (C of them unless SelfSupervisionOptions::rounds allows more).
+  s.singulation = fraction(singulated, std::max(c_count, static_cast<int>(rounds.size())));
   s.pushes_per_cleared =
       cleared_objects > 0 ? static_cast<double>(clear_pushes) / cleared_objects : 0.0;
   s.only_intended = fraction(only, executed);

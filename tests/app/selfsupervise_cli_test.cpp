@@ -69,6 +69,39 @@ TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   EXPECT_HAS(again.err, "already exists");
 }
 
+TEST_F(SelfSuperviseCli, MoreRoundsThanObjectsAreMergedIntoTwoClasses) {
+  // --rounds 3 for two objects, --same-object 10 (any two round classes judged one object): the
+  // robot never judges both objects learned, runs all three rounds and merges them into two
+  // classes; the JSON says which class each round became, the log has every merge.
+  const auto r = run_cli(
+      "selfsupervise --objects book,bottle --pushes 1 --clear-pushes 1 "
+      "--views blob --held-out 3 --width 160 --height 120 --step 4 "
+      "--min-features 3 --seed 3 -q --rounds 3 --same-object 10" +
+      inputs() + " --out " + file("rounds") + " --json " + file("rounds.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const core::Json j = core::read_json(dir() / "rounds.json");
+  ASSERT_EQ(j["classes"].size(), 2U);
+  EXPECT_EQ(j["classes"][0], "object_1");
+  EXPECT_EQ(j["classes"][1], "object_2");
+  ASSERT_EQ(j["round_class"].size(), 3U);
+  EXPECT_EQ(j["stop_reasons"].size(), 3U);
+  for (const auto& c : j["round_class"]) {
+    EXPECT_GE(c.get<int>(), -1);
+    EXPECT_LE(c.get<int>(), 1);
+  }
+  EXPECT_EQ(j["options"]["rounds"], 3);
+  std::ifstream log(dir() / "rounds" / "decisions.jsonl");
+  int chooses = 0;
+  int merges = 0;
+  for (std::string line; std::getline(log, line);) {
+    const core::Json e = core::Json::parse(line);
+    if (e["event"] == "choose") ++chooses;
+    if (e["event"] == "merge") ++merges;
+  }
+  EXPECT_GE(chooses, 3);
+  EXPECT_GE(merges, 3);  // one line a round at least
+}
+
 TEST_F(SelfSuperviseCli, CeilingOnlyScoresTheRendersWithoutARobotRun) {
   // --ceiling-only: no push (no decision log, nothing learned), only the ladder's render rungs
   // (a0, a0_table) trained and scored, printed in the brief.
@@ -112,6 +145,9 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd --mot-word-weight 1.5" + inputs() + out, "mot-word-weight"},
       {"--objects book,cd --mot-word-weight -0.1" + inputs() + out, "mot-word-weight"},
       {"--objects book,cd --mot-classifier words" + inputs() + out, "mot-classifier"},
+      {"--objects book,cd --rounds 1" + inputs() + out, "fewer than the 2 objects"},
+      {"--objects book,cd --rounds 65" + inputs() + out, "rounds"},
+      {"--objects book,cd --same-object -1" + inputs() + out, "same-object"},
       {"--objects book,mug,bottle,spirit-level,rabbit,cd,calculator,giraffe,bike" + inputs() + out,
        "do not fit on the table"},
       {"--objects book,cd" + inputs("other.lda") + out,

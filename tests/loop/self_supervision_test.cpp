@@ -193,6 +193,65 @@ TEST(SelfSupervision, ExplainedByTellsALearnedObjectFromANewOne) {
       Error);
 }
 
+TEST(SelfSupervision, RoundDistanceKnownAnswers) {
+  const Eigen::VectorXd a = (Eigen::VectorXd(4) << 10, 0, 0, 0).finished();
+  const Eigen::VectorXd b = (Eigen::VectorXd(4) << 0, 10, 0, 0).finished();
+  EXPECT_NEAR(round_distance(a, a), 0.0, 1e-12);
+  EXPECT_NEAR(round_distance(a, b), round_distance(b, a), 1e-12);
+  // phi_a = (10.5, .5, .5, .5) / 12: a's words cost log(10.5 / .5) more under phi_b than phi_a.
+  EXPECT_NEAR(round_distance(a, b), std::log(21.0), 1e-12);
+  // Scale does not matter when the proportions are the same (apart from the smoothing).
+  EXPECT_LT(round_distance(a, 10 * a), 0.01);
+  EXPECT_THROW((void)round_distance(a, Eigen::VectorXd::Zero(4)), Error);
+  EXPECT_THROW((void)round_distance(a, Eigen::VectorXd::Ones(3)), Error);
+}
+
+TEST(SelfSupervision, RoundsOfOneObjectMergeAndDifferentObjectsDoNot) {
+  // Three objects' word multinomials over 6 words; rounds 0 and 2 both learned object A (their
+  // counts differ a little), round 1 B, round 3 C, round 4 nothing (no views).
+  const auto v = [](std::initializer_list<double> x) {
+    Eigen::VectorXd r(static_cast<Eigen::Index>(x.size()));
+    Eigen::Index i = 0;
+    for (const double e : x) r[i++] = e;
+    return r;
+  };
+  const std::vector<Eigen::VectorXd> counts = {v({50, 40, 2, 1, 1, 1}), v({1, 2, 50, 40, 1, 1}),
+                                               v({45, 46, 1, 2, 1, 0}), v({1, 1, 0, 2, 48, 44}),
+                                               v({0, 0, 0, 0, 0, 0})};
+  const RoundMerge m = merge_rounds(counts, 3, 0.3);
+  EXPECT_EQ(m.class_of_round, (std::vector<int>{0, 1, 0, 2, -1}));
+  EXPECT_EQ(m.judged, (std::vector<int>{0, 1, 0, 2, -1}));
+  EXPECT_EQ(m.distinct, 3);
+  ASSERT_EQ(m.steps.size(), 1U);  // A's two rounds only: B and C stay apart
+  EXPECT_EQ(m.steps[0].a, (std::vector<int>{0}));
+  EXPECT_EQ(m.steps[0].b, (std::vector<int>{2}));
+  EXPECT_TRUE(m.steps[0].same);
+  EXPECT_LT(m.steps[0].distance, 0.3);
+
+  // Room for four classes: no merge is needed for the classes, the judgement still finds A twice.
+  const RoundMerge four = merge_rounds(counts, 4, 0.3);
+  EXPECT_EQ(four.class_of_round, (std::vector<int>{0, 1, 2, 3, -1}));
+  EXPECT_EQ(four.judged, (std::vector<int>{0, 1, 0, 2, -1}));
+  EXPECT_EQ(four.distinct, 3);
+
+  // Two classes: different objects are merged (the nearest pair) only because C is 2, and the
+  // merge says so (not judged the same object).
+  const RoundMerge two = merge_rounds(counts, 2, 0.3);
+  EXPECT_EQ(two.distinct, 3);
+  ASSERT_EQ(two.steps.size(), 2U);
+  EXPECT_FALSE(two.steps[1].same);
+  EXPECT_GE(two.steps[1].distance, 0.3);
+  EXPECT_EQ(two.class_of_round[0], two.class_of_round[2]);
+  EXPECT_EQ(*std::max_element(two.class_of_round.begin(), two.class_of_round.end()), 1);
+
+  // A threshold nothing is below: every round its own object, C classes still made.
+  const RoundMerge strict = merge_rounds(counts, 3, 0.0);
+  EXPECT_EQ(strict.distinct, 4);
+  EXPECT_EQ(strict.class_of_round, (std::vector<int>{0, 1, 0, 2, -1}));
+  EXPECT_EQ(strict.judged, (std::vector<int>{0, 1, 2, 3, -1}));
+  EXPECT_THROW((void)merge_rounds(counts, 0, 0.3), Error);
+}
+
 TEST(SelfSupervision, HullGapKnownAnswers) {
   const std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const auto shifted = [&](const Eigen::Vector2d& by) {
@@ -1422,6 +1481,72 @@ TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
   const auto [l2, choices2] = two_round_run(o);
   for (const auto& j : l2.log) EXPECT_NE(j.event, "repeat");
   EXPECT_EQ(choices2, 2);
+}
+
+TEST(SelfSupervision, MoreRoundsThanObjectsAreMergedByTheRobotsJudgement) {
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 3;
+  o.rounds = 3;
+  const auto run = [](const SelfSupervisionOptions& opt) {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::SimulatedRobot robot(table_of(opt), catalogue);
+    const TinyModel m = tiny_model(robot.look().image);
+    ChoiceCounter attendant;
+    return learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, opt, {});
+  };
+  const auto count = [](const Learning& l, const std::string& event) {
+    return static_cast<int>(
+        std::count_if(l.log.begin(), l.log.end(), [&](const auto& j) { return j.event == event; }));
+  };
+  // Any two round classes are one object by this threshold: the robot never judges two objects
+  // learned, runs all 3 rounds and merges them into 2 classes, every merge logged.
+  o.same_object = 10;
+  const Learning all = run(o);
+  EXPECT_EQ(all.classes, 2);
+  EXPECT_EQ(all.class_names, (std::vector<std::string>{"object_1", "object_2"}));
+  ASSERT_EQ(all.round_class.size(), 3U);
+  EXPECT_EQ(all.stop_reasons.size(), 3U);
+  EXPECT_EQ(count(all, "choose"), 3);
+  EXPECT_EQ(count(all, "judge"), 1);  // after round 2 (round 3 is the last)
+  EXPECT_EQ(all.views_per_class.size(), 2U);
+  int views = 0;
+  for (const int v : all.views_per_class) views += v;
+  EXPECT_EQ(views, static_cast<int>(all.views.labels.size()));
+  for (const int l : all.views.labels) {
+    EXPECT_GE(l, 0);
+    EXPECT_LT(l, 2);
+  }
+  int with_views = 0;
+  for (const int c : all.round_class) with_views += c >= 0 ? 1 : 0;
+  int merges = 0;
+  for (const auto& j : all.log) {
+    if (j.event != "merge" || !j.merged) continue;
+    ++merges;
+    ASSERT_TRUE(j.distance && j.why);
+    EXPECT_GE(*j.distance, 0.0);
+    EXPECT_NE(j.why->find("rounds "), std::string::npos) << *j.why;
+  }
+  EXPECT_EQ(merges, std::max(0, with_views - 2));
+  EXPECT_EQ(all.log.back().event, "end");
+
+  // Nothing is below threshold 0: after round 2 every round with views is its own object, so
+  // with two such rounds the robot stops there, each round its own class.
+  o.same_object = 0;
+  const Learning judged = run(o);
+  const auto it = std::find_if(judged.log.begin(), judged.log.end(),
+                               [](const auto& j) { return j.event == "judge"; });
+  ASSERT_NE(it, judged.log.end());
+  ASSERT_TRUE(it->classes.has_value());
+  if (*it->classes == 2) {
+    EXPECT_EQ(count(judged, "choose"), 2);
+    EXPECT_EQ(judged.round_class, (std::vector<int>{0, 1}));
+  } else {
+    EXPECT_EQ(count(judged, "choose"), 3);
+  }
+
+  // Fewer rounds than objects: bad input.
+  o.rounds = 1;
+  EXPECT_THROW((void)run(o), Error);
 }
 
 TEST(SelfSupervision, ARoundWhoseLaterViewsALearnedClassExplainsStops) {

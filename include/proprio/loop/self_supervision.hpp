@@ -241,6 +241,19 @@ struct SelfSupervisionOptions {
   /// 2-6 33.6 +- 13.9% -> 31.5 +- 15.0% (paired -2.1 +- 3.8 points; it fired on 2 seeds, both in
   /// (b)): off (docs/results/selfsupervision.md, "Session 27").
   double merge_ratio = 0.0;
+  /// (a)-(d): more rounds than objects, merged by the robot's own judgement (session 31). The
+  /// robot runs up to this many rounds (0: C rounds, the default; otherwise at least C), each
+  /// round a candidate class with its own views. After each round from the C-th on it groups
+  /// the round classes by their own similarity (merge_rounds on their views' word counts: two
+  /// round classes nearer than same_object are one object) and stops when it judges that C
+  /// distinct objects are learned, or when the rounds run out; (d) chooses by the groups' looks
+  /// (a group claims one blob), so an object learned twice is not chosen a third time. At the
+  /// end the round classes are merged into C classes (the nearest first; every merge logged,
+  /// event "merge"). Learning::round_class says which class each round became.
+  int rounds = 0;
+  /// rounds: two round classes are one object when their distance (round_distance) is below
+  /// this, nats a word.
+  double same_object = 0.3;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
   /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
@@ -385,6 +398,13 @@ struct SelfSupervisionOptions {
        core::between(0.0, 100.0)});
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
+    v(self.rounds,
+      {"rounds",
+       "Rounds at most, merged into C classes by the robot's own similarity (0: C rounds)",
+       core::between(0, 64)});
+    v(self.same_object,
+      {"same_object", "rounds: two round classes nearer than this (nats a word) are one object",
+       core::between(0.0, 10.0)});
     v.choice(self.views, {"views", "Training views: motion (M-L segmentation) or blob"},
              kViewSourceNames);
     v.choice(self.choice,
@@ -544,7 +564,7 @@ struct BlobScore {
 
 /// One line of the decision log (decisions.jsonl): an event and the fields it has (the others are
 /// left out). Events: start, rescatter, look, choose, singulated, plan, push, motion, replan,
-/// refound, views, fault, end.
+/// refound, views, fault, judge, distance, merge, end.
 struct SelfSupervisionDecision {
   std::string event = {};
   std::optional<int> round = {};          ///< the round (class) it belongs to
@@ -589,6 +609,9 @@ struct SelfSupervisionDecision {
   std::optional<int> moved_most = {};   ///< motion: the blob that moved most (-1: none moved)
   std::optional<int> merged_with = {};  ///< motion: the blob of the look before it merged with
   std::optional<double> lack = {};      ///< plan (learn): the corridor's lack of clearance, m
+  /// merge: the two groups' distance; distance: the two rounds', nats a word
+  std::optional<double> distance = {};
+  std::optional<std::vector<int>> merged = {};  ///< merge, distance: the rounds (0-based)
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -633,6 +656,8 @@ struct SelfSupervisionDecision {
     v(self.moved_most, {"moved_most", "The blob that moved most (-1: none)"});
     v(self.merged_with, {"merged_with", "The blob the pushed one merged with"});
     v(self.lack, {"lack", "The corridor's lack of clearance from other blobs, m"});
+    v(self.distance, {"distance", "The merged groups' distance, nats a word"});
+    v(self.merged, {"merged", "The rounds merged into one class"});
   }
 };
 
@@ -648,7 +673,10 @@ struct Learning {
   int pushes_clear = 0;          ///< executed pushes in (b)
   int pushes_learn = 0;          ///< executed pushes in (c)
   int faults = 0;                ///< logged faults (not planned, refused, moved nothing, lost)
-  std::vector<std::string> stop_reasons;     ///< per round: why it ended early ("" when it did not)
+  std::vector<std::string> stop_reasons;  ///< per round: why it ended early ("" when it did not)
+  /// Per round run: the class its views became (SelfSupervisionOptions::rounds; -1: a round
+  /// without views). With C rounds: 0..C-1, each round its own class.
+  std::vector<int> round_class;
   std::vector<SelfSupervisionDecision> log;  ///< the decision log (decisions.jsonl's lines)
   double seconds = 0;
 };
@@ -712,6 +740,44 @@ inline constexpr double kRepeatQuantile = 0.25;
 RepeatTest explained_by(const topics::MotModel& model, const Eigen::MatrixXd& known,
                         const std::vector<int>& known_labels, const Eigen::MatrixXd& fresh,
                         double share);
+
+/// SelfSupervisionOptions::rounds: the distance between two round classes, from their views'
+/// word counts `a` and `b` (one entry a vocabulary word, non-negative): the symmetric excess
+/// cross-entropy d = 1/2 [H(a, phi_b) - H(a, phi_a) + H(b, phi_a) - H(b, phi_b)], nats a word,
+/// H(x, phi) = -sum_w x_w log phi_w / sum_w x_w, phi_x = (x + kRoundSmoothing) normalised (each
+/// round's word multinomial, a symmetric Dirichlet's posterior mean). 0 for equal counts, larger
+/// the less each round's views are explained by the other's multinomial. Throws Error when the
+/// lengths differ or either has no word.
+double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b);
+inline constexpr double kRoundSmoothing = 0.5;
+
+/// One merge of merge_rounds: the two groups (their rounds, 0-based) and their distance.
+struct RoundMergeStep {
+  std::vector<int> a;
+  std::vector<int> b;
+  double distance = 0;
+  bool same = false;  ///< below same_object: judged one object
+};
+
+/// SelfSupervisionOptions::rounds: the round classes merged by the robot's own similarity.
+struct RoundMerge {
+  /// Per round: its class, 0..classes-1 numbered by each class's first round (-1: no words).
+  /// The rounds with words merged, nearest first, until at most `classes` groups are left.
+  std::vector<int> class_of_round;
+  /// Per round: its group when only merges below same_object are made (the robot's judgement of
+  /// which rounds learned one object; -1: no words), numbered as class_of_round.
+  std::vector<int> judged;
+  int distinct = 0;  ///< groups of `judged`: the distinct objects the robot judges it learned
+  std::vector<RoundMergeStep> steps;  ///< every merge made for class_of_round or judged, in order
+};
+
+/// Agglomerative merging of round classes: `counts[r]` is round r's views' word counts (all of
+/// one length; all zero: a round without views, left out). The two nearest groups (round_distance
+/// of their pooled counts; ties: the lower rounds) are merged while more than `classes` groups
+/// are left (class_of_round) and while they are nearer than `same_object` (judged). Throws Error
+/// when `classes` < 1 or the lengths differ.
+RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes,
+                        double same_object);
 
 /// Most sideways offset of a turning push, m (SelfSupervisionOptions::turn_offset).
 inline constexpr double kMaxTurnOffset = 0.03;

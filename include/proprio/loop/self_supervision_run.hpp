@@ -39,6 +39,7 @@ struct SelfSupervisionResult {
     v(l.pushes_learn, {"pushes_learn", "Executed pushes in (c)"});
     v(l.faults, {"faults", "Logged faults"});
     v(l.stop_reasons, {"stop_reasons", "Per round: why it ended early (empty: it did not)"});
+    v(l.round_class, {"round_class", "Per round: the class its views became (-1: none)"});
     v(l.seconds, {"seconds", "Wall clock, s"});
     v(self.model_file, {"model", "The Mixture of Topics model written, or empty"});
     v(self.decisions, {"decisions", "The decision log, one JSON object a line"});

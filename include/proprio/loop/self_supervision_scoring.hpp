@@ -272,17 +272,23 @@ struct OracleLadder {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct SelfSupervisionScore {
   std::vector<std::string> class_object;  ///< each class named after the object pushed most
-  std::vector<double> class_purity;       ///< fraction of its views showing that object
+  /// Per round: the object its learn pushes pushed most ("" none; one a class unless
+  /// SelfSupervisionOptions::rounds merges rounds).
+  std::vector<std::string> round_object;
+  std::vector<double> class_purity;  ///< fraction of its views showing that object
   /// The object under the blob the learner chose for each class at (a)/(d) ("" unknown), and
-  /// each round's least footprint gap after (b), m (-1: the chosen object was lost).
+  /// each round's least footprint gap after (b), m (-1: the chosen object was lost). With
+  /// SelfSupervisionOptions::rounds: of each class's first round.
   std::vector<std::string> class_chosen;
   std::vector<double> class_gap;
-  /// Each round's look at (a)/(d): the object under each of its blobs (RoundTruth::blobs).
+  /// Each class's (first round's) look at (a)/(d): the object under each of its blobs
+  /// (RoundTruth::blobs).
   std::vector<std::vector<std::string>> class_blobs;
-  /// Per round, each executed learn push as the ground truth saw it: "intended>moved+moved"
-  /// (the object under the pushed blob, then every object that moved; "" for none).
+  /// Per class (its rounds'), each executed learn push as the ground truth saw it:
+  /// "intended>moved+moved" (the object under the pushed blob, then every object that moved; "" for
+  /// none).
   std::vector<std::vector<std::string>> class_learn_pushes;
-  /// Per round, each executed learn push's blob as the ground truth saw it (PushTruth::blob_truth).
+  /// Per class, each executed learn push's blob as the ground truth saw it (PushTruth::blob_truth).
   std::vector<std::vector<std::string>> class_learn_blobs;
   std::vector<ObjectScore> objects;
   double singulation = 0;               ///< rounds singulated / rounds
@@ -302,12 +308,13 @@ struct SelfSupervisionScore {
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.class_object, {"class_object", "Each class named after the object pushed most"});
+    v(self.round_object, {"round_object", "Per round: the object its learn pushes pushed most"});
     v(self.class_purity, {"class_purity", "Fraction of its views showing that object"});
     v(self.class_chosen, {"class_chosen", "The object under the blob chosen for each class"});
     v(self.class_gap, {"class_gap", "Each round's least footprint gap after (b), m (-1: lost)"});
     v(self.class_blobs, {"class_blobs", "Each round's choice look: the object under each blob"});
     v(self.class_learn_pushes,
-      {"class_learn_pushes", "Each round's learn pushes: intended>what moved"});
+      {"class_learn_pushes", "Each class's learn pushes (of its rounds): intended>what moved"});
     v(self.class_learn_blobs,
       {"class_learn_blobs", "Each round's learn pushes: the pushed blob's points by object"});
     v(self.singulation, {"singulation", "Rounds singulated / rounds"});
