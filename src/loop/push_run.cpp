@@ -314,11 +314,7 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         popt.max_approach = std::min(kMostApproach, popt.max_approach + attempt * kRetryApproach);
         // refusal_pose_margin: a retry after a refusal takes the least-cost path whose arm keeps
         // clear on its way down (its own kinematics against the depth image), when there is one.
-        // Its waypoints only on the first push: a correction's object is already near the target.
-        if (attempt > 0) {
-          popt = planning::after_refusal(popt);
-          if (k > 0) popt.via_points = options.plan.via_points;
-        }
+        if (attempt > 0) popt = planning::after_refusal(popt);
         // A push round a blocked line needs a push after it to reach the target.
         if (k + 1 >= budget) {
           popt.via_points = 0;

@@ -2001,7 +2001,6 @@ PushPlanOptions after_refusal(const PushPlanOptions& options) {
   if (o.refusal_pose_margin <= 0) return o;
   o.descent_pose_margin = std::max(o.descent_pose_margin, o.refusal_pose_margin);
   o.descent_pose_fallback = true;
-  o.via_points = std::max(o.via_points, kRefusalVia);
   return o;
 }
 

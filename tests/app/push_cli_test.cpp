@@ -237,13 +237,14 @@ TEST(PushCli, AFirstPushWhoseHandWouldMeetANeighbourIsReplannedClear) {
 }
 
 TEST(PushCli, APushTheRobotRefusedIsReplannedWithTheArmsWayDownClear) {
-  // Tuning table 48 with a target where the giraffe fits (docs/results/push.md, session 31): the
-  // loop's defaults plan a start whose palm comes down on the giraffe itself; the robot refuses
-  // it and both retries, and the table is not executed. With --refusal-pose-margin 0.01 the retry
-  // takes a path whose arm keeps clear of the depth image on its way down: the push is made.
+  // Tuning table 39 with a target where the book fits (docs/results/push.md, session 31): the
+  // loop's defaults plan a start whose palm comes down beside the bottle; the robot refuses it and
+  // both retries (longer approaches), and the table is not executed. With --refusal-pose-margin
+  // 0.01 the retries take the least-cost path whose arm keeps 1 cm from the depth image on its
+  // way down: the book is pushed, and only the book moves.
   const test::TempDir dir("proprio_push_cli_");
   const std::string common =
-      "evaluate push --tables 1 --seed 48 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
+      "evaluate push --tables 1 --seed 39 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
       "--roll-across --target-clearance 0.01 --json ";
   const fs::path off = dir.path() / "off.json";
   const fs::path on = dir.path() / "on.json";
@@ -257,6 +258,7 @@ TEST(PushCli, APushTheRobotRefusedIsReplannedWithTheArmsWayDownClear) {
   ASSERT_FALSE(b["steps"].empty());
   EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
   EXPECT_NE(b["outcome"].get<std::string>(), "robot-refused");
+  EXPECT_TRUE(b["only_intended"].get<bool>());
 }
 
 }  // namespace

@@ -968,19 +968,15 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
 /// Waypoints plan_push_hand_clear tries round a first push whose hand is blocked (via_blocked's
 /// fan: session 23's 24).
 inline constexpr int kFirstHandVia = 24;
-/// Waypoints sampled beside the straight paths when a push is re-planned after a refusal
-/// (after_refusal: via_points at least this): a push from another side whose arm need not reach
-/// over the object; the loop drops them when no push follows.
-inline constexpr int kRefusalVia = 24;
 
 /// The options a retry is planned with after the robot refused a push (its arm would meet
 /// something on the way to the start): `options` with descent_pose_margin at least
 /// refusal_pose_margin and descent_pose_fallback on, so that plan_push takes the least-cost path
 /// whose arm, posed on its way down by the arm's own kinematics (every moving link), keeps that
 /// far from the depth image's heights (the pushed object's too), or the best path as before when
-/// none does; kRefusalVia random waypoints are sampled beside the straight paths (via_points at
-/// least that), so that the path may start from another side. `options` unchanged when
-/// refusal_pose_margin is 0 (the default).
+/// none does. `options` unchanged when refusal_pose_margin is 0 (the default). (Session 31 also
+/// tried adding 24 random waypoints to the retry: on the tuning tables it executed more refused
+/// tables but left objects far from their targets; not kept.)
 [[nodiscard]] PushPlanOptions after_refusal(const PushPlanOptions& options);
 
 /// A push whose hand keeps clear of the other putative objects (PushPlanOptions::first_hand_margin,
