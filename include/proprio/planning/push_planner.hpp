@@ -245,7 +245,9 @@ struct PushPlanOptions {
   /// keeps this far from what the depth image sees, the pushed object included; when every path's
   /// way down meets something, the retry is planned as without it. The refusal says only that the
   /// arm would meet something (the robot's names are not read). m; 0 (the default): the retries
-  /// only start farther behind the object (PushOptions::retries).
+  /// only start farther behind the object (PushOptions::retries). Session 31 (docs/results/
+  /// push.md): +1 only-intended table of 200 on the tuning seeds, none on the held-out 10001-10100
+  /// (the refused tables there have no path whose way down is clear), so the loop keeps it off.
   double refusal_pose_margin = 0;
   /// Depth: a push whose first contact with the pushed object (push_contact from its depth
   /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
