@@ -312,6 +312,9 @@ PushRunResult push_in(sim::SimulatedRobot& robot, const PushOptions& options,
         // each retry starts farther behind the object.
         popt.min_approach = std::min(kMostApproach, popt.min_approach + attempt * kRetryApproach);
         popt.max_approach = std::min(kMostApproach, popt.max_approach + attempt * kRetryApproach);
+        // refusal_pose_margin: a retry after a refusal takes the least-cost path whose arm keeps
+        // clear on its way down (its own kinematics against the depth image), when there is one.
+        if (attempt > 0) popt = planning::after_refusal(popt);
         // A push round a blocked line needs a push after it to reach the target.
         if (k + 1 >= budget) {
           popt.via_points = 0;

@@ -1995,6 +1995,15 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   return finish(PlanOutcome::kPlanned, said);
 }
 
+PushPlanOptions after_refusal(const PushPlanOptions& options) {
+  options.validate();
+  PushPlanOptions o = options;
+  if (o.refusal_pose_margin <= 0) return o;
+  o.descent_pose_margin = std::max(o.descent_pose_margin, o.refusal_pose_margin);
+  o.descent_pose_fallback = true;
+  return o;
+}
+
 PushPlan plan_push_hand_clear(const PlanningView& view, int object, PushGoal goal,
                               const Eigen::Vector2d& target, const TableRegion& region,
                               robot::ArmState& arm, const robot::JointVector& q_rest,

@@ -112,7 +112,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --correction-hand-margin -0.01", "--correction-hand-margin"},
            // Session 30's.
            {"push --first-hand-margin 0.06", "--first-hand-margin"},
-           {"evaluate push --first-hand-margin -0.01", "--first-hand-margin"}}) {
+           {"evaluate push --first-hand-margin -0.01", "--first-hand-margin"},
+           // Session 31's.
+           {"push --refusal-pose-margin 0.06", "--refusal-pose-margin"},
+           {"evaluate push --refusal-pose-margin -0.01", "--refusal-pose-margin"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
@@ -230,6 +233,31 @@ TEST(PushCli, AFirstPushWhoseHandWouldMeetANeighbourIsReplannedClear) {
   ASSERT_FALSE(b["steps"].empty());
   EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
   EXPECT_TRUE(b["steps"][0]["hand_cleared"].get<bool>());
+  EXPECT_TRUE(b["only_intended"].get<bool>());
+}
+
+TEST(PushCli, APushTheRobotRefusedIsReplannedWithTheArmsWayDownClear) {
+  // Tuning table 39 with a target where the book fits (docs/results/push.md, session 31): the
+  // loop's defaults plan a start whose palm comes down beside the bottle; the robot refuses it and
+  // both retries (longer approaches), and the table is not executed. With --refusal-pose-margin
+  // 0.01 the retries take the least-cost path whose arm keeps 1 cm from the depth image on its
+  // way down: the book is pushed, and only the book moves.
+  const test::TempDir dir("proprio_push_cli_");
+  const std::string common =
+      "evaluate push --tables 1 --seed 39 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
+      "--roll-across --target-clearance 0.01 --json ";
+  const fs::path off = dir.path() / "off.json";
+  const fs::path on = dir.path() / "on.json";
+  const auto r0 = run_cli(common + off.string());
+  ASSERT_EQ(r0.code, 0) << r0.err;
+  const auto r1 = run_cli(common + on.string() + " --refusal-pose-margin 0.01");
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  const core::Json a = core::read_json(off)["pushes"][0];
+  const core::Json b = core::read_json(on)["pushes"][0];
+  EXPECT_EQ(a["outcome"].get<std::string>(), "robot-refused");
+  ASSERT_FALSE(b["steps"].empty());
+  EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
+  EXPECT_NE(b["outcome"].get<std::string>(), "robot-refused");
   EXPECT_TRUE(b["only_intended"].get<bool>());
 }
 

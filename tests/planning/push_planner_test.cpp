@@ -537,6 +537,59 @@ TEST(PushPlanner, DescentPosesLeaveOutPushesWhoseArmComesDownOnAMeasuredObject) 
       Error);
 }
 
+TEST(PushPlanner, ARetryAfterARefusalTakesAPathWhoseArmComesDownClearOfThePushedObject) {
+  // The pushed object itself 20 cm tall (a bottle), pushed 16 cm along +y from starts 1-8 cm
+  // behind it; the neighbour low and out of the way. The least-cost path starts near the object
+  // and the hand above the pusher comes down on it (the robot refuses it, session 31). After a
+  // refusal with refusal_pose_margin, the retry takes a path whose arm keeps clear on its way down.
+  NeighbourScene s({0.32, -0.10});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  s.obj().height = 0.20;
+  s.other().height = 0.01;
+  const auto meets = [&](const robot::TablePush& p) {
+    return descent_meets_object(s.state, p, s.q0, descent_map(s.view, {}), 0.005, false);
+  };
+  PushPlanOptions o = flat_options();
+  o.min_approach = 0.01;
+  o.max_approach = 0.08;
+  // Off (the default): a retry is planned with the same options.
+  const PushPlanOptions same = after_refusal(o);
+  EXPECT_EQ(same.descent_pose_margin, 0.0);
+  EXPECT_FALSE(same.descent_pose_fallback);
+  const PushPlan plain = s.plan(same);
+  ASSERT_EQ(plain.outcome, PlanOutcome::kPlanned) << plain.message;
+  EXPECT_TRUE(meets(plain.push).has_value());
+  o.refusal_pose_margin = 0.005;
+  EXPECT_EQ(s.plan(o).push.start, plain.push.start);  // the first try is unchanged
+  const PushPlanOptions retry = after_refusal(o);
+  EXPECT_EQ(retry.descent_pose_margin, 0.005);
+  EXPECT_TRUE(retry.descent_pose_fallback);
+  const PushPlan cleared = s.plan(retry);
+  ASSERT_EQ(cleared.outcome, PlanOutcome::kPlanned) << cleared.message;
+  EXPECT_FALSE(cleared.descent_met);
+  EXPECT_GT(cleared.rejected_descent, 0);
+  EXPECT_FALSE(meets(cleared.push).has_value()) << *meets(cleared.push);
+  EXPECT_NE(cleared.push.start, plain.push.start);
+  // A larger descent margin already asked for is kept.
+  o.descent_pose_margin = 0.01;
+  EXPECT_EQ(after_refusal(o).descent_pose_margin, 0.01);
+  // No clear way down anywhere (starts 1-2 cm behind it): the retry is the path as before.
+  o.descent_pose_margin = 0;
+  o.min_approach = 0.01;
+  o.max_approach = 0.015;
+  const PushPlan near = s.plan(o);
+  const PushPlan fallback = s.plan(after_refusal(o));
+  ASSERT_EQ(fallback.outcome, PlanOutcome::kPlanned) << fallback.message;
+  EXPECT_TRUE(fallback.descent_met);
+  EXPECT_EQ(fallback.push.start, near.push.start);
+  // Bounds.
+  PushPlanOptions bad = flat_options();
+  bad.refusal_pose_margin = -0.001;
+  EXPECT_THROW((void)after_refusal(bad), Error);
+  bad.refusal_pose_margin = 0.06;
+  EXPECT_THROW((void)after_refusal(bad), Error);
+}
+
 TEST(PushPlanner, ATallObjectIsPushedHigherAndSlowerByItsMeasuredHeight) {
   // A square object pushed toward -x: with tip_fraction and tall_push_speed set, a measured
   // 15 cm object is pushed at a third of its height (5 cm: kMostTipHeight) and at the tall speed,

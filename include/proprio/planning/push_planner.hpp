@@ -238,6 +238,17 @@ struct PushPlanOptions {
   /// it. m; 0 (the planner's default): the first push is planned as the options say; the
   /// closed loop's default is loop::kLoopFirstHandMargin (session 30).
   double first_hand_margin = 0;
+  /// The closed loop's retries after the robot refused a push (loop::push_once; the planner
+  /// itself does not read it): each retry is planned with descent_pose_margin at least this and
+  /// descent_pose_fallback on, so that the path taken is the least-cost one whose arm, posed by
+  /// its own kinematics on the way down to the start (every moving link, the upper arm too),
+  /// keeps this far from what the depth image sees, the pushed object included; when every path's
+  /// way down meets something, the retry is planned as without it. The refusal says only that the
+  /// arm would meet something (the robot's names are not read). m; 0 (the default): the retries
+  /// only start farther behind the object (PushOptions::retries). Session 31 (docs/results/
+  /// push.md): +1 only-intended table of 200 on the tuning seeds, none on the held-out 10001-10100
+  /// (the refused tables there have no path whose way down is clear), so the loop keeps it off.
+  double refusal_pose_margin = 0;
   /// Depth: a push whose first contact with the pushed object (push_contact from its depth
   /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
   /// reach ahead of the centre) is not sampled (PushPlan::rejected_topple): the object would
@@ -390,6 +401,12 @@ struct PushPlanOptions {
       {"first_hand_margin",
        "Closed loop: a first push whose hand would come nearer than this to another object is "
        "replaced by one with the jaws along or through a waypoint whose hand is clear, m (0: off)",
+       core::between(0, 0.05)});
+    v(self.refusal_pose_margin,
+      {"refusal_pose_margin",
+       "Closed loop: a push the robot refused is re-planned with the arm's poses on its way down "
+       "checked against the depth image (descent_pose_margin with fallback) at this margin, m "
+       "(0: off)",
        core::between(0, 0.05)});
     v(self.topple_ratio,
       {"topple_ratio",
@@ -953,6 +970,16 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
 /// Waypoints plan_push_hand_clear tries round a first push whose hand is blocked (via_blocked's
 /// fan: session 23's 24).
 inline constexpr int kFirstHandVia = 24;
+
+/// The options a retry is planned with after the robot refused a push (its arm would meet
+/// something on the way to the start): `options` with descent_pose_margin at least
+/// refusal_pose_margin and descent_pose_fallback on, so that plan_push takes the least-cost path
+/// whose arm, posed on its way down by the arm's own kinematics (every moving link), keeps that
+/// far from the depth image's heights (the pushed object's too), or the best path as before when
+/// none does. `options` unchanged when refusal_pose_margin is 0 (the default). (Session 31 also
+/// tried adding 24 random waypoints to the retry: on the tuning tables it executed more refused
+/// tables but left objects far from their targets; not kept.)
+[[nodiscard]] PushPlanOptions after_refusal(const PushPlanOptions& options);
 
 /// A push whose hand keeps clear of the other putative objects (PushPlanOptions::first_hand_margin,
 /// the closed loop's first push): plan_push with hand_margin at least `margin` (m), hand_jaws on
