@@ -49,6 +49,7 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.mot_word_weight, 0.25);
   EXPECT_FALSE(o.mot_word_background);  // session 30
   EXPECT_TRUE(o.mot_word_per_view);     // session 30 (false: the pooled counts)
+  EXPECT_FALSE(o.right_angle_words);    // session 31
   EXPECT_THROW(o.validate(), Error);    // no cache
   o.cache = "somewhere";
   EXPECT_NO_THROW(o.validate());
@@ -275,6 +276,21 @@ TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
               words.cells[i].supervised_confusion.counts);
   }
   o.mot_word_per_view = true;
+  // Session 31: documents with their descriptors' quarter turns (4 times the tokens; the
+  // same cached views).
+  o.json = temp.path() / "clutter_turns.json";
+  o.mot_word_weight = 0.25;
+  o.right_angle_words = true;
+  const ClutterExperimentResult turns = run_clutter_experiment(o, core::Provenance{});
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  EXPECT_EQ(turns.document.at("options").at("right_angle_words"), true);
+  EXPECT_EQ(pooled1.document.at("options").at("right_angle_words"), false);
+  ASSERT_EQ(turns.cells.size(), words.cells.size());
+  for (const auto& c : turns.cells) {
+    EXPECT_GE(c.supervised, 0.0);
+    EXPECT_LE(c.supervised, 1.0);
+  }
+  o.right_angle_words = false;
   // The cache holds attempts = 3: a run of the session-21 harness (1) on it is refused.
   o.overwrite = false;
   o.json.clear();
