@@ -220,6 +220,10 @@ void add_clutter_options(CLI::App* cmd, ClutterArgs& a) {
                 "pooled: every view of an object weighs the same in its word multinomial (its "
                 "counts scaled to the mean view's number of words; the default since session "
                 "30); --no-mot-word-per-view: the pooled counts");
+  cmd->add_flag("--right-angle-words", o.right_angle_words,
+                "Every document (push views, renders) counts the words of its descriptors "
+                "turned by 0, 90, 180 and 270 degrees: words that do not change when an object "
+                "lies on its side or turns (session 31)");
   cmd->add_flag("--quick", o.quick,
                 "Small and fast: first seed, 1 trial of 3 pushes, 240x180, fractions 0.5,0.7, "
                 "topics 4,8");

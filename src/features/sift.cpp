@@ -1,8 +1,12 @@
 #include "proprio/features/sift.hpp"
 
+#include <array>
 #include <cmath>
+#include <numeric>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 
@@ -97,6 +101,48 @@ Features dense_sift(const cv::Mat& image, const DenseSiftOptions& options) {
   sift->compute(grey, f.keypoints, f.descriptors);
   if (f.keypoints.empty()) return empty_features();
   return f;
+}
+
+cv::Mat rotate_sift_descriptors(const cv::Mat& descriptors, int quarter_turns) {
+  if (descriptors.empty()) return cv::Mat(0, 128, CV_32F);
+  if (descriptors.cols != 128 || descriptors.type() != CV_32F) {
+    throw Error("rotate_sift_descriptors: descriptors must be N x 128 CV_32F, got " +
+                std::to_string(descriptors.rows) + " x " + std::to_string(descriptors.cols));
+  }
+  const int turns = ((quarter_turns % 4) + 4) % 4;
+  // One quarter turn counter-clockwise: cell (r, c) -> (3 - c, r), bin b -> b + 2 (mod 8).
+  std::array<int, 128> from{};  // out[k] = in[from[k]]
+  std::iota(from.begin(), from.end(), 0);
+  for (int t = 0; t < turns; ++t) {
+    std::array<int, 128> next{};
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) {
+        for (int b = 0; b < 8; ++b) {
+          const int to = ((((3 - c) * 4) + r) * 8) + ((b + 2) % 8);
+          const int at = (((r * 4) + c) * 8) + b;
+          next[static_cast<std::size_t>(to)] = from[static_cast<std::size_t>(at)];
+        }
+      }
+    }
+    from = next;
+  }
+  cv::Mat out(descriptors.rows, 128, CV_32F);
+  for (int i = 0; i < descriptors.rows; ++i) {
+    const auto* in = descriptors.ptr<float>(i);
+    auto* o = out.ptr<float>(i);
+    for (std::size_t k = 0; k < 128; ++k) o[k] = in[from[k]];
+  }
+  return out;
+}
+
+cv::Mat with_right_angle_turns(const cv::Mat& descriptors) {
+  if (descriptors.empty()) return cv::Mat(0, 128, CV_32F);
+  cv::Mat out;
+  cv::vconcat(std::vector<cv::Mat>{descriptors.clone(), rotate_sift_descriptors(descriptors, 1),
+                                   rotate_sift_descriptors(descriptors, 2),
+                                   rotate_sift_descriptors(descriptors, 3)},
+              out);
+  return out;
 }
 
 }  // namespace proprio::features

@@ -26,6 +26,7 @@
 #include "proprio/features/features.hpp"
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/mask_morphology.hpp"
+#include "proprio/features/sift.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/clutter_cache.hpp"
 #include "proprio/loop/push_run.hpp"
@@ -466,6 +467,13 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
       ko.threads = 1;
       vocabulary = features::build_vocabulary(stacked, ko).vocabulary;
     }
+    // A document's tokens (ClutterExperimentOptions::right_angle_words: with its descriptors'
+    // quarter turns).
+    const auto words_of = [&](const cv::Mat& descriptors) {
+      return features::bag_of_words(*vocabulary, o.right_angle_words
+                                                     ? features::with_right_angle_turns(descriptors)
+                                                     : descriptors);
+    };
     for (int t : o.topics) {
       ClutterCell cell;
       cell.seed = d.seed;
@@ -496,7 +504,7 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
         }
       } else {
         topics::Corpus corpus(vocabulary->size());
-        for (const auto& v : views) corpus.add_tokens(features::bag_of_words(*vocabulary, v));
+        for (const auto& v : views) corpus.add_tokens(words_of(v));
         topics::BatchLdaOptions bo;
         bo.num_topics = t;
         bo.seed = d.seed;
@@ -506,7 +514,7 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
         topics::Corpus held(vocabulary->size());
         for (int c = 0; c < C; ++c) {
           for (const auto& h : d.held[static_cast<std::size_t>(c)]) {
-            held.add_tokens(features::bag_of_words(*vocabulary, h));
+            held.add_tokens(words_of(h));
             truth.push_back(c);
           }
         }
@@ -579,7 +587,7 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
           for (const auto& e : all) {
             if (e.seed == d.seed) continue;
             for (std::size_t v = 0; v < e.views[fi].size(); ++v) {
-              other.add_tokens(features::bag_of_words(*vocabulary, e.views[fi][v]));
+              other.add_tokens(words_of(e.views[fi][v]));
               other_labels.push_back(e.labels[fi][v]);
             }
           }
@@ -1025,11 +1033,12 @@ std::string ClutterExperimentResult::brief() const {
         "   T  renders  other trial  other seed\n",
         std::string(core::choice_name(options.mot_classifier, kClutterMotClassifierNames)).c_str(),
         options.mot_classifier == ClutterMotClassifier::kPooled
-            ? core::printf_string(" (word weight %.2f%s%s)", options.mot_word_weight,
+            ? core::printf_string(" (word weight %.2f%s%s%s)", options.mot_word_weight,
                                   options.mot_word_background ? ", shared background" : "",
                                   options.mot_word_per_view && !options.mot_word_background
                                       ? ", views weighed alike"
-                                      : "")
+                                      : "",
+                                  options.right_angle_words ? ", right-angle words" : "")
                   .c_str()
             : "");
     for (const auto& t : s) {
@@ -1220,6 +1229,7 @@ ClutterExperimentResult run_clutter_experiment(const ClutterExperimentOptions& o
       {"mot_word_weight", o.mot_word_weight},
       {"mot_word_background", o.mot_word_background},
       {"mot_word_per_view", o.mot_word_per_view},
+      {"right_angle_words", o.right_angle_words},
       {"quick", o.quick},
       {"record_only", o.record_only}};
   core::Json pushes = core::Json::array();

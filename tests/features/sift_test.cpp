@@ -11,6 +11,7 @@
 #include "../support/hex_bytes.hpp"
 #include "proprio/features/features.hpp"
 #include "proprio/features/sift.hpp"
+#include "proprio/features/vocabulary.hpp"
 #include "test_util.hpp"
 
 namespace proprio::features {
@@ -35,6 +36,73 @@ TEST(DenseSift, GridCountAndPlacement) {
   o.step = 10;
   EXPECT_EQ(dense_grid({101, 51}, o).size(), 11U * 6U);
   EXPECT_TRUE(dense_grid({16, 16}, DenseSiftOptions{}).empty());
+}
+
+// Session 31: rotate_sift_descriptors is dense_sift of the turned image (an exact permutation),
+// and with_right_angle_turns makes a bag of words that does not change when the image turns.
+TEST(DenseSift, QuarterTurnIsAPermutationOfTheDescriptor) {
+  const cv::Mat full = cv::imread(kSamples + "/box.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(full.empty());
+  ASSERT_GE(std::min(full.rows, full.cols), 161);
+  // 161 px square, step 4, margin 8: the turned grid falls on the grid (160 - 8 = 152 = 8 + 36 x
+  // 4).
+  const cv::Mat img = full(cv::Rect(0, 0, 161, 161)).clone();
+  DenseSiftOptions o;
+  o.step = 4;
+  const Features a = dense_sift(img, o);
+  cv::Mat turned;
+  cv::rotate(img, turned, cv::ROTATE_90_COUNTERCLOCKWISE);
+  const Features b = dense_sift(turned, o);
+  ASSERT_EQ(a.size(), b.size());
+  const cv::Mat a1 = rotate_sift_descriptors(a.descriptors, 1);
+  const int n = img.cols;
+  int matched = 0;
+  double err = 0;
+  double err_unturned = 0;
+  int off_by_one = 0;
+  for (int i = 0; i < a.size(); ++i) {
+    const cv::Point2f p = a.keypoints[static_cast<std::size_t>(i)].pt;
+    const cv::Point2f q(p.y, static_cast<float>(n - 1) - p.x);  // where the turn takes p
+    for (int j = 0; j < b.size(); ++j) {
+      if (cv::norm(b.keypoints[static_cast<std::size_t>(j)].pt - q) < 0.01) {
+        err = std::max(err, cv::norm(a1.row(i), b.descriptors.row(j), cv::NORM_INF));
+        cv::Mat differ;
+        cv::absdiff(a1.row(i), b.descriptors.row(j), differ);
+        off_by_one += cv::countNonZero(differ > 0.5F);
+        err_unturned = std::max(err_unturned,
+                                cv::norm(a.descriptors.row(i), b.descriptors.row(j), cv::NORM_INF));
+        ++matched;
+        break;
+      }
+    }
+  }
+  EXPECT_EQ(matched, a.size());
+  EXPECT_LE(err, 1.0);  // the same descriptor, to OpenCV's rounding to whole units
+  EXPECT_LT(off_by_one, a.size() * 128 / 100);  // and that rarely (< 1 % of the values)
+  EXPECT_GT(err_unturned, 10.0);                // upright SIFT does change with the turn
+  // Four quarter turns: the identity; two: the same as two single ones.
+  EXPECT_EQ(cv::norm(rotate_sift_descriptors(a.descriptors, 4), a.descriptors, cv::NORM_INF), 0);
+  EXPECT_EQ(cv::norm(rotate_sift_descriptors(a.descriptors, -1),
+                     rotate_sift_descriptors(a.descriptors, 3), cv::NORM_INF),
+            0);
+  EXPECT_EQ(cv::norm(rotate_sift_descriptors(a1, 1), rotate_sift_descriptors(a.descriptors, 2),
+                     cv::NORM_INF),
+            0);
+
+  // The bag of words of the four turns is the same for the image and the turned image; the
+  // plain bags differ.
+  const Vocabulary vocabulary(a.descriptors.rowRange(0, 40).clone());
+  const auto histogram = [&](const cv::Mat& d) {
+    std::vector<int> h(static_cast<std::size_t>(vocabulary.size()), 0);
+    for (const int w : bag_of_words(vocabulary, d)) ++h[static_cast<std::size_t>(w)];
+    return h;
+  };
+  EXPECT_EQ(histogram(with_right_angle_turns(a.descriptors)),
+            histogram(with_right_angle_turns(b.descriptors)));
+  EXPECT_NE(histogram(a.descriptors), histogram(b.descriptors));
+  EXPECT_EQ(with_right_angle_turns(a.descriptors).rows, 4 * a.size());
+  EXPECT_TRUE(with_right_angle_turns(cv::Mat()).empty());
+  test::expect_error([] { (void)rotate_sift_descriptors(cv::Mat(2, 64, CV_32F), 1); }, "128");
 }
 
 TEST(DenseSift, OneDescriptorPerGridPoint) {

@@ -49,6 +49,7 @@ TEST(ClutterExperiment, DefaultsAreTheIssues) {
   EXPECT_EQ(o.mot_word_weight, 0.25);
   EXPECT_FALSE(o.mot_word_background);  // session 30
   EXPECT_TRUE(o.mot_word_per_view);     // session 30 (false: the pooled counts)
+  EXPECT_FALSE(o.right_angle_words);    // session 31
   EXPECT_THROW(o.validate(), Error);    // no cache
   o.cache = "somewhere";
   EXPECT_NO_THROW(o.validate());
@@ -240,41 +241,53 @@ TEST(ClutterExperiment, AttemptsErosionAndOtherSeedsPushes) {
     any_model = any_model || t.note.empty();
   }
   EXPECT_TRUE(any_model);
-  // Session 30: the multinomials against a shared background; at weight 0 the same as by words.
-  o.json = temp.path() / "clutter_background.json";
+  // Another pooled variant at word weights 0 and 1 (into `json`): at weight 0 it is the
+  // classifier by words, cell by cell; at 1 every cell's score is a share.
+  const auto at_weights_0_and_1 = [&](const char* json) {
+    o.json = temp.path() / json;
+    o.mot_word_weight = 0;
+    ClutterExperimentResult r0 = run_clutter_experiment(o, core::Provenance{});
+    o.mot_word_weight = 1;
+    ClutterExperimentResult r1 = run_clutter_experiment(o, core::Provenance{});
+    test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+    EXPECT_EQ(r0.cells.size(), words.cells.size());
+    EXPECT_EQ(r1.cells.size(), words.cells.size());
+    for (std::size_t i = 0; i < std::min(words.cells.size(), r0.cells.size()); ++i) {
+      EXPECT_EQ(r0.cells[i].supervised_confusion.counts,
+                words.cells[i].supervised_confusion.counts);
+    }
+    for (const auto& c : r1.cells) {
+      EXPECT_GE(c.supervised, 0.0);
+      EXPECT_LE(c.supervised, 1.0);
+    }
+    return r1;
+  };
+  // Session 30: the multinomials against a shared background.
   o.mot_word_background = true;
-  o.mot_word_weight = 0;
-  const ClutterExperimentResult background0 = run_clutter_experiment(o, core::Provenance{});
-  o.mot_word_weight = 1;
-  const ClutterExperimentResult background1 = run_clutter_experiment(o, core::Provenance{});
-  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  const ClutterExperimentResult background1 = at_weights_0_and_1("clutter_background.json");
   EXPECT_EQ(background1.document.at("options").at("mot_word_background"), true);
-  ASSERT_EQ(background0.cells.size(), words.cells.size());
-  ASSERT_EQ(background1.cells.size(), words.cells.size());
-  for (std::size_t i = 0; i < words.cells.size(); ++i) {
-    EXPECT_EQ(background0.cells[i].supervised_confusion.counts,
-              words.cells[i].supervised_confusion.counts);
-    EXPECT_GE(background1.cells[i].supervised, 0.0);
-    EXPECT_LE(background1.cells[i].supervised, 1.0);
-  }
   o.mot_word_background = false;
-  // Session 30: the pooled counts (every view weighing the same is the default, run above); at
-  // weight 0 the same as by words.
-  o.json = temp.path() / "clutter_counts.json";
+  // Session 30: the pooled counts (every view weighing the same is the default, run above).
   o.mot_word_per_view = false;
-  o.mot_word_weight = 0;
-  const ClutterExperimentResult counts0 = run_clutter_experiment(o, core::Provenance{});
-  o.mot_word_weight = 1;
-  const ClutterExperimentResult counts1 = run_clutter_experiment(o, core::Provenance{});
-  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  const ClutterExperimentResult counts1 = at_weights_0_and_1("clutter_counts.json");
   EXPECT_EQ(counts1.document.at("options").at("mot_word_per_view"), false);
   EXPECT_EQ(pooled1.document.at("options").at("mot_word_per_view"), true);
-  ASSERT_EQ(counts0.cells.size(), words.cells.size());
-  for (std::size_t i = 0; i < words.cells.size(); ++i) {
-    EXPECT_EQ(counts0.cells[i].supervised_confusion.counts,
-              words.cells[i].supervised_confusion.counts);
-  }
   o.mot_word_per_view = true;
+  // Session 31: documents with their descriptors' quarter turns (4 times the tokens; the
+  // same cached views).
+  o.json = temp.path() / "clutter_turns.json";
+  o.mot_word_weight = 0.25;
+  o.right_angle_words = true;
+  const ClutterExperimentResult turns = run_clutter_experiment(o, core::Provenance{});
+  test::expect_schema_valid("experiment_clutter.schema.json", o.json);
+  EXPECT_EQ(turns.document.at("options").at("right_angle_words"), true);
+  EXPECT_EQ(pooled1.document.at("options").at("right_angle_words"), false);
+  ASSERT_EQ(turns.cells.size(), words.cells.size());
+  for (const auto& c : turns.cells) {
+    EXPECT_GE(c.supervised, 0.0);
+    EXPECT_LE(c.supervised, 1.0);
+  }
+  o.right_angle_words = false;
   // The cache holds attempts = 3: a run of the session-21 harness (1) on it is refused.
   o.overwrite = false;
   o.json.clear();

@@ -46,4 +46,20 @@ std::vector<cv::KeyPoint> dense_grid(cv::Size image_size, const DenseSiftOptions
 /// than the grid's margins gives an empty Features.
 Features dense_sift(const cv::Mat& image, const DenseSiftOptions& options = {});
 
+/// Upright SIFT descriptors (N x 128 CV_32F, OpenCV's layout: 4 x 4 cells, row-major from the
+/// patch's top left, 8 orientation bins each) of the same patches with the image turned by
+/// `quarter_turns` x 90 degrees counter-clockwise as displayed (cv::ROTATE_90_COUNTERCLOCKWISE
+/// for 1; any integer, taken mod 4): an exact permutation of the 128 values, cell (r, c) going
+/// to (3 - c, r) and bin b to b + 2 (mod 8) per quarter turn, so dense_sift of the turned image
+/// at the turned grid point is this (measured exact to float rounding). For words that do not
+/// change when an object lies on its side or turns on the table (session 31, issue 21's
+/// Experiment 8.2: `experiment clutter --right-angle-words`). Throws Error unless 128 columns of
+/// CV_32F.
+cv::Mat rotate_sift_descriptors(const cv::Mat& descriptors, int quarter_turns);
+
+/// The rows of `descriptors` followed by their rotate_sift_descriptors at 1, 2 and 3 quarter
+/// turns (4N x 128): a document whose bag of words is the same for the image and for the image
+/// turned by any multiple of 90 degrees (the dense grid permitting). Empty in, empty out.
+cv::Mat with_right_angle_turns(const cv::Mat& descriptors);
+
 }  // namespace proprio::features

@@ -126,6 +126,14 @@ struct ClutterExperimentOptions {
   /// worst cell 83.8 % against 75.0 %). false: the pooled counts (sessions 23-29). Used only by
   /// the pooled classifier, and not with mot_word_background (which replaces it).
   bool mot_word_per_view = true;
+  /// Every document (push views, held-out renders, other seeds' pushes) counts the words of its
+  /// descriptors turned by 0, 90, 180 and 270 degrees (features::with_right_angle_turns; the
+  /// vocabulary is still k-means over the views' own descriptors), so that its words do not
+  /// change when the object lies on its side or turns on the table (upright dense SIFT does):
+  /// LDA, both Mixtures of Topics and the word multinomials see these documents (session 31;
+  /// the diagnosis on seeds 5-6: the lying giraffe's push views against its standing renders,
+  /// the book's renders at every yaw). false (the default): the descriptors as computed.
+  bool right_angle_words = false;
   features::ExtractOptions features = learn_features();
   segmentation::MlOptions dense;
   segmentation::SparseOptions sparse;
