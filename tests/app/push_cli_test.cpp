@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <initializer_list>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -20,6 +21,25 @@ using proprio::test::run_cli;
 
 #define EXPECT_HAS(haystack, needle) \
   EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << (haystack)
+
+// Runs `evaluate push` (its options in `common`) twice, adding `first` and then `second`, and
+// returns each run's first push record, in that order: the shape of every option's CLI test.
+// A run that fails throws, failing the test that called it.
+std::pair<core::Json, core::Json> first_push_of_two_runs(const std::string& common,
+                                                         const std::string& first,
+                                                         const std::string& second) {
+  const test::TempDir dir("proprio_push_cli_");
+  const fs::path a = dir.path() / "a.json";
+  const fs::path b = dir.path() / "b.json";
+  for (const auto& [options, json] : {std::pair{first, a}, std::pair{second, b}}) {
+    std::string args = common;
+    args.append(" ").append(options).append(" --json ").append(json.string());
+    const auto r = run_cli(args);
+    // gtest reports an exception thrown by a test as that test's failure, with its message.
+    if (r.code != 0) throw std::runtime_error("exit " + std::to_string(r.code) + ": " + r.err);
+  }
+  return {core::read_json(a)["pushes"][0], core::read_json(b)["pushes"][0]};
+}
 
 TEST(PushCli, PushesTheNamedObjectAndWritesWhatHappened) {
   const test::TempDir dir("proprio_push_cli_");
@@ -159,18 +179,10 @@ TEST(PushCli, ASweepMarginStopsThePushShortOfANeighbourAndEndsTheLoop) {
   // giraffe; with a 1 cm margin its first push is shortened, nothing else moves and the loop
   // ends after that push. (Session 28's loop defaults, the depth split and the free target,
   // turned off: with them on, the spirit level moves alone here too.)
-  const test::TempDir dir("proprio_push_cli_");
-  const std::string common =
+  const auto [a, b] = first_push_of_two_runs(
       "evaluate push --tables 1 --seed 18 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
-      "--roll-across --depth-split 0 --free-target-margin 0 --json ";
-  const fs::path off = dir.path() / "off.json";
-  const fs::path on = dir.path() / "on.json";
-  const auto r0 = run_cli(common + off.string());
-  ASSERT_EQ(r0.code, 0) << r0.err;
-  const auto r1 = run_cli(common + on.string() + " --sweep-margin 0.01");
-  ASSERT_EQ(r1.code, 0) << r1.err;
-  const core::Json a = core::read_json(off)["pushes"][0];
-  const core::Json b = core::read_json(on)["pushes"][0];
+      "--roll-across --depth-split 0 --free-target-margin 0",
+      "", "--sweep-margin 0.01");
   EXPECT_FALSE(a["only_intended"].get<bool>());
   for (const auto& step : a["steps"]) EXPECT_EQ(step["shortened"], 0.0);
   EXPECT_TRUE(b["only_intended"].get<bool>());
@@ -185,18 +197,10 @@ TEST(PushCli, ACorrectionWhoseHandWouldMeetANeighbourIsNotMade) {
   // rabbit (the loop's defaults). With --correction-hand-margin 0.01 the second push's hand is
   // blocked by the rabbit's measured hull and height, so it is not made: only the spirit level
   // moved, after one push.
-  const test::TempDir dir("proprio_push_cli_");
-  const std::string common =
+  const auto [a, b] = first_push_of_two_runs(
       "evaluate push --tables 1 --seed 2 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
-      "--roll-across --target-clearance 0.01 --json ";
-  const fs::path off = dir.path() / "off.json";
-  const fs::path on = dir.path() / "on.json";
-  const auto r0 = run_cli(common + off.string() + " --correction-hand-margin 0");
-  ASSERT_EQ(r0.code, 0) << r0.err;
-  const auto r1 = run_cli(common + on.string() + " --correction-hand-margin 0.01");
-  ASSERT_EQ(r1.code, 0) << r1.err;
-  const core::Json a = core::read_json(off)["pushes"][0];
-  const core::Json b = core::read_json(on)["pushes"][0];
+      "--roll-across --target-clearance 0.01",
+      "--correction-hand-margin 0", "--correction-hand-margin 0.01");
   EXPECT_FALSE(a["only_intended"].get<bool>());
   ASSERT_GE(a["steps"].size(), 2U);
   EXPECT_TRUE(a["steps"][1]["executed"].get<bool>());
@@ -214,18 +218,10 @@ TEST(PushCli, AFirstPushWhoseHandWouldMeetANeighbourIsReplannedClear) {
   // loop's defaults push the book with a palm that comes down beside the bottle and moves it.
   // With --first-hand-margin 0.01 the first push is re-planned so that its hand keeps 1 cm from
   // every other object's measured hull and height: only the book moves.
-  const test::TempDir dir("proprio_push_cli_");
-  const std::string common =
+  const auto [a, b] = first_push_of_two_runs(
       "evaluate push --tables 1 --seed 53 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
-      "--roll-across --target-clearance 0.01 --json ";
-  const fs::path off = dir.path() / "off.json";
-  const fs::path on = dir.path() / "on.json";
-  const auto r0 = run_cli(common + off.string() + " --first-hand-margin 0");
-  ASSERT_EQ(r0.code, 0) << r0.err;
-  const auto r1 = run_cli(common + on.string() + " --first-hand-margin 0.01");
-  ASSERT_EQ(r1.code, 0) << r1.err;
-  const core::Json a = core::read_json(off)["pushes"][0];
-  const core::Json b = core::read_json(on)["pushes"][0];
+      "--roll-across --target-clearance 0.01",
+      "--first-hand-margin 0", "--first-hand-margin 0.01");
   ASSERT_FALSE(a["steps"].empty());
   EXPECT_TRUE(a["steps"][0]["executed"].get<bool>());
   EXPECT_FALSE(a["only_intended"].get<bool>());
@@ -242,18 +238,10 @@ TEST(PushCli, APushTheRobotRefusedIsReplannedWithTheArmsWayDownClear) {
   // both retries (longer approaches), and the table is not executed. With --refusal-pose-margin
   // 0.01 the retries take the least-cost path whose arm keeps 1 cm from the depth image on its
   // way down: the book is pushed, and only the book moves.
-  const test::TempDir dir("proprio_push_cli_");
-  const std::string common =
+  const auto [a, b] = first_push_of_two_runs(
       "evaluate push --tables 1 --seed 39 --depth --pusher-radius 0.008 --tip-fraction 0.33 "
-      "--roll-across --target-clearance 0.01 --json ";
-  const fs::path off = dir.path() / "off.json";
-  const fs::path on = dir.path() / "on.json";
-  const auto r0 = run_cli(common + off.string());
-  ASSERT_EQ(r0.code, 0) << r0.err;
-  const auto r1 = run_cli(common + on.string() + " --refusal-pose-margin 0.01");
-  ASSERT_EQ(r1.code, 0) << r1.err;
-  const core::Json a = core::read_json(off)["pushes"][0];
-  const core::Json b = core::read_json(on)["pushes"][0];
+      "--roll-across --target-clearance 0.01",
+      "", "--refusal-pose-margin 0.01");
   EXPECT_EQ(a["outcome"].get<std::string>(), "robot-refused");
   ASSERT_FALSE(b["steps"].empty());
   EXPECT_TRUE(b["steps"][0]["executed"].get<bool>());
