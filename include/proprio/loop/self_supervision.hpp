@@ -249,7 +249,10 @@ struct SelfSupervisionOptions {
   /// distinct objects are learned, or when the rounds run out; (d) chooses by the groups' looks
   /// (a group claims one blob), so an object learned twice is not chosen a third time. At the
   /// end the round classes are merged into C classes (the nearest first; every merge logged,
-  /// event "merge"). Learning::round_class says which class each round became.
+  /// event "merge"). Learning::round_class says which class each round became. Off: on tuning
+  /// seeds 1, 7, 8 (--rounds 8 --same-object 1.0) c fell 5.2 +- 11.9 points: the word-count
+  /// distance does not separate one object's rounds from different objects'
+  /// (docs/results/selfsupervision.md, "Session 31").
   int rounds = 0;
   /// rounds: two round classes are one object when their distance (round_distance) is below
   /// this, nats a word.
