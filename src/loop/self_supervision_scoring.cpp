@@ -837,20 +837,28 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   s.class_purity.assign(static_cast<std::size_t>(c_count), 0.0);
   int pure_views = 0;
   int all_views = 0;
-  for (int c = 0; c < c_count; ++c) {
+  // The object the executed learn pushes of the rounds `in` accepts pushed most ("" none; the
+  // first by name among ties).
+  const auto pushed_most = [&pushes](const auto& in) {
     std::map<std::string, int> pushed;
     for (const auto& p : pushes) {
-      if (class_of(p.round) == c && p.phase == "learn" && p.executed && !p.intended.empty()) {
+      if (in(p.round) && p.phase == "learn" && p.executed && !p.intended.empty()) {
         ++pushed[p.intended];
       }
     }
+    std::string most;
     int best = 0;
     for (const auto& [name, n] : pushed) {
       if (n > best) {
         best = n;
-        s.class_object[static_cast<std::size_t>(c)] = name;
+        most = name;
       }
     }
+    return most;
+  };
+  for (int c = 0; c < c_count; ++c) {
+    s.class_object[static_cast<std::size_t>(c)] =
+        pushed_most([&class_of, c](int r) { return class_of(r) == c; });
     int pure = 0;
     int views = 0;
     for (const auto& p : pushes) {
@@ -866,22 +874,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   }
   s.purity = fraction(pure_views, all_views);
   for (std::size_t r = 0; r < rounds.size(); ++r) {
-    std::map<std::string, int> pushed;
-    for (const auto& p : pushes) {
-      if (p.round == static_cast<int>(r) && p.phase == "learn" && p.executed &&
-          !p.intended.empty()) {
-        ++pushed[p.intended];
-      }
-    }
-    std::string most;
-    int best = 0;
-    for (const auto& [name, n] : pushed) {
-      if (n > best) {
-        best = n;
-        most = name;
-      }
-    }
-    s.round_object.push_back(most);
+    s.round_object.push_back(pushed_most([r](int round) { return round == static_cast<int>(r); }));
   }
   for (int c = 0; c < c_count; ++c) {
     // The class's first round (its own with one round an object).
