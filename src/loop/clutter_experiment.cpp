@@ -380,28 +380,6 @@ fs::path views_file(const fs::path& episode_dir, const ClutterExperimentOptions&
 
 double share(int right, int n) { return n > 0 ? static_cast<double>(right) / n : 0.0; }
 
-// ClutterExperimentOptions::mot_word_per_view: each labelled document's weight, the mean
-// number of words of the labelled documents over its own (an empty or unlabelled one: 0).
-std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<const int> labels) {
-  std::vector<double> words(corpus.num_documents(), 0.0);
-  double total = 0;
-  int n = 0;
-  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
-    const topics::DocumentView doc = corpus.document(d);
-    for (std::size_t i = 0; i < doc.size(); ++i) words[d] += doc.counts[i];
-    if (labels[d] >= 0 && words[d] > 0) {
-      total += words[d];
-      ++n;
-    }
-  }
-  const double mean = n > 0 ? total / n : 0.0;
-  std::vector<double> w(words.size(), 0.0);
-  for (std::size_t d = 0; d < w.size(); ++d) {
-    if (labels[d] >= 0 && words[d] > 0) w[d] = mean / words[d];
-  }
-  return w;
-}
-
 struct SeedData {
   std::uint64_t seed = 0;
   // per fraction: views (descriptors) and their object

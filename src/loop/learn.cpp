@@ -1950,7 +1950,8 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
                               const topics::Corpus& training, const std::vector<int>& labels,
                               const std::vector<topics::Corpus>& held,
                               const std::vector<std::string>& objects,
-                              const std::vector<std::string>& class_object, double weight) {
+                              const std::vector<std::string>& class_object, double weight,
+                              bool per_view) {
   const int classes = model.num_classes();
   if (classes < 1) throw Error("score_by_words: the model has no classes");
   if (held.size() != objects.size()) {
@@ -1966,20 +1967,29 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
   }
   // fit_word_multinomials checks labels against the documents and the classes.
   const Eigen::MatrixXd log_phi = topics::fit_word_multinomials(training, labels, classes, 1.0);
+  // Every view alike (LearnOptions::mot_word_per_view): each view's counts scaled to the mean
+  // view's number of words.
+  const Eigen::MatrixXd log_phi_per_view =
+      weighted_word_multinomials(training, labels, classes, per_view_weights(training, labels));
   LearnWordScore s;
   s.weight = weight;
+  s.per_view = per_view;
   s.word_weights.assign(std::begin(kLearnWordWeights), std::end(kLearnWordWeights));
   const std::size_t g_count = s.word_weights.size();
   s.grid.assign(g_count, 0.0);
+  s.grid_per_view.assign(g_count, 0.0);
   int all = 0;
   int right_theta = 0;
   int right_words = 0;
   int right_pooled = 0;
+  int right_pooled_per_view = 0;
   std::vector<int> right_grid(g_count, 0);
+  std::vector<int> right_grid_per_view(g_count, 0);
   for (std::size_t i = 0; i < objects.size(); ++i) {
     LearnWordObject ob;
     ob.name = objects[i];
     ob.grid.assign(g_count, 0.0);
+    ob.grid_per_view.assign(g_count, 0.0);
     const topics::Corpus& docs = held[i];
     ob.held_out = static_cast<int>(docs.num_documents());
     if (ob.held_out > 0) {
@@ -1994,19 +2004,27 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
       const topics::MotClassification by_words = topics::classify_mot_words(model, lda, docs);
       const int rw = right(by_words);
       const int rp = right(topics::pool_word_multinomials(model, by_words, log_phi, docs, weight));
+      const int rv =
+          right(topics::pool_word_multinomials(model, by_words, log_phi_per_view, docs, weight));
       for (std::size_t gi = 0; gi < g_count; ++gi) {
         const int rg = right(
             topics::pool_word_multinomials(model, by_words, log_phi, docs, s.word_weights[gi]));
         ob.grid[gi] = static_cast<double>(rg) / ob.held_out;
         right_grid[gi] += rg;
+        const int rgv = right(topics::pool_word_multinomials(model, by_words, log_phi_per_view,
+                                                             docs, s.word_weights[gi]));
+        ob.grid_per_view[gi] = static_cast<double>(rgv) / ob.held_out;
+        right_grid_per_view[gi] += rgv;
       }
       ob.theta = static_cast<double>(rt) / ob.held_out;
       ob.words = static_cast<double>(rw) / ob.held_out;
       ob.pooled = static_cast<double>(rp) / ob.held_out;
+      ob.pooled_per_view = static_cast<double>(rv) / ob.held_out;
       all += ob.held_out;
       right_theta += rt;
       right_words += rw;
       right_pooled += rp;
+      right_pooled_per_view += rv;
     }
     s.objects.push_back(std::move(ob));
   }
@@ -2014,10 +2032,50 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
     s.theta = static_cast<double>(right_theta) / all;
     s.words = static_cast<double>(right_words) / all;
     s.pooled = static_cast<double>(right_pooled) / all;
-    for (std::size_t gi = 0; gi < g_count; ++gi)
+    s.pooled_per_view = static_cast<double>(right_pooled_per_view) / all;
+    for (std::size_t gi = 0; gi < g_count; ++gi) {
       s.grid[gi] = static_cast<double>(right_grid[gi]) / all;
+      s.grid_per_view[gi] = static_cast<double>(right_grid_per_view[gi]) / all;
+    }
   }
   return s;
+}
+
+std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
+                                                  const std::optional<SelfSupervisionScore>& score,
+                                                  const std::optional<LearnWordScore>& words) {
+  LearnHeadlineFigure h;
+  switch (headline) {
+    case LearnHeadline::kMot:
+    case LearnHeadline::kArgmax: {
+      if (!score) return std::nullopt;
+      const bool mot = headline == LearnHeadline::kMot;
+      h.classifier = mot ? "mot" : "argmax";
+      h.what = mot ? "Mixture of Topics" : "argmax theta";
+      h.accuracy = mot ? score->mot_accuracy : score->argmax_accuracy;
+      for (const ObjectScore& o : score->objects) {
+        h.names.push_back(o.name);
+        h.held_out.push_back(o.held_out);
+        h.per_object.push_back(mot ? o.mot_accuracy : o.argmax_accuracy);
+      }
+      return h;
+    }
+    case LearnHeadline::kPooled: {
+      if (!words) return std::nullopt;
+      const bool per_view = words->per_view;
+      h.classifier = per_view ? "pooled_per_view" : "pooled";
+      h.what = core::printf_string("pooled words (weight %.2f, %s)", words->weight,
+                                   per_view ? "per-view word multinomials" : "pooled counts");
+      h.accuracy = per_view ? words->pooled_per_view : words->pooled;
+      for (const LearnWordObject& o : words->objects) {
+        h.names.push_back(o.name);
+        h.held_out.push_back(o.held_out);
+        h.per_object.push_back(per_view ? o.pooled_per_view : o.pooled);
+      }
+      return h;
+    }
+  }
+  return std::nullopt;
 }
 
 std::string LearnResult::brief() const {
@@ -2025,6 +2083,15 @@ std::string LearnResult::brief() const {
   std::string b = core::printf_string(
       "learned %d of %d objects: %d pushes, %d views, %d faults logged, %.0f s", s.model_classes,
       s.classes, s.pushes_executed, s.views, s.faults, s.seconds);
+  if (headline) {
+    b += core::printf_string("\nheld-out accuracy (headline, %s): %.1f%% (", headline->what.c_str(),
+                             100 * headline->accuracy);
+    for (std::size_t i = 0; i < headline->names.size(); ++i) {
+      b += core::printf_string("%s%s %.0f", i == 0 ? "" : ", ", headline->names[i].c_str(),
+                               100 * headline->per_object[i]);
+    }
+    b += " %)";
+  }
   if (score) {
     for (const ObjectScore& o : score->objects) {
       b += core::printf_string(
@@ -2043,6 +2110,14 @@ std::string LearnResult::brief() const {
       const LearnWordObject& ob = words->objects[i];
       b += core::printf_string("%s%s %.0f/%.0f", i == 0 ? "" : ", ", ob.name.c_str(),
                                100 * ob.words, 100 * ob.pooled);
+    }
+    b += core::printf_string(" %%)\n  with per-view word multinomials%s: pooled %.1f%% (",
+                             words->per_view ? " (the pooled classifier)" : "",
+                             100 * words->pooled_per_view);
+    for (std::size_t i = 0; i < words->objects.size(); ++i) {
+      const LearnWordObject& ob = words->objects[i];
+      b += core::printf_string("%s%s %.0f", i == 0 ? "" : ", ", ob.name.c_str(),
+                               100 * ob.pooled_per_view);
     }
     b += " %)";
   }
@@ -2153,12 +2228,13 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
     for (int c : k.learning.model_class)
       class_object.push_back(score->class_object[static_cast<std::size_t>(c)]);
     by_words = score_by_words(k.learning.model, *k.lda, *k.training, k.training_labels, held,
-                              objects, class_object, o.mot_word_weight);
+                              objects, class_object, o.mot_word_weight, o.mot_word_per_view);
     k.learner->mutable_seconds()["held_out_words"] =
         std::chrono::duration<double>(Clock::now() - th).count();
   }
   LearnResult r = finish(k, w, score, true);
   r.words = by_words;
+  r.headline = learn_headline(o.headline, score, by_words);
   // Nothing to score (no score): no views were taken, so no vocabulary, LDA or object model was
   // made; the record says so.
   r.held_out = true;

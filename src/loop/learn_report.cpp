@@ -38,6 +38,9 @@ std::string LearnReportResult::brief() const {
   std::string b = core::cat({"wrote ", s.page.string(), " (", std::to_string(s.pushes_drawn),
                              " of ", std::to_string(s.pushes), " pushes drawn, ",
                              std::to_string(s.image_files), " images in ", s.images.string()});
+  if (s.headline_accuracy >= 0) {
+    b += core::cat({"; held-out accuracy (headline) ", percent(s.headline_accuracy)});
+  }
   if (s.mot_accuracy >= 0) b += core::cat({"; held-out MoT accuracy ", percent(s.mot_accuracy)});
   if (s.argmax_accuracy >= 0) b += core::cat({", argmax ", percent(s.argmax_accuracy)});
   if (!s.complete) b += "; the run is INCOMPLETE";
@@ -171,8 +174,20 @@ struct Stage {
   double seconds = 0;
 };
 
+// learn.json's "headline" (LearnHeadlineFigure; absent before session 32).
+struct Headline {
+  bool present = false;
+  std::string classifier;
+  std::string what;
+  double accuracy = -1;
+  std::vector<std::string> names;
+  std::vector<int> held_out;
+  std::vector<double> per_object;
+};
+
 struct Run {
   bool complete = false;
+  Headline headline;
   Json options;
   std::vector<ObjectRow> objects;
   std::vector<Push> pushes;
@@ -309,6 +324,28 @@ Run read_learn_json(const fs::path& file) {
       run.mot = read_confusion(r, *v, "held_out/mot");
     if (const Json* v = Reader::optional(*held, "argmax")) {
       run.argmax = read_confusion(r, *v, "held_out/argmax");
+    }
+  }
+  if (const Json* h = Reader::optional(doc, "headline")) {
+    r.object(*h, "headline");
+    Headline& hl = run.headline;
+    hl.present = true;
+    hl.classifier = r.string(r.required(*h, "classifier", "headline"), "headline/classifier");
+    hl.what = r.string(r.required(*h, "what", "headline"), "headline/what");
+    hl.accuracy = r.number(r.required(*h, "accuracy", "headline"), "headline/accuracy");
+    if (hl.accuracy < 0 || hl.accuracy > 1) r.fail("headline/accuracy", "must be in [0, 1]");
+    const Json& names = r.array(r.required(*h, "objects", "headline"), "headline/objects");
+    const Json& held_out = r.array(r.required(*h, "held_out", "headline"), "headline/held_out");
+    const Json& per = r.array(r.required(*h, "per_object", "headline"), "headline/per_object");
+    if (held_out.size() != names.size() || per.size() != names.size()) {
+      r.fail("headline", "must have as many held_out and per_object entries as objects");
+    }
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      hl.names.push_back(r.string(names[i], at("headline/objects", i)));
+      hl.held_out.push_back(r.count(held_out[i], at("headline/held_out", i)));
+      const double a = r.number(per[i], at("headline/per_object", i));
+      if (a < 0 || a > 1) r.fail(at("headline/per_object", i), "must be in [0, 1]");
+      hl.per_object.push_back(a);
     }
   }
   const Json* timing =
@@ -663,6 +700,10 @@ std::string summary_section(const Context& c, const Decisions& dec, bool complet
   s += core::cat({"<b>", std::to_string(learned), "</b> of ", std::to_string(run.objects.size()),
                   " objects learned from <b>", std::to_string(executed), "</b> executed pushes (",
                   std::to_string(run.pushes.size()), " planned)"});
+  if (run.headline.present) {
+    s += core::cat({"; held-out accuracy (headline, ", escape(run.headline.what), ") <b>",
+                    percent(run.headline.accuracy), "</b>"});
+  }
   if (const double mot = held_out_accuracy(c, run.mot); mot >= 0) {
     s += core::cat({"; held-out accuracy: Mixture of Topics <b>", percent(mot), "</b>"});
     if (const double am = held_out_accuracy(c, run.argmax); am >= 0) {
@@ -1069,6 +1110,30 @@ std::string held_out_section(const Context& c, LearnReportSummary& summary) {
   if (!c.run.held_out) return s + kNotRecorded + "</section>";
   if (c.run.views_per_object >= 0) {
     s += core::cat({"<p>", std::to_string(c.run.views_per_object), " views per object.</p>"});
+  }
+  if (const Headline& h = c.run.headline; h.present) {
+    summary.headline_accuracy = h.accuracy;
+    std::vector<report::Bar> bars;
+    for (std::size_t i = 0; i < h.names.size(); ++i) {
+      const int n = h.held_out[i];
+      if (n <= 0) {
+        bars.push_back({h.names[i], 0, "no held-out view with features"});
+        continue;
+      }
+      const auto ci =
+          report::wilson_interval(static_cast<int>(std::lround(h.per_object[i] * n)), n);
+      bars.push_back({h.names[i], h.per_object[i],
+                      core::cat({percent(h.per_object[i]), " [", percent(ci.low), ", ",
+                                 percent(ci.high), "]"}),
+                      ci.low, ci.high});
+    }
+    s +=
+        core::cat({"<h3>Headline: ", escape(h.what), "</h3><p class=\"headline\">accuracy <b>",
+                   percent(h.accuracy), "</b> (learn's headline figure, --headline ",
+                   escape(h.classifier == "pooled_per_view" ? std::string("pooled") : h.classifier),
+                   ")</p><p>Per object, with Wilson 95% intervals:</p>",
+                   report::horizontal_bars(bars, 1.0, core::cat({h.what, ": accuracy per object"}),
+                                           "#3b75af", 620)});
   }
   s += confusion_block(c, c.run.mot, "Mixture of Topics", summary.mot_accuracy);
   s += confusion_block(c, c.run.argmax, "Argmax of topics", summary.argmax_accuracy);

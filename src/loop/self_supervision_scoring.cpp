@@ -65,6 +65,31 @@ Eigen::MatrixXd weighted_word_multinomials(const topics::Corpus& corpus,
   return counts;
 }
 
+std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<const int> labels) {
+  const std::size_t n = corpus.num_documents();
+  if (labels.size() != n) {
+    throw Error(core::cat({"per_view_weights: ", std::to_string(n), " documents but ",
+                           std::to_string(labels.size()), " labels"}));
+  }
+  std::vector<double> words(n, 0.0);
+  double total = 0;
+  int labelled = 0;
+  for (std::size_t d = 0; d < n; ++d) {
+    const topics::DocumentView doc = corpus.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) words[d] += doc.counts[i];
+    if (labels[d] >= 0 && words[d] > 0) {
+      total += words[d];
+      ++labelled;
+    }
+  }
+  const double mean = labelled > 0 ? total / labelled : 0.0;
+  std::vector<double> w(n, 0.0);
+  for (std::size_t d = 0; d < n; ++d) {
+    if (labels[d] >= 0 && words[d] > 0) w[d] = mean / words[d];
+  }
+  return w;
+}
+
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push) {
   if (labels.size() != push.size()) {
     throw Error(core::cat({"counts_once: ", std::to_string(labels.size()), " labels but ",

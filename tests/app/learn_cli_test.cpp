@@ -39,7 +39,7 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   const auto r = run_cli(
       "learn --objects book --clutter bottle --background plain --pushes 2 --width 200 "
       "--height 150 --words 20 --topics 2 --held-out 3 --min-features 3 --seed 3 "
-      "--mot-word-weight 0.5 -q --out " +
+      "--mot-word-weight 0.5 --mot-word-per-view --headline pooled -q --out " +
       file("run") + " --json " + file("run.json"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "learned");
@@ -97,6 +97,30 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
     }
     EXPECT_HAS(r.out, core::printf_string("pooled with word multinomials (weight 0.50) %.1f%%",
                                           100 * w["pooled"].get<double>()));
+    // Both word multinomials scored in the one run: the pooled counts (pooled, grid) and every
+    // view alike (pooled_per_view, grid_per_view); --mot-word-per-view makes the latter learn's.
+    EXPECT_TRUE(j["options"]["mot_word_per_view"].get<bool>());
+    EXPECT_TRUE(w["per_view"].get<bool>());
+    ASSERT_EQ(w["grid_per_view"].size(), w["word_weights"].size());
+    EXPECT_EQ(w["grid_per_view"][3].get<double>(), w["pooled_per_view"].get<double>());
+    for (const auto& o : w["objects"]) {
+      EXPECT_TRUE(o.contains("pooled_per_view")) << o.dump();
+      EXPECT_EQ(o["grid_per_view"].size(), w["word_weights"].size());
+    }
+    EXPECT_HAS(r.out, core::printf_string("with per-view word multinomials (the pooled "
+                                          "classifier): pooled %.1f%%",
+                                          100 * w["pooled_per_view"].get<double>()));
+    // --headline pooled: the pooled classifier (per view) is the headline, printed first.
+    EXPECT_EQ(j["options"]["headline"], "pooled");
+    ASSERT_TRUE(j.contains("headline")) << j.dump();
+    EXPECT_EQ(j["headline"]["classifier"], "pooled_per_view");
+    EXPECT_EQ(j["headline"]["accuracy"].get<double>(), w["pooled_per_view"].get<double>());
+    EXPECT_EQ(j["headline"]["objects"].size(), w["objects"].size());
+    const auto head = r.out.find(
+        "held-out accuracy (headline, pooled words (weight 0.50, "
+        "per-view word multinomials)): ");
+    EXPECT_NE(head, std::string::npos) << r.out;
+    EXPECT_LT(head, r.out.find("held-out accuracy: Mixture of Topics")) << r.out;
   }
   std::ifstream log(run / "decisions.jsonl");
   std::string first;
@@ -138,8 +162,18 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   EXPECT_HAS(r.out, core::printf_string("coverage (turns that pushed it as the intended object): "
                                         "book %d, %d of 1 named objects covered",
                                         turns, turns > 0 ? 1 : 0));
+  // The headline is the Mixture of Topics by default (--headline mot): the same figure.
+  EXPECT_EQ(j["options"]["headline"], "mot");
+  EXPECT_FALSE(j["options"]["mot_word_per_view"].get<bool>());
+  EXPECT_EQ(j["headline"]["classifier"], "mot");
+  EXPECT_EQ(j["headline"]["accuracy"].get<double>(), acc);
+  EXPECT_HAS(r.out, core::printf_string("held-out accuracy (headline, Mixture of Topics): %.1f%%",
+                                        100 * acc));
   const std::string page = core::read_file(dir() / "moving" / "report.html");
   EXPECT_HAS(page, core::printf_string("Mixture of Topics <b>%.1f%%</b>", 100 * acc));
+  EXPECT_HAS(page, core::printf_string("held-out accuracy (headline, Mixture of Topics) <b>%.1f%%"
+                                       "</b>",
+                                       100 * acc));
 }
 
 TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
@@ -176,6 +210,8 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --prefer-pushable=maybe" + out, "prefer-pushable"},
       {"--objects book --mot-word-weight -0.1" + out, "mot-word-weight"},
       {"--objects book --mot-word-weight 1.5" + out, "mot-word-weight"},
+      {"--objects book --mot-word-per-view=maybe" + out, "mot-word-per-view"},
+      {"--objects book --headline best" + out, "headline"},
       {"--objects book --seg-touch-fm -0.1" + out, "seg-touch-fm"},
       {"--objects book --seg-touch-fm 1.5" + out, "seg-touch-fm"},
       {"--objects book,mug,bottle,rabbit,cd,calculator --clutter giraffe,bike,box" + out,

@@ -13,6 +13,8 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "../support/table_views.hpp"
 #include "../support/temp_dir.hpp"
@@ -118,6 +120,8 @@ TEST(Learn, BadOptionsThrow) {
   o.start_clearance = 0.3;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
+  EXPECT_FALSE(o.mot_word_per_view);           // session 32: the pooled counts
+  EXPECT_EQ(o.headline, LearnHeadline::kMot);  // session 32: the Mixture of Topics
   EXPECT_DOUBLE_EQ(o.mot_word_weight, 0.25);
   o.mot_word_weight = -0.01;
   EXPECT_THROW(o.validate(), Error);
@@ -213,6 +217,99 @@ TEST(Learn, ScoreByWordsKnowsWhichObjectEachHeldOutViewShows) {
   EXPECT_THROW(
       (void)score_by_words(topics::MotModel(), lda, training, labels, held, objects, {}, 0.25),
       Error);
+}
+
+// A document of `count` tokens of each word of `words`.
+void add_document(topics::Corpus& corpus, const std::vector<std::pair<int, int>>& words) {
+  std::vector<std::int32_t> tokens;
+  for (const auto& [w, count] : words)
+    tokens.insert(tokens.end(), static_cast<std::size_t>(count), w);
+  corpus.add_tokens(tokens);
+}
+
+TEST(Learn, ScoreByWordsWeighsEveryViewAlikeInThePerViewMultinomials) {
+  // Three words. The book's views: one of 200 tokens of word 0 (a wide mask) and one of 10 of
+  // word 1; the cd's: two of 10 x word 1 + 20 x word 2. Pooled counts (add-one): the book's
+  // p(word 1) = 11 / 213, the cd's 21 / 63, so a held-out book of word 1 alone is called cd.
+  // Every view alike (each scaled to the mean view's 67.5 tokens): the book's p(word 1) =
+  // 68.5 / 138, the cd's 46 / 138: it is called book. A held-out cd of word 2 is cd both ways.
+  // At weight 1 the pooled classifier is multinomial naive Bayes (the MoT by words left out).
+  topics::Corpus training(3);
+  add_document(training, {{0, 200}});
+  add_document(training, {{1, 10}});
+  add_document(training, {{1, 10}, {2, 20}});
+  add_document(training, {{1, 10}, {2, 20}});
+  const std::vector<int> labels{0, 0, 1, 1};
+  topics::BatchLdaOptions bo;
+  bo.num_topics = 2;
+  bo.seed = 3;
+  const topics::LdaModel lda = topics::train_batch_lda(training, bo).model;
+  const Eigen::MatrixXd theta = recognition::document_theta(lda, training).theta;
+  const topics::MotModel model = topics::fit_mot(theta, labels, {"c0", "c1"}, {}).model;
+  std::vector<topics::Corpus> held(2, topics::Corpus(3));
+  add_document(held[0], {{1, 10}});
+  add_document(held[1], {{2, 10}});
+  const std::vector<std::string> objects{"book", "cd"};
+  for (const bool per_view : {false, true}) {
+    const LearnWordScore s =
+        score_by_words(model, lda, training, labels, held, objects, {"book", "cd"}, 1.0, per_view);
+    EXPECT_EQ(s.per_view, per_view);
+    EXPECT_DOUBLE_EQ(s.pooled, 0.5);  // the book wrong, the cd right
+    EXPECT_DOUBLE_EQ(s.pooled_per_view, 1.0);
+    ASSERT_EQ(s.objects.size(), 2U);
+    EXPECT_DOUBLE_EQ(s.objects[0].pooled, 0.0);
+    EXPECT_DOUBLE_EQ(s.objects[0].pooled_per_view, 1.0);
+    EXPECT_DOUBLE_EQ(s.objects[1].pooled, 1.0);
+    EXPECT_DOUBLE_EQ(s.objects[1].pooled_per_view, 1.0);
+    ASSERT_EQ(s.grid_per_view.size(), std::size(kLearnWordWeights));
+    EXPECT_DOUBLE_EQ(s.grid.back(), s.pooled);  // kLearnWordWeights ends at 1
+    EXPECT_DOUBLE_EQ(s.grid_per_view.back(), s.pooled_per_view);
+    ASSERT_EQ(s.objects[0].grid_per_view.size(), std::size(kLearnWordWeights));
+    EXPECT_DOUBLE_EQ(s.objects[0].grid_per_view.back(), 1.0);
+    EXPECT_DOUBLE_EQ(s.objects[0].grid.back(), 0.0);
+    // The headline "pooled" is the pooled classifier of per_view; "mot" needs the ground truth.
+    const auto h = learn_headline(LearnHeadline::kPooled, std::nullopt, s);
+    ASSERT_TRUE(h.has_value());
+    EXPECT_EQ(h->classifier, per_view ? "pooled_per_view" : "pooled");
+    EXPECT_DOUBLE_EQ(h->accuracy, per_view ? 1.0 : 0.5);
+    EXPECT_EQ(h->names, objects);
+    EXPECT_EQ(h->held_out, (std::vector<int>{1, 1}));
+    EXPECT_DOUBLE_EQ(h->per_object[0], per_view ? 1.0 : 0.0);
+    EXPECT_FALSE(learn_headline(LearnHeadline::kMot, std::nullopt, s).has_value());
+    // The JSON: both figures, per object too, and which is learn's.
+    const core::Json j = core::fields_to_json(s);
+    EXPECT_EQ(j.at("per_view"), per_view);
+    EXPECT_DOUBLE_EQ(j.at("pooled").get<double>(), 0.5);
+    EXPECT_DOUBLE_EQ(j.at("pooled_per_view").get<double>(), 1.0);
+    EXPECT_EQ(j.at("grid_per_view").size(), std::size(kLearnWordWeights));
+    EXPECT_DOUBLE_EQ(j.at("objects").at(0).at("pooled_per_view").get<double>(), 1.0);
+    EXPECT_EQ(j.at("objects").at(0).at("grid_per_view").size(), std::size(kLearnWordWeights));
+  }
+  // By default learn's pooled classifier is the pooled counts.
+  EXPECT_FALSE(
+      score_by_words(model, lda, training, labels, held, objects, {"book", "cd"}, 1.0).per_view);
+}
+
+TEST(Learn, HeadlineFromTheGroundTruthScore) {
+  SelfSupervisionScore score;
+  score.mot_accuracy = 0.25;
+  score.argmax_accuracy = 0.75;
+  ObjectScore o;
+  o.name = "book";
+  o.held_out = 20;
+  o.mot_accuracy = 0.25;
+  o.argmax_accuracy = 0.75;
+  score.objects.push_back(o);
+  const auto mot = learn_headline(LearnHeadline::kMot, score, std::nullopt);
+  ASSERT_TRUE(mot.has_value());
+  EXPECT_EQ(mot->classifier, "mot");
+  EXPECT_DOUBLE_EQ(mot->accuracy, 0.25);
+  EXPECT_EQ(mot->held_out, std::vector<int>{20});
+  const auto argmax = learn_headline(LearnHeadline::kArgmax, score, std::nullopt);
+  ASSERT_TRUE(argmax.has_value());
+  EXPECT_EQ(argmax->classifier, "argmax");
+  EXPECT_DOUBLE_EQ(argmax->per_object.at(0), 0.75);
+  EXPECT_FALSE(learn_headline(LearnHeadline::kPooled, score, std::nullopt).has_value());
 }
 
 TEST(Learn, DescriptorMatchFractionCountsDescriptorsNearerTheKnownThanTheRest) {

@@ -1729,6 +1729,14 @@ TEST(SelfSupervision, WeightedWordMultinomialsKnownAnswers) {
   EXPECT_THROW((void)weighted_word_multinomials(c, std::vector<int>{0, 2, -1}, 2,
                                                 std::vector<double>{1, 1, 1}),
                Error);
+  // Every view alike (per_view_weights): the labelled documents with words (3 and 1 tokens)
+  // weigh their mean (2) over their own; the unlabelled one 0.
+  EXPECT_EQ(per_view_weights(c, labels), (std::vector<double>{2.0 / 3, 2.0, 0.0}));
+  topics::Corpus with_empty(3);
+  with_empty.add_tokens(std::vector<std::int32_t>{0, 1, 1, 2});
+  with_empty.add_tokens(std::vector<std::int32_t>{});
+  EXPECT_EQ(per_view_weights(with_empty, std::vector<int>{0, 0}), (std::vector<double>{1.0, 0.0}));
+  EXPECT_THROW((void)per_view_weights(c, std::vector<int>{0, 1}), Error);
   // Each push's views weigh 1 together: (class, push) groups of 3, 1 and 2 views.
   const std::vector<double> once =
       counts_once(std::vector<int>{0, 0, 0, 0, 1, 1}, std::vector<int>{0, 0, 0, 1, 0, 0});

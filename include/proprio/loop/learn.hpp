@@ -64,6 +64,19 @@ enum class NewObjectScore {
 inline constexpr core::ChoiceNames<NewObjectScore, 2> kNewObjectScoreNames{
     {{"words", NewObjectScore::kWords}, {"match", NewObjectScore::kMatch}}};
 
+/// Learn's headline held-out figure (LearnOptions::headline): the classifier printed first, shown
+/// first in report.html and given as learn.json's "headline".
+enum class LearnHeadline {
+  kMot,     ///< the Mixture of Topics by theta (eq 7.3; ground_truth.mot_accuracy)
+  kArgmax,  ///< argmax theta (merged topics; ground_truth.argmax_accuracy)
+  kPooled   ///< the MoT by words pooled with the word multinomials (held_out_words; the
+            ///< multinomials of LearnOptions::mot_word_per_view)
+};
+inline constexpr core::ChoiceNames<LearnHeadline, 3> kLearnHeadlineNames{
+    {{"mot", LearnHeadline::kMot},
+     {"argmax", LearnHeadline::kArgmax},
+     {"pooled", LearnHeadline::kPooled}}};
+
 /// Where the putative objects offered to 7.2 (d) come from.
 enum class LearnCandidates {
   kBlobs,  ///< feature-density blobs, split by the known objects' segmented regions (as before)
@@ -276,6 +289,19 @@ struct LearnOptions {
   /// theta and argmax theta (learn.json "held_out_words", the printout; docs/results/mot.md,
   /// session 22). 0.25 as chosen there.
   double mot_word_weight = 0.25;
+  /// Scoring: learn's pooled classifier fits each class's word multinomial weighing every view
+  /// alike (per_view_weights + weighted_word_multinomials, Experiment 8.2's mot_word_per_view,
+  /// session 30 there) instead of pooling its views' counts (topics::fit_word_multinomials: a
+  /// view with many features weighs more). Both are scored in every run (learn.json
+  /// held_out_words: pooled/grid with the pooled counts, pooled_per_view/grid_per_view per view);
+  /// this says which is learn's pooled classifier (the printout's and the headline's "pooled").
+  /// false (the default): the pooled counts (sessions 23-31).
+  bool mot_word_per_view = false;
+  /// Scoring: the held-out figure printed first, shown first in report.html and written as
+  /// learn.json's "headline": "mot" (the Mixture of Topics by theta, the default), "argmax"
+  /// (argmax theta) or "pooled" (the pooled words classifier at mot_word_weight, with the word
+  /// multinomials of mot_word_per_view). Every figure is in learn.json whichever it is.
+  LearnHeadline headline = LearnHeadline::kMot;
   /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
   bool oracle_ladder = false;
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
@@ -400,6 +426,15 @@ struct LearnOptions {
       {"mot_word_weight",
        "Scoring: weight of the word multinomials pooled with the MoT by words (0 words alone)",
        core::between(0.0, 1.0)});
+    v(self.mot_word_per_view,
+      {"mot_word_per_view",
+       "Scoring: the pooled classifier's word multinomials weigh every view alike (off: the "
+       "views' pooled counts); both are scored"});
+    v.choice(self.headline,
+             {"headline",
+              "Scoring: the held-out figure given first: mot, argmax or pooled (the pooled "
+              "words classifier)"},
+             kLearnHeadlineNames);
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
     v(self.depth, {"depth",
@@ -749,6 +784,9 @@ struct LearnWordObject {
   double words = 0;          ///< right by the Mixture of Topics by words (classify_mot_words)
   double pooled = 0;         ///< right by that pooled with the word multinomials at the weight
   std::vector<double> grid;  ///< right by the pooled classifier at each kLearnWordWeights
+  /// The same two with the per-view word multinomials (LearnOptions::mot_word_per_view).
+  double pooled_per_view = 0;
+  std::vector<double> grid_per_view;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -758,6 +796,10 @@ struct LearnWordObject {
     v(self.words, {"words", "Right by the Mixture of Topics by words"});
     v(self.pooled, {"pooled", "Right by that pooled with the word multinomials"});
     v(self.grid, {"grid", "Right by the pooled classifier at each weight of word_weights"});
+    v(self.pooled_per_view,
+      {"pooled_per_view", "Right by the pooled classifier with per-view word multinomials"});
+    v(self.grid_per_view,
+      {"grid_per_view", "The same at each weight of word_weights (per-view multinomials)"});
   }
 };
 
@@ -767,35 +809,75 @@ struct LearnWordObject {
 // NOLINTNEXTLINE(bugprone-exception-escape)
 struct LearnWordScore {
   double weight = 0.25;
+  /// Learn's pooled classifier is the one with per-view word multinomials (pooled_per_view)
+  /// rather than the pooled counts (pooled): LearnOptions::mot_word_per_view.
+  bool per_view = false;
   double theta = 0;   ///< held-out views right by the MoT by theta (the score's mot_accuracy)
   double words = 0;   ///< right by the MoT by words
-  double pooled = 0;  ///< right by that pooled with the word multinomials at weight
+  double pooled = 0;  ///< right by that pooled with the word multinomials at weight (counts)
   std::vector<double> word_weights;  ///< kLearnWordWeights
   std::vector<double> grid;          ///< right by the pooled classifier at each of them
+  /// The same two with each class's word multinomial weighing its views alike (per_view_weights).
+  double pooled_per_view = 0;
+  std::vector<double> grid_per_view;
   std::vector<LearnWordObject> objects;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
     v(self.weight, {"weight", "The word multinomials' weight in the pooled score"});
+    v(self.per_view, {"per_view", "Learn's pooled classifier is pooled_per_view (else pooled)"});
     v(self.theta, {"theta", "Held-out views right by the Mixture of Topics by theta"});
     v(self.words, {"words", "Right by the Mixture of Topics by words"});
     v(self.pooled, {"pooled", "Right by that pooled with the word multinomials"});
     v(self.word_weights, {"word_weights", "The weights of grid"});
     v(self.grid, {"grid", "Right by the pooled classifier at each weight"});
+    v(self.pooled_per_view,
+      {"pooled_per_view", "Right by the pooled classifier with per-view word multinomials"});
+    v(self.grid_per_view, {"grid_per_view", "The same at each weight (per-view multinomials)"});
     v(self.objects, {"objects", "Per held-out object"});
   }
 };
 
 /// Scores held-out documents by theta and by words. `training`/`labels`: the robot's views and
-/// their model classes (-1: left out), for the word multinomials; `held[i]`: object i's held-out
-/// documents (objects[i]); `class_object[m]`: the object model class m is named after ("" none).
-/// Throws Error when the sizes disagree (held vs objects, labels vs training, class_object vs
-/// the model's classes), on a weight outside [0, 1] or on an empty model.
+/// their model classes (-1: left out), for the word multinomials, fitted both ways: the views'
+/// pooled counts (pooled, grid) and every view weighing alike (pooled_per_view, grid_per_view);
+/// `per_view` says which is learn's pooled classifier (LearnWordScore::per_view); `held[i]`:
+/// object i's held-out documents (objects[i]); `class_object[m]`: the object model class m is
+/// named after ("" none). Throws Error when the sizes disagree (held vs objects, labels vs
+/// training, class_object vs the model's classes), on a weight outside [0, 1] or on an empty
+/// model.
 LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaModel& lda,
                               const topics::Corpus& training, const std::vector<int>& labels,
                               const std::vector<topics::Corpus>& held,
                               const std::vector<std::string>& objects,
-                              const std::vector<std::string>& class_object, double weight);
+                              const std::vector<std::string>& class_object, double weight,
+                              bool per_view = false);
+
+/// Learn's headline held-out figure (LearnOptions::headline), learn.json's "headline".
+struct LearnHeadlineFigure {
+  std::string classifier;          ///< "mot", "argmax", "pooled" (counts) or "pooled_per_view"
+  std::string what;                ///< the classifier in words
+  double accuracy = 0;             ///< held-out views given a class named after their own object
+  std::vector<std::string> names;  ///< the held-out objects
+  std::vector<int> held_out;       ///< their held-out views with features
+  std::vector<double> per_object;  ///< the accuracy per object
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.classifier, {"classifier", "mot, argmax, pooled (counts) or pooled_per_view"});
+    v(self.what, {"what", "The classifier in words"});
+    v(self.accuracy, {"accuracy", "Held-out views given their own object's class"});
+    v(self.names, {"objects", "The held-out objects"});
+    v(self.held_out, {"held_out", "Their held-out views with features"});
+    v(self.per_object, {"per_object", "The accuracy per object"});
+  }
+};
+
+/// The headline of `headline` from the ground-truth score and the words' score (either may be
+/// absent: nullopt when the figure asked for is not there).
+std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
+                                                  const std::optional<SelfSupervisionScore>& score,
+                                                  const std::optional<LearnWordScore>& words);
 
 struct LearnResult;
 
@@ -826,6 +908,8 @@ struct LearnResult {
   std::optional<SelfSupervisionScore> score;
   /// Simulation: the held-out views classified by their words (LearnOptions::mot_word_weight).
   std::optional<LearnWordScore> words;
+  /// Simulation: the headline held-out figure (LearnOptions::headline).
+  std::optional<LearnHeadlineFigure> headline;
   /// Simulation: per named object, the turns whose pushes moved it as the intended object.
   std::vector<LearnCoverage> coverage;
   /// Per reason, the candidates skipped at the run's choices (decisions.jsonl's "skipped").
@@ -854,6 +938,7 @@ struct LearnResult {
     v(LearnDirichletUpdate{self.options.dirichlet_update, &self.dirichlet_likelihoods},
       {"dirichlet_update", "The object-word Dirichlet update and the two updates compared"});
     if (self.held_out) v(LearnHeldOut{&self}, {"held_out", "Held-out views"});
+    v(self.headline, {"headline", "The headline held-out figure (--headline)"});
     v(self.score, {"ground_truth", "Scored against the ground truth"});
     v(self.words, {"held_out_words", "Held-out views classified by their words"});
     if (!self.coverage.empty()) {

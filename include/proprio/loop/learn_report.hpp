@@ -57,16 +57,17 @@ struct LearnReportOptions {
 };
 
 struct LearnReportSummary {
-  std::filesystem::path page;    ///< the HTML page written
-  std::filesystem::path images;  ///< the directory of its images
-  bool complete = false;         ///< learn.json said the run was complete (and no INCOMPLETE)
-  int pushes = 0;                ///< pushes in learn.json
-  int pushes_drawn = 0;          ///< executed pushes whose images were drawn
-  int image_files = 0;           ///< images written beside the page
-  int classes = 0;               ///< learned classes (learn.json "objects")
-  int decisions = 0;             ///< decisions.jsonl lines read
-  double mot_accuracy = -1;      ///< held-out MoT accuracy, [0, 1]; -1: not recorded
-  double argmax_accuracy = -1;   ///< held-out argmax accuracy; -1: not recorded
+  std::filesystem::path page;     ///< the HTML page written
+  std::filesystem::path images;   ///< the directory of its images
+  bool complete = false;          ///< learn.json said the run was complete (and no INCOMPLETE)
+  int pushes = 0;                 ///< pushes in learn.json
+  int pushes_drawn = 0;           ///< executed pushes whose images were drawn
+  int image_files = 0;            ///< images written beside the page
+  int classes = 0;                ///< learned classes (learn.json "objects")
+  int decisions = 0;              ///< decisions.jsonl lines read
+  double mot_accuracy = -1;       ///< held-out MoT accuracy, [0, 1]; -1: not recorded
+  double argmax_accuracy = -1;    ///< held-out argmax accuracy; -1: not recorded
+  double headline_accuracy = -1;  ///< learn.json's "headline" accuracy; -1: not recorded
   std::size_t page_bytes = 0;
 
   template <class Self, class Visitor>
@@ -81,6 +82,8 @@ struct LearnReportSummary {
     v(self.decisions, {"decisions", "Decision log lines read"});
     v(self.mot_accuracy, {"mot_accuracy", "Held-out Mixture of Topics accuracy; -1: none"});
     v(self.argmax_accuracy, {"argmax_accuracy", "Held-out argmax theta accuracy; -1: none"});
+    v(self.headline_accuracy,
+      {"headline_accuracy", "Held-out accuracy of learn's headline figure; -1: none"});
     v(self.page_bytes, {"page_bytes", "Size of the page, bytes"});
   }
 };

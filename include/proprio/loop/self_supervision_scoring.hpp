@@ -155,6 +155,13 @@ Eigen::MatrixXd weighted_word_multinomials(const topics::Corpus& corpus,
                                            std::span<const int> labels, int classes,
                                            std::span<const double> weights = {});
 
+/// Weights for weighted_word_multinomials that make every view weigh alike (Experiment 8.2's
+/// ClutterExperimentOptions::mot_word_per_view, learn's LearnOptions::mot_word_per_view): each
+/// labelled document (label >= 0) with words is weighed by the mean number of words of those
+/// documents over its own, so that each adds as many words as the mean view; an empty or
+/// unlabelled one weighs 0. Throws Error when labels and documents differ in number.
+std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<const int> labels);
+
 /// 1 / (views of its group) for each view, its group the pair (labels[i], push[i]): every push's
 /// views weigh 1 together. Throws Error when labels and push differ in number.
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push);
