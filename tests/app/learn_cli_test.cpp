@@ -162,18 +162,21 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   EXPECT_HAS(r.out, core::printf_string("coverage (turns that pushed it as the intended object): "
                                         "book %d, %d of 1 named objects covered",
                                         turns, turns > 0 ? 1 : 0));
-  // The headline is the Mixture of Topics by default (--headline mot): the same figure.
-  EXPECT_EQ(j["options"]["headline"], "mot");
+  // The headline is the pooled words classifier with the pooled counts by default (--headline
+  // pooled, session 32's rule): the same figure in the printout, learn.json and the page.
+  EXPECT_EQ(j["options"]["headline"], "pooled");
   EXPECT_FALSE(j["options"]["mot_word_per_view"].get<bool>());
-  EXPECT_EQ(j["headline"]["classifier"], "mot");
-  EXPECT_EQ(j["headline"]["accuracy"].get<double>(), acc);
-  EXPECT_HAS(r.out, core::printf_string("held-out accuracy (headline, Mixture of Topics): %.1f%%",
-                                        100 * acc));
+  EXPECT_EQ(j["headline"]["classifier"], "pooled");
+  const double pooled = j["held_out_words"]["pooled"].get<double>();
+  EXPECT_EQ(j["headline"]["accuracy"].get<double>(), pooled);
+  EXPECT_HAS(r.out, core::printf_string("held-out accuracy (headline, pooled words (weight 0.25, "
+                                        "pooled counts)): %.1f%%",
+                                        100 * pooled));
   const std::string page = core::read_file(dir() / "moving" / "report.html");
   EXPECT_HAS(page, core::printf_string("Mixture of Topics <b>%.1f%%</b>", 100 * acc));
-  EXPECT_HAS(page, core::printf_string("held-out accuracy (headline, Mixture of Topics) <b>%.1f%%"
-                                       "</b>",
-                                       100 * acc));
+  EXPECT_HAS(page, core::printf_string("held-out accuracy (headline, pooled words (weight 0.25, "
+                                       "pooled counts)) <b>%.1f%%</b>",
+                                       100 * pooled));
 }
 
 TEST_F(LearnCli, BadInputIsOneLineAndExit2) {

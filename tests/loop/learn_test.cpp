@@ -120,8 +120,8 @@ TEST(Learn, BadOptionsThrow) {
   o.start_clearance = 0.3;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
-  EXPECT_FALSE(o.mot_word_per_view);           // session 32: the pooled counts
-  EXPECT_EQ(o.headline, LearnHeadline::kMot);  // session 32: the Mixture of Topics
+  EXPECT_FALSE(o.mot_word_per_view);              // session 32: the pooled counts
+  EXPECT_EQ(o.headline, LearnHeadline::kPooled);  // session 32's rule (was the MoT)
   EXPECT_DOUBLE_EQ(o.mot_word_weight, 0.25);
   o.mot_word_weight = -0.01;
   EXPECT_THROW(o.validate(), Error);
