@@ -21,6 +21,7 @@
 
 #include "arm_image.hpp"
 #include "blob_tracking.hpp"
+#include "proprio/core/cpu_clock.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/progress.hpp"
@@ -468,17 +469,46 @@ class Learner {
     own_.resize(static_cast<std::size_t>(classes));
   }
 
+  // f() with its wall-clock and processor time added to `stage` (also when it throws).
   template <class F>
   auto timed(const std::string& stage, F f) {
-    const auto t0 = Clock::now();
-    if constexpr (std::is_void_v<decltype(f())>) {
-      f();
-      seconds_[stage] += std::chrono::duration<double>(Clock::now() - t0).count();
-    } else {
-      auto r = f();
-      seconds_[stage] += std::chrono::duration<double>(Clock::now() - t0).count();
-      return r;
+    const StageClock clock(*this, stage);
+    return f();
+  }
+
+  // Adds the wall-clock and processor time from its making to its end to a stage; the
+  // perception stages' processor time also to the push being perceived (perception_cpu_).
+  class StageClock {
+   public:
+    StageClock(Learner& l, std::string stage)
+        : l_(l), stage_(std::move(stage)), t0_(Clock::now()), c0_(core::process_cpu_seconds()) {}
+    StageClock(const StageClock&) = delete;
+    StageClock& operator=(const StageClock&) = delete;
+    StageClock(StageClock&&) = delete;
+    StageClock& operator=(StageClock&&) = delete;
+    ~StageClock() {
+      const double cpu = core::process_cpu_seconds() - c0_;
+      l_.seconds_[stage_] += std::chrono::duration<double>(Clock::now() - t0_).count();
+      l_.cpu_[stage_] += cpu;
+      if (stage_ == "segmentation" || stage_ == "words" || stage_ == "recognition")
+        l_.perception_cpu_ += cpu;
     }
+
+   private:
+    Learner& l_;
+    std::string stage_;
+    Clock::time_point t0_;
+    double c0_;
+  };
+
+  // The perception since the last executed push (its segmentation and words, the recognition
+  // of the looks after it) becomes that push's; `next` (an executed push's index, or -1 at the
+  // end) is perceived from now on.
+  void perceive_next(int next) {
+    if (perceived_ >= 0 && static_cast<std::size_t>(perceived_) < pushes_.size())
+      pushes_[static_cast<std::size_t>(perceived_)].perception_cpu_seconds = perception_cpu_;
+    perceived_ = next;
+    perception_cpu_ = 0;
   }
 
   void run(bool progress) {
@@ -519,6 +549,7 @@ class Learner {
       if (o_.rounds == 0 || class_views(c) > 0) ++c;
     }
     bar.finish();
+    perceive_next(-1);
     log({.event = "end",
          .views = static_cast<int>(views_.size()),
          .blobs_out_of_reach = dropped_far_,
@@ -564,6 +595,8 @@ class Learner {
   [[nodiscard]] const std::vector<LearnPush>& pushes() const { return pushes_; }
   [[nodiscard]] const std::vector<View>& views() const { return views_; }
   [[nodiscard]] const std::map<std::string, double>& seconds() const { return seconds_; }
+  /// Processor seconds of the stages timed by this process (timed()).
+  [[nodiscard]] const std::map<std::string, double>& cpu_seconds() const { return cpu_; }
   [[nodiscard]] int faults() const { return faults_; }
   [[nodiscard]] const std::map<std::string, int>& skips() const { return skips_; }
   [[nodiscard]] const std::vector<PredictiveLikelihood>& dirichlet_measure() const {
@@ -1525,7 +1558,9 @@ class Learner {
         const robot::PushReport rep = timed("push", [&] { return robot_.push(p.push, rec); });
         lp.executed = true;
         lp.frames = rep.frames;
+        lp.robot_seconds = rep.seconds;
         seconds_["push_robot_clock"] += rep.seconds;  // how long the push lasted for the robot
+        perceive_next(lp.index);
         message = rep.message;
       } catch (const Error& e) {
         message = e.what();
@@ -1718,6 +1753,9 @@ class Learner {
   std::vector<View> views_;
   std::vector<cv::Mat> frames_;
   std::map<std::string, double> seconds_;
+  std::map<std::string, double> cpu_;  ///< processor seconds per stage (timed())
+  int perceived_ = -1;                 ///< the executed push being perceived (perceive_next)
+  double perception_cpu_ = 0;          ///< its perception's processor seconds so far
   std::vector<PredictiveLikelihood> dirichlet_measure_;
   int faults_ = 0;
   int plans_ = 0;
@@ -1912,7 +1950,12 @@ LearnResult finish(Core& k, const LearnOptions& o, const std::optional<SelfSuper
     }
     r.objects.push_back(std::move(obj));
   }
-  for (const auto& [stage, sec] : l.seconds()) r.timing.push_back({stage, sec});
+  for (const auto& [stage, sec] : l.seconds()) {
+    StageSeconds t{stage, sec, std::nullopt};
+    if (const auto it = l.cpu_seconds().find(stage); it != l.cpu_seconds().end())
+      t.cpu_seconds = it->second;
+    r.timing.push_back(t);
+  }
   if (k.vocabulary)
     r.vocabulary = LearnModelFile{"words", k.vocabulary->size(), "vocabulary.vocab"};
   if (k.lda) {

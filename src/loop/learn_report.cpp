@@ -159,6 +159,8 @@ struct Push {
   int views = -1;
   std::optional<bool> moved_intended;
   std::string outcome;
+  double robot_seconds = -1;   ///< the push's duration on the robot's clock; -1 not recorded
+  double perception_cpu = -1;  ///< its perception's processor seconds; -1 not recorded
 };
 
 struct ObjectRow {
@@ -308,6 +310,14 @@ Run read_learn_json(const fs::path& file) {
       p.moved_intended = r.boolean(*v, w + "/moved_intended");
     }
     if (const Json* v = Reader::optional(o, "outcome")) p.outcome = r.string(*v, w + "/outcome");
+    const auto seconds = [&](const char* key, double& into) {
+      if (const Json* v = Reader::optional(o, key)) {
+        into = r.number(*v, core::cat({w, "/", key}));
+        if (into < 0) r.fail(core::cat({w, "/", key}), "must not be negative");
+      }
+    };
+    seconds("robot_seconds", p.robot_seconds);
+    seconds("perception_cpu_seconds", p.perception_cpu);
     run.pushes.push_back(std::move(p));
   }
 
@@ -1140,6 +1150,33 @@ std::string held_out_section(const Context& c, LearnReportSummary& summary) {
   return s + "</section>";
 }
 
+// The perception of each executed push (processor seconds) against how long the push lasted on
+// the robot's clock (issue 21's speed goal); empty when the run did not record them.
+std::string perception_line(const std::vector<Push>& pushes) {
+  std::vector<double> ratio;
+  double cpu = 0;
+  double robot = 0;
+  int faster = 0;
+  for (const Push& p : pushes) {
+    if (!p.executed || p.robot_seconds <= 0 || p.perception_cpu < 0) continue;
+    ratio.push_back(p.perception_cpu / p.robot_seconds);
+    cpu += p.perception_cpu;
+    robot += p.robot_seconds;
+    faster += p.perception_cpu < p.robot_seconds ? 1 : 0;
+  }
+  if (ratio.empty()) return {};
+  std::sort(ratio.begin(), ratio.end());
+  const auto n = static_cast<double>(ratio.size());
+  return core::cat(
+      {"<p>Perception of a push (its segmentation, word updates and the recognition "
+       "after it; processor time, every thread) against the push's own duration on "
+       "the robot's clock: ",
+       fixed(cpu / n, 2), " s against ", fixed(robot / n, 2), " s a push on average; ",
+       std::to_string(faster), " of ", std::to_string(ratio.size()),
+       " pushes perceived in less time than they lasted (largest ratio ", fixed(ratio.back(), 2),
+       ").</p>"});
+}
+
 std::string timing_section(const Context& c) {
   std::string s = section_start("timing", "Where the time went", "");
   if (!c.run.timing || c.run.stages.empty()) return s + kNotRecorded + "</section>";
@@ -1155,7 +1192,7 @@ std::string timing_section(const Context& c) {
                   c.run.clock.empty() ? std::string(" (clock not recorded)")
                                       : core::cat({" (", escape(c.run.clock), " time)"}),
                   ".</p>", report::horizontal_bars(bars, 0, "seconds per stage", "#7a4fa3", 640)});
-  return s + "</section>";
+  return s + perception_line(c.run.pushes) + "</section>";
 }
 
 std::string decisions_section(const Decisions& d) {

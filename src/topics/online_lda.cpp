@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -18,6 +17,7 @@
 
 #include "engine.hpp"
 #include "proprio/core/binary_file.hpp"
+#include "proprio/core/cpu_clock.hpp"
 #include "proprio/core/error.hpp"
 #include "proprio/core/fields.hpp"
 #include "proprio/core/text.hpp"
@@ -28,6 +28,7 @@ namespace proprio::topics {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using core::process_cpu_seconds;
 
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -70,12 +71,6 @@ class HeldoutTrace {
   bool active_;
   CompletionSplit split_;
 };
-
-double process_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 void check_positive_finite(double v, const char* name) {
   if (!(std::isfinite(v) && v > 0)) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -65,6 +66,8 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   EXPECT_TRUE(fs::exists(run / "vocabulary.vocab"));
   EXPECT_TRUE(fs::exists(run / "lda.model"));
   EXPECT_TRUE(fs::exists(run / "model.mot"));
+  double robot_seconds = 0;
+  double perception = 0;
   for (const auto& p : j["pushes"]) {
     if (!p["executed"].get<bool>()) continue;
     const fs::path d = run / p["dir"].get<std::string>();
@@ -73,7 +76,25 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
     }
     EXPECT_EQ(p["plan"]["start_px"].size(), 2U);
     EXPECT_TRUE(p.contains("moved_intended"));
+    // Issue 21's speed goal: each executed push's duration and its perception's processor time.
+    EXPECT_GT(p["robot_seconds"].get<double>(), 0.0);
+    EXPECT_GT(p["perception_cpu_seconds"].get<double>(), 0.0);
+    robot_seconds += p["robot_seconds"].get<double>();
+    perception += p["perception_cpu_seconds"].get<double>();
   }
+  // The pushes' durations add up to the robot-clock stage; their perception is the perception
+  // stages' processor time, less what the looks before the first push took.
+  std::map<std::string, core::Json> stage;
+  for (const auto& t : j["timing"]) stage[t["stage"].get<std::string>()] = t;
+  EXPECT_NEAR(stage.at("push_robot_clock")["seconds"].get<double>(), robot_seconds, 1e-9);
+  EXPECT_FALSE(stage.at("push_robot_clock").contains("cpu_seconds"));  // not this process's
+  double perception_stages = 0;
+  for (const char* s : {"segmentation", "words", "recognition"}) {
+    if (stage.contains(s)) perception_stages += stage.at(s)["cpu_seconds"].get<double>();
+  }
+  EXPECT_GT(stage.at("segmentation")["cpu_seconds"].get<double>(), 0.0);
+  EXPECT_LE(perception, perception_stages + 1e-9);
+  EXPECT_GE(perception + 1e-9, stage.at("segmentation")["cpu_seconds"].get<double>());
   EXPECT_EQ(j["held_out"]["views_per_object"], 3);
   EXPECT_TRUE(j["held_out"]["mot"].contains("counts"));
   EXPECT_TRUE(j["held_out"]["argmax"].contains("accuracy"));

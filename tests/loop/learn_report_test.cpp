@@ -32,9 +32,10 @@ std::vector<std::string> img_sources(const std::string& page) {
   return out;
 }
 
-LearnReportResult report_of(const fs::path& dir) {
+LearnReportResult report_of(const fs::path& dir, bool overwrite = false) {
   LearnReportOptions o;
   o.dir = dir;
+  o.overwrite = overwrite;
   return write_learn_report(o);
 }
 
@@ -245,6 +246,32 @@ TEST(LearnReport, BadRunDirectoriesGiveAnErrorNamingTheFile) {
   EXPECT_NE(error_of([&] { report_of(tmp.path()); }).find("decisions.jsonl:2"), std::string::npos);
   fs::remove(tmp.path() / "decisions.jsonl");
   EXPECT_NE(error_of([&] { report_of(tmp.path()); }).find("decisions.jsonl"), std::string::npos);
+}
+
+TEST(LearnReport, SaysHowThePerceptionOfAPushComparesWithThePushItself) {
+  // Issue 21's speed goal, from each executed push's perception_cpu_seconds and robot_seconds.
+  test::TempDir tmp("proprio_learn_report_");
+  test::write_learn_run_fixture(tmp.path());
+  const std::string line = "Perception of a push";
+  EXPECT_EQ(core::read_file(report_of(tmp.path(), true).summary.page).find(line),
+            std::string::npos);  // not recorded: no line
+  edit_learn_json(tmp.path(), [](core::Json& j) {
+    j["pushes"][0]["robot_seconds"] = 4.0;
+    j["pushes"][0]["perception_cpu_seconds"] = 1.0;
+    j["pushes"][1]["robot_seconds"] = 4.0;
+    j["pushes"][1]["perception_cpu_seconds"] = 5.0;
+    j["pushes"][2]["robot_seconds"] = 0.0;  // not executed: left out
+    j["pushes"][2]["perception_cpu_seconds"] = 9.0;
+  });
+  const std::string page = core::read_file(report_of(tmp.path(), true).summary.page);
+  EXPECT_NE(page.find(line), std::string::npos);
+  EXPECT_NE(page.find("3.00 s against 4.00 s a push on average; 1 of 2 pushes perceived in less "
+                      "time than they lasted (largest ratio 1.25)"),
+            std::string::npos);
+  edit_learn_json(tmp.path(),
+                  [](core::Json& j) { j["pushes"][1]["perception_cpu_seconds"] = -1.0; });
+  EXPECT_NE(error_of([&] { report_of(tmp.path(), true); }).find("pushes/1/perception_cpu_seconds"),
+            std::string::npos);
 }
 
 TEST(LearnReport, SkipsOverlongDecisionLines) {
