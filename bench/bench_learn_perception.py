@@ -58,7 +58,8 @@ def one_run(args, seed, out):
             for p in pushes]
     stages = {t["stage"]: t for t in j["timing"]}
     cpu = {s: stages[s].get("cpu_seconds", 0.0) for s in PERCEPTION if s in stages}
-    return {"seed": seed, "command": " ".join(shlex.quote(c) for c in cmd),
+    shown = [("RUN_DIR" if c == str(out) else c) for c in cmd]  # no temporary path recorded
+    return {"seed": seed, "command": " ".join(shlex.quote(c) for c in shown),
             "loadavg_before": before, "loadavg_after": after, "pushes": rows,
             "perception_stage_cpu_seconds": cpu,
             "stage_cpu_seconds": {s: t["cpu_seconds"] for s, t in stages.items()
