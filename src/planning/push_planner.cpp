@@ -1439,6 +1439,73 @@ DescentMap descent_map(const PlanningView& view, const TableRegion& region) {
   return map;
 }
 
+namespace {
+
+// The first part of the arm, posed at `q`, whose balls (geom_balls of `geoms`) come within
+// `margin` of a column of `map` (descent_meets_object's test), named with its height and the
+// cell's top; nullopt when none does. `highest`: the map's highest top.
+std::optional<std::string> pose_meets(robot::ArmState& arm, const robot::JointVector& q,
+                                      const std::vector<int>& geoms, const DescentMap& map,
+                                      double margin, double highest) {
+  const mjModel& m = arm.arm().model();
+  const double half_diagonal = 0.5 * std::numbers::sqrt2 * kDescentCell;
+  arm.set_joints(q);
+  std::vector<Ball> balls;
+  for (const int g : geoms) {
+    balls.clear();
+    geom_balls(m, arm.data(), g, balls);
+    for (const Ball& b : balls) {
+      const double low = b.centre.z() - b.radius - margin;
+      if (low >= highest) continue;
+      const double reach = b.radius + margin + half_diagonal;
+      const int x0 =
+          static_cast<int>(std::floor((b.centre.x() - reach - map.origin.x()) / kDescentCell));
+      const int x1 =
+          static_cast<int>(std::floor((b.centre.x() + reach - map.origin.x()) / kDescentCell));
+      const int y0 =
+          static_cast<int>(std::floor((b.centre.y() - reach - map.origin.y()) / kDescentCell));
+      const int y1 =
+          static_cast<int>(std::floor((b.centre.y() + reach - map.origin.y()) / kDescentCell));
+      for (int cy = std::max(0, y0); cy <= std::min(map.top.rows - 1, y1); ++cy) {
+        for (int cx = std::max(0, x0); cx <= std::min(map.top.cols - 1, x1); ++cx) {
+          const double t = map.top(cy, cx);
+          // An empty cell is the table the pusher comes down to, not an object (a margin above
+          // the pusher's lowest point would otherwise meet every one).
+          if (t <= 0 || t <= low) continue;
+          const Eigen::Vector2d c = map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
+          if ((c - b.centre.head<2>()).norm() > reach) continue;
+          const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
+          return std::string(name != nullptr ? name : "the arm") + " at " +
+                 std::to_string(static_cast<int>(std::lround(b.centre.z() * 1000))) +
+                 " mm on something " + std::to_string(static_cast<int>(std::lround(t * 1000))) +
+                 " mm tall at " + metres(c);
+        }
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+// The roll j5 plan_push_motion gives `push` from `q_rest` (across the push when `roll_across` or
+// push.jaws say so, along it for kAlong): q_rest with that roll.
+robot::JointVector push_roll(robot::ArmState& arm, const robot::TablePush& push,
+                             const robot::JointVector& q_rest, bool roll_across,
+                             const robot::IkOptions& ik) {
+  robot::JointVector q_from = q_rest;
+  const bool across =
+      push.jaws == robot::JawLine::kAcross || (push.jaws == robot::JawLine::kRobot && roll_across);
+  if (across || push.jaws == robot::JawLine::kAlong) {
+    const Eigen::Vector3d mid(0.5 * (push.start.x() + push.end.x()),
+                              0.5 * (push.start.y() + push.end.y()), push.height);
+    const robot::JointVector q_mid = robot::solve_ik(arm, mid, q_rest, ik).q;
+    q_from[4] = across ? robot::fingers_across_roll(arm, q_mid, push.end - push.start)
+                       : robot::fingers_along_roll(arm, q_mid, push.end - push.start);
+  }
+  return q_from;
+}
+
+}  // namespace
+
 std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robot::TablePush& push,
                                                 const robot::JointVector& q_rest,
                                                 const DescentMap& map, double margin,
@@ -1452,16 +1519,7 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
   const Eigen::Vector3d start(push.start.x(), push.start.y(), push.height);
   const robot::PushMotionOptions motion;
   // The roll as plan_push_motion sets it.
-  robot::JointVector q_from = q_rest;
-  const bool across =
-      push.jaws == robot::JawLine::kAcross || (push.jaws == robot::JawLine::kRobot && roll_across);
-  if (across || push.jaws == robot::JawLine::kAlong) {
-    const Eigen::Vector3d mid(0.5 * (push.start.x() + push.end.x()),
-                              0.5 * (push.start.y() + push.end.y()), push.height);
-    const robot::JointVector q_mid = robot::solve_ik(arm, mid, q_rest, motion.ik).q;
-    q_from[4] = across ? robot::fingers_across_roll(arm, q_mid, push.end - push.start)
-                       : robot::fingers_along_roll(arm, q_mid, push.end - push.start);
-  }
+  const robot::JointVector q_from = push_roll(arm, push, q_rest, roll_across, motion.ik);
   const robot::JointVector q_above =
       robot::solve_ik(arm, start + Eigen::Vector3d(0, 0, motion.lift), q_from, motion.ik).q;
   // The top of the way down: the first of kDescentTops reached (seeded by the pose above the
@@ -1477,51 +1535,51 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
       if (h == kDescentTops.back()) throw;
     }
   }
-  const robot::Arm& a = arm.arm();
-  const mjModel& m = a.model();
-  const std::vector<int> geoms = moving_arm_geoms(a);
+  const std::vector<int> geoms = moving_arm_geoms(arm.arm());
   const int steps = std::max(1, static_cast<int>(std::ceil((top - push.height) / kDescentStep)));
-  const double half_diagonal = 0.5 * std::numbers::sqrt2 * kDescentCell;
-  std::vector<Ball> balls;
   for (int i = 0; i <= steps; ++i) {
     const double z = top + (push.height - top) * static_cast<double>(i) / steps;
     if (i > 0) q = robot::solve_ik(arm, Eigen::Vector3d(start.x(), start.y(), z), q, motion.ik).q;
-    arm.set_joints(q);
-    for (const int g : geoms) {
-      balls.clear();
-      geom_balls(m, arm.data(), g, balls);
-      for (const Ball& b : balls) {
-        const double low = b.centre.z() - b.radius - margin;
-        if (low >= highest) continue;
-        const double reach = b.radius + margin + half_diagonal;
-        const int x0 =
-            static_cast<int>(std::floor((b.centre.x() - reach - map.origin.x()) / kDescentCell));
-        const int x1 =
-            static_cast<int>(std::floor((b.centre.x() + reach - map.origin.x()) / kDescentCell));
-        const int y0 =
-            static_cast<int>(std::floor((b.centre.y() - reach - map.origin.y()) / kDescentCell));
-        const int y1 =
-            static_cast<int>(std::floor((b.centre.y() + reach - map.origin.y()) / kDescentCell));
-        for (int cy = std::max(0, y0); cy <= std::min(map.top.rows - 1, y1); ++cy) {
-          for (int cx = std::max(0, x0); cx <= std::min(map.top.cols - 1, x1); ++cx) {
-            const double t = map.top(cy, cx);
-            // An empty cell is the table the pusher comes down to, not an object (a margin above
-            // the pusher's lowest point would otherwise meet every one).
-            if (t <= 0 || t <= low) continue;
-            const Eigen::Vector2d c =
-                map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
-            if ((c - b.centre.head<2>()).norm() > reach) continue;
-            const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
-            return std::string(name != nullptr ? name : "the arm") + " at " +
-                   std::to_string(static_cast<int>(std::lround(b.centre.z() * 1000))) +
-                   " mm on something " + std::to_string(static_cast<int>(std::lround(t * 1000))) +
-                   " mm tall at " + metres(c);
-          }
-        }
-      }
+    if (std::optional<std::string> met = pose_meets(arm, q, geoms, map, margin, highest)) {
+      return met;
     }
   }
   return std::nullopt;
+}
+
+std::optional<std::string> contact_meets_object(robot::ArmState& arm, const robot::TablePush& push,
+                                                const robot::JointVector& q_rest,
+                                                const DescentMap& map, double margin,
+                                                bool roll_across, double along) {
+  require(std::isfinite(margin) && margin >= 0, "contact pose: the margin must be >= 0");
+  require(std::isfinite(along) && along >= 0, "contact pose: the distance must be >= 0");
+  push.validate();
+  if (map.top.empty()) return std::nullopt;
+  double highest = 0;
+  cv::minMaxLoc(map.top, nullptr, &highest);
+  if (highest <= 0) return std::nullopt;
+  const robot::PushMotionOptions motion;
+  const robot::JointVector q_from = push_roll(arm, push, q_rest, roll_across, motion.ik);
+  const Eigen::Vector2d n = (push.end - push.start).normalized();
+  const Eigen::Vector2d p = push.start + std::min(along, push.length()) * n;
+  const robot::JointVector q =
+      robot::solve_ik(arm, Eigen::Vector3d(p.x(), p.y(), push.height), q_from, motion.ik).q;
+  // The palm and the links above it: the pusher and the jaws meet the object low (push_contact).
+  const robot::Arm& a = arm.arm();
+  const mjModel& m = a.model();
+  std::vector<int> geoms;
+  for (const int g : moving_arm_geoms(a)) {
+    const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
+    const std::string s = name != nullptr ? name : "";
+    if (s == "arm_pusher" || s.find("finger") != std::string::npos) continue;
+    geoms.push_back(g);
+  }
+  return pose_meets(arm, q, geoms, map, margin, highest);
+}
+
+bool tall_start(const PutativeObject& object, double tip_height, const PushPlanOptions& options) {
+  return options.tall_start_clearance > 0 && object.height &&
+         *object.height >= tip_height + kPalmDrop - kDescentHeightMargin;
 }
 
 cv::Mat1f density_of_others(const PlanningView& view, int object) {
@@ -1629,6 +1687,10 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const double tip = push_tip_height(o, options);
   const double speed = push_speed_for(o, options);
   const robot::JawLine jaws = push_jaws(o, tip, options);
+  // tall_start_clearance: a tall object's start far enough behind it for the arm's way down.
+  const bool tall = tall_start(o, tip, options);
+  const double most_approach =
+      tall ? std::max(options.max_approach, kTallMostApproach) : options.max_approach;
   // The turn the swept region allows for (sweep_margin).
   const double turn = options.sweep_turn_by_shape ? sweep_turn(o.hull) : kSweepTurn;
   core::Rng rng(options.seed);
@@ -1818,7 +1880,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       const double r = rng.uniform(options.min_distance, options.max_distance);
       t = o.centre + r * Eigen::Vector2d(std::cos(a), std::sin(a));
     }
-    const double approach = rng.uniform(options.min_approach, options.max_approach);
+    const double approach = rng.uniform(options.min_approach, most_approach);
     if ((t - o.centre).norm() < options.least_push) {
       ++plan.rejected_region;
       continue;
@@ -1900,7 +1962,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   motion.rate_hz = kMotionCheckRate;
   // descent_pose_margin: what the arm may meet, the pushed object too.
   const DescentMap solid =
-      options.descent_pose_margin > 0 ? descent_map(view, region) : DescentMap{};
+      options.descent_pose_margin > 0 || tall ? descent_map(view, region) : DescentMap{};
+  std::string first_tall;
   std::string first_met;
   // descent_pose_fallback: the best path whose descent alone met something.
   const Candidate* met = nullptr;
@@ -1925,6 +1988,29 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     } catch (const Error&) {
       ++plan.rejected_reach;
       continue;
+    }
+    if (tall) {
+      // The tall object's own check: no fallback (a hand that comes down on it knocks it over).
+      try {
+        if (std::optional<std::string> part = descent_meets_object(
+                arm, c.push, q_rest, solid, options.tall_start_clearance, options.roll_across)) {
+          if (plan.rejected_tall == 0) first_tall = *part;
+          ++plan.rejected_tall;
+          continue;
+        }
+        // The hand where the pusher first meets the object (its side at the object's edge): the
+        // palm or a link over the object would push it high and tip it over.
+        if (std::optional<std::string> part = contact_meets_object(
+                arm, c.push, q_rest, solid, options.tall_start_clearance, options.roll_across,
+                std::max(0.0, c.approach - options.pusher_radius))) {
+          if (plan.rejected_tall == 0) first_tall = *part + " where the pusher meets it";
+          ++plan.rejected_tall;
+          continue;
+        }
+      } catch (const Error&) {
+        ++plan.rejected_reach;
+        continue;
+      }
     }
     if (options.descent_pose_margin > 0) {
       try {
@@ -1961,6 +2047,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
             (plan.rejected_descent > 0
                  ? " and " + std::to_string(plan.rejected_descent) +
                        " would meet an object on the arm's way down (the first: " + first_met + ")"
+                 : std::string()) +
+            (plan.rejected_tall > 0
+                 ? " and " + std::to_string(plan.rejected_tall) +
+                       " would bring the arm down too near something by the tall object (the "
+                       "first: " +
+                       first_tall + ")"
                  : std::string()));
   }
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +
