@@ -28,6 +28,9 @@ constexpr double kBlockedWeight = 1000.0;
 // A push through a waypoint is taken only when it is clearer than the direct one by this much
 // (as cost: 3 mm of clearance): it spends a push of the loop.
 constexpr double kViaCost = 3.0;
+// tall_start_clearance: added to the score of a push from farther behind, so that it ranks after
+// every other path.
+constexpr double kTallFarScore = 1e6;
 // Waypoints: turned this far off the direct line either way, rad, and this far from p_c, m.
 constexpr double kViaLeast = 20.0 * std::numbers::pi / 180.0;
 constexpr double kViaMost = 100.0 * std::numbers::pi / 180.0;
@@ -1506,10 +1509,13 @@ robot::JointVector push_roll(robot::ArmState& arm, const robot::TablePush& push,
 
 }  // namespace
 
-std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robot::TablePush& push,
-                                                const robot::JointVector& q_rest,
-                                                const DescentMap& map, double margin,
-                                                bool roll_across) {
+namespace {
+
+// descent_meets_object with the parts `geoms` only.
+std::optional<std::string> descent_meets(robot::ArmState& arm, const robot::TablePush& push,
+                                         const robot::JointVector& q_rest, const DescentMap& map,
+                                         double margin, bool roll_across,
+                                         const std::vector<int>& geoms) {
   require(std::isfinite(margin) && margin >= 0, "descent poses: the margin must be >= 0");
   push.validate();
   if (map.top.empty()) return std::nullopt;
@@ -1535,7 +1541,6 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
       if (h == kDescentTops.back()) throw;
     }
   }
-  const std::vector<int> geoms = moving_arm_geoms(arm.arm());
   const int steps = std::max(1, static_cast<int>(std::ceil((top - push.height) / kDescentStep)));
   for (int i = 0; i <= steps; ++i) {
     const double z = top + (push.height - top) * static_cast<double>(i) / steps;
@@ -1547,34 +1552,53 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
   return std::nullopt;
 }
 
-std::optional<std::string> contact_meets_object(robot::ArmState& arm, const robot::TablePush& push,
-                                                const robot::JointVector& q_rest,
-                                                const DescentMap& map, double margin,
-                                                bool roll_across, double along) {
-  require(std::isfinite(margin) && margin >= 0, "contact pose: the margin must be >= 0");
-  require(std::isfinite(along) && along >= 0, "contact pose: the distance must be >= 0");
-  push.validate();
-  if (map.top.empty()) return std::nullopt;
-  double highest = 0;
-  cv::minMaxLoc(map.top, nullptr, &highest);
-  if (highest <= 0) return std::nullopt;
-  const robot::PushMotionOptions motion;
-  const robot::JointVector q_from = push_roll(arm, push, q_rest, roll_across, motion.ik);
-  const Eigen::Vector2d n = (push.end - push.start).normalized();
-  const Eigen::Vector2d p = push.start + std::min(along, push.length()) * n;
-  const robot::JointVector q =
-      robot::solve_ik(arm, Eigen::Vector3d(p.x(), p.y(), push.height), q_from, motion.ik).q;
-  // The palm and the links above it: the pusher and the jaws meet the object low (push_contact).
-  const robot::Arm& a = arm.arm();
+// The arm's moving parts above the jaws: the palm and the links (not the pusher, not a finger).
+std::vector<int> parts_above_jaws(const robot::Arm& a) {
   const mjModel& m = a.model();
-  std::vector<int> geoms;
+  std::vector<int> out;
   for (const int g : moving_arm_geoms(a)) {
     const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
     const std::string s = name != nullptr ? name : "";
     if (s == "arm_pusher" || s.find("finger") != std::string::npos) continue;
-    geoms.push_back(g);
+    out.push_back(g);
   }
-  return pose_meets(arm, q, geoms, map, margin, highest);
+  return out;
+}
+
+}  // namespace
+
+std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robot::TablePush& push,
+                                                const robot::JointVector& q_rest,
+                                                const DescentMap& map, double margin,
+                                                bool roll_across) {
+  return descent_meets(arm, push, q_rest, map, margin, roll_across, moving_arm_geoms(arm.arm()));
+}
+
+std::optional<std::string> tall_push_meets(robot::ArmState& arm, const robot::TablePush& push,
+                                           const robot::JointVector& q_rest, const DescentMap& map,
+                                           double margin, bool roll_across, double contact) {
+  require(std::isfinite(margin) && margin >= 0, "tall push: the margin must be >= 0");
+  require(std::isfinite(contact) && contact >= 0, "tall push: the contact distance must be >= 0");
+  const std::vector<int> geoms = parts_above_jaws(arm.arm());
+  if (std::optional<std::string> met =
+          descent_meets(arm, push, q_rest, map, margin, roll_across, geoms)) {
+    return met;
+  }
+  if (map.top.empty()) return std::nullopt;
+  double highest = 0;
+  cv::minMaxLoc(map.top, nullptr, &highest);
+  if (highest <= 0) return std::nullopt;
+  // The hand kTallLead before the pusher meets the object.
+  const robot::PushMotionOptions motion;
+  const robot::JointVector q_from = push_roll(arm, push, q_rest, roll_across, motion.ik);
+  const Eigen::Vector2d n = (push.end - push.start).normalized();
+  const Eigen::Vector2d p = push.start + std::clamp(contact - kTallLead, 0.0, push.length()) * n;
+  const robot::JointVector q =
+      robot::solve_ik(arm, Eigen::Vector3d(p.x(), p.y(), push.height), q_from, motion.ik).q;
+  if (std::optional<std::string> met = pose_meets(arm, q, geoms, map, 0.0, highest)) {
+    return *met + " before the pusher meets the object";
+  }
+  return std::nullopt;
 }
 
 bool tall_start(const PutativeObject& object, double tip_height, const PushPlanOptions& options) {
@@ -1689,8 +1713,6 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const robot::JawLine jaws = push_jaws(o, tip, options);
   // tall_start_clearance: a tall object's start far enough behind it for the arm's way down.
   const bool tall = tall_start(o, tip, options);
-  const double most_approach =
-      tall ? std::max(options.max_approach, kTallMostApproach) : options.max_approach;
   // The turn the swept region allows for (sweep_margin).
   const double turn = options.sweep_turn_by_shape ? sweep_turn(o.hull) : kSweepTurn;
   core::Rng rng(options.seed);
@@ -1707,6 +1729,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     double hand = 0;    // hand_lack's part of blocked
     double topple = 0;  // push_contact's ratio (topple_ratio)
     double offset = 0;  // topple_offset: the line shifted sideways, m
+    bool far = false;   // tall_start_clearance: a longer approach, tried after the others
   };
   std::vector<Candidate> feasible;
   // topple_ratio: the pushed object's depth points, to judge where each push meets it.
@@ -1880,7 +1903,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       const double r = rng.uniform(options.min_distance, options.max_distance);
       t = o.centre + r * Eigen::Vector2d(std::cos(a), std::sin(a));
     }
-    const double approach = rng.uniform(options.min_approach, most_approach);
+    const double approach = rng.uniform(options.min_approach, options.max_approach);
     if ((t - o.centre).norm() < options.least_push) {
       ++plan.rejected_region;
       continue;
@@ -1930,11 +1953,21 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       }
     }
     feasible.push_back(*c);
+    // tall_start_clearance: the same push from farther behind, ranked after every other path
+    // (taken only when those bring the arm onto the tall object).
+    if (tall && !via) {
+      const double longer = approach + std::max(0.0, kTallMostApproach - options.max_approach);
+      if (std::optional<Candidate> f = leg(t, longer)) {
+        f->far = true;
+        f->score += kTallFarScore;
+        feasible.push_back(*f);
+      }
+    }
   }
   // via_blocked: no direct push reaches the target clear, so waypoints in a fixed fan round the
   // line, each scored with both legs.
   const bool direct_clear = std::any_of(feasible.begin(), feasible.end(), [](const Candidate& c) {
-    return !c.via && c.blocked <= 0 && c.shortened <= 0;
+    return !c.via && !c.far && c.blocked <= 0 && c.shortened <= 0;
   });
   if (goal == PushGoal::kTarget && options.via_blocked > 0 && !direct_clear) {
     const int half = (options.via_blocked + 1) / 2;
@@ -1990,20 +2023,13 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       continue;
     }
     if (tall) {
-      // The tall object's own check: no fallback (a hand that comes down on it knocks it over).
+      // The tall object's own check: no fallback (a hand that comes down on it, or leans into it
+      // before the pusher meets it, knocks it over).
       try {
-        if (std::optional<std::string> part = descent_meets_object(
-                arm, c.push, q_rest, solid, options.tall_start_clearance, options.roll_across)) {
-          if (plan.rejected_tall == 0) first_tall = *part;
-          ++plan.rejected_tall;
-          continue;
-        }
-        // The hand where the pusher first meets the object (its side at the object's edge): the
-        // palm or a link over the object would push it high and tip it over.
-        if (std::optional<std::string> part = contact_meets_object(
+        if (std::optional<std::string> part = tall_push_meets(
                 arm, c.push, q_rest, solid, options.tall_start_clearance, options.roll_across,
                 std::max(0.0, c.approach - options.pusher_radius))) {
-          if (plan.rejected_tall == 0) first_tall = *part + " where the pusher meets it";
+          if (plan.rejected_tall == 0) first_tall = *part;
           ++plan.rejected_tall;
           continue;
         }

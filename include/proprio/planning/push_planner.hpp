@@ -251,13 +251,14 @@ struct PushPlanOptions {
   double refusal_pose_margin = 0;
   /// Depth: a pushed object measured tall enough to reach the hand's palm (tall_start: height >=
   /// the tip + kPalmDrop - kDescentHeightMargin; the bottle, the giraffe, the rabbit) is pushed
-  /// only from a start whose arm, posed by its own kinematics on its way down to the start
-  /// (descent_meets_object: every moving link, from the first of kDescentTops it reaches), keeps
-  /// this far from what the depth image sees, the pushed object included, and its approaches are
-  /// sampled up to kTallMostApproach (a far start's hand leans back toward the arm's base, over
-  /// an object between them). No such path: no plan (kUnreachable; PushPlan::rejected_tall),
-  /// never a fallback: a tall object the hand comes down on topples and rolls (session 31: a
-  /// bottle off the table on 10040). m; 0 (the default): not checked.
+  /// only on a path whose arm, posed by its own kinematics (tall_push_meets: the palm and the
+  /// links, not the pusher nor the jaws), keeps this far from what the depth image sees, the
+  /// pushed object included, on its way down to the start, and does not touch the object with
+  /// them kTallLead before the pusher meets it; each path is also tried from farther behind
+  /// (kTallMostApproach), ranked after the others, so a path that keeps clear is planned as
+  /// without the option. No such path: no plan (kUnreachable; PushPlan::rejected_tall), never a
+  /// fallback: a tall object the hand comes down on or leans into topples and rolls (session 31:
+  /// a bottle off the table on 10008, 10040, 10074). m; 0 (the default): not checked.
   double tall_start_clearance = 0;
   /// Depth: a push whose first contact with the pushed object (push_contact from its depth
   /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
@@ -927,8 +928,9 @@ bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
 /// (sim::TableOptions::transit_height's default, and the lower ones it falls back to where that
 /// is out of reach), m.
 inline constexpr std::array<double, 3> kDescentTops{0.26, 0.22, 0.18};
-/// PushPlanOptions::tall_start_clearance: a tall pushed object's approaches are sampled up to
-/// this (or max_approach when larger), m.
+/// PushPlanOptions::tall_start_clearance: each direct path sampled for a tall pushed object is
+/// also tried from farther behind, its approach lengthened by this less max_approach (2-6 cm
+/// become 11-15 cm), ranked after every other path, m.
 inline constexpr double kTallMostApproach = 0.15;
 
 /// Whether PushPlanOptions::tall_start_clearance checks the pushes of `object` with its pusher's
@@ -978,18 +980,21 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
                                                 const DescentMap& map, double margin,
                                                 bool roll_across);
 
-/// Whether the arm, posed by inverse kinematics with the pusher's tip `along` m from `push`'s
-/// start on its line (at push.height; the roll as descent_meets_object sets it), meets what `map`
-/// holds with its palm or a link above it (the pusher and the jaws left out: they meet a pushed
-/// object low, push_contact), at `margin` as descent_meets_object tests a pose. With `along` the
-/// approach less the pusher's radius, the pose where the pusher first meets the pushed object:
-/// a palm over it then pushes it high (PushPlanOptions::tall_start_clearance). Returns the part
-/// that meets something (its name, height and the cell's top) or nullopt. Throws Error when the
-/// pose cannot be reached or the margin or `along` is negative. Units: m, table frame.
-std::optional<std::string> contact_meets_object(robot::ArmState& arm, const robot::TablePush& push,
-                                                const robot::JointVector& q_rest,
-                                                const DescentMap& map, double margin,
-                                                bool roll_across, double along);
+/// tall_push_meets: the hand is posed this far before the pusher meets the pushed object, m (a
+/// palm or link that meets the object there leans into it: the object is pushed high first).
+inline constexpr double kTallLead = 0.03;
+
+/// Whether the arm's parts above the jaws (the palm and the links; not the pusher nor a finger,
+/// which meet a pushed object low, push_contact) meet what `map` holds when pushing a tall object
+/// (PushPlanOptions::tall_start_clearance): on the way down to `push`'s start as
+/// descent_meets_object poses it, at `margin`; or touching it (margin 0) with the pusher's tip on
+/// the line kTallLead before `contact` m from the start (contact: where the pusher's side first
+/// meets the object, the approach less the pusher's radius). Returns the part that meets
+/// something (its name, height and the cell's top) or nullopt. Throws Error when a pose cannot be
+/// reached or the margin or `contact` is negative. Units: m, table frame.
+std::optional<std::string> tall_push_meets(robot::ArmState& arm, const robot::TablePush& push,
+                                           const robot::JointVector& q_rest, const DescentMap& map,
+                                           double margin, bool roll_across, double contact);
 
 /// The density of every putative object but view.objects[object]: its blob and its convex hull
 /// zeroed (eq 7.5's "own hull zeroed").
