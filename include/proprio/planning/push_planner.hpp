@@ -258,7 +258,8 @@ struct PushPlanOptions {
   /// (kTallMostApproach), ranked after the others, so a path that keeps clear is planned as
   /// without the option. No such path: no plan (kUnreachable; PushPlan::rejected_tall), never a
   /// fallback: a tall object the hand comes down on or leans into topples and rolls (session 31:
-  /// a bottle off the table on 10008, 10040, 10074). m; 0 (the default): not checked.
+  /// a bottle off the table on 10008, 10040, 10074). m; 0 (the planner's default): not checked;
+  /// the closed loop's default is loop::kLoopTallStartClearance (session 32).
   double tall_start_clearance = 0;
   /// Depth: a push whose first contact with the pushed object (push_contact from its depth
   /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
