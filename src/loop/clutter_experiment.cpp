@@ -160,6 +160,8 @@ void record_trial(sim::SimulatedRobot& robot, const ClutterExperimentOptions& o,
     // The experiment's pushes aim where it asks (recorded so; loop::kLoopFreeTargetMargin, the
     // push loop's default since session 28, was not measured here).
     po.plan.free_target_margin = 0;
+    // Nor loop::kLoopTallStartClearance (session 32's default of the push loop).
+    po.plan.tall_start_clearance = 0;
     char name[32];
     std::snprintf(name, sizeof name, "push_%02d", k);
     po.out = work / name;

@@ -28,6 +28,9 @@ constexpr double kBlockedWeight = 1000.0;
 // A push through a waypoint is taken only when it is clearer than the direct one by this much
 // (as cost: 3 mm of clearance): it spends a push of the loop.
 constexpr double kViaCost = 3.0;
+// tall_start_clearance: added to the score of a push from farther behind, so that it ranks after
+// every other path.
+constexpr double kTallFarScore = 1e6;
 // Waypoints: turned this far off the direct line either way, rad, and this far from p_c, m.
 constexpr double kViaLeast = 20.0 * std::numbers::pi / 180.0;
 constexpr double kViaMost = 100.0 * std::numbers::pi / 180.0;
@@ -1439,10 +1442,80 @@ DescentMap descent_map(const PlanningView& view, const TableRegion& region) {
   return map;
 }
 
-std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robot::TablePush& push,
-                                                const robot::JointVector& q_rest,
-                                                const DescentMap& map, double margin,
-                                                bool roll_across) {
+namespace {
+
+// The first part of the arm, posed at `q`, whose balls (geom_balls of `geoms`) come within
+// `margin` of a column of `map` (descent_meets_object's test), named with its height and the
+// cell's top; nullopt when none does. `highest`: the map's highest top.
+std::optional<std::string> pose_meets(robot::ArmState& arm, const robot::JointVector& q,
+                                      const std::vector<int>& geoms, const DescentMap& map,
+                                      double margin, double highest) {
+  const mjModel& m = arm.arm().model();
+  const double half_diagonal = 0.5 * std::numbers::sqrt2 * kDescentCell;
+  arm.set_joints(q);
+  std::vector<Ball> balls;
+  for (const int g : geoms) {
+    balls.clear();
+    geom_balls(m, arm.data(), g, balls);
+    for (const Ball& b : balls) {
+      const double low = b.centre.z() - b.radius - margin;
+      if (low >= highest) continue;
+      const double reach = b.radius + margin + half_diagonal;
+      const int x0 =
+          static_cast<int>(std::floor((b.centre.x() - reach - map.origin.x()) / kDescentCell));
+      const int x1 =
+          static_cast<int>(std::floor((b.centre.x() + reach - map.origin.x()) / kDescentCell));
+      const int y0 =
+          static_cast<int>(std::floor((b.centre.y() - reach - map.origin.y()) / kDescentCell));
+      const int y1 =
+          static_cast<int>(std::floor((b.centre.y() + reach - map.origin.y()) / kDescentCell));
+      for (int cy = std::max(0, y0); cy <= std::min(map.top.rows - 1, y1); ++cy) {
+        for (int cx = std::max(0, x0); cx <= std::min(map.top.cols - 1, x1); ++cx) {
+          const double t = map.top(cy, cx);
+          // An empty cell is the table the pusher comes down to, not an object (a margin above
+          // the pusher's lowest point would otherwise meet every one).
+          if (t <= 0 || t <= low) continue;
+          const Eigen::Vector2d c = map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
+          if ((c - b.centre.head<2>()).norm() > reach) continue;
+          const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
+          return std::string(name != nullptr ? name : "the arm") + " at " +
+                 std::to_string(static_cast<int>(std::lround(b.centre.z() * 1000))) +
+                 " mm on something " + std::to_string(static_cast<int>(std::lround(t * 1000))) +
+                 " mm tall at " + metres(c);
+        }
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+// The roll j5 plan_push_motion gives `push` from `q_rest` (across the push when `roll_across` or
+// push.jaws say so, along it for kAlong): q_rest with that roll.
+robot::JointVector push_roll(robot::ArmState& arm, const robot::TablePush& push,
+                             const robot::JointVector& q_rest, bool roll_across,
+                             const robot::IkOptions& ik) {
+  robot::JointVector q_from = q_rest;
+  const bool across =
+      push.jaws == robot::JawLine::kAcross || (push.jaws == robot::JawLine::kRobot && roll_across);
+  if (across || push.jaws == robot::JawLine::kAlong) {
+    const Eigen::Vector3d mid(0.5 * (push.start.x() + push.end.x()),
+                              0.5 * (push.start.y() + push.end.y()), push.height);
+    const robot::JointVector q_mid = robot::solve_ik(arm, mid, q_rest, ik).q;
+    q_from[4] = across ? robot::fingers_across_roll(arm, q_mid, push.end - push.start)
+                       : robot::fingers_along_roll(arm, q_mid, push.end - push.start);
+  }
+  return q_from;
+}
+
+}  // namespace
+
+namespace {
+
+// descent_meets_object with the parts `geoms` only.
+std::optional<std::string> descent_meets(robot::ArmState& arm, const robot::TablePush& push,
+                                         const robot::JointVector& q_rest, const DescentMap& map,
+                                         double margin, bool roll_across,
+                                         const std::vector<int>& geoms) {
   require(std::isfinite(margin) && margin >= 0, "descent poses: the margin must be >= 0");
   push.validate();
   if (map.top.empty()) return std::nullopt;
@@ -1452,16 +1525,7 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
   const Eigen::Vector3d start(push.start.x(), push.start.y(), push.height);
   const robot::PushMotionOptions motion;
   // The roll as plan_push_motion sets it.
-  robot::JointVector q_from = q_rest;
-  const bool across =
-      push.jaws == robot::JawLine::kAcross || (push.jaws == robot::JawLine::kRobot && roll_across);
-  if (across || push.jaws == robot::JawLine::kAlong) {
-    const Eigen::Vector3d mid(0.5 * (push.start.x() + push.end.x()),
-                              0.5 * (push.start.y() + push.end.y()), push.height);
-    const robot::JointVector q_mid = robot::solve_ik(arm, mid, q_rest, motion.ik).q;
-    q_from[4] = across ? robot::fingers_across_roll(arm, q_mid, push.end - push.start)
-                       : robot::fingers_along_roll(arm, q_mid, push.end - push.start);
-  }
+  const robot::JointVector q_from = push_roll(arm, push, q_rest, roll_across, motion.ik);
   const robot::JointVector q_above =
       robot::solve_ik(arm, start + Eigen::Vector3d(0, 0, motion.lift), q_from, motion.ik).q;
   // The top of the way down: the first of kDescentTops reached (seeded by the pose above the
@@ -1477,51 +1541,69 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
       if (h == kDescentTops.back()) throw;
     }
   }
-  const robot::Arm& a = arm.arm();
-  const mjModel& m = a.model();
-  const std::vector<int> geoms = moving_arm_geoms(a);
   const int steps = std::max(1, static_cast<int>(std::ceil((top - push.height) / kDescentStep)));
-  const double half_diagonal = 0.5 * std::numbers::sqrt2 * kDescentCell;
-  std::vector<Ball> balls;
   for (int i = 0; i <= steps; ++i) {
     const double z = top + (push.height - top) * static_cast<double>(i) / steps;
     if (i > 0) q = robot::solve_ik(arm, Eigen::Vector3d(start.x(), start.y(), z), q, motion.ik).q;
-    arm.set_joints(q);
-    for (const int g : geoms) {
-      balls.clear();
-      geom_balls(m, arm.data(), g, balls);
-      for (const Ball& b : balls) {
-        const double low = b.centre.z() - b.radius - margin;
-        if (low >= highest) continue;
-        const double reach = b.radius + margin + half_diagonal;
-        const int x0 =
-            static_cast<int>(std::floor((b.centre.x() - reach - map.origin.x()) / kDescentCell));
-        const int x1 =
-            static_cast<int>(std::floor((b.centre.x() + reach - map.origin.x()) / kDescentCell));
-        const int y0 =
-            static_cast<int>(std::floor((b.centre.y() - reach - map.origin.y()) / kDescentCell));
-        const int y1 =
-            static_cast<int>(std::floor((b.centre.y() + reach - map.origin.y()) / kDescentCell));
-        for (int cy = std::max(0, y0); cy <= std::min(map.top.rows - 1, y1); ++cy) {
-          for (int cx = std::max(0, x0); cx <= std::min(map.top.cols - 1, x1); ++cx) {
-            const double t = map.top(cy, cx);
-            // An empty cell is the table the pusher comes down to, not an object (a margin above
-            // the pusher's lowest point would otherwise meet every one).
-            if (t <= 0 || t <= low) continue;
-            const Eigen::Vector2d c =
-                map.origin + kDescentCell * Eigen::Vector2d(cx + 0.5, cy + 0.5);
-            if ((c - b.centre.head<2>()).norm() > reach) continue;
-            const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
-            return std::string(name != nullptr ? name : "the arm") + " at " +
-                   std::to_string(static_cast<int>(std::lround(b.centre.z() * 1000))) +
-                   " mm on something " + std::to_string(static_cast<int>(std::lround(t * 1000))) +
-                   " mm tall at " + metres(c);
-          }
-        }
-      }
+    if (std::optional<std::string> met = pose_meets(arm, q, geoms, map, margin, highest)) {
+      return met;
     }
   }
   return std::nullopt;
+}
+
+// The arm's moving parts above the jaws: the palm and the links (not the pusher, not a finger).
+std::vector<int> parts_above_jaws(const robot::Arm& a) {
+  const mjModel& m = a.model();
+  std::vector<int> out;
+  for (const int g : moving_arm_geoms(a)) {
+    const char* name = mj_id2name(&m, mjOBJ_GEOM, g);
+    const std::string s = name != nullptr ? name : "";
+    if (s == "arm_pusher" || s.find("finger") != std::string::npos) continue;
+    out.push_back(g);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robot::TablePush& push,
+                                                const robot::JointVector& q_rest,
+                                                const DescentMap& map, double margin,
+                                                bool roll_across) {
+  return descent_meets(arm, push, q_rest, map, margin, roll_across, moving_arm_geoms(arm.arm()));
+}
+
+std::optional<std::string> tall_push_meets(robot::ArmState& arm, const robot::TablePush& push,
+                                           const robot::JointVector& q_rest, const DescentMap& map,
+                                           double margin, bool roll_across, double contact) {
+  require(std::isfinite(margin) && margin >= 0, "tall push: the margin must be >= 0");
+  require(std::isfinite(contact) && contact >= 0, "tall push: the contact distance must be >= 0");
+  const std::vector<int> geoms = parts_above_jaws(arm.arm());
+  if (std::optional<std::string> met =
+          descent_meets(arm, push, q_rest, map, margin, roll_across, geoms)) {
+    return met;
+  }
+  if (map.top.empty()) return std::nullopt;
+  double highest = 0;
+  cv::minMaxLoc(map.top, nullptr, &highest);
+  if (highest <= 0) return std::nullopt;
+  // The hand kTallLead before the pusher meets the object.
+  const robot::PushMotionOptions motion;
+  const robot::JointVector q_from = push_roll(arm, push, q_rest, roll_across, motion.ik);
+  const Eigen::Vector2d n = (push.end - push.start).normalized();
+  const Eigen::Vector2d p = push.start + std::clamp(contact - kTallLead, 0.0, push.length()) * n;
+  const robot::JointVector q =
+      robot::solve_ik(arm, Eigen::Vector3d(p.x(), p.y(), push.height), q_from, motion.ik).q;
+  if (std::optional<std::string> met = pose_meets(arm, q, geoms, map, 0.0, highest)) {
+    return *met + " before the pusher meets the object";
+  }
+  return std::nullopt;
+}
+
+bool tall_start(const PutativeObject& object, double tip_height, const PushPlanOptions& options) {
+  return options.tall_start_clearance > 0 && object.height &&
+         *object.height >= tip_height + kPalmDrop - kDescentHeightMargin;
 }
 
 cv::Mat1f density_of_others(const PlanningView& view, int object) {
@@ -1629,6 +1711,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   const double tip = push_tip_height(o, options);
   const double speed = push_speed_for(o, options);
   const robot::JawLine jaws = push_jaws(o, tip, options);
+  // tall_start_clearance: a tall object's start far enough behind it for the arm's way down.
+  const bool tall = tall_start(o, tip, options);
   // The turn the swept region allows for (sweep_margin).
   const double turn = options.sweep_turn_by_shape ? sweep_turn(o.hull) : kSweepTurn;
   core::Rng rng(options.seed);
@@ -1645,6 +1729,7 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     double hand = 0;    // hand_lack's part of blocked
     double topple = 0;  // push_contact's ratio (topple_ratio)
     double offset = 0;  // topple_offset: the line shifted sideways, m
+    bool far = false;   // tall_start_clearance: a longer approach, tried after the others
   };
   std::vector<Candidate> feasible;
   // topple_ratio: the pushed object's depth points, to judge where each push meets it.
@@ -1868,11 +1953,21 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
       }
     }
     feasible.push_back(*c);
+    // tall_start_clearance: the same push from farther behind, ranked after every other path
+    // (taken only when those bring the arm onto the tall object).
+    if (tall && !via) {
+      const double longer = approach + std::max(0.0, kTallMostApproach - options.max_approach);
+      if (std::optional<Candidate> f = leg(t, longer)) {
+        f->far = true;
+        f->score += kTallFarScore;
+        feasible.push_back(*f);
+      }
+    }
   }
   // via_blocked: no direct push reaches the target clear, so waypoints in a fixed fan round the
   // line, each scored with both legs.
   const bool direct_clear = std::any_of(feasible.begin(), feasible.end(), [](const Candidate& c) {
-    return !c.via && c.blocked <= 0 && c.shortened <= 0;
+    return !c.via && !c.far && c.blocked <= 0 && c.shortened <= 0;
   });
   if (goal == PushGoal::kTarget && options.via_blocked > 0 && !direct_clear) {
     const int half = (options.via_blocked + 1) / 2;
@@ -1900,7 +1995,8 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
   motion.rate_hz = kMotionCheckRate;
   // descent_pose_margin: what the arm may meet, the pushed object too.
   const DescentMap solid =
-      options.descent_pose_margin > 0 ? descent_map(view, region) : DescentMap{};
+      options.descent_pose_margin > 0 || tall ? descent_map(view, region) : DescentMap{};
+  std::string first_tall;
   std::string first_met;
   // descent_pose_fallback: the best path whose descent alone met something.
   const Candidate* met = nullptr;
@@ -1925,6 +2021,22 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
     } catch (const Error&) {
       ++plan.rejected_reach;
       continue;
+    }
+    if (tall) {
+      // The tall object's own check: no fallback (a hand that comes down on it, or leans into it
+      // before the pusher meets it, knocks it over).
+      try {
+        if (std::optional<std::string> part = tall_push_meets(
+                arm, c.push, q_rest, solid, options.tall_start_clearance, options.roll_across,
+                std::max(0.0, c.approach - options.pusher_radius))) {
+          if (plan.rejected_tall == 0) first_tall = *part;
+          ++plan.rejected_tall;
+          continue;
+        }
+      } catch (const Error&) {
+        ++plan.rejected_reach;
+        continue;
+      }
     }
     if (options.descent_pose_margin > 0) {
       try {
@@ -1961,6 +2073,12 @@ PushPlan plan_push(const PlanningView& view, int object, PushGoal goal,
             (plan.rejected_descent > 0
                  ? " and " + std::to_string(plan.rejected_descent) +
                        " would meet an object on the arm's way down (the first: " + first_met + ")"
+                 : std::string()) +
+            (plan.rejected_tall > 0
+                 ? " and " + std::to_string(plan.rejected_tall) +
+                       " would bring the arm down too near something by the tall object (the "
+                       "first: " +
+                       first_tall + ")"
                  : std::string()));
   }
   std::string said = "push object " + std::to_string(object) + " from " + metres(plan.push.start) +

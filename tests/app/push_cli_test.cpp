@@ -135,7 +135,10 @@ TEST(PushCli, BadOptionsExitTwoWithOneLine) {
            {"evaluate push --first-hand-margin -0.01", "--first-hand-margin"},
            // Session 31's.
            {"push --refusal-pose-margin 0.06", "--refusal-pose-margin"},
-           {"evaluate push --refusal-pose-margin -0.01", "--refusal-pose-margin"}}) {
+           {"evaluate push --refusal-pose-margin -0.01", "--refusal-pose-margin"},
+           // Session 32's.
+           {"push --tall-start-clearance 0.06", "--tall-start-clearance"},
+           {"evaluate push --tall-start-clearance -0.01", "--tall-start-clearance"}}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;

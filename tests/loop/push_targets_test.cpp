@@ -158,6 +158,17 @@ TEST(PushTargets, TheClosedLoopKeepsTheFirstPushsHandClearByDefault) {
   EXPECT_EQ(planner.first_hand_margin, 0.0);
 }
 
+TEST(PushTargets, TheClosedLoopPushesATallObjectOnlyWhereTheArmKeepsClearByDefault) {
+  // Session 32's decision (docs/results/push.md): the loop's options, not the planner's.
+  const PushOptions push;
+  EXPECT_EQ(push.plan.tall_start_clearance, kLoopTallStartClearance);
+  EXPECT_EQ(kLoopTallStartClearance, 0.001);
+  const PushEvaluationOptions evaluation;
+  EXPECT_EQ(evaluation.plan.tall_start_clearance, 0.001);
+  const planning::PushPlanOptions planner;
+  EXPECT_EQ(planner.tall_start_clearance, 0.0);
+}
+
 TEST(PushTargets, TheClearanceIsBounded) {
   PushEvaluationOptions options;
   options.target_clearance = -0.01;

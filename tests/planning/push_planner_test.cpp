@@ -590,6 +590,49 @@ TEST(PushPlanner, ARetryAfterARefusalTakesAPathWhoseArmComesDownClearOfThePushed
   EXPECT_THROW((void)after_refusal(bad), Error);
 }
 
+TEST(PushPlanner, ATallObjectWhoseHandComesDownOnItIsNotPushedWithTallStartClearance) {
+  // The pushed object 20 cm tall (a bottle), pushed 16 cm along +y; the neighbour low and out of
+  // the way. Without the option the plan's palm comes down on it (session 31: the bottle toppled
+  // and rolled off the table); with tall_start_clearance every path, from 2-6 cm behind it and
+  // from 11-15 cm, brings the palm or a link onto it, so nothing is planned (not a fallback).
+  NeighbourScene s({0.32, -0.10});
+  ASSERT_EQ(s.view.objects.size(), 2U);
+  s.obj().height = 0.20;
+  s.other().height = 0.01;
+  const DescentMap map = descent_map(s.view, {});
+  PushPlanOptions o = flat_options();
+  const PushPlan plain = s.plan(o);  // off (the default)
+  ASSERT_EQ(plain.outcome, PlanOutcome::kPlanned) << plain.message;
+  EXPECT_EQ(plain.rejected_tall, 0);
+  const std::optional<std::string> met =
+      tall_push_meets(s.state, plain.push, s.q0, map, 0.01, false, plain.approach);
+  ASSERT_TRUE(met.has_value());
+  EXPECT_NE(met->find("arm_palm"), std::string::npos) << *met;
+  o.tall_start_clearance = 0.01;
+  EXPECT_TRUE(tall_start(s.obj(), plain.push.height, o));
+  const PushPlan tall = s.plan(o);
+  EXPECT_EQ(tall.outcome, PlanOutcome::kUnreachable) << tall.message;
+  EXPECT_GT(tall.rejected_tall, o.candidates);  // the longer approaches were tried too
+  EXPECT_NE(tall.message.find("by the tall object"), std::string::npos) << tall.message;
+  // An object lower than the palm (5 cm), or of unknown height (no depth): the plan as without it.
+  for (const std::optional<double> h : {std::optional<double>(0.05), std::optional<double>()}) {
+    s.obj().height = h;
+    EXPECT_FALSE(tall_start(s.obj(), plain.push.height, o));
+    const PushPlan low = s.plan(o);
+    ASSERT_EQ(low.outcome, PlanOutcome::kPlanned) << low.message;
+    EXPECT_EQ(low.push.start, plain.push.start);
+    EXPECT_EQ(low.rejected_tall, 0);
+  }
+  // Bounds.
+  PushPlanOptions bad = flat_options();
+  bad.tall_start_clearance = -0.001;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.tall_start_clearance = 0.06;
+  EXPECT_THROW(bad.validate(), Error);
+  EXPECT_THROW((void)tall_push_meets(s.state, plain.push, s.q0, map, -0.01, false, 0.02), Error);
+  EXPECT_THROW((void)tall_push_meets(s.state, plain.push, s.q0, map, 0.01, false, -0.02), Error);
+}
+
 TEST(PushPlanner, ATallObjectIsPushedHigherAndSlowerByItsMeasuredHeight) {
   // A square object pushed toward -x: with tip_fraction and tall_push_speed set, a measured
   // 15 cm object is pushed at a third of its height (5 cm: kMostTipHeight) and at the tall speed,

@@ -249,6 +249,18 @@ struct PushPlanOptions {
   /// push.md): +1 only-intended table of 200 on the tuning seeds, none on the held-out 10001-10100
   /// (the refused tables there have no path whose way down is clear), so the loop keeps it off.
   double refusal_pose_margin = 0;
+  /// Depth: a pushed object measured tall enough to reach the hand's palm (tall_start: height >=
+  /// the tip + kPalmDrop - kDescentHeightMargin; the bottle, the giraffe, the rabbit) is pushed
+  /// only on a path whose arm, posed by its own kinematics (tall_push_meets: the palm and the
+  /// links, not the pusher nor the jaws), keeps this far from what the depth image sees, the
+  /// pushed object included, on its way down to the start, and does not touch the object with
+  /// them kTallLead before the pusher meets it; each path is also tried from farther behind
+  /// (kTallMostApproach), ranked after the others, so a path that keeps clear is planned as
+  /// without the option. No such path: no plan (kUnreachable; PushPlan::rejected_tall), never a
+  /// fallback: a tall object the hand comes down on or leans into topples and rolls (session 31:
+  /// a bottle off the table on 10008, 10040, 10074). m; 0 (the planner's default): not checked;
+  /// the closed loop's default is loop::kLoopTallStartClearance (session 32).
+  double tall_start_clearance = 0;
   /// Depth: a push whose first contact with the pushed object (push_contact from its depth
   /// points) gives a tipping ratio above this (kToppleFriction * contact height / its foot's
   /// reach ahead of the centre) is not sampled (PushPlan::rejected_topple): the object would
@@ -407,6 +419,12 @@ struct PushPlanOptions {
        "Closed loop: a push the robot refused is re-planned with the arm's poses on its way down "
        "checked against the depth image (descent_pose_margin with fallback) at this margin, m "
        "(0: off)",
+       core::between(0, 0.05)});
+    v(self.tall_start_clearance,
+      {"tall_start_clearance",
+       "Depth: a pushed object tall enough to reach the palm is pushed only from a start whose "
+       "arm keeps this far from the depth image on its way down (approaches up to 15 cm), else "
+       "not at all, m (0: off)",
        core::between(0, 0.05)});
     v(self.topple_ratio,
       {"topple_ratio",
@@ -699,6 +717,9 @@ struct PushPlan {
   int rejected_descent = 0;
   /// Of them that would tip the object over (PushPlanOptions::topple_ratio).
   int rejected_topple = 0;
+  /// Of them whose arm would meet something on its way down to a tall pushed object's start
+  /// (PushPlanOptions::tall_start_clearance).
+  int rejected_tall = 0;
   /// The taken push's tipping ratio (push_contact), when PushPlanOptions::topple_ratio is on and
   /// depth measured the object; 0 otherwise.
   double topple = 0;
@@ -908,6 +929,17 @@ bool descent_blocked(const Eigen::Vector2d& start, const PutativeObject& pushed,
 /// (sim::TableOptions::transit_height's default, and the lower ones it falls back to where that
 /// is out of reach), m.
 inline constexpr std::array<double, 3> kDescentTops{0.26, 0.22, 0.18};
+/// PushPlanOptions::tall_start_clearance: each direct path sampled for a tall pushed object is
+/// also tried from farther behind, its approach lengthened by this less max_approach (2-6 cm
+/// become 11-15 cm), ranked after every other path, m.
+inline constexpr double kTallMostApproach = 0.15;
+
+/// Whether PushPlanOptions::tall_start_clearance checks the pushes of `object` with its pusher's
+/// tip at `tip_height` (m): the option on and the object's measured height (depth) reaching the
+/// palm (height >= tip_height + kPalmDrop - kDescentHeightMargin). An object of unknown height is
+/// not checked (nothing tells that it is tall).
+bool tall_start(const PutativeObject& object, double tip_height, const PushPlanOptions& options);
+
 /// Spacing of the poses descent_meets_object checks on the way down, m.
 inline constexpr double kDescentStep = 0.01;
 /// descent_map: an object of unknown height (no depth) counts as this tall, m.
@@ -948,6 +980,22 @@ std::optional<std::string> descent_meets_object(robot::ArmState& arm, const robo
                                                 const robot::JointVector& q_rest,
                                                 const DescentMap& map, double margin,
                                                 bool roll_across);
+
+/// tall_push_meets: the hand is posed this far before the pusher meets the pushed object, m (a
+/// palm or link that meets the object there leans into it: the object is pushed high first).
+inline constexpr double kTallLead = 0.03;
+
+/// Whether the arm's parts above the jaws (the palm and the links; not the pusher nor a finger,
+/// which meet a pushed object low, push_contact) meet what `map` holds when pushing a tall object
+/// (PushPlanOptions::tall_start_clearance): on the way down to `push`'s start as
+/// descent_meets_object poses it, at `margin`; or touching it (margin 0) with the pusher's tip on
+/// the line kTallLead before `contact` m from the start (contact: where the pusher's side first
+/// meets the object, the approach less the pusher's radius). Returns the part that meets
+/// something (its name, height and the cell's top) or nullopt. Throws Error when a pose cannot be
+/// reached or the margin or `contact` is negative. Units: m, table frame.
+std::optional<std::string> tall_push_meets(robot::ArmState& arm, const robot::TablePush& push,
+                                           const robot::JointVector& q_rest, const DescentMap& map,
+                                           double margin, bool roll_across, double contact);
 
 /// The density of every putative object but view.objects[object]: its blob and its convex hull
 /// zeroed (eq 7.5's "own hull zeroed").
