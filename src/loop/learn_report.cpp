@@ -149,6 +149,9 @@ struct Plan {
   std::optional<double> cost;
 };
 
+/// A push's recorded durations are at most this long (robot_seconds, perception_cpu_seconds), s.
+constexpr double kMaxSeconds = 1e6;
+
 struct Push {
   int index = 0;
   std::string cls;
@@ -313,7 +316,9 @@ Run read_learn_json(const fs::path& file) {
     const auto seconds = [&](const char* key, double& into) {
       if (const Json* v = Reader::optional(o, key)) {
         into = r.number(*v, core::cat({w, "/", key}));
-        if (into < 0) r.fail(core::cat({w, "/", key}), "must not be negative");
+        if (into < 0 || into > kMaxSeconds) {
+          r.fail(core::cat({w, "/", key}), "must be 0 to 10^6 seconds");
+        }
       }
     };
     seconds("robot_seconds", p.robot_seconds);
@@ -1158,7 +1163,8 @@ std::string perception_line(const std::vector<Push>& pushes) {
   double robot = 0;
   int faster = 0;
   for (const Push& p : pushes) {
-    if (!p.executed || p.robot_seconds <= 0 || p.perception_cpu < 0) continue;
+    // A push shorter than a millisecond gives no ratio worth printing (nor an infinite one).
+    if (!p.executed || p.robot_seconds < 1e-3 || p.perception_cpu < 0) continue;
     ratio.push_back(p.perception_cpu / p.robot_seconds);
     cpu += p.perception_cpu;
     robot += p.robot_seconds;

@@ -268,10 +268,21 @@ TEST(LearnReport, SaysHowThePerceptionOfAPushComparesWithThePushItself) {
   EXPECT_NE(page.find("3.00 s against 4.00 s a push on average; 1 of 2 pushes perceived in less "
                       "time than they lasted (largest ratio 1.25)"),
             std::string::npos);
-  edit_learn_json(tmp.path(),
-                  [](core::Json& j) { j["pushes"][1]["perception_cpu_seconds"] = -1.0; });
-  EXPECT_NE(error_of([&] { report_of(tmp.path(), true); }).find("pushes/1/perception_cpu_seconds"),
-            std::string::npos);
+  for (const double bad : {-1.0, 2e6}) {
+    edit_learn_json(tmp.path(),
+                    [bad](core::Json& j) { j["pushes"][1]["perception_cpu_seconds"] = bad; });
+    EXPECT_NE(
+        error_of([&] { report_of(tmp.path(), true); }).find("pushes/1/perception_cpu_seconds"),
+        std::string::npos);
+  }
+  // A push of no duration gives no ratio (never an infinite one).
+  edit_learn_json(tmp.path(), [](core::Json& j) {
+    j["pushes"][1]["perception_cpu_seconds"] = 5.0;
+    j["pushes"][1]["robot_seconds"] = 0.0;
+  });
+  const std::string one = core::read_file(report_of(tmp.path(), true).summary.page);
+  EXPECT_NE(one.find("1.00 s against 4.00 s a push on average; 1 of 1 pushes"), std::string::npos);
+  EXPECT_EQ(one.find("ratio inf"), std::string::npos);
 }
 
 TEST(LearnReport, SkipsOverlongDecisionLines) {
