@@ -3,6 +3,7 @@
 // with the option only targets where the object's footprint keeps the gap from every other one.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -121,52 +122,36 @@ TEST(PushTargets, NoClearPlaceKeepsTheFirstDrawInTheRegionFlagged) {
   EXPECT_EQ(t.point, draw_push_target(object, others, options, plain).point);
 }
 
-TEST(PushTargets, TheClosedLoopSplitsByDepthAndFreesTargetsByDefault) {
-  // Session 28's decision (docs/results/push.md): the push loop's options, not the planner's.
+TEST(PushTargets, TheClosedLoopsDefaultsAreItsOwnNotThePlanners) {
+  // The decisions of sessions 28-32 (docs/results/push.md): each a default of the push loop's
+  // options (`proprio push`, `proprio evaluate push`), the planner's own default left off.
+  struct Default {
+    const char* what;
+    double planning::PushPlanOptions::*field;
+    double loop_constant;
+    double value;
+  };
+  const std::array<Default, 5> defaults{{
+      {"depth_split (session 28)", &planning::PushPlanOptions::depth_split, kLoopDepthSplit, 0.01},
+      {"free_target_margin (session 28)", &planning::PushPlanOptions::free_target_margin,
+       kLoopFreeTargetMargin, 0.01},
+      {"correction_hand_margin (session 29)", &planning::PushPlanOptions::correction_hand_margin,
+       kLoopCorrectionHandMargin, 0.01},
+      {"first_hand_margin (session 30)", &planning::PushPlanOptions::first_hand_margin,
+       kLoopFirstHandMargin, 0.01},
+      {"tall_start_clearance (session 32)", &planning::PushPlanOptions::tall_start_clearance,
+       kLoopTallStartClearance, 0.001},
+  }};
   const PushOptions push;
-  EXPECT_EQ(push.plan.depth_split, kLoopDepthSplit);
-  EXPECT_EQ(push.plan.free_target_margin, kLoopFreeTargetMargin);
-  EXPECT_EQ(kLoopDepthSplit, 0.01);
-  EXPECT_EQ(kLoopFreeTargetMargin, 0.01);
   const PushEvaluationOptions evaluation;
-  EXPECT_EQ(evaluation.plan.depth_split, 0.01);
-  EXPECT_EQ(evaluation.plan.free_target_margin, 0.01);
   const planning::PushPlanOptions planner;
-  EXPECT_EQ(planner.depth_split, 0.0);
-  EXPECT_EQ(planner.free_target_margin, 0.0);
-}
-
-TEST(PushTargets, TheClosedLoopSkipsACorrectionWhoseHandIsBlockedByDefault) {
-  // Session 29's decision (docs/results/push.md): the loop's options, not the planner's.
-  const PushOptions push;
-  EXPECT_EQ(push.plan.correction_hand_margin, kLoopCorrectionHandMargin);
-  EXPECT_EQ(kLoopCorrectionHandMargin, 0.01);
-  const PushEvaluationOptions evaluation;
-  EXPECT_EQ(evaluation.plan.correction_hand_margin, 0.01);
-  const planning::PushPlanOptions planner;
-  EXPECT_EQ(planner.correction_hand_margin, 0.0);
-}
-
-TEST(PushTargets, TheClosedLoopKeepsTheFirstPushsHandClearByDefault) {
-  // Session 30's decision (docs/results/push.md): the loop's options, not the planner's.
-  const PushOptions push;
-  EXPECT_EQ(push.plan.first_hand_margin, kLoopFirstHandMargin);
-  EXPECT_EQ(kLoopFirstHandMargin, 0.01);
-  const PushEvaluationOptions evaluation;
-  EXPECT_EQ(evaluation.plan.first_hand_margin, 0.01);
-  const planning::PushPlanOptions planner;
-  EXPECT_EQ(planner.first_hand_margin, 0.0);
-}
-
-TEST(PushTargets, TheClosedLoopPushesATallObjectOnlyWhereTheArmKeepsClearByDefault) {
-  // Session 32's decision (docs/results/push.md): the loop's options, not the planner's.
-  const PushOptions push;
-  EXPECT_EQ(push.plan.tall_start_clearance, kLoopTallStartClearance);
-  EXPECT_EQ(kLoopTallStartClearance, 0.001);
-  const PushEvaluationOptions evaluation;
-  EXPECT_EQ(evaluation.plan.tall_start_clearance, 0.001);
-  const planning::PushPlanOptions planner;
-  EXPECT_EQ(planner.tall_start_clearance, 0.0);
+  for (const Default& d : defaults) {
+    SCOPED_TRACE(d.what);
+    EXPECT_EQ(d.loop_constant, d.value);
+    EXPECT_EQ(push.plan.*d.field, d.value);
+    EXPECT_EQ(evaluation.plan.*d.field, d.value);
+    EXPECT_EQ(planner.*d.field, 0.0);
+  }
 }
 
 TEST(PushTargets, TheClearanceIsBounded) {
