@@ -1173,14 +1173,14 @@ std::string perception_line(const std::vector<Push>& pushes) {
   if (ratio.empty()) return {};
   std::sort(ratio.begin(), ratio.end());
   const auto n = static_cast<double>(ratio.size());
-  return core::cat(
-      {"<p>Perception of a push (its segmentation, word updates and the recognition "
-       "after it; processor time, every thread) against the push's own duration on "
-       "the robot's clock: ",
-       fixed(cpu / n, 2), " s against ", fixed(robot / n, 2), " s a push on average; ",
-       std::to_string(faster), " of ", std::to_string(ratio.size()),
-       " pushes perceived in less time than they lasted (largest ratio ", fixed(ratio.back(), 2),
-       ").</p>"});
+  constexpr std::string_view kWhat =
+      "<p>Perception of a push (its segmentation, word updates and the recognition after it; "
+      "processor time, every thread) against the push's own duration on the robot's clock: ";
+  return core::cat({kWhat, fixed(cpu / n, 2), " s against ", fixed(robot / n, 2),
+                    " s a push on average; ", std::to_string(faster), " of ",
+                    std::to_string(ratio.size()),
+                    " pushes perceived in less time than they lasted (largest ratio ",
+                    fixed(ratio.back(), 2), ").</p>"});
 }
 
 std::string timing_section(const Context& c) {
