@@ -2088,6 +2088,14 @@ std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
                                                   const std::optional<SelfSupervisionScore>& score,
                                                   const std::optional<LearnWordScore>& words) {
   LearnHeadlineFigure h;
+  // Both score types list their objects alike: a name, held-out views and an accuracy.
+  const auto per_object = [&h](const auto& objects, auto accuracy_of) {
+    for (const auto& o : objects) {
+      h.names.push_back(o.name);
+      h.held_out.push_back(o.held_out);
+      h.per_object.push_back(accuracy_of(o));
+    }
+  };
   switch (headline) {
     case LearnHeadline::kMot:
     case LearnHeadline::kArgmax: {
@@ -2096,11 +2104,8 @@ std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
       h.classifier = mot ? "mot" : "argmax";
       h.what = mot ? "Mixture of Topics" : "argmax theta";
       h.accuracy = mot ? score->mot_accuracy : score->argmax_accuracy;
-      for (const ObjectScore& o : score->objects) {
-        h.names.push_back(o.name);
-        h.held_out.push_back(o.held_out);
-        h.per_object.push_back(mot ? o.mot_accuracy : o.argmax_accuracy);
-      }
+      per_object(score->objects,
+                 [mot](const ObjectScore& o) { return mot ? o.mot_accuracy : o.argmax_accuracy; });
       return h;
     }
     case LearnHeadline::kPooled: {
@@ -2110,11 +2115,9 @@ std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
       h.what = core::printf_string("pooled words (weight %.2f, %s)", words->weight,
                                    per_view ? "per-view word multinomials" : "pooled counts");
       h.accuracy = per_view ? words->pooled_per_view : words->pooled;
-      for (const LearnWordObject& o : words->objects) {
-        h.names.push_back(o.name);
-        h.held_out.push_back(o.held_out);
-        h.per_object.push_back(per_view ? o.pooled_per_view : o.pooled);
-      }
+      per_object(words->objects, [per_view](const LearnWordObject& o) {
+        return per_view ? o.pooled_per_view : o.pooled;
+      });
       return h;
     }
   }

@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -310,6 +311,37 @@ TEST(Learn, HeadlineFromTheGroundTruthScore) {
   EXPECT_EQ(argmax->classifier, "argmax");
   EXPECT_DOUBLE_EQ(argmax->per_object.at(0), 0.75);
   EXPECT_FALSE(learn_headline(LearnHeadline::kPooled, score, std::nullopt).has_value());
+}
+
+TEST(Learn, HeadlineFromTheWordsScoreTakesTheWordMultinomialsItWasScoredWith) {
+  LearnWordScore words;
+  words.weight = 0.25;
+  words.pooled = 0.5;
+  words.pooled_per_view = 0.125;
+  for (const auto& [name, counts, per_view] :
+       {std::tuple{"book", 0.5, 0.25}, std::tuple{"cd", 0.5, 0.0}}) {
+    LearnWordObject o;
+    o.name = name;
+    o.held_out = 20;
+    o.pooled = counts;
+    o.pooled_per_view = per_view;
+    words.objects.push_back(o);
+  }
+  const auto counts = learn_headline(LearnHeadline::kPooled, std::nullopt, words);
+  ASSERT_TRUE(counts.has_value());
+  EXPECT_EQ(counts->classifier, "pooled");
+  EXPECT_DOUBLE_EQ(counts->accuracy, 0.5);
+  EXPECT_EQ(counts->names, (std::vector<std::string>{"book", "cd"}));
+  EXPECT_EQ(counts->held_out, (std::vector<int>{20, 20}));
+  EXPECT_EQ(counts->per_object, (std::vector<double>{0.5, 0.5}));
+  words.per_view = true;
+  const auto per_view = learn_headline(LearnHeadline::kPooled, std::nullopt, words);
+  ASSERT_TRUE(per_view.has_value());
+  EXPECT_EQ(per_view->classifier, "pooled_per_view");
+  EXPECT_DOUBLE_EQ(per_view->accuracy, 0.125);
+  EXPECT_EQ(per_view->per_object, (std::vector<double>{0.25, 0.0}));
+  // The MoT's figures need the ground-truth score.
+  EXPECT_FALSE(learn_headline(LearnHeadline::kMot, std::nullopt, words).has_value());
 }
 
 TEST(Learn, DescriptorMatchFractionCountsDescriptorsNearerTheKnownThanTheRest) {

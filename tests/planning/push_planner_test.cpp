@@ -76,6 +76,16 @@ struct NeighbourScene {
   Eigen::Vector2d target{0.20, 0.16};
 };
 
+// The pushed object 20 cm tall (a bottle), the neighbour low (1 cm) and out of the way at
+// (0.32, -0.10): the scene of the tests of an arm that comes down on the object it pushes.
+struct TallObjectScene : NeighbourScene {
+  TallObjectScene() : NeighbourScene({0.32, -0.10}) {
+    if (view.objects.size() != 2) return;  // each test asserts the size first
+    obj().height = 0.20;
+    other().height = 0.01;
+  }
+};
+
 TEST(PushGeometry, DistanceToHullEdgeIsTheExactIntersection) {
   const std::vector<Eigen::Vector2d> square{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   EXPECT_NEAR(distance_to_hull_edge(square, {0, 0}, {1, 0}), 1.0, 1e-12);
@@ -542,10 +552,8 @@ TEST(PushPlanner, ARetryAfterARefusalTakesAPathWhoseArmComesDownClearOfThePushed
   // behind it; the neighbour low and out of the way. The least-cost path starts near the object
   // and the hand above the pusher comes down on it (the robot refuses it, session 31). After a
   // refusal with refusal_pose_margin, the retry takes a path whose arm keeps clear on its way down.
-  NeighbourScene s({0.32, -0.10});
+  TallObjectScene s;
   ASSERT_EQ(s.view.objects.size(), 2U);
-  s.obj().height = 0.20;
-  s.other().height = 0.01;
   const auto meets = [&](const robot::TablePush& p) {
     return descent_meets_object(s.state, p, s.q0, descent_map(s.view, {}), 0.005, false);
   };
@@ -595,10 +603,8 @@ TEST(PushPlanner, ATallObjectWhoseHandComesDownOnItIsNotPushedWithTallStartClear
   // the way. Without the option the plan's palm comes down on it (session 31: the bottle toppled
   // and rolled off the table); with tall_start_clearance every path, from 2-6 cm behind it and
   // from 11-15 cm, brings the palm or a link onto it, so nothing is planned (not a fallback).
-  NeighbourScene s({0.32, -0.10});
+  TallObjectScene s;
   ASSERT_EQ(s.view.objects.size(), 2U);
-  s.obj().height = 0.20;
-  s.other().height = 0.01;
   const DescentMap map = descent_map(s.view, {});
   PushPlanOptions o = flat_options();
   const PushPlan plain = s.plan(o);  // off (the default)
