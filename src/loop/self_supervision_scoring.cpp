@@ -233,7 +233,9 @@ LadderRung own_rung(std::string name, std::string what, const std::vector<cv::Ma
     throw Error(core::cat({"own-model rung ", r.name, ": ", std::to_string(descriptors.size()),
                            " views' descriptors for ", std::to_string(labels.size()), " labels"}));
   }
-  const auto [classes, all_ids] = label_classes(labels);
+  const auto labelled = label_classes(labels);
+  const std::vector<std::string>& classes = labelled.first;
+  const std::vector<int>& all_ids = labelled.second;
   r.classes = static_cast<int>(classes.size());
   std::vector<cv::Mat> views;
   std::vector<int> ids;
@@ -295,7 +297,9 @@ LadderRung ladder_rung(std::string name, std::string what, const Eigen::MatrixXd
   r.name = std::move(name);
   r.what = std::move(what);
   r.per_object.assign(objects.size(), 0.0);
-  const auto [classes, ids] = label_classes(labels);
+  const auto labelled = label_classes(labels);
+  const std::vector<std::string>& classes = labelled.first;
+  const std::vector<int>& ids = labelled.second;
   for (const int id : ids) r.training_views += id >= 0 ? 1 : 0;
   r.classes = static_cast<int>(classes.size());
   if (classes.empty()) return r;
