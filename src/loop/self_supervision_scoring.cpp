@@ -810,6 +810,7 @@ OracleLadder oracle_ladder(
   topics::Corpus last_corpus(vocabulary.size());  // (a_last): each push's last view only
   std::vector<std::string> last_labels;
   std::vector<cv::Mat> a_descriptors;  // own: (a)'s views' descriptors
+  std::vector<bool> a_upright;         // own: (a)'s views' object upright after its push
   std::optional<episode::Episode> e;
   for (std::size_t vi = 0; vi < views.size(); ++vi) {
     const ViewTruth& v = views[vi];
@@ -828,7 +829,10 @@ OracleLadder oracle_ladder(
     const auto doc = features::bag_of_words(vocabulary, desc);
     a_corpus.add_tokens(doc);
     a_labels.push_back(v.intended);
-    if (own != nullptr) a_descriptors.push_back(std::move(desc));
+    if (own != nullptr) {
+      a_descriptors.push_back(std::move(desc));
+      a_upright.push_back(v.posed && v.upright);
+    }
     if (vi + 1 == views.size() || views[vi + 1].episode != v.episode) {
       last_corpus.add_tokens(doc);
       last_labels.push_back(v.intended);
@@ -949,6 +953,16 @@ OracleLadder oracle_ladder(
           "left out",
           robot.size(), b_labels.size());
     }
+    // (a) of the pushes that left their object standing only (ViewTruth::upright: after the
+    // push), by the run's model and by an own one: what the toppled pushes cost.
+    std::vector<std::string> up_labels(a_labels.size());
+    for (std::size_t i = 0; i < up_labels.size(); ++i) {
+      if (a_upright[i]) up_labels[i] = a_labels[i];
+    }
+    l.rungs.push_back(rung("a_up", "(a), only views whose object stood upright after its push",
+                           a_corpus, theta_of(a_corpus), up_labels));
+    l.rungs.push_back(own_rung("a_up_own", "(a_up) with a vocabulary and LDA of its own views",
+                               a_descriptors, up_labels, own->held, options, is_object));
   }
   return l;
 }

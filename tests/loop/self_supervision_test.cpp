@@ -1753,7 +1753,7 @@ TEST(SelfSupervision, OwnModelRungsBuildAVocabularyAndLdaOfTheirOwnViews) {
   const SelfSupervisionScore base =
       score_self_supervision(l, *attendant, objects, tiny->lda, tiny->vocabulary, off);
   ASSERT_TRUE(s.ladder && base.ladder);
-  ASSERT_EQ(s.ladder->rungs.size(), base.ladder->rungs.size() + 4);
+  ASSERT_EQ(s.ladder->rungs.size(), base.ladder->rungs.size() + 6);
   for (std::size_t k = 0; k < base.ladder->rungs.size(); ++k) {
     EXPECT_EQ(s.ladder->rungs[k].name, base.ladder->rungs[k].name);
     EXPECT_DOUBLE_EQ(s.ladder->rungs[k].accuracy, base.ladder->rungs[k].accuracy)
@@ -1772,8 +1772,15 @@ TEST(SelfSupervision, OwnModelRungsBuildAVocabularyAndLdaOfTheirOwnViews) {
   EXPECT_EQ(rung("a0_own").training_views, rung("a0").training_views);
   EXPECT_EQ(rung("a_own").training_views, rung("a").training_views);
   EXPECT_EQ(rung("b_own").training_views, rung("b").training_views);
-  for (const char* name : {"a0_own", "a_own", "b_own", "c_own"}) {
+  // a_up: (a)'s views whose object stood after its push, by the run's model and an own one.
+  EXPECT_EQ(s.ladder->rungs[n + 4].name, "a_up");
+  EXPECT_EQ(s.ladder->rungs[n + 5].name, "a_up_own");
+  EXPECT_LE(rung("a_up").training_views, rung("a").training_views);
+  EXPECT_EQ(rung("a_up_own").training_views, rung("a_up").training_views);
+  EXPECT_EQ(rung("a_up_own").classes, rung("a_up").classes);
+  for (const char* name : {"a0_own", "a_own", "b_own", "c_own", "a_up_own"}) {
     const LadderRung& r = rung(name);
+    if (r.classes == 0) continue;
     ASSERT_TRUE(r.pooled.has_value()) << name;
     ASSERT_EQ(r.pooled->size(), kPooledWeights.size()) << name;
     EXPECT_DOUBLE_EQ((*r.pooled)[1].weight, o.mot_word_weight);

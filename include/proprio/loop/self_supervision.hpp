@@ -301,8 +301,9 @@ struct SelfSupervisionOptions {
   /// on the same run as the theta figures (a paired comparison).
   bool pooled_score = false;
   /// Scoring, with oracle_ladder: also the own-model rungs (a0_own, a_own, b_own, c_own: the
-  /// training views of a0, a, b and c): each rung's views through a vocabulary of own_words
-  /// words and an LDA model of own_topics topics built from those views' own descriptors
+  /// training views of a0, a, b and c; a_up and a_up_own: a's views whose object stood upright
+  /// after its push, by the run's model and an own one): each rung's views through a vocabulary of
+  /// own_words words and an LDA model of own_topics topics built from those views' own descriptors
   /// (loop::views_vocabulary, views_lda: as Experiment 8.2 builds its own from its push views,
   /// docs/results/learn.md), a supervised Mixture of Topics (mot) on their theta, and the held-out
   /// views classified by the pooled words classifier at mot_word_weight with per-view word
@@ -452,8 +453,8 @@ struct SelfSupervisionOptions {
       {"pooled_score", "Also score c and the ladder by the pooled words classifier"});
     v(self.own_model_rungs,
       {"own_model_rungs",
-       "With oracle_ladder: also the rungs a0_own, a_own, b_own, c_own (vocabulary and LDA "
-       "from each rung's own views, pooled per-view words classifier)"});
+       "With oracle_ladder: also the rungs a0_own, a_own, b_own, c_own, a_up, a_up_own "
+       "(vocabulary and LDA from each rung's own views, pooled per-view words classifier)"});
     v(self.own_words, {"own_words", "own_model_rungs: vocabulary words", core::between(2, 100000)});
     v(self.own_topics, {"own_topics", "own_model_rungs: LDA topics", core::between(2, 1000)});
     v(self.ceiling_only,
