@@ -34,7 +34,7 @@ def main():
     print("runs: " + " ".join(f for f, _, _ in runs))
     print(f"{'rung':8s} {'mean +- 95% t':>16s}  per run  | per object (mean over runs): "
           + " ".join(objects))
-    for base in ["a0", "a", "b", "c"]:
+    for base in ["a0", "a", "b", "c", "a_up"]:
         for name in [base, base + "_own"]:
             rs = [r.get(name) for _, _, r in runs]
             if any(r is None for r in rs):
@@ -44,24 +44,27 @@ def main():
             po = [sum(100 * r["per_object"][i] for r in rs) / len(rs) for i in range(len(objects))]
             print(f"{name:8s} {m:7.1f} +- {h:5.1f}%  " + " ".join(f"{a:5.1f}" for a in acc)
                   + "  | " + " ".join(f"{p:5.1f}" for p in po)
-                  + f"   views {sum(r['training_views'] for r in rs) / len(rs):.0f}")
+                  + f"   views {sum(r['training_views'] for r in rs) / len(rs):.0f}"
+                  + " classes " + " ".join(str(r["classes"]) for r in rs))
         rs = [(r.get(base), r.get(base + "_own")) for _, _, r in runs]
         if all(x and y for x, y in rs):
             d = [100 * (y["accuracy"] - x["accuracy"]) for x, y in rs]
             m, h = ci(d)
             print(f"  {base}_own - {base}: {m:+.1f} +- {h:.1f} points (" +
                   " ".join(f"{x:+.1f}" for x in d) + ")")
-    print("own rungs per object, per run:")
+    print("per object, per run (a_up, a_up_own: also the views and classes):")
     for f, _, r in runs:
-        for name in ["a_own", "c_own"]:
+        for name in ["a_own", "c_own", "a_up_own"]:
             if name in r:
                 print(f"  {f} {name}: " + " ".join(
                     f"{o} {100 * p:.0f}" for o, p in zip(objects, r[name]["per_object"])))
-        for name in ["a", "c"]:
+        for name in ["a", "c", "a_up"]:
+            if name not in r:
+                continue
             print(f"  {f} {name}: " + " ".join(
                 f"{o} {100 * p:.0f}" for o, p in zip(objects, r[name]["per_object"])))
     print("own rungs at each weight of the word multinomials (mean over runs):")
-    for base in ["a0_own", "a_own", "b_own", "c_own"]:
+    for base in ["a0_own", "a_own", "b_own", "c_own", "a_up_own"]:
         rs = [r.get(base) for _, _, r in runs]
         if any(x is None or not x.get("pooled") for x in rs):
             continue
