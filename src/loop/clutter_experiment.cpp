@@ -32,6 +32,7 @@
 #include "proprio/loop/push_run.hpp"
 #include "proprio/loop/self_supervision.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
+#include "proprio/loop/view_model.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
@@ -45,13 +46,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr int kLdaIterations = 60;  // as learn
 constexpr std::uint64_t kTrialStream = 0x7c1a;
 constexpr std::uint64_t kTargetStream = 0x7c1b;
 constexpr int kMaxReplacements = 3;  // re-placements of the scene when the object is not seen
-constexpr std::uint64_t kVocabularyStream = 0x7c1c;
-/// The vocabulary's k-means runs over at most this many of the views' descriptors (seeded).
-constexpr int kVocabularySample = 50000;
 constexpr std::string_view kCacheMarkers[] = {"clutter_cache.json"};
 
 double seconds_since(Clock::time_point t0) {
@@ -423,30 +420,7 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
     std::vector<int> per(static_cast<std::size_t>(C), 0);
     for (int l : labels) ++per[static_cast<std::size_t>(l)];
     std::optional<features::Vocabulary> vocabulary;
-    if (!views.empty()) {
-      cv::Mat stacked;
-      cv::vconcat(views, stacked);
-      if (stacked.rows > kVocabularySample) {
-        // k-means over a seeded sample of the descriptors (all of them cost minutes a run).
-        std::vector<int> rows(static_cast<std::size_t>(stacked.rows));
-        std::iota(rows.begin(), rows.end(), 0);
-        core::Rng rng(core::stream_seed(d.seed, kVocabularyStream));
-        for (std::size_t i = 0; i < static_cast<std::size_t>(kVocabularySample); ++i) {
-          const auto j =
-              i + static_cast<std::size_t>(rng.uniform() * static_cast<double>(rows.size() - i));
-          std::swap(rows[i], rows[std::min(j, rows.size() - 1)]);
-        }
-        cv::Mat sample(kVocabularySample, stacked.cols, CV_32F);
-        for (int i = 0; i < kVocabularySample; ++i)
-          stacked.row(rows[static_cast<std::size_t>(i)]).copyTo(sample.row(i));
-        stacked = sample;
-      }
-      features::KmeansOptions ko;
-      ko.words = std::min(o.words, stacked.rows);
-      ko.seed = d.seed;
-      ko.threads = 1;
-      vocabulary = features::build_vocabulary(stacked, ko).vocabulary;
-    }
+    if (!views.empty()) vocabulary = views_vocabulary(views, o.words, d.seed);
     // A document's tokens (ClutterExperimentOptions::right_angle_words: with its descriptors'
     // quarter turns).
     const auto words_of = [&](const cv::Mat& descriptors) {
@@ -485,11 +459,7 @@ void sweep_seed(const SeedData& d, const std::vector<SeedData>& all,
       } else {
         topics::Corpus corpus(vocabulary->size());
         for (const auto& v : views) corpus.add_tokens(words_of(v));
-        topics::BatchLdaOptions bo;
-        bo.num_topics = t;
-        bo.seed = d.seed;
-        bo.max_iterations = kLdaIterations;
-        const topics::LdaModel lda = topics::train_batch_lda(corpus, bo).model;
+        const topics::LdaModel lda = views_lda(corpus, t, d.seed);
         const Eigen::MatrixXd theta = recognition::document_theta(lda, corpus).theta;
         topics::Corpus held(vocabulary->size());
         for (int c = 0; c < C; ++c) {

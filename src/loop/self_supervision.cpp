@@ -657,12 +657,14 @@ class Learner {
                                                   cv::Mat& last_mask, SelfSupervisionDecision& what,
                                                   const Segmented* seg = nullptr) {
     std::vector<std::vector<std::int32_t>> docs;
+    view_descriptors_.clear();
     if (o_.views == ViewSource::kBlob) {
       if (blob < 0) return docs;
       last_mask = blob_mask(after.objects[static_cast<std::size_t>(blob)], size_);
-      auto d = masked_document(image_, last_mask, vocabulary_, o_.features, o_.dilate);
-      if (static_cast<int>(d.size()) >= o_.min_features) {
-        docs.push_back(std::move(d));
+      cv::Mat desc = masked_descriptors(image_, last_mask, o_.features, o_.dilate);
+      if (desc.rows >= o_.min_features) {
+        docs.push_back(features::bag_of_words(vocabulary_, desc));
+        if (o_.own_model_rungs) view_descriptors_.push_back(desc);
         attendant_.view_taken(intent, {}, -1, last_mask);
       }
       what.source = "blob";
@@ -683,13 +685,14 @@ class Learner {
       cv::Mat arm;
       cv::Mat m = frame_mask(sg, i, &arm);
       if (cv::countNonZero(m) == 0) continue;
-      auto d = masked_document(e.frame(i), m, vocabulary_, o_.features, o_.dilate,
-                               o_.arm_patches_out ? arm : cv::Mat());
-      if (static_cast<int>(d.size()) < o_.min_features) {
+      cv::Mat desc = masked_descriptors(e.frame(i), m, o_.features, o_.dilate,
+                                        o_.arm_patches_out ? arm : cv::Mat());
+      if (desc.rows < o_.min_features) {
         ++small;
         continue;
       }
-      docs.push_back(std::move(d));
+      docs.push_back(features::bag_of_words(vocabulary_, desc));
+      if (o_.own_model_rungs) view_descriptors_.push_back(desc);
       attendant_.view_taken(intent, dir, i, m);
       last_mask = m;
       ++used;
@@ -1092,6 +1095,14 @@ class Learner {
           v.tokens.push_back(static_cast<int>(d.size()));
           v.words.add_tokens(d);
         }
+        if (o_.own_model_rungs) {
+          // views_of's descriptors of exactly these documents (the only source of docs here).
+          if (view_descriptors_.size() != docs.size()) {
+            throw Error("selfsupervise: the views' descriptors do not match their documents");
+          }
+          v.descriptors.insert(v.descriptors.end(), view_descriptors_.begin(),
+                               view_descriptors_.end());
+        }
         out_.views_per_class[static_cast<std::size_t>(r)] += static_cast<int>(docs.size());
       }
       what.event = "views";
@@ -1473,6 +1484,8 @@ class Learner {
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
   cv::Size size_;
   cv::Mat image_;
+  /// own_model_rungs: the descriptors of the documents views_of() returned last.
+  std::vector<cv::Mat> view_descriptors_;
   Learning out_;
   topics::MotModel model_so_far_;
   std::vector<int> model_class_;
@@ -1527,10 +1540,9 @@ std::vector<std::string> parse_object_list(const std::string& list) {
   return out;
 }
 
-std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
-                                          const features::Vocabulary& vocabulary,
-                                          const features::ExtractOptions& options, int dilate,
-                                          const cv::Mat& exclude) {
+cv::Mat masked_descriptors(const cv::Mat& image, const cv::Mat& mask,
+                           const features::ExtractOptions& options, int dilate,
+                           const cv::Mat& exclude) {
   // A new matrix: `mask` is the caller's and stays as it was (dilating into a header that
   // shared its data grew the caller's mask by `dilate` px at every call, until session 28).
   cv::Mat m = features::dilated(mask, dilate);
@@ -1548,7 +1560,16 @@ std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& m
   }
   const features::Features f = features::extract_features(image, options, m);
   if (f.size() == 0) return {};
-  return features::bag_of_words(vocabulary, f.descriptors);
+  return f.descriptors;
+}
+
+std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
+                                          const features::Vocabulary& vocabulary,
+                                          const features::ExtractOptions& options, int dilate,
+                                          const cv::Mat& exclude) {
+  const cv::Mat d = masked_descriptors(image, mask, options, dilate, exclude);
+  if (d.rows == 0) return {};
+  return features::bag_of_words(vocabulary, d);
 }
 
 double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {

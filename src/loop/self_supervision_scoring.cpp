@@ -19,6 +19,7 @@
 #include "proprio/features/extraction.hpp"
 #include "proprio/features/mask_morphology.hpp"
 #include "proprio/loop/push_run.hpp"
+#include "proprio/loop/view_model.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/recognition/topic_mapping.hpp"
 #include "proprio/topics/corpus.hpp"
@@ -192,6 +193,95 @@ std::string blob_composition(const std::map<int, int>& votes,
 constexpr std::uint64_t kLadderStream = 0x6c6164646572ULL;  // core::stream_seed key: a0_table
 constexpr int kLadderRenders = 24;                          // a0, a0_table: views per object
 
+// The classes named in `labels` ("" rows left out; a name with < 2 views has no class), sorted,
+// and each row's class (-1: none).
+std::pair<std::vector<std::string>, std::vector<int>> label_classes(
+    const std::vector<std::string>& labels) {
+  std::map<std::string, int> count;
+  for (const auto& l : labels) {
+    if (!l.empty()) ++count[l];
+  }
+  std::vector<std::string> classes;
+  for (const auto& [l, n] : count) {
+    if (n >= 2) classes.push_back(l);
+  }
+  std::vector<int> ids(labels.size(), -1);
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const auto it = std::find(classes.begin(), classes.end(), labels[i]);
+    if (it != classes.end()) ids[i] = static_cast<int>(it - classes.begin());
+  }
+  return {classes, ids};
+}
+
+// An own-model rung (SelfSupervisionOptions::own_model_rungs): the views `descriptors` labelled
+// by `labels` (as ladder_rung's) through a vocabulary and an LDA model built from the labelled
+// views' own descriptors (views_vocabulary, views_lda), a supervised Mixture of Topics on their
+// theta and per-view word multinomials; each object's held-out descriptors (`held`) in the same
+// vocabulary, classified by the pooled words classifier. `accuracy` and `per_object` at
+// options.mot_word_weight, `pooled` at every kPooledWeights. `right(class name, oi)`: the class
+// is held-out object oi's.
+template <class Right>
+LadderRung own_rung(std::string name, std::string what, const std::vector<cv::Mat>& descriptors,
+                    const std::vector<std::string>& labels,
+                    const std::vector<std::vector<cv::Mat>>& held,
+                    const SelfSupervisionOptions& options, const Right& right) {
+  LadderRung r;
+  r.name = std::move(name);
+  r.what = std::move(what);
+  r.per_object.assign(held.size(), 0.0);
+  if (descriptors.size() != labels.size()) {
+    throw Error(core::cat({"own-model rung ", r.name, ": ", std::to_string(descriptors.size()),
+                           " views' descriptors for ", std::to_string(labels.size()), " labels"}));
+  }
+  const auto labelled = label_classes(labels);
+  const std::vector<std::string>& classes = labelled.first;
+  const std::vector<int>& all_ids = labelled.second;
+  r.classes = static_cast<int>(classes.size());
+  std::vector<cv::Mat> views;
+  std::vector<int> ids;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (all_ids[i] < 0) continue;
+    views.push_back(descriptors[i]);
+    ids.push_back(all_ids[i]);
+  }
+  r.training_views = static_cast<int>(views.size());
+  if (classes.empty()) return r;
+  const features::Vocabulary vocabulary = views_vocabulary(views, options.own_words, options.seed);
+  topics::Corpus corpus(vocabulary.size());
+  for (const cv::Mat& v : views) corpus.add_tokens(features::bag_of_words(vocabulary, v));
+  const topics::LdaModel lda = views_lda(corpus, options.own_topics, options.seed);
+  topics::MotModel model;
+  try {
+    model =
+        topics::fit_mot(recognition::document_theta(lda, corpus).theta, ids, classes, options.mot)
+            .model;
+  } catch (const Error& e) {
+    r.what += core::cat({" (fit failed: ", e.what(), ")"});
+    r.accuracy = -1;
+    return r;
+  }
+  const Eigen::MatrixXd log_phi = weighted_word_multinomials(
+      corpus, ids, static_cast<int>(classes.size()), per_view_weights(corpus, ids));
+  std::vector<topics::Corpus> held_words(held.size(), topics::Corpus(vocabulary.size()));
+  for (std::size_t oi = 0; oi < held.size(); ++oi) {
+    for (const cv::Mat& h : held[oi])
+      held_words[oi].add_tokens(features::bag_of_words(vocabulary, h));
+  }
+  const auto by_words = by_words_of(model, lda, held_words);
+  const auto is_right = [&](int c, std::size_t oi) {
+    return right(classes[static_cast<std::size_t>(c)], oi);
+  };
+  const PooledFigure f =
+      pooled_figure(model, log_phi, held_words, by_words, options.mot_word_weight, false, is_right);
+  r.accuracy = f.accuracy;
+  r.per_object = f.per_object;
+  r.pooled.emplace();
+  for (const double w : kPooledWeights) {
+    r.pooled->push_back(pooled_figure(model, log_phi, held_words, by_words, w, false, is_right));
+  }
+  return r;
+}
+
 // A rung of the oracle ladder: a supervised Mixture of Topics over the classes named in `labels`
 // ("" rows left out; a name with < 2 views has no class), scored on `held` (per object of
 // `objects`: its held-out views' theta) by the rule of the printouts: right when the class
@@ -207,22 +297,10 @@ LadderRung ladder_rung(std::string name, std::string what, const Eigen::MatrixXd
   r.name = std::move(name);
   r.what = std::move(what);
   r.per_object.assign(objects.size(), 0.0);
-  std::map<std::string, int> count;
-  for (const auto& l : labels) {
-    if (!l.empty()) ++count[l];
-  }
-  std::vector<std::string> classes;
-  for (const auto& [l, n] : count) {
-    if (n >= 2) classes.push_back(l);
-  }
-  std::vector<int> ids(labels.size(), -1);
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    const auto it = std::find(classes.begin(), classes.end(), labels[i]);
-    if (it != classes.end()) {
-      ids[i] = static_cast<int>(it - classes.begin());
-      ++r.training_views;
-    }
-  }
+  const auto labelled = label_classes(labels);
+  const std::vector<std::string>& classes = labelled.first;
+  const std::vector<int>& ids = labelled.second;
+  for (const int id : ids) r.training_views += id >= 0 ? 1 : 0;
   r.classes = static_cast<int>(classes.size());
   if (classes.empty()) return r;
   topics::MotModel model;
@@ -690,18 +768,25 @@ void probe_push_view(Probes& p, const std::string& name, int frame_id, const cv:
   put(10, doc(swapped, mr, o.dilate));
 }
 
-// The rungs (a0, a0_table, a, b, b_pure, c_named, c); see OracleLadder.
-OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant& attendant,
-                           const SelfSupervisionScore& s, const std::vector<std::string>& objects,
-                           const std::vector<Eigen::MatrixXd>& held, const topics::Corpus& a0,
-                           const std::vector<std::string>& a0_labels,
-                           const topics::Corpus& a0_table,
-                           const std::vector<std::string>& a0_table_labels,
-                           const topics::Corpus& alone,
-                           const std::vector<std::string>& alone_labels,
-                           const topics::LdaModel& model, const features::Vocabulary& vocabulary,
-                           const SelfSupervisionOptions& options,
-                           const std::vector<topics::Corpus>& held_words, const Probes* probes) {
+// SelfSupervisionOptions::own_model_rungs: the descriptors the own-model rungs need besides the
+// robot's views' (TrainingViews::descriptors): a0's renders (rows of a0's corpus) and each
+// object's held-out views (rows of its held-out corpus).
+struct OwnDescriptors {
+  std::vector<cv::Mat> a0;
+  std::vector<std::vector<cv::Mat>> held;
+};
+
+// The rungs (a0, a0_table, a, b, b_pure, c_named, c; with own: a0_own, a_own, b_own, c_own); see
+// OracleLadder.
+OracleLadder oracle_ladder(
+    const Learning& learning, const GroundTruthAttendant& attendant, const SelfSupervisionScore& s,
+    const std::vector<std::string>& objects, const std::vector<Eigen::MatrixXd>& held,
+    const topics::Corpus& a0, const std::vector<std::string>& a0_labels,
+    const topics::Corpus& a0_table, const std::vector<std::string>& a0_table_labels,
+    const topics::Corpus& alone, const std::vector<std::string>& alone_labels,
+    const topics::LdaModel& model, const features::Vocabulary& vocabulary,
+    const SelfSupervisionOptions& options, const std::vector<topics::Corpus>& held_words,
+    const Probes* probes, const OwnDescriptors* own) {
   OracleLadder l;
   const bool pooled = options.pooled_score;
   const auto theta_of = [&](const topics::Corpus& c) {
@@ -724,6 +809,8 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
   std::vector<std::string> a_labels;
   topics::Corpus last_corpus(vocabulary.size());  // (a_last): each push's last view only
   std::vector<std::string> last_labels;
+  std::vector<cv::Mat> a_descriptors;  // own: (a)'s views' descriptors
+  std::vector<bool> a_upright;         // own: (a)'s views' object upright after its push
   std::optional<episode::Episode> e;
   for (std::size_t vi = 0; vi < views.size(); ++vi) {
     const ViewTruth& v = views[vi];
@@ -736,11 +823,16 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
     const cv::Mat mask = ids == id;
     // arm_patches_out: the patches reaching the arm's true pixels are left out.
     const cv::Mat arm = options.arm_patches_out ? cv::Mat(ids == sim::kArmId) : cv::Mat();
-    const auto doc =
-        masked_document(e->frame(v.frame), mask, vocabulary, options.features, options.dilate, arm);
-    if (static_cast<int>(doc.size()) < options.min_features) continue;
+    cv::Mat desc =
+        masked_descriptors(e->frame(v.frame), mask, options.features, options.dilate, arm);
+    if (desc.rows < options.min_features) continue;
+    const auto doc = features::bag_of_words(vocabulary, desc);
     a_corpus.add_tokens(doc);
     a_labels.push_back(v.intended);
+    if (own != nullptr) {
+      a_descriptors.push_back(std::move(desc));
+      a_upright.push_back(v.posed && v.upright);
+    }
     if (vi + 1 == views.size() || views[vi + 1].episode != v.episode) {
       last_corpus.add_tokens(doc);
       last_labels.push_back(v.intended);
@@ -824,6 +916,54 @@ OracleLadder oracle_ladder(const Learning& learning, const GroundTruthAttendant&
   for (const ObjectScore& o : s.objects) c.per_object.push_back(o.mot_accuracy);
   c.pooled = s.pooled;
   l.rungs.push_back(c);
+  if (own != nullptr) {
+    // The same training views through a vocabulary and LDA model of their own (own_rung).
+    const auto is_object = [&](const std::string& name, std::size_t oi) {
+      return name == objects[oi];
+    };
+    l.rungs.push_back(own_rung("a0_own", "(a0) with a vocabulary and LDA of its own views", own->a0,
+                               a0_labels, own->held, options, is_object));
+    l.rungs.push_back(own_rung("a_own", "(a) with a vocabulary and LDA of its own views",
+                               a_descriptors, a_labels, own->held, options, is_object));
+    const std::vector<cv::Mat>& robot = learning.views.descriptors;
+    if (aligned && robot.size() == b_labels.size()) {
+      l.rungs.push_back(own_rung("b_own", "(b) with a vocabulary and LDA of its own views", robot,
+                                 b_labels, own->held, options, is_object));
+    }
+    if (robot.size() == b_labels.size()) {
+      // (c): the robot's classes (the learner's names), each right for the object it is named
+      // after (SelfSupervisionScore::class_object).
+      std::vector<std::string> classes(b_labels.size());
+      for (std::size_t i = 0; i < classes.size(); ++i) {
+        classes[i] = learning.class_names[static_cast<std::size_t>(learning.views.labels[i])];
+      }
+      const auto is_named = [&](const std::string& name, std::size_t oi) {
+        for (std::size_t k = 0; k < learning.class_names.size(); ++k) {
+          if (learning.class_names[k] == name) return s.class_object[k] == objects[oi];
+        }
+        return false;
+      };
+      LadderRung co = own_rung("c_own", "(c) with a vocabulary and LDA of its own views", robot,
+                               classes, own->held, options, is_named);
+      co.label_purity = cn.label_purity;
+      l.rungs.push_back(co);
+    } else {
+      spdlog::warn(
+          "oracle ladder: {} views' descriptors for {} training views; own rungs b, c "
+          "left out",
+          robot.size(), b_labels.size());
+    }
+    // (a) of the pushes that left their object standing only (ViewTruth::upright: after the
+    // push), by the run's model and by an own one: what the toppled pushes cost.
+    std::vector<std::string> up_labels(a_labels.size());
+    for (std::size_t i = 0; i < up_labels.size(); ++i) {
+      if (a_upright[i]) up_labels[i] = a_labels[i];
+    }
+    l.rungs.push_back(rung("a_up", "(a), only views whose object stood upright after its push",
+                           a_corpus, theta_of(a_corpus), up_labels));
+    l.rungs.push_back(own_rung("a_up_own", "(a_up) with a vocabulary and LDA of its own views",
+                               a_descriptors, up_labels, own->held, options, is_object));
+  }
   return l;
 }
 
@@ -1006,6 +1146,11 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   std::vector<std::string> a0_table_labels;
   topics::Corpus alone_corpus(vocabulary.size());
   std::vector<std::string> alone_labels;
+  std::optional<OwnDescriptors> own;
+  if (ladder && options.own_model_rungs) {
+    own.emplace();
+    own->held.resize(objects.size());
+  }
   std::optional<Probes> probes;
   if (ladder && options.ladder_probes) {
     probes.emplace(
@@ -1070,10 +1215,10 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     topics::Corpus corpus(vocabulary.size());
     for (int v = 0; v < options.held_out; ++v) {
       const HeldOutView view = render_held_out_view(alone, os.name, id, v, options.held_out);
-      const auto doc =
-          masked_document(view.image, view.mask, vocabulary, options.features, options.dilate);
-      if (static_cast<int>(doc.size()) < options.min_features) continue;
-      corpus.add_tokens(doc);
+      cv::Mat desc = masked_descriptors(view.image, view.mask, options.features, options.dilate);
+      if (desc.rows < options.min_features) continue;
+      corpus.add_tokens(features::bag_of_words(vocabulary, desc));
+      if (own) own->held[oi].push_back(std::move(desc));
     }
     if (ladder) {
       const sim::ObjectType* type = &catalogue.get(os.name);
@@ -1091,11 +1236,12 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
           alone.place({place});
           const robot::Look look = alone.look();
           const cv::Mat mask = alone.ground_truth_mask() == id;
-          const auto doc =
-              masked_document(look.image, mask, vocabulary, options.features, options.dilate);
-          if (static_cast<int>(doc.size()) < options.min_features) continue;
-          (where == 0 ? a0_corpus : a0_table_corpus).add_tokens(doc);
+          cv::Mat desc = masked_descriptors(look.image, mask, options.features, options.dilate);
+          if (desc.rows < options.min_features) continue;
+          (where == 0 ? a0_corpus : a0_table_corpus)
+              .add_tokens(features::bag_of_words(vocabulary, desc));
           (where == 0 ? a0_labels : a0_table_labels).push_back(os.name);
+          if (own && where == 0) own->a0.push_back(std::move(desc));
         }
       }
       // (a_alone): the object alone where and as each of its pushes left it (the pose of the
@@ -1208,9 +1354,10 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
         pooled_figure(mot, once, held_words, by_words, options.mot_word_weight, true, is_right));
   }
   if (ladder) {
-    s.ladder = oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels,
-                             a0_table_corpus, a0_table_labels, alone_corpus, alone_labels, model,
-                             vocabulary, options, held_words, probes ? &*probes : nullptr);
+    s.ladder =
+        oracle_ladder(learning, attendant, s, objects, held, a0_corpus, a0_labels, a0_table_corpus,
+                      a0_table_labels, alone_corpus, alone_labels, model, vocabulary, options,
+                      held_words, probes ? &*probes : nullptr, own ? &*own : nullptr);
   }
   return s;
 }

@@ -145,6 +145,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd --rounds 1" + inputs() + out, "fewer than the 2 objects"},
       {"--objects book,cd --rounds 65" + inputs() + out, "rounds"},
       {"--objects book,cd --same-object -1" + inputs() + out, "same-object"},
+      {"--objects book,cd --own-words 1" + inputs() + out, "own-words"},
+      {"--objects book,cd --own-topics 1" + inputs() + out, "own-topics"},
       {"--objects book,mug,bottle,spirit-level,rabbit,cd,calculator,giraffe,bike" + inputs() + out,
        "do not fit on the table"},
       {"--objects book,cd" + inputs("other.lda") + out,

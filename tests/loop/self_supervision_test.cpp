@@ -22,7 +22,9 @@
 #include "proprio/loop/self_supervision.hpp"
 #include "proprio/loop/self_supervision_run.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
+#include "proprio/loop/view_model.hpp"
 #include "proprio/planning/push_planner.hpp"
+#include "proprio/recognition/mot.hpp"
 #include "proprio/sim/simulated_robot.hpp"
 #include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/corpus.hpp"
@@ -1701,6 +1703,175 @@ TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
       EXPECT_DOUBLE_EQ(by.objects[oi].mot_accuracy, (*p.pooled)[k].per_object[oi]);
     }
   }
+}
+
+TEST(SelfSupervision, OwnModelRungsBuildAVocabularyAndLdaOfTheirOwnViews) {
+  // own_model_rungs: the learner keeps each view's descriptors (the rows its documents were
+  // made of), the ladder gains a0_own, a_own, b_own, c_own after its other rungs, which are
+  // unchanged, and c_own is the robot's views and classes through a vocabulary and LDA model of
+  // their own, classified by the pooled per-view words classifier (recomputed here from the
+  // library's functions on held-out views rendered and cut out as the scorer does).
+  SelfSupervisionOptions o = small_options();
+  o.views = ViewSource::kMotion;
+  o.oracle_ladder = true;
+  o.own_model_rungs = true;
+  o.own_words = 30;
+  o.own_topics = 4;
+  const test::TempDir dir("proprio_selfsup_own_");
+  std::optional<TinyModel> tiny;
+  Learning l;
+  std::unique_ptr<GroundTruthAttendant> attendant;
+  {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::TableOptions t = table_of(o);
+    t.record_masks = true;
+    sim::SimulatedRobot robot(t, catalogue);
+    tiny = tiny_model(robot.look().image);
+    attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
+    l = learn_by_pushing(robot, *attendant, 2, tiny->lda, tiny->vocabulary, o, dir.path());
+  }
+  ASSERT_GT(l.views.labels.size(), 0U);
+  ASSERT_EQ(l.views.descriptors.size(), l.views.labels.size());
+  for (std::size_t i = 0; i < l.views.labels.size(); ++i) {
+    EXPECT_EQ(l.views.descriptors[i].rows, l.views.tokens[i]) << i;
+    const topics::DocumentView doc = l.views.words.document(i);
+    std::vector<std::int32_t> words;
+    for (std::size_t k = 0; k < doc.size(); ++k) {
+      words.insert(words.end(), static_cast<std::size_t>(doc.counts[k]), doc.words[k]);
+    }
+    std::vector<std::int32_t> again =
+        features::bag_of_words(tiny->vocabulary, l.views.descriptors[i]);
+    std::sort(again.begin(), again.end());
+    std::sort(words.begin(), words.end());
+    EXPECT_EQ(again, words) << i;
+  }
+  const std::vector<std::string> objects{"book", "bottle"};
+  const SelfSupervisionScore s =
+      score_self_supervision(l, *attendant, objects, tiny->lda, tiny->vocabulary, o);
+  SelfSupervisionOptions off = o;
+  off.own_model_rungs = false;
+  const SelfSupervisionScore base =
+      score_self_supervision(l, *attendant, objects, tiny->lda, tiny->vocabulary, off);
+  ASSERT_TRUE(s.ladder && base.ladder);
+  ASSERT_EQ(s.ladder->rungs.size(), base.ladder->rungs.size() + 6);
+  for (std::size_t k = 0; k < base.ladder->rungs.size(); ++k) {
+    EXPECT_EQ(s.ladder->rungs[k].name, base.ladder->rungs[k].name);
+    EXPECT_DOUBLE_EQ(s.ladder->rungs[k].accuracy, base.ladder->rungs[k].accuracy)
+        << s.ladder->rungs[k].name;
+  }
+  EXPECT_DOUBLE_EQ(s.mot_accuracy, base.mot_accuracy);
+  const auto rung = [&](const std::string& name) -> const LadderRung& {
+    for (const LadderRung& r : s.ladder->rungs) {
+      if (r.name == name) return r;
+    }
+    throw Error("no rung " + name);
+  };
+  const std::size_t n = base.ladder->rungs.size();
+  EXPECT_EQ(s.ladder->rungs[n].name, "a0_own");
+  EXPECT_EQ(s.ladder->rungs[n + 3].name, "c_own");
+  EXPECT_EQ(rung("a0_own").training_views, rung("a0").training_views);
+  EXPECT_EQ(rung("a_own").training_views, rung("a").training_views);
+  EXPECT_EQ(rung("b_own").training_views, rung("b").training_views);
+  // a_up: (a)'s views whose object stood after its push, by the run's model and an own one.
+  EXPECT_EQ(s.ladder->rungs[n + 4].name, "a_up");
+  EXPECT_EQ(s.ladder->rungs[n + 5].name, "a_up_own");
+  EXPECT_LE(rung("a_up").training_views, rung("a").training_views);
+  EXPECT_EQ(rung("a_up_own").training_views, rung("a_up").training_views);
+  EXPECT_EQ(rung("a_up_own").classes, rung("a_up").classes);
+  for (const char* name : {"a0_own", "a_own", "b_own", "c_own", "a_up_own"}) {
+    const LadderRung& r = rung(name);
+    if (r.classes == 0) continue;
+    ASSERT_TRUE(r.pooled.has_value()) << name;
+    ASSERT_EQ(r.pooled->size(), kPooledWeights.size()) << name;
+    EXPECT_DOUBLE_EQ((*r.pooled)[1].weight, o.mot_word_weight);
+    EXPECT_DOUBLE_EQ((*r.pooled)[1].accuracy, r.accuracy) << name;
+    EXPECT_GE(r.accuracy, 0.0) << name;
+    EXPECT_LE(r.accuracy, 1.0) << name;
+  }
+  // c_own recomputed: the robot's classes (>= 2 views), each right for the object it is named
+  // after.
+  std::map<std::string, int> count;
+  for (const int c : l.views.labels) ++count[l.class_names[static_cast<std::size_t>(c)]];
+  std::vector<std::string> classes;
+  for (const auto& [name, k] : count) {
+    if (k >= 2) classes.push_back(name);
+  }
+  ASSERT_FALSE(classes.empty());
+  std::vector<cv::Mat> views;
+  std::vector<int> ids;
+  for (std::size_t i = 0; i < l.views.labels.size(); ++i) {
+    const std::string& name = l.class_names[static_cast<std::size_t>(l.views.labels[i])];
+    const auto it = std::find(classes.begin(), classes.end(), name);
+    if (it == classes.end()) continue;
+    views.push_back(l.views.descriptors[i]);
+    ids.push_back(static_cast<int>(it - classes.begin()));
+  }
+  EXPECT_EQ(rung("c_own").training_views, static_cast<int>(views.size()));
+  const features::Vocabulary vocabulary = views_vocabulary(views, o.own_words, o.seed);
+  EXPECT_EQ(vocabulary.size(), 30);
+  topics::Corpus corpus(vocabulary.size());
+  for (const cv::Mat& v : views) corpus.add_tokens(features::bag_of_words(vocabulary, v));
+  const topics::LdaModel lda = views_lda(corpus, o.own_topics, o.seed);
+  EXPECT_EQ(lda.num_topics(), 4);
+  const topics::MotModel model =
+      topics::fit_mot(recognition::document_theta(lda, corpus).theta, ids, classes, o.mot).model;
+  const Eigen::MatrixXd log_phi = weighted_word_multinomials(
+      corpus, ids, static_cast<int>(classes.size()), per_view_weights(corpus, ids));
+  int right = 0;
+  int all = 0;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  for (const std::string& object : objects) {
+    sim::TableOptions t;
+    t.objects = {object};
+    t.seed = o.seed;
+    t.width = o.width;
+    t.height = o.height;
+    sim::SimulatedRobot alone(t, catalogue);
+    const int id = alone.ground_truth().at(0).id;
+    topics::Corpus held(vocabulary.size());
+    for (int v = 0; v < o.held_out; ++v) {
+      const HeldOutView view = render_held_out_view(alone, object, id, v, o.held_out);
+      const cv::Mat d = masked_descriptors(view.image, view.mask, o.features, o.dilate);
+      if (d.rows >= o.min_features) held.add_tokens(features::bag_of_words(vocabulary, d));
+    }
+    if (held.num_documents() == 0) continue;
+    const topics::MotClassification cls = topics::pool_word_multinomials(
+        model, topics::classify_mot_words(model, lda, held), log_phi, held, o.mot_word_weight);
+    for (const int c : cls.predicted) {
+      const auto k = std::find(l.class_names.begin(), l.class_names.end(),
+                               classes[static_cast<std::size_t>(c)]) -
+                     l.class_names.begin();
+      right += s.class_object[static_cast<std::size_t>(k)] == object ? 1 : 0;
+      ++all;
+    }
+  }
+  ASSERT_GT(all, 0);
+  EXPECT_DOUBLE_EQ(rung("c_own").accuracy, static_cast<double>(right) / all);
+  EXPECT_NO_THROW((void)core::fields_to_json(s).dump());
+}
+
+TEST(SelfSupervision, ViewsVocabularyKnownAnswers) {
+  // k-means over the views' stacked descriptors (empty views skipped), at most min(words, rows)
+  // words, as build_vocabulary over them with the seed and one thread; bad input throws.
+  cv::Mat a(6, 128, CV_32F);
+  cv::Mat b(5, 128, CV_32F);
+  cv::randu(a, 0.0F, 1.0F);
+  cv::randu(b, 0.5F, 2.0F);
+  const std::vector<cv::Mat> views{a, cv::Mat(), b};
+  const features::Vocabulary v = views_vocabulary(views, 3, 7);
+  EXPECT_EQ(v.size(), 3);
+  cv::Mat stacked;
+  cv::vconcat(std::vector<cv::Mat>{a, b}, stacked);
+  features::KmeansOptions ko;
+  ko.words = 3;
+  ko.seed = 7;
+  ko.threads = 1;
+  const features::Vocabulary w = features::build_vocabulary(stacked, ko).vocabulary;
+  EXPECT_EQ(features::bag_of_words(v, stacked), features::bag_of_words(w, stacked));
+  EXPECT_EQ(views_vocabulary(views, 50, 7).size(), 11);  // capped by the 11 descriptors
+  EXPECT_THROW((void)views_vocabulary(views, 0, 7), Error);
+  EXPECT_THROW((void)views_vocabulary(std::vector<cv::Mat>{cv::Mat()}, 3, 7), Error);
+  EXPECT_THROW((void)views_vocabulary(std::vector<cv::Mat>{}, 3, 7), Error);
 }
 
 TEST(SelfSupervision, WeightedWordMultinomialsKnownAnswers) {

@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
@@ -298,6 +300,18 @@ struct SelfSupervisionOptions {
   /// kPooledWeights, and c with each push's views counted once (SelfSupervisionScore::pooled),
   /// on the same run as the theta figures (a paired comparison).
   bool pooled_score = false;
+  /// Scoring, with oracle_ladder: also the own-model rungs (a0_own, a_own, b_own, c_own: the
+  /// training views of a0, a, b and c; a_up and a_up_own: a's views whose object stood upright
+  /// after its push, by the run's model and an own one): each rung's views through a vocabulary of
+  /// own_words words and an LDA model of own_topics topics built from those views' own descriptors
+  /// (loop::views_vocabulary, views_lda: as Experiment 8.2 builds its own from its push views,
+  /// docs/results/learn.md), a supervised Mixture of Topics (mot) on their theta, and the held-out
+  /// views classified by the pooled words classifier at mot_word_weight with per-view word
+  /// multinomials (loop::per_view_weights: Experiment 8.2's default). The learner then keeps its
+  /// views' descriptors (TrainingViews::descriptors). The run itself is unchanged.
+  bool own_model_rungs = false;
+  int own_words = 200;  ///< own_model_rungs: vocabulary words (Experiment 8.2's, learn's)
+  int own_topics = 20;  ///< own_model_rungs: LDA topics (Experiment 8.2 scores T >= 15)
   /// Scoring only: skip the robot and score the ladder's render rungs (a0, a0_table) alone, the
   /// ceiling the vocabulary and LDA model set, in seconds instead of a run's minutes (to tune
   /// them without a robot run; the other rungs are then empty, the run learns nothing).
@@ -437,6 +451,12 @@ struct SelfSupervisionOptions {
                              core::between(0.0, 1.0)});
     v(self.pooled_score,
       {"pooled_score", "Also score c and the ladder by the pooled words classifier"});
+    v(self.own_model_rungs,
+      {"own_model_rungs",
+       "With oracle_ladder: also the rungs a0_own, a_own, b_own, c_own, a_up, a_up_own "
+       "(vocabulary and LDA from each rung's own views, pooled per-view words classifier)"});
+    v(self.own_words, {"own_words", "own_model_rungs: vocabulary words", core::between(2, 100000)});
+    v(self.own_topics, {"own_topics", "own_model_rungs: LDA topics", core::between(2, 1000)});
     v(self.ceiling_only,
       {"ceiling_only", "No robot run: score only the ladder's renders (a0, a0_table)"});
     v(self.depth, {"depth",
@@ -518,6 +538,9 @@ struct TrainingViews {
   /// Each view's document (its words, the same rows as theta): the pooled words classifier's
   /// training data (SelfSupervisionOptions::mot_classifier, pooled_score).
   topics::Corpus words;
+  /// SelfSupervisionOptions::own_model_rungs: each view's descriptors (the same rows as theta;
+  /// empty otherwise), from which the ladder's own-model rungs build their vocabulary.
+  std::vector<cv::Mat> descriptors;
 };
 
 /// A plan as the decision log lists it (the path and its cost only when it was planned).
@@ -958,11 +981,17 @@ bool merged_by_growth(const planning::PlanningView& before, int pushed,
 /// Hellinger distance between two distributions (non-negative, each summing to 1): 0..1.
 double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q);
 
-/// The visual-word document of `image`'s features inside `mask` (CV_8U, grown by `dilate` px).
-/// With `exclude` (CV_8U of the image's size, or empty for none) a feature whose patch (the
-/// dense SIFT support, options.dense.size px square round its grid point) reaches a non-zero
-/// pixel of `exclude` is left out: its descriptor would describe what lies there (the arm
-/// beside the object, SelfSupervisionOptions::arm_patches_out), not the object.
+/// The descriptors (one CV_32F row a feature; empty: none) of `image`'s features inside `mask`
+/// (CV_8U, grown by `dilate` px). With `exclude` (CV_8U of the image's size, or empty for none)
+/// a feature whose patch (the dense SIFT support, options.dense.size px square round its grid
+/// point) reaches a non-zero pixel of `exclude` is left out: its descriptor would describe what
+/// lies there (the arm beside the object, SelfSupervisionOptions::arm_patches_out), not the
+/// object.
+cv::Mat masked_descriptors(const cv::Mat& image, const cv::Mat& mask,
+                           const features::ExtractOptions& options, int dilate,
+                           const cv::Mat& exclude = {});
+
+/// The visual-word document of masked_descriptors(image, mask, options, dilate, exclude).
 std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
                                           const features::Vocabulary& vocabulary,
                                           const features::ExtractOptions& options, int dilate,

@@ -220,7 +220,7 @@ struct ObjectScore {
 /// One rung of the oracle ladder: a supervised Mixture of Topics (ground-truth object names as
 /// classes, every object with >= 2 views) trained on some views, scored on the held-out views.
 struct LadderRung {
-  std::string name;  ///< a0, a0_table, a, a_last, a_alone, b, b_pure, c_named, c
+  std::string name;  ///< a0, a0_table, a, a_last, a_alone, b, b_pure, c_named, c, *_own
   std::string what;  ///< what it was trained on
   int training_views = 0;
   int classes = 0;                 ///< objects with a class

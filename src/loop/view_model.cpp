@@ -1,0 +1,60 @@
+// A vocabulary and an LDA model from training views' own descriptors (loop/view_model.hpp).
+#include "proprio/loop/view_model.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "proprio/core/error.hpp"
+#include "proprio/core/random.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/topics/batch_lda.hpp"
+
+namespace proprio::loop {
+
+namespace {
+// core::stream_seed key of the vocabulary's sample (the clutter experiment's since session 21).
+constexpr std::uint64_t kVocabularyStream = 0x7c1c;
+}  // namespace
+
+features::Vocabulary views_vocabulary(std::span<const cv::Mat> views, int words,
+                                      std::uint64_t seed) {
+  if (words < 1) throw Error("views_vocabulary: words must be >= 1");
+  std::vector<cv::Mat> nonempty;
+  for (const cv::Mat& v : views) {
+    if (v.rows > 0) nonempty.push_back(v);
+  }
+  if (nonempty.empty()) throw Error("views_vocabulary: the views hold no descriptor");
+  cv::Mat stacked;
+  cv::vconcat(nonempty, stacked);
+  if (stacked.rows > kViewVocabularySample) {
+    // k-means over a seeded sample of the descriptors (all of them cost minutes a run).
+    std::vector<int> rows(static_cast<std::size_t>(stacked.rows));
+    std::iota(rows.begin(), rows.end(), 0);
+    core::Rng rng(core::stream_seed(seed, kVocabularyStream));
+    for (std::size_t i = 0; i < static_cast<std::size_t>(kViewVocabularySample); ++i) {
+      const auto j =
+          i + static_cast<std::size_t>(rng.uniform() * static_cast<double>(rows.size() - i));
+      std::swap(rows[i], rows[std::min(j, rows.size() - 1)]);
+    }
+    cv::Mat sample(kViewVocabularySample, stacked.cols, CV_32F);
+    for (int i = 0; i < kViewVocabularySample; ++i)
+      stacked.row(rows[static_cast<std::size_t>(i)]).copyTo(sample.row(i));
+    stacked = sample;
+  }
+  features::KmeansOptions ko;
+  ko.words = std::min(words, stacked.rows);
+  ko.seed = seed;
+  ko.threads = 1;
+  return features::build_vocabulary(stacked, ko).vocabulary;
+}
+
+topics::LdaModel views_lda(const topics::Corpus& corpus, int topics, std::uint64_t seed) {
+  topics::BatchLdaOptions bo;
+  bo.num_topics = topics;
+  bo.seed = seed;
+  bo.max_iterations = kViewLdaIterations;
+  return topics::train_batch_lda(corpus, bo).model;
+}
+
+}  // namespace proprio::loop
