@@ -34,12 +34,12 @@
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
+#include "proprio/loop/view_model.hpp"
 #include "proprio/recognition/confusion.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/robot/arm.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
-#include "proprio/topics/batch_lda.hpp"
 #include "proprio/topics/corpus.hpp"
 #include "proprio/topics/lda_model_io.hpp"
 #include "proprio/topics/mot_model_io.hpp"
@@ -79,8 +79,7 @@ constexpr double kOutsideArea = 1.0;
 constexpr int kSides = 8;                           // sides tried when a push is out of reach
 constexpr double kSidePush = 0.08;                  // how far those pushes go, m
 constexpr double kGoldenAngle = 2.399963229728653;  // rad
-constexpr int kLdaIterations = 60;
-constexpr double kApproachStep = 0.03;  // approach added after a refusal, m
+constexpr double kApproachStep = 0.03;              // approach added after a refusal, m
 // The arm's pushing reach (robot base frame): a blob whose table centre is further from the
 // base axis than this, or behind the base, cannot be pushed from behind; it is not an object
 // to learn (distractors moving behind the work area, the backdrop), m.
@@ -1876,13 +1875,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
                      " words, but the vocabulary has ", std::to_string(k.vocabulary->size())}));
     }
   } else {
-    l.timed("lda", [&] {
-      topics::BatchLdaOptions bo;
-      bo.num_topics = o.topics;
-      bo.seed = o.seed;
-      bo.max_iterations = kLdaIterations;
-      k.lda = topics::train_batch_lda(corpus, bo).model;
-    });
+    l.timed("lda", [&] { k.lda = views_lda(corpus, o.topics, o.seed); });
   }
   topics::save_lda_model(*k.lda, o.out / "lda.model");
   k.training = corpus;
