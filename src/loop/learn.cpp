@@ -1890,6 +1890,8 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   }
   topics::save_lda_model(*k.lda, o.out / "lda.model");
   k.training = corpus;
+  // The ladder's pooled words classifier (ladder_pooled) reads the views' words beside theta.
+  if (o.oracle_ladder && o.ladder_pooled) g.views.words = corpus;
   l.timed("model", [&] {
     g.views.theta = recognition::document_theta(*k.lda, corpus).theta;
     for (const auto& v : views) {
