@@ -432,6 +432,10 @@ sim::Background background_of(const LearnOptions& o) {
 
 void LearnOptions::validate() const {
   core::check_field_bounds(*this, "learn");
+  if (ladder_pooled && !oracle_ladder) {
+    throw Error(
+        "learn: --ladder-pooled scores the oracle ladder's rungs: it needs --oracle-ladder");
+  }
   std::vector<std::string> all = parse_object_list(objects);
   for (const auto& c : names_or_empty(clutter)) {
     if (std::find(all.begin(), all.end(), c) != all.end()) {
@@ -1879,6 +1883,8 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   }
   topics::save_lda_model(*k.lda, o.out / "lda.model");
   k.training = corpus;
+  // The ladder's pooled words classifier (ladder_pooled) reads the views' words beside theta.
+  if (o.oracle_ladder && o.ladder_pooled) g.views.words = corpus;
   l.timed("model", [&] {
     g.views.theta = recognition::document_theta(*k.lda, corpus).theta;
     for (const auto& v : views) {
@@ -2197,6 +2203,22 @@ LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAtt
   return r;
 }
 
+SelfSupervisionOptions learn_score_options(const LearnOptions& o) {
+  SelfSupervisionOptions so;
+  so.objects = o.objects;
+  so.seed = o.seed;
+  so.width = o.width;
+  so.height = o.height;
+  so.held_out = o.held_out;
+  so.features = o.features;
+  so.dilate = o.dilate;
+  so.min_features = o.min_features;
+  so.mot = o.mot;
+  so.oracle_ladder = o.oracle_ladder;
+  so.pooled_score = o.oracle_ladder && o.ladder_pooled;
+  return so;
+}
+
 sim::TableOptions learn_table(const LearnOptions& o) {
   sim::TableOptions table;
   table.objects = parse_object_list(o.objects);
@@ -2244,18 +2266,8 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
   std::optional<SelfSupervisionScore> score;
   if (k.lda && k.vocabulary) {
     const auto th = Clock::now();
-    SelfSupervisionOptions so;
-    so.objects = o.objects;
-    so.seed = o.seed;
-    so.width = o.width;
-    so.height = o.height;
-    so.held_out = o.held_out;
-    so.features = o.features;
-    so.dilate = o.dilate;
-    so.min_features = o.min_features;
-    so.mot = o.mot;
-    so.oracle_ladder = o.oracle_ladder;
-    score = score_self_supervision(k.learning, attendant, objects, *k.lda, *k.vocabulary, so);
+    score = score_self_supervision(k.learning, attendant, objects, *k.lda, *k.vocabulary,
+                                   learn_score_options(o));
     k.learner->mutable_seconds()["held_out"] =
         std::chrono::duration<double>(Clock::now() - th).count();
   }

@@ -187,6 +187,7 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   // pooled, session 32's rule): the same figure in the printout, learn.json and the page.
   EXPECT_EQ(j["options"]["headline"], "pooled");
   EXPECT_FALSE(j["options"]["mot_word_per_view"].get<bool>());
+  EXPECT_FALSE(j["options"]["ladder_pooled"].get<bool>());  // session 33: off by default
   EXPECT_EQ(j["headline"]["classifier"], "pooled");
   const double pooled = j["held_out_words"]["pooled"].get<double>();
   EXPECT_EQ(j["headline"]["accuracy"].get<double>(), pooled);

@@ -149,6 +149,34 @@ void add_documents(topics::Corpus& corpus, int docs, int first, std::uint64_t se
   }
 }
 
+TEST(Learn, LadderPooledScoresTheLaddersRungsByThePooledWordsClassifier) {
+  LearnOptions o;
+  EXPECT_FALSE(o.ladder_pooled);  // the default: the rungs by theta only
+  EXPECT_FALSE(learn_score_options(o.resolved()).pooled_score);
+  o.ladder_pooled = true;
+  EXPECT_THROW(o.validate(), Error);  // it scores the ladder: not without it
+  o.oracle_ladder = true;
+  EXPECT_NO_THROW(o.validate());
+  const SelfSupervisionOptions on = learn_score_options(o.resolved());
+  EXPECT_TRUE(on.oracle_ladder);
+  EXPECT_TRUE(on.pooled_score);
+  o.ladder_pooled = false;
+  const SelfSupervisionOptions off = learn_score_options(o.resolved());
+  EXPECT_TRUE(off.oracle_ladder);
+  EXPECT_FALSE(off.pooled_score);
+  // Otherwise the scoring is learn's own, as before.
+  o.quick = true;
+  const LearnOptions r = o.resolved();
+  const SelfSupervisionOptions q = learn_score_options(r);
+  EXPECT_EQ(q.objects, r.objects);
+  EXPECT_EQ(q.seed, r.seed);
+  EXPECT_EQ(q.width, r.width);
+  EXPECT_EQ(q.height, r.height);
+  EXPECT_EQ(q.held_out, r.held_out);
+  EXPECT_EQ(q.dilate, r.dilate);
+  EXPECT_EQ(q.min_features, r.min_features);
+}
+
 TEST(Learn, ScoreByWordsKnowsWhichObjectEachHeldOutViewShows) {
   // Two objects of disjoint words (0-4 and 5-9): the robot's views of each are one class; the
   // held-out views of each are classified as their own object by theta, by words and pooled.

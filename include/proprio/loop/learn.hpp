@@ -310,6 +310,13 @@ struct LearnOptions {
   LearnHeadline headline = LearnHeadline::kPooled;
   /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
   bool oracle_ladder = false;
+  /// Scoring, with oracle_ladder only: every rung (and c) is also scored by the pooled words
+  /// classifier with per-view word multinomials at kPooledWeights
+  /// (SelfSupervisionOptions::pooled_score; Experiment 8.2's default classifier), so that a
+  /// rung such as (a), the true masks and labels of the push frames, compares with Experiment
+  /// 8.2's figures, which are by that classifier (session 33). Off (the default): the rungs by
+  /// theta only, as before.
+  bool ladder_pooled = false;
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
   /// planner measures each blob's footprint and height from depth, as `selfsupervise --depth`.
   /// Turned on by resolved() with candidates "depth" (the default): off only with "blobs".
@@ -443,6 +450,10 @@ struct LearnOptions {
              kLearnHeadlineNames);
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
+    v(self.ladder_pooled,
+      {"ladder_pooled",
+       "Scoring, with --oracle-ladder: also score every rung by the pooled words classifier "
+       "(per-view word multinomials)"});
     v(self.depth, {"depth",
                    "An RGB-D camera: plan from each blob's footprint and height "
                    "measured from depth"});
@@ -999,6 +1010,11 @@ void LearnHeldOut::describe(Self& self, Visitor& v) {
 /// an existing out without overwrite, unreadable --vocabulary/--model.
 LearnResult run_learn(const LearnOptions& options, robot::Robot& robot, TableAttendant& attendant,
                       int classes, const core::Provenance& provenance);
+
+/// The scoring options run_learn gives score_self_supervision for `options` (already
+/// resolved): the named objects, seed, image size, held-out views, features, masks, MoT, the
+/// oracle ladder and (ladder_pooled) the ladder's pooled words classifier.
+SelfSupervisionOptions learn_score_options(const LearnOptions& options);
 
 /// The simulated table run_learn (below) makes of `options` (already resolved): the named
 /// objects, the clutter, the backdrop and distractors, the seed, the image size, the ground-truth
