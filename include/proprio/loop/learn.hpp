@@ -268,7 +268,9 @@ struct LearnOptions {
   bool keep_in_reach = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
-  /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics.
+  /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics, each only where
+  /// that option holds its default (resolved()): a value given equal to its default (e.g.
+  /// `--quick --pushes 6`) cannot be told from one not given and becomes the quick one.
   bool quick = false;
   /// Dense by default: its views were purer (docs/results/learn.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
@@ -414,7 +416,9 @@ struct LearnOptions {
        "taken last"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
-    v(self.quick, {"quick", "Small and fast: 3 pushes, 240x180, 100 words, 6 topics"});
+    v(self.quick,
+      {"quick",
+       "Small and fast: 3 pushes, 240x180, 100 words, 6 topics (each where left at its default)"});
     v.choice(self.segmentation, {"segmentation", "Push segmentation: sparse or dense"},
              kPushSegmentationNames);
     v.choice(self.dirichlet_update,
