@@ -321,6 +321,10 @@ def trace_learn(run):
     extra = [f"{g.get('off_table', 0)} off the table"] if g.get("off_table", 0) else []
     if none:
         extra.append(f"{none} turns chose nothing (every blob in reach taken for a known object)")
+    dup = [f"t{c + 1} ({class_object[c]})" for c in range(len(class_object))
+           if class_object[c] and class_object[c] in class_object[:c]]
+    if dup:
+        extra.append("turns whose class repeats an earlier class's object: " + ", ".join(dup))
     return named, rows, extra
 
 
@@ -415,6 +419,11 @@ def trace_self(path):
                     flags[f"at a choice: {w}"] += 1
         rows.append((obj, cause, ev, flags))
     extra = [f"{g.get('off_table', 0)} off the table"] if g.get("off_table", 0) else []
+    co = g["class_object"]
+    dup = [f"round {c + 1} ({co[c]}, chose {g['class_chosen'][c] or '-'})"
+           for c in range(len(co)) if co[c] and co[c] in co[:c]]
+    if dup:
+        extra.append("rounds spent on an object learned already: " + ", ".join(dup))
     return named, rows, extra
 
 
