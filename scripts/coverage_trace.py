@@ -44,6 +44,9 @@ CAUSES = {
 
 
 # ---------------------------------------------------------------- ground-truth masks (stdlib)
+PUSHES = Counter()  # learn runs: executed pushes by drift and how their blob was located
+
+
 def read_png16(path):
     """A 16-bit greyscale PNG as (width, height, flat list of ints)."""
     data = open(path, "rb").read()
@@ -317,6 +320,17 @@ def trace_learn(run):
         if moved:
             ev.append("moved in " + " ".join(f"#{p['index']}" for p in moved))
         rows.append((obj, cause, ev, flags))
+    # Every executed push: aimed at the turn's chosen object or not (drift), by how its blob was
+    # found (located: chosen, segmented, top-down, tracked); and those aimed at a missed object
+    # in another object's turn.
+    for p in pushes:
+        if not p["executed"] or not p.get("intended"):
+            continue
+        c = cls_index[p["class"]]
+        drift = p["intended"] != class_chosen[c]
+        PUSHES[f"executed pushes {'aimed at another object than the turn chose' if drift else 'aimed at the chosen object'}, located {p['located']}"] += 1
+        if drift and p["intended"] in missed:
+            PUSHES[f"of them aimed at a missed object, located {p['located']}"] += 1
     none = sum(1 for e in dec if e["event"] == "none-chosen")
     extra = [f"{g.get('off_table', 0)} off the table"] if g.get("off_table", 0) else []
     if none:
@@ -469,6 +483,10 @@ def main(args):
     print("== what else the missed objects' logs say (counts over them):")
     for k, v in sorted(flag_total.items()):
         print(f"  {v:4d}  {k}")
+    if PUSHES:
+        print("== learn runs' executed pushes (ground truth: intended against the turn's choice):")
+        for k, v in sorted(PUSHES.items()):
+            print(f"  {v:4d}  {k}")
     return 0
 
 
