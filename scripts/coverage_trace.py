@@ -15,15 +15,24 @@ it scores 0 % held out whatever the classifier. For each, the cause is one of
     it), merged (a neighbour's blob centre lies on it), no-blob (in reach, in view, no blob:
     too few features or not standing out of the table), unseen (fewer than 15 pixels: hidden,
     out of the camera's view or off the table));
-  2 a candidate but skipped at every choice (the logged reason per turn: not-drawn, less-new,
-    known, no-features, start-blocked, ...; the turns ran out with it still a candidate);
-  3 chosen (or pushed on purpose) but its turn's pushes went to another object (the class is
-    named after the object its pushes pushed most: ties go to the first name);
+  2 a candidate at the last choice look too, skipped at every choice (the logged reason per turn:
+    not-drawn, less-new, known (as which class; by its region or top-down / where it was left),
+    no-features; selfsupervise: not-drawn, claimed-by-class-N, lower-score(its distance < the
+    chosen's)); the turns ran out with it still a candidate (selfsupervise re-scatters the table
+    every round: there a candidate at any round's choice);
+  3 chosen (learn: the object under the turn's chosen blob; selfsupervise: also a round's first
+    choice lost while clearing) but its turn's pushes went (also) to another object: the class
+    is named after the object its executed pushes were aimed at most (ties to the first name);
   4 chosen and pushed, but its pushes gave no views (refused, nothing segmented);
   5 a candidate earlier, then moved by a push (push number, whose turn, aimed at what) and never
     a candidate again (out of reach, off the table, merged into a neighbour).
-The masks are read from pushes/push_NNN/episode/masks (16-bit PNG, decoded here with zlib); the
-table-to-image projection from the episode's calib.yml (K, R, t; the table is z = 0).
+The sub-status of a look where it was no candidate comes from the masks in
+pushes/push_NNN/episode/masks (16-bit PNG, decoded here with zlib; runs with --oracle-ladder keep
+them) and the episode's calib.yml (K, R, t; the table is z = 0); without masks it is "absent",
+or a guess marked "?" from the planned target of the last push aimed at it.
+Then, over the runs: the causes, what else the missed objects' logs say (skip reasons, drift onto
+them, ties lost for a class's name) and, for learn, every executed push by drift and how its
+blob was located.
 """
 import json
 import math
@@ -37,7 +46,7 @@ from collections import Counter, defaultdict
 CAUSES = {
     1: "never a candidate",
     2: "a candidate, skipped at every choice",
-    3: "chosen / pushed on purpose, its turn's pushes went to another object",
+    3: "chosen, its turn's pushes went (also) to another object",
     4: "chosen and pushed, no views",
     5: "a candidate, then moved by a push and never a candidate again",
 }
@@ -451,7 +460,7 @@ def why_self(choose, k):
     if s is None:
         return "?"
     if s.get("claimed_by", -1) >= 0 and not choose["why"].startswith("every blob"):
-        return f"claimed-by-class-{s['claimed_by']}"
+        return f"claimed-by-class-{s['claimed_by'] + 1}"
     best = sc.get(choose["blob"], {}).get("nearest", float("nan"))
     return f"lower-score({s['nearest']:.2f}<{best:.2f})"
 
