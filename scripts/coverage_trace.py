@@ -300,8 +300,9 @@ def trace_learn(run):
                 x = re.sub(r"[(][^,]*,", "(", x)
                 flags[f"skipped while a candidate at a scored choice: {x}"] += 1
             if skips:
+                kinds = Counter(re.sub(r"[(].*", "", x) for x in skips).most_common()
                 ev.append(f"skipped at the scored choices: {len(skips)} "
-                          f"({', '.join(f'{k} {v}' for k, v in Counter(re.sub(r'[(].*', '', x) for x in skips).most_common())})")
+                          f"({', '.join(f'{k} {v}' for k, v in kinds)})")
         for c in sorted(set(chosen) | set(turns_aimed)):
             tp = [p for p in pushes if cls_index[p["class"]] == c]
             seq = " ".join(
@@ -337,7 +338,9 @@ def trace_learn(run):
             continue
         c = cls_index[p["class"]]
         drift = p["intended"] != class_chosen[c]
-        PUSHES[f"executed pushes {'aimed at another object than the turn chose' if drift else 'aimed at the chosen object'}, located {p['located']}"] += 1
+        aim = "aimed at another object than the turn chose" if drift else \
+            "aimed at the chosen object"
+        PUSHES[f"executed pushes {aim}, located {p['located']}"] += 1
         if drift and p["intended"] in missed:
             PUSHES[f"of them aimed at a missed object, located {p['located']}"] += 1
     none = sum(1 for e in dec if e["event"] == "none-chosen")
