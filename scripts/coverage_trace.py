@@ -327,8 +327,25 @@ def trace_learn(run):
                       f"{len(execd)} pushes, {sum(p['views'] for p in execd)} views, "
                       f"in classes named after others")
         ev.append("looks: " + " ".join(f"t{c + 1}:{s}" for c, _, s in status))
+        ob = next(o for o in g["objects"] if o["name"] == obj)
+        if ob.get("tipped", 0) or ob.get("tipped_by_others", 0):
+            flags["tipped over in the run (stood before a push, lay after)"] += 1
+            ev.append(f"tipped over: by {ob.get('tipped', 0)} push(es) aimed at it, "
+                      f"{ob.get('tipped_by_others', 0)} aimed at others")
         if moved:
             ev.append("moved in " + " ".join(f"#{p['index']}" for p in moved))
+            # Moving in every executed push from some push to the run's end, whatever was
+            # pushed: rolling (lying, or off the table).
+            ex = [p["index"] for p in pushes if p["executed"]]
+            mv = {p["index"] for p in moved}
+            k = len(ex)
+            while k > 0 and ex[k - 1] in mv:
+                k -= 1
+            if len(ex) - k >= 5:
+                flags["moving in every push to the end (rolling: lying or off the table?)"] += 1
+                ev.append(f"moving in every executed push from #{ex[k]} to the end "
+                          f"({len(ex) - k} pushes, whatever was pushed): rolling (lying or off "
+                          f"the table?)")
         rows.append((obj, cause, ev, flags))
     # Every executed push: aimed at the turn's chosen object or not (drift), by how its blob was
     # found (located: chosen, segmented, top-down, tracked); and those aimed at a missed object
