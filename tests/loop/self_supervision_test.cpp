@@ -1070,22 +1070,38 @@ TEST(SelfSupervision, FaultsAreLoggedOutcomesNotCrashes) {
   EXPECT_THROW(learn_by_pushing(sim_robot, attendant, 0, m.lda, m.vocabulary, o, {}), Error);
 }
 
+// learn_by_pushing of 2 classes on the simulated table of `o` (the tiny model made from its
+// first look; the attendant kept for scoring). `masks`: the table records the ground-truth masks
+// (the oracle ladder's).
+struct TableRun {
+  std::optional<TinyModel> tiny;
+  Learning l;
+  std::unique_ptr<GroundTruthAttendant> attendant;
+};
+
+TableRun learn_on_table(const SelfSupervisionOptions& o, const std::filesystem::path& dir,
+                        bool masks) {
+  TableRun r;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+  sim::TableOptions t = table_of(o);
+  t.record_masks = masks;
+  sim::SimulatedRobot robot(t, catalogue);
+  r.tiny = tiny_model(robot.look().image);
+  r.attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
+  r.l = learn_by_pushing(robot, *r.attendant, 2, r.tiny->lda, r.tiny->vocabulary, o, dir);
+  return r;
+}
+
 TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   // With the geometry that keeps a round on its object (off by default: measured no better).
   SelfSupervisionOptions o = small_options();
   o.learn_clearance = 0.03;
   o.stop_on_drift = true;
   o.alone_views = true;
-  std::optional<TinyModel> tiny;
-  Learning l;
-  std::unique_ptr<GroundTruthAttendant> attendant;
-  {
-    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
-    sim::SimulatedRobot robot(table_of(o), catalogue);
-    tiny = tiny_model(robot.look().image);
-    attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
-    l = learn_by_pushing(robot, *attendant, 2, tiny->lda, tiny->vocabulary, o, {});
-  }
+  TableRun run = learn_on_table(o, {}, false);
+  const std::optional<TinyModel>& tiny = run.tiny;
+  const Learning& l = run.l;
+  const auto& attendant = run.attendant;
   const TinyModel& m = *tiny;
   EXPECT_EQ(l.classes, 2);
   EXPECT_EQ(l.class_names, (std::vector<std::string>{"object_1", "object_2"}));
@@ -1602,18 +1618,10 @@ TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
   o.views = ViewSource::kMotion;
   o.oracle_ladder = true;
   const test::TempDir dir("proprio_selfsup_ladder_");
-  std::optional<TinyModel> tiny;
-  Learning l;
-  std::unique_ptr<GroundTruthAttendant> attendant;
-  {
-    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
-    sim::TableOptions t = table_of(o);
-    t.record_masks = true;
-    sim::SimulatedRobot robot(t, catalogue);
-    tiny = tiny_model(robot.look().image);
-    attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
-    l = learn_by_pushing(robot, *attendant, 2, tiny->lda, tiny->vocabulary, o, dir.path());
-  }
+  TableRun run = learn_on_table(o, dir.path(), true);
+  const std::optional<TinyModel>& tiny = run.tiny;
+  const Learning& l = run.l;
+  const auto& attendant = run.attendant;
   ASSERT_GT(l.views.labels.size(), 0U);
   ASSERT_EQ(attendant->views().size(), l.views.labels.size());
   double arm = 0;
@@ -1718,18 +1726,10 @@ TEST(SelfSupervision, OwnModelRungsBuildAVocabularyAndLdaOfTheirOwnViews) {
   o.own_words = 30;
   o.own_topics = 4;
   const test::TempDir dir("proprio_selfsup_own_");
-  std::optional<TinyModel> tiny;
-  Learning l;
-  std::unique_ptr<GroundTruthAttendant> attendant;
-  {
-    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
-    sim::TableOptions t = table_of(o);
-    t.record_masks = true;
-    sim::SimulatedRobot robot(t, catalogue);
-    tiny = tiny_model(robot.look().image);
-    attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
-    l = learn_by_pushing(robot, *attendant, 2, tiny->lda, tiny->vocabulary, o, dir.path());
-  }
+  TableRun run = learn_on_table(o, dir.path(), true);
+  const std::optional<TinyModel>& tiny = run.tiny;
+  const Learning& l = run.l;
+  const auto& attendant = run.attendant;
   ASSERT_GT(l.views.labels.size(), 0U);
   ASSERT_EQ(l.views.descriptors.size(), l.views.labels.size());
   for (std::size_t i = 0; i < l.views.labels.size(); ++i) {
