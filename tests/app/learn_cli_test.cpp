@@ -237,6 +237,7 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --mot-word-weight 1.5" + out, "mot-word-weight"},
       {"--objects book --mot-word-per-view=maybe" + out, "mot-word-per-view"},
       {"--objects book --headline best" + out, "headline"},
+      {"--objects book --ladder-pooled" + out, "needs --oracle-ladder"},
       {"--objects book --seg-touch-fm -0.1" + out, "seg-touch-fm"},
       {"--objects book --seg-touch-fm 1.5" + out, "seg-touch-fm"},
       {"--objects book,mug,bottle,rabbit,cd,calculator --clutter giraffe,bike,box" + out,
