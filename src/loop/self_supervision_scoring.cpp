@@ -91,6 +91,27 @@ std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<con
   return w;
 }
 
+std::string pushed_most(std::span<const PushTruth> pushes,
+                        const std::function<bool(int round)>& in_round) {
+  // Ties were once broken by name alone: a class whose three pushes went to three objects was
+  // named after the alphabetically first, whatever its views showed (session 33's trace).
+  std::map<std::string, std::pair<int, int>> counts;  // name -> (pushes aimed, views shown)
+  for (const PushTruth& p : pushes) {
+    if (p.phase != "learn" || !in_round(p.round)) continue;
+    if (p.executed && !p.intended.empty()) ++counts[p.intended].first;
+    if (!p.view_truth.empty()) counts[p.view_truth].second += p.views;
+  }
+  std::string most;
+  std::pair<int, int> best{0, 0};
+  for (const auto& [name, n] : counts) {
+    if (n.first > 0 && n > best) {  // lexicographic: pushes, then views; the map is by name
+      best = n;
+      most = name;
+    }
+  }
+  return most;
+}
+
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push) {
   if (labels.size() != push.size()) {
     throw Error(core::cat({"counts_once: ", std::to_string(labels.size()), " labels but ",
@@ -1002,28 +1023,9 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   s.class_purity.assign(static_cast<std::size_t>(c_count), 0.0);
   int pure_views = 0;
   int all_views = 0;
-  // The object the executed learn pushes of the rounds `in` accepts pushed most ("" none; the
-  // first by name among ties).
-  const auto pushed_most = [&pushes](const auto& in) {
-    std::map<std::string, int> pushed;
-    for (const auto& p : pushes) {
-      if (in(p.round) && p.phase == "learn" && p.executed && !p.intended.empty()) {
-        ++pushed[p.intended];
-      }
-    }
-    std::string most;
-    int best = 0;
-    for (const auto& [name, n] : pushed) {
-      if (n > best) {
-        best = n;
-        most = name;
-      }
-    }
-    return most;
-  };
   for (int c = 0; c < c_count; ++c) {
     s.class_object[static_cast<std::size_t>(c)] =
-        pushed_most([&class_of, c](int r) { return class_of(r) == c; });
+        pushed_most(pushes, [&class_of, c](int r) { return class_of(r) == c; });
     int pure = 0;
     int views = 0;
     for (const auto& p : pushes) {
@@ -1039,7 +1041,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   }
   s.purity = fraction(pure_views, all_views);
   for (std::size_t r = 0; r < rounds.size(); ++r) {
-    s.round_object.push_back(pushed_most([r](int round) { return round == static_cast<int>(r); }));
+    s.round_object.push_back(
+        pushed_most(pushes, [r](int round) { return round == static_cast<int>(r); }));
   }
   for (int c = 0; c < c_count; ++c) {
     // The class's first round (its own with one round an object).

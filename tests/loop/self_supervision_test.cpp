@@ -1915,5 +1915,41 @@ TEST(SelfSupervision, WeightedWordMultinomialsKnownAnswers) {
   EXPECT_THROW((void)counts_once(std::vector<int>{0}, std::vector<int>{0, 1}), Error);
 }
 
+TEST(SelfSupervision, PushedMostNamesByPushesThenViewsThenName) {
+  const auto push = [](int round, const char* intended, int views, const char* shown,
+                       bool executed = true) {
+    PushTruth p;
+    p.round = round;
+    p.phase = "learn";
+    p.intended = intended;
+    p.executed = executed;
+    p.views = views;
+    p.view_truth = shown;
+    return p;
+  };
+  std::vector<PushTruth> pushes{
+      // Round 0: three pushes to three objects (a 1-1-1 tie); the views show the giraffe most.
+      push(0, "bottle", 2, "bottle"), push(0, "book", 1, "book"), push(0, "giraffe", 5, "giraffe"),
+      // Round 1: the bottle twice, the book once with many views: pushes come first.
+      push(1, "bottle", 1, "bottle"), push(1, "bottle", 1, "bottle"), push(1, "book", 9, "book"),
+      // Round 2: a tie in pushes and in views: the first by name.
+      push(2, "cd", 3, "cd"), push(2, "book", 3, "book"),
+      // Round 3: views of an object no push was aimed at do not name it; a push not executed
+      // does not count.
+      push(3, "cd", 0, "giraffe"), push(3, "cd", 0, "", false), push(3, "book", 2, "giraffe")};
+  pushes.push_back(push(4, "book", 4, "book"));
+  pushes.back().phase = "clear";  // clearing pushes name nothing
+  const auto round = [&pushes](int r) {
+    return pushed_most(pushes, [r](int x) { return x == r; });
+  };
+  EXPECT_EQ(round(0), "giraffe");  // by name alone it was "book"
+  EXPECT_EQ(round(1), "bottle");
+  EXPECT_EQ(round(2), "book");
+  EXPECT_EQ(round(3), "book");  // 1-1 tie; "giraffe" was shown but never aimed at
+  EXPECT_EQ(round(4), "");
+  EXPECT_EQ(round(5), "");
+  EXPECT_EQ(pushed_most(pushes, [](int x) { return x <= 1; }), "bottle");  // 3 pushes of 6
+}
+
 }  // namespace
 }  // namespace proprio::loop

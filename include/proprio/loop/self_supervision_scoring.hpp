@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <span>
@@ -165,6 +166,14 @@ std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<con
 /// 1 / (views of its group) for each view, its group the pair (labels[i], push[i]): every push's
 /// views weigh 1 together. Throws Error when labels and push differ in number.
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push);
+
+/// The object the executed learn pushes (phase "learn") of the rounds `in_round` accepts were
+/// aimed at most (PushTruth::intended), "" when there is none. Among ties, the one those rounds'
+/// training views show most (PushTruth::view_truth weighed by PushTruth::views: what the class
+/// learned), then the first by name. Names each learned class (SelfSupervisionScore::
+/// class_object) and round (round_object); scoring only, the robot never sees it.
+std::string pushed_most(std::span<const PushTruth> pushes,
+                        const std::function<bool(int round)>& in_round);
 
 /// Per object: what the learner made of it.
 struct ObjectScore {
