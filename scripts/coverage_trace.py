@@ -22,7 +22,8 @@ it scores 0 % held out whatever the classifier. For each, the cause is one of
     every round: there a candidate at any round's choice);
   3 chosen (learn: the object under the turn's chosen blob; selfsupervise: also a round's first
     choice lost while clearing) but its turn's pushes went (also) to another object: the class
-    is named after the object its executed pushes were aimed at most (ties to the first name);
+    is named after the object its executed pushes were aimed at most (ties: the one its views
+    show most, then the first name; before session 34 the first name alone);
   4 chosen and pushed, but its pushes gave no views (refused, nothing segmented);
   5 a candidate earlier, then moved by a push (push number, whose turn, aimed at what) and never
     a candidate again (out of reach, off the table, merged into a neighbour).
@@ -311,14 +312,15 @@ def trace_learn(run):
             ev.append(f"t{c + 1} chose {class_chosen[c] or '-'}, named "
                       f"{class_object[c] or '-'}: {seq or 'no push'}")
         # The classes its executed pushes were in: named after the object most pushed (the
-        # intended one), ties to the first name; did it tie for the most and lose on the name?
+        # intended one), ties to the object the views show most, then the first name
+        # (loop::pushed_most; runs before session 34: the first name); did it tie and lose?
         for c in sorted({cls_index[p["class"]] for p in execd}):
             n = Counter(p["intended"] for p in pushes if cls_index[p["class"]] == c
                         and p["executed"] and p.get("intended"))
             if n[obj] == max(n.values()) and class_object[c] != obj:
-                flags["lost a tie for a class's name (ties go to the first name)"] += 1
+                flags["lost a tie for a class's name"] += 1
                 ev.append(f"t{c + 1}: tied for the most pushes ({n[obj]}) with "
-                          f"{class_object[c]}, which the class is named after (first name)")
+                          f"{class_object[c]}, which the class is named after")
         if execd and not chosen:
             flags["pushed on purpose in other objects' turns (drift onto it): objects"] += 1
             flags["pushed on purpose in other objects' turns: their views"] += sum(
