@@ -1105,6 +1105,12 @@ class Learner {
   int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
              std::string& how) {
     const ObjectModel& om = models_[static_cast<std::size_t>(c)];
+    if (o_.region_agree > 0 && lost_) {
+      // The last push put it nowhere near its target: whatever lies there now is no better
+      // than a neighbour; the turn moves on.
+      how = "lost";
+      return -1;
+    }
     if (o_.region_agree > 0 && agreed_) {
       // The last push left it near its target: its region's blob (which lies there), else the
       // blob nearest where it was found after the push.
@@ -1532,6 +1538,7 @@ class Learner {
     bool first = true;
     held_ = false;
     agreed_ = false;
+    lost_ = false;
     bool checked = false;  // the identity check of the turn's first push with views is done
     int merges = 0;        // the turn's pushes merged into known objects (identity_margin)
     // The turn starts again on blob k of the view (logged "rechoose", why).
@@ -1544,6 +1551,7 @@ class Learner {
       first = true;
       held_ = false;
       agreed_ = false;
+      lost_ = false;
     };
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
@@ -1574,7 +1582,10 @@ class Learner {
       const int blob = first ? k : locate(c, view, last, how);
       first = false;
       if (blob < 0) {
-        fault(c, "lost", "the object is no longer in view (off the table or out of reach)");
+        fault(c, "lost",
+              how == "lost" ? "region_agree: no blob near where the last push meant to put the "
+                              "object; moving on"
+                            : "the object is no longer in view (off the table or out of reach)");
         break;
       }
       last = view.objects[static_cast<std::size_t>(blob)].centre;
@@ -1711,9 +1722,16 @@ class Learner {
         agreed_ =
             now >= 0 && (after.objects[static_cast<std::size_t>(now)].centre - p.target).norm() <=
                             o_.region_agree;
+        if (!agreed_) {
+          // No blob near where the push meant to put it (off the table, out of reach, merged
+          // with a neighbour): lost; where it was meant to be is where it was left.
+          lost_ = true;
+          now = -1;
+          last = p.target;
+        }
       }
-      if (now < 0) now = track(after, p.target, kLandRadius);
-      if (now < 0) now = track(after, last, kTrackRadius);
+      if (now < 0 && !lost_) now = track(after, p.target, kLandRadius);
+      if (now < 0 && !lost_) now = track(after, last, kTrackRadius);
       if (now >= 0 &&
           (after.objects[static_cast<std::size_t>(now)].centre - last).norm() < kStill) {
         fault(c, "moved-nothing", "the push left the object where it was");
@@ -1839,6 +1857,8 @@ class Learner {
   std::vector<std::optional<Eigen::Vector2d>> aim_of_;
   /// region_agree: the turn's last push left its object within region_agree of the target.
   bool agreed_ = false;
+  /// region_agree: the turn's last executed push left no blob near its target: the turn ends.
+  bool lost_ = false;
   double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
   /// The object's transit was refused: pushes away from the base are preferred (their start lies
   /// between the base and the object, reached without passing over it).
