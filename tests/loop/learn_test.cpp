@@ -774,8 +774,9 @@ TEST(Learn, RegionAgreeNamesNoCandidateFarFromWhereThePushMeantToPutTheObject) {
   // One class, three pushes. Off (the default), the turn's later pushes are located by the last
   // push's segmented region ("segmented"). With region_agree at 1 mm no blob's centre lies that
   // near a push's target: the region names no candidate (logged: "region-agree" events, or the
-  // look's "candidates" event with depth candidates), so no push is located "segmented"; at
-  // 0.5 m every candidate is near enough and the region names the same candidates as off.
+  // look's "candidates" event with depth candidates), so no push is located "segmented" (and
+  // the turn ends: the object is lost); at 0.5 m every candidate is near enough and the region
+  // names the same candidates as off.
   const test::TempDir dir("proprio_learn_agree_");
   const SmallTable t;
   for (const double agree : {0.0, 0.001, 0.5}) {
@@ -800,9 +801,15 @@ TEST(Learn, RegionAgreeNamesNoCandidateFarFromWhereThePushMeantToPutTheObject) {
         ++moved;
       }
     }
+    int executed = 0;
+    for (const LearnPush& p : r.pushes) executed += p.executed ? 1 : 0;
     if (agree == 0.001) {
       EXPECT_EQ(segmented, 0) << events_of(out / "decisions.jsonl");
       EXPECT_GE(moved, 1) << events_of(out / "decisions.jsonl");
+      // ... and no blob lies within 1 mm of the first push's target: the object is lost there,
+      // the turn ends after its first executed push (no push aimed at whatever lies nearest).
+      EXPECT_EQ(executed, 1) << events_of(out / "decisions.jsonl");
+      EXPECT_NE(events_of(out / "decisions.jsonl").find("fault:lost"), std::string::npos);
     } else {
       EXPECT_GE(segmented, 1) << events_of(out / "decisions.jsonl");
       EXPECT_EQ(moved, 0) << events_of(out / "decisions.jsonl");

@@ -268,9 +268,11 @@ struct LearnOptions {
   bool keep_in_reach = false;
   /// Hold a known object's segmented region to where its push meant to put it (session 34): a
   /// region (what moved with the arm in the object's last push, known_candidates) names only a
-  /// candidate whose centre lies within this distance of that push's planned target, m; and
-  /// within a turn, when the region names none, the next push is aimed at the blob nearest that
-  /// target (within this distance) before top-down recognition. The region otherwise names the
+  /// candidate whose centre lies within this distance of that push's planned target, m; within
+  /// a turn, when the region names none, the next push is aimed at the blob nearest that target
+  /// (within this distance, "held"), and when no blob lies that near the target the object is
+  /// lost: the turn ends (where it was left: the target), no push goes to whatever lies nearest
+  /// (top-down recognition, the landing radius). The region otherwise names the
   /// candidate lying most inside it, which is often a neighbour that moved with the object or lay
   /// beside it: over 16 learn runs 96 of the 131 pushes aimed at another object than the turn
   /// chose were located so, and an earlier turn's region lying on an object never pushed was the
@@ -428,7 +430,7 @@ struct LearnOptions {
     v(self.region_agree,
       {"region_agree",
        "A known object's segmented region names only a candidate within this of its last "
-       "push's target (else the blob nearest that target, then top-down), m; 0 off",
+       "push's target (else the blob nearest that target; none: the turn ends), m; 0 off",
        core::between(0.0, 0.5)});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
