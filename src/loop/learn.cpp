@@ -468,6 +468,7 @@ class Learner {
     left_at_.resize(static_cast<std::size_t>(classes));
     region_of_.resize(static_cast<std::size_t>(classes));
     blob_of_.assign(static_cast<std::size_t>(classes), -1);
+    aim_of_.assign(static_cast<std::size_t>(classes), std::nullopt);
     end_of_.resize(static_cast<std::size_t>(classes));
     own_.resize(static_cast<std::size_t>(classes));
   }
@@ -666,6 +667,21 @@ class Learner {
     v.objects = std::move(kept);
     dropped_far_ += static_cast<int>(far_.size());
     for (int& f : found) f = f >= 0 ? index[static_cast<std::size_t>(f)] : -1;
+    if (o_.region_agree > 0) {
+      // region_agree: a region names only a blob near where its push meant to put the object.
+      for (std::size_t k = 0; k < found.size(); ++k) {
+        if (found[k] >= 0 && !near_aim(k, v.objects[static_cast<std::size_t>(found[k])])) {
+          const double off =
+              (v.objects[static_cast<std::size_t>(found[k])].centre - *aim_of_[k]).norm();
+          log({.event = "region-agree",
+               .object = static_cast<int>(k),
+               .blob = found[k],
+               .why = core::printf_string(
+                   "its region's blob lies %.3f m from its last push's target: not it", off)});
+          found[k] = -1;
+        }
+      }
+    }
     blob_of_ = found;
     if (split > blobs) {
       ++splits_;
@@ -754,7 +770,28 @@ class Learner {
       wrote_candidates_ = true;
     }
     v.objects = std::move(kept);
-    std::vector<int> found = known_candidates(regions, masks, end_of_);
+    std::string held;
+    std::vector<cv::Mat> agreed = regions;
+    if (o_.region_agree > 0) {
+      // region_agree: a region does not name a candidate far from where its push meant to put
+      // the object (its pixels on such a candidate are cut out of it).
+      for (std::size_t r = 0; r < agreed.size(); ++r) {
+        if (agreed[r].empty()) continue;
+        for (std::size_t i = 0; i < masks.size(); ++i) {
+          if (near_aim(r, v.objects[i])) continue;
+          if (agreed[r].data == regions[r].data) agreed[r] = agreed[r].clone();
+          agreed[r].setTo(0, masks[i]);
+        }
+      }
+      const std::vector<int> plain = known_candidates(regions, masks, end_of_);
+      const std::vector<int> near = known_candidates(agreed, masks, end_of_);
+      for (std::size_t r = 0; r < plain.size(); ++r) {
+        if (plain[r] == near[r]) continue;
+        held += core::cat({"; object ", std::to_string(r), "'s region: candidate ",
+                           std::to_string(plain[r]), " -> ", std::to_string(near[r])});
+      }
+    }
+    std::vector<int> found = known_candidates(agreed, masks, end_of_);
     std::vector<KnownBlob> known;
     for (std::size_t k = 0; k < found.size(); ++k) {
       if (found[k] >= 0) known.push_back({static_cast<int>(k), found[k]});
@@ -764,7 +801,7 @@ class Learner {
          .blobs_before = static_cast<int>(blobs),
          .blobs_after = static_cast<int>(v.objects.size()),
          .by = core::cat({"depth: ", std::to_string(cands.size()), " candidates, ",
-                          std::to_string(untextured), " without features"})});
+                          std::to_string(untextured), " without features", held})});
     return found;
   }
 
@@ -1058,10 +1095,34 @@ class Learner {
     return pools;
   }
 
+  // region_agree: does blob `b` lie where object k's last push (the one that gave its region)
+  // meant to put it? True when that push is unknown.
+  [[nodiscard]] bool near_aim(std::size_t k, const planning::PutativeObject& b) const {
+    return k >= aim_of_.size() || !aim_of_[k] || (b.centre - *aim_of_[k]).norm() <= o_.region_agree;
+  }
+
   // Where is object c in the current look? Top-down when it has a model, else by position.
   int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
              std::string& how) {
     const ObjectModel& om = models_[static_cast<std::size_t>(c)];
+    if (o_.region_agree > 0 && lost_) {
+      // The last push put it nowhere near its target: whatever lies there now is no better
+      // than a neighbour; the turn moves on.
+      how = "lost";
+      return -1;
+    }
+    if (o_.region_agree > 0 && agreed_) {
+      // The last push left it near its target: its region's blob (which lies there), else the
+      // blob nearest where it was found after the push.
+      if (const int b = blob_of_[static_cast<std::size_t>(c)]; b >= 0) {
+        how = "segmented";
+        return b;
+      }
+      if (const int b = track(view, last, o_.region_agree); b >= 0) {
+        how = "held";
+        return b;
+      }
+    }
     if (o_.hold_target && held_) {
       // Where the last push landed it (the blob nearest its target): held on to.
       if (const int b = track(view, last, kTrackRadius); b >= 0) {
@@ -1476,6 +1537,8 @@ class Learner {
     int attempts = 0;
     bool first = true;
     held_ = false;
+    agreed_ = false;
+    lost_ = false;
     bool checked = false;  // the identity check of the turn's first push with views is done
     int merges = 0;        // the turn's pushes merged into known objects (identity_margin)
     // The turn starts again on blob k of the view (logged "rechoose", why).
@@ -1487,6 +1550,8 @@ class Learner {
       extra_approach_ = 0;
       first = true;
       held_ = false;
+      agreed_ = false;
+      lost_ = false;
     };
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
@@ -1517,7 +1582,10 @@ class Learner {
       const int blob = first ? k : locate(c, view, last, how);
       first = false;
       if (blob < 0) {
-        fault(c, "lost", "the object is no longer in view (off the table or out of reach)");
+        fault(c, "lost",
+              how == "lost" ? "region_agree: no blob near where the last push meant to put the "
+                              "object; moving on"
+                            : "the object is no longer in view (off the table or out of reach)");
         break;
       }
       last = view.objects[static_cast<std::size_t>(blob)].centre;
@@ -1634,6 +1702,7 @@ class Learner {
       const int owner = same ? *same : c;
       update_regions(owner, seg,
                      view.camera.project(Eigen::Vector3d(p.push.end.x(), p.push.end.y(), 0.0)));
+      if (!seg.view_masks.empty()) aim_of_[static_cast<std::size_t>(owner)] = p.target;
       // Did the object move? Where its motion segmentation left it, else near the plan's target,
       // else where it was.
       const planning::PlanningView after = plan_view();
@@ -1645,8 +1714,24 @@ class Learner {
         held_ = now >= 0;
       }
       if (now < 0) now = blob_of_[static_cast<std::size_t>(owner)];
-      if (now < 0) now = track(after, p.target, kLandRadius);
-      if (now < 0) now = track(after, last, kTrackRadius);
+      agreed_ = false;
+      if (o_.region_agree > 0 && !same) {
+        // region_agree: its region's blob lies near the target (or it has none); else the blob
+        // nearest the target, within region_agree.
+        if (now < 0) now = track(after, p.target, o_.region_agree);
+        agreed_ =
+            now >= 0 && (after.objects[static_cast<std::size_t>(now)].centre - p.target).norm() <=
+                            o_.region_agree;
+        if (!agreed_) {
+          // No blob near where the push meant to put it (off the table, out of reach, merged
+          // with a neighbour): lost; where it was meant to be is where it was left.
+          lost_ = true;
+          now = -1;
+          last = p.target;
+        }
+      }
+      if (now < 0 && !lost_) now = track(after, p.target, kLandRadius);
+      if (now < 0 && !lost_) now = track(after, last, kTrackRadius);
       if (now >= 0 &&
           (after.objects[static_cast<std::size_t>(now)].centre - last).norm() < kStill) {
         fault(c, "moved-nothing", "the push left the object where it was");
@@ -1768,6 +1853,12 @@ class Learner {
   std::vector<planning::PutativeObject> obstacles_;
   /// hold_target: the object's last position (`last`) is the blob nearest its last push's target.
   bool held_ = false;
+  /// region_agree: per object, the planned target of its last push that gave it a region, m.
+  std::vector<std::optional<Eigen::Vector2d>> aim_of_;
+  /// region_agree: the turn's last push left its object within region_agree of the target.
+  bool agreed_ = false;
+  /// region_agree: the turn's last executed push left no blob near its target: the turn ends.
+  bool lost_ = false;
   double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
   /// The object's transit was refused: pushes away from the base are preferred (their start lies
   /// between the base and the object, reached without passing over it).

@@ -134,6 +134,12 @@ TEST(Learn, BadOptionsThrow) {
   o.dense.touch_fm = 1.1;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
+  EXPECT_DOUBLE_EQ(o.region_agree, 0.0);  // off by default (session 34)
+  o.region_agree = -0.01;
+  EXPECT_THROW(o.validate(), Error);
+  o.region_agree = 0.51;
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
   o.clutter = "";
   EXPECT_NO_THROW(o.validate());
 }
@@ -760,6 +766,53 @@ TEST(Learn, HoldTargetAimsTheNextPushAtTheBlobWhereThePushMeantToLandTheObject) 
       EXPECT_GE(held, 1) << events_of(out / "decisions.jsonl");
     } else {
       EXPECT_EQ(held, 0);
+    }
+  }
+}
+
+TEST(Learn, RegionAgreeNamesNoCandidateFarFromWhereThePushMeantToPutTheObject) {
+  // One class, three pushes. Off (the default), the turn's later pushes are located by the last
+  // push's segmented region ("segmented"). With region_agree at 1 mm no blob's centre lies that
+  // near a push's target: the region names no candidate (logged: "region-agree" events, or the
+  // look's "candidates" event with depth candidates), so no push is located "segmented" (and
+  // the turn ends: the object is lost); at 0.5 m every candidate is near enough and the region
+  // names the same candidates as off.
+  const test::TempDir dir("proprio_learn_agree_");
+  const SmallTable t;
+  for (const double agree : {0.0, 0.001, 0.5}) {
+    const std::filesystem::path out = dir.path() / std::to_string(agree);
+    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) {
+      o.pushes = 3;
+      o.region_agree = agree;
+    });
+    ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
+    const core::Json rec = core::read_json(out / "learn.json");
+    EXPECT_DOUBLE_EQ(rec["options"]["region_agree"].get<double>(), agree);
+    int segmented = 0;
+    for (const LearnPush& p : r.pushes) segmented += p.located == "segmented" ? 1 : 0;
+    int moved = 0;  // candidates events whose region was moved off a candidate by region_agree
+    std::ifstream in(out / "decisions.jsonl");
+    std::string line;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] == "region-agree" ||
+          (j["event"] == "candidates" &&
+           j.value("by", std::string()).find("'s region: candidate") != std::string::npos)) {
+        ++moved;
+      }
+    }
+    int executed = 0;
+    for (const LearnPush& p : r.pushes) executed += p.executed ? 1 : 0;
+    if (agree == 0.001) {
+      EXPECT_EQ(segmented, 0) << events_of(out / "decisions.jsonl");
+      EXPECT_GE(moved, 1) << events_of(out / "decisions.jsonl");
+      // ... and no blob lies within 1 mm of the first push's target: the object is lost there,
+      // the turn ends after its first executed push (no push aimed at whatever lies nearest).
+      EXPECT_EQ(executed, 1) << events_of(out / "decisions.jsonl");
+      EXPECT_NE(events_of(out / "decisions.jsonl").find("fault:lost"), std::string::npos);
+    } else {
+      EXPECT_GE(segmented, 1) << events_of(out / "decisions.jsonl");
+      EXPECT_EQ(moved, 0) << events_of(out / "decisions.jsonl");
     }
   }
 }

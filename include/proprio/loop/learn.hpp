@@ -266,6 +266,19 @@ struct LearnOptions {
   /// found an object again (7 classes with views on every seed, against 5-7), but held-out MoT
   /// stayed below the defaults' (paired -8.8 +- 21.1 points; docs/results/learn.md, "Session 27").
   bool keep_in_reach = false;
+  /// Hold a known object's segmented region to where its push meant to put it (session 34): a
+  /// region (what moved with the arm in the object's last push, known_candidates) names only a
+  /// candidate whose centre lies within this distance of that push's planned target, m; within
+  /// a turn, when the region names none, the next push is aimed at the blob nearest that target
+  /// (within this distance, "held"), and when no blob lies that near the target the object is
+  /// lost: the turn ends (where it was left: the target), no push goes to whatever lies nearest
+  /// (top-down recognition, the landing radius). The region otherwise names the
+  /// candidate lying most inside it, which is often a neighbour that moved with the object or lay
+  /// beside it: over 16 learn runs 96 of the 131 pushes aimed at another object than the turn
+  /// chose were located so, and an earlier turn's region lying on an object never pushed was the
+  /// tuning seeds' largest cause of skipped candidates (docs/results/learn.md, "Session 33").
+  /// 0: off (the default).
+  double region_agree = 0;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics, each only where
@@ -414,6 +427,11 @@ struct LearnOptions {
       {"keep_in_reach",
        "Push targets and side pushes that end outside the area the arm can push again are "
        "taken last"});
+    v(self.region_agree,
+      {"region_agree",
+       "A known object's segmented region names only a candidate within this of its last "
+       "push's target (else the blob nearest that target; none: the turn ends), m; 0 off",
+       core::between(0.0, 0.5)});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick,
