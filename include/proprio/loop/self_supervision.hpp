@@ -252,7 +252,10 @@ struct SelfSupervisionOptions {
   /// clears it, at most this often a round (logged, event "recheck"). Session 33's coverage
   /// trace: each tuning seed spent one of its 4 rounds on an object already learned, two of
   /// the three after a clearing push merged a learned neighbour into the chosen blob. 0: off
-  /// (the default); needs choice looks.
+  /// (the default); needs choice looks. Off: with 2 on tuning seeds 1, 7, 8 it never chose again
+  /// (9 checks: the chosen blob unclaimed, or every blob claimed), the runs identical to the
+  /// defaults; the looks' claims were right for 6 of 18 claims (4.5 at random)
+  /// (docs/results/selfsupervision.md, "Session 34").
   int recheck_tries = 0;
   /// (a)-(d): more rounds than objects, merged by the robot's own judgement (session 31). The
   /// robot runs up to this many rounds (0: C rounds, the default; otherwise at least C), each
