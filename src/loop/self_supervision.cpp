@@ -305,6 +305,77 @@ class Learner {
     return next.blob;
   }
 
+  // recheck_tries: the learned classes' claims on the blobs of `view` (the last look), as (d)'s
+  // kLooks choice makes them.
+  NextChoice claims(const planning::PlanningView& view) {
+    const int n = static_cast<int>(view.objects.size());
+    std::vector<std::vector<std::int32_t>> docs;
+    std::vector<int> rows;
+    for (int k = 0; k < n; ++k) {
+      auto d = blob_document(view, k);
+      if (!d.empty()) {
+        docs.push_back(std::move(d));
+        rows.push_back(k);
+      }
+    }
+    std::vector<Eigen::VectorXd> blobs(static_cast<std::size_t>(n));
+    if (!docs.empty()) {
+      const Eigen::MatrixXd theta = theta_of(docs);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        blobs[static_cast<std::size_t>(rows[i])] =
+            theta.row(static_cast<Eigen::Index>(i)).transpose();
+      }
+    }
+    return choose_unlearned(blobs, merging() ? group_looks() : class_looks_);
+  }
+
+  // recheck_tries: after (b), the chosen object (at `chosen`) checked again against the learned
+  // classes; while a class claims its blob and another blob is unclaimed, the round chooses
+  // again and clears the new choice. Returns the object to learn (nullopt: lost while clearing).
+  std::optional<Eigen::Vector2d> recheck(int r, Eigen::Vector2d chosen, int& index) {
+    const bool any_looks = std::any_of(class_looks_.begin(), class_looks_.end(),
+                                       [](const auto& l) { return !l.empty(); });
+    if (!any_looks) return chosen;
+    for (int t = 0; t < o_.recheck_tries; ++t) {
+      const planning::PlanningView now = look();
+      const int c = track(now, chosen);
+      if (c < 0) return chosen;  // not found again here: (c) looks and tracks it as without
+      const NextChoice cl = claims(now);
+      std::vector<BlobScore> scores;
+      for (int k = 0; k < static_cast<int>(now.objects.size()); ++k) {
+        const auto b = static_cast<std::size_t>(k);
+        scores.push_back({.blob = k,
+                          .best_log_score = 0.0,
+                          .nearest = cl.nearest[b],
+                          .nearest_class = cl.nearest_class[b],
+                          .claimed_by = cl.claimed_by[b]});
+      }
+      const int by = cl.claimed_by[static_cast<std::size_t>(c)];
+      const bool again = recheck_claimed(cl, c);
+      log({.event = "recheck",
+           .round = r,
+           .blob = c,
+           .why = by < 0 ? "after (b): no learned class claims the chosen blob: (c) starts"
+                  : again
+                      ? core::cat({"after (b): class ", std::to_string(by),
+                                   " claims the chosen blob: choosing again, try ",
+                                   std::to_string(t + 1), " of ", std::to_string(o_.recheck_tries)})
+                      : core::cat({"after (b): class ", std::to_string(by),
+                                   " claims the chosen blob, but every blob is claimed: (c) "
+                                   "starts on it"}),
+           .scores = std::move(scores),
+           .blobs = putative_object_records(now, false)});
+      if (!again) return chosen;
+      const int k2 = choose(r, now);
+      attendant_.chose(r, now, k2);
+      const std::optional<Eigen::Vector2d> next =
+          clear(r, now.objects[static_cast<std::size_t>(k2)].centre, index);
+      if (!next) return std::nullopt;
+      chosen = *next;
+    }
+    return chosen;
+  }
+
   // (c): the chosen object's look (blob `c` of the last look) kept for (d)'s kLooks choice.
   void keep_look(int r, const planning::PlanningView& view, int c) {
     const auto d = blob_document(view, c);
@@ -1272,6 +1343,8 @@ class Learner {
       attendant_.chose(r, now, k2);
       chosen = clear(r, now.objects[static_cast<std::size_t>(k2)].centre, index);
     }
+    // recheck_tries: the chosen blob, after (b), is a learned class's: choose again.
+    if (chosen && o_.recheck_tries > 0) chosen = recheck(r, *chosen, index);
     if (!chosen) {
       out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost while clearing";
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -1517,6 +1590,9 @@ void SelfSupervisionOptions::validate() const {
   mot.validate();
   if (merge_ratio != 0.0 && merge_ratio <= 1.0) {
     throw Error("selfsupervise: merge_ratio must be 0 (off) or above 1");
+  }
+  if (recheck_tries > 0 && choice != NextObjectRule::kLooks) {
+    throw Error("selfsupervise: recheck_tries needs choice looks (the learned classes' claims)");
   }
 }
 
@@ -2113,6 +2189,15 @@ RepeatTest explained_by(const topics::MotModel& model, const Eigen::MatrixXd& kn
   }
   if (best + 1e-12 < share) out.cls = -1;
   return out;
+}
+
+bool recheck_claimed(const NextChoice& claims, int chosen) {
+  if (chosen < 0 || static_cast<std::size_t>(chosen) >= claims.claimed_by.size()) {
+    throw Error("recheck_claimed: the chosen blob is not a blob of the claims");
+  }
+  if (claims.claimed_by[static_cast<std::size_t>(chosen)] < 0) return false;
+  // choose_unlearned chose an unclaimed blob exactly when one was scored and left unclaimed.
+  return claims.blob >= 0 && claims.claimed_by[static_cast<std::size_t>(claims.blob)] < 0;
 }
 
 NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,

@@ -115,6 +115,56 @@ TEST(SelfSupervision, NextObjectIsTheOneNoLearnedClassClaims) {
   EXPECT_EQ(choose_unlearned({Eigen::VectorXd(), Eigen::VectorXd()}, looks).blob, -1);
 }
 
+// recheck_tries: after (b) the chosen blob is checked again; a learned class's claim on it makes
+// the round choose again, unless every blob is claimed (session 34: a clearing push moved a
+// learned neighbour into the chosen object's blob, and the round learned the neighbour again).
+TEST(SelfSupervision, RecheckChoosesAgainWhenALearnedClassClaimsTheChosenBlob) {
+  const std::vector<std::vector<Eigen::VectorXd>> looks{
+      {dist4(0.7, 0.1, 0.1, 0.1), dist4(0.6, 0.2, 0.1, 0.1)},  // class 0: A
+      {dist4(0.1, 0.7, 0.1, 0.1)},                             // class 1: B
+      {dist4(0.1, 0.1, 0.7, 0.1)},                             // class 2: D
+      {}};
+  const std::vector<Eigen::VectorXd> blobs{dist4(0.65, 0.15, 0.1, 0.1),    // 0: A with the new one
+                                           dist4(0.12, 0.68, 0.1, 0.1),    // 1: B
+                                           dist4(0.05, 0.45, 0.05, 0.45),  // 2: unlearned
+                                           dist4(0.1, 0.1, 0.68, 0.12)};   // 3: D
+  const NextChoice cl = choose_unlearned(blobs, looks);
+  ASSERT_EQ(cl.claimed_by, (std::vector<int>{0, 1, -1, 2}));
+  // The chosen blob became A's (claimed by class 0) while blob 2 is unclaimed: choose again.
+  EXPECT_TRUE(recheck_claimed(cl, 0));
+  EXPECT_TRUE(recheck_claimed(cl, 3));
+  // The chosen blob is the unclaimed one: (c) starts on it.
+  EXPECT_FALSE(recheck_claimed(cl, 2));
+  // Every blob claimed (fewer blobs than classes): choosing again could only choose a learned
+  // object, so the round goes on with its own.
+  const NextChoice all = choose_unlearned({blobs[0], blobs[1]}, looks);
+  ASSERT_GE(all.claimed_by[0], 0);
+  EXPECT_FALSE(recheck_claimed(all, 0));
+  EXPECT_FALSE(recheck_claimed(all, 1));
+  // An unscored chosen blob is claimed by no class; no class with looks claims nothing.
+  std::vector<Eigen::VectorXd> with_blank = blobs;
+  with_blank.insert(with_blank.begin(), Eigen::VectorXd());
+  EXPECT_FALSE(recheck_claimed(choose_unlearned(with_blank, looks), 0));
+  EXPECT_TRUE(recheck_claimed(choose_unlearned(with_blank, looks), 1));
+  EXPECT_FALSE(recheck_claimed(choose_unlearned(blobs, {{}, {}}), 0));
+  // Not a blob of the claims.
+  EXPECT_THROW((void)recheck_claimed(cl, -1), Error);
+  EXPECT_THROW((void)recheck_claimed(cl, 4), Error);
+  // The option: off by default, 0..5, only with choice looks.
+  SelfSupervisionOptions o;
+  EXPECT_EQ(o.recheck_tries, 0);
+  o.recheck_tries = 2;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("recheck_tries"), 2);
+  o.recheck_tries = 6;
+  EXPECT_THROW(o.validate(), Error);
+  o.recheck_tries = -1;
+  EXPECT_THROW(o.validate(), Error);
+  o.recheck_tries = 1;
+  o.choice = NextObjectRule::kDirichlet;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 TEST(SelfSupervision, ExplainedByTellsALearnedObjectFromANewOne) {
   // Two learned classes, A (topic 0) and B (topic 1), 8 views each; a round's first views of A
   // again, of a new object C (topic 2), and of A mixed with C.
@@ -1090,6 +1140,65 @@ TableRun learn_on_table(const SelfSupervisionOptions& o, const std::filesystem::
   r.attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
   r.l = learn_by_pushing(robot, *r.attendant, 2, r.tiny->lda, r.tiny->vocabulary, o, dir);
   return r;
+}
+
+// recheck_tries on the simulated table: after (b) of every round with a learned class the chosen
+// blob is checked again (event "recheck", with each blob's claim), and the round does what the
+// check says: choose again (a "choose" before its next push) when a class claims the blob and
+// another is unclaimed, otherwise the learn pushes start on it.
+TEST(SelfSupervision, RecheckAfterClearingIsLoggedAndFollowed) {
+  SelfSupervisionOptions o = small_options();
+  o.recheck_tries = 2;
+  TableRun run = learn_on_table(o, {}, false);
+  const Learning& l = run.l;
+  EXPECT_EQ(l.classes, 2);
+  int rechecks = 0;
+  for (std::size_t i = 0; i < l.log.size(); ++i) {
+    const auto& j = l.log[i];
+    if (j.event != "recheck") continue;
+    ++rechecks;
+    ASSERT_TRUE(j.round && j.blob && j.scores && j.why);
+    EXPECT_GE(*j.round, 1) << "round 1 has no learned class to claim anything";
+    // The event's claims are choose_unlearned's: at most one blob a class.
+    NextChoice cl;
+    std::vector<int> claimed;
+    for (const BlobScore& b : *j.scores) {
+      ASSERT_TRUE(b.claimed_by && b.nearest);
+      cl.claimed_by.push_back(*b.claimed_by);
+      cl.nearest.push_back(*b.nearest);
+      if (*b.claimed_by >= 0) claimed.push_back(*b.claimed_by);
+    }
+    std::sort(claimed.begin(), claimed.end());
+    EXPECT_EQ(std::adjacent_find(claimed.begin(), claimed.end()), claimed.end());
+    // The choice the claims give: the unclaimed scored blob farthest from the classes.
+    double far = -1;
+    for (std::size_t b = 0; b < cl.claimed_by.size(); ++b) {
+      if (cl.claimed_by[b] < 0 && cl.nearest[b] >= 0 && cl.nearest[b] > far) {
+        far = cl.nearest[b];
+        cl.blob = static_cast<int>(b);
+      }
+    }
+    const bool again = recheck_claimed(cl, *j.blob);
+    EXPECT_EQ(j.why->find("choosing again") != std::string::npos, again) << *j.why;
+    // What follows in the round: a new choice, or the learn pushes.
+    std::string next;
+    for (std::size_t k = i + 1; k < l.log.size() && next.empty(); ++k) {
+      const auto& e = l.log[k];
+      if (e.round != j.round) break;
+      if (e.event == "choose") next = "choose";
+      if (e.event == "push" || e.event == "plan") next = e.phase.value_or("");
+    }
+    if (again) {
+      EXPECT_EQ(next, "choose");
+    } else if (!next.empty()) {
+      EXPECT_EQ(next, "learn");
+    }
+  }
+  EXPECT_GE(rechecks, 1);
+  // Off (the default): no recheck.
+  TableRun off = learn_on_table(small_options(), {}, false);
+  EXPECT_TRUE(std::none_of(off.l.log.begin(), off.l.log.end(),
+                           [](const auto& j) { return j.event == "recheck"; }));
 }
 
 TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {

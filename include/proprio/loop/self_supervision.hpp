@@ -243,6 +243,20 @@ struct SelfSupervisionOptions {
   /// 2-6 33.6 +- 13.9% -> 31.5 +- 15.0% (paired -2.1 +- 3.8 points; it fired on 2 seeds, both in
   /// (b)): off (docs/results/selfsupervision.md, "Session 27").
   double merge_ratio = 0.0;
+  /// (b) -> (c): after (b), before the first learn push, the robot looks again and checks the
+  /// chosen blob against the classes learned so far (session 34; choose_unlearned on that look:
+  /// each learned class claims the blob nearest its looks, one blob a class). When a class
+  /// claims the chosen blob (a clearing push moved that class's object into it, or the blob
+  /// tracked is now that object) and some scored blob is unclaimed (recheck_claimed), the round
+  /// chooses again from that look (the unclaimed blob farthest from the classes, 7.2 d) and
+  /// clears it, at most this often a round (logged, event "recheck"). Session 33's coverage
+  /// trace: each tuning seed spent one of its 4 rounds on an object already learned, two of
+  /// the three after a clearing push merged a learned neighbour into the chosen blob. 0: off
+  /// (the default); needs choice looks. Off: with 2 on tuning seeds 1, 7, 8 it never chose again
+  /// (9 checks: the chosen blob unclaimed, or every blob claimed), the runs identical to the
+  /// defaults; the looks' claims were right for 6 of 18 claims (4.5 at random)
+  /// (docs/results/selfsupervision.md, "Session 34").
+  int recheck_tries = 0;
   /// (a)-(d): more rounds than objects, merged by the robot's own judgement (session 31). The
   /// robot runs up to this many rounds (0: C rounds, the default; otherwise at least C), each
   /// round a candidate class with its own views. After each round from the C-th on it groups
@@ -413,6 +427,11 @@ struct SelfSupervisionOptions {
        "Stop a round, without the push's views, when a learn push left fewer blobs and its "
        "object's blob this many times larger (0: off)",
        core::between(0.0, 100.0)});
+    v(self.recheck_tries,
+      {"recheck_tries",
+       "After (b), choose again when a learned class claims the chosen blob, this often (0: "
+       "off)",
+       core::between(0, 5)});
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v(self.rounds,
@@ -590,7 +609,7 @@ struct BlobScore {
 
 /// One line of the decision log (decisions.jsonl): an event and the fields it has (the others are
 /// left out). Events: start, rescatter, look, choose, singulated, plan, push, motion, replan,
-/// refound, views, fault, judge, distance, merge, end.
+/// refound, views, fault, judge, distance, merge, recheck, end.
 struct SelfSupervisionDecision {
   std::string event = {};
   std::optional<int> round = {};          ///< the round (class) it belongs to
@@ -744,6 +763,14 @@ struct NextChoice {
 /// over the matchings: at most 8 classes and 8 blobs take part (more: a greedy matching).
 NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
                             const std::vector<std::vector<Eigen::VectorXd>>& class_looks);
+
+/// (b) -> (c) (SelfSupervisionOptions::recheck_tries): should the round choose again? `claims`:
+/// choose_unlearned on the look after (b); `chosen`: the chosen object's blob in that look.
+/// True when a learned class claims `chosen` and some scored blob is left unclaimed (choosing
+/// again then chooses an object no class claims; when every blob is claimed it could only
+/// choose a learned object, and the round goes on with its own). Throws when `chosen` is not a
+/// blob of `claims`.
+bool recheck_claimed(const NextChoice& claims, int chosen);
 
 /// (c) before a new class (SelfSupervisionOptions::repeat_tries): is a round's first views'
 /// object one the robot has learned already? `model`: the Mixture of Topics of the earlier
