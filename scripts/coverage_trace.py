@@ -474,7 +474,8 @@ def trace_self(path):
 
 def why_self(choose, k):
     """Why selfsupervise's choice passed over blob k: at random, claimed by a learned class's
-    look (the class), or a lower score (its distance to the nearest class, against the chosen)."""
+    look (the class), or a lower score (its distance to the nearest class, against the chosen;
+    --choice dirichlet: its best log score under the classes, higher than the chosen's)."""
     if choose.get("why", "").startswith("at random"):
         return "not-drawn"
     sc = {s["blob"]: s for s in choose.get("scores", [])}
@@ -483,8 +484,12 @@ def why_self(choose, k):
         return "?"
     if s.get("claimed_by", -1) >= 0 and not choose["why"].startswith("every blob"):
         return f"claimed-by-class-{s['claimed_by'] + 1}"
+    if "nearest" not in s and "best_log_score" in s:
+        # --choice dirichlet: the least likely blob under the classes' models is chosen.
+        best = sc.get(choose["blob"], {}).get("best_log_score", float("nan"))
+        return f"more-likely({s['best_log_score']:.1f}>{best:.1f})"
     best = sc.get(choose["blob"], {}).get("nearest", float("nan"))
-    return f"lower-score({s['nearest']:.2f}<{best:.2f})"
+    return f"lower-score({s.get('nearest', float('nan')):.2f}<{best:.2f})"
 
 
 def main(args):
