@@ -226,6 +226,23 @@ class Learner {
     return d;
   }
 
+  // The documents of the blobs of `view` that have enough features, and those blobs' indices.
+  struct BlobDocuments {
+    std::vector<std::vector<std::int32_t>> docs;
+    std::vector<int> rows;
+  };
+  BlobDocuments blob_documents(const planning::PlanningView& view) {
+    BlobDocuments b;
+    for (int k = 0; k < static_cast<int>(view.objects.size()); ++k) {
+      auto d = blob_document(view, k);
+      if (!d.empty()) {
+        b.docs.push_back(std::move(d));
+        b.rows.push_back(k);
+      }
+    }
+    return b;
+  }
+
   // (a) / (d): the blob to learn. Round 0: at random; later (o_.choice): kLooks, the unclaimed
   // blob farthest from every class's looks (choose_unlearned); kDirichlet, the blob whose best
   // log Dir(theta | omega_c) + log p(c) over the classes so far is least.
@@ -239,15 +256,7 @@ class Learner {
       log({.event = "choose", .round = r, .blob = k, .why = "at random (7.2 a)"});
       return k;
     }
-    std::vector<std::vector<std::int32_t>> docs;
-    std::vector<int> rows;
-    for (int k = 0; k < n; ++k) {
-      auto d = blob_document(view, k);
-      if (!d.empty()) {
-        docs.push_back(std::move(d));
-        rows.push_back(k);
-      }
-    }
+    auto [docs, rows] = blob_documents(view);
     if (docs.empty()) {
       const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
       log({.event = "choose",
@@ -309,15 +318,7 @@ class Learner {
   // kLooks choice makes them.
   NextChoice claims(const planning::PlanningView& view) {
     const int n = static_cast<int>(view.objects.size());
-    std::vector<std::vector<std::int32_t>> docs;
-    std::vector<int> rows;
-    for (int k = 0; k < n; ++k) {
-      auto d = blob_document(view, k);
-      if (!d.empty()) {
-        docs.push_back(std::move(d));
-        rows.push_back(k);
-      }
-    }
+    auto [docs, rows] = blob_documents(view);
     std::vector<Eigen::VectorXd> blobs(static_cast<std::size_t>(n));
     if (!docs.empty()) {
       const Eigen::MatrixXd theta = theta_of(docs);
@@ -810,15 +811,7 @@ class Learner {
 
   // (c): which blob of `after` is round r's object (follow_by_looks on the blobs' looks).
   Followed follow(int r, const planning::PlanningView& after, int tracked) {
-    std::vector<std::vector<std::int32_t>> docs;
-    std::vector<int> rows;
-    for (int k = 0; k < static_cast<int>(after.objects.size()); ++k) {
-      auto d = blob_document(after, k);
-      if (!d.empty()) {
-        docs.push_back(std::move(d));
-        rows.push_back(k);
-      }
-    }
+    auto [docs, rows] = blob_documents(after);
     std::vector<Eigen::VectorXd> blobs(after.objects.size());
     if (!docs.empty()) {
       const Eigen::MatrixXd th = theta_of(docs);
