@@ -436,6 +436,11 @@ void LearnOptions::validate() const {
     throw Error(
         "learn: --ladder-pooled scores the oracle ladder's rungs: it needs --oracle-ladder");
   }
+  if (lost_rechoose && !(region_agree > 0)) {
+    throw Error(
+        "learn: --lost-rechoose acts on region_agree's lost object: it needs "
+        "--region-agree > 0");
+  }
   std::vector<std::string> all = parse_object_list(objects);
   for (const auto& c : names_or_empty(clutter)) {
     if (std::find(all.begin(), all.end(), c) != all.end()) {
@@ -1581,6 +1586,16 @@ class Learner {
       std::string how = "chosen";
       const int blob = first ? k : locate(c, view, last, how);
       first = false;
+      if (blob < 0 && how == "lost" && o_.lost_rechoose) {
+        // lost_rechoose: the turn's remaining pushes go to a blob chosen again (7.2 d).
+        fault(c, "lost",
+              "region_agree: no blob near where the last push meant to put the object; "
+              "choosing again");
+        k = choose(c, view, tried);
+        if (k < 0) break;
+        rechoose("region_agree: lost (no blob near the last push's target): chosen again", {});
+        continue;
+      }
       if (blob < 0) {
         fault(c, "lost",
               how == "lost" ? "region_agree: no blob near where the last push meant to put the "

@@ -140,6 +140,12 @@ TEST(Learn, BadOptionsThrow) {
   o.region_agree = 0.51;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
+  EXPECT_FALSE(o.lost_rechoose);  // off by default (session 34, second round)
+  o.lost_rechoose = true;         // acts on region_agree's lost object only
+  EXPECT_THROW(o.validate(), Error);
+  o.region_agree = 0.08;
+  EXPECT_NO_THROW(o.validate());
+  o = LearnOptions();
   o.clutter = "";
   EXPECT_NO_THROW(o.validate());
 }
@@ -813,6 +819,47 @@ TEST(Learn, RegionAgreeNamesNoCandidateFarFromWhereThePushMeantToPutTheObject) {
     } else {
       EXPECT_GE(segmented, 1) << events_of(out / "decisions.jsonl");
       EXPECT_EQ(moved, 0) << events_of(out / "decisions.jsonl");
+    }
+  }
+}
+
+TEST(Learn, LostRechooseChoosesAgainInsteadOfEndingTheTurn) {
+  // One class, three pushes, region_agree at 1 mm: no blob lies that near a push's target, so
+  // the object is lost after every executed push. Without lost_rechoose the turn ends after its
+  // first executed push; with it the turn chooses a blob again (a "rechoose" event naming
+  // region_agree) and its remaining pushes are made: more than one executed push.
+  const test::TempDir dir("proprio_learn_lost_");
+  const SmallTable t;
+  for (const bool again : {false, true}) {
+    const std::filesystem::path out = dir.path() / (again ? "on" : "off");
+    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) {
+      o.pushes = 3;
+      o.region_agree = 0.001;
+      o.lost_rechoose = again;
+    });
+    ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
+    const core::Json rec = core::read_json(out / "learn.json");
+    EXPECT_EQ(rec["options"]["lost_rechoose"].get<bool>(), again);
+    int executed = 0;
+    for (const LearnPush& p : r.pushes) executed += p.executed ? 1 : 0;
+    int rechosen = 0;  // rechoose events after a lost object
+    std::ifstream in(out / "decisions.jsonl");
+    std::string line;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j["event"] == "rechoose" &&
+          j.value("why", std::string()).find("region_agree: lost") != std::string::npos) {
+        ++rechosen;
+      }
+    }
+    const std::string events = events_of(out / "decisions.jsonl");
+    EXPECT_NE(events.find("fault:lost"), std::string::npos) << events;
+    if (again) {
+      EXPECT_GE(rechosen, 1) << events;
+      EXPECT_GT(executed, 1) << events;
+    } else {
+      EXPECT_EQ(rechosen, 0) << events;
+      EXPECT_EQ(executed, 1) << events;
     }
   }
 }

@@ -279,6 +279,12 @@ struct LearnOptions {
   /// tuning seeds' largest cause of skipped candidates (docs/results/learn.md, "Session 33").
   /// 0: off (the default).
   double region_agree = 0;
+  /// region_agree's lost object (session 34, second round): the turn does not end but chooses
+  /// again among the look's blobs by the usual choice (7.2 d: the blob least like the objects
+  /// learned before this turn; logged `rechoose`, "region_agree: lost ..."), and its remaining
+  /// pushes go to the new choice (the class keeps the views it has). Needs region_agree > 0.
+  /// Off by default (docs/results/learn.md, "Session 34, second round").
+  bool lost_rechoose = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics, each only where
@@ -432,6 +438,10 @@ struct LearnOptions {
        "A known object's segmented region names only a candidate within this of its last "
        "push's target (else the blob nearest that target; none: the turn ends), m; 0 off",
        core::between(0.0, 0.5)});
+    v(self.lost_rechoose,
+      {"lost_rechoose",
+       "region_agree's lost object: the turn chooses a blob again (the usual choice) for its "
+       "remaining pushes instead of ending (needs region_agree > 0)"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick,
