@@ -238,6 +238,8 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --mot-word-per-view=maybe" + out, "mot-word-per-view"},
       {"--objects book --headline best" + out, "headline"},
       {"--objects book --ladder-pooled" + out, "needs --oracle-ladder"},
+      {"--objects book --region-agree 0.6" + out, "region-agree"},
+      {"--objects book --lost-rechoose" + out, "needs --region-agree"},
       {"--objects book --seg-touch-fm -0.1" + out, "seg-touch-fm"},
       {"--objects book --seg-touch-fm 1.5" + out, "seg-touch-fm"},
       {"--objects book,mug,bottle,rabbit,cd,calculator --clutter giraffe,bike,box" + out,
