@@ -236,7 +236,7 @@ LearnOptions LearnOptions::resolved() const {
   if (o.candidates == LearnCandidates::kDepth) o.depth = true;  // candidates need the depth image
   if (!quick) return o;
   const LearnOptions d;
-  if (o.pushes == d.pushes) o.pushes = 3;
+  if (o.pushes == d.pushes) o.pushes = o.quick_pushes;
   if (o.width == d.width && o.height == d.height) {
     o.width = 240;
     o.height = 180;

@@ -51,8 +51,20 @@ TEST(Learn, QuickMakesTheRunSmall) {
   EXPECT_LT(q.pushes, o.pushes);
   EXPECT_LT(q.width, o.width);
   EXPECT_LT(q.words, o.words);
+  EXPECT_EQ(q.pushes, 3);  // quick_pushes' default
+  o.quick_pushes = 9;      // session 35: more pushes a turn at quick's size
+  EXPECT_EQ(o.resolved().pushes, 9);
+  EXPECT_EQ(o.resolved().width, q.width);  // the rest stays quick
+  o.quick = false;
+  EXPECT_EQ(o.resolved().pushes, o.pushes);  // not quick: quick_pushes unused
+  o.quick = true;
   o.pushes = 5;  // given explicitly: kept
   EXPECT_EQ(o.resolved().pushes, 5);
+  o = LearnOptions();
+  o.quick_pushes = 0;
+  EXPECT_THROW(o.validate(), Error);
+  o.quick_pushes = 1001;
+  EXPECT_THROW(o.validate(), Error);
 }
 
 TEST(Learn, DepthGivesTheRobotAnRgbdCamera) {

@@ -287,10 +287,14 @@ struct LearnOptions {
   bool lost_rechoose = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
-  /// Small and fast: 3 pushes an object, 240 x 180 images, 100 words, 6 topics, each only where
-  /// that option holds its default (resolved()): a value given equal to its default (e.g.
-  /// `--quick --pushes 6`) cannot be told from one not given and becomes the quick one.
+  /// Small and fast: quick_pushes (3) pushes an object, 240 x 180 images, 100 words, 6 topics,
+  /// each only where that option holds its default (resolved()): a value given equal to its
+  /// default (e.g. `--quick --pushes 6`) cannot be told from one not given and becomes the quick
+  /// one; `--quick --quick-pushes 6` gives 6 pushes an object.
   bool quick = false;
+  /// Pushes of each object under `quick` where `pushes` holds its default (session 35: `--quick
+  /// --pushes 6` gave 3 pushes, so 6 pushes a turn could not be measured at quick's size).
+  int quick_pushes = 3;
   /// Dense by default: its views were purer (docs/results/learn.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
   DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
@@ -444,9 +448,12 @@ struct LearnOptions {
        "remaining pushes instead of ending (needs region_agree > 0)"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
-    v(self.quick,
-      {"quick",
-       "Small and fast: 3 pushes, 240x180, 100 words, 6 topics (each where left at its default)"});
+    v(self.quick, {"quick",
+                   "Small and fast: quick_pushes pushes, 240x180, 100 words, 6 topics (each "
+                   "where left at its default)"});
+    v(self.quick_pushes,
+      {"quick_pushes", "--quick: pushes of each object (pushes left at its default)",
+       core::between(1, 1000)});
     v.choice(self.segmentation, {"segmentation", "Push segmentation: sparse or dense"},
              kPushSegmentationNames);
     v.choice(self.dirichlet_update,
