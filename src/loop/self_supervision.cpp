@@ -108,6 +108,8 @@ class Learner {
     out_.views.theta.resize(0, model.num_topics());
     out_.views.words = topics::Corpus(model.num_words());
     class_looks_.resize(static_cast<std::size_t>(rounds));
+    class_look_words_.assign(static_cast<std::size_t>(rounds),
+                             Eigen::VectorXd::Zero(vocabulary_.size()));
     if (!log_path.empty()) log_file_.open(log_path);
   }
 
@@ -271,8 +273,9 @@ class Learner {
   }
 
   // claims_by kViewWords: per class (per group of rounds when merging) its views' word counts.
-  std::vector<Eigen::VectorXd> class_word_counts() const {
-    const auto counts = round_counts();
+  // claims_by kLookWords (`looks`): per class its looks' word counts instead.
+  std::vector<Eigen::VectorXd> class_word_counts(bool looks = false) const {
+    const auto counts = looks ? class_look_words_ : round_counts();
     if (!merging()) {
       std::vector<Eigen::VectorXd> out(class_looks_.size(),
                                        Eigen::VectorXd::Zero(vocabulary_.size()));
@@ -321,6 +324,10 @@ class Learner {
     if (o_.claims_by == ClaimSignal::kViewWords) {
       c.any = any_views;
       c.next = choose_unlearned_by_words(c.blobs.words, counts, words);
+      if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
+    } else if (o_.claims_by == ClaimSignal::kLookWords) {
+      c.any = any_looks;
+      c.next = choose_unlearned_by_words(c.blobs.words, class_word_counts(true), words);
       if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
     } else {
       c.any = any_looks;
@@ -391,7 +398,9 @@ class Learner {
     }
     const bool all_claimed =
         next.blob >= 0 && next.claimed_by[static_cast<std::size_t>(next.blob)] >= 0;
-    const char* by = o_.claims_by == ClaimSignal::kViewWords ? "views' words" : "looks";
+    const char* by = o_.claims_by == ClaimSignal::kViewWords   ? "views' words"
+                     : o_.claims_by == ClaimSignal::kLookWords ? "looks' words"
+                                                               : "looks";
     log({.event = "choose",
          .round = r,
          .blob = next.blob,
@@ -455,6 +464,11 @@ class Learner {
     const auto d = blob_document(view, c);
     if (d.empty()) return;
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
+    add_words(class_look_words_[static_cast<std::size_t>(r)], d);
+  }
+
+  static void add_words(Eigen::VectorXd& counts, const std::vector<std::int32_t>& d) {
+    for (const std::int32_t w : d) counts[w] += 1.0;
   }
 
   // One push: plan given, executed, logged. Returns whether the robot executed it.
@@ -1314,13 +1328,20 @@ class Learner {
     const int c = model_class_[static_cast<std::size_t>(t.cls)];
     auto& mine = class_looks_[static_cast<std::size_t>(r)];
     auto& theirs = class_looks_[static_cast<std::size_t>(c)];
+    auto& mine_words = class_look_words_[static_cast<std::size_t>(r)];
+    auto& their_words = class_look_words_[static_cast<std::size_t>(c)];
     if (first) {
       theirs.insert(theirs.end(), mine.begin(), mine.end());
       mine.clear();
+      their_words += mine_words;
+      mine_words.setZero();
     }
     if (now >= 0) {
       const auto d = blob_document(after, now);
-      if (!d.empty()) theirs.push_back(theta_of({d}).row(0).transpose());
+      if (!d.empty()) {
+        theirs.push_back(theta_of({d}).row(0).transpose());
+        add_words(their_words, d);
+      }
     }
     log({.event = "repeat",
          .round = r,
@@ -1608,6 +1629,8 @@ class Learner {
     }
     out_.round_class = cls;
     class_looks_.assign(static_cast<std::size_t>(objects_), {});
+    class_look_words_.assign(static_cast<std::size_t>(objects_),
+                             Eigen::VectorXd::Zero(vocabulary_.size()));
   }
 
   robot::Robot& robot_;
@@ -1630,6 +1653,8 @@ class Learner {
   std::vector<int> model_class_;
   /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
+  /// Per class: the word counts of the same looks (claims_by kLookWords).
+  std::vector<Eigen::VectorXd> class_look_words_;
   int plans_ = 0;
   bool repeat_check_ = false;  ///< repeat_tries: test the next push's views (learn)
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)

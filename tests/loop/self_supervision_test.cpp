@@ -217,6 +217,9 @@ TEST(SelfSupervision, ClaimsByViewWordsTellALearnedObjectFromANewOne) {
   o.claims_by = ClaimSignal::kViewWords;
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "view-words");
+  o.claims_by = ClaimSignal::kLookWords;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "look-words");
   o.choice = NextObjectRule::kDirichlet;
   EXPECT_THROW(o.validate(), Error);
 }

@@ -88,9 +88,15 @@ enum class ClaimSignal {
   /// Each class's views: the words its learn pushes' views gave (the pushed object's masks in
   /// the push frames), pooled into one multinomial a class (choose_unlearned_by_words).
   kViewWords,
+  /// Each class's looks as words: the words of its tracked blob in the looks of its learn round
+  /// (the same looks as kLooks, the same kind of image as the candidates), pooled into one
+  /// multinomial a class (choose_unlearned_by_words) instead of thetas.
+  kLookWords,
 };
-inline constexpr core::ChoiceNames<ClaimSignal, 2> kClaimSignalNames{
-    {{"looks", ClaimSignal::kLooks}, {"view-words", ClaimSignal::kViewWords}}};
+inline constexpr core::ChoiceNames<ClaimSignal, 3> kClaimSignalNames{
+    {{"looks", ClaimSignal::kLooks},
+     {"view-words", ClaimSignal::kViewWords},
+     {"look-words", ClaimSignal::kLookWords}}};
 
 /// planning::PushPlanOptions with descent_clearance 0.04 m (SelfSupervisionOptions::plan's).
 inline planning::PushPlanOptions descent_checked() {
@@ -276,7 +282,8 @@ struct SelfSupervisionOptions {
   /// kViewWords: each class's views, the words of the pushed object's masks in its learn
   /// pushes' frames (what the class learned), pooled into one multinomial a class; a blob's
   /// distance is minus its words' mean log-likelihood ratio, that class against the look's
-  /// blobs pooled (choose_unlearned_by_words). Needs choice looks.
+  /// blobs pooled (choose_unlearned_by_words). kLookWords: the looks of kLooks, but their words
+  /// pooled a class and judged as kViewWords judges. Needs choice looks.
   ClaimSignal claims_by = ClaimSignal::kLooks;
   /// (a)-(d): more rounds than objects, merged by the robot's own judgement (session 31). The
   /// robot runs up to this many rounds (0: C rounds, the default; otherwise at least C), each
@@ -455,8 +462,8 @@ struct SelfSupervisionOptions {
        core::between(0, 5)});
     v.choice(self.claims_by,
              {"claims_by",
-              "(d)'s claims judge a blob against each class's looks or its views' words "
-              "(view-words)"},
+              "(d)'s claims judge a blob against each class's looks (thetas), their words "
+              "(look-words) or its views' words (view-words)"},
              kClaimSignalNames);
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
@@ -622,9 +629,9 @@ struct BlobScore {
   std::optional<double> nearest = {};     ///< kLooks: Hellinger distance to the nearest class
   std::optional<int> nearest_class = {};  ///< kLooks: that class (0..C-1)
   std::optional<int> claimed_by = {};     ///< kLooks: the class that claimed it, -1 none
-  /// kLooks, a diagnostic: the class claiming it by the claim signal not in use (claims_by; the
-  /// views' words when claims are by looks, and the other way round), -1 none; absent when that
-  /// signal has no class yet.
+  /// kLooks, a diagnostic: the class claiming it by another claim signal than the one in use
+  /// (claims_by; the views' words when claims are by looks, else the looks' thetas), -1 none;
+  /// absent when that signal has no class yet.
   std::optional<int> other_claimed_by = {};
 
   template <class Self, class Visitor>
@@ -635,7 +642,7 @@ struct BlobScore {
     v(self.nearest_class, {"nearest_class", "That class"});
     v(self.claimed_by, {"claimed_by", "The class that claimed the blob (-1 none)"});
     v(self.other_claimed_by,
-      {"other_claimed_by", "The class claiming it by the claim signal not in use (-1 none)"});
+      {"other_claimed_by", "The class claiming it by another claim signal (-1 none)"});
   }
 };
 
