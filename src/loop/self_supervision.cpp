@@ -325,7 +325,8 @@ class Learner {
       c.any = any_views;
       c.next = choose_unlearned_by_words(c.blobs.words, counts, words);
       if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
-    } else if (o_.claims_by == ClaimSignal::kLookWords) {
+    } else if (o_.claims_by == ClaimSignal::kLookWords ||
+               o_.claims_by == ClaimSignal::kFirstLookWords) {
       c.any = any_looks;
       c.next = choose_unlearned_by_words(c.blobs.words, class_word_counts(true), words);
       if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
@@ -398,9 +399,10 @@ class Learner {
     }
     const bool all_claimed =
         next.blob >= 0 && next.claimed_by[static_cast<std::size_t>(next.blob)] >= 0;
-    const char* by = o_.claims_by == ClaimSignal::kViewWords   ? "views' words"
-                     : o_.claims_by == ClaimSignal::kLookWords ? "looks' words"
-                                                               : "looks";
+    const char* by = o_.claims_by == ClaimSignal::kViewWords        ? "views' words"
+                     : o_.claims_by == ClaimSignal::kLookWords      ? "looks' words"
+                     : o_.claims_by == ClaimSignal::kFirstLookWords ? "first looks' words"
+                                                                    : "looks";
     log({.event = "choose",
          .round = r,
          .blob = next.blob,
@@ -464,7 +466,9 @@ class Learner {
     const auto d = blob_document(view, c);
     if (d.empty()) return;
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
-    add_words(class_look_words_[static_cast<std::size_t>(r)], d);
+    auto& words = class_look_words_[static_cast<std::size_t>(r)];
+    // kFirstLookWords: only the round's first look (the object before its learn pushes).
+    if (o_.claims_by != ClaimSignal::kFirstLookWords || words.sum() == 0) add_words(words, d);
   }
 
   static void add_words(Eigen::VectorXd& counts, const std::vector<std::int32_t>& d) {
@@ -1340,7 +1344,9 @@ class Learner {
       const auto d = blob_document(after, now);
       if (!d.empty()) {
         theirs.push_back(theta_of({d}).row(0).transpose());
-        add_words(their_words, d);
+        if (o_.claims_by != ClaimSignal::kFirstLookWords || their_words.sum() == 0) {
+          add_words(their_words, d);
+        }
       }
     }
     log({.event = "repeat",

@@ -220,6 +220,9 @@ TEST(SelfSupervision, ClaimsByViewWordsTellALearnedObjectFromANewOne) {
   o.claims_by = ClaimSignal::kLookWords;
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "look-words");
+  o.claims_by = ClaimSignal::kFirstLookWords;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "first-look-words");
   o.choice = NextObjectRule::kDirichlet;
   EXPECT_THROW(o.validate(), Error);
 }

@@ -92,11 +92,16 @@ enum class ClaimSignal {
   /// (the same looks as kLooks, the same kind of image as the candidates), pooled into one
   /// multinomial a class (choose_unlearned_by_words) instead of thetas.
   kLookWords,
+  /// As kLookWords, but only each class's first look (after (b), before its first learn push:
+  /// the object as it stood, as the candidates stand after a re-scatter, not lying after it
+  /// toppled).
+  kFirstLookWords,
 };
-inline constexpr core::ChoiceNames<ClaimSignal, 3> kClaimSignalNames{
+inline constexpr core::ChoiceNames<ClaimSignal, 4> kClaimSignalNames{
     {{"looks", ClaimSignal::kLooks},
      {"view-words", ClaimSignal::kViewWords},
-     {"look-words", ClaimSignal::kLookWords}}};
+     {"look-words", ClaimSignal::kLookWords},
+     {"first-look-words", ClaimSignal::kFirstLookWords}}};
 
 /// planning::PushPlanOptions with descent_clearance 0.04 m (SelfSupervisionOptions::plan's).
 inline planning::PushPlanOptions descent_checked() {
@@ -283,7 +288,8 @@ struct SelfSupervisionOptions {
   /// pushes' frames (what the class learned), pooled into one multinomial a class; a blob's
   /// distance is minus its words' mean log-likelihood ratio, that class against the look's
   /// blobs pooled (choose_unlearned_by_words). kLookWords: the looks of kLooks, but their words
-  /// pooled a class and judged as kViewWords judges. Needs choice looks.
+  /// pooled a class and judged as kViewWords judges; kFirstLookWords: only each class's first
+  /// look. Needs choice looks.
   ClaimSignal claims_by = ClaimSignal::kLooks;
   /// (a)-(d): more rounds than objects, merged by the robot's own judgement (session 31). The
   /// robot runs up to this many rounds (0: C rounds, the default; otherwise at least C), each
@@ -463,7 +469,8 @@ struct SelfSupervisionOptions {
     v.choice(self.claims_by,
              {"claims_by",
               "(d)'s claims judge a blob against each class's looks (thetas), their words "
-              "(look-words) or its views' words (view-words)"},
+              "(look-words), its first look's words (first-look-words) or its views' words "
+              "(view-words)"},
              kClaimSignalNames);
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
