@@ -289,7 +289,10 @@ struct SelfSupervisionOptions {
   /// distance is minus its words' mean log-likelihood ratio, that class against the look's
   /// blobs pooled (choose_unlearned_by_words). kLookWords: the looks of kLooks, but their words
   /// pooled a class and judged as kViewWords judges; kFirstLookWords: only each class's first
-  /// look. Needs choice looks.
+  /// look. Needs choice looks. Session 35 (tuning seeds 1, 7, 8): view-words, look-words and
+  /// first-look-words right for 7, 6 and 5 of 18 claims, no better than the looks' thetas on the
+  /// same looks; look-words learned more objects (10 of 12, 8 by default) but c fell on every
+  /// seed (docs/results/selfsupervision.md, "Session 35"). kLooks stays the default.
   ClaimSignal claims_by = ClaimSignal::kLooks;
   /// (a)-(d): more rounds than objects, merged by the robot's own judgement (session 31). The
   /// robot runs up to this many rounds (0: C rounds, the default; otherwise at least C), each
