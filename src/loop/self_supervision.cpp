@@ -108,6 +108,8 @@ class Learner {
     out_.views.theta.resize(0, model.num_topics());
     out_.views.words = topics::Corpus(model.num_words());
     class_looks_.resize(static_cast<std::size_t>(rounds));
+    class_look_words_.assign(static_cast<std::size_t>(rounds),
+                             Eigen::VectorXd::Zero(vocabulary_.size()));
     if (!log_path.empty()) log_file_.open(log_path);
   }
 
@@ -243,21 +245,119 @@ class Learner {
     return b;
   }
 
+  // The blobs of `view` with enough features: their documents, indices and thetas (rows), and
+  // per blob of the view its theta (empty: too few features) and its words (empty: the same).
+  struct BlobThetas {
+    std::vector<std::vector<std::int32_t>> docs;
+    std::vector<int> rows;
+    Eigen::MatrixXd theta;
+    std::vector<Eigen::VectorXd> per_blob;
+    std::vector<std::vector<std::int32_t>> words;
+  };
+  BlobThetas blob_thetas(const planning::PlanningView& view) {
+    BlobThetas t;
+    auto [docs, rows] = blob_documents(view);
+    t.per_blob.resize(view.objects.size());
+    t.words.resize(view.objects.size());
+    if (!docs.empty()) {
+      t.theta = theta_of(docs);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        const auto b = static_cast<std::size_t>(rows[i]);
+        t.per_blob[b] = t.theta.row(static_cast<Eigen::Index>(i)).transpose();
+        t.words[b] = docs[i];
+      }
+    }
+    t.docs = std::move(docs);
+    t.rows = std::move(rows);
+    return t;
+  }
+
+  // claims_by kViewWords: per class (per group of rounds when merging) its views' word counts.
+  // claims_by kLookWords (`looks`): per class its looks' word counts instead.
+  std::vector<Eigen::VectorXd> class_word_counts(bool looks = false) const {
+    const auto counts = looks ? class_look_words_ : round_counts();
+    if (!merging()) {
+      std::vector<Eigen::VectorXd> out(class_looks_.size(),
+                                       Eigen::VectorXd::Zero(vocabulary_.size()));
+      for (std::size_t r = 0; r < counts.size() && r < out.size(); ++r) out[r] = counts[r];
+      return out;
+    }
+    const RoundMerge m = judge();
+    std::vector<Eigen::VectorXd> out(static_cast<std::size_t>(m.distinct),
+                                     Eigen::VectorXd::Zero(vocabulary_.size()));
+    for (std::size_t r = 0; r < m.judged.size() && r < counts.size(); ++r) {
+      if (m.judged[r] >= 0) out[static_cast<std::size_t>(m.judged[r])] += counts[r];
+    }
+    return out;
+  }
+
+  // (d)'s claims on the blobs of `view` (choose_unlearned, or choose_unlearned_by_words when
+  // claims_by says so) and, a diagnostic, the other signal's claims (empty: it has no class).
+  struct Claims {
+    BlobThetas blobs;
+    NextChoice next;
+    std::vector<int> other;
+    bool any = false;  // some class takes part in the claims in use
+  };
+  // Whether some learned class has looks (any_looks) or views (any_views).
+  [[nodiscard]] bool any_looks() const {
+    return std::any_of(class_looks_.begin(), class_looks_.end(),
+                       [](const auto& l) { return !l.empty(); });
+  }
+  [[nodiscard]] bool any_views() const {
+    return std::any_of(out_.views.labels.begin(), out_.views.labels.end(),
+                       [&](int r) { return r >= 0 && r < rounds_run_; });
+  }
+  [[nodiscard]] bool any_claims() const {
+    return o_.claims_by == ClaimSignal::kViewWords ? any_views() : any_looks();
+  }
+
+  Claims claims(const planning::PlanningView& view) {
+    Claims c;
+    c.blobs = blob_thetas(view);
+    const auto looks = merging() ? group_looks() : class_looks_;
+    const auto counts = class_word_counts();
+    const bool any_looks = this->any_looks();
+    const bool any_views =
+        std::any_of(counts.begin(), counts.end(), [](const auto& n) { return n.sum() > 0; });
+    const int words = static_cast<int>(vocabulary_.size());
+    if (o_.claims_by == ClaimSignal::kViewWords) {
+      c.any = any_views;
+      c.next = choose_unlearned_by_words(c.blobs.words, counts, words);
+      if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
+    } else if (o_.claims_by == ClaimSignal::kLookWords ||
+               o_.claims_by == ClaimSignal::kFirstLookWords) {
+      c.any = any_looks;
+      c.next = choose_unlearned_by_words(c.blobs.words, class_word_counts(true), words);
+      if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
+    } else {
+      c.any = any_looks;
+      c.next = choose_unlearned(c.blobs.per_blob, looks);
+      if (any_views) c.other = choose_unlearned_by_words(c.blobs.words, counts, words).claimed_by;
+    }
+    return c;
+  }
+
   // (a) / (d): the blob to learn. Round 0: at random; later (o_.choice): kLooks, the unclaimed
-  // blob farthest from every class's looks (choose_unlearned); kDirichlet, the blob whose best
-  // log Dir(theta | omega_c) + log p(c) over the classes so far is least.
-  int choose(int r, const planning::PlanningView& view) {
+  // blob farthest from every class (choose_unlearned on the classes' looks, or by their views'
+  // words: claims_by); kDirichlet, the blob whose best log Dir(theta | omega_c) + log p(c) over
+  // the classes so far is least. `known`: the claims on `view` already made (recheck).
+  int choose(int r, const planning::PlanningView& view, const Claims* known = nullptr) {
     const int n = static_cast<int>(view.objects.size());
-    const bool looks = o_.choice == NextObjectRule::kLooks &&
-                       std::any_of(class_looks_.begin(), class_looks_.end(),
-                                   [](const auto& l) { return !l.empty(); });
+    std::optional<Claims> made;
+    if (!known && r > 0 && o_.choice == NextObjectRule::kLooks) made = claims(view);
+    const Claims* cl = known ? known : made ? &*made : nullptr;
+    const bool looks = cl && cl->any;
     if (r == 0 || (!looks && model_so_far_.objects.empty())) {
       const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
       log({.event = "choose", .round = r, .blob = k, .why = "at random (7.2 a)"});
       return k;
     }
-    auto [docs, rows] = blob_documents(view);
-    if (docs.empty()) {
+    std::optional<BlobThetas> own;
+    if (!cl) own = blob_thetas(view);
+    const BlobThetas& bt = cl ? cl->blobs : *own;
+    const auto& rows = bt.rows;
+    if (rows.empty()) {
       const int k = static_cast<int>(rng_.index(static_cast<std::uint64_t>(n)));
       log({.event = "choose",
            .round = r,
@@ -265,13 +365,12 @@ class Learner {
            .why = "at random: no blob has enough features to be scored"});
       return k;
     }
-    const Eigen::MatrixXd theta = theta_of(docs);
     std::vector<BlobScore> scores;
     scores.reserve(rows.size());
     for (const int k : rows) scores.push_back({k, 0.0});
     int best = rows[0];
     if (!model_so_far_.objects.empty()) {
-      const topics::MotClassification cls = topics::classify_mot(model_so_far_, theta);
+      const topics::MotClassification cls = topics::classify_mot(model_so_far_, bt.theta);
       double best_score = std::numeric_limits<double>::infinity();
       for (std::size_t i = 0; i < rows.size(); ++i) {
         const double s = cls.log_score.row(static_cast<Eigen::Index>(i)).maxCoeff();
@@ -290,58 +389,43 @@ class Learner {
            .scores = std::move(scores)});
       return best;
     }
-    std::vector<Eigen::VectorXd> blobs(static_cast<std::size_t>(n));
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      blobs[static_cast<std::size_t>(rows[i])] =
-          theta.row(static_cast<Eigen::Index>(i)).transpose();
-    }
-    const NextChoice next = choose_unlearned(blobs, merging() ? group_looks() : class_looks_);
+    const NextChoice& next = cl->next;
     for (BlobScore& bs : scores) {
       const auto b = static_cast<std::size_t>(bs.blob);
       bs.nearest = next.nearest[b];
       bs.nearest_class = next.nearest_class[b];
       bs.claimed_by = next.claimed_by[b];
+      if (!cl->other.empty()) bs.other_claimed_by = cl->other[b];
     }
     const bool all_claimed =
         next.blob >= 0 && next.claimed_by[static_cast<std::size_t>(next.blob)] >= 0;
+    const char* by = o_.claims_by == ClaimSignal::kViewWords        ? "views' words"
+                     : o_.claims_by == ClaimSignal::kLookWords      ? "looks' words"
+                     : o_.claims_by == ClaimSignal::kFirstLookWords ? "first looks' words"
+                                                                    : "looks";
     log({.event = "choose",
          .round = r,
          .blob = next.blob,
-         .why = all_claimed ? "every blob is claimed by a learned class: the farthest (7.2 d)"
-                            : "unclaimed by the learned classes' looks, the farthest from them "
-                              "(7.2 d)",
+         .why = all_claimed ? core::cat({"every blob is claimed by a learned class (by its ", by,
+                                         "): the farthest (7.2 d)"})
+                            : core::cat({"unclaimed by the learned classes' ", by,
+                                         ", the farthest from them (7.2 d)"}),
          .scores = std::move(scores)});
     return next.blob;
-  }
-
-  // recheck_tries: the learned classes' claims on the blobs of `view` (the last look), as (d)'s
-  // kLooks choice makes them.
-  NextChoice claims(const planning::PlanningView& view) {
-    const int n = static_cast<int>(view.objects.size());
-    auto [docs, rows] = blob_documents(view);
-    std::vector<Eigen::VectorXd> blobs(static_cast<std::size_t>(n));
-    if (!docs.empty()) {
-      const Eigen::MatrixXd theta = theta_of(docs);
-      for (std::size_t i = 0; i < rows.size(); ++i) {
-        blobs[static_cast<std::size_t>(rows[i])] =
-            theta.row(static_cast<Eigen::Index>(i)).transpose();
-      }
-    }
-    return choose_unlearned(blobs, merging() ? group_looks() : class_looks_);
   }
 
   // recheck_tries: after (b), the chosen object (at `chosen`) checked again against the learned
   // classes; while a class claims its blob and another blob is unclaimed, the round chooses
   // again and clears the new choice. Returns the object to learn (nullopt: lost while clearing).
   std::optional<Eigen::Vector2d> recheck(int r, Eigen::Vector2d chosen, int& index) {
-    const bool any_looks = std::any_of(class_looks_.begin(), class_looks_.end(),
-                                       [](const auto& l) { return !l.empty(); });
-    if (!any_looks) return chosen;
+    if (!any_claims()) return chosen;
     for (int t = 0; t < o_.recheck_tries; ++t) {
       const planning::PlanningView now = look();
       const int c = track(now, chosen);
       if (c < 0) return chosen;  // not found again here: (c) looks and tracks it as without
-      const NextChoice cl = claims(now);
+      const Claims made = claims(now);
+      if (!made.any) return chosen;
+      const NextChoice& cl = made.next;
       std::vector<BlobScore> scores;
       for (int k = 0; k < static_cast<int>(now.objects.size()); ++k) {
         const auto b = static_cast<std::size_t>(k);
@@ -367,7 +451,7 @@ class Learner {
            .scores = std::move(scores),
            .blobs = putative_object_records(now, false)});
       if (!again) return chosen;
-      const int k2 = choose(r, now);
+      const int k2 = choose(r, now, &made);
       attendant_.chose(r, now, k2);
       const std::optional<Eigen::Vector2d> next =
           clear(r, now.objects[static_cast<std::size_t>(k2)].centre, index);
@@ -382,6 +466,13 @@ class Learner {
     const auto d = blob_document(view, c);
     if (d.empty()) return;
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
+    auto& words = class_look_words_[static_cast<std::size_t>(r)];
+    // kFirstLookWords: only the round's first look (the object before its learn pushes).
+    if (o_.claims_by != ClaimSignal::kFirstLookWords || words.sum() == 0) add_words(words, d);
+  }
+
+  static void add_words(Eigen::VectorXd& counts, const std::vector<std::int32_t>& d) {
+    for (const std::int32_t w : d) counts[w] += 1.0;
   }
 
   // One push: plan given, executed, logged. Returns whether the robot executed it.
@@ -1241,13 +1332,22 @@ class Learner {
     const int c = model_class_[static_cast<std::size_t>(t.cls)];
     auto& mine = class_looks_[static_cast<std::size_t>(r)];
     auto& theirs = class_looks_[static_cast<std::size_t>(c)];
+    auto& mine_words = class_look_words_[static_cast<std::size_t>(r)];
+    auto& their_words = class_look_words_[static_cast<std::size_t>(c)];
     if (first) {
       theirs.insert(theirs.end(), mine.begin(), mine.end());
       mine.clear();
+      their_words += mine_words;
+      mine_words.setZero();
     }
     if (now >= 0) {
       const auto d = blob_document(after, now);
-      if (!d.empty()) theirs.push_back(theta_of({d}).row(0).transpose());
+      if (!d.empty()) {
+        theirs.push_back(theta_of({d}).row(0).transpose());
+        if (o_.claims_by != ClaimSignal::kFirstLookWords || their_words.sum() == 0) {
+          add_words(their_words, d);
+        }
+      }
     }
     log({.event = "repeat",
          .round = r,
@@ -1535,6 +1635,8 @@ class Learner {
     }
     out_.round_class = cls;
     class_looks_.assign(static_cast<std::size_t>(objects_), {});
+    class_look_words_.assign(static_cast<std::size_t>(objects_),
+                             Eigen::VectorXd::Zero(vocabulary_.size()));
   }
 
   robot::Robot& robot_;
@@ -1557,6 +1659,8 @@ class Learner {
   std::vector<int> model_class_;
   /// Per class: thetas of its object's blob in the looks of its learn round ((d), kLooks).
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
+  /// Per class: the word counts of the same looks (claims_by kLookWords).
+  std::vector<Eigen::VectorXd> class_look_words_;
   int plans_ = 0;
   bool repeat_check_ = false;  ///< repeat_tries: test the next push's views (learn)
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
@@ -1586,6 +1690,11 @@ void SelfSupervisionOptions::validate() const {
   }
   if (recheck_tries > 0 && choice != NextObjectRule::kLooks) {
     throw Error("selfsupervise: recheck_tries needs choice looks (the learned classes' claims)");
+  }
+  if (claims_by != ClaimSignal::kLooks && choice != NextObjectRule::kLooks) {
+    throw Error(
+        "selfsupervise: claims_by view-words needs choice looks (the learned classes' "
+        "claims)");
   }
 }
 
@@ -2193,43 +2302,23 @@ bool recheck_claimed(const NextChoice& claims, int chosen) {
   return claims.blob >= 0 && claims.claimed_by[static_cast<std::size_t>(claims.blob)] < 0;
 }
 
-NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
-                            const std::vector<std::vector<Eigen::VectorXd>>& class_looks) {
-  const int n = static_cast<int>(blobs.size());
-  const int k = static_cast<int>(class_looks.size());
-  NextChoice out;
-  out.claimed_by.assign(static_cast<std::size_t>(n), -1);
-  out.nearest.assign(static_cast<std::size_t>(n), -1.0);
-  out.nearest_class.assign(static_cast<std::size_t>(n), -1);
-  // distance[b][c]: the blob's least distance to class c's looks (inf: no looks or unscored).
+namespace {
+
+// choose_unlearned's matching and choice on `distance[b][c]` (a blob's distance to a class; inf:
+// unscored or no part), `scored` blobs and `classes` taking part, `out.nearest` filled.
+// Distances may be negative (choose_unlearned_by_words): the search prunes only when none is.
+void claim_blobs(const std::vector<std::vector<double>>& distance, const std::vector<int>& scored,
+                 const std::vector<int>& classes, NextChoice& out) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
-                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
-  std::vector<int> scored;
-  std::vector<int> classes;  // the classes with looks
-  for (int c = 0; c < k; ++c) {
-    if (!class_looks[static_cast<std::size_t>(c)].empty()) classes.push_back(c);
-  }
-  for (int b = 0; b < n; ++b) {
-    const Eigen::VectorXd& t = blobs[static_cast<std::size_t>(b)];
-    if (t.size() == 0) continue;
-    scored.push_back(b);
-    double nearest = kInf;
+  const int n = static_cast<int>(distance.size());
+  bool nonnegative = true;
+  for (const int b : scored) {
     for (const int c : classes) {
-      double d = kInf;
-      for (const Eigen::VectorXd& e : class_looks[static_cast<std::size_t>(c)]) {
-        d = std::min(d, hellinger(t, e));
-      }
-      distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] = d;
-      if (d < nearest) {
-        nearest = d;
-        out.nearest_class[static_cast<std::size_t>(b)] = c;
+      if (distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] < 0) {
+        nonnegative = false;
       }
     }
-    // No class has looks yet: every blob is as new as any other (distance 1, the most).
-    out.nearest[static_cast<std::size_t>(b)] = std::isfinite(nearest) ? nearest : 1.0;
   }
-  if (scored.empty()) return out;
   // The matching of classes to scored blobs of least total distance, as many pairs as the
   // smaller side has: brute force (small tables), else greedy by least distance.
   const int pairs = std::min(static_cast<int>(classes.size()), static_cast<int>(scored.size()));
@@ -2239,9 +2328,9 @@ NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
     std::vector<int> now(classes.size(), -1);
     std::vector<bool> used(static_cast<std::size_t>(n), false);
     const auto search = [&](const auto& self, std::size_t i, int made, double cost) -> void {
-      if (cost >= best_cost) return;
+      if (nonnegative && cost >= best_cost) return;
       if (i == classes.size()) {
-        if (made == pairs) {
+        if (made == pairs && cost < best_cost) {
           best_cost = cost;
           best = now;
         }
@@ -2287,7 +2376,7 @@ NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
   }
   // The unclaimed blob farthest from every class; every blob claimed: the farthest of all.
   for (const bool unclaimed_only : {true, false}) {
-    double far = -1;
+    double far = -kInf;
     for (const int b : scored) {
       if (unclaimed_only && out.claimed_by[static_cast<std::size_t>(b)] >= 0) continue;
       if (out.nearest[static_cast<std::size_t>(b)] > far) {
@@ -2297,6 +2386,110 @@ NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
     }
     if (out.blob >= 0) break;
   }
+}
+
+}  // namespace
+
+NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
+                            const std::vector<std::vector<Eigen::VectorXd>>& class_looks) {
+  const int n = static_cast<int>(blobs.size());
+  const int k = static_cast<int>(class_looks.size());
+  NextChoice out;
+  out.claimed_by.assign(static_cast<std::size_t>(n), -1);
+  out.nearest.assign(static_cast<std::size_t>(n), -1.0);
+  out.nearest_class.assign(static_cast<std::size_t>(n), -1);
+  // distance[b][c]: the blob's least distance to class c's looks (inf: no looks or unscored).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
+                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
+  std::vector<int> scored;
+  std::vector<int> classes;  // the classes with looks
+  for (int c = 0; c < k; ++c) {
+    if (!class_looks[static_cast<std::size_t>(c)].empty()) classes.push_back(c);
+  }
+  for (int b = 0; b < n; ++b) {
+    const Eigen::VectorXd& t = blobs[static_cast<std::size_t>(b)];
+    if (t.size() == 0) continue;
+    scored.push_back(b);
+    double nearest = kInf;
+    for (const int c : classes) {
+      double d = kInf;
+      for (const Eigen::VectorXd& e : class_looks[static_cast<std::size_t>(c)]) {
+        d = std::min(d, hellinger(t, e));
+      }
+      distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] = d;
+      if (d < nearest) {
+        nearest = d;
+        out.nearest_class[static_cast<std::size_t>(b)] = c;
+      }
+    }
+    // No class has looks yet: every blob is as new as any other (distance 1, the most).
+    out.nearest[static_cast<std::size_t>(b)] = std::isfinite(nearest) ? nearest : 1.0;
+  }
+  if (!scored.empty()) claim_blobs(distance, scored, classes, out);
+  return out;
+}
+
+NextChoice choose_unlearned_by_words(const std::vector<std::vector<std::int32_t>>& blobs,
+                                     const std::vector<Eigen::VectorXd>& class_counts, int words) {
+  if (words < 1) throw Error("choose_unlearned_by_words: the vocabulary has no words");
+  const int n = static_cast<int>(blobs.size());
+  const int k = static_cast<int>(class_counts.size());
+  const double v = words;
+  NextChoice out;
+  out.claimed_by.assign(static_cast<std::size_t>(n), -1);
+  out.nearest.assign(static_cast<std::size_t>(n), -1.0);
+  out.nearest_class.assign(static_cast<std::size_t>(n), -1);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
+                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
+  std::vector<int> classes;
+  for (int c = 0; c < k; ++c) {
+    const Eigen::VectorXd& counts = class_counts[static_cast<std::size_t>(c)];
+    if (counts.size() != words) {
+      throw Error(
+          "choose_unlearned_by_words: a class's word counts are not the vocabulary's length");
+    }
+    if (counts.sum() > 0) classes.push_back(c);
+  }
+  // The background: the scored blobs' words pooled, add-one.
+  Eigen::VectorXd p0 = Eigen::VectorXd::Ones(words);
+  std::vector<int> scored;
+  for (int b = 0; b < n; ++b) {
+    const auto& d = blobs[static_cast<std::size_t>(b)];
+    if (d.empty()) continue;
+    scored.push_back(b);
+    for (const std::int32_t w : d) {
+      if (w < 0 || w >= words)
+        throw Error("choose_unlearned_by_words: a word out of the vocabulary");
+      p0[w] += 1.0;
+    }
+  }
+  p0 /= p0.sum();
+  for (const int c : classes) {
+    const Eigen::VectorXd& counts = class_counts[static_cast<std::size_t>(c)];
+    const Eigen::VectorXd pc = (counts + v * p0) / (counts.sum() + v);
+    const Eigen::VectorXd llr = (pc.array() / p0.array()).log().matrix();
+    for (const int b : scored) {
+      const auto& d = blobs[static_cast<std::size_t>(b)];
+      double sum = 0;
+      for (const std::int32_t w : d) sum += llr[w];
+      distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] =
+          -sum / static_cast<double>(d.size());
+    }
+  }
+  for (const int b : scored) {
+    double nearest = kInf;
+    for (const int c : classes) {
+      const double d = distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)];
+      if (d < nearest) {
+        nearest = d;
+        out.nearest_class[static_cast<std::size_t>(b)] = c;
+      }
+    }
+    out.nearest[static_cast<std::size_t>(b)] = std::isfinite(nearest) ? nearest : 1.0;
+  }
+  if (!scored.empty()) claim_blobs(distance, scored, classes, out);
   return out;
 }
 

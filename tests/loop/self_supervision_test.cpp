@@ -165,6 +165,68 @@ TEST(SelfSupervision, RecheckChoosesAgainWhenALearnedClassClaimsTheChosenBlob) {
   EXPECT_THROW(o.validate(), Error);
 }
 
+// claims_by view-words (session 35): each class claims the blob whose words its views' pooled
+// multinomial explains best against the look's blobs pooled; a new object's words are left
+// unclaimed and chosen. Known answers on a six-word vocabulary.
+TEST(SelfSupervision, ClaimsByViewWordsTellALearnedObjectFromANewOne) {
+  constexpr int kWords = 6;
+  // Class 0 learned A (words 0, 1), class 1 B (words 2, 3), class 2 nothing yet.
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(kWords);
+  a << 40, 38, 1, 1, 0, 0;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(kWords);
+  b << 1, 0, 30, 45, 2, 0;
+  const std::vector<Eigen::VectorXd> counts{a, b, Eigen::VectorXd::Zero(kWords)};
+  // Blob 0: A; blob 1: a new object C (words 4, 5); blob 2: B; blob 3: unscored.
+  const std::vector<std::vector<std::int32_t>> blobs{
+      {0, 1, 0, 1, 1, 0}, {4, 5, 5, 4, 5, 2}, {2, 3, 3, 2, 3}, {}};
+  const NextChoice next = choose_unlearned_by_words(blobs, counts, kWords);
+  EXPECT_EQ(next.blob, 1);
+  EXPECT_EQ(next.claimed_by, (std::vector<int>{0, -1, 1, -1}));
+  EXPECT_EQ(next.nearest_class, (std::vector<int>{0, 1, 1, -1}));
+  EXPECT_EQ(next.nearest[3], -1.0);
+  // Blob 0's distance to class 0, by hand: minus the mean log(p_c / p0) over its words.
+  Eigen::VectorXd p0 = Eigen::VectorXd::Ones(kWords);
+  for (const auto& d : blobs) {
+    for (const int w : d) p0[w] += 1;
+  }
+  p0 /= p0.sum();
+  const Eigen::VectorXd pa = (a + kWords * p0) / (a.sum() + kWords);
+  double want = 0;
+  for (const int w : blobs[0]) want -= std::log(pa[w] / p0[w]);
+  want /= static_cast<double>(blobs[0].size());
+  EXPECT_LT(want, 0) << "A's class explains A's words better than the look as a whole";
+  EXPECT_NEAR(next.nearest[0], want, 1e-12);
+  EXPECT_GT(next.nearest[1], 0) << "the new object's words: better by the look than by a class";
+  // Negative distances: the matching is still the least total (class 0 on blob 0, not blob 2).
+  const NextChoice two = choose_unlearned_by_words({blobs[2], blobs[0]}, counts, kWords);
+  EXPECT_EQ(two.claimed_by, (std::vector<int>{1, 0}));
+  EXPECT_GE(two.blob, 0) << "every blob claimed: the farthest of all";
+  // No class has views yet: the first scored blob; nothing scored: none.
+  const std::vector<Eigen::VectorXd> none(2, Eigen::VectorXd::Zero(kWords));
+  EXPECT_EQ(choose_unlearned_by_words(blobs, none, kWords).blob, 0);
+  EXPECT_EQ(choose_unlearned_by_words({{}, {}}, counts, kWords).blob, -1);
+  // Bad input throws.
+  EXPECT_THROW((void)choose_unlearned_by_words({{6}}, counts, kWords), Error);
+  EXPECT_THROW((void)choose_unlearned_by_words({{-1}}, counts, kWords), Error);
+  EXPECT_THROW((void)choose_unlearned_by_words(blobs, {Eigen::VectorXd::Ones(5)}, kWords), Error);
+  EXPECT_THROW((void)choose_unlearned_by_words(blobs, counts, 0), Error);
+  // The option: looks by default, in the JSON, only with choice looks.
+  SelfSupervisionOptions o;
+  EXPECT_EQ(o.claims_by, ClaimSignal::kLooks);
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "looks");
+  o.claims_by = ClaimSignal::kViewWords;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "view-words");
+  o.claims_by = ClaimSignal::kLookWords;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "look-words");
+  o.claims_by = ClaimSignal::kFirstLookWords;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "first-look-words");
+  o.choice = NextObjectRule::kDirichlet;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 TEST(SelfSupervision, ExplainedByTellsALearnedObjectFromANewOne) {
   // Two learned classes, A (topic 0) and B (topic 1), 8 views each; a round's first views of A
   // again, of a new object C (topic 2), and of A mixed with C.
@@ -1199,6 +1261,45 @@ TEST(SelfSupervision, RecheckAfterClearingIsLoggedAndFollowed) {
   TableRun off = learn_on_table(small_options(), {}, false);
   EXPECT_TRUE(std::none_of(off.l.log.begin(), off.l.log.end(),
                            [](const auto& j) { return j.event == "recheck"; }));
+}
+
+// claims_by view-words on the simulated table (with recheck_tries, whose claims are the same):
+// every scored choice after round 1 is by the classes' views' words, one blob a class, with the
+// looks' claims beside it; the rechecks choose again exactly when their claims say so.
+TEST(SelfSupervision, ClaimsByViewWordsOnTheTableAreLoggedAndFollowed) {
+  SelfSupervisionOptions o = small_options();
+  o.claims_by = ClaimSignal::kViewWords;
+  o.recheck_tries = 2;
+  TableRun run = learn_on_table(o, {}, false);
+  const Learning& l = run.l;
+  ASSERT_GT(l.views.labels.size(), 0U);
+  int scored = 0;
+  int rechecks = 0;
+  for (const auto& j : l.log) {
+    if (j.event == "recheck") {
+      ++rechecks;
+      ASSERT_TRUE(j.scores && j.blob);
+    }
+    if (j.event != "choose" || !j.scores || !j.scores->front().claimed_by) continue;
+    ++scored;
+    ASSERT_TRUE(j.why);
+    EXPECT_NE(j.why->find("views' words"), std::string::npos) << *j.why;
+    std::vector<int> claimed;
+    for (const BlobScore& b : *j.scores) {
+      ASSERT_TRUE(b.claimed_by && b.nearest && b.other_claimed_by);
+      // Only round 1's class has views here (2 objects): it claims at most one blob.
+      if (*b.claimed_by >= 0) claimed.push_back(*b.claimed_by);
+      EXPECT_TRUE(std::isfinite(*b.nearest));
+    }
+    EXPECT_LE(claimed.size(), 1U);
+    for (const int c : claimed) {
+      EXPECT_TRUE(std::find(l.views.labels.begin(), l.views.labels.end(), c) !=
+                  l.views.labels.end())
+          << "a class claims only with views";
+    }
+  }
+  EXPECT_GE(scored, 1);
+  EXPECT_GE(rechecks, 1);
 }
 
 TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
