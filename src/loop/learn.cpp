@@ -444,6 +444,11 @@ void LearnOptions::validate() const {
     throw Error(
         "learn: --ladder-pooled scores the oracle ladder's rungs: it needs --oracle-ladder");
   }
+  if (revisit_top_down && (!(region_agree > 0) || passes < 2)) {
+    throw Error(
+        "learn: --revisit-top-down acts on region_agree's revisits: it needs --region-agree > 0 "
+        "and --passes > 1");
+  }
   if (lost_rechoose && !(region_agree > 0)) {
     throw Error(
         "learn: --lost-rechoose acts on region_agree's lost object: it needs "
@@ -1126,6 +1131,27 @@ class Learner {
     return k >= aim_of_.size() || !aim_of_[k] || (b.centre - *aim_of_[k]).norm() <= o_.region_agree;
   }
 
+  // Learned object c recognised top-down in the current look (logged `recognise`); `best`: the
+  // blob its region lies on, or -1.
+  TopDownResult top_down(int c, const planning::PlanningView& view, int& best) {
+    const TopDownResult td = timed("recognition", [&] {
+      const LookFeatures lf = features_of(current_.image);
+      return recognise_top_down(models_[static_cast<std::size_t>(c)], lf.points, lf.unit,
+                                current_.image.size(), wo_);
+    });
+    best = td.found ? blob_on(view, td.mask) : -1;
+    log({.event = "recognise",
+         .object = c,
+         .blob = best,
+         .found = td.found,
+         .kappa = td.kappa,
+         .log_density = std::isfinite(td.log_density) ? td.log_density : 0.0,
+         .features = td.features,
+         .centre_px = xy(td.centre),
+         .message = td.message});
+    return td;
+  }
+
   // Where is object c in the current look? Top-down when it has a model, else by position.
   int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
              std::string& how) {
@@ -1160,20 +1186,8 @@ class Learner {
       return b;
     }
     if (om.learned()) {
-      const TopDownResult td = timed("recognition", [&] {
-        const LookFeatures lf = features_of(current_.image);
-        return recognise_top_down(om, lf.points, lf.unit, current_.image.size(), wo_);
-      });
-      const int best = td.found ? blob_on(view, td.mask) : -1;
-      log({.event = "recognise",
-           .object = c,
-           .blob = best,
-           .found = td.found,
-           .kappa = td.kappa,
-           .log_density = std::isfinite(td.log_density) ? td.log_density : 0.0,
-           .features = td.features,
-           .centre_px = xy(td.centre),
-           .message = td.message});
+      int best = -1;
+      const TopDownResult td = top_down(c, view, best);
       if (best >= 0) {
         how = "top-down";
         return best;
@@ -1559,9 +1573,15 @@ class Learner {
         again.how = "held";
         again.blob = track(again.view, at, o_.region_agree);
       }
+      if (again.blob < 0 && o_.revisit_top_down) {
+        // revisit_top_down: not where it was left: where top-down recognition finds it.
+        (void)top_down(c, again.view, again.blob);
+        again.how = "top-down";
+      }
       if (again.blob < 0) {
         return skip(core::cat({"no blob within ", core::printf_string("%.3f", o_.region_agree),
-                               " m of its last push's target (nor its region)"}));
+                               " m of its last push's target (nor its region)",
+                               o_.revisit_top_down ? ", nor by top-down recognition" : ""}));
       }
     } else {
       again.blob = locate(c, again.view, at, again.how);

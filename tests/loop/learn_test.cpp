@@ -892,12 +892,13 @@ TEST(Learn, ASecondPassPushesEachLearnedObjectAgainWhereItWasLeft) {
     std::vector<core::Json> revisits;
     std::string events;
   };
-  const auto run = [&](const std::string& name, int passes, double agree) {
+  const auto run = [&](const std::string& name, int passes, double agree, bool td = false) {
     const std::filesystem::path out = dir.path() / name;
     const LearnResult r = t.run(out, 1, [&](LearnOptions& o) {
       o.pushes = 2;
       o.passes = passes;
       o.region_agree = agree;
+      o.revisit_top_down = td;
     });
     Got g;
     g.views = r.summary.views;
@@ -946,6 +947,12 @@ TEST(Learn, ASecondPassPushesEachLearnedObjectAgainWhereItWasLeft) {
   EXPECT_FALSE(lost.revisits.front().contains("located"));
   EXPECT_EQ(lost.second, 0) << lost.events;
   EXPECT_EQ(lost.executed, lost_one.executed) << lost.events;
+  // revisit_top_down: not near its last target, the revisit recognises it top-down instead.
+  const Got td = run("lost2td", 2, 0.001, true);
+  ASSERT_EQ(td.revisits.size(), 1U) << td.events;
+  EXPECT_EQ(td.revisits.front().value("located", std::string()), "top-down")
+      << td.revisits.front().dump();
+  EXPECT_GE(td.second, 1) << td.events;
 }
 
 TEST(Learn, PassesAreValidated) {
@@ -957,6 +964,12 @@ TEST(Learn, PassesAreValidated) {
   EXPECT_THROW(o.validate(), Error);
   o.passes = 2;
   EXPECT_NO_THROW(o.validate());
+  o.revisit_top_down = true;  // needs region_agree > 0 and passes > 1
+  EXPECT_THROW(o.validate(), Error);
+  o.region_agree = 0.08;
+  EXPECT_NO_THROW(o.validate());
+  o.passes = 1;
+  EXPECT_THROW(o.validate(), Error);
 }
 
 TEST(Learn, KeepInReachKeepsEveryPushTargetInsideTheAreaTheArmCanPushAgain) {

@@ -295,6 +295,12 @@ struct LearnOptions {
   /// pushes: the incremental mean). Not found, or found on another class's blob: logged
   /// (`revisit`, with where it looked and why) and skipped. 1: off (the default).
   int passes = 1;
+  /// passes with region_agree: a revisit that finds no blob near its object's last push's
+  /// target (nor its region) looks for it by top-down recognition (its words), as locate() does
+  /// without region_agree (session 35, second round: 15 of T2's 28 revisits on the tuning seeds
+  /// found nothing because the class's turn had ended lost). Needs region_agree > 0 and
+  /// passes > 1. Off by default.
+  bool revisit_top_down = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: quick_pushes (3) pushes an object, 240 x 180 images, 100 words, 6 topics,
@@ -461,6 +467,10 @@ struct LearnOptions {
        "Passes over the objects: passes 2..N push each class with views again (fewest views "
        "first) from where its object was left, its views to the same class; 1 off",
        core::between(1, 100)});
+    v(self.revisit_top_down,
+      {"revisit_top_down",
+       "passes with region_agree: a revisit that finds nothing near its object's last target "
+       "looks for it by top-down recognition (needs region_agree > 0, passes > 1)"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick",
