@@ -1134,7 +1134,7 @@ class Learner {
   // Learned object c recognised top-down in the current look (logged `recognise`); `best`: the
   // blob its region lies on, or -1.
   TopDownResult top_down(int c, const planning::PlanningView& view, int& best) {
-    const TopDownResult td = timed("recognition", [&] {
+    TopDownResult td = timed("recognition", [&] {
       const LookFeatures lf = features_of(current_.image);
       return recognise_top_down(models_[static_cast<std::size_t>(c)], lf.points, lf.unit,
                                 current_.image.size(), wo_);
