@@ -167,6 +167,14 @@ struct View {
   cv::Mat descriptors;
 };
 
+// passes: a later pass's turn, its object found in `view` (blob, how it was located).
+struct Revisit {
+  planning::PlanningView view;
+  int blob = -1;
+  std::string how;
+  int pass = 2;
+};
+
 std::vector<std::string> names_or_empty(const std::string& list) {
   const auto l = list.find_first_not_of(" \t");
   if (l == std::string::npos) return {};
@@ -436,6 +444,11 @@ void LearnOptions::validate() const {
     throw Error(
         "learn: --ladder-pooled scores the oracle ladder's rungs: it needs --oracle-ladder");
   }
+  if (revisit_top_down && (!(region_agree > 0) || passes < 2)) {
+    throw Error(
+        "learn: --revisit-top-down acts on region_agree's revisits: it needs --region-agree > 0 "
+        "and --passes > 1");
+  }
   if (lost_rechoose && !(region_agree > 0)) {
     throw Error(
         "learn: --lost-rechoose acts on region_agree's lost object: it needs "
@@ -521,8 +534,8 @@ class Learner {
   }
 
   void run(bool progress) {
-    core::ProgressBar bar(static_cast<std::size_t>(classes_ * o_.pushes), "learn: pushing",
-                          progress);
+    core::ProgressBar bar(static_cast<std::size_t>(classes_ * o_.pushes * o_.passes),
+                          "learn: pushing", progress);
     robot::Look first = timed("look", [&] { return robot_.look(); });
     const double scale = first.image.cols / 640.0;
     po_ = o_.plan;
@@ -556,6 +569,18 @@ class Learner {
       }
       learn_object(c, bar);
       if (o_.rounds == 0 || class_views(c) > 0) ++c;
+    }
+    // passes: the classes with views again, fewest views first (ties by class), each from where
+    // its object was left.
+    for (int pass = 2; pass <= o_.passes; ++pass) {
+      std::vector<int> order(static_cast<std::size_t>(classes_));
+      std::iota(order.begin(), order.end(), 0);
+      std::vector<int> views(order.size());
+      for (const int r : order) views[static_cast<std::size_t>(r)] = class_views(r);
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return views[static_cast<std::size_t>(a)] < views[static_cast<std::size_t>(b)];
+      });
+      for (const int r : order) revisit(r, pass, bar);
     }
     bar.finish();
     perceive_next(-1);
@@ -1106,6 +1131,27 @@ class Learner {
     return k >= aim_of_.size() || !aim_of_[k] || (b.centre - *aim_of_[k]).norm() <= o_.region_agree;
   }
 
+  // Learned object c recognised top-down in the current look (logged `recognise`); `best`: the
+  // blob its region lies on, or -1.
+  TopDownResult top_down(int c, const planning::PlanningView& view, int& best) {
+    TopDownResult td = timed("recognition", [&] {
+      const LookFeatures lf = features_of(current_.image);
+      return recognise_top_down(models_[static_cast<std::size_t>(c)], lf.points, lf.unit,
+                                current_.image.size(), wo_);
+    });
+    best = td.found ? blob_on(view, td.mask) : -1;
+    log({.event = "recognise",
+         .object = c,
+         .blob = best,
+         .found = td.found,
+         .kappa = td.kappa,
+         .log_density = std::isfinite(td.log_density) ? td.log_density : 0.0,
+         .features = td.features,
+         .centre_px = xy(td.centre),
+         .message = td.message});
+    return td;
+  }
+
   // Where is object c in the current look? Top-down when it has a model, else by position.
   int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
              std::string& how) {
@@ -1140,20 +1186,8 @@ class Learner {
       return b;
     }
     if (om.learned()) {
-      const TopDownResult td = timed("recognition", [&] {
-        const LookFeatures lf = features_of(current_.image);
-        return recognise_top_down(om, lf.points, lf.unit, current_.image.size(), wo_);
-      });
-      const int best = td.found ? blob_on(view, td.mask) : -1;
-      log({.event = "recognise",
-           .object = c,
-           .blob = best,
-           .found = td.found,
-           .kappa = td.kappa,
-           .log_density = std::isfinite(td.log_density) ? td.log_density : 0.0,
-           .features = td.features,
-           .centre_px = xy(td.centre),
-           .message = td.message});
+      int best = -1;
+      const TopDownResult td = top_down(c, view, best);
       if (best >= 0) {
         how = "top-down";
         return best;
@@ -1510,15 +1544,74 @@ class Learner {
     return best;
   }
 
-  void learn_object(int c, core::ProgressBar& bar) {
-    planning::PlanningView view = plan_view();
-    std::vector<std::vector<double>> centres;
-    for (const auto& b : view.objects) centres.push_back(xy(b.centre));
-    log({.event = "look",
-         .object = c,
-         .blobs = static_cast<int>(view.objects.size()),
-         .centres = std::move(centres),
-         .out_of_reach = far_});
+  // A later pass's turn of class c (passes): its object where it was last left, logged
+  // `revisit`; found, pushed again (learn_object), else skipped.
+  void revisit(int c, int pass, core::ProgressBar& bar) {
+    const auto cu = static_cast<std::size_t>(c);
+    LearnDecision d{.event = "revisit", .object = c, .pass = pass};
+    const auto skip = [&](const std::string& why) {
+      d.why = why;
+      log(d);
+      bar.tick(static_cast<std::size_t>(o_.pushes));
+    };
+    if (class_views(c) == 0 || !models_[cu].learned()) return skip("the class has no views");
+    if (!left_at_[cu]) return skip("where its object was left is unknown");
+    const bool by_aim = o_.region_agree > 0 && aim_of_[cu];
+    const Eigen::Vector2d at = by_aim ? *aim_of_[cu] : *left_at_[cu];
+    d.at = xy(at);
+    Revisit again{plan_view(), -1, "", pass};
+    if (again.view.objects.empty()) return skip("no putative object in view");
+    held_ = false;
+    agreed_ = false;
+    lost_ = false;
+    if (o_.region_agree > 0) {
+      // Its region's blob (plan_view keeps it only near its aim), else the blob nearest its
+      // last push's target within region_agree.
+      again.how = "segmented";
+      again.blob = blob_of_[cu];
+      if (again.blob < 0) {
+        again.how = "held";
+        again.blob = track(again.view, at, o_.region_agree);
+      }
+      if (again.blob < 0 && o_.revisit_top_down) {
+        // revisit_top_down: not where it was left: where top-down recognition finds it.
+        (void)top_down(c, again.view, again.blob);
+        again.how = "top-down";
+      }
+      if (again.blob < 0) {
+        return skip(core::cat({"no blob within ", core::printf_string("%.3f", o_.region_agree),
+                               " m of its last push's target (nor its region)",
+                               o_.revisit_top_down ? ", nor by top-down recognition" : ""}));
+      }
+    } else {
+      again.blob = locate(c, again.view, at, again.how);
+      if (again.blob < 0) return skip("not found (" + again.how + ")");
+    }
+    d.blob = again.blob;
+    d.located = again.how;
+    for (int j = 0; j < classes_; ++j) {
+      if (j != c && blob_of_[static_cast<std::size_t>(j)] == again.blob) {
+        return skip(
+            core::cat({"found on object ", std::to_string(j + 1), "'s region (", again.how, ")"}));
+      }
+    }
+    log(d);
+    learn_object(c, bar, &again);
+  }
+
+  // A turn of class c: a blob chosen (7.2 d) and pushed up to `pushes` times; `again` (passes):
+  // a later pass's turn, its object found already (no choice, no identity check, views to c).
+  void learn_object(int c, core::ProgressBar& bar, const Revisit* again = nullptr) {
+    planning::PlanningView view = again ? again->view : plan_view();
+    if (!again) {
+      std::vector<std::vector<double>> centres;
+      for (const auto& b : view.objects) centres.push_back(xy(b.centre));
+      log({.event = "look",
+           .object = c,
+           .blobs = static_cast<int>(view.objects.size()),
+           .centres = std::move(centres),
+           .out_of_reach = far_});
+    }
     if (view.objects.empty()) {
       fault(c, "no-blobs", "no putative object in view; object skipped");
       bar.tick(static_cast<std::size_t>(o_.pushes));
@@ -1528,12 +1621,19 @@ class Learner {
     outward_only_ = false;
     // Blobs an earlier turn tried and got no views from are not chosen again (rounds > C).
     std::vector<Eigen::Vector2d> tried = given_up_;
-    int k = choose(c, view, tried);
+    int k = again ? again->blob : choose(c, view, tried);
     if (k < 0) {
       bar.tick(static_cast<std::size_t>(o_.pushes));
       return;
     }
-    attendant_.chose(c, view, k);
+    if (!again) attendant_.chose(c, view, k);
+    // The views' push numbers (counted once per push) follow the class's earlier passes'.
+    int base = 0;
+    if (again) {
+      for (const View& v : views_) {
+        if (v.cls == c) base = std::max(base, v.push + 1);
+      }
+    }
     Eigen::Vector2d last = view.objects[static_cast<std::size_t>(k)].centre;
     int failures = 0;                          // pushes in a row not planned or refused
     std::string last_failure = "not-planned";  // the last failure's kind (CandidateSkip)
@@ -1544,8 +1644,8 @@ class Learner {
     held_ = false;
     agreed_ = false;
     lost_ = false;
-    bool checked = false;  // the identity check of the turn's first push with views is done
-    int merges = 0;        // the turn's pushes merged into known objects (identity_margin)
+    bool checked = again != nullptr;  // the identity check of the turn's first push with views
+    int merges = 0;  // the turn's pushes merged into known objects (identity_margin)
     // The turn starts again on blob k of the view (logged "rechoose", why).
     const auto rechoose = [&](const std::string& why, const std::vector<CandidateSkip>& skipped) {
       log({.event = "rechoose", .object = c, .blob = k, .why = why, .skipped = skipped});
@@ -1561,7 +1661,7 @@ class Learner {
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
       if (!first) view = plan_view();
-      if (failures >= kMaxFailures && done > 0) {
+      if (failures >= kMaxFailures && (done > 0 || again)) {
         // Pushed out of reach or where the hand cannot come down: what was learned is kept.
         fault(c, "stuck",
               core::cat({std::to_string(kMaxFailures),
@@ -1583,10 +1683,10 @@ class Learner {
         }
         rechoose("three pushes in a row could not be planned or were refused", given_up);
       }
-      std::string how = "chosen";
+      std::string how = again ? again->how : "chosen";
       const int blob = first ? k : locate(c, view, last, how);
       first = false;
-      if (blob < 0 && how == "lost" && o_.lost_rechoose) {
+      if (blob < 0 && how == "lost" && o_.lost_rechoose && !again) {
         // lost_rechoose: the turn's remaining pushes go to a blob chosen again (7.2 d).
         fault(c, "lost",
               "region_agree: no blob near where the last push meant to put the object; "
@@ -1630,6 +1730,7 @@ class Learner {
       lp.dir = core::printf_string("pushes/push_%03d", lp.index);
       lp.plan = plan_record(view, p);
       lp.located = how;
+      if (again) lp.pass = again->pass;
       const fs::path dir = o_.out / lp.dir;
       fs::create_directories(dir);
       write_png(dir / "before.png", current_.image);
@@ -1696,7 +1797,7 @@ class Learner {
             const cv::Mat m = features::dilated(seg.view_masks[v].second, o_.dilate);
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
-            views_.push_back({c, done, f.descriptors.clone()});
+            views_.push_back({c, base + done, f.descriptors.clone()});
             attendant_.view_taken(in, dir / "episode", seg.view_masks[v].first,
                                   seg.view_masks[v].second);
             frames.push_back(unit_descriptors(f.descriptors));
@@ -1784,7 +1885,7 @@ class Learner {
       ObjectModel& om = models_[static_cast<std::size_t>(c)];
       timed("words", [&] {
         if (const auto ll = om.predictive_log_likelihood(frames, wo_)) {
-          dirichlet_measure_.push_back({c, done, ll->first, ll->second});
+          dirichlet_measure_.push_back({c, base + done, ll->first, ll->second});
         }
         if (!frames.empty()) {
           if (om.learned())
@@ -1806,7 +1907,7 @@ class Learner {
       bar.tick();
     }
     left_at_[static_cast<std::size_t>(c)] = last;
-    if (o_.rounds > 0 && class_views(c) == 0) {
+    if (o_.rounds > 0 && class_views(c) == 0 && !again) {
       // Every blob this turn tried gave nothing: later turns choose others.
       given_up_ = tried;
       given_up_.push_back(last);

@@ -285,6 +285,22 @@ struct LearnOptions {
   /// pushes go to the new choice (the class keeps the views it has). Needs region_agree > 0.
   /// Off by default (docs/results/learn.md, "Session 34, second round").
   bool lost_rechoose = false;
+  /// Passes over the objects (session 35, second round). 1: each class has its turn once. N > 1:
+  /// after every class's turn, passes 2..N go over the classes that have views, fewest views
+  /// first (ties by class; the classes that need views most are pushed before the others'
+  /// revisits move them), each turn starting from where its object was last left (with
+  /// region_agree: the blob of its segmented region, else the blob within region_agree of its
+  /// last push's target; else as locate() finds a known object: its region, top-down, tracked),
+  /// pushing it up to `pushes` times more, views and word updates going to the same class (later
+  /// pushes: the incremental mean). Not found, or found on another class's blob: logged
+  /// (`revisit`, with where it looked and why) and skipped. 1: off (the default).
+  int passes = 1;
+  /// passes with region_agree: a revisit that finds no blob near its object's last push's
+  /// target (nor its region) looks for it by top-down recognition (its words), as locate() does
+  /// without region_agree (session 35, second round: 15 of T2's 28 revisits on the tuning seeds
+  /// found nothing because the class's turn had ended lost). Needs region_agree > 0 and
+  /// passes > 1. Off by default.
+  bool revisit_top_down = false;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: quick_pushes (3) pushes an object, 240 x 180 images, 100 words, 6 topics,
@@ -446,6 +462,15 @@ struct LearnOptions {
       {"lost_rechoose",
        "region_agree's lost object: the turn chooses a blob again (the usual choice) for its "
        "remaining pushes instead of ending (needs region_agree > 0)"});
+    v(self.passes,
+      {"passes",
+       "Passes over the objects: passes 2..N push each class with views again (fewest views "
+       "first) from where its object was left, its views to the same class; 1 off",
+       core::between(1, 100)});
+    v(self.revisit_top_down,
+      {"revisit_top_down",
+       "passes with region_agree: a revisit that finds nothing near its object's last target "
+       "looks for it by top-down recognition (needs region_agree > 0, passes > 1)"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick",
@@ -561,6 +586,8 @@ struct LearnPush {
   /// than robot_seconds on one core, so that a real robot would not wait for it).
   double perception_cpu_seconds = 0;
   std::optional<LearnPushTruth> truth;  ///< simulation: what it really moved
+  /// passes > 1: the pass it was made in (2..N); left out in the first pass.
+  std::optional<int> pass;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -578,6 +605,7 @@ struct LearnPush {
       {"perception_cpu_seconds",
        "Executed: processor time of its segmentation, word updates and the recognition after it, "
        "s"});
+    v(self.pass, {"pass", "passes > 1: the pass it was made in (2..N); none in the first"});
     if (self.truth) LearnPushTruth::describe(*self.truth, v);
   }
 };
@@ -649,7 +677,9 @@ struct SkipCount {
 
 /// One line of learn's decision log (decisions.jsonl): an event and the fields it has (the
 /// others are left out). Events: start, retry, look, split, region, choose, recognise, refound,
-/// rechoose, replan, push, views, identity, move-on, fault, no-views, end. identity (a turn's
+/// rechoose, replan, push, views, identity, move-on, fault, no-views, revisit, end. revisit (passes
+/// > 1): a class's turn of a later pass, where its object was looked for (`at`), how it was
+/// located (`located`, `blob`) or why it was skipped (`why`). identity (a turn's
 /// first push that gave views, classes after the first): `scores` per known object (blob: the
 /// pushed blob; best_object: the object; best_mean_log_p and below_own: the views' mean log p
 /// under its words and that less its own), `why` when they were merged into one.
@@ -692,6 +722,8 @@ struct LearnDecision {
   std::optional<int> looks_split = {};             ///< end: looks whose blobs were split
   std::optional<int> pushes = {};                  ///< end
   std::optional<int> faults = {};                  ///< end
+  std::optional<int> pass = {};                    ///< revisit: the pass (2..N)
+  std::optional<std::vector<double>> at = {};      ///< revisit: where it was looked for, m
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -733,6 +765,8 @@ struct LearnDecision {
     v(self.looks_split, {"looks_split", "Looks whose blobs were split"});
     v(self.pushes, {"pushes", "Pushes"});
     v(self.faults, {"faults", "Logged faults"});
+    v(self.pass, {"pass", "The pass (2..N)"});
+    v(self.at, {"at", "Where the object was looked for, table m"});
   }
 };
 
