@@ -2304,13 +2304,30 @@ bool recheck_claimed(const NextChoice& claims, int chosen) {
 
 namespace {
 
-// choose_unlearned's matching and choice on `distance[b][c]` (a blob's distance to a class; inf:
-// unscored or no part), `scored` blobs and `classes` taking part, `out.nearest` filled.
-// Distances may be negative (choose_unlearned_by_words): the search prunes only when none is.
-void claim_blobs(const std::vector<std::vector<double>>& distance, const std::vector<int>& scored,
-                 const std::vector<int>& classes, NextChoice& out) {
+// choose_unlearned's nearest classes, matching and choice on `distance[b][c]` (a blob's distance
+// to a class; inf: unscored or no part), `scored` blobs and `classes` taking part. Distances may
+// be negative (choose_unlearned_by_words): the search prunes only when none is.
+NextChoice claim_blobs(const std::vector<std::vector<double>>& distance,
+                       const std::vector<int>& scored, const std::vector<int>& classes) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const int n = static_cast<int>(distance.size());
+  NextChoice out;
+  out.claimed_by.assign(static_cast<std::size_t>(n), -1);
+  out.nearest.assign(static_cast<std::size_t>(n), -1.0);
+  out.nearest_class.assign(static_cast<std::size_t>(n), -1);
+  for (const int b : scored) {
+    double nearest = kInf;
+    for (const int c : classes) {
+      const double d = distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)];
+      if (d < nearest) {
+        nearest = d;
+        out.nearest_class[static_cast<std::size_t>(b)] = c;
+      }
+    }
+    // No class has a part yet: every blob is as new as any other (distance 1, the most).
+    out.nearest[static_cast<std::size_t>(b)] = std::isfinite(nearest) ? nearest : 1.0;
+  }
+  if (scored.empty()) return out;
   bool nonnegative = true;
   for (const int b : scored) {
     for (const int c : classes) {
@@ -2386,6 +2403,7 @@ void claim_blobs(const std::vector<std::vector<double>>& distance, const std::ve
     }
     if (out.blob >= 0) break;
   }
+  return out;
 }
 
 }  // namespace
@@ -2394,10 +2412,6 @@ NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
                             const std::vector<std::vector<Eigen::VectorXd>>& class_looks) {
   const int n = static_cast<int>(blobs.size());
   const int k = static_cast<int>(class_looks.size());
-  NextChoice out;
-  out.claimed_by.assign(static_cast<std::size_t>(n), -1);
-  out.nearest.assign(static_cast<std::size_t>(n), -1.0);
-  out.nearest_class.assign(static_cast<std::size_t>(n), -1);
   // distance[b][c]: the blob's least distance to class c's looks (inf: no looks or unscored).
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
@@ -2411,23 +2425,15 @@ NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
     const Eigen::VectorXd& t = blobs[static_cast<std::size_t>(b)];
     if (t.size() == 0) continue;
     scored.push_back(b);
-    double nearest = kInf;
     for (const int c : classes) {
       double d = kInf;
       for (const Eigen::VectorXd& e : class_looks[static_cast<std::size_t>(c)]) {
         d = std::min(d, hellinger(t, e));
       }
       distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] = d;
-      if (d < nearest) {
-        nearest = d;
-        out.nearest_class[static_cast<std::size_t>(b)] = c;
-      }
     }
-    // No class has looks yet: every blob is as new as any other (distance 1, the most).
-    out.nearest[static_cast<std::size_t>(b)] = std::isfinite(nearest) ? nearest : 1.0;
   }
-  if (!scored.empty()) claim_blobs(distance, scored, classes, out);
-  return out;
+  return claim_blobs(distance, scored, classes);
 }
 
 NextChoice choose_unlearned_by_words(const std::vector<std::vector<std::int32_t>>& blobs,
@@ -2436,10 +2442,6 @@ NextChoice choose_unlearned_by_words(const std::vector<std::vector<std::int32_t>
   const int n = static_cast<int>(blobs.size());
   const int k = static_cast<int>(class_counts.size());
   const double v = words;
-  NextChoice out;
-  out.claimed_by.assign(static_cast<std::size_t>(n), -1);
-  out.nearest.assign(static_cast<std::size_t>(n), -1.0);
-  out.nearest_class.assign(static_cast<std::size_t>(n), -1);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
                                             std::vector<double>(static_cast<std::size_t>(k), kInf));
@@ -2478,19 +2480,7 @@ NextChoice choose_unlearned_by_words(const std::vector<std::vector<std::int32_t>
           -sum / static_cast<double>(d.size());
     }
   }
-  for (const int b : scored) {
-    double nearest = kInf;
-    for (const int c : classes) {
-      const double d = distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)];
-      if (d < nearest) {
-        nearest = d;
-        out.nearest_class[static_cast<std::size_t>(b)] = c;
-      }
-    }
-    out.nearest[static_cast<std::size_t>(b)] = std::isfinite(nearest) ? nearest : 1.0;
-  }
-  if (!scored.empty()) claim_blobs(distance, scored, classes, out);
-  return out;
+  return claim_blobs(distance, scored, classes);
 }
 
 Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int classes,
