@@ -7,7 +7,8 @@ BASE_DIR/OPTION_DIR hold scripts/experiment-learn's runs (MODE-sSEED/learn.json)
 the held-out MoT by theta, argmax theta, pooled words, per named object MoT / argmax %, named
 objects given a class and the later learn pushes aimed at another object than the turn chose
 (ground truth); then the means and the paired differences (option - base) with 95 % t intervals
-(scripts/oracle_ladder_table.py's ci).
+(scripts/oracle_ladder_table.py's ci) and on how many seeds the option is higher / lower, and
+the runs' median and longest wall time (MODE-sSEED.wall; session 36).
 """
 import json
 import os
@@ -28,8 +29,10 @@ def figures(run):
     named = sum(1 for o in g["objects"] if o["name"] in truths)
     per = " ".join(f"{o['name']} {100 * o['mot_accuracy']:.0f}/{100 * o['argmax_accuracy']:.0f}"
                    for o in g["objects"])
+    wall = f"{run}.wall"
     return {"MoT": 100 * g["mot_accuracy"], "argmax": 100 * g["argmax_accuracy"],
             "pooled": 100 * w.get("pooled", 0), "named": named,
+            "wall": float(open(wall).read()) if os.path.exists(wall) else 0.0,
             "drift": f"{drift}/{len(later)}", "per": per,
             "classes": ",".join(t or "-" for t in truths)}
 
@@ -50,8 +53,14 @@ def main(base, option, seeds):
         ov = [r[2][key] for r in rows]
         d = [o - b for b, o in zip(bv, ov)]
         m, h = ci(d)
+        up = sum(1 for x in d if x > 0)
+        down = sum(1 for x in d if x < 0)
         print(f"{key:<7} base {sum(bv) / len(bv):5.1f} option {sum(ov) / len(ov):5.1f} paired "
-              f"(option - base) {' '.join(f'{x:+.1f}' for x in d)}: {m:+.1f} +- {h:.1f}")
+              f"(option - base) {' '.join(f'{x:+.1f}' for x in d)}: {m:+.1f} +- {h:.1f} "
+              f"(higher on {up}, lower on {down} of {len(d)})")
+    for name, i in (("base", 1), ("option", 2)):
+        walls = sorted(r[i]["wall"] for r in rows)
+        print(f"wall    {name:<6} median {walls[len(walls) // 2]:.0f} s, max {walls[-1]:.0f} s")
 
 
 if __name__ == "__main__":
