@@ -802,6 +802,7 @@ class Learner {
     v.objects = std::move(kept);
     std::string held;
     std::vector<cv::Mat> agreed = regions;
+    bool cut = false;  // region_agree cut a region
     if (o_.region_agree > 0) {
       // region_agree: a region does not name a candidate far from where its push meant to put
       // the object (its pixels on such a candidate are cut out of it).
@@ -811,17 +812,21 @@ class Learner {
           if (near_aim(r, v.objects[i])) continue;
           if (agreed[r].data == regions[r].data) agreed[r] = agreed[r].clone();
           agreed[r].setTo(0, masks[i]);
+          cut = true;
         }
-      }
-      const std::vector<int> plain = known_candidates(regions, masks, end_of_);
-      const std::vector<int> near = known_candidates(agreed, masks, end_of_);
-      for (std::size_t r = 0; r < plain.size(); ++r) {
-        if (plain[r] == near[r]) continue;
-        held += core::cat({"; object ", std::to_string(r), "'s region: candidate ",
-                           std::to_string(plain[r]), " -> ", std::to_string(near[r])});
       }
     }
     std::vector<int> found = known_candidates(agreed, masks, end_of_);
+    if (cut) {
+      // The log names the candidates the cut re-assigned (the regions uncut name the same
+      // candidates when nothing was cut).
+      const std::vector<int> plain = known_candidates(regions, masks, end_of_);
+      for (std::size_t r = 0; r < plain.size(); ++r) {
+        if (plain[r] == found[r]) continue;
+        held += core::cat({"; object ", std::to_string(r), "'s region: candidate ",
+                           std::to_string(plain[r]), " -> ", std::to_string(found[r])});
+      }
+    }
     std::vector<KnownBlob> known;
     for (std::size_t k = 0; k < found.size(); ++k) {
       if (found[k] >= 0) known.push_back({static_cast<int>(k), found[k]});
