@@ -29,7 +29,6 @@
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/features.hpp"
-#include "proprio/features/kmeans.hpp"
 #include "proprio/features/mask_morphology.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
@@ -2070,7 +2069,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
     l.log({.event = "no-views", .why = "no push gave a view: no model"});
     return;
   }
-  // Vocabulary: given, or k-means over the descriptors of every view.
+  // Vocabulary: given, or k-means over the descriptors of every view (no sample; all cores).
   if (!o.vocabulary.empty()) {
     k.vocabulary = features::read_vocabulary(o.vocabulary);
   } else {
@@ -2078,12 +2077,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
       std::vector<cv::Mat> all;
       all.reserve(views.size());
       for (const auto& v : views) all.push_back(v.descriptors);
-      cv::Mat stacked;
-      cv::vconcat(all, stacked);
-      features::KmeansOptions ko;
-      ko.words = std::min(o.words, stacked.rows);
-      ko.seed = o.seed;
-      k.vocabulary = features::build_vocabulary(stacked, ko).vocabulary;
+      k.vocabulary = views_vocabulary(all, o.words, o.seed, 0, 0);
     });
   }
   features::write_vocabulary(o.out / "vocabulary.vocab", *k.vocabulary, provenance);
