@@ -29,7 +29,6 @@
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
 #include "proprio/features/features.hpp"
-#include "proprio/features/kmeans.hpp"
 #include "proprio/features/mask_morphology.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
@@ -174,6 +173,19 @@ struct Revisit {
   std::string how;
   int pass = 2;
 };
+
+// Where a turn's last executed push left its object: locate()'s first cue at the turn's next
+// push.
+enum class Landing {
+  kUnknown,   // no push of the turn yet (or it was merged into a known object), or no cue on
+  kHeld,      // hold_target: a blob lay within kHoldRadius of the push's target
+  kNear,      // region_agree: its blob lay within region_agree of the push's target
+  kNearHeld,  // both (hold_target and region_agree on)
+  kLost       // region_agree: no blob lay within region_agree of the target (the turn ends)
+};
+
+bool is_near(Landing l) { return l == Landing::kNear || l == Landing::kNearHeld; }
+bool is_held(Landing l) { return l == Landing::kHeld || l == Landing::kNearHeld; }
 
 std::vector<std::string> names_or_empty(const std::string& list) {
   const auto l = list.find_first_not_of(" \t");
@@ -802,6 +814,7 @@ class Learner {
     v.objects = std::move(kept);
     std::string held;
     std::vector<cv::Mat> agreed = regions;
+    bool cut = false;  // region_agree cut a region
     if (o_.region_agree > 0) {
       // region_agree: a region does not name a candidate far from where its push meant to put
       // the object (its pixels on such a candidate are cut out of it).
@@ -811,17 +824,21 @@ class Learner {
           if (near_aim(r, v.objects[i])) continue;
           if (agreed[r].data == regions[r].data) agreed[r] = agreed[r].clone();
           agreed[r].setTo(0, masks[i]);
+          cut = true;
         }
-      }
-      const std::vector<int> plain = known_candidates(regions, masks, end_of_);
-      const std::vector<int> near = known_candidates(agreed, masks, end_of_);
-      for (std::size_t r = 0; r < plain.size(); ++r) {
-        if (plain[r] == near[r]) continue;
-        held += core::cat({"; object ", std::to_string(r), "'s region: candidate ",
-                           std::to_string(plain[r]), " -> ", std::to_string(near[r])});
       }
     }
     std::vector<int> found = known_candidates(agreed, masks, end_of_);
+    if (cut) {
+      // The log names the candidates the cut re-assigned (the regions uncut name the same
+      // candidates when nothing was cut).
+      const std::vector<int> plain = known_candidates(regions, masks, end_of_);
+      for (std::size_t r = 0; r < plain.size(); ++r) {
+        if (plain[r] == found[r]) continue;
+        held += core::cat({"; object ", std::to_string(r), "'s region: candidate ",
+                           std::to_string(plain[r]), " -> ", std::to_string(found[r])});
+      }
+    }
     std::vector<KnownBlob> known;
     for (std::size_t k = 0; k < found.size(); ++k) {
       if (found[k] >= 0) known.push_back({static_cast<int>(k), found[k]});
@@ -1152,29 +1169,39 @@ class Learner {
     return td;
   }
 
-  // Where is object c in the current look? Top-down when it has a model, else by position.
+  // region_agree: object c where its last push left it near its target: its region's blob
+  // (plan_view keeps it only near that target; `how` "segmented"), else the blob nearest `at`
+  // within region_agree ("held"); -1 when neither (`how` unchanged).
+  int near_blob(int c, const planning::PlanningView& view, const Eigen::Vector2d& at,
+                std::string& how) {
+    if (const int b = blob_of_[static_cast<std::size_t>(c)]; b >= 0) {
+      how = "segmented";
+      return b;
+    }
+    if (const int b = track(view, at, o_.region_agree); b >= 0) {
+      how = "held";
+      return b;
+    }
+    return -1;
+  }
+
+  // Where is object c in the current look, `landing` where the turn's last push left it?
+  // Top-down when it has a model, else by position.
   int locate(int c, const planning::PlanningView& view, const Eigen::Vector2d& last,
-             std::string& how) {
+             Landing landing, std::string& how) {
     const ObjectModel& om = models_[static_cast<std::size_t>(c)];
-    if (o_.region_agree > 0 && lost_) {
+    if (landing == Landing::kLost) {
       // The last push put it nowhere near its target: whatever lies there now is no better
       // than a neighbour; the turn moves on.
       how = "lost";
       return -1;
     }
-    if (o_.region_agree > 0 && agreed_) {
+    if (is_near(landing)) {
       // The last push left it near its target: its region's blob (which lies there), else the
       // blob nearest where it was found after the push.
-      if (const int b = blob_of_[static_cast<std::size_t>(c)]; b >= 0) {
-        how = "segmented";
-        return b;
-      }
-      if (const int b = track(view, last, o_.region_agree); b >= 0) {
-        how = "held";
-        return b;
-      }
+      if (const int b = near_blob(c, view, last, how); b >= 0) return b;
     }
-    if (o_.hold_target && held_) {
+    if (is_held(landing)) {
       // Where the last push landed it (the blob nearest its target): held on to.
       if (const int b = track(view, last, kTrackRadius); b >= 0) {
         how = "held";
@@ -1561,18 +1588,10 @@ class Learner {
     d.at = xy(at);
     Revisit again{plan_view(), -1, "", pass};
     if (again.view.objects.empty()) return skip("no putative object in view");
-    held_ = false;
-    agreed_ = false;
-    lost_ = false;
     if (o_.region_agree > 0) {
       // Its region's blob (plan_view keeps it only near its aim), else the blob nearest its
       // last push's target within region_agree.
-      again.how = "segmented";
-      again.blob = blob_of_[cu];
-      if (again.blob < 0) {
-        again.how = "held";
-        again.blob = track(again.view, at, o_.region_agree);
-      }
+      again.blob = near_blob(c, again.view, at, again.how);
       if (again.blob < 0 && o_.revisit_top_down) {
         // revisit_top_down: not where it was left: where top-down recognition finds it.
         (void)top_down(c, again.view, again.blob);
@@ -1584,7 +1603,7 @@ class Learner {
                                o_.revisit_top_down ? ", nor by top-down recognition" : ""}));
       }
     } else {
-      again.blob = locate(c, again.view, at, again.how);
+      again.blob = locate(c, again.view, at, Landing::kUnknown, again.how);
       if (again.blob < 0) return skip("not found (" + again.how + ")");
     }
     d.blob = again.blob;
@@ -1596,13 +1615,14 @@ class Learner {
       }
     }
     log(d);
-    learn_object(c, bar, &again);
+    learn_object(c, bar, std::move(again));
   }
 
   // A turn of class c: a blob chosen (7.2 d) and pushed up to `pushes` times; `again` (passes):
   // a later pass's turn, its object found already (no choice, no identity check, views to c).
-  void learn_object(int c, core::ProgressBar& bar, const Revisit* again = nullptr) {
-    planning::PlanningView view = again ? again->view : plan_view();
+  void learn_object(int c, core::ProgressBar& bar, std::optional<Revisit> again = std::nullopt) {
+    // A revisit's look is the turn's first (again->view is not read again).
+    planning::PlanningView view = again ? std::move(again->view) : plan_view();
     if (!again) {
       std::vector<std::vector<double>> centres;
       for (const auto& b : view.objects) centres.push_back(xy(b.centre));
@@ -1641,10 +1661,8 @@ class Learner {
     int done = 0;
     int attempts = 0;
     bool first = true;
-    held_ = false;
-    agreed_ = false;
-    lost_ = false;
-    bool checked = again != nullptr;  // the identity check of the turn's first push with views
+    Landing landing = Landing::kUnknown;  // where the turn's last executed push left its object
+    bool checked = again.has_value();     // the identity check of the turn's first push with views
     int merges = 0;  // the turn's pushes merged into known objects (identity_margin)
     // The turn starts again on blob k of the view (logged "rechoose", why).
     const auto rechoose = [&](const std::string& why, const std::vector<CandidateSkip>& skipped) {
@@ -1654,9 +1672,7 @@ class Learner {
       failures = 0;
       extra_approach_ = 0;
       first = true;
-      held_ = false;
-      agreed_ = false;
-      lost_ = false;
+      landing = Landing::kUnknown;
     };
     while (done < o_.pushes && attempts < 2 * o_.pushes + 4) {
       ++attempts;
@@ -1684,7 +1700,7 @@ class Learner {
         rechoose("three pushes in a row could not be planned or were refused", given_up);
       }
       std::string how = again ? again->how : "chosen";
-      const int blob = first ? k : locate(c, view, last, how);
+      const int blob = first ? k : locate(c, view, last, landing, how);
       first = false;
       if (blob < 0 && how == "lost" && o_.lost_rechoose && !again) {
         // lost_rechoose: the turn's remaining pushes go to a blob chosen again (7.2 d).
@@ -1823,31 +1839,32 @@ class Learner {
       // else where it was.
       const planning::PlanningView after = plan_view();
       int now = -1;
-      held_ = false;
+      bool held = false;
       if (o_.hold_target && !same) {
         // The blob nearest where the push meant to land it, before its segmented region.
         now = track(after, p.target, kHoldRadius);
-        held_ = now >= 0;
+        held = now >= 0;
       }
       if (now < 0) now = blob_of_[static_cast<std::size_t>(owner)];
-      agreed_ = false;
+      landing = held ? Landing::kHeld : Landing::kUnknown;
       if (o_.region_agree > 0 && !same) {
         // region_agree: its region's blob lies near the target (or it has none); else the blob
         // nearest the target, within region_agree.
         if (now < 0) now = track(after, p.target, o_.region_agree);
-        agreed_ =
+        const bool near =
             now >= 0 && (after.objects[static_cast<std::size_t>(now)].centre - p.target).norm() <=
                             o_.region_agree;
-        if (!agreed_) {
+        landing = !near ? Landing::kLost : held ? Landing::kNearHeld : Landing::kNear;
+        if (!near) {
           // No blob near where the push meant to put it (off the table, out of reach, merged
           // with a neighbour): lost; where it was meant to be is where it was left.
-          lost_ = true;
           now = -1;
           last = p.target;
         }
       }
-      if (now < 0 && !lost_) now = track(after, p.target, kLandRadius);
-      if (now < 0 && !lost_) now = track(after, last, kTrackRadius);
+      const bool lost = landing == Landing::kLost;
+      if (now < 0 && !lost) now = track(after, p.target, kLandRadius);
+      if (now < 0 && !lost) now = track(after, last, kTrackRadius);
       if (now >= 0 &&
           (after.objects[static_cast<std::size_t>(now)].centre - last).norm() < kStill) {
         fault(c, "moved-nothing", "the push left the object where it was");
@@ -1967,14 +1984,8 @@ class Learner {
   std::vector<std::vector<double>> far_;  ///< the last look's blobs out of reach (centres, m)
   /// The last look's blobs out of reach: not to learn, but the arm's paths avoid them.
   std::vector<planning::PutativeObject> obstacles_;
-  /// hold_target: the object's last position (`last`) is the blob nearest its last push's target.
-  bool held_ = false;
   /// region_agree: per object, the planned target of its last push that gave it a region, m.
   std::vector<std::optional<Eigen::Vector2d>> aim_of_;
-  /// region_agree: the turn's last push left its object within region_agree of the target.
-  bool agreed_ = false;
-  /// region_agree: the turn's last executed push left no blob near its target: the turn ends.
-  bool lost_ = false;
   double extra_approach_ = 0;  ///< m, grown after each refusal of the object's pushes
   /// The object's transit was refused: pushes away from the base are preferred (their start lies
   /// between the base and the object, reached without passing over it).
@@ -2058,7 +2069,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
     l.log({.event = "no-views", .why = "no push gave a view: no model"});
     return;
   }
-  // Vocabulary: given, or k-means over the descriptors of every view.
+  // Vocabulary: given, or k-means over the descriptors of every view (no sample; all cores).
   if (!o.vocabulary.empty()) {
     k.vocabulary = features::read_vocabulary(o.vocabulary);
   } else {
@@ -2066,12 +2077,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
       std::vector<cv::Mat> all;
       all.reserve(views.size());
       for (const auto& v : views) all.push_back(v.descriptors);
-      cv::Mat stacked;
-      cv::vconcat(all, stacked);
-      features::KmeansOptions ko;
-      ko.words = std::min(o.words, stacked.rows);
-      ko.seed = o.seed;
-      k.vocabulary = features::build_vocabulary(stacked, ko).vocabulary;
+      k.vocabulary = views_vocabulary(all, o.words, o.seed, 0, 0);
     });
   }
   features::write_vocabulary(o.out / "vocabulary.vocab", *k.vocabulary, provenance);

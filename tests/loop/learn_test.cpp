@@ -22,6 +22,9 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/random.hpp"
+#include "proprio/features/kmeans.hpp"
+#include "proprio/features/vocabulary.hpp"
+#include "proprio/loop/view_model.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
@@ -427,6 +430,32 @@ TEST(Learn, DescriptorMatchFractionCountsDescriptorsNearerTheKnownThanTheRest) {
   cv::Mat doubles;
   known.convertTo(doubles, CV_64F);
   EXPECT_THROW((void)descriptor_match_fraction(q, doubles, rest, 0.8), Error);
+}
+
+TEST(Learn, TheVocabularyIsKmeansOverEveryDescriptorOfTheViews) {
+  // learn's vocabulary (views_vocabulary with sample 0, all cores): k-means over every
+  // descriptor of the views, as build_vocabulary over them with the seed; the clutter
+  // experiment's sample (here 5 of 11 descriptors) would cap it at 5 words.
+  cv::Mat a(6, 128, CV_32F);
+  cv::Mat b(5, 128, CV_32F);
+  cv::randu(a, 0.0F, 1.0F);
+  cv::randu(b, 0.5F, 2.0F);
+  const std::vector<cv::Mat> views{a, b};
+  cv::Mat stacked;
+  cv::vconcat(views, stacked);
+  features::KmeansOptions ko;
+  ko.words = 4;
+  ko.seed = 9;
+  const features::Vocabulary w = features::build_vocabulary(stacked, ko).vocabulary;
+  const features::Vocabulary v = views_vocabulary(views, 4, 9, 0, 0);
+  EXPECT_EQ(features::bag_of_words(v, stacked), features::bag_of_words(w, stacked));
+  EXPECT_EQ(views_vocabulary(views, 50, 9, 0, 0).size(), 11);  // every descriptor
+  EXPECT_EQ(views_vocabulary(views, 50, 9, 5, 0).size(), 5);   // a sample of 5
+  // The threads change no word.
+  EXPECT_EQ(features::bag_of_words(views_vocabulary(views, 4, 9, 0, 1), stacked),
+            features::bag_of_words(v, stacked));
+  EXPECT_THROW((void)views_vocabulary(views, 4, 9, -1, 0), Error);
+  EXPECT_THROW((void)views_vocabulary(views, 4, 9, 0, -1), Error);
 }
 
 TEST(Learn, AnExistingOutIsRefusedWithoutOverwrite) {
