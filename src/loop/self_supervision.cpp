@@ -240,6 +240,15 @@ class Learner {
   [[nodiscard]] bool uses(ClaimSignal s) const {
     return o_.claims_by == s || o_.other_claims_by == s;
   }
+  // Whether the classes' descriptors come from `from` (and a signal uses them).
+  [[nodiscard]] bool descriptors_from(DescriptorSource from) const {
+    return uses(ClaimSignal::kDescriptors) && o_.descriptor_source == from;
+  }
+  // Whether the classes' descriptors come from looks (all of them or the first only).
+  [[nodiscard]] bool descriptors_from_looks() const {
+    return descriptors_from(DescriptorSource::kLooks) ||
+           descriptors_from(DescriptorSource::kFirstLook);
+  }
 
   // The documents of the blobs of `view` that have enough features, and those blobs' indices.
   // With `descriptors`, the blobs' descriptors too.
@@ -522,9 +531,13 @@ class Learner {
   // (c): the chosen object's look (blob `c` of the last look) kept for (d)'s kLooks choice.
   void keep_look(int r, const planning::PlanningView& view, int c) {
     cv::Mat desc;
-    const auto d = blob_document(view, c, uses(ClaimSignal::kDescriptors) ? &desc : nullptr);
+    const auto d = blob_document(view, c, descriptors_from_looks() ? &desc : nullptr);
     if (d.empty()) return;
-    add_descriptors(r, desc);
+    // descriptor_source first-look: only the round's first look (the object after (b)).
+    if (!descriptors_from(DescriptorSource::kFirstLook) ||
+        class_descriptors_[static_cast<std::size_t>(r)].empty()) {
+      add_descriptors(r, desc);
+    }
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
     auto& words = class_look_words_[static_cast<std::size_t>(r)];
     // kFirstLookWords: only the round's first look (the object before its learn pushes).
@@ -897,6 +910,11 @@ class Learner {
     return m;
   }
 
+  // views_of keeps its views' descriptors (own_model_rungs, descriptor_source views).
+  [[nodiscard]] bool keep_view_descriptors() const {
+    return o_.own_model_rungs || descriptors_from(DescriptorSource::kViews);
+  }
+
   // The training views of one learn push's episode (kMotion; `seg` its segmentation when made
   // already) or of the look after it (kBlob).
   std::vector<std::vector<std::int32_t>> views_of(const PushIntent& intent, const fs::path& dir,
@@ -911,7 +929,7 @@ class Learner {
       cv::Mat desc = masked_descriptors(image_, last_mask, o_.features, o_.dilate);
       if (desc.rows >= o_.min_features) {
         docs.push_back(features::bag_of_words(vocabulary_, desc));
-        if (o_.own_model_rungs) view_descriptors_.push_back(desc);
+        if (keep_view_descriptors()) view_descriptors_.push_back(desc);
         attendant_.view_taken(intent, {}, -1, last_mask);
       }
       what.source = "blob";
@@ -939,7 +957,7 @@ class Learner {
         continue;
       }
       docs.push_back(features::bag_of_words(vocabulary_, desc));
-      if (o_.own_model_rungs) view_descriptors_.push_back(desc);
+      if (keep_view_descriptors()) view_descriptors_.push_back(desc);
       attendant_.view_taken(intent, dir, i, m);
       last_mask = m;
       ++used;
@@ -1336,13 +1354,18 @@ class Learner {
           v.tokens.push_back(static_cast<int>(d.size()));
           v.words.add_tokens(d);
         }
-        if (o_.own_model_rungs) {
+        if (keep_view_descriptors()) {
           // views_of's descriptors of exactly these documents (the only source of docs here).
           if (view_descriptors_.size() != docs.size()) {
             throw Error("selfsupervise: the views' descriptors do not match their documents");
           }
+        }
+        if (o_.own_model_rungs) {
           v.descriptors.insert(v.descriptors.end(), view_descriptors_.begin(),
                                view_descriptors_.end());
+        }
+        if (descriptors_from(DescriptorSource::kViews)) {
+          for (const cv::Mat& d : view_descriptors_) add_descriptors(r, d);
         }
         out_.views_per_class[static_cast<std::size_t>(r)] += static_cast<int>(docs.size());
       }
@@ -1430,8 +1453,11 @@ class Learner {
     }
     if (now >= 0) {
       cv::Mat desc;
-      const auto d = blob_document(after, now, uses(ClaimSignal::kDescriptors) ? &desc : nullptr);
-      add_descriptors(c, desc);
+      const auto d = blob_document(after, now, descriptors_from_looks() ? &desc : nullptr);
+      if (!descriptors_from(DescriptorSource::kFirstLook) ||
+          class_descriptors_[static_cast<std::size_t>(c)].empty()) {
+        add_descriptors(c, desc);
+      }
       if (!d.empty()) {
         theirs.push_back(theta_of({d}).row(0).transpose());
         if (!uses(ClaimSignal::kFirstLookWords) || their_words.sum() == 0) {

@@ -315,6 +315,13 @@ TEST(SelfSupervision, ClaimsByDescriptorsTellALearnedObjectFromANewOne) {
   EXPECT_EQ(core::fields_to_json(o).at("descriptor_ratio"), 0.8);
   EXPECT_EQ(core::fields_to_json(o).at("descriptor_min_share"), 0.05);
   EXPECT_EQ(core::fields_to_json(o).at("descriptor_cap"), 2000);
+  EXPECT_EQ(o.descriptor_source, DescriptorSource::kLooks);
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_source"), "looks");
+  o.descriptor_source = DescriptorSource::kViews;
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_source"), "views");
+  o.descriptor_source = DescriptorSource::kFirstLook;
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_source"), "first-look");
+  o.descriptor_source = DescriptorSource::kLooks;
   o.claims_by = ClaimSignal::kDescriptors;
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "descriptors");
@@ -1450,6 +1457,23 @@ TEST(SelfSupervision, ClaimsByDescriptorsOnTheTableAreLoggedAndFollowed) {
     EXPECT_LE(claimed.size(), 1U) << "2 objects: only round 1's class claims";
   }
   EXPECT_GE(scored, 1);
+  // descriptor_source views: the classes' descriptors are their views'; only a class with views
+  // claims, and the run differs from the looks' only in (d).
+  o.descriptor_source = DescriptorSource::kViews;
+  TableRun views = learn_on_table(o, {}, false);
+  int by_views = 0;
+  for (const auto& j : views.l.log) {
+    if (j.event != "choose" || !j.scores || !j.scores->front().claimed_by) continue;
+    ++by_views;
+    EXPECT_NE(j.why->find("descriptors"), std::string::npos) << *j.why;
+    for (const BlobScore& b : *j.scores) {
+      if (*b.claimed_by < 0) continue;
+      EXPECT_TRUE(std::find(views.l.views.labels.begin(), views.l.views.labels.end(),
+                            *b.claimed_by) != views.l.views.labels.end())
+          << "a class claims only with views";
+    }
+  }
+  EXPECT_GE(by_views, 1);
   // The default: no comparison computed.
   TableRun def = learn_on_table(small_options(), {}, false);
   for (const auto& j : def.l.log) {

@@ -119,6 +119,23 @@ inline constexpr core::ChoiceNames<ClaimSignal, 6> kOtherClaimSignalNames{
      {"first-look-words", ClaimSignal::kFirstLookWords},
      {"descriptors", ClaimSignal::kDescriptors}}};
 
+/// Where a class's descriptors come from (SelfSupervisionOptions::descriptor_source).
+enum class DescriptorSource {
+  /// Its looks: the features inside its tracked blob in the looks of its learn round (whole-blob
+  /// masks, arm parked, the same camera as the candidates; the default).
+  kLooks,
+  /// Its first look only: the look after (b), before its first learn push (the object as the
+  /// robot judged it cleared, before its pushes could merge it with a neighbour).
+  kFirstLook,
+  /// Its views: the features of its training views (the pushed object's masks in its learn
+  /// pushes' frames: what the class learned and is named by).
+  kViews,
+};
+inline constexpr core::ChoiceNames<DescriptorSource, 3> kDescriptorSourceNames{
+    {{"looks", DescriptorSource::kLooks},
+     {"first-look", DescriptorSource::kFirstLook},
+     {"views", DescriptorSource::kViews}}};
+
 /// planning::PushPlanOptions with descent_clearance 0.04 m (SelfSupervisionOptions::plan's).
 inline planning::PushPlanOptions descent_checked() {
   planning::PushPlanOptions p;
@@ -332,6 +349,9 @@ struct SelfSupervisionOptions {
   /// claims_by descriptors: at most this many descriptors a class keeps (over the cap, evenly
   /// spaced rows of all its looks' descriptors are kept; a look has about 100-400).
   int descriptor_cap = 2000;
+  /// claims_by descriptors: a class's descriptors from its looks (the default), its first look
+  /// only, or its views.
+  DescriptorSource descriptor_source = DescriptorSource::kLooks;
   /// (a)-(d): more rounds than objects, merged by the robot's own judgement (session 31). The
   /// robot runs up to this many rounds (0: C rounds, the default; otherwise at least C), each
   /// round a candidate class with its own views. After each round from the C-th on it groups
@@ -531,6 +551,11 @@ struct SelfSupervisionOptions {
     v(self.descriptor_cap,
       {"descriptor_cap", "claims-by descriptors: at most this many descriptors a class keeps",
        core::between(10, 100000)});
+    v.choice(self.descriptor_source,
+             {"descriptor_source",
+              "claims-by descriptors: a class's descriptors from its looks (its tracked blob), "
+              "its first look only (first-look) or its views (its training views' masks)"},
+             kDescriptorSourceNames);
     v(self.split_by_motion,
       {"split_by_motion", "Split blobs by each learn push's motion segmentation (views motion)"});
     v(self.rounds,
