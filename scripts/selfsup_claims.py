@@ -11,7 +11,9 @@ session 35: the claims of another signal on the same looks, `--other-claims-by` 
 --against: the class's object a claim must be on: "named" (the default, sessions 34 and 35:
 ground_truth.class_object, the object the class's pushes moved most) or "chosen" (session 36: the
 object under the blob its own round chose at its last choice look, i.e. what the class's first
-look showed; it differs from "named" when the round drifted onto another object).
+look showed; it differs from "named" when the round drifted onto another object) or "looks"
+(session 36: any object making at least 20% of the class's tracked blob in some look of its
+round, ground_truth.class_learn_blobs: right when the claim is on an object its looks held).
 A claim is "right" when the blob's object is that object; "at random": the right claims expected
 if each class claimed a blob of its look drawn at random. Standard library only.
 """
@@ -27,8 +29,8 @@ while args[:1] in (["--field"], ["--against"]):
         field = args[1]
     else:
         against = args[1]
-        if against not in ("named", "chosen"):
-            sys.exit("selfsup_claims.py: --against named|chosen")
+        if against not in ("named", "chosen", "looks"):
+            sys.exit("selfsup_claims.py: --against named|chosen|looks")
     args = args[2:]
 if not args:
     sys.exit(__doc__)
@@ -53,6 +55,16 @@ for path in args:
         blobs = g["class_blobs"][r] if r < len(g["class_blobs"]) else []
         b = d.get("chosen", -1)
         chosen[r] = blobs[b] if 0 <= b < len(blobs) else None
+    # The objects each class's looks held (>= 20% of its tracked blob in some look).
+    held = {}
+    for r, looks in enumerate(g.get("class_learn_blobs", [])):
+        objs = set()
+        for blob in looks or []:
+            for part in (blob or "").split("+"):
+                name, _, share = part.partition(":")
+                if name and share and float(share) >= 0.2:
+                    objs.add(name)
+        held[r] = objs
     out = []
     for r, d in sorted(last.items()):
         e = d.get("scored")
@@ -63,9 +75,15 @@ for path in args:
             c = s.get(field, -1)
             if c is None or c < 0 or s["blob"] >= len(blobs):
                 continue
-            obj = g["class_object"][c] if against == "named" else chosen.get(c)
-            ok = obj is not None and blobs[s["blob"]] == obj
-            chance += sum(b == obj for b in blobs) / len(blobs)
+            if against == "looks":
+                objs = held.get(c, set())
+                obj = "+".join(sorted(objs)) or None
+                ok = blobs[s["blob"]] in objs
+                chance += sum(b in objs for b in blobs) / len(blobs)
+            else:
+                obj = g["class_object"][c] if against == "named" else chosen.get(c)
+                ok = obj is not None and blobs[s["blob"]] == obj
+                chance += sum(b == obj for b in blobs) / len(blobs)
             right += ok
             wrong += not ok
             out.append("r%d:class%d(%s)->%s%s" % (r + 1, c + 1, obj, blobs[s["blob"]] or "-",
