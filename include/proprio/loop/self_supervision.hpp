@@ -329,7 +329,9 @@ struct SelfSupervisionOptions {
   /// kDescriptors (session 36): each class's SIFT descriptors from the same looks, a blob's
   /// distance minus the share of its descriptors whose match passes Lowe's ratio test in that
   /// class (choose_unlearned_by_descriptors; descriptor_ratio, descriptor_min_share,
-  /// descriptor_cap).
+  /// descriptor_cap). Session 36 (tuning seeds 1, 7, 8): right for 3 of 15 claims (looks) and
+  /// 3 of 16 (first-look), below chance and the looks' thetas on the same looks (7 of 18);
+  /// coverage and c fell (docs/results/selfsupervision.md, "Session 36"). kLooks stays.
   ClaimSignal claims_by = ClaimSignal::kLooks;
   /// A diagnostic (choice looks): the claims of another signal on the same looks, logged as
   /// each scored blob's other_claimed_by, so that two signals are compared on the same looks.
