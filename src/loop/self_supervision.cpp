@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -110,6 +111,7 @@ class Learner {
     class_looks_.resize(static_cast<std::size_t>(rounds));
     class_look_words_.assign(static_cast<std::size_t>(rounds),
                              Eigen::VectorXd::Zero(vocabulary_.size()));
+    class_descriptors_.resize(static_cast<std::size_t>(rounds));
     if (!log_path.empty()) log_file_.open(log_path);
   }
 
@@ -220,51 +222,79 @@ class Learner {
     return recognition::document_theta(model_, corpus).theta;
   }
 
-  // The document of blob `k` of `view` in the last look's image (empty: too few features).
-  std::vector<std::int32_t> blob_document(const planning::PlanningView& view, int k) {
-    auto d = masked_document(image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_),
-                             vocabulary_, o_.features, o_.dilate);
+  // The document of blob `k` of `view` in the last look's image (empty: too few features);
+  // with `desc`, its descriptors too (empty with the document).
+  std::vector<std::int32_t> blob_document(const planning::PlanningView& view, int k,
+                                          cv::Mat* desc = nullptr) {
+    const cv::Mat m =
+        masked_descriptors(image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_),
+                           o_.features, o_.dilate);
+    std::vector<std::int32_t> d;
+    if (m.rows > 0) d = features::bag_of_words(vocabulary_, m);
     if (static_cast<int>(d.size()) < o_.min_features) d.clear();
+    if (desc) *desc = d.empty() ? cv::Mat() : m;
     return d;
   }
 
+  // Whether a claim signal in use (claims_by or other_claims_by) is `s`.
+  [[nodiscard]] bool uses(ClaimSignal s) const {
+    return o_.claims_by == s || o_.other_claims_by == s;
+  }
+  // Whether the classes' descriptors come from `from` (and a signal uses them).
+  [[nodiscard]] bool descriptors_from(DescriptorSource from) const {
+    return uses(ClaimSignal::kDescriptors) && o_.descriptor_source == from;
+  }
+  // Whether the classes' descriptors come from looks (all of them or the first only).
+  [[nodiscard]] bool descriptors_from_looks() const {
+    return descriptors_from(DescriptorSource::kLooks) ||
+           descriptors_from(DescriptorSource::kFirstLook);
+  }
+
   // The documents of the blobs of `view` that have enough features, and those blobs' indices.
+  // With `descriptors`, the blobs' descriptors too.
   struct BlobDocuments {
     std::vector<std::vector<std::int32_t>> docs;
     std::vector<int> rows;
+    std::vector<cv::Mat> descriptors;
   };
-  BlobDocuments blob_documents(const planning::PlanningView& view) {
+  BlobDocuments blob_documents(const planning::PlanningView& view, bool descriptors = false) {
     BlobDocuments b;
     for (int k = 0; k < static_cast<int>(view.objects.size()); ++k) {
-      auto d = blob_document(view, k);
+      cv::Mat m;
+      auto d = blob_document(view, k, descriptors ? &m : nullptr);
       if (!d.empty()) {
         b.docs.push_back(std::move(d));
         b.rows.push_back(k);
+        if (descriptors) b.descriptors.push_back(m);
       }
     }
     return b;
   }
 
   // The blobs of `view` with enough features: their documents, indices and thetas (rows), and
-  // per blob of the view its theta (empty: too few features) and its words (empty: the same).
+  // per blob of the view its theta (empty: too few features), its words (empty: the same) and,
+  // when a claim signal uses them (claims_by or other_claims_by descriptors), its descriptors.
   struct BlobThetas {
     std::vector<std::vector<std::int32_t>> docs;
     std::vector<int> rows;
     Eigen::MatrixXd theta;
     std::vector<Eigen::VectorXd> per_blob;
     std::vector<std::vector<std::int32_t>> words;
+    std::vector<cv::Mat> descriptors;
   };
   BlobThetas blob_thetas(const planning::PlanningView& view) {
     BlobThetas t;
-    auto [docs, rows] = blob_documents(view);
+    auto [docs, rows, desc] = blob_documents(view, uses(ClaimSignal::kDescriptors));
     t.per_blob.resize(view.objects.size());
     t.words.resize(view.objects.size());
+    t.descriptors.resize(view.objects.size());
     if (!docs.empty()) {
       t.theta = theta_of(docs);
       for (std::size_t i = 0; i < rows.size(); ++i) {
         const auto b = static_cast<std::size_t>(rows[i]);
         t.per_blob[b] = t.theta.row(static_cast<Eigen::Index>(i)).transpose();
         t.words[b] = docs[i];
+        if (i < desc.size()) t.descriptors[b] = desc[i];
       }
     }
     t.docs = std::move(docs);
@@ -291,8 +321,9 @@ class Learner {
     return out;
   }
 
-  // (d)'s claims on the blobs of `view` (choose_unlearned, or choose_unlearned_by_words when
-  // claims_by says so) and, a diagnostic, the other signal's claims (empty: it has no class).
+  // (d)'s claims on the blobs of `view` by claims_by (choose_unlearned, by_words or
+  // by_descriptors) and, a diagnostic only when asked (other_claims_by), another signal's claims
+  // on the same blobs (empty: none asked, or it has no class yet).
   struct Claims {
     BlobThetas blobs;
     NextChoice next;
@@ -308,32 +339,67 @@ class Learner {
     return std::any_of(out_.views.labels.begin(), out_.views.labels.end(),
                        [&](int r) { return r >= 0 && r < rounds_run_; });
   }
+  [[nodiscard]] bool any_descriptors() const {
+    return std::any_of(class_descriptors_.begin(), class_descriptors_.end(),
+                       [](const cv::Mat& m) { return !m.empty(); });
+  }
   [[nodiscard]] bool any_claims() const {
-    return o_.claims_by == ClaimSignal::kViewWords ? any_views() : any_looks();
+    return o_.claims_by == ClaimSignal::kViewWords     ? any_views()
+           : o_.claims_by == ClaimSignal::kDescriptors ? any_descriptors()
+                                                       : any_looks();
+  }
+
+  // claims_by kDescriptors: per class (per group of rounds when merging) its looks' descriptors.
+  [[nodiscard]] std::vector<cv::Mat> class_descriptors() const {
+    if (!merging()) return class_descriptors_;
+    const RoundMerge m = judge();
+    std::vector<cv::Mat> out(static_cast<std::size_t>(m.distinct));
+    for (std::size_t r = 0; r < m.judged.size() && r < class_descriptors_.size(); ++r) {
+      const int g = m.judged[r];
+      if (g < 0 || class_descriptors_[r].empty()) continue;
+      auto& to = out[static_cast<std::size_t>(g)];
+      if (to.empty()) {
+        to = class_descriptors_[r].clone();
+      } else {
+        cv::vconcat(to, class_descriptors_[r], to);
+      }
+    }
+    return out;
+  }
+
+  // The claims of signal `s` on `blobs`; `any`: whether some class takes part in them.
+  NextChoice claims_of(ClaimSignal s, const BlobThetas& blobs, bool& any) {
+    const int words = static_cast<int>(vocabulary_.size());
+    switch (s) {
+      case ClaimSignal::kViewWords: {
+        const auto counts = class_word_counts();
+        any = std::any_of(counts.begin(), counts.end(), [](const auto& n) { return n.sum() > 0; });
+        return choose_unlearned_by_words(blobs.words, counts, words);
+      }
+      case ClaimSignal::kLookWords:
+      case ClaimSignal::kFirstLookWords:
+        any = any_looks();
+        return choose_unlearned_by_words(blobs.words, class_word_counts(true), words);
+      case ClaimSignal::kDescriptors:
+        any = any_descriptors();
+        return choose_unlearned_by_descriptors(blobs.descriptors, class_descriptors(),
+                                               o_.descriptor_ratio, o_.descriptor_min_share);
+      case ClaimSignal::kLooks:
+      case ClaimSignal::kNone:
+        break;
+    }
+    any = any_looks();
+    return choose_unlearned(blobs.per_blob, merging() ? group_looks() : class_looks_);
   }
 
   Claims claims(const planning::PlanningView& view) {
     Claims c;
     c.blobs = blob_thetas(view);
-    const auto looks = merging() ? group_looks() : class_looks_;
-    const auto counts = class_word_counts();
-    const bool any_looks = this->any_looks();
-    const bool any_views =
-        std::any_of(counts.begin(), counts.end(), [](const auto& n) { return n.sum() > 0; });
-    const int words = static_cast<int>(vocabulary_.size());
-    if (o_.claims_by == ClaimSignal::kViewWords) {
-      c.any = any_views;
-      c.next = choose_unlearned_by_words(c.blobs.words, counts, words);
-      if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
-    } else if (o_.claims_by == ClaimSignal::kLookWords ||
-               o_.claims_by == ClaimSignal::kFirstLookWords) {
-      c.any = any_looks;
-      c.next = choose_unlearned_by_words(c.blobs.words, class_word_counts(true), words);
-      if (any_looks) c.other = choose_unlearned(c.blobs.per_blob, looks).claimed_by;
-    } else {
-      c.any = any_looks;
-      c.next = choose_unlearned(c.blobs.per_blob, looks);
-      if (any_views) c.other = choose_unlearned_by_words(c.blobs.words, counts, words).claimed_by;
+    c.next = claims_of(o_.claims_by, c.blobs, c.any);
+    if (o_.other_claims_by != ClaimSignal::kNone) {
+      bool any_other = false;
+      NextChoice other = claims_of(o_.other_claims_by, c.blobs, any_other);
+      if (any_other) c.other = std::move(other.claimed_by);
     }
     return c;
   }
@@ -402,6 +468,7 @@ class Learner {
     const char* by = o_.claims_by == ClaimSignal::kViewWords        ? "views' words"
                      : o_.claims_by == ClaimSignal::kLookWords      ? "looks' words"
                      : o_.claims_by == ClaimSignal::kFirstLookWords ? "first looks' words"
+                     : o_.claims_by == ClaimSignal::kDescriptors    ? "descriptors"
                                                                     : "looks";
     log({.event = "choose",
          .round = r,
@@ -463,16 +530,46 @@ class Learner {
 
   // (c): the chosen object's look (blob `c` of the last look) kept for (d)'s kLooks choice.
   void keep_look(int r, const planning::PlanningView& view, int c) {
-    const auto d = blob_document(view, c);
+    cv::Mat desc;
+    const auto d = blob_document(view, c, descriptors_from_looks() ? &desc : nullptr);
     if (d.empty()) return;
+    // descriptor_source first-look: only the round's first look (the object after (b)).
+    if (!descriptors_from(DescriptorSource::kFirstLook) ||
+        class_descriptors_[static_cast<std::size_t>(r)].empty()) {
+      add_descriptors(r, desc);
+    }
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
     auto& words = class_look_words_[static_cast<std::size_t>(r)];
     // kFirstLookWords: only the round's first look (the object before its learn pushes).
-    if (o_.claims_by != ClaimSignal::kFirstLookWords || words.sum() == 0) add_words(words, d);
+    if (!uses(ClaimSignal::kFirstLookWords) || words.sum() == 0) add_words(words, d);
   }
 
   static void add_words(Eigen::VectorXd& counts, const std::vector<std::int32_t>& d) {
     for (const std::int32_t w : d) counts[w] += 1.0;
+  }
+
+  // claims_by kDescriptors: `desc` added to class `r`'s descriptors, kept at descriptor_cap
+  // (evenly spaced rows of all of them when over it).
+  void add_descriptors(int r, const cv::Mat& desc) {
+    if (desc.empty()) return;
+    cv::Mat& mine = class_descriptors_[static_cast<std::size_t>(r)];
+    cv::Mat all;
+    if (mine.empty()) {
+      all = desc.clone();
+    } else {
+      cv::vconcat(mine, desc, all);
+    }
+    mine = cap_rows(all, o_.descriptor_cap);
+  }
+
+  static cv::Mat cap_rows(const cv::Mat& all, int cap) {
+    if (all.rows <= cap) return all;
+    cv::Mat kept(cap, all.cols, all.type());
+    for (int i = 0; i < cap; ++i) {
+      const auto row = static_cast<int>(static_cast<std::int64_t>(i) * all.rows / cap);
+      all.row(row).copyTo(kept.row(i));
+    }
+    return kept;
   }
 
   // One push: plan given, executed, logged. Returns whether the robot executed it.
@@ -813,6 +910,11 @@ class Learner {
     return m;
   }
 
+  // views_of keeps its views' descriptors (own_model_rungs, descriptor_source views).
+  [[nodiscard]] bool keep_view_descriptors() const {
+    return o_.own_model_rungs || descriptors_from(DescriptorSource::kViews);
+  }
+
   // The training views of one learn push's episode (kMotion; `seg` its segmentation when made
   // already) or of the look after it (kBlob).
   std::vector<std::vector<std::int32_t>> views_of(const PushIntent& intent, const fs::path& dir,
@@ -827,7 +929,7 @@ class Learner {
       cv::Mat desc = masked_descriptors(image_, last_mask, o_.features, o_.dilate);
       if (desc.rows >= o_.min_features) {
         docs.push_back(features::bag_of_words(vocabulary_, desc));
-        if (o_.own_model_rungs) view_descriptors_.push_back(desc);
+        if (keep_view_descriptors()) view_descriptors_.push_back(desc);
         attendant_.view_taken(intent, {}, -1, last_mask);
       }
       what.source = "blob";
@@ -855,7 +957,7 @@ class Learner {
         continue;
       }
       docs.push_back(features::bag_of_words(vocabulary_, desc));
-      if (o_.own_model_rungs) view_descriptors_.push_back(desc);
+      if (keep_view_descriptors()) view_descriptors_.push_back(desc);
       attendant_.view_taken(intent, dir, i, m);
       last_mask = m;
       ++used;
@@ -902,7 +1004,9 @@ class Learner {
 
   // (c): which blob of `after` is round r's object (follow_by_looks on the blobs' looks).
   Followed follow(int r, const planning::PlanningView& after, int tracked) {
-    auto [docs, rows] = blob_documents(after);
+    BlobDocuments found = blob_documents(after);
+    auto& docs = found.docs;
+    const auto& rows = found.rows;
     std::vector<Eigen::VectorXd> blobs(after.objects.size());
     if (!docs.empty()) {
       const Eigen::MatrixXd th = theta_of(docs);
@@ -1250,13 +1354,18 @@ class Learner {
           v.tokens.push_back(static_cast<int>(d.size()));
           v.words.add_tokens(d);
         }
-        if (o_.own_model_rungs) {
+        if (keep_view_descriptors()) {
           // views_of's descriptors of exactly these documents (the only source of docs here).
           if (view_descriptors_.size() != docs.size()) {
             throw Error("selfsupervise: the views' descriptors do not match their documents");
           }
+        }
+        if (o_.own_model_rungs) {
           v.descriptors.insert(v.descriptors.end(), view_descriptors_.begin(),
                                view_descriptors_.end());
+        }
+        if (descriptors_from(DescriptorSource::kViews)) {
+          for (const cv::Mat& d : view_descriptors_) add_descriptors(r, d);
         }
         out_.views_per_class[static_cast<std::size_t>(r)] += static_cast<int>(docs.size());
       }
@@ -1339,12 +1448,19 @@ class Learner {
       mine.clear();
       their_words += mine_words;
       mine_words.setZero();
+      add_descriptors(c, class_descriptors_[static_cast<std::size_t>(r)]);
+      class_descriptors_[static_cast<std::size_t>(r)] = cv::Mat();
     }
     if (now >= 0) {
-      const auto d = blob_document(after, now);
+      cv::Mat desc;
+      const auto d = blob_document(after, now, descriptors_from_looks() ? &desc : nullptr);
+      if (!descriptors_from(DescriptorSource::kFirstLook) ||
+          class_descriptors_[static_cast<std::size_t>(c)].empty()) {
+        add_descriptors(c, desc);
+      }
       if (!d.empty()) {
         theirs.push_back(theta_of({d}).row(0).transpose());
-        if (o_.claims_by != ClaimSignal::kFirstLookWords || their_words.sum() == 0) {
+        if (!uses(ClaimSignal::kFirstLookWords) || their_words.sum() == 0) {
           add_words(their_words, d);
         }
       }
@@ -1637,6 +1753,7 @@ class Learner {
     class_looks_.assign(static_cast<std::size_t>(objects_), {});
     class_look_words_.assign(static_cast<std::size_t>(objects_),
                              Eigen::VectorXd::Zero(vocabulary_.size()));
+    class_descriptors_.assign(static_cast<std::size_t>(objects_), cv::Mat());
   }
 
   robot::Robot& robot_;
@@ -1661,6 +1778,9 @@ class Learner {
   std::vector<std::vector<Eigen::VectorXd>> class_looks_;
   /// Per class: the word counts of the same looks (claims_by kLookWords).
   std::vector<Eigen::VectorXd> class_look_words_;
+  /// Per class: the descriptors of the same looks, at most descriptor_cap (claims_by
+  /// kDescriptors, or other_claims_by).
+  std::vector<cv::Mat> class_descriptors_;
   int plans_ = 0;
   bool repeat_check_ = false;  ///< repeat_tries: test the next push's views (learn)
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
@@ -1691,10 +1811,30 @@ void SelfSupervisionOptions::validate() const {
   if (recheck_tries > 0 && choice != NextObjectRule::kLooks) {
     throw Error("selfsupervise: recheck_tries needs choice looks (the learned classes' claims)");
   }
+  if (claims_by == ClaimSignal::kNone) {
+    throw Error("selfsupervise: claims_by none is not a claim signal");
+  }
   if (claims_by != ClaimSignal::kLooks && choice != NextObjectRule::kLooks) {
     throw Error(
-        "selfsupervise: claims_by view-words needs choice looks (the learned classes' "
-        "claims)");
+        core::cat({"selfsupervise: claims_by ", core::choice_name(claims_by, kClaimSignalNames),
+                   " needs choice looks (the learned classes' claims)"}));
+  }
+  if (other_claims_by != ClaimSignal::kNone) {
+    if (choice != NextObjectRule::kLooks) {
+      throw Error(
+          "selfsupervise: other_claims_by needs choice looks (the learned classes' claims)");
+    }
+    if (other_claims_by == claims_by) {
+      throw Error("selfsupervise: other_claims_by must be another signal than claims_by");
+    }
+    const auto words = [](ClaimSignal s) {
+      return s == ClaimSignal::kLookWords || s == ClaimSignal::kFirstLookWords;
+    };
+    if (words(claims_by) && words(other_claims_by)) {
+      throw Error(
+          "selfsupervise: other_claims_by look-words and first-look-words keep the same counts: "
+          "not with each other");
+    }
   }
 }
 
@@ -2307,9 +2447,15 @@ namespace {
 // choose_unlearned's nearest classes, matching and choice on `distance[b][c]` (a blob's distance
 // to a class; inf: unscored or no part), `scored` blobs and `classes` taking part. Distances may
 // be negative (choose_unlearned_by_words): the search prunes only when none is.
+// `limit` (choose_unlearned_by_descriptors): a pair farther than it is no claim; the matching
+// counts it at `limit`, the cost of a class that claims nothing.
 NextChoice claim_blobs(const std::vector<std::vector<double>>& distance,
-                       const std::vector<int>& scored, const std::vector<int>& classes) {
+                       const std::vector<int>& scored, const std::vector<int>& classes,
+                       double limit = std::numeric_limits<double>::infinity()) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  const auto cost_of = [&](int b, int c) {
+    return std::min(distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)], limit);
+  };
   const int n = static_cast<int>(distance.size());
   NextChoice out;
   out.claimed_by.assign(static_cast<std::size_t>(n), -1);
@@ -2358,8 +2504,7 @@ NextChoice claim_blobs(const std::vector<std::vector<double>>& distance,
         if (used[static_cast<std::size_t>(b)]) continue;
         used[static_cast<std::size_t>(b)] = true;
         now[i] = b;
-        self(self, i + 1, made + 1,
-             cost + distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(classes[i])]);
+        self(self, i + 1, made + 1, cost + cost_of(b, classes[i]));
         used[static_cast<std::size_t>(b)] = false;
         now[i] = -1;
       }
@@ -2375,8 +2520,7 @@ NextChoice claim_blobs(const std::vector<std::vector<double>>& distance,
       for (std::size_t i = 0; i < classes.size(); ++i) {
         if (best[i] >= 0) continue;
         for (const int b : scored) {
-          const double d =
-              distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(classes[i])];
+          const double d = cost_of(b, classes[i]);
           if (!used[static_cast<std::size_t>(b)] && (bc < 0 || d < least)) {
             least = d;
             bc = static_cast<int>(i);
@@ -2389,7 +2533,10 @@ NextChoice claim_blobs(const std::vector<std::vector<double>>& distance,
     }
   }
   for (std::size_t i = 0; i < classes.size(); ++i) {
-    if (best[i] >= 0) out.claimed_by[static_cast<std::size_t>(best[i])] = classes[i];
+    if (best[i] < 0) continue;
+    const auto b = static_cast<std::size_t>(best[i]);
+    if (distance[b][static_cast<std::size_t>(classes[i])] > limit) continue;  // no claim
+    out.claimed_by[b] = classes[i];
   }
   // The unclaimed blob farthest from every class; every blob claimed: the farthest of all.
   for (const bool unclaimed_only : {true, false}) {
@@ -2481,6 +2628,72 @@ NextChoice choose_unlearned_by_words(const std::vector<std::vector<std::int32_t>
     }
   }
   return claim_blobs(distance, scored, classes);
+}
+
+NextChoice choose_unlearned_by_descriptors(const std::vector<cv::Mat>& blobs,
+                                           const std::vector<cv::Mat>& class_descriptors,
+                                           double ratio, double min_share) {
+  if (!(ratio > 0 && ratio <= 1)) {
+    throw Error("choose_unlearned_by_descriptors: the ratio must be in (0, 1]");
+  }
+  if (!(min_share >= 0 && min_share <= 1)) {
+    throw Error("choose_unlearned_by_descriptors: min_share must be in [0, 1]");
+  }
+  for (const auto* set : {&blobs, &class_descriptors}) {
+    for (const cv::Mat& d : *set) {
+      if (!d.empty()) features::check_descriptors(d, "choose_unlearned_by_descriptors");
+    }
+  }
+  const int n = static_cast<int>(blobs.size());
+  const int k = static_cast<int>(class_descriptors.size());
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
+                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
+  std::vector<int> classes;
+  for (int c = 0; c < k; ++c) {
+    if (!class_descriptors[static_cast<std::size_t>(c)].empty()) classes.push_back(c);
+  }
+  std::vector<int> scored;
+  for (int b = 0; b < n; ++b) {
+    if (!blobs[static_cast<std::size_t>(b)].empty()) scored.push_back(b);
+  }
+  // The objects a descriptor is matched against: the classes, then the look's scored blobs.
+  std::vector<const cv::Mat*> objects;
+  objects.reserve(classes.size() + scored.size());
+  for (const int c : classes) objects.push_back(&class_descriptors[static_cast<std::size_t>(c)]);
+  for (const int b : scored) objects.push_back(&blobs[static_cast<std::size_t>(b)]);
+  cv::BFMatcher matcher(cv::NORM_L2);
+  for (std::size_t bi = 0; bi < scored.size(); ++bi) {
+    const cv::Mat& q = blobs[static_cast<std::size_t>(scored[bi])];
+    // nearest(i, o): descriptor i's nearest distance in object o (inf: the blob itself).
+    Eigen::MatrixXd nearest =
+        Eigen::MatrixXd::Constant(q.rows, static_cast<Eigen::Index>(objects.size()), kInf);
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      if (o == classes.size() + bi) continue;  // not against itself
+      std::vector<std::vector<cv::DMatch>> knn;
+      matcher.knnMatch(q, *objects[o], knn, 1);
+      for (const auto& m : knn) {
+        if (!m.empty()) nearest(m[0].queryIdx, static_cast<Eigen::Index>(o)) = m[0].distance;
+      }
+    }
+    std::vector<int> good(classes.size(), 0);
+    for (Eigen::Index i = 0; i < nearest.rows(); ++i) {
+      Eigen::Index first = 0;
+      const double d1 = nearest.row(i).minCoeff(&first);
+      if (static_cast<std::size_t>(first) >= classes.size() || !std::isfinite(d1)) continue;
+      double d2 = kInf;  // the nearest of every other object
+      for (Eigen::Index o = 0; o < nearest.cols(); ++o) {
+        if (o != first) d2 = std::min(d2, nearest(i, o));
+      }
+      if (d1 < ratio * d2) ++good[static_cast<std::size_t>(first)];
+    }
+    for (std::size_t ci = 0; ci < classes.size(); ++ci) {
+      distance[static_cast<std::size_t>(scored[bi])][static_cast<std::size_t>(classes[ci])] =
+          -static_cast<double>(good[ci]) / static_cast<double>(q.rows);
+    }
+  }
+  // No claim below min_share, nor without a single match (min_share 0).
+  return claim_blobs(distance, scored, classes, min_share > 0 ? -min_share : -1e-12);
 }
 
 Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int classes,

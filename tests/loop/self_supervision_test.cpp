@@ -227,6 +227,130 @@ TEST(SelfSupervision, ClaimsByViewWordsTellALearnedObjectFromANewOne) {
   EXPECT_THROW(o.validate(), Error);
 }
 
+// claims_by descriptors (session 36): SIFT-like descriptors matched with Lowe's ratio test, the
+// second neighbour from another object (the other classes and the look's other blobs). Known
+// answers on random descriptors: a class's own descriptors with noise claim their blob, a new
+// object's blob is left unclaimed and chosen, an ambiguous match (two classes alike) claims
+// nothing, and min_share decides whether a weak share claims.
+namespace {
+cv::Mat random_descriptors(int n, std::uint32_t seed) {
+  cv::Mat m(n, 128, CV_32F);
+  cv::RNG rng(seed);
+  rng.fill(m, cv::RNG::UNIFORM, 0.0, 100.0);
+  return m;
+}
+cv::Mat noisy(const cv::Mat& m, std::uint32_t seed) {
+  cv::Mat noise(m.size(), CV_32F);
+  cv::RNG rng(seed);
+  rng.fill(noise, cv::RNG::UNIFORM, -2.0, 2.0);
+  return m + noise;
+}
+}  // namespace
+
+TEST(SelfSupervision, ClaimsByDescriptorsTellALearnedObjectFromANewOne) {
+  const cv::Mat a = random_descriptors(60, 1);
+  const cv::Mat b = random_descriptors(50, 2);
+  const cv::Mat c = random_descriptors(40, 3);  // a new object
+  // Class 0 learned A, class 1 B, class 2 nothing yet.
+  const std::vector<cv::Mat> classes{a, b, cv::Mat()};
+  // Blob 0: A seen again (noise); blob 1: the new object; blob 2: B; blob 3: unscored.
+  const std::vector<cv::Mat> blobs{noisy(a, 11), c, noisy(b, 12), cv::Mat()};
+  const NextChoice next = choose_unlearned_by_descriptors(blobs, classes, 0.8, 0.05);
+  EXPECT_EQ(next.blob, 1);
+  EXPECT_EQ(next.claimed_by, (std::vector<int>{0, -1, 1, -1}));
+  EXPECT_EQ(next.nearest_class[0], 0);
+  EXPECT_EQ(next.nearest_class[2], 1);
+  EXPECT_DOUBLE_EQ(next.nearest[0], -1.0) << "every descriptor of A's blob matches A's class";
+  EXPECT_DOUBLE_EQ(next.nearest[2], -1.0);
+  EXPECT_GT(next.nearest[1], -0.05) << "the new object's descriptors match no class";
+  EXPECT_EQ(next.nearest[3], -1.0) << "unscored";
+  // Half the blob is A: minus the share, about -0.5.
+  cv::Mat half;
+  cv::vconcat(noisy(a.rowRange(0, 30), 13), random_descriptors(30, 4), half);
+  const NextChoice shared = choose_unlearned_by_descriptors({half, c}, classes, 0.8, 0.05);
+  EXPECT_NEAR(shared.nearest[0], -0.5, 0.05);
+  EXPECT_EQ(shared.claimed_by, (std::vector<int>{0, -1}));
+  // min_share above the share: the class claims nothing, the blob is chosen (farthest of the
+  // unclaimed is the new object's, so compare with the new object out).
+  const NextChoice weak = choose_unlearned_by_descriptors({half}, classes, 0.8, 0.6);
+  EXPECT_EQ(weak.claimed_by, (std::vector<int>{-1}));
+  EXPECT_EQ(weak.blob, 0);
+  // The new object alone in its look (only the classes to compare with): a chance match or
+  // two, below min_share: no claim. With min_share 0 any match claims.
+  const NextChoice alone = choose_unlearned_by_descriptors({c}, classes, 0.8, 0.05);
+  EXPECT_EQ(alone.claimed_by, (std::vector<int>{-1}));
+  EXPECT_EQ(alone.blob, 0);
+  EXPECT_GT(alone.nearest[0], -0.05);
+  const NextChoice any = choose_unlearned_by_descriptors({c}, classes, 0.8, 0.0);
+  EXPECT_EQ(any.claimed_by[0] >= 0, any.nearest[0] < 0) << "claimed exactly with a match";
+  // Ambiguous: two classes hold the same object (A seen twice, each with its own noise, as
+  // the blob is): the nearest of the two is hardly nearer than the other, the ratio test
+  // rejects the matches and neither claims A's blob.
+  const NextChoice twice =
+      choose_unlearned_by_descriptors({noisy(a, 14), c}, {noisy(a, 15), noisy(a, 16)}, 0.8, 0.05);
+  EXPECT_EQ(twice.claimed_by, (std::vector<int>{-1, -1}));
+  EXPECT_GT(twice.nearest[0], -0.05);
+  // Ratio 1 accepts any nearest: A's blob is claimed by one of the two classes.
+  const NextChoice loose =
+      choose_unlearned_by_descriptors({noisy(a, 14), c}, {noisy(a, 15), noisy(a, 16)}, 1.0, 0.05);
+  EXPECT_GE(loose.claimed_by[0], 0);
+  EXPECT_LT(loose.nearest[0], -0.3);
+  // No class yet: the first scored blob; nothing scored: none.
+  EXPECT_EQ(choose_unlearned_by_descriptors(blobs, {cv::Mat(), cv::Mat()}, 0.8, 0.05).blob, 0);
+  EXPECT_EQ(choose_unlearned_by_descriptors({cv::Mat(), cv::Mat()}, classes, 0.8, 0.05).blob, -1);
+  // Bad input throws.
+  EXPECT_THROW(
+      (void)choose_unlearned_by_descriptors({cv::Mat(3, 64, CV_32F, 1.0)}, classes, 0.8, 0.05),
+      Error);
+  EXPECT_THROW(
+      (void)choose_unlearned_by_descriptors({cv::Mat(3, 128, CV_8U, 1)}, classes, 0.8, 0.05),
+      Error);
+  EXPECT_THROW((void)choose_unlearned_by_descriptors(blobs, classes, 0.0, 0.05), Error);
+  EXPECT_THROW((void)choose_unlearned_by_descriptors(blobs, classes, 1.5, 0.05), Error);
+  EXPECT_THROW((void)choose_unlearned_by_descriptors(blobs, classes, 0.8, -0.1), Error);
+  // The options: their defaults, JSON names, bounds and needs.
+  SelfSupervisionOptions o;
+  EXPECT_EQ(o.other_claims_by, ClaimSignal::kNone);
+  EXPECT_EQ(core::fields_to_json(o).at("other_claims_by"), "none");
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_ratio"), 0.8);
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_min_share"), 0.05);
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_cap"), 2000);
+  EXPECT_EQ(o.descriptor_source, DescriptorSource::kLooks);
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_source"), "looks");
+  o.descriptor_source = DescriptorSource::kViews;
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_source"), "views");
+  o.descriptor_source = DescriptorSource::kFirstLook;
+  EXPECT_EQ(core::fields_to_json(o).at("descriptor_source"), "first-look");
+  o.descriptor_source = DescriptorSource::kLooks;
+  o.claims_by = ClaimSignal::kDescriptors;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "descriptors");
+  o.other_claims_by = ClaimSignal::kLooks;
+  EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(core::fields_to_json(o).at("other_claims_by"), "looks");
+  o.other_claims_by = ClaimSignal::kDescriptors;
+  EXPECT_THROW(o.validate(), Error) << "the comparison is another signal";
+  o.other_claims_by = ClaimSignal::kNone;
+  o.descriptor_ratio = 1.5;
+  EXPECT_THROW(o.validate(), Error);
+  o.descriptor_ratio = 0.8;
+  o.descriptor_cap = 5;
+  EXPECT_THROW(o.validate(), Error);
+  o.descriptor_cap = 2000;
+  o.descriptor_min_share = 1.5;
+  EXPECT_THROW(o.validate(), Error);
+  o.descriptor_min_share = 0.05;
+  o.claims_by = ClaimSignal::kNone;
+  EXPECT_THROW(o.validate(), Error);
+  o.claims_by = ClaimSignal::kLookWords;
+  o.other_claims_by = ClaimSignal::kFirstLookWords;
+  EXPECT_THROW(o.validate(), Error) << "they keep the same counts";
+  o.claims_by = ClaimSignal::kDescriptors;
+  o.other_claims_by = ClaimSignal::kNone;
+  o.choice = NextObjectRule::kDirichlet;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 TEST(SelfSupervision, ExplainedByTellsALearnedObjectFromANewOne) {
   // Two learned classes, A (topic 0) and B (topic 1), 8 views each; a round's first views of A
   // again, of a new object C (topic 2), and of A mixed with C.
@@ -1269,6 +1393,7 @@ TEST(SelfSupervision, RecheckAfterClearingIsLoggedAndFollowed) {
 TEST(SelfSupervision, ClaimsByViewWordsOnTheTableAreLoggedAndFollowed) {
   SelfSupervisionOptions o = small_options();
   o.claims_by = ClaimSignal::kViewWords;
+  o.other_claims_by = ClaimSignal::kLooks;
   o.recheck_tries = 2;
   TableRun run = learn_on_table(o, {}, false);
   const Learning& l = run.l;
@@ -1300,6 +1425,61 @@ TEST(SelfSupervision, ClaimsByViewWordsOnTheTableAreLoggedAndFollowed) {
   }
   EXPECT_GE(scored, 1);
   EXPECT_GE(rechecks, 1);
+}
+
+// claims_by descriptors on the simulated table (session 36): every scored choice after round 1
+// says "descriptors", a class claims at most one blob, only a class with looks claims, the
+// looks' thetas' claims are logged beside (other_claims_by looks); without other_claims_by (the
+// default) no other signal's claims are computed or logged.
+TEST(SelfSupervision, ClaimsByDescriptorsOnTheTableAreLoggedAndFollowed) {
+  SelfSupervisionOptions o = small_options();
+  o.claims_by = ClaimSignal::kDescriptors;
+  o.other_claims_by = ClaimSignal::kLooks;
+  TableRun run = learn_on_table(o, {}, false);
+  const Learning& l = run.l;
+  ASSERT_GT(l.views.labels.size(), 0U);
+  int scored = 0;
+  for (const auto& j : l.log) {
+    if (j.event != "choose" || !j.scores || !j.scores->front().claimed_by) continue;
+    ++scored;
+    ASSERT_TRUE(j.why);
+    EXPECT_NE(j.why->find("descriptors"), std::string::npos) << *j.why;
+    std::vector<int> claimed;
+    for (const BlobScore& b : *j.scores) {
+      ASSERT_TRUE(b.claimed_by && b.nearest && b.other_claimed_by);
+      if (*b.claimed_by >= 0) {
+        claimed.push_back(*b.claimed_by);
+        EXPECT_LE(*b.nearest, -o.descriptor_min_share) << "a claim has its least share";
+      }
+      EXPECT_GE(*b.nearest, -1.0);
+      EXPECT_LE(*b.nearest, 0.0);
+    }
+    EXPECT_LE(claimed.size(), 1U) << "2 objects: only round 1's class claims";
+  }
+  EXPECT_GE(scored, 1);
+  // descriptor_source views: the classes' descriptors are their views'; only a class with views
+  // claims, and the run differs from the looks' only in (d).
+  o.descriptor_source = DescriptorSource::kViews;
+  TableRun views = learn_on_table(o, {}, false);
+  int by_views = 0;
+  for (const auto& j : views.l.log) {
+    if (j.event != "choose" || !j.scores || !j.scores->front().claimed_by) continue;
+    ++by_views;
+    EXPECT_NE(j.why->find("descriptors"), std::string::npos) << *j.why;
+    for (const BlobScore& b : *j.scores) {
+      if (*b.claimed_by < 0) continue;
+      EXPECT_TRUE(std::find(views.l.views.labels.begin(), views.l.views.labels.end(),
+                            *b.claimed_by) != views.l.views.labels.end())
+          << "a class claims only with views";
+    }
+  }
+  EXPECT_GE(by_views, 1);
+  // The default: no comparison computed.
+  TableRun def = learn_on_table(small_options(), {}, false);
+  for (const auto& j : def.l.log) {
+    if (j.event != "choose" || !j.scores) continue;
+    for (const BlobScore& b : *j.scores) EXPECT_FALSE(b.other_claimed_by.has_value());
+  }
 }
 
 TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
