@@ -12,6 +12,7 @@ the runs' median and longest wall time (MODE-sSEED.wall; session 36).
 """
 import json
 import os
+import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -59,8 +60,8 @@ def main(base, option, seeds):
               f"(option - base) {' '.join(f'{x:+.1f}' for x in d)}: {m:+.1f} +- {h:.1f} "
               f"(higher on {up}, lower on {down} of {len(d)})")
     for name, i in (("base", 1), ("option", 2)):
-        walls = sorted(r[i]["wall"] for r in rows)
-        print(f"wall    {name:<6} median {walls[len(walls) // 2]:.0f} s, max {walls[-1]:.0f} s")
+        walls = [r[i]["wall"] for r in rows]
+        print(f"wall    {name:<6} median {statistics.median(walls):.1f} s, max {max(walls):.0f} s")
 
 
 if __name__ == "__main__":
