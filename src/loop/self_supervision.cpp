@@ -2444,15 +2444,41 @@ bool recheck_claimed(const NextChoice& claims, int chosen) {
 
 namespace {
 
-// choose_unlearned's nearest classes, matching and choice on `distance[b][c]` (a blob's distance
-// to a class; inf: unscored or no part), `scored` blobs and `classes` taking part. Distances may
-// be negative (choose_unlearned_by_words): the search prunes only when none is.
+// What the choose_unlearned variants hand claim_blobs: `distance[b][c]`, a blob's distance to a
+// class (inf: unscored or no part), the `scored` blobs and the `classes` taking part.
+struct ClaimTable {
+  std::vector<std::vector<double>> distance;
+  std::vector<int> scored;
+  std::vector<int> classes;
+};
+
+// The table of n blobs and k classes, every distance inf: the blobs b with has_blob(b) scored,
+// the classes c with has_class(c) taking part (in order).
+template <class HasBlob, class HasClass>
+ClaimTable claim_table(int n, int k, const HasBlob& has_blob, const HasClass& has_class) {
+  ClaimTable t;
+  t.distance.assign(
+      static_cast<std::size_t>(n),
+      std::vector<double>(static_cast<std::size_t>(k), std::numeric_limits<double>::infinity()));
+  for (int b = 0; b < n; ++b) {
+    if (has_blob(b)) t.scored.push_back(b);
+  }
+  for (int c = 0; c < k; ++c) {
+    if (has_class(c)) t.classes.push_back(c);
+  }
+  return t;
+}
+
+// choose_unlearned's nearest classes, matching and choice on `table`. Distances may be negative
+// (choose_unlearned_by_words): the search prunes only when none is.
 // `limit` (choose_unlearned_by_descriptors): a pair farther than it is no claim; the matching
 // counts it at `limit`, the cost of a class that claims nothing.
-NextChoice claim_blobs(const std::vector<std::vector<double>>& distance,
-                       const std::vector<int>& scored, const std::vector<int>& classes,
+NextChoice claim_blobs(const ClaimTable& table,
                        double limit = std::numeric_limits<double>::infinity()) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::vector<std::vector<double>>& distance = table.distance;
+  const std::vector<int>& scored = table.scored;
+  const std::vector<int>& classes = table.classes;
   const auto cost_of = [&](int b, int c) {
     return std::min(distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)], limit);
   };
@@ -2557,77 +2583,59 @@ NextChoice claim_blobs(const std::vector<std::vector<double>>& distance,
 
 NextChoice choose_unlearned(const std::vector<Eigen::VectorXd>& blobs,
                             const std::vector<std::vector<Eigen::VectorXd>>& class_looks) {
-  const int n = static_cast<int>(blobs.size());
-  const int k = static_cast<int>(class_looks.size());
   // distance[b][c]: the blob's least distance to class c's looks (inf: no looks or unscored).
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
-                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
-  std::vector<int> scored;
-  std::vector<int> classes;  // the classes with looks
-  for (int c = 0; c < k; ++c) {
-    if (!class_looks[static_cast<std::size_t>(c)].empty()) classes.push_back(c);
-  }
-  for (int b = 0; b < n; ++b) {
-    const Eigen::VectorXd& t = blobs[static_cast<std::size_t>(b)];
-    if (t.size() == 0) continue;
-    scored.push_back(b);
-    for (const int c : classes) {
-      double d = kInf;
+  ClaimTable table = claim_table(
+      static_cast<int>(blobs.size()), static_cast<int>(class_looks.size()),
+      [&](int b) { return blobs[static_cast<std::size_t>(b)].size() > 0; },
+      [&](int c) { return !class_looks[static_cast<std::size_t>(c)].empty(); });
+  for (const int b : table.scored) {
+    for (const int c : table.classes) {
+      double& d = table.distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)];
       for (const Eigen::VectorXd& e : class_looks[static_cast<std::size_t>(c)]) {
-        d = std::min(d, hellinger(t, e));
+        d = std::min(d, hellinger(blobs[static_cast<std::size_t>(b)], e));
       }
-      distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] = d;
     }
   }
-  return claim_blobs(distance, scored, classes);
+  return claim_blobs(table);
 }
 
 NextChoice choose_unlearned_by_words(const std::vector<std::vector<std::int32_t>>& blobs,
                                      const std::vector<Eigen::VectorXd>& class_counts, int words) {
   if (words < 1) throw Error("choose_unlearned_by_words: the vocabulary has no words");
-  const int n = static_cast<int>(blobs.size());
-  const int k = static_cast<int>(class_counts.size());
   const double v = words;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
-                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
-  std::vector<int> classes;
-  for (int c = 0; c < k; ++c) {
-    const Eigen::VectorXd& counts = class_counts[static_cast<std::size_t>(c)];
+  for (const Eigen::VectorXd& counts : class_counts) {
     if (counts.size() != words) {
       throw Error(
           "choose_unlearned_by_words: a class's word counts are not the vocabulary's length");
     }
-    if (counts.sum() > 0) classes.push_back(c);
   }
+  ClaimTable table = claim_table(
+      static_cast<int>(blobs.size()), static_cast<int>(class_counts.size()),
+      [&](int b) { return !blobs[static_cast<std::size_t>(b)].empty(); },
+      [&](int c) { return class_counts[static_cast<std::size_t>(c)].sum() > 0; });
   // The background: the scored blobs' words pooled, add-one.
   Eigen::VectorXd p0 = Eigen::VectorXd::Ones(words);
-  std::vector<int> scored;
-  for (int b = 0; b < n; ++b) {
-    const auto& d = blobs[static_cast<std::size_t>(b)];
-    if (d.empty()) continue;
-    scored.push_back(b);
-    for (const std::int32_t w : d) {
+  for (const int b : table.scored) {
+    for (const std::int32_t w : blobs[static_cast<std::size_t>(b)]) {
       if (w < 0 || w >= words)
         throw Error("choose_unlearned_by_words: a word out of the vocabulary");
       p0[w] += 1.0;
     }
   }
   p0 /= p0.sum();
-  for (const int c : classes) {
+  for (const int c : table.classes) {
     const Eigen::VectorXd& counts = class_counts[static_cast<std::size_t>(c)];
     const Eigen::VectorXd pc = (counts + v * p0) / (counts.sum() + v);
     const Eigen::VectorXd llr = (pc.array() / p0.array()).log().matrix();
-    for (const int b : scored) {
+    for (const int b : table.scored) {
       const auto& d = blobs[static_cast<std::size_t>(b)];
       double sum = 0;
       for (const std::int32_t w : d) sum += llr[w];
-      distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] =
+      table.distance[static_cast<std::size_t>(b)][static_cast<std::size_t>(c)] =
           -sum / static_cast<double>(d.size());
     }
   }
-  return claim_blobs(distance, scored, classes);
+  return claim_blobs(table);
 }
 
 NextChoice choose_unlearned_by_descriptors(const std::vector<cv::Mat>& blobs,
@@ -2644,19 +2652,13 @@ NextChoice choose_unlearned_by_descriptors(const std::vector<cv::Mat>& blobs,
       if (!d.empty()) features::check_descriptors(d, "choose_unlearned_by_descriptors");
     }
   }
-  const int n = static_cast<int>(blobs.size());
-  const int k = static_cast<int>(class_descriptors.size());
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<std::vector<double>> distance(static_cast<std::size_t>(n),
-                                            std::vector<double>(static_cast<std::size_t>(k), kInf));
-  std::vector<int> classes;
-  for (int c = 0; c < k; ++c) {
-    if (!class_descriptors[static_cast<std::size_t>(c)].empty()) classes.push_back(c);
-  }
-  std::vector<int> scored;
-  for (int b = 0; b < n; ++b) {
-    if (!blobs[static_cast<std::size_t>(b)].empty()) scored.push_back(b);
-  }
+  ClaimTable table = claim_table(
+      static_cast<int>(blobs.size()), static_cast<int>(class_descriptors.size()),
+      [&](int b) { return !blobs[static_cast<std::size_t>(b)].empty(); },
+      [&](int c) { return !class_descriptors[static_cast<std::size_t>(c)].empty(); });
+  const std::vector<int>& classes = table.classes;
+  const std::vector<int>& scored = table.scored;
   // The objects a descriptor is matched against: the classes, then the look's scored blobs.
   std::vector<const cv::Mat*> objects;
   objects.reserve(classes.size() + scored.size());
@@ -2688,12 +2690,12 @@ NextChoice choose_unlearned_by_descriptors(const std::vector<cv::Mat>& blobs,
       if (d1 < ratio * d2) ++good[static_cast<std::size_t>(first)];
     }
     for (std::size_t ci = 0; ci < classes.size(); ++ci) {
-      distance[static_cast<std::size_t>(scored[bi])][static_cast<std::size_t>(classes[ci])] =
+      table.distance[static_cast<std::size_t>(scored[bi])][static_cast<std::size_t>(classes[ci])] =
           -static_cast<double>(good[ci]) / static_cast<double>(q.rows);
     }
   }
   // No claim below min_share, nor without a single match (min_share 0).
-  return claim_blobs(distance, scored, classes, min_share > 0 ? -min_share : -1e-12);
+  return claim_blobs(table, min_share > 0 ? -min_share : -1e-12);
 }
 
 Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int classes,

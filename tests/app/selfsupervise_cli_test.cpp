@@ -143,6 +143,7 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd --recheck-tries 1 --choice dirichlet" + inputs() + out,
        "recheck_tries needs choice looks"},
       {"--objects book,cd --claims-by words" + inputs() + out, "claims-by"},
+      {"--objects book,cd --claims-by none" + inputs() + out, "claims_by none is not a claim"},
       {"--objects book,cd --claims-by view-words --choice dirichlet" + inputs() + out,
        "claims_by view-words needs choice looks"},
       {"--objects book,cd --claims-by descriptors --choice dirichlet" + inputs() + out,

@@ -104,20 +104,15 @@ enum class ClaimSignal {
   /// No signal: only as SelfSupervisionOptions::other_claims_by (no comparison made).
   kNone,
 };
-inline constexpr core::ChoiceNames<ClaimSignal, 5> kClaimSignalNames{
+/// The claim signals' names (SelfSupervisionOptions::claims_by and other_claims_by); "none"
+/// serves other_claims_by only (validate() refuses it as claims_by).
+inline constexpr core::ChoiceNames<ClaimSignal, 6> kClaimSignalNames{
     {{"looks", ClaimSignal::kLooks},
      {"view-words", ClaimSignal::kViewWords},
      {"look-words", ClaimSignal::kLookWords},
      {"first-look-words", ClaimSignal::kFirstLookWords},
-     {"descriptors", ClaimSignal::kDescriptors}}};
-/// SelfSupervisionOptions::other_claims_by's names: kClaimSignalNames and "none".
-inline constexpr core::ChoiceNames<ClaimSignal, 6> kOtherClaimSignalNames{
-    {{"none", ClaimSignal::kNone},
-     {"looks", ClaimSignal::kLooks},
-     {"view-words", ClaimSignal::kViewWords},
-     {"look-words", ClaimSignal::kLookWords},
-     {"first-look-words", ClaimSignal::kFirstLookWords},
-     {"descriptors", ClaimSignal::kDescriptors}}};
+     {"descriptors", ClaimSignal::kDescriptors},
+     {"none", ClaimSignal::kNone}}};
 
 /// Where a class's descriptors come from (SelfSupervisionOptions::descriptor_source).
 enum class DescriptorSource {
@@ -539,7 +534,7 @@ struct SelfSupervisionOptions {
              {"other_claims_by",
               "A diagnostic: another claim signal's claims on the same looks, logged as "
               "other_claimed_by (none: not computed)"},
-             kOtherClaimSignalNames);
+             kClaimSignalNames);
     v(self.descriptor_ratio,
       {"descriptor_ratio",
        "claims-by descriptors: Lowe's ratio (nearest in the class against the nearest of every "
