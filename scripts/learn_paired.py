@@ -8,7 +8,9 @@ the held-out MoT by theta, argmax theta, pooled words, per named object MoT / ar
 objects given a class and the later learn pushes aimed at another object than the turn chose
 (ground truth); then the means and the paired differences (option - base) with 95 % t intervals
 (scripts/oracle_ladder_table.py's ci) and on how many seeds the option is higher / lower, and
-the runs' median and longest wall time (MODE-sSEED.wall; session 36).
+the runs' median and longest wall time (MODE-sSEED.wall; session 36); and the turns whose chosen
+blob was a moving distractor (ground truth `class_chosen` neither a named object nor clutter) or
+an object an earlier turn had chosen (repeats), summed over the seeds (session 37).
 """
 import json
 import os
@@ -31,7 +33,20 @@ def figures(run):
     per = " ".join(f"{o['name']} {100 * o['mot_accuracy']:.0f}/{100 * o['argmax_accuracy']:.0f}"
                    for o in g["objects"])
     wall = f"{run}.wall"
-    return {"MoT": 100 * g["mot_accuracy"], "argmax": 100 * g["argmax_accuracy"],
+    table = {n.strip() for key in ("objects", "clutter")
+             for n in j["options"].get(key, "").split(",") if n.strip()}
+    distractor = repeat = 0
+    seen = set()
+    for c in g["class_chosen"]:
+        if not c:
+            continue
+        if c not in table:
+            distractor += 1
+        elif c in seen:
+            repeat += 1
+        seen.add(c)
+    return {"distractor": distractor, "repeat": repeat,
+            "MoT": 100 * g["mot_accuracy"], "argmax": 100 * g["argmax_accuracy"],
             "pooled": 100 * w.get("pooled", 0), "named": named,
             "wall": float(open(wall).read()) if os.path.exists(wall) else 0.0,
             "drift": f"{drift}/{len(later)}", "per": per,
@@ -59,6 +74,9 @@ def main(base, option, seeds):
         print(f"{key:<7} base {sum(bv) / len(bv):5.1f} option {sum(ov) / len(ov):5.1f} paired "
               f"(option - base) {' '.join(f'{x:+.1f}' for x in d)}: {m:+.1f} +- {h:.1f} "
               f"(higher on {up}, lower on {down} of {len(d)})")
+    for name, i in (("base", 1), ("option", 2)):
+        print(f"turns   {name:<6} on a distractor {sum(r[i]['distractor'] for r in rows)}, "
+              f"repeats {sum(r[i]['repeat'] for r in rows)} ({len(rows)} runs)")
     for name, i in (("base", 1), ("option", 2)):
         walls = [r[i]["wall"] for r in rows]
         print(f"wall    {name:<6} median {statistics.median(walls):.1f} s, max {max(walls):.0f} s")
