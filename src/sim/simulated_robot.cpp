@@ -1027,6 +1027,15 @@ void SimulatedRobot::wait(double seconds) {
   for (long k = 0; k < steps; ++k) s_->step();
 }
 
+void SimulatedRobot::hold_still(double seconds) {
+  require(std::isfinite(seconds) && seconds >= 0 && seconds <= 10,
+          "hold_still: the time must be in [0, 10] s");
+  // The actuators keep their targets: the arm stays where its last motion left it. step() puts
+  // the distractors back on their script; look() shows them and the video at the new time.
+  const auto steps = static_cast<long>(std::lround(seconds / s_->world.timestep()));
+  for (long k = 0; k < steps; ++k) s_->step();
+}
+
 double SimulatedRobot::time() const { return s_->world.time(); }
 
 }  // namespace proprio::sim
