@@ -180,14 +180,14 @@ TEST(Learn, BadOptionsThrow) {
 
 TEST(Learn, MovedFractionsTellABlobThatShiftedFromOneThatStayed) {
   // Two looks' depth (m) of a table 1 m away: a still box (2 cm nearer) and a moving one that
-  // slid 6 px to the right between the looks. The still box's mask: nothing moved; the moving
-  // one's (where it was in the first look): its left part now sees the table, 6 of 20 columns.
+  // slid 12 px to the right between the looks. The still box's mask: nothing moved; the moving
+  // one's (where it was in the first look): its left part now sees the table, 12 of 20 columns.
   cv::Mat1f before(60, 80, 1.0F);
   cv::Mat1f after(60, 80, 1.0F);
   before(cv::Rect(5, 10, 20, 20)) = 0.98F;
   after(cv::Rect(5, 10, 20, 20)) = 0.98F;
   before(cv::Rect(40, 10, 20, 20)) = 0.95F;
-  after(cv::Rect(46, 10, 20, 20)) = 0.95F;
+  after(cv::Rect(52, 10, 20, 20)) = 0.95F;
   cv::Mat1b still(60, 80, uchar{0});
   cv::Mat1b moving(60, 80, uchar{0});
   still(cv::Rect(5, 10, 20, 20)) = 255;
@@ -195,7 +195,7 @@ TEST(Learn, MovedFractionsTellABlobThatShiftedFromOneThatStayed) {
   std::vector<double> f = moved_fractions(before, after, {still, moving});
   ASSERT_EQ(f.size(), 2U);
   EXPECT_DOUBLE_EQ(f[0], 0.0);
-  EXPECT_NEAR(f[1], 6.0 / 20.0, 1e-9);
+  EXPECT_NEAR(f[1], 12.0 / 20.0, 1e-9);
   EXPECT_LT(f[0], kMovingFraction);  // kept
   EXPECT_GE(f[1], kMovingFraction);  // left out
   // A change below kMovingDepth is no motion (sensor noise); a pixel no longer measured is.
