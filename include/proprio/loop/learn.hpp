@@ -323,14 +323,17 @@ struct LearnOptions {
   bool revisit_top_down = false;
   /// Candidates that move by themselves (session 37): at each choice of a blob to learn (7.2 a
   /// and d: a turn's first, and a turn's choice again), the robot holds still this long
-  /// (robot::Robot::hold_still), looks again and leaves out every candidate whose depth moved
-  /// between the two looks (moved_fractions: at least kMovingFraction of its blob's pixels
-  /// changed depth by more than kMovingDepth), logged with skip reason `moving` (learn.json
+  /// (robot::Robot::hold_still), looks again, chooses on the new look's view and leaves out
+  /// every candidate whose depth moved between the two looks (moved_fractions: at least
+  /// kMovingFraction of its blob's pixels changed depth by more than kMovingDepth; revisits,
+  /// which choose nothing, do not wait), logged with skip reason `moving` (learn.json
   /// `skipped`; the choose event's `skipped`, and a `moving` event giving each candidate's moved
   /// fraction). Why: in session 36's 150 runs 8.7 % of the turns chose a blob of a distractor
   /// sliding behind the table (a class spent on no object on the table); a person does not push
   /// a thing that moves by itself. Needs the depth image (candidates "depth", or `depth`).
-  /// Seconds, 0..5; 0 = off (the default): no extra look, no extra step of the world.
+  /// Seconds, 0..5; 0 = off (the default): no extra look, no extra step of the world. 0.3 left
+  /// out every distractor candidate on the tuning seeds 1, 8, 9, 10 (docs/results/learn.md,
+  /// "Session 37 (branch moving37)"); the report seeds decide the default.
   double moving_wait = 0;
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
