@@ -418,6 +418,34 @@ int hand_meets(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector2d
   return met;
 }
 
+std::vector<double> moved_fractions(const cv::Mat& before, const cv::Mat& after,
+                                    const std::vector<cv::Mat>& masks, double change) {
+  require(before.type() == CV_32FC1 && after.type() == CV_32FC1 && before.size() == after.size(),
+          "moved_fractions: the depth images must be CV_32FC1 of one size");
+  require(change > 0 && std::isfinite(change), "moved_fractions: the change must be > 0");
+  std::vector<double> out;
+  out.reserve(masks.size());
+  for (const cv::Mat& m : masks) {
+    require(m.type() == CV_8U && m.size() == before.size(),
+            "moved_fractions: the masks must be 8-bit of the depth images' size");
+    int measured = 0;
+    int moved = 0;
+    for (int v = 0; v < m.rows; ++v) {
+      const auto* in = m.ptr<uchar>(v);
+      const auto* d0 = before.ptr<float>(v);
+      const auto* d1 = after.ptr<float>(v);
+      for (int u = 0; u < m.cols; ++u) {
+        if (in[u] == 0 || !(d0[u] > 0) || !std::isfinite(d0[u])) continue;
+        ++measured;
+        const bool seen = d1[u] > 0 && std::isfinite(d1[u]);
+        if (!seen || std::abs(static_cast<double>(d1[u]) - d0[u]) > change) ++moved;
+      }
+    }
+    out.push_back(measured > 0 ? static_cast<double>(moved) / measured : 0.0);
+  }
+  return out;
+}
+
 std::vector<LearnCoverage> learn_coverage(const std::vector<std::string>& objects,
                                           const std::vector<LearnPush>& pushes) {
   std::vector<LearnCoverage> out;
@@ -460,6 +488,11 @@ void LearnOptions::validate() const {
     throw Error(
         "learn: --revisit-top-down acts on region_agree's revisits: it needs --region-agree > 0 "
         "and --passes > 1");
+  }
+  if (moving_wait > 0 && candidates != LearnCandidates::kDepth && !depth) {
+    throw Error(
+        "learn: --moving-wait compares two looks' depth: it needs the depth image (--candidates "
+        "depth or --depth)");
   }
   if (lost_rechoose && !(region_agree > 0)) {
     throw Error(
@@ -665,6 +698,7 @@ class Learner {
   planning::PlanningView plan_view() {
     planning::PlanningView v =
         timed("look", [&] { return planning::look_for_objects(current_, region_, po_); });
+    if (o_.moving_wait > 0) view_depth_ = current_.depth;
     // 8.1.1: what moved with the arm in an object's last push is that object; a blob holding it
     // and more is split, the rest a putative object of its own.
     const std::size_t blobs = v.objects.size();
@@ -866,6 +900,11 @@ class Learner {
       }
       return open;
     };
+    // moving_wait: the candidates whose depth moved while the robot held still (never chosen).
+    const std::vector<int> moving = o_.moving_wait > 0 ? moving_blobs(c, view) : std::vector<int>();
+    const auto is_moving = [&](int b) {
+      return std::find(moving.begin(), moving.end(), b) != moving.end();
+    };
     std::vector<int> open = open_blobs();
     // Why each candidate was not chosen (the first reason found).
     std::map<int, std::string> why_not;
@@ -883,6 +922,14 @@ class Learner {
     };
     for (int b = 0; b < static_cast<int>(view.objects.size()); ++b) {
       if (std::find(open.begin(), open.end(), b) == open.end()) skip(b, "tried");
+    }
+    if (!moving.empty()) {
+      for (const int b : moving) skip(b, "moving");
+      std::erase_if(open, is_moving);
+      if (open.empty()) {
+        log({.event = "none-chosen", .object = c, .skipped = skipped(-1)});
+        return -1;
+      }
     }
     if (open.empty()) return -1;
     bool any = false;
@@ -961,6 +1008,7 @@ class Learner {
       for (int b : drop) known.push_back({k, b});
     }
     open = open_blobs();
+    std::erase_if(open, is_moving);
     for (const auto& kn : known) {
       const auto it = std::find(open.begin(), open.end(), kn.blob);
       if (it != open.end()) open.erase(it);
@@ -1107,6 +1155,43 @@ class Learner {
          .scores = std::move(scores),
          .skipped = skipped(best)});
     return best;
+  }
+
+  // moving_wait: the robot holds still moving_wait s and looks again; `view` becomes the new
+  // look's (plan_view; the choice is made on it, so that what is chosen is where it is now), and
+  // its candidates whose depth moved since the look the old view was made from (view_depth_:
+  // moved_fractions >= kMovingFraction) are returned, logged (`moving`: the new view's blobs,
+  // their centres and each one's moved fraction).
+  std::vector<int> moving_blobs(int c, planning::PlanningView& view) {
+    if (view.objects.empty() || view_depth_.empty()) return {};
+    const cv::Mat before = view_depth_;
+    timed("look", [&] { robot_.hold_still(o_.moving_wait); });
+    relook();
+    dropped_far_ -= static_cast<int>(far_.size());  // the old view's are counted again
+    view = plan_view();
+    if (current_.depth.size() != before.size() || current_.depth.type() != before.type()) {
+      return {};
+    }
+    std::vector<cv::Mat> masks;
+    masks.reserve(view.objects.size());
+    for (const auto& o : view.objects) masks.push_back(blob_mask(o, before.size()));
+    const std::vector<double> moved = moved_fractions(before, current_.depth, masks);
+    std::vector<int> out;
+    std::string why = core::printf_string(
+        "held still %.2f s, looked again (the blobs below); moved fraction by blob:",
+        o_.moving_wait);
+    std::vector<std::vector<double>> centres;
+    for (std::size_t b = 0; b < moved.size(); ++b) {
+      centres.push_back(xy(view.objects[b].centre));
+      why += core::printf_string(" %zu:%.2f", b, moved[b]);
+      if (moved[b] >= kMovingFraction) out.push_back(static_cast<int>(b));
+    }
+    log({.event = "moving",
+         .object = c,
+         .blobs = static_cast<int>(view.objects.size()),
+         .centres = std::move(centres),
+         .why = why});
+    return out;
   }
 
   // prefer_pushable: why no push of candidate `b` can be planned (no-push-path, start-blocked),
@@ -1959,6 +2044,8 @@ class Learner {
   std::vector<int> blob_of_;  ///< per object, its putative object in the last plan_view, or -1
   /// candidates.png (the first look's depth candidates) written.
   bool wrote_candidates_ = false;
+  /// moving_wait: the depth image of the look the last plan_view was made from (else empty).
+  cv::Mat view_depth_;
   /// Per object, where the pusher ended in its last push that gave a region (image px).
   std::vector<std::optional<cv::Point2d>> end_of_;
   int splits_ = 0;  ///< looks in which a blob was split by an object's region

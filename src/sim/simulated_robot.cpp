@@ -1027,6 +1027,14 @@ void SimulatedRobot::wait(double seconds) {
   for (long k = 0; k < steps; ++k) s_->step();
 }
 
+void SimulatedRobot::hold_still(double seconds) {
+  require(std::isfinite(seconds) && seconds >= 0 && seconds <= 10,
+          "hold_still: the time must be in [0, 10] s");
+  // The actuators keep their targets while wait() steps the world: the arm stays where its last
+  // motion left it, the distractors keep to their script, the next look shows the video's time.
+  wait(seconds);
+}
+
 double SimulatedRobot::time() const { return s_->world.time(); }
 
 }  // namespace proprio::sim

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -161,8 +162,54 @@ TEST(Learn, BadOptionsThrow) {
   o.region_agree = 0.08;
   EXPECT_NO_THROW(o.validate());
   o = LearnOptions();
+  EXPECT_DOUBLE_EQ(o.moving_wait, 0.0);  // off by default (session 37)
+  for (const double bad : {-0.1, 5.01, std::nan(""), HUGE_VAL}) {
+    o.moving_wait = bad;
+    EXPECT_THROW(o.validate(), Error) << bad;
+  }
+  o.moving_wait = 0.3;
+  EXPECT_NO_THROW(o.validate());
+  o.candidates = LearnCandidates::kBlobs;  // compares depth: needs the depth image
+  EXPECT_THROW(o.validate(), Error);
+  o.depth = true;
+  EXPECT_NO_THROW(o.validate());
+  o = LearnOptions();
   o.clutter = "";
   EXPECT_NO_THROW(o.validate());
+}
+
+TEST(Learn, MovedFractionsTellABlobThatShiftedFromOneThatStayed) {
+  // Two looks' depth (m) of a table 1 m away: a still box (2 cm nearer) and a moving one that
+  // slid 12 px to the right between the looks. The still box's mask: nothing moved; the moving
+  // one's (where it was in the first look): its left part now sees the table, 12 of 20 columns.
+  cv::Mat1f before(60, 80, 1.0F);
+  cv::Mat1f after(60, 80, 1.0F);
+  before(cv::Rect(5, 10, 20, 20)) = 0.98F;
+  after(cv::Rect(5, 10, 20, 20)) = 0.98F;
+  before(cv::Rect(40, 10, 20, 20)) = 0.95F;
+  after(cv::Rect(52, 10, 20, 20)) = 0.95F;
+  cv::Mat1b still(60, 80, uchar{0});
+  cv::Mat1b moving(60, 80, uchar{0});
+  still(cv::Rect(5, 10, 20, 20)) = 255;
+  moving(cv::Rect(40, 10, 20, 20)) = 255;
+  std::vector<double> f = moved_fractions(before, after, {still, moving});
+  ASSERT_EQ(f.size(), 2U);
+  EXPECT_DOUBLE_EQ(f[0], 0.0);
+  EXPECT_NEAR(f[1], 12.0 / 20.0, 1e-9);
+  EXPECT_LT(f[0], kMovingFraction);  // kept
+  EXPECT_GE(f[1], kMovingFraction);  // left out
+  // A change below kMovingDepth is no motion (sensor noise); a pixel no longer measured is.
+  after(cv::Rect(5, 10, 20, 20)) = 0.985F;
+  after(cv::Rect(5, 10, 10, 20)) = 0.0F;
+  f = moved_fractions(before, after, {still});
+  EXPECT_NEAR(f[0], 0.5, 1e-9);
+  // Pixels unmeasured in the first look do not count; a mask with none gives 0.
+  before(cv::Rect(5, 10, 20, 20)) = 0.0F;
+  EXPECT_DOUBLE_EQ(moved_fractions(before, after, {still})[0], 0.0);
+  // Bad input throws.
+  EXPECT_THROW(moved_fractions(before, cv::Mat1f(10, 10, 1.0F), {still}), Error);
+  EXPECT_THROW(moved_fractions(before, after, {cv::Mat1b(10, 10, uchar{0})}), Error);
+  EXPECT_THROW(moved_fractions(before, after, {still}, 0.0), Error);
 }
 
 // Documents of 30 words drawn from words [first, first + 5) of a 10-word vocabulary.
@@ -489,6 +536,7 @@ class FaultyRobot final : public robot::Robot {
   [[nodiscard]] geometry::Camera camera() const override { return inner_.camera(); }
   [[nodiscard]] const robot::Arm& arm() const override { return inner_.arm(); }
   [[nodiscard]] robot::JointVector joints() const override { return inner_.joints(); }
+  void hold_still(double seconds) override { inner_.hold_still(seconds); }
   robot::PushReport push(const robot::TablePush& push,
                          const robot::PushRecording& recording) override {
     if (refuse_ && asked_++ >= allow) {
@@ -1404,6 +1452,72 @@ TEST(Learn, TheHandMeetsWhatStandsAroundThePushStart) {
   bad = hc;
   bad.hand_height = std::numeric_limits<double>::infinity();
   EXPECT_THROW((void)hand_meets(p, {0.2, 0.0}, bad), Error);
+}
+
+TEST(Learn, MovingWaitLeavesOutTheDistractorsAndNoObjectOnTheTable) {
+  // The moving backdrop's two distractors slide behind the table. With moving_wait the robot
+  // holds still before each choice and leaves out the candidates whose depth moved: by ground
+  // truth (the attendant: the object under each blob of the view chosen from) every candidate
+  // left out as `moving` is a distractor (or nothing), none is a table object, and no choice is
+  // a distractor. Off, no `moving` event is logged, nothing is skipped as moving, and on this
+  // table (seed 1) a turn chooses a distractor.
+  const test::TempDir dir("proprio_learn_moving_");
+  SmallTable t;
+  t.o.background = "moving";
+  t.o.seed = 1;  // a distractor comes within reach (`proprio learn --seed 1` on this table)
+  t.table.seed = 1;
+  t.table.background = sim::Background::kMoving;
+  t.table.depth = true;
+  const auto prov = core::Provenance::current({"learn_test"}, 1);
+  for (const double wait : {0.0, 0.3}) {
+    sim::SimulatedRobot robot(t.table, t.catalogue);
+    std::set<std::string> distractors;
+    for (const sim::ObjectTruth& o : robot.ground_truth()) {
+      if (o.role == sim::TableRole::kDistractor) distractors.insert(o.name);
+    }
+    ASSERT_EQ(distractors.size(), 2U);
+    GroundTruthAttendant attendant(robot, t.table.seed);
+    LearnOptions lo = t.o;
+    lo.moving_wait = wait;
+    lo.out = dir.path() / (wait > 0 ? "on" : "off");
+    const LearnResult r = run_learn(lo, robot, attendant, 2, prov);
+    const std::string events = events_of(lo.out / "decisions.jsonl");
+    const core::Json rec = core::read_json(lo.out / "learn.json");
+    EXPECT_DOUBLE_EQ(rec["options"]["moving_wait"].get<double>(), wait);
+    int left_out = 0;
+    std::map<std::size_t, core::Json> last_choice;  // the attendant keeps a turn's last choice
+    std::ifstream in(lo.out / "decisions.jsonl");
+    std::string line;
+    while (std::getline(in, line)) {
+      const core::Json j = core::Json::parse(line);
+      if (j.value("event", std::string()) == "choose") {
+        last_choice[j["object"].get<std::size_t>()] = j;
+      }
+    }
+    for (const auto& [object, j] : last_choice) {
+      const RoundTruth& truth = attendant.rounds().at(object);
+      for (const auto& k : j.value("skipped", core::Json::array())) {
+        if (k.value("reason", std::string()) != "moving") continue;
+        ++left_out;
+        const std::string under = truth.blobs.at(k["blob"].get<std::size_t>());
+        EXPECT_TRUE(under.empty() || distractors.count(under) > 0) << under << ": " << j.dump();
+      }
+    }
+    int chose_distractor = 0;
+    for (const RoundTruth& round : attendant.rounds()) {
+      chose_distractor += static_cast<int>(distractors.count(round.chosen));
+    }
+    // Off, this table shows the defect: a turn chooses a distractor; on, none does.
+    EXPECT_EQ(chose_distractor > 0, wait == 0) << events;
+    if (wait > 0) {
+      EXPECT_NE(events.find("moving:"), std::string::npos) << events;
+      EXPECT_GE(left_out, 1) << events;  // the distractors are in reach on this table
+    } else {
+      EXPECT_EQ(events.find("moving:"), std::string::npos) << events;
+      EXPECT_EQ(left_out, 0);
+    }
+    (void)r;
+  }
 }
 
 TEST(Learn, EverySkippedCandidateHasAReasonAndTheRunCountsThem) {

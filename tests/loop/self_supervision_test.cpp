@@ -1234,6 +1234,7 @@ class RefusingRobot final : public robot::Robot {
   [[nodiscard]] geometry::Camera camera() const override { return inner_.camera(); }
   [[nodiscard]] const robot::Arm& arm() const override { return inner_.arm(); }
   [[nodiscard]] robot::JointVector joints() const override { return inner_.joints(); }
+  void hold_still(double seconds) override { inner_.hold_still(seconds); }
   robot::PushReport push(const robot::TablePush& /*push*/,
                          const robot::PushRecording& /*recording*/) override {
     ++refused;

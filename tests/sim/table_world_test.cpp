@@ -3,10 +3,13 @@
 // between pushes simulated at a safe height.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <numbers>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
+#include <vector>
 
 #include "proprio/core/error.hpp"
 #include "proprio/sim/simulated_robot.hpp"
@@ -100,6 +103,42 @@ TEST(TableWorld, DistractorsStayBehindTheWorkAreaAndAreInTheMasks) {
   }
   EXPECT_EQ(distractors, 2);
   EXPECT_GT(seen, 10);  // in view most of the time
+}
+
+TEST(TableWorld, HoldingStillTheDistractorsMoveOnAndTheTableAndTheArmDoNot) {
+  const ObjectCatalogue cat = ObjectCatalogue::load_default();
+  SimulatedRobot robot(table(Background::kMoving), cat);
+  robot.wait(1.0);  // anywhere on the slide
+  const std::vector<ObjectTruth> before = robot.ground_truth();
+  const robot::JointVector q = robot.joints();
+  const double t0 = robot.time();
+  robot.hold_still(0.3);
+  EXPECT_NEAR(robot.time() - t0, 0.3, 0.002 + 1e-9);  // within a physics step (2 ms)
+  EXPECT_LT((robot.joints() - q).cwiseAbs().maxCoeff(), 1e-4);
+  const std::vector<ObjectTruth> after = robot.ground_truth();
+  ASSERT_EQ(after.size(), before.size());
+  int distractors = 0;
+  constexpr double kPi = std::numbers::pi;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    const double shift = (after[i].position - before[i].position).norm();
+    if (after[i].role == TableRole::kDistractor) {
+      ++distractors;
+      // They slide (at most 0.3 m/s) and spin (0.8 rad/s: 0.24 rad in 0.3 s).
+      const double turn = std::abs(std::remainder(after[i].yaw - before[i].yaw, 2 * kPi));
+      EXPECT_TRUE(shift > 0.005 || turn > 0.2) << after[i].name << " " << shift << " " << turn;
+    } else {
+      EXPECT_LT(shift, 1e-3) << after[i].name;
+    }
+  }
+  EXPECT_EQ(distractors, 2);
+  // Bad times throw and nothing happens.
+  const double t1 = robot.time();
+  for (const double bad : {-0.1, 10.5, std::nan(""), HUGE_VAL}) {
+    EXPECT_THROW(robot.hold_still(bad), Error) << bad;
+  }
+  EXPECT_DOUBLE_EQ(robot.time(), t1);
+  robot.hold_still(0);
+  EXPECT_DOUBLE_EQ(robot.time(), t1);
 }
 
 TEST(TableWorld, ClutterIsOnTheTableWithItsRole) {

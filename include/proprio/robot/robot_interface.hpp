@@ -207,6 +207,12 @@ class Robot {
   /// ground truth). Throws Error for an invalid or unreachable push (nothing moves then) or an
   /// episode directory that exists (unless overwrite).
   virtual PushReport push(const TablePush& push, const PushRecording& recording) = 0;
+  /// Keeps the arm where it is (its joint targets unchanged) for `seconds` of the robot's clock
+  /// while the world goes on: whatever moves by itself (people, a distractor behind the table)
+  /// moves on; nothing is recorded. A real driver sleeps. Used to tell things that move by
+  /// themselves from objects at rest (LearnOptions::moving_wait). Throws Error for a time that
+  /// is not finite, negative or over 10 s (nothing happens then).
+  virtual void hold_still(double seconds) = 0;
   /// The same push given in image pixels: back-projected onto the table (to_table), then push().
   PushReport push_image(const ImagePush& push, const PushRecording& recording) {
     return this->push(to_table(camera(), push), recording);

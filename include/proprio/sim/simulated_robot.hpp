@@ -234,6 +234,11 @@ class SimulatedRobot final : public robot::Robot {
   /// push is out of reach.
   robot::PushReport push(const robot::TablePush& push,
                          const robot::PushRecording& recording) override;
+  /// The physics steps `seconds` (rounded to whole steps) with the arm's joint targets left where
+  /// its last motion put them (the arm holds still); the distractors keep to their script and the
+  /// moving backdrop's video goes on (the next look shows both at the new time); nothing is
+  /// recorded. Throws Error for a time that is not finite, negative or over 10 s.
+  void hold_still(double seconds) override;
 
   // --- ground truth and the scene (not part of robot::Robot) ------------------------------------
   [[nodiscard]] std::vector<ObjectTruth> ground_truth() const;
