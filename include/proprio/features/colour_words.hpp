@@ -1,0 +1,59 @@
+#pragma once
+// Colour words: one word a feature for the colour round its keypoint, beside its SIFT word.
+//
+// The thesis's words are grey-level SIFT (6.1.1), blind to colour, and they change when an object
+// turns or falls over; the colour of an object's surface does not. Each feature's patch colour is
+// quantised on a fixed grid in HSV (no training: the same words for every run), as the colour
+// names and hue histograms of van de Weijer & Schmid ("Coloring local feature extraction", ECCV
+// 2006) and van de Sande et al. (TPAMI 2010) add colour to SIFT's bag of words: chromatic colours
+// by hue and saturation, the achromatic ones (saturation below `grey_below`) by brightness alone,
+// because their hue is noise. Written here: OpenCV converts the colours but has no such words.
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "proprio/core/fields.hpp"
+
+namespace proprio::features {
+
+struct ColourWordOptions {
+  int hue_bins = 12;           ///< chromatic words: hue bins (30 degrees each)
+  int saturation_levels = 2;   ///< ... times saturation levels between grey_below and 1
+  int grey_levels = 4;         ///< achromatic words: brightness (HSV value) levels
+  double grey_below = 0.25;    ///< saturation (0-1) below which a colour is achromatic
+  int radius = 3;              ///< the patch: the mean colour of a (2 radius + 1) px square
+
+  /// hue_bins * saturation_levels + grey_levels.
+  [[nodiscard]] int count() const { return hue_bins * saturation_levels + grey_levels; }
+  /// Throws Error naming the first option out of its bounds.
+  void validate() const;
+
+  template <class Self, class Visitor>
+  static void describe(Self& self, Visitor& v) {
+    v(self.hue_bins, {"hue_bins", "Colour words: hue bins", core::between(1, 360)});
+    v(self.saturation_levels,
+      {"saturation_levels", "Colour words: saturation levels of a hue", core::between(1, 16)});
+    v(self.grey_levels,
+      {"grey_levels", "Colour words: brightness levels of the greys", core::between(1, 64)});
+    v(self.grey_below,
+      {"grey_below", "Colour words: saturation (0-1) below which a colour is grey",
+       core::between(0, 1)});
+    v(self.radius, {"radius", "Colour words: half side of the patch averaged, px",
+                    core::between(0, 64)});
+  }
+};
+
+/// The colour word (0..options.count()-1) of each keypoint of `image` (8-bit BGR; grey images give
+/// grey words only): the mean colour of the square patch round the keypoint's rounded location
+/// (clipped at the border) in HSV. Chromatic (S >= grey_below): hue bin * saturation_levels +
+/// saturation level; achromatic: hue_bins * saturation_levels + brightness level. Throws Error on
+/// an empty image, a type other than 8-bit 1 or 3 channels, or a keypoint outside the image.
+std::vector<std::int32_t> colour_words(const cv::Mat& image,
+                                       const std::vector<cv::KeyPoint>& keypoints,
+                                       const ColourWordOptions& options);
+
+/// The word (0..options.count()-1) of one BGR colour, components 0-255 (what colour_words gives a
+/// patch of that mean colour).
+std::int32_t colour_word(const cv::Vec3b& bgr, const ColourWordOptions& options);
+
+}  // namespace proprio::features

@@ -1,0 +1,79 @@
+#include "proprio/features/colour_words.hpp"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "proprio/core/error.hpp"
+
+namespace proprio::features {
+
+void ColourWordOptions::validate() const { core::check_field_bounds(*this, "colour words"); }
+
+namespace {
+
+// The word of an HSV colour as OpenCV's 8-bit COLOR_BGR2HSV has it: H 0..179 (2 degrees), S and
+// V 0..255.
+std::int32_t hsv_word(int h, int s, int v, const ColourWordOptions& o) {
+  const double sat = s / 255.0;
+  const int chromatic = o.hue_bins * o.saturation_levels;
+  if (sat < o.grey_below || o.grey_below >= 1.0) {
+    return chromatic + std::min(o.grey_levels - 1, v * o.grey_levels / 256);
+  }
+  const int hue = std::min(o.hue_bins - 1, h * o.hue_bins / 180);
+  const double above = (sat - o.grey_below) / (1.0 - o.grey_below);  // 0..1
+  const int level = std::min(o.saturation_levels - 1, static_cast<int>(above * o.saturation_levels));
+  return hue * o.saturation_levels + level;
+}
+
+}  // namespace
+
+std::int32_t colour_word(const cv::Vec3b& bgr, const ColourWordOptions& options) {
+  options.validate();
+  const cv::Mat3b one(1, 1, bgr);
+  cv::Mat3b hsv;
+  cv::cvtColor(one, hsv, cv::COLOR_BGR2HSV);
+  const cv::Vec3b p = hsv(0, 0);
+  return hsv_word(p[0], p[1], p[2], options);
+}
+
+std::vector<std::int32_t> colour_words(const cv::Mat& image,
+                                       const std::vector<cv::KeyPoint>& keypoints,
+                                       const ColourWordOptions& options) {
+  options.validate();
+  if (image.empty()) throw Error("colour_words: empty image");
+  if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
+    throw Error("colour_words: images must be 8-bit grey or BGR");
+  }
+  std::vector<std::int32_t> out;
+  out.reserve(keypoints.size());
+  if (keypoints.empty()) return out;
+  cv::Mat bgr = image;
+  if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+  // The patch means: a box filter over the whole image (the border replicated) into a new
+  // matrix (the caller's image shares `bgr`'s data), then one conversion to HSV; a keypoint
+  // reads its pixel.
+  cv::Mat mean;
+  if (options.radius > 0) {
+    const int side = 2 * options.radius + 1;
+    cv::blur(bgr, mean, cv::Size(side, side), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  } else {
+    mean = bgr;
+  }
+  cv::Mat3b hsv;
+  cv::cvtColor(mean, hsv, cv::COLOR_BGR2HSV);
+  for (const cv::KeyPoint& k : keypoints) {
+    const int x = cvRound(k.pt.x);
+    const int y = cvRound(k.pt.y);
+    if (x < 0 || y < 0 || x >= hsv.cols || y >= hsv.rows) {
+      throw Error("colour_words: keypoint (" + std::to_string(k.pt.x) + ", " +
+                  std::to_string(k.pt.y) + ") lies outside the " + std::to_string(hsv.cols) +
+                  " x " + std::to_string(hsv.rows) + " image");
+    }
+    const cv::Vec3b p = hsv(y, x);
+    out.push_back(hsv_word(p[0], p[1], p[2], options));
+  }
+  return out;
+}
+
+}  // namespace proprio::features

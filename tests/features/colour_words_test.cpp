@@ -1,0 +1,84 @@
+#include "proprio/features/colour_words.hpp"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+#include "proprio/core/error.hpp"
+
+namespace proprio::features {
+namespace {
+
+TEST(ColourWords, KnownColoursFallInTheirBins) {
+  const ColourWordOptions o;  // 12 hues x 2 saturations + 4 greys = 28 words
+  ASSERT_EQ(o.count(), 28);
+  EXPECT_EQ(colour_word({0, 0, 255}, o), 0 * 2 + 1);   // red, vivid: hue 0
+  EXPECT_EQ(colour_word({0, 255, 0}, o), 4 * 2 + 1);   // green: 120 degrees
+  EXPECT_EQ(colour_word({255, 0, 0}, o), 8 * 2 + 1);   // blue: 240 degrees
+  EXPECT_EQ(colour_word({0, 255, 255}, o), 2 * 2 + 1); // yellow: 60 degrees
+  EXPECT_EQ(colour_word({160, 160, 255}, o), 0 * 2 + 0);  // pale red: S 0.37, the lower level
+  EXPECT_EQ(colour_word({0, 0, 0}, o), 24);             // black: the darkest grey
+  EXPECT_EQ(colour_word({128, 128, 128}, o), 26);       // mid grey
+  EXPECT_EQ(colour_word({255, 255, 255}, o), 27);       // white
+  EXPECT_EQ(colour_word({200, 215, 210}, o), 27);       // S 0.07: grey whatever its hue
+}
+
+TEST(ColourWords, EachKeypointReadsTheMeanOfItsPatch) {
+  // Left half red, right half blue: keypoints well inside a half read its colour; those by the
+  // border read the mean of their 7 x 7 patch: 4 red columns and 3 blue ones are a purple of hue
+  // 315 degrees (bin 10), 3 red and 4 blue one of 285 degrees (bin 9).
+  cv::Mat3b image(20, 40, cv::Vec3b(0, 0, 255));
+  image(cv::Rect(20, 0, 20, 20)).setTo(cv::Vec3b(255, 0, 0));
+  const std::vector<cv::KeyPoint> k = {{cv::Point2f(5, 10), 8}, {cv::Point2f(34, 10), 8},
+                                       {cv::Point2f(19.4F, 10), 8}, {cv::Point2f(20.4F, 10), 8}};
+  ColourWordOptions o;
+  const auto w = colour_words(image, k, o);
+  ASSERT_EQ(w.size(), 4U);
+  EXPECT_EQ(w[0], 1);
+  EXPECT_EQ(w[1], 17);
+  EXPECT_EQ(w[2], 10 * 2 + 1);
+  EXPECT_EQ(w[3], 9 * 2 + 1);
+  o.radius = 0;  // no patch: the keypoint's own (rounded) pixel
+  const auto own = colour_words(image, k, o);
+  EXPECT_EQ(own[2], 1);
+  EXPECT_EQ(own[3], 17);
+  EXPECT_EQ(image(10, 19), cv::Vec3b(0, 0, 255));  // the caller's image left as it was
+}
+
+TEST(ColourWords, TurningTheImageTurnsNoWord) {
+  cv::Mat3b image(30, 30);
+  cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(255));
+  std::vector<cv::KeyPoint> k;
+  std::vector<cv::KeyPoint> turned;
+  for (int y = 2; y < 30; y += 5) {
+    for (int x = 1; x < 30; x += 4) {
+      k.emplace_back(cv::Point2f(static_cast<float>(x), static_cast<float>(y)), 8);
+      // cv::ROTATE_90_CLOCKWISE maps (x, y) to (rows - 1 - y, x).
+      turned.emplace_back(cv::Point2f(static_cast<float>(29 - y), static_cast<float>(x)), 8);
+    }
+  }
+  cv::Mat3b rotated;
+  cv::rotate(image, rotated, cv::ROTATE_90_CLOCKWISE);
+  const ColourWordOptions o;
+  EXPECT_EQ(colour_words(image, k, o), colour_words(rotated, turned, o));
+}
+
+TEST(ColourWords, GreyImagesGiveGreyWordsAndBadInputThrows) {
+  const cv::Mat1b grey(10, 10, uchar{200});
+  const ColourWordOptions o;
+  const auto w = colour_words(grey, {cv::KeyPoint(cv::Point2f(4, 4), 8)}, o);
+  EXPECT_EQ(w, std::vector<std::int32_t>{27});  // 200 * 4 / 256 = 3
+  EXPECT_TRUE(colour_words(grey, {}, o).empty());
+  EXPECT_THROW(colour_words(grey, {cv::KeyPoint(cv::Point2f(10, 4), 8)}, o), Error);
+  EXPECT_THROW(colour_words(cv::Mat(), {}, o), Error);
+  EXPECT_THROW(colour_words(cv::Mat(4, 4, CV_32F), {}, o), Error);
+  ColourWordOptions bad;
+  bad.hue_bins = 0;
+  EXPECT_THROW(bad.validate(), Error);
+  bad = {};
+  bad.grey_below = 1.5;
+  EXPECT_THROW(colour_words(grey, {}, bad), Error);
+}
+
+}  // namespace
+}  // namespace proprio::features
