@@ -22,7 +22,8 @@ std::int32_t hsv_word(int h, int s, int v, const ColourWordOptions& o) {
   }
   const int hue = std::min(o.hue_bins - 1, h * o.hue_bins / 180);
   const double above = (sat - o.grey_below) / (1.0 - o.grey_below);  // 0..1
-  const int level = std::min(o.saturation_levels - 1, static_cast<int>(above * o.saturation_levels));
+  const int level =
+      std::min(o.saturation_levels - 1, static_cast<int>(above * o.saturation_levels));
   return hue * o.saturation_levels + level;
 }
 
@@ -74,6 +75,21 @@ std::vector<std::int32_t> colour_words(const cv::Mat& image,
     out.push_back(hsv_word(p[0], p[1], p[2], options));
   }
   return out;
+}
+
+std::vector<std::int32_t> with_colour_words(std::vector<std::int32_t> words,
+                                            const std::vector<std::int32_t>& colours,
+                                            int vocabulary_size) {
+  if (words.size() != colours.size()) {
+    throw Error("with_colour_words: " + std::to_string(words.size()) + " words but " +
+                std::to_string(colours.size()) + " colour words");
+  }
+  words.reserve(2 * colours.size());
+  for (const std::int32_t c : colours) {
+    if (c < 0) throw Error("with_colour_words: a negative colour word");
+    words.push_back(vocabulary_size + c);
+  }
+  return words;
 }
 
 }  // namespace proprio::features

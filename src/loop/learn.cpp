@@ -28,6 +28,7 @@
 #include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
+#include "proprio/features/colour_words.hpp"
 #include "proprio/features/features.hpp"
 #include "proprio/features/mask_morphology.hpp"
 #include "proprio/features/vocabulary.hpp"
@@ -164,6 +165,7 @@ struct View {
   int cls = 0;
   int push = 0;
   cv::Mat descriptors;
+  std::vector<std::int32_t> colours;  ///< LearnOptions::colour_words: one a descriptor
 };
 
 // passes: a later pass's turn, its object found in `view` (blob, how it was located).
@@ -480,6 +482,12 @@ sim::Background background_of(const LearnOptions& o) {
 
 void LearnOptions::validate() const {
   core::check_field_bounds(*this, "learn");
+  colour.validate();
+  if (colour_words && oracle_ladder) {
+    throw Error(
+        "learn: --colour-words does not go with --oracle-ladder (the rungs' documents are SIFT "
+        "words only)");
+  }
   if (ladder_pooled && !oracle_ladder) {
     throw Error(
         "learn: --ladder-pooled scores the oracle ladder's rungs: it needs --oracle-ladder");
@@ -1898,7 +1906,10 @@ class Learner {
             const cv::Mat m = features::dilated(seg.view_masks[v].second, o_.dilate);
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
-            views_.push_back({c, base + done, f.descriptors.clone()});
+            views_.push_back({c, base + done, f.descriptors.clone(),
+                              o_.colour_words
+                                  ? features::colour_words(frames_[v], f.keypoints, o_.colour)
+                                  : std::vector<std::int32_t>{}});
             attendant_.view_taken(in, dir / "episode", seg.view_masks[v].first,
                                   seg.view_masks[v].second);
             frames.push_back(unit_descriptors(f.descriptors));
@@ -2080,6 +2091,11 @@ class Learner {
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for arm_mask
 };
 
+// The colour words of the documents (LearnOptions::colour_words), or none.
+std::optional<features::ColourWordOptions> colour_of(const LearnOptions& o) {
+  return o.colour_words ? std::optional(o.colour) : std::nullopt;
+}
+
 // Everything a run leaves besides the JSON: the learner's record, the models, the views' theta.
 // The held-out views' documents of each object, as score_self_supervision renders them (alone
 // at the table's centre, yaw stepped through 360 degrees, the ground-truth mask, views with at
@@ -2098,12 +2114,13 @@ std::vector<topics::Corpus> held_out_documents(const LearnOptions& o,
     table.height = o.height;
     sim::SimulatedRobot alone(table, catalogue);
     const int id = alone.ground_truth().at(0).id;
-    topics::Corpus corpus(vocabulary.size());
+    const auto colour = colour_of(o);
+    topics::Corpus corpus(document_vocabulary_size(vocabulary, colour));
     for (int v = 0; v < o.held_out; ++v) {
       const HeldOutView view = render_held_out_view(alone, name, id, v, o.held_out);
-      const auto doc = masked_document(view.image, view.mask, vocabulary, o.features, o.dilate);
-      if (static_cast<int>(doc.size()) < o.min_features) continue;
-      corpus.add_tokens(doc);
+      const features::Features f = masked_features(view.image, view.mask, o.features, o.dilate);
+      if (f.size() < o.min_features) continue;
+      corpus.add_tokens(document_words(vocabulary, view.image, f, colour));
     }
     held.push_back(std::move(corpus));
   }
@@ -2168,15 +2185,23 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
     });
   }
   features::write_vocabulary(o.out / "vocabulary.vocab", *k.vocabulary, provenance);
-  topics::Corpus corpus(k.vocabulary->size());
-  for (const auto& v : views)
-    corpus.add_tokens(features::bag_of_words(*k.vocabulary, v.descriptors));
+  // With colour words each view's document is its SIFT words, then its colour words numbered
+  // after the vocabulary's.
+  const int words = document_vocabulary_size(*k.vocabulary, colour_of(o));
+  topics::Corpus corpus(words);
+  for (const auto& v : views) {
+    std::vector<std::int32_t> doc = features::bag_of_words(*k.vocabulary, v.descriptors);
+    if (o.colour_words)
+      doc = features::with_colour_words(std::move(doc), v.colours, k.vocabulary->size());
+    corpus.add_tokens(doc);
+  }
   if (!o.lda_model.empty()) {
     k.lda = topics::load_lda_model(o.lda_model);
-    if (k.lda->num_words() != k.vocabulary->size()) {
-      throw Error(
-          core::cat({o.lda_model.string(), ": ", std::to_string(k.lda->num_words()),
-                     " words, but the vocabulary has ", std::to_string(k.vocabulary->size())}));
+    if (k.lda->num_words() != words) {
+      throw Error(core::cat(
+          {o.lda_model.string(), ": ", std::to_string(k.lda->num_words()),
+           " words, but the documents have ", std::to_string(words),
+           o.colour_words ? " (the vocabulary's and the colour words)" : " (the vocabulary's)"}));
     }
   } else {
     l.timed("lda", [&] { k.lda = views_lda(corpus, o.topics, o.seed); });
@@ -2514,6 +2539,7 @@ SelfSupervisionOptions learn_score_options(const LearnOptions& o) {
   so.dilate = o.dilate;
   so.min_features = o.min_features;
   so.mot = o.mot;
+  so.colour_words = colour_of(o);
   so.oracle_ladder = o.oracle_ladder;
   so.pooled_score = o.oracle_ladder && o.ladder_pooled;
   return so;

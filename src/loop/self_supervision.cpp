@@ -1814,6 +1814,14 @@ void SelfSupervisionOptions::validate() const {
   if (claims_by == ClaimSignal::kNone) {
     throw Error("selfsupervise: claims_by none is not a claim signal");
   }
+  if (colour_words) {
+    colour_words->validate();
+    if (oracle_ladder || own_model_rungs) {
+      throw Error(
+          "selfsupervise: colour words do not go with the oracle ladder or the own-model rungs "
+          "(their documents are SIFT words only)");
+    }
+  }
   if (claims_by != ClaimSignal::kLooks && choice != NextObjectRule::kLooks) {
     throw Error(
         core::cat({"selfsupervise: claims_by ", core::choice_name(claims_by, kClaimSignalNames),
@@ -1858,9 +1866,9 @@ std::vector<std::string> parse_object_list(const std::string& list) {
   return out;
 }
 
-cv::Mat masked_descriptors(const cv::Mat& image, const cv::Mat& mask,
-                           const features::ExtractOptions& options, int dilate,
-                           const cv::Mat& exclude) {
+features::Features masked_features(const cv::Mat& image, const cv::Mat& mask,
+                                   const features::ExtractOptions& options, int dilate,
+                                   const cv::Mat& exclude) {
   // A new matrix: `mask` is the caller's and stays as it was (dilating into a header that
   // shared its data grew the caller's mask by `dilate` px at every call, until session 28).
   cv::Mat m = features::dilated(mask, dilate);
@@ -1876,18 +1884,38 @@ cv::Mat masked_descriptors(const cv::Mat& image, const cv::Mat& mask,
                cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1)));
     m.setTo(0, reach);
   }
-  const features::Features f = features::extract_features(image, options, m);
+  return features::extract_features(image, options, m);
+}
+
+cv::Mat masked_descriptors(const cv::Mat& image, const cv::Mat& mask,
+                           const features::ExtractOptions& options, int dilate,
+                           const cv::Mat& exclude) {
+  features::Features f = masked_features(image, mask, options, dilate, exclude);
   if (f.size() == 0) return {};
   return f.descriptors;
 }
 
-std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
-                                          const features::Vocabulary& vocabulary,
-                                          const features::ExtractOptions& options, int dilate,
-                                          const cv::Mat& exclude) {
-  const cv::Mat d = masked_descriptors(image, mask, options, dilate, exclude);
-  if (d.rows == 0) return {};
-  return features::bag_of_words(vocabulary, d);
+int document_vocabulary_size(const features::Vocabulary& vocabulary,
+                             const std::optional<features::ColourWordOptions>& colour) {
+  return vocabulary.size() + (colour ? colour->count() : 0);
+}
+
+std::vector<std::int32_t> document_words(const features::Vocabulary& vocabulary,
+                                         const cv::Mat& image, const features::Features& f,
+                                         const std::optional<features::ColourWordOptions>& colour) {
+  if (f.size() == 0) return {};
+  std::vector<std::int32_t> words = features::bag_of_words(vocabulary, f.descriptors);
+  if (!colour) return words;
+  return features::with_colour_words(
+      std::move(words), features::colour_words(image, f.keypoints, *colour), vocabulary.size());
+}
+
+std::vector<std::int32_t> masked_document(
+    const cv::Mat& image, const cv::Mat& mask, const features::Vocabulary& vocabulary,
+    const features::ExtractOptions& options, int dilate, const cv::Mat& exclude,
+    const std::optional<features::ColourWordOptions>& colour) {
+  return document_words(vocabulary, image, masked_features(image, mask, options, dilate, exclude),
+                        colour);
 }
 
 double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {

@@ -12,15 +12,15 @@ namespace {
 TEST(ColourWords, KnownColoursFallInTheirBins) {
   const ColourWordOptions o;  // 12 hues x 2 saturations + 4 greys = 28 words
   ASSERT_EQ(o.count(), 28);
-  EXPECT_EQ(colour_word({0, 0, 255}, o), 0 * 2 + 1);   // red, vivid: hue 0
-  EXPECT_EQ(colour_word({0, 255, 0}, o), 4 * 2 + 1);   // green: 120 degrees
-  EXPECT_EQ(colour_word({255, 0, 0}, o), 8 * 2 + 1);   // blue: 240 degrees
-  EXPECT_EQ(colour_word({0, 255, 255}, o), 2 * 2 + 1); // yellow: 60 degrees
+  EXPECT_EQ(colour_word({0, 0, 255}, o), 0 * 2 + 1);      // red, vivid: hue 0
+  EXPECT_EQ(colour_word({0, 255, 0}, o), 4 * 2 + 1);      // green: 120 degrees
+  EXPECT_EQ(colour_word({255, 0, 0}, o), 8 * 2 + 1);      // blue: 240 degrees
+  EXPECT_EQ(colour_word({0, 255, 255}, o), 2 * 2 + 1);    // yellow: 60 degrees
   EXPECT_EQ(colour_word({160, 160, 255}, o), 0 * 2 + 0);  // pale red: S 0.37, the lower level
-  EXPECT_EQ(colour_word({0, 0, 0}, o), 24);             // black: the darkest grey
-  EXPECT_EQ(colour_word({128, 128, 128}, o), 26);       // mid grey
-  EXPECT_EQ(colour_word({255, 255, 255}, o), 27);       // white
-  EXPECT_EQ(colour_word({200, 215, 210}, o), 27);       // S 0.07: grey whatever its hue
+  EXPECT_EQ(colour_word({0, 0, 0}, o), 24);               // black: the darkest grey
+  EXPECT_EQ(colour_word({128, 128, 128}, o), 26);         // mid grey
+  EXPECT_EQ(colour_word({255, 255, 255}, o), 27);         // white
+  EXPECT_EQ(colour_word({200, 215, 210}, o), 27);         // S 0.07: grey whatever its hue
 }
 
 TEST(ColourWords, EachKeypointReadsTheMeanOfItsPatch) {
@@ -29,8 +29,10 @@ TEST(ColourWords, EachKeypointReadsTheMeanOfItsPatch) {
   // 315 degrees (bin 10), 3 red and 4 blue one of 285 degrees (bin 9).
   cv::Mat3b image(20, 40, cv::Vec3b(0, 0, 255));
   image(cv::Rect(20, 0, 20, 20)).setTo(cv::Vec3b(255, 0, 0));
-  const std::vector<cv::KeyPoint> k = {{cv::Point2f(5, 10), 8}, {cv::Point2f(34, 10), 8},
-                                       {cv::Point2f(19.4F, 10), 8}, {cv::Point2f(20.4F, 10), 8}};
+  const std::vector<cv::KeyPoint> k = {{cv::Point2f(5, 10), 8},
+                                       {cv::Point2f(34, 10), 8},
+                                       {cv::Point2f(19.4F, 10), 8},
+                                       {cv::Point2f(20.4F, 10), 8}};
   ColourWordOptions o;
   const auto w = colour_words(image, k, o);
   ASSERT_EQ(w.size(), 4U);
@@ -78,6 +80,14 @@ TEST(ColourWords, GreyImagesGiveGreyWordsAndBadInputThrows) {
   bad = {};
   bad.grey_below = 1.5;
   EXPECT_THROW(colour_words(grey, {}, bad), Error);
+}
+
+TEST(ColourWords, DocumentsNumberColourWordsAfterTheVocabulary) {
+  EXPECT_EQ(with_colour_words({3, 0, 99}, {27, 0, 5}, 100),
+            (std::vector<std::int32_t>{3, 0, 99, 127, 100, 105}));
+  EXPECT_TRUE(with_colour_words({}, {}, 100).empty());
+  EXPECT_THROW(with_colour_words({1, 2}, {1}, 100), Error);
+  EXPECT_THROW(with_colour_words({1}, {-1}, 100), Error);
 }
 
 }  // namespace

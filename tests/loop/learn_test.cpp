@@ -23,6 +23,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/random.hpp"
+#include "proprio/features/colour_words.hpp"
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/view_model.hpp"
@@ -30,6 +31,7 @@
 #include "proprio/sim/object_catalogue.hpp"
 #include "proprio/sim/simulated_robot.hpp"
 #include "proprio/topics/batch_lda.hpp"
+#include "proprio/topics/lda_model_io.hpp"
 
 namespace proprio::loop {
 namespace {
@@ -96,6 +98,14 @@ TEST(Learn, DepthGivesTheRobotAnRgbdCamera) {
 TEST(Learn, BadOptionsThrow) {
   LearnOptions o;
   o.background = "stripes";
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.colour_words = true;
+  EXPECT_NO_THROW(o.validate());
+  o.oracle_ladder = true;  // the rungs' documents are SIFT words only
+  EXPECT_THROW(o.validate(), Error);
+  o = LearnOptions();
+  o.colour.grey_levels = 0;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   o.distractors = 5;
@@ -740,6 +750,32 @@ TEST(Learn, TheTouchCutOptionIsRecordedAndBothSettingsRun) {
     ASSERT_FALSE(j["pushes"].empty());
     ASSERT_TRUE(j["pushes"][0]["executed"].get<bool>());
     EXPECT_TRUE(fs::exists(out / j["pushes"][0]["dir"].get<std::string>() / "map.png"));
+  }
+}
+
+TEST(Learn, ColourWordsFollowTheSiftWordsInEveryViewsDocument) {
+  // --colour-words: LDA is trained over the vocabulary's words and the 28 colour words after
+  // them (every feature gives one of each); off, the model has the vocabulary's words only.
+  namespace fs = std::filesystem;
+  const test::TempDir dir("proprio_learn_colour_");
+  const SmallTable t;
+  for (const bool colour : {false, true}) {
+    const fs::path out = dir.path() / (colour ? "on" : "off");
+    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) { o.colour_words = colour; });
+    ASSERT_GT(r.summary.views, 0);
+    const int v = features::read_vocabulary(out / "vocabulary.vocab").size();
+    const topics::LdaModel lda = topics::load_lda_model(out / "lda.model");
+    const int k = features::ColourWordOptions{}.count();
+    ASSERT_EQ(lda.num_words(), colour ? v + k : v);
+    EXPECT_EQ(core::read_json(out / "learn.json")["options"]["colour_words"].get<bool>(), colour);
+    if (!colour) continue;
+    // topics x words, rows sum to 1. On this small table the views fill one topic; the others
+    // are the prior's (every word alike: the colour words' share is k / (v + k)). The views'
+    // topic holds about half colour, as every feature gives one word of each.
+    const Eigen::VectorXd colour_mass = lda.topic_word().rightCols(k).rowwise().sum();
+    EXPECT_GT(colour_mass.maxCoeff(), 0.35);
+    EXPECT_LT(colour_mass.maxCoeff(), 0.65);
+    EXPECT_GT(colour_mass.minCoeff(), 0.9 * k / static_cast<double>(v + k));
   }
 }
 

@@ -1163,6 +1163,62 @@ TEST(SelfSupervision, ArmPatchesOutLeavesTheArmOutOfTheObjectsDocument) {
   EXPECT_FALSE(SelfSupervisionOptions{}.arm_patches_out);
 }
 
+// Colour words (LearnOptions::colour_words, features::colour_words): a document is its SIFT
+// words, then one colour word a feature numbered after the vocabulary's; the colour words of a
+// textured red object are reds, of the same texture in blue blues.
+TEST(SelfSupervision, ColourWordsFollowTheSiftWordsOfADocument) {
+  cv::Mat1b texture(50, 40);
+  cv::RNG rng(3);
+  rng.fill(texture, cv::RNG::UNIFORM, 60, 200);
+  const auto coloured = [&](int channel) {
+    cv::Mat image(120, 160, CV_8UC3, cv::Scalar(120, 130, 140));
+    std::vector<cv::Mat> planes(3, cv::Mat1b(texture.size(), uchar{0}));
+    planes[static_cast<std::size_t>(channel)] = texture;
+    cv::Mat object;
+    cv::merge(planes, object);
+    object.copyTo(image(cv::Rect(40, 30, 40, 50)));
+    return image;
+  };
+  const cv::Mat red = coloured(2);
+  const cv::Mat blue = coloured(0);
+  cv::Mat mask(red.size(), CV_8U, cv::Scalar(0));
+  mask(cv::Rect(44, 34, 32, 42)).setTo(255);  // inside the object (the patches too)
+  features::ExtractOptions fo;
+  fo.dense.step = 4;
+  features::KmeansOptions k;
+  k.words = 16;
+  k.threads = 1;
+  const features::Vocabulary vocabulary =
+      features::build_vocabulary(features::dense_sift(red, fo.dense).descriptors, k).vocabulary;
+  const features::ColourWordOptions colour;
+  const int v = vocabulary.size();
+  EXPECT_EQ(document_vocabulary_size(vocabulary, colour), v + 28);
+  EXPECT_EQ(document_vocabulary_size(vocabulary, std::nullopt), v);
+  const auto sift = masked_document(red, mask, vocabulary, fo, 0);
+  const auto with_red = masked_document(red, mask, vocabulary, fo, 0, {}, colour);
+  const auto with_blue = masked_document(blue, mask, vocabulary, fo, 0, {}, colour);
+  const std::size_t n = sift.size();
+  ASSERT_GT(n, 10U);
+  ASSERT_EQ(with_red.size(), 2 * n);
+  EXPECT_TRUE(std::equal(sift.begin(), sift.end(), with_red.begin()));
+  ASSERT_EQ(with_blue.size(), 2 * n);
+  for (std::size_t i = n; i < 2 * n; ++i) {
+    // Red: hue bin 0 (or 11, just below 360 degrees); blue: bin 8 (240 degrees); vivid.
+    EXPECT_TRUE(with_red[i] == v + 1 || with_red[i] == v + 23) << with_red[i] - v;
+    EXPECT_EQ(with_blue[i], v + 8 * 2 + 1);
+  }
+  // Colour words only with the features: no features, no words.
+  EXPECT_TRUE(masked_document(red, cv::Mat(red.size(), CV_8U, cv::Scalar(0)), vocabulary, fo, 0,
+                              {}, colour)
+                  .empty());
+  // selfsupervise's own rungs make SIFT documents: colour words are refused with them.
+  SelfSupervisionOptions o;
+  o.colour_words = colour;
+  EXPECT_NO_THROW(o.validate());
+  o.oracle_ladder = true;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 // A vocabulary and an LDA model (K = 3) made from the robot's first look: dense SIFT of the
 // image, 24 words; documents are the words of 40 x 40 tiles.
 struct TinyModel {

@@ -17,11 +17,11 @@
 namespace proprio::features {
 
 struct ColourWordOptions {
-  int hue_bins = 12;           ///< chromatic words: hue bins (30 degrees each)
-  int saturation_levels = 2;   ///< ... times saturation levels between grey_below and 1
-  int grey_levels = 4;         ///< achromatic words: brightness (HSV value) levels
-  double grey_below = 0.25;    ///< saturation (0-1) below which a colour is achromatic
-  int radius = 3;              ///< the patch: the mean colour of a (2 radius + 1) px square
+  int hue_bins = 12;          ///< chromatic words: hue bins (30 degrees each)
+  int saturation_levels = 2;  ///< ... times saturation levels between grey_below and 1
+  int grey_levels = 4;        ///< achromatic words: brightness (HSV value) levels
+  double grey_below = 0.25;   ///< saturation (0-1) below which a colour is achromatic
+  int radius = 3;             ///< the patch: the mean colour of a (2 radius + 1) px square
 
   /// hue_bins * saturation_levels + grey_levels.
   [[nodiscard]] int count() const { return hue_bins * saturation_levels + grey_levels; }
@@ -35,11 +35,10 @@ struct ColourWordOptions {
       {"saturation_levels", "Colour words: saturation levels of a hue", core::between(1, 16)});
     v(self.grey_levels,
       {"grey_levels", "Colour words: brightness levels of the greys", core::between(1, 64)});
-    v(self.grey_below,
-      {"grey_below", "Colour words: saturation (0-1) below which a colour is grey",
-       core::between(0, 1)});
-    v(self.radius, {"radius", "Colour words: half side of the patch averaged, px",
-                    core::between(0, 64)});
+    v(self.grey_below, {"grey_below", "Colour words: saturation (0-1) below which a colour is grey",
+                        core::between(0, 1)});
+    v(self.radius,
+      {"radius", "Colour words: half side of the patch averaged, px", core::between(0, 64)});
   }
 };
 
@@ -55,5 +54,14 @@ std::vector<std::int32_t> colour_words(const cv::Mat& image,
 /// The word (0..options.count()-1) of one BGR colour, components 0-255 (what colour_words gives a
 /// patch of that mean colour).
 std::int32_t colour_word(const cv::Vec3b& bgr, const ColourWordOptions& options);
+
+/// A document with colour words: `words` (each feature's vocabulary word, as bag_of_words gives
+/// them) followed by each feature's colour word numbered after the vocabulary's words
+/// (`vocabulary_size` + word), so that one corpus of vocabulary_size + ColourWordOptions::count()
+/// words holds both; N features give 2N tokens. Throws Error when the two lists differ in length
+/// or a colour word is negative.
+std::vector<std::int32_t> with_colour_words(std::vector<std::int32_t> words,
+                                            const std::vector<std::int32_t>& colours,
+                                            int vocabulary_size);
 
 }  // namespace proprio::features

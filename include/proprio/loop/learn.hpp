@@ -335,8 +335,16 @@ struct LearnOptions {
   /// out every distractor candidate on the tuning seeds 1, 8, 9, 10 (docs/results/learn.md,
   /// "Session 37 (branch moving37)"); the report seeds decide the default.
   double moving_wait = 0;
-  int topics = 10;  ///< LDA topics (when no --model is given)
-  int words = 200;  ///< vocabulary words (when no --vocabulary is given)
+  /// The documents of the robot's views and of the held-out views carry a colour word a
+  /// feature after its SIFT word (features::colour_words on `colour`: the patch's mean colour on
+  /// a fixed HSV grid, 28 words), so that the vocabulary, LDA, the Mixture of Topics and the
+  /// pooled classifier see colour, which does not change when an object turns or falls over.
+  /// Off (the default): SIFT words only, as the thesis. A given --model must have the colour
+  /// words (the vocabulary's words + 28). Not with --oracle-ladder (its rungs are SIFT only).
+  bool colour_words = false;
+  features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
+  int topics = 10;                     ///< LDA topics (when no --model is given)
+  int words = 200;                     ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: quick_pushes (3) pushes an object, 240 x 180 images, 100 words, 6 topics,
   /// each only where that option holds its default (resolved()): a value given equal to its
   /// default (e.g. `--quick --pushes 6`) cannot be told from one not given and becomes the quick
@@ -511,6 +519,10 @@ struct LearnOptions {
        "Before choosing a blob the robot holds still this long and looks again; candidates "
        "whose depth moved (things moving by themselves) are left out (needs depth), s; 0 off",
        core::between(0.0, 5.0)});
+    v(self.colour_words,
+      {"colour_words",
+       "Documents carry a colour word a feature (its patch's mean colour, 28 HSV words) after "
+       "its SIFT word; off: SIFT words only (the thesis)"});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick",

@@ -32,6 +32,7 @@
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
+#include "proprio/features/colour_words.hpp"
 #include "proprio/features/extraction.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/record_fields.hpp"
@@ -439,6 +440,11 @@ struct SelfSupervisionOptions {
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
   /// How documents' features are extracted: must be how the vocabulary and model were made.
   features::ExtractOptions features;
+  /// Documents carry a colour word a feature after its SIFT word (document_words): set by
+  /// `proprio learn --colour-words` for its scoring, whose vocabulary and model have them.
+  /// Not a selfsupervise option (its given scatter model has SIFT words only); validate()
+  /// refuses it with the oracle ladder and the own-model rungs, which make SIFT documents.
+  std::optional<features::ColourWordOptions> colour_words;
   /// The planner's options; descent_clearance 0.04 m (paths whose arm would come down on a
   /// blob are not planned: every refused transit of the report seeds was that).
   planning::PushPlanOptions plan = descent_checked();
@@ -1172,11 +1178,28 @@ cv::Mat masked_descriptors(const cv::Mat& image, const cv::Mat& mask,
                            const features::ExtractOptions& options, int dilate,
                            const cv::Mat& exclude = {});
 
-/// The visual-word document of masked_descriptors(image, mask, options, dilate, exclude).
-std::vector<std::int32_t> masked_document(const cv::Mat& image, const cv::Mat& mask,
-                                          const features::Vocabulary& vocabulary,
-                                          const features::ExtractOptions& options, int dilate,
-                                          const cv::Mat& exclude = {});
+/// The features whose descriptors masked_descriptors gives (keypoints and descriptors).
+features::Features masked_features(const cv::Mat& image, const cv::Mat& mask,
+                                   const features::ExtractOptions& options, int dilate,
+                                   const cv::Mat& exclude = {});
+
+/// The words a corpus of documents made with `colour` has: the vocabulary's, and with colour
+/// words their count after them.
+int document_vocabulary_size(const features::Vocabulary& vocabulary,
+                             const std::optional<features::ColourWordOptions>& colour);
+
+/// The document of features `f` of `image`: their vocabulary words (features::bag_of_words)
+/// and, with `colour`, their colour words after them (features::with_colour_words; 2N tokens).
+std::vector<std::int32_t> document_words(const features::Vocabulary& vocabulary,
+                                         const cv::Mat& image, const features::Features& f,
+                                         const std::optional<features::ColourWordOptions>& colour);
+
+/// The visual-word document of masked_features(image, mask, options, dilate, exclude), with
+/// colour words when `colour` is given (document_words).
+std::vector<std::int32_t> masked_document(
+    const cv::Mat& image, const cv::Mat& mask, const features::Vocabulary& vocabulary,
+    const features::ExtractOptions& options, int dilate, const cv::Mat& exclude = {},
+    const std::optional<features::ColourWordOptions>& colour = std::nullopt);
 
 /// The table distance between two convex polygons (m): 0 when they overlap.
 double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b);
