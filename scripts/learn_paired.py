@@ -3,38 +3,37 @@
 
 usage: scripts/learn_paired.py BASE_DIR OPTION_DIR SEED [SEED ...]   (MODE=quick by default)
 
-BASE_DIR/OPTION_DIR hold scripts/experiment-learn's runs (MODE-sSEED/learn.json). Prints per seed
-the held-out MoT by theta, argmax theta, pooled words, per named object MoT / argmax %, named
-objects given a class and the later learn pushes aimed at another object than the turn chose
-(ground truth); then the means and the paired differences (option - base) with 95 % t intervals
-(scripts/oracle_ladder_table.py's ci) and on how many seeds the option is higher / lower, and
-the runs' median and longest wall time (MODE-sSEED.wall; session 36); and the turns whose chosen
-blob was a moving distractor (ground truth `class_chosen` neither a named object nor clutter) or
-an object an earlier turn had chosen (repeats), summed over the seeds (session 37).
+BASE_DIR/OPTION_DIR hold scripts/experiment-learn's runs (MODE-sSEED/learn.json, read by
+scripts/learn_runs.py). Prints per seed the held-out MoT by theta, argmax theta, pooled words,
+per named object MoT / argmax %, named objects given a class and the later learn pushes aimed at
+another object than the turn chose (ground truth); then the means and the paired differences
+(option - base) with 95 % t intervals (scripts/oracle_ladder_table.py's ci) and on how many seeds
+the option is higher / lower, and the runs' median and longest wall time (MODE-sSEED.wall;
+session 36); and the turns whose chosen blob was a moving distractor (ground truth
+`class_chosen` neither a named object nor clutter) or an object an earlier turn had chosen
+(repeats), summed over the seeds (session 37).
 """
-import json
 import os
 import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
 from oracle_ladder_table import ci  # noqa: E402
 
 
 def figures(run):
-    j = json.load(open(f"{run}/learn.json"))
-    g = j["ground_truth"]
+    r = learn_runs.load(run)
+    j, g = r.json, r.truth
     w = j.get("held_out_words", {})
     chosen = dict(zip(j["classes"], g["class_chosen"]))
-    later = [p for p in j["pushes"] if p["located"] != "chosen"]
+    later = [p for p in r.pushes if p["located"] != "chosen"]
     drift = sum(1 for p in later if p.get("intended") != chosen[p["class"]])
     truths = [o.get("truth", "") for o in j["objects"] if o["views"] > 0]
     named = sum(1 for o in g["objects"] if o["name"] in truths)
     per = " ".join(f"{o['name']} {100 * o['mot_accuracy']:.0f}/{100 * o['argmax_accuracy']:.0f}"
                    for o in g["objects"])
-    wall = f"{run}.wall"
-    table = {n.strip() for key in ("objects", "clutter")
-             for n in j["options"].get(key, "").split(",") if n.strip()}
+    table = r.table()
     distractor = repeat = 0
     seen = set()
     for c in g["class_chosen"]:
@@ -48,7 +47,7 @@ def figures(run):
     return {"distractor": distractor, "repeat": repeat,
             "MoT": 100 * g["mot_accuracy"], "argmax": 100 * g["argmax_accuracy"],
             "pooled": 100 * w.get("pooled", 0), "named": named,
-            "wall": float(open(wall).read()) if os.path.exists(wall) else 0.0,
+            "wall": r.wall(0.0),
             "drift": f"{drift}/{len(later)}", "per": per,
             "classes": ",".join(t or "-" for t in truths)}
 

@@ -2,10 +2,16 @@
 """Offline estimate for learn's untouched_radius (session 37): at each turn's choice after the first, the candidates
 that no executed push has passed near and that stand where the first look saw a candidate.
 Ground truth: ground_truth.class_blobs (objects under each blob of the turn's choice look).
-Only turns with one choose event (class_blobs is the last choice's).
+Only turns with one choose event (class_blobs is the last choice's). Runs read by scripts/learn_runs.py.
 usage: scripts/learn_untouched.py RADIUS SAME RUN_DIR... (e.g. 0.06 0.03 OUT/D/quick-s51 ...)
 """
-import json, sys, math
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
+
 R_PUSH = float(sys.argv[1]); R_SAME = float(sys.argv[2]); runs = sys.argv[3:]
 def seg_dist(p, a, b):
     ax, ay = a; bx, by = b; px, py = p
@@ -15,21 +21,12 @@ def seg_dist(p, a, b):
 tot = dict(turns=0, with_untouched=0, untouched=0, untouched_new=0, untouched_learned=0,
            untouched_other=0, chosen_repeat=0, repeat_with_untouched_new=0, chosen_new=0)
 for run in runs:
-    j = json.load(open(run + '/learn.json')); g = j['ground_truth']
-    table = {n.strip() for k in ('objects','clutter') for n in j['options'][k].split(',') if n.strip()}
-    ev = [json.loads(l) for l in open(run + '/decisions.jsonl')]
-    first = None; pushes = []; looks = {}; chooses = {}
-    for e in ev:
-        if e['event'] == 'look' and 'centres' in e:
-            if first is None: first = e['centres']
-            looks.setdefault(e['object'], e)  # the turn's first look
-        if e['event'] == 'choose':
-            chooses.setdefault(e['object'], []).append((e, list(pushes)))
-        if e['event'] == 'push' and e.get('executed'):
-            pushes.append((e['plan']['start'], e['plan']['end']))
-    for c, lst in chooses.items():
-        if c == 0 or len(lst) != 1 or c >= len(g['class_blobs']): continue
-        e, done = lst[0]; look = looks.get(c)
+    r = learn_runs.load(run); g = r.truth
+    table = r.table()
+    first = r.first_look_centres()
+    for c, turn in r.turns().items():
+        if c == 0 or len(turn.choices) != 1 or c >= len(g['class_blobs']): continue
+        choice = turn.choices[0]; e, done = choice.event, choice.pushed; look = turn.look
         if look is None: continue
         cents = look['centres']; truth = g['class_blobs'][c]
         if len(truth) != len(cents): continue

@@ -3,8 +3,8 @@
 
 usage: scripts/repeat_trace.py [-v] RUN [RUN ...]
 
-RUN is a `proprio learn` run directory (learn.json, decisions.jsonl). Standard library only;
-reads, never writes. Ground truth from learn.json: ground_truth.class_chosen[k] (the object under
+RUN is a `proprio learn` run directory (learn.json, decisions.jsonl), read by
+scripts/learn_runs.py. Standard library only; reads, never writes. Ground truth from learn.json: ground_truth.class_chosen[k] (the object under
 turn k's chosen blob), class_object (the object each class is named after), class_blobs[k] (the
 object under each blob of turn k's choice look, by the choice's blob index) and the pushes'
 `intended` / `moved` (simulation).
@@ -33,26 +33,26 @@ import os
 import sys
 from collections import Counter
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
+
 ORDER = ["drifted-last", "moved-later", "split", "named-neighbour", "not-found"]
 ALTERNATIVES = Counter()  # named repeats: did the choice have a candidate skipped as less-new?
 UNCLASSED = Counter()  # named repeats: skip reasons of blobs showing an object with no class yet
 
 
-def trace(run, verbose):
-    j = json.load(open(f"{run}/learn.json"))
-    dec = [json.loads(x) for x in open(f"{run}/decisions.jsonl") if x.strip()]
-    g = j["ground_truth"]
+def trace(r, verbose):
+    """Turn count and the repeats of run `r` (learn_runs.Run): (cause, why, turn, object)."""
+    g = r.truth
     chosen, blobs, named = g["class_chosen"], g["class_blobs"], g["class_object"]
-    classes = [c["name"] if isinstance(c, dict) else c for c in j.get("classes", [])]
-    pushes = j["pushes"]
-    cls_index = {f"object_{i + 1}": i for i in range(len(chosen))}
-    chooses, regions_known, cand = {}, {}, None
-    for e in dec:
-        if e["event"] == "candidates":
-            cand = e
-        if e["event"] == "choose" and e["object"] not in chooses:
-            chooses[e["object"]] = e
-            regions_known[e["object"]] = {k["object"] for k in (cand or {}).get("known", [])}
+    pushes = r.pushes
+    cls_index = r.class_indices()
+    # Each turn's first choice, and the classes whose regions named a candidate just before it.
+    chooses, regions_known = {}, {}
+    for k, turn in r.turns().items():
+        first = turn.choices[0]
+        chooses[k] = first.event
+        regions_known[k] = {kn["object"] for kn in first.candidates.get("known", [])}
     first_push = {}
     for p in pushes:
         c = cls_index.get(p["class"])
@@ -109,7 +109,7 @@ def trace(run, verbose):
         out.append((cause, reasons.get(cause, ""), k, x))
     if verbose:
         for cause, why, k, x in out:
-            print(f"{run}: turn {k + 1} chose {x}: {cause}: {why}")
+            print(f"{r.path}: turn {k + 1} chose {x}: {cause}: {why}")
     return len(chosen), out
 
 
@@ -121,16 +121,16 @@ def main(argv):
         return 2
     turns, causes, per_run = 0, Counter(), []
     for run in runs:
-        n, out = trace(run, verbose)
+        r = learn_runs.load(run)
+        n, out = trace(r, verbose)
         turns += n
         causes.update(c for c, *_ in out)
         named = sum(1 for c, *_ in out if c != "unnamed")
-        j = json.load(open(f"{run}/learn.json"))
-        missed = sum(1 for o in j["ground_truth"]["objects"] if o["views"] == 0)
-        head = 100 * j["headline"]["accuracy"]
-        wall = f"{run.rstrip('/')}.wall"
-        wall = float(open(wall).read()) if os.path.exists(wall) else float("nan")
-        places = sum(1 for x in open(f"{run}/decisions.jsonl") if '"known-place"' in x)
+        missed = sum(1 for o in r.truth["objects"] if o["views"] == 0)
+        head = 100 * r.json["headline"]["accuracy"]
+        wall = r.wall(float("nan"))
+        # Events that mention known-place (branch repeat37's --known-places; a skip reason).
+        places = sum(1 for e in r.events if '"known-place"' in json.dumps(e))
         per_run.append((run, n, len(out), named, missed, f"{head:.1f}", f"{wall:.0f}", places))
     print("run turns repeats named-repeats named-objects-missed headline% wall-s "
           "choices-with-known-place")

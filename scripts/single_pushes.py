@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Single pushes of one object alone on the simulated table, and whether it still stands after
-(ground truth, scoring only; docs/results/selfsupervision.md session 29).
+(ground truth, scoring only; docs/results/selfsupervision-history.md session 29).
 
 usage: PYTHONPATH=build/python scripts/single_pushes.py OBJECTS SEEDS ANGLES [roll|no] [TIP]
   OBJECTS  catalogue names, comma-separated
