@@ -901,7 +901,7 @@ class Learner {
     cv::Mat m = s.ml.frame_maps[static_cast<std::size_t>(i)] >= s.threshold;
     // The arm moves with the arm: its own image (its kinematics at the frame's joints) is cut
     // out, as proprio learn does. Without this a view's mask lay a third on the arm (oracle
-    // ladder, docs/results/selfsupervision.md).
+    // ladder, docs/results/selfsupervision-history.md).
     if (o_.cut_arm || o_.arm_patches_out) {
       const cv::Mat a = detail::arm_image_mask(s.episode, i, m.size(), robot_.arm(), arm_state_);
       if (o_.cut_arm) m.setTo(0, a);
@@ -1228,7 +1228,7 @@ class Learner {
       // or (a push that moved nothing) where it was. The blob nearest the target was taken
       // before: with the others not cleared away (singulation failed in 90% of rounds) that
       // was often another object, and the round went on pushing it (seed 1: the learn pushes
-      // of round 2 went to 4 blobs in turn; docs/results/selfsupervision.md, 2026-12-03).
+      // of round 2 went to 4 blobs in turn; docs/results/selfsupervision-history.md, 2026-12-03).
       const cv::Mat before_image = image_.clone();
       planning::PlanningView after = look();
       // What the push moved: the blobs of the look before it whose features changed; or

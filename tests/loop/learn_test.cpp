@@ -46,7 +46,7 @@ TEST(Learn, DefaultsAreTheIssuesWorld) {
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(o.resolved().pushes, o.pushes);  // not quick: unchanged
   // The dense segmentation takes the baseline's touch cut as evidence (issue 20), as
-  // MlOptions's default (docs/results/learn.md, "Session 24").
+  // MlOptions's default (docs/results/learn-history.md, "Session 24").
   EXPECT_DOUBLE_EQ(o.dense.touch_fm, 1.0);
 }
 

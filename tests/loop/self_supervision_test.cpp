@@ -42,9 +42,9 @@ TEST(SelfSupervision, ObjectListIsTrimmedAndChecked) {
 }
 
 TEST(SelfSupervision, MixtureOfTopicsDefaultsToUpToThreeDirichletsPerObject) {
-  // Measured (docs/results/selfsupervision.md, session 14): renders of an object from all round
-  // are not one Dirichlet in topic space; up to 3 per object raised the a0 rung 71.7% -> 81.8%
-  // (mean over three T = 8 LDA models).
+  // Measured (docs/results/selfsupervision-history.md, session 14): renders of an object from all
+  // round are not one Dirichlet in topic space; up to 3 per object raised the a0 rung 71.7%
+  // -> 81.8% (mean over three T = 8 LDA models).
   const SelfSupervisionOptions o;
   EXPECT_EQ(o.mot.components, 3);
   EXPECT_FALSE(o.mot.shared_precision);  // not with components > 1
@@ -1208,9 +1208,9 @@ TEST(SelfSupervision, ColourWordsFollowTheSiftWordsOfADocument) {
     EXPECT_EQ(with_blue[i], v + 8 * 2 + 1);
   }
   // Colour words only with the features: no features, no words.
-  EXPECT_TRUE(masked_document(red, cv::Mat(red.size(), CV_8U, cv::Scalar(0)), vocabulary, fo, 0,
-                              {}, colour)
-                  .empty());
+  EXPECT_TRUE(
+      masked_document(red, cv::Mat(red.size(), CV_8U, cv::Scalar(0)), vocabulary, fo, 0, {}, colour)
+          .empty());
   // selfsupervise's own rungs make SIFT documents: colour words are refused with them.
   SelfSupervisionOptions o;
   o.colour_words = colour;
@@ -1650,7 +1650,7 @@ TEST(SelfSupervision, SplitByMotionJudgesLearnPushesByTheirEpisodes) {
   // Motion views with split_by_motion: each learn push's segmentation splits the looks' blobs
   // (logged "split") and what it moved is judged from its episode (motion source "episode");
   // with alone_views a push that moved two objects gives no views.
-  // Off by default: measured no better (docs/results/selfsupervision.md, session 18).
+  // Off by default: measured no better (docs/results/selfsupervision-history.md, session 18).
   EXPECT_FALSE(SelfSupervisionOptions{}.split_by_motion);
   SelfSupervisionOptions o = small_options();
   o.views = ViewSource::kMotion;
@@ -2080,7 +2080,7 @@ TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
     arm += v.share_arm;
   }
   // The arm's own image is cut out of the motion views (cut_arm): before, a third of the
-  // views' masks lay on the arm (seed 2 of the report, docs/results/selfsupervision.md).
+  // views' masks lay on the arm (seed 2 of the report, docs/results/selfsupervision-history.md).
   EXPECT_LT(arm / static_cast<double>(attendant->views().size()), 0.05);
   const SelfSupervisionScore s =
       score_self_supervision(l, *attendant, {"book", "bottle"}, tiny->lda, tiny->vocabulary, o);

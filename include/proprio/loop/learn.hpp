@@ -8,12 +8,12 @@
 // segmented frames as views, updates the object's words and their Dirichlet
 // (loop/object_words.hpp), recognises the object again top-down in the next look and plans its
 // next push from the recognised region. The dense Motion-Likelihood segmentation is the default
-// (its views were purer on the seeds measured, docs/results/learn.md); --segmentation sparse
-// runs the sparse variant. After `pushes` pushes it moves to the blob least likely
-// under the object models so far (7.2 d), until C objects are learned. Then a vocabulary
-// (k-means over the descriptors of all its views) and an LDA model (over their documents) are
-// built from the robot's own views, unless given, and the views feed a supervised Mixture of
-// Topics whose labels are the robot's own classes object_1..object_C.
+// (its views were purer on the seeds measured, docs/results/learn-history.md); --segmentation
+// sparse runs the sparse variant. After `pushes` pushes it moves to the blob least likely under the
+// object models so far (7.2 d), until C objects are learned. Then a vocabulary (k-means over the
+// descriptors of all its views) and an LDA model (over their documents) are built from the robot's
+// own views, unless given, and the views feed a supervised Mixture of Topics whose labels are the
+// robot's own classes object_1..object_C.
 //
 // The learner talks to robot::Robot only; a TableAttendant (in simulation the
 // GroundTruthAttendant of loop/self_supervision_scoring.hpp) is told what it does, for scoring.
@@ -234,7 +234,7 @@ struct LearnOptions {
   /// region (known_candidates), one each; or "blobs" (feature-density blobs split by the known
   /// objects' regions: a camera without depth; the default before session 21). Depth by
   /// default: every named object pushed more often, held out higher on report seeds 2-7
-  /// (docs/results/learn.md, "Session 21").
+  /// (docs/results/learn-history.md, "Session 21").
   LearnCandidates candidates = LearnCandidates::kDepth;
   /// "depth": a candidate's pixels stand at least this high above the table, m (the cd is 5 mm).
   double candidate_height = 0.003;
@@ -267,10 +267,10 @@ struct LearnOptions {
   /// 0.05 m), before what moved with the arm (its segmented region, which also takes in
   /// neighbours that moved with it or lay beside it: 27 of the 67 later push attempts of the
   /// tuning seeds 1, 8-10 --quick were aimed at another object than the turn chose, 18 of them
-  /// located by that region; docs/results/learn.md "Session 26"); the next push is aimed at the
-  /// blob nearest where it was held. Off: the segmented region first (as before). Off by default:
-  /// on report seeds 2-7 it halved the drift and gave more named objects a class, but held-out
-  /// MoT fell 20.2 -> 8.5 % (docs/results/learn.md, "Session 26").
+  /// located by that region; docs/results/learn-history.md "Session 26"); the next push is aimed at
+  /// the blob nearest where it was held. Off: the segmented region first (as before). Off by
+  /// default: on report seeds 2-7 it halved the drift and gave more named objects a class, but
+  /// held-out MoT fell 20.2 -> 8.5 % (docs/results/learn-history.md, "Session 26").
   bool hold_target = false;
   /// Keep pushed objects in reach (session 27): a push target (push_target) outside the area the
   /// arm can push an object again (within 0.36 m of the base axis, beyond 0.16 m, at least
@@ -283,7 +283,8 @@ struct LearnOptions {
   /// seeds, 4 of 29 choices found nothing in reach to choose, against none at 3 pushes). Off by
   /// default: with --hold-target --pushes 5 on the tuning seeds 1, 8-10 (--quick) every turn
   /// found an object again (7 classes with views on every seed, against 5-7), but held-out MoT
-  /// stayed below the defaults' (paired -8.8 +- 21.1 points; docs/results/learn.md, "Session 27").
+  /// stayed below the defaults' (paired -8.8 +- 21.1 points; docs/results/learn-history.md,
+  /// "Session 27").
   bool keep_in_reach = false;
   /// Hold a known object's segmented region to where its push meant to put it (session 34): a
   /// region (what moved with the arm in the object's last push, known_candidates) names only a
@@ -354,7 +355,7 @@ struct LearnOptions {
   /// --pushes 6` gave 3 pushes, so 6 pushes a turn could not be measured at quick's size).
   /// 3: 6 lost on 20 fresh seeds (session 36: -5.7 +- 7.2 points, more named objects unseen).
   int quick_pushes = 3;
-  /// Dense by default: its views were purer (docs/results/learn.md).
+  /// Dense by default: its views were purer (docs/results/learn-history.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
   DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
   /// The push's mask: map >= this fraction of its maximum (the sweep of experiment 8.2).
@@ -382,7 +383,7 @@ struct LearnOptions {
   /// false (the default): the pooled counts. Off by session 32's rule: on the report seeds 2-7
   /// --quick the per-view multinomials at weight 0.1 (chosen on the tuning seeds) scored 21.0 %
   /// against the pooled counts' 25.0 % at 0.25, lower on 4 of 6 seeds (at 0.25 both: 19.0
-  /// against 25.0 %; docs/results/learn.md "Session 32").
+  /// against 25.0 %; docs/results/learn-history.md "Session 32").
   bool mot_word_per_view = false;
   /// Scoring: the held-out figure printed first, shown first in report.html and written as
   /// learn.json's "headline": "pooled" (the pooled words classifier at mot_word_weight, with the
@@ -390,7 +391,7 @@ struct LearnOptions {
   /// Topics by theta, the headline before) or "argmax" (argmax theta). Every figure is in
   /// learn.json whichever it is. Pooled by session 32's rule: on the report seeds 2-7 --quick the
   /// pooled classifier (counts, 0.25) scored 25.0 % against the MoT's 22.7 %, lower on 2 of 6
-  /// seeds (paired +2.3 +- 10.3 points; docs/results/learn.md "Session 32").
+  /// seeds (paired +2.3 +- 10.3 points; docs/results/learn-history.md "Session 32").
   LearnHeadline headline = LearnHeadline::kPooled;
   /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
   bool oracle_ladder = false;
@@ -416,8 +417,8 @@ struct LearnOptions {
   planning::PushPlanOptions plan;
   segmentation::SparseOptions sparse;
   /// The dense segmentation's options; --seg-touch-fm sets its touch_fm (the baseline's touch
-  /// cut as evidence in monocular M-L, issue 20; MlOptions's default 1, docs/results/learn.md
-  /// "Session 24").
+  /// cut as evidence in monocular M-L, issue 20; MlOptions's default 1,
+  /// docs/results/learn-history.md "Session 24").
   segmentation::MlOptions dense;
   ObjectWordOptions words_model;
   topics::MotOptions mot;

@@ -165,7 +165,8 @@ struct SelfSupervisionOptions {
   /// kMaxTurnOffset; negative: to the right). 0 (the default): through the centre. Session 16,
   /// tuning seed 1: pushes through the centre already turned their object 13-39 degrees a push
   /// (bike 13, giraffe 35, bottle 39); with 0.5 (every offset 3 cm, the feature hulls being
-  /// wide) 10-14, and the pushes that moved nothing rose 2 -> 6 (docs/results/selfsupervision.md).
+  /// wide) 10-14, and the pushes that moved nothing rose 2 -> 6
+  /// (docs/results/selfsupervision-history.md).
   double turn_offset = 0;
   /// (c): learn pushes the run may spend in all are C x pushes; a round that ends early (its
   /// object lost, pushes not planned) leaves its unspent pushes to the later rounds
@@ -177,7 +178,8 @@ struct SelfSupervisionOptions {
   /// default): off, motion only. Session 16, report seeds 2-6 with 0.1: 9 re-finds, most of
   /// them (by the episodes' ground-truth masks) to another object than the chosen one; the
   /// rounds whose object pushed most was the chosen one fell 14 -> 12 of 20: the resting-view
-  /// looks (T = 32) do not tell the objects apart well enough (docs/results/selfsupervision.md).
+  /// looks (T = 32) do not tell the objects apart well enough
+  /// (docs/results/selfsupervision-history.md).
   double refind_margin = 0;
   /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
   /// from its centre to the push's target, in the table plane) at least this far from every
@@ -187,7 +189,8 @@ struct SelfSupervisionOptions {
   /// Measured in session 17 with stop_on_drift and alone_views (0.03 m): learn pushes moving
   /// their object alone 41% -> 35% (ground truth, report seeds 2-6), c 35.4 -> 33.2% (noise),
   /// the tuning seed's c 49.7 -> 42.0%: the blobs' hulls are not the objects', so all three
-  /// stay off (docs/results/selfsupervision.md, "Keeping a round on its object by geometry").
+  /// stay off (docs/results/selfsupervision-history.md, "Keeping a round on its object by
+  /// geometry").
   double learn_clearance = 0.0;
   /// (c): a round stops, logged, when its push moved another blob most (fault "drift":
   /// push_motion) or left the pushed blob merged with another one (fault "merged":
@@ -212,7 +215,8 @@ struct SelfSupervisionOptions {
   /// Measured in session 18 with alone_views: the verdict of what moved agrees with the ground
   /// truth for 64% of learn pushes (the looks: about 33%), but the pushes moved their object
   /// alone no more often (41 -> 42%, report seeds 2-6), c 35.4 -> 39.4% (noise) and the tuning
-  /// seed's c 49.7 -> 32.3%: off (docs/results/selfsupervision.md, "Blobs that are objects").
+  /// seed's c 49.7 -> 32.3%: off (docs/results/selfsupervision-history.md, "Blobs that are
+  /// objects").
   bool split_by_motion = false;
   /// (c): a learn push's fallback sides (when its first goal cannot be planned) go inward first
   /// and never farther from the work centre than the object already is (fallback_goals).
@@ -226,7 +230,7 @@ struct SelfSupervisionOptions {
   /// planned there, about the work centre again. 0: off (the default). Measured with 0.12 m:
   /// learn pushes moving their object alone 41% -> 49% (report seeds 2-6), but c 35.4 -> 34.9%
   /// (noise), and the free-space push was executed only 3 times in 5 runs (its spots are mostly
-  /// out of reach) (docs/results/selfsupervision.md, "Session 19").
+  /// out of reach) (docs/results/selfsupervision-history.md, "Session 19").
   double free_space = 0.0;
   /// (a), (b), (d): merged blobs split (split_merged_blobs, session 20): every look of the
   /// choice and of (b) that shows fewer blobs than C splits its largest blob by k-means on its
@@ -236,7 +240,7 @@ struct SelfSupervisionOptions {
   /// seed 1: 87 "not-planned" faults, c 49.7 -> 27.3%). Off (the default): measured with
   /// singulate_tries 2, c 49.7 -> 25.0% on the tuning seed and 35.4 +- 10.7% -> 32.4 +- 10.8%
   /// on seeds 2-6, singulation (ground truth) 30% -> 30%: a k-means cut is not the boundary
-  /// between two objects (docs/results/selfsupervision.md, "Session 20").
+  /// between two objects (docs/results/selfsupervision-history.md, "Session 20").
   bool split_merged = false;
   /// split_merged: the colours' weight against the positions in the k-means split (0: positions).
   double split_colour = 1.0;
@@ -256,7 +260,7 @@ struct SelfSupervisionOptions {
   /// gap). Tuning seed 1 (session 21): the feature hulls said "alone" in all 4 rounds of a
   /// `depth` run, none alone by the ground truth; over 12 rounds of three runs the depth check
   /// at clearance 0.10 was right in 8, measuring gaps 2-9 cm too wide (the objects' hidden
-  /// backs), at 0.15 in 12 (docs/results/selfsupervision.md, "Session 21").
+  /// backs), at 0.15 in 12 (docs/results/selfsupervision-history.md, "Session 21").
   bool alone_by_depth = false;
   /// (b): when (b) (and its singulate_tries) ends with the chosen object not alone by the robot's
   /// check, choose instead the blob of the last look that stands farthest from the others by
@@ -293,7 +297,7 @@ struct SelfSupervisionOptions {
   /// count as lost, and the round chooses again (fault "grown"). 0: off (the default);
   /// otherwise more than 1. Session 27 with 1.5: tuning seed 1 c 37.2 -> 53.8%, report seeds
   /// 2-6 33.6 +- 13.9% -> 31.5 +- 15.0% (paired -2.1 +- 3.8 points; it fired on 2 seeds, both in
-  /// (b)): off (docs/results/selfsupervision.md, "Session 27").
+  /// (b)): off (docs/results/selfsupervision-history.md, "Session 27").
   double merge_ratio = 0.0;
   /// (b) -> (c): after (b), before the first learn push, the robot looks again and checks the
   /// chosen blob against the classes learned so far (session 34; choose_unlearned on that look:
@@ -361,14 +365,15 @@ struct SelfSupervisionOptions {
   /// event "merge"). Learning::round_class says which class each round became. Off: on tuning
   /// seeds 1, 7, 8 (--rounds 8 --same-object 1.0) c fell 5.2 +- 11.9 points: the word-count
   /// distance does not separate one object's rounds from different objects'
-  /// (docs/results/selfsupervision.md, "Session 31").
+  /// (docs/results/selfsupervision-history.md, "Session 31").
   int rounds = 0;
   /// rounds: two round classes are one object when their distance (round_distance) is below
   /// this, nats a word.
   double same_object = 0.3;
   ViewSource views = ViewSource::kMotion;
   /// (d): kLooks (the default since 2026-12-03: with kDirichlet the calculator was never pushed
-  /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision.md) or kDirichlet.
+  /// in a learn round on 4 of 5 report seeds, docs/results/selfsupervision-history.md) or
+  /// kDirichlet.
   NextObjectRule choice = NextObjectRule::kLooks;
   int view_step = 2;  ///< kMotion: every n-th frame from the first touch
   /// kMotion: cut the arm's own image (its kinematics at each frame's joints) out of the views.
@@ -376,7 +381,7 @@ struct SelfSupervisionOptions {
   /// kMotion: also leave out of the views every feature whose patch (features.dense.size px
   /// square) reaches the arm's own image (its kinematics at the frame's joints, as cut_arm):
   /// cut_arm takes the arm's pixels out of the mask, but the patches of the object's pixels
-  /// beside the arm still describe the arm (docs/results/selfsupervision.md, "Session 28").
+  /// beside the arm still describe the arm (docs/results/selfsupervision-history.md, "Session 28").
   /// Scoring: the ladder's a and a_last rungs then leave out the patches reaching the arm's
   /// ground-truth pixels.
   bool arm_patches_out = false;
@@ -412,8 +417,8 @@ struct SelfSupervisionOptions {
   /// after its push, by the run's model and an own one): each rung's views through a vocabulary of
   /// own_words words and an LDA model of own_topics topics built from those views' own descriptors
   /// (loop::views_vocabulary, views_lda: as Experiment 8.2 builds its own from its push views,
-  /// docs/results/learn.md), a supervised Mixture of Topics (mot) on their theta, and the held-out
-  /// views classified by the pooled words classifier at mot_word_weight with per-view word
+  /// docs/results/learn-history.md), a supervised Mixture of Topics (mot) on their theta, and the
+  /// held-out views classified by the pooled words classifier at mot_word_weight with per-view word
   /// multinomials (loop::per_view_weights: Experiment 8.2's default). The learner then keeps its
   /// views' descriptors (TrainingViews::descriptors). The run itself is unchanged.
   bool own_model_rungs = false;
@@ -453,7 +458,8 @@ struct SelfSupervisionOptions {
   /// thesis's one. Session 14: on renders of each object alone (the ladder's a0 rung,
   /// `--ceiling-only`, tuning seed 1), T = 8 LDA models of seeds 1-3: one Dirichlet 71.7%
   /// (76.2, 66.8, 72.2), up to 3 81.8% (79.0, 80.2, 86.2), better on every model: an object's
-  /// views from all round are not one cluster in topic space (docs/results/selfsupervision.md).
+  /// views from all round are not one cluster in topic space
+  /// (docs/results/selfsupervision-history.md).
   topics::MotOptions mot = three_components();
 
   /// Throws Error naming the first bad option (bounds, an empty, unknown or repeated object is
@@ -880,7 +886,7 @@ Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int cl
 /// (an object is one class); of the blobs left unclaimed the one farthest from every class is
 /// chosen (ties: the first). Without the matching a learned object whose look had drifted from
 /// its class was chosen again while an object that looked like some class was never chosen
-/// (docs/results/selfsupervision.md, 2026-12-03).
+/// (docs/results/selfsupervision-history.md, 2026-12-03).
 struct NextChoice {
   int blob = -1;                   ///< the blob chosen (-1: no blob could be scored)
   std::vector<int> claimed_by;     ///< per blob: the class that claimed it, -1 none

@@ -252,8 +252,8 @@ struct LadderRung {
   }
 };
 
-/// The oracle ladder (docs/results/selfsupervision.md): how much of the held-out accuracy each
-/// step from ideal training views to the robot's own costs, on the same run.
+/// The oracle ladder (docs/results/selfsupervision-history.md): how much of the held-out accuracy
+/// each step from ideal training views to the robot's own costs, on the same run.
 struct OracleLadder {
   std::vector<LadderRung> rungs;
   /// The robot's views (b): mean fractions of their masks on the object mostly in view, on the

@@ -273,7 +273,7 @@ MotClassification pool_word_multinomials(const MotModel& model, const MotClassif
                                          double weight);
 
 /// The objects' word multinomials with a background shared by all objects (session 30 of
-/// docs/results/learn.md, an addition to the thesis's model): a view's words are a mixture
+/// docs/results/learn-history.md, an addition to the thesis's model): a view's words are a mixture
 ///   p(w | c, s) = s b(w) + (1 - s) q_c(w),
 /// b the background, q_c the object's own words and s in [0, 1] the view's share of background.
 /// b(w) is proportional to min_c p_c(w), p_c the add-one multinomials of fit_word_multinomials
