@@ -92,4 +92,19 @@ std::vector<std::int32_t> with_colour_words(std::vector<std::int32_t> words,
   return words;
 }
 
+int document_vocabulary_size(const Vocabulary& vocabulary,
+                             const std::optional<ColourWordOptions>& colour) {
+  return vocabulary.size() + (colour ? colour->count() : 0);
+}
+
+std::vector<std::int32_t> document_words(const Vocabulary& vocabulary, const cv::Mat& image,
+                                         const Features& f,
+                                         const std::optional<ColourWordOptions>& colour) {
+  if (f.size() == 0) return {};
+  std::vector<std::int32_t> words = bag_of_words(vocabulary, f.descriptors);
+  if (!colour) return words;
+  return with_colour_words(std::move(words), colour_words(image, f.keypoints, *colour),
+                           vocabulary.size());
+}
+
 }  // namespace proprio::features

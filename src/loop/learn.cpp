@@ -2115,12 +2115,12 @@ std::vector<topics::Corpus> held_out_documents(const LearnOptions& o,
     sim::SimulatedRobot alone(table, catalogue);
     const int id = alone.ground_truth().at(0).id;
     const auto colour = colour_of(o);
-    topics::Corpus corpus(document_vocabulary_size(vocabulary, colour));
+    topics::Corpus corpus(features::document_vocabulary_size(vocabulary, colour));
     for (int v = 0; v < o.held_out; ++v) {
       const HeldOutView view = render_held_out_view(alone, name, id, v, o.held_out);
       const features::Features f = masked_features(view.image, view.mask, o.features, o.dilate);
       if (f.size() < o.min_features) continue;
-      corpus.add_tokens(document_words(vocabulary, view.image, f, colour));
+      corpus.add_tokens(features::document_words(vocabulary, view.image, f, colour));
     }
     held.push_back(std::move(corpus));
   }
@@ -2187,7 +2187,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   features::write_vocabulary(o.out / "vocabulary.vocab", *k.vocabulary, provenance);
   // With colour words each view's document is its SIFT words, then its colour words numbered
   // after the vocabulary's.
-  const int words = document_vocabulary_size(*k.vocabulary, colour_of(o));
+  const int words = features::document_vocabulary_size(*k.vocabulary, colour_of(o));
   topics::Corpus corpus(words);
   for (const auto& v : views) {
     std::vector<std::int32_t> doc = features::bag_of_words(*k.vocabulary, v.descriptors);

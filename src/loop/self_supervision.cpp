@@ -1895,27 +1895,12 @@ cv::Mat masked_descriptors(const cv::Mat& image, const cv::Mat& mask,
   return f.descriptors;
 }
 
-int document_vocabulary_size(const features::Vocabulary& vocabulary,
-                             const std::optional<features::ColourWordOptions>& colour) {
-  return vocabulary.size() + (colour ? colour->count() : 0);
-}
-
-std::vector<std::int32_t> document_words(const features::Vocabulary& vocabulary,
-                                         const cv::Mat& image, const features::Features& f,
-                                         const std::optional<features::ColourWordOptions>& colour) {
-  if (f.size() == 0) return {};
-  std::vector<std::int32_t> words = features::bag_of_words(vocabulary, f.descriptors);
-  if (!colour) return words;
-  return features::with_colour_words(
-      std::move(words), features::colour_words(image, f.keypoints, *colour), vocabulary.size());
-}
-
 std::vector<std::int32_t> masked_document(
     const cv::Mat& image, const cv::Mat& mask, const features::Vocabulary& vocabulary,
     const features::ExtractOptions& options, int dilate, const cv::Mat& exclude,
     const std::optional<features::ColourWordOptions>& colour) {
-  return document_words(vocabulary, image, masked_features(image, mask, options, dilate, exclude),
-                        colour);
+  return features::document_words(vocabulary, image,
+                                  masked_features(image, mask, options, dilate, exclude), colour);
 }
 
 double hull_gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {

@@ -1192,8 +1192,8 @@ TEST(SelfSupervision, ColourWordsFollowTheSiftWordsOfADocument) {
       features::build_vocabulary(features::dense_sift(red, fo.dense).descriptors, k).vocabulary;
   const features::ColourWordOptions colour;
   const int v = vocabulary.size();
-  EXPECT_EQ(document_vocabulary_size(vocabulary, colour), v + 28);
-  EXPECT_EQ(document_vocabulary_size(vocabulary, std::nullopt), v);
+  EXPECT_EQ(features::document_vocabulary_size(vocabulary, colour), v + 28);
+  EXPECT_EQ(features::document_vocabulary_size(vocabulary, std::nullopt), v);
   const auto sift = masked_document(red, mask, vocabulary, fo, 0);
   const auto with_red = masked_document(red, mask, vocabulary, fo, 0, {}, colour);
   const auto with_blue = masked_document(blue, mask, vocabulary, fo, 0, {}, colour);

@@ -10,9 +10,12 @@
 // because their hue is noise. Written here: OpenCV converts the colours but has no such words.
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "proprio/core/fields.hpp"
+#include "proprio/features/features.hpp"
+#include "proprio/features/vocabulary.hpp"
 
 namespace proprio::features {
 
@@ -63,5 +66,16 @@ std::int32_t colour_word(const cv::Vec3b& bgr, const ColourWordOptions& options)
 std::vector<std::int32_t> with_colour_words(std::vector<std::int32_t> words,
                                             const std::vector<std::int32_t>& colours,
                                             int vocabulary_size);
+
+/// The words a corpus of documents made with `colour` has: the vocabulary's, and with colour
+/// words their count after them.
+int document_vocabulary_size(const Vocabulary& vocabulary,
+                             const std::optional<ColourWordOptions>& colour);
+
+/// The document of features `f` of `image`: their vocabulary words (bag_of_words) and, with
+/// `colour`, their colour words after them (with_colour_words; 2N tokens).
+std::vector<std::int32_t> document_words(const Vocabulary& vocabulary, const cv::Mat& image,
+                                         const Features& f,
+                                         const std::optional<ColourWordOptions>& colour);
 
 }  // namespace proprio::features

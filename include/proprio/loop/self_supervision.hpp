@@ -445,7 +445,7 @@ struct SelfSupervisionOptions {
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
   /// How documents' features are extracted: must be how the vocabulary and model were made.
   features::ExtractOptions features;
-  /// Documents carry a colour word a feature after its SIFT word (document_words): set by
+  /// Documents carry a colour word a feature after its SIFT word (features::document_words): set by
   /// `proprio learn --colour-words` for its scoring, whose vocabulary and model have them.
   /// Not a selfsupervise option (its given scatter model has SIFT words only); validate()
   /// refuses it with the oracle ladder and the own-model rungs, which make SIFT documents.
@@ -1189,19 +1189,8 @@ features::Features masked_features(const cv::Mat& image, const cv::Mat& mask,
                                    const features::ExtractOptions& options, int dilate,
                                    const cv::Mat& exclude = {});
 
-/// The words a corpus of documents made with `colour` has: the vocabulary's, and with colour
-/// words their count after them.
-int document_vocabulary_size(const features::Vocabulary& vocabulary,
-                             const std::optional<features::ColourWordOptions>& colour);
-
-/// The document of features `f` of `image`: their vocabulary words (features::bag_of_words)
-/// and, with `colour`, their colour words after them (features::with_colour_words; 2N tokens).
-std::vector<std::int32_t> document_words(const features::Vocabulary& vocabulary,
-                                         const cv::Mat& image, const features::Features& f,
-                                         const std::optional<features::ColourWordOptions>& colour);
-
 /// The visual-word document of masked_features(image, mask, options, dilate, exclude), with
-/// colour words when `colour` is given (document_words).
+/// colour words when `colour` is given (features::document_words).
 std::vector<std::int32_t> masked_document(
     const cv::Mat& image, const cv::Mat& mask, const features::Vocabulary& vocabulary,
     const features::ExtractOptions& options, int dilate, const cv::Mat& exclude = {},
