@@ -483,6 +483,9 @@ sim::Background background_of(const LearnOptions& o) {
 void LearnOptions::validate() const {
   core::check_field_bounds(*this, "learn");
   colour.validate();
+  if (new_object == NewObjectScore::kColour && known_margin >= 0) {
+    throw Error("learn: --known-margin compares word likelihoods: not with --new-object colour");
+  }
   if (colour_words && oracle_ladder) {
     throw Error(
         "learn: --colour-words does not go with --oracle-ladder (the rungs' documents are SIFT "
@@ -660,6 +663,32 @@ class Learner {
     const double m = om.log_p_descriptors(x, wo_).mean();
     if (!std::isfinite(m)) return std::nullopt;
     return m;
+  }
+
+  // The views' colour words are made: for the documents or for (d)'s colour score.
+  [[nodiscard]] bool colours_wanted() const {
+    return o_.colour_words || o_.new_object == NewObjectScore::kColour;
+  }
+
+  // new_object colour: log p(w | class k) of every colour word for each class k < c with
+  // views (their colour words counted, add-one smoothed); an empty vector for a class without.
+  [[nodiscard]] std::vector<Eigen::VectorXd> colour_log_p(int c) const {
+    const int words = o_.colour.count();
+    std::vector<Eigen::VectorXd> counts(static_cast<std::size_t>(c));
+    for (const View& v : views_) {
+      if (v.cls < 0 || v.cls >= c) continue;
+      auto& n = counts[static_cast<std::size_t>(v.cls)];
+      if (n.size() == 0) n = Eigen::VectorXd::Zero(words);
+      for (const std::int32_t w : v.colours) n[w] += 1;
+    }
+    for (auto& n : counts) {
+      if (n.size() == 0 || n.sum() == 0) {
+        n.resize(0);
+        continue;
+      }
+      n = ((n.array() + 1.0) / (n.sum() + words)).log().matrix();
+    }
+    return counts;
   }
 
   // Training views of class c so far.
@@ -1035,9 +1064,22 @@ class Learner {
     int best = -1;
     double best_s = std::numeric_limits<double>::infinity();
     const bool match = o_.new_object == NewObjectScore::kMatch;
+    const bool colour = o_.new_object == NewObjectScore::kColour;
     // "match": each known object's views' descriptors (a stride sample of kMaxMatchPool).
     std::vector<cv::Mat> pools;
     if (match) pools = timed("recognition", [&] { return known_pools(c); });
+    // "colour": the classes' colour models and the look's features' colour words.
+    std::vector<Eigen::VectorXd> colour_models;
+    std::vector<std::int32_t> look_colours;
+    if (colour) {
+      timed("recognition", [&] {
+        colour_models = colour_log_p(c);
+        std::vector<cv::KeyPoint> points;
+        points.reserve(lf.points.size());
+        for (const auto& p : lf.points) points.emplace_back(p, 1.0F);
+        look_colours = features::colour_words(current_.image, points, o_.colour);
+      });
+    }
     const cv::Mat look = match ? float_rows(lf.unit) : cv::Mat();
     for (int b : open) {
       const auto& o = view.objects[static_cast<std::size_t>(b)];
@@ -1084,7 +1126,19 @@ class Learner {
       int s_object = -1;
       double below = 0;
       bool is_known = false;
-      for (int k = 0; k < c; ++k) {
+      for (int k = 0; k < c && colour; ++k) {
+        // The mean log p of the blob's colour words under class k's colours.
+        const Eigen::VectorXd& lp = colour_models[static_cast<std::size_t>(k)];
+        if (lp.size() == 0) continue;
+        double sum = 0;
+        for (const Eigen::Index r : rows) sum += lp[look_colours[static_cast<std::size_t>(r)]];
+        const double sk = sum / static_cast<double>(rows.size());
+        if (sk > s) {
+          s = sk;
+          s_object = k;
+        }
+      }
+      for (int k = 0; k < c && !colour; ++k) {
         const auto ku = static_cast<std::size_t>(k);
         const ObjectModel& om = models_[ku];
         if (!om.learned()) continue;
@@ -1157,8 +1211,9 @@ class Learner {
     log({.event = "choose",
          .object = c,
          .blob = best,
-         .why = match ? "fewest descriptors matched to the objects so far (7.2 d)"
-                      : "least likely under the object models so far (7.2 d)",
+         .why = match    ? "fewest descriptors matched to the objects so far (7.2 d)"
+                : colour ? "colour words least likely under the classes' colours so far (7.2 d)"
+                         : "least likely under the object models so far (7.2 d)",
          .known = std::move(known),
          .scores = std::move(scores),
          .skipped = skipped(best)});
@@ -1907,7 +1962,7 @@ class Learner {
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
             views_.push_back({c, base + done, f.descriptors.clone(),
-                              o_.colour_words
+                              colours_wanted()
                                   ? features::colour_words(frames_[v], f.keypoints, o_.colour)
                                   : std::vector<std::int32_t>{}});
             attendant_.view_taken(in, dir / "episode", seg.view_masks[v].first,

@@ -1230,6 +1230,47 @@ TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
   }
 }
 
+TEST(Learn, ColourChoosesTheBlobWhoseColoursTheClassesExplainLeast) {
+  // new_object "colour": the second turn scores each open blob by the mean log p of its colour
+  // words under the first class's colours and chooses the least; with --known-margin (a words
+  // likelihood) it is refused.
+  const test::TempDir dir("proprio_learn_colour_choice_");
+  const SmallTable t;
+  const LearnResult r = t.run(dir.path() / "run", 2,
+                              [&](LearnOptions& o) { o.new_object = NewObjectScore::kColour; });
+  ASSERT_GT(r.objects.at(0).views, 0);
+  EXPECT_EQ(core::read_json(dir.path() / "run" / "learn.json")["options"]["new_object"], "colour");
+  std::ifstream in(dir.path() / "run" / "decisions.jsonl");
+  std::string line;
+  int chose = 0;
+  while (std::getline(in, line)) {
+    const core::Json j = core::Json::parse(line);
+    if (j["event"] != "choose" || j.value("object", -1) != 1) continue;
+    ++chose;
+    EXPECT_NE(j["why"].get<std::string>().find("colour"), std::string::npos) << line;
+    ASSERT_FALSE(j["scores"].empty()) << line;
+    double least = std::numeric_limits<double>::infinity();
+    int least_blob = -1;
+    for (const auto& s : j["scores"]) {
+      const double lp = s["best_mean_log_p"].get<double>();
+      // A mean log p over 28 add-one smoothed words: below 0, above log(1 / (N + 28)).
+      EXPECT_LT(lp, 0.0) << line;
+      EXPECT_GT(lp, -20.0) << line;
+      EXPECT_EQ(s["best_object"].get<int>(), 0) << line;
+      if (lp < least) {
+        least = lp;
+        least_blob = s["blob"].get<int>();
+      }
+    }
+    EXPECT_EQ(j["blob"].get<int>(), least_blob) << line;
+  }
+  EXPECT_EQ(chose, 1);
+  LearnOptions bad;
+  bad.new_object = NewObjectScore::kColour;
+  bad.known_margin = 1;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 TEST(Learn, ABlobThatTheDescriptorsSayIsAKnownObjectIsNotANewClass) {
   // new_object "match" with match_known 0: every blob has at least no descriptors matched to
   // the first object's views, so every blob is that object: the second turn finds only known

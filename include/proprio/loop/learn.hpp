@@ -59,10 +59,15 @@ inline constexpr core::ChoiceNames<PushSegmentation, 2> kPushSegmentationNames{
 /// How 7.2 (d) tells a new object from the known ones, among the blobs no cue marks as known.
 enum class NewObjectScore {
   kWords,  ///< the blob least likely under the known objects' word Dirichlets (mean log p)
-  kMatch   ///< the blob with the fewest descriptors matched to a known object's views (NN ratio)
+  kMatch,  ///< the blob with the fewest descriptors matched to a known object's views (NN ratio)
+  /// the blob whose features' colour words (LearnOptions::colour) are least likely under the
+  /// known classes' colour multinomials (their views' colour words, add-one smoothed; mean log p)
+  kColour
 };
-inline constexpr core::ChoiceNames<NewObjectScore, 2> kNewObjectScoreNames{
-    {{"words", NewObjectScore::kWords}, {"match", NewObjectScore::kMatch}}};
+inline constexpr core::ChoiceNames<NewObjectScore, 3> kNewObjectScoreNames{
+    {{"words", NewObjectScore::kWords},
+     {"match", NewObjectScore::kMatch},
+     {"colour", NewObjectScore::kColour}}};
 
 /// Learn's headline held-out figure (LearnOptions::headline): the classifier printed first, shown
 /// first in report.html and given as learn.json's "headline".
@@ -215,8 +220,11 @@ struct LearnOptions {
   /// gave its class no views leaves the class for the next turn (the blob it tried is not chosen
   /// again), and the run goes on until every class has views or the turns are spent.
   int rounds = 0;
-  /// 7.2 (d): "words" (the blob least likely under the object words so far) or "match" (the blob
-  /// whose descriptors match a known object's views least: descriptor_match_fraction).
+  /// 7.2 (d): "words" (the blob least likely under the object words so far), "match" (the blob
+  /// whose descriptors match a known object's views least: descriptor_match_fraction) or
+  /// "colour" (the blob whose colour words are least likely under the classes' colour
+  /// multinomials: an object's colours do not change when it turns or falls over, its SIFT
+  /// words do; not with known_margin, which compares word likelihoods).
   NewObjectScore new_object = NewObjectScore::kWords;
   /// "match": a descriptor is a known object's when its nearest neighbour in that object's views
   /// is closer than this times its nearest among the look's other features.
@@ -450,8 +458,8 @@ struct LearnOptions {
                     core::between(0, 1000)});
     v.choice(self.new_object,
              {"new_object",
-              "How (d) picks a new object: words (least likely) or match (fewest "
-              "descriptors matched to known objects' views)"},
+              "How (d) picks a new object: words (least likely), match (fewest descriptors "
+              "matched to known objects' views) or colour (colour words least likely)"},
              kNewObjectScoreNames);
     v(self.match_ratio, {"match_ratio",
                          "match: nearest in a known object's views closer than this times the "
