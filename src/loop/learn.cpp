@@ -488,8 +488,8 @@ void LearnOptions::validate() const {
   }
   if (colour_words && oracle_ladder) {
     throw Error(
-        "learn: --colour-words does not go with --oracle-ladder (the rungs' documents are SIFT "
-        "words only)");
+        "learn: --oracle-ladder needs --no-colour-words (the rungs' documents are SIFT words "
+        "only)");
   }
   if (ladder_pooled && !oracle_ladder) {
     throw Error(

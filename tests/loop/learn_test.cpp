@@ -100,10 +100,12 @@ TEST(Learn, BadOptionsThrow) {
   o.background = "stripes";
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
-  o.colour_words = true;
+  EXPECT_TRUE(o.colour_words);  // the default since session 38
   EXPECT_NO_THROW(o.validate());
   o.oracle_ladder = true;  // the rungs' documents are SIFT words only
   EXPECT_THROW(o.validate(), Error);
+  o.colour_words = false;
+  EXPECT_NO_THROW(o.validate());
   o = LearnOptions();
   o.colour.grey_levels = 0;
   EXPECT_THROW(o.validate(), Error);
@@ -240,6 +242,8 @@ TEST(Learn, LadderPooledScoresTheLaddersRungsByThePooledWordsClassifier) {
   o.ladder_pooled = true;
   EXPECT_THROW(o.validate(), Error);  // it scores the ladder: not without it
   o.oracle_ladder = true;
+  EXPECT_THROW(o.validate(), Error);  // the rungs are SIFT documents: not with colour words
+  o.colour_words = false;
   EXPECT_NO_THROW(o.validate());
   const SelfSupervisionOptions on = learn_score_options(o.resolved());
   EXPECT_TRUE(on.oracle_ladder);
