@@ -1192,19 +1192,27 @@ TEST(Learn, CarryRegionsLogsTheRegionsCarriedOnlyWhenOn) {
   }
 }
 
-// The second turn's choices in the run's decisions.jsonl (object 1): each names `why` in its
-// why, every score's `key` lies in [lo, hi] and names class 0 (the only one so far) by
-// `object_key`, and the blob chosen is the one of least `key`. Returns how many there were.
+// The second turn's choices (object 1) in the run's decisions.jsonl.
+std::vector<core::Json> second_choices(const std::filesystem::path& out) {
+  std::ifstream in(out / "decisions.jsonl");
+  std::string line;
+  std::vector<core::Json> out_choices;
+  while (std::getline(in, line)) {
+    core::Json j = core::Json::parse(line);
+    if (j["event"] == "choose" && j.value("object", -1) == 1) out_choices.push_back(std::move(j));
+  }
+  return out_choices;
+}
+
+// Each of the second turn's choices names `why` in its why, every score's `key` lies in [lo, hi]
+// and names class 0 (the only one so far) by `object_key`, and the blob chosen is the one of
+// least `key`. Returns how many choices there were.
 int check_least_chosen(const std::filesystem::path& out, const std::string& key,
                        const std::string& object_key, double lo, double hi,
                        const std::string& why) {
-  std::ifstream in(out / "decisions.jsonl");
-  std::string line;
-  int chose = 0;
-  while (std::getline(in, line)) {
-    const core::Json j = core::Json::parse(line);
-    if (j["event"] != "choose" || j.value("object", -1) != 1) continue;
-    ++chose;
+  const std::vector<core::Json> choices = second_choices(out);
+  for (const core::Json& j : choices) {
+    const std::string line = j.dump();
     EXPECT_NE(j["why"].get<std::string>().find(why), std::string::npos) << line;
     EXPECT_FALSE(j["scores"].empty()) << line;
     double least = std::numeric_limits<double>::infinity();
@@ -1221,7 +1229,7 @@ int check_least_chosen(const std::filesystem::path& out, const std::string& key,
     }
     EXPECT_EQ(j["blob"].get<int>(), least_blob) << line;
   }
-  return chose;
+  return static_cast<int>(choices.size());
 }
 
 TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
@@ -1239,17 +1247,12 @@ TEST(Learn, MatchChoosesTheBlobLeastMatchedToTheObjectsSoFar) {
       EXPECT_EQ(check_least_chosen(out, "matched", "matched_object", 0, 1, "matched"), 1);
       continue;
     }
-    std::ifstream in(out / "decisions.jsonl");
-    std::string line;
-    int chose = 0;
-    while (std::getline(in, line)) {
-      const core::Json j = core::Json::parse(line);
-      if (j["event"] != "choose" || j.value("object", -1) != 1) continue;
-      ++chose;
-      ASSERT_FALSE(j["scores"].empty()) << line;
-      for (const auto& s : j["scores"]) EXPECT_FALSE(s.contains("matched")) << line;
+    const std::vector<core::Json> choices = second_choices(out);
+    EXPECT_EQ(choices.size(), 1U);
+    for (const core::Json& j : choices) {
+      ASSERT_FALSE(j["scores"].empty()) << j.dump();
+      for (const auto& s : j["scores"]) EXPECT_FALSE(s.contains("matched")) << j.dump();
     }
-    EXPECT_EQ(chose, 1);
   }
 }
 
