@@ -1,19 +1,20 @@
 #pragma once
 // `proprio learn` (thesis Ch 8, issue 21): look, plan, move. The robot learns the objects of a
-// cluttered table by itself without clearing it: it looks, picks a putative object (a feature-
-// density blob; the first at random), pushes it (planning/push_planner.hpp), segments the push
-// bottom-up by the arm's motion (the sparse variant of segmentation/ml_segmentation.hpp: SIFT
-// matched at keyframes, mean shift on velocities, motion models' likelihood against the arm's
-// motion, thresholded; the dense Motion-Likelihood segmentation as an option), takes the
-// segmented frames as views, updates the object's words and their Dirichlet
-// (loop/object_words.hpp), recognises the object again top-down in the next look and plans its
-// next push from the recognised region. The dense Motion-Likelihood segmentation is the default
-// (its views were purer on the seeds measured, docs/results/learn-history.md); --segmentation
-// sparse runs the sparse variant. After `pushes` pushes it moves to the blob least likely under the
-// object models so far (7.2 d), until C objects are learned. Then a vocabulary (k-means over the
-// descriptors of all its views) and an LDA model (over their documents) are built from the robot's
-// own views, unless given, and the views feed a supervised Mixture of Topics whose labels are the
-// robot's own classes object_1..object_C.
+// cluttered table by itself without clearing it: it looks, picks a putative object (the
+// candidates standing out of the table in its RGB-D camera's depth image, LearnCandidates::kDepth,
+// the default; feature-density blobs with --candidates blobs; the first at random), pushes it
+// (planning/push_planner.hpp), segments the push bottom-up by the arm's motion (the dense
+// Motion-Likelihood segmentation of segmentation/ml_segmentation.hpp, the default: its views were
+// purer on the seeds measured, docs/results/learn-history.md; --segmentation sparse: SIFT matched
+// at keyframes, mean shift on velocities, motion models' likelihood against the arm's motion,
+// thresholded), takes the segmented frames as views, updates the object's words and their
+// Dirichlet (loop/object_words.hpp), recognises the object again top-down in the next look and
+// plans its next push from the recognised region. After `pushes` pushes it moves to the candidate
+// least likely under the object models so far (7.2 d), until C objects are learned. Then a
+// vocabulary (k-means over the descriptors of all its views) and an LDA model (over their
+// documents: SIFT words and, by default, a colour word a feature, LearnOptions::colour_words) are
+// built from the robot's own views, unless given, and the views feed a supervised Mixture of
+// Topics whose labels are the robot's own classes object_1..object_C.
 //
 // The learner talks to robot::Robot only; a TableAttendant (in simulation the
 // GroundTruthAttendant of loop/self_supervision_scoring.hpp) is told what it does, for scoring.
