@@ -2594,7 +2594,8 @@ SelfSupervisionOptions learn_score_options(const LearnOptions& o) {
   so.dilate = o.dilate;
   so.min_features = o.min_features;
   so.mot = o.mot;
-  so.colour_words = colour_of(o);
+  so.colour_words = o.colour_words;
+  so.colour = o.colour;
   so.oracle_ladder = o.oracle_ladder;
   so.pooled_score = o.oracle_ladder && o.ladder_pooled;
   return so;

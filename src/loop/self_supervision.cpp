@@ -95,7 +95,9 @@ class Learner {
         vocabulary_(vocabulary),
         o_(options),
         episodes_(std::move(episodes)),
-        rng_(core::Rng::stream(options.seed, kChoiceStream)) {
+        rng_(core::Rng::stream(options.seed, kChoiceStream)),
+        colour_(options.document_colour()),
+        words_(features::document_vocabulary_size(vocabulary, colour_)) {
     objects_ = classes;
     // rounds: up to that many rounds, each its own class until merge_into_classes().
     const int rounds = options.rounds > 0 ? std::max(classes, options.rounds) : classes;
@@ -109,8 +111,7 @@ class Learner {
     out_.views.theta.resize(0, model.num_topics());
     out_.views.words = topics::Corpus(model.num_words());
     class_looks_.resize(static_cast<std::size_t>(rounds));
-    class_look_words_.assign(static_cast<std::size_t>(rounds),
-                             Eigen::VectorXd::Zero(vocabulary_.size()));
+    class_look_words_.assign(static_cast<std::size_t>(rounds), Eigen::VectorXd::Zero(words_));
     class_descriptors_.resize(static_cast<std::size_t>(rounds));
     if (!log_path.empty()) log_file_.open(log_path);
   }
@@ -134,7 +135,7 @@ class Learner {
     log({.event = "start",
          .classes = out_.classes,
          .topics = model_.num_topics(),
-         .words = vocabulary_.size(),
+         .words = words_,
          .work_centre = xy(centre_)});
     for (int r = 0; r < out_.classes; ++r) {
       if (r > 0) {
@@ -217,7 +218,7 @@ class Learner {
   }
 
   Eigen::MatrixXd theta_of(const std::vector<std::vector<std::int32_t>>& docs) {
-    topics::Corpus corpus(vocabulary_.size());
+    topics::Corpus corpus(words_);
     for (const auto& d : docs) corpus.add_tokens(d);
     return recognition::document_theta(model_, corpus).theta;
   }
@@ -226,13 +227,13 @@ class Learner {
   // with `desc`, its descriptors too (empty with the document).
   std::vector<std::int32_t> blob_document(const planning::PlanningView& view, int k,
                                           cv::Mat* desc = nullptr) {
-    const cv::Mat m =
-        masked_descriptors(image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_),
-                           o_.features, o_.dilate);
+    features::Features f =
+        masked_features(image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_),
+                        o_.features, o_.dilate);
+    // min_features counts features: with colour words a document has two words a feature.
     std::vector<std::int32_t> d;
-    if (m.rows > 0) d = features::bag_of_words(vocabulary_, m);
-    if (static_cast<int>(d.size()) < o_.min_features) d.clear();
-    if (desc) *desc = d.empty() ? cv::Mat() : m;
+    if (f.size() >= o_.min_features) d = features::document_words(vocabulary_, image_, f, colour_);
+    if (desc) *desc = d.empty() ? cv::Mat() : f.descriptors;
     return d;
   }
 
@@ -307,14 +308,13 @@ class Learner {
   std::vector<Eigen::VectorXd> class_word_counts(bool looks = false) const {
     const auto counts = looks ? class_look_words_ : round_counts();
     if (!merging()) {
-      std::vector<Eigen::VectorXd> out(class_looks_.size(),
-                                       Eigen::VectorXd::Zero(vocabulary_.size()));
+      std::vector<Eigen::VectorXd> out(class_looks_.size(), Eigen::VectorXd::Zero(words_));
       for (std::size_t r = 0; r < counts.size() && r < out.size(); ++r) out[r] = counts[r];
       return out;
     }
     const RoundMerge m = judge();
     std::vector<Eigen::VectorXd> out(static_cast<std::size_t>(m.distinct),
-                                     Eigen::VectorXd::Zero(vocabulary_.size()));
+                                     Eigen::VectorXd::Zero(words_));
     for (std::size_t r = 0; r < m.judged.size() && r < counts.size(); ++r) {
       if (m.judged[r] >= 0) out[static_cast<std::size_t>(m.judged[r])] += counts[r];
     }
@@ -369,7 +369,7 @@ class Learner {
 
   // The claims of signal `s` on `blobs`; `any`: whether some class takes part in them.
   NextChoice claims_of(ClaimSignal s, const BlobThetas& blobs, bool& any) {
-    const int words = static_cast<int>(vocabulary_.size());
+    const int words = words_;
     switch (s) {
       case ClaimSignal::kViewWords: {
         const auto counts = class_word_counts();
@@ -926,10 +926,10 @@ class Learner {
     if (o_.views == ViewSource::kBlob) {
       if (blob < 0) return docs;
       last_mask = blob_mask(after.objects[static_cast<std::size_t>(blob)], size_);
-      cv::Mat desc = masked_descriptors(image_, last_mask, o_.features, o_.dilate);
-      if (desc.rows >= o_.min_features) {
-        docs.push_back(features::bag_of_words(vocabulary_, desc));
-        if (keep_view_descriptors()) view_descriptors_.push_back(desc);
+      features::Features f = masked_features(image_, last_mask, o_.features, o_.dilate);
+      if (f.size() >= o_.min_features) {
+        docs.push_back(features::document_words(vocabulary_, image_, f, colour_));
+        if (keep_view_descriptors()) view_descriptors_.push_back(f.descriptors);
         attendant_.view_taken(intent, {}, -1, last_mask);
       }
       what.source = "blob";
@@ -950,14 +950,15 @@ class Learner {
       cv::Mat arm;
       cv::Mat m = frame_mask(sg, i, &arm);
       if (cv::countNonZero(m) == 0) continue;
-      cv::Mat desc = masked_descriptors(e.frame(i), m, o_.features, o_.dilate,
-                                        o_.arm_patches_out ? arm : cv::Mat());
-      if (desc.rows < o_.min_features) {
+      const cv::Mat frame = e.frame(i);
+      features::Features f =
+          masked_features(frame, m, o_.features, o_.dilate, o_.arm_patches_out ? arm : cv::Mat());
+      if (f.size() < o_.min_features) {
         ++small;
         continue;
       }
-      docs.push_back(features::bag_of_words(vocabulary_, desc));
-      if (keep_view_descriptors()) view_descriptors_.push_back(desc);
+      docs.push_back(features::document_words(vocabulary_, frame, f, colour_));
+      if (keep_view_descriptors()) view_descriptors_.push_back(f.descriptors);
       attendant_.view_taken(intent, dir, i, m);
       last_mask = m;
       ++used;
@@ -1637,7 +1638,7 @@ class Learner {
   // Per round run so far: its views' word counts.
   std::vector<Eigen::VectorXd> round_counts() const {
     std::vector<Eigen::VectorXd> counts(static_cast<std::size_t>(rounds_run_),
-                                        Eigen::VectorXd::Zero(vocabulary_.size()));
+                                        Eigen::VectorXd::Zero(words_));
     for (std::size_t d = 0; d < out_.views.labels.size(); ++d) {
       const int r = out_.views.labels[d];
       if (r < 0 || r >= rounds_run_) continue;
@@ -1751,8 +1752,7 @@ class Learner {
     }
     out_.round_class = cls;
     class_looks_.assign(static_cast<std::size_t>(objects_), {});
-    class_look_words_.assign(static_cast<std::size_t>(objects_),
-                             Eigen::VectorXd::Zero(vocabulary_.size()));
+    class_look_words_.assign(static_cast<std::size_t>(objects_), Eigen::VectorXd::Zero(words_));
     class_descriptors_.assign(static_cast<std::size_t>(objects_), cv::Mat());
   }
 
@@ -1763,6 +1763,9 @@ class Learner {
   const SelfSupervisionOptions& o_;
   fs::path episodes_;
   core::Rng rng_;
+  /// o_.colour_words: the colour words of every document made here, or none.
+  std::optional<features::ColourWordOptions> colour_;
+  int words_ = 0;  ///< the documents' words: the vocabulary's (+ the colour words)
   std::ofstream log_file_;
   planning::TableRegion region_;            ///< the planner's default: the table top
   planning::PushPlanOptions plan_options_;  ///< o_.plan scaled to the image
@@ -1815,7 +1818,7 @@ void SelfSupervisionOptions::validate() const {
     throw Error("selfsupervise: claims_by none is not a claim signal");
   }
   if (colour_words) {
-    colour_words->validate();
+    colour.validate();
     if (oracle_ladder || own_model_rungs) {
       throw Error(
           "selfsupervise: colour words do not go with the oracle ladder or the own-model rungs "
@@ -2722,9 +2725,13 @@ Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int cl
                            " is fewer than the ", std::to_string(classes),
                            " objects (0: one round an object)"}));
   }
-  if (vocabulary.size() != model.num_words()) {
-    throw Error(core::cat({"the vocabulary has ", std::to_string(vocabulary.size()),
-                           " words, the LDA model ", std::to_string(model.num_words()),
+  const int words = features::document_vocabulary_size(vocabulary, options.document_colour());
+  if (words != model.num_words()) {
+    throw Error(core::cat({"the vocabulary has ", std::to_string(vocabulary.size()), " words",
+                           options.colour_words
+                               ? " (+ " + std::to_string(options.colour.count()) + " colour words)"
+                               : std::string(),
+                           ", the LDA model ", std::to_string(model.num_words()),
                            ": not the vocabulary the model was made with"}));
   }
   if (options.views == ViewSource::kMotion && episodes.empty()) {

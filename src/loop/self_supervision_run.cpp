@@ -10,6 +10,7 @@
 #include "proprio/core/error.hpp"
 #include "proprio/core/files.hpp"
 #include "proprio/core/text.hpp"
+#include "proprio/features/colour_words.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/recognition/mot.hpp"
 #include "proprio/sim/object_catalogue.hpp"
@@ -37,7 +38,17 @@ Inputs read_inputs(const SelfSupervisionOptions& o) {
   if (o.vocabulary.empty()) throw Error("selfsupervise: --vocabulary is required");
   if (o.out.empty()) throw Error("selfsupervise: --out is required");
   Inputs in{topics::load_lda_model(o.lda_model), features::read_vocabulary(o.vocabulary)};
-  if (in.vocabulary.size() != in.model.num_words()) {
+  // With colour words the model has the vocabulary's words and the colour words after them.
+  const int words = features::document_vocabulary_size(in.vocabulary, o.document_colour());
+  if (words != in.model.num_words()) {
+    if (o.colour_words) {
+      throw Error(
+          core::cat({o.lda_model.string(), ": ", std::to_string(in.model.num_words()),
+                     " words, but --colour-words needs the vocabulary's ",
+                     std::to_string(in.vocabulary.size()), " + ", std::to_string(o.colour.count()),
+                     " colour words = ", std::to_string(words),
+                     " (make the model with recognize train --colour-words)"}));
+    }
     throw Error(core::cat({o.vocabulary.string(), ": ", std::to_string(in.vocabulary.size()),
                            " words, but the LDA model ", o.lda_model.string(), " has ",
                            std::to_string(in.model.num_words()),

@@ -1215,13 +1215,15 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     table.height = options.height;
     sim::SimulatedRobot alone(table, catalogue);
     const int id = alone.ground_truth().at(0).id;
-    topics::Corpus corpus(features::document_vocabulary_size(vocabulary, options.colour_words));
+    topics::Corpus corpus(
+        features::document_vocabulary_size(vocabulary, options.document_colour()));
     for (int v = 0; v < options.held_out; ++v) {
       const HeldOutView view = render_held_out_view(alone, os.name, id, v, options.held_out);
       features::Features f =
           masked_features(view.image, view.mask, options.features, options.dilate);
       if (f.size() < options.min_features) continue;
-      corpus.add_tokens(features::document_words(vocabulary, view.image, f, options.colour_words));
+      corpus.add_tokens(
+          features::document_words(vocabulary, view.image, f, options.document_colour()));
       if (own) own->held[oi].push_back(std::move(f.descriptors));
     }
     if (ladder) {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "proprio/core/csv.hpp"
 #include "proprio/core/error.hpp"
@@ -200,6 +201,12 @@ void RecognizeTrainOptions::validate() const {
   core::check_field_bounds(*this, "recognize train");
   if (online.num_topics < 1) throw Error("the number of topics K must be >= 1");
   core::check_field_bounds(online, "recognize train");
+  if (colour_words) {
+    colour.validate();
+    if (!source.images.empty()) {
+      throw Error("recognize train: --colour-words is for --episodes only");
+    }
+  }
 }
 
 RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
@@ -207,8 +214,11 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   options.validate();
   const features::Vocabulary vocabulary = features::read_vocabulary(options.vocabulary);
   std::shared_ptr<core::ProgressBar> bar;
-  topics::Corpus corpus(vocabulary.size());
+  const std::optional<features::ColourWordOptions> colour =
+      options.colour_words ? std::optional(options.colour) : std::nullopt;
+  topics::Corpus corpus(features::document_vocabulary_size(vocabulary, colour));
   RecognizeTrainResult r;
+  r.colour_words = options.colour_words;
   const DocumentSource& source = options.source;
   if (!source.images.empty()) {
     const features::ImageSet set = features::read_image_set(source.images);
@@ -218,8 +228,10 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   } else {
     for (const auto& e : read_episodes(source.episodes)) {
       for (int i = 0; i < e.frame_count(); i += source.frame_step) {
+        // The frame is read again only for colour words (frame_features reads its own).
+        const cv::Mat image = colour ? e.frame(i) : cv::Mat();
         for (const auto& f : frame_features(e, i, source.frames))
-          if (!f.empty()) corpus.add_tokens(features::bag_of_words(vocabulary, f.descriptors));
+          if (!f.empty()) corpus.add_tokens(features::document_words(vocabulary, image, f, colour));
         ++r.frames;
       }
     }

@@ -21,6 +21,7 @@
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/sift.hpp"
 #include "proprio/features/vocabulary.hpp"
+#include "proprio/topics/lda_model_io.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -340,8 +341,31 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   // no contrast to separate them by, and theta the same for every object).
   c = run("recognize train --episodes " + (dir_ / "episodes").string() +
           " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
-          " -k 3 --passes 5 --batch 10 --model " + file("each.lda") + " --quiet");
+          " -k 3 --passes 5 --batch 10 --model " + file("each.lda") + " --quiet --json " +
+          file("each.json"));
   ASSERT_EQ(c.code, 0) << c.out;
+  // --colour-words (for selfsupervise --colour-words): the same documents, each feature's colour
+  // word after its SIFT word: twice the tokens, and a model of the vocabulary's 24 words + 28.
+  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
+          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
+          " -k 3 --passes 5 --batch 10 --colour-words --model " + file("each-c.lda") +
+          " --quiet --json " + file("each-c.json"));
+  ASSERT_EQ(c.code, 0) << c.out;
+  test::expect_schema_valid("recognize_train.schema.json", file("each-c.json"));
+  const core::Json sift_train = core::read_json(file("each.json"));
+  const core::Json colour_train = core::read_json(file("each-c.json"));
+  EXPECT_FALSE(sift_train["colour_words"].get<bool>());
+  EXPECT_TRUE(colour_train["colour_words"].get<bool>());
+  EXPECT_EQ(sift_train["words"], 24);
+  EXPECT_EQ(colour_train["words"], 24 + 28);
+  EXPECT_EQ(topics::load_lda_model(file("each-c.lda")).num_words(), 24 + 28);
+  EXPECT_EQ(colour_train["documents"], sift_train["documents"]);
+  EXPECT_EQ(colour_train["tokens"].get<long long>(), 2 * sift_train["tokens"].get<long long>());
+  // Images: not with colour words (one line, exit 2).
+  c = run("recognize train --images " + images() + " --vocabulary " + file("v.vocab") +
+          " --colour-words --model " + file("img-c.lda") + " --quiet");
+  EXPECT_EQ(c.code, 2) << c.out;
+  EXPECT_NE(c.out.find("--colour-words is for --episodes only"), std::string::npos) << c.out;
   c = run("mot train --lda-model " + file("each.lda") + " --vocabulary " + file("v.vocab") +
           " --episodes " + (dir_ / "held" / "h1").string() +
           " --objects baboon,fruits,building --view-step 2 --model " + file("ep.mot") + " --json " +

@@ -164,6 +164,12 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd" + inputs("other.lda") + out,
        "not the vocabulary the model was made with"},
       {"--objects book,cd --vocabulary " + file("v.vocab") + out, "--model"},
+      // --colour-words needs a model of the vocabulary's words + 28 (recognize train
+      // --colour-words); the error names the model file. Not with the oracle ladder.
+      {"--objects book,cd --colour-words" + inputs() + out,
+       file("m.lda") + ": 24 words, but --colour-words needs the vocabulary's 24 + 28"},
+      {"--objects book,cd --colour-words --oracle-ladder" + inputs() + out,
+       "colour words do not go with the oracle ladder"},
   };
   for (const auto& c : cases) {
     const auto r = run_cli("selfsupervise " + c.args);

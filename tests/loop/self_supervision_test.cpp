@@ -1213,7 +1213,7 @@ TEST(SelfSupervision, ColourWordsFollowTheSiftWordsOfADocument) {
           .empty());
   // selfsupervise's own rungs make SIFT documents: colour words are refused with them.
   SelfSupervisionOptions o;
-  o.colour_words = colour;
+  o.colour_words = true;
   EXPECT_NO_THROW(o.validate());
   o.oracle_ladder = true;
   EXPECT_THROW(o.validate(), Error);
@@ -1226,7 +1226,10 @@ struct TinyModel {
   topics::LdaModel lda;
 };
 
-TinyModel tiny_model(const cv::Mat& image) {
+// With `colour` the tiles' documents carry colour words (features::document_words): the model
+// has the vocabulary's words + colour->count().
+TinyModel tiny_model(const cv::Mat& image,
+                     const std::optional<features::ColourWordOptions>& colour = std::nullopt) {
   features::DenseSiftOptions ds;
   ds.step = 4;
   const features::Features f = features::dense_sift(image, ds);
@@ -1234,16 +1237,17 @@ TinyModel tiny_model(const cv::Mat& image) {
   k.words = 24;
   k.threads = 1;
   TinyModel m{features::build_vocabulary(f.descriptors, k).vocabulary, {}};
-  const std::vector<std::int32_t> words = features::bag_of_words(m.vocabulary, f.descriptors);
-  topics::Corpus corpus(m.vocabulary.size());
+  topics::Corpus corpus(features::document_vocabulary_size(m.vocabulary, colour));
   for (int ty = 0; ty < image.rows; ty += 40) {
     for (int tx = 0; tx < image.cols; tx += 40) {
-      std::vector<std::int32_t> doc;
-      for (std::size_t i = 0; i < words.size(); ++i) {
-        const cv::Point2f p = f.keypoints[i].pt;
-        if (p.x >= tx && p.x < tx + 40 && p.y >= ty && p.y < ty + 40) doc.push_back(words[i]);
+      std::vector<int> rows;
+      for (int i = 0; i < f.size(); ++i) {
+        const cv::Point2f p = f.keypoints[static_cast<std::size_t>(i)].pt;
+        if (p.x >= tx && p.x < tx + 40 && p.y >= ty && p.y < ty + 40) rows.push_back(i);
       }
-      if (!doc.empty()) corpus.add_tokens(doc);
+      if (rows.empty()) continue;
+      corpus.add_tokens(features::document_words(m.vocabulary, image,
+                                                 features::select_features(f, rows), colour));
     }
   }
   topics::BatchLdaOptions lo;
@@ -1361,6 +1365,47 @@ TEST(SelfSupervision, FaultsAreLoggedOutcomesNotCrashes) {
   other.lambda.rightCols(1).setOnes();
   EXPECT_THROW(learn_by_pushing(sim_robot, attendant, 2, other, m.vocabulary, o, {}), Error);
   EXPECT_THROW(learn_by_pushing(sim_robot, attendant, 0, m.lda, m.vocabulary, o, {}), Error);
+}
+
+// selfsupervise --colour-words: every document made with the given vocabulary (here the views')
+// is its N features' SIFT words, then their N colour words numbered V + w (2N tokens); the model
+// must have V + 28 words: a SIFT-only model is refused, as is a colour model without the flag.
+TEST(SelfSupervision, ColourWordsRunNeedsAColourModelAndMakesColourDocuments) {
+  SelfSupervisionOptions o = small_options();
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+  sim::SimulatedRobot robot(table_of(o), catalogue);
+  const cv::Mat first = robot.look().image;
+  const features::ColourWordOptions grid;
+  const TinyModel sift = tiny_model(first);
+  const TinyModel coloured = tiny_model(first, grid);
+  const int v = coloured.vocabulary.size();
+  ASSERT_EQ(coloured.lda.num_words(), v + grid.count());
+  EXPECT_FALSE(SelfSupervisionOptions{}.colour_words);
+  {
+    CountingAttendant attendant;
+    o.colour_words = false;
+    EXPECT_THROW(learn_by_pushing(robot, attendant, 2, coloured.lda, coloured.vocabulary, o, {}),
+                 Error);
+    o.colour_words = true;
+    EXPECT_THROW(learn_by_pushing(robot, attendant, 2, sift.lda, sift.vocabulary, o, {}), Error);
+  }
+  o.colour_words = true;
+  GroundTruthAttendant attendant(robot, o.seed);
+  const Learning l =
+      learn_by_pushing(robot, attendant, 2, coloured.lda, coloured.vocabulary, o, {});
+  ASSERT_GT(l.views.words.num_documents(), 0U);
+  EXPECT_EQ(l.views.words.num_words(), v + grid.count());
+  // A document is stored as (word, count): N SIFT tokens (< V) and N colour tokens (>= V).
+  for (std::size_t d = 0; d < l.views.words.num_documents(); ++d) {
+    const topics::DocumentView doc = l.views.words.document(d);
+    std::int64_t sift_tokens = 0;
+    std::int64_t colour_tokens = 0;
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      (doc.words[i] < v ? sift_tokens : colour_tokens) += doc.counts[i];
+    }
+    EXPECT_GE(sift_tokens, o.min_features);
+    EXPECT_EQ(colour_tokens, sift_tokens) << "document " << d;
+  }
 }
 
 // learn_by_pushing of 2 classes on the simulated table of `o` (the tiny model made from its

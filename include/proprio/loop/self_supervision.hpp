@@ -445,11 +445,19 @@ struct SelfSupervisionOptions {
   bool progress = true;  ///< a progress bar on stderr (not an option: the CLI's --quiet)
   /// How documents' features are extracted: must be how the vocabulary and model were made.
   features::ExtractOptions features;
-  /// Documents carry a colour word a feature after its SIFT word (features::document_words): set by
-  /// `proprio learn --colour-words` for its scoring, whose vocabulary and model have them.
-  /// Not a selfsupervise option (its given scatter model has SIFT words only); validate()
-  /// refuses it with the oracle ladder and the own-model rungs, which make SIFT documents.
-  std::optional<features::ColourWordOptions> colour_words;
+  /// Every document made with the given vocabulary (the views', the looks' blobs' for (d)'s
+  /// claims, the held-out views') carries a colour word a feature after its SIFT word
+  /// (features::document_words on `colour`: the patch's mean colour on a fixed HSV grid, 28
+  /// words), so the LDA model must have the vocabulary's words + 28 (`proprio recognize train
+  /// --colour-words`). Off (the default): SIFT words only, as the thesis. `proprio learn
+  /// --colour-words` sets it for its scoring. validate() refuses it with the oracle ladder and
+  /// the own-model rungs, whose documents are SIFT words only.
+  bool colour_words = false;
+  features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
+  /// The colour words of the documents (colour_words: `colour`), or none.
+  [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
+    return colour_words ? std::optional(colour) : std::nullopt;
+  }
   /// The planner's options; descent_clearance 0.04 m (paths whose arm would come down on a
   /// blob are not planned: every refused transit of the report seeds was that).
   planning::PushPlanOptions plan = descent_checked();
@@ -585,6 +593,11 @@ struct SelfSupervisionOptions {
                              "Motion views: leave out the features whose patch reaches the arm's "
                              "own image"});
     v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
+    v(self.colour_words,
+      {"colour_words",
+       "Documents carry a colour word a feature (its patch's mean colour, 28 HSV words) after "
+       "its SIFT word; the model needs the vocabulary's words + 28 (recognize train "
+       "--colour-words); off: SIFT words only (the thesis)"});
     v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
     v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
     v(self.seed, {"seed", "Seed of the table, choices, paths and re-scatters"});

@@ -13,6 +13,7 @@
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
+#include "proprio/features/colour_words.hpp"
 #include "proprio/features/extraction.hpp"
 #include "proprio/recognition/documents.hpp"
 #include "proprio/recognition/image_corpus.hpp"
@@ -59,7 +60,13 @@ struct RecognizeTrainOptions {
   topics::LdaMethod method = topics::LdaMethod::kOnline;
   topics::OnlineLdaOptions online;  ///< K, seed and the online method's options
   int max_iterations = 100;         ///< batch: EM iterations at most
-  bool progress = false;            ///< a progress bar on stderr
+  /// Each document is its features' vocabulary words, then their colour words numbered after
+  /// the vocabulary's (features::document_words on `colour`: the patch's mean colour on a fixed
+  /// HSV grid, 28 words), so the model has the vocabulary's words + 28: the model `proprio
+  /// selfsupervise --colour-words` needs. Off (the default): SIFT words only. Episodes only.
+  bool colour_words = false;
+  features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
+  bool progress = false;               ///< a progress bar on stderr
 
   void validate() const;
 
@@ -67,6 +74,10 @@ struct RecognizeTrainOptions {
   static void describe(Self& self, Visitor& v) {
     v.choice(self.method, {"method", "online or batch"}, topics::kLdaMethodNames);
     v(self.max_iterations, {"max_iterations", "EM iterations (batch)", core::at_least(1)});
+    v(self.colour_words,
+      {"colour_words",
+       "Episodes: documents carry a colour word a feature (its patch's mean colour, 28 HSV "
+       "words) after its SIFT word; the model has the vocabulary's words + 28"});
   }
 };
 
@@ -79,11 +90,12 @@ struct RecognizeTrainResult {
   topics::LdaMethod method = topics::LdaMethod::kOnline;
   std::size_t documents = 0;
   long long tokens = 0;
-  int frames = 0;       ///< frames read (episodes)
-  std::string summary;  ///< the training summary's line
-  std::string report;   ///< brief()'s text: what the CLI prints, lines ending in '\n'
-  core::Json document;  ///< format "proprio.recognize.train": the fields described below
-  std::string message;  ///< one line: brief()'s first (the Summary convention, core::Summary)
+  int frames = 0;             ///< frames read (episodes)
+  bool colour_words = false;  ///< the documents carried colour words
+  std::string summary;        ///< the training summary's line
+  std::string report;         ///< brief()'s text: what the CLI prints, lines ending in '\n'
+  core::Json document;        ///< format "proprio.recognize.train": the fields described below
+  std::string message;        ///< one line: brief()'s first (the Summary convention, core::Summary)
   [[nodiscard]] std::string brief() const { return report; }
 
   template <class Self, class Visitor>
@@ -97,6 +109,7 @@ struct RecognizeTrainResult {
     v(self.documents, {"documents", "Documents learned from"});
     v(self.tokens, {"tokens", "Their tokens"});
     v(self.frames, {"frames", "Frames read (episodes)"});
+    v(self.colour_words, {"colour_words", "The documents carried colour words"});
     v(self.summary, {"summary", "The training summary's line"});
   }
 };
