@@ -491,6 +491,9 @@ void LearnOptions::validate() const {
         "learn: --oracle-ladder needs --no-colour-words (the rungs' documents are SIFT words "
         "only)");
   }
+  if (headline == LearnHeadline::kColour && !colour_words) {
+    throw Error("learn: --headline colour scores by the colour words: it needs colour words");
+  }
   if (ladder_pooled && !oracle_ladder) {
     throw Error(
         "learn: --ladder-pooled scores the oracle ladder's rungs: it needs --oracle-ladder");
@@ -2146,11 +2149,6 @@ class Learner {
   std::optional<robot::ArmState> arm_state_;  ///< the arm's kinematics, for arm_mask
 };
 
-// The colour words of the documents (LearnOptions::colour_words), or none.
-std::optional<features::ColourWordOptions> colour_of(const LearnOptions& o) {
-  return o.colour_words ? std::optional(o.colour) : std::nullopt;
-}
-
 // Everything a run leaves besides the JSON: the learner's record, the models, the views' theta.
 // The held-out views' documents of each object, as score_self_supervision renders them (alone
 // at the table's centre, yaw stepped through 360 degrees, the ground-truth mask, views with at
@@ -2169,7 +2167,7 @@ std::vector<topics::Corpus> held_out_documents(const LearnOptions& o,
     table.height = o.height;
     sim::SimulatedRobot alone(table, catalogue);
     const int id = alone.ground_truth().at(0).id;
-    const auto colour = colour_of(o);
+    const auto colour = o.document_colour();
     topics::Corpus corpus(features::document_vocabulary_size(vocabulary, colour));
     for (int v = 0; v < o.held_out; ++v) {
       const HeldOutView view = render_held_out_view(alone, name, id, v, o.held_out);
@@ -2242,7 +2240,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   features::write_vocabulary(o.out / "vocabulary.vocab", *k.vocabulary, provenance);
   // With colour words each view's document is its SIFT words, then its colour words numbered
   // after the vocabulary's.
-  const int words = features::document_vocabulary_size(*k.vocabulary, colour_of(o));
+  const int words = features::document_vocabulary_size(*k.vocabulary, o.document_colour());
   topics::Corpus corpus(words);
   for (const auto& v : views) {
     std::vector<std::int32_t> doc = features::bag_of_words(*k.vocabulary, v.descriptors);
@@ -2368,12 +2366,36 @@ void write_final(LearnResult& r, const LearnOptions& w, core::StagedDirectory& s
 
 }  // namespace
 
+namespace {
+
+// The documents' words from `first` on (their colour words, features::with_colour_words),
+// renumbered from 0: a corpus over the colour words alone.
+topics::Corpus words_from(const topics::Corpus& corpus, int first) {
+  topics::Corpus out(corpus.num_words() - first);
+  std::vector<std::int32_t> ids;
+  std::vector<std::int32_t> counts;
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const topics::DocumentView doc = corpus.document(d);
+    ids.clear();
+    counts.clear();
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      if (doc.words[i] < first) continue;
+      ids.push_back(doc.words[i] - first);
+      counts.push_back(doc.counts[i]);
+    }
+    out.add_document(ids, counts);
+  }
+  return out;
+}
+
+}  // namespace
+
 LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaModel& lda,
                               const topics::Corpus& training, const std::vector<int>& labels,
                               const std::vector<topics::Corpus>& held,
                               const std::vector<std::string>& objects,
                               const std::vector<std::string>& class_object, double weight,
-                              bool per_view) {
+                              bool per_view, int colour_from) {
   const int classes = model.num_classes();
   if (classes < 1) throw Error("score_by_words: the model has no classes");
   if (held.size() != objects.size()) {
@@ -2393,6 +2415,21 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
   // view's number of words.
   const Eigen::MatrixXd log_phi_per_view =
       weighted_word_multinomials(training, labels, classes, per_view_weights(training, labels));
+  if (colour_from >= training.num_words()) {
+    throw Error(
+        core::cat({"score_by_words: colour words from ", std::to_string(colour_from),
+                   ", but the documents have ", std::to_string(training.num_words()), " words"}));
+  }
+  // The colour words alone (colour_from >= 0): each class's colour multinomial from its views
+  // weighed alike (a view with many features, often one that took in a neighbour, no longer
+  // outweighs the rest; per_view_weights).
+  const bool colour = colour_from >= 0;
+  Eigen::MatrixXd log_colour;
+  if (colour) {
+    const topics::Corpus c = words_from(training, colour_from);
+    log_colour = weighted_word_multinomials(c, labels, classes, per_view_weights(c, labels));
+  }
+  int right_colour = 0;
   LearnWordScore s;
   s.weight = weight;
   s.per_view = per_view;
@@ -2438,6 +2475,12 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
         ob.grid_per_view[gi] = static_cast<double>(rgv) / ob.held_out;
         right_grid_per_view[gi] += rgv;
       }
+      if (colour) {
+        const int rc = right(topics::pool_word_multinomials(model, by_words, log_colour,
+                                                            words_from(docs, colour_from), 1.0));
+        ob.colour = static_cast<double>(rc) / ob.held_out;
+        right_colour += rc;
+      }
       ob.theta = static_cast<double>(rt) / ob.held_out;
       ob.words = static_cast<double>(rw) / ob.held_out;
       ob.pooled = static_cast<double>(rp) / ob.held_out;
@@ -2448,8 +2491,10 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
       right_pooled += rp;
       right_pooled_per_view += rv;
     }
+    if (colour && !ob.colour) ob.colour = 0.0;
     s.objects.push_back(std::move(ob));
   }
+  if (colour) s.colour = all > 0 ? static_cast<double>(right_colour) / all : 0.0;
   if (all > 0) {
     s.theta = static_cast<double>(right_theta) / all;
     s.words = static_cast<double>(right_words) / all;
@@ -2462,6 +2507,50 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
   }
   return s;
 }
+
+// LearnOptions::write_documents: the training views' and held-out views' documents, one a line
+// in lda-c's "count word:count ..." form after a field or two saying whose it is.
+namespace {
+
+std::string documents_text(const topics::Corpus& training, const std::vector<int>& labels,
+                           const std::vector<int>& pushes, const std::vector<ViewTruth>& truth,
+                           const std::vector<std::string>& class_names,
+                           const std::vector<std::string>& class_object,
+                           const std::vector<topics::Corpus>& held,
+                           const std::vector<std::string>& objects, int vocabulary_words) {
+  const auto or_dash = [](const std::string& s) { return s.empty() ? std::string("-") : s; };
+  const auto line = [](std::string& b, const topics::DocumentView& d) {
+    b += std::to_string(d.size());
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      b += core::cat({" ", std::to_string(d.words[i]), ":", std::to_string(d.counts[i])});
+    }
+    b += '\n';
+  };
+  std::string b = "# proprio learn documents, version 1\n";
+  b += core::cat({"words ", std::to_string(training.num_words()), " vocabulary ",
+                  std::to_string(vocabulary_words), " classes ", std::to_string(class_names.size()),
+                  "\n"});
+  for (std::size_t c = 0; c < class_names.size(); ++c) {
+    b += core::cat({"class ", std::to_string(c), " ", class_names[c], " ",
+                    or_dash(c < class_object.size() ? class_object[c] : ""), "\n"});
+  }
+  for (std::size_t d = 0; d < training.num_documents(); ++d) {
+    const ViewTruth* t = d < truth.size() ? &truth[d] : nullptr;
+    b += core::cat({"view ", std::to_string(d < labels.size() ? labels[d] : -1), " ",
+                    std::to_string(d < pushes.size() ? pushes[d] : -1), " ",
+                    or_dash(t ? t->intended : ""), " ", or_dash(t ? t->object : ""), " "});
+    line(b, training.document(d));
+  }
+  for (std::size_t i = 0; i < held.size() && i < objects.size(); ++i) {
+    for (std::size_t d = 0; d < held[i].num_documents(); ++d) {
+      b += core::cat({"held ", objects[i], " "});
+      line(b, held[i].document(d));
+    }
+  }
+  return b;
+}
+
+}  // namespace
 
 std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
                                                   const std::optional<SelfSupervisionScore>& score,
@@ -2497,6 +2586,14 @@ std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
       per_object(words->objects, [per_view](const LearnWordObject& o) {
         return per_view ? o.pooled_per_view : o.pooled;
       });
+      return h;
+    }
+    case LearnHeadline::kColour: {
+      if (!words || !words->colour) return std::nullopt;
+      h.classifier = "colour";
+      h.what = "colour words (per-view colour multinomials)";
+      h.accuracy = *words->colour;
+      per_object(words->objects, [](const LearnWordObject& o) { return o.colour.value_or(0.0); });
       return h;
     }
   }
@@ -2545,6 +2642,15 @@ std::string LearnResult::brief() const {
                                100 * ob.pooled_per_view);
     }
     b += " %)";
+    if (words->colour) {
+      b += core::printf_string("\n  by the colour words alone: %.1f%% (", 100 * *words->colour);
+      for (std::size_t i = 0; i < words->objects.size(); ++i) {
+        const LearnWordObject& ob = words->objects[i];
+        b += core::printf_string("%s%s %.0f", i == 0 ? "" : ", ", ob.name.c_str(),
+                                 100 * ob.colour.value_or(0.0));
+      }
+      b += " %)";
+    }
   }
   if (!coverage.empty()) {
     int covered = 0;
@@ -2661,7 +2767,17 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
     for (int c : k.learning.model_class)
       class_object.push_back(score->class_object[static_cast<std::size_t>(c)]);
     by_words = score_by_words(k.learning.model, *k.lda, *k.training, k.training_labels, held,
-                              objects, class_object, o.mot_word_weight, o.mot_word_per_view);
+                              objects, class_object, o.mot_word_weight, o.mot_word_per_view,
+                              o.colour_words ? static_cast<int>(k.vocabulary->size()) : -1);
+    if (o.write_documents) {
+      std::vector<std::string> names;
+      for (int c : k.learning.model_class)
+        names.push_back(k.learning.class_names[static_cast<std::size_t>(c)]);
+      core::write_file_atomic(w.out / "documents.txt",
+                              documents_text(*k.training, k.training_labels, k.learning.views.push,
+                                             attendant.views(), names, class_object, held, objects,
+                                             static_cast<int>(k.vocabulary->size())));
+    }
     k.learner->mutable_seconds()["held_out_words"] =
         std::chrono::duration<double>(Clock::now() - th).count();
   }

@@ -215,7 +215,7 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   const features::Vocabulary vocabulary = features::read_vocabulary(options.vocabulary);
   std::shared_ptr<core::ProgressBar> bar;
   const std::optional<features::ColourWordOptions> colour =
-      options.colour_words ? std::optional(options.colour) : std::nullopt;
+      features::colour_if(options.colour_words, options.colour);
   topics::Corpus corpus(features::document_vocabulary_size(vocabulary, colour));
   RecognizeTrainResult r;
   r.colour_words = options.colour_words;

@@ -336,6 +336,68 @@ TEST(Learn, ScoreByWordsKnowsWhichObjectEachHeldOutViewShows) {
       Error);
 }
 
+TEST(Learn, ScoreByWordsScoresTheColourWordsAlone) {
+  // Words 0-9 are SIFT words, 10-13 colour words. The two objects' training views share their
+  // SIFT words (0-4) but not their colours (10 for the first, 12 for the second); the held-out
+  // views' SIFT words (5-9) are new and say nothing. The colour words alone name every held-out
+  // view; a held-out view without colour words gets the prior's class.
+  topics::Corpus training(14);
+  const auto view = [](topics::Corpus& c, int sift, int colour, int n) {
+    std::vector<std::int32_t> tokens;
+    for (int i = 0; i < n; ++i) {
+      tokens.push_back(sift + (i % 5));
+      if (colour >= 0) tokens.push_back(colour);
+    }
+    c.add_tokens(tokens);
+  };
+  for (int d = 0; d < 6; ++d) view(training, 0, 10, 20);
+  for (int d = 0; d < 6; ++d) view(training, 0, 12, 20);
+  const std::vector<int> labels{0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1};
+  topics::BatchLdaOptions bo;
+  bo.num_topics = 2;
+  bo.seed = 3;
+  const topics::LdaModel lda = topics::train_batch_lda(training, bo).model;
+  const Eigen::MatrixXd theta = recognition::document_theta(lda, training).theta;
+  const topics::MotModel model = topics::fit_mot(theta, labels, {"c0", "c1"}, {}).model;
+  std::vector<topics::Corpus> held(2, topics::Corpus(14));
+  for (int d = 0; d < 4; ++d) view(held[0], 5, 10, 10);
+  for (int d = 0; d < 3; ++d) view(held[1], 5, 12, 10);
+  const std::vector<std::string> objects{"book", "cd"};
+  const LearnWordScore s =
+      score_by_words(model, lda, training, labels, held, objects, {"book", "cd"}, 0.25, false, 10);
+  ASSERT_TRUE(s.colour.has_value());
+  EXPECT_DOUBLE_EQ(*s.colour, 1.0);
+  ASSERT_TRUE(s.objects[0].colour.has_value());
+  EXPECT_DOUBLE_EQ(*s.objects[0].colour, 1.0);
+  EXPECT_DOUBLE_EQ(*s.objects[1].colour, 1.0);
+  // Named the other way round: all wrong. Without colour words (-1): no colour figure.
+  const LearnWordScore swapped =
+      score_by_words(model, lda, training, labels, held, objects, {"cd", "book"}, 0.25, false, 10);
+  EXPECT_DOUBLE_EQ(*swapped.colour, 0.0);
+  const LearnWordScore none =
+      score_by_words(model, lda, training, labels, held, objects, {"book", "cd"}, 0.25);
+  EXPECT_FALSE(none.colour.has_value());
+  EXPECT_FALSE(none.objects[0].colour.has_value());
+  // Colour words from past the documents' words: Error.
+  EXPECT_THROW((void)score_by_words(model, lda, training, labels, held, objects, {"book", "cd"},
+                                    0.25, false, 14),
+               Error);
+  // The headline by colour: its figure and per object; none without colour figures.
+  const auto h = learn_headline(LearnHeadline::kColour, std::nullopt, s);
+  ASSERT_TRUE(h.has_value());
+  EXPECT_EQ(h->classifier, "colour");
+  EXPECT_DOUBLE_EQ(h->accuracy, 1.0);
+  EXPECT_EQ(h->per_object, (std::vector<double>{1.0, 1.0}));
+  EXPECT_FALSE(learn_headline(LearnHeadline::kColour, std::nullopt, none).has_value());
+  // --headline colour needs colour words.
+  LearnOptions o;
+  o.out = "unused";
+  o.headline = LearnHeadline::kColour;
+  EXPECT_NO_THROW(o.validate());
+  o.colour_words = false;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 // A document of `count` tokens of each word of `words`.
 void add_document(topics::Corpus& corpus, const std::vector<std::pair<int, int>>& words) {
   std::vector<std::int32_t> tokens;

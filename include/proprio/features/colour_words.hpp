@@ -67,6 +67,13 @@ std::vector<std::int32_t> with_colour_words(std::vector<std::int32_t> words,
                                             const std::vector<std::int32_t>& colours,
                                             int vocabulary_size);
 
+/// The colour words' options when they are on, else none: what document_words and
+/// document_vocabulary_size take (LearnOptions, SelfSupervisionOptions and RecognizeTrainOptions
+/// hold a flag beside the grid).
+inline std::optional<ColourWordOptions> colour_if(bool on, const ColourWordOptions& options) {
+  return on ? std::optional(options) : std::nullopt;
+}
+
 /// The words a corpus of documents made with `colour` has: the vocabulary's, and with colour
 /// words their count after them.
 int document_vocabulary_size(const Vocabulary& vocabulary,

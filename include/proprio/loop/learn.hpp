@@ -35,6 +35,7 @@
 #include "proprio/core/fields.hpp"
 #include "proprio/core/json_io.hpp"
 #include "proprio/core/provenance.hpp"
+#include "proprio/features/colour_words.hpp"
 #include "proprio/features/extraction.hpp"
 #include "proprio/loop/object_words.hpp"
 #include "proprio/loop/record_fields.hpp"
@@ -75,13 +76,15 @@ inline constexpr core::ChoiceNames<NewObjectScore, 3> kNewObjectScoreNames{
 enum class LearnHeadline {
   kMot,     ///< the Mixture of Topics by theta (eq 7.3; ground_truth.mot_accuracy)
   kArgmax,  ///< argmax theta (merged topics; ground_truth.argmax_accuracy)
-  kPooled   ///< the MoT by words pooled with the word multinomials (held_out_words; the
+  kPooled,  ///< the MoT by words pooled with the word multinomials (held_out_words; the
             ///< multinomials of LearnOptions::mot_word_per_view)
+  kColour   ///< the colour words alone (held_out_words' colour; needs colour words)
 };
-inline constexpr core::ChoiceNames<LearnHeadline, 3> kLearnHeadlineNames{
+inline constexpr core::ChoiceNames<LearnHeadline, 4> kLearnHeadlineNames{
     {{"mot", LearnHeadline::kMot},
      {"argmax", LearnHeadline::kArgmax},
-     {"pooled", LearnHeadline::kPooled}}};
+     {"pooled", LearnHeadline::kPooled},
+     {"colour", LearnHeadline::kColour}}};
 
 /// Where the putative objects offered to 7.2 (d) come from.
 enum class LearnCandidates {
@@ -358,8 +361,12 @@ struct LearnOptions {
   /// (docs/results/learn.md "Session 38").
   bool colour_words = true;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
-  int topics = 10;                     ///< LDA topics (when no --model is given)
-  int words = 200;                     ///< vocabulary words (when no --vocabulary is given)
+  /// The colour words of the documents (colour_words: `colour`), or none.
+  [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
+    return features::colour_if(colour_words, colour);
+  }
+  int topics = 10;  ///< LDA topics (when no --model is given)
+  int words = 200;  ///< vocabulary words (when no --vocabulary is given)
   /// Small and fast: quick_pushes (3) pushes an object, 240 x 180 images, 100 words, 6 topics,
   /// each only where that option holds its default (resolved()): a value given equal to its
   /// default (e.g. `--quick --pushes 6`) cannot be told from one not given and becomes the quick
@@ -416,6 +423,12 @@ struct LearnOptions {
   /// 8.2's figures, which are by that classifier (session 33). Off (the default): the rungs by
   /// theta only, as before.
   bool ladder_pooled = false;
+  /// Also write the run's documents (documents.txt in the run directory): every training view's
+  /// words with its class and what the ground truth says it shows, and every held-out view's
+  /// words with its object, one document a line ("count word:count ...", as lda-c's format),
+  /// so that other classifiers can be fitted to exactly the robot's own training set and
+  /// judged on the same held-out views. Off by default (about 1 MB a run).
+  bool write_documents = false;
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
   /// planner measures each blob's footprint and height from depth, as `selfsupervise --depth`.
   /// Turned on by resolved() with candidates "depth" (the default): off only with "blobs".
@@ -576,8 +589,8 @@ struct LearnOptions {
        "views' pooled counts); both are scored"});
     v.choice(self.headline,
              {"headline",
-              "Scoring: the held-out figure given first: mot, argmax or pooled (the pooled "
-              "words classifier)"},
+              "Scoring: the held-out figure given first: mot, argmax, pooled (the pooled "
+              "words classifier) or colour (the colour words alone)"},
              kLearnHeadlineNames);
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
@@ -585,6 +598,9 @@ struct LearnOptions {
       {"ladder_pooled",
        "Scoring, with --oracle-ladder: also score every rung by the pooled words classifier "
        "(per-view word multinomials)"});
+    v(self.write_documents,
+      {"write_documents",
+       "Also write documents.txt: the training views' and held-out views' words (lda-c lines)"});
     v(self.depth, {"depth",
                    "An RGB-D camera: plan from each blob's footprint and height "
                    "measured from depth"});
@@ -963,6 +979,8 @@ struct LearnWordObject {
   /// The same two with the per-view word multinomials (LearnOptions::mot_word_per_view).
   double pooled_per_view = 0;
   std::vector<double> grid_per_view;
+  /// Right by the colour words alone (LearnWordScore::colour); none without colour words.
+  std::optional<double> colour;
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -976,6 +994,7 @@ struct LearnWordObject {
       {"pooled_per_view", "Right by the pooled classifier with per-view word multinomials"});
     v(self.grid_per_view,
       {"grid_per_view", "The same at each weight of word_weights (per-view multinomials)"});
+    v(self.colour, {"colour", "Right by the colour words alone"});
   }
 };
 
@@ -996,6 +1015,12 @@ struct LearnWordScore {
   /// The same two with each class's word multinomial weighing its views alike (per_view_weights).
   double pooled_per_view = 0;
   std::vector<double> grid_per_view;
+  /// Right by the colour words alone (documents with colour words): each class's multinomial
+  /// over the colour words of its views, every view weighing alike (per_view_weights), add-one
+  /// smoothed; a held-out view goes to the class under which its colour words are most likely
+  /// (naive Bayes with the model's prior p(c)). The SIFT words are left out: they change when
+  /// an object turns or topples, its colours do not (session 39). None without colour words.
+  std::optional<double> colour;
   std::vector<LearnWordObject> objects;
 
   template <class Self, class Visitor>
@@ -1010,6 +1035,7 @@ struct LearnWordScore {
     v(self.pooled_per_view,
       {"pooled_per_view", "Right by the pooled classifier with per-view word multinomials"});
     v(self.grid_per_view, {"grid_per_view", "The same at each weight (per-view multinomials)"});
+    v(self.colour, {"colour", "Right by the colour words alone (per-view colour multinomials)"});
     v(self.objects, {"objects", "Per held-out object"});
   }
 };
@@ -1019,19 +1045,22 @@ struct LearnWordScore {
 /// pooled counts (pooled, grid) and every view weighing alike (pooled_per_view, grid_per_view);
 /// `per_view` says which is learn's pooled classifier (LearnWordScore::per_view); `held[i]`:
 /// object i's held-out documents (objects[i]); `class_object[m]`: the object model class m is
-/// named after ("" none). Throws Error when the sizes disagree (held vs objects, labels vs
-/// training, class_object vs the model's classes), on a weight outside [0, 1] or on an empty
-/// model.
+/// named after ("" none). `colour_from` >= 0: the documents' words from that id on are colour
+/// words (features::with_colour_words: the vocabulary's size), scored alone too
+/// (LearnWordScore::colour); -1: none. Throws Error when the sizes disagree (held vs objects,
+/// labels vs training, class_object vs the model's classes), on a weight outside [0, 1], on an
+/// empty model or on a colour_from the documents' words do not reach past.
 LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaModel& lda,
                               const topics::Corpus& training, const std::vector<int>& labels,
                               const std::vector<topics::Corpus>& held,
                               const std::vector<std::string>& objects,
                               const std::vector<std::string>& class_object, double weight,
-                              bool per_view = false);
+                              bool per_view = false, int colour_from = -1);
 
 /// Learn's headline held-out figure (LearnOptions::headline), learn.json's "headline".
 struct LearnHeadlineFigure {
-  std::string classifier;          ///< "mot", "argmax", "pooled" (counts) or "pooled_per_view"
+  /// "mot", "argmax", "pooled" (counts), "pooled_per_view" or "colour"
+  std::string classifier;
   std::string what;                ///< the classifier in words
   double accuracy = 0;             ///< held-out views given a class named after their own object
   std::vector<std::string> names;  ///< the held-out objects

@@ -456,7 +456,7 @@ struct SelfSupervisionOptions {
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
   [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
-    return colour_words ? std::optional(colour) : std::nullopt;
+    return features::colour_if(colour_words, colour);
   }
   /// The planner's options; descent_clearance 0.04 m (paths whose arm would come down on a
   /// blob are not planned: every refused transit of the report seeds was that).
