@@ -14,8 +14,8 @@ scripts/experiment-learn writes DIR/MODE-sSEED and its wall time in DIR/MODE-sSE
     run.wall()                                       # DIR/MODE-sSEED.wall's seconds
     learn_runs.exists("OUT/D/quick-s51")             # has the directory a learn.json?
 
-Used by scripts/repeat_trace.py, scripts/learn_paired.py, scripts/learn_untouched.py and
-scripts/learn_seeds_table.py.
+Used by scripts/repeat_trace.py, scripts/learn_paired.py, scripts/learn_untouched.py,
+scripts/learn_seeds_table.py and scripts/learn_classes.py.
 Standard library only; reads, never writes.
 """
 import json
