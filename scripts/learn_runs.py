@@ -15,7 +15,7 @@ scripts/experiment-learn writes DIR/MODE-sSEED and its wall time in DIR/MODE-sSE
     learn_runs.exists("OUT/D/quick-s51")             # has the directory a learn.json?
 
 Used by scripts/repeat_trace.py, scripts/learn_paired.py, scripts/learn_untouched.py,
-scripts/learn_seeds_table.py and scripts/learn_classes.py.
+scripts/learn_seeds_table.py, scripts/learn_classes.py and scripts/learn_coverage.py.
 Standard library only; reads, never writes.
 """
 import json
