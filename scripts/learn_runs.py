@@ -15,8 +15,9 @@ scripts/experiment-learn writes DIR/MODE-sSEED and its wall time in DIR/MODE-sSE
     learn_runs.exists("OUT/D/quick-s51")             # has the directory a learn.json?
 
 Used by scripts/repeat_trace.py, scripts/learn_paired.py, scripts/learn_untouched.py,
-scripts/learn_seeds_table.py, scripts/learn_classes.py, scripts/learn_coverage.py and
-scripts/learn_per_view.py.
+scripts/learn_seeds_table.py, scripts/learn_classes.py, scripts/learn_coverage.py,
+scripts/learn_per_view.py and scripts/coverage_trace.py (its learn runs; it reads `proprio
+selfsupervise` runs itself).
 Standard library only; reads, never writes.
 """
 import json
