@@ -3,9 +3,10 @@
 
 usage: scripts/coverage_trace.py RUN [RUN ...]
 
-RUN is a `proprio learn` run directory (learn.json, decisions.jsonl, pushes/) or a
-`proprio selfsupervise` run directory (selfsupervise.json, decisions.jsonl) or its JSON
-(its decisions.jsonl is the one the JSON names, or DIR/decisions.jsonl beside it).
+RUN is a `proprio learn` run directory (learn.json, decisions.jsonl, pushes/; read by
+scripts/learn_runs.py) or a `proprio selfsupervise` run directory (selfsupervise.json,
+decisions.jsonl) or its JSON (its decisions.jsonl is the one the JSON names, or
+DIR/decisions.jsonl beside it).
 Standard library only; reads, never writes.
 
 A named object is "missed" when no class is named after it (ground_truth.objects[].views == 0):
@@ -43,6 +44,9 @@ import struct
 import sys
 import zlib
 from collections import Counter, defaultdict
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
 
 CAUSES = {
     1: "never a candidate",
@@ -192,8 +196,8 @@ def guess_absent(obj, look, blob_truth, pushes, before):
 
 
 def trace_learn(run):
-    j = json.load(open(f"{run}/learn.json"))
-    dec = [json.loads(x) for x in open(f"{run}/decisions.jsonl") if x.strip()]
+    r = learn_runs.load(run)
+    j, dec = r.json, r.events
     g = j["ground_truth"]
     named = [o["name"] for o in g["objects"]]
     missed = [o["name"] for o in g["objects"] if o["views"] == 0]
@@ -501,7 +505,7 @@ def main(args):
     flag_total = Counter()
     named_total = 0
     for run in runs:
-        is_learn = os.path.exists(f"{run}/learn.json")
+        is_learn = learn_runs.exists(run)
         named, rows, extra = (trace_learn if is_learn else trace_self)(run)
         named_total += len(named)
         print(f"== {run}: {len(rows)} of {len(named)} named objects missed"

@@ -5,6 +5,8 @@ summed over the classes named after it.
 
 usage: scripts/learn_classes.py RUN_DIR [RUN_DIR ...]   (directories holding learn.json)
 
+The runs are read by scripts/learn_runs.py.
+
 Per class (learn.json ground truth): the object it is named after (class_object: its pushes'
 target), the object its turn chose, its learn pushes as intended>moved, its views, its purity
 (the share of its views showing the object it is named after) and, when that object is a named
@@ -14,13 +16,16 @@ those classes (and their views showing it: views x purity), held-out MoT / argma
 all runs given, the named objects' held-out MoT against the views showing them (buckets), to
 show how many views a class needs.
 """
-import json
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
 
 
 def run_rows(run):
-    j = json.load(open(f"{run}/learn.json"))
-    g = j["ground_truth"]
+    r = learn_runs.load(run)
+    j, g = r.json, r.truth
     classes = j["classes"]
     named = [o["name"] for o in g["objects"]]
     conf = g["mot_confusion"]
@@ -43,7 +48,7 @@ def run_rows(run):
             d["classes"] += 1
             d["views"] += o["views"]
             d["pure_views"] += o["views"] * purity
-    for p in j["pushes"]:
+    for p in r.pushes:
         t = p.get("truth") or p
         if p["executed"] and t.get("moved_intended") and t.get("intended") in per_object:
             per_object[t["intended"]]["pushes"] += 1

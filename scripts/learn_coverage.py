@@ -6,7 +6,7 @@ usage: scripts/learn_coverage.py RUN_DIR [RUN_DIR ...]
 Reads each run's learn.json (ground truth: the object under every blob of each turn's choice
 look, each learn push's intended object and what moved) and decisions.jsonl (the choose events:
 skipped candidates and why, each scored blob's best object and how far below that object's own
-views it lies), and prints per run:
+views it lies), both read by scripts/learn_runs.py, and prints per run:
   - per class: the object chosen, the object it is named after, its purity and views, and its
     pushes as intended>moved (views);
   - per object on the table never given a class: why (never a candidate in reach; taken for a
@@ -16,22 +16,20 @@ views it lies), and prints per run:
   - identity checks (learn.json's "identity" when the run has them);
 and the causes counted over all runs.
 """
-import json
 import math
+import os
 import sys
 from collections import Counter, defaultdict
 
-
-def load(run):
-    j = json.load(open(f"{run}/learn.json"))
-    d = [json.loads(line) for line in open(f"{run}/decisions.jsonl") if line.strip()]
-    return j, d
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
 
 
 def main(runs):
     causes = Counter()
     for run in runs:
-        j, dec = load(run)
+        r = learn_runs.load(run)
+        j, dec = r.json, r.events
         g = j.get("ground_truth", {})
         names = g.get("class_object", [])
         chosen = g.get("class_chosen", [])

@@ -5,19 +5,19 @@ multinomials side by side (session 32): the views' pooled counts (learn.json hel
 
 usage: scripts/learn_per_view.py RUN_DIR SEED [SEED ...]   (MODE=quick by default)
 
-RUN_DIR holds scripts/experiment-learn's runs (MODE-sSEED/learn.json). Prints per seed the
-held-out MoT by theta, argmax theta, MoT by words, pooled counts and pooled per view (%, with the
-Wilson 95 % interval of the pooled ones), per named object the pooled counts / per view %, then
-the means over the seeds and the paired differences (per view - counts; per view - MoT; per view
-- argmax) with 95 % t intervals (scripts/oracle_ladder_table.py's ci) and the seeds each is lower
-on.
+RUN_DIR holds scripts/experiment-learn's runs (MODE-sSEED/learn.json, read by
+scripts/learn_runs.py). Prints per seed the held-out MoT by theta, argmax theta, MoT by words,
+pooled counts and pooled per view (%, with the Wilson 95 % interval of the pooled ones), per named
+object the pooled counts / per view %, then the means over the seeds and the paired differences
+(per view - counts; per view - MoT; per view - argmax) with 95 % t intervals
+(scripts/oracle_ladder_table.py's ci) and the seeds each is lower on.
 """
-import json
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
 from oracle_ladder_table import ci  # noqa: E402
 
 
@@ -36,8 +36,8 @@ def main(run_dir, seeds):
     rows = []
     objects = {}
     for s in seeds:
-        j = json.load(open(f"{run_dir}/{mode}-s{s}/learn.json"))
-        g = j["ground_truth"]
+        r = learn_runs.load(f"{run_dir}/{mode}-s{s}")
+        j, g = r.json, r.truth
         w = j["held_out_words"]
         n = sum(o["held_out"] for o in w["objects"])
         f = {"MoT": 100 * g["mot_accuracy"], "argmax": 100 * g["argmax_accuracy"],

@@ -11,13 +11,20 @@ scripts/experiment-learn writes DIR/MODE-sSEED and its wall time in DIR/MODE-sSE
     run.events_of("choose")                          # the log's events of one kind, in order
     run.turns()                                      # each turn's choices (see Turn, Choice)
     run.table()                                      # the objects and clutter on the table
+    run.wall()                                       # DIR/MODE-sSEED.wall's seconds
+    learn_runs.exists("OUT/D/quick-s51")             # has the directory a learn.json?
 
-Used by scripts/repeat_trace.py, scripts/learn_paired.py and scripts/learn_untouched.py.
+Used by scripts/repeat_trace.py, scripts/learn_paired.py, scripts/learn_untouched.py,
+scripts/learn_seeds_table.py, scripts/learn_classes.py, scripts/learn_coverage.py,
+scripts/learn_per_view.py and scripts/coverage_trace.py (its learn runs; it reads `proprio
+selfsupervise` runs itself).
 Standard library only; reads, never writes.
 """
 import json
 import os
 from dataclasses import dataclass, field
+
+_RAISE = object()  # Run.wall without `missing`: a missing RUN.wall raises
 
 
 @dataclass
@@ -107,10 +114,11 @@ class Run:
                 pushed.append((e["plan"]["start"], e["plan"]["end"]))
         return {k: t for k, t in turns.items() if t.choices}
 
-    def wall(self, missing):
-        """The run's wall seconds (RUN.wall beside the directory), or `missing`."""
+    def wall(self, missing=_RAISE):
+        """The run's wall seconds (RUN.wall beside the directory); without it `missing`, or
+        FileNotFoundError when `missing` is not given."""
         path = f"{self.path.rstrip('/')}.wall"
-        if not os.path.exists(path):
+        if missing is not _RAISE and not os.path.exists(path):
             return missing
         with open(path) as f:
             return float(f.read())
@@ -119,3 +127,9 @@ class Run:
 def load(path):
     """The learn run in directory `path`."""
     return Run(path)
+
+
+def exists(path):
+    """Whether directory `path` holds a learn.json: a run, finished or not (an unfinished one has
+    learn.json "complete" false or an INCOMPLETE file in the directory)."""
+    return os.path.exists(os.path.join(path, "learn.json"))

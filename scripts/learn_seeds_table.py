@@ -3,31 +3,35 @@
 
 usage: scripts/learn_seeds_table.py ROOT MODE SET[,SET...] SEED [SEED ...]
 
-ROOT/SET holds scripts/experiment-learn's runs (MODE-sSEED/learn.json and MODE-sSEED.wall).
+ROOT/SET holds scripts/experiment-learn's runs (MODE-sSEED/learn.json and MODE-sSEED.wall, read by
+scripts/learn_runs.py).
 Prints a Markdown table of the pooled held-out headline per seed (named objects given views in
 brackets), then per set: the seeds' mean, per named object, the named objects with no view
 (missed), executed pushes, views and the median wall time. Seeds without a run print "-".
 """
-import json
 import os
 import statistics
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import learn_runs  # noqa: E402
 
 NAMES = ["book", "bottle", "cd", "giraffe"]
 
 
 def figures(run):
-    if not os.path.exists(f"{run}/learn.json"):
+    if not learn_runs.exists(run):
         return None
-    j = json.load(open(f"{run}/learn.json"))
+    r = learn_runs.load(run)
+    j = r.json
     w = j["held_out_words"]
     truths = [o.get("truth", "") for o in j["objects"] if o["views"] > 0]
     per = {o["name"]: 100 * o["pooled"] for o in w["objects"]}
     return {"pooled": 100 * w["pooled"], "per": per,
             "named": sum(1 for n in per if n in truths),
-            "pushes": sum(1 for p in j["pushes"] if p.get("executed")),
+            "pushes": sum(1 for p in r.pushes if p.get("executed")),
             "views": sum(o["views"] for o in j["objects"]),
-            "wall": float(open(f"{run}.wall").read())}
+            "wall": r.wall()}
 
 
 def main(root, mode, sets, seeds):
