@@ -2366,30 +2366,6 @@ void write_final(LearnResult& r, const LearnOptions& w, core::StagedDirectory& s
 
 }  // namespace
 
-namespace {
-
-// The documents' words from `first` on (their colour words, features::with_colour_words),
-// renumbered from 0: a corpus over the colour words alone.
-topics::Corpus words_from(const topics::Corpus& corpus, int first) {
-  topics::Corpus out(corpus.num_words() - first);
-  std::vector<std::int32_t> ids;
-  std::vector<std::int32_t> counts;
-  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
-    const topics::DocumentView doc = corpus.document(d);
-    ids.clear();
-    counts.clear();
-    for (std::size_t i = 0; i < doc.size(); ++i) {
-      if (doc.words[i] < first) continue;
-      ids.push_back(doc.words[i] - first);
-      counts.push_back(doc.counts[i]);
-    }
-    out.add_document(ids, counts);
-  }
-  return out;
-}
-
-}  // namespace
-
 LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaModel& lda,
                               const topics::Corpus& training, const std::vector<int>& labels,
                               const std::vector<topics::Corpus>& held,
@@ -2425,10 +2401,7 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
   // outweighs the rest; per_view_weights).
   const bool colour = colour_from >= 0;
   Eigen::MatrixXd log_colour;
-  if (colour) {
-    const topics::Corpus c = words_from(training, colour_from);
-    log_colour = weighted_word_multinomials(c, labels, classes, per_view_weights(c, labels));
-  }
+  if (colour) log_colour = colour_multinomials(training, labels, classes, colour_from);
   int right_colour = 0;
   LearnWordScore s;
   s.weight = weight;

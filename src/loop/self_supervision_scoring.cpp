@@ -112,6 +112,34 @@ std::string pushed_most(std::span<const PushTruth> pushes,
   return most;
 }
 
+topics::Corpus words_from(const topics::Corpus& corpus, int first) {
+  if (first < 0 || first >= corpus.num_words()) {
+    throw Error(core::cat({"words_from: word ", std::to_string(first), " is not in [0, ",
+                           std::to_string(corpus.num_words()), ")"}));
+  }
+  topics::Corpus out(corpus.num_words() - first);
+  std::vector<std::int32_t> ids;
+  std::vector<std::int32_t> counts;
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const topics::DocumentView doc = corpus.document(d);
+    ids.clear();
+    counts.clear();
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      if (doc.words[i] < first) continue;
+      ids.push_back(doc.words[i] - first);
+      counts.push_back(doc.counts[i]);
+    }
+    out.add_document(ids, counts);
+  }
+  return out;
+}
+
+Eigen::MatrixXd colour_multinomials(const topics::Corpus& training, std::span<const int> labels,
+                                    int classes, int colour_from) {
+  const topics::Corpus c = words_from(training, colour_from);
+  return weighted_word_multinomials(c, labels, classes, per_view_weights(c, labels));
+}
+
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push) {
   if (labels.size() != push.size()) {
     throw Error(core::cat({"counts_once: ", std::to_string(labels.size()), " labels but ",

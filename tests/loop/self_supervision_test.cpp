@@ -2405,6 +2405,27 @@ TEST(SelfSupervision, WeightedWordMultinomialsKnownAnswers) {
       counts_once(std::vector<int>{0, 0, 0, 0, 1, 1}, std::vector<int>{0, 0, 0, 1, 0, 0});
   EXPECT_EQ(once, (std::vector<double>{1.0 / 3, 1.0 / 3, 1.0 / 3, 1, 0.5, 0.5}));
   EXPECT_THROW((void)counts_once(std::vector<int>{0}, std::vector<int>{0, 1}), Error);
+  // The colour words alone: words 3 and 4 of 5 renumbered 0 and 1; a document without them is
+  // empty; each class's colour multinomial weighs its views alike (3 and 1 colour tokens: the
+  // mean, 2, over each).
+  topics::Corpus coloured(5);
+  coloured.add_tokens(std::vector<std::int32_t>{0, 3, 3, 4});
+  coloured.add_tokens(std::vector<std::int32_t>{1, 2});
+  coloured.add_tokens(std::vector<std::int32_t>{4, 2});
+  const topics::Corpus colours = words_from(coloured, 3);
+  ASSERT_EQ(colours.num_words(), 2);
+  ASSERT_EQ(colours.num_documents(), 3U);
+  EXPECT_EQ(colours.num_tokens(), 4);
+  EXPECT_EQ(colours.document(0).words[0], 0);
+  EXPECT_EQ(colours.document(0).counts[0], 2);
+  EXPECT_TRUE(colours.document(1).empty());
+  EXPECT_EQ(colours.document(2).words[0], 1);
+  EXPECT_THROW((void)words_from(coloured, 5), Error);
+  EXPECT_THROW((void)words_from(coloured, -1), Error);
+  // Class 0: documents 0 (2 x word 0, 1 x word 1; weight 2/3) and 2 (1 x word 1; weight 2).
+  const Eigen::MatrixXd lc = colour_multinomials(coloured, std::vector<int>{0, 0, 0}, 1, 3);
+  EXPECT_NEAR(lc(0, 0), std::log((4.0 / 3 + 1) / (2 + 2 + 2.0)), 1e-12);
+  EXPECT_NEAR(lc(0, 1), std::log((2.0 / 3 + 2 + 1) / (2 + 2 + 2.0)), 1e-12);
 }
 
 TEST(SelfSupervision, PushedMostNamesByPushesThenViewsThenName) {

@@ -163,6 +163,20 @@ Eigen::MatrixXd weighted_word_multinomials(const topics::Corpus& corpus,
 /// unlabelled one weighs 0. Throws Error when labels and documents differ in number.
 std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<const int> labels);
 
+/// The documents' words from `first` on, renumbered from 0 (their colour words, numbered after
+/// the vocabulary's by features::with_colour_words: `first` = the vocabulary's size): a corpus
+/// over those words alone, one document for each. Throws Error when `first` is not in
+/// [0, corpus.num_words()).
+topics::Corpus words_from(const topics::Corpus& corpus, int first);
+
+/// Each class's log multinomial over the colour words alone (the documents' words from
+/// `colour_from` on, words_from), every view weighing alike (per_view_weights), add-one: with
+/// topics::pool_word_multinomials at weight 1 over words_from(held, colour_from), the colour
+/// classifier (naive Bayes by colour; LearnWordScore::colour, session 39 of
+/// docs/results/learn.md). Throws Error as words_from and weighted_word_multinomials.
+Eigen::MatrixXd colour_multinomials(const topics::Corpus& training, std::span<const int> labels,
+                                    int classes, int colour_from);
+
 /// 1 / (views of its group) for each view, its group the pair (labels[i], push[i]): every push's
 /// views weigh 1 together. Throws Error when labels and push differ in number.
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push);
