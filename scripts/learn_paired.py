@@ -5,7 +5,8 @@ usage: scripts/learn_paired.py BASE_DIR OPTION_DIR SEED [SEED ...]   (MODE=quick
 
 BASE_DIR/OPTION_DIR hold scripts/experiment-learn's runs (MODE-sSEED/learn.json, read by
 scripts/learn_runs.py). Prints per seed the held-out MoT by theta, argmax theta, pooled words,
-per named object MoT / argmax %, named objects given a class and the later learn pushes aimed at
+per named object MoT / argmax %, the colour words alone when both sets scored it (session 39),
+named objects given a class and the later learn pushes aimed at
 another object than the turn chose (ground truth); then the means and the paired differences
 (option - base) with 95 % t intervals (scripts/oracle_ladder_table.py's ci) and on how many seeds
 the option is higher / lower, and the runs' median and longest wall time (MODE-sSEED.wall;
@@ -47,6 +48,7 @@ def figures(run):
     return {"distractor": distractor, "repeat": repeat,
             "MoT": 100 * g["mot_accuracy"], "argmax": 100 * g["argmax_accuracy"],
             "pooled": 100 * w.get("pooled", 0), "named": named,
+            "colour": 100 * w["colour"] if "colour" in w else None,
             "wall": r.wall(0.0),
             "drift": f"{drift}/{len(later)}", "per": per,
             "classes": ",".join(t or "-" for t in truths)}
@@ -63,7 +65,11 @@ def main(base, option, seeds):
             print(f"s{s} {name:<6} MoT {f['MoT']:5.1f} argmax {f['argmax']:5.1f} pooled "
                   f"{f['pooled']:5.1f} named {f['named']} drift {f['drift']:>5}  {f['per']}; "
                   f"{f['classes']}")
-    for key in ("MoT", "argmax", "pooled", "named"):
+    keys = ["MoT", "argmax", "pooled", "named"]
+    # The colour words alone (session 39), when both sets scored it.
+    if all(r[1]["colour"] is not None and r[2]["colour"] is not None for r in rows):
+        keys.insert(3, "colour")
+    for key in keys:
         bv = [r[1][key] for r in rows]
         ov = [r[2][key] for r in rows]
         d = [o - b for b, o in zip(bv, ov)]

@@ -153,8 +153,13 @@ std::vector<int> selected_object_ids(const episode::Episode& episode,
 
 std::vector<features::Features> frame_features(const episode::Episode& episode, int frame,
                                                const FrameDocumentOptions& options) {
+  return frame_features(episode, frame, episode.frame(frame), options);
+}
+
+std::vector<features::Features> frame_features(const episode::Episode& episode, int frame,
+                                               const cv::Mat& image,
+                                               const FrameDocumentOptions& options) {
   options.validate();
-  const cv::Mat image = episode.frame(frame);
   cv::Mat mask;
   switch (options.region) {
     case FrameRegion::kWhole:

@@ -228,9 +228,8 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   } else {
     for (const auto& e : read_episodes(source.episodes)) {
       for (int i = 0; i < e.frame_count(); i += source.frame_step) {
-        // The frame is read again only for colour words (frame_features reads its own).
-        const cv::Mat image = colour ? e.frame(i) : cv::Mat();
-        for (const auto& f : frame_features(e, i, source.frames))
+        const cv::Mat image = e.frame(i);  // read once: the features and the colour words
+        for (const auto& f : frame_features(e, i, image, source.frames))
           if (!f.empty()) corpus.add_tokens(features::document_words(vocabulary, image, f, colour));
         ++r.frames;
       }

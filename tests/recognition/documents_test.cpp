@@ -334,11 +334,23 @@ TEST(FrameDocuments, RegionsNestAndBadMasksAreNamed) {
   fs::remove_all(dir);
   const episode::Episode e = episode::read_episode(write_two_object_episode(dir / "ep"));
   FrameDocumentOptions o;
+  const cv::Mat frame2 = e.frame(2);
   auto count = [&](FrameRegion r) {
     o.region = r;
     const auto docs = frame_features(e, 2, o);
+    // The same from the frame already read (recognize train reads it once for colour words).
+    const auto given = frame_features(e, 2, frame2, o);
+    EXPECT_EQ(given.size(), docs.size());
     int n = 0;
-    for (const auto& f : docs) n += f.size();
+    for (std::size_t i = 0; i < docs.size(); ++i) {
+      n += docs[i].size();
+      if (i < given.size()) {
+        EXPECT_EQ(given[i].size(), docs[i].size());
+        if (!docs[i].descriptors.empty()) {
+          EXPECT_EQ(cv::norm(given[i].descriptors, docs[i].descriptors, cv::NORM_L1), 0.0);
+        }
+      }
+    }
     return std::pair<int, std::size_t>(n, docs.size());
   };
   const auto whole = count(FrameRegion::kWhole);

@@ -115,6 +115,11 @@ void check_erode_min_features(int min_features);
 /// the wrong size (kMasks).
 std::vector<features::Features> frame_features(const episode::Episode& episode, int frame,
                                                const FrameDocumentOptions& options);
+/// The same from frame i's image already read (episode.frame(frame)): a caller that needs the
+/// image too (colour words) reads it once.
+std::vector<features::Features> frame_features(const episode::Episode& episode, int frame,
+                                               const cv::Mat& image,
+                                               const FrameDocumentOptions& options);
 
 /// The ids of the episode's objects that kObjects keeps.
 std::vector<int> selected_object_ids(const episode::Episode& episode,
