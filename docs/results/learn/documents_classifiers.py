@@ -5,8 +5,11 @@ Usage: documents_classifiers.py RUN_DIR... (each written by `proprio learn --wri
 
 Reads each run's documents.txt (the training views' and held-out views' documents, lda-c lines)
 and scores, on exactly the robot's training set and the run's held-out views, multinomial naive
-Bayes variants (the pooled classifier at weight 1 is the first): the colour words' tokens weighed
-by alpha, the smoothing, views weighed alike. A held-out view is right when the class it is given
+Bayes variants (the pooled classifier at weight 1 is the first, "joint"): the colour words'
+tokens weighed by alpha ("aA"; SIFT and colour words as two multinomials), views weighed alike
+("...v"), the colour words alone ("colour"; "colv" with views weighed alike: learn's
+held_out_words.colour), the smoothing ("_pP"), and alpha chosen by leaving one push out of the
+robot's own views ("acv"). A held-out view is right when the class it is given
 is named after its object (the run's own naming, learn.json's). Prints one line a run and the
 means.
 """
@@ -105,7 +108,6 @@ def run(path):
             nb_scores(xt, y, n_classes, xh, 0.0, vocab, pseudo=p, view_weights=vw))
     out["colv"] = acc(nb_scores(xt, y, n_classes, xh, 1.0, vocab, view_weights=vw) -
                       nb_scores(xt, y, n_classes, xh, 0.0, vocab, view_weights=vw))
-    return out
     # alpha chosen by the robot's own views: leave one push out, its views classified by the
     # rest (labels: the robot's own classes).
     pushes = np.array([v[1] for v in keep])
@@ -115,14 +117,10 @@ def run(path):
         right = 0
         for p in np.unique(pushes):
             tr = pushes != p
-            if len(np.unique(y[tr])) < 1:
-                continue
             sc = nb_scores(xt[tr], y[tr], n_classes, xt[~tr], a, vocab)
             right += int((sc.argmax(1) == y[~tr]).sum())
         cv.append(right)
-    best = grid[int(np.argmax(cv))]
-    out["acv"] = acc(nb_scores(xt, y, n_classes, xh, best, vocab))
-    out["acv_alpha"] = best / 100
+    out["acv"] = acc(nb_scores(xt, y, n_classes, xh, grid[int(np.argmax(cv))], vocab))
     return out
 
 
