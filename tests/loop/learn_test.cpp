@@ -336,6 +336,18 @@ TEST(Learn, ScoreByWordsKnowsWhichObjectEachHeldOutViewShows) {
       Error);
 }
 
+// A 2-topic LDA of `training` and a Mixture of Topics of classes c0 and c1 on its theta.
+std::pair<topics::LdaModel, topics::MotModel> two_class_model(const topics::Corpus& training,
+                                                              const std::vector<int>& labels) {
+  topics::BatchLdaOptions bo;
+  bo.num_topics = 2;
+  bo.seed = 3;
+  topics::LdaModel lda = topics::train_batch_lda(training, bo).model;
+  const Eigen::MatrixXd theta = recognition::document_theta(lda, training).theta;
+  topics::MotModel model = topics::fit_mot(theta, labels, {"c0", "c1"}, {}).model;
+  return {std::move(lda), std::move(model)};
+}
+
 TEST(Learn, ScoreByWordsScoresTheColourWordsAlone) {
   // Words 0-9 are SIFT words, 10-13 colour words. The two objects' training views share their
   // SIFT words (0-4) but not their colours (10 for the first, 12 for the second); the held-out
@@ -353,12 +365,7 @@ TEST(Learn, ScoreByWordsScoresTheColourWordsAlone) {
   for (int d = 0; d < 6; ++d) view(training, 0, 10, 20);
   for (int d = 0; d < 6; ++d) view(training, 0, 12, 20);
   const std::vector<int> labels{0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1};
-  topics::BatchLdaOptions bo;
-  bo.num_topics = 2;
-  bo.seed = 3;
-  const topics::LdaModel lda = topics::train_batch_lda(training, bo).model;
-  const Eigen::MatrixXd theta = recognition::document_theta(lda, training).theta;
-  const topics::MotModel model = topics::fit_mot(theta, labels, {"c0", "c1"}, {}).model;
+  const auto [lda, model] = two_class_model(training, labels);
   std::vector<topics::Corpus> held(2, topics::Corpus(14));
   for (int d = 0; d < 4; ++d) view(held[0], 5, 10, 10);
   for (int d = 0; d < 3; ++d) view(held[1], 5, 12, 10);
@@ -419,12 +426,7 @@ TEST(Learn, ScoreByWordsWeighsEveryViewAlikeInThePerViewMultinomials) {
   add_document(training, {{1, 10}, {2, 20}});
   add_document(training, {{1, 10}, {2, 20}});
   const std::vector<int> labels{0, 0, 1, 1};
-  topics::BatchLdaOptions bo;
-  bo.num_topics = 2;
-  bo.seed = 3;
-  const topics::LdaModel lda = topics::train_batch_lda(training, bo).model;
-  const Eigen::MatrixXd theta = recognition::document_theta(lda, training).theta;
-  const topics::MotModel model = topics::fit_mot(theta, labels, {"c0", "c1"}, {}).model;
+  const auto [lda, model] = two_class_model(training, labels);
   std::vector<topics::Corpus> held(2, topics::Corpus(3));
   add_document(held[0], {{1, 10}});
   add_document(held[1], {{2, 10}});
