@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "planning_test_support.hpp"
 
 namespace proprio::planning {
@@ -43,7 +45,9 @@ TEST(Planner, GaussNewtonConvergesOnTheTargetsPath) {
   EXPECT_GE(p.t_intercept, t_now + 1.0 - 1e-9);
   EXPECT_LE(p.t_intercept, t_now + 1.0 + 1.5 + 1e-9);
   EXPECT_NEAR(p.t_start, p.t_intercept - 1.0, 1e-12);
-  EXPECT_LT(p.summary.seconds, 0.1);
+  // Its time is recorded (how fast is bench/'s to measure, not a test's to assert).
+  EXPECT_TRUE(std::isfinite(p.summary.seconds));
+  EXPECT_GE(p.summary.seconds, 0.0);
 }
 
 TEST(Planner, GaussNewtonFindsTheDenseSearchMinimum) {
