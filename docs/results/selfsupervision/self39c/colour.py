@@ -3,8 +3,8 @@
 usage: /usr/bin/python3 colour.py DIR SEEDS [PREFIX]   (DIR holds PREFIX-sS.json of COLOUR=1
 runs, PREFIX "motion" by default: an experiment-selfsup OUT; here: self39c SEEDS col)
 Prints a markdown row per seed: the classes' objects, c, argmax, colour, colour - c, the
-coverage ceiling (held-out views of objects some class is named after: no classifier scores
-above it), and per object c / colour; then the paired mean with a 95% t interval.
+coverage ceiling (held-out views of objects some class of the model is named after: no
+classifier scores above it), and per object c / colour; then the paired mean with a 95% t interval.
 """
 import json
 import math
@@ -29,8 +29,10 @@ print("| seed | classes' objects | c (MoT) | argmax | colour | colour - c | ceil
 print("|---|---|---|---|---|---|---|---|---|")
 diffs = []
 for s in seeds:
-    g = json.load(open(f"{d}/{prefix}-s{s}.json"))["ground_truth"]
-    named = set(g["class_object"])
+    j = json.load(open(f"{d}/{prefix}-s{s}.json"))
+    g = j["ground_truth"]
+    # Objects a class of the model (not a class dropped for want of views) is named after.
+    named = {g["class_object"][j["classes"].index(c)] for c in j["model_classes"]}
     held = sum(o["held_out"] for o in g["objects"])
     ceiling = sum(o["held_out"] for o in g["objects"] if o["name"] in named) / held
     c, col = g["mot_accuracy"], g["colour_accuracy"]
