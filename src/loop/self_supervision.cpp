@@ -1825,6 +1825,11 @@ void SelfSupervisionOptions::validate() const {
           "(their documents are SIFT words only)");
     }
   }
+  if (mot_classifier == MotClassifier::kColour && !colour_words) {
+    throw Error(
+        "selfsupervise: mot_classifier colour scores by the colour words alone: it needs "
+        "colour_words (--colour-words)");
+  }
   if (claims_by != ClaimSignal::kLooks && choice != NextObjectRule::kLooks) {
     throw Error(
         core::cat({"selfsupervise: claims_by ", core::choice_name(claims_by, kClaimSignalNames),

@@ -119,12 +119,14 @@ std::string SelfSupervisionResult::brief() const {
   }
   for (const ObjectScore& o : g.objects) {
     s += core::printf_string(
-        "\n  %-12s held out %3d: Mixture of Topics %5.1f%%, argmax theta %5.1f%%; yaw seen %3.0f "
-        "deg",
-        o.name.c_str(), o.held_out, 100 * o.mot_accuracy, 100 * o.argmax_accuracy, o.yaw_range_deg);
+        "\n  %-12s held out %3d: Mixture of Topics %5.1f%%, argmax theta %5.1f%%", o.name.c_str(),
+        o.held_out, 100 * o.mot_accuracy, 100 * o.argmax_accuracy);
+    if (o.colour_accuracy) s += core::printf_string(", colour %5.1f%%", 100 * *o.colour_accuracy);
+    s += core::printf_string("; yaw seen %3.0f deg", o.yaw_range_deg);
   }
   s += core::printf_string("\nheld-out accuracy: Mixture of Topics %.1f%%, argmax theta %.1f%%",
                            100 * g.mot_accuracy, 100 * g.argmax_accuracy);
+  if (g.colour_accuracy) s += core::printf_string(", colour %.1f%%", 100 * *g.colour_accuracy);
   for (const LadderRung& rung : g.ladder ? g.ladder->rungs : std::vector<LadderRung>{}) {
     if (rung.classes == 0) continue;  // nothing trained (ceiling only: all but a0, a0_table)
     s += core::printf_string("\n  ladder %-8s %5.1f%% (%d views):", rung.name.c_str(),

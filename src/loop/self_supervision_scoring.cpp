@@ -140,6 +140,18 @@ Eigen::MatrixXd colour_multinomials(const topics::Corpus& training, std::span<co
   return weighted_word_multinomials(c, labels, classes, per_view_weights(c, labels));
 }
 
+topics::MotClassification classify_by_colour(const topics::MotModel& model,
+                                             const Eigen::MatrixXd& log_colour,
+                                             const topics::Corpus& held, int colour_from) {
+  const topics::Corpus colours = words_from(held, colour_from);
+  // At weight 1 pool_word_multinomials scores log p(c) + sum_n log p(w_n | c): the MoT's term
+  // (by_words less the prior) is weighed by 0. Rows of the prior make that term exactly 0.
+  topics::MotClassification prior;
+  prior.log_score = model.log_prior().transpose().replicate(
+      static_cast<Eigen::Index>(colours.num_documents()), 1);
+  return topics::pool_word_multinomials(model, prior, log_colour, colours, 1.0);
+}
+
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push) {
   if (labels.size() != push.size()) {
     throw Error(core::cat({"counts_once: ", std::to_string(labels.size()), " labels but ",
@@ -1163,6 +1175,31 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     }
     log_phi = weighted_word_multinomials(learning.views.words, train_labels, mot.num_classes());
   }
+  // With colour words: each class's colour multinomial from its views, every view weighing alike
+  // (colour_multinomials); c is also scored by the colour words alone (classify_by_colour). Not
+  // when the learning kept no view words (learn's scoring: it has its own colour figure,
+  // LearnWordScore::colour); learn_by_pushing always keeps them.
+  const bool colour_figure = options.colour_words && (learning.views.words.num_documents() > 0 ||
+                                                      learning.views.theta.rows() == 0);
+  const bool by_colour = colour_figure && mot.num_classes() > 0;
+  if (options.mot_classifier == MotClassifier::kColour && !colour_figure) {
+    throw Error(
+        "selfsupervise scoring: mot_classifier colour needs colour words and the views' "
+        "words");
+  }
+  const int colour_from = vocabulary.size();
+  Eigen::MatrixXd log_colour;
+  if (by_colour) {
+    if (static_cast<Eigen::Index>(learning.views.words.num_documents()) !=
+        learning.views.theta.rows()) {
+      throw Error(core::cat(
+          {"selfsupervise scoring: ", std::to_string(learning.views.words.num_documents()),
+           " view documents for ", std::to_string(learning.views.theta.rows()),
+           " training views"}));
+    }
+    log_colour =
+        colour_multinomials(learning.views.words, train_labels, mot.num_classes(), colour_from);
+  }
   std::vector<topics::Corpus> held_words(objects.size(), topics::Corpus(model.num_words()));
   std::vector<int> truth_rows;
   std::vector<int> mot_pred;
@@ -1327,11 +1364,22 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     }
     if (os.held_out > 0 && mot.num_classes() > 0) {
       const Eigen::MatrixXd& theta = held[oi];
-      const topics::MotClassification cls =
-          options.mot_classifier == MotClassifier::kPooled
-              ? topics::pool_word_multinomials(mot, topics::classify_mot_words(mot, model, corpus),
-                                               log_phi, corpus, options.mot_word_weight)
-              : topics::classify_mot(mot, theta);
+      std::optional<topics::MotClassification> colour_cls;
+      if (by_colour) colour_cls = classify_by_colour(mot, log_colour, corpus, colour_from);
+      topics::MotClassification cls;
+      switch (options.mot_classifier) {
+        case MotClassifier::kPooled:
+          cls = topics::pool_word_multinomials(mot, topics::classify_mot_words(mot, model, corpus),
+                                               log_phi, corpus, options.mot_word_weight);
+          break;
+        case MotClassifier::kColour:
+          assert(colour_cls);  // checked above
+          cls = *colour_cls;
+          break;
+        case MotClassifier::kTheta:
+          cls = topics::classify_mot(mot, theta);
+          break;
+      }
       std::vector<int> topic(static_cast<std::size_t>(theta.rows()));
       for (Eigen::Index d = 0; d < theta.rows(); ++d) {
         Eigen::Index k = 0;
@@ -1341,6 +1389,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
       const std::vector<int> mapped = recognition::mapped_classes(topic, *mapping);
       int right_mot = 0;
       int right_argmax = 0;
+      int right_colour = 0;
       for (std::size_t d = 0; d < cls.predicted.size(); ++d) {
         const auto name_of = [&](int m) {
           return m < 0 ? std::string()
@@ -1349,12 +1398,14 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
         };
         if (name_of(cls.predicted[d]) == os.name) ++right_mot;
         if (name_of(mapped[d]) == os.name) ++right_argmax;
+        if (colour_cls && name_of(colour_cls->predicted[d]) == os.name) ++right_colour;
         truth_rows.push_back(static_cast<int>(oi));
         mot_pred.push_back(cls.predicted[d]);
         argmax_pred.push_back(mapped[d]);
       }
       os.mot_accuracy = fraction(right_mot, os.held_out);
       os.argmax_accuracy = fraction(right_argmax, os.held_out);
+      if (colour_cls) os.colour_accuracy = fraction(right_colour, os.held_out);
     }
     s.objects.push_back(os);
   }
@@ -1370,6 +1421,15 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   }
   s.mot_accuracy = fraction(right_mot, n);
   s.argmax_accuracy = fraction(right_argmax, n);
+  if (colour_figure) {
+    // Every object and c get a colour figure (0 without views or classes, as the MoT's).
+    int right_colour = 0;
+    for (auto& o : s.objects) {
+      if (!o.colour_accuracy) o.colour_accuracy = 0.0;
+      right_colour += static_cast<int>(std::lround(*o.colour_accuracy * o.held_out));
+    }
+    s.colour_accuracy = fraction(right_colour, n);
+  }
   if (options.pooled_score && mot.num_classes() > 0) {
     // c by the pooled words classifier at each weight, and with each push's views counted once.
     const auto by_words = by_words_of(mot, model, held_words);

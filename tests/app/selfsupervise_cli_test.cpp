@@ -11,6 +11,7 @@
 #include "../support/temp_dir.hpp"
 #include "cli_run.hpp"
 #include "proprio/core/json_io.hpp"
+#include "proprio/core/text.hpp"
 #include "proprio/topics/lda_model_io.hpp"
 #include "tiny_models.hpp"
 
@@ -30,6 +31,10 @@ class SelfSuperviseCli : public ::testing::Test {
     m.lambda.conservativeResize(Eigen::NoChange, m.lambda.cols() + 1);
     m.lambda.rightCols(1).setOnes();
     topics::save_lda_model(m, dir() / "other.lda");
+    // A model of the vocabulary's 24 words and the 28 colour words (--colour-words).
+    m.lambda.conservativeResize(Eigen::NoChange, 24 + 28);
+    m.lambda.rightCols(28).setOnes();
+    topics::save_lda_model(m, dir() / "colour.lda");
   }
   static void TearDownTestSuite() { temp_.reset(); }
   static std::string file(const std::string& name) { return (dir() / name).string(); }
@@ -55,6 +60,7 @@ TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   EXPECT_EQ(j["format"], "proprio.selfsupervise");
   EXPECT_EQ(j["classes"].size(), 2U);
   EXPECT_TRUE(j["ground_truth"].contains("mot_confusion"));
+  EXPECT_FALSE(j["ground_truth"].contains("colour_accuracy"));  // only with --colour-words
   EXPECT_EQ(j["ground_truth"]["objects"].size(), 2U);
   EXPECT_TRUE(fs::exists(dir() / "run" / "decisions.jsonl"));
   EXPECT_TRUE(fs::exists(dir() / "run" / "selfsupervise.json"));
@@ -67,6 +73,34 @@ TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
       run_cli("selfsupervise --objects book,bottle" + inputs() + " --out " + file("run"));
   EXPECT_EQ(again.code, 2);
   EXPECT_HAS(again.err, "already exists");
+}
+
+TEST_F(SelfSuperviseCli, ColourWordsScoreCByTheColourWordsBesideTheMixtureOfTopics) {
+  // --colour-words: c also by the colour words alone, printed and in the JSON beside the MoT's;
+  // --mot-classifier colour makes it the held-out figure (c) itself.
+  const std::string run =
+      "selfsupervise --objects book,bottle --pushes 1 --clear-pushes 1 --views blob --held-out 3 "
+      "--width 160 --height 120 --step 4 --min-features 3 --seed 3 -q --colour-words" +
+      inputs("colour.lda");
+  const auto r = run_cli(run + " --out " + file("col") + " --json " + file("col.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const core::Json g = core::read_json(dir() / "col.json")["ground_truth"];
+  ASSERT_TRUE(g.contains("colour_accuracy")) << g.dump();
+  const double colour = g["colour_accuracy"].get<double>();
+  EXPECT_HAS(r.out, core::printf_string("held-out accuracy: Mixture of Topics %.1f%%, argmax "
+                                        "theta %.1f%%, colour %.1f%%",
+                                        100 * g["mot_accuracy"].get<double>(),
+                                        100 * g["argmax_accuracy"].get<double>(), 100 * colour));
+  ASSERT_EQ(g["objects"].size(), 2U);
+  EXPECT_TRUE(g["objects"][0].contains("colour_accuracy"));
+  const auto c = run_cli(run + " --mot-classifier colour --out " + file("colc") + " --json " +
+                         file("colc.json"));
+  ASSERT_EQ(c.code, 0) << c.err;
+  const core::Json h = core::read_json(dir() / "colc.json");
+  EXPECT_EQ(h["options"]["mot_classifier"], "colour");
+  EXPECT_EQ(h["ground_truth"]["mot_accuracy"].get<double>(), colour);
+  EXPECT_EQ(h["ground_truth"]["colour_accuracy"].get<double>(), colour);
+  EXPECT_EQ(h["ground_truth"]["argmax_accuracy"], g["argmax_accuracy"]);
 }
 
 TEST_F(SelfSuperviseCli, MoreRoundsThanObjectsAreMergedIntoTwoClasses) {
@@ -170,6 +204,9 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
        file("m.lda") + ": 24 words, but --colour-words needs the vocabulary's 24 + 28"},
       {"--objects book,cd --colour-words --oracle-ladder" + inputs() + out,
        "colour words do not go with the oracle ladder"},
+      // c by the colour words alone needs them.
+      {"--objects book,cd --mot-classifier colour" + inputs() + out,
+       "mot_classifier colour scores by the colour words alone: it needs colour_words"},
   };
   for (const auto& c : cases) {
     const auto r = run_cli("selfsupervise " + c.args);

@@ -1424,10 +1424,74 @@ TableRun learn_on_table(const SelfSupervisionOptions& o, const std::filesystem::
   sim::TableOptions t = table_of(o);
   t.record_masks = masks;
   sim::SimulatedRobot robot(t, catalogue);
-  r.tiny = tiny_model(robot.look().image);
+  r.tiny = tiny_model(robot.look().image, o.document_colour());  // colour_words: V + 28 words
   r.attendant = std::make_unique<GroundTruthAttendant>(robot, o.seed);
   r.l = learn_by_pushing(robot, *r.attendant, 2, r.tiny->lda, r.tiny->vocabulary, o, dir);
   return r;
+}
+
+// With colour words c is also scored by the colour words alone (classify_by_colour), on the same
+// held-out views and classes as the theta figure; mot_classifier colour makes it c itself.
+TEST(SelfSupervision, ColourWordsScoreCAlsoByTheColourWordsAlone) {
+  SelfSupervisionOptions o = small_options();
+  o.colour_words = true;
+  TableRun run = learn_on_table(o, {}, false);
+  const Learning& l = run.l;
+  ASSERT_GT(l.model.num_classes(), 0);
+  const std::vector<std::string> objects{"book", "bottle"};
+  const SelfSupervisionScore s =
+      score_self_supervision(l, *run.attendant, objects, run.tiny->lda, run.tiny->vocabulary, o);
+  ASSERT_TRUE(s.colour_accuracy.has_value());
+  int right = 0;
+  int all = 0;
+  for (const ObjectScore& os : s.objects) {
+    ASSERT_TRUE(os.colour_accuracy.has_value()) << os.name;
+    EXPECT_GE(*os.colour_accuracy, 0.0);
+    EXPECT_LE(*os.colour_accuracy, 1.0);
+    right += static_cast<int>(std::lround(*os.colour_accuracy * os.held_out));
+    all += os.held_out;
+  }
+  ASSERT_GT(all, 0);
+  EXPECT_DOUBLE_EQ(*s.colour_accuracy, static_cast<double>(right) / all);
+  const core::Json j = core::fields_to_json(s);
+  EXPECT_EQ(j["colour_accuracy"].get<double>(), *s.colour_accuracy);
+  EXPECT_EQ(j["objects"][0]["colour_accuracy"].get<double>(), *s.objects[0].colour_accuracy);
+  // mot_classifier colour: c (and its confusion) by the colour words; theta's argmax unchanged.
+  SelfSupervisionOptions q = o;
+  q.mot_classifier = MotClassifier::kColour;
+  const SelfSupervisionScore c =
+      score_self_supervision(l, *run.attendant, objects, run.tiny->lda, run.tiny->vocabulary, q);
+  EXPECT_DOUBLE_EQ(c.mot_accuracy, *s.colour_accuracy);
+  EXPECT_DOUBLE_EQ(*c.colour_accuracy, *s.colour_accuracy);
+  EXPECT_DOUBLE_EQ(c.argmax_accuracy, s.argmax_accuracy);
+  for (std::size_t oi = 0; oi < objects.size(); ++oi) {
+    EXPECT_DOUBLE_EQ(c.objects[oi].mot_accuracy, *s.objects[oi].colour_accuracy) << oi;
+  }
+  int diagonal = 0;  // the confusion's cells of each object's own classes
+  for (std::size_t oi = 0; oi < objects.size(); ++oi) {
+    for (std::size_t m = 0; m < c.mot.columns.size(); ++m) {
+      if (c.mot.columns[m].find("(" + objects[oi] + ")") != std::string::npos) {
+        diagonal += c.mot.counts[oi][m];
+      }
+    }
+  }
+  EXPECT_EQ(diagonal, right);
+  // A learning without its views' words (learn's scoring keeps none): no colour figure, and
+  // c by colour cannot be scored.
+  Learning bare = l;
+  bare.views.words = topics::Corpus(l.views.words.num_words());
+  const SelfSupervisionScore b =
+      score_self_supervision(bare, *run.attendant, objects, run.tiny->lda, run.tiny->vocabulary, o);
+  EXPECT_FALSE(b.colour_accuracy.has_value());
+  EXPECT_FALSE(b.objects[0].colour_accuracy.has_value());
+  EXPECT_DOUBLE_EQ(b.mot_accuracy, s.mot_accuracy);
+  EXPECT_THROW((void)score_self_supervision(bare, *run.attendant, objects, run.tiny->lda,
+                                            run.tiny->vocabulary, q),
+               Error);
+  // validate(): colour needs colour words.
+  EXPECT_NO_THROW(q.validate());
+  q.colour_words = false;
+  EXPECT_THROW(q.validate(), Error);
 }
 
 // recheck_tries on the simulated table: after (b) of every round with a learned class the chosen
@@ -2158,7 +2222,8 @@ TEST(SelfSupervision, OracleLadderIsScoredOnTheSameRun) {
   EXPECT_LE(s.ladder->rungs[5].training_views, static_cast<int>(l.views.labels.size()));
   EXPECT_DOUBLE_EQ(s.ladder->rungs.back().accuracy, s.mot_accuracy);
   EXPECT_NO_THROW((void)core::fields_to_json(s).dump());
-  EXPECT_FALSE(s.pooled.has_value());  // pooled_score off: no pooled figures
+  EXPECT_FALSE(s.pooled.has_value());           // pooled_score off: no pooled figures
+  EXPECT_FALSE(s.colour_accuracy.has_value());  // no colour words: no colour figure
   // The pooled words classifier learns from the same views: one document a training view, of
   // the view's own length.
   ASSERT_EQ(l.views.words.num_documents(), l.views.labels.size());
@@ -2426,6 +2491,71 @@ TEST(SelfSupervision, WeightedWordMultinomialsKnownAnswers) {
   const Eigen::MatrixXd lc = colour_multinomials(coloured, std::vector<int>{0, 0, 0}, 1, 3);
   EXPECT_NEAR(lc(0, 0), std::log((4.0 / 3 + 1) / (2 + 2 + 2.0)), 1e-12);
   EXPECT_NEAR(lc(0, 1), std::log((2.0 / 3 + 2 + 1) / (2 + 2 + 2.0)), 1e-12);
+}
+
+TEST(SelfSupervision, ClassifyByColourIsNaiveBayesOnTheColourWordsWithTheMotPrior) {
+  // Words 0-2 are SIFT words, 3 and 4 colour words. Class 0's three views are colour 3 (2, 1 and
+  // 1 tokens), class 1's two views colour 4, and their SIFT words alike. The prior (views) is
+  // 3/5 and 2/5. The colour corpus's views have 6 tokens, 1.2 the mean: weights 0.6, 1.2, 1.2,
+  // 1.2, 1.2, so class 0's colour counts are 1 + 1.2 + 1.2 + 1.2 = 4.6 and 1 (add-one), class
+  // 1's 1 and 1 + 2.4 = 3.4.
+  topics::Corpus training(5);
+  training.add_tokens(std::vector<std::int32_t>{0, 1, 3, 3});
+  training.add_tokens(std::vector<std::int32_t>{0, 3});
+  training.add_tokens(std::vector<std::int32_t>{1, 3});
+  training.add_tokens(std::vector<std::int32_t>{0, 1, 4});
+  training.add_tokens(std::vector<std::int32_t>{0, 4});
+  const std::vector<int> labels{0, 0, 0, 1, 1};
+  topics::BatchLdaOptions bo;
+  bo.num_topics = 2;
+  bo.seed = 3;
+  const topics::LdaModel lda = topics::train_batch_lda(training, bo).model;
+  const topics::MotModel model =
+      topics::fit_mot(recognition::document_theta(lda, training).theta, labels, {"c0", "c1"}, {})
+          .model;
+  const Eigen::VectorXd lp = model.log_prior();
+  ASSERT_NEAR(lp(0), std::log(0.6), 1e-12);
+  ASSERT_NEAR(lp(1), std::log(0.4), 1e-12);
+  const Eigen::MatrixXd lc = colour_multinomials(training, labels, 2, 3);
+  ASSERT_EQ(lc.rows(), 2);
+  ASSERT_EQ(lc.cols(), 2);
+  const double l0 = std::log(4.6 / 5.6);
+  const double l1 = std::log(1 / 5.6);
+  const double k0 = std::log(1 / 4.4);
+  const double k1 = std::log(3.4 / 4.4);
+  EXPECT_NEAR(lc(0, 0), l0, 1e-12);
+  EXPECT_NEAR(lc(0, 1), l1, 1e-12);
+  EXPECT_NEAR(lc(1, 0), k0, 1e-12);
+  EXPECT_NEAR(lc(1, 1), k1, 1e-12);
+  // Held out: one colour-3 token (class 0); two colour-4 tokens with class 0's SIFT words
+  // (class 1: the SIFT words count for nothing); one colour-4 token (class 1: its p(w | c) is
+  // 4.3 times class 0's, the prior's odds 1.5); no colour word (the prior's class, 0).
+  topics::Corpus held(5);
+  held.add_tokens(std::vector<std::int32_t>{2, 3});
+  held.add_tokens(std::vector<std::int32_t>{0, 0, 1, 4, 4});
+  held.add_tokens(std::vector<std::int32_t>{2, 4});
+  held.add_tokens(std::vector<std::int32_t>{0, 1, 2});
+  const topics::MotClassification c = classify_by_colour(model, lc, held, 3);
+  EXPECT_EQ(c.predicted, (std::vector<int>{0, 1, 1, 0}));
+  const double p0 = std::log(0.6);
+  const double p1 = std::log(0.4);
+  const Eigen::MatrixXd want = (Eigen::MatrixXd(4, 2) << p0 + l0, p1 + k0, p0 + 2 * l1, p1 + 2 * k1,
+                                p0 + l1, p1 + k1, p0, p1)
+                                   .finished();
+  ASSERT_EQ(c.log_score.rows(), 4);
+  ASSERT_EQ(c.log_score.cols(), 2);
+  EXPECT_LT((c.log_score - want).cwiseAbs().maxCoeff(), 1e-12) << c.log_score;
+  EXPECT_NEAR(c.posterior.row(0).sum(), 1.0, 1e-12);
+  // The same classes as learn's colour figure (pool_word_multinomials at weight 1 with the MoT's
+  // scores by words, whose term then weighs nothing).
+  const topics::MotClassification learn_way = topics::pool_word_multinomials(
+      model, topics::classify_mot_words(model, lda, held), lc, words_from(held, 3), 1.0);
+  EXPECT_EQ(learn_way.predicted, c.predicted);
+  EXPECT_LT((learn_way.log_score - c.log_score).cwiseAbs().maxCoeff(), 1e-9);
+  // Bad input: colour words from past the documents' words; multinomials of another size.
+  EXPECT_THROW((void)classify_by_colour(model, lc, held, 5), Error);
+  EXPECT_THROW((void)classify_by_colour(model, lc, held, 2), Error);  // 3 words, lc has 2
+  EXPECT_THROW((void)classify_by_colour(model, lc.topRows(1), held, 3), Error);
 }
 
 TEST(SelfSupervision, PushedMostNamesByPushesThenViewsThenName) {

@@ -65,9 +65,16 @@ enum class MotClassifier {
   /// (topics::pool_word_multinomials at SelfSupervisionOptions::mot_word_weight; the classifier
   /// that met issue 17 on the scatter videos, docs/results/mot.md session 22).
   kPooled,
+  /// The colour words alone (SelfSupervisionOptions::colour_words, which validate() requires):
+  /// naive Bayes on each view's colour words with the MoT's prior p(c), each class's colour
+  /// multinomial from its training views weighing alike (classify_by_colour; learn's
+  /// LearnWordScore::colour, session 39 of docs/results/learn.md).
+  kColour,
 };
-inline constexpr core::ChoiceNames<MotClassifier, 2> kMotClassifierNames{
-    {{"theta", MotClassifier::kTheta}, {"pooled", MotClassifier::kPooled}}};
+inline constexpr core::ChoiceNames<MotClassifier, 3> kMotClassifierNames{
+    {{"theta", MotClassifier::kTheta},
+     {"pooled", MotClassifier::kPooled},
+     {"colour", MotClassifier::kColour}}};
 
 /// How (d) chooses the next object to learn.
 enum class NextObjectRule {
@@ -451,7 +458,8 @@ struct SelfSupervisionOptions {
   /// words), so the LDA model must have the vocabulary's words + 28 (`proprio recognize train
   /// --colour-words`). Off (the default): SIFT words only, as the thesis. `proprio learn
   /// --colour-words` sets it for its scoring. validate() refuses it with the oracle ladder and
-  /// the own-model rungs, whose documents are SIFT words only.
+  /// the own-model rungs, whose documents are SIFT words only. Scoring: c is then also scored by
+  /// the colour words alone (SelfSupervisionScore::colour_accuracy, beside the theta figure).
   bool colour_words = false;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
@@ -610,7 +618,8 @@ struct SelfSupervisionOptions {
       {"ladder_probes", "With oracle_ladder: also probe push frames against renders (p_* rungs)"});
     v.choice(self.mot_classifier,
              {"mot_classifier",
-              "Held-out figure's classifier: theta (eq 7.3) or pooled (words + multinomials)"},
+              "Held-out figure's classifier: theta (eq 7.3), pooled (words + multinomials) or "
+              "colour (the colour words alone; needs colour_words)"},
              kMotClassifierNames);
     v(self.mot_word_weight, {"mot_word_weight", "Pooled classifier: weight of the multinomials",
                              core::between(0.0, 1.0)});

@@ -27,6 +27,7 @@
 #include "proprio/recognition/confusion.hpp"
 #include "proprio/sim/simulated_robot.hpp"
 #include "proprio/topics/lda_model.hpp"
+#include "proprio/topics/mixture_of_topics.hpp"
 
 namespace proprio::loop {
 
@@ -177,6 +178,17 @@ topics::Corpus words_from(const topics::Corpus& corpus, int first);
 Eigen::MatrixXd colour_multinomials(const topics::Corpus& training, std::span<const int> labels,
                                     int classes, int colour_from);
 
+/// The colour classifier on `held` (documents of the vocabulary's words, then the colour words
+/// from `colour_from` on): naive Bayes on each document's colour words (words_from) under
+/// `log_colour` (colour_multinomials, one row a class of `model`) with the model's prior p(c):
+/// topics::pool_word_multinomials at weight 1, whose MoT term then weighs nothing (so it is not
+/// computed); the same classes as learn's LearnWordScore::colour. A document without colour words
+/// gets the prior's class. Throws Error as words_from, and when log_colour's size is not the
+/// model's classes x the colour words.
+topics::MotClassification classify_by_colour(const topics::MotModel& model,
+                                             const Eigen::MatrixXd& log_colour,
+                                             const topics::Corpus& held, int colour_from);
+
 /// 1 / (views of its group) for each view, its group the pair (labels[i], push[i]): every push's
 /// views weigh 1 together. Throws Error when labels and push differ in number.
 std::vector<double> counts_once(std::span<const int> labels, std::span<const int> push);
@@ -199,8 +211,10 @@ struct ObjectScore {
   int held_out = 0;            ///< held-out views with features
   double mot_accuracy = 0;     ///< of them, right by the Mixture of Topics
   double argmax_accuracy = 0;  ///< right by argmax theta (merged topics)
-  int learn_pushes = 0;        ///< executed learn pushes (7.2 c) aimed at it
-  int chosen = 0;              ///< rounds whose (a)/(d) chose it
+  /// SelfSupervisionOptions::colour_words: right by the colour words alone (classify_by_colour).
+  std::optional<double> colour_accuracy;
+  int learn_pushes = 0;  ///< executed learn pushes (7.2 c) aimed at it
+  int chosen = 0;        ///< rounds whose (a)/(d) chose it
   /// Mean turn of it per executed learn push aimed at it (PushTruth::turn_deg), degrees.
   double turn_deg = 0;
   /// Executed pushes aimed at it (both phases), and of them those it stood before and lay after
@@ -221,6 +235,7 @@ struct ObjectScore {
     v(self.held_out, {"held_out", "Held-out views with features"});
     v(self.mot_accuracy, {"mot_accuracy", "Of them, right by the Mixture of Topics"});
     v(self.argmax_accuracy, {"argmax_accuracy", "Right by argmax theta"});
+    v(self.colour_accuracy, {"colour_accuracy", "Right by the colour words alone"});
     v(self.learn_pushes, {"learn_pushes", "Executed learn pushes aimed at it"});
     v(self.chosen, {"chosen", "Rounds that chose it"});
     v(self.turn_deg, {"turn_deg", "Mean turn per learn push aimed at it, degrees"});
@@ -330,6 +345,12 @@ struct SelfSupervisionScore {
   recognition::ConfusionMatrix argmax;  ///< the same by argmax theta
   double mot_accuracy = 0;              ///< held-out views classified as their object
   double argmax_accuracy = 0;
+  /// SelfSupervisionOptions::colour_words: the held-out figure (c) by the colour words alone
+  /// (classify_by_colour, MotClassifier::kColour), on the same views and classes as
+  /// mot_accuracy (a paired comparison); with mot_classifier colour the two are equal. Absent
+  /// when the learning kept no view words (Learning::views.words: learn's scoring, which has
+  /// its own, LearnWordScore::colour); 0 when nothing was learned.
+  std::optional<double> colour_accuracy;
   /// SelfSupervisionOptions::pooled_score: the held-out figure (c) by the pooled words
   /// classifier at each of kPooledWeights, then at mot_word_weight with pushes counted once.
   std::optional<std::vector<PooledFigure>> pooled;
@@ -355,6 +376,7 @@ struct SelfSupervisionScore {
     v(self.purity, {"purity", "Purity of all training views"});
     v(self.mot_accuracy, {"mot_accuracy", "Held-out views classified as their object"});
     v(self.argmax_accuracy, {"argmax_accuracy", "The same by argmax theta"});
+    v(self.colour_accuracy, {"colour_accuracy", "The same by the colour words alone"});
     v(held_out_confusion_json(self.mot, self.mot_accuracy),
       {"mot_confusion", "Held out: true objects x learned classes"});
     v(held_out_confusion_json(self.argmax, self.argmax_accuracy),
