@@ -256,6 +256,9 @@ RegionFate carry_region(const cv::Mat& region, const cv::Point2d& shift,
 LearnOptions LearnOptions::resolved() const {
   LearnOptions o = *this;
   if (o.candidates == LearnCandidates::kDepth) o.depth = true;  // candidates need the depth image
+  if (o.headline == LearnHeadline::kAuto) {
+    o.headline = o.colour_words ? LearnHeadline::kColour : LearnHeadline::kPooled;
+  }
   if (!quick) return o;
   const LearnOptions d;
   if (o.pushes == d.pushes) o.pushes = o.quick_pushes;
@@ -2561,6 +2564,8 @@ std::optional<LearnHeadlineFigure> learn_headline(LearnHeadline headline,
       });
       return h;
     }
+    case LearnHeadline::kAuto:  // resolved() replaces it before a run is scored
+      return std::nullopt;
     case LearnHeadline::kColour: {
       if (!words || !words->colour) return std::nullopt;
       h.classifier = "colour";

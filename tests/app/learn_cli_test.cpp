@@ -183,22 +183,25 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   EXPECT_HAS(r.out, core::printf_string("coverage (turns that pushed it as the intended object): "
                                         "book %d, %d of 1 named objects covered",
                                         turns, turns > 0 ? 1 : 0));
-  // The headline is the pooled words classifier with the pooled counts by default (--headline
-  // pooled, session 32's rule): the same figure in the printout, learn.json and the page.
-  EXPECT_EQ(j["options"]["headline"], "pooled");
+  // The headline is the colour words alone by default with colour words (--headline auto,
+  // session 39's third rule): the same figure in the printout, learn.json and the page; the
+  // pooled words classifier is still scored and printed beside it.
+  EXPECT_EQ(j["options"]["headline"], "colour");  // the working options: auto resolved
   EXPECT_FALSE(j["options"]["mot_word_per_view"].get<bool>());
   EXPECT_FALSE(j["options"]["ladder_pooled"].get<bool>());  // session 33: off by default
-  EXPECT_EQ(j["headline"]["classifier"], "pooled");
+  EXPECT_EQ(j["headline"]["classifier"], "colour");
+  const double colour = j["held_out_words"]["colour"].get<double>();
+  EXPECT_EQ(j["headline"]["accuracy"].get<double>(), colour);
+  EXPECT_HAS(r.out, core::printf_string("held-out accuracy (headline, colour words (per-view "
+                                        "colour multinomials)): %.1f%%",
+                                        100 * colour));
   const double pooled = j["held_out_words"]["pooled"].get<double>();
-  EXPECT_EQ(j["headline"]["accuracy"].get<double>(), pooled);
-  EXPECT_HAS(r.out, core::printf_string("held-out accuracy (headline, pooled words (weight 0.25, "
-                                        "pooled counts)): %.1f%%",
-                                        100 * pooled));
+  EXPECT_HAS(r.out, core::printf_string("(weight 0.25) %.1f%%", 100 * pooled));
   const std::string page = core::read_file(dir() / "moving" / "report.html");
   EXPECT_HAS(page, core::printf_string("Mixture of Topics <b>%.1f%%</b>", 100 * acc));
-  EXPECT_HAS(page, core::printf_string("held-out accuracy (headline, pooled words (weight 0.25, "
-                                       "pooled counts)) <b>%.1f%%</b>",
-                                       100 * pooled));
+  EXPECT_HAS(page, core::printf_string("held-out accuracy (headline, colour words (per-view "
+                                       "colour multinomials)) <b>%.1f%%</b>",
+                                       100 * colour));
 }
 
 TEST_F(LearnCli, BadInputIsOneLineAndExit2) {

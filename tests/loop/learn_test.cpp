@@ -54,10 +54,9 @@ TEST(Learn, QuickMakesTheRunSmall) {
   LearnOptions o;
   o.quick = true;
   const LearnOptions q = o.resolved();
-  EXPECT_LT(q.pushes, o.pushes);
   EXPECT_LT(q.width, o.width);
   EXPECT_LT(q.words, o.words);
-  EXPECT_EQ(q.pushes, 3);  // quick_pushes' default
+  EXPECT_EQ(q.pushes, 6);  // quick_pushes' default (session 39's third rule; 3 before)
   o.quick_pushes = 9;      // session 35: more pushes a turn at quick's size
   EXPECT_EQ(o.resolved().pushes, 9);
   EXPECT_EQ(o.resolved().width, q.width);  // the rest stays quick
@@ -150,7 +149,16 @@ TEST(Learn, BadOptionsThrow) {
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
   EXPECT_FALSE(o.mot_word_per_view);              // session 32: the pooled counts
-  EXPECT_EQ(o.headline, LearnHeadline::kPooled);  // session 32's rule (was the MoT)
+  // Session 39's third rule: the colour words alone with colour words (the default), the pooled
+  // classifier without them (session 32's rule; the MoT before).
+  EXPECT_EQ(o.headline, LearnHeadline::kAuto);
+  EXPECT_EQ(o.resolved().headline, LearnHeadline::kColour);
+  o.colour_words = false;
+  EXPECT_EQ(o.resolved().headline, LearnHeadline::kPooled);
+  EXPECT_NO_THROW(o.resolved().validate());
+  o.headline = LearnHeadline::kMot;  // a headline given is kept
+  EXPECT_EQ(o.resolved().headline, LearnHeadline::kMot);
+  o = LearnOptions();
   EXPECT_DOUBLE_EQ(o.mot_word_weight, 0.25);
   o.mot_word_weight = -0.01;
   EXPECT_THROW(o.validate(), Error);
@@ -162,7 +170,7 @@ TEST(Learn, BadOptionsThrow) {
   o.dense.touch_fm = 1.1;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
-  EXPECT_DOUBLE_EQ(o.region_agree, 0.0);  // off by default (session 34)
+  EXPECT_DOUBLE_EQ(o.region_agree, 0.08);  // session 39's third rule (off before)
   o.region_agree = -0.01;
   EXPECT_THROW(o.validate(), Error);
   o.region_agree = 0.51;

@@ -78,13 +78,15 @@ enum class LearnHeadline {
   kArgmax,  ///< argmax theta (merged topics; ground_truth.argmax_accuracy)
   kPooled,  ///< the MoT by words pooled with the word multinomials (held_out_words; the
             ///< multinomials of LearnOptions::mot_word_per_view)
-  kColour   ///< the colour words alone (held_out_words' colour; needs colour words)
+  kColour,  ///< the colour words alone (held_out_words' colour; needs colour words)
+  kAuto     ///< colour with colour words, else pooled (LearnOptions::resolved() picks)
 };
-inline constexpr core::ChoiceNames<LearnHeadline, 4> kLearnHeadlineNames{
+inline constexpr core::ChoiceNames<LearnHeadline, 5> kLearnHeadlineNames{
     {{"mot", LearnHeadline::kMot},
      {"argmax", LearnHeadline::kArgmax},
      {"pooled", LearnHeadline::kPooled},
-     {"colour", LearnHeadline::kColour}}};
+     {"colour", LearnHeadline::kColour},
+     {"auto", LearnHeadline::kAuto}}};
 
 /// Where the putative objects offered to 7.2 (d) come from.
 enum class LearnCandidates {
@@ -309,9 +311,12 @@ struct LearnOptions {
   /// beside it: over 16 learn runs 96 of the 131 pushes aimed at another object than the turn
   /// chose were located so, and an earlier turn's region lying on an object never pushed was the
   /// tuning seeds' largest cause of skipped candidates (docs/results/learn.md, "Session 33").
-  /// 0: off (the default): on 20 fresh seeds (session 36) 0.08 changed the held-out headline by
-  /// -0.9 +- 8.5 points at --quick and -6.5 +- 18.2 in the demo's mode (10 seeds).
-  double region_agree = 0;
+  /// 0: off (the default until session 39: on 20 fresh seeds in session 36, before colour
+  /// words, 0.08 changed the held-out headline by -0.9 +- 8.5 points at --quick and -6.5 +-
+  /// 18.2 in the demo's mode, 10 seeds).
+  /// 0.08 by default since session 39's third rule (with quick_pushes 6 and the colour
+  /// headline, on fresh seeds 131-150: docs/results/learn.md "Session 39").
+  double region_agree = 0.08;
   /// region_agree's lost object (session 34, second round): the turn does not end but chooses
   /// again among the look's blobs by the usual choice (7.2 d: the blob least like the objects
   /// learned before this turn; logged `rechoose`, "region_agree: lost ..."), and its remaining
@@ -367,15 +372,16 @@ struct LearnOptions {
   }
   int topics = 10;  ///< LDA topics (when no --model is given)
   int words = 200;  ///< vocabulary words (when no --vocabulary is given)
-  /// Small and fast: quick_pushes (3) pushes an object, 240 x 180 images, 100 words, 6 topics,
+  /// Small and fast: quick_pushes (6) pushes an object, 240 x 180 images, 100 words, 6 topics,
   /// each only where that option holds its default (resolved()): a value given equal to its
   /// default (e.g. `--quick --pushes 6`) cannot be told from one not given and becomes the quick
-  /// one; `--quick --quick-pushes 6` gives 6 pushes an object.
+  /// one; `--quick --quick-pushes 3` gives 3 pushes an object.
   bool quick = false;
   /// Pushes of each object under `quick` where `pushes` holds its default (session 35: `--quick
   /// --pushes 6` gave 3 pushes, so 6 pushes a turn could not be measured at quick's size).
-  /// 3: 6 lost on 20 fresh seeds (session 36: -5.7 +- 7.2 points, more named objects unseen).
-  int quick_pushes = 3;
+  /// 3 until session 39 (alone, 6 lost on 20 fresh seeds in session 36: -5.7 +- 7.2 points).
+  /// 6 since session 39's third rule (with region_agree 0.08 and the colour headline).
+  int quick_pushes = 6;
   /// Dense by default: its views were purer (docs/results/learn-history.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
   DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
@@ -413,7 +419,9 @@ struct LearnOptions {
   /// learn.json whichever it is. Pooled by session 32's rule: on the report seeds 2-7 --quick the
   /// pooled classifier (counts, 0.25) scored 25.0 % against the MoT's 22.7 %, lower on 2 of 6
   /// seeds (paired +2.3 +- 10.3 points; docs/results/learn-history.md "Session 32").
-  LearnHeadline headline = LearnHeadline::kPooled;
+  /// "auto" (the default since session 39's third rule, `learn/rule-s39-p6-colour.md`): the
+  /// colour words alone ("colour") when colour words are on, else "pooled".
+  LearnHeadline headline = LearnHeadline::kAuto;
   /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
   bool oracle_ladder = false;
   /// Scoring, with oracle_ladder only: every rung (and c) is also scored by the pooled words
