@@ -598,7 +598,8 @@ struct LearnOptions {
     v.choice(self.headline,
              {"headline",
               "Scoring: the held-out figure given first: mot, argmax, pooled (the pooled "
-              "words classifier) or colour (the colour words alone)"},
+              "words classifier), colour (the colour words alone) or auto (colour with colour "
+              "words, else pooled)"},
              kLearnHeadlineNames);
     v(self.oracle_ladder,
       {"oracle_ladder", "Also score the oracle ladder (ground-truth masks and labels)"});
