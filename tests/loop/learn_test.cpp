@@ -148,7 +148,7 @@ TEST(Learn, BadOptionsThrow) {
   o.start_clearance = 0.3;
   EXPECT_THROW(o.validate(), Error);
   o = LearnOptions();
-  EXPECT_FALSE(o.mot_word_per_view);              // session 32: the pooled counts
+  EXPECT_FALSE(o.mot_word_per_view);  // session 32: the pooled counts
   // Session 39's third rule: the colour words alone with colour words (the default), the pooled
   // classifier without them (session 32's rule; the MoT before).
   EXPECT_EQ(o.headline, LearnHeadline::kAuto);
@@ -178,9 +178,9 @@ TEST(Learn, BadOptionsThrow) {
   o = LearnOptions();
   EXPECT_FALSE(o.lost_rechoose);  // off by default (session 34, second round)
   o.lost_rechoose = true;         // acts on region_agree's lost object only
+  EXPECT_NO_THROW(o.validate());  // region_agree 0.08 by default (session 39)
+  o.region_agree = 0;
   EXPECT_THROW(o.validate(), Error);
-  o.region_agree = 0.08;
-  EXPECT_NO_THROW(o.validate());
   o = LearnOptions();
   EXPECT_DOUBLE_EQ(o.moving_wait, 0.0);  // off by default (session 37)
   for (const double bad : {-0.1, 5.01, std::nan(""), HUGE_VAL}) {
@@ -959,6 +959,7 @@ TEST(Learn, HoldTargetAimsTheNextPushAtTheBlobWhereThePushMeantToLandTheObject) 
     const LearnResult r = t.run(out, 1, [&](LearnOptions& o) {
       o.pushes = 3;
       o.hold_target = hold;
+      o.region_agree = 0;  // its own hold comes first (the default since session 39)
     });
     ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
     const core::Json rec = core::read_json(out / "learn.json");
@@ -1166,8 +1167,9 @@ TEST(Learn, PassesAreValidated) {
   o.passes = 2;
   EXPECT_NO_THROW(o.validate());
   o.revisit_top_down = true;  // needs region_agree > 0 and passes > 1
+  o.region_agree = 0;
   EXPECT_THROW(o.validate(), Error);
-  o.region_agree = 0.08;
+  o.region_agree = 0.08;  // the default since session 39
   EXPECT_NO_THROW(o.validate());
   o.passes = 1;
   EXPECT_THROW(o.validate(), Error);
@@ -1188,6 +1190,7 @@ TEST(Learn, KeepInReachKeepsEveryPushTargetInsideTheAreaTheArmCanPushAgain) {
       o.learn_clutter = false;
       o.pushes = 8;
       o.keep_in_reach = keep;
+      o.region_agree = 0;  // as measured (session 27); a lost object would end the turn
     });
     ASSERT_GT(r.summary.views, 0) << events_of(out / "decisions.jsonl");
     const core::Json rec = core::read_json(out / "learn.json");
