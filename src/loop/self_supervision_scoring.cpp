@@ -1162,10 +1162,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   if (mot.num_classes() > 0) {
     mapping = recognition::map_topics(learning.views.theta, train_labels, mot.num_classes());
   }
-  // The pooled words classifier's multinomials from the training views' words (model classes).
-  const bool want_words = options.pooled_score || options.mot_classifier == MotClassifier::kPooled;
-  Eigen::MatrixXd log_phi;
-  if (want_words && mot.num_classes() > 0) {
+  // The training views' words (the pooled and colour classifiers) are one document a view.
+  const auto check_view_words = [&learning] {
     if (static_cast<Eigen::Index>(learning.views.words.num_documents()) !=
         learning.views.theta.rows()) {
       throw Error(core::cat(
@@ -1173,6 +1171,12 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
            " view documents for ", std::to_string(learning.views.theta.rows()),
            " training views"}));
     }
+  };
+  // The pooled words classifier's multinomials from the training views' words (model classes).
+  const bool want_words = options.pooled_score || options.mot_classifier == MotClassifier::kPooled;
+  Eigen::MatrixXd log_phi;
+  if (want_words && mot.num_classes() > 0) {
+    check_view_words();
     log_phi = weighted_word_multinomials(learning.views.words, train_labels, mot.num_classes());
   }
   // With colour words: each class's colour multinomial from its views, every view weighing alike
@@ -1190,13 +1194,7 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
   const int colour_from = vocabulary.size();
   Eigen::MatrixXd log_colour;
   if (by_colour) {
-    if (static_cast<Eigen::Index>(learning.views.words.num_documents()) !=
-        learning.views.theta.rows()) {
-      throw Error(core::cat(
-          {"selfsupervise scoring: ", std::to_string(learning.views.words.num_documents()),
-           " view documents for ", std::to_string(learning.views.theta.rows()),
-           " training views"}));
-    }
+    check_view_words();
     log_colour =
         colour_multinomials(learning.views.words, train_labels, mot.num_classes(), colour_from);
   }

@@ -7,19 +7,12 @@ coverage ceiling (held-out views of objects some class of the model is named aft
 classifier scores above it), and per object c / colour; then the paired mean with a 95% t interval.
 """
 import json
-import math
+import os
 import sys
 
-T95 = {2: 12.71, 3: 4.30, 4: 3.18, 5: 2.78, 6: 2.57, 7: 2.45}
-
-
-def ci(v):
-    n = len(v)
-    m = sum(v) / n
-    if n < 2:
-        return m, 0.0
-    sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1))
-    return m, T95.get(n, 2.0) * sd / math.sqrt(n)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..",
+                                "scripts"))
+from oracle_ladder_table import ci  # noqa: E402
 
 
 d, seeds = sys.argv[1], sys.argv[2].split()
