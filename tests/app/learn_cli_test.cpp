@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "../support/temp_dir.hpp"
@@ -40,7 +41,7 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   const auto r = run_cli(
       "learn --objects book --clutter bottle --background plain --pushes 2 --width 200 "
       "--height 150 --words 20 --topics 2 --held-out 3 --min-features 3 --seed 3 "
-      "--mot-word-weight 0.5 --mot-word-per-view --headline pooled -q --out " +
+      "--mot-word-weight 0.5 --mot-word-per-view --headline pooled --write-documents -q --out " +
       file("run") + " --json " + file("run.json"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "learned");
@@ -66,6 +67,72 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
   EXPECT_TRUE(fs::exists(run / "vocabulary.vocab"));
   EXPECT_TRUE(fs::exists(run / "lda.model"));
   EXPECT_TRUE(fs::exists(run / "model.mot"));
+  // --write-documents: every training view and every held-out view, one lda-c line each
+  // ("count word:count ..."), after a header naming the words (the vocabulary's and 28 colour
+  // words) and one line a model class.
+  {
+    std::istringstream in(core::read_file(run / "documents.txt"));
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "# proprio learn documents, version 1");
+    std::getline(in, line);
+    std::istringstream head(line);
+    std::string k1;
+    std::string k2;
+    std::string k3;
+    int words = 0;
+    int vocabulary = 0;
+    int classes = 0;
+    head >> k1 >> words >> k2 >> vocabulary >> k3 >> classes;
+    EXPECT_EQ(k1 + k2 + k3, "wordsvocabularyclasses");
+    EXPECT_GT(vocabulary, 0);
+    EXPECT_EQ(words, vocabulary + 28);  // colour words (the default)
+    int views = 0;
+    int held = 0;
+    int class_lines = 0;
+    while (std::getline(in, line)) {
+      std::istringstream f(line);
+      std::string kind;
+      std::string skip;
+      f >> kind;
+      if (kind == "class") {
+        ++class_lines;
+        continue;
+      }
+      if (kind == "view") {
+        ++views;
+        f >> skip >> skip >> skip >> skip;  // its class, push, intended object, object
+      } else if (kind == "held") {
+        ++held;
+        f >> skip;  // its object
+      } else {
+        ADD_FAILURE() << line;
+        continue;
+      }
+      int n = -1;
+      f >> n;
+      int pairs = 0;
+      std::string pair;
+      while (f >> pair) {
+        ++pairs;
+        const std::size_t colon = pair.find(':');
+        ASSERT_NE(colon, std::string::npos) << line;
+        const int w = std::stoi(pair.substr(0, colon));
+        EXPECT_TRUE(w >= 0 && w < words) << line;
+        EXPECT_GT(std::stoi(pair.substr(colon + 1)), 0) << line;
+      }
+      EXPECT_EQ(pairs, n) << line;
+    }
+    int want_views = 0;
+    for (const auto& o : j["objects"]) want_views += o["views"].get<int>();
+    EXPECT_EQ(views, want_views);
+    int want_held = 0;
+    for (const auto& o : j["held_out_words"]["objects"]) want_held += o["held_out"].get<int>();
+    EXPECT_GT(want_held, 0);
+    EXPECT_EQ(held, want_held);
+    EXPECT_EQ(class_lines, classes);
+    EXPECT_GT(classes, 0);
+  }
   double robot_seconds = 0;
   double perception = 0;
   for (const auto& p : j["pushes"]) {
@@ -164,7 +231,8 @@ TEST_F(LearnCli, TinyRunOnTheMovingBackdropCompletesAndWritesItsPage) {
   const core::Json j = core::read_json(dir() / "moving" / "learn.json");
   EXPECT_TRUE(j["complete"].get<bool>());
   EXPECT_EQ(j["options"]["background"], "moving");
-  EXPECT_TRUE(fs::exists(dir() / "moving" / "report.html"));  // written as the run's last step
+  EXPECT_TRUE(fs::exists(dir() / "moving" / "report.html"));     // written as the run's last step
+  EXPECT_FALSE(fs::exists(dir() / "moving" / "documents.txt"));  // --write-documents is off
   EXPECT_HAS(r.out, "report: ");
   // One held-out figure everywhere: the printout, learn.json and the page's summary.
   const std::string key = "held-out accuracy: Mixture of Topics ";
