@@ -2452,8 +2452,7 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
         right_grid_per_view[gi] += rgv;
       }
       if (colour) {
-        const int rc = right(topics::pool_word_multinomials(model, by_words, log_colour,
-                                                            words_from(docs, colour_from), 1.0));
+        const int rc = right(classify_by_colour(model, log_colour, docs, colour_from));
         ob.colour = static_cast<double>(rc) / ob.held_out;
         right_colour += rc;
       }
