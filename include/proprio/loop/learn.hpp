@@ -413,14 +413,14 @@ struct LearnOptions {
   /// against 25.0 %; docs/results/learn-history.md "Session 32").
   bool mot_word_per_view = false;
   /// Scoring: the held-out figure printed first, shown first in report.html and written as
-  /// learn.json's "headline": "pooled" (the pooled words classifier at mot_word_weight, with the
-  /// word multinomials of mot_word_per_view; the default since session 32), "mot" (the Mixture of
-  /// Topics by theta, the headline before) or "argmax" (argmax theta). Every figure is in
-  /// learn.json whichever it is. Pooled by session 32's rule: on the report seeds 2-7 --quick the
-  /// pooled classifier (counts, 0.25) scored 25.0 % against the MoT's 22.7 %, lower on 2 of 6
-  /// seeds (paired +2.3 +- 10.3 points; docs/results/learn-history.md "Session 32").
-  /// "auto" (the default since session 39's third rule, `learn/rule-s39-p6-colour.md`): the
-  /// colour words alone ("colour") when colour words are on, else "pooled".
+  /// learn.json's "headline": "auto" (the default since session 39's third rule,
+  /// docs/results/learn/rule-s39-p6-colour.md: resolved() makes it "colour" with colour words,
+  /// else "pooled"), "colour" (the colour words alone: LearnWordScore::colour), "pooled" (the
+  /// pooled words classifier at mot_word_weight, with the word multinomials of
+  /// mot_word_per_view; the default of sessions 32-38, by session 32's rule: on the report seeds
+  /// 2-7 --quick it scored 25.0 % against the MoT's 22.7 %), "mot" (the Mixture of Topics by
+  /// theta, the headline before) or "argmax" (argmax theta). Every figure is in learn.json
+  /// whichever it is.
   LearnHeadline headline = LearnHeadline::kAuto;
   /// Scoring: also the oracle ladder (SelfSupervisionOptions::oracle_ladder).
   bool oracle_ladder = false;
