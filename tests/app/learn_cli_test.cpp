@@ -308,6 +308,7 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --mot-word-weight 1.5" + out, "mot-word-weight"},
       {"--objects book --mot-word-per-view=maybe" + out, "mot-word-per-view"},
       {"--objects book --headline best" + out, "headline"},
+      {"--objects book --headline colour --no-colour-words" + out, "it needs colour words"},
       {"--objects book --ladder-pooled" + out, "needs --oracle-ladder"},
       {"--objects book --oracle-ladder" + out, "needs --no-colour-words"},
       {"--objects book --colour-words=maybe" + out, "colour-words"},
