@@ -2394,14 +2394,9 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
   // view's number of words.
   const Eigen::MatrixXd log_phi_per_view =
       weighted_word_multinomials(training, labels, classes, per_view_weights(training, labels));
-  if (colour_from >= training.num_words()) {
-    throw Error(
-        core::cat({"score_by_words: colour words from ", std::to_string(colour_from),
-                   ", but the documents have ", std::to_string(training.num_words()), " words"}));
-  }
-  // The colour words alone (colour_from >= 0): each class's colour multinomial from its views
-  // weighed alike (a view with many features, often one that took in a neighbour, no longer
-  // outweighs the rest; per_view_weights).
+  // The colour words alone (colour_from >= 0; words_from refuses one past the documents' words):
+  // each class's colour multinomial from its views weighed alike (a view with many features, often
+  // one that took in a neighbour, no longer outweighs the rest; per_view_weights).
   const bool colour = colour_from >= 0;
   Eigen::MatrixXd log_colour;
   if (colour) log_colour = colour_multinomials(training, labels, classes, colour_from);
