@@ -2688,8 +2688,10 @@ sim::TableOptions learn_table(const LearnOptions& o) {
   table.seed = o.seed;
   table.width = o.width;
   table.height = o.height;
-  table.record_masks = o.oracle_ladder;  // the ladder's ground truth (scoring only)
-  table.depth = o.depth;                 // an RGB-D camera: Look::depth for the planner
+  // Ground-truth masks (scoring only): the ladder's truth, and what each view in documents.txt
+  // shows.
+  table.record_masks = o.oracle_ladder || o.write_documents;
+  table.depth = o.depth;  // an RGB-D camera: Look::depth for the planner
   return table;
 }
 

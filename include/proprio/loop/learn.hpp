@@ -435,7 +435,9 @@ struct LearnOptions {
   /// words with its class and what the ground truth says it shows, and every held-out view's
   /// words with its object, one document a line ("count word:count ...", as lda-c's format),
   /// so that other classifiers can be fitted to exactly the robot's own training set and
-  /// judged on the same held-out views. Off by default (about 1 MB a run).
+  /// judged on the same held-out views. The simulated table then also records its ground-truth
+  /// masks (scoring only), so each view's line names the object under most of its mask. Off by
+  /// default (about 1 MB a run, and the masks).
   bool write_documents = false;
   /// The robot's camera is an RGB-D one (sim::TableOptions::depth, robot::Look::depth): the
   /// planner measures each blob's footprint and height from depth, as `selfsupervise --depth`.
@@ -609,7 +611,9 @@ struct LearnOptions {
        "(per-view word multinomials)"});
     v(self.write_documents,
       {"write_documents",
-       "Also write documents.txt: the training views' and held-out views' words (lda-c lines)"});
+       "Also write documents.txt: the training views' and held-out views' words (lda-c lines), "
+       "each training view with the object under most of its mask (ground-truth masks "
+       "recorded)"});
     v(self.depth, {"depth",
                    "An RGB-D camera: plan from each blob's footprint and height "
                    "measured from depth"});
