@@ -1564,7 +1564,8 @@ class Learner {
     cv::Mat frame;
     std::vector<std::pair<int, cv::Mat>> view_masks;
     std::string message;
-    cv::Point2d shift;  ///< the pusher's image motion from the touch to the last frame, px
+    cv::Point2d shift;   ///< the pusher's image motion from the touch to the last frame, px
+    bool scene = false;  ///< the mask covered more than max_mask_share: refused, no views
   };
 
   // The arm's own image in frame `i` of a push's episode (loop/arm_image.hpp).
@@ -1586,6 +1587,17 @@ class Learner {
     }
     s.message = ml.summary.message;
     if (ml.scored_frame < 0 || ml.map.empty() || cv::countNonZero(ml.mask) == 0) return s;
+    // max_mask_share: a mask over much of the image is the scene (camera-motion residue, a map
+    // with no peak), not one object; its views would teach the class the whole table.
+    const double share = cv::countNonZero(ml.mask) / static_cast<double>(ml.mask.total());
+    if (share > o_.max_mask_share) {
+      s.message = core::printf_string(
+          "the mask covers %.0f%% of the image (more than --max-mask-share %.2f): not one "
+          "object, no views; %s",
+          100 * share, o_.max_mask_share, ml.summary.message.c_str());
+      s.scene = true;
+      return s;
+    }
     s.map = ml.map;
     s.mask = ml.mask.clone();
     s.mask.setTo(0, arm_mask(e, ml.scored_frame, s.mask.size()));
@@ -1607,7 +1619,10 @@ class Learner {
         cv::warpAffine(s.mask, m, shift, s.mask.size(), cv::INTER_NEAREST);
       }
       m.setTo(0, arm_mask(e, i, m.size()));
-      if (cv::countNonZero(m) > 0) s.view_masks.emplace_back(i, m);
+      const int in = cv::countNonZero(m);
+      if (in > 0 && in <= o_.max_mask_share * static_cast<double>(m.total())) {
+        s.view_masks.emplace_back(i, m);
+      }
     }
     if (const auto a = e.ee_image(e.frame_count() - 1); a && at_touch) {
       s.shift = cv::Point2d(a->x() - at_touch->x(), a->y() - at_touch->y());
@@ -1950,7 +1965,12 @@ class Learner {
       cv::Mat last_mask;
       std::vector<Eigen::MatrixXd> frames;
       if (seg.map.empty()) {
-        fault(c, "moved-nothing", "segmentation found nothing moving with the arm: " + seg.message);
+        if (seg.scene) {
+          fault(c, "mask-is-the-scene", seg.message);
+        } else {
+          fault(c, "moved-nothing",
+                "segmentation found nothing moving with the arm: " + seg.message);
+        }
         lp.outcome = "nothing segmented: " + seg.message;
         const cv::Mat1b zero(current_.image.size(), 0);
         write_png(dir / "map.png", zero);

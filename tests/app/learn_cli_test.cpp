@@ -88,6 +88,7 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
     EXPECT_GT(vocabulary, 0);
     EXPECT_EQ(words, vocabulary + 28);  // colour words (the default)
     int views = 0;
+    int named_views = 0;
     int held = 0;
     int class_lines = 0;
     while (std::getline(in, line)) {
@@ -101,7 +102,10 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
       }
       if (kind == "view") {
         ++views;
-        f >> skip >> skip >> skip >> skip;  // its class, push, intended object, object
+        std::string shows;
+        f >> skip >> skip >> skip >> shows;  // its class, push, intended object, object
+        // The ground-truth masks are recorded with --write-documents: a view names what it shows.
+        if (shows != "-") ++named_views;
       } else if (kind == "held") {
         ++held;
         f >> skip;  // its object
@@ -126,6 +130,7 @@ TEST_F(LearnCli, TinyRunWritesTheRunDirectory) {
     int want_views = 0;
     for (const auto& o : j["objects"]) want_views += o["views"].get<int>();
     EXPECT_EQ(views, want_views);
+    EXPECT_GT(named_views, views / 2);
     int want_held = 0;
     for (const auto& o : j["held_out_words"]["objects"]) want_held += o["held_out"].get<int>();
     EXPECT_GT(want_held, 0);

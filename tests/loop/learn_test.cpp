@@ -770,6 +770,34 @@ struct SmallTable {
   }
 };
 
+TEST(Learn, AMaskOverMuchOfTheImageGivesNoViews) {
+  // The same pushes with and without the cap: at 0.2 % of the image every push's mask is "the
+  // scene" (the book alone fills more), logged and without views; at 1 (off) they give views.
+  namespace fs = std::filesystem;
+  const test::TempDir dir("proprio_learn_scene_");
+  const SmallTable t;
+  const LearnResult off = t.run(dir.path() / "off", 1, [](LearnOptions& o) { o.pushes = 2; });
+  EXPECT_GT(off.summary.views, 0);
+  EXPECT_EQ(count_of(events_of(dir.path() / "off" / "decisions.jsonl"), "fault:mask-is-the-scene"),
+            0);
+  const LearnResult tiny = t.run(dir.path() / "tiny", 1, [](LearnOptions& o) {
+    o.pushes = 2;
+    o.max_mask_share = 0.002;
+  });
+  EXPECT_EQ(tiny.summary.views, 0);
+  const std::string ev = events_of(dir.path() / "tiny" / "decisions.jsonl");
+  EXPECT_GT(count_of(ev, "fault:mask-is-the-scene"), 0) << ev;
+  const core::Json j = core::read_json(dir.path() / "tiny" / "learn.json");
+  bool said = false;
+  for (const auto& p : j["pushes"]) {
+    said = said || p["outcome"].get<std::string>().find("not one object") != std::string::npos;
+  }
+  EXPECT_TRUE(said);
+  LearnOptions bad;
+  bad.max_mask_share = 0;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 TEST(Learn, ATurnThatGaveNoViewsIsRetriedButNotOnTheBlobsItTried) {
   // Every push refused: the class gets no views. With --rounds 3 the class is tried again on
   // later turns (logged "retry"), but not on the blobs an earlier turn tried: no more pushes

@@ -388,6 +388,11 @@ struct LearnOptions {
   /// The push's mask: map >= this fraction of its maximum (the sweep of experiment 8.2).
   double mask_fraction = 0.5;
   int view_step = 3;      ///< views: every n-th frame from the first touch
+  /// A push's mask (or a view's) that covers more than this share of the image is the scene, not
+  /// one object (a map with no clear peak, camera-motion residue): the push gives no views (or
+  /// the frame none). The objects fill 1-7 % of the image; on the tuning seeds (1-20 --quick,
+  /// session 40) 16 of 283 pushes' masks covered more than 20 %, most of them 83-90 %. 1: off.
+  double max_mask_share = 1.0;
   int min_features = 10;  ///< a view needs this many features
   int dilate = 4;         ///< masks grown by this many px
   double fps = 15;        ///< frame rate of the pushes' episodes
@@ -583,6 +588,11 @@ struct LearnOptions {
        core::between(0.0, 1.0)});
     v(self.view_step,
       {"view_step", "Views: every n-th frame from the touch", core::between(1, 1000)});
+    v(self.max_mask_share,
+      {"max_mask_share",
+       "A push's (or a view's) mask covering more than this share of the image gives no views "
+       "(the scene, not one object); 1 off",
+       core::positive_at_most(1)});
     v(self.min_features, {"min_features", "Features a view needs", core::between(1, 100000)});
     v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
     v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
