@@ -1963,6 +1963,13 @@ class Learner {
       write_png(dir / "after.png", current_.image);
       const Segmented seg = timed("segmentation", [&] { return segment(dir / "episode"); });
       cv::Mat last_mask;
+      // views blob: the push's motion views, taken only when the look after it gives none.
+      struct MotionView {
+        View view;
+        int frame;
+        cv::Mat mask;
+      };
+      std::vector<MotionView> motion;
       std::vector<Eigen::MatrixXd> frames;
       if (seg.map.empty()) {
         if (seg.scene) {
@@ -1987,20 +1994,24 @@ class Learner {
             const cv::Mat m = features::dilated(seg.view_masks[v].second, o_.dilate);
             const features::Features f = features::extract_features(frames_[v], o_.features, m);
             if (f.size() < o_.min_features) continue;
-            views_.push_back({c, base + done, f.descriptors.clone(),
-                              colours_wanted()
-                                  ? features::colour_words(frames_[v], f.keypoints, o_.colour)
-                                  : std::vector<std::int32_t>{}});
-            attendant_.view_taken(in, dir / "episode", seg.view_masks[v].first,
-                                  seg.view_masks[v].second);
             frames.push_back(unit_descriptors(f.descriptors));
             last_mask = seg.view_masks[v].second;
+            View taken{c, base + done, f.descriptors.clone(),
+                       colours_wanted() ? features::colour_words(frames_[v], f.keypoints, o_.colour)
+                                        : std::vector<std::int32_t>{}};
+            if (o_.views == ViewSource::kBlob) {
+              // The look after the push gives the view; these are its stand-in.
+              motion.push_back({std::move(taken), seg.view_masks[v].first, last_mask});
+              continue;
+            }
+            views_.push_back(std::move(taken));
+            attendant_.view_taken(in, dir / "episode", seg.view_masks[v].first,
+                                  seg.view_masks[v].second);
             ++lp.views;
           }
         });
         lp.outcome = core::cat({std::to_string(lp.views), " views; ", seg.message});
       }
-      attendant_.views_taken(in, lp.views, last_mask);
       // Identity check (LearnOptions::identity_margin): is the turn's first push with views of
       // an object learned already? Then the push is that object's (its views, words, region).
       std::optional<int> same;
@@ -2047,6 +2058,38 @@ class Learner {
         fault(c, "moved-nothing", "the push left the object where it was");
       }
       if (now >= 0) last = after.objects[static_cast<std::size_t>(now)].centre;
+      if (o_.views == ViewSource::kBlob && !motion.empty()) {
+        // views blob: the look after the push, cut out by the blob where the learner believes
+        // its object lies; when it has none there (lost, or too few features), the push's
+        // motion views as before.
+        features::Features f;
+        cv::Mat m;
+        if (now >= 0 && !lost) {
+          m = blob_mask(after.objects[static_cast<std::size_t>(now)], current_.image.size());
+          f = timed("words",
+                    [&] { return features::extract_features(current_.image, o_.features, m); });
+        }
+        if (!m.empty() && f.size() >= o_.min_features) {
+          views_.push_back({c, base + done, f.descriptors.clone(),
+                            colours_wanted()
+                                ? features::colour_words(current_.image, f.keypoints, o_.colour)
+                                : std::vector<std::int32_t>{}});
+          attendant_.view_taken(in, {}, -1, m);
+          last_mask = m;
+          lp.views = 1;
+          lp.outcome = core::cat({"1 view (the look after the push); ", seg.message});
+        } else {
+          for (MotionView& v : motion) {
+            views_.push_back(std::move(v.view));
+            attendant_.view_taken(in, dir / "episode", v.frame, v.mask);
+          }
+          lp.views = static_cast<int>(motion.size());
+          lp.outcome = core::cat({std::to_string(lp.views),
+                                  " views (its motion's: no blob of it after the push); ",
+                                  seg.message});
+        }
+      }
+      attendant_.views_taken(in, lp.views, last_mask);
       if (same) {
         // Merged: the known object takes the push (as a later push of it); the turn's class
         // stays empty and the turn chooses again among the others.

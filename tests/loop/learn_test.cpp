@@ -798,6 +798,39 @@ TEST(Learn, AMaskOverMuchOfTheImageGivesNoViews) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
+TEST(Learn, BlobViewsComeFromTheLookAfterThePushElseFromItsMotion) {
+  // views blob: a push gives one view, the look after it cut out by its object's blob; a push
+  // whose object has no blob there gives its motion views instead. Either way every executed
+  // push that gave views says which, and the views are the class's.
+  const test::TempDir dir("proprio_learn_blob_views_");
+  const SmallTable t;
+  const LearnResult r = t.run(dir.path() / "blob", 1, [](LearnOptions& o) {
+    o.pushes = 3;
+    o.views = ViewSource::kBlob;
+  });
+  EXPECT_GT(r.summary.views, 0);
+  const core::Json j = core::read_json(dir.path() / "blob" / "learn.json");
+  int after = 0;
+  int views = 0;
+  for (const auto& p : j["pushes"]) {
+    const int n = p["views"].get<int>();
+    views += n;
+    if (n == 0) continue;
+    const std::string outcome = p["outcome"].get<std::string>();
+    if (outcome.find("the look after the push") != std::string::npos) {
+      EXPECT_EQ(n, 1) << outcome;
+      ++after;
+    } else {
+      EXPECT_NE(outcome.find("its motion's"), std::string::npos) << outcome;
+    }
+  }
+  EXPECT_GT(after, 0);
+  EXPECT_EQ(views, r.summary.views);
+  // The motion views (the default) of the same table: more views a push.
+  const LearnResult m = t.run(dir.path() / "motion", 1, [](LearnOptions& o) { o.pushes = 3; });
+  EXPECT_GT(m.summary.views, r.summary.views);
+}
+
 TEST(Learn, ATurnThatGaveNoViewsIsRetriedButNotOnTheBlobsItTried) {
   // Every push refused: the class gets no views. With --rounds 3 the class is tried again on
   // later turns (logged "retry"), but not on the blobs an earlier turn tried: no more pushes

@@ -384,6 +384,14 @@ struct LearnOptions {
   int quick_pushes = 6;
   /// Dense by default: its views were purer (docs/results/learn-history.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
+  /// Where a push's training views come from. kMotion (the default): every view_step-th frame
+  /// of the push's episode from the touch, cut out by its motion segmentation. kBlob: one view a
+  /// push, the look after it (the arm parked out of view) cut out by the blob where the learner
+  /// believes its object now lies (the blob it would push next); the segmentation still feeds
+  /// the object's words and regions. Why: on the tuning seeds (1-20 --quick, session 40) a
+  /// third of the motion views showed another object than their class's, often because the arm
+  /// hid the pushed object at the touch (docs/results/learn.md, "Session 40").
+  ViewSource views = ViewSource::kMotion;
   DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
   /// The push's mask: map >= this fraction of its maximum (the sweep of experiment 8.2).
   double mask_fraction = 0.5;
@@ -576,6 +584,11 @@ struct LearnOptions {
        core::between(1, 1000)});
     v.choice(self.segmentation, {"segmentation", "Push segmentation: sparse or dense"},
              kPushSegmentationNames);
+    v.choice(self.views,
+             {"views",
+              "Training views: motion (the push's frames by its segmentation) or blob (the look "
+              "after the push, the object's blob)"},
+             kViewSourceNames);
     v.choice(self.dirichlet_update,
              {"dirichlet_update", "Object-word Dirichlet update: exact or fifty-fifty"},
              kDirichletUpdateNames);
