@@ -1919,6 +1919,16 @@ class Learner {
       const fs::path dir = o_.out / lp.dir;
       fs::create_directories(dir);
       write_png(dir / "before.png", current_.image);
+      // views before: the look and the pushed blob, kept for the view.
+      struct {
+        cv::Mat image;
+        cv::Mat mask;
+      } before;
+      if (o_.views == LearnViews::kBefore) {
+        before.image = current_.image;
+        before.mask =
+            blob_mask(view.objects[static_cast<std::size_t>(blob)], current_.image.size());
+      }
       PushIntent in{c, "learn", lp.index, &view, blob, &p};
       attendant_.before_push(in);
       robot::PushRecording rec;
@@ -1999,8 +2009,8 @@ class Learner {
             View taken{c, base + done, f.descriptors.clone(),
                        colours_wanted() ? features::colour_words(frames_[v], f.keypoints, o_.colour)
                                         : std::vector<std::int32_t>{}};
-            if (o_.views == ViewSource::kBlob) {
-              // The look after the push gives the view; these are its stand-in.
+            if (o_.views != LearnViews::kMotion) {
+              // The look after (or before) the push gives the view; these the after's stand-in.
               motion.push_back({std::move(taken), seg.view_masks[v].first, last_mask});
               continue;
             }
@@ -2058,7 +2068,27 @@ class Learner {
         fault(c, "moved-nothing", "the push left the object where it was");
       }
       if (now >= 0) last = after.objects[static_cast<std::size_t>(now)].centre;
-      if (o_.views == ViewSource::kBlob && !motion.empty()) {
+      if (o_.views == LearnViews::kBefore && !motion.empty()) {
+        // views before: the look before the push, cut out by the blob it was planned on.
+        const features::Features f = timed("words", [&] {
+          return features::extract_features(before.image, o_.features, before.mask);
+        });
+        if (f.size() >= o_.min_features) {
+          views_.push_back({c, base + done, f.descriptors.clone(),
+                            colours_wanted()
+                                ? features::colour_words(before.image, f.keypoints, o_.colour)
+                                : std::vector<std::int32_t>{}});
+          // Its truth: the episode's first frame (nothing pushed yet).
+          attendant_.view_taken(in, dir / "episode", 0, before.mask);
+          last_mask = before.mask;
+          lp.views = 1;
+          lp.outcome = core::cat({"1 view (the look before the push); ", seg.message});
+        } else {
+          lp.views = 0;
+          lp.outcome = core::cat({"no view: the pushed blob has too few features; ", seg.message});
+        }
+      }
+      if (o_.views == LearnViews::kAfter && !motion.empty()) {
         // views blob: the look after the push, cut out by the blob where the learner believes
         // its object lies; when it has none there (lost, or too few features), the push's
         // motion views as before.
@@ -2084,9 +2114,9 @@ class Learner {
             attendant_.view_taken(in, dir / "episode", v.frame, v.mask);
           }
           lp.views = static_cast<int>(motion.size());
-          lp.outcome = core::cat({std::to_string(lp.views),
-                                  " views (its motion's: no blob of it after the push); ",
-                                  seg.message});
+          lp.outcome =
+              core::cat({std::to_string(lp.views),
+                         " views (its motion's: no blob of it after the push); ", seg.message});
         }
       }
       attendant_.views_taken(in, lp.views, last_mask);

@@ -806,7 +806,7 @@ TEST(Learn, BlobViewsComeFromTheLookAfterThePushElseFromItsMotion) {
   const SmallTable t;
   const LearnResult r = t.run(dir.path() / "blob", 1, [](LearnOptions& o) {
     o.pushes = 3;
-    o.views = ViewSource::kBlob;
+    o.views = LearnViews::kAfter;
   });
   EXPECT_GT(r.summary.views, 0);
   const core::Json j = core::read_json(dir.path() / "blob" / "learn.json");

@@ -58,6 +58,23 @@ enum class PushSegmentation {
 inline constexpr core::ChoiceNames<PushSegmentation, 2> kPushSegmentationNames{
     {{"sparse", PushSegmentation::kSparse}, {"dense", PushSegmentation::kDense}}};
 
+/// Where a push's training views come from (LearnOptions::views).
+enum class LearnViews {
+  /// Every view_step-th frame of the push's episode from the touch, cut out by its motion
+  /// segmentation (8.1.1).
+  kMotion,
+  /// One view a push: the look after it (the arm parked), cut out by the blob where the learner
+  /// believes its object now lies; the push's motion views when it has no blob there.
+  kAfter,
+  /// One view a push: the look before it, cut out by the blob the push was planned on (the
+  /// object the robot chose to push, tracked from push to push by its motion segmentation).
+  kBefore
+};
+inline constexpr core::ChoiceNames<LearnViews, 3> kLearnViewsNames{
+    {{"motion", LearnViews::kMotion},
+     {"after", LearnViews::kAfter},
+     {"before", LearnViews::kBefore}}};
+
 /// How 7.2 (d) tells a new object from the known ones, among the blobs no cue marks as known.
 enum class NewObjectScore {
   kWords,  ///< the blob least likely under the known objects' word Dirichlets (mean log p)
@@ -384,22 +401,24 @@ struct LearnOptions {
   int quick_pushes = 6;
   /// Dense by default: its views were purer (docs/results/learn-history.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
-  /// Where a push's training views come from. kMotion (the default): every view_step-th frame
-  /// of the push's episode from the touch, cut out by its motion segmentation. kBlob: one view a
-  /// push, the look after it (the arm parked out of view) cut out by the blob where the learner
-  /// believes its object now lies (the blob it would push next); the segmentation still feeds
-  /// the object's words and regions. Why: on the tuning seeds (1-20 --quick, session 40) a
-  /// third of the motion views showed another object than their class's, often because the arm
-  /// hid the pushed object at the touch (docs/results/learn.md, "Session 40").
-  ViewSource views = ViewSource::kMotion;
+  /// Where a push's training views come from (LearnViews; kMotion by default). With kAfter and
+  /// kBefore the segmentation still feeds the object's words and regions (which blob is it).
+  /// Why the others were tried: on the tuning seeds (1-20 --quick, session 40) 35 % of the
+  /// motion views showed another object than their class's (ground truth), often because the
+  /// arm hid the pushed object at the touch. Why they are off: kBefore's views were 96 % pure
+  /// against 65 %, on the very same pushes, yet the colour headline fell 70.8 -> 43.1 % (-27.7
+  /// +- 6.3, lower on 19 of 20); kAfter fell to 47.4 % (docs/results/learn.md, "Session 40").
+  LearnViews views = LearnViews::kMotion;
   DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
   /// The push's mask: map >= this fraction of its maximum (the sweep of experiment 8.2).
   double mask_fraction = 0.5;
-  int view_step = 3;      ///< views: every n-th frame from the first touch
+  int view_step = 3;  ///< views: every n-th frame from the first touch
   /// A push's mask (or a view's) that covers more than this share of the image is the scene, not
   /// one object (a map with no clear peak, camera-motion residue): the push gives no views (or
   /// the frame none). The objects fill 1-7 % of the image; on the tuning seeds (1-20 --quick,
-  /// session 40) 16 of 283 pushes' masks covered more than 20 %, most of them 83-90 %. 1: off.
+  /// session 40) 16 of 283 pushes' masks covered more than 20 %, most of them 83-90 %. 1 (the
+  /// default): off. At 0.2 the views' purity rose 65 -> 72 % but the colour headline did not
+  /// (-2.0 +- 7.7 points on those seeds; docs/results/learn.md, "Session 40").
   double max_mask_share = 1.0;
   int min_features = 10;  ///< a view needs this many features
   int dilate = 4;         ///< masks grown by this many px
@@ -586,9 +605,10 @@ struct LearnOptions {
              kPushSegmentationNames);
     v.choice(self.views,
              {"views",
-              "Training views: motion (the push's frames by its segmentation) or blob (the look "
-              "after the push, the object's blob)"},
-             kViewSourceNames);
+              "Training views: motion (the push's frames by its segmentation), after (the look "
+              "after the push, its object's blob) or before (the look before it, the pushed "
+              "blob)"},
+             kLearnViewsNames);
     v.choice(self.dirichlet_update,
              {"dirichlet_update", "Object-word Dirichlet update: exact or fifty-fifty"},
              kDirichletUpdateNames);
