@@ -798,7 +798,7 @@ TEST(Learn, AMaskOverMuchOfTheImageGivesNoViews) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
-TEST(Learn, BlobViewsComeFromTheLookAfterThePushElseFromItsMotion) {
+TEST(Learn, ViewsFromTheLooksAfterOrBeforeThePush) {
   // views blob: a push gives one view, the look after it cut out by its object's blob; a push
   // whose object has no blob there gives its motion views instead. Either way every executed
   // push that gave views says which, and the views are the class's.
@@ -829,6 +829,21 @@ TEST(Learn, BlobViewsComeFromTheLookAfterThePushElseFromItsMotion) {
   // The motion views (the default) of the same table: more views a push.
   const LearnResult m = t.run(dir.path() / "motion", 1, [](LearnOptions& o) { o.pushes = 3; });
   EXPECT_GT(m.summary.views, r.summary.views);
+  // views before: one view a push that moved something, the look before it; the pushes are
+  // the motion run's (the views do not steer the robot): as many executed, no more views than
+  // pushes.
+  const LearnResult b = t.run(dir.path() / "before", 1, [](LearnOptions& o) {
+    o.pushes = 3;
+    o.views = LearnViews::kBefore;
+  });
+  EXPECT_GT(b.summary.views, 0);
+  EXPECT_LE(b.summary.views, b.summary.pushes_executed);
+  EXPECT_EQ(b.summary.pushes_executed, m.summary.pushes_executed);
+  for (const auto& p : core::read_json(dir.path() / "before" / "learn.json")["pushes"]) {
+    if (p["views"].get<int>() == 0) continue;
+    EXPECT_EQ(p["views"].get<int>(), 1);
+    EXPECT_NE(p["outcome"].get<std::string>().find("the look before the push"), std::string::npos);
+  }
 }
 
 TEST(Learn, ATurnThatGaveNoViewsIsRetriedButNotOnTheBlobsItTried) {
