@@ -2071,7 +2071,7 @@ class Learner {
       if (o_.views == LearnViews::kBefore && !motion.empty()) {
         // views before: the look before the push, cut out by the blob it was planned on.
         const features::Features f = timed("words", [&] {
-          return features::extract_features(before.image, o_.features, before.mask);
+          return masked_features(before.image, before.mask, o_.features, o_.dilate);
         });
         if (f.size() >= o_.min_features) {
           views_.push_back({c, base + done, f.descriptors.clone(),
@@ -2097,7 +2097,7 @@ class Learner {
         if (now >= 0 && !lost) {
           m = blob_mask(after.objects[static_cast<std::size_t>(now)], current_.image.size());
           f = timed("words",
-                    [&] { return features::extract_features(current_.image, o_.features, m); });
+                    [&] { return masked_features(current_.image, m, o_.features, o_.dilate); });
         }
         if (!m.empty() && f.size() >= o_.min_features) {
           views_.push_back({c, base + done, f.descriptors.clone(),
