@@ -417,7 +417,7 @@ struct LearnOptions {
   /// one object (a map with no clear peak, camera-motion residue): the push gives no views (or
   /// the frame none). The objects fill 1-7 % of the image; on the tuning seeds (1-20 --quick,
   /// session 40) 16 of 283 pushes' masks covered more than 20 %, most of them 83-90 %. 1 (the
-  /// default): off. At 0.2 the views' purity rose 65 -> 72 % but the colour headline did not
+  /// default): off. At 0.2 the views' purity rose 64 -> 69 % but the colour headline did not
   /// (-2.0 +- 7.7 points on those seeds; docs/results/learn.md, "Session 40").
   double max_mask_share = 1.0;
   int min_features = 10;  ///< a view needs this many features
