@@ -1924,7 +1924,7 @@ class Learner {
         cv::Mat image;
         cv::Mat mask;
       } before;
-      if (o_.views == LearnViews::kBefore) {
+      if (o_.views == LearnViews::kBefore || o_.views == LearnViews::kBoth) {
         before.image = current_.image;
         before.mask =
             blob_mask(view.objects[static_cast<std::size_t>(blob)], current_.image.size());
@@ -2009,7 +2009,7 @@ class Learner {
             View taken{c, base + done, f.descriptors.clone(),
                        colours_wanted() ? features::colour_words(frames_[v], f.keypoints, o_.colour)
                                         : std::vector<std::int32_t>{}};
-            if (o_.views != LearnViews::kMotion) {
+            if (o_.views == LearnViews::kAfter || o_.views == LearnViews::kBefore) {
               // The look after (or before) the push gives the view; these the after's stand-in.
               motion.push_back({std::move(taken), seg.view_masks[v].first, last_mask});
               continue;
@@ -2068,22 +2068,33 @@ class Learner {
         fault(c, "moved-nothing", "the push left the object where it was");
       }
       if (now >= 0) last = after.objects[static_cast<std::size_t>(now)].centre;
-      if (o_.views == LearnViews::kBefore && !motion.empty()) {
+      // views both: the push's motion views (taken above) and its before view, entered once a
+      // motion view so that it weighs as much as all of them.
+      const bool both = o_.views == LearnViews::kBoth && lp.views > 0;
+      if ((o_.views == LearnViews::kBefore && !motion.empty()) || both) {
         // views before: the look before the push, cut out by the blob it was planned on.
         const features::Features f = timed("words", [&] {
           return masked_features(before.image, before.mask, o_.features, o_.dilate);
         });
+        const int copies = both ? lp.views : 1;
         if (f.size() >= o_.min_features) {
-          views_.push_back({c, base + done, f.descriptors.clone(),
-                            colours_wanted()
-                                ? features::colour_words(before.image, f.keypoints, o_.colour)
-                                : std::vector<std::int32_t>{}});
-          // Its truth: the episode's first frame (nothing pushed yet).
-          attendant_.view_taken(in, dir / "episode", 0, before.mask);
-          last_mask = before.mask;
-          lp.views = 1;
-          lp.outcome = core::cat({"1 view (the look before the push); ", seg.message});
-        } else {
+          const View taken{c, base + done, f.descriptors.clone(),
+                           colours_wanted()
+                               ? features::colour_words(before.image, f.keypoints, o_.colour)
+                               : std::vector<std::int32_t>{}};
+          for (int i = 0; i < copies; ++i) {
+            views_.push_back(taken);
+            // Its truth: the episode's first frame (nothing pushed yet).
+            attendant_.view_taken(in, dir / "episode", 0, before.mask);
+          }
+          if (!both) last_mask = before.mask;
+          lp.outcome = both ? core::cat({std::to_string(lp.views),
+                                         " views and the look before the "
+                                         "push weighing as many; ",
+                                         seg.message})
+                            : core::cat({"1 view (the look before the push); ", seg.message});
+          lp.views = both ? 2 * lp.views : 1;
+        } else if (!both) {
           lp.views = 0;
           lp.outcome = core::cat({"no view: the pushed blob has too few features; ", seg.message});
         }

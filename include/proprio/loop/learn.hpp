@@ -68,12 +68,15 @@ enum class LearnViews {
   kAfter,
   /// One view a push: the look before it, cut out by the blob the push was planned on (the
   /// object the robot chose to push, tracked from push to push by its motion segmentation).
-  kBefore
+  kBefore,
+  /// kMotion's views and kBefore's view of each push that gave motion views, the latter entered
+  /// once a motion view of its push (as a weight: it counts as much as all of them).
+  kBoth
 };
-inline constexpr core::ChoiceNames<LearnViews, 3> kLearnViewsNames{
-    {{"motion", LearnViews::kMotion},
-     {"after", LearnViews::kAfter},
-     {"before", LearnViews::kBefore}}};
+inline constexpr core::ChoiceNames<LearnViews, 4> kLearnViewsNames{{{"motion", LearnViews::kMotion},
+                                                                    {"after", LearnViews::kAfter},
+                                                                    {"before", LearnViews::kBefore},
+                                                                    {"both", LearnViews::kBoth}}};
 
 /// How 7.2 (d) tells a new object from the known ones, among the blobs no cue marks as known.
 enum class NewObjectScore {
@@ -606,8 +609,8 @@ struct LearnOptions {
     v.choice(self.views,
              {"views",
               "Training views: motion (the push's frames by its segmentation), after (the look "
-              "after the push, its object's blob) or before (the look before it, the pushed "
-              "blob)"},
+              "after the push, its object's blob), before (the look before it, the pushed "
+              "blob) or both (motion's and before's, weighing alike a push)"},
              kLearnViewsNames);
     v.choice(self.dirichlet_update,
              {"dirichlet_update", "Object-word Dirichlet update: exact or fifty-fifty"},
