@@ -844,6 +844,28 @@ TEST(Learn, ViewsFromTheLooksAfterOrBeforeThePush) {
     EXPECT_EQ(p["views"].get<int>(), 1);
     EXPECT_NE(p["outcome"].get<std::string>().find("the look before the push"), std::string::npos);
   }
+  // views both: motion's views and the before view entered as many times: a push that gave n
+  // motion views gives 2n (n without a before view), the same pushes.
+  const LearnResult w = t.run(dir.path() / "both", 1, [](LearnOptions& o) {
+    o.pushes = 3;
+    o.views = LearnViews::kBoth;
+  });
+  EXPECT_EQ(w.summary.pushes_executed, m.summary.pushes_executed);
+  const core::Json pm = core::read_json(dir.path() / "motion" / "learn.json")["pushes"];
+  const core::Json pw = core::read_json(dir.path() / "both" / "learn.json")["pushes"];
+  ASSERT_EQ(pm.size(), pw.size());
+  int doubled = 0;
+  for (std::size_t i = 0; i < pm.size(); ++i) {
+    const int n = pm[i]["views"].get<int>();
+    const int k = pw[i]["views"].get<int>();
+    EXPECT_TRUE(k == 2 * n || k == n) << pw[i]["outcome"];
+    if (n > 0 && k == 2 * n) {
+      ++doubled;
+      EXPECT_NE(pw[i]["outcome"].get<std::string>().find("weighing as many"), std::string::npos);
+    }
+  }
+  EXPECT_GT(doubled, 0);
+  EXPECT_GT(w.summary.views, m.summary.views);
 }
 
 TEST(Learn, ATurnThatGaveNoViewsIsRetriedButNotOnTheBlobsItTried) {
