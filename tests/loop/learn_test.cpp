@@ -48,6 +48,8 @@ TEST(Learn, DefaultsAreTheIssuesWorld) {
   // The dense segmentation takes the baseline's touch cut as evidence (issue 20), as
   // MlOptions's default (docs/results/learn-history.md, "Session 24").
   EXPECT_DOUBLE_EQ(o.dense.touch_fm, 1.0);
+  // The motion views and the look before each push (session 40's third rule).
+  EXPECT_EQ(o.views, LearnViews::kBoth);
 }
 
 TEST(Learn, QuickMakesTheRunSmall) {
@@ -826,8 +828,11 @@ TEST(Learn, ViewsFromTheLooksAfterOrBeforeThePush) {
   }
   EXPECT_GT(after, 0);
   EXPECT_EQ(views, r.summary.views);
-  // The motion views (the default) of the same table: more views a push.
-  const LearnResult m = t.run(dir.path() / "motion", 1, [](LearnOptions& o) { o.pushes = 3; });
+  // The motion views of the same table: more views a push.
+  const LearnResult m = t.run(dir.path() / "motion", 1, [](LearnOptions& o) {
+    o.pushes = 3;
+    o.views = LearnViews::kMotion;
+  });
   EXPECT_GT(m.summary.views, r.summary.views);
   // views before: one view a push that moved something, the look before it; the pushes are
   // the motion run's (the views do not steer the robot): as many executed, no more views than
