@@ -1973,7 +1973,8 @@ class Learner {
       write_png(dir / "after.png", current_.image);
       const Segmented seg = timed("segmentation", [&] { return segment(dir / "episode"); });
       cv::Mat last_mask;
-      // views blob: the push's motion views, taken only when the look after it gives none.
+      // views after/before: the push's motion views, held back (after: taken when the look
+      // after the push gives no view).
       struct MotionView {
         View view;
         int frame;
@@ -2010,7 +2011,7 @@ class Learner {
                        colours_wanted() ? features::colour_words(frames_[v], f.keypoints, o_.colour)
                                         : std::vector<std::int32_t>{}};
             if (o_.views == LearnViews::kAfter || o_.views == LearnViews::kBefore) {
-              // The look after (or before) the push gives the view; these the after's stand-in.
+              // The look after (or before) the push gives the view (after: these its stand-in).
               motion.push_back({std::move(taken), seg.view_masks[v].first, last_mask});
               continue;
             }
@@ -2100,7 +2101,7 @@ class Learner {
         }
       }
       if (o_.views == LearnViews::kAfter && !motion.empty()) {
-        // views blob: the look after the push, cut out by the blob where the learner believes
+        // views after: the look after the push, cut out by the blob where the learner believes
         // its object lies; when it has none there (lost, or too few features), the push's
         // motion views as before.
         features::Features f;
