@@ -405,13 +405,15 @@ struct LearnOptions {
   /// Dense by default: its views were purer (docs/results/learn-history.md).
   PushSegmentation segmentation = PushSegmentation::kDense;
   /// Where a push's training views come from (LearnViews; kBoth by default since session 40).
-  /// The views never steer the robot: every setting makes the same pushes. Why: on the tuning
-  /// seeds (1-20 --quick, session 40) 35 % of the motion views showed another object than their
-  /// class's (ground truth), often because the arm hid the pushed object at the touch. kBefore's
-  /// views alone were 97 % pure but too few (headline 70.8 -> 62.2 %), kAfter's 47.4 %; kBoth
-  /// passed docs/results/learn/rule-s40-views-both-quick.md: fresh seeds 171-210 --quick, 62.1
-  /// -> 73.7 % (+11.6 +- 5.0, lower on 2 of 40); in the demo's mode (seeds 151-170) +2.2 +- 2.9,
-  /// lower on none (docs/results/learn.md, "Session 40").
+  /// kBoth never gives a push fewer views than kMotion, so it makes the same pushes (checked on
+  /// 60 seeds); kAfter and kBefore can leave a push without views, which can change a turn (kBefore
+  /// made the same pushes on all 20 tuning seeds, kAfter did not). Why: on the tuning seeds (1-20
+  /// --quick, session 40) 35 % of the motion views showed another object than their class's
+  /// (ground truth), often because the arm hid the pushed object at the touch. kBefore's views
+  /// alone were 97 % pure but too few (headline 70.8 -> 62.2 %), kAfter's 47.4 %; kBoth passed
+  /// docs/results/learn/rule-s40-views-both-quick.md: fresh seeds 171-210 --quick, 62.1 -> 73.7 %
+  /// (+11.6 +- 5.0, lower on 2 of 40); in the demo's mode (seeds 151-170) +2.2 +- 2.9, lower on
+  /// none (docs/results/learn.md, "Session 40").
   LearnViews views = LearnViews::kBoth;
   DirichletUpdate dirichlet_update = DirichletUpdate::kExact;
   /// The push's mask: map >= this fraction of its maximum (the sweep of experiment 8.2).
