@@ -676,6 +676,15 @@ class Learner {
     return o_.colour_words || o_.new_object == NewObjectScore::kColour;
   }
 
+  // A training view of class c from push `push`: the features `f` found in `image` and, when
+  // wanted, their colour words.
+  [[nodiscard]] View view_of(int c, int push, const cv::Mat& image,
+                             const features::Features& f) const {
+    return {c, push, f.descriptors.clone(),
+            colours_wanted() ? features::colour_words(image, f.keypoints, o_.colour)
+                             : std::vector<std::int32_t>{}};
+  }
+
   // new_object colour: log p(w | class k) of every colour word for each class k < c with
   // views (their colour words counted, add-one smoothed); an empty vector for a class without.
   [[nodiscard]] std::vector<Eigen::VectorXd> colour_log_p(int c) const {
@@ -2007,9 +2016,7 @@ class Learner {
             if (f.size() < o_.min_features) continue;
             frames.push_back(unit_descriptors(f.descriptors));
             last_mask = seg.view_masks[v].second;
-            View taken{c, base + done, f.descriptors.clone(),
-                       colours_wanted() ? features::colour_words(frames_[v], f.keypoints, o_.colour)
-                                        : std::vector<std::int32_t>{}};
+            View taken = view_of(c, base + done, frames_[v], f);
             if (o_.views == LearnViews::kAfter || o_.views == LearnViews::kBefore) {
               // The look after (or before) the push gives the view (after: these its stand-in).
               motion.push_back({std::move(taken), seg.view_masks[v].first, last_mask});
@@ -2079,10 +2086,7 @@ class Learner {
         });
         const int copies = both ? lp.views : 1;
         if (f.size() >= o_.min_features) {
-          const View taken{c, base + done, f.descriptors.clone(),
-                           colours_wanted()
-                               ? features::colour_words(before.image, f.keypoints, o_.colour)
-                               : std::vector<std::int32_t>{}};
+          const View taken = view_of(c, base + done, before.image, f);
           for (int i = 0; i < copies; ++i) {
             views_.push_back(taken);
             // Its truth: the episode's first frame (nothing pushed yet).
@@ -2112,10 +2116,7 @@ class Learner {
                     [&] { return masked_features(current_.image, m, o_.features, o_.dilate); });
         }
         if (!m.empty() && f.size() >= o_.min_features) {
-          views_.push_back({c, base + done, f.descriptors.clone(),
-                            colours_wanted()
-                                ? features::colour_words(current_.image, f.keypoints, o_.colour)
-                                : std::vector<std::int32_t>{}});
+          views_.push_back(view_of(c, base + done, current_.image, f));
           attendant_.view_taken(in, {}, -1, m);
           last_mask = m;
           lp.views = 1;
