@@ -844,7 +844,9 @@ TEST(Learn, ViewsFromTheLooksAfterOrBeforeThePush) {
   EXPECT_GT(b.summary.views, 0);
   EXPECT_LE(b.summary.views, b.summary.pushes_executed);
   EXPECT_EQ(b.summary.pushes_executed, m.summary.pushes_executed);
-  for (const auto& p : core::read_json(dir.path() / "before" / "learn.json")["pushes"]) {
+  // The document held by name: a range over a temporary's member would outlive it.
+  const core::Json jb = core::read_json(dir.path() / "before" / "learn.json");
+  for (const auto& p : jb["pushes"]) {
     if (p["views"].get<int>() == 0) continue;
     EXPECT_EQ(p["views"].get<int>(), 1);
     EXPECT_NE(p["outcome"].get<std::string>().find("the look before the push"), std::string::npos);
