@@ -38,22 +38,19 @@ std::int32_t colour_word(const cv::Vec3b& bgr, const ColourWordOptions& options)
   return hsv_word(p[0], p[1], p[2], options);
 }
 
-std::vector<std::int32_t> colour_words(const cv::Mat& image,
-                                       const std::vector<cv::KeyPoint>& keypoints,
-                                       const ColourWordOptions& options) {
+namespace {
+
+// Each pixel's patch mean (a box filter of side 2 radius + 1, the border replicated) in HSV; the
+// mean goes into a new matrix (the caller's image shares `bgr`'s data). `who` names the caller in
+// errors.
+cv::Mat3b patch_means_hsv(const cv::Mat& image, const ColourWordOptions& options, const char* who) {
   options.validate();
-  if (image.empty()) throw Error("colour_words: empty image");
+  if (image.empty()) throw Error(std::string(who) + ": empty image");
   if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
-    throw Error("colour_words: images must be 8-bit grey or BGR");
+    throw Error(std::string(who) + ": images must be 8-bit grey or BGR");
   }
-  std::vector<std::int32_t> out;
-  out.reserve(keypoints.size());
-  if (keypoints.empty()) return out;
   cv::Mat bgr = image;
   if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
-  // The patch means: a box filter over the whole image (the border replicated) into a new
-  // matrix (the caller's image shares `bgr`'s data), then one conversion to HSV; a keypoint
-  // reads its pixel.
   cv::Mat mean;
   if (options.radius > 0) {
     const int side = 2 * options.radius + 1;
@@ -63,6 +60,18 @@ std::vector<std::int32_t> colour_words(const cv::Mat& image,
   }
   cv::Mat3b hsv;
   cv::cvtColor(mean, hsv, cv::COLOR_BGR2HSV);
+  return hsv;
+}
+
+}  // namespace
+
+std::vector<std::int32_t> colour_words(const cv::Mat& image,
+                                       const std::vector<cv::KeyPoint>& keypoints,
+                                       const ColourWordOptions& options) {
+  std::vector<std::int32_t> out;
+  out.reserve(keypoints.size());
+  // One conversion for the whole image; a keypoint reads its pixel.
+  const cv::Mat3b hsv = patch_means_hsv(image, options, "colour_words");
   for (const cv::KeyPoint& k : keypoints) {
     const int x = cvRound(k.pt.x);
     const int y = cvRound(k.pt.y);
@@ -75,6 +84,24 @@ std::vector<std::int32_t> colour_words(const cv::Mat& image,
     out.push_back(hsv_word(p[0], p[1], p[2], options));
   }
   return out;
+}
+
+std::vector<double> colour_word_counts(const cv::Mat& image, const cv::Mat& mask,
+                                       const ColourWordOptions& options) {
+  const cv::Mat3b hsv = patch_means_hsv(image, options, "colour_word_counts");
+  if (mask.type() != CV_8UC1 || mask.size() != image.size()) {
+    throw Error("colour_word_counts: the mask must be 8-bit, one channel, the image's size");
+  }
+  std::vector<double> counts(static_cast<std::size_t>(options.count()), 0.0);
+  for (int y = 0; y < mask.rows; ++y) {
+    const auto* m = mask.ptr<uchar>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      if (m[x] == 0) continue;
+      const cv::Vec3b p = hsv(y, x);
+      counts[static_cast<std::size_t>(hsv_word(p[0], p[1], p[2], options))] += 1.0;
+    }
+  }
+  return counts;
 }
 
 std::vector<std::int32_t> with_colour_words(std::vector<std::int32_t> words,

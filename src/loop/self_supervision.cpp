@@ -23,6 +23,7 @@
 #include "proprio/core/random.hpp"
 #include "proprio/core/text.hpp"
 #include "proprio/episode/episode.hpp"
+#include "proprio/features/colour_words.hpp"
 #include "proprio/features/features.hpp"
 #include "proprio/features/mask_morphology.hpp"
 #include "proprio/loop/depth_alone.hpp"
@@ -112,6 +113,8 @@ class Learner {
     out_.views.words = topics::Corpus(model.num_words());
     class_looks_.resize(static_cast<std::size_t>(rounds));
     class_look_words_.assign(static_cast<std::size_t>(rounds), Eigen::VectorXd::Zero(words_));
+    class_look_colours_.assign(static_cast<std::size_t>(rounds),
+                               Eigen::VectorXd::Zero(options.colour.count()));
     class_descriptors_.resize(static_cast<std::size_t>(rounds));
     if (!log_path.empty()) log_file_.open(log_path);
   }
@@ -237,6 +240,15 @@ class Learner {
     return d;
   }
 
+  // claims_by kColour: how many pixels of blob `k` of `view` (its own mask, not dilated) have
+  // each colour word, in the last look's image.
+  Eigen::VectorXd blob_colours(const planning::PlanningView& view, int k) const {
+    const std::vector<double> counts = features::colour_word_counts(
+        image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_), o_.colour);
+    return Eigen::Map<const Eigen::VectorXd>(counts.data(),
+                                             static_cast<Eigen::Index>(counts.size()));
+  }
+
   // Whether a claim signal in use (claims_by or other_claims_by) is `s`.
   [[nodiscard]] bool uses(ClaimSignal s) const {
     return o_.claims_by == s || o_.other_claims_by == s;
@@ -274,7 +286,8 @@ class Learner {
 
   // The blobs of `view` with enough features: their documents, indices and thetas (rows), and
   // per blob of the view its theta (empty: too few features), its words (empty: the same) and,
-  // when a claim signal uses them (claims_by or other_claims_by descriptors), its descriptors.
+  // when a claim signal uses them (claims_by or other_claims_by descriptors), its descriptors,
+  // and (a signal colour) its pixels' colour-word counts (empty: too few features, as theta).
   struct BlobThetas {
     std::vector<std::vector<std::int32_t>> docs;
     std::vector<int> rows;
@@ -282,6 +295,7 @@ class Learner {
     std::vector<Eigen::VectorXd> per_blob;
     std::vector<std::vector<std::int32_t>> words;
     std::vector<cv::Mat> descriptors;
+    std::vector<Eigen::VectorXd> colours;
   };
   BlobThetas blob_thetas(const planning::PlanningView& view) {
     BlobThetas t;
@@ -289,6 +303,7 @@ class Learner {
     t.per_blob.resize(view.objects.size());
     t.words.resize(view.objects.size());
     t.descriptors.resize(view.objects.size());
+    t.colours.resize(view.objects.size());
     if (!docs.empty()) {
       t.theta = theta_of(docs);
       for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -296,6 +311,7 @@ class Learner {
         t.per_blob[b] = t.theta.row(static_cast<Eigen::Index>(i)).transpose();
         t.words[b] = docs[i];
         if (i < desc.size()) t.descriptors[b] = desc[i];
+        if (uses(ClaimSignal::kColour)) t.colours[b] = blob_colours(view, rows[i]);
       }
     }
     t.docs = std::move(docs);
@@ -317,6 +333,25 @@ class Learner {
                                      Eigen::VectorXd::Zero(words_));
     for (std::size_t r = 0; r < m.judged.size() && r < counts.size(); ++r) {
       if (m.judged[r] >= 0) out[static_cast<std::size_t>(m.judged[r])] += counts[r];
+    }
+    return out;
+  }
+
+  // claims_by kColour: per class (per group of rounds when merging) its looks' colour
+  // distribution (the pooled counts normalised; empty: no looks yet, so no part in the claims).
+  std::vector<std::vector<Eigen::VectorXd>> class_colours() const {
+    std::vector<Eigen::VectorXd> counts = class_look_colours_;
+    if (merging()) {
+      const RoundMerge m = judge();
+      counts.assign(static_cast<std::size_t>(m.distinct), Eigen::VectorXd::Zero(o_.colour.count()));
+      for (std::size_t r = 0; r < m.judged.size() && r < class_look_colours_.size(); ++r) {
+        if (m.judged[r] >= 0)
+          counts[static_cast<std::size_t>(m.judged[r])] += class_look_colours_[r];
+      }
+    }
+    std::vector<std::vector<Eigen::VectorXd>> out(counts.size());
+    for (std::size_t c = 0; c < counts.size(); ++c) {
+      if (counts[c].sum() > 0) out[c].push_back(counts[c] / counts[c].sum());
     }
     return out;
   }
@@ -384,6 +419,17 @@ class Learner {
         any = any_descriptors();
         return choose_unlearned_by_descriptors(blobs.descriptors, class_descriptors(),
                                                o_.descriptor_ratio, o_.descriptor_min_share);
+      case ClaimSignal::kColour: {
+        // The blobs' distributions (a blob of no pixels, unscored, stays empty).
+        std::vector<Eigen::VectorXd> p(blobs.colours.size());
+        for (std::size_t b = 0; b < p.size(); ++b) {
+          const Eigen::VectorXd& n = blobs.colours[b];
+          if (n.size() > 0 && n.sum() > 0) p[b] = n / n.sum();
+        }
+        const auto classes = class_colours();
+        any = std::any_of(classes.begin(), classes.end(), [](const auto& l) { return !l.empty(); });
+        return choose_unlearned(p, classes);
+      }
       case ClaimSignal::kLooks:
       case ClaimSignal::kNone:
         break;
@@ -469,6 +515,7 @@ class Learner {
                      : o_.claims_by == ClaimSignal::kLookWords      ? "looks' words"
                      : o_.claims_by == ClaimSignal::kFirstLookWords ? "first looks' words"
                      : o_.claims_by == ClaimSignal::kDescriptors    ? "descriptors"
+                     : o_.claims_by == ClaimSignal::kColour         ? "pixel colours"
                                                                     : "looks";
     log({.event = "choose",
          .round = r,
@@ -539,6 +586,8 @@ class Learner {
       add_descriptors(r, desc);
     }
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
+    if (uses(ClaimSignal::kColour))
+      class_look_colours_[static_cast<std::size_t>(r)] += blob_colours(view, c);
     auto& words = class_look_words_[static_cast<std::size_t>(r)];
     // kFirstLookWords: only the round's first look (the object before its learn pushes).
     if (!uses(ClaimSignal::kFirstLookWords) || words.sum() == 0) add_words(words, d);
@@ -1444,11 +1493,15 @@ class Learner {
     auto& theirs = class_looks_[static_cast<std::size_t>(c)];
     auto& mine_words = class_look_words_[static_cast<std::size_t>(r)];
     auto& their_words = class_look_words_[static_cast<std::size_t>(c)];
+    auto& mine_colours = class_look_colours_[static_cast<std::size_t>(r)];
+    auto& their_colours = class_look_colours_[static_cast<std::size_t>(c)];
     if (first) {
       theirs.insert(theirs.end(), mine.begin(), mine.end());
       mine.clear();
       their_words += mine_words;
       mine_words.setZero();
+      their_colours += mine_colours;
+      mine_colours.setZero();
       add_descriptors(c, class_descriptors_[static_cast<std::size_t>(r)]);
       class_descriptors_[static_cast<std::size_t>(r)] = cv::Mat();
     }
@@ -1464,6 +1517,7 @@ class Learner {
         if (!uses(ClaimSignal::kFirstLookWords) || their_words.sum() == 0) {
           add_words(their_words, d);
         }
+        if (uses(ClaimSignal::kColour)) their_colours += blob_colours(after, now);
       }
     }
     log({.event = "repeat",
@@ -1753,6 +1807,8 @@ class Learner {
     out_.round_class = cls;
     class_looks_.assign(static_cast<std::size_t>(objects_), {});
     class_look_words_.assign(static_cast<std::size_t>(objects_), Eigen::VectorXd::Zero(words_));
+    class_look_colours_.assign(static_cast<std::size_t>(objects_),
+                               Eigen::VectorXd::Zero(o_.colour.count()));
     class_descriptors_.assign(static_cast<std::size_t>(objects_), cv::Mat());
   }
 
@@ -1784,6 +1840,8 @@ class Learner {
   /// Per class: the descriptors of the same looks, at most descriptor_cap (claims_by
   /// kDescriptors, or other_claims_by).
   std::vector<cv::Mat> class_descriptors_;
+  /// Per class: its looks' pixels' colour-word counts (claims_by kColour, or other_claims_by).
+  std::vector<Eigen::VectorXd> class_look_colours_;
   int plans_ = 0;
   bool repeat_check_ = false;  ///< repeat_tries: test the next push's views (learn)
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
@@ -1816,6 +1874,9 @@ void SelfSupervisionOptions::validate() const {
   }
   if (claims_by == ClaimSignal::kNone) {
     throw Error("selfsupervise: claims_by none is not a claim signal");
+  }
+  if (claims_by == ClaimSignal::kColour || other_claims_by == ClaimSignal::kColour) {
+    colour.validate();
   }
   if (colour_words) {
     colour.validate();

@@ -82,6 +82,38 @@ TEST(ColourWords, GreyImagesGiveGreyWordsAndBadInputThrows) {
   EXPECT_THROW(colour_words(grey, {}, bad), Error);
 }
 
+TEST(ColourWords, CountsOverAMaskAreEachPixelsPatchWord) {
+  // Left half red, right half blue, as above. A mask of columns 5-14 (well inside the red) counts
+  // 10 x 20 red pixels; one of columns 5-24 adds the border's purples (columns 17-22, whose 7 x 7
+  // patches straddle it) and blue; every count equals colour_words at that pixel.
+  cv::Mat3b image(20, 40, cv::Vec3b(0, 0, 255));
+  image(cv::Rect(20, 0, 20, 20)).setTo(cv::Vec3b(255, 0, 0));
+  const ColourWordOptions o;
+  cv::Mat1b mask(image.size(), uchar{0});
+  mask(cv::Rect(5, 0, 10, 20)).setTo(255);
+  std::vector<double> want(28, 0.0);
+  want[1] = 200;
+  EXPECT_EQ(colour_word_counts(image, mask, o), want);
+  mask(cv::Rect(5, 0, 20, 20)).setTo(255);
+  std::vector<cv::KeyPoint> k;
+  for (int y = 0; y < 20; ++y) {
+    for (int x = 5; x < 25; ++x) {
+      k.emplace_back(cv::Point2f(static_cast<float>(x), static_cast<float>(y)), 8);
+    }
+  }
+  want.assign(28, 0.0);
+  for (const std::int32_t w : colour_words(image, k, o)) want[static_cast<std::size_t>(w)] += 1;
+  const auto counts = colour_word_counts(image, mask, o);
+  EXPECT_EQ(counts, want);
+  EXPECT_GT(counts[17], 0);          // blue
+  EXPECT_GT(counts[10 * 2 + 1], 0);  // the border's purple
+  EXPECT_EQ(colour_word_counts(image, cv::Mat1b(image.size(), uchar{0}), o),
+            std::vector<double>(28, 0.0));
+  EXPECT_THROW(colour_word_counts(image, cv::Mat1b(10, 10, uchar{255}), o), Error);
+  EXPECT_THROW(colour_word_counts(image, cv::Mat1f(image.size(), 1.0F), o), Error);
+  EXPECT_THROW(colour_word_counts(cv::Mat(), cv::Mat(), o), Error);
+}
+
 TEST(ColourWords, DocumentsNumberColourWordsAfterTheVocabulary) {
   EXPECT_EQ(with_colour_words({3, 0, 99}, {27, 0, 5}, 100),
             (std::vector<std::int32_t>{3, 0, 99, 127, 100, 105}));

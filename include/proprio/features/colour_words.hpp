@@ -54,6 +54,13 @@ std::vector<std::int32_t> colour_words(const cv::Mat& image,
                                        const std::vector<cv::KeyPoint>& keypoints,
                                        const ColourWordOptions& options);
 
+/// How many pixels of `mask` (8-bit, the image's size; nonzero: in) have each colour word
+/// (0..options.count()-1): every pixel's patch mean as colour_words takes it, a dense colour
+/// histogram of a region (a blob's own pixels, not only its features' points). Throws Error on an
+/// empty image, a type other than 8-bit 1 or 3 channels, or a mask of another size or type.
+std::vector<double> colour_word_counts(const cv::Mat& image, const cv::Mat& mask,
+                                       const ColourWordOptions& options);
+
 /// The word (0..options.count()-1) of one BGR colour, components 0-255 (what colour_words gives a
 /// patch of that mean colour).
 std::int32_t colour_word(const cv::Vec3b& bgr, const ColourWordOptions& options);

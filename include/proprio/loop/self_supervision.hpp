@@ -109,17 +109,25 @@ enum class ClaimSignal {
   /// class), matched to each blob's descriptors with OpenCV's matcher and Lowe's ratio test
   /// (choose_unlearned_by_descriptors).
   kDescriptors,
+  /// Each class's looks as pixel colours: the colour word (features::colour_word_counts, the
+  /// grid SelfSupervisionOptions::colour) of every pixel of its tracked blob in the looks of its
+  /// learn round (the same looks as kLooks), pooled into one histogram a class; a blob's distance
+  /// to a class is the Hellinger distance between their histograms (choose_unlearned). Not the
+  /// features' points only: a blob of 30-60 px has a few dozen SIFT features but thousands of
+  /// pixels, and an object's colours do not change as it turns.
+  kColour,
   /// No signal: only as SelfSupervisionOptions::other_claims_by (no comparison made).
   kNone,
 };
 /// The claim signals' names (SelfSupervisionOptions::claims_by and other_claims_by); "none"
 /// serves other_claims_by only (validate() refuses it as claims_by).
-inline constexpr core::ChoiceNames<ClaimSignal, 6> kClaimSignalNames{
+inline constexpr core::ChoiceNames<ClaimSignal, 7> kClaimSignalNames{
     {{"looks", ClaimSignal::kLooks},
      {"view-words", ClaimSignal::kViewWords},
      {"look-words", ClaimSignal::kLookWords},
      {"first-look-words", ClaimSignal::kFirstLookWords},
      {"descriptors", ClaimSignal::kDescriptors},
+     {"colour", ClaimSignal::kColour},
      {"none", ClaimSignal::kNone}}};
 
 /// Where a class's descriptors come from (SelfSupervisionOptions::descriptor_source).
@@ -461,7 +469,7 @@ struct SelfSupervisionOptions {
   /// the own-model rungs, whose documents are SIFT words only. Scoring: c is then also scored by
   /// the colour words alone (SelfSupervisionScore::colour_accuracy, beside the theta figure).
   bool colour_words = false;
-  features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
+  features::ColourWordOptions colour;  ///< colour_words and claims by colour: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
   [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
     return features::colour_if(colour_words, colour);
@@ -555,8 +563,9 @@ struct SelfSupervisionOptions {
     v.choice(self.claims_by,
              {"claims_by",
               "(d)'s claims judge a blob against each class's looks (thetas), their words "
-              "(look-words), its first look's words (first-look-words) or its views' words "
-              "(view-words)"},
+              "(look-words), its first look's words (first-look-words), its views' words "
+              "(view-words), its looks' descriptors (descriptors) or its looks' pixel colours "
+              "(colour)"},
              kClaimSignalNames);
     v.choice(self.other_claims_by,
              {"other_claims_by",
