@@ -80,7 +80,7 @@ std::vector<std::int32_t> colour_words(const cv::Mat& image,
                   std::to_string(k.pt.y) + ") lies outside the " + std::to_string(hsv.cols) +
                   " x " + std::to_string(hsv.rows) + " image");
     }
-    const cv::Vec3b p = hsv(y, x);
+    const cv::Vec3b& p = hsv(y, x);
     out.push_back(hsv_word(p[0], p[1], p[2], options));
   }
   return out;
@@ -97,7 +97,7 @@ std::vector<double> colour_word_counts(const cv::Mat& image, const cv::Mat& mask
     const auto* m = mask.ptr<uchar>(y);
     for (int x = 0; x < mask.cols; ++x) {
       if (m[x] == 0) continue;
-      const cv::Vec3b p = hsv(y, x);
+      const cv::Vec3b& p = hsv(y, x);
       counts[static_cast<std::size_t>(hsv_word(p[0], p[1], p[2], options))] += 1.0;
     }
   }

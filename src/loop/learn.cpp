@@ -33,6 +33,7 @@
 #include "proprio/features/mask_morphology.hpp"
 #include "proprio/features/vocabulary.hpp"
 #include "proprio/loop/learn_report.hpp"
+#include "proprio/loop/self_supervision.hpp"
 #include "proprio/loop/self_supervision_scoring.hpp"
 #include "proprio/loop/view_model.hpp"
 #include "proprio/recognition/confusion.hpp"
@@ -486,8 +487,17 @@ sim::Background background_of(const LearnOptions& o) {
 void LearnOptions::validate() const {
   core::check_field_bounds(*this, "learn");
   colour.validate();
-  if (new_object == NewObjectScore::kColour && known_margin >= 0) {
-    throw Error("learn: --known-margin compares word likelihoods: not with --new-object colour");
+  if ((new_object == NewObjectScore::kColour || new_object == NewObjectScore::kPixels) &&
+      known_margin >= 0) {
+    throw Error(
+        core::cat({"learn: --known-margin compares word likelihoods: not with --new-object ",
+                   core::choice_name(new_object, kNewObjectScoreNames)}));
+  }
+  if (new_object == NewObjectScore::kPixels && views != LearnViews::kBefore &&
+      views != LearnViews::kBoth) {
+    throw Error(
+        "learn: --new-object pixels compares the looks before the pushes: it needs --views "
+        "before or both");
   }
   if (colour_words && oracle_ladder) {
     throw Error(
@@ -704,6 +714,17 @@ class Learner {
       n = ((n.array() + 1.0) / (n.sum() + words)).log().matrix();
     }
     return counts;
+  }
+
+  // new_object pixels: the colour words of `mask`'s pixels of `image` added to class c's.
+  void add_pixel_colours(int c, const cv::Mat& image, const cv::Mat& mask) {
+    const std::vector<double> n = features::colour_word_counts(image, mask, o_.colour);
+    if (pixel_colours_.size() <= static_cast<std::size_t>(c)) {
+      pixel_colours_.resize(static_cast<std::size_t>(c) + 1);
+    }
+    Eigen::VectorXd& to = pixel_colours_[static_cast<std::size_t>(c)];
+    if (to.size() == 0) to = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n.size()));
+    to += Eigen::Map<const Eigen::VectorXd>(n.data(), static_cast<Eigen::Index>(n.size()));
   }
 
   // Training views of class c so far.
@@ -1080,6 +1101,13 @@ class Learner {
     double best_s = std::numeric_limits<double>::infinity();
     const bool match = o_.new_object == NewObjectScore::kMatch;
     const bool colour = o_.new_object == NewObjectScore::kColour;
+    const bool pixels = o_.new_object == NewObjectScore::kPixels;
+    // "pixels": the classes' colour distributions from their looks before their pushes.
+    std::vector<Eigen::VectorXd> class_pixels(static_cast<std::size_t>(c));
+    for (int k = 0; k < c && pixels && static_cast<std::size_t>(k) < pixel_colours_.size(); ++k) {
+      const Eigen::VectorXd& n = pixel_colours_[static_cast<std::size_t>(k)];
+      if (n.size() > 0 && n.sum() > 0) class_pixels[static_cast<std::size_t>(k)] = n / n.sum();
+    }
     // "match": each known object's views' descriptors (a stride sample of kMaxMatchPool).
     std::vector<cv::Mat> pools;
     if (match) pools = timed("recognition", [&] { return known_pools(c); });
@@ -1153,7 +1181,25 @@ class Learner {
           s_object = k;
         }
       }
-      for (int k = 0; k < c && !colour; ++k) {
+      if (pixels) {
+        // Minus the Hellinger distance to the nearest class: the farthest blob is the least known.
+        const std::vector<double> n = timed("recognition", [&] {
+          return features::colour_word_counts(current_.image, m, o_.colour);
+        });
+        Eigen::VectorXd p =
+            Eigen::Map<const Eigen::VectorXd>(n.data(), static_cast<Eigen::Index>(n.size()));
+        if (p.sum() > 0) p /= p.sum();
+        for (int k = 0; k < c; ++k) {
+          const Eigen::VectorXd& q = class_pixels[static_cast<std::size_t>(k)];
+          if (q.size() == 0) continue;
+          const double sk = -hellinger(p, q);
+          if (sk > s) {
+            s = sk;
+            s_object = k;
+          }
+        }
+      }
+      for (int k = 0; k < c && !colour && !pixels; ++k) {
         const auto ku = static_cast<std::size_t>(k);
         const ObjectModel& om = models_[ku];
         if (!om.learned()) continue;
@@ -1228,6 +1274,7 @@ class Learner {
          .blob = best,
          .why = match    ? "fewest descriptors matched to the objects so far (7.2 d)"
                 : colour ? "colour words least likely under the classes' colours so far (7.2 d)"
+                : pixels ? "pixel colours farthest from the classes' looks so far (7.2 d)"
                          : "least likely under the object models so far (7.2 d)",
          .known = std::move(known),
          .scores = std::move(scores),
@@ -2086,6 +2133,9 @@ class Learner {
         });
         const int copies = both ? lp.views : 1;
         if (f.size() >= o_.min_features) {
+          if (o_.new_object == NewObjectScore::kPixels) {
+            add_pixel_colours(c, before.image, before.mask);
+          }
           const View taken = view_of(c, base + done, before.image, f);
           for (int i = 0; i < copies; ++i) {
             views_.push_back(taken);
@@ -2237,6 +2287,9 @@ class Learner {
   std::vector<Eigen::Vector2d> given_up_;
   std::vector<LearnPush> pushes_;
   std::vector<View> views_;
+  /// new_object pixels: per class, its pushed blob's pixels' colour-word counts in the look
+  /// before each push that gave it a view (empty: none yet).
+  std::vector<Eigen::VectorXd> pixel_colours_;
   std::vector<cv::Mat> frames_;
   std::map<std::string, double> seconds_;
   std::map<std::string, double> cpu_;  ///< processor seconds per stage (timed())

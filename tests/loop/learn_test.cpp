@@ -1455,6 +1455,31 @@ TEST(Learn, ColourChoosesTheBlobWhoseColoursTheClassesExplainLeast) {
   EXPECT_THROW(bad.validate(), Error);
 }
 
+TEST(Learn, PixelsChooseTheBlobWhosePixelColoursAreFarthestFromTheClasses) {
+  // new_object "pixels" (session 41): the second turn scores each open blob by minus the
+  // Hellinger distance (in [-1, 0]) between its pixels' colour words and the first class's, from
+  // the pushed blob in the look before each of its pushes, and chooses the farthest; it needs the
+  // views before (both, the default, or before) and is refused with --known-margin.
+  const test::TempDir dir("proprio_learn_pixels_");
+  const SmallTable t;
+  const LearnResult r = t.run(dir.path() / "run", 2,
+                              [&](LearnOptions& o) { o.new_object = NewObjectScore::kPixels; });
+  ASSERT_GT(r.objects.at(0).views, 0);
+  EXPECT_EQ(core::read_json(dir.path() / "run" / "learn.json")["options"]["new_object"], "pixels");
+  EXPECT_EQ(check_least_chosen(dir.path() / "run", "best_mean_log_p", "best_object", -1, 0,
+                               "pixel colours"),
+            1);
+  LearnOptions bad;
+  bad.new_object = NewObjectScore::kPixels;
+  EXPECT_NO_THROW(bad.validate());
+  bad.views = LearnViews::kMotion;
+  EXPECT_THROW(bad.validate(), Error);
+  bad.views = LearnViews::kBefore;
+  EXPECT_NO_THROW(bad.validate());
+  bad.known_margin = 1;
+  EXPECT_THROW(bad.validate(), Error);
+}
+
 TEST(Learn, ABlobThatTheDescriptorsSayIsAKnownObjectIsNotANewClass) {
   // new_object "match" with match_known 0: every blob has at least no descriptors matched to
   // the first object's views, so every blob is that object: the second turn finds only known
