@@ -1891,7 +1891,9 @@ void SelfSupervisionOptions::validate() const {
         "selfsupervise: mot_classifier colour scores by the colour words alone: it needs "
         "colour_words (--colour-words)");
   }
-  if (claims_by != ClaimSignal::kLooks && choice != NextObjectRule::kLooks) {
+  // The default (kColour) goes with either choice; another signal is asked for, and only choice
+  // looks makes claims.
+  if (claims_by != ClaimSignal::kColour && choice != NextObjectRule::kLooks) {
     throw Error(
         core::cat({"selfsupervise: claims_by ", core::choice_name(claims_by, kClaimSignalNames),
                    " needs choice looks (the learned classes' claims)"}));

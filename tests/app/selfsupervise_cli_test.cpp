@@ -182,7 +182,7 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
        "claims_by view-words needs choice looks"},
       {"--objects book,cd --claims-by descriptors --choice dirichlet" + inputs() + out,
        "claims_by descriptors needs choice looks"},
-      {"--objects book,cd --other-claims-by looks" + inputs() + out,
+      {"--objects book,cd --other-claims-by colour" + inputs() + out,
        "other_claims_by must be another signal"},
       {"--objects book,cd --descriptor-ratio 1.5" + inputs() + out, "descriptor-ratio"},
       {"--objects book,cd --mot-word-weight 1.5" + inputs() + out, "mot-word-weight"},

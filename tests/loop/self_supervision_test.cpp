@@ -210,10 +210,17 @@ TEST(SelfSupervision, ClaimsByViewWordsTellALearnedObjectFromANewOne) {
   EXPECT_THROW((void)choose_unlearned_by_words({{-1}}, counts, kWords), Error);
   EXPECT_THROW((void)choose_unlearned_by_words(blobs, {Eigen::VectorXd::Ones(5)}, kWords), Error);
   EXPECT_THROW((void)choose_unlearned_by_words(blobs, counts, 0), Error);
-  // The option: looks by default, in the JSON, only with choice looks.
+  // The option: colour by default (session 41), in the JSON; another signal only with choice
+  // looks.
   SelfSupervisionOptions o;
-  EXPECT_EQ(o.claims_by, ClaimSignal::kLooks);
-  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "looks");
+  EXPECT_EQ(o.claims_by, ClaimSignal::kColour);
+  EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "colour");
+  o.choice = NextObjectRule::kDirichlet;
+  EXPECT_NO_THROW(o.validate());
+  o.claims_by = ClaimSignal::kLooks;
+  EXPECT_THROW(o.validate(), Error);
+  o.choice = NextObjectRule::kLooks;
+  EXPECT_NO_THROW(o.validate());
   o.claims_by = ClaimSignal::kViewWords;
   EXPECT_NO_THROW(o.validate());
   EXPECT_EQ(core::fields_to_json(o).at("claims_by"), "view-words");
@@ -1685,7 +1692,7 @@ TEST(SelfSupervision, ClaimsByColourClaimTheObjectTheClassLearned) {
   }
   EXPECT_EQ(scored, 1);
   EXPECT_NE(truth[1].chosen, truth[0].chosen);
-  // Off: the same first round, and no colour claims logged.
+  // By the looks' thetas: the same first round.
   o.claims_by = ClaimSignal::kLooks;
   o.other_claims_by = ClaimSignal::kNone;
   TableRun looks = learn_on_table(o, {}, false);
