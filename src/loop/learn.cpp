@@ -718,13 +718,18 @@ class Learner {
 
   // new_object pixels: the colour words of `mask`'s pixels of `image` added to class c's.
   void add_pixel_colours(int c, const cv::Mat& image, const cv::Mat& mask) {
-    const std::vector<double> n = features::colour_word_counts(image, mask, o_.colour);
+    const std::vector<double> v = features::colour_word_counts(image, mask, o_.colour);
+    add_pixel_counts(
+        c, Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+  }
+  // new_object pixels: colour-word counts added to class c's.
+  void add_pixel_counts(int c, const Eigen::VectorXd& n) {
     if (pixel_colours_.size() <= static_cast<std::size_t>(c)) {
       pixel_colours_.resize(static_cast<std::size_t>(c) + 1);
     }
     Eigen::VectorXd& to = pixel_colours_[static_cast<std::size_t>(c)];
-    if (to.size() == 0) to = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n.size()));
-    to += Eigen::Map<const Eigen::VectorXd>(n.data(), static_cast<Eigen::Index>(n.size()));
+    if (to.size() == 0) to = Eigen::VectorXd::Zero(n.size());
+    to += n;
   }
 
   // Training views of class c so far.
@@ -2193,6 +2198,13 @@ class Learner {
         });
         for (View& v : views_) {
           if (v.cls == c) v.cls = *same;
+        }
+        // new_object pixels: the push's looks go with its views.
+        if (static_cast<std::size_t>(c) < pixel_colours_.size() &&
+            pixel_colours_[static_cast<std::size_t>(c)].size() > 0) {
+          const Eigen::VectorXd moved = pixel_colours_[static_cast<std::size_t>(c)];
+          pixel_colours_[static_cast<std::size_t>(c)].resize(0);
+          add_pixel_counts(*same, moved);
         }
         left_at_[su] = last;
         ++merges;
