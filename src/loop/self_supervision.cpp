@@ -959,6 +959,29 @@ class Learner {
     return m;
   }
 
+  // Whether the learn pushes' episodes are recorded and segmented (views motion or both).
+  [[nodiscard]] bool motion_views() const { return o_.views != ViewSource::kBlob; }
+
+  // views both: the look before the push (`image`, its view `view`) cut out by the pushed blob
+  // `c`, added to the push's `docs` (its motion views) once a motion view, so that it weighs as
+  // much as all of them; none (false) when the blob has too few features.
+  bool add_before_view(const PushIntent& intent, const fs::path& dir, const cv::Mat& image,
+                       const planning::PlanningView& view, int c,
+                       std::vector<std::vector<std::int32_t>>& docs) {
+    const cv::Mat mask = blob_mask(view.objects[static_cast<std::size_t>(c)], size_);
+    const features::Features f = masked_features(image, mask, o_.features, o_.dilate);
+    if (f.size() < o_.min_features) return false;
+    const std::vector<std::int32_t> d = features::document_words(vocabulary_, image, f, colour_);
+    const std::size_t copies = docs.size();
+    for (std::size_t i = 0; i < copies; ++i) {
+      docs.push_back(d);
+      if (keep_view_descriptors()) view_descriptors_.push_back(f.descriptors);
+      // Its truth: the episode's first frame (nothing pushed yet).
+      attendant_.view_taken(intent, dir, 0, mask);
+    }
+    return true;
+  }
+
   // views_of keeps its views' descriptors (own_model_rungs, descriptor_source views).
   [[nodiscard]] bool keep_view_descriptors() const {
     return o_.own_model_rungs || descriptors_from(DescriptorSource::kViews);
@@ -1272,7 +1295,7 @@ class Learner {
       turn(r, view, c, p);
       const std::string name = core::printf_string("round%d-push%02d", r + 1, done + 1);
       PushIntent in{r, "learn", index++, &view, c, &p};
-      if (!execute(in, o_.views == ViewSource::kMotion ? name : std::string())) continue;
+      if (!execute(in, motion_views() ? name : std::string())) continue;
       ++out_.pushes_learn;
       // Where is it now? What moved in the push near the plan's target (the hull carried there),
       // or (a push that moved nothing) where it was. The blob nearest the target was taken
@@ -1289,7 +1312,7 @@ class Learner {
       std::optional<Segmented> seg;
       int split_now = -1;
       PushMotion motion;
-      if (o_.split_by_motion && o_.views == ViewSource::kMotion) {
+      if (o_.split_by_motion && motion_views()) {
         seg = segment(episodes_ / name);
         split_now = split_by_push(r, *seg, judged, c, after, p.target, pushed, motion);
       }
@@ -1371,6 +1394,11 @@ class Learner {
         fault(r, "swapped", "the push moved another object than the round's: no views taken");
       } else {
         docs = views_of(in, episodes_ / name, after, now, last_mask, what, seg ? &*seg : nullptr);
+        if (o_.views == ViewSource::kBoth && !docs.empty() &&
+            add_before_view(in, episodes_ / name, before_image, view, c, docs)) {
+          what.source = "both";
+          what.views = static_cast<int>(docs.size());
+        }
       }
       if (repeat_check_ && !docs.empty()) {
         repeat_check_ = false;  // the round's first push with views only
@@ -2802,7 +2830,7 @@ Learning learn_by_pushing(robot::Robot& robot, TableAttendant& attendant, int cl
                            ", the LDA model ", std::to_string(model.num_words()),
                            ": not the vocabulary the model was made with"}));
   }
-  if (options.views == ViewSource::kMotion && episodes.empty()) {
+  if (options.views != ViewSource::kBlob && episodes.empty()) {
     throw Error("self-supervision: motion views need an episode directory");
   }
   if (!episodes.empty()) fs::create_directories(episodes);

@@ -1703,6 +1703,49 @@ TEST(SelfSupervision, ClaimsByColourClaimTheObjectTheClassLearned) {
   EXPECT_THROW(o.validate(), Error);
 }
 
+// views both (session 41, learn's LearnViews::kBoth): each learn push that gave motion views
+// also gives the look before it, cut out by the pushed blob, once a motion view: every "views"
+// event of source both counts twice its push's motion views, and the ground truth names a view
+// for each; round 1's pushes are the motion views' own.
+TEST(SelfSupervision, ViewsBothAddTheLookBeforeEachPushWeighingAsMuch) {
+  SelfSupervisionOptions o = small_options();
+  const test::TempDir dir("proprio_selfsup_both_");
+  std::map<ViewSource, TableRun> runs;
+  for (const ViewSource v : {ViewSource::kMotion, ViewSource::kBoth}) {
+    o.views = v;
+    runs.emplace(v, learn_on_table(o, dir.path() / core::choice_name(v, kViewSourceNames), false));
+  }
+  const Learning& both = runs.at(ViewSource::kBoth).l;
+  const Learning& motion = runs.at(ViewSource::kMotion).l;
+  int pushes = 0;
+  int views = 0;
+  for (const auto& j : both.log) {
+    if (j.event != "views" || !j.views || *j.views == 0) continue;
+    ASSERT_TRUE(j.source);
+    if (*j.source == "both") {
+      ++pushes;
+      EXPECT_EQ(*j.views % 2, 0);
+    }
+    views += *j.views;
+  }
+  EXPECT_GE(pushes, 1);
+  EXPECT_EQ(static_cast<int>(both.views.labels.size()), views);
+  EXPECT_EQ(runs.at(ViewSource::kBoth).attendant->views().size(), both.views.labels.size());
+  // Round 1 pushed the same objects the same way: the same learn pushes, twice the views.
+  const auto round0 = [](const Learning& l) {
+    std::vector<std::string> out;
+    for (const auto& j : l.log) {
+      if (j.event == "push" && j.round.value_or(-1) == 0 && j.plan) out.push_back(j.plan->message);
+    }
+    return out;
+  };
+  EXPECT_EQ(round0(both), round0(motion));
+  const auto of_round0 = [](const Learning& l) {
+    return std::count(l.views.labels.begin(), l.views.labels.end(), 0);
+  };
+  EXPECT_EQ(of_round0(both), 2 * of_round0(motion));
+}
+
 TEST(SelfSupervision, LearnsOnTheSimulatedTableAndIsScored) {
   // With the geometry that keeps a round on its object (off by default: measured no better).
   SelfSupervisionOptions o = small_options();
