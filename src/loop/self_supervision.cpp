@@ -322,15 +322,21 @@ class Learner {
   // claims_by kViewWords: per class (per group of rounds when merging) its views' word counts.
   // claims_by kLookWords (`looks`): per class its looks' word counts instead.
   std::vector<Eigen::VectorXd> class_word_counts(bool looks = false) const {
-    const auto counts = looks ? class_look_words_ : round_counts();
+    return per_class(looks ? class_look_words_ : round_counts(), words_);
+  }
+
+  // Counts of length `length` per round, as per class: one a round class (C of them), or summed
+  // over each group of rounds the robot judges one object when merging (merge_rounds).
+  std::vector<Eigen::VectorXd> per_class(const std::vector<Eigen::VectorXd>& counts,
+                                         Eigen::Index length) const {
     if (!merging()) {
-      std::vector<Eigen::VectorXd> out(class_looks_.size(), Eigen::VectorXd::Zero(words_));
+      std::vector<Eigen::VectorXd> out(class_looks_.size(), Eigen::VectorXd::Zero(length));
       for (std::size_t r = 0; r < counts.size() && r < out.size(); ++r) out[r] = counts[r];
       return out;
     }
     const RoundMerge m = judge();
     std::vector<Eigen::VectorXd> out(static_cast<std::size_t>(m.distinct),
-                                     Eigen::VectorXd::Zero(words_));
+                                     Eigen::VectorXd::Zero(length));
     for (std::size_t r = 0; r < m.judged.size() && r < counts.size(); ++r) {
       if (m.judged[r] >= 0) out[static_cast<std::size_t>(m.judged[r])] += counts[r];
     }
@@ -340,15 +346,7 @@ class Learner {
   // claims_by kColour: per class (per group of rounds when merging) its looks' colour
   // distribution (the pooled counts normalised; empty: no looks yet, so no part in the claims).
   std::vector<std::vector<Eigen::VectorXd>> class_colours() const {
-    std::vector<Eigen::VectorXd> counts = class_look_colours_;
-    if (merging()) {
-      const RoundMerge m = judge();
-      counts.assign(static_cast<std::size_t>(m.distinct), Eigen::VectorXd::Zero(o_.colour.count()));
-      for (std::size_t r = 0; r < m.judged.size() && r < class_look_colours_.size(); ++r) {
-        if (m.judged[r] >= 0)
-          counts[static_cast<std::size_t>(m.judged[r])] += class_look_colours_[r];
-      }
-    }
+    const std::vector<Eigen::VectorXd> counts = per_class(class_look_colours_, o_.colour.count());
     std::vector<std::vector<Eigen::VectorXd>> out(counts.size());
     for (std::size_t c = 0; c < counts.size(); ++c) {
       if (counts[c].sum() > 0) out[c].push_back(counts[c] / counts[c].sum());
