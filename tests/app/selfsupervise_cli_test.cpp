@@ -103,6 +103,23 @@ TEST_F(SelfSuperviseCli, ColourWordsScoreCByTheColourWordsBesideTheMixtureOfTopi
   EXPECT_EQ(h["ground_truth"]["argmax_accuracy"], g["argmax_accuracy"]);
 }
 
+TEST_F(SelfSuperviseCli, MotSmoothingReachesTheRunsMixtureOfTopics) {
+  // --mot-smoothing s is the robot's Mixture of Topics' theta smoothing (MotOptions::smoothing,
+  // which topics::fit_mot keeps in the model): the run's record says the s it used; the
+  // default 0 keeps theta as it is. Out of [0, 0.5]: BadOptionsAreOneLineAndExit2.
+  const std::string run =
+      "selfsupervise --objects book,bottle --pushes 1 --clear-pushes 1 --views blob --held-out 3 "
+      "--width 160 --height 120 --step 4 --min-features 3 --seed 3 -q" +
+      inputs();
+  for (const double s : {0.0, 0.05}) {
+    const std::string name = s > 0 ? "smooth" : "plain";
+    const std::string flag = s > 0 ? " --mot-smoothing 0.05" : "";
+    const auto r = run_cli(run + flag + " --out " + file(name) + " --json " + file(name + ".json"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(core::read_json(dir() / (name + ".json"))["options"]["mot_smoothing"], s);
+  }
+}
+
 TEST_F(SelfSuperviseCli, MoreRoundsThanObjectsAreMergedIntoTwoClasses) {
   // --rounds 3 for two objects, --same-object 10 (any two round classes judged one object): the
   // robot never judges both objects learned, runs all three rounds and merges them into two
@@ -188,6 +205,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd --mot-word-weight 1.5" + inputs() + out, "mot-word-weight"},
       {"--objects book,cd --mot-word-weight -0.1" + inputs() + out, "mot-word-weight"},
       {"--objects book,cd --mot-classifier words" + inputs() + out, "mot-classifier"},
+      {"--objects book,cd --mot-smoothing 0.6" + inputs() + out, "mot-smoothing"},
+      {"--objects book,cd --mot-smoothing -0.1" + inputs() + out, "mot-smoothing"},
       {"--objects book,cd --rounds 1" + inputs() + out, "fewer than the 2 objects"},
       {"--objects book,cd --rounds 65" + inputs() + out, "rounds"},
       {"--objects book,cd --same-object -1" + inputs() + out, "same-object"},

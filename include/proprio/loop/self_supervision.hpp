@@ -670,6 +670,10 @@ struct SelfSupervisionOptions {
        core::between(1, 10)});
     v(self.mot.shared_precision,
       {"mot_shared_precision", "Mixture of Topics: one precision shared by every object"});
+    v(self.mot.smoothing,
+      {"mot_smoothing",
+       "Mixture of Topics: theta smoothing s, (1 - s) theta + s / T before the log (0: off)",
+       core::Bounds{0, 0.5, false}});
     v(self.out, {"out", "Output directory: episodes, decision log, model, results"});
     v(self.overwrite, {"overwrite", "Replace an existing output directory"});
   }
