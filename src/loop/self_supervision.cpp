@@ -1906,10 +1906,10 @@ void SelfSupervisionOptions::validate() const {
   }
   if (colour_words) {
     colour.validate();
-    if (oracle_ladder || own_model_rungs) {
+    if (oracle_ladder || own_model_rungs || ceiling_only) {
       throw Error(
-          "selfsupervise: colour words do not go with the oracle ladder or the own-model rungs "
-          "(their documents are SIFT words only)");
+          "selfsupervise: colour words do not go with the oracle ladder, its ceiling or the "
+          "own-model rungs (their documents are SIFT words only)");
     }
   }
   if (mot_classifier == MotClassifier::kColour && !colour_words) {

@@ -31,15 +31,32 @@ constexpr std::size_t kMaxObjects = 8;
 struct Inputs {
   topics::LdaModel model;
   features::Vocabulary vocabulary;
+  /// The options the run goes by: the caller's, with colour_words turned on when
+  /// colour_words_from_model finds the model made with them.
+  SelfSupervisionOptions options;
 };
 
 Inputs read_inputs(const SelfSupervisionOptions& o) {
   if (o.lda_model.empty()) throw Error("selfsupervise: --model (an LDA model file) is required");
   if (o.vocabulary.empty()) throw Error("selfsupervise: --vocabulary is required");
   if (o.out.empty()) throw Error("selfsupervise: --out is required");
-  Inputs in{topics::load_lda_model(o.lda_model), features::read_vocabulary(o.vocabulary)};
+  Inputs in{topics::load_lda_model(o.lda_model), features::read_vocabulary(o.vocabulary), o};
+  // A model of the vocabulary's words and the colour words after them was made with colour
+  // words: read as it was made (validate again: they do not go with every option).
+  if (!o.colour_words && o.colour_words_from_model &&
+      in.model.num_words() == features::document_vocabulary_size(in.vocabulary, o.colour)) {
+    in.options.colour_words = true;
+    try {
+      in.options.validate();
+    } catch (const Error& e) {
+      throw Error(core::cat({o.lda_model.string(), ": made with colour words (",
+                             std::to_string(in.model.num_words()), " = the vocabulary's ",
+                             std::to_string(in.vocabulary.size()), " + ",
+                             std::to_string(o.colour.count()), "), but ", e.what()}));
+    }
+  }
   // With colour words the model has the vocabulary's words and the colour words after them.
-  const int words = features::document_vocabulary_size(in.vocabulary, o.document_colour());
+  const int words = features::document_vocabulary_size(in.vocabulary, in.options.document_colour());
   if (words != in.model.num_words()) {
     if (o.colour_words) {
       throw Error(
@@ -144,7 +161,7 @@ SelfSupervisionResult run_self_supervision(const SelfSupervisionOptions& options
   options.validate();
   const std::vector<std::string> objects = parse_object_list(options.objects);
   const Inputs in = read_inputs(options);
-  StagedOut out(options);
+  StagedOut out(in.options);
   SelfSupervisionResult r =
       learn(out.options, out.work(), robot, attendant, in, static_cast<int>(objects.size()));
   r.document = core::result_document(kSelfSupervisionFormat, kFormatVersion, provenance);
@@ -165,7 +182,7 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
                            std::to_string(kMaxObjects), ")"}));
   }
   const Inputs in = read_inputs(options);
-  StagedOut out(options);
+  StagedOut out(in.options);
   sim::TableOptions table;
   table.objects = objects;
   table.seed = options.seed;
@@ -179,7 +196,7 @@ SelfSupervisionResult run_self_supervision_sim(const SelfSupervisionOptions& opt
   auto robot = std::make_unique<sim::SimulatedRobot>(table, catalogue);
   GroundTruthAttendant attendant(*robot, options.seed);
   SelfSupervisionResult r;
-  SelfSupervisionOptions scoring = options;
+  SelfSupervisionOptions scoring = in.options;
   if (options.ceiling_only) {
     // No pushes: an empty learning (no classes), scored with the ladder's render rungs only.
     r.options = out.options;

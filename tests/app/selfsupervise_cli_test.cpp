@@ -61,6 +61,8 @@ TEST_F(SelfSuperviseCli, LearnsTwoObjectsAndWritesWhatHappened) {
   EXPECT_EQ(j["classes"].size(), 2U);
   EXPECT_TRUE(j["ground_truth"].contains("mot_confusion"));
   EXPECT_FALSE(j["ground_truth"].contains("colour_accuracy"));  // only with --colour-words
+  // A model of the vocabulary's words alone keeps SIFT words only (colour_words_from_model).
+  EXPECT_FALSE(j["options"]["colour_words"].get<bool>());
   EXPECT_EQ(j["ground_truth"]["objects"].size(), 2U);
   EXPECT_TRUE(fs::exists(dir() / "run" / "decisions.jsonl"));
   EXPECT_TRUE(fs::exists(dir() / "run" / "selfsupervise.json"));
@@ -101,6 +103,16 @@ TEST_F(SelfSuperviseCli, ColourWordsScoreCByTheColourWordsBesideTheMixtureOfTopi
   EXPECT_EQ(h["ground_truth"]["mot_accuracy"].get<double>(), colour);
   EXPECT_EQ(h["ground_truth"]["colour_accuracy"].get<double>(), colour);
   EXPECT_EQ(h["ground_truth"]["argmax_accuracy"], g["argmax_accuracy"]);
+  // A model made with colour words turns them on without the flag (colour_words_from_model): the
+  // same run, the same figures, and the record says they were on.
+  std::string plain = run;
+  plain.erase(plain.find(" --colour-words"), std::string(" --colour-words").size());
+  const auto a = run_cli(plain + " --out " + file("cola") + " --json " + file("cola.json"));
+  ASSERT_EQ(a.code, 0) << a.err;
+  const core::Json k = core::read_json(dir() / "cola.json");
+  EXPECT_TRUE(k["options"]["colour_words"].get<bool>());
+  EXPECT_EQ(k["ground_truth"]["colour_accuracy"].get<double>(), colour);
+  EXPECT_EQ(k["ground_truth"]["mot_accuracy"], g["mot_accuracy"]);
 }
 
 TEST_F(SelfSuperviseCli, MotSmoothingReachesTheRunsMixtureOfTopics) {
@@ -223,6 +235,15 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
        file("m.lda") + ": 24 words, but --colour-words needs the vocabulary's 24 + 28"},
       {"--objects book,cd --colour-words --oracle-ladder" + inputs() + out,
        "colour words do not go with the oracle ladder"},
+      // A model made with colour words turns them on (colour_words_from_model), so it is refused
+      // where they are, naming the model; with the option off it is not the vocabulary's.
+      {"--objects book,cd --oracle-ladder" + inputs("colour.lda") + out,
+       file("colour.lda") + ": made with colour words (52 = the vocabulary's 24 + 28), but "
+                            "selfsupervise: colour words do not go with the oracle ladder"},
+      {"--objects book,cd --ceiling-only" + inputs("colour.lda") + out,
+       "colour words do not go with the oracle ladder, its ceiling"},
+      {"--objects book,cd --no-colour-words-from-model" + inputs("colour.lda") + out,
+       "not the vocabulary the model was made with"},
       // c by the colour words alone needs them.
       {"--objects book,cd --mot-classifier colour" + inputs() + out,
        "mot_classifier colour scores by the colour words alone: it needs colour_words"},

@@ -479,6 +479,13 @@ struct SelfSupervisionOptions {
   /// the own-model rungs, whose documents are SIFT words only. Scoring: c is then also scored by
   /// the colour words alone (SelfSupervisionScore::colour_accuracy, beside the theta figure).
   bool colour_words = false;
+  /// colour_words is turned on when the LDA model has the vocabulary's words and the colour words
+  /// after them (a model made with `recognize train --colour-words`), so such a model is read as
+  /// it was made; a model of the vocabulary's words alone keeps SIFT words only (resolved when
+  /// the inputs are read: the run's record says which). Measured in session 42 (fresh seeds
+  /// 51-70, docs/results/selfsupervision.md "Session 42"). Off: a colour model needs
+  /// --colour-words, as before.
+  bool colour_words_from_model = true;
   features::ColourWordOptions colour;  ///< colour_words and claims by colour: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
   [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
@@ -625,6 +632,10 @@ struct SelfSupervisionOptions {
        "Documents carry a colour word a feature (its patch's mean colour, 28 HSV words) after "
        "its SIFT word; the model needs the vocabulary's words + 28 (recognize train "
        "--colour-words); off: SIFT words only (the thesis)"});
+    v(self.colour_words_from_model,
+      {"colour_words_from_model",
+       "Colour words on when the model has the vocabulary's words + 28 (a model made with "
+       "recognize train --colour-words)"});
     v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
     v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
     v(self.seed, {"seed", "Seed of the table, choices, paths and re-scatters"});
