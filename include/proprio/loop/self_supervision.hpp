@@ -206,7 +206,10 @@ struct SelfSupervisionOptions {
   /// lost it), the object is found again by the pixel colours of the round's own looks (the
   /// signal of claims_by colour): the blob whose colour distribution is nearest them, when that
   /// Hellinger distance is below this and no other round's looks are nearer (logged "refound";
-  /// none: the round stops, "chosen object lost", as before). 0 (the default): off.
+  /// none: the round stops, "chosen object lost", as before). 0 (the default): off. Session 43
+  /// (fresh seeds 77-96, 0.5 against off, paired): colour figure +3.3 +- 5.2 points, c +2.1 +-
+  /// 3.1, but objects with a class 3.25 -> 3.10 (the rounds after a re-find get fewer carried
+  /// pushes and choose on another table): its rule failed (docs/results/selfsupervision.md).
   double refind_colour = 0;
   /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
   /// from its centre to the push's target, in the table plane) at least this far from every
