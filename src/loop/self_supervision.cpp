@@ -584,7 +584,7 @@ class Learner {
       add_descriptors(r, desc);
     }
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
-    if (uses(ClaimSignal::kColour))
+    if (uses(ClaimSignal::kColour) || o_.refind_colour > 0)
       class_look_colours_[static_cast<std::size_t>(r)] += blob_colours(view, c);
     auto& words = class_look_words_[static_cast<std::size_t>(r)];
     // kFirstLookWords: only the round's first look (the object before its learn pushes).
@@ -1073,6 +1073,40 @@ class Learner {
     offset_ = t.offset;
   }
 
+  // refind_colour: the blob of `view` that refind_by_colours takes for round r's object, by the
+  // blobs' pixel colours and the rounds' looks'; -1: none. Logged either way (event "refound"
+  // with the blob, or "refind" without).
+  int refind_by_colour(int r, const planning::PlanningView& view) {
+    std::vector<Eigen::VectorXd> blobs(view.objects.size());
+    for (std::size_t k = 0; k < blobs.size(); ++k) {
+      blobs[k] = blob_colours(view, static_cast<int>(k));
+    }
+    std::vector<Eigen::VectorXd> others;
+    for (std::size_t q = 0; q < class_look_colours_.size(); ++q) {
+      if (static_cast<int>(q) != r) others.push_back(class_look_colours_[q]);
+    }
+    const ColourRefind f = refind_by_colours(
+        blobs, class_look_colours_[static_cast<std::size_t>(r)], others, o_.refind_colour);
+    if (f.blob >= 0) {
+      log({.event = "refound",
+           .round = r,
+           .blob = f.blob,
+           .why = core::printf_string(
+               "colour: no blob where the object was; blob %d's pixel colours are %.3f "
+               "(Hellinger) from the round's looks, the nearest of %d blobs",
+               f.blob, f.distance, static_cast<int>(view.objects.size()))});
+    } else {
+      log({.event = "refind",
+           .round = r,
+           .why = f.nearest < 0
+                      ? std::string("colour: no blob nearer the round's looks than others' looks")
+                      : core::printf_string("colour: the nearest blob (%d) is %.3f (Hellinger) "
+                                            "from the round's looks, not below %.3f",
+                                            f.nearest, f.distance, o_.refind_colour)});
+    }
+    return f.blob;
+  }
+
   // (c): which blob of `after` is round r's object (follow_by_looks on the blobs' looks).
   Followed follow(int r, const planning::PlanningView& after, int tracked) {
     BlobDocuments found = blob_documents(after);
@@ -1187,6 +1221,7 @@ class Learner {
         c = 0;
         log({.event = "refound", .round = r, .why = "the only blob in view"});
       }
+      if (c < 0 && o_.refind_colour > 0) c = refind_by_colour(r, view);
       if (c < 0) {
         fault(r, "lost", "the chosen object is no longer in view (off the table or out of reach)");
         out_.stop_reasons[static_cast<std::size_t>(r)] = "chosen object lost";
@@ -2410,6 +2445,36 @@ double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
   ensure(p.size() == q.size(), "hellinger: distributions of different lengths");
   const double bc = (p.array().max(0.0) * q.array().max(0.0)).sqrt().sum();
   return std::sqrt(std::max(0.0, 1.0 - bc));
+}
+
+ColourRefind refind_by_colours(const std::vector<Eigen::VectorXd>& blobs,
+                               const Eigen::VectorXd& own,
+                               const std::vector<Eigen::VectorXd>& others, double max_distance) {
+  const auto normalised = [](const Eigen::VectorXd& n) -> std::optional<Eigen::VectorXd> {
+    if (n.size() == 0 || !n.allFinite() || n.minCoeff() < 0 || n.sum() <= 0) return std::nullopt;
+    return Eigen::VectorXd(n / n.sum());
+  };
+  ColourRefind out;
+  const auto mine = normalised(own);
+  if (!mine || max_distance <= 0) return out;
+  std::vector<Eigen::VectorXd> theirs;
+  for (const Eigen::VectorXd& o : others) {
+    if (auto t = normalised(o); t && t->size() == mine->size()) theirs.push_back(*t);
+  }
+  for (std::size_t k = 0; k < blobs.size(); ++k) {
+    const auto p = normalised(blobs[k]);
+    if (!p || p->size() != mine->size()) continue;
+    const double d = hellinger(*p, *mine);
+    // Nearer another object's looks than the round's: that object, not this one.
+    const bool other = std::any_of(theirs.begin(), theirs.end(),
+                                   [&](const Eigen::VectorXd& t) { return hellinger(*p, t) < d; });
+    if (!other && (out.nearest < 0 || d < out.distance)) {
+      out.nearest = static_cast<int>(k);
+      out.distance = d;
+    }
+  }
+  if (out.nearest >= 0 && out.distance < max_distance) out.blob = out.nearest;
+  return out;
 }
 
 double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {

@@ -680,6 +680,36 @@ TEST(SelfSupervision, FollowByLooksRefindsTheRoundsObjectAfterASwap) {
   EXPECT_EQ(follow_by_looks(blobs, own, others, -1, 0.1).blob, 0);
 }
 
+// refind_colour (session 43): a round's object lost where it was left is found again by its
+// looks' pixel colours; a blob nearer another round's looks is never taken, and max_distance
+// bounds how unlike the own looks the blob may be.
+TEST(SelfSupervision, RefindByColoursTakesTheBlobOfTheRoundsColours) {
+  // Counts, not distributions: each is normalised.
+  const Eigen::VectorXd own = 100 * dist4(0.9, 0.05, 0.03, 0.02);
+  const std::vector<Eigen::VectorXd> others{40 * dist4(0.02, 0.03, 0.9, 0.05), Eigen::VectorXd()};
+  const std::vector<Eigen::VectorXd> blobs{7 * dist4(0.05, 0.05, 0.85, 0.05), Eigen::VectorXd(),
+                                           30 * dist4(0.8, 0.1, 0.05, 0.05)};
+  const ColourRefind f = refind_by_colours(blobs, own, others, 0.3);
+  EXPECT_EQ(f.blob, 2);
+  EXPECT_EQ(f.nearest, 2);
+  EXPECT_NEAR(f.distance, hellinger(dist4(0.8, 0.1, 0.05, 0.05), dist4(0.9, 0.05, 0.03, 0.02)),
+              1e-12);
+  EXPECT_GT(f.distance, 0.0);
+  // Below the distance asked for only: the nearest is named, not taken.
+  const ColourRefind tight = refind_by_colours(blobs, own, others, f.distance / 2);
+  EXPECT_EQ(tight.blob, -1);
+  EXPECT_EQ(tight.nearest, 2);
+  // Off (0), or no own looks: nothing taken.
+  EXPECT_EQ(refind_by_colours(blobs, own, others, 0.0).blob, -1);
+  EXPECT_EQ(refind_by_colours(blobs, Eigen::VectorXd::Zero(4), others, 0.3).blob, -1);
+  // The only blob left looks like another round's object: never taken, whatever the bound.
+  const std::vector<Eigen::VectorXd> theirs_only{dist4(0.05, 0.05, 0.85, 0.05)};
+  EXPECT_EQ(refind_by_colours(theirs_only, own, others, 1.0).nearest, -1);
+  EXPECT_EQ(refind_by_colours(theirs_only, own, others, 1.0).blob, -1);
+  // Without other rounds the same blob is the nearest own-coloured one, and is taken.
+  EXPECT_EQ(refind_by_colours(theirs_only, own, {}, 1.0).blob, 0);
+}
+
 // A putative object: a square footprint of half side `h` about (x, y), table m, and (for the
 // motion) feature points on a 4 px grid over the pixel box `px`.
 planning::PutativeObject square_blob(double x, double y, double h, cv::Rect px = {}) {
