@@ -216,7 +216,9 @@ struct SelfSupervisionOptions {
   /// of the default runs of seeds 51-96 (ground truth): the first look's blob was 88 % the
   /// round's chosen object (pure, >= 95 %, in 68 % of rounds), all looks' 74 % (pure 54 %), and
   /// (d)'s colour claims were wrong mostly where the class's looks held a neighbour. Off (the
-  /// default): all looks.
+  /// default): all looks. Tuning seeds 71-76 (session 43): objects with a class 3.67 -> 3.33,
+  /// colour figure -3.2 +- 12.3, claims right 28 -> 25 of 35: its gate failed, no report run
+  /// (docs/results/selfsupervision.md, "Session 43").
   bool colour_first_look = false;
   /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
   /// from its centre to the push's target, in the table plane) at least this far from every
