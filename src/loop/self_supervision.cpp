@@ -164,6 +164,10 @@ class Learner {
       }
     }
     bar.finish();
+    if (uses(ClaimSignal::kColour) || o_.refind_colour > 0) {
+      out_.round_colours.assign(class_look_colours_.begin(),
+                                class_look_colours_.begin() + rounds_run_);
+    }
     if (merging()) {
       merge_into_classes();
     } else {
@@ -584,8 +588,11 @@ class Learner {
       add_descriptors(r, desc);
     }
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
-    if (uses(ClaimSignal::kColour) || o_.refind_colour > 0)
-      class_look_colours_[static_cast<std::size_t>(r)] += blob_colours(view, c);
+    if (uses(ClaimSignal::kColour) || o_.refind_colour > 0) {
+      auto& colours = class_look_colours_[static_cast<std::size_t>(r)];
+      // colour_first_look: the round's first look only (the object after (b)).
+      if (!o_.colour_first_look || colours.sum() <= 0) colours += blob_colours(view, c);
+    }
     auto& words = class_look_words_[static_cast<std::size_t>(r)];
     // kFirstLookWords: only the round's first look (the object before its learn pushes).
     if (!uses(ClaimSignal::kFirstLookWords) || words.sum() == 0) add_words(words, d);
@@ -1578,7 +1585,10 @@ class Learner {
         if (!uses(ClaimSignal::kFirstLookWords) || their_words.sum() == 0) {
           add_words(their_words, d);
         }
-        if (uses(ClaimSignal::kColour)) their_colours += blob_colours(after, now);
+        if ((uses(ClaimSignal::kColour) || o_.refind_colour > 0) &&
+            (!o_.colour_first_look || their_colours.sum() <= 0)) {
+          their_colours += blob_colours(after, now);
+        }
       }
     }
     log({.event = "repeat",
@@ -1936,8 +1946,13 @@ void SelfSupervisionOptions::validate() const {
   if (claims_by == ClaimSignal::kNone) {
     throw Error("selfsupervise: claims_by none is not a claim signal");
   }
-  if (claims_by == ClaimSignal::kColour || other_claims_by == ClaimSignal::kColour) {
+  if (claims_by == ClaimSignal::kColour || other_claims_by == ClaimSignal::kColour ||
+      refind_colour > 0) {
     colour.validate();
+  } else if (colour_first_look) {
+    throw Error(
+        "selfsupervise: colour_first_look chooses the looks of claims by colour or of "
+        "refind_colour: it needs one of them");
   }
   if (colour_words) {
     colour.validate();

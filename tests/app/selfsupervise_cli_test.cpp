@@ -220,6 +220,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
       {"--objects book,cd --mot-smoothing 0.6" + inputs() + out, "mot-smoothing"},
       {"--objects book,cd --mot-smoothing -0.1" + inputs() + out, "mot-smoothing"},
       {"--objects book,cd --refind-colour 1.5" + inputs() + out, "refind-colour"},
+      {"--objects book,cd --claims-by look-words --colour-first-look" + inputs() + out,
+       "colour_first_look"},
       {"--objects book,cd --rounds 1" + inputs() + out, "fewer than the 2 objects"},
       {"--objects book,cd --rounds 65" + inputs() + out, "rounds"},
       {"--objects book,cd --same-object -1" + inputs() + out, "same-object"},

@@ -1733,6 +1733,37 @@ TEST(SelfSupervision, ClaimsByColourClaimTheObjectTheClassLearned) {
   EXPECT_THROW(o.validate(), Error);
 }
 
+// colour_first_look (session 43): a round's colours come from its first look (the object after
+// (b)) only. The same seed makes the same first round either way (claims act from round 2 on);
+// its first-look counts are within its all-looks counts and fewer, as the round looked again
+// before each later learn push. Without claims by colour or refind_colour it is refused.
+TEST(SelfSupervision, ColourFirstLookKeepsOnlyTheRoundsFirstLooksColours) {
+  SelfSupervisionOptions o = small_options();
+  o.claims_by = ClaimSignal::kColour;
+  o.seed = 3;
+  const TableRun all = learn_on_table(o, {}, false);
+  o.colour_first_look = true;
+  const TableRun first = learn_on_table(o, {}, false);
+  ASSERT_EQ(all.l.round_colours.size(), 2U);
+  ASSERT_EQ(first.l.round_colours.size(), 2U);
+  EXPECT_EQ(first.attendant->rounds()[0].chosen, all.attendant->rounds()[0].chosen);
+  const Eigen::VectorXd& a = all.l.round_colours[0];
+  const Eigen::VectorXd& f = first.l.round_colours[0];
+  ASSERT_EQ(a.size(), f.size());
+  EXPECT_GT(f.sum(), 0.0);
+  EXPECT_LT(f.sum(), a.sum());
+  EXPECT_TRUE(((a - f).array() >= 0).all());
+  // Another claim signal and no refind_colour: nothing to choose the looks of.
+  o.claims_by = ClaimSignal::kLooks;
+  EXPECT_THROW(o.validate(), Error);
+  o.refind_colour = 0.5;
+  EXPECT_NO_THROW(o.validate());
+  // Without claims by colour or refind_colour: no colours kept.
+  o.colour_first_look = false;
+  o.refind_colour = 0;
+  EXPECT_TRUE(learn_on_table(o, {}, false).l.round_colours.empty());
+}
+
 // views both (session 41, learn's LearnViews::kBoth): each learn push that gave motion views
 // also gives the look before it, cut out by the pushed blob, once a motion view: every "views"
 // event of source both counts twice its push's motion views, and the ground truth names a view

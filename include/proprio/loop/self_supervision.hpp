@@ -211,6 +211,15 @@ struct SelfSupervisionOptions {
   /// 3.1, but objects with a class 3.25 -> 3.10 (the rounds after a re-find get fewer carried
   /// pushes and choose on another table): its rule failed (docs/results/selfsupervision.md).
   double refind_colour = 0;
+  /// claims_by colour (and refind_colour): a round's colours from its first look only (its object
+  /// after (b), before any learn push) instead of all its looks. Session 43, read off 180 classes
+  /// of the default runs of seeds 51-96 (ground truth): the first look's blob was 88 % the
+  /// round's chosen object (pure, >= 95 %, in 68 % of rounds), all looks' 74 % (pure 54 %), and
+  /// (d)'s colour claims were wrong mostly where the class's looks held a neighbour. Off (the
+  /// default): all looks. Tuning seeds 71-76 (session 43): objects with a class 3.67 -> 3.33,
+  /// colour figure -3.2 +- 12.3, claims right 28 -> 25 of 35: its gate failed, no report run
+  /// (docs/results/selfsupervision.md, "Session 43").
+  bool colour_first_look = false;
   /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
   /// from its centre to the push's target, in the table plane) at least this far from every
   /// other blob's footprint, m (learn_push_lack: a neighbour nearer already may not come nearer).
@@ -541,6 +550,8 @@ struct SelfSupervisionOptions {
        "A lost object is found again by its looks' pixel colours within this Hellinger distance "
        "(0: off)",
        core::between(0.0, 1.0)});
+    v(self.colour_first_look,
+      {"colour_first_look", "A round's colours (claims by colour) from its first look only"});
     v(self.learn_clearance,
       {"learn_clearance",
        "Learn pushes keep their object's corridor this far from other blobs, m (0: off)",
@@ -933,6 +944,10 @@ struct Learning {
   /// Per round run: the class its views became (SelfSupervisionOptions::rounds; -1: a round
   /// without views). With C rounds: 0..C-1, each round its own class.
   std::vector<int> round_class;
+  /// Per round run: the pixel colour-word counts of its looks' blobs that claims by colour and
+  /// refind_colour used (features::colour_word_counts; colour_first_look: its first look's
+  /// only). Empty when neither is in use.
+  std::vector<Eigen::VectorXd> round_colours;
   std::vector<SelfSupervisionDecision> log;  ///< the decision log (decisions.jsonl's lines)
   double seconds = 0;
 };
