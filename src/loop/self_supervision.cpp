@@ -164,7 +164,7 @@ class Learner {
       }
     }
     bar.finish();
-    if (uses(ClaimSignal::kColour) || o_.refind_colour > 0) {
+    if (keeps_colours()) {
       out_.round_colours.assign(class_look_colours_.begin(),
                                 class_look_colours_.begin() + rounds_run_);
     }
@@ -256,6 +256,14 @@ class Learner {
   // Whether a claim signal in use (claims_by or other_claims_by) is `s`.
   [[nodiscard]] bool uses(ClaimSignal s) const {
     return o_.claims_by == s || o_.other_claims_by == s;
+  }
+  // Whether the rounds' looks keep their pixel colours: for the claims by colour, refind_colour,
+  // or the rounds judged the same object by colour.
+  [[nodiscard]] bool keeps_colours() const {
+    return uses(ClaimSignal::kColour) || o_.refind_colour > 0 || by_colour();
+  }
+  [[nodiscard]] bool by_colour() const {
+    return merging() && o_.same_object_by == RoundSimilarity::kColour;
   }
   // Whether the classes' descriptors come from `from` (and a signal uses them).
   [[nodiscard]] bool descriptors_from(DescriptorSource from) const {
@@ -588,7 +596,7 @@ class Learner {
       add_descriptors(r, desc);
     }
     class_looks_[static_cast<std::size_t>(r)].push_back(theta_of({d}).row(0).transpose());
-    if (uses(ClaimSignal::kColour) || o_.refind_colour > 0) {
+    if (keeps_colours()) {
       auto& colours = class_look_colours_[static_cast<std::size_t>(r)];
       // colour_first_look: the round's first look only (the object after (b)).
       if (!o_.colour_first_look || colours.sum() <= 0) colours += blob_colours(view, c);
@@ -1585,7 +1593,7 @@ class Learner {
         if (!uses(ClaimSignal::kFirstLookWords) || their_words.sum() == 0) {
           add_words(their_words, d);
         }
-        if ((uses(ClaimSignal::kColour) || o_.refind_colour > 0) &&
+        if (keeps_colours() &&
             (!o_.colour_first_look || their_colours.sum() <= 0)) {
           their_colours += blob_colours(after, now);
         }
@@ -1775,11 +1783,26 @@ class Learner {
     return counts;
   }
 
-  // The robot's judgement so far: the round classes grouped (merge_rounds at same_object).
+  // The robot's judgement so far: the round classes grouped (merge_rounds at same_object on
+  // their views' words, or at same_colour on their looks' colours).
   RoundMerge judge() const {
-    const auto counts = round_counts();
+    const auto counts = judged_counts();
     if (counts.empty()) return {};
-    return merge_rounds(counts, objects_, o_.same_object);
+    return by_colour() ? merge_rounds(counts, objects_, o_.same_colour, colour_round_distance)
+                       : merge_rounds(counts, objects_, o_.same_object);
+  }
+
+  // Per round run so far: the counts the judgement compares (its views' words, or its looks'
+  // colours). A round without views takes no part either way (zero counts): it learned no class.
+  [[nodiscard]] std::vector<Eigen::VectorXd> judged_counts() const {
+    std::vector<Eigen::VectorXd> words = round_counts();
+    if (!by_colour()) return words;
+    std::vector<Eigen::VectorXd> colours(words.size(),
+                                         Eigen::VectorXd::Zero(o_.colour.count()));
+    for (std::size_t r = 0; r < words.size() && r < class_look_colours_.size(); ++r) {
+      if (words[r].sum() > 0) colours[r] = class_look_colours_[r];
+    }
+    return colours;
   }
 
   // After a round: whether the robot judges C distinct objects learned (logged either way).
@@ -1791,7 +1814,10 @@ class Learner {
          .why = core::cat(
              {std::to_string(m.distinct), " distinct objects of ", std::to_string(objects_),
               " judged from ", std::to_string(rounds_run_), " rounds (round classes nearer than ",
-              core::printf_string("%.3g", o_.same_object), " nats a word are one object): ",
+              by_colour() ? core::printf_string("%.3g", o_.same_colour)
+                          : core::printf_string("%.3g", o_.same_object),
+              by_colour() ? " (Hellinger, their looks' colours)" : " nats a word",
+              " are one object): ",
               done ? "every object learned, no more rounds"
                    : "another round, choosing the object least like the groups"}),
          .classes = m.distinct});
@@ -1818,12 +1844,13 @@ class Learner {
   void merge_into_classes() {
     const RoundMerge m = judge();
     // Every pair of rounds with views: their distance (what the merges below were made from).
-    const auto counts = round_counts();
+    const auto counts = judged_counts();
+    const RoundDistance distance = by_colour() ? colour_round_distance : round_distance;
     for (std::size_t a = 0; a < counts.size(); ++a) {
       for (std::size_t b = a + 1; b < counts.size(); ++b) {
         if (counts[a].sum() <= 0 || counts[b].sum() <= 0) continue;
         log({.event = "distance",
-             .distance = round_distance(counts[a], counts[b]),
+             .distance = distance(counts[a], counts[b]),
              .merged = std::vector<int>{static_cast<int>(a), static_cast<int>(b)}});
       }
     }
@@ -1946,13 +1973,18 @@ void SelfSupervisionOptions::validate() const {
   if (claims_by == ClaimSignal::kNone) {
     throw Error("selfsupervise: claims_by none is not a claim signal");
   }
+  if (same_object_by == RoundSimilarity::kColour && rounds == 0) {
+    throw Error(
+        "selfsupervise: same_object_by colour judges the rounds of --rounds: it needs rounds "
+        "above 0");
+  }
   if (claims_by == ClaimSignal::kColour || other_claims_by == ClaimSignal::kColour ||
-      refind_colour > 0) {
+      refind_colour > 0 || same_object_by == RoundSimilarity::kColour) {
     colour.validate();
   } else if (colour_first_look) {
     throw Error(
-        "selfsupervise: colour_first_look chooses the looks of claims by colour or of "
-        "refind_colour: it needs one of them");
+        "selfsupervise: colour_first_look chooses the looks of claims by colour, of "
+        "refind_colour or of same_object_by colour: it needs one of them");
   }
   if (colour_words) {
     colour.validate();
@@ -2511,9 +2543,23 @@ double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return std::max(0.0, 0.5 * (ab + ba));
 }
 
+double colour_round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  if (a.size() != b.size() || a.size() == 0) {
+    throw Error("colour_round_distance: colour counts of different lengths (or none)");
+  }
+  if (!a.allFinite() || !b.allFinite() || a.minCoeff() < 0 || b.minCoeff() < 0) {
+    throw Error("colour_round_distance: colour counts must be finite and non-negative");
+  }
+  const double sa = a.sum();
+  const double sb = b.sum();
+  if (sa <= 0 || sb <= 0) throw Error("colour_round_distance: a round without pixels");
+  return hellinger(a / sa, b / sb);
+}
+
 RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes,
-                        double same_object) {
+                        double same_object, RoundDistance distance) {
   if (classes < 1) throw Error("merge_rounds: classes must be >= 1");
+  if (distance == nullptr) throw Error("merge_rounds: no distance");
   struct Group {
     std::vector<int> rounds;
     Eigen::VectorXd counts;
@@ -2542,7 +2588,7 @@ RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes,
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < groups.size(); ++i) {
       for (std::size_t j = i + 1; j < groups.size(); ++j) {
-        const double d = round_distance(groups[i].counts, groups[j].counts);
+        const double d = distance(groups[i].counts, groups[j].counts);
         if (d < best) {
           best = d;
           bi = i;

@@ -497,6 +497,42 @@ TEST(SelfSupervision, RoundsOfOneObjectMergeAndDifferentObjectsDoNot) {
   EXPECT_THROW((void)merge_rounds(counts, 0, 0.3), Error);
 }
 
+TEST(SelfSupervision, ColourRoundDistanceKnownAnswers) {
+  const Eigen::VectorXd a = (Eigen::VectorXd(2) << 1, 0).finished();
+  const Eigen::VectorXd b = (Eigen::VectorXd(2) << 1, 1).finished();
+  const Eigen::VectorXd c = (Eigen::VectorXd(2) << 0, 3).finished();
+  EXPECT_NEAR(colour_round_distance(a, 7 * a), 0.0, 1e-12);  // proportions, not counts
+  EXPECT_NEAR(colour_round_distance(a, c), 1.0, 1e-12);      // no colour in common
+  // p = (1, 0), q = (1/2, 1/2): Bhattacharyya coefficient sqrt(1/2), d = sqrt(1 - sqrt(1/2)).
+  EXPECT_NEAR(colour_round_distance(a, b), std::sqrt(1.0 - std::sqrt(0.5)), 1e-12);
+  EXPECT_NEAR(colour_round_distance(a, b), colour_round_distance(b, a), 1e-12);
+  EXPECT_THROW((void)colour_round_distance(a, Eigen::VectorXd::Zero(2)), Error);
+  EXPECT_THROW((void)colour_round_distance(a, Eigen::VectorXd::Ones(3)), Error);
+  EXPECT_THROW((void)colour_round_distance(a, -b), Error);
+}
+
+// merge_rounds by colour: rounds 0 and 2 saw one object's colours (a little different), round 1
+// another's, round 3 none (no views): 0 and 2 are judged one object, 1 another; the word
+// distance's threshold means nothing here (0.3 Hellinger bounds the colours).
+TEST(SelfSupervision, RoundsOfOneObjectsColoursMergeByColourDistance) {
+  const std::vector<Eigen::VectorXd> colours = {(Eigen::VectorXd(4) << 80, 15, 5, 0).finished(),
+                                                (Eigen::VectorXd(4) << 2, 3, 60, 35).finished(),
+                                                (Eigen::VectorXd(4) << 70, 25, 3, 2).finished(),
+                                                Eigen::VectorXd::Zero(4)};
+  const RoundMerge m = merge_rounds(colours, 2, 0.3, colour_round_distance);
+  EXPECT_EQ(m.judged, (std::vector<int>{0, 1, 0, -1}));
+  EXPECT_EQ(m.class_of_round, (std::vector<int>{0, 1, 0, -1}));
+  EXPECT_EQ(m.distinct, 2);
+  ASSERT_EQ(m.steps.size(), 1U);
+  EXPECT_TRUE(m.steps[0].same);
+  EXPECT_NEAR(m.steps[0].distance, colour_round_distance(colours[0], colours[2]), 1e-12);
+  // A bound below their distance: three objects judged, two classes still made.
+  const RoundMerge strict = merge_rounds(colours, 2, 0.05, colour_round_distance);
+  EXPECT_EQ(strict.distinct, 3);
+  EXPECT_EQ(strict.class_of_round, (std::vector<int>{0, 1, 0, -1}));
+  EXPECT_THROW((void)merge_rounds(colours, 2, 0.3, nullptr), Error);
+}
+
 TEST(SelfSupervision, HullGapKnownAnswers) {
   const std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const auto shifted = [&](const Eigen::Vector2d& by) {
@@ -2280,6 +2316,63 @@ TEST(SelfSupervision, MoreRoundsThanObjectsAreMergedByTheRobotsJudgement) {
   // Fewer rounds than objects: bad input.
   o.rounds = 1;
   EXPECT_THROW((void)run(o), Error);
+}
+
+// same_object_by colour (session 44): the rounds are judged by their looks' pixel colours. At
+// bound 1 (only colours with nothing in common are apart) the robot never judges two objects
+// learned and runs all 3 rounds; at bound 0 it stops after round 2 when both rounds gave views.
+// The judgement and the distances say they are colours' (Hellinger, in [0, 1]); the rounds'
+// colours are kept although the claims are by another signal. Without rounds it is refused.
+TEST(SelfSupervision, MoreRoundsThanObjectsAreJudgedByTheirLooksColours) {
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 3;
+  o.rounds = 3;
+  o.claims_by = ClaimSignal::kLooks;
+  o.same_object_by = RoundSimilarity::kColour;
+  o.same_object = 0;  // the words' bound: would judge every round apart
+  const auto run = [](const SelfSupervisionOptions& opt) {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::SimulatedRobot robot(table_of(opt), catalogue);
+    const TinyModel m = tiny_model(robot.look().image);
+    ChoiceCounter attendant;
+    return learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, opt, {});
+  };
+  const auto count = [](const Learning& l, const std::string& event) {
+    return static_cast<int>(
+        std::count_if(l.log.begin(), l.log.end(), [&](const auto& j) { return j.event == event; }));
+  };
+  o.same_colour = 1.0;
+  const Learning all = run(o);
+  EXPECT_EQ(count(all, "choose"), 3);
+  EXPECT_GT(count(all, "distance"), 0);  // at least two rounds gave views
+  EXPECT_EQ(all.classes, 2);
+  ASSERT_EQ(all.round_colours.size(), 3U);
+  for (const auto& j : all.log) {
+    if (j.event == "judge") {
+      ASSERT_TRUE(j.why);
+      EXPECT_NE(j.why->find("Hellinger"), std::string::npos) << *j.why;
+      ASSERT_TRUE(j.classes);
+      EXPECT_LE(*j.classes, 1);
+    }
+    if (j.event == "distance") {
+      ASSERT_TRUE(j.distance && j.merged);
+      const auto& r = *j.merged;
+      EXPECT_NEAR(*j.distance,
+                  colour_round_distance(all.round_colours[static_cast<std::size_t>(r[0])],
+                                        all.round_colours[static_cast<std::size_t>(r[1])]),
+                  1e-12);
+      EXPECT_LE(*j.distance, 1.0);
+    }
+  }
+  o.same_colour = 0;
+  const Learning apart = run(o);
+  const auto it = std::find_if(apart.log.begin(), apart.log.end(),
+                               [](const auto& j) { return j.event == "judge"; });
+  ASSERT_NE(it, apart.log.end());
+  ASSERT_TRUE(it->classes.has_value());
+  EXPECT_EQ(count(apart, "choose"), *it->classes == 2 ? 2 : 3);
+  o.rounds = 0;
+  EXPECT_THROW(o.validate(), Error);
 }
 
 TEST(SelfSupervision, ARoundWhoseLaterViewsALearnedClassExplainsStops) {
