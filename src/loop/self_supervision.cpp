@@ -1846,12 +1846,30 @@ class Learner {
     // Every pair of rounds with views: their distance (what the merges below were made from).
     const auto counts = judged_counts();
     const RoundDistance distance = by_colour() ? colour_round_distance : round_distance;
+    const auto words = round_counts();
+    // Beside the judgement's signal, the others' distances (a diagnostic: which signal tells one
+    // object's rounds from two objects').
+    const auto colour_words = [&](std::size_t r) -> Eigen::VectorXd {
+      const Eigen::Index n = words_ - static_cast<Eigen::Index>(vocabulary_.size());
+      return words[r].tail(std::max<Eigen::Index>(n, 0));
+    };
+    const auto maybe = [](RoundDistance f, const Eigen::VectorXd& x,
+                          const Eigen::VectorXd& y) -> std::optional<double> {
+      if (x.size() == 0 || x.size() != y.size() || x.sum() <= 0 || y.sum() <= 0) return {};
+      return f(x, y);
+    };
     for (std::size_t a = 0; a < counts.size(); ++a) {
       for (std::size_t b = a + 1; b < counts.size(); ++b) {
         if (counts[a].sum() <= 0 || counts[b].sum() <= 0) continue;
         log({.event = "distance",
              .distance = distance(counts[a], counts[b]),
-             .merged = std::vector<int>{static_cast<int>(a), static_cast<int>(b)}});
+             .merged = std::vector<int>{static_cast<int>(a), static_cast<int>(b)},
+             .word_distance = maybe(round_distance, words[a], words[b]),
+             .view_colour_distance = maybe(round_distance, colour_words(a), colour_words(b)),
+             .look_colour_distance =
+                 keeps_colours() ? maybe(colour_round_distance, class_look_colours_[a],
+                                         class_look_colours_[b])
+                                 : std::nullopt});
       }
     }
     // The merges that made the classes: the first (rounds with views - C) of m.steps (the later
@@ -2512,7 +2530,7 @@ ColourRefind refind_by_colours(const std::vector<Eigen::VectorXd>& blobs,
     const auto p = normalised(blobs[k]);
     if (!p || p->size() != mine->size()) continue;
     const double d = hellinger(*p, *mine);
-    // Nearer another object's looks than the round's: that object, not this one.
+    // Nearer another round's looks than this round's: that round's object, not this one.
     const bool other = std::any_of(theirs.begin(), theirs.end(),
                                    [&](const Eigen::VectorXd& t) { return hellinger(*p, t) < d; });
     if (!other && (out.nearest < 0 || d < out.distance)) {

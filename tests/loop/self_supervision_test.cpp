@@ -2297,6 +2297,12 @@ TEST(SelfSupervision, MoreRoundsThanObjectsAreMergedByTheRobotsJudgement) {
   }
   EXPECT_EQ(merges, std::max(0, with_views - 2));
   EXPECT_EQ(all.log.back().event, "end");
+  // Judged by words: each pair's distance is its views' word distance.
+  for (const auto& j : all.log) {
+    if (j.event != "distance") continue;
+    ASSERT_TRUE(j.distance && j.word_distance);
+    EXPECT_EQ(*j.word_distance, *j.distance);
+  }
 
   // Nothing is below threshold 0: after round 2 every round with views is its own object, so
   // with two such rounds the robot stops there, each round its own class.
@@ -2362,6 +2368,11 @@ TEST(SelfSupervision, MoreRoundsThanObjectsAreJudgedByTheirLooksColours) {
                                         all.round_colours[static_cast<std::size_t>(r[1])]),
                   1e-12);
       EXPECT_LE(*j.distance, 1.0);
+      // The diagnostic distances beside it: the looks' colours are the judgement's own.
+      ASSERT_TRUE(j.look_colour_distance && j.word_distance);
+      EXPECT_EQ(*j.look_colour_distance, *j.distance);
+      EXPECT_GE(*j.word_distance, 0.0);
+      EXPECT_FALSE(j.view_colour_distance);  // the tiny model has no colour words
     }
   }
   o.same_colour = 0;

@@ -905,9 +905,17 @@ struct SelfSupervisionDecision {
   std::optional<int> moved_most = {};   ///< motion: the blob that moved most (-1: none moved)
   std::optional<int> merged_with = {};  ///< motion: the blob of the look before it merged with
   std::optional<double> lack = {};      ///< plan (learn): the corridor's lack of clearance, m
-  /// merge: the two groups' distance; distance: the two rounds', nats a word
+  /// merge: the two groups' distance; distance: the two rounds', by the judgement's signal
+  /// (same_object_by: nats a word, or Hellinger of the looks' colours)
   std::optional<double> distance = {};
   std::optional<std::vector<int>> merged = {};  ///< merge, distance: the rounds (0-based)
+  /// distance (a diagnostic beside the judgement's): the two rounds' views' words
+  /// (round_distance, nats a word), their views' colour words alone (round_distance on the
+  /// documents' colour words; colour words on) and their looks' colours (colour_round_distance;
+  /// when the looks keep colours)
+  std::optional<double> word_distance = {};
+  std::optional<double> view_colour_distance = {};
+  std::optional<double> look_colour_distance = {};
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -952,8 +960,13 @@ struct SelfSupervisionDecision {
     v(self.moved_most, {"moved_most", "The blob that moved most (-1: none)"});
     v(self.merged_with, {"merged_with", "The blob the pushed one merged with"});
     v(self.lack, {"lack", "The corridor's lack of clearance from other blobs, m"});
-    v(self.distance, {"distance", "The merged groups' distance, nats a word"});
+    v(self.distance, {"distance", "The merged groups' distance by the judgement's signal"});
     v(self.merged, {"merged", "The rounds merged into one class"});
+    v(self.word_distance, {"word_distance", "The two rounds' views' words' distance, nats"});
+    v(self.view_colour_distance,
+      {"view_colour_distance", "The two rounds' views' colour words' distance, nats"});
+    v(self.look_colour_distance,
+      {"look_colour_distance", "The two rounds' looks' colours' Hellinger distance"});
   }
 };
 

@@ -2,7 +2,8 @@
 """Session 44's rule (rule-s44-rounds-by-colour.md): the rounds judged by their looks' colours
 (OPT) against the defaults (BASE) on the same seeds, paired; and what the rounds' colour
 distances said against the ground truth.
-usage: rounds44.py BASE OPT SEED...  (DIR/motion-sS.json and DIR/motion-sS/decisions.jsonl)
+usage: rounds44.py BASE OPT SEED...  (DIR/motion-sS.json and DIR/motion-sS/decisions.jsonl, or
+the events saved as DIR/motion-sS-rounds.jsonl)
 Standard library only."""
 import json, math, statistics, sys
 
@@ -21,7 +22,13 @@ def load(d, s):
 
 
 def log(d, s):
-    return [json.loads(l) for l in open(f"{d}/motion-s{s}/decisions.jsonl")]
+    """The run's decision log, or its judge/distance/merge events as saved beside the JSON."""
+    for p in (f"{d}/motion-s{s}/decisions.jsonl", f"{d}/motion-s{s}-rounds.jsonl"):
+        try:
+            return [json.loads(l) for l in open(p)]
+        except FileNotFoundError:
+            pass
+    return []
 
 
 fields = [("c (MoT)", lambda j: 100 * j["ground_truth"]["mot_accuracy"]),
