@@ -69,7 +69,7 @@ enum class RoundSimilarity {
   kWords,
   /// Their looks' pixel colours (colour_round_distance: the Hellinger distance of the pooled
   /// colour histograms, as the claims by colour compare a blob with a class; below same_colour:
-  /// one object). The signal (d)'s claims are right by for 87 of 118 on seeds 77-96.
+  /// one object). (d)'s claims by this signal are right for 87 of 118 on seeds 77-96.
   kColour,
 };
 inline constexpr core::ChoiceNames<RoundSimilarity, 2> kRoundSimilarityNames{
@@ -430,6 +430,10 @@ struct SelfSupervisionOptions {
   double same_object = 0.3;
   /// rounds: the judgement's signal, the views' words (the default) or the looks' pixel colours
   /// (then same_colour is the bound and each round's looks keep their colours). Needs rounds.
+  /// Not the default: on fresh seeds 103-122, --rounds 8 --same-object-by colour --same-colour
+  /// 0.35 pushed all four objects in some round on every seed, but grouped the rounds wrongly
+  /// on 7 of 20 (objects with a class +0.05 +- 0.28, c -0.4 +- 6.4, wall time +114 %;
+  /// docs/results/selfsupervision.md, "Session 44").
   RoundSimilarity same_object_by = RoundSimilarity::kWords;
   /// rounds with same_object_by colour: two round classes are one object when the Hellinger
   /// distance of their looks' pooled colour histograms (colour_round_distance) is below this.
