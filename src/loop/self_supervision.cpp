@@ -1593,8 +1593,7 @@ class Learner {
         if (!uses(ClaimSignal::kFirstLookWords) || their_words.sum() == 0) {
           add_words(their_words, d);
         }
-        if (keeps_colours() &&
-            (!o_.colour_first_look || their_colours.sum() <= 0)) {
+        if (keeps_colours() && (!o_.colour_first_look || their_colours.sum() <= 0)) {
           their_colours += blob_colours(after, now);
         }
       }
@@ -1797,8 +1796,7 @@ class Learner {
   [[nodiscard]] std::vector<Eigen::VectorXd> judged_counts() const {
     std::vector<Eigen::VectorXd> words = round_counts();
     if (!by_colour()) return words;
-    std::vector<Eigen::VectorXd> colours(words.size(),
-                                         Eigen::VectorXd::Zero(o_.colour.count()));
+    std::vector<Eigen::VectorXd> colours(words.size(), Eigen::VectorXd::Zero(o_.colour.count()));
     for (std::size_t r = 0; r < words.size() && r < class_look_colours_.size(); ++r) {
       if (words[r].sum() > 0) colours[r] = class_look_colours_[r];
     }
@@ -1811,15 +1809,15 @@ class Learner {
     const bool done = m.distinct >= objects_;
     log({.event = "judge",
          .round = rounds_run_ - 1,
-         .why = core::cat(
-             {std::to_string(m.distinct), " distinct objects of ", std::to_string(objects_),
-              " judged from ", std::to_string(rounds_run_), " rounds (round classes nearer than ",
-              by_colour() ? core::printf_string("%.3g", o_.same_colour)
-                          : core::printf_string("%.3g", o_.same_object),
-              by_colour() ? " (Hellinger, their looks' colours)" : " nats a word",
-              " are one object): ",
-              done ? "every object learned, no more rounds"
-                   : "another round, choosing the object least like the groups"}),
+         .why = core::cat({std::to_string(m.distinct), " distinct objects of ",
+                           std::to_string(objects_), " judged from ", std::to_string(rounds_run_),
+                           " rounds (round classes nearer than ",
+                           by_colour() ? core::printf_string("%.3g", o_.same_colour)
+                                       : core::printf_string("%.3g", o_.same_object),
+                           by_colour() ? " (Hellinger, their looks' colours)" : " nats a word",
+                           " are one object): ",
+                           done ? "every object learned, no more rounds"
+                                : "another round, choosing the object least like the groups"}),
          .classes = m.distinct});
     return done;
   }
@@ -1867,9 +1865,9 @@ class Learner {
              .word_distance = maybe(round_distance, words[a], words[b]),
              .view_colour_distance = maybe(round_distance, colour_words(a), colour_words(b)),
              .look_colour_distance =
-                 keeps_colours() ? maybe(colour_round_distance, class_look_colours_[a],
-                                         class_look_colours_[b])
-                                 : std::nullopt});
+                 keeps_colours()
+                     ? maybe(colour_round_distance, class_look_colours_[a], class_look_colours_[b])
+                     : std::nullopt});
       }
     }
     // The merges that made the classes: the first (rounds with views - C) of m.steps (the later
@@ -2574,8 +2572,8 @@ double colour_round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b)
   return hellinger(a / sa, b / sb);
 }
 
-RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes,
-                        double same_object, RoundDistance distance) {
+RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes, double same_object,
+                        RoundDistance distance) {
   if (classes < 1) throw Error("merge_rounds: classes must be >= 1");
   if (distance == nullptr) throw Error("merge_rounds: no distance");
   struct Group {

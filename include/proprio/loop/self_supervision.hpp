@@ -1137,8 +1137,8 @@ struct RoundMerge {
 /// of their pooled counts, round_distance by default; ties: the lower rounds) are merged while
 /// more than `classes` groups are left (class_of_round) and while they are nearer than
 /// `same_object` (judged). Throws Error when `classes` < 1 or the lengths differ.
-RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes,
-                        double same_object, RoundDistance distance = round_distance);
+RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes, double same_object,
+                        RoundDistance distance = round_distance);
 
 /// Most sideways offset of a turning push, m (SelfSupervisionOptions::turn_offset).
 inline constexpr double kMaxTurnOffset = 0.03;
