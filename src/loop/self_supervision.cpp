@@ -2540,16 +2540,27 @@ ColourRefind refind_by_colours(const std::vector<Eigen::VectorXd>& blobs,
   return out;
 }
 
-double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+namespace {
+// Two rounds' counts checked for a distance (`what`: the function, `unit`: what is counted):
+// one length, finite, non-negative, and something counted in each.
+void check_round_counts(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const char* what,
+                        const char* unit) {
   if (a.size() != b.size() || a.size() == 0) {
-    throw Error("round_distance: word counts of different lengths (or none)");
+    throw Error(core::cat({what, ": ", unit, " counts of different lengths (or none)"}));
   }
   if (!a.allFinite() || !b.allFinite() || a.minCoeff() < 0 || b.minCoeff() < 0) {
-    throw Error("round_distance: word counts must be finite and non-negative");
+    throw Error(core::cat({what, ": ", unit, " counts must be finite and non-negative"}));
   }
+  if (a.sum() <= 0 || b.sum() <= 0) {
+    throw Error(core::cat({what, ": a round without ", unit, "s"}));
+  }
+}
+}  // namespace
+
+double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  check_round_counts(a, b, "round_distance", "word");
   const double sa = a.sum();
   const double sb = b.sum();
-  if (sa <= 0 || sb <= 0) throw Error("round_distance: a round without words");
   const auto n = static_cast<double>(a.size());
   const Eigen::ArrayXd la = ((a.array() + kRoundSmoothing) / (sa + kRoundSmoothing * n)).log();
   const Eigen::ArrayXd lb = ((b.array() + kRoundSmoothing) / (sb + kRoundSmoothing * n)).log();
@@ -2560,16 +2571,8 @@ double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 }
 
 double colour_round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  if (a.size() != b.size() || a.size() == 0) {
-    throw Error("colour_round_distance: colour counts of different lengths (or none)");
-  }
-  if (!a.allFinite() || !b.allFinite() || a.minCoeff() < 0 || b.minCoeff() < 0) {
-    throw Error("colour_round_distance: colour counts must be finite and non-negative");
-  }
-  const double sa = a.sum();
-  const double sb = b.sum();
-  if (sa <= 0 || sb <= 0) throw Error("colour_round_distance: a round without pixels");
-  return hellinger(a / sa, b / sb);
+  check_round_counts(a, b, "colour_round_distance", "colour");
+  return hellinger(a / a.sum(), b / b.sum());
 }
 
 RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes, double same_object,

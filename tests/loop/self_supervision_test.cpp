@@ -2252,21 +2252,26 @@ TEST(SelfSupervision, ARoundWhoseFirstViewsALearnedClassExplainsChoosesAgain) {
   EXPECT_EQ(choices2, 2);
 }
 
+// The rounds tests: two objects learned on the simulated table of `opt` with a tiny model; and
+// how many of a run's decisions are of `event`.
+Learning learn_two_objects(const SelfSupervisionOptions& opt) {
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+  sim::SimulatedRobot robot(table_of(opt), catalogue);
+  const TinyModel m = tiny_model(robot.look().image);
+  ChoiceCounter attendant;
+  return learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, opt, {});
+}
+int count_events(const Learning& l, const std::string& event) {
+  return static_cast<int>(
+      std::count_if(l.log.begin(), l.log.end(), [&](const auto& j) { return j.event == event; }));
+}
+
 TEST(SelfSupervision, MoreRoundsThanObjectsAreMergedByTheRobotsJudgement) {
   SelfSupervisionOptions o = small_options();
   o.pushes = 3;
   o.rounds = 3;
-  const auto run = [](const SelfSupervisionOptions& opt) {
-    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
-    sim::SimulatedRobot robot(table_of(opt), catalogue);
-    const TinyModel m = tiny_model(robot.look().image);
-    ChoiceCounter attendant;
-    return learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, opt, {});
-  };
-  const auto count = [](const Learning& l, const std::string& event) {
-    return static_cast<int>(
-        std::count_if(l.log.begin(), l.log.end(), [&](const auto& j) { return j.event == event; }));
-  };
+  const auto run = learn_two_objects;
+  const auto count = count_events;
   // Any two round classes are one object by this threshold: the robot never judges two objects
   // learned, runs all 3 rounds and merges them into 2 classes, every merge logged.
   o.same_object = 10;
@@ -2336,17 +2341,8 @@ TEST(SelfSupervision, MoreRoundsThanObjectsAreJudgedByTheirLooksColours) {
   o.claims_by = ClaimSignal::kLooks;
   o.same_object_by = RoundSimilarity::kColour;
   o.same_object = 0;  // the words' bound: would judge every round apart
-  const auto run = [](const SelfSupervisionOptions& opt) {
-    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
-    sim::SimulatedRobot robot(table_of(opt), catalogue);
-    const TinyModel m = tiny_model(robot.look().image);
-    ChoiceCounter attendant;
-    return learn_by_pushing(robot, attendant, 2, m.lda, m.vocabulary, opt, {});
-  };
-  const auto count = [](const Learning& l, const std::string& event) {
-    return static_cast<int>(
-        std::count_if(l.log.begin(), l.log.end(), [&](const auto& j) { return j.event == event; }));
-  };
+  const auto run = learn_two_objects;
+  const auto count = count_events;
   o.same_colour = 1.0;
   const Learning all = run(o);
   EXPECT_EQ(count(all, "choose"), 3);
