@@ -1875,6 +1875,7 @@ class Learner {
     const auto with_views = static_cast<int>(
         std::count_if(counts.begin(), counts.end(), [](const auto& c) { return c.sum() > 0; }));
     const auto applied = static_cast<std::size_t>(std::max(0, with_views - objects_));
+    const char* bound = by_colour() ? "same_colour" : "same_object";
     for (std::size_t k = 0; k < applied && k < m.steps.size(); ++k) {
       const RoundMergeStep& st = m.steps[k];
       std::vector<int> both = st.a;
@@ -1886,10 +1887,10 @@ class Learner {
         return t;
       };
       log({.event = "merge",
-           .why = core::cat(
-               {"rounds ", list(st.a), " and ", list(st.b), ": ",
-                st.same ? "nearer than same_object: one object"
-                        : "not nearer than same_object, merged as more groups are left than C"}),
+           .why = core::cat({"rounds ", list(st.a), " and ", list(st.b), ": ",
+                             st.same ? core::cat({"nearer than ", bound, ": one object"})
+                                     : core::cat({"not nearer than ", bound,
+                                                  ", merged as more groups are left than C"})}),
            .distance = st.distance,
            .merged = both});
     }

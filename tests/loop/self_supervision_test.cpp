@@ -2370,6 +2370,10 @@ TEST(SelfSupervision, MoreRoundsThanObjectsAreJudgedByTheirLooksColours) {
       EXPECT_GE(*j.word_distance, 0.0);
       EXPECT_FALSE(j.view_colour_distance);  // the tiny model has no colour words
     }
+    if (j.event == "merge" && j.merged) {
+      ASSERT_TRUE(j.why);
+      EXPECT_NE(j.why->find("same_colour"), std::string::npos) << *j.why;
+    }
   }
   o.same_colour = 0;
   const Learning apart = run(o);
