@@ -1784,8 +1784,9 @@ class Learner {
 
   // The robot's judgement so far: the round classes grouped (merge_rounds at same_object on
   // their views' words, or at same_colour on their looks' colours).
-  RoundMerge judge() const {
-    const auto counts = judged_counts();
+  RoundMerge judge() const { return judge(judged_counts(round_counts())); }
+  // The judgement from the judged counts (judged_counts), counted once by the caller.
+  RoundMerge judge(const std::vector<Eigen::VectorXd>& counts) const {
     if (counts.empty()) return {};
     return by_colour() ? merge_rounds(counts, objects_, o_.same_colour, colour_round_distance)
                        : merge_rounds(counts, objects_, o_.same_object);
@@ -1793,8 +1794,9 @@ class Learner {
 
   // Per round run so far: the counts the judgement compares (its views' words, or its looks'
   // colours). A round without views takes no part either way (zero counts): it learned no class.
-  [[nodiscard]] std::vector<Eigen::VectorXd> judged_counts() const {
-    std::vector<Eigen::VectorXd> words = round_counts();
+  // `words`: round_counts().
+  [[nodiscard]] std::vector<Eigen::VectorXd> judged_counts(
+      const std::vector<Eigen::VectorXd>& words) const {
     if (!by_colour()) return words;
     std::vector<Eigen::VectorXd> colours(words.size(), Eigen::VectorXd::Zero(o_.colour.count()));
     for (std::size_t r = 0; r < words.size() && r < class_look_colours_.size(); ++r) {
@@ -1840,11 +1842,12 @@ class Learner {
   // The round classes merged into C classes (merge_rounds), every merge logged; the views
   // relabelled, the classes renamed object_1..object_C.
   void merge_into_classes() {
-    const RoundMerge m = judge();
-    // Every pair of rounds with views: their distance (what the merges below were made from).
-    const auto counts = judged_counts();
-    const RoundDistance distance = by_colour() ? colour_round_distance : round_distance;
+    // The rounds' view words, counted once for the judgement and the diagnostics below.
     const auto words = round_counts();
+    const auto counts = judged_counts(words);
+    const RoundMerge m = judge(counts);
+    // Every pair of rounds with views: their distance (what the merges below were made from).
+    const RoundDistance distance = by_colour() ? colour_round_distance : round_distance;
     // Beside the judgement's signal, the others' distances (a diagnostic: which signal tells one
     // object's rounds from two objects').
     const auto colour_words = [&](std::size_t r) -> Eigen::VectorXd {
