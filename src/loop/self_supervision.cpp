@@ -253,6 +253,25 @@ class Learner {
                                              static_cast<Eigen::Index>(counts.size()));
   }
 
+  // moved_colours: round r's colours gain what a learn push moved: the pixels of blob c of `view`
+  // (the look before, `before`) and of blob `now` of `after` (the look after, image_) that
+  // changed (moved_pixels), each image's colours in its own blob. Returns the pixels added.
+  double add_moved_colours(int r, const cv::Mat& before, const planning::PlanningView& view, int c,
+                           const planning::PlanningView& after, int now) {
+    auto& colours = class_look_colours_[static_cast<std::size_t>(r)];
+    const auto add = [&](const cv::Mat& image, const planning::PutativeObject& o) {
+      const cv::Mat moved = moved_pixels(before, image_, blob_mask(o, size_), kMovedLevels);
+      const std::vector<double> counts = features::colour_word_counts(image, moved, o_.colour);
+      const Eigen::Map<const Eigen::VectorXd> v(counts.data(),
+                                                static_cast<Eigen::Index>(counts.size()));
+      colours += v;
+      return v.sum();
+    };
+    double n = add(before, view.objects[static_cast<std::size_t>(c)]);
+    if (now >= 0) n += add(image_, after.objects[static_cast<std::size_t>(now)]);
+    return n;
+  }
+
   // Whether a claim signal in use (claims_by or other_claims_by) is `s`.
   [[nodiscard]] bool uses(ClaimSignal s) const {
     return o_.claims_by == s || o_.other_claims_by == s;
@@ -599,7 +618,10 @@ class Learner {
     if (keeps_colours()) {
       auto& colours = class_look_colours_[static_cast<std::size_t>(r)];
       // colour_first_look: the round's first look only (the object after (b)).
-      if (!o_.colour_first_look || colours.sum() <= 0) colours += blob_colours(view, c);
+      // moved_colours: added after each push instead (add_moved_colours).
+      if (!o_.moved_colours && (!o_.colour_first_look || colours.sum() <= 0)) {
+        colours += blob_colours(view, c);
+      }
     }
     auto& words = class_look_words_[static_cast<std::size_t>(r)];
     // kFirstLookWords: only the round's first look (the object before its learn pushes).
@@ -1395,6 +1417,14 @@ class Learner {
           (after.objects[static_cast<std::size_t>(now)].centre - chosen).norm() < kStill) {
         fault(r, "moved-nothing", "the push left the chosen object where it was");
       }
+      if (o_.moved_colours && keeps_colours()) {
+        const double n = add_moved_colours(r, before_image, view, c, after, now);
+        log({.event = "colours",
+             .round = r,
+             .blob = now,
+             .why = "the pixels the push moved, added to the round's colours",
+             .moved_pixels = static_cast<int>(n)});
+      }
       // On the looks' blobs: a fragment of the pushed object that its touch mask left out is a
       // part of `judged` of its own, and would count as merged with it.
       const int merged = merged_blob(view, c, after, now);
@@ -1593,7 +1623,8 @@ class Learner {
         if (!uses(ClaimSignal::kFirstLookWords) || their_words.sum() == 0) {
           add_words(their_words, d);
         }
-        if (keeps_colours() && (!o_.colour_first_look || their_colours.sum() <= 0)) {
+        if (keeps_colours() && !o_.moved_colours &&
+            (!o_.colour_first_look || their_colours.sum() <= 0)) {
           their_colours += blob_colours(after, now);
         }
       }
@@ -2001,10 +2032,16 @@ void SelfSupervisionOptions::validate() const {
   if (claims_by == ClaimSignal::kColour || other_claims_by == ClaimSignal::kColour ||
       refind_colour > 0 || same_object_by == RoundSimilarity::kColour) {
     colour.validate();
-  } else if (colour_first_look) {
+  } else if (colour_first_look || moved_colours) {
+    throw Error(core::cat(
+        {"selfsupervise: ", colour_first_look ? "colour_first_look" : "moved_colours",
+         " chooses the pixels of claims by colour, of refind_colour or of same_object_by colour: "
+         "it needs one of them"}));
+  }
+  if (colour_first_look && moved_colours) {
     throw Error(
-        "selfsupervise: colour_first_look chooses the looks of claims by colour, of "
-        "refind_colour or of same_object_by colour: it needs one of them");
+        "selfsupervise: colour_first_look and moved_colours are two sources of a round's colours: "
+        "choose one");
   }
   if (colour_words) {
     colour.validate();
@@ -2577,6 +2614,30 @@ double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 double colour_round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   check_round_counts(a, b, "colour_round_distance", "colour");
   return hellinger(a / a.sum(), b / b.sum());
+}
+
+cv::Mat moved_pixels(const cv::Mat& before, const cv::Mat& after, const cv::Mat& region,
+                     int levels) {
+  if (before.empty() || after.empty() || region.empty()) {
+    throw Error("moved_pixels: an empty image or region");
+  }
+  if ((before.type() != CV_8UC3 && before.type() != CV_8UC1) || after.type() != before.type() ||
+      region.type() != CV_8UC1) {
+    throw Error("moved_pixels: the images must be both 8-bit BGR or grey, and the region 8-bit");
+  }
+  if (before.size() != after.size() || region.size() != before.size()) {
+    throw Error("moved_pixels: the images and the region differ in size");
+  }
+  if (levels < 0 || levels >= 255) throw Error("moved_pixels: levels must be in [0, 255)");
+  cv::Mat diff;
+  cv::absdiff(before, after, diff);
+  std::vector<cv::Mat> channels;
+  cv::split(diff, channels);
+  cv::Mat most = channels.front();
+  for (const cv::Mat& ch : channels) most = cv::max(most, ch);
+  cv::Mat moved = most > levels;
+  moved.setTo(0, region == 0);
+  return moved;
 }
 
 RoundMerge merge_rounds(const std::vector<Eigen::VectorXd>& counts, int classes, double same_object,

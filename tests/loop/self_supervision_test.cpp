@@ -533,6 +533,51 @@ TEST(SelfSupervision, RoundsOfOneObjectsColoursMergeByColourDistance) {
   EXPECT_THROW((void)merge_rounds(colours, 2, 0.3, nullptr), Error);
 }
 
+// moved_pixels: a square the push moved 4 px right, a neighbour it left where it was, the table
+// around both, all inside the region; a pixel whose change is exactly `levels` is not moved, one
+// more is. Only the region's pixels count.
+TEST(SelfSupervision, MovedPixelsAreTheRegionsPixelsThatChanged) {
+  const cv::Vec3b table(200, 200, 200);
+  cv::Mat before(20, 30, CV_8UC3, cv::Scalar(table[0], table[1], table[2]));
+  cv::Mat after = before.clone();
+  before(cv::Rect(2, 5, 6, 6)).setTo(cv::Scalar(0, 0, 255));   // the pushed object, red
+  after(cv::Rect(6, 5, 6, 6)).setTo(cv::Scalar(0, 0, 255));    // 4 px to the right
+  before(cv::Rect(20, 5, 5, 5)).setTo(cv::Scalar(255, 0, 0));  // the neighbour, blue, still
+  after(cv::Rect(20, 5, 5, 5)).setTo(cv::Scalar(255, 0, 0));
+  const cv::Mat all(before.size(), CV_8UC1, cv::Scalar(255));
+  const cv::Mat moved = moved_pixels(before, after, all, kMovedLevels);
+  // Columns 2-5 turned table and 8-11 turned red; 6-7 are red in both.
+  cv::Mat expected = cv::Mat::zeros(before.size(), CV_8UC1);
+  expected(cv::Rect(2, 5, 4, 6)).setTo(255);
+  expected(cv::Rect(8, 5, 4, 6)).setTo(255);
+  EXPECT_EQ(cv::countNonZero(moved != expected), 0);
+  EXPECT_EQ(cv::countNonZero(moved(cv::Rect(20, 5, 5, 5))), 0);  // the neighbour left out
+  // A region: only its pixels.
+  cv::Mat left = cv::Mat::zeros(before.size(), CV_8UC1);
+  left(cv::Rect(0, 0, 7, 20)).setTo(255);
+  EXPECT_EQ(cv::countNonZero(moved_pixels(before, after, left, kMovedLevels)), 4 * 6);
+  // The bound: a change of exactly `levels` in one channel is not a move, one more is.
+  cv::Mat shaded = before.clone();
+  shaded.at<cv::Vec3b>(0, 0) = cv::Vec3b(200, 200, 200 - 10);
+  shaded.at<cv::Vec3b>(0, 1) = cv::Vec3b(200, 200 + 11, 200);
+  const cv::Mat m10 = moved_pixels(before, shaded, all, 10);
+  EXPECT_EQ(m10.at<std::uint8_t>(0, 0), 0);
+  EXPECT_EQ(m10.at<std::uint8_t>(0, 1), 255);
+  // Grey images work alike.
+  cv::Mat gb;
+  cv::Mat ga;
+  cv::cvtColor(before, gb, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(after, ga, cv::COLOR_BGR2GRAY);
+  EXPECT_EQ(cv::countNonZero(moved_pixels(gb, ga, all, kMovedLevels) != expected), 0);
+  // Bad input.
+  EXPECT_THROW((void)moved_pixels(cv::Mat(), after, all, 10), Error);
+  EXPECT_THROW((void)moved_pixels(before, ga, all, 10), Error);
+  EXPECT_THROW((void)moved_pixels(before, after(cv::Rect(0, 0, 10, 10)), all, 10), Error);
+  EXPECT_THROW((void)moved_pixels(before, after, all(cv::Rect(0, 0, 10, 10)), 10), Error);
+  EXPECT_THROW((void)moved_pixels(before, after, all, 255), Error);
+  EXPECT_THROW((void)moved_pixels(before, after, all, -1), Error);
+}
+
 TEST(SelfSupervision, HullGapKnownAnswers) {
   const std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const auto shifted = [&](const Eigen::Vector2d& by) {
@@ -2383,6 +2428,52 @@ TEST(SelfSupervision, MoreRoundsThanObjectsAreJudgedByTheirLooksColours) {
   ASSERT_TRUE(it->classes.has_value());
   EXPECT_EQ(count(apart, "choose"), *it->classes == 2 ? 2 : 3);
   o.rounds = 0;
+  EXPECT_THROW(o.validate(), Error);
+}
+
+// moved_colours (session 45): a round's colours are exactly the pixels its learn pushes moved,
+// each push logged (event "colours"); its looks add none. Without the option no push is logged
+// so and the looks give the colours. Refused without a colour signal and with colour_first_look.
+TEST(SelfSupervision, MovedColoursAreThePixelsTheLearnPushesMoved) {
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 3;
+  o.rounds = 3;  // the round colours are reported with the rounds' judgement by colour
+  o.same_object_by = RoundSimilarity::kColour;
+  o.same_colour = 1.0;  // every round runs
+  o.moved_colours = true;
+  const Learning moved = learn_two_objects(o);
+  ASSERT_EQ(moved.round_colours.size(), 3U);
+  std::vector<double> logged(3, 0.0);
+  int learn_pushes = 0;
+  for (const auto& j : moved.log) {
+    if (j.event == "push" && j.phase == "learn" && j.executed.value_or(false)) ++learn_pushes;
+    if (j.event != "colours") continue;
+    ASSERT_TRUE(j.round && j.moved_pixels);
+    EXPECT_GE(*j.moved_pixels, 0);
+    logged[static_cast<std::size_t>(*j.round)] += *j.moved_pixels;
+  }
+  EXPECT_EQ(count_events(moved, "colours"), learn_pushes);
+  double total = 0;
+  for (std::size_t r = 0; r < 3; ++r) {
+    EXPECT_DOUBLE_EQ(moved.round_colours[r].sum(), logged[r]) << "round " << r;
+    total += logged[r];
+  }
+  EXPECT_GT(total, 0.0);  // the pushes moved something
+
+  o.moved_colours = false;
+  const Learning blobs = learn_two_objects(o);
+  EXPECT_EQ(count_events(blobs, "colours"), 0);
+  double blob_total = 0;
+  for (const auto& c : blobs.round_colours) blob_total += c.sum();
+  EXPECT_GT(blob_total, 0.0);
+
+  o.moved_colours = true;
+  o.colour_first_look = true;
+  EXPECT_THROW(o.validate(), Error);
+  o.colour_first_look = false;
+  o.rounds = 0;
+  o.same_object_by = RoundSimilarity::kWords;
+  o.claims_by = ClaimSignal::kLooks;
   EXPECT_THROW(o.validate(), Error);
 }
 

@@ -233,6 +233,14 @@ struct SelfSupervisionOptions {
   /// colour figure -3.2 +- 12.3, claims right 28 -> 25 of 35: its gate failed, no report run
   /// (docs/results/selfsupervision.md, "Session 43").
   bool colour_first_look = false;
+  /// claims_by colour (and refind_colour, same_object_by colour): a round's colours from the
+  /// pixels its learn pushes moved (moved_pixels: within the pushed blob in the look before each
+  /// push and within the blob found after it in the look after, the pixels whose colour changed
+  /// by more than kMovedLevels in a channel), instead of its tracked blob's whole mask in the looks
+  /// before its pushes. A neighbour inside the blob that the push left where it was is left out,
+  /// and so is the plain table around the object. Off (the default). Session 45. Not with
+  /// colour_first_look.
+  bool moved_colours = false;
   /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
   /// from its centre to the push's target, in the table plane) at least this far from every
   /// other blob's footprint, m (learn_push_lack: a neighbour nearer already may not come nearer).
@@ -576,6 +584,9 @@ struct SelfSupervisionOptions {
        core::between(0.0, 1.0)});
     v(self.colour_first_look,
       {"colour_first_look", "A round's colours (claims by colour) from its first look only"});
+    v(self.moved_colours,
+      {"moved_colours",
+       "A round's colours (claims by colour) from the pixels its learn pushes moved"});
     v(self.learn_clearance,
       {"learn_clearance",
        "Learn pushes keep their object's corridor this far from other blobs, m (0: off)",
@@ -863,7 +874,7 @@ struct BlobScore {
 
 /// One line of the decision log (decisions.jsonl): an event and the fields it has (the others are
 /// left out). Events: start, rescatter, look, choose, singulated, plan, push, motion, replan,
-/// refound, views, fault, judge, distance, merge, recheck, end.
+/// refound, colours (moved_colours), views, fault, judge, distance, merge, recheck, end.
 struct SelfSupervisionDecision {
   std::string event = {};
   std::optional<int> round = {};          ///< the round (class) it belongs to
@@ -920,6 +931,9 @@ struct SelfSupervisionDecision {
   std::optional<double> word_distance = {};
   std::optional<double> view_colour_distance = {};
   std::optional<double> look_colour_distance = {};
+  /// colours (moved_colours): the pixels the push moved (moved_pixels, in the blob before and the
+  /// blob after it), whose colours were added to the round's colours
+  std::optional<int> moved_pixels = {};
 
   template <class Self, class Visitor>
   static void describe(Self& self, Visitor& v) {
@@ -971,6 +985,8 @@ struct SelfSupervisionDecision {
       {"view_colour_distance", "The two rounds' views' colour words' distance, nats"});
     v(self.look_colour_distance,
       {"look_colour_distance", "The two rounds' looks' colours' Hellinger distance"});
+    v(self.moved_pixels,
+      {"moved_pixels", "The pixels the push moved, added to the round's colours"});
   }
 };
 
@@ -1108,6 +1124,16 @@ inline constexpr double kRoundSmoothing = 0.5;
 /// non-negative): the Hellinger distance of the two normalised histograms, in [0, 1]; 0 for
 /// proportional counts. Throws Error when the lengths differ or either has no pixel.
 double colour_round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b);
+
+/// SelfSupervisionOptions::moved_colours: the pixels of `region` (8-bit, nonzero: in; the images'
+/// size) whose colour differs between `before` and `after` (8-bit BGR or grey, both alike) by more
+/// than `levels` in at least one channel: what a push moved there. An 8-bit mask (255: moved).
+/// Throws Error on empty images, other types, sizes that differ or levels outside [0, 255).
+cv::Mat moved_pixels(const cv::Mat& before, const cv::Mat& after, const cv::Mat& region,
+                     int levels);
+/// The change in a channel, of 255, above which moved_colours counts a pixel as moved: well above
+/// the renderer's noise (none) and JPEG-free images' shading, below a textured object's contrast.
+inline constexpr int kMovedLevels = 24;
 
 /// A distance between two groups' pooled counts (round_distance or colour_round_distance).
 using RoundDistance = double (*)(const Eigen::VectorXd&, const Eigen::VectorXd&);
