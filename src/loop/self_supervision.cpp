@@ -115,6 +115,7 @@ class Learner {
     class_look_words_.assign(static_cast<std::size_t>(rounds), Eigen::VectorXd::Zero(words_));
     class_look_colours_.assign(static_cast<std::size_t>(rounds),
                                Eigen::VectorXd::Zero(options.colour.count()));
+    class_look_colour_list_.assign(static_cast<std::size_t>(rounds), {});
     class_descriptors_.resize(static_cast<std::size_t>(rounds));
     if (!log_path.empty()) log_file_.open(log_path);
   }
@@ -376,7 +377,20 @@ class Learner {
 
   // claims_by kColour: per class (per group of rounds when merging) its looks' colour
   // distribution (the pooled counts normalised; empty: no looks yet, so no part in the claims).
+  // colour_by_look: each look's distribution instead (choose_unlearned takes the least distance
+  // to any of a class's looks).
   std::vector<std::vector<Eigen::VectorXd>> class_colours() const {
+    if (o_.colour_by_look) {
+      if (!merging()) return class_look_colour_list_;
+      const RoundMerge m = judge();
+      std::vector<std::vector<Eigen::VectorXd>> out(static_cast<std::size_t>(m.distinct));
+      for (std::size_t r = 0; r < m.judged.size() && r < class_look_colour_list_.size(); ++r) {
+        if (m.judged[r] < 0) continue;
+        auto& to = out[static_cast<std::size_t>(m.judged[r])];
+        to.insert(to.end(), class_look_colour_list_[r].begin(), class_look_colour_list_[r].end());
+      }
+      return out;
+    }
     const std::vector<Eigen::VectorXd> counts = per_class(class_look_colours_, o_.colour.count());
     std::vector<std::vector<Eigen::VectorXd>> out(counts.size());
     for (std::size_t c = 0; c < counts.size(); ++c) {
@@ -620,7 +634,11 @@ class Learner {
       // colour_first_look: the round's first look only (the object after (b)).
       // moved_colours: added after each push instead (add_moved_colours).
       if (!o_.moved_colours && (!o_.colour_first_look || colours.sum() <= 0)) {
-        colours += blob_colours(view, c);
+        const Eigen::VectorXd look = blob_colours(view, c);
+        colours += look;
+        if (o_.colour_by_look && look.sum() > 0) {
+          class_look_colour_list_[static_cast<std::size_t>(r)].push_back(look / look.sum());
+        }
       }
     }
     auto& words = class_look_words_[static_cast<std::size_t>(r)];
@@ -1608,6 +1626,10 @@ class Learner {
       mine_words.setZero();
       their_colours += mine_colours;
       mine_colours.setZero();
+      auto& mine_list = class_look_colour_list_[static_cast<std::size_t>(r)];
+      auto& their_list = class_look_colour_list_[static_cast<std::size_t>(c)];
+      their_list.insert(their_list.end(), mine_list.begin(), mine_list.end());
+      mine_list.clear();
       add_descriptors(c, class_descriptors_[static_cast<std::size_t>(r)]);
       class_descriptors_[static_cast<std::size_t>(r)] = cv::Mat();
     }
@@ -1625,7 +1647,11 @@ class Learner {
         }
         if (keeps_colours() && !o_.moved_colours &&
             (!o_.colour_first_look || their_colours.sum() <= 0)) {
-          their_colours += blob_colours(after, now);
+          const Eigen::VectorXd look = blob_colours(after, now);
+          their_colours += look;
+          if (o_.colour_by_look && look.sum() > 0) {
+            class_look_colour_list_[static_cast<std::size_t>(c)].push_back(look / look.sum());
+          }
         }
       }
     }
@@ -1958,6 +1984,7 @@ class Learner {
     class_look_words_.assign(static_cast<std::size_t>(objects_), Eigen::VectorXd::Zero(words_));
     class_look_colours_.assign(static_cast<std::size_t>(objects_),
                                Eigen::VectorXd::Zero(o_.colour.count()));
+    class_look_colour_list_.assign(static_cast<std::size_t>(objects_), {});
     class_descriptors_.assign(static_cast<std::size_t>(objects_), cv::Mat());
   }
 
@@ -1991,6 +2018,8 @@ class Learner {
   std::vector<cv::Mat> class_descriptors_;
   /// Per class: its looks' pixels' colour-word counts (claims_by kColour, or other_claims_by).
   std::vector<Eigen::VectorXd> class_look_colours_;
+  /// colour_by_look: per class, each of its looks' colour distribution (normalised).
+  std::vector<std::vector<Eigen::VectorXd>> class_look_colour_list_;
   int plans_ = 0;
   bool repeat_check_ = false;  ///< repeat_tries: test the next push's views (learn)
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
@@ -2037,6 +2066,11 @@ void SelfSupervisionOptions::validate() const {
         {"selfsupervise: ", colour_first_look ? "colour_first_look" : "moved_colours",
          " chooses the pixels of claims by colour, of refind_colour or of same_object_by colour: "
          "it needs one of them"}));
+  }
+  if (colour_by_look && (claims_by != ClaimSignal::kColour || colour_first_look || moved_colours)) {
+    throw Error(
+        "selfsupervise: colour_by_look compares a blob with each look of a class in the claims by "
+        "colour: it needs claims_by colour, and not colour_first_look or moved_colours");
   }
   if (colour_first_look && moved_colours) {
     throw Error(

@@ -2477,6 +2477,51 @@ TEST(SelfSupervision, MovedColoursAreThePixelsTheLearnPushesMoved) {
   EXPECT_THROW(o.validate(), Error);
 }
 
+// colour_by_look (session 45): the claims by colour compare a blob with each of a class's looks.
+// Both runs are the same up to round 1's choice (same table, same pushes), so its look scores the
+// same blobs; the distances differ (the least over object_1's looks, not the distance to their
+// pooled colours) and stay Hellinger distances. Refused without claims by colour, with
+// colour_first_look or with moved_colours.
+TEST(SelfSupervision, ClaimsByColourLookByLookTakeTheNearestLook) {
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 3;
+  const auto second_choice = [](const Learning& l) {
+    int seen = 0;
+    for (const auto& j : l.log) {
+      if (j.event == "choose" && seen++ == 1) return j;
+    }
+    ADD_FAILURE() << "no second choice";
+    return SelfSupervisionDecision{};
+  };
+  const SelfSupervisionDecision pooled = second_choice(two_round_run(o).first);
+  o.colour_by_look = true;
+  const SelfSupervisionDecision by_look = second_choice(two_round_run(o).first);
+  ASSERT_TRUE(pooled.scores && by_look.scores);
+  ASSERT_EQ(pooled.scores->size(), by_look.scores->size());
+  ASSERT_FALSE(pooled.scores->empty());
+  bool differ = false;
+  for (std::size_t b = 0; b < pooled.scores->size(); ++b) {
+    const auto& p = (*pooled.scores)[b];
+    const auto& q = (*by_look.scores)[b];
+    EXPECT_EQ(p.blob, q.blob);
+    ASSERT_TRUE(p.nearest && q.nearest);
+    EXPECT_GE(*q.nearest, 0.0);
+    EXPECT_LE(*q.nearest, 1.0);
+    if (std::abs(*p.nearest - *q.nearest) > 1e-9) differ = true;
+  }
+  EXPECT_TRUE(differ);
+  o.colour_first_look = true;
+  EXPECT_THROW(o.validate(), Error);
+  o.colour_first_look = false;
+  o.moved_colours = true;
+  EXPECT_THROW(o.validate(), Error);
+  o.moved_colours = false;
+  o.claims_by = ClaimSignal::kLooks;
+  EXPECT_THROW(o.validate(), Error);
+  o.claims_by = ClaimSignal::kColour;
+  EXPECT_NO_THROW(o.validate());
+}
+
 TEST(SelfSupervision, ARoundWhoseLaterViewsALearnedClassExplainsStops) {
   // repeat_later at a share any explained view meets: round 1's first views are kept (no
   // repeat_tries), each later push's views are tested against object_1's Mixture of Topics; on

@@ -241,6 +241,12 @@ struct SelfSupervisionOptions {
   /// and so is the plain table around the object. Off (the default). Session 45. Not with
   /// colour_first_look.
   bool moved_colours = false;
+  /// claims_by colour: a blob's distance to a class is its least Hellinger distance to any one of
+  /// the class's looks' colour distributions, rather than to their pooled colours
+  /// (choose_unlearned on colours, as kLooks takes thetas). A class whose looks held a neighbour in
+  /// some rounds' looks keeps its pure looks apart: its object's blob is near them. Off (the
+  /// default). Session 45. Not with colour_first_look or moved_colours.
+  bool colour_by_look = false;
   /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
   /// from its centre to the push's target, in the table plane) at least this far from every
   /// other blob's footprint, m (learn_push_lack: a neighbour nearer already may not come nearer).
@@ -587,6 +593,9 @@ struct SelfSupervisionOptions {
     v(self.moved_colours,
       {"moved_colours",
        "A round's colours (claims by colour) from the pixels its learn pushes moved"});
+    v(self.colour_by_look,
+      {"colour_by_look",
+       "Claims by colour: a blob's distance to a class is its least to any one of its looks"});
     v(self.learn_clearance,
       {"learn_clearance",
        "Learn pushes keep their object's corridor this far from other blobs, m (0: off)",
