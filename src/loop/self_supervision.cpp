@@ -260,8 +260,11 @@ class Learner {
   double add_moved_colours(int r, const cv::Mat& before, const planning::PlanningView& view, int c,
                            const planning::PlanningView& after, int now) {
     auto& colours = class_look_colours_[static_cast<std::size_t>(r)];
+    // What changed anywhere, once; each blob keeps its own part of it.
+    const cv::Mat changed =
+        moved_pixels(before, image_, cv::Mat(size_, CV_8UC1, cv::Scalar(255)), kMovedLevels);
     const auto add = [&](const cv::Mat& image, const planning::PutativeObject& o) {
-      const cv::Mat moved = moved_pixels(before, image_, blob_mask(o, size_), kMovedLevels);
+      const cv::Mat moved = changed & blob_mask(o, size_);
       const std::vector<double> counts = features::colour_word_counts(image, moved, o_.colour);
       const Eigen::Map<const Eigen::VectorXd> v(counts.data(),
                                                 static_cast<Eigen::Index>(counts.size()));
