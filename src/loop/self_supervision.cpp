@@ -772,6 +772,12 @@ class Learner {
 
   // (b): push the blob nearest the chosen one toward the edge until every other is `clearance`
   // away. Returns the chosen blob's centre after it (nullopt: lost).
+  // The ground truth's singulation is scored after a round's (b) before (c) starts; a (b) run
+  // again in (c) (crowded_reclears) is not scored, so that it cannot raise the figure.
+  void note_cleared(int r, const planning::PlanningView& view, int blob) {
+    if (!reclearing_) attendant_.cleared(r, view, blob);
+  }
+
   std::optional<Eigen::Vector2d> clear(int r, Eigen::Vector2d chosen, int& index) {
     singulated_ = false;
     int pushes = 0;
@@ -789,7 +795,7 @@ class Learner {
       const int c = track(view, chosen);
       if (c < 0) {
         fault(r, "lost", "the chosen object is no longer where it was (off the table or merged)");
-        attendant_.cleared(r, view, -1);
+        note_cleared(r, view, -1);
         return std::nullopt;
       }
       // merge_ratio: a clearing push pushed a neighbour into the chosen object (fewer blobs, its
@@ -805,7 +811,7 @@ class Learner {
                   c, static_cast<int>(view.objects[static_cast<std::size_t>(c)].pixels.size()),
                   static_cast<int>(
                       previous->objects[static_cast<std::size_t>(previous_blob)].pixels.size())));
-        attendant_.cleared(r, view, -1);
+        note_cleared(r, view, -1);
         return std::nullopt;
       }
       if (o_.merge_ratio > 0) {
@@ -866,19 +872,19 @@ class Learner {
       if (use_depth && !by_depth->alone && others.empty()) {
         fault(r, "cannot-clear",
               core::cat({"not alone by depth with no blob to push away (", by_depth->why, ")"}));
-        attendant_.cleared(r, view, c);
+        note_cleared(r, view, c);
         return chosen;
       }
       if (others.empty()) {
         singulated_ = true;
         log({.event = "singulated", .round = r, .clear_pushes = pushes});
-        attendant_.cleared(r, view, c);
+        note_cleared(r, view, c);
         return chosen;
       }
       if (pushes >= o_.clear_pushes) {
         fault(r, "not-singulated",
               core::cat({"gave up clearing after ", std::to_string(pushes), " pushes"}));
-        attendant_.cleared(r, view, c);
+        note_cleared(r, view, c);
         return chosen;
       }
       // free_space: the chosen object itself into the room the others leave, first.
@@ -930,7 +936,7 @@ class Learner {
       if (!pushed && refused && pushes < o_.clear_pushes) continue;
       if (!pushed) {
         fault(r, "cannot-clear", "no push of a nearby object could be planned or executed");
-        attendant_.cleared(r, view, c);
+        note_cleared(r, view, c);
         return chosen;
       }
     }
@@ -1253,6 +1259,7 @@ class Learner {
   // Returns true when (repeat_tries) the round's first views were already explained by a
   // learned class: the views were dropped and the round should choose again.
   bool learn(int r, Eigen::Vector2d chosen, int& index, core::ProgressBar& bar, int budget) {
+    crowded_at_.reset();
     double angle = rng_.uniform(-std::numbers::pi, std::numbers::pi);
     // The circle of targets: about the work centre, or (free_space) about the object's place
     // after (b), kept within free_space of the work centre.
@@ -1367,6 +1374,7 @@ class Learner {
           fault(r, "crowded", "no learn push keeps clear of the other blobs: the round stops");
           out_.stop_reasons[static_cast<std::size_t>(r)] =
               "no learn push keeps clear of the other blobs";
+          crowded_at_ = chosen;
           break;
         }
         fault(r, "not-planned", core::cat({"no side could be pushed: ", p.message}));
@@ -1757,6 +1765,7 @@ class Learner {
     // learned, made most learn pushes unplannable (tuning seed 1): no splits in (c).
     // Unspent pushes of earlier rounds (objects lost, pushes not planned) go to this one.
     int budget = o_.carry_budget ? round_budget(r, o_.pushes, out_.pushes_learn) : o_.pushes;
+    int reclears = 0;
     for (int t = 0;; ++t) {
       splitting_ = false;
       repeat_check_ = t < o_.repeat_tries && !model_so_far_.objects.empty();
@@ -1764,7 +1773,30 @@ class Learner {
       const bool again = learn(r, *chosen, index, bar, budget);
       repeat_check_ = false;
       splitting_ = true;
-      if (!again) break;
+      if (!again) {
+        // crowded_reclears: (c) stopped because every learn push would sweep its object toward a
+        // neighbour (the singulated object drifted back among the others): (b) again about where
+        // it is, then (c) goes on with the pushes left.
+        budget -= out_.pushes_learn - spent;
+        if (!crowded_at_ || reclears >= o_.crowded_reclears || budget <= 0) break;
+        ++reclears;
+        log({.event = "replan",
+             .round = r,
+             .why = core::cat({"(c) stopped crowded: (b) again about the object, then (c) with ",
+                               std::to_string(budget), " pushes left, re-clear ",
+                               std::to_string(reclears), " of ",
+                               std::to_string(o_.crowded_reclears)})});
+        reclearing_ = true;
+        chosen = clear(r, *crowded_at_, index);
+        reclearing_ = false;
+        if (!chosen) {
+          out_.stop_reasons[static_cast<std::size_t>(r)] =
+              "crowded in (c), and the object was lost while clearing again";
+          break;
+        }
+        out_.stop_reasons[static_cast<std::size_t>(r)].clear();
+        continue;
+      }
       // repeat_tries: the object was learned already; another, with the pushes left.
       budget -= out_.pushes_learn - spent;
       const planning::PlanningView now = look();
@@ -2027,10 +2059,12 @@ class Learner {
   bool repeat_check_ = false;  ///< repeat_tries: test the next push's views (learn)
   bool splitting_ = true;      ///< split_merged: looks of (a), (b) and (d) only, not of (c)
   bool singulated_ = false;    ///< the last clear() ended with the chosen object alone
-  int round_ = 0;              ///< the round under way (for the looks' "split" events)
-  int objects_ = 0;            ///< C, the objects on the table (out_.classes: the rounds)
-  int rounds_run_ = 0;         ///< rounds run so far
-  double offset_ = 0;          ///< the next push's turning offset, m (0: through the centre)
+  bool reclearing_ = false;    ///< crowded_reclears: a (b) within (c), not scored
+  std::optional<Eigen::Vector2d> crowded_at_;  ///< learn() stopped crowded with its object here
+  int round_ = 0;       ///< the round under way (for the looks' "split" events)
+  int objects_ = 0;     ///< C, the objects on the table (out_.classes: the rounds)
+  int rounds_run_ = 0;  ///< rounds run so far
+  double offset_ = 0;   ///< the next push's turning offset, m (0: through the centre)
   /// topple_ratio: plan() leaves a plan whose every push would tip the object unplanned (the
   /// learn pushes' first pass over the sides); false: it re-plans it without the check.
   bool strict_topple_ = false;
@@ -2049,6 +2083,10 @@ void SelfSupervisionOptions::validate() const {
   mot.validate();
   if (merge_ratio != 0.0 && merge_ratio <= 1.0) {
     throw Error("selfsupervise: merge_ratio must be 0 (off) or above 1");
+  }
+  if (crowded_reclears > 0 && learn_clearance <= 0) {
+    throw Error(
+        "selfsupervise: crowded_reclears needs learn_clearance (only its rounds stop crowded)");
   }
   if (recheck_tries > 0 && choice != NextObjectRule::kLooks) {
     throw Error("selfsupervise: recheck_tries needs choice looks (the learned classes' claims)");

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "../support/table_views.hpp"
@@ -2991,6 +2992,77 @@ TEST(SelfSupervision, PushedMostNamesByPushesThenViewsThenName) {
   EXPECT_EQ(round(4), "");
   EXPECT_EQ(round(5), "");
   EXPECT_EQ(pushed_most(pushes, [](int x) { return x <= 1; }), "bottle");  // 3 pushes of 6
+}
+
+// crowded_reclears (session 46): a round whose (c) stopped "crowded" runs (b) again about its
+// object and goes on with (c); the ground truth's singulation is scored only by the round's first
+// (b) (no cleared() after the round's first learn push). Off, the round stops there. Refused
+// without learn_clearance.
+class PhaseRecorder final : public TableAttendant {
+ public:
+  std::string rescatter(int round) override { return "re-scatter " + std::to_string(round); }
+  void before_push(const PushIntent& intent) override {
+    if (intent.phase == "learn") learned.insert(intent.round);
+  }
+  void cleared(int round, const planning::PlanningView& /*view*/, int /*blob*/) override {
+    if (learned.contains(round)) ++cleared_in_learn;
+  }
+  std::set<int> learned;  // rounds with a learn push so far
+  int cleared_in_learn = 0;
+};
+
+TEST(SelfSupervision, ACrowdedRoundClearsAgainAndGoesOn) {
+  SelfSupervisionOptions o = small_options();
+  o.objects = "book,bottle,giraffe";
+  o.pushes = 4;
+  o.learn_clearance = 0.2;  // every side toward the other object: rounds stop crowded
+  const auto run = [](const SelfSupervisionOptions& opt, PhaseRecorder& attendant) {
+    const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();
+    sim::SimulatedRobot robot(table_of(opt), catalogue);
+    const TinyModel m = tiny_model(robot.look().image);
+    return learn_by_pushing(robot, attendant, 3, m.lda, m.vocabulary, opt, {});
+  };
+  const std::string kStopped = "no learn push keeps clear of the other blobs";
+  const auto is_reclear = [](const SelfSupervisionDecision& j) {
+    return j.event == "replan" && j.why && j.why->starts_with("(c) stopped crowded");
+  };
+  PhaseRecorder off_attendant;
+  const Learning off = run(o, off_attendant);
+  ASSERT_TRUE(logged(off, "crowded")) << "the table did not crowd: the test is void";
+  for (const auto& j : off.log) {
+    EXPECT_FALSE(is_reclear(j));
+    if (j.fault == "crowded") {
+      EXPECT_EQ(off.stop_reasons.at(static_cast<std::size_t>(*j.round)), kStopped);
+    }
+  }
+
+  o.crowded_reclears = 1;
+  PhaseRecorder on_attendant;
+  const Learning on = run(o, on_attendant);
+  std::map<int, int> reclears;
+  for (std::size_t i = 0; i < on.log.size(); ++i) {
+    const auto& j = on.log[i];
+    if (!is_reclear(j)) continue;
+    ASSERT_TRUE(j.round);
+    ++reclears[*j.round];
+    ASSERT_GT(i, 0U);
+    EXPECT_EQ(on.log[i - 1].fault, std::optional<std::string>("crowded"));
+    // (b) again: its look comes next.
+    const auto next = std::find_if(on.log.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                                   on.log.end(), [](const auto& k) { return k.event == "look"; });
+    ASSERT_NE(next, on.log.end());
+    EXPECT_EQ(next->phase, std::optional<std::string>("clear"));
+  }
+  ASSERT_FALSE(reclears.empty()) << "no round cleared again";
+  for (const auto& [r, n] : reclears) EXPECT_LE(n, 1) << "round " << r;
+  // A round that cleared again after a learn push: its (b) then would have been scored.
+  bool learned_before = false;
+  for (const auto& [r, n] : reclears) learned_before |= on_attendant.learned.contains(r);
+  ASSERT_TRUE(learned_before) << "every re-clear came before any learn push: the test is void";
+  EXPECT_EQ(on_attendant.cleared_in_learn, 0);
+
+  o.learn_clearance = 0;
+  EXPECT_THROW(o.validate(), Error);
 }
 
 }  // namespace

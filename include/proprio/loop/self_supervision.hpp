@@ -263,6 +263,12 @@ struct SelfSupervisionOptions {
   /// stay off (docs/results/selfsupervision-history.md, "Keeping a round on its object by
   /// geometry").
   double learn_clearance = 0.0;
+  /// (c), with learn_clearance: a round stopped "crowded" (its object drifted back among the
+  /// others, so that every learn push would sweep it toward one) runs (b) again about the
+  /// object's place and then goes on with (c) and its pushes left, at most this many times a
+  /// round (logged, event "replan"). The ground truth's singulation stays scored after the
+  /// round's first (b). 0: the round stops (the default).
+  int crowded_reclears = 0;
   /// (c): a round stops, logged, when its push moved another blob most (fault "drift":
   /// push_motion) or left the pushed blob merged with another one (fault "merged":
   /// merged_blob); a round then no longer drifts to a neighbour and learns it as its object.
@@ -605,6 +611,11 @@ struct SelfSupervisionOptions {
       {"learn_clearance",
        "Learn pushes keep their object's corridor this far from other blobs, m (0: off)",
        core::between(0.0, 0.2)});
+    v(self.crowded_reclears,
+      {"crowded_reclears",
+       "learn_clearance: a round stopped crowded clears the others again and goes on, this often "
+       "(0: off)",
+       core::between(0, 10)});
     v(self.stop_on_drift,
       {"stop_on_drift", "Stop a round when its push moved another blob most or merged it"});
     v(self.alone_views,
