@@ -360,22 +360,36 @@ class Learner {
     return per_class(looks ? class_look_words_ : round_counts(), words_);
   }
 
-  // Counts of length `length` per round, as per class: one a round class (C of them), or summed
-  // over each group of rounds the robot judges one object when merging (merge_rounds).
-  std::vector<Eigen::VectorXd> per_class(const std::vector<Eigen::VectorXd>& counts,
-                                         Eigen::Index length) const {
+  // Per-round values as per class: one a round class (C of them), or combined by `add` over
+  // each group of rounds the robot judges one object when merging (merge_rounds; judge()).
+  template <typename T, typename Add>
+  std::vector<T> grouped(const std::vector<T>& per_round, const T& empty, Add add) const {
     if (!merging()) {
-      std::vector<Eigen::VectorXd> out(class_looks_.size(), Eigen::VectorXd::Zero(length));
-      for (std::size_t r = 0; r < counts.size() && r < out.size(); ++r) out[r] = counts[r];
+      std::vector<T> out(class_looks_.size(), empty);
+      for (std::size_t r = 0; r < per_round.size() && r < out.size(); ++r) out[r] = per_round[r];
       return out;
     }
     const RoundMerge m = judge();
-    std::vector<Eigen::VectorXd> out(static_cast<std::size_t>(m.distinct),
-                                     Eigen::VectorXd::Zero(length));
-    for (std::size_t r = 0; r < m.judged.size() && r < counts.size(); ++r) {
-      if (m.judged[r] >= 0) out[static_cast<std::size_t>(m.judged[r])] += counts[r];
+    std::vector<T> out(static_cast<std::size_t>(m.distinct), empty);
+    for (std::size_t r = 0; r < m.judged.size() && r < per_round.size(); ++r) {
+      if (m.judged[r] >= 0) add(out[static_cast<std::size_t>(m.judged[r])], per_round[r]);
     }
     return out;
+  }
+
+  // Counts of length `length` per round, as per class, summed over a group's rounds.
+  std::vector<Eigen::VectorXd> per_class(const std::vector<Eigen::VectorXd>& counts,
+                                         Eigen::Index length) const {
+    return grouped(counts, Eigen::VectorXd::Zero(length).eval(),
+                   [](Eigen::VectorXd& to, const Eigen::VectorXd& from) { to += from; });
+  }
+
+  // Lists per round, as per class, a group's rounds' lists one after another.
+  template <typename T>
+  std::vector<std::vector<T>> per_class_lists(const std::vector<std::vector<T>>& lists) const {
+    return grouped(lists, std::vector<T>{}, [](std::vector<T>& to, const std::vector<T>& from) {
+      to.insert(to.end(), from.begin(), from.end());
+    });
   }
 
   // claims_by kColour: per class (per group of rounds when merging) its looks' colour
@@ -383,17 +397,7 @@ class Learner {
   // colour_by_look: each look's distribution instead (choose_unlearned takes the least distance
   // to any of a class's looks).
   std::vector<std::vector<Eigen::VectorXd>> class_colours() const {
-    if (o_.colour_by_look) {
-      if (!merging()) return class_look_colour_list_;
-      const RoundMerge m = judge();
-      std::vector<std::vector<Eigen::VectorXd>> out(static_cast<std::size_t>(m.distinct));
-      for (std::size_t r = 0; r < m.judged.size() && r < class_look_colour_list_.size(); ++r) {
-        if (m.judged[r] < 0) continue;
-        auto& to = out[static_cast<std::size_t>(m.judged[r])];
-        to.insert(to.end(), class_look_colour_list_[r].begin(), class_look_colour_list_[r].end());
-      }
-      return out;
-    }
+    if (o_.colour_by_look) return per_class_lists(class_look_colour_list_);
     const std::vector<Eigen::VectorXd> counts = per_class(class_look_colours_, o_.colour.count());
     std::vector<std::vector<Eigen::VectorXd>> out(counts.size());
     for (std::size_t c = 0; c < counts.size(); ++c) {
@@ -481,7 +485,9 @@ class Learner {
         break;
     }
     any = any_looks();
-    return choose_unlearned(blobs.per_blob, merging() ? group_looks() : class_looks_);
+    // With rounds, each group of rounds the robot judges one object claims one blob by the looks
+    // of all its rounds (rounds without views take no part: their object is not learned).
+    return choose_unlearned(blobs.per_blob, per_class_lists(class_looks_));
   }
 
   Claims claims(const planning::PlanningView& view) {
@@ -1145,10 +1151,8 @@ class Learner {
     for (std::size_t k = 0; k < blobs.size(); ++k) {
       blobs[k] = blob_colours(view, static_cast<int>(k));
     }
-    std::vector<Eigen::VectorXd> others;
-    for (std::size_t q = 0; q < class_look_colours_.size(); ++q) {
-      if (static_cast<int>(q) != r) others.push_back(class_look_colours_[q]);
-    }
+    const std::vector<Eigen::VectorXd> others =
+        refind_vetoes(r, class_look_colours_, merging() ? judge().judged : std::vector<int>());
     const ColourRefind f = refind_by_colours(
         blobs, class_look_colours_[static_cast<std::size_t>(r)], others, o_.refind_colour);
     if (f.blob >= 0) {
@@ -1916,21 +1920,6 @@ class Learner {
     return done;
   }
 
-  // (d) with rounds: each group of rounds the robot judges one object claims one blob, by the
-  // looks of all its rounds (rounds without views take no part: their object is not learned).
-  std::vector<std::vector<Eigen::VectorXd>> group_looks() const {
-    const RoundMerge m = judge();
-    std::vector<std::vector<Eigen::VectorXd>> looks(static_cast<std::size_t>(m.distinct));
-    for (std::size_t r = 0; r < m.judged.size(); ++r) {
-      const int g = m.judged[r];
-      if (g < 0) continue;
-      const auto& own = class_looks_[r];
-      looks[static_cast<std::size_t>(g)].insert(looks[static_cast<std::size_t>(g)].end(),
-                                                own.begin(), own.end());
-    }
-    return looks;
-  }
-
   // The round classes merged into C classes (merge_rounds), every merge logged; the views
   // relabelled, the classes renamed object_1..object_C.
   void merge_into_classes() {
@@ -2624,6 +2613,19 @@ double hellinger(const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
   ensure(p.size() == q.size(), "hellinger: distributions of different lengths");
   const double bc = (p.array().max(0.0) * q.array().max(0.0)).sqrt().sum();
   return std::sqrt(std::max(0.0, 1.0 - bc));
+}
+
+std::vector<Eigen::VectorXd> refind_vetoes(int round, const std::vector<Eigen::VectorXd>& colours,
+                                           const std::vector<int>& judged) {
+  const auto group = [&](int q) {
+    return q >= 0 && q < static_cast<int>(judged.size()) ? judged[static_cast<std::size_t>(q)] : -1;
+  };
+  std::vector<Eigen::VectorXd> out;
+  for (int q = 0; q < static_cast<int>(colours.size()); ++q) {
+    if (q == round || (group(round) >= 0 && group(q) == group(round))) continue;
+    out.push_back(colours[static_cast<std::size_t>(q)]);
+  }
+  return out;
 }
 
 ColourRefind refind_by_colours(const std::vector<Eigen::VectorXd>& blobs,

@@ -792,6 +792,37 @@ TEST(SelfSupervision, RefindByColoursTakesTheBlobOfTheRoundsColours) {
   EXPECT_EQ(refind_by_colours(theirs_only, own, {}, 1.0).blob, 0);
 }
 
+// refind_vetoes (session 46): every other round's colours veto a re-find, but with rounds not
+// those of rounds judged the same object (the robot's own earlier sight of it).
+TEST(SelfSupervision, RefindVetoesAreTheOtherObjectsRounds) {
+  const std::vector<Eigen::VectorXd> colours{
+      dist4(0.9, 0.05, 0.03, 0.02), dist4(0.02, 0.03, 0.9, 0.05), dist4(0.8, 0.1, 0.05, 0.05),
+      dist4(0.1, 0.8, 0.05, 0.05)};
+  const auto same = [](const std::vector<Eigen::VectorXd>& a,
+                       const std::vector<Eigen::VectorXd>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (a[i] != b[i]) return false;
+    }
+    return true;
+  };
+  // No judgement: all others.
+  EXPECT_TRUE(same(refind_vetoes(0, colours, {}), {colours[1], colours[2], colours[3]}));
+  EXPECT_TRUE(same(refind_vetoes(3, colours, {}), {colours[0], colours[1], colours[2]}));
+  // Rounds 0 and 2 judged one object: neither vetoes the other; round 3 without words (-1) vetoes.
+  const std::vector<int> judged{0, 1, 0, -1};
+  EXPECT_TRUE(same(refind_vetoes(0, colours, judged), {colours[1], colours[3]}));
+  EXPECT_TRUE(same(refind_vetoes(2, colours, judged), {colours[1], colours[3]}));
+  EXPECT_TRUE(same(refind_vetoes(1, colours, judged), {colours[0], colours[2], colours[3]}));
+  // A round without a group is vetoed by all others, grouped or not; a short judgement is -1.
+  EXPECT_TRUE(same(refind_vetoes(3, colours, judged), {colours[0], colours[1], colours[2]}));
+  EXPECT_TRUE(same(refind_vetoes(2, colours, {0, 1}), {colours[0], colours[1], colours[3]}));
+  // The veto decides the re-find: the blob like round 2's colours is round 0's object again.
+  const std::vector<Eigen::VectorXd> blobs{dist4(0.8, 0.1, 0.05, 0.05)};
+  EXPECT_EQ(refind_by_colours(blobs, colours[0], refind_vetoes(0, colours, {}), 1.0).blob, -1);
+  EXPECT_EQ(refind_by_colours(blobs, colours[0], refind_vetoes(0, colours, judged), 1.0).blob, 0);
+}
+
 // A putative object: a square footprint of half side `h` about (x, y), table m, and (for the
 // motion) feature points on a 4 px grid over the pixel box `px`.
 planning::PutativeObject square_blob(double x, double y, double h, cv::Rect px = {}) {
@@ -3022,7 +3053,7 @@ TEST(SelfSupervision, ACrowdedRoundClearsAgainAndGoesOn) {
     const TinyModel m = tiny_model(robot.look().image);
     return learn_by_pushing(robot, attendant, 3, m.lda, m.vocabulary, opt, {});
   };
-  const std::string kStopped = "no learn push keeps clear of the other blobs";
+  const std::string stopped = "no learn push keeps clear of the other blobs";
   const auto is_reclear = [](const SelfSupervisionDecision& j) {
     return j.event == "replan" && j.why && j.why->starts_with("(c) stopped crowded");
   };
@@ -3032,7 +3063,7 @@ TEST(SelfSupervision, ACrowdedRoundClearsAgainAndGoesOn) {
   for (const auto& j : off.log) {
     EXPECT_FALSE(is_reclear(j));
     if (j.fault == "crowded") {
-      EXPECT_EQ(off.stop_reasons.at(static_cast<std::size_t>(*j.round)), kStopped);
+      EXPECT_EQ(off.stop_reasons.at(static_cast<std::size_t>(*j.round)), stopped);
     }
   }
 

@@ -267,7 +267,11 @@ struct SelfSupervisionOptions {
   /// others, so that every learn push would sweep it toward one) runs (b) again about the
   /// object's place and then goes on with (c) and its pushes left, at most this many times a
   /// round (logged, event "replan"). The ground truth's singulation stays scored after the
-  /// round's first (b). 0: the round stops (the default).
+  /// round's first (b). 0: the round stops (the default). Session 46, tuning seeds 97-122 with
+  /// clearance 0.15, learn_clearance 0.05 and 2: 31 re-clears, training views a run 231 -> 251
+  /// (the defaults: 303), but against the defaults objects with a class -0.12 +- 0.26, colour
+  /// figure -1.5 +- 8.9, c -6.2 +- 7.5: its gate failed, no report run
+  /// (docs/results/selfsupervision.md, "Session 46").
   int crowded_reclears = 0;
   /// (c): a round stops, logged, when its push moved another blob most (fault "drift":
   /// push_motion) or left the pushed blob merged with another one (fault "merged":
@@ -1231,6 +1235,14 @@ struct ColourRefind {
 ColourRefind refind_by_colours(const std::vector<Eigen::VectorXd>& blobs,
                                const Eigen::VectorXd& own,
                                const std::vector<Eigen::VectorXd>& others, double max_distance);
+
+/// refind_colour: the `others` of refind_by_colours for round `round`: every other round's colour
+/// counts (`colours`, per round), except, with rounds (SelfSupervisionOptions::rounds), those of
+/// the rounds the robot judges the same object as `round` (`judged`: per round its group, -1 or
+/// missing: none; empty: no judgement). A round's own object seen in an earlier round does not
+/// veto finding it again.
+std::vector<Eigen::VectorXd> refind_vetoes(int round, const std::vector<Eigen::VectorXd>& colours,
+                                           const std::vector<int>& judged);
 
 /// (c) Which blob after a learn push is the round's object. `blobs`: per blob of the look after
 /// the push, its theta (empty: too few features); `own`: the thetas of the round's object in its
