@@ -487,6 +487,9 @@ sim::Background background_of(const LearnOptions& o) {
 void LearnOptions::validate() const {
   core::check_field_bounds(*this, "learn");
   colour.validate();
+  if (colour_weight > 1 && !colour_words) {
+    throw Error("learn: --colour-weight weighs the colour words: not with --no-colour-words");
+  }
   if ((new_object == NewObjectScore::kColour || new_object == NewObjectScore::kPixels) &&
       known_margin >= 0) {
     throw Error(
@@ -2422,6 +2425,10 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
       doc = features::with_colour_words(std::move(doc), v.colours, k.vocabulary->size());
     corpus.add_tokens(doc);
   }
+  // The topic model's documents: the colour words counted colour_weight times (the words
+  // classifiers keep `corpus` as it is, in k.training).
+  const topics::Corpus topic_corpus = colour_weighted(
+      corpus, static_cast<int>(k.vocabulary->size()), o.colour_words ? o.colour_weight : 1);
   if (!o.lda_model.empty()) {
     k.lda = topics::load_lda_model(o.lda_model);
     if (k.lda->num_words() != words) {
@@ -2431,14 +2438,14 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
            o.colour_words ? " (the vocabulary's and the colour words)" : " (the vocabulary's)"}));
     }
   } else {
-    l.timed("lda", [&] { k.lda = views_lda(corpus, o.topics, o.seed); });
+    l.timed("lda", [&] { k.lda = views_lda(topic_corpus, o.topics, o.seed); });
   }
   topics::save_lda_model(*k.lda, o.out / "lda.model");
   k.training = corpus;
   // The ladder's pooled words classifier (ladder_pooled) reads the views' words beside theta.
   if (o.oracle_ladder && o.ladder_pooled) g.views.words = corpus;
   l.timed("model", [&] {
-    g.views.theta = recognition::document_theta(*k.lda, corpus).theta;
+    g.views.theta = recognition::document_theta(*k.lda, topic_corpus).theta;
     for (const auto& v : views) {
       g.views.labels.push_back(v.cls);
       g.views.push.push_back(v.push);
@@ -2845,6 +2852,7 @@ SelfSupervisionOptions learn_score_options(const LearnOptions& o) {
   so.mot = o.mot;
   so.colour_words = o.colour_words;
   so.colour = o.colour;
+  so.colour.weight = o.colour_words ? o.colour_weight : 1;
   so.oracle_ladder = o.oracle_ladder;
   so.pooled_score = o.oracle_ladder && o.ladder_pooled;
   return so;

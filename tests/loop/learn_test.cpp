@@ -960,6 +960,38 @@ TEST(Learn, ColourWordsFollowTheSiftWordsInEveryViewsDocument) {
   }
 }
 
+TEST(Learn, ColourWeightMakesTheTopicsFollowTheColourWords) {
+  // --colour-weight 8: the same pushes and views (the loop does not read the topic model); the
+  // topic model's documents count each colour word 8 times, so the views' topic holds about 8/9
+  // colour (about half with weight 1); recorded in learn.json. Refused without colour words.
+  namespace fs = std::filesystem;
+  const test::TempDir dir("proprio_learn_colour_weight_");
+  const SmallTable t;
+  const int k = features::ColourWordOptions{}.count();
+  std::vector<double> mass;
+  std::vector<int> views;
+  for (const int weight : {1, 8}) {
+    const fs::path out = dir.path() / std::to_string(weight);
+    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) { o.colour_weight = weight; });
+    ASSERT_GT(r.summary.views, 0);
+    views.push_back(r.summary.views);
+    const topics::LdaModel lda = topics::load_lda_model(out / "lda.model");
+    mass.push_back(lda.topic_word().rightCols(k).rowwise().sum().maxCoeff());
+    EXPECT_EQ(core::read_json(out / "learn.json")["options"]["colour_weight"].get<int>(), weight);
+  }
+  EXPECT_EQ(views[0], views[1]);
+  EXPECT_LT(mass[0], 0.65);
+  EXPECT_GT(mass[1], 0.8);
+  LearnOptions o;
+  o.colour_weight = 8;
+  o.colour_words = false;
+  EXPECT_THROW(o.validate(), Error);
+  o.colour_words = true;
+  EXPECT_NO_THROW(o.validate());
+  o.colour_weight = 0;
+  EXPECT_THROW(o.validate(), Error);
+}
+
 TEST(Learn, ABlobThatTheWordsSayIsAKnownObjectIsNotANewClass) {
   // Two classes, one push each. With known_margin huge every blob is within it of the first
   // object's own views: the second turn finds only known objects (by their words) and learns

@@ -394,6 +394,15 @@ struct LearnOptions {
   /// 34.7 % (+10.2 +- 5.3); --no-colour-words: SIFT words only, as the thesis
   /// (docs/results/learn.md "Session 38").
   bool colour_words = true;
+  /// colour_words: in the documents of the topic model learn fits to its views (the LDA, the
+  /// views' theta, the Mixture of Topics, argmax theta and the held-out views' theta) each colour
+  /// word counts this many times (features::ColourWordOptions::weight, loop::colour_weighted), so
+  /// that the topics follow the objects' colours, which do not change when an object turns or
+  /// falls over, more than their SIFT words, which do. The loop never reads the topic model (the
+  /// pushes are the same at any weight), nor do the words classifiers (pooled, colour: the
+  /// headline), which keep each colour word once. The written lda.model and model.mot expect
+  /// documents weighted so (learn.json's options record it). 1: as the thesis's words count.
+  int colour_weight = 1;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
   [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
@@ -609,6 +618,11 @@ struct LearnOptions {
       {"colour_words",
        "Documents carry a colour word a feature (its patch's mean colour, 28 HSV words) after "
        "its SIFT word; --no-colour-words: SIFT words only (the thesis)"});
+    v(self.colour_weight,
+      {"colour_weight",
+       "colour_words: each colour word counts this many times in the topic model's documents "
+       "(LDA, theta, Mixture of Topics); the words classifiers keep 1",
+       core::between(1, 1000)});
     v(self.topics, {"topics", "LDA topics (no --model)", core::between(2, 1000)});
     v(self.words, {"words", "Vocabulary words (no --vocabulary)", core::between(2, 100000)});
     v(self.quick, {"quick",
