@@ -11,7 +11,7 @@ import numpy as np
 from scipy.special import digamma, polygamma, gammaln
 from sklearn.decomposition import LatentDirichletAllocation
 sys.path.insert(0, __import__("os").path.dirname(__import__("os").path.abspath(__file__)))
-from documents_classifiers import read_documents
+from documents_classifiers import training_and_held
 
 
 def inv_digamma(y):
@@ -39,14 +39,8 @@ def dir_loglik(th, a):
 
 
 def run(path, k, topics, seed=0):
-    words, vocab, classes, views, held = read_documents(path)
-    n = len(classes)
-    keep = [v for v in views if v[0] >= 0]
-    y = np.array([v[0] for v in keep])
-    xt = np.array([v[4] for v in keep])
-    xh = np.array([h[1] for h in held])
-    truth = [h[0] for h in held]
-    names = [classes[c] for c in range(n)]
+    vocab, _, y, xt, xh, truth, names = training_and_held(path)
+    n = len(names)
     xt[:, vocab:] *= k
     xh[:, vocab:] *= k
     lda = LatentDirichletAllocation(n_components=topics, random_state=seed, max_iter=30,
@@ -61,7 +55,6 @@ def run(path, k, topics, seed=0):
         a = fit_dirichlet(tt[y == c])
         scores[:, c] = dir_loglik(th, a) + np.log((y == c).sum())
     pred = scores.argmax(1)
-    am = th.argmax(1)
     return float(np.mean([names[p] == t for p, t in zip(pred, truth)]))
 
 

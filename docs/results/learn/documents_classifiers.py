@@ -77,15 +77,22 @@ def nb_joint(x_train, y_train, n_classes, x_test, pseudo=1.0):
     return x_test @ log_phi.T + prior
 
 
-def run(path):
-    words, vocab, classes, views, held = read_documents(path)
-    n_classes = len(classes)
+def training_and_held(path):
+    """One run's training views with a class (labels y, counts xt, the views kept) and held-out
+    views (counts xh, their objects), the vocabulary's size and the class names."""
+    _, vocab, classes, views, held = read_documents(path)
     keep = [v for v in views if v[0] >= 0]
     y = np.array([v[0] for v in keep])
     xt = np.array([v[4] for v in keep])
     xh = np.array([h[1] for h in held])
     truth = [h[0] for h in held]
-    names = [classes[c] for c in range(n_classes)]
+    names = [classes[c] for c in range(len(classes))]
+    return vocab, keep, y, xt, xh, truth, names
+
+
+def run(path):
+    vocab, keep, y, xt, xh, truth, names = training_and_held(path)
+    n_classes = len(names)
 
     def acc(scores):
         pred = scores.argmax(1)

@@ -399,9 +399,11 @@ struct LearnOptions {
   /// word counts this many times (features::ColourWordOptions::weight, loop::colour_weighted), so
   /// that the topics follow the objects' colours, which do not change when an object turns or
   /// falls over, more than their SIFT words, which do. The loop never reads the topic model (the
-  /// pushes are the same at any weight), nor do the words classifiers (pooled, colour: the
-  /// headline), which keep each colour word once. The written lda.model and model.mot expect
-  /// documents weighted so (learn.json's options record it). 1: as the thesis's words count.
+  /// pushes are the same at any weight), nor does the colour words classifier (the headline).
+  /// The words classifiers' documents count each colour word once; the Mixture of Topics by
+  /// words (and the pooled classifier built on it) reads them through the weighted LDA. The
+  /// written lda.model and model.mot expect documents weighted so (learn.json's options record
+  /// it). 1: as the thesis's words count.
   int colour_weight = 1;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
