@@ -487,9 +487,6 @@ sim::Background background_of(const LearnOptions& o) {
 void LearnOptions::validate() const {
   core::check_field_bounds(*this, "learn");
   colour.validate();
-  if (colour_weight > 1 && !colour_words) {
-    throw Error("learn: --colour-weight weighs the colour words: not with --no-colour-words");
-  }
   if ((new_object == NewObjectScore::kColour || new_object == NewObjectScore::kPixels) &&
       known_margin >= 0) {
     throw Error(

@@ -942,7 +942,10 @@ TEST(Learn, ColourWordsFollowTheSiftWordsInEveryViewsDocument) {
   const SmallTable t;
   for (const bool colour : {false, true}) {
     const fs::path out = dir.path() / (colour ? "on" : "off");
-    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) { o.colour_words = colour; });
+    const LearnResult r = t.run(out, 1, [&](LearnOptions& o) {
+      o.colour_words = colour;
+      o.colour_weight = 1;  // each colour word once: half the tokens
+    });
     ASSERT_GT(r.summary.views, 0);
     const int v = features::read_vocabulary(out / "vocabulary.vocab").size();
     const topics::LdaModel lda = topics::load_lda_model(out / "lda.model");
@@ -963,7 +966,7 @@ TEST(Learn, ColourWordsFollowTheSiftWordsInEveryViewsDocument) {
 TEST(Learn, ColourWeightMakesTheTopicsFollowTheColourWords) {
   // --colour-weight 8: the same pushes and views (the loop does not read the topic model); the
   // topic model's documents count each colour word 8 times, so the views' topic holds about 8/9
-  // colour (about half with weight 1); recorded in learn.json. Refused without colour words.
+  // colour (about half with weight 1); recorded in learn.json.
   namespace fs = std::filesystem;
   const test::TempDir dir("proprio_learn_colour_weight_");
   const SmallTable t;
@@ -982,12 +985,13 @@ TEST(Learn, ColourWeightMakesTheTopicsFollowTheColourWords) {
   EXPECT_EQ(views[0], views[1]);
   EXPECT_LT(mass[0], 0.65);
   EXPECT_GT(mass[1], 0.8);
+  // Without colour words the weight has nothing to weigh: the held-out scoring counts once.
   LearnOptions o;
-  o.colour_weight = 8;
+  EXPECT_EQ(o.colour_weight, 128);  // the default since session 46
+  EXPECT_EQ(learn_score_options(o).colour.weight, 128);
   o.colour_words = false;
-  EXPECT_THROW(o.validate(), Error);
-  o.colour_words = true;
   EXPECT_NO_THROW(o.validate());
+  EXPECT_EQ(learn_score_options(o).colour.weight, 1);
   o.colour_weight = 0;
   EXPECT_THROW(o.validate(), Error);
 }

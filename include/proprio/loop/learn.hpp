@@ -394,17 +394,21 @@ struct LearnOptions {
   /// 34.7 % (+10.2 +- 5.3); --no-colour-words: SIFT words only, as the thesis
   /// (docs/results/learn.md "Session 38").
   bool colour_words = true;
-  /// colour_words: in the documents of the topic model learn fits to its views (the LDA, the
-  /// views' theta, the Mixture of Topics, argmax theta and the held-out views' theta) each colour
-  /// word counts this many times (features::ColourWordOptions::weight, loop::colour_weighted), so
-  /// that the topics follow the objects' colours, which do not change when an object turns or
-  /// falls over, more than their SIFT words, which do. The loop never reads the topic model (the
-  /// pushes are the same at any weight), nor does the colour words classifier (the headline).
-  /// The words classifiers' documents count each colour word once; the Mixture of Topics by
-  /// words (and the pooled classifier built on it) reads them through the weighted LDA. The
-  /// written lda.model and model.mot expect documents weighted so (learn.json's options record
-  /// it). 1: as the thesis's words count.
-  int colour_weight = 1;
+  /// colour_words (without them it has no effect): in the documents of the topic model learn fits
+  /// to its views (the LDA, the views' theta, the Mixture of Topics, argmax theta and the held-out
+  /// views' theta) each colour word counts this many times (features::ColourWordOptions::weight,
+  /// loop::colour_weighted), so that the topics follow the objects' colours, which do not change
+  /// when an object turns or falls over, more than their SIFT words, which do. The loop never reads
+  /// the topic model (the pushes are the same at any weight), nor does the colour words classifier
+  /// (the headline). The words classifiers' documents count each colour word once; the Mixture of
+  /// Topics by words (and the pooled classifier built on it) reads them through the weighted LDA.
+  /// The written lda.model and model.mot expect documents weighted so (learn.json's options record
+  /// it). 1: as the thesis's words count. 128, the default since session 46
+  /// (docs/results/learn/rule-s46-colour-weight.md; K chosen offline on tuning seeds 1-20): on
+  /// fresh seeds 211-230 at --quick, the same pushes, the Mixture of Topics 35.9 -> 60.6 %
+  /// (+24.7 +- 7.6, higher on 19 of 20, lower on none), argmax theta 42.0 -> 55.4 %, the colour
+  /// headline the same on every seed, LDA 0.09 -> 0.20 s of CPU a run.
+  int colour_weight = 128;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
   [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
