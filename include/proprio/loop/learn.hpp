@@ -403,7 +403,8 @@ struct LearnOptions {
   /// (the headline). The words classifiers' documents count each colour word once; the Mixture of
   /// Topics by words (and the pooled classifier built on it) reads them through the weighted LDA.
   /// The written lda.model and model.mot expect documents weighted so (learn.json's options record
-  /// it). 1: as the thesis's words count. 128, the default since session 46
+  /// it), and a given --model is read as made so. 1: as the thesis's words count. 128, the
+  /// default since session 46
   /// (docs/results/learn/rule-s46-colour-weight.md; K chosen offline on tuning seeds 1-20): on
   /// fresh seeds 211-230 at --quick, the same pushes, the Mixture of Topics 35.9 -> 60.6 %
   /// (+24.7 +- 7.6, higher on 19 of 20, lower on none), argmax theta 42.0 -> 55.4 %, the colour
