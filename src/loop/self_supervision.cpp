@@ -776,14 +776,14 @@ class Learner {
     return best;
   }
 
-  // (b): push the blob nearest the chosen one toward the edge until every other is `clearance`
-  // away. Returns the chosen blob's centre after it (nullopt: lost).
   // The ground truth's singulation is scored after a round's (b) before (c) starts; a (b) run
   // again in (c) (crowded_reclears) is not scored, so that it cannot raise the figure.
   void note_cleared(int r, const planning::PlanningView& view, int blob) {
     if (!reclearing_) attendant_.cleared(r, view, blob);
   }
 
+  // (b): push the blob nearest the chosen one toward the edge until every other is `clearance`
+  // away. Returns the chosen blob's centre after it (nullopt: lost).
   std::optional<Eigen::Vector2d> clear(int r, Eigen::Vector2d chosen, int& index) {
     singulated_ = false;
     int pushes = 0;
