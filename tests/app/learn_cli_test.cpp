@@ -317,6 +317,8 @@ TEST_F(LearnCli, BadInputIsOneLineAndExit2) {
       {"--objects book --ladder-pooled" + out, "needs --oracle-ladder"},
       {"--objects book --oracle-ladder" + out, "needs --no-colour-words"},
       {"--objects book --colour-words=maybe" + out, "colour-words"},
+      {"--objects book --colour-weight 0" + out, "colour-weight"},
+      {"--objects book --colour-weight 1001" + out, "colour-weight"},
       {"--objects book --new-object colour --known-margin 1" + out, "not with --new-object colour"},
       {"--objects book --region-agree 0.6" + out, "region-agree"},
       {"--objects book --lost-rechoose --region-agree 0" + out, "needs --region-agree"},
