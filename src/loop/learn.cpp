@@ -2424,7 +2424,7 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
   }
   // The topic model's documents: the colour words counted colour_weight times (the words
   // classifiers keep `corpus` as it is, in k.training).
-  const topics::Corpus topic_corpus = colour_weighted(
+  const topics::Corpus topic_corpus = topics::weighted_from(
       corpus, static_cast<int>(k.vocabulary->size()), o.colour_words ? o.colour_weight : 1);
   if (!o.lda_model.empty()) {
     k.lda = topics::load_lda_model(o.lda_model);
@@ -2549,7 +2549,7 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
                               const std::vector<topics::Corpus>& held,
                               const std::vector<std::string>& objects,
                               const std::vector<std::string>& class_object, double weight,
-                              bool per_view, int colour_from) {
+                              bool per_view, int colour_from, int colour_weight) {
   const int classes = model.num_classes();
   if (classes < 1) throw Error("score_by_words: the model has no classes");
   if (held.size() != objects.size()) {
@@ -2604,7 +2604,10 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
           n += (m >= 0 && class_object[static_cast<std::size_t>(m)] == ob.name) ? 1 : 0;
         return n;
       };
-      const Eigen::MatrixXd theta = recognition::document_theta(lda, docs).theta;
+      const Eigen::MatrixXd theta =
+          recognition::document_theta(
+              lda, colour ? topics::weighted_from(docs, colour_from, colour_weight) : docs)
+              .theta;
       const int rt = right(topics::classify_mot(model, theta));
       const topics::MotClassification by_words = topics::classify_mot_words(model, lda, docs);
       const int rw = right(by_words);
@@ -2849,7 +2852,7 @@ SelfSupervisionOptions learn_score_options(const LearnOptions& o) {
   so.mot = o.mot;
   so.colour_words = o.colour_words;
   so.colour = o.colour;
-  so.colour.weight = o.colour_words ? o.colour_weight : 1;
+  so.colour_weight = o.colour_words ? o.colour_weight : 1;
   so.oracle_ladder = o.oracle_ladder;
   so.pooled_score = o.oracle_ladder && o.ladder_pooled;
   return so;
@@ -2918,7 +2921,8 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
       class_object.push_back(score->class_object[static_cast<std::size_t>(c)]);
     by_words = score_by_words(k.learning.model, *k.lda, *k.training, k.training_labels, held,
                               objects, class_object, o.mot_word_weight, o.mot_word_per_view,
-                              o.colour_words ? static_cast<int>(k.vocabulary->size()) : -1);
+                              o.colour_words ? static_cast<int>(k.vocabulary->size()) : -1,
+                              o.colour_weight);
     if (o.write_documents) {
       std::vector<std::string> names;
       for (int c : k.learning.model_class)

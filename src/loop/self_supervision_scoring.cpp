@@ -112,26 +112,6 @@ std::string pushed_most(std::span<const PushTruth> pushes,
   return most;
 }
 
-topics::Corpus colour_weighted(const topics::Corpus& corpus, int first, int weight) {
-  if (first < 0 || first > corpus.num_words() || weight < 1) {
-    throw Error(
-        core::cat({"colour_weighted: first word ", std::to_string(first), " of ",
-                   std::to_string(corpus.num_words()), ", weight ", std::to_string(weight)}));
-  }
-  if (weight == 1) return corpus;
-  topics::Corpus out(corpus.num_words());
-  std::vector<std::int32_t> counts;
-  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
-    const topics::DocumentView doc = corpus.document(d);
-    counts.assign(doc.counts.begin(), doc.counts.end());
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-      if (doc.words[i] >= first) counts[i] *= weight;
-    }
-    out.add_document(doc.words, counts);
-  }
-  return out;
-}
-
 topics::Corpus words_from(const topics::Corpus& corpus, int first) {
   if (first < 0 || first >= corpus.num_words()) {
     throw Error(core::cat({"words_from: word ", std::to_string(first), " is not in [0, ",
@@ -870,9 +850,13 @@ OracleLadder oracle_ladder(
     const Probes* probes, const OwnDescriptors* own) {
   OracleLadder l;
   const bool pooled = options.pooled_score;
+  const int weight = options.document_colour() ? options.colour_weight : 1;
   const auto theta_of = [&](const topics::Corpus& c) {
-    return c.num_documents() > 0 ? recognition::document_theta(model, c).theta
-                                 : Eigen::MatrixXd(0, model.num_topics());
+    return c.num_documents() > 0
+               ? recognition::document_theta(
+                     model, topics::weighted_from(c, static_cast<int>(vocabulary.size()), weight))
+                     .theta
+               : Eigen::MatrixXd(0, model.num_topics());
   };
   const auto rung = [&](std::string name, std::string what, const topics::Corpus& words,
                         const Eigen::MatrixXd& theta, const std::vector<std::string>& labels) {
@@ -1378,10 +1362,11 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     os.held_out = static_cast<int>(corpus.num_documents());
     if (os.held_out > 0) {
       // The topic model's documents: with colour words weighing more, as its training views'.
-      const int weight = options.document_colour() ? options.colour.weight : 1;
-      held[oi] = recognition::document_theta(
-                     model, colour_weighted(corpus, static_cast<int>(vocabulary.size()), weight))
-                     .theta;
+      const int weight = options.document_colour() ? options.colour_weight : 1;
+      held[oi] =
+          recognition::document_theta(
+              model, topics::weighted_from(corpus, static_cast<int>(vocabulary.size()), weight))
+              .theta;
     }
     if (os.held_out > 0 && mot.num_classes() > 0) {
       const Eigen::MatrixXd& theta = held[oi];

@@ -201,6 +201,9 @@ void RecognizeTrainOptions::validate() const {
   core::check_field_bounds(*this, "recognize train");
   if (online.num_topics < 1) throw Error("the number of topics K must be >= 1");
   core::check_field_bounds(online, "recognize train");
+  if (colour_weight != 1 && !colour_words) {
+    throw Error("recognize train: --colour-weight needs --colour-words");
+  }
   if (colour_words) {
     colour.validate();
     if (!source.images.empty()) {
@@ -237,6 +240,10 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
   }
   if (corpus.num_documents() == 0 || corpus.num_tokens() == 0) {
     throw Error("no features to learn from (every document is empty)");
+  }
+  r.colour_weight = colour ? options.colour_weight : 1;
+  if (r.colour_weight != 1) {
+    corpus = topics::weighted_from(corpus, static_cast<int>(vocabulary.size()), r.colour_weight);
   }
   if (options.method == topics::LdaMethod::kOnline) {
     auto t = topics::train_online_lda(corpus, options.online);

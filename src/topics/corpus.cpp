@@ -7,6 +7,7 @@
 
 #include "proprio/core/error.hpp"
 #include "proprio/core/random.hpp"
+#include "proprio/core/text.hpp"
 
 namespace proprio::topics {
 
@@ -107,6 +108,26 @@ CorpusSplit hold_out(const Corpus& corpus, double fraction, std::uint64_t seed) 
   std::sort(heldout.begin(), heldout.end());
   std::sort(train.begin(), train.end());
   return {corpus.subset(train), corpus.subset(heldout)};
+}
+
+Corpus weighted_from(const Corpus& corpus, int first, int weight) {
+  if (first < 0 || first > corpus.num_words() || weight < 1) {
+    throw Error(
+        core::cat({"weighted_from: first word ", std::to_string(first), " of ",
+                   std::to_string(corpus.num_words()), ", weight ", std::to_string(weight)}));
+  }
+  if (weight == 1) return corpus;
+  Corpus out(corpus.num_words(), corpus.vocabulary());
+  std::vector<std::int32_t> counts;
+  for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
+    const DocumentView doc = corpus.document(d);
+    counts.assign(doc.counts.begin(), doc.counts.end());
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+      if (doc.words[i] >= first) counts[i] *= weight;
+    }
+    out.add_document(doc.words, counts);
+  }
+  return out;
 }
 
 }  // namespace proprio::topics

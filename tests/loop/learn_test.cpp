@@ -988,10 +988,10 @@ TEST(Learn, ColourWeightMakesTheTopicsFollowTheColourWords) {
   // Without colour words the weight has nothing to weigh: the held-out scoring counts once.
   LearnOptions o;
   EXPECT_EQ(o.colour_weight, 128);  // the default since session 46
-  EXPECT_EQ(learn_score_options(o).colour.weight, 128);
+  EXPECT_EQ(learn_score_options(o).colour_weight, 128);
   o.colour_words = false;
   EXPECT_NO_THROW(o.validate());
-  EXPECT_EQ(learn_score_options(o).colour.weight, 1);
+  EXPECT_EQ(learn_score_options(o).colour_weight, 1);
   o.colour_weight = 0;
   EXPECT_THROW(o.validate(), Error);
 }

@@ -2918,26 +2918,6 @@ TEST(SelfSupervision, WeightedWordMultinomialsKnownAnswers) {
   EXPECT_EQ(colours.document(2).words[0], 1);
   EXPECT_THROW((void)words_from(coloured, 5), Error);
   EXPECT_THROW((void)words_from(coloured, -1), Error);
-  // Colour words weighing 3 times (session 46): words 3 and 4 counted 3 times, the others once,
-  // the documents and their order kept; weight 1 is the corpus as it is.
-  const topics::Corpus weighted = colour_weighted(coloured, 3, 3);
-  ASSERT_EQ(weighted.num_words(), 5);
-  ASSERT_EQ(weighted.num_documents(), 3U);
-  EXPECT_EQ(weighted.num_tokens(), 4 + 3 * 4);  // 4 other tokens, 4 colour tokens
-  for (std::size_t d = 0; d < 3; ++d) {
-    const topics::DocumentView a = coloured.document(d);
-    const topics::DocumentView b = weighted.document(d);
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      EXPECT_EQ(a.words[i], b.words[i]);
-      EXPECT_EQ(b.counts[i], a.words[i] >= 3 ? 3 * a.counts[i] : a.counts[i]);
-    }
-  }
-  EXPECT_EQ(colour_weighted(coloured, 3, 1).num_tokens(), coloured.num_tokens());
-  EXPECT_EQ(colour_weighted(coloured, 5, 7).num_tokens(), coloured.num_tokens());  // no colour
-  EXPECT_THROW((void)colour_weighted(coloured, 6, 2), Error);
-  EXPECT_THROW((void)colour_weighted(coloured, -1, 2), Error);
-  EXPECT_THROW((void)colour_weighted(coloured, 3, 0), Error);
   // Class 0: documents 0 (2 x word 0, 1 x word 1; weight 2/3) and 2 (1 x word 1; weight 2).
   const Eigen::MatrixXd lc = colour_multinomials(coloured, std::vector<int>{0, 0, 0}, 1, 3);
   EXPECT_NEAR(lc(0, 0), std::log((4.0 / 3 + 1) / (2 + 2 + 2.0)), 1e-12);

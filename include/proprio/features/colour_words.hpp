@@ -25,10 +25,6 @@ struct ColourWordOptions {
   int grey_levels = 4;        ///< achromatic words: brightness (HSV value) levels
   double grey_below = 0.25;   ///< saturation (0-1) below which a colour is achromatic
   int radius = 3;             ///< the patch: the mean colour of a (2 radius + 1) px square
-  /// In a topic model's documents (its LDA, the views' theta, the Mixture of Topics) each colour
-  /// word counts this many times (loop::colour_weighted; LearnOptions::colour_weight sets it).
-  /// Documents made with document_words carry each once; the words classifiers read those.
-  int weight = 1;
 
   /// hue_bins * saturation_levels + grey_levels.
   [[nodiscard]] int count() const { return hue_bins * saturation_levels + grey_levels; }
@@ -46,8 +42,6 @@ struct ColourWordOptions {
                         core::between(0, 1)});
     v(self.radius,
       {"radius", "Colour words: half side of the patch averaged, px", core::between(0, 64)});
-    v(self.weight, {"weight", "Colour words: times each counts in a topic model's documents",
-                    core::between(1, 1000)});
   }
 };
 

@@ -170,12 +170,6 @@ std::vector<double> per_view_weights(const topics::Corpus& corpus, std::span<con
 /// [0, corpus.num_words()).
 topics::Corpus words_from(const topics::Corpus& corpus, int first);
 
-/// The documents of `corpus` with every word from `first` on (the colour words, numbered after
-/// the vocabulary's) counted `weight` times: the documents of a topic model in which the colour
-/// words weigh more (features::ColourWordOptions::weight). weight 1 gives `corpus` as it is.
-/// Throws Error when `first` is outside [0, num_words] or weight is below 1.
-topics::Corpus colour_weighted(const topics::Corpus& corpus, int first, int weight);
-
 /// Each class's log multinomial over the colour words alone (the documents' words from
 /// `colour_from` on, words_from), every view weighing alike (per_view_weights), add-one: with
 /// topics::pool_word_multinomials at weight 1 over words_from(held, colour_from), the colour

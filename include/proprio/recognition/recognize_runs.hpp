@@ -65,6 +65,12 @@ struct RecognizeTrainOptions {
   /// HSV grid, 28 words), so the model has the vocabulary's words + 28: the model `proprio
   /// selfsupervise --colour-words` needs. Off (the default): SIFT words only. Episodes only.
   bool colour_words = false;
+  /// colour_words: each colour word counts this many times in the documents the model learns
+  /// from (topics::weighted_from), so that the topics follow the objects' colours more than their
+  /// SIFT words. The model must then be read with the same weight (`selfsupervise
+  /// --colour-weight`, `learn --colour-weight`): the model file does not record it. 1 (the
+  /// default): each once. validate() refuses another weight without colour_words.
+  int colour_weight = 1;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   bool progress = false;               ///< a progress bar on stderr
 
@@ -78,6 +84,10 @@ struct RecognizeTrainOptions {
       {"colour_words",
        "Episodes: documents carry a colour word a feature (its patch's mean colour, 28 HSV "
        "words) after its SIFT word; the model has the vocabulary's words + 28"});
+    v(self.colour_weight,
+      {"colour_weight",
+       "colour_words: each colour word counts this many times in the documents learned from",
+       core::between(1, 1000)});
   }
 };
 
@@ -92,6 +102,7 @@ struct RecognizeTrainResult {
   long long tokens = 0;
   int frames = 0;             ///< frames read (episodes)
   bool colour_words = false;  ///< the documents carried colour words
+  int colour_weight = 1;      ///< each colour word counted this many times
   std::string summary;        ///< the training summary's line
   std::string report;         ///< brief()'s text: what the CLI prints, lines ending in '\n'
   core::Json document;        ///< format "proprio.recognize.train": the fields described below
@@ -110,6 +121,7 @@ struct RecognizeTrainResult {
     v(self.tokens, {"tokens", "Their tokens"});
     v(self.frames, {"frames", "Frames read (episodes)"});
     v(self.colour_words, {"colour_words", "The documents carried colour words"});
+    v(self.colour_weight, {"colour_weight", "Each colour word counted this many times"});
     v(self.summary, {"summary", "The training summary's line"});
   }
 };

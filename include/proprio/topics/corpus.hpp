@@ -70,4 +70,11 @@ struct CorpusSplit {
 /// rest. Used for held-out perplexity.
 CorpusSplit hold_out(const Corpus& corpus, double fraction, std::uint64_t seed);
 
+/// The documents of `corpus` with every word from `first` on counted `weight` times, the others
+/// once, the documents and their order kept: a topic model's documents in which some words weigh
+/// more (proprio's colour words, numbered after the vocabulary's: `first` = the vocabulary's
+/// size). Counts, not repeated tokens, so the inference's work grows little. weight 1 gives
+/// `corpus` as it is. Throws Error when `first` is outside [0, num_words] or weight is below 1.
+Corpus weighted_from(const Corpus& corpus, int first, int weight);
+
 }  // namespace proprio::topics
