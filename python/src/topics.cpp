@@ -234,6 +234,9 @@ void bind_topics(py::module_& m) {
       .def_readonly("updates", &LdaModel::updates)
       .def_readonly("total_documents", &LdaModel::total_documents)
       .def_readonly("vocabulary", &LdaModel::vocabulary)
+      .def_readonly("word_weights", &LdaModel::word_weights,
+                    "Empty, or each word's weight in the documents the model learns from and "
+                    "reads (infer weighs them itself).")
       .def_property_readonly("num_topics", &LdaModel::num_topics)
       .def_property_readonly("num_words", &LdaModel::num_words)
       .def(

@@ -82,6 +82,8 @@ def test_pickle_goes_through_the_model_bytes(counts, tmp_path):
     lda.model_.save(path)
     assert LdaModel.load(path) == lda.model_
     assert path.read_bytes() == lda.model_.to_bytes()
+    assert lda.model_.word_weights == []  # unweighted: format version 1
+    assert lda.model_.to_bytes()[8] == 1
 
 
 def test_components_is_a_read_only_view(counts):

@@ -65,9 +65,12 @@ void check_header(std::string_view head, std::uintmax_t total, const BinaryForma
   const auto version = fields.get<std::uint32_t>("the version");
   (void)fields.get<std::uint32_t>("the checksum");
   const auto size = fields.get<std::uint64_t>("the payload size");
-  if (version != format.version) {
+  const std::uint32_t oldest = format.oldest == 0 ? format.version : format.oldest;
+  if (version < oldest || version > format.version) {
     std::string msg = kind + " format version " + std::to_string(version);
-    msg += "; this build reads version " + std::to_string(format.version);
+    msg += oldest == format.version ? "; this build reads version " + std::to_string(format.version)
+                                    : "; this build reads versions " + std::to_string(oldest) +
+                                          "-" + std::to_string(format.version);
     throw Error::in_file(source, msg);
   }
   const std::uintmax_t have = total - kBinaryHeaderBytes;
@@ -96,6 +99,13 @@ std::string_view unframe_binary(std::string_view bytes, const BinaryFormat& form
                          "corrupt " + std::string(format.kind) + " file: checksum mismatch");
   }
   return bytes.substr(kBinaryHeaderBytes);
+}
+
+std::uint32_t framed_version(std::string_view bytes) {
+  assert(bytes.size() >= kBinaryHeaderBytes);
+  std::uint32_t version = 0;
+  std::memcpy(&version, bytes.data() + 8, sizeof version);
+  return version;
 }
 
 std::uintmax_t check_binary_file_header(const fs::path& path, const BinaryFormat& format) {

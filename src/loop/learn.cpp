@@ -2422,10 +2422,6 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
       doc = features::with_colour_words(std::move(doc), v.colours, k.vocabulary->size());
     corpus.add_tokens(doc);
   }
-  // The topic model's documents: the colour words counted colour_weight times (the words
-  // classifiers keep `corpus` as it is, in k.training).
-  const topics::Corpus topic_corpus = topics::weighted_from(
-      corpus, static_cast<int>(k.vocabulary->size()), o.colour_words ? o.colour_weight : 1);
   if (!o.lda_model.empty()) {
     k.lda = topics::load_lda_model(o.lda_model);
     if (k.lda->num_words() != words) {
@@ -2435,14 +2431,23 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
            o.colour_words ? " (the vocabulary's and the colour words)" : " (the vocabulary's)"}));
     }
   } else {
-    l.timed("lda", [&] { k.lda = views_lda(topic_corpus, o.topics, o.seed); });
+    // The topic model learns from documents whose colour words count colour_weight times, and
+    // records the weights, so that it reads every later document (the views', the held-out
+    // views') weighted alike (LdaModel::word_weights); the words classifiers keep `corpus` as it
+    // is, in k.training.
+    const int weight = o.colour_words ? o.colour_weight : 1;
+    const int first = static_cast<int>(k.vocabulary->size());
+    l.timed("lda", [&] {
+      k.lda = views_lda(topics::weighted_from(corpus, first, weight), o.topics, o.seed);
+      if (weight != 1) k.lda->word_weights = topics::weights_from(words, first, weight);
+    });
   }
   topics::save_lda_model(*k.lda, o.out / "lda.model");
   k.training = corpus;
   // The ladder's pooled words classifier (ladder_pooled) reads the views' words beside theta.
   if (o.oracle_ladder && o.ladder_pooled) g.views.words = corpus;
   l.timed("model", [&] {
-    g.views.theta = recognition::document_theta(*k.lda, topic_corpus).theta;
+    g.views.theta = recognition::document_theta(*k.lda, corpus).theta;
     for (const auto& v : views) {
       g.views.labels.push_back(v.cls);
       g.views.push.push_back(v.push);
@@ -2549,7 +2554,7 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
                               const std::vector<topics::Corpus>& held,
                               const std::vector<std::string>& objects,
                               const std::vector<std::string>& class_object, double weight,
-                              bool per_view, int colour_from, int colour_weight) {
+                              bool per_view, int colour_from) {
   const int classes = model.num_classes();
   if (classes < 1) throw Error("score_by_words: the model has no classes");
   if (held.size() != objects.size()) {
@@ -2604,10 +2609,7 @@ LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaMo
           n += (m >= 0 && class_object[static_cast<std::size_t>(m)] == ob.name) ? 1 : 0;
         return n;
       };
-      const Eigen::MatrixXd theta =
-          recognition::document_theta(
-              lda, colour ? topics::weighted_from(docs, colour_from, colour_weight) : docs)
-              .theta;
+      const Eigen::MatrixXd theta = recognition::document_theta(lda, docs).theta;
       const int rt = right(topics::classify_mot(model, theta));
       const topics::MotClassification by_words = topics::classify_mot_words(model, lda, docs);
       const int rw = right(by_words);
@@ -2852,7 +2854,6 @@ SelfSupervisionOptions learn_score_options(const LearnOptions& o) {
   so.mot = o.mot;
   so.colour_words = o.colour_words;
   so.colour = o.colour;
-  so.colour_weight = o.colour_words ? o.colour_weight : 1;
   so.oracle_ladder = o.oracle_ladder;
   so.pooled_score = o.oracle_ladder && o.ladder_pooled;
   return so;
@@ -2921,8 +2922,7 @@ LearnResult run_learn(const LearnOptions& options, const core::Provenance& prove
       class_object.push_back(score->class_object[static_cast<std::size_t>(c)]);
     by_words = score_by_words(k.learning.model, *k.lda, *k.training, k.training_labels, held,
                               objects, class_object, o.mot_word_weight, o.mot_word_per_view,
-                              o.colour_words ? static_cast<int>(k.vocabulary->size()) : -1,
-                              o.colour_weight);
+                              o.colour_words ? static_cast<int>(k.vocabulary->size()) : -1);
     if (o.write_documents) {
       std::vector<std::string> names;
       for (int c : k.learning.model_class)

@@ -225,16 +225,12 @@ class Learner {
     return view;
   }
 
-  // The documents' theta under the model, their colour words weighing colour_weight, as the
-  // model's training documents did (the documents themselves count each once: the colour
-  // classifier and the claims read them so).
+  // The documents' theta under the model (a model made with weighted colour words weighs them
+  // alike itself: LdaModel::word_weights).
   Eigen::MatrixXd theta_of(const std::vector<std::vector<std::int32_t>>& docs) {
     topics::Corpus corpus(words_);
     for (const auto& d : docs) corpus.add_tokens(d);
-    return recognition::document_theta(
-               model_, topics::weighted_from(corpus, static_cast<int>(vocabulary_.size()),
-                                             colour_ ? o_.colour_weight : 1))
-        .theta;
+    return recognition::document_theta(model_, corpus).theta;
   }
 
   // The document of blob `k` of `view` in the last look's image (empty: too few features);

@@ -850,13 +850,9 @@ OracleLadder oracle_ladder(
     const Probes* probes, const OwnDescriptors* own) {
   OracleLadder l;
   const bool pooled = options.pooled_score;
-  const int weight = options.document_colour() ? options.colour_weight : 1;
   const auto theta_of = [&](const topics::Corpus& c) {
-    return c.num_documents() > 0
-               ? recognition::document_theta(
-                     model, topics::weighted_from(c, static_cast<int>(vocabulary.size()), weight))
-                     .theta
-               : Eigen::MatrixXd(0, model.num_topics());
+    return c.num_documents() > 0 ? recognition::document_theta(model, c).theta
+                                 : Eigen::MatrixXd(0, model.num_topics());
   };
   const auto rung = [&](std::string name, std::string what, const topics::Corpus& words,
                         const Eigen::MatrixXd& theta, const std::vector<std::string>& labels) {
@@ -1361,12 +1357,8 @@ SelfSupervisionScore score_self_supervision(const Learning& learning,
     held_words[oi] = corpus;
     os.held_out = static_cast<int>(corpus.num_documents());
     if (os.held_out > 0) {
-      // The topic model's documents: with colour words weighing more, as its training views'.
-      const int weight = options.document_colour() ? options.colour_weight : 1;
-      held[oi] =
-          recognition::document_theta(
-              model, topics::weighted_from(corpus, static_cast<int>(vocabulary.size()), weight))
-              .theta;
+      // A model made with weighted colour words weighs them itself (LdaModel::word_weights).
+      held[oi] = recognition::document_theta(model, corpus).theta;
     }
     if (os.held_out > 0 && mot.num_classes() > 0) {
       const Eigen::MatrixXd& theta = held[oi];

@@ -258,6 +258,11 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
     r.model = std::move(t.model);
     r.summary = t.summary.brief();
   }
+  // The model reads documents weighted as it learned from them (LdaModel::word_weights).
+  if (r.colour_weight != 1) {
+    r.model.word_weights = topics::weights_from(
+        r.model.num_words(), static_cast<int>(vocabulary.size()), r.colour_weight);
+  }
   topics::save_lda_model(r.model, options.model);
   r.documents = corpus.num_documents();
   r.tokens = static_cast<long long>(corpus.num_tokens());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "proprio/core/error.hpp"
@@ -110,24 +111,49 @@ CorpusSplit hold_out(const Corpus& corpus, double fraction, std::uint64_t seed) 
   return {corpus.subset(train), corpus.subset(heldout)};
 }
 
-Corpus weighted_from(const Corpus& corpus, int first, int weight) {
-  if (first < 0 || first > corpus.num_words() || weight < 1) {
-    throw Error(
-        core::cat({"weighted_from: first word ", std::to_string(first), " of ",
-                   std::to_string(corpus.num_words()), ", weight ", std::to_string(weight)}));
+Corpus weighted_by(const Corpus& corpus, std::span<const std::int32_t> weights) {
+  if (std::ssize(weights) != corpus.num_words()) {
+    throw Error(core::cat({"weighted_by: ", std::to_string(weights.size()), " weights for ",
+                           std::to_string(corpus.num_words()), " words"}));
   }
-  if (weight == 1) return corpus;
+  for (const std::int32_t w : weights) {
+    if (w < 1 || w > kMaxWordWeight) {
+      throw Error(core::cat({"weighted_by: a weight of ", std::to_string(w), ", not in [1, ",
+                             std::to_string(kMaxWordWeight), "]"}));
+    }
+  }
   Corpus out(corpus.num_words(), corpus.vocabulary());
   std::vector<std::int32_t> counts;
   for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
     const DocumentView doc = corpus.document(d);
     counts.assign(doc.counts.begin(), doc.counts.end());
     for (std::size_t i = 0; i < counts.size(); ++i) {
-      if (doc.words[i] >= first) counts[i] *= weight;
+      const std::int32_t w = weights[static_cast<std::size_t>(doc.words[i])];
+      if (counts[i] > std::numeric_limits<std::int32_t>::max() / w) {
+        throw Error(core::cat({"weighted_by: document ", std::to_string(d), ": ",
+                               std::to_string(counts[i]), " x word ", std::to_string(doc.words[i]),
+                               " weighing ", std::to_string(w), " overflows a count"}));
+      }
+      counts[i] *= w;
     }
     out.add_document(doc.words, counts);
   }
   return out;
+}
+
+std::vector<std::int32_t> weights_from(int num_words, int first, int weight) {
+  if (num_words < 0 || first < 0 || first > num_words || weight < 1 || weight > kMaxWordWeight) {
+    throw Error(core::cat({"weights_from: first word ", std::to_string(first), " of ",
+                           std::to_string(num_words), ", weight ", std::to_string(weight)}));
+  }
+  std::vector<std::int32_t> w(static_cast<std::size_t>(num_words), 1);
+  std::fill(w.begin() + first, w.end(), weight);
+  return w;
+}
+
+Corpus weighted_from(const Corpus& corpus, int first, int weight) {
+  const std::vector<std::int32_t> w = weights_from(corpus.num_words(), first, weight);
+  return weight == 1 ? corpus : weighted_by(corpus, w);
 }
 
 }  // namespace proprio::topics

@@ -3,6 +3,7 @@
 #include "proprio/core/fields.hpp"
 
 #include <chrono>
+#include <optional>
 #include <sstream>
 
 #include "engine.hpp"
@@ -50,8 +51,11 @@ InferenceResult infer_topics(const LdaModel& model, const Corpus& corpus,
   const auto& kern = detail::best_kernels();
   const int K = model.num_topics();
   core::ThreadPool pool(options.threads);
-  const detail::CorpusEStep run =
-      detail::corpus_estep(kern, pool, model, corpus, options.estep, options.seed);
+  // A model trained on weighted documents reads documents weighted alike (LdaModel::word_weights).
+  std::optional<Corpus> weighted;
+  if (!model.word_weights.empty()) weighted = weighted_by(corpus, model.word_weights);
+  const detail::CorpusEStep run = detail::corpus_estep(
+      kern, pool, model, weighted ? *weighted : corpus, options.estep, options.seed);
   const detail::BatchEStep& estep = run.estep;
   const int stride = run.stride;
 

@@ -60,13 +60,26 @@ void LdaModel::validate() const {
     throw Error("LDA model: " + std::to_string(vocabulary.size()) + " vocabulary words for " +
                 std::to_string(lambda.cols()) + " columns");
   }
+  if (!word_weights.empty()) {
+    if (std::ssize(word_weights) != lambda.cols()) {
+      throw Error("LDA model: " + std::to_string(word_weights.size()) + " word weights for " +
+                  std::to_string(lambda.cols()) + " words");
+    }
+    for (std::size_t w = 0; w < word_weights.size(); ++w) {
+      if (word_weights[w] < 1 || word_weights[w] > kMaxWordWeight) {
+        throw Error("LDA model: the weight of word " + std::to_string(w) + " is " +
+                    std::to_string(word_weights[w]) + ", not in [1, " +
+                    std::to_string(kMaxWordWeight) + "]");
+      }
+    }
+  }
 }
 
 bool LdaModel::operator==(const LdaModel& o) const {
   return lambda.rows() == o.lambda.rows() && lambda.cols() == o.lambda.cols() &&
          lambda == o.lambda && alpha == o.alpha && eta == o.eta && tau0 == o.tau0 &&
          kappa == o.kappa && updates == o.updates && total_documents == o.total_documents &&
-         vocabulary == o.vocabulary;
+         vocabulary == o.vocabulary && word_weights == o.word_weights;
 }
 
 void EStepOptions::validate() const {

@@ -13,7 +13,10 @@ using core::put_binary;
 
 namespace {
 
-constexpr core::BinaryFormat kFormat{"PRLDAMDL", kLdaModelFormatVersion, "LDA model"};
+// Version 1: no word weights; 2: the word weights after lambda. A model without weights is
+// written as version 1, so that older builds still read it.
+constexpr core::BinaryFormat kFormat{"PRLDAMDL", kLdaModelFormatVersion, "LDA model", 1};
+constexpr core::BinaryFormat kFormatV1{"PRLDAMDL", 1, "LDA model"};
 
 bool plain_token(const std::string& w) {
   if (w.empty() || w[0] == '#') return false;
@@ -45,11 +48,14 @@ std::string serialize_lda_model(const LdaModel& model) {
   }
   const auto* data = reinterpret_cast<const char*>(model.lambda.data());
   payload.append(data, static_cast<std::size_t>(model.lambda.size()) * sizeof(double));
+  if (model.word_weights.empty()) return core::frame_binary(kFormatV1, payload);
+  for (const std::int32_t w : model.word_weights) put_binary(payload, w);
   return core::frame_binary(kFormat, payload);
 }
 
 LdaModel parse_lda_model(std::string_view bytes, const fs::path& source) {
   core::BinaryReader r(core::unframe_binary(bytes, kFormat, source), source, kFormat.kind);
+  const bool weighted = core::framed_version(bytes) >= 2;
   LdaModel m;
   const auto K = r.get<std::uint32_t>("K");
   const auto W = r.get<std::uint32_t>("W");
@@ -71,12 +77,17 @@ LdaModel parse_lda_model(std::string_view bytes, const fs::path& source) {
     const auto n = r.get<std::uint32_t>("a word's length");
     m.vocabulary.emplace_back(r.take(n, "a word"));
   }
-  if (static_cast<std::uint64_t>(K) * W * 8 != r.left()) {
+  const std::uint64_t weights_bytes = weighted ? std::uint64_t{W} * 4 : 0;
+  if (static_cast<std::uint64_t>(K) * W * 8 + weights_bytes != r.left()) {
     throw Error::in_file(source, "corrupt LDA model file: lambda has the wrong size");
   }
   m.lambda.resize(K, W);
   const auto data = r.take(static_cast<std::size_t>(K) * W * 8, "lambda");
   std::memcpy(m.lambda.data(), data.data(), data.size());
+  if (weighted) {
+    m.word_weights.resize(W);
+    for (auto& w : m.word_weights) w = r.get<std::int32_t>("a word weight");
+  }
   try {
     m.validate();
   } catch (const Error& e) {

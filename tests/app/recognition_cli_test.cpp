@@ -3,6 +3,7 @@
 // with ground-truth masks; check the printed matrices, the JSON against its schema, and bad input.
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +22,8 @@
 #include "proprio/features/kmeans.hpp"
 #include "proprio/features/sift.hpp"
 #include "proprio/features/vocabulary.hpp"
+#include "proprio/topics/corpus.hpp"
+#include "proprio/topics/lda_model.hpp"
 #include "proprio/topics/lda_model_io.hpp"
 
 namespace {
@@ -361,6 +364,40 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   EXPECT_EQ(topics::load_lda_model(file("each-c.lda")).num_words(), 24 + 28);
   EXPECT_EQ(colour_train["documents"], sift_train["documents"]);
   EXPECT_EQ(colour_train["tokens"].get<long long>(), 2 * sift_train["tokens"].get<long long>());
+  EXPECT_EQ(sift_train["colour_weight"], 1);
+  EXPECT_EQ(colour_train["colour_weight"], 1);
+  // --colour-weight 4: the same documents, each colour word counted 4 times (5 times the SIFT
+  // tokens), and so another model; without --colour-words it is refused.
+  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
+          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
+          " -k 3 --passes 5 --batch 10 --colour-words --colour-weight 4 --model " +
+          file("each-c4.lda") + " --quiet --json " + file("each-c4.json"));
+  ASSERT_EQ(c.code, 0) << c.out;
+  test::expect_schema_valid("recognize_train.schema.json", file("each-c4.json"));
+  const core::Json weighted_train = core::read_json(file("each-c4.json"));
+  EXPECT_EQ(weighted_train["colour_weight"], 4);
+  EXPECT_EQ(weighted_train["documents"], sift_train["documents"]);
+  EXPECT_EQ(weighted_train["tokens"].get<long long>(), 5 * sift_train["tokens"].get<long long>());
+  {
+    const topics::LdaModel once = topics::load_lda_model(file("each-c.lda"));
+    const topics::LdaModel four = topics::load_lda_model(file("each-c4.lda"));
+    ASSERT_EQ(four.num_words(), 24 + 28);
+    // The model records the weights, so that its readers weigh their documents alike.
+    EXPECT_TRUE(once.word_weights.empty());
+    EXPECT_EQ(four.word_weights, topics::weights_from(24 + 28, 24, 4));
+    // The colour words hold more of the topics' mass when they count more.
+    const auto colour_mass = [](const topics::LdaModel& m) {
+      const Eigen::MatrixXd b = m.topic_word();
+      return b.rightCols(28).sum() / b.sum();
+    };
+    EXPECT_GT(colour_mass(four), colour_mass(once) + 0.1);
+  }
+  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
+          " --region each-object --vocabulary " + file("v.vocab") + " --colour-weight 4 --model " +
+          file("each-w.lda") + " --quiet");
+  EXPECT_EQ(c.code, 2) << c.out;
+  EXPECT_NE(c.out.find("--colour-weight needs --colour-words"), std::string::npos) << c.out;
+  EXPECT_FALSE(fs::exists(file("each-w.lda")));
   // Images: not with colour words (one line, exit 2).
   c = run("recognize train --images " + images() + " --vocabulary " + file("v.vocab") +
           " --colour-words --model " + file("img-c.lda") + " --quiet");

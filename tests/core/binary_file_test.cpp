@@ -93,6 +93,32 @@ TEST(BinaryFrame, MatchesTheBytesOfTheEarlierCode) {
   EXPECT_EQ(unframe_binary(old_empty, v1, "old.bin"), "");
 }
 
+// A reader of versions 2-3 (oldest 2) reads both and says which it has; 1 and 4 are refused,
+// naming the range.
+TEST(BinaryFrame, AReaderOfSeveralVersionsReadsEachAndNamesTheRange) {
+  const BinaryFormat v2{"PRTEST01", 2, "test"};
+  const BinaryFormat reader{"PRTEST01", 3, "test", 2};
+  for (const BinaryFormat& written : {v2, kTest}) {
+    const std::string framed = frame_binary(written, "abc");
+    EXPECT_EQ(unframe_binary(framed, reader, "x.bin"), "abc");
+    EXPECT_EQ(framed_version(framed), written.version);
+  }
+  for (const std::uint32_t version : {1U, 4U}) {
+    const std::string framed = frame_binary({"PRTEST01", version, "test"}, "abc");
+    try {
+      (void)unframe_binary(framed, reader, "x.bin");
+      ADD_FAILURE() << "version " << version << " was read";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("test format version " + std::to_string(version) +
+                                           "; this build reads versions 2-3"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  // One version only (oldest 0): as before.
+  EXPECT_THROW((void)unframe_binary(frame_binary(v2, "abc"), kTest, "x.bin"), Error);
+}
+
 TEST_F(BinaryFileTest, RoundTripsAndLeavesNoTemporary) {
   const fs::path path = dir_ / "sub" / "a.bin";
   std::string payload;

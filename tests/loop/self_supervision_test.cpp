@@ -1580,6 +1580,38 @@ TableRun learn_on_table(const SelfSupervisionOptions& o, const std::filesystem::
   return r;
 }
 
+// A model made with weighted colour words (recognize train --colour-weight 8: its word weights
+// count each colour word 8 times): the views' documents still count each once (the colour
+// classifier reads them so), and their theta is the model's reading of them weighted.
+TEST(SelfSupervision, AModelWithWordWeightsWeighsTheViewsTheta) {
+  SelfSupervisionOptions o = small_options();
+  o.colour_words = true;
+  const sim::ObjectCatalogue catalogue = sim::ObjectCatalogue::load_default();  // outlives it
+  sim::SimulatedRobot robot(table_of(o), catalogue);
+  TinyModel tiny = tiny_model(robot.look().image, o.document_colour());
+  const int v = tiny.vocabulary.size();
+  topics::LdaModel weighted = tiny.lda;
+  weighted.word_weights = topics::weights_from(weighted.num_words(), v, 8);
+  GroundTruthAttendant attendant(robot, o.seed);
+  const Learning l = learn_by_pushing(robot, attendant, 2, weighted, tiny.vocabulary, o, {});
+  ASSERT_GT(l.views.words.num_documents(), 0U);
+  ASSERT_EQ(static_cast<std::size_t>(l.views.theta.rows()), l.views.words.num_documents());
+  for (std::size_t d = 0; d < l.views.words.num_documents(); ++d) {
+    const topics::DocumentView doc = l.views.words.document(d);
+    std::int64_t sift_tokens = 0;
+    std::int64_t colour_tokens = 0;
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      (doc.words[i] < v ? sift_tokens : colour_tokens) += doc.counts[i];
+    }
+    EXPECT_EQ(colour_tokens, sift_tokens) << "document " << d;
+  }
+  const Eigen::MatrixXd by_hand =
+      recognition::document_theta(tiny.lda, topics::weighted_from(l.views.words, v, 8)).theta;
+  const Eigen::MatrixXd once = recognition::document_theta(tiny.lda, l.views.words).theta;
+  EXPECT_LT((l.views.theta - by_hand).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT((l.views.theta - once).cwiseAbs().maxCoeff(), 1e-3);
+}
+
 // With colour words c is also scored by the colour words alone (classify_by_colour), on the same
 // held-out views and classes as the theta figure; mot_classifier colour makes it c itself.
 TEST(SelfSupervision, ColourWordsScoreCAlsoByTheColourWordsAlone) {

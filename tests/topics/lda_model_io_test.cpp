@@ -43,6 +43,57 @@ TEST(LdaModelIo, RoundTripsExactly) {
   fs::remove(p);
 }
 
+// small_model() with word weights: the last two words (say, colour words) count 3 times.
+LdaModel weighted_model() {
+  LdaModel m = small_model();
+  m.word_weights = {1, 1, 3, 3};
+  return m;
+}
+
+// A model with word weights is written as version 2 (the weights after lambda, int32 each) and
+// reads back with them; one without is written as version 1, which older builds read.
+TEST(LdaModelIo, WordWeightsRoundTripInVersion2) {
+  const LdaModel m = weighted_model();
+  const std::string bytes = serialize_lda_model(m);
+  EXPECT_EQ(bytes[8], 2);
+  EXPECT_EQ(serialize_lda_model(small_model())[8], 1);
+  EXPECT_EQ(bytes.size(), serialize_lda_model(small_model()).size() + 4 * 4);
+  const LdaModel back = parse_lda_model(bytes, "w.lda");
+  EXPECT_TRUE(back == m);
+  EXPECT_FALSE(back == small_model());
+  const fs::path p = temp("w.lda");
+  save_lda_model(m, p);
+  EXPECT_TRUE(load_lda_model(p) == m);
+  fs::remove(p);
+  // Every truncation and flipped bit of the version 2 file is an error too.
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    EXPECT_THROW((void)parse_lda_model(std::string_view(bytes).substr(0, n), "w.lda"), Error) << n;
+  }
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    std::string bad = bytes;
+    bad[i] = static_cast<char>(static_cast<unsigned char>(bad[i]) ^ 0x01U);
+    EXPECT_THROW((void)parse_lda_model(bad, "w.lda"), Error) << "byte " << i;
+  }
+}
+
+TEST(LdaModelIo, WordWeightsOutOfBoundsAreRefused) {
+  LdaModel m = weighted_model();
+  m.word_weights[1] = 0;
+  EXPECT_THROW(save_lda_model(m, temp("bad.lda")), Error);
+  m.word_weights[1] = kMaxWordWeight + 1;
+  EXPECT_THROW(m.validate(), Error);
+  m.word_weights = {1, 2, 3};  // 3 weights for 4 words
+  try {
+    m.validate();
+    ADD_FAILURE() << "3 weights for 4 words";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("3 word weights for 4 words"), std::string::npos);
+  }
+  m.word_weights = {1, kMaxWordWeight, 1, 1};
+  EXPECT_NO_THROW(m.validate());
+  EXPECT_FALSE(fs::exists(temp("bad.lda")));
+}
+
 TEST(LdaModelIo, ReadsAndWritesTheBytesOfVersion1) {
   // small_model() as the first version of the writer saved it (docs/formats/lda-model.md).
   const std::string v1 = test::bytes_from_hex(
@@ -93,9 +144,14 @@ TEST(LdaModelIo, NamesTheProblem) {
     return std::string("no error");
   };
   EXPECT_NE(message("hello world, this is not a model").find("wrong magic"), std::string::npos);
+  std::string v3 = bytes;
+  v3[8] = 3;
+  EXPECT_NE(message(v3).find("version 3; this build reads versions 1-2"), std::string::npos)
+      << message(v3);
+  // A version 1 body under a version 2 header has no room for the word weights.
   std::string v2 = bytes;
   v2[8] = 2;
-  EXPECT_NE(message(v2).find("version 2"), std::string::npos);
+  EXPECT_NE(message(v2).find("wrong size"), std::string::npos) << message(v2);
   std::string flipped = bytes;
   flipped[bytes.size() - 3] ^= 0x10;
   EXPECT_NE(message(flipped).find("checksum"), std::string::npos);

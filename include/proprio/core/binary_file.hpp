@@ -11,7 +11,8 @@
 //
 // A reader checks, in this order, and throws proprio::Error naming the file on the first failure:
 // the header is complete ("truncated header"), the magic ("wrong magic number"), the version
-// ("format version N; this build reads version M"), the payload size against the bytes there
+// ("format version N; this build reads version M", or "versions L-M"), the payload size against the
+// bytes there
 // ("truncated" when fewer, "corrupt" when more), and the checksum ("checksum mismatch"). The
 // payload is then read with BinaryReader, which refuses to run past its end.
 
@@ -33,9 +34,15 @@ inline constexpr std::size_t kBinaryHeaderBytes = 24;
 /// One kind of framed file.
 struct BinaryFormat {
   std::string_view magic;  ///< exactly 8 bytes
-  std::uint32_t version;   ///< the only version this build writes and reads
+  std::uint32_t version;   ///< the version this build writes (and the newest it reads)
   std::string_view kind;   ///< names the kind in errors: "not a <kind> file", e.g. "vocabulary"
+  /// The oldest version this build reads (0: `version` only); a reader of several versions asks
+  /// framed_version which one it has.
+  std::uint32_t oldest = 0;
 };
+
+/// The format version in the header of framed `bytes` (call after unframe_binary checked them).
+std::uint32_t framed_version(std::string_view bytes);
 
 /// CRC-32 (IEEE 802.3, as zlib's crc32) of `bytes`: the checksum of the header above.
 std::uint32_t crc32(std::string_view bytes);

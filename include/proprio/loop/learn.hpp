@@ -395,20 +395,19 @@ struct LearnOptions {
   /// (docs/results/learn.md "Session 38").
   bool colour_words = true;
   /// colour_words (without them it has no effect): in the documents of the topic model learn fits
-  /// to its views (the LDA, the views' theta, the Mixture of Topics, argmax theta and the held-out
-  /// views' theta) each colour word counts this many times (SelfSupervisionOptions::colour_weight
-  /// for the scoring, topics::weighted_from), so that the topics follow the objects' colours, which
-  /// do not change when an object turns or falls over, more than their SIFT words, which do. The
+  /// to its views each colour word counts this many times (topics::weighted_from), so that the
+  /// topics follow the objects' colours, which do not change when an object turns or falls over,
+  /// more than their SIFT words, which do. The model records the weights
+  /// (topics::LdaModel::word_weights, lda-model format version 2) and weighs every document it
+  /// reads alike: the views' theta, the Mixture of Topics, argmax theta, the held-out views'
+  /// theta. A given --model weighs as it was made (its own word weights), not by this option. The
   /// loop never reads the topic model (the pushes are the same at any weight), nor does the colour
-  /// words classifier (the headline). The words classifiers' documents count each colour word once;
-  /// the Mixture of Topics by words (and the pooled classifier built on it) reads them through the
-  /// weighted LDA. The written lda.model and model.mot expect documents weighted so (learn.json's
-  /// options record it), and a given --model is read as made so. 1: as the thesis's words count.
-  /// 128, the default since session 46 (docs/results/learn/rule-s46-colour-weight.md; K chosen
-  /// offline on tuning seeds 1-20): on fresh seeds 211-230 at --quick, the same pushes, the Mixture
-  /// of Topics 35.9 -> 60.6 %
-  /// (+24.7 +- 7.6, higher on 19 of 20, lower on none), argmax theta 42.0 -> 55.4 %, the colour
-  /// headline the same on every seed, LDA 0.09 -> 0.20 s of CPU a run.
+  /// words classifier (the headline); the words classifiers' documents count each colour word
+  /// once. 1: as the thesis's words count. 128, the default since session 46
+  /// (docs/results/learn/rule-s46-colour-weight.md; K chosen offline on tuning seeds 1-20): on
+  /// fresh seeds 211-230 at --quick, the same pushes, the Mixture of Topics 35.9 -> 60.6 % (+24.7
+  /// +- 7.6, higher on 19 of 20, lower on none), argmax theta 42.0 -> 55.4 %, the colour headline
+  /// the same on every seed, LDA 0.09 -> 0.20 s of CPU a run.
   int colour_weight = 128;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
@@ -1144,16 +1143,13 @@ struct LearnWordScore {
 /// words (features::with_colour_words: the vocabulary's size), scored alone too
 /// (LearnWordScore::colour); -1: none. Throws Error when the sizes disagree (held vs objects,
 /// labels vs training, class_object vs the model's classes), on a weight outside [0, 1], on an
-/// empty model or on a colour_from the documents' words do not reach past. `colour_weight`: with
-/// colour_from, the colour words' weight in the documents read through `lda` (theta; as the
-/// model's training documents: LearnOptions::colour_weight); the word multinomials count each
-/// once.
+/// empty model or on a colour_from the documents' words do not reach past.
 LearnWordScore score_by_words(const topics::MotModel& model, const topics::LdaModel& lda,
                               const topics::Corpus& training, const std::vector<int>& labels,
                               const std::vector<topics::Corpus>& held,
                               const std::vector<std::string>& objects,
                               const std::vector<std::string>& class_object, double weight,
-                              bool per_view = false, int colour_from = -1, int colour_weight = 1);
+                              bool per_view = false, int colour_from = -1);
 
 /// Learn's headline held-out figure (LearnOptions::headline), learn.json's "headline".
 struct LearnHeadlineFigure {

@@ -549,7 +549,10 @@ struct SelfSupervisionOptions {
   /// --colour-words`). Off (the default): SIFT words only, as the thesis. `proprio learn
   /// --colour-words` sets it for its scoring. validate() refuses it with the oracle ladder and
   /// the own-model rungs, whose documents are SIFT words only. Scoring: c is then also scored by
-  /// the colour words alone (SelfSupervisionScore::colour_accuracy, beside the theta figure).
+  /// the colour words alone (SelfSupervisionScore::colour_accuracy, beside the theta figure). A
+  /// model made with `recognize train --colour-weight K` weighs its colour words K times in every
+  /// document it reads (topics::LdaModel::word_weights): theta, so the Mixture of Topics, the
+  /// claims' and the held-out views'; the documents themselves count each once.
   bool colour_words = false;
   /// colour_words is turned on when the LDA model has the vocabulary's words and the colour words
   /// after them (a model made with `recognize train --colour-words`), so such a model is read as
@@ -558,14 +561,6 @@ struct SelfSupervisionOptions {
   /// 51-70, docs/results/selfsupervision.md "Session 42"). Off: a colour model needs
   /// --colour-words, as before.
   bool colour_words_from_model = true;
-  /// colour_words (without them it has no effect): in the documents read through the LDA model
-  /// (the views' theta and so the Mixture of Topics, the claims' and the choices' theta, the
-  /// held-out views' theta, the oracle ladder's rungs) each colour word counts this many times
-  /// (topics::weighted_from), as the model's own training documents did: it must be the
-  /// `recognize train --colour-weight` the model was made with (the model file does not say).
-  /// The colour words classifier (the colour figure) and the claims by colour count each once.
-  /// 1, the default: as the thesis's words count. `proprio learn` sets its own --colour-weight.
-  int colour_weight = 1;
   features::ColourWordOptions colour;  ///< colour_words and claims by colour: the grid (not a flag)
   /// The colour words of the documents (colour_words: `colour`), or none.
   [[nodiscard]] std::optional<features::ColourWordOptions> document_colour() const {
@@ -743,11 +738,6 @@ struct SelfSupervisionOptions {
       {"colour_words_from_model",
        "Colour words on when the model has the vocabulary's words + 28 (a model made with "
        "recognize train --colour-words)"});
-    v(self.colour_weight,
-      {"colour_weight",
-       "colour_words: each colour word counts this many times in the documents read through the "
-       "LDA model (theta, Mixture of Topics); must be the model's recognize train --colour-weight",
-       core::between(1, 1000)});
     v(self.dilate, {"dilate", "Grow the masks by this many px", core::between(0, 100)});
     v(self.fps, {"fps", "Frame rate of the push episodes", core::positive_at_most(100)});
     v(self.seed, {"seed", "Seed of the table, choices, paths and re-scatters"});

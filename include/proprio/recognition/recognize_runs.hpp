@@ -67,9 +67,10 @@ struct RecognizeTrainOptions {
   bool colour_words = false;
   /// colour_words: each colour word counts this many times in the documents the model learns
   /// from (topics::weighted_from), so that the topics follow the objects' colours more than their
-  /// SIFT words. The model must then be read with the same weight (`selfsupervise
-  /// --colour-weight`, `learn --colour-weight`): the model file does not record it. 1 (the
-  /// default): each once. validate() refuses another weight without colour_words.
+  /// SIFT words. The model records the weights (topics::LdaModel::word_weights, lda-model format
+  /// version 2) and weighs every document it reads alike (`selfsupervise`, `recognize classify`,
+  /// `learn --model`). 1 (the default): each once, format version 1. validate() refuses another
+  /// weight without colour_words.
   int colour_weight = 1;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   bool progress = false;               ///< a progress bar on stderr

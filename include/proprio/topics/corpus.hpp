@@ -70,11 +70,23 @@ struct CorpusSplit {
 /// rest. Used for held-out perplexity.
 CorpusSplit hold_out(const Corpus& corpus, double fraction, std::uint64_t seed);
 
-/// The documents of `corpus` with every word from `first` on counted `weight` times, the others
-/// once, the documents and their order kept: a topic model's documents in which some words weigh
-/// more (proprio's colour words, numbered after the vocabulary's: `first` = the vocabulary's
-/// size). Counts, not repeated tokens, so the inference's work grows little. weight 1 gives
-/// `corpus` as it is. Throws Error when `first` is outside [0, num_words] or weight is below 1.
+/// The largest weight of a word (weighted_by; LdaModel::word_weights' bound, kMaxLdaWordWeight).
+inline constexpr std::int32_t kMaxWordWeight = 1000;
+
+/// The documents of `corpus` with each occurrence of word w counted weights[w] times, the
+/// documents, their order and the vocabulary's names kept: a topic model's documents in which
+/// some words weigh more (proprio's colour words: LdaModel::word_weights). Counts, not repeated
+/// tokens, so the inference's work grows little. Throws Error when there are not num_words
+/// weights or one is outside [1, kMaxWordWeight].
+Corpus weighted_by(const Corpus& corpus, std::span<const std::int32_t> weights);
+
+/// `num_words` weights: 1 below `first`, `weight` from `first` on (the colour words, numbered
+/// after the vocabulary's: `first` = the vocabulary's size). Throws Error when `first` is outside
+/// [0, num_words] or `weight` outside [1, kMaxWordWeight].
+std::vector<std::int32_t> weights_from(int num_words, int first, int weight);
+
+/// weighted_by(corpus, weights_from(corpus.num_words(), first, weight)); weight 1 gives
+/// `corpus` as it is.
 Corpus weighted_from(const Corpus& corpus, int first, int weight);
 
 }  // namespace proprio::topics

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "proprio/topics/corpus.hpp"
+
 namespace proprio::topics {
 
 /// The largest alpha or eta a model or a training run accepts. Far above any useful prior
@@ -27,6 +29,13 @@ struct LdaModel {
   std::int64_t updates = 0;             ///< mini-batch updates applied so far (t)
   std::int64_t total_documents = 0;     ///< D, the corpus size that scales a mini-batch (eq B.23)
   std::vector<std::string> vocabulary;  ///< empty, or one word per column of lambda
+  /// Empty (every word counts once), or W weights in [1, kMaxWordWeight]: each occurrence of
+  /// word w in a document counts word_weights[w] times. The model was trained on documents so
+  /// weighted (the trainer weighs them, topics::weighted_by, and records the weights here), and
+  /// infer_topics weighs the documents it is given the same way, so that a reader of the model
+  /// never has to know: proprio's colour words weigh more than the SIFT words (`recognize train
+  /// --colour-weight`, `learn --colour-weight`). Saved from format version 2 on.
+  std::vector<std::int32_t> word_weights;
 
   [[nodiscard]] int num_topics() const { return static_cast<int>(lambda.rows()); }
   [[nodiscard]] int num_words() const { return static_cast<int>(lambda.cols()); }

@@ -10,8 +10,9 @@
 
 namespace proprio::topics {
 
-/// The version of the binary model format this build writes (and the only one it reads).
-inline constexpr std::uint32_t kLdaModelFormatVersion = 1;
+/// The newest version of the binary model format, the one a model with word weights is written
+/// in (2); a model without them is written as version 1, and this build reads both.
+inline constexpr std::uint32_t kLdaModelFormatVersion = 2;
 
 /// The model as the bytes of the binary format.
 std::string serialize_lda_model(const LdaModel& model);
