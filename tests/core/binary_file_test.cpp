@@ -54,7 +54,7 @@ class BinaryFileTest : public ::testing::Test {
     try {
       (void)read_binary_file(path, format);
     } catch (const Error& e) {
-      const std::string what = e.what();
+      std::string what = e.what();
       EXPECT_EQ(what.rfind(path.string() + ": ", 0), 0u) << "does not name the file: " << what;
       return what;
     }
