@@ -201,9 +201,6 @@ void RecognizeTrainOptions::validate() const {
   core::check_field_bounds(*this, "recognize train");
   if (online.num_topics < 1) throw Error("the number of topics K must be >= 1");
   core::check_field_bounds(online, "recognize train");
-  if (colour_weight != 1 && !colour_words) {
-    throw Error("recognize train: --colour-weight needs --colour-words");
-  }
   if (colour_words) {
     colour.validate();
     if (!source.images.empty()) {

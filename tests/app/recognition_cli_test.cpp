@@ -351,8 +351,8 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   // word after its SIFT word: twice the tokens, and a model of the vocabulary's 24 words + 28.
   c = run("recognize train --episodes " + (dir_ / "episodes").string() +
           " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
-          " -k 3 --passes 5 --batch 10 --colour-words --model " + file("each-c.lda") +
-          " --quiet --json " + file("each-c.json"));
+          " -k 3 --passes 5 --batch 10 --colour-words --colour-weight 1 --model " +
+          file("each-c.lda") + " --quiet --json " + file("each-c.json"));
   ASSERT_EQ(c.code, 0) << c.out;
   test::expect_schema_valid("recognize_train.schema.json", file("each-c.json"));
   const core::Json sift_train = core::read_json(file("each.json"));
@@ -364,10 +364,10 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   EXPECT_EQ(topics::load_lda_model(file("each-c.lda")).num_words(), 24 + 28);
   EXPECT_EQ(colour_train["documents"], sift_train["documents"]);
   EXPECT_EQ(colour_train["tokens"].get<long long>(), 2 * sift_train["tokens"].get<long long>());
-  EXPECT_EQ(sift_train["colour_weight"], 1);
+  EXPECT_EQ(sift_train["colour_weight"], 1);  // the default 128 weighs nothing without them
   EXPECT_EQ(colour_train["colour_weight"], 1);
   // --colour-weight 4: the same documents, each colour word counted 4 times (5 times the SIFT
-  // tokens), and so another model; without --colour-words it is refused.
+  // tokens), and so another model.
   c = run("recognize train --episodes " + (dir_ / "episodes").string() +
           " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
           " -k 3 --passes 5 --batch 10 --colour-words --colour-weight 4 --model " +
@@ -392,11 +392,22 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
     };
     EXPECT_GT(colour_mass(four), colour_mass(once) + 0.1);
   }
+  // The default with colour words: 128 (session 47), recorded in the model.
   c = run("recognize train --episodes " + (dir_ / "episodes").string() +
-          " --region each-object --vocabulary " + file("v.vocab") + " --colour-weight 4 --model " +
-          file("each-w.lda") + " --quiet");
+          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
+          " -k 3 --passes 5 --batch 10 --colour-words --model " + file("each-c128.lda") +
+          " --quiet --json " + file("each-c128.json"));
+  ASSERT_EQ(c.code, 0) << c.out;
+  const core::Json default_train = core::read_json(file("each-c128.json"));
+  EXPECT_EQ(default_train["colour_weight"], 128);
+  EXPECT_EQ(default_train["tokens"].get<long long>(), 129 * sift_train["tokens"].get<long long>());
+  EXPECT_EQ(topics::load_lda_model(file("each-c128.lda")).word_weights,
+            topics::weights_from(24 + 28, 24, 128));
+  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
+          " --region each-object --vocabulary " + file("v.vocab") + " --colour-words" +
+          " --colour-weight 0 --model " + file("each-w.lda") + " --quiet");
   EXPECT_EQ(c.code, 2) << c.out;
-  EXPECT_NE(c.out.find("--colour-weight needs --colour-words"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("colour-weight"), std::string::npos) << c.out;
   EXPECT_FALSE(fs::exists(file("each-w.lda")));
   // Images: not with colour words (one line, exit 2).
   c = run("recognize train --images " + images() + " --vocabulary " + file("v.vocab") +

@@ -69,9 +69,11 @@ struct RecognizeTrainOptions {
   /// from (topics::weighted_from), so that the topics follow the objects' colours more than their
   /// SIFT words. The model records the weights (topics::LdaModel::word_weights, lda-model format
   /// version 2) and weighs every document it reads alike (`selfsupervise`, `recognize classify`,
-  /// `learn --model`). 1 (the default): each once, format version 1. validate() refuses another
-  /// weight without colour_words.
-  int colour_weight = 1;
+  /// `learn --model`). No effect without colour_words. 1: each once (format version 1). 128, the
+  /// default since session 47 (docs/results/selfsupervision/rule-s47-colour-weight.md; learn's
+  /// since session 46): on fresh seeds 123-142 selfsupervise's c (its Mixture of Topics) rose
+  /// 43.2 -> 59.5 % (+16.3 +- 7.8) on the same pushes, and K = 32 did nothing (tuning seeds).
+  int colour_weight = 128;
   features::ColourWordOptions colour;  ///< colour_words: the grid (not a flag)
   bool progress = false;               ///< a progress bar on stderr
 
@@ -87,7 +89,8 @@ struct RecognizeTrainOptions {
        "words) after its SIFT word; the model has the vocabulary's words + 28"});
     v(self.colour_weight,
       {"colour_weight",
-       "colour_words: each colour word counts this many times in the documents learned from",
+       "colour_words: each colour word counts this many times in the documents learned from "
+       "(the model records it and weighs what it reads alike)",
        core::between(1, 1000)});
   }
 };
