@@ -342,17 +342,19 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   // proprio mot on views cut from episodes: train on one held-out episode, classify the other,
   // with an LDA model of one document per object in view (a frame of all the objects gives LDA
   // no contrast to separate them by, and theta the same for every object).
-  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
-          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
-          " -k 3 --passes 5 --batch 10 --model " + file("each.lda") + " --quiet --json " +
-          file("each.json"));
+  // `recognize train` of the episodes, one document per object, with `flags`, into NAME.lda and
+  // NAME.json.
+  const auto train_each = [&](const std::string& flags, const std::string& name) {
+    return run("recognize train --episodes " + (dir_ / "episodes").string() +
+               " --region each-object --objects baboon,fruits,building --vocabulary " +
+               file("v.vocab") + " -k 3 --passes 5 --batch 10 " + flags + " --model " +
+               file(name + ".lda") + " --quiet --json " + file(name + ".json"));
+  };
+  c = train_each("", "each");
   ASSERT_EQ(c.code, 0) << c.out;
   // --colour-words (for selfsupervise --colour-words): the same documents, each feature's colour
   // word after its SIFT word: twice the tokens, and a model of the vocabulary's 24 words + 28.
-  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
-          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
-          " -k 3 --passes 5 --batch 10 --colour-words --colour-weight 1 --model " +
-          file("each-c.lda") + " --quiet --json " + file("each-c.json"));
+  c = train_each("--colour-words --colour-weight 1", "each-c");
   ASSERT_EQ(c.code, 0) << c.out;
   test::expect_schema_valid("recognize_train.schema.json", file("each-c.json"));
   const core::Json sift_train = core::read_json(file("each.json"));
@@ -368,10 +370,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
   EXPECT_EQ(colour_train["colour_weight"], 1);
   // --colour-weight 4: the same documents, each colour word counted 4 times (5 times the SIFT
   // tokens), and so another model.
-  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
-          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
-          " -k 3 --passes 5 --batch 10 --colour-words --colour-weight 4 --model " +
-          file("each-c4.lda") + " --quiet --json " + file("each-c4.json"));
+  c = train_each("--colour-words --colour-weight 4", "each-c4");
   ASSERT_EQ(c.code, 0) << c.out;
   test::expect_schema_valid("recognize_train.schema.json", file("each-c4.json"));
   const core::Json weighted_train = core::read_json(file("each-c4.json"));
@@ -393,10 +392,7 @@ TEST_F(RecognitionCli, ScatterExperimentLearnsObjectsFromAVideo) {
     EXPECT_GT(colour_mass(four), colour_mass(once) + 0.1);
   }
   // The default with colour words: 128 (session 47), recorded in the model.
-  c = run("recognize train --episodes " + (dir_ / "episodes").string() +
-          " --region each-object --objects baboon,fruits,building --vocabulary " + file("v.vocab") +
-          " -k 3 --passes 5 --batch 10 --colour-words --model " + file("each-c128.lda") +
-          " --quiet --json " + file("each-c128.json"));
+  c = train_each("--colour-words", "each-c128");
   ASSERT_EQ(c.code, 0) << c.out;
   const core::Json default_train = core::read_json(file("each-c128.json"));
   EXPECT_EQ(default_train["colour_weight"], 128);

@@ -1517,6 +1517,17 @@ TEST(SelfSupervision, FaultsAreLoggedOutcomesNotCrashes) {
   EXPECT_THROW(learn_by_pushing(sim_robot, attendant, 0, m.lda, m.vocabulary, o, {}), Error);
 }
 
+// A document's tokens of words below `v` (SIFT words) and from `v` on (colour words): stored as
+// (word, count).
+std::pair<std::int64_t, std::int64_t> sift_and_colour_tokens(const topics::DocumentView& doc,
+                                                             int v) {
+  std::pair<std::int64_t, std::int64_t> n{0, 0};
+  for (std::size_t i = 0; i < doc.size(); ++i) {
+    (doc.words[i] < v ? n.first : n.second) += doc.counts[i];
+  }
+  return n;
+}
+
 // selfsupervise --colour-words: every document made with the given vocabulary (here the views')
 // is its N features' SIFT words, then their N colour words numbered V + w (2N tokens); the model
 // must have V + 28 words: a SIFT-only model is refused, as is a colour model without the flag.
@@ -1547,12 +1558,7 @@ TEST(SelfSupervision, ColourWordsRunNeedsAColourModelAndMakesColourDocuments) {
   EXPECT_EQ(l.views.words.num_words(), v + grid.count());
   // A document is stored as (word, count): N SIFT tokens (< V) and N colour tokens (>= V).
   for (std::size_t d = 0; d < l.views.words.num_documents(); ++d) {
-    const topics::DocumentView doc = l.views.words.document(d);
-    std::int64_t sift_tokens = 0;
-    std::int64_t colour_tokens = 0;
-    for (std::size_t i = 0; i < doc.size(); ++i) {
-      (doc.words[i] < v ? sift_tokens : colour_tokens) += doc.counts[i];
-    }
+    const auto [sift_tokens, colour_tokens] = sift_and_colour_tokens(l.views.words.document(d), v);
     EXPECT_GE(sift_tokens, o.min_features);
     EXPECT_EQ(colour_tokens, sift_tokens) << "document " << d;
   }
@@ -1597,12 +1603,7 @@ TEST(SelfSupervision, AModelWithWordWeightsWeighsTheViewsTheta) {
   ASSERT_GT(l.views.words.num_documents(), 0U);
   ASSERT_EQ(static_cast<std::size_t>(l.views.theta.rows()), l.views.words.num_documents());
   for (std::size_t d = 0; d < l.views.words.num_documents(); ++d) {
-    const topics::DocumentView doc = l.views.words.document(d);
-    std::int64_t sift_tokens = 0;
-    std::int64_t colour_tokens = 0;
-    for (std::size_t i = 0; i < doc.size(); ++i) {
-      (doc.words[i] < v ? sift_tokens : colour_tokens) += doc.counts[i];
-    }
+    const auto [sift_tokens, colour_tokens] = sift_and_colour_tokens(l.views.words.document(d), v);
     EXPECT_EQ(colour_tokens, sift_tokens) << "document " << d;
   }
   const Eigen::MatrixXd by_hand =
