@@ -11,10 +11,9 @@
 //
 // A reader checks, in this order, and throws proprio::Error naming the file on the first failure:
 // the header is complete ("truncated header"), the magic ("wrong magic number"), the version
-// ("format version N; this build reads version M", or "versions L-M"), the payload size against the
-// bytes there
-// ("truncated" when fewer, "corrupt" when more), and the checksum ("checksum mismatch"). The
-// payload is then read with BinaryReader, which refuses to run past its end.
+// ("format version N; this build reads version M", or "versions L-M"), the payload size against
+// the bytes there ("truncated" when fewer, "corrupt" when more), and the checksum ("checksum
+// mismatch"). The payload is then read with BinaryReader, which refuses to run past its end.
 
 #include <bit>
 #include <cstdint>

@@ -70,7 +70,7 @@ struct CorpusSplit {
 /// rest. Used for held-out perplexity.
 CorpusSplit hold_out(const Corpus& corpus, double fraction, std::uint64_t seed);
 
-/// The largest weight of a word (weighted_by; LdaModel::word_weights' bound, kMaxLdaWordWeight).
+/// The largest weight of a word (weighted_by; the bound of LdaModel::word_weights too).
 inline constexpr std::int32_t kMaxWordWeight = 1000;
 
 /// The documents of `corpus` with each occurrence of word w counted weights[w] times, the
