@@ -2438,8 +2438,13 @@ void learn_core(Core& k, const LearnOptions& o, robot::Robot& robot, TableAttend
     const int weight = o.colour_words ? o.colour_weight : 1;
     const int first = static_cast<int>(k.vocabulary->size());
     l.timed("lda", [&] {
-      k.lda = views_lda(topics::weighted_from(corpus, first, weight), o.topics, o.seed);
-      if (weight != 1) k.lda->word_weights = topics::weights_from(words, first, weight);
+      if (weight == 1) {
+        k.lda = views_lda(corpus, o.topics, o.seed);
+      } else {
+        std::vector<std::int32_t> weights = topics::weights_from(words, first, weight);
+        k.lda = views_lda(topics::weighted_by(corpus, weights), o.topics, o.seed);
+        k.lda->word_weights = std::move(weights);
+      }
     });
   }
   topics::save_lda_model(*k.lda, o.out / "lda.model");

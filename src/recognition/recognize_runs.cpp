@@ -239,8 +239,13 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
     throw Error("no features to learn from (every document is empty)");
   }
   r.colour_weight = colour ? options.colour_weight : 1;
+  // The weights the model learns from are the ones it records (LdaModel::word_weights), so that
+  // it reads every later document weighted alike.
+  std::vector<std::int32_t> weights;
   if (r.colour_weight != 1) {
-    corpus = topics::weighted_from(corpus, static_cast<int>(vocabulary.size()), r.colour_weight);
+    weights = topics::weights_from(corpus.num_words(), static_cast<int>(vocabulary.size()),
+                                   r.colour_weight);
+    corpus = topics::weighted_by(corpus, weights);
   }
   if (options.method == topics::LdaMethod::kOnline) {
     auto t = topics::train_online_lda(corpus, options.online);
@@ -255,11 +260,7 @@ RecognizeTrainResult run_recognize_train(const RecognizeTrainOptions& options,
     r.model = std::move(t.model);
     r.summary = t.summary.brief();
   }
-  // The model reads documents weighted as it learned from them (LdaModel::word_weights).
-  if (r.colour_weight != 1) {
-    r.model.word_weights = topics::weights_from(
-        r.model.num_words(), static_cast<int>(vocabulary.size()), r.colour_weight);
-  }
+  r.model.word_weights = std::move(weights);
   topics::save_lda_model(r.model, options.model);
   r.documents = corpus.num_documents();
   r.tokens = static_cast<long long>(corpus.num_tokens());

@@ -139,14 +139,22 @@ Eigen::MatrixXd initial_lambda(int num_topics, int num_words, std::uint64_t seed
   return lambda;
 }
 
-void corpus_docs(const Corpus& corpus, std::uint64_t seed, std::uint64_t update, BatchDocs& docs) {
+void corpus_docs(const Corpus& corpus, std::uint64_t seed, std::uint64_t update, BatchDocs& docs,
+                 std::span<const std::int32_t> weights) {
+  assert(weights.empty() || std::ssize(weights) == corpus.num_words());
   docs.clear();
   docs.rows.reserve(corpus.num_entries());
   docs.counts.reserve(corpus.num_entries());
   for (std::size_t d = 0; d < corpus.num_documents(); ++d) {
     const auto doc = corpus.document(d);
     docs.rows.insert(docs.rows.end(), doc.words.begin(), doc.words.end());
-    for (const auto c : doc.counts) docs.counts.push_back(static_cast<float>(c));
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      const auto c = static_cast<float>(doc.counts[i]);
+      docs.counts.push_back(
+          weights.empty()
+              ? c
+              : c * static_cast<float>(weights[static_cast<std::size_t>(doc.words[i])]));
+    }
     docs.offsets.push_back(docs.rows.size());
     docs.keys.push_back(core::stream_seed(seed, update, d));
   }
@@ -223,7 +231,8 @@ CorpusEStep corpus_estep(const Kernels& kern, core::ThreadPool& pool, const LdaM
   std::iota(all.begin(), all.end(), 0);
   FloatBuffer beta;
   exp_elog_beta(kern, model.lambda, r.topic_sum, all, r.stride, pool, beta);
-  corpus_docs(corpus, seed, 0, r.docs);
+  // A model trained on weighted documents reads documents weighted alike (LdaModel::word_weights).
+  corpus_docs(corpus, seed, 0, r.docs, model.word_weights);
   run_estep(kern, pool, r.docs, beta.data(), K, r.stride, model.alpha, options, r.estep);
   return r;
 }

@@ -61,8 +61,11 @@ struct BatchDocs {
 };
 
 /// Fills `docs` with every document of `corpus`, rows being word ids; random-gamma keys from
-/// (seed, update, document index).
-void corpus_docs(const Corpus& corpus, std::uint64_t seed, std::uint64_t update, BatchDocs& docs);
+/// (seed, update, document index). Non-empty `weights` (one per word, a model's
+/// LdaModel::word_weights) count each occurrence of word w weights[w] times, as weighted_by does,
+/// without a copy of the corpus; the float counts are the same to the bit (both exact below 2^24).
+void corpus_docs(const Corpus& corpus, std::uint64_t seed, std::uint64_t update, BatchDocs& docs,
+                 std::span<const std::int32_t> weights = {});
 
 /// What the E-step leaves per document.
 struct BatchEStep {

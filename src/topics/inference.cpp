@@ -3,7 +3,6 @@
 #include "proprio/core/fields.hpp"
 
 #include <chrono>
-#include <optional>
 #include <sstream>
 
 #include "engine.hpp"
@@ -51,11 +50,9 @@ InferenceResult infer_topics(const LdaModel& model, const Corpus& corpus,
   const auto& kern = detail::best_kernels();
   const int K = model.num_topics();
   core::ThreadPool pool(options.threads);
-  // A model trained on weighted documents reads documents weighted alike (LdaModel::word_weights).
-  std::optional<Corpus> weighted;
-  if (!model.word_weights.empty()) weighted = weighted_by(corpus, model.word_weights);
-  const detail::CorpusEStep run = detail::corpus_estep(
-      kern, pool, model, weighted ? *weighted : corpus, options.estep, options.seed);
+  // corpus_estep weighs the documents by the model's word weights, if it has them.
+  const detail::CorpusEStep run =
+      detail::corpus_estep(kern, pool, model, corpus, options.estep, options.seed);
   const detail::BatchEStep& estep = run.estep;
   const int stride = run.stride;
 

@@ -19,6 +19,13 @@ void check_corpus(const LdaModel& model, const Corpus& corpus) {
   }
 }
 
+// A count of word w as the model reads it: times its weight (LdaModel::word_weights), so that a
+// weighted model's perplexity is per token of the weighted documents it models.
+std::int64_t weighted_count(const LdaModel& model, std::int32_t w, std::int32_t count) {
+  const std::int64_t n = count;
+  return model.word_weights.empty() ? n : n * model.word_weights[static_cast<std::size_t>(w)];
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -77,8 +84,9 @@ PerplexityResult completion_perplexity(const LdaModel& model, const CompletionSp
     const auto th = theta.row(static_cast<Eigen::Index>(d));
     for (std::size_t i = 0; i < doc.size(); ++i) {
       const double p = th.dot(beta.col(doc.words[i]));
-      r.log_likelihood += doc.counts[i] * std::log(p);
-      r.tokens += doc.counts[i];
+      const std::int64_t n = weighted_count(model, doc.words[i], doc.counts[i]);
+      r.log_likelihood += static_cast<double>(n) * std::log(p);
+      r.tokens += n;
     }
   }
   r.perplexity = std::exp(-r.log_likelihood / static_cast<double>(r.tokens));
@@ -109,7 +117,13 @@ PerplexityResult perplexity(const LdaModel& model, const Corpus& heldout,
   }
   bound += detail::topic_bound(model.lambda, run.topic_sum, model.eta);
   r.log_likelihood = bound;
-  r.tokens = heldout.num_tokens();
+  r.tokens = 0;
+  for (std::size_t d = 0; d < heldout.num_documents(); ++d) {
+    const auto doc = heldout.document(d);
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      r.tokens += weighted_count(model, doc.words[i], doc.counts[i]);
+    }
+  }
   r.perplexity = std::exp(-bound / static_cast<double>(r.tokens));
   r.seconds = seconds_since(t0);
   return r;

@@ -7,7 +7,10 @@
 // p(w) = sum_k E[theta_k] E[beta_kw]. Perplexity = exp(-sum log p(w) / scored tokens).
 // The variational bound (on request): perplexity = exp(-bound / tokens), the bound of all the
 // documents' tokens and the topics (Hoffman et al. 2010 eq 3; scikit-learn's perplexity()).
-// Both work on any lambda, so models trained elsewhere are scored the same way.
+// Both work on any lambda, so models trained elsewhere are scored the same way. A model with
+// word weights (LdaModel::word_weights) models weighted documents, so it is scored on them: each
+// token of word w counts word_weights[w] times, in theta's half, the scored half, the bound and
+// `tokens` alike (the split itself is of the documents' own tokens).
 
 #include <cstdint>
 #include <string>
@@ -33,7 +36,7 @@ struct PerplexityResult {
   double perplexity = 0.0;
   /// Sum of log p over the scored tokens (completion) or the bound (variational bound), nats.
   double log_likelihood = 0.0;
-  std::int64_t tokens = 0;     ///< tokens scored
+  std::int64_t tokens = 0;     ///< tokens scored (weighted, for a model with word weights)
   std::int64_t documents = 0;  ///< documents with at least one scored token
   PerplexityMethod method = PerplexityMethod::kDocumentCompletion;
   double seconds = 0.0;
@@ -68,7 +71,7 @@ void PerplexityResult::describe(Self& self, Visitor& v) {
   v(std::string(to_string(self.method)), {"method", "document_completion or bound"});
   v(self.perplexity, {"perplexity", "exp(-log likelihood / tokens)"});
   v(self.log_likelihood, {"log_likelihood", "Sum of log p over the scored tokens, nats"});
-  v(self.tokens, {"tokens", "Tokens scored"});
+  v(self.tokens, {"tokens", "Tokens scored, each counted by its word's weight in the model"});
   v(self.documents, {"documents", "Documents with at least one scored token"});
   v(self.seconds, {"seconds", "Scoring time (wall clock)"});
 }
