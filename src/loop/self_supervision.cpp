@@ -252,8 +252,11 @@ class Learner {
   Eigen::VectorXd blob_colours(const planning::PlanningView& view, int k) const {
     const std::vector<double> counts = features::colour_word_counts(
         image_, blob_mask(view.objects[static_cast<std::size_t>(k)], size_), o_.colour);
-    return Eigen::Map<const Eigen::VectorXd>(counts.data(),
-                                             static_cast<Eigen::Index>(counts.size()));
+    const Eigen::Map<const Eigen::VectorXd> v(counts.data(),
+                                              static_cast<Eigen::Index>(counts.size()));
+    if (!o_.table_colours_out) return v;
+    // table_colours_out: the table's words of this look (image_ and view are the same look).
+    return without_table_colours(v, table_colour_words(image_, view, o_.colour));
   }
 
   // moved_colours: round r's colours gain what a learn push moved: the pixels of blob c of `view`
@@ -2104,6 +2107,13 @@ void SelfSupervisionOptions::validate() const {
         "selfsupervise: colour_by_look compares a blob with each look of a class in the claims by "
         "colour: it needs claims_by colour, and not colour_first_look or moved_colours");
   }
+  if (table_colours_out &&
+      ((claims_by != ClaimSignal::kColour && other_claims_by != ClaimSignal::kColour) ||
+       moved_colours)) {
+    throw Error(
+        "selfsupervise: table_colours_out leaves the table's colours out of the blobs' colours of "
+        "the claims by colour: it needs claims by colour, and not moved_colours");
+  }
   if (colour_first_look && moved_colours) {
     throw Error(
         "selfsupervise: colour_first_look and moved_colours are two sources of a round's colours: "
@@ -2693,6 +2703,39 @@ double round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 double colour_round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   check_round_counts(a, b, "colour_round_distance", "colour");
   return hellinger(a / a.sum(), b / b.sum());
+}
+
+std::vector<bool> table_colour_words(const cv::Mat& image, const planning::PlanningView& view,
+                                     const features::ColourWordOptions& colour, double share) {
+  if (!(share > 0 && share <= 1)) throw Error("table_colour_words: share must be in (0, 1]");
+  if (image.empty()) throw Error("table_colour_words: an empty image");
+  cv::Mat outside(image.size(), CV_8U, cv::Scalar(255));
+  for (const planning::PutativeObject& o : view.objects) {
+    // A blob's box may reach past the image (it never should; clipped rather than trusted).
+    const cv::Rect box = o.box & cv::Rect(0, 0, image.cols, image.rows);
+    if (box.area() <= 0 || o.mask.size() != o.box.size()) continue;
+    outside(box).setTo(0, o.mask(box - o.box.tl()));
+  }
+  const std::vector<double> counts = features::colour_word_counts(image, outside, colour);
+  double all = 0;
+  for (const double c : counts) all += c;
+  std::vector<bool> table(counts.size(), false);
+  if (all <= 0) return table;
+  for (std::size_t w = 0; w < counts.size(); ++w) table[w] = counts[w] >= share * all;
+  return table;
+}
+
+Eigen::VectorXd without_table_colours(const Eigen::VectorXd& counts,
+                                      const std::vector<bool>& table) {
+  if (static_cast<std::size_t>(counts.size()) != table.size()) {
+    throw Error(core::cat({"without_table_colours: ", std::to_string(counts.size()),
+                           " colour counts for ", std::to_string(table.size()), " flags"}));
+  }
+  Eigen::VectorXd out = counts;
+  for (Eigen::Index w = 0; w < out.size(); ++w) {
+    if (table[static_cast<std::size_t>(w)]) out[w] = 0;
+  }
+  return out.sum() > 0 ? out : counts;
 }
 
 cv::Mat moved_pixels(const cv::Mat& before, const cv::Mat& after, const cv::Mat& region,

@@ -233,6 +233,8 @@ TEST_F(SelfSuperviseCli, BadOptionsAreOneLineAndExit2) {
        "two sources of a round's colours"},
       {"--objects book,cd --colour-by-look --claims-by looks" + inputs() + out,
        "colour_by_look compares a blob with each look"},
+      {"--objects book,cd --table-colours-out --claims-by looks" + inputs() + out,
+       "table_colours_out leaves the table's colours out"},
       {"--objects book,cd --moved-colours --claims-by looks" + inputs() + out,
        "moved_colours chooses the pixels"},
       {"--objects book,cd --crowded-reclears 1" + inputs() + out,

@@ -512,6 +512,62 @@ TEST(SelfSupervision, ColourRoundDistanceKnownAnswers) {
   EXPECT_THROW((void)colour_round_distance(a, -b), Error);
 }
 
+// table_colours_out: a tan table round a blob whose box shows a red square and tan table. The
+// table's word is the tan one alone (the blob's red and a small blue "arm" outside it stay under
+// the share); taken out of the blob's counts, only the red is left; a blob of tan only keeps its
+// counts.
+TEST(SelfSupervision, TableColourWordsAreTheTablesAndLeaveTheBlobsOwnColours) {
+  const features::ColourWordOptions colour;
+  const cv::Scalar tan(110, 170, 215);  // BGR: a light orange-brown
+  cv::Mat image(120, 160, CV_8UC3, tan);
+  cv::rectangle(image, cv::Rect(60, 40, 20, 20), cv::Scalar(0, 0, 220), cv::FILLED);  // red
+  cv::rectangle(image, cv::Rect(0, 0, 12, 12), cv::Scalar(200, 40, 0), cv::FILLED);   // blue arm
+  planning::PutativeObject blob;
+  blob.box = cv::Rect(50, 30, 40, 40);  // the red square and a 10 px frame of table
+  blob.mask = cv::Mat1b(blob.box.size(), 255);
+  planning::PlanningView view;
+  view.objects.push_back(blob);
+
+  const std::vector<bool> table = table_colour_words(image, view, colour);
+  ASSERT_EQ(table.size(), static_cast<std::size_t>(colour.count()));
+  const auto word_of = [&](const cv::Scalar& c) {
+    const cv::Mat one(1, 1, CV_8UC3, c);
+    const std::vector<double> n =
+        features::colour_word_counts(one, cv::Mat(1, 1, CV_8U, cv::Scalar(255)), colour);
+    return static_cast<int>(std::max_element(n.begin(), n.end()) - n.begin());
+  };
+  const int tan_word = word_of(tan);
+  const int red_word = word_of(cv::Scalar(0, 0, 220));
+  ASSERT_NE(tan_word, red_word);
+  EXPECT_EQ(std::count(table.begin(), table.end(), true), 1);
+  EXPECT_TRUE(table[static_cast<std::size_t>(tan_word)]);
+
+  cv::Mat in_blob = cv::Mat::zeros(image.size(), CV_8U);
+  in_blob(blob.box).setTo(255);
+  const std::vector<double> raw = features::colour_word_counts(image, in_blob, colour);
+  const Eigen::VectorXd counts =
+      Eigen::Map<const Eigen::VectorXd>(raw.data(), static_cast<Eigen::Index>(raw.size()));
+  ASSERT_GT(counts[tan_word], 0.0);  // the frame of table is in the blob's pixels
+  const Eigen::VectorXd own = without_table_colours(counts, table);
+  EXPECT_EQ(own[tan_word], 0.0);
+  EXPECT_EQ(own[red_word], counts[red_word]);
+  EXPECT_DOUBLE_EQ(own.sum(), counts.sum() - counts[tan_word]);
+  // A blob of the table's colour only keeps its counts; no flag, no change.
+  Eigen::VectorXd tan_only = Eigen::VectorXd::Zero(counts.size());
+  tan_only[tan_word] = 50;
+  EXPECT_EQ(without_table_colours(tan_only, table), tan_only);
+  EXPECT_EQ(without_table_colours(counts, std::vector<bool>(table.size(), false)), counts);
+  // A blob over the whole image leaves no table: nothing flagged.
+  planning::PlanningView whole;
+  whole.objects.push_back(planning::PutativeObject{});
+  whole.objects.back().box = cv::Rect(0, 0, image.cols, image.rows);
+  whole.objects.back().mask = cv::Mat1b(image.size(), 255);
+  const std::vector<bool> none = table_colour_words(image, whole, colour);
+  EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
+  EXPECT_THROW((void)table_colour_words(image, view, colour, 0.0), Error);
+  EXPECT_THROW((void)without_table_colours(counts, std::vector<bool>(3, false)), Error);
+}
+
 // merge_rounds by colour: rounds 0 and 2 saw one object's colours (a little different), round 1
 // another's, round 3 none (no views): 0 and 2 are judged one object, 1 another; the word
 // distance's threshold means nothing here (0.3 Hellinger bounds the colours).
@@ -2584,6 +2640,47 @@ TEST(SelfSupervision, ClaimsByColourLookByLookTakeTheNearestLook) {
   o.claims_by = ClaimSignal::kLooks;
   EXPECT_THROW(o.validate(), Error);
   o.claims_by = ClaimSignal::kColour;
+  EXPECT_NO_THROW(o.validate());
+}
+
+// table_colours_out (session 49): the claims by colour leave the table's words out of the blobs'
+// and the classes' colours. Both runs are the same up to round 1's choice, so its look scores the
+// same blobs; the distances differ and stay Hellinger distances. Refused without claims by
+// colour or with moved_colours.
+TEST(SelfSupervision, ClaimsByColourWithoutTheTablesColoursMeasureOtherDistances) {
+  SelfSupervisionOptions o = small_options();
+  o.pushes = 3;
+  const auto second_choice = [](const Learning& l) {
+    int seen = 0;
+    for (const auto& j : l.log) {
+      if (j.event == "choose" && seen++ == 1) return j;
+    }
+    ADD_FAILURE() << "no second choice";
+    return SelfSupervisionDecision{};
+  };
+  const SelfSupervisionDecision with_table = second_choice(two_round_run(o).first);
+  o.table_colours_out = true;
+  const SelfSupervisionDecision without = second_choice(two_round_run(o).first);
+  ASSERT_TRUE(with_table.scores && without.scores);
+  ASSERT_EQ(with_table.scores->size(), without.scores->size());
+  ASSERT_FALSE(with_table.scores->empty());
+  bool differ = false;
+  for (std::size_t b = 0; b < with_table.scores->size(); ++b) {
+    const auto& p = (*with_table.scores)[b];
+    const auto& q = (*without.scores)[b];
+    EXPECT_EQ(p.blob, q.blob);
+    ASSERT_TRUE(p.nearest && q.nearest);
+    EXPECT_GE(*q.nearest, 0.0);
+    EXPECT_LE(*q.nearest, 1.0);
+    if (std::abs(*p.nearest - *q.nearest) > 1e-9) differ = true;
+  }
+  EXPECT_TRUE(differ);
+  o.moved_colours = true;
+  EXPECT_THROW(o.validate(), Error);
+  o.moved_colours = false;
+  o.claims_by = ClaimSignal::kLooks;
+  EXPECT_THROW(o.validate(), Error);
+  o.other_claims_by = ClaimSignal::kColour;
   EXPECT_NO_THROW(o.validate());
 }
 

@@ -252,6 +252,14 @@ struct SelfSupervisionOptions {
   /// objects with a class -0.23 +- 0.26, colour figure -5.9 +- 7.5, claims right 117 -> 112; its
   /// gate failed, no report run (docs/results/selfsupervision.md, "Session 45").
   bool colour_by_look = false;
+  /// Claims by colour (claims_by or other_claims_by kColour): the table's own colour words
+  /// (table_colour_words: those of at least kTableColourShare of the look's pixels outside every
+  /// blob) are left out of every blob's pixel colours, the classes' looks' and the candidates'
+  /// alike (without_table_colours), so that how much table shows through a blob (a lying bike's
+  /// box is a third table) no longer moves its distance to a class. Session 49: of the 12
+  /// rounds of tuning seeds 97-122 that learned an object again, 10 chose it as "unclaimed by
+  /// the learned classes' pixel colours", 7 of them the bike. Off (the default).
+  bool table_colours_out = false;
   /// (c): a learn push keeps the corridor its object sweeps (the blob's footprint hull carried
   /// from its centre to the push's target, in the table plane) at least this far from every
   /// other blob's footprint, m (learn_push_lack: a neighbour nearer already may not come nearer).
@@ -614,6 +622,8 @@ struct SelfSupervisionOptions {
     v(self.colour_by_look,
       {"colour_by_look",
        "Claims by colour: a blob's distance to a class is its least to any one of its looks"});
+    v(self.table_colours_out,
+      {"table_colours_out", "Claims by colour: leave the table's own colour words out"});
     v(self.learn_clearance,
       {"learn_clearance",
        "Learn pushes keep their object's corridor this far from other blobs, m (0: off)",
@@ -1156,6 +1166,24 @@ inline constexpr double kRoundSmoothing = 0.5;
 /// non-negative): the Hellinger distance of the two normalised histograms, in [0, 1]; 0 for
 /// proportional counts. Throws Error when the lengths differ or either has no pixel.
 double colour_round_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b);
+
+/// The least share of the pixels outside the blobs a table colour word holds (table_colour_words).
+inline constexpr double kTableColourShare = 0.2;
+
+/// SelfSupervisionOptions::table_colours_out: which colour words (features::colour_word_counts's,
+/// `colour`'s grid) are the table's in `image` (8-bit BGR or grey): those of at least `share` of
+/// the pixels outside every blob of `view` (the table round the objects, and the arm where it is
+/// in view, whose few words stay under `share`). One flag a colour word; none when no pixel lies
+/// outside the blobs. Throws Error as colour_word_counts, and when `share` is not in (0, 1].
+std::vector<bool> table_colour_words(const cv::Mat& image, const planning::PlanningView& view,
+                                     const features::ColourWordOptions& colour,
+                                     double share = kTableColourShare);
+
+/// A blob's pixel colour counts (features::colour_word_counts) without the table's words
+/// (table_colour_words): those counts set to 0; `counts` unchanged when that leaves no pixel (a
+/// blob of the table's colour only) or `table` flags none. Throws Error when the lengths differ.
+Eigen::VectorXd without_table_colours(const Eigen::VectorXd& counts,
+                                      const std::vector<bool>& table);
 
 /// SelfSupervisionOptions::moved_colours: the pixels of `region` (8-bit, nonzero: in; the images'
 /// size) whose colour differs between `before` and `after` (8-bit BGR or grey, both alike) by more
