@@ -2598,6 +2598,36 @@ TEST(SelfSupervision, MovedColoursAreThePixelsTheLearnPushesMoved) {
   EXPECT_THROW(o.validate(), Error);
 }
 
+// Round 1's choice (the run's second "choose" event) of two_round_run with `o`.
+SelfSupervisionDecision second_choice(const SelfSupervisionOptions& o) {
+  int seen = 0;
+  for (const auto& j : two_round_run(o).first.log) {
+    if (j.event == "choose" && seen++ == 1) return j;
+  }
+  ADD_FAILURE() << "no second choice";
+  return SelfSupervisionDecision{};
+}
+
+// Two runs' choices of round 1 that score the same blobs (the runs the same up to that choice) by
+// other colour distances, each a Hellinger distance.
+void expect_other_colour_distances(const SelfSupervisionDecision& a,
+                                   const SelfSupervisionDecision& b) {
+  ASSERT_TRUE(a.scores && b.scores);
+  ASSERT_EQ(a.scores->size(), b.scores->size());
+  ASSERT_FALSE(a.scores->empty());
+  bool differ = false;
+  for (std::size_t k = 0; k < a.scores->size(); ++k) {
+    const auto& p = (*a.scores)[k];
+    const auto& q = (*b.scores)[k];
+    EXPECT_EQ(p.blob, q.blob);
+    ASSERT_TRUE(p.nearest && q.nearest);
+    EXPECT_GE(*q.nearest, 0.0);
+    EXPECT_LE(*q.nearest, 1.0);
+    if (std::abs(*p.nearest - *q.nearest) > 1e-9) differ = true;
+  }
+  EXPECT_TRUE(differ);
+}
+
 // colour_by_look (session 45): the claims by colour compare a blob with each of a class's looks.
 // Both runs are the same up to round 1's choice (same table, same pushes), so its look scores the
 // same blobs; the distances differ (the least over object_1's looks, not the distance to their
@@ -2606,31 +2636,9 @@ TEST(SelfSupervision, MovedColoursAreThePixelsTheLearnPushesMoved) {
 TEST(SelfSupervision, ClaimsByColourLookByLookTakeTheNearestLook) {
   SelfSupervisionOptions o = small_options();
   o.pushes = 3;
-  const auto second_choice = [](const Learning& l) {
-    int seen = 0;
-    for (const auto& j : l.log) {
-      if (j.event == "choose" && seen++ == 1) return j;
-    }
-    ADD_FAILURE() << "no second choice";
-    return SelfSupervisionDecision{};
-  };
-  const SelfSupervisionDecision pooled = second_choice(two_round_run(o).first);
+  const SelfSupervisionDecision pooled = second_choice(o);
   o.colour_by_look = true;
-  const SelfSupervisionDecision by_look = second_choice(two_round_run(o).first);
-  ASSERT_TRUE(pooled.scores && by_look.scores);
-  ASSERT_EQ(pooled.scores->size(), by_look.scores->size());
-  ASSERT_FALSE(pooled.scores->empty());
-  bool differ = false;
-  for (std::size_t b = 0; b < pooled.scores->size(); ++b) {
-    const auto& p = (*pooled.scores)[b];
-    const auto& q = (*by_look.scores)[b];
-    EXPECT_EQ(p.blob, q.blob);
-    ASSERT_TRUE(p.nearest && q.nearest);
-    EXPECT_GE(*q.nearest, 0.0);
-    EXPECT_LE(*q.nearest, 1.0);
-    if (std::abs(*p.nearest - *q.nearest) > 1e-9) differ = true;
-  }
-  EXPECT_TRUE(differ);
+  expect_other_colour_distances(pooled, second_choice(o));
   o.colour_first_look = true;
   EXPECT_THROW(o.validate(), Error);
   o.colour_first_look = false;
@@ -2650,31 +2658,9 @@ TEST(SelfSupervision, ClaimsByColourLookByLookTakeTheNearestLook) {
 TEST(SelfSupervision, ClaimsByColourWithoutTheTablesColoursMeasureOtherDistances) {
   SelfSupervisionOptions o = small_options();
   o.pushes = 3;
-  const auto second_choice = [](const Learning& l) {
-    int seen = 0;
-    for (const auto& j : l.log) {
-      if (j.event == "choose" && seen++ == 1) return j;
-    }
-    ADD_FAILURE() << "no second choice";
-    return SelfSupervisionDecision{};
-  };
-  const SelfSupervisionDecision with_table = second_choice(two_round_run(o).first);
+  const SelfSupervisionDecision with_table = second_choice(o);
   o.table_colours_out = true;
-  const SelfSupervisionDecision without = second_choice(two_round_run(o).first);
-  ASSERT_TRUE(with_table.scores && without.scores);
-  ASSERT_EQ(with_table.scores->size(), without.scores->size());
-  ASSERT_FALSE(with_table.scores->empty());
-  bool differ = false;
-  for (std::size_t b = 0; b < with_table.scores->size(); ++b) {
-    const auto& p = (*with_table.scores)[b];
-    const auto& q = (*without.scores)[b];
-    EXPECT_EQ(p.blob, q.blob);
-    ASSERT_TRUE(p.nearest && q.nearest);
-    EXPECT_GE(*q.nearest, 0.0);
-    EXPECT_LE(*q.nearest, 1.0);
-    if (std::abs(*p.nearest - *q.nearest) > 1e-9) differ = true;
-  }
-  EXPECT_TRUE(differ);
+  expect_other_colour_distances(with_table, second_choice(o));
   o.moved_colours = true;
   EXPECT_THROW(o.validate(), Error);
   o.moved_colours = false;
