@@ -332,7 +332,10 @@ struct SelfSupervisionOptions {
   /// seed 1: 87 "not-planned" faults, c 49.7 -> 27.3%). Off (the default): measured with
   /// singulate_tries 2, c 49.7 -> 25.0% on the tuning seed and 35.4 +- 10.7% -> 32.4 +- 10.8%
   /// on seeds 2-6, singulation (ground truth) 30% -> 30%: a k-means cut is not the boundary
-  /// between two objects (docs/results/selfsupervision-history.md, "Session 20").
+  /// between two objects (docs/results/selfsupervision-history.md, "Session 20"). Session 49,
+  /// alone under the claims by colour (tuning seeds 97-122): objects with a class -0.38 +- 0.26,
+  /// c -6.3 +- 7.7, singulation +9.6 +- 10.7, 2.03 pushes an object moved to the edge: a half
+  /// of a merged blob is claimed as readily as an object (docs/results/selfsupervision.md).
   bool split_merged = false;
   /// split_merged: the colours' weight against the positions in the k-means split (0: positions).
   double split_colour = 1.0;
