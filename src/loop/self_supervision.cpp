@@ -222,6 +222,8 @@ class Learner {
              .blobs = putative_object_records(view, false)});
       }
     }
+    // table_colours_out: once a look; every blob_colours call reads the last look's blobs.
+    if (o_.table_colours_out) table_words_ = table_colour_words(image_, view, o_.colour);
     return view;
   }
 
@@ -256,7 +258,7 @@ class Learner {
                                               static_cast<Eigen::Index>(counts.size()));
     if (!o_.table_colours_out) return v;
     // table_colours_out: the table's words of this look (image_ and view are the same look).
-    return without_table_colours(v, table_colour_words(image_, view, o_.colour));
+    return without_table_colours(v, table_words_);
   }
 
   // moved_colours: round r's colours gain what a learn push moved: the pixels of blob c of `view`
@@ -2033,6 +2035,7 @@ class Learner {
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
   cv::Size size_;
   cv::Mat image_;
+  std::vector<bool> table_words_;  ///< table_colours_out: the last look's table colour words
   /// own_model_rungs: the descriptors of the documents views_of() returned last.
   std::vector<cv::Mat> view_descriptors_;
   Learning out_;
@@ -2711,10 +2714,7 @@ std::vector<bool> table_colour_words(const cv::Mat& image, const planning::Plann
   if (image.empty()) throw Error("table_colour_words: an empty image");
   cv::Mat outside(image.size(), CV_8U, cv::Scalar(255));
   for (const planning::PutativeObject& o : view.objects) {
-    // A blob's box may reach past the image (it never should; clipped rather than trusted).
-    const cv::Rect box = o.box & cv::Rect(0, 0, image.cols, image.rows);
-    if (box.area() <= 0 || o.mask.size() != o.box.size()) continue;
-    outside(box).setTo(0, o.mask(box - o.box.tl()));
+    outside.setTo(0, blob_mask(o, image.size()));
   }
   const std::vector<double> counts = features::colour_word_counts(image, outside, colour);
   double all = 0;
